@@ -1,0 +1,172 @@
+//! Canonical machining operations.
+//!
+//! The interpreter turns G-code text into a stream of [`Canon`] records; the planner, the
+//! simulators, the estimators and the machine links consume only this stream, never text.
+//! The idea and the names follow LinuxCNC's canonical machining functions.
+//!
+//! Conventions: every length is in millimetres and in **machine coordinates** (all work
+//! offsets, G92 offsets, rotation and tool length offsets already applied), rotary axes in
+//! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
+//! records are still emitted so that a printer can reconstruct program coordinates.
+
+/// A point in the six-axis machine space: X Y Z in mm, A B C in degrees.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Pos {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+}
+
+impl Pos {
+    pub const ZERO: Pos = Pos { x: 0.0, y: 0.0, z: 0.0, a: 0.0, b: 0.0, c: 0.0 };
+
+    pub fn xyz(x: f64, y: f64, z: f64) -> Pos {
+        Pos { x, y, z, ..Pos::ZERO }
+    }
+
+    pub fn to_array(self) -> [f64; 6] {
+        [self.x, self.y, self.z, self.a, self.b, self.c]
+    }
+
+    pub fn from_array(v: [f64; 6]) -> Pos {
+        Pos { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+    }
+
+    /// Euclidean distance of the linear axes.
+    pub fn dist_xyz(&self, o: &Pos) -> f64 {
+        ((self.x - o.x).powi(2) + (self.y - o.y).powi(2) + (self.z - o.z).powi(2)).sqrt()
+    }
+}
+
+/// The plane of circular motion; `first`/`second` name the in-plane axes, `axis` the normal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Plane {
+    #[default]
+    XY,
+    YZ,
+    XZ,
+}
+
+impl Plane {
+    /// Indices into [`Pos::to_array`] of (first in-plane axis, second in-plane axis, normal axis),
+    /// in LinuxCNC's order: XY → (X, Y, Z), YZ → (Y, Z, X), XZ → (Z, X, Y).
+    pub fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::XY => (0, 1, 2),
+            Plane::YZ => (1, 2, 0),
+            Plane::XZ => (2, 0, 1),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Units {
+    #[default]
+    Mm,
+    Inch,
+}
+
+impl Units {
+    /// Millimetres per unit.
+    pub fn mm(self) -> f64 {
+        match self {
+            Units::Mm => 1.0,
+            Units::Inch => 25.4,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FeedMode {
+    /// G94: feed is mm/min.
+    #[default]
+    UnitsPerMinute,
+    /// G93: feed is 1/min, the move takes 1/F minutes.
+    InverseTime,
+    /// G95: feed is mm per spindle revolution.
+    UnitsPerRev,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum MotionMode {
+    /// G61: stop exactly at every corner.
+    ExactStop,
+    /// G61.1: follow the path exactly, may slow at corners.
+    ExactPath,
+    /// G64 P Q: blend corners within `tolerance` mm (0 = as fast as possible).
+    #[default]
+    Continuous,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpindleDir {
+    Clockwise,
+    CounterClockwise,
+}
+
+/// One canonical operation. Lengths in mm, machine coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CanonOp {
+    UseLengthUnits(Units),
+    /// Work coordinate system `index` (1 = G54 … 9 = G59.3) is active with this offset.
+    SetG5xOffset { index: u8, offset: Pos },
+    SetG92Offset(Pos),
+    /// Rotation of the XY plane of the active coordinate system, degrees.
+    SetXyRotation(f64),
+    SelectPlane(Plane),
+    SetFeedRate(f64),
+    SetFeedMode(FeedMode),
+    SetMotionControlMode { mode: MotionMode, tolerance: f64 },
+    SetNaivecamTolerance(f64),
+    StraightTraverse { to: Pos },
+    StraightFeed { to: Pos },
+    /// Arc (or helix) in `plane` ending at `end`, about `center` given as the two in-plane
+    /// coordinates (first, second); `turns` > 0 is counter-clockwise, < 0 clockwise, and its
+    /// magnitude counts full turns plus the partial one (1 = less than one full turn).
+    ArcFeed { plane: Plane, end: Pos, center: [f64; 2], turns: i32 },
+    Dwell(f64),
+    SetSpindleSpeed(f64),
+    StartSpindle(SpindleDir),
+    StopSpindle,
+    MistOn,
+    MistOff,
+    FloodOn,
+    FloodOff,
+    SelectTool(u32),
+    ChangeTool(u32),
+    /// Tool length offset (X, Y, Z… components, mm).
+    UseToolLengthOffset(Pos),
+    EnableFeedOverride(bool),
+    EnableSpeedOverride(bool),
+    EnableAdaptiveFeed(bool),
+    EnableFeedHold(bool),
+    /// M0
+    ProgramStop,
+    /// M1
+    OptionalProgramStop,
+    /// M2 / M30
+    ProgramEnd,
+    /// `(MSG,…)`: shown to the operator.
+    Message(String),
+    Comment(String),
+}
+
+/// A canonical operation tagged with the 1-based source line it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Canon {
+    pub line: u32,
+    pub op: CanonOp,
+}
+
+impl CanonOp {
+    /// True for operations that move the machine.
+    pub fn is_motion(&self) -> bool {
+        matches!(
+            self,
+            CanonOp::StraightTraverse { .. } | CanonOp::StraightFeed { .. } | CanonOp::ArcFeed { .. }
+        )
+    }
+}

@@ -1,0 +1,41 @@
+//! RS274/NGC front end: text → blocks → canonical operations.
+//!
+//! The stages, each in its own module:
+//! - [`lex`]: characters → tokens with spans (words, numbers, expressions, comments, O-words);
+//! - [`parse`]: tokens → one syntax tree per line ([`ast`]);
+//! - [`expr`] and [`params`]: expression evaluation against numbered/named parameters;
+//! - [`exec`]: streams lines from a reader, runs O-word control flow (sub/call/if/while/do/
+//!   repeat), evaluates every expression and yields [`block::Block`]s with plain values;
+//! - [`interp`]: the modal interpreter: blocks → [`oficina_canon::Canon`] records;
+//! - [`print`]: canonical operations in the text format of LinuxCNC's standalone `rs274`.
+
+pub mod block;
+pub mod diag;
+pub mod params;
+
+pub use diag::{Diagnostic, Severity, Span};
+
+/// The G-code dialect a program is read in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// LinuxCNC's RS274/NGC (the reference; default).
+    #[default]
+    LinuxCnc,
+    /// grbl 1.1: accepts and rejects what grbl does, with grbl's error numbers.
+    Grbl,
+    /// The dialect of seed 002 (2006): G90/G91 are linear feed moves, I/J are absolute arc
+    /// centres, motion codes are modal.
+    Legacy2006,
+}
+
+impl std::str::FromStr for Dialect {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "linuxcnc" | "rs274" | "ngc" => Ok(Dialect::LinuxCnc),
+            "grbl" => Ok(Dialect::Grbl),
+            "legacy-2006" | "legacy" | "legacy2006" => Ok(Dialect::Legacy2006),
+            other => Err(format!("unknown dialect '{other}': use linuxcnc, grbl or legacy-2006")),
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! Parameters: numbered `#1`…`#5602` and named `#<name>` (local to a subroutine call) or
+//! `#<_name>` (global), as LinuxCNC keeps them.
+
+use std::collections::HashMap;
+
+/// Highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS − 1).
+pub const MAX_NUMBERED: u32 = 5602;
+/// `#1`…`#30` are the arguments of a subroutine call and are local to it.
+pub const CALL_ARGS: usize = 30;
+
+#[derive(Clone, Debug)]
+struct Frame {
+    saved_args: [f64; CALL_ARGS],
+    locals: HashMap<String, f64>,
+}
+
+/// Why a parameter could not be read or written.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ParamError {
+    #[error("parameter #{0} is out of range (1 to {MAX_NUMBERED})")]
+    OutOfRange(i64),
+    #[error("named parameter #<{0}> is not defined")]
+    Undefined(String),
+    #[error("parameter #<{0}> is read-only")]
+    ReadOnly(String),
+}
+
+#[derive(Clone, Debug)]
+pub struct Params {
+    numbered: Vec<f64>,
+    globals: HashMap<String, f64>,
+    /// Read-only `#<_…>` values kept up to date by the interpreter (`_x`, `_metric`, …).
+    system: HashMap<String, f64>,
+    frames: Vec<Frame>,
+    top_locals: HashMap<String, f64>,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params::new()
+    }
+}
+
+impl Params {
+    pub fn new() -> Params {
+        Params {
+            numbered: vec![0.0; MAX_NUMBERED as usize + 1],
+            globals: HashMap::new(),
+            system: HashMap::new(),
+            frames: Vec::new(),
+            top_locals: HashMap::new(),
+        }
+    }
+
+    fn index(n: i64) -> Result<usize, ParamError> {
+        if (0..=MAX_NUMBERED as i64).contains(&n) {
+            Ok(n as usize)
+        } else {
+            Err(ParamError::OutOfRange(n))
+        }
+    }
+
+    pub fn get(&self, n: i64) -> Result<f64, ParamError> {
+        Ok(self.numbered[Self::index(n)?])
+    }
+
+    pub fn set(&mut self, n: i64, value: f64) -> Result<(), ParamError> {
+        let i = Self::index(n)?;
+        if i == 0 {
+            return Err(ParamError::OutOfRange(0));
+        }
+        self.numbered[i] = value;
+        Ok(())
+    }
+
+    fn locals(&self) -> &HashMap<String, f64> {
+        self.frames.last().map(|f| &f.locals).unwrap_or(&self.top_locals)
+    }
+
+    /// Read `#<name>`; names are case-insensitive and compared lower-case.
+    pub fn get_named(&self, name: &str) -> Result<f64, ParamError> {
+        let key = name.to_ascii_lowercase();
+        let found = if key.starts_with('_') {
+            self.system.get(&key).or_else(|| self.globals.get(&key))
+        } else {
+            self.locals().get(&key)
+        };
+        found.copied().ok_or(ParamError::Undefined(key))
+    }
+
+    pub fn exists_named(&self, name: &str) -> bool {
+        self.get_named(name).is_ok()
+    }
+
+    pub fn set_named(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
+        let key = name.to_ascii_lowercase();
+        if key.starts_with('_') {
+            if self.system.contains_key(&key) {
+                return Err(ParamError::ReadOnly(key));
+            }
+            self.globals.insert(key, value);
+        } else {
+            match self.frames.last_mut() {
+                Some(f) => f.locals.insert(key, value),
+                None => self.top_locals.insert(key, value),
+            };
+        }
+        Ok(())
+    }
+
+    /// Set a read-only system parameter such as `_x` or `_metric` (interpreter only).
+    pub fn set_system(&mut self, name: &str, value: f64) {
+        self.system.insert(name.to_ascii_lowercase(), value);
+    }
+
+    /// Enter a subroutine: `#1`…`#30` take `args` (missing ones are 0), named locals start empty.
+    pub fn push_call(&mut self, args: &[f64]) {
+        let mut saved = [0.0; CALL_ARGS];
+        saved.copy_from_slice(&self.numbered[1..=CALL_ARGS]);
+        self.frames.push(Frame { saved_args: saved, locals: HashMap::new() });
+        for i in 0..CALL_ARGS {
+            self.numbered[i + 1] = args.get(i).copied().unwrap_or(0.0);
+        }
+    }
+
+    /// Leave a subroutine: restore the caller's `#1`…`#30` and named locals.
+    pub fn pop_call(&mut self) {
+        if let Some(f) = self.frames.pop() {
+            self.numbered[1..=CALL_ARGS].copy_from_slice(&f.saved_args);
+        }
+    }
+
+    pub fn call_depth(&self) -> usize {
+        self.frames.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn call_frames_restore_args_and_locals() {
+        let mut p = Params::new();
+        p.set(1, 7.0).unwrap();
+        p.set_named("a", 1.0).unwrap();
+        p.push_call(&[2.0, 3.0]);
+        assert_eq!(p.get(1).unwrap(), 2.0);
+        assert_eq!(p.get(3).unwrap(), 0.0);
+        assert!(p.get_named("a").is_err(), "locals are not visible inside a call");
+        p.set_named("_g", 5.0).unwrap();
+        p.pop_call();
+        assert_eq!(p.get(1).unwrap(), 7.0);
+        assert_eq!(p.get_named("a").unwrap(), 1.0);
+        assert_eq!(p.get_named("_G").unwrap(), 5.0);
+    }
+
+    #[test]
+    fn out_of_range_and_read_only_are_errors() {
+        let mut p = Params::new();
+        assert_eq!(p.get(5603), Err(ParamError::OutOfRange(5603)));
+        assert!(p.set(-1, 0.0).is_err());
+        p.set_system("_x", 1.0);
+        assert_eq!(p.set_named("_x", 2.0), Err(ParamError::ReadOnly("_x".into())));
+    }
+}
