@@ -1,0 +1,23 @@
+#!/bin/sh
+# Verify the corpus against LinuxCNC's rs274: every good program runs to completion (exit 0,
+# nothing on stderr but rs274's "executing" banner), every bad program is rejected (exit != 0).
+set -u
+cd "$(dirname "$0")/../tests/corpus" || exit 2
+fail=0
+for f in *.ngc; do
+    err=$(rs274 -g -t tool.tbl "$f" 2>&1 >/dev/null)
+    rc=$?
+    extra=$(printf '%s\n' "$err" | grep -v '^executing$' | grep -v '^$')
+    if [ $rc -ne 0 ] || [ -n "$extra" ]; then
+        echo "GOOD FAILS: $f (exit $rc): $extra"
+        fail=1
+    fi
+done
+for f in bad/*.ngc; do
+    if rs274 -g -t tool.tbl "$f" >/dev/null 2>&1; then
+        echo "BAD ACCEPTED: $f"
+        fail=1
+    fi
+done
+echo "good: $(ls *.ngc | wc -l)  bad: $(ls bad/*.ngc | wc -l)"
+exit $fail
