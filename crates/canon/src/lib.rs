@@ -9,6 +9,8 @@
 //! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
 //! records are still emitted so that a printer can reconstruct program coordinates.
 
+pub mod summary;
+
 /// A point in the six-axis machine space: X Y Z in mm, A B C in degrees.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pos {

@@ -1,0 +1,258 @@
+//! What a program does, at a glance: extents per axis (rapid and feed apart), path lengths,
+//! tools, and a plain feed-rate time estimate. Built by folding the canon stream, so it works
+//! on programs of any length in constant memory.
+
+use crate::{CanonOp, FeedMode, Plane, Pos};
+use std::f64::consts::TAU;
+
+/// Axis-aligned box of the linear axes; empty until the first point is added.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Extents {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl Default for Extents {
+    fn default() -> Self {
+        Extents { min: [f64::INFINITY; 3], max: [f64::NEG_INFINITY; 3] }
+    }
+}
+
+impl Extents {
+    pub fn is_empty(&self) -> bool {
+        self.min[0] > self.max[0]
+    }
+
+    pub fn add(&mut self, p: [f64; 3]) {
+        for i in 0..3 {
+            self.min[i] = self.min[i].min(p[i]);
+            self.max[i] = self.max[i].max(p[i]);
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Where the rapid moves go (their end points and start points).
+    pub rapid_extents: Extents,
+    /// Where the tool moves while cutting (lines and the whole swept arcs).
+    pub feed_extents: Extents,
+    pub rapid_length: f64,
+    pub feed_length: f64,
+    pub rapid_moves: u64,
+    pub feed_moves: u64,
+    pub arcs: u64,
+    /// Tools in the order they were first changed to.
+    pub tools: Vec<u32>,
+    pub dwell_seconds: f64,
+    /// Feed moves at their programmed feed plus rapids at `rapid_rate`, no acceleration:
+    /// a lower bound that the planner's exact estimate replaces.
+    pub feed_rate_seconds: f64,
+    /// Feed moves programmed with no usable feed rate (counted, not timed).
+    pub untimed_moves: u64,
+}
+
+/// Folds canon operations into a [`Summary`].
+#[derive(Clone, Debug)]
+pub struct Summarizer {
+    pos: Pos,
+    feed: f64,
+    feed_mode: FeedMode,
+    rapid_rate: f64,
+    summary: Summary,
+}
+
+impl Summarizer {
+    /// `start` is the machine position before the program; `rapid_rate` in mm/min.
+    pub fn new(start: Pos, rapid_rate: f64) -> Summarizer {
+        Summarizer {
+            pos: start,
+            feed: 0.0,
+            feed_mode: FeedMode::UnitsPerMinute,
+            rapid_rate,
+            summary: Summary::default(),
+        }
+    }
+
+    pub fn add(&mut self, op: &CanonOp) {
+        let s = &mut self.summary;
+        match op {
+            CanonOp::SetFeedRate(f) => self.feed = *f,
+            CanonOp::SetFeedMode(m) => self.feed_mode = *m,
+            CanonOp::StraightTraverse { to } => {
+                let len = self.pos.dist_xyz(to);
+                s.rapid_extents.add(xyz(&self.pos));
+                s.rapid_extents.add(xyz(to));
+                s.rapid_length += len;
+                s.rapid_moves += 1;
+                if self.rapid_rate > 0.0 {
+                    s.feed_rate_seconds += len / self.rapid_rate * 60.0;
+                }
+                self.pos = *to;
+            }
+            CanonOp::StraightFeed { to } => {
+                let len = self.pos.dist_xyz(to);
+                s.feed_extents.add(xyz(&self.pos));
+                s.feed_extents.add(xyz(to));
+                s.feed_moves += 1;
+                s.feed_length += len;
+                self.time_feed(len);
+                self.pos = *to;
+            }
+            CanonOp::ArcFeed { plane, end, center, turns } => {
+                let (len, ext) = arc_length_and_extents(&self.pos, *plane, end, *center, *turns);
+                let s = &mut self.summary;
+                s.feed_extents.add(ext.min);
+                s.feed_extents.add(ext.max);
+                s.feed_moves += 1;
+                s.arcs += 1;
+                s.feed_length += len;
+                self.time_feed(len);
+                self.pos = *end;
+            }
+            CanonOp::ChangeTool(t) => {
+                if !s.tools.contains(t) {
+                    s.tools.push(*t);
+                }
+            }
+            CanonOp::Dwell(secs) => {
+                s.dwell_seconds += secs;
+                s.feed_rate_seconds += secs;
+            }
+            _ => {}
+        }
+    }
+
+    fn time_feed(&mut self, len: f64) {
+        let s = &mut self.summary;
+        match self.feed_mode {
+            FeedMode::InverseTime if self.feed > 0.0 => s.feed_rate_seconds += 60.0 / self.feed,
+            FeedMode::UnitsPerMinute if self.feed > 0.0 => s.feed_rate_seconds += len / self.feed * 60.0,
+            _ => s.untimed_moves += 1,
+        }
+    }
+
+    pub fn finish(self) -> Summary {
+        self.summary
+    }
+}
+
+fn xyz(p: &Pos) -> [f64; 3] {
+    [p.x, p.y, p.z]
+}
+
+/// Length of an arc or helix and the box it sweeps (including the quadrant points it passes).
+pub fn arc_length_and_extents(
+    start: &Pos,
+    plane: Plane,
+    end: &Pos,
+    center: [f64; 2],
+    turns: i32,
+) -> (f64, Extents) {
+    let (a0, a1, n) = plane.axes();
+    let s = start.to_array();
+    let e = end.to_array();
+    let (sx, sy) = (s[a0] - center[0], s[a1] - center[1]);
+    let (ex, ey) = (e[a0] - center[0], e[a1] - center[1]);
+    let r0 = sx.hypot(sy);
+    let r1 = ex.hypot(ey);
+    let th0 = sy.atan2(sx);
+    let th1 = ey.atan2(ex);
+    let ccw = turns > 0;
+    // Sweep in the direction of travel, 0 < sweep ≤ 2π for the partial turn.
+    let mut sweep = if ccw { th1 - th0 } else { th0 - th1 };
+    while sweep <= 1e-12 {
+        sweep += TAU;
+    }
+    sweep += TAU * (turns.unsigned_abs().max(1) - 1) as f64;
+    let r_mean = 0.5 * (r0 + r1);
+    let planar = r_mean * sweep;
+    let axial = e[n] - s[n];
+    let len = planar.hypot(axial);
+
+    let mut ext = Extents::default();
+    let mut put = |u: f64, v: f64, w: f64| {
+        let mut p = [0.0; 6];
+        p[a0] = u;
+        p[a1] = v;
+        p[n] = w;
+        ext.add([p[0], p[1], p[2]]);
+    };
+    put(s[a0], s[a1], s[n]);
+    put(e[a0], e[a1], e[n]);
+    // Quadrant points crossed by the sweep (radius taken as the larger one: a safe box).
+    let r = r0.max(r1);
+    for k in 0..4 {
+        let q = k as f64 * TAU / 4.0;
+        let from_start = if ccw { (q - th0).rem_euclid(TAU) } else { (th0 - q).rem_euclid(TAU) };
+        if from_start <= sweep + 1e-12 {
+            let w = s[n] + axial * (from_start / sweep).min(1.0);
+            put(center[0] + r * q.cos(), center[1] + r * q.sin(), w);
+        }
+    }
+    (len, ext)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quarter_arc_length_and_box() {
+        // From (10,0) CCW about the origin to (0,10): a quarter circle of radius 10.
+        let (len, ext) = arc_length_and_extents(
+            &Pos::xyz(10.0, 0.0, 0.0),
+            Plane::XY,
+            &Pos::xyz(0.0, 10.0, 0.0),
+            [0.0, 0.0],
+            1,
+        );
+        assert!((len - 10.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+        assert_eq!(ext.max[0], 10.0);
+        assert_eq!(ext.max[1], 10.0);
+        assert!(ext.min[0].abs() < 1e-9 && ext.min[1].abs() < 1e-9);
+    }
+
+    #[test]
+    fn clockwise_three_quarter_arc_reaches_negative_quadrants() {
+        // CW from (10,0) to (0,10) goes through (0,-10) and (-10,0).
+        let (len, ext) = arc_length_and_extents(
+            &Pos::xyz(10.0, 0.0, 0.0),
+            Plane::XY,
+            &Pos::xyz(0.0, 10.0, 0.0),
+            [0.0, 0.0],
+            -1,
+        );
+        assert!((len - 10.0 * 1.5 * std::f64::consts::PI).abs() < 1e-9);
+        assert!((ext.min[0] + 10.0).abs() < 1e-9 && (ext.min[1] + 10.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn full_circle_helix_with_two_turns() {
+        let (len, _) = arc_length_and_extents(
+            &Pos::xyz(5.0, 0.0, 0.0),
+            Plane::XY,
+            &Pos::xyz(5.0, 0.0, -3.0),
+            [0.0, 0.0],
+            2,
+        );
+        let planar = 2.0 * TAU * 5.0;
+        assert!((len - planar.hypot(3.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn feed_rate_estimate_adds_rapids_feeds_and_dwells() {
+        let mut s = Summarizer::new(Pos::ZERO, 6000.0);
+        s.add(&CanonOp::StraightTraverse { to: Pos::xyz(100.0, 0.0, 0.0) }); // 1 s
+        s.add(&CanonOp::SetFeedRate(600.0));
+        s.add(&CanonOp::StraightFeed { to: Pos::xyz(100.0, 50.0, 0.0) }); // 5 s
+        s.add(&CanonOp::Dwell(2.5));
+        s.add(&CanonOp::ChangeTool(3));
+        let r = s.finish();
+        assert!((r.feed_rate_seconds - 8.5).abs() < 1e-9);
+        assert_eq!(r.tools, vec![3]);
+        assert_eq!(r.rapid_extents.max[0], 100.0);
+        assert_eq!(r.feed_extents.min[0], 100.0);
+        assert_eq!(r.feed_length, 50.0);
+    }
+}
