@@ -1,0 +1,10 @@
+//! Machine-neutral CAM: cutting tools, toolpaths and the relief (heightmap) strategies.
+
+pub mod library;
+pub mod surface;
+pub mod tool;
+pub mod toolpath;
+
+pub use library::Library;
+pub use tool::{Shape, Tool, ToolError};
+pub use toolpath::{Move, Operation, Toolpath};

@@ -1,0 +1,186 @@
+//! A tool library file (TOML): numbered tools with their shape, sizes and cutting data.
+//!
+//! ```toml
+//! [[tool]]
+//! number = 1
+//! name = "12 mm flat"
+//! shape = "flat"
+//! diameter = 12.0
+//! flute_length = 30.0
+//! shank_diameter = 12.0
+//! feed = 2000.0          # mm/min
+//! plunge_feed = 500.0    # mm/min
+//! spindle_rpm = 18000.0
+//! ```
+
+use crate::tool::{Shape, Tool};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LibraryTool {
+    pub number: u32,
+    #[serde(default)]
+    pub name: String,
+    #[serde(flatten)]
+    pub shape: Shape,
+    pub diameter: f64,
+    pub flute_length: Option<f64>,
+    pub shank_diameter: Option<f64>,
+    /// mm/min
+    pub feed: Option<f64>,
+    /// mm/min
+    pub plunge_feed: Option<f64>,
+    pub spindle_rpm: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Library {
+    #[serde(default, rename = "tool")]
+    pub tools: Vec<LibraryTool>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum LibraryError {
+    #[error("{path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}: {message}")]
+    Parse { path: String, message: String },
+    #[error("{path}: tool number {number}: {message}")]
+    Tool {
+        path: String,
+        number: u32,
+        message: String,
+    },
+}
+
+impl LibraryTool {
+    pub fn tool(&self) -> Result<Tool, crate::tool::ToolError> {
+        let mut tool = Tool::new(self.shape, self.diameter)?;
+        if let Some(l) = self.flute_length {
+            tool.flute_length = l;
+        }
+        if let Some(d) = self.shank_diameter {
+            tool.shank_diameter = d;
+        }
+        tool.validate()?;
+        Ok(tool)
+    }
+}
+
+impl Library {
+    /// Parses library text; `path` names the source in messages.
+    pub fn parse(path: &str, text: &str) -> Result<Library, LibraryError> {
+        let lib: Library = toml::from_str(text).map_err(|e| LibraryError::Parse {
+            path: path.into(),
+            message: e.to_string(),
+        })?;
+        let mut seen = std::collections::HashSet::new();
+        for t in &lib.tools {
+            if !seen.insert(t.number) {
+                return Err(LibraryError::Tool {
+                    path: path.into(),
+                    number: t.number,
+                    message: "listed twice".into(),
+                });
+            }
+            t.tool().map_err(|e| LibraryError::Tool {
+                path: path.into(),
+                number: t.number,
+                message: e.to_string(),
+            })?;
+            for (what, v) in [
+                ("feed", t.feed),
+                ("plunge_feed", t.plunge_feed),
+                ("spindle_rpm", t.spindle_rpm),
+            ] {
+                if let Some(v) = v {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(LibraryError::Tool {
+                            path: path.into(),
+                            number: t.number,
+                            message: format!("{what} must be above 0, got {v}"),
+                        });
+                    }
+                }
+            }
+        }
+        Ok(lib)
+    }
+
+    pub fn load(path: &std::path::Path) -> Result<Library, LibraryError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| LibraryError::Read {
+            path: name.clone(),
+            source,
+        })?;
+        Library::parse(&name, &text)
+    }
+
+    pub fn get(&self, number: u32) -> Option<&LibraryTool> {
+        self.tools.iter().find(|t| t.number == number)
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = r#"
+[[tool]]
+number = 1
+name = "12 mm flat"
+shape = "flat"
+diameter = 12.0
+feed = 2000.0
+
+[[tool]]
+number = 2
+shape = "v"
+angle = 60.0
+diameter = 6.0
+shank_diameter = 6.0
+
+[[tool]]
+number = 3
+shape = "bull"
+corner_radius = 1.0
+diameter = 6.0
+flute_length = 15.0
+"#;
+
+    #[test]
+    fn round_trips_and_builds_tools() {
+        let lib = Library::parse("t.toml", TEXT).unwrap();
+        assert_eq!(lib.tools.len(), 3);
+        assert_eq!(
+            lib.get(2).unwrap().tool().unwrap().shape,
+            Shape::V { angle: 60.0 }
+        );
+        assert_eq!(lib.get(3).unwrap().tool().unwrap().flute_length, 15.0);
+        let again = Library::parse("again", &lib.to_toml()).unwrap();
+        assert_eq!(again, lib);
+    }
+
+    #[test]
+    fn bad_entries_name_the_tool() {
+        let err = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 7\nshape = \"ball\"\ndiameter = -1.0\n",
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("tool number 7"), "{err}");
+        let err = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 7\nshape = \"cone\"\ndiameter = 1.0\n",
+        )
+        .unwrap_err();
+        assert!(err.to_string().starts_with("t.toml"), "{err}");
+    }
+}

@@ -1,0 +1,116 @@
+//! Raw height fields: little-endian f32, row-major, image row 0 on top, values in mm
+//! (0 = stock top, negative = below). For z-buffers exported from 3D programs.
+
+use crate::Heightmap;
+
+#[derive(Debug, thiserror::Error)]
+pub enum RawError {
+    #[error("{path}: cannot read the file: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error(
+        "{path}: {bytes} bytes is not a whole number of {width}-sample f32 rows ({row} bytes each)"
+    )]
+    Shape {
+        path: String,
+        bytes: u64,
+        width: usize,
+        row: u64,
+    },
+    #[error("{path}: the height field is empty")]
+    Empty { path: String },
+    #[error("{path}: {bytes} bytes is over the memory budget of {budget} bytes")]
+    TooBig {
+        path: String,
+        bytes: u64,
+        budget: u64,
+    },
+    #[error("{path}: sample at row {row}, column {col} is {value}; heights must be finite")]
+    NotFinite {
+        path: String,
+        row: usize,
+        col: usize,
+        value: f32,
+    },
+    #[error("{what} must be above 0")]
+    BadParameter { what: &'static str },
+}
+
+/// Loads `width`-wide rows of f32 heights from `path`, with `pixel` mm spacing.
+pub fn load_raw_f32(
+    path: &std::path::Path,
+    width: usize,
+    pixel: f64,
+    budget: u64,
+) -> Result<Heightmap, RawError> {
+    let name = path.display().to_string();
+    if width == 0 {
+        return Err(RawError::BadParameter { what: "raw width" });
+    }
+    if !(pixel.is_finite() && pixel > 0.0) {
+        return Err(RawError::BadParameter { what: "pixel size" });
+    }
+    let bytes = std::fs::metadata(path)
+        .map_err(|source| RawError::Read {
+            path: name.clone(),
+            source,
+        })?
+        .len();
+    if bytes > budget / 2 {
+        return Err(RawError::TooBig {
+            path: name,
+            bytes,
+            budget,
+        });
+    }
+    let data = std::fs::read(path).map_err(|source| RawError::Read {
+        path: name.clone(),
+        source,
+    })?;
+    raw_f32_from_bytes(&name, &data, width, pixel)
+}
+
+pub fn raw_f32_from_bytes(
+    name: &str,
+    data: &[u8],
+    width: usize,
+    pixel: f64,
+) -> Result<Heightmap, RawError> {
+    let row = width as u64 * 4;
+    if data.is_empty() {
+        return Err(RawError::Empty { path: name.into() });
+    }
+    if data.len() as u64 % row != 0 {
+        return Err(RawError::Shape {
+            path: name.into(),
+            bytes: data.len() as u64,
+            width,
+            row,
+        });
+    }
+    let height = data.len() / (width * 4);
+    let mut z = Vec::with_capacity(width * height);
+    for image_row in (0..height).rev() {
+        for col in 0..width {
+            let at = (image_row * width + col) * 4;
+            let value = f32::from_le_bytes([data[at], data[at + 1], data[at + 2], data[at + 3]]);
+            if !value.is_finite() {
+                return Err(RawError::NotFinite {
+                    path: name.into(),
+                    row: image_row,
+                    col,
+                    value,
+                });
+            }
+            z.push(value);
+        }
+    }
+    Ok(Heightmap {
+        width,
+        height,
+        pixel,
+        z,
+    })
+}
