@@ -1,0 +1,302 @@
+//! `oficina bench gcode`: interpreter throughput on a large generated program, beside
+//! LinuxCNC's `rs274` on the same file in the same run.
+//!
+//! Two inputs are generated: a mixed program (G1/G2/G3 with parameters and expressions, the
+//! work a real interpreter does) and a plain one (`G1 X… Y…` lines only, which measures raw
+//! reading speed in MB/s). Both are deterministic, so figures from different runs compare.
+
+use anyhow::{bail, Context};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+#[derive(clap::Args, Debug)]
+pub struct BenchGcodeArgs {
+    /// Number of blocks (lines) in each generated program.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub blocks: u64,
+    /// Keep the generated mixed program at this path instead of a temporary file.
+    #[arg(long)]
+    pub keep: Option<PathBuf>,
+}
+
+/// A small deterministic generator (SplitMix64): the same program on every machine.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [lo, hi).
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Rounds to the 4 decimals the program is written with, so the generator tracks exactly the
+/// point the interpreter will be at.
+fn r4(v: f64) -> f64 {
+    (v * 1e4).round() / 1e4
+}
+
+/// Writes the mixed program: `blocks` lines in all, ending with M2. Arcs are built from the
+/// current (rounded) point so their end radius matches the start radius within rounding.
+pub fn write_mixed_program(out: &mut impl Write, blocks: u64) -> std::io::Result<()> {
+    let mut rng = SplitMix(0x0f1c_1a00);
+    writeln!(out, "G21 G17 G90 G94 F1500")?;
+    writeln!(
+        out,
+        "#1 = 0 (exact zero: keeps expression results exactly on the written value)"
+    )?;
+    writeln!(out, "#<scale> = 1")?;
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    for n in 3..blocks.saturating_sub(1) {
+        let kind = rng.next() % 10;
+        // Pull the walk back towards the origin so coordinates stay small.
+        let bias = |v: f64| {
+            if v > 50.0 {
+                -1.0
+            } else if v < -50.0 {
+                1.0
+            } else {
+                0.0
+            }
+        };
+        match kind {
+            0..=4 => {
+                x = r4(x + rng.range(-5.0, 5.0) + bias(x) * 5.0);
+                y = r4(y + rng.range(-5.0, 5.0) + bias(y) * 5.0);
+                let z = r4(rng.range(-2.0, 0.0));
+                match n % 3 {
+                    0 => writeln!(out, "G1 X{x:.4} Y{y:.4} Z{z:.4}")?,
+                    1 => writeln!(out, "G1 X[{x:.4} + #1] Y[{y:.4} * #<scale>]")?,
+                    _ => writeln!(out, "G1 X[{x:.4} - #1] Y{y:.4} F[1000 + {}]", n % 500)?,
+                }
+            }
+            5..=8 => {
+                let radius = rng.range(1.0, 6.0);
+                let start_angle = rng.range(0.0, std::f64::consts::TAU);
+                let sweep = rng.range(0.3, 2.5);
+                let (cx, cy) = (
+                    x - radius * start_angle.cos(),
+                    y - radius * start_angle.sin(),
+                );
+                let (i, j) = (r4(cx - x), r4(cy - y));
+                let (cx, cy) = (x + i, y + j);
+                let r = (i * i + j * j).sqrt();
+                let clockwise = kind % 2 == 0;
+                let end_angle = start_angle + if clockwise { -sweep } else { sweep };
+                let (ex, ey) = (r4(cx + r * end_angle.cos()), r4(cy + r * end_angle.sin()));
+                let code = if clockwise { "G2" } else { "G3" };
+                writeln!(out, "{code} X{ex:.4} Y{ey:.4} I[{i:.4} + #1] J{j:.4}")?;
+                x = ex;
+                y = ey;
+            }
+            _ => writeln!(out, "#<scale> = [ABS[SIN[{}]] * 0 + 1]", n % 360)?,
+        }
+    }
+    writeln!(out, "M2")
+}
+
+/// Writes `blocks` plain `G1 X… Y…` lines (first line sets units and feed, last is M2).
+pub fn write_plain_program(out: &mut impl Write, blocks: u64) -> std::io::Result<()> {
+    let mut rng = SplitMix(0x9a1b_2c3d);
+    writeln!(out, "G21 G90 G94 F2000")?;
+    for _ in 1..blocks.saturating_sub(1) {
+        writeln!(
+            out,
+            "G1 X{:.4} Y{:.4}",
+            rng.range(-100.0, 100.0),
+            rng.range(-100.0, 100.0)
+        )?;
+    }
+    writeln!(out, "M2")
+}
+
+fn generate(
+    path: &Path,
+    blocks: u64,
+    writer: fn(&mut BufWriter<File>, u64) -> std::io::Result<()>,
+) -> anyhow::Result<u64> {
+    let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut out = BufWriter::new(file);
+    writer(&mut out, blocks)
+        .and_then(|_| out.flush())
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(std::fs::metadata(path)?.len())
+}
+
+/// One interpreter's time on one file, or why there is none.
+enum Timing {
+    Took(Duration),
+    Unavailable(String),
+}
+
+/// Times `rs274 -g -t TOOLS FILE OUT`; its canonical output goes to a file, as Oficina's
+/// counting sink pays no printing cost either way beyond formatting.
+fn time_rs274(program: &Path, tools: &Path, output: &Path) -> Timing {
+    let started = Instant::now();
+    let status = Command::new("rs274")
+        .arg("-g")
+        .arg("-t")
+        .arg(tools)
+        .arg(program)
+        .arg(output)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .output();
+    let elapsed = started.elapsed();
+    match status {
+        Err(e) => Timing::Unavailable(format!("rs274 not runnable ({e}); install linuxcnc-uspace")),
+        Ok(out) if !out.status.success() => {
+            let msg = String::from_utf8_lossy(&out.stderr).replace("executing", "");
+            Timing::Unavailable(format!("rs274 rejected the program: {}", msg.trim()))
+        }
+        Ok(_) => Timing::Took(elapsed),
+    }
+}
+
+fn print_row(who: &str, timing: &Timing, blocks: u64, bytes: u64) {
+    match timing {
+        Timing::Took(d) => {
+            let s = d.as_secs_f64();
+            println!(
+                "  {who:<10} {:>9.3} s  {:>12.0} blocks/s  {:>8.2} MB/s",
+                s,
+                blocks as f64 / s,
+                bytes as f64 / s / 1e6
+            );
+        }
+        Timing::Unavailable(why) => println!("  {who:<10} unavailable: {why}"),
+    }
+}
+
+pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
+    if args.blocks < 10 {
+        bail!("--blocks {} is too small: use at least 10", args.blocks);
+    }
+    let dir = tempfile::tempdir().context("cannot create a temporary directory")?;
+    let mixed = args
+        .keep
+        .clone()
+        .unwrap_or_else(|| dir.path().join("mixed.ngc"));
+    let plain = dir.path().join("plain.ngc");
+    let tools = dir.path().join("tool.tbl");
+    std::fs::write(&tools, "T1 P1 D0.125 Z0.5 ;\n").context("cannot write the tool table")?;
+    let rs274_out = dir.path().join("rs274.out");
+
+    for (label, path, writer) in [
+        (
+            "mixed G1/G2/G3 with parameters and expressions",
+            &mixed,
+            write_mixed_program as fn(&mut BufWriter<File>, u64) -> _,
+        ),
+        ("plain G1 X Y lines", &plain, write_plain_program),
+    ] {
+        let bytes = generate(path, args.blocks, writer)?;
+        println!(
+            "{label}: {} blocks, {:.1} MB ({})",
+            args.blocks,
+            bytes as f64 / 1e6,
+            path.display()
+        );
+        let peer = time_rs274(path, &tools, &rs274_out);
+        print_row("rs274", &peer, args.blocks, bytes);
+    }
+    if let Some(kept) = &args.keep {
+        println!("kept the mixed program at {}", kept.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mixed(blocks: u64) -> String {
+        let mut v = Vec::new();
+        write_mixed_program(&mut v, blocks).unwrap();
+        String::from_utf8(v).unwrap()
+    }
+
+    /// The number after `letter` in a generated line, reading `L[v + #1]` as v.
+    fn word(line: &str, letter: char) -> Option<f64> {
+        let rest = &line[line.find(letter)? + 1..];
+        let rest = rest.strip_prefix('[').unwrap_or(rest);
+        let end = rest.find([' ', ']']).unwrap_or(rest.len());
+        rest[..end].parse().ok()
+    }
+
+    #[test]
+    fn programs_have_the_requested_block_count_and_are_deterministic() {
+        let a = mixed(5000);
+        assert_eq!(a.lines().count(), 5000);
+        assert_eq!(a, mixed(5000));
+        assert!(a.ends_with("M2\n"));
+        let mut plain = Vec::new();
+        write_plain_program(&mut plain, 1234).unwrap();
+        assert_eq!(String::from_utf8(plain).unwrap().lines().count(), 1234);
+    }
+
+    #[test]
+    fn every_arc_ends_on_its_circle() {
+        // Re-reads the text and checks each arc from the written numbers alone.
+        let (mut x, mut y, mut arcs) = (0.0, 0.0, 0);
+        for line in mixed(20_000).lines() {
+            if line.starts_with("G2 ") || line.starts_with("G3 ") {
+                let (ex, ey) = (word(line, 'X').unwrap(), word(line, 'Y').unwrap());
+                let (cx, cy) = (x + word(line, 'I').unwrap(), y + word(line, 'J').unwrap());
+                let r_start = ((x - cx) * (x - cx) + (y - cy) * (y - cy)).sqrt();
+                let r_end = ((ex - cx) * (ex - cx) + (ey - cy) * (ey - cy)).sqrt();
+                assert!(
+                    (r_start - r_end).abs() < 2e-4,
+                    "{line}: radii {r_start} and {r_end}"
+                );
+                arcs += 1;
+            }
+            if line.starts_with('G') && line.contains('X') {
+                (x, y) = (word(line, 'X').unwrap(), word(line, 'Y').unwrap());
+            }
+        }
+        assert!(arcs > 5000, "only {arcs} arcs");
+    }
+
+    #[test]
+    fn rs274_runs_the_generated_programs() {
+        if Command::new("rs274").arg("-h").output().is_err() {
+            eprintln!("rs274 not installed: generated programs not checked against it");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let tools = dir.path().join("tool.tbl");
+        std::fs::write(&tools, "T1 P1 D0.125 Z0.5 ;\n").unwrap();
+        let out = dir.path().join("out");
+        for (name, writer) in [
+            (
+                "mixed.ngc",
+                write_mixed_program as fn(&mut BufWriter<File>, u64) -> _,
+            ),
+            ("plain.ngc", write_plain_program),
+        ] {
+            let path = dir.path().join(name);
+            generate(&path, 3000, writer).unwrap();
+            match time_rs274(&path, &tools, &out) {
+                Timing::Took(_) => {}
+                Timing::Unavailable(why) => panic!("{name}: {why}"),
+            }
+            let calls = std::fs::read_to_string(&out).unwrap();
+            assert!(
+                calls.lines().filter(|l| l.contains("_FEED(")).count() > 2500,
+                "{name}"
+            );
+        }
+    }
+}

@@ -1,0 +1,602 @@
+//! Differential test: Oficina's G-code interpreter against LinuxCNC's standalone `rs274`.
+//!
+//! Every program in `tests/corpus/*.ngc` is run through `rs274 -g -t tool.tbl FILE` and
+//! `oficina gcode canon FILE --tool-table tool.tbl`; both print LinuxCNC canonical calls. The
+//! outputs are normalised (see [`normalise`]) and compared call by call, numbers within
+//! [`TOLERANCE`]. Every program in `tests/corpus/bad/` must be rejected by both; the line each
+//! one stops at is reported (rs274 prints the offending block's text, not its number, so its
+//! line is found by matching that text against the source).
+//!
+//! The test fails unless every file agrees or is listed in [`ALLOWED`] with a reason. It needs
+//! `rs274` (Debian package `linuxcnc-uspace`): when it is missing the test fails under CI (env
+//! `CI` set) and is skipped loudly elsewhere.
+//!
+//! Run: `cargo test -p oficina-cli --test differential -- --nocapture`.
+
+use std::collections::HashSet;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Both programs print 4 decimals; a value that sits on a rounding boundary may print one unit
+/// of the last digit apart, hence the small slack above 1e-4.
+const TOLERANCE: f64 = 1e-4 + 1e-9;
+
+/// A program that runs longer than this in either interpreter is counted as a failure (an
+/// endless loop must not hang the test suite).
+const TIME_LIMIT: Duration = Duration::from_secs(30);
+
+/// Files whose difference is deliberate, each with the reason (see
+/// docs/linuxcnc-differences.md). Keep this short: everything else must agree.
+const ALLOWED: &[(&str, &str)] = &[];
+
+/// Canonical calls that are compared. Everything else is dropped, each for a reason:
+/// - `ON_RESET`, `FINISH`: notifications of rs274's own driver loop, not machine operations;
+/// - `SET_FEED_REFERENCE`: always `CANON_XYZ` in rs274, not a state Oficina models;
+/// - `START_CHANGE`: a hint to a tool changer to start moving, no state change;
+/// - `SET_SPINDLE_MODE`: constant-surface-speed mode (G96), not part of the corpus;
+/// - `COMMENT("interpreter: …")`: rs274 narrating its own mode changes (see
+///   [`is_narration`]); user comments are still compared.
+///
+/// The start-up preamble rs274 prints before reading the file (everything up to and including
+/// its first `ON_RESET()`) is dropped from both sides: it describes the driver's defaults, not
+/// the program.
+const COMPARED: &[&str] = &[
+    "STRAIGHT_TRAVERSE",
+    "STRAIGHT_FEED",
+    "ARC_FEED",
+    "DWELL",
+    "SET_FEED_RATE",
+    "SET_FEED_MODE",
+    "SET_SPINDLE_SPEED",
+    "START_SPINDLE_CLOCKWISE",
+    "START_SPINDLE_COUNTERCLOCKWISE",
+    "STOP_SPINDLE_TURNING",
+    "MIST_ON",
+    "MIST_OFF",
+    "FLOOD_ON",
+    "FLOOD_OFF",
+    "SELECT_TOOL",
+    "CHANGE_TOOL",
+    "USE_TOOL_LENGTH_OFFSET",
+    "USE_LENGTH_UNITS",
+    "SELECT_PLANE",
+    "SET_G5X_OFFSET",
+    "SET_G92_OFFSET",
+    "SET_XY_ROTATION",
+    "SET_MOTION_CONTROL_MODE",
+    "SET_NAIVECAM_TOLERANCE",
+    "ENABLE_FEED_OVERRIDE",
+    "DISABLE_FEED_OVERRIDE",
+    "ENABLE_SPEED_OVERRIDE",
+    "DISABLE_SPEED_OVERRIDE",
+    "ENABLE_ADAPTIVE_FEED",
+    "DISABLE_ADAPTIVE_FEED",
+    "ENABLE_FEED_HOLD",
+    "DISABLE_FEED_HOLD",
+    "MESSAGE",
+    "COMMENT",
+    "PROGRAM_STOP",
+    "OPTIONAL_PROGRAM_STOP",
+    "PROGRAM_END",
+];
+
+/// One canonical call as printed, with the 1-based line of the output it came from.
+#[derive(Clone, Debug)]
+struct Call {
+    out_line: usize,
+    name: String,
+    args: Vec<Arg>,
+    text: String,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum Arg {
+    Num(f64),
+    Word(String),
+}
+
+/// What one interpreter did with one file.
+struct Run {
+    ok: bool,
+    stdout: String,
+    stderr: String,
+}
+
+#[derive(Debug)]
+enum Verdict {
+    Agree,
+    /// Bad program rejected by both; `same_line` is None when a line could not be determined.
+    BothReject {
+        same_line: Option<bool>,
+        detail: String,
+    },
+    Mismatch(String),
+}
+
+struct Outcome {
+    file: String,
+    verdict: Verdict,
+    allowed: Option<&'static str>,
+}
+
+fn corpus_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/corpus")
+}
+
+fn find_in_path(program: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|d| d.join(program))
+        .find(|p| p.is_file())
+}
+
+/// Runs a command with a time limit, collecting stdout and stderr.
+fn run_command(mut cmd: Command) -> Run {
+    let started = Instant::now();
+    let mut child = match cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+    {
+        Ok(c) => c,
+        Err(e) => {
+            return Run {
+                ok: false,
+                stdout: String::new(),
+                stderr: format!("cannot start: {e}"),
+            }
+        }
+    };
+    // Drain both pipes on threads so a chatty child never blocks on a full pipe.
+    let mut out_pipe = child.stdout.take().expect("stdout is piped");
+    let mut err_pipe = child.stderr.take().expect("stderr is piped");
+    let out_reader = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = out_pipe.read_to_end(&mut s);
+        String::from_utf8_lossy(&s).into_owned()
+    });
+    let err_reader = std::thread::spawn(move || {
+        let mut s = Vec::new();
+        let _ = err_pipe.read_to_end(&mut s);
+        String::from_utf8_lossy(&s).into_owned()
+    });
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if started.elapsed() > TIME_LIMIT => {
+                let _ = child.kill();
+                let _ = child.wait();
+                break None;
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(2)),
+            Err(_) => break None,
+        }
+    };
+    let stdout = out_reader.join().unwrap_or_default();
+    let mut stderr = err_reader.join().unwrap_or_default();
+    if status.is_none() {
+        stderr.push_str(&format!("\n(killed after {} s)", TIME_LIMIT.as_secs()));
+    }
+    Run {
+        ok: status.is_some_and(|s| s.success()),
+        stdout,
+        stderr,
+    }
+}
+
+fn run_rs274(file: &Path) -> Run {
+    let mut cmd = Command::new("rs274");
+    cmd.current_dir(corpus_dir())
+        .arg("-g")
+        .arg("-t")
+        .arg("tool.tbl")
+        .arg(file);
+    let mut run = run_command(cmd);
+    // A good program must run silently: anything besides rs274's "executing" banner on
+    // stderr (an error, a (print,…) line) means it did not run as the corpus intends.
+    if run.ok && stderr_error_text(&run.stderr).is_some() {
+        run.ok = false;
+    }
+    run
+}
+
+fn run_oficina(file: &Path) -> Run {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_oficina"));
+    cmd.current_dir(corpus_dir())
+        .args(["gcode", "canon"])
+        .arg(file)
+        .arg("--tool-table")
+        .arg("tool.tbl");
+    run_command(cmd)
+}
+
+/// rs274's stderr without its "executing" banner, or None when nothing else was said.
+fn stderr_error_text(stderr: &str) -> Option<String> {
+    let lines: Vec<&str> = stderr
+        .lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty() && *l != "executing")
+        .collect();
+    (!lines.is_empty()).then(|| lines.join(" | "))
+}
+
+/// Strips rs274's `"   12 N..... "` counter and line-number prefix; Oficina prints none.
+fn strip_prefix(line: &str) -> &str {
+    let t = line.trim_start();
+    let digits = t.len() - t.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    if digits == 0 {
+        return t;
+    }
+    let rest = t[digits..].trim_start();
+    match rest.strip_prefix('N') {
+        Some(r) => r
+            .trim_start_matches(|c: char| c == '.' || c.is_ascii_digit())
+            .trim_start(),
+        None => t,
+    }
+}
+
+/// Parses `NAME(args)`; None for anything that is not a canonical call.
+fn parse_call(out_line: usize, raw: &str) -> Option<Call> {
+    let line = strip_prefix(raw).trim_end();
+    let open = line.find('(')?;
+    let name = &line[..open];
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+    {
+        return None;
+    }
+    let inner = line[open + 1..].strip_suffix(')')?;
+    let args = if name == "MESSAGE" || name == "COMMENT" {
+        vec![Arg::Word(inner.to_string())]
+    } else {
+        inner
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                s.parse::<f64>()
+                    .map(Arg::Num)
+                    .unwrap_or_else(|_| Arg::Word(s.to_string()))
+            })
+            .collect()
+    };
+    Some(Call {
+        out_line,
+        name: name.to_string(),
+        args,
+        text: line.to_string(),
+    })
+}
+
+fn is_narration(call: &Call) -> bool {
+    call.name == "COMMENT"
+        && matches!(call.args.first(), Some(Arg::Word(w)) if w.starts_with("\"interpreter:"))
+}
+
+/// The calls that are compared, in order: preamble, bookkeeping and narration dropped.
+fn normalise(stdout: &str) -> Vec<Call> {
+    let compared: HashSet<&str> = COMPARED.iter().copied().collect();
+    let calls: Vec<Call> = stdout
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| parse_call(i + 1, l))
+        .collect();
+    let body_start = calls
+        .iter()
+        .position(|c| c.name == "ON_RESET")
+        .map_or(0, |i| i + 1);
+    calls
+        .into_iter()
+        .skip(body_start)
+        .filter(|c| compared.contains(c.name.as_str()) && !is_narration(c))
+        .collect()
+}
+
+fn args_agree(a: &[Arg], b: &[Arg]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| match (x, y) {
+            (Arg::Num(p), Arg::Num(q)) => (p - q).abs() <= TOLERANCE,
+            _ => x == y,
+        })
+}
+
+/// The first difference between two call sequences, described with both lines.
+fn first_difference(reference: &[Call], ours: &[Call]) -> Option<String> {
+    for (i, (r, o)) in reference.iter().zip(ours).enumerate() {
+        if r.name != o.name || !args_agree(&r.args, &o.args) {
+            return Some(format!(
+                "call #{}: rs274 (out line {}): {}\n        oficina (out line {}): {}",
+                i + 1,
+                r.out_line,
+                r.text,
+                o.out_line,
+                o.text
+            ));
+        }
+    }
+    match reference.len().cmp(&ours.len()) {
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => {
+            let r = &reference[ours.len()];
+            Some(format!(
+                "oficina stops after {} calls; rs274 continues (out line {}): {}",
+                ours.len(),
+                r.out_line,
+                r.text
+            ))
+        }
+        std::cmp::Ordering::Less => {
+            let o = &ours[reference.len()];
+            Some(format!(
+                "rs274 stops after {} calls; oficina continues (out line {}): {}",
+                reference.len(),
+                o.out_line,
+                o.text
+            ))
+        }
+    }
+}
+
+/// Source lines (1-based) whose text is the block rs274 names in its error message: rs274
+/// prints the message, then the offending block as written.
+fn rs274_error_lines(stderr: &str, source: &str) -> Vec<u32> {
+    let lines: Vec<&str> = stderr
+        .lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty() && *l != "executing")
+        .collect();
+    let Some(block) = lines.get(1) else {
+        return Vec::new();
+    };
+    source
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim() == block.trim())
+        .map(|(i, _)| i as u32 + 1)
+        .collect()
+}
+
+/// The line of Oficina's first error, from a `file:LINE:COL: error: …` diagnostic.
+fn oficina_error_line(stderr: &str) -> Option<u32> {
+    stderr.lines().find_map(|l| {
+        let head = &l[..l.find(": error")?];
+        let mut parts = head.rsplit(':');
+        let _col: u32 = parts.next()?.trim().parse().ok()?;
+        parts.next()?.trim().parse().ok()
+    })
+}
+
+fn first_line(s: &str) -> String {
+    s.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && *l != "executing")
+        .unwrap_or("")
+        .to_string()
+}
+
+fn compare_good(file: &Path) -> Verdict {
+    let reference = run_rs274(file);
+    if !reference.ok {
+        return Verdict::Mismatch(format!(
+            "corpus error: rs274 rejects this good program: {}",
+            stderr_error_text(&reference.stderr).unwrap_or_default()
+        ));
+    }
+    let ours = run_oficina(file);
+    if !ours.ok {
+        return Verdict::Mismatch(format!("oficina rejects it: {}", first_line(&ours.stderr)));
+    }
+    match first_difference(&normalise(&reference.stdout), &normalise(&ours.stdout)) {
+        None => Verdict::Agree,
+        Some(d) => Verdict::Mismatch(d),
+    }
+}
+
+fn compare_bad(file: &Path) -> Verdict {
+    let source = std::fs::read_to_string(file).unwrap_or_default();
+    let reference = run_rs274(file);
+    if reference.ok {
+        return Verdict::Mismatch("corpus error: rs274 accepts this bad program".into());
+    }
+    let ours = run_oficina(file);
+    if ours.ok {
+        return Verdict::Mismatch(format!(
+            "oficina accepts it; rs274: {}",
+            stderr_error_text(&reference.stderr).unwrap_or_default()
+        ));
+    }
+    let theirs = rs274_error_lines(&reference.stderr, &source);
+    // A rejection must name its line; a failure without one (a crash, a usage error) is not
+    // the interpreter rejecting the program.
+    let Some(mine) = oficina_error_line(&ours.stderr) else {
+        return Verdict::Mismatch(format!(
+            "oficina fails without a `file:line:col: error:` diagnostic: {}",
+            first_line(&ours.stderr)
+        ));
+    };
+    let same_line = (!theirs.is_empty()).then(|| theirs.contains(&mine));
+    let detail = format!(
+        "rs274 line {:?}: {} | oficina line {}: {}",
+        theirs,
+        first_line(&reference.stderr),
+        mine,
+        first_line(&ours.stderr)
+    );
+    Verdict::BothReject { same_line, detail }
+}
+
+fn ngc_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("cannot read corpus directory {}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "ngc"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Compares all files on a few worker threads (each run is a separate process).
+fn compare_all(jobs: Vec<(PathBuf, bool)>) -> Vec<Outcome> {
+    let workers = std::thread::available_parallelism()
+        .map_or(2, |n| n.get())
+        .clamp(1, 4);
+    let next = AtomicUsize::new(0);
+    let results = Mutex::new(Vec::new());
+    std::thread::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some((path, is_bad)) = jobs.get(i) else {
+                    break;
+                };
+                let verdict = if *is_bad {
+                    compare_bad(path)
+                } else {
+                    compare_good(path)
+                };
+                let name = path.file_name().unwrap_or_default().to_string_lossy();
+                let file = if *is_bad {
+                    format!("bad/{name}")
+                } else {
+                    name.into_owned()
+                };
+                let allowed = ALLOWED
+                    .iter()
+                    .find(|(f, _)| *f == file)
+                    .map(|(_, why)| *why);
+                results.lock().unwrap().push(Outcome {
+                    file,
+                    verdict,
+                    allowed,
+                });
+            });
+        }
+    });
+    let mut out = results.into_inner().unwrap();
+    out.sort_by(|a, b| a.file.cmp(&b.file));
+    out
+}
+
+fn report(outcomes: &[Outcome]) -> usize {
+    let mut failures = 0;
+    let (mut agree, mut lines_same, mut lines_known) = (0, 0, 0);
+    println!("\n{:<44} RESULT", "FILE");
+    for o in outcomes {
+        match &o.verdict {
+            Verdict::Agree => {
+                agree += 1;
+                println!("{:<44} agree", o.file);
+            }
+            Verdict::BothReject { same_line, detail } => {
+                agree += 1;
+                if let Some(same) = same_line {
+                    lines_known += 1;
+                    lines_same += *same as usize;
+                }
+                let tag = match same_line {
+                    Some(true) => "both reject, same line",
+                    Some(false) => "both reject, DIFFERENT line",
+                    None => "both reject",
+                };
+                println!("{:<44} {tag}\n        {detail}", o.file);
+            }
+            Verdict::Mismatch(d) => match o.allowed {
+                Some(why) => println!("{:<44} ALLOWED difference ({why})\n        {d}", o.file),
+                None => {
+                    failures += 1;
+                    println!("{:<44} MISMATCH\n        {d}", o.file);
+                }
+            },
+        }
+    }
+    let total = outcomes.len();
+    println!(
+        "\nagreement: {agree}/{total} files ({:.1}%), {} allowed differences, {failures} failures; \
+         bad programs stopped on the same line: {lines_same}/{lines_known}",
+        100.0 * agree as f64 / total.max(1) as f64,
+        outcomes.iter().filter(|o| o.allowed.is_some() && matches!(o.verdict, Verdict::Mismatch(_))).count(),
+    );
+    failures
+}
+
+#[test]
+fn oficina_agrees_with_linuxcnc_rs274_on_the_corpus() {
+    if find_in_path("rs274").is_none() {
+        let msg = "rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not installed";
+        if std::env::var_os("CI").is_some() {
+            panic!("{msg}: the differential test cannot run in CI without it");
+        }
+        eprintln!("\n!!!!!!!! SKIPPED differential test: {msg} !!!!!!!!\n");
+        return;
+    }
+    let dir = corpus_dir();
+    let mut jobs: Vec<(PathBuf, bool)> = ngc_files(&dir).into_iter().map(|p| (p, false)).collect();
+    jobs.extend(ngc_files(&dir.join("bad")).into_iter().map(|p| (p, true)));
+    assert!(
+        jobs.len() >= 180,
+        "corpus too small: {} programs in {}",
+        jobs.len(),
+        dir.display()
+    );
+    let started = Instant::now();
+    let outcomes = compare_all(jobs);
+    let failures = report(&outcomes);
+    println!(
+        "compared {} programs in {:.1} s",
+        outcomes.len(),
+        started.elapsed().as_secs_f64()
+    );
+    assert_eq!(
+        failures, 0,
+        "{failures} corpus files differ from rs274 (table above)"
+    );
+}
+
+#[test]
+fn normalisation_strips_prefixes_and_compares_within_tolerance() {
+    let rs = "    1 N..... USE_LENGTH_UNITS(CANON_UNITS_MM)\n    6 N..... ON_RESET()\n   \
+              7 N..... COMMENT(\"interpreter: motion mode set to none\")\n   \
+              9 N..... STRAIGHT_TRAVERSE(1.0000, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n   \
+              10 N..... SET_FEED_REFERENCE(CANON_XYZ)\n";
+    let calls = normalise(rs);
+    assert_eq!(
+        calls.len(),
+        1,
+        "preamble, narration and bookkeeping dropped: {calls:?}"
+    );
+    assert_eq!(calls[0].name, "STRAIGHT_TRAVERSE");
+    assert_eq!(calls[0].args[2], Arg::Num(3.0));
+
+    let ours = "ON_RESET()\nSTRAIGHT_TRAVERSE(1.00005, 2.0000, 3.0000, 0.0000, 0.0000, -0.0000)\n";
+    assert_eq!(first_difference(&calls, &normalise(ours)), None);
+    let off = "ON_RESET()\nSTRAIGHT_TRAVERSE(1.0002, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n";
+    assert!(first_difference(&calls, &normalise(off)).is_some());
+    let short = "ON_RESET()\n";
+    assert!(first_difference(&calls, &normalise(short))
+        .unwrap()
+        .contains("oficina stops"));
+}
+
+#[test]
+fn error_lines_are_found_in_both_formats() {
+    let source = "G21\nG0 X1\nG1 X2\nM2\n";
+    assert_eq!(
+        rs274_error_lines(
+            "executing\nCannot do g1 with zero feed rate\nG1 X2\n",
+            source
+        ),
+        vec![3]
+    );
+    assert_eq!(
+        oficina_error_line("f.ngc:3:1: error: G1 needs a feed rate\n"),
+        Some(3)
+    );
+    assert_eq!(oficina_error_line("no diagnostics here"), None);
+}
