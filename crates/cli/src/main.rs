@@ -1,6 +1,8 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
+mod bench_gcode;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -19,12 +21,17 @@ enum Command {
 }
 
 #[derive(Subcommand)]
-enum BenchCommand {}
+enum BenchCommand {
+    /// Interpreter throughput on a generated 1,000,000-block program, beside LinuxCNC's rs274.
+    Gcode(bench_gcode::BenchGcodeArgs),
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
-        Command::Bench(which) => match which {},
+        Command::Bench(which) => match which {
+            BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
+        },
     };
     match result {
         Ok(code) => code,
