@@ -128,10 +128,11 @@ def cc(name, *lines, units="G21"):
     good(name, prog("T2 M6", *lines, units=units))
 
 
-cc("comp_g41_square_outside", "G0 X-10 Y-10", "G41 D2 G1 X0 Y0 F100", "X20", "Y20", "X0", "Y0", "G40 G1 X-10 Y-10")
-cc("comp_g42_square_outside", "G0 X-10 Y-10", "G42 D2 G1 X0 Y0 F100", "Y20", "X20", "Y0", "X0", "G40 G1 X-10 Y-10")
-cc("comp_g41_square_inside", "G0 X10 Y10", "G41 D2 G1 X0 Y0 F100", "Y20", "X20", "Y0", "X0", "G40 G1 X10 Y10")
-cc("comp_g42_square_inside", "G0 X10 Y10", "G42 D2 G1 X0 Y0 F100", "X20", "Y20", "X0", "Y0", "G40 G1 X10 Y10")
+# A square traversed counter-clockwise has its inside on the left (G41), clockwise on the right.
+cc("comp_g41_square_inside", "G0 X10 Y10", "G41 D2 G1 X0 Y0 F100", "X20", "Y20", "X0", "Y0", "G40 G1 X10 Y10")
+cc("comp_g42_square_inside", "G0 X10 Y10", "G42 D2 G1 X0 Y0 F100", "Y20", "X20", "Y0", "X0", "G40 G1 X10 Y10")
+cc("comp_g41_square_outside", "G0 X-10 Y-10", "G41 D2 G1 X0 Y0 F100", "Y20", "X20", "Y0", "X0", "G40 G1 X-10 Y-10")
+cc("comp_g42_square_outside", "G0 X-10 Y-10", "G42 D2 G1 X0 Y0 F100", "X20", "Y20", "X0", "Y0", "G40 G1 X-10 Y-10")
 cc("comp_g41_circle_outside", "G0 X-10 Y0", "G41 D2 G1 X0 Y0 F100", "G2 X0 Y0 I10 J0", "G40 G1 X-10 Y0")
 cc("comp_g42_circle_inside", "G0 X10 Y0", "G42 D2 G1 X0 Y0 F100", "G2 X0 Y0 I10 J0", "G40 G1 X10 Y0")
 cc("comp_g41_line_arc_mix", "G0 X-5 Y-5", "G41 D2 G1 X0 Y0 F100", "X10", "G3 X20 Y10 I0 J10", "G1 Y20", "G3 X10 Y30 R10", "G1 X0", "Y0", "G40 G1 X-5 Y-5")
