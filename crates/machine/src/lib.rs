@@ -1,0 +1,1 @@
+//! Machines: the [`Machine`] trait and the built-in virtual machine.

@@ -1,0 +1,435 @@
+//! An independent checker of what the planner promises, run over whole planned programs.
+//!
+//! It re-reads the canon ops itself (positions, feeds, modes, arc geometry) and verifies, for
+//! every segment: it lies on the programmed path (endpoints on the line or arc; chord sag
+//! within the arc tolerance; joint-linear motion within the path tolerance); the path is
+//! continuous in position and speed; no joint exceeds its speed, acceleration, jerk or step
+//! rate; feeds never exceed the programmed feed; and every junction respects the
+//! virtual-arc model of the junction deviation (derived here from the corner geometry, not
+//! grbl's formula), the centripetal cap, G61 exact stops and reversals.
+
+use crate::kinematics::{self, Kinematics};
+use crate::moves::{arc_sweep, dist3, dist_to_segment, lerp3};
+use crate::planner::{Segment, SegmentKind};
+use crate::profile::{Profile, Shape};
+use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode};
+
+/// Relative slack for floating-point comparisons of limits.
+const REL: f64 = 1e-6;
+const ABS: f64 = 1e-7;
+
+#[derive(Clone, Copy, Debug)]
+enum Geometry {
+    Line {
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+    Arc {
+        axes: (usize, usize, usize),
+        c: [f64; 2],
+        r0: f64,
+        r1: f64,
+        n0: f64,
+        n1: f64,
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+struct OpInfo {
+    geom: Geometry,
+    /// Highest path speed allowed by the program, mm/s (∞ for rapids).
+    feed_cap: f64,
+    stop_before: bool,
+    deviation: f64,
+}
+
+/// Figures measured by the checker over a program.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CheckReport {
+    pub segments: usize,
+    pub duration: f64,
+    /// Largest distance of planned motion from the programmed path, mm.
+    pub max_path_deviation: f64,
+    /// Largest ratio of any joint's speed / acceleration / jerk to its limit.
+    pub max_speed_ratio: f64,
+    pub max_accel_ratio: f64,
+    pub max_jerk_ratio: f64,
+}
+
+/// Checks `segments` planned from `ops`; returns the report or every violation found (at most
+/// 50, each naming the segment and source line).
+pub fn check(
+    ops: &[Canon],
+    segments: &[Segment],
+    profile: &Profile,
+    shape: Shape,
+    feed_override: f64,
+) -> Result<CheckReport, Vec<String>> {
+    let kin = kinematics::for_profile(profile);
+    let info = read_ops(ops, profile, feed_override);
+    let mut bad = Vec::new();
+    let mut rep = CheckReport {
+        segments: segments.len(),
+        ..CheckReport::default()
+    };
+    let mut prev: Option<&Segment> = None;
+    let mut pos = profile.start;
+    let mut v_prev_end = 0.0;
+    let mut fail = |msg: String| {
+        if bad.len() < 50 {
+            bad.push(msg)
+        }
+    };
+    for (k, s) in segments.iter().enumerate() {
+        let tag = format!("segment {k} (line {})", s.line);
+        rep.duration += s.motion.duration;
+        if dist3(s.start, pos) > ABS {
+            fail(format!(
+                "{tag}: starts at {:?}, not where the machine is, {pos:?}",
+                s.start
+            ));
+        }
+        pos = s.end;
+        let ps = s.motion.pieces();
+        let v_start = s.motion.v_start();
+        if (v_start - v_prev_end).abs() > 1e-6 * v_start.max(1.0) {
+            fail(format!("{tag}: speed jumps from {v_prev_end} to {v_start}"));
+        }
+        v_prev_end = s.motion.v_end();
+        let SegmentKind::Move(_) = s.kind else {
+            if v_start != 0.0 || s.start != s.end {
+                fail(format!("{tag}: a dwell or sync while moving"));
+            }
+            prev = None;
+            continue;
+        };
+        let Some(op) = info.get(s.op as usize) else {
+            fail(format!(
+                "{tag}: refers to motion op {} which the program does not have",
+                s.op
+            ));
+            continue;
+        };
+        let len = dist3(s.start, s.end);
+        let (s_end, _, a_end) = s.motion.at(s.motion.duration);
+        if (s.motion.length - len).abs() > 1e-9 * len.max(1.0)
+            || (s_end - len).abs() > 1e-6 * len.max(1.0)
+        {
+            fail(format!(
+                "{tag}: profile covers {s_end} mm of a {len} mm segment"
+            ));
+        }
+        // On the programmed path.
+        let dev = path_deviation(&op.geom, s.start).max(path_deviation(&op.geom, s.end));
+        let chord_dev = chord_sag(&op.geom, s.start, s.end);
+        let mut joint_dev: f64 = 0.0;
+        for i in 0..=16 {
+            let f = i as f64 / 16.0;
+            let p = kin.forward(lerp3(s.q0, s.q1, f));
+            joint_dev = joint_dev.max(dist_to_segment(p, s.start, s.end));
+        }
+        rep.max_path_deviation = rep.max_path_deviation.max(dev + chord_dev + joint_dev);
+        if dev > 1e-6 {
+            fail(format!(
+                "{tag}: endpoint lies {dev} mm off the programmed path"
+            ));
+        }
+        if chord_dev > profile.arc_tolerance * (1.0 + REL) + ABS {
+            fail(format!(
+                "{tag}: chord sags {chord_dev} mm, above arc_tolerance {}",
+                profile.arc_tolerance
+            ));
+        }
+        if joint_dev > profile.path_tolerance * (1.0 + REL) + ABS {
+            fail(format!(
+                "{tag}: joint motion strays {joint_dev} mm, above path_tolerance {}",
+                profile.path_tolerance
+            ));
+        }
+        for (p, q) in [(s.start, s.q0), (s.end, s.q1)] {
+            if dist3(kin.forward(q), p) > 1e-6 {
+                fail(format!("{tag}: joints {q:?} do not reach {p:?}"));
+            }
+        }
+        // Joint limits through dq/ds of this segment.
+        let dqds: [f64; 3] = std::array::from_fn(|i| {
+            if len > 0.0 {
+                (s.q1[i] - s.q0[i]) / len
+            } else {
+                0.0
+            }
+        });
+        let mut v_max: f64 = 0.0;
+        for p in ps {
+            let (_, v1, a1) = p.at(p.dur);
+            let mut vs = vec![p.v0, v1];
+            if p.jerk != 0.0 {
+                let t = -p.a0 / p.jerk;
+                if t > 0.0 && t < p.dur {
+                    vs.push(p.at(t).1);
+                }
+            }
+            for &v in &vs {
+                if v < -1e-9 {
+                    fail(format!("{tag}: moves backwards ({v} mm/s)"));
+                }
+                v_max = v_max.max(v);
+            }
+            let a_max = p.a0.abs().max(a1.abs());
+            for (i, j) in profile.joints.iter().enumerate() {
+                let d = dqds[i].abs();
+                let Some(j) = j else {
+                    if d > 0.0 {
+                        fail(format!("{tag}: moves joint {i}, which does not exist"));
+                    }
+                    continue;
+                };
+                let vr = v_max * d / j.max_rate;
+                let sr = v_max * d * j.steps_per_unit / profile.max_step_rate;
+                let ar = a_max * d / j.acceleration;
+                rep.max_speed_ratio = rep.max_speed_ratio.max(vr);
+                rep.max_accel_ratio = rep.max_accel_ratio.max(ar);
+                if vr > 1.0 + REL || sr > 1.0 + REL {
+                    fail(format!(
+                        "{tag}: joint {} at {:.6} unit/s, limit {:.6}",
+                        j.name,
+                        v_max * d,
+                        j.max_rate
+                    ));
+                }
+                if ar > 1.0 + REL {
+                    fail(format!(
+                        "{tag}: joint {} accelerates at {:.6}, limit {:.6}",
+                        j.name,
+                        a_max * d,
+                        j.acceleration
+                    ));
+                }
+                if shape == Shape::SCurve {
+                    let jr = p.jerk.abs() * d / j.jerk.unwrap_or(f64::INFINITY);
+                    rep.max_jerk_ratio = rep.max_jerk_ratio.max(jr);
+                    if jr > 1.0 + REL {
+                        fail(format!(
+                            "{tag}: joint {} jerk {:.6}, limit {:?}",
+                            j.name,
+                            p.jerk.abs() * d,
+                            j.jerk
+                        ));
+                    }
+                }
+            }
+        }
+        if v_max > op.feed_cap * (1.0 + REL) + 1e-9 {
+            fail(format!(
+                "{tag}: {v_max} mm/s exceeds the programmed feed {} mm/s",
+                op.feed_cap
+            ));
+        }
+        if shape == Shape::SCurve && (s.motion.at(0.0).2.abs() > 1e-6 || a_end.abs() > 1e-6) {
+            fail(format!(
+                "{tag}: S-curve segment starts or ends while accelerating"
+            ));
+        }
+        // The junction with the previous segment.
+        let v_j = s.motion.v_start();
+        let at_op_start = prev.is_none_or(|p| p.op != s.op);
+        if at_op_start && op.stop_before && v_j > 1e-9 {
+            fail(format!(
+                "{tag}: must start at rest (G61, dwell or sync) but starts at {v_j} mm/s"
+            ));
+        }
+        if let Some(p) = prev {
+            let bound = junction_bound(p, s, op.deviation, profile);
+            if v_j > bound * (1.0 + 1e-5) + 1e-9 {
+                fail(format!(
+                    "{tag}: corner taken at {v_j} mm/s, the junction allows {bound} mm/s"
+                ));
+            }
+        } else if v_j > 1e-9 {
+            fail(format!(
+                "{tag}: the first move after rest starts at {v_j} mm/s"
+            ));
+        }
+        prev = Some(s);
+    }
+    if v_prev_end > 1e-9 {
+        fail(format!(
+            "the program ends at {v_prev_end} mm/s instead of at rest"
+        ));
+    }
+    if bad.is_empty() {
+        Ok(rep)
+    } else {
+        Err(bad)
+    }
+}
+
+/// Highest corner speed allowed between segments `p` and `s`.
+fn junction_bound(p: &Segment, s: &Segment, deviation: f64, profile: &Profile) -> f64 {
+    let (lp, ls) = (dist3(p.start, p.end), dist3(s.start, s.end));
+    let up: [f64; 3] = std::array::from_fn(|i| (p.end[i] - p.start[i]) / lp);
+    let us: [f64; 3] = std::array::from_fn(|i| (s.end[i] - s.start[i]) / ls);
+    let dot = (up[0] * us[0] + up[1] * us[1] + up[2] * us[2]).clamp(-1.0, 1.0);
+    let turn = dot.acos(); // 0 = straight on, π = reversal
+    let dq: [f64; 3] = std::array::from_fn(|i| (s.q1[i] - s.q0[i]) / ls - (p.q1[i] - p.q0[i]) / lp);
+    let du = ((us[0] - up[0]).powi(2) + (us[1] - up[1]).powi(2) + (us[2] - up[2]).powi(2)).sqrt();
+    let mut v2 = f64::INFINITY;
+    if turn > 1e-3 {
+        if turn > std::f64::consts::PI - 1.5e-3 {
+            return 0.0;
+        }
+        // The arc tangent to both pieces that passes `deviation` from the corner.
+        let c = (turn * 0.5).cos();
+        let radius = deviation * c / (1.0 - c);
+        for (i, j) in profile.joints.iter().enumerate() {
+            if let (Some(j), true) = (j, dq[i] != 0.0) {
+                // Centripetal acceleration v²/R points along Δu; its share on joint i.
+                v2 = v2.min(j.acceleration * radius * du / dq[i].abs());
+            }
+        }
+    }
+    let lmin = lp.min(ls);
+    for (i, j) in profile.joints.iter().enumerate() {
+        if let (Some(j), true) = (j, dq[i] != 0.0) {
+            v2 = v2.min(j.acceleration * lmin / dq[i].abs());
+        }
+    }
+    v2.sqrt()
+}
+
+fn path_deviation(g: &Geometry, p: [f64; 3]) -> f64 {
+    match *g {
+        Geometry::Line { a, b } => dist_to_segment(p, a, b),
+        Geometry::Arc {
+            axes,
+            c,
+            r0,
+            r1,
+            n0,
+            n1,
+            a,
+            b,
+            ..
+        } => {
+            if dist3(p, a) < 1e-9 || dist3(p, b) < 1e-9 {
+                return 0.0;
+            }
+            let r = (p[axes.0] - c[0]).hypot(p[axes.1] - c[1]);
+            let dr = (r - r0.min(r1)).min(0.0).abs() + (r - r0.max(r1)).max(0.0);
+            let dn = (p[axes.2] - n0.min(n1)).min(0.0).abs() + (p[axes.2] - n0.max(n1)).max(0.0);
+            dr.hypot(dn)
+        }
+    }
+}
+
+/// How far the chord a–b sags inside the programmed arc (0 for lines).
+fn chord_sag(g: &Geometry, a: [f64; 3], b: [f64; 3]) -> f64 {
+    match *g {
+        Geometry::Line { .. } => 0.0,
+        Geometry::Arc { axes, c, .. } => {
+            let m = lerp3(a, b, 0.5);
+            let r_mid = (m[axes.0] - c[0]).hypot(m[axes.1] - c[1]);
+            let ra = (a[axes.0] - c[0]).hypot(a[axes.1] - c[1]);
+            let rb = (b[axes.0] - c[0]).hypot(b[axes.1] - c[1]);
+            (0.5 * (ra + rb) - r_mid).max(0.0)
+        }
+    }
+}
+
+fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo> {
+    let mut out = Vec::new();
+    let mut pos = profile.start;
+    let (mut feed, mut inverse, mut mode, mut tol) =
+        (profile.default_feed, false, MotionMode::Continuous, 0.0_f64);
+    let mut stop = true;
+    let mut override_on = true;
+    for c in ops {
+        let deviation = match mode {
+            MotionMode::ExactPath => 0.0,
+            _ if tol > 0.0 => tol.min(profile.junction_deviation),
+            _ => profile.junction_deviation,
+        };
+        let factor = if override_on { feed_override } else { 1.0 };
+        match &c.op {
+            CanonOp::SetFeedRate(f) => feed = if inverse { *f } else { f / 60.0 },
+            CanonOp::SetFeedMode(m) => inverse = *m == FeedMode::InverseTime,
+            CanonOp::SetMotionControlMode { mode: m, tolerance } => {
+                mode = *m;
+                tol = *tolerance;
+            }
+            CanonOp::EnableFeedOverride(on) => override_on = *on,
+            CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
+                let b = [to.x, to.y, to.z];
+                let rapid = matches!(c.op, CanonOp::StraightTraverse { .. });
+                let len = dist3(pos, b);
+                let cap = if rapid {
+                    f64::INFINITY
+                } else if inverse {
+                    len * feed / 60.0 * factor
+                } else {
+                    feed * factor
+                };
+                let moving = len >= 1e-9;
+                out.push(OpInfo {
+                    geom: Geometry::Line { a: pos, b },
+                    feed_cap: cap,
+                    stop_before: moving && (stop || mode == MotionMode::ExactStop),
+                    deviation,
+                });
+                if moving {
+                    stop = false;
+                }
+                pos = b;
+            }
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
+                let axes = plane.axes();
+                let b = [end.x, end.y, end.z];
+                let r0 = (pos[axes.0] - center[0]).hypot(pos[axes.1] - center[1]);
+                let r1 = (b[axes.0] - center[0]).hypot(b[axes.1] - center[1]);
+                let a0 = (pos[axes.1] - center[1]).atan2(pos[axes.0] - center[0]);
+                let a1 = (b[axes.1] - center[1]).atan2(b[axes.0] - center[0]);
+                let sweep = arc_sweep(a0, a1, *turns);
+                let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pos[axes.2]);
+                let cap = if inverse {
+                    len * feed / 60.0 * factor
+                } else {
+                    feed * factor
+                };
+                out.push(OpInfo {
+                    geom: Geometry::Arc {
+                        axes,
+                        c: *center,
+                        r0,
+                        r1,
+                        n0: pos[axes.2],
+                        n1: b[axes.2],
+                        a: pos,
+                        b,
+                    },
+                    feed_cap: cap,
+                    stop_before: stop || mode == MotionMode::ExactStop,
+                    deviation,
+                });
+                stop = false;
+                pos = b;
+            }
+            CanonOp::Dwell(_)
+            | CanonOp::ProgramStop
+            | CanonOp::OptionalProgramStop
+            | CanonOp::StartSpindle(_)
+            | CanonOp::StopSpindle
+            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::ChangeTool(_)
+            | CanonOp::ProgramEnd => stop = true,
+            _ => {}
+        }
+    }
+    out
+}

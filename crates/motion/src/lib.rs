@@ -1,0 +1,32 @@
+//! Motion: from canonical operations to timed motion and motor steps.
+//!
+//! The stages, each in its own module:
+//! - [`profile`]: the machine profile (TOML) with every limit the planner honours;
+//! - [`kinematics`]: Cartesian ↔ joint maps (Cartesian, CoreXY, offset-pen polar, polargraph);
+//! - [`moves`]: canon ops → straight pieces (arcs split by chord tolerance, non-linear
+//!   kinematics split by path tolerance), each tagged with its limits;
+//! - [`velocity`]: trapezoidal and jerk-limited (S-curve) velocity profiles;
+//! - [`planner`]: streaming look-ahead with junction deviation and a time horizon;
+//! - [`check`]: an independent checker of every invariant the planner promises;
+//! - [`estimate`]: total job time;
+//! - [`steps`], [`stepcompress`], [`dda`]: exact step times, Klipper-style compression and the
+//!   seed 002 interpolators;
+//! - [`trace`]: the planned motion sampled at a fixed period.
+
+pub mod check;
+pub mod dda;
+pub mod error;
+pub mod estimate;
+pub mod kinematics;
+pub mod moves;
+pub mod planner;
+pub mod profile;
+pub mod stepcompress;
+pub mod steps;
+pub mod trace;
+pub mod velocity;
+
+pub use error::MotionError;
+pub use estimate::{estimate, Estimate};
+pub use planner::{plan, MoveKind, PlanOptions, Planner, Segment, SegmentKind};
+pub use profile::Profile;

@@ -1,0 +1,639 @@
+//! Canon ops → straight pieces. Arcs become chords within the arc tolerance; on machines with
+//! non-linear kinematics every straight piece is cut further so that moving the joints
+//! linearly between piece ends stays within the path tolerance of the Cartesian line. The
+//! stream is lazy: one canon op in, its pieces out, no buffering of the program.
+
+use crate::kinematics::{AnyKinematics, Kinematics};
+use crate::profile::Profile;
+use crate::MotionError;
+use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveKind {
+    Rapid,
+    Feed,
+    Arc,
+}
+
+/// One straight piece of programmed motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub line: u32,
+    /// Index of the canon motion op this piece belongs to (0-based over motion ops).
+    pub op: u64,
+    pub kind: MoveKind,
+    pub start: [f64; 3],
+    pub end: [f64; 3],
+    pub q0: [f64; 3],
+    pub q1: [f64; 3],
+    pub length: f64,
+    /// Requested path speed, mm/s (`INFINITY` for rapids: joint limits only).
+    pub speed: f64,
+    /// The machine must be at rest when this piece starts (G61, after dwell or sync).
+    pub stop_before: bool,
+    /// Corner blending tolerance at the start of this piece, mm.
+    pub deviation: f64,
+}
+
+/// What the planner receives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Item {
+    Move(Move),
+    Dwell {
+        line: u32,
+        seconds: f64,
+    },
+    /// A non-motion op that needs the machine at rest (spindle, tool change, M0, end).
+    Sync {
+        line: u32,
+        pause: bool,
+    },
+}
+
+/// Run-time adjustments applied while reading the program.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overrides {
+    /// Feed override factor (1.0 = 100 %).
+    pub feed: f64,
+    /// Rapid override factor (1.0 = 100 %).
+    pub rapid: f64,
+}
+
+impl Default for Overrides {
+    fn default() -> Self {
+        Overrides {
+            feed: 1.0,
+            rapid: 1.0,
+        }
+    }
+}
+
+/// The parametric geometry of the canon op being cut into pieces.
+#[derive(Clone, Copy, Debug)]
+enum Shape {
+    Line {
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+    Arc {
+        axes: (usize, usize, usize),
+        c: [f64; 2],
+        r0: f64,
+        r1: f64,
+        a0: f64,
+        sweep: f64,
+        n0: f64,
+        n1: f64,
+    },
+}
+
+impl Shape {
+    fn point(&self, f: f64) -> [f64; 3] {
+        match *self {
+            Shape::Line { a, b } => lerp3(a, b, f),
+            Shape::Arc {
+                axes,
+                c,
+                r0,
+                r1,
+                a0,
+                sweep,
+                n0,
+                n1,
+            } => arc_point(axes, c, r0, r1, a0, sweep, n0, n1, f),
+        }
+    }
+}
+
+/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle.
+#[allow(clippy::too_many_arguments)]
+pub fn arc_point(
+    axes: (usize, usize, usize),
+    c: [f64; 2],
+    r0: f64,
+    r1: f64,
+    a0: f64,
+    sweep: f64,
+    n0: f64,
+    n1: f64,
+    f: f64,
+) -> [f64; 3] {
+    let ang = a0 + sweep * f;
+    let r = r0 + (r1 - r0) * f;
+    let mut p = [0.0; 3];
+    p[axes.0] = c[0] + r * ang.cos();
+    p[axes.1] = c[1] + r * ang.sin();
+    p[axes.2] = n0 + (n1 - n0) * f;
+    p
+}
+
+/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise.
+pub fn arc_sweep(a0: f64, a1: f64, turns: i32) -> f64 {
+    let extra = (turns.unsigned_abs().saturating_sub(1)) as f64 * TAU;
+    if turns > 0 {
+        let mut d = (a1 - a0).rem_euclid(TAU);
+        if d <= 1e-12 {
+            d += TAU;
+        }
+        d + extra
+    } else {
+        let mut d = (a0 - a1).rem_euclid(TAU);
+        if d <= 1e-12 {
+            d += TAU;
+        }
+        -(d + extra)
+    }
+}
+
+pub fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
+    [
+        a[0] + (b[0] - a[0]) * f,
+        a[1] + (b[1] - a[1]) * f,
+        a[2] + (b[2] - a[2]) * f,
+    ]
+}
+
+pub fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// Distance from `p` to the segment a–b.
+pub fn dist_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2]) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist3(p, lerp3(a, b, t))
+}
+
+/// The op being cut: its shape, how many chords, and how far the cutting has gone.
+struct Current {
+    line: u32,
+    op: u64,
+    kind: MoveKind,
+    shape: Shape,
+    chords: u64,
+    chord: u64,
+    speed: f64,
+    /// Sub-piece cursor inside the current chord (non-linear kinematics only).
+    sub_from: f64,
+    sub_step: f64,
+    first: bool,
+}
+
+/// The lazy canon → pieces stream.
+pub struct MoveStream<'p, I> {
+    ops: I,
+    profile: &'p Profile,
+    kin: AnyKinematics,
+    pos: [f64; 3],
+    q: [f64; 3],
+    feed: f64,
+    inverse_time: bool,
+    mode: MotionMode,
+    tolerance: f64,
+    overrides: Overrides,
+    override_enabled: bool,
+    stop_next: bool,
+    op_count: u64,
+    current: Option<Current>,
+    failed: bool,
+}
+
+impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
+    pub fn new(ops: I, profile: &'p Profile, overrides: Overrides) -> Result<Self, MotionError> {
+        let kin = crate::kinematics::for_profile(profile);
+        let q = kin
+            .joints(profile.start)
+            .map_err(|why| MotionError::Unreachable {
+                line: 0,
+                x: profile.start[0],
+                y: profile.start[1],
+                why,
+            })?;
+        Ok(MoveStream {
+            ops,
+            profile,
+            kin,
+            pos: profile.start,
+            q,
+            feed: profile.default_feed,
+            inverse_time: false,
+            mode: MotionMode::Continuous,
+            tolerance: 0.0,
+            overrides,
+            override_enabled: true,
+            stop_next: true,
+            op_count: 0,
+            current: None,
+            failed: false,
+        })
+    }
+
+    /// Joint position at the profile's start point.
+    pub fn start_joints(&self) -> [f64; 3] {
+        self.q
+    }
+
+    pub fn kinematics(&self) -> &AnyKinematics {
+        &self.kin
+    }
+
+    fn deviation(&self) -> f64 {
+        match self.mode {
+            MotionMode::ExactPath => 0.0,
+            _ if self.tolerance > 0.0 => self.tolerance.min(self.profile.junction_deviation),
+            _ => self.profile.junction_deviation,
+        }
+    }
+
+    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, length: f64) {
+        let speed = match kind {
+            MoveKind::Rapid => f64::INFINITY,
+            _ if self.inverse_time => length * self.feed / 60.0,
+            _ => self.feed,
+        };
+        let factor = match kind {
+            MoveKind::Rapid => self.overrides.rapid,
+            _ if self.override_enabled => self.overrides.feed,
+            _ => 1.0,
+        };
+        let chords = match shape {
+            Shape::Line { .. } => 1,
+            Shape::Arc { r0, r1, sweep, .. } => {
+                let r = r0.max(r1);
+                let tol = self.profile.arc_tolerance;
+                // Sagitta r(1 − cos(Δ/2)) ≤ tol; never more than a quarter turn per chord.
+                let max_step = if r > tol {
+                    2.0 * (1.0 - tol / r).acos()
+                } else {
+                    FRAC_PI_2
+                };
+                (sweep.abs() / max_step.min(FRAC_PI_2)).ceil().max(1.0) as u64
+            }
+        };
+        self.current = Some(Current {
+            line,
+            op: self.op_count,
+            kind,
+            shape,
+            chords,
+            chord: 0,
+            speed: speed * factor,
+            sub_from: 0.0,
+            sub_step: 1.0,
+            first: true,
+        });
+        self.op_count += 1;
+    }
+
+    fn bad(&self, line: u32, what: impl Into<String>) -> MotionError {
+        MotionError::BadMove {
+            line,
+            what: what.into(),
+        }
+    }
+
+    /// Reads canon ops until one produces motion or a planner item.
+    fn read_op(&mut self) -> Option<Result<Item, MotionError>> {
+        loop {
+            let c = self.ops.next()?;
+            let line = c.line;
+            match c.op {
+                CanonOp::SetFeedRate(f) => {
+                    if !(f.is_finite() && f > 0.0) {
+                        return Some(Err(self.bad(line, format!("feed rate F{f} must be > 0"))));
+                    }
+                    // Inverse-time F is 1/min; otherwise mm/min.
+                    self.feed = if self.inverse_time { f } else { f / 60.0 };
+                }
+                CanonOp::SetFeedMode(m) => {
+                    self.inverse_time = m == FeedMode::InverseTime;
+                    if m == FeedMode::UnitsPerRev {
+                        return Some(Err(self.bad(
+                            line,
+                            "G95 feed per revolution needs a spindle-synchronised machine",
+                        )));
+                    }
+                }
+                CanonOp::SetMotionControlMode { mode, tolerance } => {
+                    self.mode = mode;
+                    self.tolerance = if tolerance.is_finite() {
+                        tolerance.max(0.0)
+                    } else {
+                        0.0
+                    };
+                }
+                CanonOp::EnableFeedOverride(on) => self.override_enabled = on,
+                CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
+                    let kind = if matches!(c.op, CanonOp::StraightTraverse { .. }) {
+                        MoveKind::Rapid
+                    } else {
+                        MoveKind::Feed
+                    };
+                    let b = match self.target(line, &to) {
+                        Ok(b) => b,
+                        Err(e) => return Some(Err(e)),
+                    };
+                    let length = dist3(self.pos, b);
+                    if length < 1e-9 {
+                        self.op_count += 1; // keep op indices aligned with the canon stream
+                        continue;
+                    }
+                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, length);
+                    return None;
+                }
+                CanonOp::ArcFeed {
+                    plane,
+                    end,
+                    center,
+                    turns,
+                } => {
+                    let b = match self.target(line, &end) {
+                        Ok(b) => b,
+                        Err(e) => return Some(Err(e)),
+                    };
+                    if turns == 0 || !center.iter().all(|v| v.is_finite()) {
+                        return Some(Err(
+                            self.bad(line, "arc with zero turns or a non-finite centre")
+                        ));
+                    }
+                    let axes = plane_axes(plane);
+                    let (p0, p1) = ([self.pos[axes.0], self.pos[axes.1]], [b[axes.0], b[axes.1]]);
+                    let r0 = (p0[0] - center[0]).hypot(p0[1] - center[1]);
+                    let r1 = (p1[0] - center[0]).hypot(p1[1] - center[1]);
+                    if r0 < 1e-9 || r1 < 1e-9 {
+                        return Some(Err(
+                            self.bad(line, "arc centre coincides with its start or end point")
+                        ));
+                    }
+                    let a0 = (p0[1] - center[1]).atan2(p0[0] - center[0]);
+                    let a1 = (p1[1] - center[1]).atan2(p1[0] - center[0]);
+                    let sweep = arc_sweep(a0, a1, turns);
+                    let (n0, n1) = (self.pos[axes.2], b[axes.2]);
+                    let planar = sweep.abs() * 0.5 * (r0 + r1);
+                    let length = planar.hypot(n1 - n0);
+                    let shape = Shape::Arc {
+                        axes,
+                        c: center,
+                        r0,
+                        r1,
+                        a0,
+                        sweep,
+                        n0,
+                        n1,
+                    };
+                    self.start_op(line, MoveKind::Arc, shape, length);
+                    return None;
+                }
+                CanonOp::Dwell(s) => {
+                    if !(s.is_finite() && s >= 0.0) {
+                        return Some(Err(self.bad(line, format!("dwell of {s} s"))));
+                    }
+                    self.stop_next = true;
+                    return Some(Ok(Item::Dwell { line, seconds: s }));
+                }
+                CanonOp::ProgramStop | CanonOp::OptionalProgramStop => {
+                    self.stop_next = true;
+                    return Some(Ok(Item::Sync { line, pause: true }));
+                }
+                CanonOp::StartSpindle(_)
+                | CanonOp::StopSpindle
+                | CanonOp::SetSpindleSpeed(_)
+                | CanonOp::ChangeTool(_)
+                | CanonOp::ProgramEnd => {
+                    self.stop_next = true;
+                    return Some(Ok(Item::Sync { line, pause: false }));
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn target(&self, line: u32, to: &Pos) -> Result<[f64; 3], MotionError> {
+        let v = to.to_array();
+        if !v.iter().all(|x| x.is_finite()) {
+            return Err(self.bad(line, "non-finite coordinate"));
+        }
+        for (i, axis) in ["A", "B", "C"].iter().enumerate() {
+            if v[3 + i].abs() > 1e-9 {
+                return Err(MotionError::MissingJoint {
+                    line,
+                    axis: format!("rotary axis {axis}"),
+                });
+            }
+        }
+        Ok([v[0], v[1], v[2]])
+    }
+
+    /// Validates one piece end: travel, reachability, joint existence and joint limits.
+    fn admit(&self, line: u32, p: [f64; 3], q_prev: [f64; 3]) -> Result<[f64; 3], MotionError> {
+        for (i, axis) in ['X', 'Y', 'Z'].iter().enumerate() {
+            let [lo, hi] = self.profile.travel[i];
+            // A hair of slack so arcs ending on the limit pass despite rounding.
+            if p[i] < lo - 1e-7 || p[i] > hi + 1e-7 {
+                if i == 2 && self.profile.joints[2].is_none() {
+                    return Err(MotionError::MissingJoint {
+                        line,
+                        axis: "Z".into(),
+                    });
+                }
+                return Err(MotionError::SoftLimit {
+                    line,
+                    axis: *axis,
+                    value: p[i],
+                    min: lo,
+                    max: hi,
+                });
+            }
+        }
+        let q = self
+            .kin
+            .joints_near(p, q_prev)
+            .map_err(|why| MotionError::Unreachable {
+                line,
+                x: p[0],
+                y: p[1],
+                why,
+            })?;
+        for (i, j) in self.profile.joints.iter().enumerate() {
+            if let Some(j) = j {
+                if let Some([lo, hi]) = j.limits {
+                    if q[i] < lo - 1e-9 || q[i] > hi + 1e-9 {
+                        return Err(self.bad(
+                            line,
+                            format!(
+                                "joint {} would reach {:.4}, outside its limits [{lo:.4}, {hi:.4}]",
+                                j.name, q[i]
+                            ),
+                        ));
+                    }
+                }
+            } else if (q[i] - q_prev[i]).abs() > 1e-9 {
+                let name = self.profile.kinematics.joint_names()[i];
+                return Err(MotionError::MissingJoint {
+                    line,
+                    axis: name.to_uppercase(),
+                });
+            }
+        }
+        Ok(q)
+    }
+
+    /// Next piece of the current op, or `None` when it is finished.
+    fn next_piece(&mut self) -> Option<Result<Move, MotionError>> {
+        let linear = self.kin.is_linear();
+        let cur = self.current.as_mut()?;
+        if cur.chord >= cur.chords {
+            self.current = None;
+            return None;
+        }
+        let (f0, f1) = (
+            cur.chord as f64 / cur.chords as f64,
+            (cur.chord + 1) as f64 / cur.chords as f64,
+        );
+        let (ca, cb) = (
+            cur.shape.point(f0),
+            if cur.chord + 1 == cur.chords {
+                cur.shape.point(1.0)
+            } else {
+                cur.shape.point(f1)
+            },
+        );
+        let (line, op, kind, speed, first) = (cur.line, cur.op, cur.kind, cur.speed, cur.first);
+        cur.first = false;
+        let (a, b) = if linear {
+            cur.chord += 1;
+            (ca, cb)
+        } else {
+            // Cut the chord so joint-linear motion stays within half the path tolerance
+            // (the checker verifies the full tolerance with denser sampling).
+            let from = cur.sub_from;
+            let pa = lerp3(ca, cb, from);
+            let chord_len = dist3(ca, cb);
+            let tol = self.profile.path_tolerance;
+            let min_step = (tol * 1e-3 / chord_len.max(1e-12)).min(1.0);
+            let mut step = (cur.sub_step * 2.0).min(1.0 - from);
+            let q_from = self.q;
+            if from == 0.0 {
+                if let Err(why) = self.kin.check_line(ca, cb) {
+                    self.failed = true;
+                    return Some(Err(MotionError::Unreachable {
+                        line,
+                        x: ca[0],
+                        y: ca[1],
+                        why,
+                    }));
+                }
+            }
+            loop {
+                let to = from + step;
+                let pb = if to >= 1.0 - 1e-12 {
+                    cb
+                } else {
+                    lerp3(ca, cb, to)
+                };
+                let ok = match self.kin.joints_near(pb, q_from) {
+                    Ok(qb) => joint_lerp_error(&self.kin, q_from, qb, pa, pb) <= 0.5 * tol,
+                    Err(_) => false,
+                };
+                if ok || step <= min_step {
+                    break;
+                }
+                step *= 0.5;
+            }
+            let cur = self.current.as_mut().expect("current op");
+            let to = from + step;
+            let pb = if to >= 1.0 - 1e-12 {
+                cb
+            } else {
+                lerp3(ca, cb, to)
+            };
+            if to >= 1.0 - 1e-12 {
+                cur.chord += 1;
+                cur.sub_from = 0.0;
+            } else {
+                cur.sub_from = to;
+            }
+            cur.sub_step = step;
+            (pa, pb)
+        };
+        let a = if first { self.pos } else { a };
+        let q1 = match self.admit(line, b, self.q) {
+            Ok(q) => q,
+            Err(e) => {
+                self.failed = true;
+                return Some(Err(e));
+            }
+        };
+        let m = Move {
+            line,
+            op,
+            kind,
+            start: a,
+            end: b,
+            q0: self.q,
+            q1,
+            length: dist3(a, b),
+            speed,
+            // G61 stops at the ends of programmed moves, not between an arc's chords.
+            stop_before: std::mem::take(&mut self.stop_next)
+                || (first && self.mode == MotionMode::ExactStop),
+            deviation: self.deviation(),
+        };
+        self.pos = b;
+        self.q = q1;
+        Some(Ok(m))
+    }
+}
+
+/// Largest distance from the Cartesian segment pa–pb of the path traced when the joints
+/// move linearly from qa to qb.
+pub fn joint_lerp_error(
+    kin: &AnyKinematics,
+    qa: [f64; 3],
+    qb: [f64; 3],
+    pa: [f64; 3],
+    pb: [f64; 3],
+) -> f64 {
+    [0.25, 0.5, 0.75]
+        .iter()
+        .map(|&f| dist_to_segment(kin.forward(lerp3(qa, qb, f)), pa, pb))
+        .fold(0.0, f64::max)
+}
+
+pub fn plane_axes(plane: Plane) -> (usize, usize, usize) {
+    plane.axes()
+}
+
+impl<I: Iterator<Item = Canon>> Iterator for MoveStream<'_, I> {
+    type Item = Result<Item, MotionError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
+        loop {
+            if self.current.is_some() {
+                match self.next_piece() {
+                    Some(Ok(m)) if m.length < 1e-12 => continue,
+                    Some(r) => return Some(r.map(Item::Move)),
+                    None => continue,
+                }
+            }
+            match self.read_op() {
+                Some(Err(e)) => {
+                    self.failed = true;
+                    return Some(Err(e));
+                }
+                Some(Ok(item)) => return Some(Ok(item)),
+                None if self.current.is_some() => continue,
+                None => return None,
+            }
+        }
+    }
+}

@@ -1,0 +1,383 @@
+//! Streaming look-ahead planner (grbl's model, with a time horizon).
+//!
+//! Each straight piece becomes a block with a nominal speed, a path acceleration and jerk
+//! derived from every joint's limits (through dq/ds, so non-linear machines slow down where
+//! a joint moves fast, e.g. near the polar arm's pivot). Junction speeds follow grbl's
+//! junction deviation (a virtual arc of deviation δ tangent to both pieces, whose centripetal
+//! acceleration stays within the limit), plus a centripetal cap for short curved pieces: the
+//! change of joint velocity across a junction, spread over the shorter neighbour, must not
+//! exceed any joint's acceleration.
+//!
+//! The buffer always ends in a planned stop, so whatever is emitted is safe even if the
+//! program ends right after. A block is emitted once no future block can change it (the
+//! backward pass met a block already at its junction ceiling), or when the buffer holds more
+//! than `horizon` seconds of motion at nominal speed (bounded memory on any program).
+
+pub use crate::moves::MoveKind;
+use crate::moves::{Item, Move, MoveStream, Overrides};
+use crate::profile::{Profile, Shape};
+use crate::velocity::{reachable, Limits, Motion};
+use crate::MotionError;
+use oficina_canon::Canon;
+use std::collections::VecDeque;
+
+/// Hard cap on buffered blocks, whatever the horizon says (memory bound).
+pub const MAX_BLOCKS: usize = 1 << 16;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SegmentKind {
+    Move(MoveKind),
+    Dwell,
+    /// M0/M1: the machine waits for the operator.
+    Pause,
+    /// A spindle, tool or end op reached with the machine at rest.
+    Sync,
+}
+
+/// One planned, timed straight piece (or a pause at rest).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    pub line: u32,
+    /// Index of the canon motion op this segment comes from.
+    pub op: u64,
+    pub kind: SegmentKind,
+    pub start: [f64; 3],
+    pub end: [f64; 3],
+    /// Joint positions at the ends; joints move linearly in between.
+    pub q0: [f64; 3],
+    pub q1: [f64; 3],
+    pub motion: Motion,
+}
+
+impl Segment {
+    pub fn duration(&self) -> f64 {
+        self.motion.duration
+    }
+
+    /// Cartesian and joint position at time `t` into the segment, and path speed.
+    pub fn sample(&self, t: f64) -> ([f64; 3], [f64; 3], f64) {
+        let (s, v, _) = self.motion.at(t);
+        let f = if self.motion.length > 0.0 {
+            (s / self.motion.length).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (
+            crate::moves::lerp3(self.start, self.end, f),
+            crate::moves::lerp3(self.q0, self.q1, f),
+            v,
+        )
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlanOptions {
+    pub overrides: Overrides,
+    /// Overrides the profile's velocity shape.
+    pub shape: Option<Shape>,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            overrides: Overrides::default(),
+            shape: None,
+        }
+    }
+}
+
+/// Per-block limits along the path, derived from the joints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlockLimits {
+    pub v_nominal: f64,
+    pub lim: Limits,
+    /// Joint displacement per mm of path.
+    pub dqds: [f64; 3],
+}
+
+/// Limits of a piece: every joint's speed, step rate, acceleration and jerk, seen through
+/// dq/ds. Shared with the checker only as the definition of the limits, not of the plan.
+pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
+    let l = m.length;
+    let mut dqds = [0.0; 3];
+    let (mut v, mut a, mut j) = (m.speed, f64::INFINITY, f64::INFINITY);
+    for (i, jt) in profile.joints.iter().enumerate() {
+        dqds[i] = (m.q1[i] - m.q0[i]) / l;
+        let d = dqds[i].abs();
+        if let (Some(jt), true) = (jt, d > 0.0) {
+            v = v
+                .min(jt.max_rate / d)
+                .min(profile.max_step_rate / jt.steps_per_unit / d);
+            a = a.min(jt.acceleration / d);
+            if shape == Shape::SCurve {
+                j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
+            }
+        }
+    }
+    BlockLimits {
+        v_nominal: v,
+        lim: Limits { accel: a, jerk: j },
+        dqds,
+    }
+}
+
+/// Largest speed allowed through the junction between `p` and `b`.
+pub fn junction_limit(
+    p: &Move,
+    pl: &BlockLimits,
+    b: &Move,
+    bl: &BlockLimits,
+    profile: &Profile,
+) -> f64 {
+    if b.stop_before {
+        return 0.0;
+    }
+    let up = unit(p);
+    let ub = unit(b);
+    let cos = -(up[0] * ub[0] + up[1] * ub[1] + up[2] * ub[2]);
+    let mut v2 = f64::INFINITY;
+    if cos > 0.999_999 {
+        return 0.0; // a reversal
+    }
+    let dq = [
+        bl.dqds[0] - pl.dqds[0],
+        bl.dqds[1] - pl.dqds[1],
+        bl.dqds[2] - pl.dqds[2],
+    ];
+    if cos > -0.999_999 {
+        // grbl: the junction vector's acceleration limit and the virtual arc through δ.
+        let du =
+            ((ub[0] - up[0]).powi(2) + (ub[1] - up[1]).powi(2) + (ub[2] - up[2]).powi(2)).sqrt();
+        let mut acc = f64::INFINITY;
+        for (i, jt) in profile.joints.iter().enumerate() {
+            if let (Some(jt), true) = (jt, dq[i] != 0.0) {
+                acc = acc.min(jt.acceleration * du / dq[i].abs());
+            }
+        }
+        let sin_half = (0.5 * (1.0 - cos)).sqrt();
+        v2 = acc * b.deviation * sin_half / (1.0 - sin_half);
+    }
+    // Centripetal cap: the joint velocity change spread over the shorter piece.
+    let lmin = p.length.min(b.length);
+    for (i, jt) in profile.joints.iter().enumerate() {
+        if let (Some(jt), true) = (jt, dq[i] != 0.0) {
+            v2 = v2.min(jt.acceleration * lmin / dq[i].abs());
+        }
+    }
+    v2.sqrt().min(pl.v_nominal).min(bl.v_nominal)
+}
+
+fn unit(m: &Move) -> [f64; 3] {
+    let l = m.length;
+    [
+        (m.end[0] - m.start[0]) / l,
+        (m.end[1] - m.start[1]) / l,
+        (m.end[2] - m.start[2]) / l,
+    ]
+}
+
+struct Block {
+    m: Move,
+    bl: BlockLimits,
+    max_entry: f64,
+    /// Backward-pass entry speed (assuming a stop at the end of the buffer).
+    entry: f64,
+}
+
+/// The streaming planner: an iterator of planned segments.
+pub struct Planner<'p, I: Iterator<Item = Canon>> {
+    moves: MoveStream<'p, I>,
+    profile: &'p Profile,
+    shape: Shape,
+    buf: VecDeque<Block>,
+    /// Absolute index of `buf[0]`.
+    base: u64,
+    /// Absolute index of the latest block whose entry sits at its ceiling.
+    ceiling: Option<u64>,
+    /// Entry speed of `buf[0]`, fixed by the segment emitted before it.
+    front_entry: f64,
+    buffered_time: f64,
+    pending: Option<Segment>,
+    /// Where the last buffered piece ends (Cartesian, joints): dwells happen there.
+    tail: ([f64; 3], [f64; 3]),
+    flushing: bool,
+    done: bool,
+}
+
+pub fn plan<'p, I: Iterator<Item = Canon>>(
+    ops: I,
+    profile: &'p Profile,
+    opts: PlanOptions,
+) -> Result<Planner<'p, I>, MotionError> {
+    let shape = opts.shape.unwrap_or(profile.shape);
+    if shape == Shape::SCurve {
+        for j in profile.joints.iter().flatten() {
+            if j.jerk.is_none() {
+                return Err(MotionError::BadMove {
+                    line: 0,
+                    what: format!(
+                        "S-curve planning needs joints.{}.jerk in the profile",
+                        j.name
+                    ),
+                });
+            }
+        }
+    }
+    let moves = MoveStream::new(ops, profile, opts.overrides)?;
+    let tail = (profile.start, moves.start_joints());
+    Ok(Planner {
+        moves,
+        tail,
+        profile,
+        shape,
+        buf: VecDeque::new(),
+        base: 0,
+        ceiling: None,
+        front_entry: 0.0,
+        buffered_time: 0.0,
+        pending: None,
+        flushing: false,
+        done: false,
+    })
+}
+
+impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
+    pub fn kinematics(&self) -> &crate::kinematics::AnyKinematics {
+        self.moves.kinematics()
+    }
+
+    fn push(&mut self, m: Move) {
+        let bl = block_limits(&m, self.profile, self.shape);
+        self.tail = (m.end, m.q1);
+        let max_entry = match self.buf.back() {
+            Some(p) => junction_limit(&p.m, &p.bl, &m, &bl, self.profile),
+            None => 0.0,
+        };
+        let max_entry = if m.stop_before { 0.0 } else { max_entry };
+        self.buffered_time += m.length / bl.v_nominal;
+        let entry = max_entry.min(reachable(0.0, m.length, bl.lim));
+        let idx = self.base + self.buf.len() as u64;
+        if entry >= max_entry {
+            self.ceiling = Some(idx);
+        }
+        self.buf.push_back(Block {
+            m,
+            bl,
+            max_entry,
+            entry,
+        });
+        // Backward pass: raise earlier entries while the relaxed end lets them rise.
+        let mut i = self.buf.len() - 1;
+        while i > 0 {
+            let exit = self.buf[i].entry;
+            let b = &mut self.buf[i - 1];
+            let new = b.max_entry.min(reachable(exit, b.m.length, b.bl.lim));
+            if new <= b.entry {
+                break;
+            }
+            b.entry = new;
+            if new >= b.max_entry {
+                let abs = self.base + (i - 1) as u64;
+                if self.ceiling.is_none_or(|c| c < abs) {
+                    self.ceiling = Some(abs);
+                }
+            }
+            i -= 1;
+        }
+    }
+
+    /// Is `buf[0]` final (or must it go now)?
+    fn front_ready(&self) -> bool {
+        if self.buf.is_empty() {
+            return false;
+        }
+        if self.flushing {
+            return true;
+        }
+        let final_by_ceiling = self.ceiling.is_some_and(|c| c > self.base);
+        // A lone block waits for its successor so the junction between them is not lost.
+        let over = self.buffered_time > self.profile.horizon || self.buf.len() >= MAX_BLOCKS;
+        final_by_ceiling || (over && self.buf.len() > 1)
+    }
+
+    fn emit_front(&mut self) -> Segment {
+        let b = self.buf.pop_front().expect("front block");
+        self.base += 1;
+        self.buffered_time = (self.buffered_time - b.m.length / b.bl.v_nominal).max(0.0);
+        let v0 = self.front_entry.min(b.bl.v_nominal);
+        let next_entry = self.buf.front().map_or(0.0, |n| n.entry);
+        let v1 = next_entry.min(reachable(v0, b.m.length, b.bl.lim));
+        self.front_entry = v1;
+        Segment {
+            line: b.m.line,
+            op: b.m.op,
+            kind: SegmentKind::Move(b.m.kind),
+            start: b.m.start,
+            end: b.m.end,
+            q0: b.m.q0,
+            q1: b.m.q1,
+            motion: Motion::plan(b.m.length, v0, b.bl.v_nominal, v1, b.bl.lim),
+        }
+    }
+
+    fn at_rest(&self, line: u32, kind: SegmentKind, seconds: f64) -> Segment {
+        let (p, q) = self.tail;
+        Segment {
+            line,
+            op: u64::MAX,
+            kind,
+            start: p,
+            end: p,
+            q0: q,
+            q1: q,
+            motion: Motion::dwell(seconds),
+        }
+    }
+}
+
+impl<I: Iterator<Item = Canon>> Iterator for Planner<'_, I> {
+    type Item = Result<Segment, MotionError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if self.front_ready() {
+                return Some(Ok(self.emit_front()));
+            }
+            if self.buf.is_empty() {
+                if let Some(s) = self.pending.take() {
+                    self.flushing = false;
+                    return Some(Ok(s));
+                }
+                self.flushing = false;
+            }
+            if self.done || self.flushing {
+                return None;
+            }
+            match self.moves.next() {
+                None => {
+                    self.done = true;
+                    self.flushing = true;
+                }
+                Some(Err(e)) => {
+                    self.done = true;
+                    self.buf.clear();
+                    return Some(Err(e));
+                }
+                Some(Ok(Item::Move(m))) => self.push(m),
+                Some(Ok(Item::Dwell { line, seconds })) => {
+                    self.pending = Some(self.at_rest(line, SegmentKind::Dwell, seconds));
+                    self.flushing = true;
+                }
+                Some(Ok(Item::Sync { line, pause })) => {
+                    let kind = if pause {
+                        SegmentKind::Pause
+                    } else {
+                        SegmentKind::Sync
+                    };
+                    self.pending = Some(self.at_rest(line, kind, 0.0));
+                    self.flushing = true;
+                }
+            }
+        }
+    }
+}

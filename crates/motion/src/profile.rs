@@ -1,0 +1,493 @@
+//! Machine profiles: the TOML description of a machine (joints, kinematics, travel and
+//! planner settings), validated into [`Profile`] with every value in internal units
+//! (mm, s, rad). See docs/machine-profiles.md for the format.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::Path;
+
+/// A bad profile: the file, the key (dotted path) and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub struct ProfileError {
+    pub file: String,
+    pub key: String,
+    pub message: String,
+}
+
+impl fmt::Display for ProfileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}: {}: {}", self.file, self.key, self.message)
+        }
+    }
+}
+
+/// Which kinematics the machine has, with its parameters (mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum KinematicsKind {
+    Cartesian,
+    CoreXy,
+    /// Seed 003: an arm rotating about the origin, carriage at radius R, pen offset `h`.
+    Polar {
+        pen_offset: f64,
+    },
+    /// Two motors at (0, 0) and (`motor_distance`, 0) with the pen hanging below (y < 0).
+    Polargraph {
+        motor_distance: f64,
+        min_drop: f64,
+    },
+}
+
+impl KinematicsKind {
+    /// Joint names in order; the third joint is always Z (pen lift, spindle axis).
+    pub fn joint_names(self) -> [&'static str; 3] {
+        match self {
+            KinematicsKind::Cartesian => ["x", "y", "z"],
+            KinematicsKind::CoreXy => ["a", "b", "z"],
+            KinematicsKind::Polar { .. } => ["theta", "r", "z"],
+            KinematicsKind::Polargraph { .. } => ["left", "right", "z"],
+        }
+    }
+
+    /// True for joints measured in degrees in the file (radians inside).
+    pub fn is_angular(self, joint: usize) -> bool {
+        matches!(self, KinematicsKind::Polar { .. }) && joint == 0
+    }
+}
+
+/// The velocity profile shape of every block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Shape {
+    #[default]
+    Trapezoid,
+    /// Jerk-limited: acceleration ramps linearly, so it is continuous.
+    SCurve,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HomingDirection {
+    Negative,
+    Positive,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Homing {
+    pub direction: HomingDirection,
+    /// Fast search speed, unit/s.
+    pub seek_rate: f64,
+    /// Slow locate speed, unit/s.
+    pub feed_rate: f64,
+    /// Distance backed off the switch after homing, unit.
+    pub pull_off: f64,
+}
+
+/// One motor-driven joint in internal units (mm or rad; seconds).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Joint {
+    pub name: &'static str,
+    pub steps_per_unit: f64,
+    pub max_rate: f64,
+    pub acceleration: f64,
+    pub jerk: Option<f64>,
+    pub backlash: f64,
+    pub invert_direction: bool,
+    /// Joint travel limits (besides the Cartesian ones), if any.
+    pub limits: Option<[f64; 2]>,
+    pub homing: Option<Homing>,
+}
+
+/// A validated machine profile.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    pub name: String,
+    pub kinematics: KinematicsKind,
+    /// Joint i drives `kinematics.joint_names()[i]`; `None` = that joint does not exist and
+    /// must never move.
+    pub joints: [Option<Joint>; 3],
+    /// Cartesian soft limits [min, max] for X, Y, Z in mm.
+    pub travel: [[f64; 2]; 3],
+    /// Cartesian position at power-up (after homing), mm.
+    pub start: [f64; 3],
+    pub junction_deviation: f64,
+    pub arc_tolerance: f64,
+    pub path_tolerance: f64,
+    pub shape: Shape,
+    /// Look-ahead horizon, seconds of motion.
+    pub horizon: f64,
+    pub max_step_rate: f64,
+    /// Feed used until the program sets one, mm/s.
+    pub default_feed: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProfile {
+    name: String,
+    #[serde(default)]
+    #[allow(dead_code)]
+    description: Option<String>,
+    kinematics: RawKinematics,
+    travel: RawTravel,
+    planner: RawPlanner,
+    joints: BTreeMap<String, RawJoint>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawKinematics {
+    #[serde(rename = "type")]
+    kind: String,
+    pen_offset: Option<f64>,
+    motor_distance: Option<f64>,
+    min_drop: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTravel {
+    x: [f64; 2],
+    y: [f64; 2],
+    #[serde(default)]
+    z: Option<[f64; 2]>,
+    start: Option<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlanner {
+    junction_deviation: f64,
+    arc_tolerance: f64,
+    path_tolerance: Option<f64>,
+    #[serde(default)]
+    velocity_profile: Option<String>,
+    horizon: Option<f64>,
+    max_step_rate: f64,
+    default_feed: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawJoint {
+    steps_per_unit: f64,
+    max_rate: f64,
+    acceleration: f64,
+    jerk: Option<f64>,
+    #[serde(default)]
+    backlash: f64,
+    #[serde(default)]
+    invert_direction: bool,
+    limits: Option<[f64; 2]>,
+    homing: Option<RawHoming>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawHoming {
+    direction: String,
+    seek_rate: f64,
+    feed_rate: f64,
+    #[serde(default)]
+    pull_off: f64,
+}
+
+impl Profile {
+    /// Reads and validates a profile file.
+    pub fn load(path: &Path) -> Result<Profile, ProfileError> {
+        let file = path.display().to_string();
+        let meta = std::fs::metadata(path).map_err(|e| err(&file, "", e.to_string()))?;
+        // Profiles are a few kB; refuse anything absurd before reading it whole.
+        if meta.len() > 1 << 20 {
+            return Err(err(
+                &file,
+                "",
+                "file is larger than 1 MiB; not a machine profile".into(),
+            ));
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| err(&file, "", e.to_string()))?;
+        Profile::parse(&text, &file)
+    }
+
+    /// Parses and validates profile text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Profile, ProfileError> {
+        let raw: RawProfile = toml::from_str(text).map_err(|e| {
+            let msg = e.message().to_string();
+            let at = e
+                .span()
+                .map(|s| {
+                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
+                    format!(" (line {line})")
+                })
+                .unwrap_or_default();
+            err(file, "", format!("{msg}{at}"))
+        })?;
+        validate(raw, file)
+    }
+
+    /// Number of joints that exist.
+    pub fn joint(&self, i: usize) -> Option<&Joint> {
+        self.joints[i].as_ref()
+    }
+}
+
+fn err(file: &str, key: &str, message: String) -> ProfileError {
+    ProfileError {
+        file: file.to_string(),
+        key: key.to_string(),
+        message,
+    }
+}
+
+fn positive(file: &str, key: &str, v: f64) -> Result<f64, ProfileError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(err(
+            file,
+            key,
+            format!("must be a finite number > 0 (got {v})"),
+        ))
+    }
+}
+
+fn non_negative(file: &str, key: &str, v: f64) -> Result<f64, ProfileError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(err(
+            file,
+            key,
+            format!("must be a finite number >= 0 (got {v})"),
+        ))
+    }
+}
+
+fn range(file: &str, key: &str, r: [f64; 2]) -> Result<[f64; 2], ProfileError> {
+    if r.iter().all(|v| v.is_finite()) && r[0] <= r[1] {
+        Ok(r)
+    } else {
+        Err(err(
+            file,
+            key,
+            format!("must be [min, max] with min <= max (got {r:?})"),
+        ))
+    }
+}
+
+fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
+    let k = &raw.kinematics;
+    let kinematics = match k.kind.as_str() {
+        "cartesian" => KinematicsKind::Cartesian,
+        "corexy" => KinematicsKind::CoreXy,
+        "polar" => {
+            let h = k.pen_offset.ok_or_else(|| {
+                err(
+                    file,
+                    "kinematics.pen_offset",
+                    "required for type = \"polar\" (mm)".into(),
+                )
+            })?;
+            KinematicsKind::Polar {
+                pen_offset: non_negative(file, "kinematics.pen_offset", h)?,
+            }
+        }
+        "polargraph" => {
+            let w = k.motor_distance.ok_or_else(|| {
+                err(
+                    file,
+                    "kinematics.motor_distance",
+                    "required for type = \"polargraph\"".into(),
+                )
+            })?;
+            KinematicsKind::Polargraph {
+                motor_distance: positive(file, "kinematics.motor_distance", w)?,
+                min_drop: positive(file, "kinematics.min_drop", k.min_drop.unwrap_or(10.0))?,
+            }
+        }
+        other => {
+            return Err(err(
+                file,
+                "kinematics.type",
+                format!("unknown kinematics {other:?}; use cartesian, corexy, polar or polargraph"),
+            ))
+        }
+    };
+    let p = &raw.planner;
+    let shape = match p.velocity_profile.as_deref().unwrap_or("trapezoid") {
+        "trapezoid" => Shape::Trapezoid,
+        "scurve" => Shape::SCurve,
+        other => {
+            return Err(err(
+                file,
+                "planner.velocity_profile",
+                format!("unknown profile {other:?}; use \"trapezoid\" or \"scurve\""),
+            ))
+        }
+    };
+    let max_step_rate = positive(file, "planner.max_step_rate", p.max_step_rate)?;
+    let names = kinematics.joint_names();
+    for key in raw.joints.keys() {
+        if !names.contains(&key.as_str()) {
+            return Err(err(
+                file,
+                &format!("joints.{key}"),
+                format!(
+                    "no such joint for this kinematics; expected {}",
+                    names.join(", ")
+                ),
+            ));
+        }
+    }
+    let mut joints = [None, None, None];
+    for (i, name) in names.iter().enumerate() {
+        let Some(j) = raw.joints.get(*name) else {
+            if i < 2 {
+                return Err(err(
+                    file,
+                    &format!("joints.{name}"),
+                    "missing joint table".into(),
+                ));
+            }
+            continue;
+        };
+        let key = |f: &str| format!("joints.{name}.{f}");
+        // Angular joints are written in degrees; convert to radians once, here.
+        let unit = if kinematics.is_angular(i) {
+            std::f64::consts::PI / 180.0
+        } else {
+            1.0
+        };
+        let steps_per_unit = positive(file, &key("steps_per_unit"), j.steps_per_unit)? / unit;
+        let max_rate = positive(file, &key("max_rate"), j.max_rate)? / 60.0 * unit;
+        let acceleration = positive(file, &key("acceleration"), j.acceleration)? * unit;
+        let jerk = match j.jerk {
+            Some(v) => Some(positive(file, &key("jerk"), v)? * unit),
+            None if shape == Shape::SCurve => {
+                return Err(err(
+                    file,
+                    &key("jerk"),
+                    "required when planner.velocity_profile = \"scurve\"".into(),
+                ))
+            }
+            None => None,
+        };
+        let rate_hz = max_rate * steps_per_unit;
+        if rate_hz > max_step_rate * (1.0 + 1e-9) {
+            return Err(err(
+                file,
+                &key("max_rate"),
+                format!(
+                    "{} per minute at {} steps per unit needs {:.0} steps/s, above \
+                     planner.max_step_rate = {max_step_rate}",
+                    j.max_rate, j.steps_per_unit, rate_hz
+                ),
+            ));
+        }
+        let homing = match &j.homing {
+            None => None,
+            Some(h) => Some(Homing {
+                direction: match h.direction.as_str() {
+                    "negative" => HomingDirection::Negative,
+                    "positive" => HomingDirection::Positive,
+                    other => {
+                        return Err(err(
+                            file,
+                            &key("homing.direction"),
+                            format!("{other:?}: use \"negative\" or \"positive\""),
+                        ))
+                    }
+                },
+                seek_rate: positive(file, &key("homing.seek_rate"), h.seek_rate)? / 60.0 * unit,
+                feed_rate: positive(file, &key("homing.feed_rate"), h.feed_rate)? / 60.0 * unit,
+                pull_off: non_negative(file, &key("homing.pull_off"), h.pull_off)? * unit,
+            }),
+        };
+        let limits = match j.limits {
+            Some(r) => {
+                let r = range(file, &key("limits"), r)?;
+                Some([r[0] * unit, r[1] * unit])
+            }
+            None => None,
+        };
+        joints[i] = Some(Joint {
+            name,
+            steps_per_unit,
+            max_rate,
+            acceleration,
+            jerk,
+            backlash: non_negative(file, &key("backlash"), j.backlash)? * unit,
+            invert_direction: j.invert_direction,
+            limits,
+            homing,
+        });
+    }
+    let t = &raw.travel;
+    let z = match (t.z, joints[2].is_some()) {
+        (Some(z), true) => range(file, "travel.z", z)?,
+        (None, false) => [0.0, 0.0],
+        (None, true) => {
+            return Err(err(
+                file,
+                "travel.z",
+                "required when joints.z exists".into(),
+            ))
+        }
+        (Some(_), false) => {
+            return Err(err(
+                file,
+                "travel.z",
+                "given but the profile has no joints.z".into(),
+            ))
+        }
+    };
+    let travel = [
+        range(file, "travel.x", t.x)?,
+        range(file, "travel.y", t.y)?,
+        z,
+    ];
+    let start = t
+        .start
+        .unwrap_or([travel[0][0], travel[1][0], travel[2][1]]);
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        if !(start[i] >= travel[i][0] && start[i] <= travel[i][1]) {
+            return Err(err(
+                file,
+                "travel.start",
+                format!(
+                    "{axis} = {} lies outside travel.{axis} {:?}",
+                    start[i], travel[i]
+                ),
+            ));
+        }
+    }
+    let profile = Profile {
+        name: raw.name,
+        kinematics,
+        joints,
+        travel,
+        start,
+        junction_deviation: non_negative(file, "planner.junction_deviation", p.junction_deviation)?,
+        arc_tolerance: positive(file, "planner.arc_tolerance", p.arc_tolerance)?,
+        path_tolerance: positive(
+            file,
+            "planner.path_tolerance",
+            p.path_tolerance.unwrap_or(0.01),
+        )?,
+        shape,
+        horizon: positive(file, "planner.horizon", p.horizon.unwrap_or(2.0))?,
+        max_step_rate,
+        default_feed: positive(file, "planner.default_feed", p.default_feed)? / 60.0,
+    };
+    use crate::kinematics::Kinematics;
+    let kin = crate::kinematics::for_profile(&profile);
+    kin.joints(profile.start).map_err(|why| {
+        err(
+            file,
+            "travel.start",
+            format!("the start position is unreachable: {why}"),
+        )
+    })?;
+    Ok(profile)
+}
