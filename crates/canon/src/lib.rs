@@ -94,9 +94,9 @@ pub enum FeedMode {
 
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum MotionMode {
-    /// G61: stop exactly at every corner.
+    /// G61.1: stop exactly at every corner.
     ExactStop,
-    /// G61.1: follow the path exactly, may slow at corners.
+    /// G61: follow the path exactly, may slow at corners.
     ExactPath,
     /// G64 P Q: blend corners within `tolerance` mm (0 = as fast as possible).
     #[default]

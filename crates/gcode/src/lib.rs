@@ -11,7 +11,9 @@
 
 pub mod block;
 pub mod diag;
+pub mod interp;
 pub mod params;
+pub mod print;
 
 pub use diag::{Diagnostic, Severity, Span};
 

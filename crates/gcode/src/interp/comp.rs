@@ -1,0 +1,538 @@
+//! Cutter radius compensation (G40 G41 G42 G41.1 G42.1) in the interpreter, as LinuxCNC does
+//! it: the tool centre runs one radius beside the programmed path. Each offset segment is
+//! held back until the next one is known, so that a concave corner can shorten it to the
+//! intersection and a convex corner can get an arc about the programmed corner. A concave
+//! corner whose intersection falls outside the held segment would gouge: that is an error.
+//! Only the XY plane is compensated.
+
+use super::state::Side;
+use super::words::{g_group as G, slot, Decoded};
+use super::{Interpreter, Sink};
+use crate::diag::Diagnostic;
+use oficina_canon::Plane;
+
+type P2 = [f64; 2];
+
+/// One compensated segment waiting for its successor.
+#[derive(Clone, Copy, Debug)]
+enum Seg {
+    Line {
+        start: P2,
+        end: [f64; 6],
+        feed: bool,
+    },
+    Arc {
+        start: P2,
+        end: [f64; 6],
+        center: P2,
+        turns: i32,
+    },
+}
+
+impl Seg {
+    fn end(&self) -> [f64; 6] {
+        match self {
+            Seg::Line { end, .. } | Seg::Arc { end, .. } => *end,
+        }
+    }
+
+    fn set_end(&mut self, p: P2) {
+        match self {
+            Seg::Line { end, .. } | Seg::Arc { end, .. } => {
+                end[0] = p[0];
+                end[1] = p[1];
+            }
+        }
+    }
+
+    /// Unit tangent (direction of travel) at the end.
+    fn end_tangent(&self) -> P2 {
+        match self {
+            Seg::Line { start, end, .. } => unit([end[0] - start[0], end[1] - start[1]]),
+            Seg::Arc {
+                end, center, turns, ..
+            } => arc_tangent([end[0], end[1]], *center, *turns > 0),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct CompState {
+    /// The compensated position of the tool centre, XY.
+    point: P2,
+    /// The next move is the entry move.
+    entry: bool,
+    pending: Option<Seg>,
+}
+
+fn sub(a: P2, b: P2) -> P2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn add(a: P2, b: P2) -> P2 {
+    [a[0] + b[0], a[1] + b[1]]
+}
+
+fn scale(a: P2, k: f64) -> P2 {
+    [a[0] * k, a[1] * k]
+}
+
+fn len(a: P2) -> f64 {
+    a[0].hypot(a[1])
+}
+
+fn unit(a: P2) -> P2 {
+    let l = len(a);
+    if l == 0.0 {
+        [0.0, 0.0]
+    } else {
+        scale(a, 1.0 / l)
+    }
+}
+
+fn cross(a: P2, b: P2) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn dot(a: P2, b: P2) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+/// Left normal of a direction.
+fn left(a: P2) -> P2 {
+    [-a[1], a[0]]
+}
+
+fn arc_tangent(p: P2, center: P2, ccw: bool) -> P2 {
+    let r = unit(sub(p, center));
+    if ccw {
+        left(r)
+    } else {
+        [r[1], -r[0]]
+    }
+}
+
+/// Corners turning less than this (radians) are treated as straight (LinuxCNC: 0.05 rad
+/// only for convex corners, where the arc would be tiny).
+const SMALL_CORNER: f64 = 1e-9;
+
+/// Intersections of segment-carrying circles/lines near `near`: line through (p, dir) or
+/// circle (center, radius).
+#[derive(Clone, Copy)]
+enum Curve {
+    Line { p: P2, dir: P2 },
+    Circle { c: P2, r: f64 },
+}
+
+fn intersections(a: Curve, b: Curve) -> Vec<P2> {
+    match (a, b) {
+        (Curve::Line { p: p1, dir: d1 }, Curve::Line { p: p2, dir: d2 }) => {
+            let den = cross(d1, d2);
+            if den.abs() < 1e-12 {
+                return vec![];
+            }
+            let t = cross(sub(p2, p1), d2) / den;
+            vec![add(p1, scale(d1, t))]
+        }
+        (Curve::Line { p, dir }, Curve::Circle { c, r })
+        | (Curve::Circle { c, r }, Curve::Line { p, dir }) => {
+            let f = sub(p, c);
+            let b = dot(f, dir);
+            let disc = b * b - (dot(f, f) - r * r);
+            if disc < 0.0 {
+                return vec![];
+            }
+            let s = disc.sqrt();
+            vec![add(p, scale(dir, -b - s)), add(p, scale(dir, -b + s))]
+        }
+        (Curve::Circle { c: c1, r: r1 }, Curve::Circle { c: c2, r: r2 }) => {
+            let d = len(sub(c2, c1));
+            if d < 1e-12 || d > r1 + r2 || d < (r1 - r2).abs() {
+                return vec![];
+            }
+            let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+            let h = (r1 * r1 - a * a).max(0.0).sqrt();
+            let u = scale(sub(c2, c1), 1.0 / d);
+            let m = add(c1, scale(u, a));
+            vec![add(m, scale(left(u), h)), sub(m, scale(left(u), h))]
+        }
+    }
+}
+
+impl Interpreter {
+    fn comp_side_sign(&self) -> f64 {
+        match self.modal.comp {
+            Some(Side::Left) => 1.0,
+            _ => -1.0,
+        }
+    }
+
+    /// G40 / G41 / G42 (and .1) of this block.
+    pub(crate) fn set_cutter_comp(
+        &mut self,
+        d: &Decoded,
+        t: u16,
+        sink: Sink,
+    ) -> Result<(), Diagnostic> {
+        let span = d.g_span(G::CUTTER_COMP);
+        if t == 400 {
+            self.comp_flush(sink);
+            if self.modal.comp.is_some() {
+                // The next move starts where the tool centre is.
+                self.pos[0] = self.comp.point[0];
+                self.pos[1] = self.comp.point[1];
+            }
+            self.modal.comp = None;
+            return Ok(());
+        }
+        if self.modal.comp.is_some() {
+            return Err(self
+                .fail(span, "Cannot turn cutter radius comp on when already on", 0)
+                .with_help("turn it off with G40 first"));
+        }
+        if self.modal.plane != Plane::XY {
+            return Err(self
+                .fail(
+                    span,
+                    "Cutter radius compensation is done in the XY plane only",
+                    0,
+                )
+                .with_help("select G17 before G41/G42"));
+        }
+        let k = self.modal.units.mm();
+        let radius = if t == 411 || t == 421 {
+            let dv = d.values[slot('D')]
+                .ok_or_else(|| self.fail(span, "G41.1/G42.1 needs a D word (diameter)", 0))?;
+            if dv.v < 0.0 {
+                return Err(self.fail(dv.span, "Negative D value used with G41.1/G42.1", 0));
+            }
+            dv.v * k / 2.0
+        } else {
+            let n = match d.values[slot('D')] {
+                Some(dv) => {
+                    if dv.v < 0.0 || dv.v.fract() != 0.0 {
+                        return Err(self.fail(
+                            dv.span,
+                            "D word must be a tool number (a whole number ≥ 0)",
+                            0,
+                        ));
+                    }
+                    dv.v as u32
+                }
+                None => self.modal.tool_in_spindle,
+            };
+            match self.tools.get(n) {
+                Some(tool) => tool.diameter / 2.0,
+                None if n == 0 => 0.0,
+                None => {
+                    return Err(self.fail(
+                        d.span_of('D'),
+                        format!("Requested tool {n} not found in the tool table"),
+                        0,
+                    ))
+                }
+            }
+        };
+        self.modal.comp = Some(if t == 410 || t == 411 {
+            Side::Left
+        } else {
+            Side::Right
+        });
+        self.modal.comp_radius = radius;
+        self.comp = CompState {
+            point: [self.pos[0], self.pos[1]],
+            entry: true,
+            pending: None,
+        };
+        Ok(())
+    }
+
+    /// Emit the held segment as it is.
+    pub(crate) fn comp_flush(&mut self, sink: Sink) {
+        if let Some(seg) = self.comp.pending.take() {
+            self.emit_seg(sink, seg);
+        }
+    }
+
+    fn emit_seg(&self, sink: Sink, seg: Seg) {
+        match seg {
+            Seg::Line { end, feed, .. } => self.emit_straight(sink, feed, end),
+            Seg::Arc {
+                end, center, turns, ..
+            } => self.emit_arc(sink, end, center, turns),
+        }
+    }
+
+    /// Hold `next` after joining it to the held segment at programmed corner `corner`.
+    fn comp_push(
+        &mut self,
+        sink: Sink,
+        d: &Decoded,
+        corner: P2,
+        next: Seg,
+    ) -> Result<(), Diagnostic> {
+        let mut next = next;
+        if let Some(mut prev) = self.comp.pending.take() {
+            let t1 = prev.end_tangent();
+            let t2 = match next {
+                Seg::Line { start, end, .. } => unit([end[0] - start[0], end[1] - start[1]]),
+                Seg::Arc {
+                    start,
+                    center,
+                    turns,
+                    ..
+                } => arc_tangent(start, center, turns > 0),
+            };
+            let turn = cross(t1, t2);
+            let convex = turn * self.comp_side_sign() < -SMALL_CORNER
+                || (turn.abs() <= SMALL_CORNER && dot(t1, t2) < 0.0);
+            let prev_end = prev.end();
+            let next_start = match next {
+                Seg::Line { start, .. } | Seg::Arc { start, .. } => start,
+            };
+            if len(sub(next_start, [prev_end[0], prev_end[1]])) < 1e-9 {
+                self.emit_seg(sink, prev);
+            } else if convex {
+                self.emit_seg(sink, prev);
+                // Round the outside of the corner about the programmed corner point.
+                let mut end = prev_end;
+                end[0] = next_start[0];
+                end[1] = next_start[1];
+                let turns = if self.modal.comp == Some(Side::Left) {
+                    -1
+                } else {
+                    1
+                };
+                self.emit_arc(sink, end, corner, turns);
+            } else {
+                let curve = |s: &Seg| match *s {
+                    Seg::Line { start, end, .. } => Curve::Line {
+                        p: start,
+                        dir: unit([end[0] - start[0], end[1] - start[1]]),
+                    },
+                    Seg::Arc { start, center, .. } => Curve::Circle {
+                        c: center,
+                        r: len(sub(start, center)),
+                    },
+                };
+                let cands = intersections(curve(&prev), curve(&next));
+                let best = cands.into_iter().min_by(|a, b| {
+                    len(sub(*a, corner))
+                        .partial_cmp(&len(sub(*b, corner)))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                });
+                let prev_start = match prev {
+                    Seg::Line { start, .. } | Seg::Arc { start, .. } => start,
+                };
+                let gouge = match best {
+                    None => true,
+                    Some(x) => match prev {
+                        Seg::Line { start, end, .. } => {
+                            let dir = [end[0] - start[0], end[1] - start[1]];
+                            dot(sub(x, start), dir) < -1e-9
+                        }
+                        Seg::Arc { .. } => len(sub(x, prev_start)) < 1e-12 && false,
+                    },
+                };
+                if gouge {
+                    return Err(self
+                        .fail(
+                            d.g_span(G::MOTION),
+                            "Cutter gouging with cutter radius comp: concave corner too small for the tool",
+                            0,
+                        )
+                        .with_help(format!(
+                            "the inside corner leaves less room than the tool radius {:.4}; use a smaller tool or open the corner",
+                            self.modal.comp_radius / self.modal.units.mm()
+                        )));
+                }
+                let x = best.unwrap_or(corner);
+                prev.set_end(x);
+                self.emit_seg(sink, prev);
+                match &mut next {
+                    Seg::Line { start, .. } | Seg::Arc { start, .. } => *start = x,
+                }
+            }
+        }
+        let e = next.end();
+        self.comp.point = [e[0], e[1]];
+        self.comp.pending = Some(next);
+        Ok(())
+    }
+
+    pub(crate) fn comp_straight(
+        &mut self,
+        d: &Decoded,
+        sink: Sink,
+        feed: bool,
+        end: [f64; 6],
+    ) -> Result<(), Diagnostic> {
+        let r = self.modal.comp_radius;
+        let prog = [self.pos[0], self.pos[1]];
+        let target = [end[0], end[1]];
+        let mut out = end;
+        if self.comp.entry {
+            // Entry: end where the line from the tool is tangent to the circle of radius r
+            // about the programmed end.
+            let c = self.comp.point;
+            let dist = len(sub(target, c));
+            if dist <= r {
+                return Err(self
+                    .fail(
+                        d.g_span(G::MOTION),
+                        "Length of cutter compensation entry move is not greater than the tool radius",
+                        0,
+                    )
+                    .with_help(format!("the entry move is {:.4} long; start farther from the path", dist / self.modal.units.mm())));
+            }
+            let theta = (r / dist).acos();
+            let alpha = (c[1] - target[1]).atan2(c[0] - target[0]);
+            let beta = if self.modal.comp == Some(Side::Left) {
+                alpha - theta
+            } else {
+                alpha + theta
+            };
+            out[0] = target[0] + r * beta.cos();
+            out[1] = target[1] + r * beta.sin();
+            self.comp.entry = false;
+            let start = self.comp.point;
+            self.comp_flush(sink);
+            self.comp.pending = Some(Seg::Line {
+                start,
+                end: out,
+                feed,
+            });
+            self.comp.point = [out[0], out[1]];
+            self.pos = end;
+            return Ok(());
+        }
+        let dir = unit(sub(target, prog));
+        if len(sub(target, prog)) < 1e-12 {
+            // No XY motion: keep the tool centre where it is, move the other axes.
+            out[0] = self.comp.point[0];
+            out[1] = self.comp.point[1];
+            self.comp_flush(sink);
+            self.emit_straight(sink, feed, out);
+            self.pos = end;
+            return Ok(());
+        }
+        let n = scale(left(dir), r * self.comp_side_sign());
+        let start = add(prog, n);
+        out[0] = target[0] + n[0];
+        out[1] = target[1] + n[1];
+        self.comp_push(
+            sink,
+            d,
+            prog,
+            Seg::Line {
+                start,
+                end: out,
+                feed,
+            },
+        )?;
+        self.pos = end;
+        Ok(())
+    }
+
+    pub(crate) fn comp_arc(
+        &mut self,
+        d: &Decoded,
+        sink: Sink,
+        end: [f64; 6],
+    ) -> Result<(), Diagnostic> {
+        let r = self.modal.comp_radius;
+        let prog = [self.pos[0], self.pos[1]];
+        let target = [end[0], end[1]];
+        if self.comp.entry {
+            return Err(self
+                .fail(
+                    d.g_span(G::MOTION),
+                    "Cannot make an arc the entry move of cutter compensation",
+                    0,
+                )
+                .with_help("enter cutter compensation with a straight move (G0 or G1)"));
+        }
+        let center = self.arc_center(d, prog, target)?;
+        let turns = self.arc_turns(d)?;
+        let ccw = turns > 0;
+        let radius = len(sub(prog, center));
+        // Left of a CCW arc is towards the centre.
+        let inside = (self.modal.comp == Some(Side::Left)) == ccw;
+        let new_r = if inside { radius - r } else { radius + r };
+        if new_r <= 0.0 || (inside && radius <= r) {
+            return Err(self
+                .fail(
+                    d.g_span(G::MOTION),
+                    "Tool radius not less than arc radius with comp",
+                    0,
+                )
+                .with_help(format!(
+                    "the arc radius {:.4} is not larger than the tool radius {:.4}",
+                    radius / self.modal.units.mm(),
+                    r / self.modal.units.mm()
+                )));
+        }
+        let on = |p: P2| add(center, scale(unit(sub(p, center)), new_r));
+        let start = on(prog);
+        let e = on(target);
+        let mut out = end;
+        out[0] = e[0];
+        out[1] = e[1];
+        self.comp_push(
+            sink,
+            d,
+            prog,
+            Seg::Arc {
+                start,
+                end: out,
+                center,
+                turns,
+            },
+        )?;
+        self.pos = end;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_circle_intersections() {
+        let x = intersections(
+            Curve::Line {
+                p: [0.0, 1.0],
+                dir: [1.0, 0.0],
+            },
+            Curve::Line {
+                p: [2.0, 0.0],
+                dir: [0.0, 1.0],
+            },
+        );
+        assert_eq!(x, vec![[2.0, 1.0]]);
+        let x = intersections(
+            Curve::Line {
+                p: [-5.0, 0.0],
+                dir: [1.0, 0.0],
+            },
+            Curve::Circle {
+                c: [0.0, 0.0],
+                r: 2.0,
+            },
+        );
+        assert!((x[0][0] + 2.0).abs() < 1e-12 && (x[1][0] - 2.0).abs() < 1e-12);
+        let x = intersections(
+            Curve::Circle {
+                c: [0.0, 0.0],
+                r: 5.0,
+            },
+            Curve::Circle {
+                c: [8.0, 0.0],
+                r: 5.0,
+            },
+        );
+        assert_eq!(x.len(), 2);
+        assert!((x[0][0] - 4.0).abs() < 1e-12 && (x[0][1].abs() - 3.0).abs() < 1e-12);
+    }
+}

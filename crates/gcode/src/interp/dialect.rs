@@ -1,0 +1,190 @@
+//! The two dialects beside LinuxCNC's.
+//!
+//! grbl 1.1 (gcode.c, report.c): the same interpreter, but only grbl's G/M set is accepted
+//! and errors carry grbl's `error:N` numbers and texts.
+//!
+//! Legacy 2006 (seed 002, §3): G90/G91 are themselves linear feed moves (absolute /
+//! incremental), I J are absolute arc centres, motion codes are modal, G0 is a rapid.
+
+use super::words::{g_group as G, m_group as M, Decoded};
+use super::Interpreter;
+use crate::diag::Diagnostic;
+
+/// grbl's text for an error number (report.c / the grbl wiki's error table).
+pub fn grbl_text(code: u16) -> &'static str {
+    match code {
+        20 => "Unsupported or invalid g-code command found in block.",
+        21 => "More than one g-code command from same modal group found in block.",
+        22 => "Feed rate has not yet been set or is undefined.",
+        23 => "G-code command in block requires an integer value.",
+        24 => "Two G-code commands that both require the use of the XYZ axis words were detected in the block.",
+        25 => "A G-code word was repeated in the block.",
+        26 => "A G-code command implicitly or explicitly requires XYZ axis words in the block, but none were detected.",
+        28 => "A G-code command was sent, but is missing some required P or L value words in the line.",
+        29 => "Grbl supports six work coordinate systems G54-G59. G59.1, G59.2, and G59.3 are not supported.",
+        30 => "The G53 G-code command requires either a G0 seek or G1 feed motion mode to be active. A different motion was active.",
+        31 => "There are unused axis words in the block and G80 motion mode cancel is active.",
+        32 => "A G2 or G3 arc was commanded but there are no XYZ axis words in the selected plane to trace the arc.",
+        33 => "The motion command has an invalid target. G2, G3, and G38.2 generates this error, if the arc is impossible to generate or if the probe target is the current position.",
+        34 => "A G2 or G3 arc, traced with the radius definition, had a mathematical error when computing the arc geometry. Try either breaking up the arc into semi-circles or quadrants, or redefine them with the arc offset definition.",
+        35 => "A G2 or G3 arc, traced with the offset definition, is missing the IJK offset word in the selected plane to trace the arc.",
+        36 => "There are unused, leftover G-code words that aren't used by any command in the block.",
+        37 => "The G43.1 dynamic tool length offset command cannot apply an offset to an axis other than its configured axis. The Grbl default axis is the Z-axis.",
+        38 => "Tool number greater than max supported value.",
+        _ => "",
+    }
+}
+
+/// Attach grbl's number and text to a diagnostic.
+pub fn grbl_error(d: Diagnostic, code: u16) -> Diagnostic {
+    let help = match &d.help {
+        Some(h) => format!("grbl error:{code}: {} ({h})", grbl_text(code)),
+        None => format!("grbl error:{code}: {}", grbl_text(code)),
+    };
+    let mut d = d.with_code(code);
+    d.help = Some(help);
+    d
+}
+
+/// Decoding errors in grbl's numbering.
+pub fn grbl_code_for_decode(d: Diagnostic) -> Diagnostic {
+    let code = if d.message.starts_with("Two ") {
+        21
+    } else if d.message.starts_with("Multiple") {
+        25
+    } else {
+        20
+    };
+    grbl_error(d, code)
+}
+
+fn unsupported(d: &Decoded, span: crate::diag::Span, what: String) -> Diagnostic {
+    let _ = d;
+    grbl_error(Diagnostic::error(span, what), 20)
+}
+
+/// Reject what grbl 1.1 rejects before the common interpreter sees the block.
+pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
+    for (group, code) in d.g.iter().enumerate() {
+        let Some(c) = code else { continue };
+        let ok = match group {
+            G::NON_MODAL => matches!(c.tenths, 40 | 100 | 280 | 281 | 300 | 301 | 530 | 920 | 921),
+            G::MOTION => matches!(c.tenths, 0 | 10 | 20 | 30 | 800),
+            G::ARC_DISTANCE => c.tenths == 911,
+            G::FEED_MODE => matches!(c.tenths, 930 | 940),
+            G::CUTTER_COMP => c.tenths == 400,
+            G::TOOL_LENGTH => matches!(c.tenths, 431 | 490),
+            G::RETRACT => false,
+            G::CONTROL => c.tenths == 610,
+            G::COORD_SYSTEM => {
+                if c.tenths > 590 {
+                    return Err(grbl_error(
+                        Diagnostic::error(
+                            c.span,
+                            format!("G{} is not supported by grbl", c.tenths as f64 / 10.0),
+                        ),
+                        29,
+                    ));
+                }
+                true
+            }
+            _ => true,
+        };
+        if !ok {
+            return Err(unsupported(
+                d,
+                c.span,
+                format!("G{} is not supported by grbl", c.tenths as f64 / 10.0),
+            ));
+        }
+    }
+    for (group, code) in d.m.iter().enumerate() {
+        let Some(c) = code else { continue };
+        let ok = match group {
+            M::STOP => matches!(c.tenths, 0 | 1 | 2 | 30),
+            M::SPINDLE | M::COOLANT => true,
+            _ => false,
+        };
+        if !ok {
+            return Err(unsupported(
+                d,
+                c.span,
+                format!("M{} is not supported by grbl", c.tenths),
+            ));
+        }
+    }
+    if d.g_in(G::NON_MODAL) == Some(100) {
+        let l = d.get('L');
+        if !matches!(l, Some(v) if v == 2.0 || v == 20.0) {
+            return Err(unsupported(
+                d,
+                d.span_of('L'),
+                "grbl supports G10 L2 and L20 only".into(),
+            ));
+        }
+    }
+    for l in ['A', 'B', 'C', 'D', 'H', 'Q'] {
+        if d.has(l) {
+            return Err(grbl_error(
+                Diagnostic::error(d.span_of(l), format!("{l} word is not used by grbl")),
+                if "ABC".contains(l) { 20 } else { 36 },
+            ));
+        }
+    }
+    if let Some(t) = d.get('T') {
+        if t > 255.0 {
+            return Err(grbl_error(
+                Diagnostic::error(
+                    d.span_of('T'),
+                    format!("tool number {t} is over grbl's 255"),
+                ),
+                38,
+            ));
+        }
+    }
+    // Arcs: grbl wants an axis word in the plane and, in the offset form, an offset in it.
+    let motion = d
+        .g_in(G::MOTION)
+        .map(super::state::Motion::from_tenths)
+        .unwrap_or(interp.modal.motion);
+    if matches!(
+        motion,
+        super::state::Motion::Clockwise | super::state::Motion::CounterClockwise
+    ) && (d.any_axis() || d.g[G::MOTION].is_some())
+    {
+        let (a0, a1, _) = interp.modal.plane.axes();
+        let (l0, l1) = (super::AXES[a0], super::AXES[a1]);
+        if !d.any_axis() {
+            return Err(grbl_error(
+                Diagnostic::error(d.g_span(G::MOTION), "arc without axis words"),
+                26,
+            ));
+        }
+        if !d.has(l0) && !d.has(l1) {
+            return Err(grbl_error(
+                Diagnostic::error(
+                    d.g_span(G::MOTION),
+                    format!("arc without {l0} or {l1} word"),
+                ),
+                32,
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Rewrite a seed-002 block into its LinuxCNC meaning: `G90`/`G91` become `G1` plus the
+/// distance mode (unless the block names another motion), so lines with coordinates only
+/// repeat the last motion.
+pub fn translate_legacy(d: &mut Decoded) {
+    if let Some(dist) = d.g[G::DISTANCE] {
+        if d.g[G::MOTION].is_none() {
+            d.g[G::MOTION] = Some(super::words::Code {
+                tenths: 10,
+                span: dist.span,
+            });
+        }
+    }
+    // I and J are absolute centres in this dialect.
+    d.g[G::ARC_DISTANCE] = None;
+}

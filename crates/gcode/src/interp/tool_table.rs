@@ -1,0 +1,183 @@
+//! LinuxCNC tool tables (`.tbl`): one tool a line, `T1 P1 Z10 D6 ;comment`.
+//! Words: T tool number, P pocket, X Y Z A B C offsets, D diameter, I J Q (lathe angles and
+//! orientation, kept for round trips). Values are in the table's units (LinuxCNC: machine
+//! units; the standalone `rs274` reads tables in inches).
+
+use crate::diag::{Diagnostic, Span};
+use oficina_canon::Units;
+use std::collections::BTreeMap;
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tool {
+    pub number: u32,
+    pub pocket: u32,
+    /// X Y Z A B C offsets, mm (A B C in degrees).
+    pub offset: [f64; 6],
+    /// Diameter, mm.
+    pub diameter: f64,
+    pub comment: String,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ToolTable {
+    tools: BTreeMap<u32, Tool>,
+}
+
+/// Longest line accepted: a tool table line is short; this bounds memory on a wrong file.
+const MAX_LINE: usize = 4096;
+
+impl ToolTable {
+    pub fn new() -> ToolTable {
+        ToolTable::default()
+    }
+
+    pub fn get(&self, number: u32) -> Option<&Tool> {
+        self.tools.get(&number)
+    }
+
+    pub fn insert(&mut self, tool: Tool) {
+        self.tools.insert(tool.number, tool);
+    }
+
+    pub fn len(&self) -> usize {
+        self.tools.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.tools.is_empty()
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &Tool> {
+        self.tools.values()
+    }
+
+    /// Parse a table whose lengths are in `units`; errors name line and column.
+    pub fn parse(text: &str, units: Units) -> Result<ToolTable, Diagnostic> {
+        let mut table = ToolTable::new();
+        for (i, raw) in text.lines().enumerate() {
+            let line_no = i as u32 + 1;
+            if raw.len() > MAX_LINE {
+                return Err(
+                    Diagnostic::error(Span::line(line_no), "tool table line is too long")
+                        .with_help("is this really a LinuxCNC .tbl file?"),
+                );
+            }
+            let (body, comment) = match raw.find(';') {
+                Some(k) => (&raw[..k], raw[k + 1..].trim()),
+                None => (raw, ""),
+            };
+            if body.trim().is_empty() {
+                continue;
+            }
+            let mut tool = Tool {
+                comment: comment.to_string(),
+                ..Tool::default()
+            };
+            let mut has_t = false;
+            let mut col = 0usize;
+            for word in body.split_whitespace() {
+                col = body[col..].find(word).map(|k| k + col).unwrap_or(col);
+                let span = Span::new(line_no, col as u32 + 1, word.chars().count() as u32);
+                col += word.len();
+                let mut chars = word.chars();
+                let letter = chars.next().unwrap_or(' ').to_ascii_uppercase();
+                let value: f64 = chars.as_str().parse().map_err(|_| {
+                    Diagnostic::error(
+                        span,
+                        format!("'{word}' is not a letter followed by a number"),
+                    )
+                    .with_help("tool table words look like T1 P1 Z10.5 D6")
+                })?;
+                let length = value * units.mm();
+                match letter {
+                    'T' | 'P' => {
+                        if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
+                            return Err(Diagnostic::error(
+                                span,
+                                format!("{letter} must be a whole number ≥ 0, not {value}"),
+                            ));
+                        }
+                        if letter == 'T' {
+                            tool.number = value as u32;
+                            has_t = true;
+                        } else {
+                            tool.pocket = value as u32;
+                        }
+                    }
+                    'X' => tool.offset[0] = length,
+                    'Y' => tool.offset[1] = length,
+                    'Z' => tool.offset[2] = length,
+                    'A' => tool.offset[3] = value,
+                    'B' => tool.offset[4] = value,
+                    'C' => tool.offset[5] = value,
+                    'D' => tool.diameter = length,
+                    'U' | 'V' | 'W' | 'I' | 'J' | 'Q' => {}
+                    _ => {
+                        return Err(Diagnostic::error(
+                            span,
+                            format!("unknown tool table word '{letter}'"),
+                        )
+                        .with_help("known words: T P X Y Z A B C U V W D I J Q"))
+                    }
+                }
+            }
+            if !has_t {
+                return Err(Diagnostic::error(
+                    Span::line(line_no),
+                    "tool table line without T word",
+                )
+                .with_help(
+                    "each line describes one tool: T<number> P<pocket> Z<length> D<diameter>",
+                ));
+            }
+            table.insert(tool);
+        }
+        Ok(table)
+    }
+
+    /// Write the table back in LinuxCNC's format, lengths in `units`.
+    pub fn to_tbl(&self, units: Units) -> String {
+        let mut s = String::new();
+        for t in self.tools.values() {
+            let k = units.mm();
+            s.push_str(&format!(
+                "T{} P{} X{} Y{} Z{} D{} ;{}\n",
+                t.number,
+                t.pocket,
+                t.offset[0] / k,
+                t.offset[1] / k,
+                t.offset[2] / k,
+                t.diameter / k,
+                t.comment
+            ));
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_linuxcnc_lines() {
+        let t = ToolTable::parse("T1 P1 Z10 D6 ;end mill\n\nT2 P2 Z-5 X1 D3\n", Units::Mm).unwrap();
+        assert_eq!(t.len(), 2);
+        assert_eq!(t.get(1).unwrap().offset[2], 10.0);
+        assert_eq!(t.get(1).unwrap().diameter, 6.0);
+        assert_eq!(t.get(1).unwrap().comment, "end mill");
+        assert_eq!(t.get(2).unwrap().offset[0], 1.0);
+        let inch = ToolTable::parse("T1 Z1", Units::Inch).unwrap();
+        assert_eq!(inch.get(1).unwrap().offset[2], 25.4);
+        let back = ToolTable::parse(&t.to_tbl(Units::Mm), Units::Mm).unwrap();
+        assert_eq!(back, t);
+    }
+
+    #[test]
+    fn errors_name_the_word() {
+        let e = ToolTable::parse("T1 P1\nT2 Zabc", Units::Mm).unwrap_err();
+        assert_eq!((e.span.line, e.span.col), (2, 4));
+        assert!(ToolTable::parse("P1 Z1", Units::Mm).is_err());
+        assert!(ToolTable::parse("T-1", Units::Mm).is_err());
+    }
+}

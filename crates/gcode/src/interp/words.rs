@@ -1,0 +1,282 @@
+//! Sorting one block's words into modal groups and value slots, with LinuxCNC's checks for
+//! conflicts: two codes of one modal group, a letter given twice, codes that do not exist.
+//! Everything lives in fixed arrays so decoding a block never allocates.
+
+use crate::block::Block;
+use crate::diag::{Diagnostic, Span};
+
+/// A G or M code in tenths (G38.2 → 382, G1 → 10), with the span of its word.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Code {
+    pub tenths: u16,
+    pub span: Span,
+}
+
+/// A value word (X, F, P …) with its span.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Value {
+    pub v: f64,
+    pub span: Span,
+}
+
+/// The G modal groups of LinuxCNC (`overview.adoc`, "Modal Groups"), as array indices.
+pub mod g_group {
+    pub const NON_MODAL: usize = 0;
+    pub const MOTION: usize = 1;
+    pub const PLANE: usize = 2;
+    pub const DISTANCE: usize = 3;
+    pub const ARC_DISTANCE: usize = 4;
+    pub const FEED_MODE: usize = 5;
+    pub const UNITS: usize = 6;
+    pub const CUTTER_COMP: usize = 7;
+    pub const TOOL_LENGTH: usize = 8;
+    pub const RETRACT: usize = 10;
+    pub const COORD_SYSTEM: usize = 12;
+    pub const CONTROL: usize = 13;
+    pub const COUNT: usize = 14;
+}
+
+/// The M modal groups.
+pub mod m_group {
+    pub const STOP: usize = 4;
+    pub const TOOL_CHANGE: usize = 6;
+    pub const SPINDLE: usize = 7;
+    pub const COOLANT: usize = 8;
+    pub const OVERRIDE: usize = 9;
+    pub const COUNT: usize = 10;
+}
+
+/// The modal group of a G code in tenths; `None` for codes Oficina does not know.
+pub fn group_of_g(tenths: u16) -> Option<usize> {
+    use g_group::*;
+    Some(match tenths {
+        40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920 | 921 | 922 | 923 => NON_MODAL,
+        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880 | 890 => {
+            MOTION
+        }
+        170 | 180 | 190 => PLANE,
+        900 | 910 => DISTANCE,
+        901 | 911 => ARC_DISTANCE,
+        930 | 940 | 950 => FEED_MODE,
+        200 | 210 => UNITS,
+        400 | 410 | 411 | 420 | 421 => CUTTER_COMP,
+        430 | 431 | 490 => TOOL_LENGTH,
+        980 | 990 => RETRACT,
+        540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => COORD_SYSTEM,
+        610 | 611 | 640 => CONTROL,
+        _ => return None,
+    })
+}
+
+/// The modal group of an M code; `None` for codes Oficina does not know.
+pub fn group_of_m(code: u16) -> Option<usize> {
+    use m_group::*;
+    Some(match code {
+        0 | 1 | 2 | 30 | 60 => STOP,
+        6 => TOOL_CHANGE,
+        3 | 4 | 5 => SPINDLE,
+        7 | 8 | 9 => COOLANT,
+        48..=53 => OVERRIDE,
+        _ => return None,
+    })
+}
+
+/// Index of a value letter in [`Decoded::values`].
+pub fn slot(letter: char) -> usize {
+    (letter as u8 - b'A') as usize
+}
+
+/// One block, sorted. Letters G and M live in `g`/`m`; all other letters in `values`.
+#[derive(Clone, Debug)]
+pub struct Decoded {
+    pub line: u32,
+    pub g: [Option<Code>; g_group::COUNT],
+    pub m: [Option<Code>; m_group::COUNT],
+    pub values: [Option<Value>; 26],
+}
+
+impl Decoded {
+    pub fn get(&self, letter: char) -> Option<f64> {
+        self.values[slot(letter)].map(|w| w.v)
+    }
+
+    pub fn has(&self, letter: char) -> bool {
+        self.values[slot(letter)].is_some()
+    }
+
+    /// The span of a value word, or of the whole line if it is absent.
+    pub fn span_of(&self, letter: char) -> Span {
+        self.values[slot(letter)]
+            .map(|w| w.span)
+            .unwrap_or(Span::line(self.line))
+    }
+
+    pub fn g_in(&self, group: usize) -> Option<u16> {
+        self.g[group].map(|c| c.tenths)
+    }
+
+    pub fn m_in(&self, group: usize) -> Option<u16> {
+        self.m[group].map(|c| c.tenths)
+    }
+
+    /// The span of the G code of `group`, or of the whole line.
+    pub fn g_span(&self, group: usize) -> Span {
+        self.g[group]
+            .map(|c| c.span)
+            .unwrap_or(Span::line(self.line))
+    }
+
+    pub fn any_axis(&self) -> bool {
+        "XYZABC".chars().any(|c| self.has(c))
+    }
+
+    /// The span of the first axis word, for errors about axis words as a whole.
+    pub fn axis_span(&self) -> Span {
+        "XYZABC"
+            .chars()
+            .find(|&c| self.has(c))
+            .map(|c| self.span_of(c))
+            .unwrap_or(Span::line(self.line))
+    }
+
+    /// Sort the words of `block`; errors name the offending word.
+    pub fn from_block(block: &Block) -> Result<Decoded, Diagnostic> {
+        let mut d = Decoded {
+            line: block.line,
+            g: [None; g_group::COUNT],
+            m: [None; m_group::COUNT],
+            values: [None; 26],
+        };
+        for w in &block.words {
+            match w.letter {
+                'G' => {
+                    let tenths = to_tenths(w.value).ok_or_else(|| unknown_g(w.span, w.value))?;
+                    let group = group_of_g(tenths).ok_or_else(|| unknown_g(w.span, w.value))?;
+                    if d.g[group].is_some() {
+                        return Err(Diagnostic::error(
+                            w.span,
+                            "Two g codes used from same modal group",
+                        )
+                        .with_help("a block may hold at most one G code of each modal group"));
+                    }
+                    d.g[group] = Some(Code {
+                        tenths,
+                        span: w.span,
+                    });
+                }
+                'M' => {
+                    let code = (w.value.fract() == 0.0 && (0.0..1000.0).contains(&w.value))
+                        .then_some(w.value as u16);
+                    let group = code.and_then(group_of_m).ok_or_else(|| {
+                        Diagnostic::error(w.span, format!("Unknown m code used: M{}", w.value))
+                            .with_help("supported: M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M48-M53 M60")
+                    })?;
+                    if d.m[group].is_some() {
+                        return Err(Diagnostic::error(
+                            w.span,
+                            "Two m codes used from same modal group",
+                        )
+                        .with_help("a block may hold at most one M code of each modal group"));
+                    }
+                    d.m[group] = Some(Code {
+                        tenths: code.unwrap_or(0),
+                        span: w.span,
+                    });
+                }
+                'A'..='Z' => {
+                    if matches!(w.letter, 'E' | 'U' | 'V' | 'W' | 'N' | 'O') {
+                        return Err(Diagnostic::error(
+                            w.span,
+                            format!("Bad character '{}' used", w.letter.to_ascii_lowercase()),
+                        )
+                        .with_help("Oficina machines have the axes X Y Z A B C"));
+                    }
+                    let s = slot(w.letter);
+                    if d.values[s].is_some() {
+                        return Err(Diagnostic::error(
+                            w.span,
+                            format!(
+                                "Multiple {} words on one line",
+                                w.letter.to_ascii_lowercase()
+                            ),
+                        ));
+                    }
+                    d.values[s] = Some(Value {
+                        v: w.value,
+                        span: w.span,
+                    });
+                }
+                other => {
+                    return Err(Diagnostic::error(
+                        w.span,
+                        format!("Bad character '{other}' used"),
+                    ))
+                }
+            }
+        }
+        Ok(d)
+    }
+}
+
+/// G numbers have at most one decimal (G38.2); anything finer is not a G code.
+fn to_tenths(v: f64) -> Option<u16> {
+    let t = (v * 10.0).round();
+    ((v * 10.0 - t).abs() < 1e-6 && (0.0..10000.0).contains(&t)).then_some(t as u16)
+}
+
+fn unknown_g(span: Span, value: f64) -> Diagnostic {
+    let help = match to_tenths(value) {
+        Some(50 | 51 | 52 | 70 | 80 | 330 | 331 | 382 | 383 | 384 | 385 | 760 | 960 | 970) => {
+            "this LinuxCNC code (splines, lathe, threading, probing, CSS) is not supported by Oficina"
+        }
+        _ => "see the list of supported G codes in the user guide",
+    };
+    Diagnostic::error(span, format!("Unknown g code used: G{value}")).with_help(help)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::block::Word;
+
+    fn block(words: &[(char, f64)]) -> Block {
+        Block {
+            line: 3,
+            words: words
+                .iter()
+                .enumerate()
+                .map(|(i, &(letter, value))| Word {
+                    letter,
+                    value,
+                    span: Span::new(3, 1 + 4 * i as u32, 3),
+                })
+                .collect(),
+            ..Block::default()
+        }
+    }
+
+    #[test]
+    fn groups_and_values_are_sorted() {
+        let d = Decoded::from_block(&block(&[('G', 1.0), ('X', 2.0), ('G', 91.0), ('M', 3.0)]))
+            .unwrap();
+        assert_eq!(d.g_in(g_group::MOTION), Some(10));
+        assert_eq!(d.g_in(g_group::DISTANCE), Some(910));
+        assert_eq!(d.m_in(m_group::SPINDLE), Some(3));
+        assert_eq!(d.get('X'), Some(2.0));
+    }
+
+    #[test]
+    fn conflicts_name_the_second_word() {
+        let e = Decoded::from_block(&block(&[('G', 0.0), ('G', 1.0)])).unwrap_err();
+        assert_eq!(e.message, "Two g codes used from same modal group");
+        assert_eq!(e.span.col, 5);
+        let e = Decoded::from_block(&block(&[('X', 0.0), ('X', 1.0)])).unwrap_err();
+        assert_eq!(e.message, "Multiple x words on one line");
+        let e = Decoded::from_block(&block(&[('G', 1.5)])).unwrap_err();
+        assert!(e.message.starts_with("Unknown g code"));
+        let e = Decoded::from_block(&block(&[('G', 38.2)])).unwrap_err();
+        assert!(e.help.unwrap().contains("not supported"));
+        assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
+        assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());
+    }
+}

@@ -1,0 +1,265 @@
+//! Canonical operations in the text of LinuxCNC's standalone interpreter (`rs274 -g`), so a
+//! run can be compared line by line with the real peer: program units, program coordinates
+//! (the offsets of the stream are undone), four decimals.
+
+use crate::interp::frame::Frame;
+use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos, SpindleDir, Units};
+use std::io::{self, Write};
+
+/// Follows the offset and unit records of a stream and prints every operation.
+#[derive(Clone, Debug, Default)]
+pub struct Rs274Printer {
+    units: Units,
+    frame: Frame,
+    feed_mode: FeedMode,
+    /// Print `rs274`'s own prefix (`   12 N..... `) before each call.
+    numbered: bool,
+    count: u64,
+}
+
+impl Rs274Printer {
+    pub fn new() -> Rs274Printer {
+        Rs274Printer::default()
+    }
+
+    /// Prefix every call with a running number and `N..... ` as `rs274 -g` does.
+    pub fn numbered(mut self) -> Rs274Printer {
+        self.numbered = true;
+        self
+    }
+
+    fn k(&self) -> f64 {
+        self.units.mm()
+    }
+
+    /// Program coordinates, program units, of a machine point.
+    fn program(&self, p: &Pos) -> [f64; 6] {
+        let mut q = self.frame.to_program(p.to_array());
+        for v in q.iter_mut().take(3) {
+            *v /= self.k();
+        }
+        q
+    }
+
+    fn lengths(&self, p: &Pos) -> [f64; 6] {
+        let mut q = p.to_array();
+        for v in q.iter_mut().take(3) {
+            *v /= self.k();
+        }
+        q
+    }
+
+    /// Print one operation (one or more lines).
+    pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
+        self.count += 1;
+        if self.numbered {
+            write!(out, "{:5} N..... ", self.count)?;
+        }
+        self.call(&canon.op, out)?;
+        writeln!(out)
+    }
+
+    fn call(&mut self, op: &CanonOp, out: &mut impl Write) -> io::Result<()> {
+        match op {
+            CanonOp::UseLengthUnits(u) => {
+                self.units = *u;
+                let name = if *u == Units::Mm {
+                    "CANON_UNITS_MM"
+                } else {
+                    "CANON_UNITS_INCHES"
+                };
+                write!(out, "USE_LENGTH_UNITS({name})")
+            }
+            CanonOp::SetG5xOffset { index, offset } => {
+                self.frame.g5x = offset.to_array();
+                let v = self.lengths(offset);
+                write!(
+                    out,
+                    "SET_G5X_OFFSET({index}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
+                    v[0], v[1], v[2], v[3], v[4], v[5]
+                )
+            }
+            CanonOp::SetG92Offset(offset) => {
+                self.frame.g92 = offset.to_array();
+                let v = self.lengths(offset);
+                write!(
+                    out,
+                    "SET_G92_OFFSET({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
+                    v[0], v[1], v[2], v[3], v[4], v[5]
+                )
+            }
+            CanonOp::SetXyRotation(r) => {
+                self.frame.rotation = *r;
+                write!(out, "SET_XY_ROTATION({r:.4})")
+            }
+            CanonOp::SelectPlane(p) => {
+                let name = match p {
+                    Plane::XY => "CANON_PLANE_XY",
+                    Plane::YZ => "CANON_PLANE_YZ",
+                    Plane::XZ => "CANON_PLANE_XZ",
+                };
+                write!(out, "SELECT_PLANE({name})")
+            }
+            CanonOp::SetFeedRate(f) => {
+                let f = if self.feed_mode == FeedMode::InverseTime {
+                    *f
+                } else {
+                    f / self.k()
+                };
+                write!(out, "SET_FEED_RATE({f:.4})")
+            }
+            CanonOp::SetFeedMode(m) => {
+                self.feed_mode = *m;
+                let n = match m {
+                    FeedMode::UnitsPerMinute => 0,
+                    FeedMode::InverseTime => 1,
+                    FeedMode::UnitsPerRev => 2,
+                };
+                write!(out, "SET_FEED_MODE(0, {n})")
+            }
+            CanonOp::SetMotionControlMode { mode, tolerance } => match mode {
+                MotionMode::Continuous => write!(
+                    out,
+                    "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, {:.6})",
+                    tolerance / self.k()
+                ),
+                MotionMode::ExactPath => write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"),
+                MotionMode::ExactStop => write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)"),
+            },
+            CanonOp::SetNaivecamTolerance(t) => {
+                write!(out, "SET_NAIVECAM_TOLERANCE({:.4})", t / self.k())
+            }
+            CanonOp::StraightTraverse { to } => {
+                let p = self.program(to);
+                write!(
+                    out,
+                    "STRAIGHT_TRAVERSE({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
+                    p[0], p[1], p[2], p[3], p[4], p[5]
+                )
+            }
+            CanonOp::StraightFeed { to } => {
+                let p = self.program(to);
+                write!(
+                    out,
+                    "STRAIGHT_FEED({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
+                    p[0], p[1], p[2], p[3], p[4], p[5]
+                )
+            }
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
+                let (a0, a1, a2) = plane.axes();
+                let e = self.program(end);
+                let mut c = end.to_array();
+                c[a0] = center[0];
+                c[a1] = center[1];
+                let c = self.program(&Pos::from_array(c));
+                write!(
+                    out,
+                    "ARC_FEED({:.4}, {:.4}, {:.4}, {:.4}, {turns}, {:.4}, {:.4}, {:.4}, {:.4})",
+                    e[a0], e[a1], c[a0], c[a1], e[a2], e[3], e[4], e[5]
+                )
+            }
+            CanonOp::Dwell(s) => write!(out, "DWELL({s:.4})"),
+            CanonOp::SetSpindleSpeed(s) => write!(out, "SET_SPINDLE_SPEED(0, {s:.4})"),
+            CanonOp::StartSpindle(SpindleDir::Clockwise) => {
+                write!(out, "START_SPINDLE_CLOCKWISE(0)")
+            }
+            CanonOp::StartSpindle(SpindleDir::CounterClockwise) => {
+                write!(out, "START_SPINDLE_COUNTERCLOCKWISE(0)")
+            }
+            CanonOp::StopSpindle => write!(out, "STOP_SPINDLE_TURNING(0)"),
+            CanonOp::MistOn => write!(out, "MIST_ON()"),
+            CanonOp::MistOff => write!(out, "MIST_OFF()"),
+            CanonOp::FloodOn => write!(out, "FLOOD_ON()"),
+            CanonOp::FloodOff => write!(out, "FLOOD_OFF()"),
+            CanonOp::SelectTool(n) => write!(out, "SELECT_TOOL({n})"),
+            CanonOp::ChangeTool(n) => write!(out, "CHANGE_TOOL({n})"),
+            CanonOp::UseToolLengthOffset(p) => {
+                self.frame.tool = p.to_array();
+                let v = self.lengths(p);
+                write!(
+                    out,
+                    "USE_TOOL_LENGTH_OFFSET({:.4} {:.4} {:.4}, {:.4} {:.4} {:.4}, 0.0000 0.0000 0.0000)",
+                    v[0], v[1], v[2], v[3], v[4], v[5]
+                )
+            }
+            CanonOp::EnableFeedOverride(on) => {
+                write!(
+                    out,
+                    "{}_FEED_OVERRIDE()",
+                    if *on { "ENABLE" } else { "DISABLE" }
+                )
+            }
+            CanonOp::EnableSpeedOverride(on) => {
+                write!(
+                    out,
+                    "{}_SPEED_OVERRIDE(0)",
+                    if *on { "ENABLE" } else { "DISABLE" }
+                )
+            }
+            CanonOp::EnableAdaptiveFeed(on) => {
+                write!(
+                    out,
+                    "{}_ADAPTIVE_FEED()",
+                    if *on { "ENABLE" } else { "DISABLE" }
+                )
+            }
+            CanonOp::EnableFeedHold(on) => {
+                write!(
+                    out,
+                    "{}_FEED_HOLD()",
+                    if *on { "ENABLE" } else { "DISABLE" }
+                )
+            }
+            CanonOp::ProgramStop => write!(out, "PROGRAM_STOP()"),
+            CanonOp::OptionalProgramStop => write!(out, "OPTIONAL_PROGRAM_STOP()"),
+            CanonOp::ProgramEnd => write!(out, "PROGRAM_END()"),
+            CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
+            CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
+        }
+    }
+}
+
+/// Print a whole stream into a string (tests and small programs).
+pub fn to_rs274_text<'a>(ops: impl IntoIterator<Item = &'a Canon>) -> String {
+    let mut p = Rs274Printer::new();
+    let mut out = Vec::new();
+    for c in ops {
+        // Writing to a Vec cannot fail.
+        let _ = p.print(c, &mut out);
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn undoes_offsets_and_units() {
+        let ops = [
+            CanonOp::UseLengthUnits(Units::Inch),
+            CanonOp::SetG5xOffset {
+                index: 1,
+                offset: Pos::xyz(25.4, 0.0, 0.0),
+            },
+            CanonOp::StraightFeed {
+                to: Pos::xyz(50.8, 25.4, 0.0),
+            },
+        ];
+        let canon: Vec<Canon> = ops.into_iter().map(|op| Canon { line: 1, op }).collect();
+        let text = to_rs274_text(&canon);
+        assert_eq!(
+            text.lines().last().unwrap(),
+            "STRAIGHT_FEED(1.0000, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
+        );
+        assert_eq!(
+            text.lines().nth(1).unwrap(),
+            "SET_G5X_OFFSET(1, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
+        );
+    }
+}

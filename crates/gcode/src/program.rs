@@ -1,0 +1,138 @@
+//! The driver: front end (text → evaluated blocks) and interpreter (blocks → canonical
+//! operations) joined, streaming. Nothing is kept per block, so a program of any size runs
+//! in constant memory (the diagnostics of check mode are bounded too).
+
+use crate::diag::{Diagnostic, Span};
+use crate::exec::Executor;
+use crate::interp::tool_table::ToolTable;
+use crate::interp::{Flow, Interpreter, StartState};
+use crate::params::Params;
+use crate::Dialect;
+use oficina_canon::Canon;
+use std::io::{BufRead, Cursor, Seek};
+
+/// How to run a program.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    pub dialect: Dialect,
+    /// Skip blocks that start with `/` (the front end honours it).
+    pub block_delete: bool,
+    pub tool_table: ToolTable,
+    /// Check mode: report an erroneous block, skip it, go on. Run mode stops at the first.
+    pub continue_after_error: bool,
+    pub start: StartState,
+    /// Most diagnostics kept in check mode (0 = 1000).
+    pub max_diagnostics: usize,
+}
+
+impl RunOptions {
+    pub fn check(dialect: Dialect) -> RunOptions {
+        RunOptions {
+            dialect,
+            continue_after_error: true,
+            ..RunOptions::default()
+        }
+    }
+}
+
+/// Feeds blocks to the interpreter and collects what went wrong.
+pub struct Driver {
+    pub interp: Interpreter,
+    pub params: Params,
+    diagnostics: Vec<Diagnostic>,
+    continue_after_error: bool,
+    limit: usize,
+    ended: bool,
+}
+
+impl Driver {
+    pub fn new(opts: &RunOptions, sink: &mut dyn FnMut(Canon)) -> Driver {
+        let mut interp = Interpreter::new(opts.dialect, &opts.start, opts.tool_table.clone());
+        let mut params = Params::new();
+        interp.begin(&mut params, sink);
+        interp.update_named_params(&mut params);
+        Driver {
+            interp,
+            params,
+            diagnostics: Vec::new(),
+            continue_after_error: opts.continue_after_error,
+            limit: if opts.max_diagnostics == 0 {
+                1000
+            } else {
+                opts.max_diagnostics
+            },
+            ended: false,
+        }
+    }
+
+    fn report(&mut self, d: Diagnostic) {
+        if self.diagnostics.len() < self.limit {
+            self.diagnostics.push(d);
+        } else if self.diagnostics.len() == self.limit {
+            let line = d.span.line;
+            self.diagnostics.push(
+                Diagnostic::error(Span::line(line), "too many errors; checking stopped here")
+                    .with_help("fix the errors above and check again"),
+            );
+        }
+    }
+
+    /// Run the whole program from `exec`.
+    pub fn run<R: BufRead + Seek>(
+        mut self,
+        exec: &mut Executor<R>,
+        sink: &mut dyn FnMut(Canon),
+    ) -> Vec<Diagnostic> {
+        while let Some(next) = exec.next_block(&mut self.params) {
+            let result = next.and_then(|block| {
+                let flow = self.interp.execute(&block, &mut self.params, sink)?;
+                Ok(flow)
+            });
+            match result {
+                Ok(Flow::End) => {
+                    self.ended = true;
+                    break;
+                }
+                Ok(Flow::Continue) => {}
+                Err(d) => {
+                    let is_error = d.severity == crate::diag::Severity::Error;
+                    self.report(d);
+                    if is_error && !self.continue_after_error {
+                        return self.diagnostics;
+                    }
+                    if self.diagnostics.len() > self.limit {
+                        return self.diagnostics;
+                    }
+                }
+            }
+        }
+        if !self.ended {
+            // LinuxCNC: a program without M2/M30 simply ends.
+            self.interp.comp_flush(sink);
+        }
+        self.diagnostics
+    }
+}
+
+/// Run a program read from `source`; operations go to `sink` as they are made.
+pub fn run(
+    source: impl BufRead + Seek,
+    opts: &RunOptions,
+    sink: &mut dyn FnMut(Canon),
+) -> Vec<Diagnostic> {
+    let mut exec = Executor::new(source, opts.dialect);
+    exec.set_block_delete(opts.block_delete);
+    Driver::new(opts, sink).run(&mut exec, sink)
+}
+
+/// [`run`] over a string.
+pub fn run_text(text: &str, opts: &RunOptions, sink: &mut dyn FnMut(Canon)) -> Vec<Diagnostic> {
+    run(Cursor::new(text.as_bytes()), opts, sink)
+}
+
+/// Run `text` and collect the operations (tests and small programs only).
+pub fn canon_of(text: &str, opts: &RunOptions) -> (Vec<Canon>, Vec<Diagnostic>) {
+    let mut ops = Vec::new();
+    let diags = run_text(text, opts, &mut |c| ops.push(c));
+    (ops, diags)
+}
