@@ -1,0 +1,99 @@
+//! One grbl input line → words, with grbl's own clean-up and error numbers (protocol.c and
+//! the first stage of gcode.c): whitespace and control characters vanish, `(…)` and `;…`
+//! are comments, letters are upper-cased, and the cleaned line must fit grbl's 80-byte
+//! line buffer.
+
+/// grbl's LINE_BUFFER_SIZE less the terminating zero.
+pub const MAX_LINE: usize = 79;
+
+pub const E_EXPECTED_LETTER: u8 = 1;
+pub const E_BAD_NUMBER: u8 = 2;
+pub const E_NEGATIVE: u8 = 4;
+pub const E_LINE_OVERFLOW: u8 = 11;
+
+/// The line as grbl's protocol loop keeps it: no spaces, comments or control characters,
+/// upper-case. `Err(11)` when it overflows the line buffer.
+pub fn clean(line: &str) -> Result<String, u8> {
+    let mut out = String::with_capacity(line.len());
+    let mut in_paren = false;
+    for c in line.chars() {
+        if in_paren {
+            if c == ')' {
+                in_paren = false;
+            }
+            continue;
+        }
+        match c {
+            '(' => in_paren = true,
+            ';' => break,
+            // Block delete is not supported by grbl: the character is ignored.
+            '/' => {}
+            c if c <= ' ' || c == '\u{7f}' => {}
+            c => out.push(c.to_ascii_uppercase()),
+        }
+    }
+    if out.len() > MAX_LINE {
+        return Err(E_LINE_OVERFLOW);
+    }
+    Ok(out)
+}
+
+/// Splits a cleaned line into (letter, value) words; grbl's read_float rules: optional sign,
+/// digits with at most one decimal point, no exponent.
+pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
+    let b = clean.as_bytes();
+    let mut i = 0;
+    let mut out = Vec::new();
+    while i < b.len() {
+        let letter = b[i] as char;
+        if !letter.is_ascii_uppercase() {
+            return Err(E_EXPECTED_LETTER);
+        }
+        i += 1;
+        let start = i;
+        if i < b.len() && (b[i] == b'-' || b[i] == b'+') {
+            i += 1;
+        }
+        let mut digits = 0;
+        let mut dots = 0;
+        while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
+            if b[i] == b'.' {
+                dots += 1;
+            } else {
+                digits += 1;
+            }
+            i += 1;
+        }
+        if digits == 0 || dots > 1 {
+            return Err(E_BAD_NUMBER);
+        }
+        let value: f64 = clean[start..i].parse().map_err(|_| E_BAD_NUMBER)?;
+        out.push((letter, value));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cleans_like_grbl() {
+        assert_eq!(clean("g1 x1.5 (move) y2 ; rest").unwrap(), "G1X1.5Y2");
+        assert_eq!(clean("\tG0\r").unwrap(), "G0");
+        assert_eq!(clean(&"X1".repeat(40)), Err(E_LINE_OVERFLOW));
+    }
+
+    #[test]
+    fn words_and_errors() {
+        assert_eq!(
+            words("G1X-1.5F300").unwrap(),
+            vec![('G', 1.0), ('X', -1.5), ('F', 300.0)]
+        );
+        assert_eq!(words("1X2"), Err(E_EXPECTED_LETTER));
+        assert_eq!(words("G1X"), Err(E_BAD_NUMBER));
+        assert_eq!(words("X1.2.3"), Err(E_BAD_NUMBER));
+        assert_eq!(words("X-"), Err(E_BAD_NUMBER));
+        assert_eq!(words("#1=2"), Err(E_EXPECTED_LETTER));
+    }
+}

@@ -1,0 +1,11 @@
+//! The grbl-family machine link.
+//!
+//! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
+//! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
+
+pub mod gline;
+pub mod interp;
+pub mod messages;
+pub mod realtime;
+pub mod response;
+pub mod status;

@@ -1,0 +1,197 @@
+//! One line from the firmware, classified. grbl answers every line it receives with exactly
+//! one `ok` or `error:N`; everything else (status, feedback, alarms, the welcome banner) is
+//! unsolicited or a reply to a `$` query and must never be counted as an acknowledgement.
+
+use crate::status::Status;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Response {
+    Ok,
+    Error(u8),
+    Alarm(u8),
+    Status(Status),
+    /// `Grbl 1.1h ['$' for help]`: the firmware (re)started; everything in flight is gone.
+    Welcome {
+        version: String,
+    },
+    /// `[MSG:…]`
+    Message(String),
+    /// `[GC:G0 G54 G17 …]`, reply to `$G`.
+    ParserState(String),
+    /// `[VER:1.1h.20190825:]`
+    Version(String),
+    /// `[OPT:V,15,128]`: option letters, planner blocks, RX buffer bytes.
+    Options {
+        codes: String,
+        blocks: Option<u32>,
+        rx_bytes: Option<u32>,
+    },
+    /// `[G54:0.000,0.000,0.000]`, `[PRB:…:1]`, `[TLO:…]`, `[HLP:…]`, `[echo:…]` and others.
+    Feedback {
+        tag: String,
+        value: String,
+    },
+    /// `$110=500.000`
+    Setting {
+        number: u16,
+        value: String,
+    },
+    /// `$N0=G20`
+    StartupLine {
+        index: u8,
+        line: String,
+    },
+    /// `>G54G20:ok`: a startup line ran.
+    StartupResult(String),
+    /// A line that matches nothing above: kept verbatim so the user sees it.
+    Unknown(String),
+}
+
+impl Response {
+    /// Classifies one line (without its line ending). Never panics on any input.
+    pub fn parse(raw: &str) -> Response {
+        let line = raw.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+        if line == "ok" {
+            return Response::Ok;
+        }
+        if let Some(n) = line.strip_prefix("error:") {
+            if let Ok(code) = n.trim().parse() {
+                return Response::Error(code);
+            }
+        }
+        if let Some(n) = line.strip_prefix("ALARM:") {
+            if let Ok(code) = n.trim().parse() {
+                return Response::Alarm(code);
+            }
+        }
+        if line.starts_with('<') && line.ends_with('>') {
+            return match Status::parse(line) {
+                Ok(s) => Response::Status(s),
+                Err(_) => Response::Unknown(line.to_string()),
+            };
+        }
+        if let Some(rest) = line.strip_prefix("Grbl ") {
+            let version = rest.split_whitespace().next().unwrap_or("").to_string();
+            return Response::Welcome { version };
+        }
+        if let Some(inner) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            let (tag, value) = inner.split_once(':').unwrap_or((inner, ""));
+            return match tag {
+                "MSG" => Response::Message(value.to_string()),
+                "GC" => Response::ParserState(value.to_string()),
+                "VER" => Response::Version(value.to_string()),
+                "OPT" => {
+                    let mut parts = value.split(',');
+                    let codes = parts.next().unwrap_or("").to_string();
+                    let blocks = parts.next().and_then(|b| b.trim().parse().ok());
+                    let rx_bytes = parts.next().and_then(|b| b.trim().parse().ok());
+                    Response::Options {
+                        codes,
+                        blocks,
+                        rx_bytes,
+                    }
+                }
+                _ => Response::Feedback {
+                    tag: tag.to_string(),
+                    value: value.to_string(),
+                },
+            };
+        }
+        if let Some(rest) = line.strip_prefix("$N") {
+            if let Some((i, l)) = rest.split_once('=') {
+                if let Ok(index) = i.parse() {
+                    return Response::StartupLine {
+                        index,
+                        line: l.to_string(),
+                    };
+                }
+            }
+        }
+        if let Some(rest) = line.strip_prefix('$') {
+            if let Some((n, v)) = rest.split_once('=') {
+                if let Ok(number) = n.parse() {
+                    return Response::Setting {
+                        number,
+                        value: v.to_string(),
+                    };
+                }
+            }
+        }
+        if let Some(rest) = line.strip_prefix('>') {
+            return Response::StartupResult(rest.to_string());
+        }
+        Response::Unknown(line.to_string())
+    }
+
+    /// `ok` and `error:N` are the only answers that free RX buffer space.
+    pub fn is_ack(&self) -> bool {
+        matches!(self, Response::Ok | Response::Error(_))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn classifies_lines() {
+        assert_eq!(Response::parse("ok\r"), Response::Ok);
+        assert_eq!(Response::parse("error:22"), Response::Error(22));
+        assert_eq!(Response::parse("ALARM:3"), Response::Alarm(3));
+        assert_eq!(
+            Response::parse("Grbl 1.1h ['$' for help]"),
+            Response::Welcome {
+                version: "1.1h".into()
+            }
+        );
+        assert_eq!(
+            Response::parse("[OPT:V,15,128]"),
+            Response::Options {
+                codes: "V".into(),
+                blocks: Some(15),
+                rx_bytes: Some(128)
+            }
+        );
+        assert_eq!(
+            Response::parse("$110=500.000"),
+            Response::Setting {
+                number: 110,
+                value: "500.000".into()
+            }
+        );
+        assert_eq!(
+            Response::parse("$N0=G20"),
+            Response::StartupLine {
+                index: 0,
+                line: "G20".into()
+            }
+        );
+        assert_eq!(
+            Response::parse("[G54:1.000,2.000,0.000]"),
+            Response::Feedback {
+                tag: "G54".into(),
+                value: "1.000,2.000,0.000".into()
+            }
+        );
+        assert!(matches!(
+            Response::parse("<Idle|MPos:0,0,0>"),
+            Response::Status(_)
+        ));
+    }
+
+    #[test]
+    fn garbage_never_counts_as_ack() {
+        for g in [
+            "okk",
+            "ok ok",
+            "error:",
+            "error:x",
+            "\u{fffd}ok",
+            "<Idle|MPos:a>",
+            "",
+            "ALARM:",
+        ] {
+            assert!(!Response::parse(g).is_ack(), "{g:?}");
+        }
+    }
+}
