@@ -3,9 +3,12 @@
 //! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
 //! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
 
+pub mod emulator;
 pub mod gline;
 pub mod interp;
+pub mod link;
 pub mod messages;
 pub mod realtime;
 pub mod response;
 pub mod status;
+pub mod transport;

@@ -1,0 +1,1011 @@
+//! The emulated firmware's state and behaviour, free of I/O: bytes go in through
+//! [`Core::receive`], time advances through [`Core::tick`], replies come out of `out`.
+//! The model follows grbl 1.1: real-time bytes act at once, other bytes wait in a 128-byte
+//! RX ring (127 usable) and overflow is silently dropped as grbl's ISR does; a line is taken
+//! out of the RX ring only when the previous one is fully in the planner (15 blocks), and
+//! `ok` is sent once its blocks are queued.
+//!
+//! Timing model: each planner block runs at its programmed feed (scaled by the override),
+//! capped by the per-axis maximum rates ($110…); rapids at the maximum rate. There is no
+//! acceleration except for feed hold, which decelerates at $120… as grbl does.
+
+use crate::gline;
+use crate::interp::{self, Flow, Interp, Rate, Segment};
+use crate::messages::{self, SETTINGS};
+use crate::realtime::Realtime;
+use crate::status::State;
+use std::collections::{BTreeMap, VecDeque};
+
+/// Knobs of the emulated board.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// Serial line rate to emulate (bits/s, 10 bits a byte); `None` = as fast as the pipe.
+    pub baud: Option<u32>,
+    /// grbl's RX_BUFFER_SIZE (one byte of the ring stays unused).
+    pub rx_buffer: usize,
+    /// Planner blocks available (grbl's BLOCK_BUFFER_SIZE − 1).
+    pub planner_blocks: usize,
+    pub version: String,
+    /// Settings that differ from grbl's generic defaults.
+    pub settings: Vec<(u16, f64)>,
+    /// Keep the text of every executed G-code line (tests check for duplicates and gaps).
+    pub record_lines: bool,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            baud: Some(115_200),
+            rx_buffer: 128,
+            planner_blocks: 15,
+            version: "1.1h".into(),
+            settings: Vec::new(),
+            record_lines: false,
+        }
+    }
+}
+
+/// Counters a test or a benchmark reads.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub bytes_received: u64,
+    /// Bytes lost because the RX ring was full (a correct sender never causes one).
+    pub rx_overflows: u64,
+    pub lines_executed: u64,
+    pub errors_sent: u64,
+    /// Times the planner ran dry in a run and more motion arrived later.
+    pub starvations: u64,
+    pub starved_seconds: f64,
+    pub busy_seconds: f64,
+    pub max_rx_used: usize,
+}
+
+#[derive(Clone, Debug)]
+struct Block {
+    from: [f64; 3],
+    to: [f64; 3],
+    rate: Rate,
+    done: f64,
+    length: f64,
+}
+
+/// A line taken out of the RX ring whose work is not finished: it may wait for the
+/// planner to drain (sync), dwell, then push its blocks as space frees.
+struct Pending {
+    sync: bool,
+    dwell: f64,
+    segments: VecDeque<Segment>,
+    flow: Flow,
+    probe: bool,
+    reply: String,
+    line: Option<String>,
+}
+
+pub struct Core {
+    pub config: Config,
+    pub settings: BTreeMap<u16, f64>,
+    pub interp: Interp,
+    pub state: State,
+    /// Machine position (mm).
+    pub mpos: [f64; 3],
+    rx: VecDeque<u8>,
+    line: Vec<u8>,
+    line_overflow: bool,
+    planner: VecDeque<Block>,
+    pending: Option<Pending>,
+    pub out: VecDeque<u8>,
+    pub stats: Stats,
+    pub executed: Vec<String>,
+    /// (feed, rapid, spindle) overrides in percent.
+    pub overrides: (u32, u32, u32),
+    check_mode: bool,
+    /// Remaining time of a deceleration to a hold, and its initial speed (mm/s).
+    decel: Option<(f64, f64)>,
+    resume_state: State,
+    starving: Option<f64>,
+    clock: f64,
+    report_counter: u32,
+    startup_lines: [String; 2],
+    speed: f64,
+    jogging: bool,
+}
+
+impl Core {
+    pub fn new(config: Config) -> Core {
+        let mut settings: BTreeMap<u16, f64> =
+            SETTINGS.iter().map(|s| (s.number, s.default)).collect();
+        for (n, v) in &config.settings {
+            settings.insert(*n, *v);
+        }
+        let mut core = Core {
+            config,
+            settings,
+            interp: Interp::default(),
+            state: State::Idle,
+            mpos: [0.0; 3],
+            rx: VecDeque::new(),
+            line: Vec::new(),
+            line_overflow: false,
+            planner: VecDeque::new(),
+            pending: None,
+            out: VecDeque::new(),
+            stats: Stats::default(),
+            executed: Vec::new(),
+            overrides: (100, 100, 100),
+            check_mode: false,
+            decel: None,
+            resume_state: State::Idle,
+            starving: None,
+            clock: 0.0,
+            report_counter: 0,
+            startup_lines: [String::new(), String::new()],
+            speed: 0.0,
+            jogging: false,
+        };
+        core.interp.arc_tolerance = core.setting(12);
+        core.boot();
+        core
+    }
+
+    fn setting(&self, n: u16) -> f64 {
+        self.settings.get(&n).copied().unwrap_or(0.0)
+    }
+
+    fn say(&mut self, s: &str) {
+        self.out.extend(s.as_bytes());
+        self.out.extend(b"\r\n");
+    }
+
+    fn boot(&mut self) {
+        let banner = format!("\r\nGrbl {} ['$' for help]", self.config.version);
+        self.say(&banner);
+        if self.setting(22) != 0.0 {
+            self.state = State::Alarm;
+            self.say("[MSG:'$H'|'$X' to unlock]");
+        }
+    }
+
+    pub fn planner_free(&self) -> usize {
+        self.config
+            .planner_blocks
+            .saturating_sub(self.planner.len())
+    }
+
+    fn rx_capacity(&self) -> usize {
+        self.config.rx_buffer - 1
+    }
+
+    /// One byte off the wire, as grbl's serial RX interrupt sees it.
+    pub fn receive(&mut self, b: u8) {
+        self.stats.bytes_received += 1;
+        if Realtime::is_realtime_byte(b) {
+            if let Some(r) = Realtime::from_byte(b) {
+                self.realtime(r);
+            }
+            return;
+        }
+        if self.rx.len() >= self.rx_capacity() {
+            self.stats.rx_overflows += 1;
+            return;
+        }
+        self.rx.push_back(b);
+        self.stats.max_rx_used = self.stats.max_rx_used.max(self.rx.len());
+    }
+
+    fn moving(&self) -> bool {
+        !self.planner.is_empty()
+            && matches!(
+                self.state,
+                State::Run | State::Jog | State::Hold(1) | State::Door(2)
+            )
+    }
+
+    pub fn realtime(&mut self, r: Realtime) {
+        match r {
+            Realtime::StatusQuery => {
+                let s = self.status_report();
+                self.say(&s);
+            }
+            Realtime::FeedHold => {
+                if matches!(self.state, State::Run) {
+                    self.begin_decel(State::Hold(1));
+                } else if self.state == State::Jog {
+                    self.cancel_jog();
+                }
+            }
+            Realtime::SafetyDoor => {
+                if self.moving() {
+                    self.begin_decel(State::Door(2));
+                } else if !matches!(self.state, State::Alarm | State::Sleep) {
+                    self.resume_state = if self.planner.is_empty() {
+                        State::Idle
+                    } else {
+                        State::Run
+                    };
+                    self.state = State::Door(0);
+                }
+            }
+            Realtime::CycleStart => match self.state {
+                State::Hold(0) | State::Door(0) => {
+                    self.state = if self.planner.is_empty() && self.pending.is_none() {
+                        State::Idle
+                    } else {
+                        State::Run
+                    };
+                }
+                State::Idle if !self.planner.is_empty() => self.state = State::Run,
+                _ => {}
+            },
+            Realtime::SoftReset => self.soft_reset(),
+            Realtime::JogCancel => {
+                if self.state == State::Jog {
+                    self.cancel_jog();
+                }
+            }
+            Realtime::FeedOverrideReset => self.overrides.0 = 100,
+            Realtime::FeedOverridePlus10 => self.overrides.0 = (self.overrides.0 + 10).min(200),
+            Realtime::FeedOverrideMinus10 => {
+                self.overrides.0 = self.overrides.0.saturating_sub(10).max(10)
+            }
+            Realtime::FeedOverridePlus1 => self.overrides.0 = (self.overrides.0 + 1).min(200),
+            Realtime::FeedOverrideMinus1 => {
+                self.overrides.0 = self.overrides.0.saturating_sub(1).max(10)
+            }
+            Realtime::RapidOverride100 => self.overrides.1 = 100,
+            Realtime::RapidOverride50 => self.overrides.1 = 50,
+            Realtime::RapidOverride25 => self.overrides.1 = 25,
+            Realtime::SpindleOverrideReset => self.overrides.2 = 100,
+            Realtime::SpindleOverridePlus10 => self.overrides.2 = (self.overrides.2 + 10).min(200),
+            Realtime::SpindleOverrideMinus10 => {
+                self.overrides.2 = self.overrides.2.saturating_sub(10).max(10)
+            }
+            Realtime::SpindleOverridePlus1 => self.overrides.2 = (self.overrides.2 + 1).min(200),
+            Realtime::SpindleOverrideMinus1 => {
+                self.overrides.2 = self.overrides.2.saturating_sub(1).max(10)
+            }
+            Realtime::SpindleStopToggle => {}
+            Realtime::FloodToggle => self.interp.modal.flood = !self.interp.modal.flood,
+            Realtime::MistToggle => self.interp.modal.mist = !self.interp.modal.mist,
+        }
+    }
+
+    fn cancel_jog(&mut self) {
+        // grbl decelerates and then flushes every jog block; stopping at once is the limit
+        // of that with this model's infinite acceleration.
+        self.planner.clear();
+        self.jogging = false;
+        self.state = State::Idle;
+        self.interp.pos = self.mpos;
+    }
+
+    fn begin_decel(&mut self, into: State) {
+        let accel = (100..=102)
+            .map(|n| self.setting(n + 20))
+            .fold(f64::INFINITY, f64::min)
+            .max(1e-3);
+        let t = self.speed / accel;
+        self.decel = Some((t, self.speed));
+        self.state = into;
+    }
+
+    fn soft_reset(&mut self) {
+        if self.moving()
+            || self
+                .pending
+                .as_ref()
+                .is_some_and(|p| !p.segments.is_empty())
+        {
+            // Stopping without deceleration loses steps on a real machine: grbl says so.
+            self.state = State::Alarm;
+            self.say("ALARM:3");
+        } else if self.state != State::Alarm {
+            self.state = State::Idle;
+        }
+        self.planner.clear();
+        self.pending = None;
+        self.rx.clear();
+        self.line.clear();
+        self.line_overflow = false;
+        self.decel = None;
+        self.jogging = false;
+        self.check_mode = false;
+        self.overrides = (100, 100, 100);
+        self.speed = 0.0;
+        let keep = (self.interp.wcs_offsets, self.interp.g28, self.interp.g30);
+        self.interp = Interp {
+            wcs_offsets: keep.0,
+            g28: keep.1,
+            g30: keep.2,
+            pos: self.mpos,
+            arc_tolerance: self.setting(12),
+            ..Interp::default()
+        };
+        self.starving = None;
+        let banner = format!("\r\nGrbl {} ['$' for help]", self.config.version);
+        self.say(&banner);
+        if self.state == State::Alarm {
+            self.say("[MSG:'$H'|'$X' to unlock]");
+        }
+    }
+
+    /// Advances the emulated firmware to time `now` (seconds since start).
+    pub fn tick(&mut self, now: f64) {
+        let dt = (now - self.clock).max(0.0);
+        self.clock = now;
+        self.run_motion(dt);
+        // Take lines out of the RX ring while the previous one is fully planned.
+        for _ in 0..64 {
+            self.advance_pending();
+            if self.pending.is_some() {
+                break;
+            }
+            match self.next_line() {
+                Some(line) => self.execute_line(&line),
+                None => break,
+            }
+        }
+        self.advance_pending();
+    }
+
+    fn next_line(&mut self) -> Option<String> {
+        while let Some(b) = self.rx.pop_front() {
+            if b == b'\n' || b == b'\r' {
+                if self.line_overflow {
+                    self.line_overflow = false;
+                    self.line.clear();
+                    return Some("\u{1}overflow".into());
+                }
+                let l = String::from_utf8_lossy(&self.line).into_owned();
+                self.line.clear();
+                return Some(l);
+            }
+            if self.line.len() >= 255 {
+                self.line_overflow = true;
+            } else {
+                self.line.push(b);
+            }
+        }
+        None
+    }
+
+    fn reply_error(&mut self, code: u8) {
+        self.stats.errors_sent += 1;
+        self.say(&format!("error:{code}"));
+    }
+
+    fn execute_line(&mut self, raw: &str) {
+        if raw == "\u{1}overflow" {
+            return self.reply_error(gline::E_LINE_OVERFLOW);
+        }
+        let clean = match gline::clean(raw) {
+            Ok(c) => c,
+            Err(e) => return self.reply_error(e),
+        };
+        if clean.is_empty() {
+            // grbl answers an empty line with ok.
+            return self.say("ok");
+        }
+        if let Some(cmd) = clean.strip_prefix('$') {
+            return self.system_command(cmd, raw);
+        }
+        if matches!(self.state, State::Alarm | State::Jog | State::Sleep) {
+            return self.reply_error(9);
+        }
+        match self.interp.execute(&clean) {
+            Err(e) => self.reply_error(e),
+            Ok(effect) => {
+                self.stats.lines_executed += 1;
+                if self.check_mode {
+                    return self.say("ok");
+                }
+                if let Some(e) = self.soft_limit_error(&effect.segments) {
+                    return self.alarm_soft_limit(e);
+                }
+                self.pending = Some(Pending {
+                    sync: effect.sync || effect.flow != Flow::Continue,
+                    dwell: effect.dwell,
+                    segments: effect.segments.into(),
+                    flow: effect.flow,
+                    probe: effect.probe,
+                    reply: "ok".into(),
+                    line: self.config.record_lines.then(|| clean.clone()),
+                });
+            }
+        }
+    }
+
+    fn soft_limit_error(&self, segs: &[Segment]) -> Option<()> {
+        if self.setting(20) == 0.0 {
+            return None;
+        }
+        let out = segs
+            .iter()
+            .any(|s| (0..3).any(|i| s.to[i] > 0.0 || s.to[i] < -self.setting(130 + i as u16)));
+        out.then_some(())
+    }
+
+    fn alarm_soft_limit(&mut self, _: ()) {
+        self.planner.clear();
+        self.state = State::Alarm;
+        self.interp.pos = self.mpos;
+        self.say("ALARM:2");
+        self.say("ok");
+    }
+
+    fn advance_pending(&mut self) {
+        let Some(p) = self.pending.as_mut() else {
+            return;
+        };
+        if p.sync && !self.planner.is_empty() {
+            return;
+        }
+        if p.sync && p.dwell > 0.0 {
+            // A dwell holds the line until it has elapsed; time passes in run_motion.
+            return;
+        }
+        while !p.segments.is_empty() && self.planner.len() < self.config.planner_blocks {
+            let s = p.segments.pop_front().unwrap_or(Segment {
+                to: self.mpos,
+                rate: Rate::Rapid,
+            });
+            let from = self.planner.back().map(|b| b.to).unwrap_or(self.mpos);
+            let length = interp::dist(&from, &s.to);
+            self.planner.push_back(Block {
+                from,
+                to: s.to,
+                rate: s.rate,
+                done: 0.0,
+                length,
+            });
+            if self.state == State::Idle {
+                self.state = if self.jogging { State::Jog } else { State::Run };
+            }
+            if let Some(since) = self.starving.take() {
+                self.stats.starvations += 1;
+                self.stats.starved_seconds += self.clock - since;
+            }
+        }
+        if !p.segments.is_empty() {
+            return;
+        }
+        let p = self.pending.take().expect("pending checked above");
+        if let Some(l) = p.line {
+            self.executed.push(l);
+        }
+        match p.flow {
+            Flow::Pause => self.state = State::Hold(0),
+            Flow::End => self.state = State::Idle,
+            Flow::Continue => {}
+        }
+        if p.probe {
+            // The emulator has no probe input, so a probe never touches: grbl's answer.
+            self.say(&format!(
+                "[PRB:{:.3},{:.3},{:.3}:0]",
+                self.mpos[0], self.mpos[1], self.mpos[2]
+            ));
+        }
+        let reply = p.reply;
+        self.say(&reply);
+    }
+
+    fn block_speed(&self, b: &Block) -> f64 {
+        let dir: Vec<f64> = (0..3)
+            .map(|i| (b.to[i] - b.from[i]) / b.length.max(1e-12))
+            .collect();
+        let mut cap = f64::INFINITY;
+        for (i, d) in dir.iter().enumerate() {
+            if d.abs() > 1e-12 {
+                cap = cap.min(self.setting(110 + i as u16) / d.abs());
+            }
+        }
+        let mm_min = match b.rate {
+            Rate::Rapid => cap * self.overrides.1 as f64 / 100.0,
+            Rate::Feed(f) => (f * self.overrides.0 as f64 / 100.0).min(cap),
+        };
+        (mm_min / 60.0).max(1e-6)
+    }
+
+    fn run_motion(&mut self, mut dt: f64) {
+        // Dwell of a waiting line.
+        if let Some(p) = self.pending.as_mut() {
+            if p.sync
+                && p.dwell > 0.0
+                && self.planner.is_empty()
+                && !matches!(self.state, State::Hold(_) | State::Door(_))
+            {
+                let used = p.dwell.min(dt);
+                p.dwell -= used;
+                if p.dwell <= 1e-9 {
+                    p.dwell = 0.0;
+                }
+            }
+        }
+        if self.planner.is_empty() {
+            self.speed = 0.0;
+            if matches!(self.state, State::Run | State::Jog) && self.pending.is_none() {
+                self.state = State::Idle;
+                self.jogging = false;
+            }
+            return;
+        }
+        let holding = matches!(
+            self.state,
+            State::Hold(0)
+                | State::Door(0)
+                | State::Door(1)
+                | State::Alarm
+                | State::Sleep
+                | State::Idle
+                | State::Check
+        );
+        if holding {
+            self.speed = 0.0;
+            return;
+        }
+        self.stats.busy_seconds += dt;
+        while dt > 0.0 {
+            let Some(b) = self.planner.front().cloned() else {
+                break;
+            };
+            let mut v = self.block_speed(&b);
+            if let Some((left, v0)) = self.decel {
+                let total = (v0 / self.speed.max(1e-9)).max(1.0);
+                let _ = total;
+                // Linear ramp from v0 to 0 over the deceleration time.
+                let accel = if left > 0.0 {
+                    self.speed / left
+                } else {
+                    f64::INFINITY
+                };
+                let step = dt.min(left);
+                let v_end = (self.speed - accel * step).max(0.0);
+                v = 0.5 * (self.speed + v_end);
+                self.decel = Some((left - step, v0));
+                self.speed = v_end;
+                if left - step <= 1e-9 {
+                    self.decel = None;
+                    self.speed = 0.0;
+                    self.state = match self.state {
+                        State::Door(_) => State::Door(0),
+                        _ => State::Hold(0),
+                    };
+                }
+                self.advance_along(v * step);
+                if self.decel.is_none() {
+                    return;
+                }
+                dt -= step;
+                continue;
+            }
+            self.speed = v;
+            let left = b.length - b.done;
+            let t_left = left / v;
+            if t_left <= dt {
+                dt -= t_left;
+                self.mpos = b.to;
+                self.planner.pop_front();
+                if self.planner.is_empty() {
+                    self.speed = 0.0;
+                    let more = !self.rx.is_empty() || self.pending.is_some();
+                    if matches!(self.state, State::Run) {
+                        self.starving = Some(self.clock - dt);
+                        if !more {
+                            self.state = State::Idle;
+                        }
+                    } else if self.state == State::Jog && !more {
+                        self.state = State::Idle;
+                        self.jogging = false;
+                    }
+                    break;
+                }
+            } else {
+                self.advance_along(v * dt);
+                dt = 0.0;
+            }
+        }
+    }
+
+    fn advance_along(&mut self, mut d: f64) {
+        while d > 0.0 {
+            let Some(b) = self.planner.front_mut() else {
+                return;
+            };
+            let left = b.length - b.done;
+            if d >= left {
+                d -= left;
+                self.mpos = b.to;
+                self.planner.pop_front();
+            } else {
+                b.done += d;
+                let t = b.done / b.length.max(1e-12);
+                for i in 0..3 {
+                    self.mpos[i] = b.from[i] + (b.to[i] - b.from[i]) * t;
+                }
+                return;
+            }
+        }
+    }
+
+    fn system_command(&mut self, cmd: &str, raw: &str) {
+        let idle_like = matches!(self.state, State::Idle | State::Alarm | State::Check);
+        match cmd {
+            "" => {
+                self.say("[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]")
+            }
+            "$" => {
+                if !idle_like {
+                    return self.reply_error(8);
+                }
+                let lines: Vec<String> = self
+                    .settings
+                    .iter()
+                    .map(|(n, v)| format!("${n}={}", format_setting(*n, *v)))
+                    .collect();
+                for l in lines {
+                    self.say(&l);
+                }
+            }
+            "#" => {
+                let f = |p: [f64; 3]| format!("{:.3},{:.3},{:.3}", p[0], p[1], p[2]);
+                for i in 0..6 {
+                    let l = format!("[G{}:{}]", 54 + i, f(self.interp.wcs_offsets[i]));
+                    self.say(&l);
+                }
+                let lines = [
+                    format!("[G28:{}]", f(self.interp.g28)),
+                    format!("[G30:{}]", f(self.interp.g30)),
+                    format!("[G92:{}]", f(self.interp.g92)),
+                    format!("[TLO:{:.3}]", self.interp.tool_length),
+                    "[PRB:0.000,0.000,0.000:0]".to_string(),
+                ];
+                for l in lines {
+                    self.say(&l);
+                }
+            }
+            "G" => {
+                let l = format!("[GC:{}]", self.interp.parser_state());
+                self.say(&l);
+            }
+            "I" => {
+                let l = format!("[VER:{}.20190830:]", self.config.version);
+                self.say(&l);
+                let l = format!(
+                    "[OPT:V,{},{}]",
+                    self.config.planner_blocks, self.config.rx_buffer
+                );
+                self.say(&l);
+            }
+            "N" => {
+                let lines: Vec<String> = self
+                    .startup_lines
+                    .iter()
+                    .enumerate()
+                    .map(|(i, l)| format!("$N{i}={l}"))
+                    .collect();
+                for l in lines {
+                    self.say(&l);
+                }
+            }
+            "C" => {
+                if self.check_mode {
+                    self.say("[MSG:Disabled]");
+                    self.say("ok");
+                    self.soft_reset();
+                    return;
+                }
+                if self.state != State::Idle {
+                    return self.reply_error(8);
+                }
+                self.check_mode = true;
+                self.state = State::Check;
+                self.say("[MSG:Enabled]");
+            }
+            "X" => {
+                if self.state == State::Alarm {
+                    self.state = State::Idle;
+                    self.say("[MSG:Caution: Unlocked]");
+                }
+            }
+            "H" => {
+                if self.setting(22) == 0.0 {
+                    return self.reply_error(5);
+                }
+                if !idle_like {
+                    return self.reply_error(8);
+                }
+                // Homing ends at machine zero; the seek takes travel / seek rate.
+                self.mpos = [0.0; 3];
+                self.interp.pos = self.mpos;
+                self.state = State::Idle;
+            }
+            "SLP" => {
+                self.state = State::Sleep;
+                self.say("[MSG:Sleeping]");
+            }
+            "RST=$" | "RST=#" | "RST=*" => {
+                if cmd != "RST=#" {
+                    self.settings = SETTINGS.iter().map(|s| (s.number, s.default)).collect();
+                }
+                if cmd != "RST=$" {
+                    self.interp.wcs_offsets = [[0.0; 3]; 6];
+                    self.interp.g28 = [0.0; 3];
+                    self.interp.g30 = [0.0; 3];
+                }
+            }
+            _ => {
+                if let Some(body) = cmd.strip_prefix("J=") {
+                    return self.jog(body);
+                }
+                if let Some(rest) = cmd.strip_prefix('N') {
+                    return self.store_startup_line(rest, raw);
+                }
+                let Some((n, v)) = cmd.split_once('=') else {
+                    return self.reply_error(3);
+                };
+                let (Ok(n), Ok(v)) = (n.parse::<u16>(), v.parse::<f64>()) else {
+                    return self.reply_error(3);
+                };
+                if messages::setting_info(n).is_none() {
+                    return self.reply_error(3);
+                }
+                if !idle_like {
+                    return self.reply_error(8);
+                }
+                if v < 0.0 {
+                    return self.reply_error(4);
+                }
+                if n == 0 && v < 3.0 {
+                    return self.reply_error(6);
+                }
+                if n == 20 && v != 0.0 && self.setting(22) == 0.0 {
+                    return self.reply_error(10);
+                }
+                self.settings.insert(n, v);
+                if n == 12 {
+                    self.interp.arc_tolerance = v;
+                }
+            }
+        }
+        self.say("ok");
+    }
+
+    fn store_startup_line(&mut self, rest: &str, raw: &str) {
+        let Some((i, _)) = rest.split_once('=') else {
+            return self.reply_error(3);
+        };
+        let Ok(i) = i.parse::<usize>() else {
+            return self.reply_error(3);
+        };
+        if i > 1 {
+            return self.reply_error(3);
+        }
+        // Keep the user's text after '=' (cleaned), validated on a scratch parser.
+        let text = raw.split_once('=').map(|x| x.1).unwrap_or("");
+        let Ok(clean) = gline::clean(text) else {
+            return self.reply_error(14);
+        };
+        let mut scratch = self.interp.clone();
+        if !clean.is_empty() {
+            if let Err(e) = scratch.execute(&clean) {
+                return self.reply_error(e);
+            }
+        }
+        self.startup_lines[i] = clean;
+        self.say("ok");
+    }
+
+    fn jog(&mut self, body: &str) {
+        if !matches!(self.state, State::Idle | State::Jog) {
+            return self.reply_error(8);
+        }
+        match self.interp.jog(body) {
+            Err(e) => self.reply_error(e),
+            Ok(effect) => {
+                if self.soft_limit_error(&effect.segments).is_some() {
+                    self.interp.pos = self.planner.back().map(|b| b.to).unwrap_or(self.mpos);
+                    return self.reply_error(15);
+                }
+                self.jogging = true;
+                self.pending = Some(Pending {
+                    sync: false,
+                    dwell: 0.0,
+                    segments: effect.segments.into(),
+                    flow: Flow::Continue,
+                    probe: false,
+                    reply: "ok".into(),
+                    line: None,
+                });
+                self.advance_pending();
+            }
+        }
+    }
+
+    /// The `<…>` report, fields as grbl 1.1 prints them for the current `$10`.
+    pub fn status_report(&mut self) -> String {
+        let mask = self.setting(10) as u32;
+        let wco = self.interp.wco();
+        let inch = if self.setting(13) != 0.0 { 25.4 } else { 1.0 };
+        let f = |p: [f64; 3]| format!("{:.3},{:.3},{:.3}", p[0] / inch, p[1] / inch, p[2] / inch);
+        let mut s = format!("<{}", self.state.name());
+        if mask & 1 != 0 {
+            s += &format!("|MPos:{}", f(self.mpos));
+        } else {
+            s += &format!(
+                "|WPos:{}",
+                f([
+                    self.mpos[0] - wco[0],
+                    self.mpos[1] - wco[1],
+                    self.mpos[2] - wco[2]
+                ])
+            );
+        }
+        if mask & 2 != 0 {
+            let rx_free = self.config.rx_buffer - 1 - self.rx.len();
+            s += &format!("|Bf:{},{}", self.planner_free(), rx_free);
+        }
+        let spindle = if self.interp.modal.spindle == interp::Spindle::Off {
+            0.0
+        } else {
+            self.interp.spindle_speed
+        };
+        s += &format!("|FS:{:.0},{:.0}", self.speed * 60.0 / inch, spindle);
+        if self.report_counter == 0 {
+            s += &format!("|WCO:{}", f(wco));
+            self.report_counter = if self.state == State::Idle { 10 } else { 30 };
+        } else {
+            self.report_counter -= 1;
+            if self.report_counter == 5 {
+                let (a, b, c) = self.overrides;
+                s += &format!("|Ov:{a},{b},{c}");
+                let mut acc = String::new();
+                match self.interp.modal.spindle {
+                    interp::Spindle::Cw => acc.push('S'),
+                    interp::Spindle::Ccw => acc.push('C'),
+                    interp::Spindle::Off => {}
+                }
+                if self.interp.modal.flood {
+                    acc.push('F');
+                }
+                if self.interp.modal.mist {
+                    acc.push('M');
+                }
+                if !acc.is_empty() {
+                    s += &format!("|A:{acc}");
+                }
+            }
+        }
+        s.push('>');
+        s
+    }
+
+    /// Used RX bytes (what the sender's character count must never exceed).
+    pub fn rx_used(&self) -> usize {
+        self.rx.len()
+    }
+}
+
+fn format_setting(n: u16, v: f64) -> String {
+    let unit = messages::setting_info(n).map(|s| s.unit).unwrap_or("");
+    if matches!(unit, "mask" | "boolean" | "microseconds" | "milliseconds") {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn feed(core: &mut Core, s: &str) {
+        for b in s.bytes() {
+            core.receive(b);
+        }
+    }
+
+    fn take_out(core: &mut Core) -> String {
+        let v: Vec<u8> = core.out.drain(..).collect();
+        String::from_utf8(v).unwrap()
+    }
+
+    fn cfg() -> Config {
+        Config {
+            baud: None,
+            settings: vec![(110, 6000.0), (111, 6000.0), (112, 6000.0)],
+            ..Config::default()
+        }
+    }
+
+    #[test]
+    fn boots_answers_and_moves_at_the_programmed_feed() {
+        let mut c = Core::new(cfg());
+        assert!(take_out(&mut c).contains("Grbl 1.1h ['$' for help]"));
+        feed(&mut c, "G1 X10 F600\n");
+        c.tick(0.0);
+        assert_eq!(take_out(&mut c), "ok\r\n");
+        assert_eq!(c.state, State::Run);
+        // 10 mm at 600 mm/min = 1 s: half way after 0.5 s.
+        c.tick(0.5);
+        assert!((c.mpos[0] - 5.0).abs() < 1e-9, "{:?}", c.mpos);
+        c.tick(1.0001);
+        assert_eq!(c.mpos, [10.0, 0.0, 0.0]);
+        assert_eq!(c.state, State::Idle);
+        feed(&mut c, "G1 X10 Y\n$99=1\n$I\n");
+        c.tick(1.1);
+        assert_eq!(
+            take_out(&mut c),
+            "error:2\r\nerror:3\r\n[VER:1.1h.20190830:]\r\n[OPT:V,15,128]\r\nok\r\n"
+        );
+    }
+
+    #[test]
+    fn rx_ring_overflow_drops_bytes_like_grbl() {
+        let mut c = Core::new(cfg());
+        feed(&mut c, &"X".repeat(200));
+        assert_eq!(c.rx_used(), 127);
+        assert_eq!(c.stats.rx_overflows, 73);
+    }
+
+    #[test]
+    fn planner_fills_to_fifteen_blocks_and_holds_the_ok() {
+        let mut c = Core::new(cfg());
+        take_out(&mut c);
+        for i in 1..=20 {
+            feed(&mut c, &format!("G1X{i}F60\n"));
+            c.tick(0.0);
+        }
+        assert_eq!(c.stats.rx_overflows, 0);
+        assert_eq!(c.planner_free(), 0);
+        // The 16th line waits in the planner queue, so only 15 oks so far.
+        assert_eq!(take_out(&mut c).matches("ok").count(), 15);
+        c.tick(1.0001);
+        assert_eq!(take_out(&mut c).matches("ok").count(), 1);
+    }
+
+    #[test]
+    fn hold_decelerates_resume_continues_reset_in_motion_alarms() {
+        let mut c = Core::new(Config {
+            settings: vec![(120, 100.0), (121, 100.0), (122, 100.0), (110, 6000.0)],
+            ..cfg()
+        });
+        feed(&mut c, "G1X100F600\n");
+        c.tick(0.0);
+        c.tick(1.0);
+        c.realtime(Realtime::FeedHold);
+        assert_eq!(c.state, State::Hold(1));
+        // 10 mm/s at 100 mm/s² stops in 0.1 s over 0.5 mm.
+        c.tick(1.2);
+        assert_eq!(c.state, State::Hold(0));
+        assert!((c.mpos[0] - 10.5).abs() < 1e-6, "{:?}", c.mpos);
+        c.tick(5.0);
+        assert!((c.mpos[0] - 10.5).abs() < 1e-6);
+        c.realtime(Realtime::CycleStart);
+        c.tick(6.0);
+        assert!((c.mpos[0] - 20.5).abs() < 1e-6);
+        take_out(&mut c);
+        c.realtime(Realtime::SoftReset);
+        assert_eq!(c.state, State::Alarm);
+        let out = take_out(&mut c);
+        assert!(out.starts_with("ALARM:3\r\n"), "{out}");
+        feed(&mut c, "G0X0\n$X\n");
+        c.tick(6.1);
+        assert_eq!(
+            take_out(&mut c),
+            "error:9\r\n[MSG:Caution: Unlocked]\r\nok\r\n"
+        );
+    }
+
+    #[test]
+    fn check_mode_validates_without_moving() {
+        let mut c = Core::new(cfg());
+        feed(&mut c, "$C\nG1X5F100\nG2X1\n$C\n");
+        c.tick(0.0);
+        let out = take_out(&mut c);
+        assert!(
+            out.contains("[MSG:Enabled]\r\nok\r\nok\r\nerror:35\r\n[MSG:Disabled]\r\nok\r\n"),
+            "{out}"
+        );
+        assert_eq!(c.mpos, [0.0; 3]);
+        assert_eq!(c.state, State::Idle);
+    }
+}

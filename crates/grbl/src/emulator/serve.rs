@@ -1,0 +1,261 @@
+//! Runs a [`Core`] in real time and connects it to a pty or TCP clients. The wire is paced
+//! at the emulated baud rate in both directions, so a sender meets the same byte timing as
+//! on a USB-serial grbl board.
+
+use super::core::{Config, Core, Stats};
+use std::io::{self, Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread;
+use std::time::{Duration, Instant};
+
+const TICK: Duration = Duration::from_millis(1);
+/// Late bytes may catch up at most this much, so a sleep overshoot does not slow the wire
+/// while an idle pause does not turn into a burst faster than the line rate.
+const PACING_SLACK: Duration = Duration::from_millis(1);
+
+struct Shared {
+    core: Mutex<Core>,
+    start: Instant,
+    stop: AtomicBool,
+    /// The connection that owns the wire now; older ones end when this moves on.
+    generation: AtomicU64,
+}
+
+/// A running emulator. Dropping it stops its threads (blocked pty reads end with the process).
+pub struct Emulator {
+    shared: Arc<Shared>,
+    ticker: Option<thread::JoinHandle<()>>,
+    pty_keep: Mutex<Vec<crate::transport::Pty>>,
+}
+
+struct Pacer {
+    byte_time: Option<Duration>,
+    next: Instant,
+}
+
+impl Pacer {
+    fn new(baud: Option<u32>) -> Pacer {
+        Pacer {
+            byte_time: baud.map(|b| Duration::from_secs_f64(10.0 / b.max(1) as f64)),
+            next: Instant::now(),
+        }
+    }
+
+    /// Waits for the wire slot of one byte.
+    fn wait(&mut self) {
+        let Some(bt) = self.byte_time else { return };
+        let now = Instant::now();
+        if now > self.next + PACING_SLACK {
+            self.next = now - PACING_SLACK;
+        }
+        if self.next > now + PACING_SLACK {
+            thread::sleep(self.next - now);
+        }
+        self.next += bt;
+    }
+
+    /// How many bytes the wire can carry now without waiting.
+    fn budget(&mut self) -> usize {
+        let Some(bt) = self.byte_time else {
+            return usize::MAX;
+        };
+        let now = Instant::now();
+        if now > self.next + PACING_SLACK {
+            self.next = now - PACING_SLACK;
+        }
+        if self.next > now {
+            return 0;
+        }
+        ((now - self.next).as_secs_f64() / bt.as_secs_f64()) as usize + 1
+    }
+
+    fn spent(&mut self, n: usize) {
+        if let Some(bt) = self.byte_time {
+            self.next += bt * n as u32;
+        }
+    }
+}
+
+impl Emulator {
+    pub fn start(config: Config) -> Emulator {
+        let shared = Arc::new(Shared {
+            core: Mutex::new(Core::new(config)),
+            start: Instant::now(),
+            stop: AtomicBool::new(false),
+            generation: AtomicU64::new(0),
+        });
+        let s = shared.clone();
+        let ticker = thread::spawn(move || {
+            while !s.stop.load(Ordering::Relaxed) {
+                let now = s.start.elapsed().as_secs_f64();
+                lock(&s.core).tick(now);
+                thread::sleep(TICK);
+            }
+        });
+        Emulator {
+            shared,
+            ticker: Some(ticker),
+            pty_keep: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// Runs `f` on the firmware model (inspection and test set-up).
+    pub fn with_core<R>(&self, f: impl FnOnce(&mut Core) -> R) -> R {
+        f(&mut lock(&self.shared.core))
+    }
+
+    pub fn stats(&self) -> Stats {
+        lock(&self.shared.core).stats.clone()
+    }
+
+    /// Opens a pseudo-terminal and serves it; returns the path a sender opens.
+    pub fn serve_pty(&self) -> io::Result<String> {
+        let pty = crate::transport::Pty::open()?;
+        let path = pty.slave_path.clone();
+        let reader = pty.master.try_clone()?;
+        let writer = pty.master.try_clone()?;
+        self.attach(Box::new(reader), Box::new(writer), None);
+        lock(&self.pty_keep).push(pty);
+        Ok(path)
+    }
+
+    /// Listens on `addr` (e.g. `127.0.0.1:0`) and serves one client at a time; a new client
+    /// takes the wire over, as a reconnecting sender does. The firmware keeps running in
+    /// between.
+    pub fn serve_tcp(&self, addr: &str) -> io::Result<SocketAddr> {
+        let listener = TcpListener::bind(addr)?;
+        listener.set_nonblocking(true)?;
+        let local = listener.local_addr()?;
+        let shared = self.shared.clone();
+        let emu = EmuHandle { shared };
+        thread::spawn(move || {
+            while !emu.shared.stop.load(Ordering::Relaxed) {
+                match listener.accept() {
+                    Ok((stream, _)) => {
+                        if let Err(e) = emu.attach_tcp(stream) {
+                            eprintln!("emulator: client dropped at connect: {e}");
+                        }
+                    }
+                    Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                        thread::sleep(Duration::from_millis(10))
+                    }
+                    Err(_) => thread::sleep(Duration::from_millis(10)),
+                }
+            }
+        });
+        Ok(local)
+    }
+
+    fn attach(
+        &self,
+        reader: Box<dyn Read + Send>,
+        writer: Box<dyn Write + Send>,
+        tcp: Option<TcpStream>,
+    ) {
+        EmuHandle {
+            shared: self.shared.clone(),
+        }
+        .attach(reader, writer, tcp)
+    }
+}
+
+struct EmuHandle {
+    shared: Arc<Shared>,
+}
+
+impl EmuHandle {
+    fn attach_tcp(&self, stream: TcpStream) -> io::Result<()> {
+        stream.set_nodelay(true)?;
+        stream.set_nonblocking(false)?;
+        stream.set_read_timeout(Some(Duration::from_millis(50)))?;
+        let reader = stream.try_clone()?;
+        let writer = stream.try_clone()?;
+        // A network client connecting sees the banner, like grblHAL's telnet port.
+        let banner = {
+            format!(
+                "\r\nGrbl {} ['$' for help]\r\n",
+                lock(&self.shared.core).config.version
+            )
+        };
+        let mut w = writer;
+        w.write_all(banner.as_bytes())?;
+        self.attach(Box::new(reader), Box::new(w), Some(stream));
+        Ok(())
+    }
+
+    fn attach(
+        &self,
+        mut reader: Box<dyn Read + Send>,
+        mut writer: Box<dyn Write + Send>,
+        tcp: Option<TcpStream>,
+    ) {
+        let generation = self.shared.generation.fetch_add(1, Ordering::SeqCst) + 1;
+        let baud = lock(&self.shared.core).config.baud;
+        // Replies produced while nobody listened are gone, as on an unplugged UART.
+        lock(&self.shared.core).out.clear();
+        let s = self.shared.clone();
+        let current = move |s: &Shared| {
+            s.generation.load(Ordering::SeqCst) == generation && !s.stop.load(Ordering::Relaxed)
+        };
+        let current_r = current.clone();
+        thread::spawn(move || {
+            let mut pacer = Pacer::new(baud);
+            let mut buf = [0u8; 256];
+            while current_r(&s) {
+                match reader.read(&mut buf) {
+                    Ok(0) => break,
+                    Ok(n) => {
+                        for &b in &buf[..n] {
+                            pacer.wait();
+                            lock(&s.core).receive(b);
+                        }
+                    }
+                    Err(e) if crate::transport::is_timeout(&e) => {}
+                    Err(_) => break,
+                }
+            }
+            if let Some(t) = tcp {
+                let _ = t.shutdown(std::net::Shutdown::Both);
+            }
+        });
+        let s = self.shared.clone();
+        thread::spawn(move || {
+            let mut pacer = Pacer::new(baud);
+            while current(&s) {
+                let chunk: Vec<u8> = {
+                    let mut core = lock(&s.core);
+                    let n = pacer.budget().min(core.out.len()).min(512);
+                    core.out.drain(..n).collect()
+                };
+                if chunk.is_empty() {
+                    thread::sleep(TICK);
+                    continue;
+                }
+                pacer.spent(chunk.len());
+                if writer
+                    .write_all(&chunk)
+                    .and_then(|_| writer.flush())
+                    .is_err()
+                {
+                    break;
+                }
+            }
+        });
+    }
+}
+
+impl Drop for Emulator {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.ticker.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    // A panic in another thread must not take the emulator down with a poisoned lock.
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
