@@ -108,7 +108,7 @@ impl Driver {
         }
         if !self.ended {
             // LinuxCNC: a program without M2/M30 simply ends.
-            self.interp.comp_flush(sink);
+            self.interp.finish(sink);
         }
         self.diagnostics
     }

@@ -372,10 +372,9 @@ impl Interpreter {
         let target = [end[0], end[1]];
         let mut out = end;
         if self.comp.entry {
-            // Entry: end where the line from the tool is tangent to the circle of radius r
-            // about the programmed end.
-            let c = self.comp.point;
-            let dist = len(sub(target, c));
+            // Entry (as rs274): the held segment lies on the programmed line shifted by r,
+            // and the tool reaches it from wherever it stands.
+            let dist = len(sub(target, self.comp.point));
             if dist <= r {
                 return Err(self
                     .fail(
@@ -383,20 +382,18 @@ impl Interpreter {
                         "Length of cutter compensation entry move is not greater than the tool radius",
                         0,
                     )
-                    .with_help(format!("the entry move is {:.4} long; start farther from the path", dist / self.modal.units.mm())));
+                    .with_help(format!(
+                        "the entry move is {:.4} long; start farther from the path",
+                        dist / self.modal.units.mm()
+                    )));
             }
-            let theta = (r / dist).acos();
-            let alpha = (c[1] - target[1]).atan2(c[0] - target[0]);
-            let beta = if self.modal.comp == Some(Side::Left) {
-                alpha - theta
-            } else {
-                alpha + theta
-            };
-            out[0] = target[0] + r * beta.cos();
-            out[1] = target[1] + r * beta.sin();
             self.comp.entry = false;
-            let start = self.comp.point;
+            let dir = unit(sub(target, prog));
+            let n = scale(left(dir), r * self.comp_side_sign());
+            out[0] = target[0] + n[0];
+            out[1] = target[1] + n[1];
             self.comp_flush(sink);
+            let start = add(prog, n);
             self.comp.pending = Some(Seg::Line {
                 start,
                 end: out,

@@ -199,8 +199,10 @@ impl Interpreter {
         for _ in 0..repeats {
             aa += inc_a;
             bb += inc_b;
-            self.cycle_move(sink, false, aa, bb, cc_now);
-            if cc_now != r {
+            // rs274 crosses at the current height, or at R when below it.
+            let cross_height = cc_now.max(r);
+            self.cycle_move(sink, false, aa, bb, cross_height);
+            if cross_height != r {
                 self.cycle_move(sink, false, aa, bb, r);
             }
             let hole = Hole {
@@ -325,26 +327,24 @@ impl Interpreter {
                 self.cycle_move(sink, false, aa, bb, h.clear);
             }
             840 => {
-                // Rigid tapping: feed in, reverse the spindle, feed out, restore it.
+                // Tapping: overrides off, feed in, reverse, dwell, feed out to the clear
+                // height, spindle forward again.
+                self.emit(sink, CanonOp::EnableFeedOverride(false));
+                self.emit(sink, CanonOp::EnableSpeedOverride(false));
                 self.cycle_move(sink, true, aa, bb, h.bottom);
-                if p > 0.0 {
-                    self.emit(sink, CanonOp::Dwell(p));
-                }
                 self.emit(sink, CanonOp::StopSpindle);
                 self.emit(sink, CanonOp::StartSpindle(SpindleDir::CounterClockwise));
-                self.cycle_move(sink, true, aa, bb, h.r);
+                self.emit(sink, CanonOp::Dwell(p));
+                self.cycle_move(sink, true, aa, bb, h.clear);
                 self.emit(sink, CanonOp::StopSpindle);
                 self.emit(sink, CanonOp::StartSpindle(SpindleDir::Clockwise));
-                if h.clear != h.r {
-                    self.cycle_move(sink, false, aa, bb, h.clear);
-                }
+                self.emit(sink, CanonOp::EnableFeedOverride(true));
+                self.emit(sink, CanonOp::EnableSpeedOverride(true));
             }
             850 => {
                 self.cycle_move(sink, true, aa, bb, h.bottom);
                 self.cycle_move(sink, true, aa, bb, h.r);
-                if h.clear > h.r {
-                    self.cycle_move(sink, false, aa, bb, h.clear);
-                }
+                self.cycle_move(sink, false, aa, bb, h.clear);
             }
             860 => {
                 self.cycle_move(sink, true, aa, bb, h.bottom);

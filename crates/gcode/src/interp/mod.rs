@@ -121,6 +121,11 @@ impl Interpreter {
         self.update_params(params);
     }
 
+    /// End of input without M2/M30: emit what cutter compensation still holds.
+    pub fn finish(&mut self, sink: Sink) {
+        self.comp_flush(sink);
+    }
+
     /// Millimetres per program unit.
     fn k(&self) -> f64 {
         self.modal.units.mm()
@@ -474,7 +479,8 @@ impl Interpreter {
             _ => {}
         }
         // 19. Home, G10, G92 family.
-        let mut motion_done = false;
+        // G43.1 uses the axis words as offsets.
+        let mut motion_done = d.g_in(G::TOOL_LENGTH) == Some(431);
         if let Some(t) = d.g_in(G::NON_MODAL) {
             motion_done = self.non_modal(d, t, params, sink)?;
         }
@@ -647,10 +653,9 @@ impl Interpreter {
                 } else {
                     param::G30_HOME
                 };
-                if d.any_axis() {
-                    self.emit_straight(sink, false, mid);
-                    self.pos = mid;
-                }
+                // rs274 makes the intermediate move even when it goes nowhere.
+                self.emit_straight(sink, false, mid);
+                self.pos = mid;
                 let mut home_m = self.frame.to_machine(self.pos);
                 for i in 0..6 {
                     if !d.any_axis() || d.has(AXES[i]) {
