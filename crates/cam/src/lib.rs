@@ -1,6 +1,10 @@
 //! Machine-neutral CAM: cutting tools, toolpaths and the relief (heightmap) strategies.
 
 pub mod library;
+pub mod raster;
+pub mod regions;
+pub mod relief;
+pub mod stock;
 pub mod surface;
 pub mod tool;
 pub mod toolpath;
