@@ -6,9 +6,12 @@
 pub mod emulator;
 pub mod gline;
 pub mod interp;
+pub mod job;
+pub mod journal;
 pub mod link;
 pub mod messages;
 pub mod realtime;
 pub mod response;
+pub mod resume;
 pub mod status;
 pub mod transport;
