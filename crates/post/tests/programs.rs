@@ -115,7 +115,10 @@ fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
     assert!(text.contains("(MSG, Change to T2: ball:3"));
     assert!(text.contains("G3 X12 Y4 I0 J2"));
     assert!(text.contains("G4 P0.5"));
-    assert!(text.contains("Z-0"), "tiny depths keep their sign: {text}");
+    assert!(
+        text.contains("Y0.25 Z0 F600"),
+        "a depth under 0.05 µm prints as 0, never -0: {text}"
+    );
     assert!(text.trim_end().ends_with("M30"));
     let linuxcnc = program_text(
         &two_tool_path(),
