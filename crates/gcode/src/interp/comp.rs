@@ -16,10 +16,13 @@ type P2 = [f64; 2];
 /// One compensated segment waiting for its successor.
 #[derive(Clone, Copy, Debug)]
 enum Seg {
+    /// `dir`: the programmed direction, used for corners (the entry move's emitted line
+    /// is not parallel to it).
     Line {
         start: P2,
         end: [f64; 6],
         feed: bool,
+        dir: P2,
     },
     Arc {
         start: P2,
@@ -63,7 +66,12 @@ pub struct CompState {
     /// The next move is the entry move.
     entry: bool,
     pending: Option<Seg>,
+    /// Moves without XY motion that came after `pending`: they run at its (final) XY end.
+    tail: Vec<([f64; 6], bool)>,
 }
+
+/// Most XY-less moves held behind a segment; more are flushed (bounded memory).
+const MAX_TAIL: usize = 64;
 
 fn sub(a: P2, b: P2) -> P2 {
     [a[0] - b[0], a[1] - b[1]]
@@ -176,12 +184,9 @@ impl Interpreter {
     ) -> Result<(), Diagnostic> {
         let span = d.g_span(G::CUTTER_COMP);
         if t == 400 {
+            // The next move starts where the tool centre is; G91 words still count from
+            // the programmed point (as rs274).
             self.comp_flush(sink);
-            if self.modal.comp.is_some() {
-                // The next move starts where the tool centre is.
-                self.pos[0] = self.comp.point[0];
-                self.pos[1] = self.comp.point[1];
-            }
             self.modal.comp = None;
             return Ok(());
         }
@@ -243,6 +248,7 @@ impl Interpreter {
             point: [self.pos[0], self.pos[1]],
             entry: true,
             pending: None,
+            tail: Vec::new(),
         };
         Ok(())
     }
@@ -251,7 +257,20 @@ impl Interpreter {
     pub(crate) fn comp_flush(&mut self, sink: Sink) {
         if let Some(seg) = self.comp.pending.take() {
             self.emit_seg(sink, seg);
+            self.emit_tail(sink, seg.end());
         }
+    }
+
+    /// Emit the held XY-less moves at the XY of `at`; returns the last point.
+    fn emit_tail(&mut self, sink: Sink, at: [f64; 6]) -> [f64; 6] {
+        let mut last = at;
+        for (mut p, feed) in std::mem::take(&mut self.comp.tail) {
+            p[0] = at[0];
+            p[1] = at[1];
+            self.emit_straight(sink, feed, p);
+            last = p;
+        }
+        last
     }
 
     fn emit_seg(&self, sink: Sink, seg: Seg) {
@@ -275,7 +294,7 @@ impl Interpreter {
         if let Some(mut prev) = self.comp.pending.take() {
             let t1 = prev.end_tangent();
             let t2 = match next {
-                Seg::Line { start, end, .. } => unit([end[0] - start[0], end[1] - start[1]]),
+                Seg::Line { dir, .. } => dir,
                 Seg::Arc {
                     start,
                     center,
@@ -292,10 +311,12 @@ impl Interpreter {
             };
             if len(sub(next_start, [prev_end[0], prev_end[1]])) < 1e-9 {
                 self.emit_seg(sink, prev);
+                self.emit_tail(sink, prev_end);
             } else if convex {
                 self.emit_seg(sink, prev);
+                let here = self.emit_tail(sink, prev_end);
                 // Round the outside of the corner about the programmed corner point.
-                let mut end = prev_end;
+                let mut end = here;
                 end[0] = next_start[0];
                 end[1] = next_start[1];
                 let turns = if self.modal.comp == Some(Side::Left) {
@@ -306,10 +327,7 @@ impl Interpreter {
                 self.emit_arc(sink, end, corner, turns);
             } else {
                 let curve = |s: &Seg| match *s {
-                    Seg::Line { start, end, .. } => Curve::Line {
-                        p: start,
-                        dir: unit([end[0] - start[0], end[1] - start[1]]),
-                    },
+                    Seg::Line { start, dir, .. } => Curve::Line { p: start, dir },
                     Seg::Arc { start, center, .. } => Curve::Circle {
                         c: center,
                         r: len(sub(start, center)),
@@ -327,10 +345,7 @@ impl Interpreter {
                 let gouge = match best {
                     None => true,
                     Some(x) => match prev {
-                        Seg::Line { start, end, .. } => {
-                            let dir = [end[0] - start[0], end[1] - start[1]];
-                            dot(sub(x, start), dir) < -1e-9
-                        }
+                        Seg::Line { start, dir, .. } => dot(sub(x, start), dir) < -1e-9,
                         Seg::Arc { .. } => len(sub(x, prev_start)) < 1e-12 && false,
                     },
                 };
@@ -349,6 +364,7 @@ impl Interpreter {
                 let x = best.unwrap_or(corner);
                 prev.set_end(x);
                 self.emit_seg(sink, prev);
+                self.emit_tail(sink, prev.end());
                 match &mut next {
                     Seg::Line { start, .. } | Seg::Arc { start, .. } => *start = x,
                 }
@@ -388,6 +404,8 @@ impl Interpreter {
                     )));
             }
             self.comp.entry = false;
+            // As rs274: the tool goes straight to the programmed end shifted by r at right
+            // angles to the programmed line, and corners use that shifted line.
             let dir = unit(sub(target, prog));
             let n = scale(left(dir), r * self.comp_side_sign());
             out[0] = target[0] + n[0];
@@ -398,6 +416,7 @@ impl Interpreter {
                 start,
                 end: out,
                 feed,
+                dir,
             });
             self.comp.point = [out[0], out[1]];
             self.pos = end;
@@ -408,8 +427,12 @@ impl Interpreter {
             // No XY motion: keep the tool centre where it is, move the other axes.
             out[0] = self.comp.point[0];
             out[1] = self.comp.point[1];
-            self.comp_flush(sink);
-            self.emit_straight(sink, feed, out);
+            if self.comp.pending.is_some() && self.comp.tail.len() < MAX_TAIL {
+                self.comp.tail.push((out, feed));
+            } else {
+                self.comp_flush(sink);
+                self.emit_straight(sink, feed, out);
+            }
             self.pos = end;
             return Ok(());
         }
@@ -425,6 +448,7 @@ impl Interpreter {
                 start,
                 end: out,
                 feed,
+                dir,
             },
         )?;
         self.pos = end;
