@@ -199,8 +199,14 @@ impl Interpreter {
         for _ in 0..repeats {
             aa += inc_a;
             bb += inc_b;
-            // rs274 crosses at the current height, or at R when below it.
-            let cross_height = cc_now.max(r);
+            // rs274 crosses at the old Z under G98; under G99 at the current height, or at
+            // R when below it.
+            let cross_height = if self.modal.retract_to_old_z {
+                old_cc
+            } else {
+                cc_now
+            }
+            .max(r);
             self.cycle_move(sink, false, aa, bb, cross_height);
             if cross_height != r {
                 self.cycle_move(sink, false, aa, bb, r);

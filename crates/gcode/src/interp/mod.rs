@@ -40,6 +40,9 @@ pub struct StartState {
     /// Feed (mm/min) before the program sets one; the legacy dialect takes its feed from
     /// the machine configuration, never from F words.
     pub feed: f64,
+    /// Units of the G28/G30 home parameters (#5161…, #5181…): LinuxCNC keeps them in
+    /// machine units; the standalone `rs274` uses inches.
+    pub machine_units: Units,
 }
 
 impl Default for StartState {
@@ -47,6 +50,7 @@ impl Default for StartState {
         StartState {
             units: Units::Mm,
             feed: 0.0,
+            machine_units: Units::Mm,
         }
     }
 }
@@ -75,6 +79,7 @@ pub struct Interpreter {
     pub pos: [f64; 6],
     pub frame: Frame,
     pub tools: ToolTable,
+    machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
     line: u32,
@@ -97,6 +102,7 @@ impl Interpreter {
             pos: [0.0; 6],
             frame: Frame::default(),
             tools,
+            machine_units: start.machine_units,
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
             line: 0,
@@ -657,9 +663,11 @@ impl Interpreter {
                 self.emit_straight(sink, false, mid);
                 self.pos = mid;
                 let mut home_m = self.frame.to_machine(self.pos);
+                let mk = self.machine_units.mm();
                 for i in 0..6 {
                     if !d.any_axis() || d.has(AXES[i]) {
-                        home_m[i] = params.get(base + i as i64).unwrap_or(0.0) * scale(i);
+                        let s = if i < 3 { mk } else { 1.0 };
+                        home_m[i] = params.get(base + i as i64).unwrap_or(0.0) * s;
                     }
                 }
                 let home = self.frame.to_program(home_m);
@@ -674,8 +682,10 @@ impl Interpreter {
                     param::G30_HOME
                 };
                 let m = self.frame.to_machine(self.pos);
+                let mk = self.machine_units.mm();
                 for i in 0..6 {
-                    let _ = params.set(base + i as i64, m[i] / scale(i));
+                    let s = if i < 3 { mk } else { 1.0 };
+                    let _ = params.set(base + i as i64, m[i] / s);
                 }
                 Ok(true)
             }
