@@ -13,5 +13,6 @@ pub mod messages;
 pub mod realtime;
 pub mod response;
 pub mod resume;
+pub mod sender;
 pub mod status;
 pub mod transport;

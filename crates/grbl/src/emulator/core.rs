@@ -840,7 +840,8 @@ impl Core {
             );
         }
         if mask & 2 != 0 {
-            let rx_free = self.config.rx_buffer - 1 - self.rx.len();
+            // grbl's serial_get_rx_buffer_available(): the full size when empty.
+            let rx_free = self.config.rx_buffer - self.rx.len();
             s += &format!("|Bf:{},{}", self.planner_free(), rx_free);
         }
         let spindle = if self.interp.modal.spindle == interp::Spindle::Off {

@@ -1,0 +1,618 @@
+//! The streaming sender. Character counting (grbl's stream.py method): keep as many lines
+//! in flight as fit the firmware's RX buffer, sized from `[OPT:…,rx]`, so the wire never
+//! idles and the buffer never overflows; send-response (one line at a time) when the
+//! firmware does not say its buffer size.
+//!
+//! A stream ends in a known state: on a rejected line, a stop or lost bytes the sender
+//! holds, waits for the machine to rest, reads where it is, then resets to flush whatever
+//! is still queued; the position and the journal tell exactly where to resume.
+
+use crate::job::Job;
+use crate::journal::Journal;
+use crate::link::{Event, Link};
+use crate::messages;
+use crate::realtime::Realtime;
+use crate::response::Response;
+use crate::resume::{self, Located};
+use crate::status::{State, Status};
+use crate::transport::Endpoint;
+use std::collections::VecDeque;
+use std::io;
+use std::sync::mpsc::Receiver;
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Lines in flight up to this many bytes (RX buffer size − 1).
+    CharCounting(usize),
+    SendResponse,
+}
+
+#[derive(Clone, Debug)]
+pub struct SenderOptions {
+    /// `None`: character counting when the firmware reports its RX size, else send-response.
+    pub mode: Option<Mode>,
+    pub status_interval: Duration,
+    /// The firmware idle this long while lines await their `ok` means bytes were lost.
+    pub stall_after: Duration,
+    /// Longest wait for one reply to a command, or for the machine to come to rest.
+    pub reply_timeout: Duration,
+}
+
+impl Default for SenderOptions {
+    fn default() -> Self {
+        SenderOptions {
+            mode: None,
+            status_interval: Duration::from_millis(200),
+            stall_after: Duration::from_millis(1500),
+            reply_timeout: Duration::from_secs(30),
+        }
+    }
+}
+
+/// Operator requests during a stream.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    Hold,
+    Resume,
+    Stop,
+    Realtime(Realtime),
+}
+
+/// What the sender tells its observer while streaming.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Notice {
+    Progress {
+        acked: usize,
+        total: usize,
+        bytes_acked: u64,
+        bytes_total: u64,
+    },
+    Status(Status),
+    /// A firmware line that is not part of the protocol (line noise, a fork's extra).
+    Unexpected(String),
+    Message(String),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum StreamEnd {
+    Completed,
+    Stopped,
+    /// The firmware answered `error:code` to job line `index`.
+    Rejected {
+        index: usize,
+        code: u8,
+    },
+    Alarm(u8),
+    /// The firmware restarted (banner seen): everything in flight was discarded.
+    FirmwareReset,
+    Disconnected(String),
+    /// The firmware went idle with lines unacknowledged: bytes were lost on the link.
+    Stalled,
+    /// The job completed but the machine is not where the program ends.
+    PositionMismatch {
+        expected: [f64; 3],
+        actual: [f64; 3],
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct StreamReport {
+    pub end: StreamEnd,
+    /// Lines `from..acked_end` were acknowledged in this stream.
+    pub acked_end: usize,
+    /// Nothing at or after this index reached the wire.
+    pub sent_end: usize,
+    /// Lines before this index certainly completed.
+    pub certain: usize,
+    /// Where the machine rested at the end (work mm), when it could be read.
+    pub work_pos: Option<[f64; 3]>,
+    /// Where to continue, when the end allows it.
+    pub resume: Option<Located>,
+    pub bytes_sent: u64,
+    pub elapsed: Duration,
+    /// Largest number of bytes in flight (never above the RX capacity).
+    pub max_in_flight: usize,
+}
+
+impl StreamReport {
+    /// One paragraph for the user: what happened, where, what grbl said, what to do.
+    pub fn describe(&self, job: &Job) -> String {
+        let line = |i: usize| {
+            job.lines
+                .get(i)
+                .map(|l| format!("{}:{} `{}`", job.name, l.file_line, l.text))
+                .unwrap_or_else(|| "end of program".into())
+        };
+        let mut s = match &self.end {
+            StreamEnd::Completed => format!("{}: all {} lines done", job.name, job.len()),
+            StreamEnd::Stopped => "stopped by the operator".to_string(),
+            StreamEnd::Rejected { index, code } => format!("grbl rejected {}: {}", line(*index), messages::describe_error(*code)),
+            StreamEnd::Alarm(c) => format!("grbl raised {}", messages::describe_alarm(*c)),
+            StreamEnd::FirmwareReset => "the firmware restarted during the job (reset, power or USB reconnect); lines in its buffer were lost".to_string(),
+            StreamEnd::Disconnected(why) => format!("connection lost: {why}"),
+            StreamEnd::Stalled => "the firmware went idle while lines were still unacknowledged: bytes were lost on the link".to_string(),
+            StreamEnd::PositionMismatch { expected, actual } => format!(
+                "the job ran to its end but the machine is at {:.3},{:.3},{:.3} instead of {:.3},{:.3},{:.3}: bytes were corrupted on the link",
+                actual[0], actual[1], actual[2], expected[0], expected[1], expected[2]
+            ),
+        };
+        if let Some(r) = &self.resume {
+            if r.index < job.len() {
+                s += &format!(". Resume from {} ({}).", line(r.index), r.reason);
+            }
+        }
+        s
+    }
+}
+
+pub struct Sender {
+    link: Link,
+    pub options: SenderOptions,
+    pub mode: Mode,
+    pub firmware: String,
+    pub planner_blocks: usize,
+    pub last_status: Option<Status>,
+    last_wco: Option<Vec<f64>>,
+}
+
+fn err(kind: io::ErrorKind, msg: String) -> io::Error {
+    io::Error::new(kind, msg)
+}
+
+impl Sender {
+    pub fn connect(endpoint: &Endpoint, options: SenderOptions) -> io::Result<Sender> {
+        Sender::handshake(Link::open(endpoint)?, options)
+    }
+
+    /// Learns the firmware and its buffer sizes without disturbing a running machine
+    /// (no reset is sent: a job may be running after a reconnect).
+    pub fn handshake(link: Link, options: SenderOptions) -> io::Result<Sender> {
+        let mut s = Sender {
+            link,
+            mode: Mode::SendResponse,
+            options,
+            firmware: String::new(),
+            planner_blocks: 15,
+            last_status: None,
+            last_wco: None,
+        };
+        // Boards that reset on open (Arduino DTR) print the banner within ~2 s.
+        let deadline = Instant::now() + Duration::from_secs(3);
+        s.link.send_realtime(Realtime::StatusQuery)?;
+        let mut last_query = Instant::now();
+        while s.last_status.is_none() {
+            if Instant::now() > deadline {
+                return Err(err(io::ErrorKind::TimedOut, format!("{}: no grbl status report within 3 s; is this a grbl board, and is the baud rate right?", s.link.description)));
+            }
+            if last_query.elapsed() > Duration::from_millis(500) {
+                s.link.send_realtime(Realtime::StatusQuery)?;
+                last_query = Instant::now();
+            }
+            match s.link.recv(Duration::from_millis(50)) {
+                Some(Event::Line(Response::Welcome { version }, _)) => s.firmware = version,
+                Some(Event::Line(Response::Status(st), _)) => s.note_status(st),
+                Some(Event::Closed(why)) => {
+                    return Err(err(
+                        io::ErrorKind::ConnectionAborted,
+                        format!("{}: {why}", s.link.description),
+                    ))
+                }
+                _ => {}
+            }
+        }
+        let mut rx = None;
+        if let Ok(reply) = s.command("$I") {
+            for l in &reply.lines {
+                match Response::parse(l) {
+                    Response::Version(v) => {
+                        s.firmware = v.split(':').next().unwrap_or("").to_string()
+                    }
+                    Response::Options {
+                        blocks, rx_bytes, ..
+                    } => {
+                        if let Some(b) = blocks {
+                            s.planner_blocks = b as usize;
+                        }
+                        rx = rx_bytes;
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let rx = rx.or_else(|| {
+            s.last_status
+                .as_ref()
+                .and_then(|st| st.buffer)
+                .filter(|_| !s.is_moving())
+                .map(|b| b.1)
+        });
+        s.mode = match (s.options.mode, rx) {
+            (Some(m), _) => m,
+            (None, Some(n)) if n > 1 => Mode::CharCounting(n as usize - 1),
+            _ => Mode::SendResponse,
+        };
+        Ok(s)
+    }
+
+    fn is_moving(&self) -> bool {
+        self.last_status
+            .as_ref()
+            .is_some_and(|s| s.state.is_moving())
+    }
+
+    fn note_status(&mut self, st: Status) {
+        if let Some(w) = &st.wco {
+            self.last_wco = Some(w.clone());
+        }
+        self.last_status = Some(st);
+    }
+
+    pub fn link(&mut self) -> &mut Link {
+        &mut self.link
+    }
+
+    pub fn realtime(&mut self, r: Realtime) -> io::Result<()> {
+        self.link.send_realtime(r)
+    }
+
+    /// Sends one line and waits for its `ok`/`error:N`, collecting the lines before it.
+    pub fn command(&mut self, line: &str) -> io::Result<Reply> {
+        self.link.send_line(line)?;
+        let deadline = Instant::now() + self.options.reply_timeout;
+        let mut lines = Vec::new();
+        loop {
+            if Instant::now() > deadline {
+                return Err(err(
+                    io::ErrorKind::TimedOut,
+                    format!(
+                        "{}: no reply to `{line}` within {:?}",
+                        self.link.description, self.options.reply_timeout
+                    ),
+                ));
+            }
+            match self.link.recv(Duration::from_millis(50)) {
+                Some(Event::Line(Response::Ok, _)) => return Ok(Reply { lines, error: None }),
+                Some(Event::Line(Response::Error(c), _)) => {
+                    return Ok(Reply {
+                        lines,
+                        error: Some(c),
+                    })
+                }
+                Some(Event::Line(Response::Status(st), _)) => self.note_status(st),
+                Some(Event::Line(Response::Welcome { .. }, raw)) => {
+                    // A reset answers nothing more: `$C` leaving check mode ends like this.
+                    lines.push(raw);
+                }
+                Some(Event::Line(_, raw)) => lines.push(raw),
+                Some(Event::Closed(why)) => {
+                    return Err(err(
+                        io::ErrorKind::ConnectionAborted,
+                        format!("{}: {why}", self.link.description),
+                    ))
+                }
+                None => {}
+            }
+        }
+    }
+
+    /// A fresh status report.
+    pub fn status(&mut self) -> io::Result<Status> {
+        self.link.send_realtime(Realtime::StatusQuery)?;
+        let deadline = Instant::now() + Duration::from_secs(2);
+        while Instant::now() < deadline {
+            match self.link.recv(Duration::from_millis(50)) {
+                Some(Event::Line(Response::Status(st), _)) => {
+                    self.note_status(st.clone());
+                    return Ok(st);
+                }
+                Some(Event::Closed(why)) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                _ => {}
+            }
+        }
+        Err(err(
+            io::ErrorKind::TimedOut,
+            format!("{}: no status report within 2 s", self.link.description),
+        ))
+    }
+
+    /// Polls until the machine rests (not moving, and not mid-hold), then returns the
+    /// work position, waiting for a report that carries the work offset if needed.
+    pub fn wait_at_rest(&mut self) -> io::Result<[f64; 3]> {
+        let mut deadline = Instant::now() + self.options.reply_timeout;
+        let mut last_pos: Option<Vec<f64>> = None;
+        loop {
+            let st = self.status()?;
+            // A long last move is progress, not a hang: the deadline follows motion.
+            let pos = st.machine_position(self.last_wco.as_deref());
+            if pos.is_some() && pos != last_pos {
+                deadline = Instant::now() + self.options.reply_timeout;
+                last_pos = pos;
+            }
+            if !st.state.is_moving() && !(st.state == State::Run) {
+                if let Some(w) = st.work_position(self.last_wco.as_deref()) {
+                    if w.len() >= 3 {
+                        return Ok([w[0], w[1], w[2]]);
+                    }
+                }
+            }
+            if Instant::now() > deadline {
+                return Err(err(
+                    io::ErrorKind::TimedOut,
+                    format!(
+                        "{}: machine did not come to rest within {:?}",
+                        self.link.description, self.options.reply_timeout
+                    ),
+                ));
+            }
+            std::thread::sleep(Duration::from_millis(40));
+        }
+    }
+
+    /// Soft reset and wait for the banner. Safe at rest: grbl keeps its position.
+    pub fn reset(&mut self) -> io::Result<()> {
+        self.link.send_realtime(Realtime::SoftReset)?;
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < deadline {
+            match self.link.recv(Duration::from_millis(50)) {
+                Some(Event::Line(Response::Welcome { .. }, _)) => {
+                    // Let any alarm message that follows the banner arrive.
+                    while let Some(Event::Line(..)) = self.link.recv(Duration::from_millis(30)) {}
+                    return Ok(());
+                }
+                Some(Event::Closed(why)) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                _ => {}
+            }
+        }
+        Err(err(
+            io::ErrorKind::TimedOut,
+            format!("{}: no banner after soft reset", self.link.description),
+        ))
+    }
+
+    /// Hold, wait for rest, read the position, reset to flush the queue.
+    fn settle(&mut self) -> Option<[f64; 3]> {
+        let _ = self.link.send_realtime(Realtime::FeedHold);
+        let pos = self.wait_at_rest().ok();
+        let _ = self.reset();
+        pos
+    }
+
+    /// Streams `job` from line `from`, keeping the RX buffer full but never over.
+    pub fn stream(
+        &mut self,
+        job: &Job,
+        from: usize,
+        mut journal: Option<&mut Journal>,
+        control: Option<&Receiver<Control>>,
+        observer: &mut dyn FnMut(Notice),
+    ) -> StreamReport {
+        let start = Instant::now();
+        let capacity = match self.mode {
+            Mode::CharCounting(n) => n,
+            Mode::SendResponse => usize::MAX,
+        };
+        let mut next = from;
+        let mut inflight: VecDeque<(usize, usize)> = VecDeque::new();
+        let mut used = 0usize;
+        let mut max_in_flight = 0usize;
+        let mut acked_end = from;
+        let mut certain = from;
+        let mut bytes_sent = 0u64;
+        let mut bytes_acked = 0u64;
+        let bytes_total = job.bytes_from(from) as u64;
+        let mut last_query = Instant::now() - self.options.status_interval;
+        let mut idle_since: Option<Instant> = None;
+        let mut holding = false;
+        let mut journal_failed = false;
+        let mut jrec = |j: &mut Option<&mut Journal>,
+                        f: &dyn Fn(&mut Journal) -> io::Result<()>,
+                        observer: &mut dyn FnMut(Notice)| {
+            if let Some(j) = j.as_deref_mut() {
+                if let Err(e) = f(j) {
+                    if !journal_failed {
+                        observer(Notice::Message(format!("journal {} cannot be written ({e}); resume after a crash will not know the position", j.path.display())));
+                        journal_failed = true;
+                    }
+                }
+            }
+        };
+        let end: StreamEnd = 'outer: loop {
+            if let Some(rx) = control {
+                while let Ok(c) = rx.try_recv() {
+                    let r = match c {
+                        Control::Hold => {
+                            holding = true;
+                            self.link.send_realtime(Realtime::FeedHold)
+                        }
+                        Control::Resume => {
+                            holding = false;
+                            self.link.send_realtime(Realtime::CycleStart)
+                        }
+                        Control::Stop => break 'outer StreamEnd::Stopped,
+                        Control::Realtime(r) => self.link.send_realtime(r),
+                    };
+                    if let Err(e) = r {
+                        break 'outer StreamEnd::Disconnected(e.to_string());
+                    }
+                }
+            }
+            // Fill the firmware's buffer.
+            while next < job.len() {
+                let len = job.lines[next].text.len() + 1;
+                let fits = match self.mode {
+                    Mode::CharCounting(_) => used + len <= capacity,
+                    Mode::SendResponse => inflight.is_empty(),
+                };
+                if !fits {
+                    break;
+                }
+                let i = next;
+                jrec(&mut journal, &|j| j.sent(i), observer);
+                if let Err(e) = self.link.send_line(&job.lines[next].text) {
+                    break 'outer StreamEnd::Disconnected(format!("write failed: {e}"));
+                }
+                inflight.push_back((next, len));
+                used += len;
+                max_in_flight = max_in_flight.max(used);
+                bytes_sent += len as u64;
+                next += 1;
+            }
+            if last_query.elapsed() >= self.options.status_interval {
+                if let Err(e) = self.link.send_realtime(Realtime::StatusQuery) {
+                    break 'outer StreamEnd::Disconnected(format!("write failed: {e}"));
+                }
+                last_query = Instant::now();
+            }
+            let Some(ev) = self.link.recv(Duration::from_millis(5)) else {
+                continue;
+            };
+            match ev {
+                Event::Line(Response::Ok, raw) => match inflight.pop_front() {
+                    Some((i, len)) => {
+                        used -= len;
+                        bytes_acked += len as u64;
+                        acked_end = i + 1;
+                        idle_since = None;
+                        jrec(&mut journal, &|j| j.acked(i), observer);
+                        observer(Notice::Progress {
+                            acked: acked_end,
+                            total: job.len(),
+                            bytes_acked,
+                            bytes_total,
+                        });
+                        if acked_end == job.len() {
+                            break 'outer StreamEnd::Completed;
+                        }
+                    }
+                    None => observer(Notice::Unexpected(raw)),
+                },
+                Event::Line(Response::Error(code), raw) => match inflight.pop_front() {
+                    Some((i, _)) => {
+                        acked_end = i + 1;
+                        jrec(&mut journal, &|j| j.error(i, code), observer);
+                        break 'outer StreamEnd::Rejected { index: i, code };
+                    }
+                    None => observer(Notice::Unexpected(raw)),
+                },
+                Event::Line(Response::Alarm(code), _) => break 'outer StreamEnd::Alarm(code),
+                Event::Line(Response::Welcome { .. }, _) => break 'outer StreamEnd::FirmwareReset,
+                Event::Line(Response::Status(st), _) => {
+                    let at_rest = st.state == State::Idle;
+                    if at_rest && inflight.is_empty() {
+                        certain = acked_end;
+                        jrec(&mut journal, &|j| j.completed(certain), observer);
+                    } else {
+                        certain = certain.max(self.certain_bound(job, acked_end, certain));
+                    }
+                    if at_rest && !inflight.is_empty() && !holding {
+                        let since = *idle_since.get_or_insert_with(Instant::now);
+                        if since.elapsed() >= self.options.stall_after {
+                            self.note_status(st);
+                            break 'outer StreamEnd::Stalled;
+                        }
+                    } else {
+                        idle_since = None;
+                    }
+                    observer(Notice::Status(st.clone()));
+                    self.note_status(st);
+                }
+                Event::Line(Response::Message(m), _) => observer(Notice::Message(m)),
+                Event::Line(Response::Unknown(u), _) => observer(Notice::Unexpected(u)),
+                Event::Line(_, raw) => observer(Notice::Message(raw)),
+                Event::Closed(why) => break 'outer StreamEnd::Disconnected(why),
+            }
+        };
+        let sent_end = next;
+        let mut report = StreamReport {
+            end,
+            acked_end,
+            sent_end,
+            certain,
+            work_pos: None,
+            resume: None,
+            bytes_sent,
+            elapsed: start.elapsed(),
+            max_in_flight,
+        };
+        match report.end.clone() {
+            StreamEnd::Completed => {
+                if let Ok(pos) = self.wait_at_rest() {
+                    report.work_pos = Some(pos);
+                    report.certain = job.len();
+                    jrec(&mut journal, &|j| j.completed(job.len()), observer);
+                    let expected = resume::replay(job, job.len()).work_pos();
+                    if (0..3).any(|a| (expected[a] - pos[a]).abs() > resume::POSITION_TOLERANCE) {
+                        report.end = StreamEnd::PositionMismatch {
+                            expected,
+                            actual: pos,
+                        };
+                    }
+                }
+            }
+            StreamEnd::Rejected { .. } | StreamEnd::Stopped | StreamEnd::Stalled => {
+                report.work_pos = self.settle();
+            }
+            StreamEnd::Alarm(_) | StreamEnd::FirmwareReset => {
+                // Let the banner/alarm messages arrive, then read where the machine is.
+                report.work_pos = self.wait_at_rest().ok();
+            }
+            StreamEnd::Disconnected(_) | StreamEnd::PositionMismatch { .. } => {}
+        }
+        if let Some(pos) = report.work_pos {
+            if report.end != StreamEnd::Completed {
+                report.resume = Some(resume::locate(job, report.certain, report.sent_end, pos));
+            }
+        }
+        let note = format!("{:?}", report.end);
+        jrec(&mut journal, &|j| j.end(&note), observer);
+        report.elapsed = start.elapsed();
+        report
+    }
+
+    /// Lines before the returned index have completed: at most `planner_blocks` motion
+    /// lines (each at least one block) can still be queued behind the last `ok`.
+    fn certain_bound(&self, job: &Job, acked_end: usize, floor: usize) -> usize {
+        let mut motion = 0;
+        let mut i = acked_end;
+        while i > floor {
+            i -= 1;
+            let t = &job.lines[i].text;
+            if t.contains(['X', 'Y', 'Z']) || t.starts_with("G4") {
+                motion += 1;
+                if motion > self.planner_blocks {
+                    return i;
+                }
+            }
+        }
+        floor
+    }
+
+    /// Runs the resume preamble (modal state, spindle, safe approach) line by line.
+    pub fn run_preamble(
+        &mut self,
+        job: &Job,
+        index: usize,
+        opts: &resume::ResumeOptions,
+    ) -> Result<(), String> {
+        let lines = resume::preamble(job, index, opts)?;
+        for l in lines {
+            let reply = self.command(&l).map_err(|e| e.to_string())?;
+            if let Some(code) = reply.error {
+                return Err(format!(
+                    "resume preamble line `{l}` rejected: {}",
+                    messages::describe_error(code)
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The answer to one command.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reply {
+    /// Lines before the `ok`/`error` (settings, `[GC:…]`, messages).
+    pub lines: Vec<String>,
+    pub error: Option<u8>,
+}
