@@ -55,6 +55,10 @@ impl Default for StartState {
     }
 }
 
+/// Feed of the legacy dialect when the run gives none (mm/min): the seed takes its feed
+/// from the machine configuration, never from the program.
+pub const LEGACY_DEFAULT_FEED: f64 = 600.0;
+
 /// Where the operations go.
 pub type Sink<'a> = &'a mut dyn FnMut(Canon);
 
@@ -93,8 +97,11 @@ impl Interpreter {
         let mut modal = Modal::new(start.units);
         modal.feed = start.feed;
         if dialect == Dialect::Legacy2006 {
-            // Seed 002: I and J are absolute centres.
+            // Seed 002: I and J are absolute centres; the feed is the machine's.
             modal.arc_incremental = false;
+            if modal.feed <= 0.0 {
+                modal.feed = LEGACY_DEFAULT_FEED;
+            }
         }
         Interpreter {
             dialect,
