@@ -17,13 +17,20 @@ pub fn blocks(text: &str) -> Vec<Block> {
     let mut out = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let line = i as u32 + 1;
-        let mut b = Block { line, ..Block::default() };
+        let mut b = Block {
+            line,
+            ..Block::default()
+        };
         let chars: Vec<char> = raw.chars().collect();
         let mut k = 0;
         while k < chars.len() {
             let c = chars[k];
             if c == '(' {
-                let end = chars[k..].iter().position(|&c| c == ')').map(|p| p + k).unwrap_or(chars.len());
+                let end = chars[k..]
+                    .iter()
+                    .position(|&c| c == ')')
+                    .map(|p| p + k)
+                    .unwrap_or(chars.len());
                 let text: String = chars[k + 1..end].iter().collect();
                 if let Some(m) = text.strip_prefix("MSG,") {
                     b.notes.push(Note::Message(m.trim().to_string()));
@@ -44,13 +51,19 @@ pub fn blocks(text: &str) -> Vec<Block> {
                     k += 1;
                 }
                 let s: String = chars[num_start..k].iter().collect();
-                let value: f64 = s.parse().unwrap_or_else(|_| panic!("bad number '{s}' on line {line}"));
+                let value: f64 = s
+                    .parse()
+                    .unwrap_or_else(|_| panic!("bad number '{s}' on line {line}"));
                 let letter = c.to_ascii_uppercase();
                 if letter == 'N' {
                     b.n = Some(value);
                 } else {
                     let span = Span::new(line, start as u32 + 1, (k - start) as u32);
-                    b.words.push(Word { letter, value, span });
+                    b.words.push(Word {
+                        letter,
+                        value,
+                        span,
+                    });
                 }
             } else {
                 k += 1;
@@ -87,7 +100,12 @@ pub fn run_with(text: &str, dialect: Dialect, tools: ToolTable, start: StartStat
 }
 
 pub fn run(text: &str) -> Run {
-    run_with(text, Dialect::LinuxCnc, ToolTable::new(), StartState::default())
+    run_with(
+        text,
+        Dialect::LinuxCnc,
+        ToolTable::new(),
+        StartState::default(),
+    )
 }
 
 /// The rs274 tool table of the differential corpus, read in inches as `rs274` does.
@@ -115,8 +133,17 @@ pub fn motion_text(ops: &[Canon]) -> Vec<String> {
 /// Compare motion calls with rs274's (the text after `N..... `), numbers within 1e-4.
 pub fn assert_motion(ops: &[Canon], expected: &str) {
     let got = motion_text(ops);
-    let want: Vec<&str> = expected.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
-    assert_eq!(got.len(), want.len(), "number of motion calls differs:\n{}", got.join("\n"));
+    let want: Vec<&str> = expected
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "number of motion calls differs:\n{}",
+        got.join("\n")
+    );
     for (g, w) in got.iter().zip(&want) {
         let name = |s: &str| s.split('(').next().unwrap_or("").to_string();
         assert_eq!(name(g), name(w), "\ngot  {g}\nwant {w}");

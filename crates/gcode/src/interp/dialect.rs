@@ -143,6 +143,8 @@ pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
         }
     }
     // Arcs: grbl wants an axis word in the plane and, in the offset form, an offset in it.
+    let axes_taken = matches!(d.g_in(G::NON_MODAL), Some(100 | 280 | 300 | 920))
+        || d.g_in(G::TOOL_LENGTH) == Some(431);
     let motion = d
         .g_in(G::MOTION)
         .map(super::state::Motion::from_tenths)
@@ -150,7 +152,8 @@ pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
     if matches!(
         motion,
         super::state::Motion::Clockwise | super::state::Motion::CounterClockwise
-    ) && (d.any_axis() || d.g[G::MOTION].is_some())
+    ) && !axes_taken
+        && (d.any_axis() || d.g[G::MOTION].is_some())
     {
         let (a0, a1, _) = interp.modal.plane.axes();
         let (l0, l1) = (super::AXES[a0], super::AXES[a1]);
