@@ -4,6 +4,7 @@ pub mod library;
 pub mod raster;
 pub mod regions;
 pub mod relief;
+pub mod seed004;
 pub mod stock;
 pub mod surface;
 pub mod tool;

@@ -2,12 +2,17 @@
 //! arguments to the library crates; no domain logic here.
 
 mod bench_gcode;
+mod carve;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "oficina", version, about = "Open CNC workshop: from design to a moving machine")]
+#[command(
+    name = "oficina",
+    version,
+    about = "Open CNC workshop: from design to a moving machine"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -18,6 +23,8 @@ enum Command {
     /// Benchmarks that print figures beside the named peer's on the same input.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Relief carving from a grayscale elevation image: program, preview and time estimate.
+    Carve(carve::Args),
 }
 
 #[derive(Subcommand)]
@@ -29,6 +36,7 @@ enum BenchCommand {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
+        Command::Carve(args) => carve::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
         },
