@@ -202,7 +202,7 @@ impl Interpreter {
             // rs274 crosses at the old Z under G98; under G99 at the current height, or at
             // R when below it.
             let cross_height = if self.modal.retract_to_old_z {
-                old_cc
+                old_cc.max(cc_now)
             } else {
                 cc_now
             }

@@ -152,6 +152,16 @@ impl Decoded {
                 'G' => {
                     let tenths = to_tenths(w.value).ok_or_else(|| unknown_g(w.span, w.value))?;
                     let group = group_of_g(tenths).ok_or_else(|| unknown_g(w.span, w.value))?;
+                    // rs274 accepts G80 beside another motion code: the other one wins.
+                    if group == g_group::MOTION && (tenths == 800 || d.g_in(group) == Some(800)) {
+                        if tenths != 800 {
+                            d.g[group] = Some(Code {
+                                tenths,
+                                span: w.span,
+                            });
+                        }
+                        continue;
+                    }
                     if d.g[group].is_some() {
                         return Err(Diagnostic::error(
                             w.span,
