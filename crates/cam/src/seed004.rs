@@ -119,31 +119,38 @@ pub fn seed_one_tool() -> Job {
     ])
 }
 
-/// Ours: the 12 mm flat roughs with 0.5 mm allowance at 80 % step-over, then a 3 mm ball
-/// finishes in one raster at the step-over for `scallop` mm (no small-tool levels: the
-/// allowance is all that is left), same feeds as the seed.
-pub fn improved(scallop: f64) -> Job {
+/// Ours: the seed's tools and final pass (so the same finish), with the 12 mm flat at 80 %
+/// step-over, levels that skip finished ground, rest machining only where material stands
+/// more than `rest_min` mm above the 3 mm tool's surface, and travels chosen for least air
+/// time. (A 3 mm ball finish at a scallop target is the `oficina carve` default instead.)
+pub fn improved(rest_min: f64) -> Job {
     let f = SEED_FEED_MM_MIN;
-    let finish = cutter(2, "ball:3", f, f / 2.0);
-    let stepover = finish.tool.stepover_for_scallop(scallop);
     job(vec![
+        pass(
+            "ours: 12 mm flat, 9.6 mm step, levels",
+            cutter(1, "flat:12", f, f / 2.0),
+            9.6,
+            5.0,
+            Direction::X,
+            false,
+        ),
         Pass {
-            allowance: 0.5,
+            min_cut: rest_min,
             ..pass(
-                "ours: 12 mm flat roughing, 0.5 mm allowance",
-                cutter(1, "flat:12", f, f / 2.0),
-                9.6,
+                "ours: 3 mm flat rest, regions",
+                cutter(2, "flat:3", f, f / 2.0),
+                1.5,
                 5.0,
                 Direction::X,
-                false,
+                true,
             )
         },
         pass(
-            "ours: 3 mm ball finishing",
-            finish,
-            stepover,
-            5.0,
-            Direction::X,
+            "ours: 3 mm flat, final pass by columns",
+            cutter(2, "flat:3", f, f / 2.0),
+            1.0,
+            1000.0,
+            Direction::Y,
             false,
         ),
     ])
