@@ -41,9 +41,8 @@ const ALLOWED: &[(&str, &str)] = &[];
 /// - `COMMENT("interpreter: …")`: rs274 narrating its own mode changes (see
 ///   [`is_narration`]); user comments are still compared.
 ///
-/// The start-up preamble rs274 prints before reading the file (everything up to and including
-/// its first `ON_RESET()`) is dropped from both sides: it describes the driver's defaults, not
-/// the program.
+/// The start-up preamble (units, G54 and G92 offsets, rotation) is compared like the rest: it is
+/// the state the program's first moves are relative to.
 const COMPARED: &[&str] = &[
     "STRAIGHT_TRAVERSE",
     "STRAIGHT_FEED",
@@ -280,21 +279,13 @@ fn is_narration(call: &Call) -> bool {
         && matches!(call.args.first(), Some(Arg::Word(w)) if w.starts_with("\"interpreter:"))
 }
 
-/// The calls that are compared, in order: preamble, bookkeeping and narration dropped.
+/// The calls that are compared, in order: bookkeeping and narration dropped.
 fn normalise(stdout: &str) -> Vec<Call> {
     let compared: HashSet<&str> = COMPARED.iter().copied().collect();
-    let calls: Vec<Call> = stdout
+    stdout
         .lines()
         .enumerate()
         .filter_map(|(i, l)| parse_call(i + 1, l))
-        .collect();
-    let body_start = calls
-        .iter()
-        .position(|c| c.name == "ON_RESET")
-        .map_or(0, |i| i + 1);
-    calls
-        .into_iter()
-        .skip(body_start)
         .filter(|c| compared.contains(c.name.as_str()) && !is_narration(c))
         .collect()
 }
@@ -568,20 +559,25 @@ fn normalisation_strips_prefixes_and_compares_within_tolerance() {
     let calls = normalise(rs);
     assert_eq!(
         calls.len(),
-        1,
-        "preamble, narration and bookkeeping dropped: {calls:?}"
+        2,
+        "narration and bookkeeping dropped: {calls:?}"
     );
-    assert_eq!(calls[0].name, "STRAIGHT_TRAVERSE");
-    assert_eq!(calls[0].args[2], Arg::Num(3.0));
+    assert_eq!(calls[0].args, vec![Arg::Word("CANON_UNITS_MM".into())]);
+    assert_eq!(calls[1].name, "STRAIGHT_TRAVERSE");
+    assert_eq!(calls[1].args[2], Arg::Num(3.0));
 
-    let ours = "ON_RESET()\nSTRAIGHT_TRAVERSE(1.00005, 2.0000, 3.0000, 0.0000, 0.0000, -0.0000)\n";
-    assert_eq!(first_difference(&calls, &normalise(ours)), None);
-    let off = "ON_RESET()\nSTRAIGHT_TRAVERSE(1.0002, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n";
-    assert!(first_difference(&calls, &normalise(off)).is_some());
-    let short = "ON_RESET()\n";
-    assert!(first_difference(&calls, &normalise(short))
-        .unwrap()
-        .contains("oficina stops"));
+    let units = "USE_LENGTH_UNITS(CANON_UNITS_MM)\n";
+    let ours = "STRAIGHT_TRAVERSE(1.00005, 2.0000, 3.0000, 0.0000, 0.0000, -0.0000)\n";
+    assert_eq!(
+        first_difference(&calls, &normalise(&format!("{units}{ours}"))),
+        None
+    );
+    let off = "STRAIGHT_TRAVERSE(1.0002, 2.0000, 3.0000, 0.0000, 0.0000, 0.0000)\n";
+    assert!(first_difference(&calls, &normalise(&format!("{units}{off}"))).is_some());
+    let inch = "USE_LENGTH_UNITS(CANON_UNITS_INCHES)\n";
+    assert!(first_difference(&calls, &normalise(&format!("{inch}{ours}"))).is_some());
+    let short = first_difference(&calls, &normalise(units)).unwrap();
+    assert!(short.contains("oficina stops"), "{short}");
 }
 
 #[test]
