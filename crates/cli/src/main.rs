@@ -3,6 +3,9 @@
 
 mod bench_gcode;
 mod carve;
+mod check;
+mod gcode_canon;
+mod gcode_input;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -23,8 +26,19 @@ enum Command {
     /// Benchmarks that print figures beside the named peer's on the same input.
     #[command(subcommand)]
     Bench(BenchCommand),
+    /// Check a G-code program: every error with its place, then extents, lengths, tools, time.
+    Check(check::Args),
+    /// G-code tools.
+    #[command(subcommand)]
+    Gcode(GcodeCommand),
     /// Relief carving from a grayscale elevation image: program, preview and time estimate.
     Carve(carve::Args),
+}
+
+#[derive(Subcommand)]
+enum GcodeCommand {
+    /// Print the canonical operations in the text of LinuxCNC's `rs274 -g`.
+    Canon(gcode_canon::Args),
 }
 
 #[derive(Subcommand)]
@@ -36,6 +50,8 @@ enum BenchCommand {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
+        Command::Check(args) => check::run(args),
+        Command::Gcode(GcodeCommand::Canon(args)) => gcode_canon::run(args),
         Command::Carve(args) => carve::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),

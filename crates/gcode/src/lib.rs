@@ -9,11 +9,17 @@
 //! - [`interp`]: the modal interpreter: blocks → [`oficina_canon::Canon`] records;
 //! - [`print`]: canonical operations in the text format of LinuxCNC's standalone `rs274`.
 
+pub mod ast;
 pub mod block;
 pub mod diag;
+pub mod exec;
+pub mod expr;
 pub mod interp;
+pub mod lex;
 pub mod params;
+pub mod parse;
 pub mod print;
+pub mod program;
 
 pub use diag::{Diagnostic, Severity, Span};
 

@@ -1,0 +1,50 @@
+//! `oficina gcode canon FILE`: the canonical operations in the text of LinuxCNC's standalone
+//! interpreter, for line-by-line comparison with `rs274 -g`.
+
+use crate::gcode_input::{print_diagnostics, ProgramArgs};
+use oficina_gcode::print::Rs274Printer;
+use oficina_gcode::Severity;
+use std::io::{BufWriter, Write};
+use std::process::ExitCode;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    pub program: ProgramArgs,
+    /// Prefix each call with a counter and `N.....` exactly as `rs274 -g` does.
+    #[arg(long)]
+    pub numbered: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let opts = args.program.run_options(false)?;
+    let source = args.program.open()?;
+    let stdout = std::io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    let mut printer = if args.numbered {
+        Rs274Printer::new().numbered()
+    } else {
+        Rs274Printer::new()
+    };
+    let mut write_error = None;
+    let diags = oficina_gcode::program::run(source, &opts, &mut |c| {
+        if write_error.is_none() {
+            if let Err(e) = printer.print(&c, &mut out) {
+                write_error = Some(e);
+            }
+        }
+    });
+    out.flush()?;
+    if let Some(e) = write_error {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            return Err(e.into());
+        }
+    }
+    print_diagnostics(&args.program.file, &diags);
+    let failed = diags.iter().any(|d| d.severity == Severity::Error);
+    Ok(if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
+}
