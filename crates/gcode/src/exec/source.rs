@@ -1,0 +1,190 @@
+//! Lines from a seekable reader, one at a time, each with its byte offset so loops and calls
+//! can jump back to it (as LinuxCNC seeks in the file). A line longer than the limit is
+//! consumed without being kept: memory stays bounded whatever the input.
+
+use std::io::{self, BufRead, ErrorKind, Seek, SeekFrom};
+
+/// 256 KiB: far above any real G-code line, far below a file without newlines.
+pub const DEFAULT_MAX_LINE_LEN: usize = 256 * 1024;
+
+/// What one read produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Read {
+    /// The line is in [`LineSource::text`].
+    Line {
+        offset: u64,
+        number: u32,
+    },
+    /// The line was longer than the limit: it was skipped, its length is given.
+    TooLong {
+        number: u32,
+        len: u64,
+    },
+    Eof,
+}
+
+pub struct LineSource<R> {
+    reader: R,
+    /// Byte offset of the next line.
+    pos: u64,
+    /// 1-based number of the next line.
+    next_line: u32,
+    buf: Vec<u8>,
+    max_len: usize,
+}
+
+impl<R: BufRead + Seek> LineSource<R> {
+    pub fn new(mut reader: R) -> LineSource<R> {
+        let pos = reader.stream_position().unwrap_or(0);
+        LineSource {
+            reader,
+            pos,
+            next_line: 1,
+            buf: Vec::new(),
+            max_len: DEFAULT_MAX_LINE_LEN,
+        }
+    }
+
+    pub fn set_max_len(&mut self, max: usize) {
+        self.max_len = max.max(1);
+    }
+
+    pub fn max_len(&self) -> usize {
+        self.max_len
+    }
+
+    /// The text of the last line read (without its newline).
+    pub fn text(&self) -> &[u8] {
+        &self.buf
+    }
+
+    /// Where the next line starts, and its number.
+    pub fn position(&self) -> (u64, u32) {
+        (self.pos, self.next_line)
+    }
+
+    pub fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
+        self.reader.seek(SeekFrom::Start(offset))?;
+        self.pos = offset;
+        self.next_line = line;
+        Ok(())
+    }
+
+    pub fn read(&mut self) -> io::Result<Read> {
+        self.buf.clear();
+        let offset = self.pos;
+        let mut len: u64 = 0;
+        let mut too_long = false;
+        let mut any = false;
+        loop {
+            let chunk = match self.reader.fill_buf() {
+                Ok(c) => c,
+                Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if chunk.is_empty() {
+                break;
+            }
+            any = true;
+            let (take, done) = match chunk.iter().position(|&b| b == b'\n') {
+                Some(i) => (i, true),
+                None => (chunk.len(), false),
+            };
+            if !too_long {
+                if self.buf.len() + take > self.max_len {
+                    too_long = true;
+                    self.buf.clear();
+                } else {
+                    self.buf.extend_from_slice(&chunk[..take]);
+                }
+            }
+            let used = take + usize::from(done);
+            self.reader.consume(used);
+            len += take as u64;
+            self.pos += used as u64;
+            if done {
+                break;
+            }
+        }
+        if !any {
+            return Ok(Read::Eof);
+        }
+        let number = self.next_line;
+        self.next_line = self.next_line.saturating_add(1);
+        Ok(if too_long {
+            Read::TooLong { number, len }
+        } else {
+            Read::Line { offset, number }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    #[test]
+    fn lines_offsets_and_seeking_back() {
+        let mut s = LineSource::new(Cursor::new(b"G0 X1\r\n\nG1 X2".to_vec()));
+        assert_eq!(
+            s.read().unwrap(),
+            Read::Line {
+                offset: 0,
+                number: 1
+            }
+        );
+        assert_eq!(s.text(), b"G0 X1\r");
+        assert_eq!(
+            s.read().unwrap(),
+            Read::Line {
+                offset: 7,
+                number: 2
+            }
+        );
+        assert_eq!(s.text(), b"");
+        assert_eq!(
+            s.read().unwrap(),
+            Read::Line {
+                offset: 8,
+                number: 3
+            }
+        );
+        assert_eq!(s.text(), b"G1 X2");
+        assert_eq!(s.read().unwrap(), Read::Eof);
+        s.seek(7, 2).unwrap();
+        assert_eq!(
+            s.read().unwrap(),
+            Read::Line {
+                offset: 7,
+                number: 2
+            }
+        );
+    }
+
+    #[test]
+    fn over_long_lines_are_skipped_without_being_kept() {
+        let mut text = vec![b'x'; 10_000];
+        text.extend_from_slice(b"\nG0\n");
+        // A tiny reader buffer: the long line arrives in many chunks.
+        let reader = io::BufReader::with_capacity(64, Cursor::new(text));
+        let mut s = LineSource::new(reader);
+        s.set_max_len(100);
+        assert_eq!(
+            s.read().unwrap(),
+            Read::TooLong {
+                number: 1,
+                len: 10_000
+            }
+        );
+        assert!(s.buf.capacity() <= 200, "the long line was never buffered");
+        assert_eq!(
+            s.read().unwrap(),
+            Read::Line {
+                offset: 10_001,
+                number: 2
+            }
+        );
+        assert_eq!(s.text(), b"G0");
+    }
+}

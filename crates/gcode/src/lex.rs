@@ -1,0 +1,258 @@
+//! Characters → a compact line the parser can walk, as LinuxCNC reads a block: letters
+//! lower-cased and every space or tab outside comments removed (so `G 0 1`, `X1 0.5` and
+//! `M O D` read as `g01`, `x10.5`, `mod`), while each kept byte remembers its source column
+//! for diagnostics. Comments are kept verbatim (with their parentheses) so the parser can
+//! turn `(MSG,…)` and `(DEBUG,…)` into notes.
+//!
+//! Also here: the byte-level scanners the parser uses (numbers without allocation, names).
+
+use crate::diag::{Diagnostic, Span};
+
+/// One source line after compaction. Reused from line to line: no allocation per line once
+/// the buffers have grown.
+#[derive(Clone, Debug, Default)]
+pub struct Compact {
+    /// Lower-cased bytes without blanks outside comments; comments verbatim.
+    pub bytes: Vec<u8>,
+    /// 1-based source column (in characters) of each byte in `bytes`.
+    pub cols: Vec<u32>,
+    /// 1-based source line.
+    pub line: u32,
+    /// Column just after the last character of the source line (for spans at the end).
+    pub end_col: u32,
+}
+
+impl Compact {
+    pub fn new() -> Compact {
+        Compact::default()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.bytes.is_empty()
+    }
+
+    /// Column of byte `i`, or the end of the line when `i` is past the end.
+    pub fn col(&self, i: usize) -> u32 {
+        self.cols.get(i).copied().unwrap_or(self.end_col)
+    }
+
+    /// The span covering compact bytes `start..end`.
+    pub fn span(&self, start: usize, end: usize) -> Span {
+        let c0 = self.col(start);
+        let c1 = if end > start {
+            self.col(end - 1) + 1
+        } else {
+            c0
+        };
+        Span::new(self.line, c0, c1.saturating_sub(c0))
+    }
+
+    /// Compact `raw` (one line without its newline) into `self`.
+    ///
+    /// Errors: an unclosed or nested comment, a byte outside ASCII outside a comment.
+    pub fn load(&mut self, raw: &[u8], line: u32) -> Result<(), Diagnostic> {
+        self.bytes.clear();
+        self.cols.clear();
+        self.line = line;
+        let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+        let mut col: u32 = 0;
+        let mut comment_start: Option<u32> = None;
+        let mut i = 0;
+        while i < raw.len() {
+            let b = raw[i];
+            // Columns count characters: UTF-8 continuation bytes do not start a new one.
+            if b & 0xC0 != 0x80 {
+                col += 1;
+            }
+            if let Some(start) = comment_start {
+                if b == b'(' {
+                    return Err(Diagnostic::error(
+                        Span::new(line, col, 1),
+                        "nested comment: '(' inside a comment",
+                    )
+                    .with_help(format!(
+                        "the comment opened at column {start} must be closed with ')' before another opens"
+                    )));
+                }
+                if b == b')' {
+                    comment_start = None;
+                }
+                self.bytes.push(b);
+                self.cols.push(col);
+                i += 1;
+                continue;
+            }
+            match b {
+                b' ' | b'\t' | b'\r' | 0x0B | 0x0C => {}
+                b'(' => {
+                    comment_start = Some(col);
+                    self.bytes.push(b);
+                    self.cols.push(col);
+                }
+                b';' => {
+                    // The rest of the line is a comment, kept verbatim.
+                    for &c in &raw[i..] {
+                        if c & 0xC0 != 0x80 {
+                            col += 1;
+                        }
+                        self.bytes.push(c);
+                        self.cols.push(col);
+                    }
+                    col -= 1;
+                    break;
+                }
+                0x80.. => {
+                    let ch = String::from_utf8_lossy(&raw[i..raw.len().min(i + 4)])
+                        .chars()
+                        .next()
+                        .unwrap_or('\u{FFFD}');
+                    return Err(Diagnostic::error(
+                        Span::new(line, col, 1),
+                        format!("bad character '{ch}': only ASCII is allowed outside comments"),
+                    )
+                    .with_help("put text in a comment: ( … )"));
+                }
+                _ => {
+                    self.bytes.push(b.to_ascii_lowercase());
+                    self.cols.push(col);
+                }
+            }
+            i += 1;
+        }
+        self.end_col = col + 1;
+        if let Some(start) = comment_start {
+            return Err(Diagnostic::error(
+                Span::new(line, start, col + 1 - start),
+                "unclosed comment: '(' without ')'",
+            )
+            .with_help("close the comment with ')' on the same line"));
+        }
+        Ok(())
+    }
+}
+
+/// A number as LinuxCNC reads it: digits with at most one decimal point, at least one digit,
+/// no sign (signs are unary operators) and no exponent. Returns the value and the number of
+/// bytes used, or `None` when `s` does not start with a digit or point.
+///
+/// Exact for the usual CNC numbers: up to 19 significant digits go through an integer
+/// mantissa and one division by an exact power of ten (correctly rounded); longer ones fall
+/// back to the standard library parser.
+pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
+    let mut mantissa: u64 = 0;
+    let mut digits = 0usize;
+    let mut frac_digits = 0usize;
+    let mut seen_point = false;
+    let mut i = 0;
+    while i < s.len() {
+        match s[i] {
+            b'0'..=b'9' => {
+                if digits < 19 {
+                    mantissa = mantissa * 10 + u64::from(s[i] - b'0');
+                }
+                digits += 1;
+                if seen_point {
+                    frac_digits += 1;
+                }
+            }
+            b'.' if !seen_point => seen_point = true,
+            b'.' => return Some(Err(i + 1)),
+            _ => break,
+        }
+        i += 1;
+    }
+    if i == 0 {
+        return None;
+    }
+    if digits == 0 {
+        return Some(Err(i));
+    }
+    const POW10: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
+    if digits <= 15 && frac_digits < POW10.len() {
+        // Both the mantissa (< 2^53) and the power are exact: one correctly rounded division.
+        return Some(Ok((mantissa as f64 / POW10[frac_digits], i)));
+    }
+    // Only ASCII digits and one point: always valid UTF-8 and a valid Rust float literal.
+    let text = std::str::from_utf8(&s[..i]).unwrap_or("0");
+    Some(Ok((text.parse::<f64>().unwrap_or(0.0), i)))
+}
+
+/// The text of a comment body with the comment marker removed: `(text)` → `text`,
+/// `;text` → `text`.
+pub fn comment_text(raw: &[u8]) -> String {
+    let inner = match raw.first() {
+        Some(b'(') => raw[1..].strip_suffix(b")").unwrap_or(&raw[1..]),
+        Some(b';') => &raw[1..],
+        _ => raw,
+    };
+    String::from_utf8_lossy(inner).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn compact(s: &str) -> Compact {
+        let mut c = Compact::new();
+        c.load(s.as_bytes(), 7).unwrap();
+        c
+    }
+
+    #[test]
+    fn blanks_go_and_letters_fold_outside_comments_only() {
+        let c = compact("G 0 1 X1 0.5 (Keep  This) m o d");
+        assert_eq!(c.bytes, b"g01x10.5(Keep  This)mod");
+        assert_eq!(c.cols[0], 1);
+        assert_eq!(c.cols[3], 7, "the x is in column 7");
+        assert_eq!(c.span(3, 8), Span::new(7, 7, 6), "X1 0.5 spans six columns");
+    }
+
+    #[test]
+    fn semicolon_comment_runs_to_end_and_carriage_return_is_dropped() {
+        let c = compact("G1 ; a (b)\r");
+        assert_eq!(c.bytes, b"g1; a (b)");
+        assert_eq!(c.end_col, 11);
+    }
+
+    #[test]
+    fn comment_errors_point_at_the_culprit() {
+        let mut c = Compact::new();
+        let e = c.load(b"G0 (a (b) c)", 3).unwrap_err();
+        assert_eq!(e.span, Span::new(3, 7, 1));
+        assert!(e.message.contains("nested"));
+        let e = c.load(b"G0 (abc", 3).unwrap_err();
+        assert_eq!(e.span, Span::new(3, 4, 4));
+        assert!(e.message.contains("unclosed"));
+        let e = c.load("G0 X1 µ".as_bytes(), 2).unwrap_err();
+        assert_eq!(e.span.col, 7);
+        assert!(e.message.contains('µ'));
+    }
+
+    #[test]
+    fn columns_count_characters_not_bytes() {
+        let c = compact("(µm) X1");
+        assert_eq!(c.bytes.last(), Some(&b'1'));
+        assert_eq!(*c.cols.last().unwrap(), 7);
+    }
+
+    #[test]
+    fn numbers_parse_exactly_without_allocating() {
+        assert_eq!(scan_number(b"12.5x"), Some(Ok((12.5, 4))));
+        assert_eq!(scan_number(b".5"), Some(Ok((0.5, 2))));
+        assert_eq!(scan_number(b"5."), Some(Ok((5.0, 2))));
+        assert_eq!(scan_number(b"0.1"), Some(Ok((0.1, 3))));
+        assert_eq!(scan_number(b"x"), None);
+        assert_eq!(scan_number(b"."), Some(Err(1)));
+        assert_eq!(scan_number(b"1..2"), Some(Err(3)));
+        let long = b"3.14159265358979323846264338327950288";
+        assert_eq!(scan_number(long).unwrap().unwrap().0, std::f64::consts::PI);
+        // Every short decimal equals the standard parser's correctly rounded value.
+        for s in ["123.456", "0.0001", "99999.99999", "1.1", "7.000000000001"] {
+            let v = scan_number(s.as_bytes()).unwrap().unwrap().0;
+            assert_eq!(v, s.parse::<f64>().unwrap(), "{s}");
+        }
+    }
+}
