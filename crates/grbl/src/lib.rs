@@ -2,6 +2,9 @@
 //!
 //! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
 //! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
+//! - [`transport`], [`link`]: serial, TCP and pty byte pipes and the line reader;
+//! - [`job`], [`journal`], [`sender`], [`resume`]: streaming, its record, and resume;
+//! - [`emulator`]: grbl 1.1 in software over a pty or TCP; [`proxy`]: fault injection.
 
 pub mod emulator;
 pub mod gline;
@@ -10,6 +13,7 @@ pub mod job;
 pub mod journal;
 pub mod link;
 pub mod messages;
+pub mod proxy;
 pub mod realtime;
 pub mod response;
 pub mod resume;

@@ -33,7 +33,16 @@ pub struct Located {
 
 /// The first line not completed, given that lines before `certain` completed, nothing at or
 /// after `sent_end` reached the firmware, and the machine now rests at `work_pos` (mm).
-pub fn locate(job: &Job, certain: usize, sent_end: usize, work_pos: [f64; 3]) -> Located {
+///
+/// When the machine rests exactly at the end of a line, the modal-only lines after it that
+/// were acknowledged (`acked_end`) already took effect and are not sent again.
+pub fn locate(
+    job: &Job,
+    certain: usize,
+    sent_end: usize,
+    acked_end: usize,
+    work_pos: [f64; 3],
+) -> Located {
     let mut st = replay(job, certain);
     let end = sent_end.min(job.len());
     for j in certain..end {
@@ -54,8 +63,16 @@ pub fn locate(job: &Job, certain: usize, sent_end: usize, work_pos: [f64; 3]) ->
                     && interp::dist(&work_pos, &to) <= POSITION_TOLERANCE;
                 let l = &job.lines[j];
                 return if at_end {
+                    let mut next = j + 1;
+                    let mut probe = st.clone();
+                    while next < acked_end.min(end) {
+                        match probe.execute(&job.lines[next].text) {
+                            Ok(e) if !e.segments.is_empty() => break,
+                            _ => next += 1,
+                        }
+                    }
                     Located {
-                        index: j + 1,
+                        index: next,
                         reason: format!(
                             "machine rests at the end of file line {} ({})",
                             l.file_line, l.text
@@ -215,11 +232,15 @@ mod tests {
     fn locates_inside_and_at_end_of_lines() {
         let j = job("G21G90\nG0Z5\nG0X0Y0\nG1Z-1F100\nG1X10F500\nG1Y10\nG1X0\n");
         // Half way along G1Y10 (index 5).
-        assert_eq!(locate(&j, 0, 7, [10.0, 5.0, -1.0]).index, 5);
+        assert_eq!(locate(&j, 0, 7, 7, [10.0, 5.0, -1.0]).index, 5);
         // Exactly at the end of G1X10: resume after it.
-        assert_eq!(locate(&j, 0, 7, [10.0, 0.0, -1.0]).index, 5);
+        assert_eq!(locate(&j, 0, 7, 7, [10.0, 0.0, -1.0]).index, 5);
+        // Acknowledged modal lines after the finished move are not sent again.
+        let k = job("G0X0Y0\nG1X10F500\nF300\nM8\nG1Y10\n");
+        assert_eq!(locate(&k, 0, 5, 4, [10.0, 0.0, 0.0]).index, 4);
+        assert_eq!(locate(&k, 0, 5, 3, [10.0, 0.0, 0.0]).index, 3);
         // Nowhere on the path: fall back to the last line known complete.
-        let l = locate(&j, 2, 7, [50.0, 50.0, 0.0]);
+        let l = locate(&j, 2, 7, 7, [50.0, 50.0, 0.0]);
         assert_eq!(l.index, 2);
         assert!(l.reason.contains("not on the path"));
     }

@@ -296,8 +296,15 @@ impl Sender {
         }
     }
 
-    /// A fresh status report.
+    /// A fresh status report. Replies to earlier queries still in the channel are skipped.
     pub fn status(&mut self) -> io::Result<Status> {
+        while let Some(ev) = self.link.recv(Duration::ZERO) {
+            match ev {
+                Event::Line(Response::Status(st), _) => self.note_status(st),
+                Event::Closed(why) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                _ => {}
+            }
+        }
         self.link.send_realtime(Realtime::StatusQuery)?;
         let deadline = Instant::now() + Duration::from_secs(2);
         while Instant::now() < deadline {
@@ -321,6 +328,7 @@ impl Sender {
     pub fn wait_at_rest(&mut self) -> io::Result<[f64; 3]> {
         let mut deadline = Instant::now() + self.options.reply_timeout;
         let mut last_pos: Option<Vec<f64>> = None;
+        let mut rest: Option<Vec<f64>> = None;
         loop {
             let st = self.status()?;
             // A long last move is progress, not a hang: the deadline follows motion.
@@ -329,12 +337,17 @@ impl Sender {
                 deadline = Instant::now() + self.options.reply_timeout;
                 last_pos = pos;
             }
+            // Two reports at rest at the same place: a reply to an older query that was
+            // still on the wire cannot pass for the final position.
             if !st.state.is_moving() && !(st.state == State::Run) {
                 if let Some(w) = st.work_position(self.last_wco.as_deref()) {
-                    if w.len() >= 3 {
+                    if w.len() >= 3 && rest.as_ref() == Some(&w) {
                         return Ok([w[0], w[1], w[2]]);
                     }
+                    rest = Some(w);
                 }
+            } else {
+                rest = None;
             }
             if Instant::now() > deadline {
                 return Err(err(
@@ -561,7 +574,12 @@ impl Sender {
         }
         if let Some(pos) = report.work_pos {
             if report.end != StreamEnd::Completed {
-                report.resume = Some(resume::locate(job, report.certain, report.sent_end, pos));
+                let mut at =
+                    resume::locate(job, report.certain, report.sent_end, report.acked_end, pos);
+                if let StreamEnd::Rejected { index, .. } = report.end {
+                    at = after_rejection(job, index, at);
+                }
+                report.resume = Some(at);
             }
         }
         let note = format!("{:?}", report.end);
@@ -588,6 +606,56 @@ impl Sender {
         floor
     }
 
+    /// After a stream ended in any way (or after reconnecting): wait until the machine
+    /// rests, read its position, reset to flush half-received lines and queued blocks,
+    /// unlock an alarm if allowed, and find the line to resume from. `certain`, `sent_end`
+    /// and `acked_end` come from the [`StreamReport`] or, after a crash, the journal.
+    pub fn recover(
+        &mut self,
+        job: &Job,
+        certain: usize,
+        sent_end: usize,
+        acked_end: usize,
+        unlock_alarm: bool,
+    ) -> Result<Located, String> {
+        let pos = self.wait_at_rest().map_err(|e| e.to_string())?;
+        self.reset().map_err(|e| e.to_string())?;
+        let st = self.status().map_err(|e| e.to_string())?;
+        if st.state == State::Alarm {
+            if !unlock_alarm {
+                return Err("the machine is in alarm: check it, home it ($H) or unlock it ($X), then resume".into());
+            }
+            let reply = self.command("$X").map_err(|e| e.to_string())?;
+            if let Some(code) = reply.error {
+                return Err(format!(
+                    "unlock ($X) refused: {}",
+                    messages::describe_error(code)
+                ));
+            }
+        }
+        Ok(resume::locate(job, certain, sent_end, acked_end, pos))
+    }
+
+    /// [`Sender::recover`] after a stream that ended on a rejected line.
+    pub fn recover_rejected(
+        &mut self,
+        job: &Job,
+        report: &StreamReport,
+        unlock_alarm: bool,
+    ) -> Result<Located, String> {
+        let at = self.recover(
+            job,
+            report.certain,
+            report.sent_end,
+            report.acked_end,
+            unlock_alarm,
+        )?;
+        Ok(match report.end {
+            StreamEnd::Rejected { index, .. } => after_rejection(job, index, at),
+            _ => at,
+        })
+    }
+
     /// Runs the resume preamble (modal state, spindle, safe approach) line by line.
     pub fn run_preamble(
         &mut self,
@@ -606,6 +674,25 @@ impl Sender {
             }
         }
         Ok(())
+    }
+}
+
+/// grbl goes on executing the lines already in its buffer after rejecting one, so the
+/// machine may have moved past the rejected line on a path that skipped it. Resuming at the
+/// rejected line (once fixed) re-traces those lines from the right starting point.
+fn after_rejection(job: &Job, rejected: usize, at: Located) -> Located {
+    if at.index <= rejected {
+        return at;
+    }
+    let l = |i: usize| job.lines.get(i).map(|l| l.file_line).unwrap_or(0);
+    Located {
+        index: rejected,
+        reason: format!(
+            "the firmware ran file lines {}..{} after rejecting line {} before the hold took effect; they are run again after it",
+            l(rejected + 1),
+            l(at.index.saturating_sub(1)),
+            l(rejected)
+        ),
     }
 }
 

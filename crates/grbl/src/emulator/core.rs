@@ -28,7 +28,8 @@ pub struct Config {
     pub version: String,
     /// Settings that differ from grbl's generic defaults.
     pub settings: Vec<(u16, f64)>,
-    /// Keep the text of every executed G-code line (tests check for duplicates and gaps).
+    /// Keep the text of every G-code line whose motion completed (tests check that a job
+    /// with stops and resumes ran every line exactly once).
     pub record_lines: bool,
 }
 
@@ -95,7 +96,12 @@ pub struct Core {
     pending: Option<Pending>,
     pub out: VecDeque<u8>,
     pub stats: Stats,
+    /// Lines whose motion completed, in order (with `record_lines`).
     pub executed: Vec<String>,
+    /// Lines parsed but not finished: (text, sequence number of their last block).
+    awaiting: VecDeque<(String, u64)>,
+    blocks_pushed: u64,
+    blocks_done: u64,
     /// (feed, rapid, spindle) overrides in percent.
     pub overrides: (u32, u32, u32),
     check_mode: bool,
@@ -131,6 +137,9 @@ impl Core {
             out: VecDeque::new(),
             stats: Stats::default(),
             executed: Vec::new(),
+            awaiting: VecDeque::new(),
+            blocks_pushed: 0,
+            blocks_done: 0,
             overrides: (100, 100, 100),
             check_mode: false,
             decel: None,
@@ -269,10 +278,29 @@ impl Core {
         }
     }
 
+    /// Moves finished lines from `awaiting` to `executed`.
+    fn record_done(&mut self) {
+        while self
+            .awaiting
+            .front()
+            .is_some_and(|(_, seq)| *seq <= self.blocks_done)
+        {
+            let (l, _) = self.awaiting.pop_front().expect("front checked");
+            self.executed.push(l);
+        }
+    }
+
+    /// Drops every queued block; lines whose motion had not finished never ran.
+    fn flush_planner(&mut self) {
+        self.planner.clear();
+        self.blocks_pushed = self.blocks_done;
+        self.awaiting.clear();
+    }
+
     fn cancel_jog(&mut self) {
         // grbl decelerates and then flushes every jog block; stopping at once is the limit
         // of that with this model's infinite acceleration.
-        self.planner.clear();
+        self.flush_planner();
         self.jogging = false;
         self.state = State::Idle;
         self.interp.pos = self.mpos;
@@ -301,7 +329,7 @@ impl Core {
         } else if self.state != State::Alarm {
             self.state = State::Idle;
         }
-        self.planner.clear();
+        self.flush_planner();
         self.pending = None;
         self.rx.clear();
         self.line.clear();
@@ -425,7 +453,7 @@ impl Core {
     }
 
     fn alarm_soft_limit(&mut self, _: ()) {
-        self.planner.clear();
+        self.flush_planner();
         self.state = State::Alarm;
         self.interp.pos = self.mpos;
         self.say("ALARM:2");
@@ -457,6 +485,7 @@ impl Core {
                 done: 0.0,
                 length,
             });
+            self.blocks_pushed += 1;
             if self.state == State::Idle {
                 self.state = if self.jogging { State::Jog } else { State::Run };
             }
@@ -470,7 +499,8 @@ impl Core {
         }
         let p = self.pending.take().expect("pending checked above");
         if let Some(l) = p.line {
-            self.executed.push(l);
+            self.awaiting.push_back((l, self.blocks_pushed));
+            self.record_done();
         }
         match p.flow {
             Flow::Pause => self.state = State::Hold(0),
@@ -584,6 +614,8 @@ impl Core {
                 dt -= t_left;
                 self.mpos = b.to;
                 self.planner.pop_front();
+                self.blocks_done += 1;
+                self.record_done();
                 if self.planner.is_empty() {
                     self.speed = 0.0;
                     let more = !self.rx.is_empty() || self.pending.is_some();
@@ -615,6 +647,8 @@ impl Core {
                 d -= left;
                 self.mpos = b.to;
                 self.planner.pop_front();
+                self.blocks_done += 1;
+                self.record_done();
             } else {
                 b.done += d;
                 let t = b.done / b.length.max(1e-12);

@@ -48,16 +48,16 @@ pub fn connect(ep: &Endpoint) -> Sender {
     Sender::connect(ep, options()).expect("connect to emulator")
 }
 
-/// A square spiral of short G1 moves ending at a known point, with modal lines mixed in.
+/// A staircase of short G1 moves (it never crosses itself, so a stop position names one
+/// line) ending at a known point, with modal lines mixed in.
 pub fn program(n: usize) -> String {
     let mut s = String::from("G21 G90 G94 (setup)\nG0 Z2\nS1000 M3\nG1 Z-0.5 F3000\n");
     let (mut x, mut y) = (0.0f64, 0.0f64);
     for i in 0..n {
-        match i % 4 {
-            0 => x += 1.0 + (i % 7) as f64 * 0.1,
-            1 => y += 1.0 + (i % 5) as f64 * 0.1,
-            2 => x -= 0.5,
-            _ => y -= 0.5,
+        if i % 2 == 0 {
+            x += 0.4 + (i % 7) as f64 * 0.1;
+        } else {
+            y += 0.3 + (i % 5) as f64 * 0.1;
         }
         if i % 50 == 25 {
             s += "F6000\n";
