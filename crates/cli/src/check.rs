@@ -1,7 +1,8 @@
 //! `oficina check FILE`: every diagnostic with its place (the check goes on after errors),
 //! then what the program does: extents, path length, tools and a time estimate.
 
-use crate::gcode_input::{print_diagnostics, ProgramArgs};
+use crate::gcode_input::{print_diagnostics, CanonStream, ProgramArgs};
+use crate::machine_profile;
 use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
 use oficina_gcode::Severity;
@@ -11,20 +12,32 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
-    /// Rapid rate for the feed-rate estimate, mm/min.
-    #[arg(long, default_value_t = 5000.0)]
-    pub rapid_rate: f64,
+    /// Machine profile (file or bundled name) whose planner gives the time estimate.
+    #[arg(long, default_value = machine_profile::DEFAULT)]
+    pub machine: String,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let opts = args.program.run_options(true)?;
     let source = args.program.open()?;
-    let mut summarizer = Summarizer::new(Pos::ZERO, args.rapid_rate);
+    let profile = machine_profile::resolve(&args.machine)?;
+    let [x, y, z] = profile.start;
+    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), linear_rapid_rate(&profile));
     let mut ops = 0u64;
-    let diags = oficina_gcode::program::run(source, &opts, &mut |c| {
+    let mut stream = CanonStream::spawn(source, opts);
+    let planned = oficina_motion::estimate(
+        stream.by_ref().inspect(|c| {
+            ops += 1;
+            summarizer.add(&c.op);
+        }),
+        &profile,
+    );
+    // The planner may stop early (an unreachable point); the summary still covers it all.
+    for c in stream.by_ref() {
         ops += 1;
         summarizer.add(&c.op);
-    });
+    }
+    let diags = stream.finish();
     print_diagnostics(&args.program.file, &diags);
     let errors = diags
         .iter()
@@ -42,11 +55,34 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ops
     );
     print_summary(&summary);
+    match planned {
+        Ok(e) => println!(
+            "  time estimate           {} on {} (look-ahead planner, {} segments)",
+            hms(e.seconds),
+            args.machine,
+            e.segments
+        ),
+        Err(e) => println!(
+            "  time estimate           not available on {}: {e}",
+            args.machine
+        ),
+    }
     Ok(if errors > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The slowest linear joint's top speed, mm/min: what G0 reaches on a long diagonal at most.
+fn linear_rapid_rate(profile: &oficina_motion::Profile) -> f64 {
+    let linear = profile
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(i, j)| j.as_ref().filter(|_| !profile.kinematics.is_angular(i)))
+        .map(|j| j.max_rate * 60.0);
+    linear.fold(f64::INFINITY, f64::min).min(1e9)
 }
 
 fn plural(n: usize) -> &'static str {
@@ -78,7 +114,7 @@ fn print_summary(s: &Summary) {
         }
     );
     print!(
-        "  time estimate           {} (feed rates only, no acceleration",
+        "  feed-rate time          {} (programmed feeds only, no acceleration",
         hms(s.feed_rate_seconds)
     );
     if s.untimed_moves > 0 {

@@ -115,3 +115,74 @@ pub fn print_diagnostics(path: &Path, diags: &[Diagnostic]) {
         );
     }
 }
+
+/// Operations handed over per message: large enough that the channel costs nothing per op.
+const CHUNK: usize = 4096;
+/// Chunks in flight: bounds the memory between the interpreter and its consumer.
+const CHUNKS_IN_FLIGHT: usize = 8;
+
+/// A program interpreted on its own thread, its operations read as an iterator: the
+/// push-style interpreter and a pull-style consumer (the planner) meet in bounded memory.
+pub struct CanonStream {
+    rx: std::sync::mpsc::Receiver<Vec<oficina_canon::Canon>>,
+    chunk: std::vec::IntoIter<oficina_canon::Canon>,
+    worker: Option<std::thread::JoinHandle<Vec<Diagnostic>>>,
+}
+
+impl CanonStream {
+    pub fn spawn<R: BufRead + std::io::Seek + Send + 'static>(
+        source: R,
+        opts: RunOptions,
+    ) -> CanonStream {
+        let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<oficina_canon::Canon>>(CHUNKS_IN_FLIGHT);
+        let worker = std::thread::spawn(move || {
+            let mut pending = Vec::with_capacity(CHUNK);
+            let mut consumer_gone = false;
+            let diags = oficina_gcode::program::run(source, &opts, &mut |c| {
+                if consumer_gone {
+                    return;
+                }
+                pending.push(c);
+                if pending.len() == CHUNK {
+                    let full = std::mem::replace(&mut pending, Vec::with_capacity(CHUNK));
+                    consumer_gone = tx.send(full).is_err();
+                }
+            });
+            if !pending.is_empty() && !consumer_gone {
+                let _ = tx.send(pending);
+            }
+            diags
+        });
+        CanonStream {
+            rx,
+            chunk: Vec::new().into_iter(),
+            worker: Some(worker),
+        }
+    }
+
+    /// Wait for the interpreter and take its diagnostics (drops whatever was not read).
+    pub fn finish(mut self) -> Vec<Diagnostic> {
+        let worker = self.worker.take();
+        drop(self);
+        match worker.map(|w| w.join()) {
+            Some(Ok(d)) => d,
+            Some(Err(_)) => vec![Diagnostic::error(
+                oficina_gcode::Span::line(0),
+                "the interpreter stopped unexpectedly (internal error)",
+            )],
+            None => Vec::new(),
+        }
+    }
+}
+
+impl Iterator for CanonStream {
+    type Item = oficina_canon::Canon;
+    fn next(&mut self) -> Option<oficina_canon::Canon> {
+        loop {
+            if let Some(c) = self.chunk.next() {
+                return Some(c);
+            }
+            self.chunk = self.rx.recv().ok()?.into_iter();
+        }
+    }
+}

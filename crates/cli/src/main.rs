@@ -6,6 +6,7 @@ mod carve;
 mod check;
 mod gcode_canon;
 mod gcode_input;
+mod machine_profile;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
