@@ -6,8 +6,11 @@
 //! reading speed in MB/s). Both are deterministic, so figures from different runs compare.
 
 use anyhow::{bail, Context};
+use oficina_gcode::print::Rs274Printer;
+use oficina_gcode::program::{self, RunOptions};
+use oficina_gcode::{Diagnostic, Severity};
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -164,18 +167,68 @@ fn time_rs274(program: &Path, tools: &Path, output: &Path) -> Timing {
     }
 }
 
+/// Times Oficina's whole pipeline (read, expressions, interpreter) into a sink that only
+/// counts the operations.
+fn time_oficina_counting(program: &Path) -> anyhow::Result<(Timing, u64)> {
+    let file = File::open(program).with_context(|| format!("cannot open {}", program.display()))?;
+    let mut ops = 0u64;
+    let started = Instant::now();
+    let diagnostics = program::run(BufReader::new(file), &RunOptions::default(), &mut |_| {
+        ops += 1
+    });
+    Ok((finish_timing(started, &diagnostics), ops))
+}
+
+/// Times the same pipeline printing rs274's text to a file: the work rs274 does in the run
+/// it is compared with.
+fn time_oficina_printing(program: &Path, output: &Path) -> anyhow::Result<Timing> {
+    let file = File::open(program).with_context(|| format!("cannot open {}", program.display()))?;
+    let out =
+        File::create(output).with_context(|| format!("cannot create {}", output.display()))?;
+    let mut out = BufWriter::new(out);
+    let mut printer = Rs274Printer::new().numbered();
+    let mut write_error = None;
+    let started = Instant::now();
+    let diagnostics = program::run(BufReader::new(file), &RunOptions::default(), &mut |c| {
+        if write_error.is_none() {
+            write_error = printer.print(&c, &mut out).err();
+        }
+    });
+    if let Some(e) = write_error.or_else(|| out.flush().err()) {
+        bail!("cannot write {}: {e}", output.display());
+    }
+    Ok(finish_timing(started, &diagnostics))
+}
+
+fn finish_timing(started: Instant, diagnostics: &[Diagnostic]) -> Timing {
+    let elapsed = started.elapsed();
+    match diagnostics.iter().find(|d| d.severity == Severity::Error) {
+        Some(d) => Timing::Unavailable(format!("oficina rejected the program: {d}")),
+        None => Timing::Took(elapsed),
+    }
+}
+
 fn print_row(who: &str, timing: &Timing, blocks: u64, bytes: u64) {
     match timing {
         Timing::Took(d) => {
             let s = d.as_secs_f64();
             println!(
-                "  {who:<10} {:>9.3} s  {:>12.0} blocks/s  {:>8.2} MB/s",
+                "  {who:<22} {:>8.3} s  {:>12.0} blocks/s  {:>8.2} MB/s",
                 s,
                 blocks as f64 / s,
                 bytes as f64 / s / 1e6
             );
         }
-        Timing::Unavailable(why) => println!("  {who:<10} unavailable: {why}"),
+        Timing::Unavailable(why) => println!("  {who:<22} unavailable: {why}"),
+    }
+}
+
+fn print_ratio(ours: &Timing, peer: &Timing) {
+    if let (Timing::Took(o), Timing::Took(p)) = (ours, peer) {
+        println!(
+            "  oficina (printing) runs at {:.2}x the speed of rs274",
+            p.as_secs_f64() / o.as_secs_f64()
+        );
     }
 }
 
@@ -192,6 +245,7 @@ pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
     let tools = dir.path().join("tool.tbl");
     std::fs::write(&tools, "T1 P1 D0.125 Z0.5 ;\n").context("cannot write the tool table")?;
     let rs274_out = dir.path().join("rs274.out");
+    let oficina_out = dir.path().join("oficina.out");
 
     for (label, path, writer) in [
         (
@@ -208,8 +262,14 @@ pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
             bytes as f64 / 1e6,
             path.display()
         );
+        let (counting, ops) = time_oficina_counting(path)?;
+        let printing = time_oficina_printing(path, &oficina_out)?;
         let peer = time_rs274(path, &tools, &rs274_out);
-        print_row("rs274", &peer, args.blocks, bytes);
+        print_row("oficina, counting ops", &counting, args.blocks, bytes);
+        print_row("oficina, printing", &printing, args.blocks, bytes);
+        print_row("rs274 -g, printing", &peer, args.blocks, bytes);
+        print_ratio(&printing, &peer);
+        println!("  ({ops} canonical operations)");
     }
     if let Some(kept) = &args.keep {
         println!("kept the mixed program at {}", kept.display());
