@@ -1,0 +1,368 @@
+//! `oficina console`: a terminal to grbl-family firmware (serial, TCP or the built-in
+//! emulator) with a live status line, and the job runner: stream a file with progress and
+//! ETA, hold / resume / stop from the keyboard, and resume from a line or from the journal
+//! after a stop, an error, a crash or a pulled cable.
+
+use anyhow::{bail, Context};
+use oficina_grbl::emulator::{Config, Emulator};
+use oficina_grbl::job::Job;
+use oficina_grbl::journal::Journal;
+use oficina_grbl::link::Event;
+use oficina_grbl::messages;
+use oficina_grbl::realtime::Realtime;
+use oficina_grbl::response::Response;
+use oficina_grbl::resume::ResumeOptions;
+use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
+use oficina_grbl::status::Status;
+use oficina_grbl::transport::{self, Endpoint};
+use std::io::BufRead;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Serial port of the board, e.g. /dev/ttyUSB0 or COM3.
+    #[arg(long, conflicts_with_all = ["tcp", "emulator"])]
+    pub port: Option<String>,
+    #[arg(long, default_value_t = 115_200)]
+    pub baud: u32,
+    /// Network firmware (grblHAL, FluidNC): HOST:PORT.
+    #[arg(long, conflicts_with = "emulator")]
+    pub tcp: Option<String>,
+    /// Start the built-in grbl emulator and talk to it over a pseudo-terminal.
+    #[arg(long)]
+    pub emulator: bool,
+    /// List serial ports and exit.
+    #[arg(long)]
+    pub list_ports: bool,
+    /// Stream this G-code file instead of the interactive terminal.
+    #[arg(long, value_name = "FILE")]
+    pub job: Option<PathBuf>,
+    /// Resume the job from this line of the file (modal state rebuilt, safe approach).
+    #[arg(long, value_name = "N", requires = "job", conflicts_with = "resume")]
+    pub from_line: Option<usize>,
+    /// Resume the job where its journal says the last run stopped.
+    #[arg(long, requires = "job")]
+    pub resume: bool,
+    /// Journal of acknowledged lines (default: FILE.journal).
+    #[arg(long, value_name = "PATH")]
+    pub journal: Option<PathBuf>,
+    /// Work Z (mm) to travel at when approaching a resume point.
+    #[arg(long, default_value_t = 5.0)]
+    pub safe_z: f64,
+    /// Feed (mm/min) of the final approach move down to the resume point.
+    #[arg(long, default_value_t = 300.0)]
+    pub plunge_feed: f64,
+    /// Seconds to let the spindle reach speed before resuming a cut.
+    #[arg(long, default_value_t = 2.0)]
+    pub spindle_delay: f64,
+    /// On resume, unlock ($X) a machine left in alarm (only if you know its position holds).
+    #[arg(long)]
+    pub unlock: bool,
+    /// One line at a time instead of filling the firmware's buffer.
+    #[arg(long)]
+    pub send_response: bool,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if args.list_ports {
+        let ports = transport::list_ports().context("cannot list serial ports")?;
+        if ports.is_empty() {
+            println!("no serial ports found");
+        }
+        for p in ports {
+            println!("{}\t{}", p.path, p.kind);
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    // The emulator lives as long as this command.
+    let mut _emulator = None;
+    let endpoint = if let Some(port) = &args.port {
+        Endpoint::Serial {
+            path: port.clone(),
+            baud: args.baud,
+        }
+    } else if let Some(addr) = &args.tcp {
+        Endpoint::Tcp { addr: addr.clone() }
+    } else if args.emulator {
+        let emu = Emulator::start(Config {
+            settings: vec![
+                (110, 5000.0),
+                (111, 5000.0),
+                (112, 2000.0),
+                (120, 500.0),
+                (121, 500.0),
+                (122, 200.0),
+            ],
+            ..Config::default()
+        });
+        let path = emu
+            .serve_pty()
+            .context("cannot open a pseudo-terminal for the emulator")?;
+        eprintln!("emulator on {path}");
+        _emulator = Some(emu);
+        Endpoint::Serial {
+            path,
+            baud: 115_200,
+        }
+    } else {
+        bail!("say which machine: --port /dev/ttyUSB0, --tcp HOST:PORT or --emulator (see --list-ports)");
+    };
+    let options = SenderOptions {
+        mode: args.send_response.then_some(Mode::SendResponse),
+        ..SenderOptions::default()
+    };
+    let mut sender = Sender::connect(&endpoint, options)
+        .with_context(|| format!("cannot talk to grbl at {endpoint}"))?;
+    eprintln!(
+        "connected to grbl {} at {endpoint}: {}",
+        if sender.firmware.is_empty() {
+            "(version not reported)"
+        } else {
+            &sender.firmware
+        },
+        match sender.mode {
+            Mode::CharCounting(n) => format!("character counting, {n}-byte window"),
+            Mode::SendResponse => "send-response".into(),
+        }
+    );
+    match &args.job {
+        Some(path) => run_job(&mut sender, path, &args),
+        None => interactive(&mut sender),
+    }
+}
+
+/// Status line shared by the terminal and the job runner.
+fn status_line(st: &Status) -> String {
+    let pos = st
+        .mpos
+        .as_ref()
+        .map(|p| ("MPos", p))
+        .or(st.wpos.as_ref().map(|p| ("WPos", p)));
+    let mut s = format!("[{}]", st.state.name());
+    if let Some((k, p)) = pos {
+        s += &format!(
+            " {k} {}",
+            p.iter()
+                .map(|v| format!("{v:.3}"))
+                .collect::<Vec<_>>()
+                .join(",")
+        );
+    }
+    if let Some(f) = st.feed {
+        s += &format!(" F{f:.0}");
+    }
+    if let Some(sp) = st.spindle {
+        s += &format!(" S{sp:.0}");
+    }
+    if let Some((a, b, c)) = st.overrides {
+        s += &format!(" ov {a}/{b}/{c}%");
+    }
+    if let Some(pins) = &st.pins {
+        s += &format!(" pins {pins}");
+    }
+    s
+}
+
+fn stdin_lines() -> mpsc::Receiver<String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    rx
+}
+
+fn explain(resp: &Response, raw: &str) -> String {
+    match resp {
+        Response::Error(c) => messages::describe_error(*c),
+        Response::Alarm(c) => messages::describe_alarm(*c),
+        Response::Setting { number, .. } => match messages::setting_info(*number) {
+            Some(i) => format!("{raw:<18} ({}, {})", i.name, i.unit),
+            None => raw.to_string(),
+        },
+        _ => raw.to_string(),
+    }
+}
+
+fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
+    eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
+    let input = stdin_lines();
+    let mut last_query = Instant::now();
+    loop {
+        match input.try_recv() {
+            Ok(line) => {
+                let t = line.trim();
+                let r = match t {
+                    "/quit" | "/exit" => return Ok(ExitCode::SUCCESS),
+                    "!" => sender.realtime(Realtime::FeedHold),
+                    "~" => sender.realtime(Realtime::CycleStart),
+                    "?" => sender.realtime(Realtime::StatusQuery),
+                    "^X" | "/reset" => sender.realtime(Realtime::SoftReset),
+                    "/door" => sender.realtime(Realtime::SafetyDoor),
+                    "/jogcancel" => sender.realtime(Realtime::JogCancel),
+                    "" => Ok(()),
+                    _ => sender.link().send_line(t),
+                };
+                r.context("write to the firmware failed")?;
+            }
+            Err(mpsc::TryRecvError::Disconnected) => return Ok(ExitCode::SUCCESS),
+            Err(mpsc::TryRecvError::Empty) => {}
+        }
+        if last_query.elapsed() > Duration::from_millis(500) {
+            sender
+                .realtime(Realtime::StatusQuery)
+                .context("write to the firmware failed")?;
+            last_query = Instant::now();
+        }
+        match sender.link().recv(Duration::from_millis(20)) {
+            Some(Event::Line(Response::Status(st), _)) => {
+                eprint!("\r\x1b[K{}", status_line(&st));
+            }
+            Some(Event::Line(resp, raw)) => {
+                eprint!("\r\x1b[K");
+                println!("{}", explain(&resp, &raw));
+            }
+            Some(Event::Closed(why)) => bail!("connection closed: {why}"),
+            None => {}
+        }
+    }
+}
+
+fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<ExitCode> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
+    if job.is_empty() {
+        bail!("{}: no G-code lines to send", path.display());
+    }
+    let journal_path = args.journal.clone().unwrap_or_else(|| {
+        let mut p = path.clone().into_os_string();
+        p.push(".journal");
+        PathBuf::from(p)
+    });
+    let opts = ResumeOptions {
+        safe_z: args.safe_z,
+        plunge_feed: args.plunge_feed,
+        spindle_delay: args.spindle_delay,
+    };
+    let from = if let Some(n) = args.from_line {
+        job.index_of_file_line(n)
+            .with_context(|| format!("{}: no G-code at or after line {n}", path.display()))?
+    } else if args.resume {
+        let st = Journal::load(&journal_path, &job).map_err(anyhow::Error::msg)?;
+        if st.completed >= job.len() {
+            println!(
+                "{}: the journal says the job already completed",
+                path.display()
+            );
+            return Ok(ExitCode::SUCCESS);
+        }
+        let at = sender
+            .recover(&job, st.completed, st.sent_end, st.acked_end, args.unlock)
+            .map_err(anyhow::Error::msg)?;
+        eprintln!("resuming: {}", at.reason);
+        at.index
+    } else {
+        0
+    };
+    if from > 0 {
+        eprintln!(
+            "resume at {}:{}: restoring modal state and approaching at Z{}",
+            path.display(),
+            job.lines[from].file_line,
+            args.safe_z
+        );
+        sender
+            .run_preamble(&job, from, &opts)
+            .map_err(anyhow::Error::msg)?;
+    }
+    let mut journal = Journal::open(&journal_path, &job)
+        .with_context(|| format!("cannot write journal {}", journal_path.display()))?;
+    eprintln!("keys (then Enter): h hold, r resume, s stop");
+    let keys = stdin_lines();
+    let (ctl_tx, ctl_rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for k in keys.iter() {
+            let c = match k.trim() {
+                "h" | "!" | "" => Control::Hold,
+                "r" | "~" => Control::Resume,
+                "s" | "q" => Control::Stop,
+                _ => continue,
+            };
+            if ctl_tx.send(c).is_err() {
+                break;
+            }
+        }
+    });
+    let start = Instant::now();
+    let mut last = String::new();
+    let mut progress = (from, job.len(), 0u64, job.bytes_from(from) as u64);
+    let mut observer = |n: Notice| {
+        match n {
+            Notice::Progress {
+                acked,
+                total,
+                bytes_acked,
+                bytes_total,
+            } => progress = (acked, total, bytes_acked, bytes_total),
+            Notice::Status(st) => last = status_line(&st),
+            Notice::Message(m) => eprintln!("\r\x1b[K[MSG:{m}]"),
+            Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
+        }
+        let (acked, total, done, all) = progress;
+        let secs = start.elapsed().as_secs_f64();
+        let eta = if done > 0 {
+            (all - done) as f64 * secs / done as f64
+        } else {
+            f64::NAN
+        };
+        let eta = if eta.is_finite() {
+            format!("{}:{:02}", eta as u64 / 60, eta as u64 % 60)
+        } else {
+            "--:--".into()
+        };
+        eprint!(
+            "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {eta}",
+            100.0 * acked as f64 / total.max(1) as f64
+        );
+    };
+    let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
+    eprintln!();
+    println!("{}", report.describe(&job));
+    if let Some(r) = &report.resume {
+        if r.index < job.len() {
+            println!(
+                "to continue: oficina console {} --job {} --from-line {}   (or --resume to use the journal {})",
+                endpoint_flags(args),
+                path.display(),
+                job.lines[r.index].file_line,
+                journal_path.display()
+            );
+        }
+    } else if let StreamEnd::Disconnected(_) = report.end {
+        println!(
+            "after reconnecting: oficina console {} --job {} --resume",
+            endpoint_flags(args),
+            path.display()
+        );
+    }
+    Ok(if report.end == StreamEnd::Completed {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+fn endpoint_flags(args: &Args) -> String {
+    match (&args.port, &args.tcp) {
+        (Some(p), _) => format!("--port {p} --baud {}", args.baud),
+        (_, Some(t)) => format!("--tcp {t}"),
+        _ => "--emulator".into(),
+    }
+}

@@ -1,0 +1,105 @@
+//! `oficina emulate grbl`: a grbl 1.1 emulator on a pseudo-terminal and/or a TCP port, to
+//! dry-run jobs and senders (ours or any other) against the exact protocol.
+
+use anyhow::{bail, Context};
+use oficina_grbl::emulator::{Config, Emulator};
+use std::process::ExitCode;
+use std::time::Duration;
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum Firmware {
+    /// grbl 1.1h on an ATmega328P: 128-byte RX buffer, 15 planner blocks.
+    Grbl,
+}
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Firmware to emulate.
+    #[arg(value_enum)]
+    pub firmware: Firmware,
+    /// Serve on a new pseudo-terminal and print its path (open it as a serial port).
+    #[arg(long)]
+    pub pty: bool,
+    /// Serve on this TCP address, e.g. 127.0.0.1:2323 (port 0 picks a free one).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub tcp: Option<String>,
+    /// Serial line rate to emulate, bits/s (10 bits a byte); 0 = no limit.
+    #[arg(long, default_value_t = 115_200)]
+    pub baud: u32,
+    /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable).
+    #[arg(long = "set", value_name = "N=VALUE")]
+    pub settings: Vec<String>,
+    /// Stop after this many seconds (for scripts); default: run until interrupted.
+    #[arg(long, value_name = "SECONDS")]
+    pub for_seconds: Option<f64>,
+}
+
+fn parse_setting(s: &str) -> anyhow::Result<(u16, f64)> {
+    let (n, v) = s
+        .split_once('=')
+        .with_context(|| format!("--set {s}: expected N=VALUE, e.g. 110=5000"))?;
+    let n: u16 = n
+        .trim_start_matches('$')
+        .parse()
+        .with_context(|| format!("--set {s}: '{n}' is not a setting number"))?;
+    if oficina_grbl::messages::setting_info(n).is_none() {
+        bail!("--set {s}: grbl 1.1 has no setting ${n}");
+    }
+    let v: f64 = v
+        .parse()
+        .with_context(|| format!("--set {s}: '{v}' is not a number"))?;
+    Ok((n, v))
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let Firmware::Grbl = args.firmware;
+    if !args.pty && args.tcp.is_none() {
+        bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");
+    }
+    let settings = args
+        .settings
+        .iter()
+        .map(|s| parse_setting(s))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let config = Config {
+        baud: (args.baud > 0).then_some(args.baud),
+        settings,
+        ..Config::default()
+    };
+    let emu = Emulator::start(config);
+    if args.pty {
+        let path = emu.serve_pty().context("cannot open a pseudo-terminal")?;
+        println!("grbl emulator on pty {path} (open it as a serial port at any baud)");
+    }
+    if let Some(addr) = &args.tcp {
+        let local = emu
+            .serve_tcp(addr)
+            .with_context(|| format!("cannot listen on {addr}"))?;
+        println!("grbl emulator on tcp://{local}");
+    }
+    println!(
+        "line rate: {}",
+        if args.baud > 0 {
+            format!("{} baud ({} bytes/s)", args.baud, args.baud / 10)
+        } else {
+            "unlimited".into()
+        }
+    );
+    use std::io::Write;
+    std::io::stdout().flush().ok();
+    let start = std::time::Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(100));
+        if let Some(limit) = args.for_seconds {
+            if start.elapsed().as_secs_f64() >= limit {
+                break;
+            }
+        }
+    }
+    let st = emu.stats();
+    println!(
+        "emulator stats: {} bytes received, {} lines executed, {} errors sent, {} RX overflows",
+        st.bytes_received, st.lines_executed, st.errors_sent, st.rx_overflows
+    );
+    Ok(ExitCode::SUCCESS)
+}
