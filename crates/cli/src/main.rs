@@ -2,8 +2,11 @@
 //! arguments to the library crates; no domain logic here.
 
 mod bench_gcode;
+mod bench_stream;
 mod carve;
 mod check;
+mod console;
+mod emulate;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
@@ -34,6 +37,10 @@ enum Command {
     Gcode(GcodeCommand),
     /// Relief carving from a grayscale elevation image: program, preview and time estimate.
     Carve(carve::Args),
+    /// Terminal to grbl-family firmware, and the job runner with hold/resume/stop and resume-from-line.
+    Console(console::Args),
+    /// Emulate a grbl 1.1 board on a pseudo-terminal or TCP port, for dry runs.
+    Emulate(emulate::Args),
 }
 
 #[derive(Subcommand)]
@@ -46,6 +53,8 @@ enum GcodeCommand {
 enum BenchCommand {
     /// Interpreter throughput on a generated 1,000,000-block program, beside LinuxCNC's rs274.
     Gcode(bench_gcode::BenchGcodeArgs),
+    /// Streaming to the grbl emulator over a 115200-baud pty: chars/s vs line rate, planner starvation.
+    Stream(bench_stream::Args),
 }
 
 fn main() -> ExitCode {
@@ -54,8 +63,11 @@ fn main() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Gcode(GcodeCommand::Canon(args)) => gcode_canon::run(args),
         Command::Carve(args) => carve::run(args),
+        Command::Console(args) => console::run(args),
+        Command::Emulate(args) => emulate::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {
