@@ -14,6 +14,8 @@ const TICK: Duration = Duration::from_millis(1);
 /// Late bytes may catch up at most this much, so a sleep overshoot does not slow the wire
 /// while an idle pause does not turn into a burst faster than the line rate.
 const PACING_SLACK: Duration = Duration::from_millis(1);
+/// How far a late reader may catch up on bytes that were already waiting on a busy wire.
+const CATCH_UP: Duration = Duration::from_millis(20);
 
 struct Shared {
     core: Mutex<Core>,
@@ -43,12 +45,15 @@ impl Pacer {
         }
     }
 
-    /// Waits for the wire slot of one byte.
-    fn wait(&mut self) {
+    /// Waits for the wire slot of one byte. `was_waiting` says the byte was already queued
+    /// when read (the reader was late, the wire was busy: keep the schedule) rather than
+    /// just arrived on an idle wire (start the schedule now).
+    fn wait(&mut self, was_waiting: bool) {
         let Some(bt) = self.byte_time else { return };
         let now = Instant::now();
-        if now > self.next + PACING_SLACK {
-            self.next = now - PACING_SLACK;
+        let slack = if was_waiting { CATCH_UP } else { PACING_SLACK };
+        if now > self.next + slack {
+            self.next = now - slack;
         }
         if self.next > now + PACING_SLACK {
             thread::sleep(self.next - now);
@@ -204,11 +209,15 @@ impl EmuHandle {
             let mut pacer = Pacer::new(baud);
             let mut buf = [0u8; 256];
             while current_r(&s) {
+                let asked = Instant::now();
                 match reader.read(&mut buf) {
                     Ok(0) => break,
                     Ok(n) => {
+                        // A read that returns at once found bytes queued behind earlier ones.
+                        let mut was_waiting = asked.elapsed() < Duration::from_micros(50);
                         for &b in &buf[..n] {
-                            pacer.wait();
+                            pacer.wait(was_waiting);
+                            was_waiting = true;
                             lock(&s.core).receive(b);
                         }
                     }
