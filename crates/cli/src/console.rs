@@ -21,6 +21,14 @@ use std::process::ExitCode;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+/// `println!` that does not panic when whoever reads our output went away.
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Serial port of the board, e.g. /dev/ttyUSB0 or COM3.
@@ -70,10 +78,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if args.list_ports {
         let ports = transport::list_ports().context("cannot list serial ports")?;
         if ports.is_empty() {
-            println!("no serial ports found");
+            say!("no serial ports found");
         }
         for p in ports {
-            println!("{}\t{}", p.path, p.kind);
+            say!("{}\t{}", p.path, p.kind);
         }
         return Ok(ExitCode::SUCCESS);
     }
@@ -101,7 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let path = emu
             .serve_pty()
             .context("cannot open a pseudo-terminal for the emulator")?;
-        eprintln!("emulator on {path}");
+        esay!("emulator on {path}");
         _emulator = Some(emu);
         Endpoint::Serial {
             path,
@@ -116,7 +124,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let mut sender = Sender::connect(&endpoint, options)
         .with_context(|| format!("cannot talk to grbl at {endpoint}"))?;
-    eprintln!(
+    esay!(
         "connected to grbl {} at {endpoint}: {}",
         if sender.firmware.is_empty() {
             "(version not reported)"
@@ -191,7 +199,7 @@ fn explain(resp: &Response, raw: &str) -> String {
 }
 
 fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
-    eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
+    esay!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
     let input = stdin_lines();
     let mut last_query = Instant::now();
     loop {
@@ -226,7 +234,7 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             }
             Some(Event::Line(resp, raw)) => {
                 eprint!("\r\x1b[K");
-                println!("{}", explain(&resp, &raw));
+                say!("{}", explain(&resp, &raw));
             }
             Some(Event::Closed(why)) => bail!("connection closed: {why}"),
             None => {}
@@ -257,7 +265,7 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
     } else if args.resume {
         let st = Journal::load(&journal_path, &job).map_err(anyhow::Error::msg)?;
         if st.completed >= job.len() {
-            println!(
+            say!(
                 "{}: the journal says the job already completed",
                 path.display()
             );
@@ -266,13 +274,13 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
         let at = sender
             .recover(&job, st.completed, st.sent_end, st.acked_end, args.unlock)
             .map_err(anyhow::Error::msg)?;
-        eprintln!("resuming: {}", at.reason);
+        esay!("resuming: {}", at.reason);
         at.index
     } else {
         0
     };
     if from > 0 {
-        eprintln!(
+        esay!(
             "resume at {}:{}: restoring modal state and approaching at Z{}",
             path.display(),
             job.lines[from].file_line,
@@ -284,7 +292,7 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
     }
     let mut journal = Journal::open(&journal_path, &job)
         .with_context(|| format!("cannot write journal {}", journal_path.display()))?;
-    eprintln!("keys (then Enter): h hold, r resume, s stop");
+    esay!("keys (then Enter): h hold, r resume, s stop");
     let keys = stdin_lines();
     let (ctl_tx, ctl_rx) = mpsc::channel();
     std::thread::spawn(move || {
@@ -312,8 +320,8 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
                 bytes_total,
             } => progress = (acked, total, bytes_acked, bytes_total),
             Notice::Status(st) => last = status_line(&st),
-            Notice::Message(m) => eprintln!("\r\x1b[K[MSG:{m}]"),
-            Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
+            Notice::Message(m) => esay!("\r\x1b[K[MSG:{m}]"),
+            Notice::Unexpected(u) => esay!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
         }
         let (acked, total, done, all) = progress;
         let secs = start.elapsed().as_secs_f64();
@@ -333,11 +341,11 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
         );
     };
     let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
-    eprintln!();
-    println!("{}", report.describe(&job));
+    esay!();
+    say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {
         if r.index < job.len() {
-            println!(
+            say!(
                 "to continue: oficina console {} --job {} --from-line {}   (or --resume to use the journal {})",
                 endpoint_flags(args),
                 path.display(),
@@ -346,7 +354,7 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
             );
         }
     } else if let StreamEnd::Disconnected(_) = report.end {
-        println!(
+        say!(
             "after reconnecting: oficina console {} --job {} --resume",
             endpoint_flags(args),
             path.display()

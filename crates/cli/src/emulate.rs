@@ -3,6 +3,7 @@
 
 use anyhow::{bail, Context};
 use oficina_grbl::emulator::{Config, Emulator};
+use std::io::Write;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -69,24 +70,24 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let emu = Emulator::start(config);
     if args.pty {
         let path = emu.serve_pty().context("cannot open a pseudo-terminal")?;
-        println!("grbl emulator on pty {path} (open it as a serial port at any baud)");
+        say(&format!(
+            "grbl emulator on pty {path} (open it as a serial port at any baud)"
+        ));
     }
     if let Some(addr) = &args.tcp {
         let local = emu
             .serve_tcp(addr)
             .with_context(|| format!("cannot listen on {addr}"))?;
-        println!("grbl emulator on tcp://{local}");
+        say(&format!("grbl emulator on tcp://{local}"));
     }
-    println!(
+    say(&format!(
         "line rate: {}",
         if args.baud > 0 {
             format!("{} baud ({} bytes/s)", args.baud, args.baud / 10)
         } else {
             "unlimited".into()
         }
-    );
-    use std::io::Write;
-    std::io::stdout().flush().ok();
+    ));
     let start = std::time::Instant::now();
     loop {
         std::thread::sleep(Duration::from_millis(100));
@@ -97,9 +98,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     }
     let st = emu.stats();
-    println!(
+    say(&format!(
         "emulator stats: {} bytes received, {} lines executed, {} errors sent, {} RX overflows",
         st.bytes_received, st.lines_executed, st.errors_sent, st.rx_overflows
-    );
+    ));
     Ok(ExitCode::SUCCESS)
+}
+
+/// Prints a line. Whoever started us may have stopped reading our output: that must not
+/// take the emulator down.
+fn say(s: &str) {
+    let mut out = std::io::stdout();
+    let _ = writeln!(out, "{s}");
+    let _ = out.flush();
 }

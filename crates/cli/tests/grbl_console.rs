@@ -1,0 +1,158 @@
+//! End-to-end: `oficina emulate grbl` in one process, `oficina console` in another, over
+//! loopback TCP, as a user would run them; and a short `oficina bench stream`.
+
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+const BIN: &str = env!("CARGO_BIN_EXE_oficina");
+
+struct Emu(
+    Child,
+    #[allow(dead_code)] BufReader<std::process::ChildStdout>,
+);
+
+impl Drop for Emu {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn start_emulator() -> (Emu, String) {
+    let mut child = Command::new(BIN)
+        .args([
+            "emulate",
+            "grbl",
+            "--tcp",
+            "127.0.0.1:0",
+            "--for-seconds",
+            "60",
+        ])
+        .args([
+            "--set",
+            "110=60000",
+            "--set",
+            "111=60000",
+            "--set",
+            "112=60000",
+        ])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("start emulator");
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    out.read_line(&mut line).unwrap();
+    let addr = line
+        .split("tcp://")
+        .nth(1)
+        .expect("emulator prints its address")
+        .trim()
+        .to_string();
+    (Emu(child, out), addr)
+}
+
+fn write_job(name: &str, lines: usize) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("oficina-grbl-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("job.nc");
+    let mut s = String::from("(test job)\nG21 G90\nG0 Z1\nG1 Z-0.2 F3000\n");
+    for i in 1..=lines {
+        s += &format!("G1 X{:.2} Y{:.2}\n", i as f64 * 0.5, (i % 2) as f64);
+    }
+    s += "G0 Z1\nM30\n";
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+fn console(addr: &str, extra: &[&str]) -> std::process::Output {
+    Command::new(BIN)
+        .args(["console", "--tcp", addr])
+        .args(extra)
+        .stdin(Stdio::null())
+        .output()
+        .expect("run console")
+}
+
+#[test]
+fn console_streams_a_job_then_resumes_from_a_line() {
+    let (_emu, addr) = start_emulator();
+    let job = write_job("run", 80);
+    let out = console(&addr, &["--job", job.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("all 85 lines done"), "{stdout}");
+    // Resume from file line 50 (G1 X23.00 Y0.00): preamble, approach, then the rest.
+    let out = console(
+        &addr,
+        &[
+            "--job",
+            job.to_str().unwrap(),
+            "--from-line",
+            "50",
+            "--safe-z",
+            "1",
+            "--spindle-delay",
+            "0",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains(":50: restoring modal state"), "{stderr}");
+    // A line past the end is refused with the file named.
+    let out = console(
+        &addr,
+        &["--job", job.to_str().unwrap(), "--from-line", "999"],
+    );
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no G-code at or after line 999"));
+}
+
+#[test]
+fn console_terminal_names_settings_and_errors() {
+    let (_emu, addr) = start_emulator();
+    let mut child = Command::new(BIN)
+        .args(["console", "--tcp", &addr])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    writeln!(stdin, "$$").unwrap();
+    writeln!(stdin, "G1 X1").unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    writeln!(stdin, "/quit").unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("(X-axis maximum rate, mm/min)"), "{stdout}");
+    assert!(stdout.contains("error:22 (Undefined feed rate"), "{stdout}");
+}
+
+#[test]
+fn emulate_refuses_bad_settings_and_bench_stream_reports_figures() {
+    let out = Command::new(BIN)
+        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0", "--set", "999=1"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no setting $999"));
+    let out = Command::new(BIN)
+        .args(["bench", "stream", "--lines", "400", "--run", "link"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("% of the line rate") && stdout.contains(" 0 overflows"),
+        "{stdout}"
+    );
+}
