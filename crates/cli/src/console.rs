@@ -109,7 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let path = emu
             .serve_pty()
             .context("cannot open a pseudo-terminal for the emulator")?;
-        esay!("emulator on {path}");
+        eprintln!("emulator on {path}");
         _emulator = Some(emu);
         Endpoint::Serial {
             path,
@@ -124,7 +124,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let mut sender = Sender::connect(&endpoint, options)
         .with_context(|| format!("cannot talk to grbl at {endpoint}"))?;
-    esay!(
+    eprintln!(
         "connected to grbl {} at {endpoint}: {}",
         if sender.firmware.is_empty() {
             "(version not reported)"
@@ -199,7 +199,7 @@ fn explain(resp: &Response, raw: &str) -> String {
 }
 
 fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
-    esay!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
+    eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
     let input = stdin_lines();
     let mut last_query = Instant::now();
     loop {
@@ -274,13 +274,13 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
         let at = sender
             .recover(&job, st.completed, st.sent_end, st.acked_end, args.unlock)
             .map_err(anyhow::Error::msg)?;
-        esay!("resuming: {}", at.reason);
+        eprintln!("resuming: {}", at.reason);
         at.index
     } else {
         0
     };
     if from > 0 {
-        esay!(
+        eprintln!(
             "resume at {}:{}: restoring modal state and approaching at Z{}",
             path.display(),
             job.lines[from].file_line,
@@ -292,7 +292,7 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
     }
     let mut journal = Journal::open(&journal_path, &job)
         .with_context(|| format!("cannot write journal {}", journal_path.display()))?;
-    esay!("keys (then Enter): h hold, r resume, s stop");
+    eprintln!("keys (then Enter): h hold, r resume, s stop");
     let keys = stdin_lines();
     let (ctl_tx, ctl_rx) = mpsc::channel();
     std::thread::spawn(move || {
@@ -320,8 +320,8 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
                 bytes_total,
             } => progress = (acked, total, bytes_acked, bytes_total),
             Notice::Status(st) => last = status_line(&st),
-            Notice::Message(m) => esay!("\r\x1b[K[MSG:{m}]"),
-            Notice::Unexpected(u) => esay!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
+            Notice::Message(m) => eprintln!("\r\x1b[K[MSG:{m}]"),
+            Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
         }
         let (acked, total, done, all) = progress;
         let secs = start.elapsed().as_secs_f64();
@@ -341,7 +341,7 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
         );
     };
     let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
-    esay!();
+    eprintln!();
     say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {
         if r.index < job.len() {
