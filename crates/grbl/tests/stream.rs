@@ -46,3 +46,57 @@ fn send_response_mode_also_completes() {
     assert!(report.max_in_flight <= 30);
     assert_eq!(emu.with_core(|c| c.executed.len()), job.len());
 }
+
+#[test]
+fn operator_hold_resume_stop_then_resume_from_the_located_line() {
+    use oficina_grbl::resume::ResumeOptions;
+    use oficina_grbl::sender::{Control, Notice};
+    use oficina_grbl::status::State;
+    let (emu, ep) = emulator(Some(115_200));
+    let mut s = connect(&ep);
+    let job = job(300);
+    let (tx, rx) = std::sync::mpsc::channel();
+    let mut acks = 0;
+    let mut held_seen = false;
+    let mut step = 0;
+    let report = s.stream(&job, 0, None, Some(&rx), &mut |n| match n {
+        Notice::Progress { acked, .. } => {
+            acks = acked;
+            if acked == 60 && step == 0 {
+                tx.send(Control::Hold).unwrap();
+                step = 1;
+            }
+        }
+        Notice::Status(st) => {
+            if step == 1 && st.state == State::Hold(0) {
+                held_seen = true;
+                tx.send(Control::Resume).unwrap();
+                step = 2;
+            } else if step == 2 && acks >= 150 {
+                tx.send(Control::Stop).unwrap();
+                step = 3;
+            }
+        }
+        _ => {}
+    });
+    assert!(held_seen, "the machine reached Hold:0 after a hold");
+    assert_eq!(report.end, StreamEnd::Stopped);
+    let at = report
+        .resume
+        .clone()
+        .expect("a stop at rest names the resume line");
+    assert!(at.index >= 100 && at.index <= report.acked_end, "{at:?}");
+    // The machine was reset at rest: idle, not in alarm, position kept.
+    assert_eq!(s.status().unwrap().state, State::Idle);
+    let opts = ResumeOptions {
+        safe_z: 2.0,
+        plunge_feed: 3000.0,
+        spindle_delay: 0.0,
+    };
+    s.run_preamble(&job, at.index, &opts).unwrap();
+    let done = s.stream(&job, at.index, None, None, &mut quiet());
+    assert_eq!(done.end, StreamEnd::Completed, "{}", done.describe(&job));
+    assert_eq!(emu.stats().rx_overflows, 0);
+    let expected = resume::replay(&job, job.len()).work_pos();
+    assert_eq!(done.work_pos, Some(expected));
+}

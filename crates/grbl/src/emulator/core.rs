@@ -317,12 +317,9 @@ impl Core {
     }
 
     fn soft_reset(&mut self) {
-        if self.moving()
-            || self
-                .pending
-                .as_ref()
-                .is_some_and(|p| !p.segments.is_empty())
-        {
+        // Only a reset while steps are being generated loses position; a completed hold
+        // with blocks still queued is grbl's safe way to cancel a job.
+        if self.moving() {
             // Stopping without deceleration loses steps on a real machine: grbl says so.
             self.state = State::Alarm;
             self.say("ALARM:3");
