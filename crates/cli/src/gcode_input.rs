@@ -23,6 +23,26 @@ pub struct ProgramArgs {
     /// Skip blocks that start with `/`.
     #[arg(long)]
     pub block_delete: bool,
+    /// Machine units: the unit of the tool table and of the offset parameters (#5161…,
+    /// #5211…, #5221…). `gcode canon` defaults to inch like LinuxCNC's standalone `rs274`;
+    /// `check` to mm.
+    #[arg(long, value_enum)]
+    pub machine_units: Option<MachineUnits>,
+}
+
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MachineUnits {
+    Mm,
+    Inch,
+}
+
+impl From<MachineUnits> for Units {
+    fn from(u: MachineUnits) -> Units {
+        match u {
+            MachineUnits::Mm => Units::Mm,
+            MachineUnits::Inch => Units::Inch,
+        }
+    }
 }
 
 impl ProgramArgs {
@@ -42,10 +62,18 @@ impl ProgramArgs {
             }
         };
         opts.block_delete = self.block_delete;
+        // `gcode canon` exists to be compared with `rs274`, whose machine is in inches.
+        let default_units = if check_mode {
+            MachineUnits::Mm
+        } else {
+            MachineUnits::Inch
+        };
+        let machine_units: Units = self.machine_units.unwrap_or(default_units).into();
+        opts.start.machine_units = machine_units;
         if let Some(path) = &self.tool_table {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read tool table {}", path.display()))?;
-            opts.tool_table = ToolTable::parse(&text, Units::Mm).map_err(|d| {
+            opts.tool_table = ToolTable::parse(&text, machine_units).map_err(|d| {
                 anyhow::anyhow!(
                     "{}",
                     d.render(

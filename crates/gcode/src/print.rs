@@ -110,10 +110,11 @@ impl Rs274Printer {
             }
             CanonOp::SetFeedMode(m) => {
                 self.feed_mode = *m;
+                // rs274's canon knows per minute (0) and per revolution (1); inverse time
+                // is per minute with a rate worked out for each move.
                 let n = match m {
-                    FeedMode::UnitsPerMinute => 0,
-                    FeedMode::InverseTime => 1,
-                    FeedMode::UnitsPerRev => 2,
+                    FeedMode::UnitsPerMinute | FeedMode::InverseTime => 0,
+                    FeedMode::UnitsPerRev => 1,
                 };
                 write!(out, "SET_FEED_MODE(0, {n})")
             }

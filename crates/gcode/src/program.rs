@@ -2,6 +2,7 @@
 //! operations) joined, streaming. Nothing is kept per block, so a program of any size runs
 //! in constant memory (the diagnostics of check mode are bounded too).
 
+use crate::block::Block;
 use crate::diag::{Diagnostic, Span};
 use crate::exec::Executor;
 use crate::interp::tool_table::ToolTable;
@@ -43,6 +44,8 @@ pub struct Driver {
     continue_after_error: bool,
     limit: usize,
     ended: bool,
+    /// Refresh `#<_x>` and friends after every block (only programs that read them pay).
+    named_params: bool,
 }
 
 impl Driver {
@@ -62,7 +65,15 @@ impl Driver {
                 opts.max_diagnostics
             },
             ended: false,
+            named_params: true,
         }
+    }
+
+    /// Whether the program may read system parameters such as `#<_x>`; when it cannot,
+    /// the driver skips their refresh after each block (a map update per name).
+    pub fn refresh_named_params(mut self, on: bool) -> Driver {
+        self.named_params = on;
+        self
     }
 
     fn report(&mut self, d: Diagnostic) {
@@ -83,11 +94,17 @@ impl Driver {
         exec: &mut Executor<R>,
         sink: &mut dyn FnMut(Canon),
     ) -> Vec<Diagnostic> {
-        while let Some(next) = exec.next_block(&mut self.params) {
-            let result = next.and_then(|block| {
-                let flow = self.interp.execute(&block, &mut self.params, sink)?;
-                Ok(flow)
-            });
+        // One block reused throughout: no allocation per block on the straight path.
+        let mut block = Block::default();
+        loop {
+            let result = match exec.read_block(&mut self.params, &mut block) {
+                Ok(false) => break,
+                Ok(true) => self.interp.execute(&block, &mut self.params, sink),
+                Err(e) => Err(e),
+            };
+            if self.named_params {
+                self.interp.update_named_params(&mut self.params);
+            }
             match result {
                 Ok(Flow::End) => {
                     self.ended = true;
@@ -120,9 +137,37 @@ pub fn run(
     opts: &RunOptions,
     sink: &mut dyn FnMut(Canon),
 ) -> Vec<Diagnostic> {
+    let mut source = source;
+    // A program that cannot be scanned is assumed to read them.
+    let named = mentions_system_params(&mut source).unwrap_or(true);
     let mut exec = Executor::new(source, opts.dialect);
     exec.set_block_delete(opts.block_delete);
-    Driver::new(opts, sink).run(&mut exec, sink)
+    Driver::new(opts, sink)
+        .refresh_named_params(named)
+        .run(&mut exec, sink)
+}
+
+/// Whether the text contains `<_` (as in `#<_x>`), scanning once and rewinding. False
+/// positives only cost speed.
+fn mentions_system_params(source: &mut (impl BufRead + Seek)) -> std::io::Result<bool> {
+    let start = source.stream_position()?;
+    let mut found = false;
+    let mut last = 0u8;
+    loop {
+        let buf = source.fill_buf()?;
+        if buf.is_empty() {
+            break;
+        }
+        let n = buf.len();
+        found = (last == b'<' && buf[0] == b'_') || buf.windows(2).any(|w| w == b"<_");
+        last = buf[n - 1];
+        source.consume(n);
+        if found {
+            break;
+        }
+    }
+    source.seek(std::io::SeekFrom::Start(start))?;
+    Ok(found)
 }
 
 /// [`run`] over a string.

@@ -7,10 +7,21 @@ mod support;
 #[test]
 #[ignore]
 fn print_file_as_rs274() {
-    let Ok(path) = std::env::var("OFICINA_NGC") else { return };
+    let Ok(path) = std::env::var("OFICINA_NGC") else {
+        return;
+    };
     let text = std::fs::read_to_string(path).unwrap();
-    let tools = if std::env::var("OFICINA_TBL").is_ok() { support::corpus_tools() } else { Default::default() };
-    let r = support::run_with(&text, oficina_gcode::Dialect::LinuxCnc, tools, Default::default());
+    let tools = if std::env::var("OFICINA_TBL").is_ok() {
+        support::corpus_tools()
+    } else {
+        Default::default()
+    };
+    let r = support::run_with(
+        &text,
+        oficina_gcode::Dialect::LinuxCnc,
+        tools,
+        Default::default(),
+    );
     let mut p = oficina_gcode::print::Rs274Printer::new();
     let mut out = std::io::stdout();
     for c in &r.ops {

@@ -369,8 +369,8 @@ impl Interpreter {
                 } else {
                     ijk[2]
                 };
-                self.emit(sink, CanonOp::StopSpindle);
                 self.cycle_move(sink, false, oa, ob, h.r);
+                self.emit(sink, CanonOp::StopSpindle);
                 self.cycle_move(sink, false, oa, ob, h.bottom);
                 self.cycle_move(sink, false, aa, bb, h.bottom);
                 if let Some(dir) = spindle {

@@ -144,6 +144,12 @@ impl Interpreter {
         self.modal.units.mm()
     }
 
+    /// Millimetres per machine unit: the unit of every offset parameter (#5161…, #5211…,
+    /// #5221…), as LinuxCNC stores them.
+    fn mk(&self) -> f64 {
+        self.machine_units.mm()
+    }
+
     pub(crate) fn emit(&self, sink: Sink, op: CanonOp) {
         sink(Canon {
             line: self.line,
@@ -307,7 +313,8 @@ impl Interpreter {
             match note {
                 Note::Message(m) => self.emit(sink, CanonOp::Message(m.clone())),
                 Note::Comment(c) => self.emit(sink, CanonOp::Comment(c.clone())),
-                Note::Debug(m) => self.emit(sink, CanonOp::Comment(m.clone())),
+                // rs274 shows (DEBUG,…) to the operator like (MSG,…).
+                Note::Debug(m) => self.emit(sink, CanonOp::Message(m.clone())),
             }
         }
         // 2. Feed rate mode.
@@ -318,6 +325,11 @@ impl Interpreter {
                 _ => FeedMode::UnitsPerMinute,
             };
             self.emit(sink, CanonOp::SetFeedMode(self.modal.feed_mode));
+            // rs274 forgets the feed on every G93/G94/G95: a new mode needs a new F.
+            self.modal.feed = 0.0;
+            if self.modal.feed_mode != FeedMode::InverseTime {
+                self.emit(sink, CanonOp::SetFeedRate(0.0));
+            }
         }
         // 3. Feed rate.
         if let Some(f) = d.values[words::slot('F')] {
@@ -456,9 +468,12 @@ impl Interpreter {
                 593 => 9,
                 _ => ((t - 540) / 10 + 1) as u8,
             };
-            self.modal.coord_system = index;
-            self.load_coord_system(params, index);
-            self.emit_coord_system(sink);
+            // rs274 re-selecting the active system changes nothing and says nothing.
+            if index != self.modal.coord_system {
+                self.modal.coord_system = index;
+                self.load_coord_system(params, index);
+                self.emit_coord_system(sink, true);
+            }
         }
         // 16. Path control.
         if let Some(t) = d.g_in(G::CONTROL) {
@@ -573,7 +588,9 @@ impl Interpreter {
         }
     }
 
-    fn emit_coord_system(&self, sink: Sink) {
+    /// The active work offset and rotation; `with_g92` as rs274 does on G54…G59.3 (it
+    /// restates the G92 offset between the two).
+    fn emit_coord_system(&self, sink: Sink, with_g92: bool) {
         self.emit(
             sink,
             CanonOp::SetG5xOffset {
@@ -581,6 +598,9 @@ impl Interpreter {
                 offset: Pos::from_array(self.frame.g5x),
             },
         );
+        if with_g92 {
+            self.emit(sink, CanonOp::SetG92Offset(Pos::from_array(self.frame.g92)));
+        }
         self.emit(sink, CanonOp::SetXyRotation(self.frame.rotation));
     }
 
@@ -588,7 +608,7 @@ impl Interpreter {
     /// program units).
     fn load_coord_system(&mut self, params: &Params, index: u8) {
         let base = param::G5X_BASE + 20 * (index as i64 - 1);
-        let k = self.k();
+        let k = self.mk();
         let mut f = self.frame;
         for i in 0..6 {
             let v = params.get(base + i as i64).unwrap_or(0.0);
@@ -733,7 +753,8 @@ impl Interpreter {
             923 => {
                 let mut f = self.frame;
                 for i in 0..6 {
-                    f.g92[i] = params.get(param::G92_OFFSET + i as i64).unwrap_or(0.0) * scale(i);
+                    let s = if i < 3 { self.mk() } else { 1.0 };
+                    f.g92[i] = params.get(param::G92_OFFSET + i as i64).unwrap_or(0.0) * s;
                 }
                 self.set_g92(f, params, sink);
                 Ok(false)
@@ -743,7 +764,7 @@ impl Interpreter {
     }
 
     fn set_g92(&mut self, f: Frame, params: &mut Params, sink: Sink) {
-        let k = self.k();
+        let k = self.mk();
         for i in 0..6 {
             let s = if i < 3 { k } else { 1.0 };
             let _ = params.set(param::G92_OFFSET + i as i64, f.g92[i] / s);
@@ -788,10 +809,11 @@ impl Interpreter {
                 if let Some(r) = d.get('R') {
                     rot = r;
                 }
+                let mk = self.mk();
                 if l.v == 2.0 {
                     for (i, o) in off.iter_mut().enumerate() {
                         if let Some(v) = d.get(AXES[i]) {
-                            *o = v;
+                            *o = if i < 3 { v * k / mk } else { v };
                         }
                     }
                 } else {
@@ -809,7 +831,7 @@ impl Interpreter {
                     let through = f.to_machine(want);
                     for i in 0..6 {
                         if d.has(AXES[i]) || (i < 2 && d.has('R')) {
-                            let s = if i < 3 { k } else { 1.0 };
+                            let s = if i < 3 { mk } else { 1.0 };
                             off[i] = (m[i] - through[i]) / s;
                         }
                     }
@@ -820,7 +842,7 @@ impl Interpreter {
                 let _ = params.set(base + 9, rot);
                 if index == self.modal.coord_system {
                     self.load_coord_system(params, index);
-                    self.emit_coord_system(sink);
+                    self.emit_coord_system(sink, false);
                 }
                 Ok(())
             }
@@ -1189,7 +1211,7 @@ impl Interpreter {
     fn end_program(&mut self, params: &mut Params, sink: Sink) {
         self.modal.coord_system = 1;
         self.load_coord_system(params, 1);
-        self.emit_coord_system(sink);
+        self.emit_coord_system(sink, false);
         if self.modal.plane != Plane::XY {
             self.modal.plane = Plane::XY;
             self.emit(sink, CanonOp::SelectPlane(Plane::XY));
@@ -1206,10 +1228,13 @@ impl Interpreter {
         self.modal.spindle = None;
         self.emit(sink, CanonOp::StopSpindle);
         self.modal.motion = Motion::Linear;
-        if self.modal.mist || self.modal.flood {
+        // rs274 turns off only what is on.
+        if self.modal.mist {
             self.modal.mist = false;
-            self.modal.flood = false;
             self.emit(sink, CanonOp::MistOff);
+        }
+        if self.modal.flood {
+            self.modal.flood = false;
             self.emit(sink, CanonOp::FloodOff);
         }
         self.emit(sink, CanonOp::ProgramEnd);
@@ -1229,12 +1254,17 @@ impl Interpreter {
     /// Named parameters (`#<_x>`, `#<_metric>` …) as LinuxCNC defines them. They cost a
     /// map update each, so the driver refreshes them only for programs that read them.
     pub fn update_named_params(&self, params: &mut Params) {
+        const HERE: [&str; 6] = ["_x", "_y", "_z", "_a", "_b", "_c"];
+        const ABS: [&str; 6] = ["_abs_x", "_abs_y", "_abs_z", "_abs_a", "_abs_b", "_abs_c"];
         let k = self.k();
-        for (i, name) in ["_x", "_y", "_z", "_a", "_b", "_c"].iter().enumerate() {
+        // G53 coordinates: the offsets without the tool length.
+        let mut no_tool = self.frame;
+        no_tool.tool = [0.0; 6];
+        let m = no_tool.to_machine(self.pos);
+        for i in 0..6 {
             let s = if i < 3 { k } else { 1.0 };
-            params.set_system(name, self.pos[i] / s);
-            let m = self.frame.to_machine(self.pos);
-            params.set_system(&format!("_abs{}", &name[1..]), m[i] / s);
+            params.set_system(HERE[i], self.pos[i] / s);
+            params.set_system(ABS[i], m[i] / s);
         }
         let b = |v: bool| if v { 1.0 } else { 0.0 };
         params.set_system("_metric", b(self.modal.units == Units::Mm));
