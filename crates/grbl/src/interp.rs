@@ -298,7 +298,7 @@ impl Interp {
                                 _ => return Err(E_NOT_INTEGER),
                             });
                         }
-                        17 | 18 | 19 => {
+                        17..=19 => {
                             group(2, &mut groups_seen)?;
                             need_int(mantissa)?;
                             plane = (code - 17) as u8;
@@ -358,7 +358,7 @@ impl Interp {
                             group(9, &mut groups_seen)?;
                             stop = Some(if value < 2.0 { Flow::Pause } else { Flow::End });
                         }
-                        3 | 4 | 5 => {
+                        3..=5 => {
                             group(10, &mut groups_seen)?;
                             spindle = Some(match value as i32 {
                                 3 => Spindle::Cw,
@@ -366,7 +366,7 @@ impl Interp {
                                 _ => Spindle::Off,
                             });
                         }
-                        7 | 8 | 9 => {
+                        7..=9 => {
                             // grbl allows M7 and M8 together, so coolant is not a strict group.
                             coolant_changed = true;
                             match value as i32 {

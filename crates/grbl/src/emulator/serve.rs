@@ -204,7 +204,7 @@ impl EmuHandle {
         let current = move |s: &Shared| {
             s.generation.load(Ordering::SeqCst) == generation && !s.stop.load(Ordering::Relaxed)
         };
-        let current_r = current.clone();
+        let current_r = current;
         thread::spawn(move || {
             let mut pacer = Pacer::new(baud);
             let mut buf = [0u8; 256];
