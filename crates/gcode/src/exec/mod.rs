@@ -10,6 +10,7 @@
 //! errors in one run.
 
 mod flow;
+mod plain;
 mod source;
 
 pub use flow::Limits;
@@ -185,6 +186,13 @@ impl<R: BufRead + Seek> Executor<R> {
                     ));
                 }
             };
+            if self.skip.is_none()
+                && self.seen_content
+                && plain::plain_line(self.src.text(), number, block)
+            {
+                self.idle_iterations = 0;
+                return Ok(true);
+            }
             if let Err(e) = self.compact.load(self.src.text(), number) {
                 if self.skip.is_none() {
                     self.seen_content = true;
@@ -800,6 +808,16 @@ impl<R: BufRead + Seek> Executor<R> {
             }
             LoopKind::Repeat { .. } => self.next_repetition(o),
         }
+    }
+
+    /// The block the full path makes of `line` (tests of the fast path).
+    #[cfg(test)]
+    pub(crate) fn full_path_block(&mut self, line: &Line, params: &mut Params) -> Block {
+        self.line = line.clone();
+        let mut block = Block::default();
+        self.fill_block(params, &mut block)
+            .expect("a plain line evaluates");
+        block
     }
 
     /// Evaluate the words and assignments of the current line into `block`.
