@@ -223,10 +223,10 @@ fn print_row(who: &str, timing: &Timing, blocks: u64, bytes: u64) {
     }
 }
 
-fn print_ratio(ours: &Timing, peer: &Timing) {
+fn print_ratio(label: &str, ours: &Timing, peer: &Timing) {
     if let (Timing::Took(o), Timing::Took(p)) = (ours, peer) {
         println!(
-            "  oficina (printing) runs at {:.2}x the speed of rs274",
+            "  oficina ({label}) runs at {:.2}x the speed of rs274",
             p.as_secs_f64() / o.as_secs_f64()
         );
     }
@@ -268,7 +268,8 @@ pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
         print_row("oficina, counting ops", &counting, args.blocks, bytes);
         print_row("oficina, printing", &printing, args.blocks, bytes);
         print_row("rs274 -g, printing", &peer, args.blocks, bytes);
-        print_ratio(&printing, &peer);
+        print_ratio("counting", &counting, &peer);
+        print_ratio("printing", &printing, &peer);
         println!("  ({ops} canonical operations)");
     }
     if let Some(kept) = &args.keep {
