@@ -360,4 +360,25 @@ mod tests {
             );
         }
     }
+
+    #[test]
+    fn oficina_runs_the_generated_programs() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("mixed.ngc");
+        generate(&path, 3000, write_mixed_program).unwrap();
+        let (timing, ops) = time_oficina_counting(&path).unwrap();
+        if let Timing::Unavailable(why) = timing {
+            panic!("{why}");
+        }
+        // Every motion block yields one operation; parameter lines yield none.
+        let motion_lines = std::fs::read_to_string(&path)
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with("G1") || l.starts_with("G2") || l.starts_with("G3"))
+            .count() as u64;
+        assert!(
+            ops >= motion_lines,
+            "{ops} operations for {motion_lines} moves"
+        );
+    }
 }
