@@ -156,3 +156,52 @@ fn emulate_refuses_bad_settings_and_bench_stream_reports_figures() {
         "{stdout}"
     );
 }
+
+#[test]
+fn console_resumes_from_the_journal_after_the_sender_is_killed() {
+    let (_emu, addr) = start_emulator();
+    let job = write_job("crash", 400);
+    let journal = job.with_extension("nc.journal");
+    let mut child = Command::new(BIN)
+        .args(["console", "--tcp", &addr, "--job", job.to_str().unwrap()])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Let it get part way, then kill it as a crash would (no chance to clean up).
+    let mut acked = 0;
+    for _ in 0..600 {
+        std::thread::sleep(Duration::from_millis(25));
+        acked = std::fs::read_to_string(&journal)
+            .map(|t| t.lines().filter(|l| l.starts_with("A ")).count())
+            .unwrap_or(0);
+        if acked >= 100 {
+            break;
+        }
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        acked >= 100,
+        "the stream made progress before the crash ({acked} acks)"
+    );
+    let out = console(
+        &addr,
+        &[
+            "--job",
+            job.to_str().unwrap(),
+            "--resume",
+            "--safe-z",
+            "1",
+            "--spindle-delay",
+            "0",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // Success means the sender also found the machine at the program's final position.
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("resuming: machine"), "{stderr}");
+    assert!(stdout.contains("all 405 lines done"), "{stdout}");
+}
