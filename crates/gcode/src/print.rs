@@ -15,6 +15,11 @@ pub struct Rs274Printer {
     /// Print `rs274`'s own prefix (`   12 N..... `) before each call.
     numbered: bool,
     count: u64,
+    /// Machine point of the last motion: the start of the next one.
+    last: [f64; 6],
+    /// An inverse-time F (1/min) not printed yet: rs274 prints the rate in units per minute
+    /// that makes the next feed move take 1/F minutes, so it needs that move's length.
+    inverse_f: Option<f64>,
 }
 
 impl Rs274Printer {
@@ -49,17 +54,83 @@ impl Rs274Printer {
         q
     }
 
-    /// Print one operation (one or more lines).
+    /// Print one operation (one or more lines; none for an inverse-time feed, which is
+    /// printed with the move it times).
     pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
-        self.count += 1;
-        if self.numbered {
-            write!(out, "{:5} N..... ", self.count)?;
+        if let CanonOp::SetFeedRate(f) = canon.op {
+            if self.feed_mode == FeedMode::InverseTime {
+                self.inverse_f = Some(f);
+                return Ok(());
+            }
         }
+        if let Some(f) = self.inverse_f.take() {
+            if let Some(len) = self.feed_length(&canon.op) {
+                self.start_line(out)?;
+                writeln!(out, "SET_FEED_RATE({:.4})", (len * f).max(0.1))?;
+            }
+        }
+        self.start_line(out)?;
         self.call(&canon.op, out)?;
         writeln!(out)
     }
 
+    fn start_line(&mut self, out: &mut impl Write) -> io::Result<()> {
+        self.count += 1;
+        if self.numbered {
+            write!(out, "{:5} N..... ", self.count)?;
+        }
+        Ok(())
+    }
+
+    /// Length in program units of a feed move from the last point, as rs274 measures it
+    /// for inverse time: the XYZ path, or the rotary one when only A B C move.
+    fn feed_length(&self, op: &CanonOp) -> Option<f64> {
+        let k = self.k();
+        match op {
+            CanonOp::StraightFeed { to } => {
+                let to = to.to_array();
+                let norm = |axes: std::ops::Range<usize>| {
+                    axes.map(|i| (to[i] - self.last[i]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                };
+                let (linear, rotary) = (norm(0..3), norm(3..6));
+                Some(if linear > 0.0 || rotary == 0.0 {
+                    linear / k
+                } else {
+                    rotary
+                })
+            }
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
+                let (a0, a1, a2) = plane.axes();
+                let e = end.to_array();
+                let s = self.last;
+                let radius = (s[a0] - center[0]).hypot(s[a1] - center[1]);
+                let theta = turn_angle(
+                    [s[a0] - center[0], s[a1] - center[1]],
+                    [e[a0] - center[0], e[a1] - center[1]],
+                    *turns,
+                );
+                let dz = e[a2] - s[a2];
+                Some((radius * theta).hypot(dz) / k)
+            }
+            _ => None,
+        }
+    }
+
     fn call(&mut self, op: &CanonOp, out: &mut impl Write) -> io::Result<()> {
+        match op {
+            CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
+                self.last = to.to_array()
+            }
+            CanonOp::ArcFeed { end, .. } => self.last = end.to_array(),
+            _ => {}
+        }
         match op {
             CanonOp::UseLengthUnits(u) => {
                 self.units = *u;
@@ -222,6 +293,27 @@ impl Rs274Printer {
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
         }
+    }
+}
+
+/// Angle swept (radians, ≥ 0) from `start` to `end` (both relative to the centre) over
+/// `turns` (> 0 counter-clockwise), as LinuxCNC's `find_turn` counts it: an end on the
+/// start is a whole turn.
+fn turn_angle(start: [f64; 2], end: [f64; 2], turns: i32) -> f64 {
+    use std::f64::consts::TAU;
+    let mut alpha = start[1].atan2(start[0]);
+    let mut beta = end[1].atan2(end[0]);
+    let extra = (turns.unsigned_abs().max(1) - 1) as f64 * TAU;
+    if turns > 0 {
+        if beta <= alpha {
+            beta += TAU;
+        }
+        beta - alpha + extra
+    } else {
+        if alpha <= beta {
+            alpha += TAU;
+        }
+        alpha - beta + extra
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::block::Block;
 use crate::diag::{Diagnostic, Span};
-use crate::exec::Executor;
+use crate::exec::{Executor, ProgramEnd};
 use crate::interp::tool_table::ToolTable;
 use crate::interp::{Flow, Interpreter, StartState};
 use crate::params::Params;
@@ -46,6 +46,8 @@ pub struct Driver {
     ended: bool,
     /// Refresh `#<_x>` and friends after every block (only programs that read them pay).
     named_params: bool,
+    /// Line of the last block read: where an unterminated program is reported.
+    last_line: u32,
 }
 
 impl Driver {
@@ -66,6 +68,7 @@ impl Driver {
             },
             ended: false,
             named_params: true,
+            last_line: 1,
         }
     }
 
@@ -102,6 +105,9 @@ impl Driver {
                 Ok(true) => self.interp.execute(&block, &mut self.params, sink),
                 Err(e) => Err(e),
             };
+            if block.line > 0 {
+                self.last_line = block.line;
+            }
             if self.named_params {
                 self.interp.update_named_params(&mut self.params);
             }
@@ -124,8 +130,33 @@ impl Driver {
             }
         }
         if !self.ended {
-            // LinuxCNC: a program without M2/M30 simply ends.
-            self.interp.finish(sink);
+            let unterminated = match exec.end() {
+                Some(ProgramEnd::EndOfFile {
+                    opened_with_percent,
+                }) => Some(opened_with_percent),
+                _ => None,
+            };
+            match unterminated {
+                // LinuxCNC refuses a file that stops without M2/M30 or a closing `%`.
+                Some(opened_with_percent) if self.interp.dialect == Dialect::LinuxCnc => {
+                    let (message, help) = if opened_with_percent {
+                        (
+                            "File ended with no percent sign",
+                            "a program that opens with % must close with a % line",
+                        )
+                    } else {
+                        (
+                            "File ended with no percent sign or program end",
+                            "end the program with M2 or M30 (or wrap it in % lines)",
+                        )
+                    };
+                    self.report(
+                        Diagnostic::error(Span::line(self.last_line), message).with_help(help),
+                    );
+                }
+                // grbl and the legacy dialect run a file to its end.
+                _ => self.interp.finish(sink),
+            }
         }
         self.diagnostics
     }

@@ -48,10 +48,12 @@ impl Seg {
         }
     }
 
-    /// Unit tangent (direction of travel) at the end.
+    /// Unit tangent (direction of travel) at the end. A line's is its programmed direction:
+    /// a concave corner may have pulled its start past its end, and the corner after it
+    /// must still be judged (and found gouging) by the programmed path, as rs274 does.
     fn end_tangent(&self) -> P2 {
         match self {
-            Seg::Line { start, end, .. } => unit([end[0] - start[0], end[1] - start[1]]),
+            Seg::Line { dir, .. } => *dir,
             Seg::Arc {
                 end, center, turns, ..
             } => arc_tangent([end[0], end[1]], *center, *turns > 0),

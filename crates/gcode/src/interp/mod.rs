@@ -362,6 +362,15 @@ impl Interpreter {
         }
         // 6. Tool change.
         if d.m_in(M::TOOL_CHANGE).is_some() {
+            if self.modal.comp.is_some() {
+                return Err(self
+                    .fail(
+                        d.m_span(M::TOOL_CHANGE),
+                        "Cannot change tools with cutter radius compensation on",
+                        0,
+                    )
+                    .with_help("turn compensation off with G40 before M6"));
+            }
             self.emit(sink, CanonOp::StopSpindle);
             self.modal.spindle = None;
             self.modal.tool_in_spindle = self.modal.tool_selected;
@@ -855,7 +864,8 @@ impl Interpreter {
                         28,
                     ));
                 }
-                let n = pv as u32;
+                // Like T and H, a number missing from a loaded table is an error.
+                let n = self.tool_number(pv, d.span_of('P'), "P")?;
                 let mut tool = self.tools.get(n).cloned().unwrap_or(tool_table::Tool {
                     number: n,
                     pocket: n,
@@ -930,6 +940,15 @@ impl Interpreter {
                     };
                     return Err(self.fail(d.g_span(G::MOTION), msg, 22));
                 }
+            }
+            FeedMode::UnitsPerRev if self.modal.speed <= 0.0 => {
+                return Err(self
+                    .fail(
+                        d.g_span(G::MOTION),
+                        "Cannot feed with zero spindle speed in feed per rev mode",
+                        0,
+                    )
+                    .with_help("set a spindle speed with an S word before feeding under G95"));
             }
             _ if self.modal.feed <= 0.0 => {
                 let msg = if arc {

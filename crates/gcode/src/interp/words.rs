@@ -126,6 +126,13 @@ impl Decoded {
             .unwrap_or(Span::line(self.line))
     }
 
+    /// The span of the M code of `group`, or of the whole line.
+    pub fn m_span(&self, group: usize) -> Span {
+        self.m[group]
+            .map(|c| c.span)
+            .unwrap_or(Span::line(self.line))
+    }
+
     pub fn any_axis(&self) -> bool {
         "XYZABC".chars().any(|c| self.has(c))
     }
