@@ -56,7 +56,7 @@ pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
         }
         let mut digits = 0;
         let mut dots = 0;
-        while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
+        while i < b.len() && (b[i].is_ascii_digit() || (b[i] == b'.' && dots == 0)) {
             if b[i] == b'.' {
                 dots += 1;
             } else {
@@ -64,7 +64,8 @@ pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
             }
             i += 1;
         }
-        if digits == 0 || dots > 1 {
+        // A second '.' ends the number, as in grbl's read_float; it then fails as a letter.
+        if digits == 0 {
             return Err(E_BAD_NUMBER);
         }
         let value: f64 = clean[start..i].parse().map_err(|_| E_BAD_NUMBER)?;
@@ -92,7 +93,7 @@ mod tests {
         );
         assert_eq!(words("1X2"), Err(E_EXPECTED_LETTER));
         assert_eq!(words("G1X"), Err(E_BAD_NUMBER));
-        assert_eq!(words("X1.2.3"), Err(E_BAD_NUMBER));
+        assert_eq!(words("X1.2.3"), Err(E_EXPECTED_LETTER));
         assert_eq!(words("X-"), Err(E_BAD_NUMBER));
         assert_eq!(words("#1=2"), Err(E_EXPECTED_LETTER));
     }

@@ -528,11 +528,12 @@ impl Interp {
                 effect.sync = true;
             }
             NonModal::SetCoord => {
-                let l = take('L').ok_or(E_VALUE_MISSING)?;
-                let p = take('P').ok_or(E_VALUE_MISSING)?;
+                // grbl checks the axis words first, then L and P.
                 if !any_axis {
                     return Err(E_NO_AXIS_WORDS);
                 }
+                let l = take('L').ok_or(E_VALUE_MISSING)?;
+                let p = take('P').ok_or(E_VALUE_MISSING)?;
                 if p.fract() != 0.0 || p > 6.0 {
                     return Err(E_UNSUPPORTED_WCS);
                 }
