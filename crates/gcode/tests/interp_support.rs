@@ -9,8 +9,9 @@ use oficina_gcode::block::{Block, Note, Word};
 use oficina_gcode::interp::tool_table::ToolTable;
 use oficina_gcode::interp::{Flow, Interpreter, StartState};
 use oficina_gcode::params::Params;
-use oficina_gcode::print::Rs274Printer;
-use oficina_gcode::{Diagnostic, Dialect, Span};
+use oficina_gcode::print::{to_rs274_text, Rs274Printer};
+use oficina_gcode::program::{canon_of, RunOptions};
+use oficina_gcode::{Diagnostic, Dialect, Severity, Span};
 
 /// Plain lines → blocks: `G1 X1.5 (comment)`, `(MSG, text)`, `;` comments.
 pub fn blocks(text: &str) -> Vec<Block> {
@@ -159,6 +160,122 @@ pub fn assert_motion(ops: &[Canon], expected: &str) {
             assert!((x - y).abs() <= 1.01e-4, "\ngot  {g}\nwant {w}");
         }
     }
+}
+
+/// The calls the differential test compares (rs274's bookkeeping and narration dropped).
+const COMPARED: &[&str] = &[
+    "STRAIGHT_TRAVERSE",
+    "STRAIGHT_FEED",
+    "ARC_FEED",
+    "DWELL",
+    "SET_FEED_RATE",
+    "SET_FEED_MODE",
+    "SET_SPINDLE_SPEED",
+    "START_SPINDLE_CLOCKWISE",
+    "START_SPINDLE_COUNTERCLOCKWISE",
+    "STOP_SPINDLE_TURNING",
+    "MIST_ON",
+    "MIST_OFF",
+    "FLOOD_ON",
+    "FLOOD_OFF",
+    "SELECT_TOOL",
+    "CHANGE_TOOL",
+    "USE_TOOL_LENGTH_OFFSET",
+    "USE_LENGTH_UNITS",
+    "SELECT_PLANE",
+    "SET_G5X_OFFSET",
+    "SET_G92_OFFSET",
+    "SET_XY_ROTATION",
+    "SET_MOTION_CONTROL_MODE",
+    "SET_NAIVECAM_TOLERANCE",
+    "ENABLE_FEED_OVERRIDE",
+    "DISABLE_FEED_OVERRIDE",
+    "ENABLE_SPEED_OVERRIDE",
+    "DISABLE_SPEED_OVERRIDE",
+    "ENABLE_ADAPTIVE_FEED",
+    "DISABLE_ADAPTIVE_FEED",
+    "ENABLE_FEED_HOLD",
+    "DISABLE_FEED_HOLD",
+    "MESSAGE",
+    "COMMENT",
+    "PROGRAM_STOP",
+    "OPTIONAL_PROGRAM_STOP",
+    "PROGRAM_END",
+];
+
+/// Options of the standalone `rs274 -t tests/corpus/tool.tbl`: its machine is in inches.
+pub fn rs274_options() -> RunOptions {
+    let mut opts = RunOptions {
+        tool_table: corpus_tools(),
+        ..RunOptions::default()
+    };
+    opts.start.machine_units = Units::Inch;
+    opts
+}
+
+/// A whole program through the front end and the interpreter, printed like `rs274 -g`,
+/// only the compared calls.
+pub fn rs274_calls(program: &str) -> (Vec<String>, Vec<Diagnostic>) {
+    let (ops, diags) = canon_of(program, &rs274_options());
+    let text = to_rs274_text(&ops);
+    let calls = text
+        .lines()
+        .filter(|l| COMPARED.iter().any(|c| l.split('(').next() == Some(*c)))
+        .map(str::to_string)
+        .collect();
+    (calls, diags)
+}
+
+/// Numbers within 1e-4 (both print four decimals), everything else exactly.
+fn same_call(got: &str, want: &str) -> bool {
+    let split = |s: &str| -> Vec<String> {
+        s.split(|c: char| c == ',' || c == '(' || c == ')' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+            .map(str::to_string)
+            .collect()
+    };
+    let (a, b) = (split(got), split(want));
+    a.len() == b.len()
+        && a.iter()
+            .zip(&b)
+            .all(|(x, y)| match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(p), Ok(q)) => (p - q).abs() <= 1.01e-4,
+                _ => x == y,
+            })
+}
+
+/// The program runs cleanly and prints the calls rs274 printed (`expected`, one a line).
+pub fn assert_calls(program: &str, expected: &str) {
+    let (got, diags) = rs274_calls(program);
+    assert!(diags.is_empty(), "{diags:?}");
+    let want: Vec<&str> = expected
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    for (i, w) in want.iter().enumerate() {
+        let g = got.get(i).map(String::as_str).unwrap_or("(nothing)");
+        assert!(
+            same_call(g, w),
+            "call #{}:\n got  {g}\n want {w}\nall we printed:\n{}",
+            i + 1,
+            got.join("\n")
+        );
+    }
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "extra calls:\n{}",
+        got[want.len()..].join("\n")
+    );
+}
+
+/// The program is rejected, first on `line` (where rs274 stops).
+pub fn assert_rejected_on(program: &str, line: u32) {
+    let (_, diags) = rs274_calls(program);
+    let first = diags.first().expect("the program must be rejected");
+    assert_eq!(first.severity, Severity::Error);
+    assert_eq!(first.span.line, line, "{first:?}");
 }
 
 #[test]
