@@ -87,6 +87,9 @@ pub enum Expr {
     /// `ATAN[y]/[x]`
     Atan(Box<Expr>, Box<Expr>),
     Binary(BinOp, Box<Expr>, Box<Expr>, Span),
+    /// `[expr]`: LinuxCNC checks that a bracketed value is finite (not between operators,
+    /// so `[0**-1 NE 5]` is 1 but `[[0**-1] NE 5]` is an error).
+    Group(Box<Expr>, Span),
 }
 
 /// A parameter being assigned.

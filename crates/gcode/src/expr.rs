@@ -2,6 +2,8 @@
 //! MOD with the sign of a positive divisor, ROUND half away from zero, parameter numbers
 //! that must be integers within 1e-4, and clear errors instead of NaN or infinity.
 
+mod trig;
+
 use crate::ast::{BinOp, Expr, Func};
 use crate::diag::{Diagnostic, Span};
 use crate::params::{ParamError, Params};
@@ -24,8 +26,16 @@ pub fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
         Expr::Exists(name) => Ok(if p.exists_named(name) { 1.0 } else { 0.0 }),
         Expr::Neg(inner) => Ok(-eval(inner, p)?),
         Expr::Call(f, arg, span) => call(*f, eval(arg, p)?, *span),
-        Expr::Atan(y, x) => Ok(eval(y, p)?.atan2(eval(x, p)?).to_degrees()),
+        Expr::Atan(y, x) => Ok(degrees(eval(y, p)?.atan2(eval(x, p)?))),
         Expr::Binary(op, a, b, span) => binary(*op, eval(a, p)?, eval(b, p)?, *span),
+        Expr::Group(inner, span) => {
+            let v = eval(inner, p)?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(not_finite(v, *span))
+            }
+        }
     }
 }
 
@@ -64,15 +74,26 @@ pub fn param_error(err: ParamError, span: Span) -> Diagnostic {
     Diagnostic::error(span, message).with_help(help)
 }
 
-fn finite(v: f64, span: Span, what: &str) -> Result<f64, Diagnostic> {
-    if v.is_finite() {
-        Ok(v)
+const PI_HI: f64 = std::f64::consts::PI;
+const PI_LO: f64 = 1.2246467991473532e-16;
+
+/// `r·180/π`, rounded once (LinuxCNC: `(r * 180.0) / M_PIl` in long double).
+fn degrees(r: f64) -> f64 {
+    let hi = r * 180.0;
+    let lo = r.mul_add(180.0, -hi);
+    let q = hi / PI_HI;
+    let rem = (-q).mul_add(PI_HI, hi) + lo - q * PI_LO;
+    q + rem / PI_HI
+}
+
+fn not_finite(v: f64, span: Span) -> Diagnostic {
+    let what = if v.is_nan() {
+        "not a number"
     } else {
-        Err(Diagnostic::error(
-            span,
-            format!("{what} does not give a finite number"),
-        ))
-    }
+        "infinity"
+    };
+    Diagnostic::error(span, format!("calculation resulted in {what}"))
+        .with_help("look for a huge power or EXP, or a zero to a negative power")
 }
 
 fn call(f: Func, x: f64, span: Span) -> Result<f64, Diagnostic> {
@@ -85,15 +106,17 @@ fn call(f: Func, x: f64, span: Span) -> Result<f64, Diagnostic> {
                 format!("argument {x} of {name} is outside -1 to 1"),
             ));
         }
-        Func::Acos => x.acos().to_degrees(),
-        Func::Asin => x.asin().to_degrees(),
-        Func::Cos => x.to_radians().cos(),
-        Func::Sin => x.to_radians().sin(),
-        Func::Tan => x.to_radians().tan(),
+        Func::Acos => degrees(x.acos()),
+        Func::Asin => degrees(x.asin()),
+        Func::Cos => trig::cos_deg(x),
+        Func::Sin => trig::sin_deg(x),
+        Func::Tan => trig::tan_deg(x),
         Func::Exp => x.exp(),
         Func::Fix => x.floor(),
         Func::Fup => x.ceil(),
-        Func::Round => x.round(),
+        // Half away from zero, as LinuxCNC's (int)(x ± 0.5) (whose overflow to
+        // -2147483648 beyond ±2^31 is not copied).
+        Func::Round => (x + if x < 0.0 { -0.5 } else { 0.5 }).trunc(),
         Func::Ln if x <= 0.0 => {
             return Err(Diagnostic::error(
                 span,
@@ -109,7 +132,11 @@ fn call(f: Func, x: f64, span: Span) -> Result<f64, Diagnostic> {
         }
         Func::Sqrt => x.sqrt(),
     };
-    finite(v, span, "this function")
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(not_finite(v, span))
+    }
 }
 
 fn truth(b: bool) -> f64 {
@@ -123,7 +150,7 @@ fn truth(b: bool) -> f64 {
 fn binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
     let v = match op {
         BinOp::Pow => {
-            if a < 0.0 && b.fract() != 0.0 {
+            if a < 0.0 && b.floor() != b {
                 return Err(Diagnostic::error(
                     span,
                     format!("{a} ** {b}: a negative number raised to a non-integer power"),
@@ -133,13 +160,14 @@ fn binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
             a.powf(b)
         }
         BinOp::Mul => a * b,
-        BinOp::Div | BinOp::Mod if b == 0.0 => {
+        BinOp::Div if b == 0.0 => {
             return Err(Diagnostic::error(
                 span,
                 format!("division by zero in {a} {} 0", op.symbol()),
             ))
         }
         BinOp::Div => a / b,
+        // MOD by zero is NaN, caught (or not) by the bracket check, as in LinuxCNC.
         BinOp::Mod => {
             let r = a % b;
             if r < 0.0 {
@@ -160,7 +188,9 @@ fn binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
         BinOp::Or => truth(a != 0.0 || b != 0.0),
         BinOp::Xor => truth((a != 0.0) != (b != 0.0)),
     };
-    finite(v, span, &format!("{a} {} {b}", op.symbol()))
+    // Not checked here: LinuxCNC lets infinity pass between operators and checks each
+    // bracketed result (see `Expr::Group`).
+    Ok(v)
 }
 
 #[cfg(test)]
@@ -220,6 +250,20 @@ mod tests {
     }
 
     #[test]
+    fn angle_conversion_is_as_precise_as_linuxcncs_long_double() {
+        // rs274: SIN[12345678901]*1000000 prints -17452.406433; the exact value is
+        // sin(181°)·1e6 = -17452.406437; plain f64 conversion gives -17452.426526.
+        let s = v("SIN[12345678901]*1000000");
+        assert!((s - -17452.406433).abs() < 2e-5, "{s}");
+        assert_eq!(v("ASIN[1]"), 90.0);
+        assert_eq!(v("ATAN[1]/[1]"), 45.0);
+        // rs274: SIN[30]*1e15 prints 500000000000000.000000 (plain f64: 0.49999999999999994).
+        assert_eq!(v("SIN[30]"), 0.5);
+        assert_eq!(v("COS[60]"), 0.5);
+        assert_eq!(v("TAN[45]"), 1.0);
+    }
+
+    #[test]
     fn functions_in_degrees() {
         assert!((v("COS[60]") - 0.5).abs() < 1e-12);
         assert!((v("ACOS[0.5]") - 60.0).abs() < 1e-12);
@@ -237,13 +281,25 @@ mod tests {
         let p = Params::new();
         let msg = |s: &str| value(s, &p).unwrap_err().message;
         assert!(msg("1/0").contains("division by zero"));
-        assert!(msg("1 MOD 0").contains("division by zero"));
+        assert!(msg("1 MOD 0").contains("not a number"));
+        assert_eq!(
+            v("1 MOD 0 LT 1"),
+            0.0,
+            "rs274 lets the NaN through a comparison"
+        );
         assert!(msg("SQRT[-1]").contains("SQRT of negative"));
         assert!(msg("LN[0]").contains("LN"));
         assert!(msg("ASIN[2]").contains("ASIN"));
         assert!(msg("-8**[1/3]").contains("non-integer power"));
-        assert!(msg("0**-1").contains("finite"));
-        assert!(msg("EXP[1000]").contains("finite"));
+        assert!(msg("0**-1").contains("infinity"));
+        assert!(msg("0**-1 * 0").contains("not a number"));
+        // Deliberate: rs274 gives -39867976298117103616 (a by-product of rounding π).
+        assert!(msg("TAN[90]").contains("infinity"));
+        assert!(msg("EXP[1000] GT 1").contains("infinity"));
+        assert!(msg("[0**-1] NE 5").contains("infinity"));
+        // rs274: infinity between operators of one bracket is let through.
+        assert_eq!(v("0**-1 NE 5"), 1.0);
+        assert_eq!(v("10**400 GT 1"), 1.0);
         assert!(msg("#<foo>").contains("#<foo>"));
     }
 

@@ -360,7 +360,7 @@ impl<'a> Parser<'a> {
                 self.pos += 1;
                 let e = self.expression(0)?;
                 self.close_bracket(start)?;
-                Ok(e)
+                Ok(Expr::Group(Box::new(e), self.span(start)))
             }
             Some(b'#') => {
                 self.pos += 1;
@@ -759,8 +759,12 @@ mod tests {
 
     #[test]
     fn precedence_and_left_associativity() {
+        let ungroup = |e: Expr| match e {
+            Expr::Group(inner, _) => *inner,
+            other => other,
+        };
         let l = parse("X[1+2*3**2]").unwrap();
-        let (_, e) = word(&l, 0);
+        let e = ungroup(word(&l, 0).1);
         match e {
             Expr::Binary(BinOp::Add, _, rhs, _) => {
                 assert!(matches!(*rhs, Expr::Binary(BinOp::Mul, ..)))
@@ -768,7 +772,7 @@ mod tests {
             other => panic!("{other:?}"),
         }
         let l = parse("X[2**3**2]").unwrap();
-        match word(&l, 0).1 {
+        match ungroup(word(&l, 0).1) {
             Expr::Binary(BinOp::Pow, lhs, _, _) => {
                 assert!(matches!(*lhs, Expr::Binary(BinOp::Pow, ..)))
             }
