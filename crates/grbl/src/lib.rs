@@ -11,6 +11,7 @@ pub mod gline;
 pub mod interp;
 pub mod job;
 pub mod journal;
+pub mod ledger;
 pub mod link;
 pub mod messages;
 pub mod proxy;

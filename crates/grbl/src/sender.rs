@@ -9,6 +9,7 @@
 
 use crate::job::Job;
 use crate::journal::Journal;
+use crate::ledger::BlockLedger;
 use crate::link::{Event, Link};
 use crate::messages;
 use crate::realtime::Realtime;
@@ -154,6 +155,10 @@ pub struct Sender {
     pub planner_blocks: usize,
     pub last_status: Option<Status>,
     last_wco: Option<Vec<f64>>,
+    /// `$12` arc tolerance, to count the planner blocks an arc makes as grbl does.
+    pub arc_tolerance: f64,
+    /// `$13=1`: the firmware reports positions in inches.
+    pub reports_inches: bool,
 }
 
 fn err(kind: io::ErrorKind, msg: String) -> io::Error {
@@ -176,6 +181,8 @@ impl Sender {
             planner_blocks: 15,
             last_status: None,
             last_wco: None,
+            arc_tolerance: 0.002,
+            reports_inches: false,
         };
         // Boards that reset on open (Arduino DTR) print the banner within ~2 s.
         let deadline = Instant::now() + Duration::from_secs(3);
@@ -217,6 +224,20 @@ impl Sender {
                         rx = rx_bytes;
                     }
                     _ => {}
+                }
+            }
+        }
+        // Settings can only be listed at rest; a machine caught mid-job keeps the defaults.
+        if !s.is_moving() {
+            if let Ok(reply) = s.command("$$") {
+                for l in &reply.lines {
+                    if let Response::Setting { number, value } = Response::parse(l) {
+                        match (number, value.parse::<f64>()) {
+                            (12, Ok(v)) if v > 0.0 => s.arc_tolerance = v,
+                            (13, Ok(v)) => s.reports_inches = v != 0.0,
+                            _ => {}
+                        }
+                    }
                 }
             }
         }
@@ -342,7 +363,8 @@ impl Sender {
             if !st.state.is_moving() && !(st.state == State::Run) {
                 if let Some(w) = st.work_position(self.last_wco.as_deref()) {
                     if w.len() >= 3 && rest.as_ref() == Some(&w) {
-                        return Ok([w[0], w[1], w[2]]);
+                        let k = if self.reports_inches { 25.4 } else { 1.0 };
+                        return Ok([w[0] * k, w[1] * k, w[2] * k]);
                     }
                     rest = Some(w);
                 }
@@ -383,14 +405,6 @@ impl Sender {
         ))
     }
 
-    /// Hold, wait for rest, read the position, reset to flush the queue.
-    fn settle(&mut self) -> Option<[f64; 3]> {
-        let _ = self.link.send_realtime(Realtime::FeedHold);
-        let pos = self.wait_at_rest().ok();
-        let _ = self.reset();
-        pos
-    }
-
     /// Streams `job` from line `from`, keeping the RX buffer full but never over.
     pub fn stream(
         &mut self,
@@ -407,6 +421,7 @@ impl Sender {
         };
         let mut next = from;
         let mut inflight: VecDeque<(usize, usize)> = VecDeque::new();
+        let mut ledger = BlockLedger::new(job, from, self.arc_tolerance);
         let mut used = 0usize;
         let mut max_in_flight = 0usize;
         let mut acked_end = from;
@@ -466,6 +481,7 @@ impl Sender {
                     break 'outer StreamEnd::Disconnected(format!("write failed: {e}"));
                 }
                 inflight.push_back((next, len));
+                ledger.sent(next, &job.lines[next].text);
                 used += len;
                 max_in_flight = max_in_flight.max(used);
                 bytes_sent += len as u64;
@@ -484,6 +500,7 @@ impl Sender {
                 Event::Line(Response::Ok, raw) => match inflight.pop_front() {
                     Some((i, len)) => {
                         used -= len;
+                        ledger.acked();
                         bytes_acked += len as u64;
                         acked_end = i + 1;
                         idle_since = None;
@@ -517,6 +534,11 @@ impl Sender {
                         jrec(&mut journal, &|j| j.completed(certain), observer);
                     } else {
                         certain = certain.max(self.certain_bound(job, acked_end, certain));
+                        if let Some((free, _)) = st.buffer {
+                            let used_blocks = self.planner_blocks.saturating_sub(free as usize);
+                            certain =
+                                certain.max(ledger.executing(used_blocks).unwrap_or(acked_end));
+                        }
                     }
                     if at_rest && !inflight.is_empty() && !holding {
                         let since = *idle_since.get_or_insert_with(Instant::now);
@@ -564,7 +586,16 @@ impl Sender {
                 }
             }
             StreamEnd::Rejected { .. } | StreamEnd::Stopped | StreamEnd::Stalled => {
-                report.work_pos = self.settle();
+                let _ = self.link.send_realtime(Realtime::FeedHold);
+                report.work_pos = self.wait_at_rest().ok();
+                // At rest in a hold the planner still holds what was not run: `Bf` names the
+                // interrupted line exactly.
+                if let Some((free, _)) = self.last_status.as_ref().and_then(|s| s.buffer) {
+                    let used_blocks = self.planner_blocks.saturating_sub(free as usize);
+                    let exec = ledger.executing(used_blocks).unwrap_or(report.acked_end);
+                    report.certain = report.certain.max(exec);
+                }
+                let _ = self.reset();
             }
             StreamEnd::Alarm(_) | StreamEnd::FirmwareReset => {
                 // Let the banner/alarm messages arrive, then read where the machine is.

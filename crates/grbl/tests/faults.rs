@@ -14,8 +14,8 @@ use oficina_grbl::transport::Endpoint;
 use std::time::Duration;
 
 const JOB_LINES: usize = 300;
-/// `$I\n` goes out during the handshake before the job.
-const HANDSHAKE_BYTES: u64 = 3;
+/// `$I\n` and `$$\n` go out during the handshake before the job.
+const HANDSHAKE_BYTES: u64 = 6;
 
 fn resume_opts() -> ResumeOptions {
     ResumeOptions {

@@ -100,3 +100,67 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
     let expected = resume::replay(&job, job.len()).work_pos();
     assert_eq!(done.work_pos, Some(expected));
 }
+
+/// Ten laps of the same square at the same depth: every stop position lies on ten lines.
+/// With `$10=3` the sender reads `Bf:` and knows which one the machine was executing.
+#[test]
+fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
+    use oficina_grbl::emulator::Emulator;
+    use oficina_grbl::resume::ResumeOptions;
+    use oficina_grbl::sender::{Control, Notice};
+    use oficina_grbl::transport::Endpoint;
+    let mut cfg = config(Some(115_200));
+    cfg.settings.push((10, 3.0));
+    let emu = Emulator::start(cfg);
+    let ep = Endpoint::Tcp {
+        addr: emu.serve_tcp("127.0.0.1:0").unwrap().to_string(),
+    };
+    let mut text = String::from("G21G90\nG0Z1\nG0X0Y0\nG1Z-1F9000\n");
+    for _lap in 0..10 {
+        for k in 1..=80 {
+            let (x, y) = match (k - 1) / 20 {
+                0 => (k as f64, 0.0),
+                1 => (20.0, (k - 20) as f64),
+                2 => (20.0 - (k - 40) as f64, 20.0),
+                _ => (0.0, 20.0 - (k - 60) as f64),
+            };
+            text += &format!("G1X{x}Y{y}\n");
+        }
+    }
+    text += "G0Z1\n";
+    let job = oficina_grbl::job::Job::from_text("laps.nc", &text).unwrap();
+    let mut s = connect(&ep);
+    let (tx, rx) = std::sync::mpsc::channel();
+    let mut sent_stop = false;
+    let report = s.stream(&job, 0, None, Some(&rx), &mut |n| {
+        if let Notice::Progress { acked, .. } = n {
+            if acked >= 450 && !sent_stop {
+                tx.send(Control::Stop).unwrap();
+                sent_stop = true;
+            }
+        }
+    });
+    assert_eq!(report.end, StreamEnd::Stopped);
+    let at = report.resume.clone().unwrap();
+    // Lap 6 of 10 (lines 404..483), nowhere near the first laps on the same path.
+    assert!(at.index > 400 && at.index <= report.acked_end, "{at:?}");
+    let opts = ResumeOptions {
+        safe_z: 1.0,
+        plunge_feed: 2000.0,
+        spindle_delay: 0.0,
+    };
+    let pre = oficina_grbl::resume::preamble(&job, at.index, &opts).unwrap();
+    s.run_preamble(&job, at.index, &opts).unwrap();
+    let done = s.stream(&job, at.index, None, None, &mut quiet());
+    assert_eq!(done.end, StreamEnd::Completed, "{}", done.describe(&job));
+    let mut ran = emu.with_core(|c| c.executed.clone());
+    let p = ran.iter().position(|l| *l == pre[0]).unwrap();
+    ran.drain(p..p + pre.len());
+    let expected: Vec<String> = job.lines.iter().map(|l| l.text.clone()).collect();
+    assert_eq!(
+        ran.len(),
+        expected.len(),
+        "every line ran once: none skipped, none twice"
+    );
+    assert_eq!(ran, expected);
+}
