@@ -60,8 +60,7 @@ impl Compact {
         let mut i = 0;
         while i < raw.len() {
             let b = raw[i];
-            // Columns count characters: UTF-8 continuation bytes do not start a new one.
-            if b & 0xC0 != 0x80 {
+            if starts_char(raw, i) {
                 col += 1;
             }
             if let Some(start) = comment_start {
@@ -91,14 +90,15 @@ impl Compact {
                 }
                 b';' => {
                     // The rest of the line is a comment, kept verbatim.
-                    for &c in &raw[i..] {
-                        if c & 0xC0 != 0x80 {
+                    self.bytes.push(b);
+                    self.cols.push(col);
+                    for j in i + 1..raw.len() {
+                        if starts_char(raw, j) {
                             col += 1;
                         }
-                        self.bytes.push(c);
+                        self.bytes.push(raw[j]);
                         self.cols.push(col);
                     }
-                    col -= 1;
                     break;
                 }
                 0x80.. => {
@@ -129,6 +129,12 @@ impl Compact {
         }
         Ok(())
     }
+}
+
+/// Columns count characters: a UTF-8 continuation byte does not start a new one, unless
+/// it has no lead byte before it (invalid UTF-8 still gets a column of its own).
+fn starts_char(raw: &[u8], i: usize) -> bool {
+    raw[i] & 0xC0 != 0x80 || i == 0 || raw[i - 1] < 0x80
 }
 
 /// A number as LinuxCNC reads it: digits with at most one decimal point, at least one digit,
@@ -225,7 +231,14 @@ mod tests {
     fn semicolon_comment_runs_to_end_and_carriage_return_is_dropped() {
         let c = compact("G1 ; a (b)\r");
         assert_eq!(c.bytes, b"g1; a (b)");
+        assert_eq!(c.cols[2], 4, "the ';' is in column 4");
         assert_eq!(c.end_col, 11);
+        let mut c = Compact::new();
+        let e = c.load(b"\x80G1", 1).unwrap_err();
+        assert_eq!(
+            e.span.col, 1,
+            "a stray continuation byte still has a column"
+        );
     }
 
     #[test]

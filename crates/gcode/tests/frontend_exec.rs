@@ -14,6 +14,7 @@ fn run(text: &str) -> (Vec<Block>, Vec<Diagnostic>) {
         max_call_depth: 10,
         max_loop_iterations: 10_000,
         max_idle_iterations: 1_000,
+        max_total_jumps: 50_000,
     });
     let mut params = Params::new();
     let (mut blocks, mut errors) = (Vec::new(), Vec::new());
@@ -228,8 +229,17 @@ fn endless_loops_end_with_an_error_and_the_program_goes_on() {
     assert_eq!(blocks.last().unwrap().get('X'), Some(7.0));
     let (_, errors) = run("o1 do\no1 while [1]\nG0 X7");
     assert_eq!(errors.len(), 1);
-    let (_, errors) = run("o1 repeat [1e9]\no1 endrepeat");
+    let (_, errors) = run("o1 repeat [1000000000]\no1 endrepeat");
     assert!(!errors.is_empty());
+    // Nested loops multiply: the run-wide bound stops them.
+    let (blocks, errors) =
+        run("o1 repeat [1000]\no2 repeat [1000]\nG0 X1\no2 endrepeat\no1 endrepeat\nG0 X2");
+    assert!(
+        errors.iter().any(|e| e.message.contains("in this run")),
+        "{errors:?}"
+    );
+    assert_eq!(blocks.last().unwrap().get('X'), Some(2.0));
+    assert!(blocks.len() < 60_000);
 }
 
 #[test]

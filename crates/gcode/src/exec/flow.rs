@@ -15,6 +15,9 @@ pub struct Limits {
     /// Loop iterations in a row without any block yielded: catches `o1 while [1]` around
     /// nothing long before `max_loop_iterations`.
     pub max_idle_iterations: u64,
+    /// Backward jumps (loop iterations and subroutine calls) in the whole run: bounds the
+    /// work of nested loops, whose iterations multiply.
+    pub max_total_jumps: u64,
 }
 
 impl Default for Limits {
@@ -23,6 +26,7 @@ impl Default for Limits {
             max_call_depth: 10,
             max_loop_iterations: 10_000_000,
             max_idle_iterations: 1_000_000,
+            max_total_jumps: 1_000_000_000,
         }
     }
 }

@@ -55,6 +55,8 @@ pub struct Executor<R> {
     skip: Option<Skip>,
     /// Loop jumps since the last yielded block.
     idle_iterations: u64,
+    /// Loop jumps and calls since the start.
+    total_jumps: u64,
     started: bool,
     seen_content: bool,
     opened_with_percent: bool,
@@ -86,6 +88,7 @@ impl<R: BufRead + Seek> Executor<R> {
             calls: Vec::new(),
             skip: None,
             idle_iterations: 0,
+            total_jumps: 0,
             started: false,
             seen_content: false,
             opened_with_percent: false,
@@ -554,6 +557,18 @@ impl<R: BufRead + Seek> Executor<R> {
                     "is the recursion missing its end condition? (the limit can be raised)",
                 ));
         }
+        self.total_jumps += 1;
+        if self.total_jumps > self.limits.max_total_jumps {
+            return Err(self
+                .err(
+                    o,
+                    format!(
+                        "more than {} loop iterations and calls in this run",
+                        self.limits.max_total_jumps
+                    ),
+                )
+                .with_help("the limits can be raised with Executor::set_limits"));
+        }
         let resume = self.next_mark();
         let def = match self.subs.get(&o.label) {
             Some(def) => *def,
@@ -724,6 +739,7 @@ impl<R: BufRead + Seek> Executor<R> {
     /// an error (the program goes on after it).
     fn iterate(&mut self, o: &OWord) -> Result<(), Diagnostic> {
         self.idle_iterations += 1;
+        self.total_jumps += 1;
         let Some(Ctl::Loop { iterations, .. }) = self.ctl.last_mut() else {
             return Ok(());
         };
@@ -734,6 +750,11 @@ impl<R: BufRead + Seek> Executor<R> {
             format!(
                 "loop {name} ran more than {} times",
                 self.limits.max_loop_iterations
+            )
+        } else if self.total_jumps > self.limits.max_total_jumps {
+            format!(
+                "more than {} loop iterations and calls in this run",
+                self.limits.max_total_jumps
             )
         } else if self.idle_iterations > self.limits.max_idle_iterations {
             format!(
