@@ -10,9 +10,10 @@ use oficina_grbl::journal::Journal;
 use oficina_grbl::link::Event;
 use oficina_grbl::messages;
 use oficina_grbl::realtime::Realtime;
+use oficina_grbl::reconnect::{connect_with_retry, LinkState, RetryPolicy};
 use oficina_grbl::response::Response;
 use oficina_grbl::resume::ResumeOptions;
-use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
+use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
 use oficina_grbl::status::Status;
 use oficina_grbl::transport::{self, Endpoint};
 use std::io::BufRead;
@@ -69,6 +70,12 @@ pub struct Args {
     /// On resume, unlock ($X) a machine left in alarm (only if you know its position holds).
     #[arg(long)]
     pub unlock: bool,
+    /// After a lost connection, try to reconnect for this many seconds (0: do not).
+    #[arg(long, default_value_t = 30.0, value_name = "SECONDS")]
+    pub reconnect: f64,
+    /// After reconnecting, continue the job by itself (otherwise print where to resume).
+    #[arg(long)]
+    pub auto_resume: bool,
     /// One line at a time instead of filling the firmware's buffer.
     #[arg(long)]
     pub send_response: bool,
@@ -137,7 +144,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     );
     match &args.job {
-        Some(path) => run_job(&mut sender, path, &args),
+        Some(path) => run_job(&mut sender, &endpoint, path, &args),
         None => interactive(&mut sender),
     }
 }
@@ -242,7 +249,12 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<ExitCode> {
+fn run_job(
+    sender: &mut Sender,
+    endpoint: &Endpoint,
+    path: &PathBuf,
+    args: &Args,
+) -> anyhow::Result<ExitCode> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
@@ -340,8 +352,60 @@ fn run_job(sender: &mut Sender, path: &PathBuf, args: &Args) -> anyhow::Result<E
             100.0 * acked as f64 / total.max(1) as f64
         );
     };
-    let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
-    eprintln!();
+    let mut from = from;
+    let report = loop {
+        let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
+        eprintln!();
+        let StreamEnd::Disconnected(why) = &report.end else {
+            break report;
+        };
+        if args.reconnect == 0.0 {
+            break report;
+        }
+        eprintln!(
+            "connection lost ({why}); reconnecting for up to {} s",
+            args.reconnect
+        );
+        let policy = RetryPolicy {
+            deadline: Duration::from_secs_f64(args.reconnect),
+            ..RetryPolicy::default()
+        };
+        let options = sender.options.clone();
+        match connect_with_retry(endpoint, &options, &policy, &mut |st| {
+            if let LinkState::Waiting { error, retry_in } = st {
+                eprintln!(
+                    "  not yet: {error}; next try in {:.1} s",
+                    retry_in.as_secs_f64()
+                );
+            }
+        }) {
+            Ok(s) => *sender = s,
+            Err(e) => {
+                eprintln!("{e}");
+                break report;
+            }
+        }
+        let at = sender
+            .recover(
+                &job,
+                report.certain,
+                report.sent_end,
+                report.acked_end,
+                args.unlock,
+            )
+            .map_err(anyhow::Error::msg)?;
+        eprintln!("reconnected: {}", at.reason);
+        if !args.auto_resume || at.index >= job.len() {
+            break StreamReport {
+                resume: Some(at),
+                ..report
+            };
+        }
+        sender
+            .run_preamble(&job, at.index, &opts)
+            .map_err(anyhow::Error::msg)?;
+        from = at.index;
+    };
     say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {
         if r.index < job.len() {

@@ -205,3 +205,36 @@ fn console_resumes_from_the_journal_after_the_sender_is_killed() {
     assert!(stderr.contains("resuming: machine"), "{stderr}");
     assert!(stdout.contains("all 405 lines done"), "{stdout}");
 }
+
+#[test]
+fn console_reconnects_after_a_cut_cable_and_finishes_the_job() {
+    use oficina_grbl::proxy::{Fault, FaultProxy};
+    let (_emu, addr) = start_emulator();
+    let job = write_job("cable", 300);
+    // Cut the line about a third of the way through the job's bytes.
+    let proxy =
+        FaultProxy::start(addr.parse().unwrap(), vec![Fault::Disconnect { at: 2500 }]).unwrap();
+    let out = console(
+        &proxy.addr.to_string(),
+        &[
+            "--job",
+            job.to_str().unwrap(),
+            "--auto-resume",
+            "--reconnect",
+            "10",
+            "--safe-z",
+            "1",
+            "--spindle-delay",
+            "0",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(proxy.fired()[0], "the cable was cut");
+    assert!(
+        stderr.contains("connection lost") && stderr.contains("reconnected:"),
+        "{stderr}"
+    );
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("all 305 lines done"), "{stdout}");
+}

@@ -16,6 +16,7 @@ pub mod link;
 pub mod messages;
 pub mod proxy;
 pub mod realtime;
+pub mod reconnect;
 pub mod response;
 pub mod resume;
 pub mod sender;

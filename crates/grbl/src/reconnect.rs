@@ -1,0 +1,151 @@
+//! The connection's life: connecting, connected, lost, and trying again. A USB adapter
+//! that re-enumerates or a Wi-Fi board that drops takes seconds to come back, so a lost
+//! link is retried with a growing pause until a deadline, reporting each state change.
+
+use crate::sender::{Sender, SenderOptions};
+use crate::transport::Endpoint;
+use std::io;
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum LinkState {
+    Connecting {
+        attempt: u32,
+    },
+    Connected {
+        firmware: String,
+    },
+    /// The last attempt failed; the next one comes after `retry_in`.
+    Waiting {
+        error: String,
+        retry_in: Duration,
+    },
+    GaveUp {
+        error: String,
+    },
+}
+
+/// How hard to try.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RetryPolicy {
+    /// Give up when this much time has passed since the first attempt.
+    pub deadline: Duration,
+    pub first_pause: Duration,
+    pub max_pause: Duration,
+}
+
+impl Default for RetryPolicy {
+    fn default() -> Self {
+        RetryPolicy {
+            deadline: Duration::from_secs(30),
+            first_pause: Duration::from_millis(250),
+            max_pause: Duration::from_secs(3),
+        }
+    }
+}
+
+/// Connects (handshake included), retrying per `policy`; every state goes to `on_state`.
+pub fn connect_with_retry(
+    endpoint: &Endpoint,
+    options: &SenderOptions,
+    policy: &RetryPolicy,
+    on_state: &mut dyn FnMut(&LinkState),
+) -> io::Result<Sender> {
+    let start = Instant::now();
+    let mut pause = policy.first_pause;
+    let mut attempt = 0;
+    loop {
+        attempt += 1;
+        on_state(&LinkState::Connecting { attempt });
+        match Sender::connect(endpoint, options.clone()) {
+            Ok(s) => {
+                on_state(&LinkState::Connected {
+                    firmware: s.firmware.clone(),
+                });
+                return Ok(s);
+            }
+            Err(e) => {
+                if start.elapsed() + pause > policy.deadline {
+                    let error = format!(
+                        "{e} (gave up after {attempt} attempts in {:.0} s)",
+                        start.elapsed().as_secs_f64()
+                    );
+                    on_state(&LinkState::GaveUp {
+                        error: error.clone(),
+                    });
+                    return Err(io::Error::new(e.kind(), error));
+                }
+                on_state(&LinkState::Waiting {
+                    error: e.to_string(),
+                    retry_in: pause,
+                });
+                std::thread::sleep(pause);
+                pause = (pause * 2).min(policy.max_pause);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::emulator::{Config, Emulator};
+
+    #[test]
+    fn retries_until_the_firmware_appears_then_gives_up_when_it_does_not() {
+        // Reserve a port, free it, and bring the emulator up on it a little later.
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .unwrap()
+            .local_addr()
+            .unwrap();
+        let ep = Endpoint::Tcp {
+            addr: port.to_string(),
+        };
+        let starter = std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(600));
+            let emu = Emulator::start(Config {
+                baud: None,
+                ..Config::default()
+            });
+            emu.serve_tcp(&port.to_string()).unwrap();
+            std::thread::sleep(Duration::from_secs(3));
+            drop(emu);
+        });
+        let mut states = Vec::new();
+        let policy = RetryPolicy {
+            deadline: Duration::from_secs(10),
+            first_pause: Duration::from_millis(100),
+            max_pause: Duration::from_millis(400),
+        };
+        let s = connect_with_retry(&ep, &SenderOptions::default(), &policy, &mut |st| {
+            states.push(st.clone())
+        })
+        .unwrap();
+        assert!(
+            states
+                .iter()
+                .any(|s| matches!(s, LinkState::Waiting { .. })),
+            "{states:?}"
+        );
+        assert!(matches!(states.last(), Some(LinkState::Connected { .. })));
+        assert!(s.firmware.starts_with("1.1h"), "{}", s.firmware);
+        drop(s);
+        starter.join().unwrap();
+
+        let dead = Endpoint::Tcp {
+            addr: "127.0.0.1:1".into(),
+        };
+        let quick = RetryPolicy {
+            deadline: Duration::from_millis(500),
+            ..policy
+        };
+        let mut last = None;
+        let e = connect_with_retry(&dead, &SenderOptions::default(), &quick, &mut |st| {
+            last = Some(st.clone())
+        })
+        .err()
+        .unwrap();
+        assert!(e.to_string().contains("gave up after"), "{e}");
+        assert!(matches!(last, Some(LinkState::GaveUp { .. })));
+    }
+}
