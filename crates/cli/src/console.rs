@@ -5,19 +5,18 @@
 
 use anyhow::{bail, Context};
 use oficina_grbl::emulator::{Config, Emulator};
-use oficina_grbl::job::Job;
-use oficina_grbl::journal::Journal;
 use oficina_grbl::link::Event;
+use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use oficina_grbl::messages;
 use oficina_grbl::realtime::Realtime;
-use oficina_grbl::reconnect::{connect_with_retry, LinkState, RetryPolicy};
+use oficina_grbl::reconnect::RetryPolicy;
 use oficina_grbl::response::Response;
 use oficina_grbl::resume::ResumeOptions;
-use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
+use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
 use oficina_grbl::status::Status;
 use oficina_grbl::transport::{self, Endpoint};
 use std::io::BufRead;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -129,23 +128,23 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         mode: args.send_response.then_some(Mode::SendResponse),
         ..SenderOptions::default()
     };
-    let mut sender = Sender::connect(&endpoint, options)
-        .with_context(|| format!("cannot talk to grbl at {endpoint}"))?;
+    let mut machine = GrblMachine::connect_to(endpoint, options).map_err(anyhow::Error::msg)?;
     eprintln!(
-        "connected to grbl {} at {endpoint}: {}",
-        if sender.firmware.is_empty() {
+        "connected to grbl {} at {}: {}",
+        if machine.sender.firmware.is_empty() {
             "(version not reported)"
         } else {
-            &sender.firmware
+            &machine.sender.firmware
         },
-        match sender.mode {
+        machine.endpoint,
+        match machine.sender.mode {
             Mode::CharCounting(n) => format!("character counting, {n}-byte window"),
             Mode::SendResponse => "send-response".into(),
         }
     );
     match &args.job {
-        Some(path) => run_job(&mut sender, &endpoint, path, &args),
-        None => interactive(&mut sender),
+        Some(path) => run_job(&mut machine, path, &args),
+        None => interactive(&mut machine.sender),
     }
 }
 
@@ -249,61 +248,27 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn run_job(
-    sender: &mut Sender,
-    endpoint: &Endpoint,
-    path: &PathBuf,
-    args: &Args,
-) -> anyhow::Result<ExitCode> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
-    if job.is_empty() {
-        bail!("{}: no G-code lines to send", path.display());
-    }
-    let journal_path = args.journal.clone().unwrap_or_else(|| {
-        let mut p = path.clone().into_os_string();
-        p.push(".journal");
-        PathBuf::from(p)
-    });
-    let opts = ResumeOptions {
-        safe_z: args.safe_z,
-        plunge_feed: args.plunge_feed,
-        spindle_delay: args.spindle_delay,
+fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Result<ExitCode> {
+    let settings = RunSettings {
+        start: match (args.from_line, args.resume) {
+            (Some(n), _) => Start::FileLine(n),
+            (None, true) => Start::Journal,
+            (None, false) => Start::Beginning,
+        },
+        journal: args.journal.clone(),
+        resume: ResumeOptions {
+            safe_z: args.safe_z,
+            plunge_feed: args.plunge_feed,
+            spindle_delay: args.spindle_delay,
+        },
+        unlock_alarm: args.unlock,
+        reconnect: (args.reconnect > 0.0).then(|| RetryPolicy {
+            deadline: Duration::from_secs_f64(args.reconnect),
+            ..RetryPolicy::default()
+        }),
+        auto_resume: args.auto_resume,
     };
-    let from = if let Some(n) = args.from_line {
-        job.index_of_file_line(n)
-            .with_context(|| format!("{}: no G-code at or after line {n}", path.display()))?
-    } else if args.resume {
-        let st = Journal::load(&journal_path, &job).map_err(anyhow::Error::msg)?;
-        if st.completed >= job.len() {
-            say!(
-                "{}: the journal says the job already completed",
-                path.display()
-            );
-            return Ok(ExitCode::SUCCESS);
-        }
-        let at = sender
-            .recover(&job, st.completed, st.sent_end, st.acked_end, args.unlock)
-            .map_err(anyhow::Error::msg)?;
-        eprintln!("resuming: {}", at.reason);
-        at.index
-    } else {
-        0
-    };
-    if from > 0 {
-        eprintln!(
-            "resume at {}:{}: restoring modal state and approaching at Z{}",
-            path.display(),
-            job.lines[from].file_line,
-            args.safe_z
-        );
-        sender
-            .run_preamble(&job, from, &opts)
-            .map_err(anyhow::Error::msg)?;
-    }
-    let mut journal = Journal::open(&journal_path, &job)
-        .with_context(|| format!("cannot write journal {}", journal_path.display()))?;
+    let journal_path = GrblMachine::journal_path(path, &settings);
     eprintln!("keys (then Enter): h hold, r resume, s stop");
     let keys = stdin_lines();
     let (ctl_tx, ctl_rx) = mpsc::channel();
@@ -322,7 +287,7 @@ fn run_job(
     });
     let start = Instant::now();
     let mut last = String::new();
-    let mut progress = (from, job.len(), 0u64, job.bytes_from(from) as u64);
+    let mut progress: Option<(usize, usize, u64, u64)> = None;
     let mut observer = |n: Notice| {
         match n {
             Notice::Progress {
@@ -330,81 +295,38 @@ fn run_job(
                 total,
                 bytes_acked,
                 bytes_total,
-            } => progress = (acked, total, bytes_acked, bytes_total),
+            } => progress = Some((acked, total, bytes_acked, bytes_total)),
             Notice::Status(st) => last = status_line(&st),
-            Notice::Message(m) => eprintln!("\r\x1b[K[MSG:{m}]"),
+            Notice::Message(m) => eprintln!("\r\x1b[K{m}"),
             Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
         }
-        let (acked, total, done, all) = progress;
+        let Some((acked, total, done, all)) = progress else {
+            eprint!("\r\x1b[K{last}");
+            return;
+        };
+        // Bytes acknowledged per second so far, applied to the bytes left.
         let secs = start.elapsed().as_secs_f64();
-        let eta = if done > 0 {
-            (all - done) as f64 * secs / done as f64
-        } else {
-            f64::NAN
-        };
-        let eta = if eta.is_finite() {
-            format!("{}:{:02}", eta as u64 / 60, eta as u64 % 60)
-        } else {
-            "--:--".into()
-        };
+        let eta = (all - done) as f64 * secs / done.max(1) as f64;
         eprint!(
-            "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {eta}",
-            100.0 * acked as f64 / total.max(1) as f64
+            "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {}:{:02}",
+            100.0 * acked as f64 / total.max(1) as f64,
+            eta as u64 / 60,
+            eta as u64 % 60
         );
     };
-    let mut from = from;
-    let report = loop {
-        let report = sender.stream(&job, from, Some(&mut journal), Some(&ctl_rx), &mut observer);
-        eprintln!();
-        let StreamEnd::Disconnected(why) = &report.end else {
-            break report;
-        };
-        if args.reconnect == 0.0 {
-            break report;
+    let (job, outcome) = machine
+        .run_file(path, &settings, Some(&ctl_rx), &mut observer)
+        .map_err(anyhow::Error::msg)?;
+    eprintln!();
+    let report = match outcome {
+        RunOutcome::AlreadyDone => {
+            say!(
+                "{}: the journal says the job already completed",
+                path.display()
+            );
+            return Ok(ExitCode::SUCCESS);
         }
-        eprintln!(
-            "connection lost ({why}); reconnecting for up to {} s",
-            args.reconnect
-        );
-        let policy = RetryPolicy {
-            deadline: Duration::from_secs_f64(args.reconnect),
-            ..RetryPolicy::default()
-        };
-        let options = sender.options.clone();
-        match connect_with_retry(endpoint, &options, &policy, &mut |st| {
-            if let LinkState::Waiting { error, retry_in } = st {
-                eprintln!(
-                    "  not yet: {error}; next try in {:.1} s",
-                    retry_in.as_secs_f64()
-                );
-            }
-        }) {
-            Ok(s) => *sender = s,
-            Err(e) => {
-                eprintln!("{e}");
-                break report;
-            }
-        }
-        let at = sender
-            .recover(
-                &job,
-                report.certain,
-                report.sent_end,
-                report.acked_end,
-                args.unlock,
-            )
-            .map_err(anyhow::Error::msg)?;
-        eprintln!("reconnected: {}", at.reason);
-        if !args.auto_resume || at.index >= job.len() {
-            break StreamReport {
-                resume: Some(at),
-                ..report
-            };
-        }
-        sender
-            .run_preamble(&job, at.index, &opts)
-            .map_err(anyhow::Error::msg)?;
-        from = at.index;
+        RunOutcome::Streamed(r) => r,
     };
     say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {

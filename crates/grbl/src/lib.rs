@@ -4,6 +4,7 @@
 //! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
 //! - [`transport`], [`link`]: serial, TCP and pty byte pipes and the line reader;
 //! - [`job`], [`journal`], [`sender`], [`resume`]: streaming, its record, and resume;
+//! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle;
 //! - [`emulator`]: grbl 1.1 in software over a pty or TCP; [`proxy`]: fault injection.
 
 pub mod emulator;
@@ -13,6 +14,7 @@ pub mod job;
 pub mod journal;
 pub mod ledger;
 pub mod link;
+pub mod machine;
 pub mod messages;
 pub mod proxy;
 pub mod realtime;
