@@ -269,35 +269,69 @@ fn mutated_corpus() -> impl Strategy<Value = Vec<u8>> {
         .prop_map(|(i, m)| mutate(i.get(corpus()).clone().into_bytes(), &m))
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig::default())]
-
-    #[test]
-    fn random_bytes_never_break_the_lexer_parser_or_executor(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
-        for line in bytes.split(|&b| b == b'\n') {
-            parse_one(line);
-        }
-        for d in DIALECTS {
-            run_program(&bytes, d);
-        }
+/// Run a property for `PROPTEST_CASES` cases (proptest's default config reads it), shrink
+/// a failure to a minimal input, and print how many cases ran.
+fn check<S: Strategy>(name: &str, strategy: S, property: impl Fn(&S::Value))
+where
+    S::Value: std::fmt::Debug,
+{
+    let config = ProptestConfig {
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    };
+    let mut runner = proptest::test_runner::TestRunner::new(config);
+    let cases = std::cell::Cell::new(0u64);
+    let started = std::time::Instant::now();
+    let result = runner.run(&strategy, |value| {
+        property(&value);
+        cases.set(cases.get() + 1);
+        Ok(())
+    });
+    eprintln!(
+        "{name}: {} cases in {:.1} s",
+        cases.get(),
+        started.elapsed().as_secs_f64()
+    );
+    if let Err(e) = result {
+        panic!("{name}: {e}");
     }
+}
 
-    #[test]
-    fn gcode_token_soup_never_breaks_the_front_end(text in token_soup()) {
+#[test]
+fn random_bytes_never_break_the_lexer_parser_or_executor() {
+    check(
+        "random bytes",
+        prop::collection::vec(any::<u8>(), 0..400),
+        |bytes| {
+            for line in bytes.split(|&b| b == b'\n') {
+                parse_one(line);
+            }
+            for d in DIALECTS {
+                run_program(bytes, d);
+            }
+        },
+    );
+}
+
+#[test]
+fn gcode_token_soup_never_breaks_the_front_end() {
+    check("token soup", token_soup(), |text| {
         for line in text.split(|&b| b == b'\n') {
             parse_one(line);
         }
         for d in DIALECTS {
-            run_program(&text, d);
+            run_program(text, d);
         }
-    }
+    });
+}
 
-    #[test]
-    fn mutated_corpus_programs_never_break_the_front_end(text in mutated_corpus()) {
+#[test]
+fn mutated_corpus_programs_never_break_the_front_end() {
+    check("mutated corpus", mutated_corpus(), |text| {
         for d in DIALECTS {
-            run_program(&text, d);
+            run_program(text, d);
         }
-    }
+    });
 }
 
 #[test]
