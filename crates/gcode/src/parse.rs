@@ -664,20 +664,24 @@ fn parse_grbl(c: &Compact, out: &mut Line) -> Result<(), Diagnostic> {
                 let upper = letter.to_ascii_uppercase() as char;
                 match upper {
                     'N' => {
-                        if out.n.is_some()
-                            || !out
-                                .items
-                                .iter()
-                                .all(|it| matches!(it, Item::Comment { .. }))
-                        {
-                            // grbl accepts N anywhere but only one.
+                        // grbl's order of checks: repeated word (25), negative (4), too big (27);
+                        // a fraction is truncated.
+                        if out.n.is_some() {
+                            return Err(Diagnostic::error(span, "repeated N word")
+                                .with_help("one line number per line")
+                                .with_code(25));
                         }
-                        if !(0.0..=10_000_000.0).contains(&value) || value.fract() != 0.0 {
+                        if value < 0.0 {
+                            return Err(Diagnostic::error(span, "negative line number")
+                                .with_help("grbl line numbers are 0 to 10000000")
+                                .with_code(4));
+                        }
+                        if value > 10_000_000.0 {
                             return Err(Diagnostic::error(span, "line number value is invalid")
-                                .with_help("grbl line numbers are integers from 0 to 10000000")
+                                .with_help("grbl line numbers are 0 to 10000000")
                                 .with_code(27));
                         }
-                        out.n = Some(value);
+                        out.n = Some(value.trunc());
                     }
                     'G' | 'M' | 'F' | 'I' | 'J' | 'K' | 'L' | 'P' | 'R' | 'S' | 'T' | 'X' | 'Y'
                     | 'Z' => {
@@ -890,6 +894,14 @@ mod tests {
         assert_eq!(code("G1 X"), Some(2));
         assert_eq!(code("%"), Some(1));
         assert_eq!(code(&format!("G1 X{}", "1".repeat(90))), Some(11));
-        assert_eq!(code("N-1 G1 X1"), Some(27));
+        assert_eq!(code("N-1 G1 X1"), Some(4));
+        assert_eq!(code("N20000000 G1 X1"), Some(27));
+        assert_eq!(code("N1 G1 N2"), Some(25));
+        assert_eq!(
+            code("G1 X1.2.3"),
+            Some(1),
+            "grbl reads X1.2, then '.' is no letter"
+        );
+        assert_eq!(parse_in("N1.5 G1", Dialect::Grbl).unwrap().n, Some(1.0));
     }
 }

@@ -322,3 +322,14 @@ fn an_over_long_line_is_an_error_not_an_allocation() {
         Some(2.0)
     );
 }
+
+#[test]
+fn open_blocks_are_bounded() {
+    let text = "o1 if [1]\n".repeat(1500);
+    let (_, errors) = run(&text);
+    assert!(
+        errors.iter().any(|e| e.message.contains("open at once")),
+        "{:?}",
+        errors.first()
+    );
+}

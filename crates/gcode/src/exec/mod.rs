@@ -41,6 +41,8 @@ pub enum ProgramEnd {
 
 /// Most subroutine definitions remembered: a bound on memory for hostile input.
 const MAX_SUBS: usize = 100_000;
+/// Most `if`s and loops open at once (a million `o1 if [1]` lines must not grow memory).
+const MAX_OPEN_BLOCKS: usize = 1_000;
 
 pub struct Executor<R> {
     src: LineSource<R>,
@@ -394,6 +396,18 @@ impl<R: BufRead + Seek> Executor<R> {
 
     fn run_oword(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
+        let opens = matches!(
+            o.keyword,
+            Keyword::If | Keyword::Do | Keyword::While | Keyword::Repeat
+        );
+        if opens && self.ctl.len() >= MAX_OPEN_BLOCKS {
+            return Err(self
+                .err(
+                    o,
+                    format!("more than {MAX_OPEN_BLOCKS} if/loop blocks open at once"),
+                )
+                .with_help("close blocks with endif/endwhile/endrepeat"));
+        }
         match o.keyword {
             Keyword::Sub => self.define_sub(o),
             Keyword::EndSub | Keyword::Return => self.return_from(o, params),
