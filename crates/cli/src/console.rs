@@ -5,6 +5,7 @@
 
 use anyhow::{bail, Context};
 use oficina_grbl::emulator::{Config, Emulator};
+use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
 use oficina_grbl::link::Event;
 use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use oficina_grbl::messages;
@@ -205,13 +206,23 @@ fn explain(resp: &Response, raw: &str) -> String {
 }
 
 fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
-    eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset, /quit to leave");
+    eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset,");
+    eprintln!("/jog X+10 F500 (step), /jog X- F1000 (continuous until Enter), /quit to leave");
     let input = stdin_lines();
     let mut last_query = Instant::now();
+    let mut jogging: Option<ContinuousJog> = None;
+    let mut jog_acks = 0;
     loop {
         match input.try_recv() {
             Ok(line) => {
                 let t = line.trim();
+                // Any line ends a continuous jog, as releasing the key would.
+                if let Some(j) = jogging.take() {
+                    j.stop(sender).context("write to the firmware failed")?;
+                    if t.is_empty() {
+                        continue;
+                    }
+                }
                 let r = match t {
                     "/quit" | "/exit" => return Ok(ExitCode::SUCCESS),
                     "!" => sender.realtime(Realtime::FeedHold),
@@ -221,12 +232,52 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                     "/door" => sender.realtime(Realtime::SafetyDoor),
                     "/jogcancel" => sender.realtime(Realtime::JogCancel),
                     "" => Ok(()),
+                    _ if t.starts_with("/jog") => match jog::parse_request(&t[4..], 500.0) {
+                        Ok(JogRequest::Step {
+                            axis,
+                            distance,
+                            feed,
+                        }) => match jog::step_line(axis, distance, feed) {
+                            Ok(l) => sender.link().send_line(&l),
+                            Err(e) => {
+                                eprintln!("\r\x1b[K{e}");
+                                Ok(())
+                            }
+                        },
+                        Ok(JogRequest::Continuous {
+                            axis,
+                            direction,
+                            feed,
+                        }) => {
+                            match ContinuousJog::start(sender, axis, direction, feed) {
+                                Ok(j) => {
+                                    eprintln!(
+                                        "jogging {axis}{} at F{feed}; press Enter to stop",
+                                        if direction > 0.0 { "+" } else { "-" }
+                                    );
+                                    jogging = Some(j);
+                                    jog_acks = 0;
+                                }
+                                Err(e) => eprintln!("{e}"),
+                            }
+                            Ok(())
+                        }
+                        Err(e) => {
+                            eprintln!("\r\x1b[K{e}");
+                            Ok(())
+                        }
+                    },
                     _ => sender.link().send_line(t),
                 };
                 r.context("write to the firmware failed")?;
             }
             Err(mpsc::TryRecvError::Disconnected) => return Ok(ExitCode::SUCCESS),
             Err(mpsc::TryRecvError::Empty) => {}
+        }
+        if let Some(j) = jogging.as_mut() {
+            j.keep_up(sender, jog_acks)
+                .context("write to the firmware failed")?;
+            jog_acks = 0;
         }
         if last_query.elapsed() > Duration::from_millis(500) {
             sender
@@ -238,7 +289,14 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             Some(Event::Line(Response::Status(st), _)) => {
                 eprint!("\r\x1b[K{}", status_line(&st));
             }
+            // The increments of a continuous jog are acknowledged silently.
+            Some(Event::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
             Some(Event::Line(resp, raw)) => {
+                if matches!(resp, Response::Error(_)) {
+                    if let Some(j) = jogging.take() {
+                        j.stop(sender).context("write to the firmware failed")?;
+                    }
+                }
                 eprint!("\r\x1b[K");
                 say!("{}", explain(&resp, &raw));
             }

@@ -11,6 +11,7 @@ pub mod emulator;
 pub mod gline;
 pub mod interp;
 pub mod job;
+pub mod jog;
 pub mod journal;
 pub mod ledger;
 pub mod link;

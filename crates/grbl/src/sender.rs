@@ -157,6 +157,8 @@ pub struct Sender {
     last_wco: Option<Vec<f64>>,
     /// `$12` arc tolerance, to count the planner blocks an arc makes as grbl does.
     pub arc_tolerance: f64,
+    /// Every `$N` setting read at connect (empty if the machine was busy).
+    pub settings: std::collections::BTreeMap<u16, f64>,
     /// `$13=1`: the firmware reports positions in inches.
     pub reports_inches: bool,
 }
@@ -182,6 +184,7 @@ impl Sender {
             last_status: None,
             last_wco: None,
             arc_tolerance: 0.002,
+            settings: Default::default(),
             reports_inches: false,
         };
         // Boards that reset on open (Arduino DTR) print the banner within ~2 s.
@@ -232,6 +235,9 @@ impl Sender {
             if let Ok(reply) = s.command("$$") {
                 for l in &reply.lines {
                     if let Response::Setting { number, value } = Response::parse(l) {
+                        if let Ok(v) = value.parse::<f64>() {
+                            s.settings.insert(number, v);
+                        }
                         match (number, value.parse::<f64>()) {
                             (12, Ok(v)) if v > 0.0 => s.arc_tolerance = v,
                             (13, Ok(v)) => s.reports_inches = v != 0.0,

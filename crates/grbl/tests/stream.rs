@@ -164,3 +164,50 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
     );
     assert_eq!(ran, expected);
 }
+
+#[test]
+fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
+    use oficina_grbl::jog::{step_line, ContinuousJog};
+    use oficina_grbl::link::Event;
+    use oficina_grbl::response::Response;
+    use oficina_grbl::status::State;
+    use std::time::{Duration, Instant};
+    let (_emu, ep) = emulator(None);
+    let mut s = connect(&ep);
+    // A step first: exactly 2 mm.
+    let r = s.command(&step_line('Y', 2.0, 6000.0).unwrap()).unwrap();
+    assert_eq!(r.error, None);
+    let mut jog = ContinuousJog::start(&s, 'X', 1.0, 600.0).unwrap();
+    let t0 = Instant::now();
+    let mut acks = 0;
+    while t0.elapsed() < Duration::from_millis(800) {
+        jog.keep_up(&mut s, acks).unwrap();
+        acks = 0;
+        while let Some(ev) = s.link().recv(Duration::from_millis(5)) {
+            match ev {
+                Event::Line(Response::Ok, _) => acks += 1,
+                Event::Line(Response::Error(e), _) => panic!("jog rejected: error:{e}"),
+                _ => {}
+            }
+        }
+    }
+    let sent = jog.increments_sent;
+    jog.stop(&mut s).unwrap();
+    let st = loop {
+        let st = s.status().unwrap();
+        if st.state == State::Idle {
+            break st;
+        }
+    };
+    let m = st.mpos.unwrap();
+    // Each increment is 10 mm/s × 25 ms = 0.25 mm: it moved, never beyond what was sent,
+    // and after the cancel it stays put.
+    assert!(
+        m[0] > 0.0 && m[0] <= sent as f64 * 0.25 + 1e-9,
+        "x {} after {sent} increments",
+        m[0]
+    );
+    assert_eq!(s.status().unwrap().mpos.unwrap()[0], m[0]);
+    assert!((m[1] - 2.0).abs() < 1e-9);
+    assert!(sent >= 3);
+}

@@ -301,6 +301,11 @@ impl Core {
         // grbl decelerates and then flushes every jog block; stopping at once is the limit
         // of that with this model's infinite acceleration.
         self.flush_planner();
+        // A jog line still waiting for planner room is dropped too, but it was received
+        // and so is answered: every line gets exactly one reply.
+        if let Some(p) = self.pending.take() {
+            self.say(&p.reply);
+        }
         self.jogging = false;
         self.state = State::Idle;
         self.interp.pos = self.mpos;
