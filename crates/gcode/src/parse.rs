@@ -40,21 +40,31 @@ fn is_word_letter(b: u8) -> bool {
     b.is_ascii_lowercase() && b != b'n' && b != b'o'
 }
 
-const FUNCS: [(&[u8], Option<Func>); 14] = [
-    (b"abs", Some(Func::Abs)),
-    (b"acos", Some(Func::Acos)),
-    (b"asin", Some(Func::Asin)),
-    (b"atan", None),
-    (b"cos", Some(Func::Cos)),
-    (b"exists", None),
-    (b"exp", Some(Func::Exp)),
-    (b"fix", Some(Func::Fix)),
-    (b"fup", Some(Func::Fup)),
-    (b"ln", Some(Func::Ln)),
-    (b"round", Some(Func::Round)),
-    (b"sin", Some(Func::Sin)),
-    (b"sqrt", Some(Func::Sqrt)),
-    (b"tan", Some(Func::Tan)),
+/// A function name: the unary ones, and the two with their own syntax.
+#[derive(Clone, Copy)]
+enum FuncName {
+    Unary(Func),
+    /// `ATAN[y]/[x]`
+    Atan,
+    /// `EXISTS[#<name>]`
+    Exists,
+}
+
+const FUNCS: [(&[u8], FuncName); 14] = [
+    (b"abs", FuncName::Unary(Func::Abs)),
+    (b"acos", FuncName::Unary(Func::Acos)),
+    (b"asin", FuncName::Unary(Func::Asin)),
+    (b"atan", FuncName::Atan),
+    (b"cos", FuncName::Unary(Func::Cos)),
+    (b"exists", FuncName::Exists),
+    (b"exp", FuncName::Unary(Func::Exp)),
+    (b"fix", FuncName::Unary(Func::Fix)),
+    (b"fup", FuncName::Unary(Func::Fup)),
+    (b"ln", FuncName::Unary(Func::Ln)),
+    (b"round", FuncName::Unary(Func::Round)),
+    (b"sin", FuncName::Unary(Func::Sin)),
+    (b"sqrt", FuncName::Unary(Func::Sqrt)),
+    (b"tan", FuncName::Unary(Func::Tan)),
 ];
 
 const WORD_OPS: [(&[u8], BinOp); 10] = [
@@ -488,8 +498,8 @@ impl<'a> Parser<'a> {
                 String::from_utf8_lossy(name).to_uppercase()
             )));
         }
-        match (name, func) {
-            (b"atan", _) => {
+        match func {
+            FuncName::Atan => {
                 let y = self.real_value()?;
                 if self.peek() != Some(b'/') {
                     return Err(self.err_here("ATAN needs two arguments: ATAN[y]/[x]"));
@@ -501,7 +511,7 @@ impl<'a> Parser<'a> {
                 let x = self.real_value()?;
                 Ok(Expr::Atan(Box::new(y), Box::new(x)))
             }
-            (b"exists", _) => {
+            FuncName::Exists => {
                 self.pos += 1;
                 if !self.rest().starts_with(b"#<") {
                     return Err(self.err_here("EXISTS takes a named parameter: EXISTS[#<name>]"));
@@ -511,11 +521,10 @@ impl<'a> Parser<'a> {
                 self.close_bracket(start)?;
                 Ok(Expr::Exists(name))
             }
-            (_, Some(f)) => {
+            FuncName::Unary(f) => {
                 let arg = self.real_value()?;
                 Ok(Expr::Call(f, Box::new(arg), self.span(start)))
             }
-            _ => unreachable!("every function without a Func is handled above"),
         }
     }
 }

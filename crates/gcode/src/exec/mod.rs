@@ -670,7 +670,9 @@ impl<R: BufRead + Seek> Executor<R> {
             Some(e) => Some(eval(e, params)?),
             None => None,
         };
-        let frame = self.calls.pop().expect("checked above");
+        let Some(frame) = self.calls.pop() else {
+            return Ok(());
+        };
         self.ctl.truncate(frame.ctl_base);
         params.pop_call();
         params.set_system("_value", value.unwrap_or(0.0));
