@@ -80,6 +80,14 @@ fn grbl_errors_do_not_stop_the_stream() {
     let out = run("G1 X1 F10\nG1 X#1\nG1 X2", Dialect::Grbl);
     assert_eq!(out.len(), 3);
     assert!(out[0].is_ok() && out[1].is_err() && out[2].is_ok());
+    // Plain-looking lines further down get grbl's checks too.
+    let out = run("G1 X1 F10\nG1 A5\nG1 E5\n", Dialect::Grbl);
+    assert_eq!(
+        out.iter()
+            .map(|r| r.as_ref().err().and_then(|e| e.code))
+            .collect::<Vec<_>>(),
+        vec![None, Some(20), Some(20)]
+    );
 }
 
 #[test]

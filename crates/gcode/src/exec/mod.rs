@@ -191,7 +191,9 @@ impl<R: BufRead + Seek> Executor<R> {
                     ));
                 }
             };
+            // grbl has its own letters and line limit: always the full path.
             if self.skip.is_none()
+                && self.dialect != Dialect::Grbl
                 && self.seen_content
                 && plain::plain_line(self.src.text(), number, block)
             {

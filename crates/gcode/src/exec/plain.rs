@@ -34,16 +34,16 @@ pub fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         while i < len && (raw[i] == b' ' || raw[i] == b'\t') {
             i += 1;
         }
-        let negative = match raw.get(i) {
+        let (negative, signed) = match raw.get(i) {
             Some(b'-') => {
                 i += 1;
-                true
+                (true, true)
             }
             Some(b'+') => {
                 i += 1;
-                false
+                (false, true)
             }
-            _ => false,
+            _ => (false, false),
         };
         while i < len && (raw[i] == b' ' || raw[i] == b'\t') {
             i += 1;
@@ -64,7 +64,7 @@ pub fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         let value = if negative { -value } else { value };
         if letter == b'n' {
             // Only first on the line, unsigned: anything else is the full path's error.
-            if !block.words.is_empty() || block.n.is_some() || negative {
+            if !block.words.is_empty() || block.n.is_some() || signed {
                 return false;
             }
             block.n = Some(value);
@@ -143,6 +143,33 @@ mod tests {
                 !plain_line(s.as_bytes(), 1, &mut b),
                 "{s} should take the full path"
             );
+        }
+    }
+}
+
+#[cfg(test)]
+mod properties {
+    use super::*;
+    use crate::ast::Line;
+    use crate::lex::Compact;
+    use crate::parse::parse_line;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Whenever the fast path takes a line, the full path accepts it with the same words.
+        #[test]
+        fn fast_path_never_disagrees_with_the_full_path(src in "[GXYNnoEe0-9.+\\- \t]{0,24}") {
+            let mut fast = Block::default();
+            if plain_line(src.as_bytes(), 1, &mut fast) {
+                let mut c = Compact::new();
+                c.load(src.as_bytes(), 1).unwrap();
+                let mut line = Line::default();
+                parse_line(&c, crate::Dialect::LinuxCnc, &mut line).unwrap();
+                let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
+                let full = exec.full_path_block(&line, &mut crate::params::Params::new());
+                prop_assert_eq!(fast.words, full.words);
+                prop_assert_eq!(fast.n, full.n);
+            }
         }
     }
 }
