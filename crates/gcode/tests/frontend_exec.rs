@@ -333,3 +333,59 @@ fn open_blocks_are_bounded() {
         errors.first()
     );
 }
+
+/// A source of `len` bytes of `x` without a newline, then one short line: never held in
+/// memory, generated as it is read.
+struct NoNewline {
+    len: u64,
+    pos: u64,
+}
+
+const TAIL: &[u8] = b"\nG0 X1\n";
+
+impl std::io::Read for NoNewline {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let total = self.len + TAIL.len() as u64;
+        let n = (buf.len() as u64).min(total.saturating_sub(self.pos)) as usize;
+        for (i, b) in buf[..n].iter_mut().enumerate() {
+            let at = self.pos + i as u64;
+            *b = if at < self.len {
+                b'x'
+            } else {
+                TAIL[(at - self.len) as usize]
+            };
+        }
+        self.pos += n as u64;
+        Ok(n)
+    }
+}
+
+impl std::io::Seek for NoNewline {
+    fn seek(&mut self, to: std::io::SeekFrom) -> std::io::Result<u64> {
+        if let std::io::SeekFrom::Start(p) = to {
+            self.pos = p;
+        }
+        Ok(self.pos)
+    }
+}
+
+#[test]
+fn a_huge_line_without_newline_is_an_error_and_streams_past() {
+    let reader = std::io::BufReader::new(NoNewline {
+        len: 64 << 20,
+        pos: 0,
+    });
+    let mut exec = Executor::new(reader, Dialect::LinuxCnc);
+    let mut p = Params::new();
+    let e = exec.next_block(&mut p).unwrap().unwrap_err();
+    assert!(
+        e.message.contains(&format!("{} bytes long", 64u64 << 20)),
+        "{}",
+        e.message
+    );
+    assert_eq!(
+        exec.next_block(&mut p).unwrap().unwrap().get('X'),
+        Some(1.0)
+    );
+    assert!(exec.next_block(&mut p).is_none());
+}
