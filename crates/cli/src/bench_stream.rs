@@ -113,10 +113,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.lines == 0 {
         anyhow::bail!("--lines must be at least 1");
     }
-    let bytes_per_line = Job::from_text("b", &program(args.lines.min(10_000), 1000.0))
-        .map_err(anyhow::Error::msg)?
-        .bytes_from(2) as f64
-        / args.lines.min(10_000) as f64;
+    let sample = Job::from_text("b", &program(args.lines, 1000.0)).map_err(anyhow::Error::msg)?;
+    let bytes_per_line = sample.bytes_from(2) as f64 / args.lines as f64;
     // Feed at which 0.1 mm segments consume exactly what the wire delivers.
     let wire_feed = (args.baud as f64 / 10.0) / bytes_per_line * 0.1 * 60.0;
     println!(

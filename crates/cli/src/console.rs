@@ -76,6 +76,9 @@ pub struct Args {
     /// After reconnecting, continue the job by itself (otherwise print where to resume).
     #[arg(long)]
     pub auto_resume: bool,
+    /// Run the job through grbl's check mode ($C) first; cut only if every line passes.
+    #[arg(long, requires = "job")]
+    pub check: bool,
     /// One line at a time instead of filling the firmware's buffer.
     #[arg(long)]
     pub send_response: bool,
@@ -325,6 +328,7 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
             ..RetryPolicy::default()
         }),
         auto_resume: args.auto_resume,
+        check_first: args.check,
     };
     let journal_path = GrblMachine::journal_path(path, &settings);
     eprintln!("keys (then Enter): h hold, r resume, s stop");

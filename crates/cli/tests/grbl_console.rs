@@ -238,3 +238,24 @@ fn console_reconnects_after_a_cut_cable_and_finishes_the_job() {
     assert!(out.status.success(), "{stdout}\n{stderr}");
     assert!(stdout.contains("all 305 lines done"), "{stdout}");
 }
+
+#[test]
+fn console_check_first_refuses_a_job_grbl_would_reject() {
+    let (_emu, addr) = start_emulator();
+    let job = write_job("check", 20);
+    let text = std::fs::read_to_string(&job)
+        .unwrap()
+        .replace("G1 X5.00", "G1 X5.00 R2");
+    std::fs::write(&job, text).unwrap();
+    let out = console(&addr, &["--job", job.to_str().unwrap(), "--check"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("grbl rejects 1 line(s); nothing was cut"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("job.nc:14 `G1X5.00R2Y0.00`: error:36"),
+        "{stderr}"
+    );
+}

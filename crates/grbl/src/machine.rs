@@ -34,6 +34,9 @@ pub struct RunSettings {
     pub reconnect: Option<RetryPolicy>,
     /// After reconnecting, continue without asking.
     pub auto_resume: bool,
+    /// Run the whole program through grbl's check mode (`$C`) first and refuse to cut if
+    /// the firmware rejects any line.
+    pub check_first: bool,
 }
 
 impl Default for RunSettings {
@@ -45,6 +48,7 @@ impl Default for RunSettings {
             unlock_alarm: false,
             reconnect: Some(RetryPolicy::default()),
             auto_resume: false,
+            check_first: false,
         }
     }
 }
@@ -110,6 +114,32 @@ impl GrblMachine {
     ) -> Result<RunOutcome, String> {
         if job.is_empty() {
             return Err(format!("{}: no G-code lines to send", job.name));
+        }
+        if settings.check_first {
+            observer(Notice::Message(format!(
+                "checking {} in grbl's check mode ($C)",
+                job.name
+            )));
+            let bad = self.sender.check_job(job)?;
+            if !bad.is_empty() {
+                let list: Vec<String> = bad
+                    .iter()
+                    .map(|(i, code)| {
+                        format!(
+                            "  {}:{} `{}`: {}",
+                            job.name,
+                            job.lines[*i].file_line,
+                            job.lines[*i].text,
+                            crate::messages::describe_error(*code)
+                        )
+                    })
+                    .collect();
+                return Err(format!(
+                    "grbl rejects {} line(s); nothing was cut:\n{}",
+                    bad.len(),
+                    list.join("\n")
+                ));
+            }
         }
         let mut from = match settings.start {
             Start::Beginning => 0,

@@ -211,3 +211,21 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
     assert!((m[1] - 2.0).abs() < 1e-9);
     assert!(sent >= 3);
 }
+
+#[test]
+fn check_mode_reports_every_bad_line_without_moving() {
+    let (emu, ep) = emulator(None);
+    let mut s = connect(&ep);
+    let mut text = common::program(100);
+    text = text.replacen("G1 X", "G1 Q1 X", 1); // error:20 on the first move
+    text.push_str("G2 X1\n"); // error:35 near the end
+    let job = oficina_grbl::job::Job::from_text("c.nc", &text).unwrap();
+    let bad = s.check_job(&job).unwrap();
+    let codes: Vec<u8> = bad.iter().map(|(_, c)| *c).collect();
+    assert_eq!(codes, vec![20, 35], "{bad:?}");
+    assert_eq!(job.lines[bad[0].0].text, "G1Q1X0.400Y0.000");
+    assert_eq!(emu.with_core(|c| c.mpos), [0.0; 3]);
+    // Back to normal: a move now moves.
+    assert_eq!(s.command("G0X1").unwrap().error, None);
+    assert_eq!(s.wait_at_rest().unwrap(), [1.0, 0.0, 0.0]);
+}
