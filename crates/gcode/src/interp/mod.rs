@@ -87,6 +87,8 @@ pub struct Interpreter {
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
     line: u32,
+    /// Scratch for the block being run (see [`Interpreter::execute`]).
+    decoded: Option<Box<Decoded>>,
 }
 
 /// Axis letters in [`Pos::to_array`] order.
@@ -113,6 +115,7 @@ impl Interpreter {
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
             line: 0,
+            decoded: None,
         }
     }
 
@@ -186,17 +189,34 @@ impl Interpreter {
         sink: Sink,
     ) -> Result<Flow, Diagnostic> {
         self.line = block.line;
-        let mut d = Decoded::from_block(block).map_err(|e| match self.dialect {
+        // The decoded block lives in a reused box: taken out for the block, put back after.
+        let mut d = self
+            .decoded
+            .take()
+            .unwrap_or_else(|| Box::new(Decoded::empty()));
+        let result = self.execute_decoded(&mut d, block, params, sink);
+        self.decoded = Some(d);
+        result
+    }
+
+    fn execute_decoded(
+        &mut self,
+        d: &mut Decoded,
+        block: &Block,
+        params: &mut Params,
+        sink: Sink,
+    ) -> Result<Flow, Diagnostic> {
+        d.fill(block).map_err(|e| match self.dialect {
             Dialect::Grbl => dialect::grbl_code_for_decode(e),
             _ => e,
         })?;
         match self.dialect {
-            Dialect::Grbl => dialect::check_grbl(self, &d)?,
-            Dialect::Legacy2006 => dialect::translate_legacy(&mut d),
+            Dialect::Grbl => dialect::check_grbl(self, d)?,
+            Dialect::Legacy2006 => dialect::translate_legacy(d),
             Dialect::LinuxCnc => {}
         }
-        self.check_words(&d)?;
-        let flow = self.run_block(&d, block, params, sink)?;
+        self.check_words(d)?;
+        let flow = self.run_block(d, block, params, sink)?;
         self.update_params(params);
         Ok(flow)
     }
@@ -251,15 +271,20 @@ impl Interpreter {
             }
         };
         if !(arc || g10 || (cycle && motion == Motion::Cycle(870))) {
-            for l in ['I', 'J', 'K'] {
-                if !(l == 'K' && cycle) {
-                    unused(
-                        l,
-                        &format!(
-                            "{l} word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it"
-                        ),
-                    )?;
-                }
+            // Static messages: this check runs on every block and must not allocate.
+            unused(
+                'I',
+                "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
+            )?;
+            unused(
+                'J',
+                "J word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
+            )?;
+            if !cycle {
+                unused(
+                    'K',
+                    "K word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
+                )?;
             }
         }
         if !(arc || g10 || cycle) {

@@ -93,6 +93,8 @@ pub struct Decoded {
     pub g: [Option<Code>; g_group::COUNT],
     pub m: [Option<Code>; m_group::COUNT],
     pub values: [Option<Value>; 26],
+    /// Bit `slot` is set for each letter in `values`: clearing touches only those.
+    present: u32,
 }
 
 impl Decoded {
@@ -134,7 +136,13 @@ impl Decoded {
     }
 
     pub fn any_axis(&self) -> bool {
-        "XYZABC".chars().any(|c| self.has(c))
+        const AXES: u32 = 1 << (b'X' - b'A')
+            | 1 << (b'Y' - b'A')
+            | 1 << (b'Z' - b'A')
+            | 1 << (b'A' - b'A')
+            | 1 << (b'B' - b'A')
+            | 1 << (b'C' - b'A');
+        self.present & AXES != 0
     }
 
     /// The span of the first axis word, for errors about axis words as a whole.
@@ -148,12 +156,33 @@ impl Decoded {
 
     /// Sort the words of `block`; errors name the offending word.
     pub fn from_block(block: &Block) -> Result<Decoded, Diagnostic> {
-        let mut d = Decoded {
-            line: block.line,
+        let mut d = Decoded::empty();
+        d.fill(block)?;
+        Ok(d)
+    }
+
+    pub fn empty() -> Decoded {
+        Decoded {
+            line: 0,
             g: [None; g_group::COUNT],
             m: [None; m_group::COUNT],
             values: [None; 26],
-        };
+            present: 0,
+        }
+    }
+
+    /// Decode `block` in place: the interpreter reuses one `Decoded` (over a kilobyte)
+    /// rather than moving a fresh one around for every block.
+    pub fn fill(&mut self, block: &Block) -> Result<(), Diagnostic> {
+        self.line = block.line;
+        self.g = [None; g_group::COUNT];
+        self.m = [None; m_group::COUNT];
+        while self.present != 0 {
+            let s = self.present.trailing_zeros() as usize;
+            self.values[s] = None;
+            self.present &= self.present - 1;
+        }
+        let d = self;
         for w in &block.words {
             match w.letter {
                 'G' => {
@@ -222,6 +251,7 @@ impl Decoded {
                         v: w.value,
                         span: w.span,
                     });
+                    d.present |= 1 << s;
                 }
                 other => {
                     return Err(Diagnostic::error(
@@ -231,7 +261,7 @@ impl Decoded {
                 }
             }
         }
-        Ok(d)
+        Ok(())
     }
 }
 
