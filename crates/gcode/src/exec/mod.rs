@@ -172,6 +172,8 @@ impl<R: BufRead + Seek> Executor<R> {
                     };
                     number
                 }
+                // Skipped lines are not looked at, however long.
+                Ok(Read::TooLong { .. }) if self.skip.is_some() => continue,
                 Ok(Read::TooLong { number, len }) => {
                     return Err(Diagnostic::error(
                         Span::line(number),
