@@ -51,6 +51,19 @@ impl Compact {
     ///
     /// Errors: an unclosed or nested comment, a byte outside ASCII outside a comment.
     pub fn load(&mut self, raw: &[u8], line: u32) -> Result<(), Diagnostic> {
+        self.load_impl(raw, line, false)
+    }
+
+    /// Compact as grbl's serial reader does: every byte up to a blank is dropped, a comment
+    /// runs to the first `)` (a `(` inside it is just text) or to the end of the line, and
+    /// bytes outside ASCII are kept (the parser rejects them as it would any non-letter).
+    /// Never fails.
+    pub fn load_grbl(&mut self, raw: &[u8], line: u32) {
+        // Infallible with grbl's rules.
+        let _ = self.load_impl(raw, line, true);
+    }
+
+    fn load_impl(&mut self, raw: &[u8], line: u32, grbl: bool) -> Result<(), Diagnostic> {
         self.bytes.clear();
         self.cols.clear();
         self.line = line;
@@ -64,7 +77,7 @@ impl Compact {
                 col += 1;
             }
             if let Some(start) = comment_start {
-                if b == b'(' {
+                if b == b'(' && !grbl {
                     return Err(Diagnostic::error(
                         Span::new(line, col, 1),
                         "nested comment: '(' inside a comment",
@@ -83,6 +96,7 @@ impl Compact {
             }
             match b {
                 b' ' | b'\t' | b'\r' | 0x0B | 0x0C => {}
+                0..=b' ' if grbl => {}
                 b'(' => {
                     comment_start = Some(col);
                     self.bytes.push(b);
@@ -101,7 +115,7 @@ impl Compact {
                     }
                     break;
                 }
-                0x80.. => {
+                0x80.. if !grbl => {
                     let ch = String::from_utf8_lossy(&raw[i..raw.len().min(i + 4)])
                         .chars()
                         .next()
@@ -120,7 +134,7 @@ impl Compact {
             i += 1;
         }
         self.end_col = col + 1;
-        if let Some(start) = comment_start {
+        if let (Some(start), false) = (comment_start, grbl) {
             return Err(Diagnostic::error(
                 Span::new(line, start, col + 1 - start),
                 "unclosed comment: '(' without ')'",
@@ -253,6 +267,23 @@ mod tests {
         let e = c.load("G0 X1 µ".as_bytes(), 2).unwrap_err();
         assert_eq!(e.span.col, 7);
         assert!(e.message.contains('µ'));
+    }
+
+    #[test]
+    fn grbl_compaction_follows_grbls_reader() {
+        let mut c = Compact::new();
+        c.load_grbl(b"G1 (a (b) c) X1 (open", 1);
+        assert_eq!(
+            c.bytes, b"g1(a (b)c)x1(open",
+            "the comment ends at the first ')'"
+        );
+        c.load_grbl("G1\x01X1 µ".as_bytes(), 1);
+        assert_eq!(&c.bytes[..4], b"g1x1");
+        assert_eq!(
+            c.bytes.len(),
+            6,
+            "non-ASCII is kept for the parser to reject"
+        );
     }
 
     #[test]

@@ -602,7 +602,8 @@ fn classify_comment(text: String) -> (CommentKind, String) {
 fn parse_grbl(c: &Compact, out: &mut Line) -> Result<(), Diagnostic> {
     const LINE_BUFFER: usize = 80;
     let b = &c.bytes;
-    // Count what grbl would keep in its line buffer.
+    // Count what grbl would keep in its line buffer (comments as `Compact::load_grbl` cut
+    // them: to the first ')' or the end of the line).
     let mut kept = 0usize;
     let mut in_comment = false;
     for &x in b.iter() {
@@ -610,7 +611,7 @@ fn parse_grbl(c: &Compact, out: &mut Line) -> Result<(), Diagnostic> {
             b'(' if !in_comment => in_comment = true,
             b')' if in_comment => in_comment = false,
             b';' if !in_comment => break,
-            b'/' => {}
+            b'/' if !in_comment => {}
             _ if !in_comment => kept += 1,
             _ => {}
         }
@@ -744,7 +745,11 @@ mod tests {
 
     fn parse_in(s: &str, d: Dialect) -> Result<Line, Diagnostic> {
         let mut c = Compact::new();
-        c.load(s.as_bytes(), 1)?;
+        if d == Dialect::Grbl {
+            c.load_grbl(s.as_bytes(), 1);
+        } else {
+            c.load(s.as_bytes(), 1)?;
+        }
         let mut line = Line::default();
         parse_line(&c, d, &mut line)?;
         Ok(line)
@@ -902,6 +907,13 @@ mod tests {
         assert_eq!(code("o100 sub"), Some(20));
         assert_eq!(code("G1 X"), Some(2));
         assert_eq!(code("%"), Some(1));
+        assert!(parse_in("G1 X1 (open comment", Dialect::Grbl).is_ok());
+        assert_eq!(
+            code("G1 (a(b)c) X1"),
+            Some(2),
+            "grbl: the comment ends at b), then C has no number"
+        );
+        assert_eq!(code("G1 X1 µ"), Some(1));
         assert_eq!(code(&format!("G1 X{}", "1".repeat(90))), Some(11));
         assert_eq!(code("N-1 G1 X1"), Some(4));
         assert_eq!(code("N20000000 G1 X1"), Some(27));

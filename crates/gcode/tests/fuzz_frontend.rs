@@ -117,7 +117,13 @@ fn parse_one(line: &[u8]) {
     let mut c = Compact::new();
     let mut ast = Line::default();
     for d in DIALECTS {
-        match c.load(line, 1) {
+        let loaded = if d == Dialect::Grbl {
+            c.load_grbl(line, 1);
+            Ok(())
+        } else {
+            c.load(line, 1)
+        };
+        match loaded {
             Ok(()) => {
                 if let Err(e) = parse_line(&c, d, &mut ast) {
                     assert_span_inside(e.span, &[line], &e.message);

@@ -202,7 +202,13 @@ impl<R: BufRead + Seek> Executor<R> {
                 self.idle_iterations = 0;
                 return Ok(true);
             }
-            if let Err(e) = self.compact.load(self.src.text(), number) {
+            let loaded = if self.dialect == Dialect::Grbl {
+                self.compact.load_grbl(self.src.text(), number);
+                Ok(())
+            } else {
+                self.compact.load(self.src.text(), number)
+            };
+            if let Err(e) = loaded {
                 if self.skip.is_none() {
                     self.seen_content = true;
                     return Err(e);
