@@ -57,7 +57,6 @@ pub fn write_program(tp: &Toolpath, opts: &PostOptions, out: &mut dyn Write) -> 
         opts.dialect, opts.allow_m6
     ))?;
     w.raw("G21 G90 G94 G17")?;
-    w.rapid_z(tp.safe_z)?;
     let mut current: Option<u32> = None;
     for op in &tp.operations {
         if current != Some(op.tool_number) {
@@ -67,7 +66,9 @@ pub fn write_program(tp: &Toolpath, opts: &PostOptions, out: &mut dyn Write) -> 
             ))?;
             let uses_m6 = opts.dialect == Dialect::LinuxCnc || opts.allow_m6;
             if uses_m6 {
-                w.rapid_z(tp.safe_z)?;
+                if current.is_some() {
+                    w.rapid_z(tp.safe_z)?;
+                }
                 w.raw(&format!("T{} M6", op.tool_number))?;
             } else if current.is_some() {
                 w.rapid_z(tp.safe_z)?;
@@ -77,6 +78,8 @@ pub fn write_program(tp: &Toolpath, opts: &PostOptions, out: &mut dyn Write) -> 
                     op.tool_number,
                     op.tool.spec()
                 ))?;
+                // grbl accepts and ignores T; it names the tool for readers and simulators.
+                w.raw(&format!("T{}", op.tool_number))?;
                 w.raw("M0")?;
             } else {
                 w.comment(&format!(
@@ -84,6 +87,11 @@ pub fn write_program(tp: &Toolpath, opts: &PostOptions, out: &mut dyn Write) -> 
                     op.tool_number,
                     op.tool.spec()
                 ))?;
+                w.raw(&format!("T{}", op.tool_number))?;
+            }
+            if current.is_none() {
+                // First move of the program: up to safe Z with the tool now known.
+                w.rapid_z(tp.safe_z)?;
             }
             current = Some(op.tool_number);
         } else {

@@ -175,3 +175,62 @@ fn printed_moves_are_the_toolpaths_moves() {
         }
     }
 }
+
+/// The interpreter reads back exactly the toolpath's moves and tool changes, in both
+/// dialects, without a single diagnostic.
+#[test]
+fn interpreter_reads_back_the_toolpath() {
+    use oficina_gcode::program::{canon_of, RunOptions};
+    let tp = two_tool_path();
+    let motions = |ops: Vec<oficina_canon::Canon>| -> Vec<(char, [f64; 3])> {
+        let mut out = Vec::new();
+        for c in ops {
+            let (kind, to) = match c.op {
+                CanonOp::StraightTraverse { to } => ('r', to),
+                CanonOp::StraightFeed { to } => ('f', to),
+                CanonOp::ArcFeed { end, .. } => ('a', end),
+                CanonOp::SelectTool(n) => ('t', oficina_canon::Pos::xyz(n as f64, 0.0, 0.0)),
+                _ => continue,
+            };
+            let p = [to.x, to.y, to.z];
+            // Retracts and repeated positions are the post's own additions.
+            if kind == 'r' && p[2] == tp.safe_z {
+                continue;
+            }
+            if out
+                .last()
+                .is_some_and(|l: &(char, [f64; 3])| l.1 == p && l.0 == kind)
+            {
+                continue;
+            }
+            out.push((kind, p));
+        }
+        out
+    };
+    let want = motions(tp.canon());
+    for (dialect, gdialect) in [
+        (Dialect::Grbl, oficina_gcode::Dialect::Grbl),
+        (Dialect::LinuxCnc, oficina_gcode::Dialect::LinuxCnc),
+    ] {
+        let text = program_text(&tp, &options(dialect));
+        let (ops, diags) = canon_of(
+            &text,
+            &RunOptions {
+                dialect: gdialect,
+                ..RunOptions::default()
+            },
+        );
+        assert!(diags.is_empty(), "{dialect:?}: {diags:?}\n{text}");
+        let got = motions(ops);
+        assert_eq!(got.len(), want.len(), "{dialect:?}: {got:?} vs {want:?}");
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!(g.0, w.0);
+            for k in 0..3 {
+                assert!(
+                    (g.1[k] - w.1[k]).abs() < 1e-4,
+                    "{dialect:?}: {g:?} vs {w:?}"
+                );
+            }
+        }
+    }
+}

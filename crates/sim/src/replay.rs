@@ -18,6 +18,10 @@ pub enum SimError {
 
 /// Replays `ops` on `stock`, starting at `start` (mm, machine coordinates). Rapids cut too:
 /// a rapid through material is exactly what the simulator must catch.
+///
+/// The tool in the spindle: `M6` loads it; without a changer (grbl) the operator loads the
+/// first tool named by `T` before starting and each later one at the program stop (`M0`,
+/// `M1`) that follows its `T`.
 pub fn replay<'a>(
     ops: impl IntoIterator<Item = &'a Canon>,
     tools: &HashMap<u32, Tool>,
@@ -26,13 +30,20 @@ pub fn replay<'a>(
 ) -> Result<[f64; 3], SimError> {
     let mut pos = start;
     let mut tool: Option<&Tool> = None;
+    let mut selected: Option<u32> = None;
+    let lookup = |n: u32, line: u32| tools.get(&n).ok_or(SimError::UnknownTool { line, tool: n });
     for c in ops {
         match &c.op {
             CanonOp::ChangeTool(n) => {
-                tool = Some(tools.get(n).ok_or(SimError::UnknownTool {
-                    line: c.line,
-                    tool: *n,
-                })?);
+                tool = Some(lookup(*n, c.line)?);
+                selected = None;
+            }
+            CanonOp::SelectTool(n) if tool.is_none() => tool = Some(lookup(*n, c.line)?),
+            CanonOp::SelectTool(n) => selected = Some(*n),
+            CanonOp::ProgramStop | CanonOp::OptionalProgramStop => {
+                if let Some(n) = selected.take() {
+                    tool = Some(lookup(n, c.line)?);
+                }
             }
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
