@@ -199,8 +199,23 @@ fn guessed_reader<'a>(
     Ok(reader)
 }
 
-/// Width and height from the header alone, without decoding pixels.
+/// Width and height from the header alone, without decoding pixels. PNG is read by hand
+/// from its fixed-place IHDR: the decoder would first look for image data, and a hostile
+/// header without any must still get the size error, not a decoding one.
 fn header_dimensions(name: &str, bytes: &[u8]) -> Result<(u32, u32), ImageError> {
+    const PNG: &[u8] = b"\x89PNG\r\n\x1a\n";
+    if bytes.starts_with(PNG) {
+        return match bytes.get(8..24) {
+            Some(h) if &h[4..8] == b"IHDR" => Ok((
+                u32::from_be_bytes([h[8], h[9], h[10], h[11]]),
+                u32::from_be_bytes([h[12], h[13], h[14], h[15]]),
+            )),
+            _ => Err(ImageError::Decode {
+                path: name.into(),
+                detail: "PNG without its IHDR header (truncated?)".into(),
+            }),
+        };
+    }
     guessed_reader(name, bytes)?
         .into_dimensions()
         .map_err(|e| ImageError::Decode {
@@ -248,5 +263,139 @@ pub fn luminance_to_heights(
         height,
         pixel,
         z,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{ImageBuffer, Luma, Rgb};
+
+    fn png<P: image::PixelWithColorType>(img: &ImageBuffer<P, Vec<P::Subpixel>>) -> Vec<u8>
+    where
+        P::Subpixel: image::Primitive,
+        [P::Subpixel]: image::EncodableLayout,
+    {
+        let mut out = Cursor::new(Vec::new());
+        img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+        out.into_inner()
+    }
+
+    fn load(bytes: &[u8], scale: Scale, mapping: DepthMapping) -> Result<Heightmap, ImageError> {
+        load_image_bytes("t.png", bytes, scale, mapping, DEFAULT_BUDGET)
+    }
+
+    #[test]
+    fn white_is_the_top_black_the_depth_and_row_zero_the_largest_y() {
+        // 3 × 2: top row white, mid-gray, black; bottom row all black.
+        let img = ImageBuffer::from_fn(3, 2, |x, y| {
+            Luma([if y == 1 {
+                0u8
+            } else {
+                [255, 51, 0][x as usize]
+            }])
+        });
+        let m = load(&png(&img), Scale::PixelSize(0.5), DepthMapping::new(10.0)).unwrap();
+        assert_eq!((m.width, m.height, m.pixel), (3, 2, 0.5));
+        // Image row 0 (top) is grid row 1 (largest Y).
+        assert_eq!(m.at(0, 1), 0.0);
+        assert!((m.at(1, 1) + 8.0).abs() < 1e-5, "(255 − 51)/255 · 10 = 8");
+        assert_eq!(m.at(2, 1), -10.0);
+        assert!(m.row(0).iter().all(|&z| z == -10.0));
+        let inverted = DepthMapping {
+            invert: true,
+            ..DepthMapping::new(10.0)
+        };
+        let m = load(&png(&img), Scale::PixelSize(0.5), inverted).unwrap();
+        assert_eq!((m.at(0, 1), m.at(2, 1)), (-10.0, 0.0));
+    }
+
+    #[test]
+    fn sixteen_bit_keeps_its_resolution() {
+        let img = ImageBuffer::from_fn(2, 1, |x, _| Luma([[65535u16, 65534][x as usize]]));
+        let m = load(
+            &png(&img),
+            Scale::PixelSize(1.0),
+            DepthMapping::new(65535.0),
+        )
+        .unwrap();
+        assert_eq!(m.at(0, 0), 0.0);
+        assert!(
+            (m.at(1, 0) + 1.0).abs() < 1e-2,
+            "one 16-bit step = 1 mm here: {}",
+            m.at(1, 0)
+        );
+    }
+
+    #[test]
+    fn colour_becomes_luminance() {
+        let img = ImageBuffer::from_fn(3, 1, |x, _| {
+            Rgb([[255u8, 0, 0], [0, 255, 0], [0, 0, 255]][x as usize])
+        });
+        let m = load(&png(&img), Scale::PixelSize(1.0), DepthMapping::new(1.0)).unwrap();
+        // Rec. 709 weights, as the image crate uses: 0.2126, 0.7152, 0.0722.
+        for (ix, w) in [0.2126f32, 0.7152, 0.0722].iter().enumerate() {
+            assert!(
+                (m.at(ix, 0) + (1.0 - w)).abs() < 0.01,
+                "channel {ix}: {}",
+                m.at(ix, 0)
+            );
+        }
+    }
+
+    #[test]
+    fn width_sets_the_pixel_size_and_normalize_stretches() {
+        let img = ImageBuffer::from_fn(4, 1, |x, _| Luma([100 + 50 * x as u8]));
+        let m = load(
+            &png(&img),
+            Scale::Width(100.0),
+            DepthMapping {
+                normalize: true,
+                ..DepthMapping::new(6.0)
+            },
+        )
+        .unwrap();
+        assert_eq!(m.pixel, 25.0);
+        assert_eq!((m.at(0, 0), m.at(3, 0)), (-6.0, 0.0));
+        assert!((m.at(1, 0) + 4.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bad_inputs_are_named_errors() {
+        let good = png(&ImageBuffer::from_fn(8, 8, |_, _| Luma([7u8])));
+        let mapping = DepthMapping::new(5.0);
+        let px = Scale::PixelSize(1.0);
+        assert!(matches!(
+            load(&[], px, mapping),
+            Err(ImageError::Empty { .. })
+        ));
+        assert!(matches!(
+            load(b"hello, not an image", px, mapping),
+            Err(ImageError::Format { .. })
+        ));
+        let e = load(&good[..good.len() / 2], px, mapping).unwrap_err();
+        assert!(matches!(e, ImageError::Decode { .. }), "{e}");
+        assert!(matches!(
+            load(&good[..12], px, mapping),
+            Err(ImageError::Decode { .. })
+        ));
+        assert!(matches!(
+            load(&good, Scale::PixelSize(0.0), mapping),
+            Err(ImageError::BadParameter { .. })
+        ));
+        assert!(matches!(
+            load(&good, px, DepthMapping::new(f64::NAN)),
+            Err(ImageError::BadParameter { .. })
+        ));
+        // A header claiming 100000 × 100000 and nothing else: the size error, before decoding.
+        let mut huge = good[..33].to_vec();
+        huge[16..20].copy_from_slice(&100_000u32.to_be_bytes());
+        huge[20..24].copy_from_slice(&100_000u32.to_be_bytes());
+        let e = load(&huge, px, mapping).unwrap_err();
+        assert!(
+            matches!(e, ImageError::TooBig { width: 100_000, .. }),
+            "{e}"
+        );
+        assert!(e.to_string().contains("100000 × 100000"));
     }
 }
