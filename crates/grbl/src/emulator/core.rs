@@ -57,6 +57,9 @@ pub struct Stats {
     /// Times the planner ran dry in a run and more motion arrived later.
     pub starvations: u64,
     pub starved_seconds: f64,
+    /// Starvations that began while the emulator's own reader was behind the wire schedule
+    /// (its host was busy): the emulator's limit, not the sender's.
+    pub starvations_host_late: u64,
     pub busy_seconds: f64,
     pub max_rx_used: usize,
 }
@@ -98,6 +101,9 @@ pub struct Core {
     pub stats: Stats,
     /// Lines whose motion completed, in order (with `record_lines`).
     pub executed: Vec<String>,
+    /// Set by the server: the byte being received is late because the host was busy.
+    pub host_late: bool,
+    starving_host_late: bool,
     /// Lines parsed but not finished: (text, sequence number of their last block).
     awaiting: VecDeque<(String, u64)>,
     blocks_pushed: u64,
@@ -138,6 +144,8 @@ impl Core {
             stats: Stats::default(),
             executed: Vec::new(),
             awaiting: VecDeque::new(),
+            host_late: false,
+            starving_host_late: false,
             blocks_pushed: 0,
             blocks_done: 0,
             overrides: (100, 100, 100),
@@ -493,6 +501,9 @@ impl Core {
             }
             if let Some(since) = self.starving.take() {
                 self.stats.starvations += 1;
+                if self.starving_host_late || self.host_late {
+                    self.stats.starvations_host_late += 1;
+                }
                 self.stats.starved_seconds += self.clock - since;
             }
         }
@@ -623,6 +634,7 @@ impl Core {
                     let more = !self.rx.is_empty() || self.pending.is_some();
                     if matches!(self.state, State::Run) {
                         self.starving = Some(self.clock - dt);
+                        self.starving_host_late = self.host_late;
                         if !more {
                             self.state = State::Idle;
                         }

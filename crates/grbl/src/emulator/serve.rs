@@ -14,6 +14,8 @@ const TICK: Duration = Duration::from_millis(1);
 /// Late bytes may catch up at most this much, so a sleep overshoot does not slow the wire
 /// while an idle pause does not turn into a burst faster than the line rate.
 const PACING_SLACK: Duration = Duration::from_millis(1);
+/// A byte this far behind its wire slot means the host, not the wire, held it up.
+const HOST_LATE: Duration = Duration::from_millis(3);
 /// How far a late reader may catch up on bytes that were already waiting on a busy wire.
 const CATCH_UP: Duration = Duration::from_millis(20);
 
@@ -48,9 +50,14 @@ impl Pacer {
     /// Waits for the wire slot of one byte. `was_waiting` says the byte was already queued
     /// when read (the reader was late, the wire was busy: keep the schedule) rather than
     /// just arrived on an idle wire (start the schedule now).
-    fn wait(&mut self, was_waiting: bool) {
-        let Some(bt) = self.byte_time else { return };
+    /// Returns whether this byte is late: it was already waiting and its slot passed more
+    /// than a couple of milliseconds ago (the emulator's host did not run the reader).
+    fn wait(&mut self, was_waiting: bool) -> bool {
+        let Some(bt) = self.byte_time else {
+            return false;
+        };
         let now = Instant::now();
+        let late = was_waiting && now > self.next + HOST_LATE;
         let slack = if was_waiting { CATCH_UP } else { PACING_SLACK };
         if now > self.next + slack {
             self.next = now - slack;
@@ -59,6 +66,7 @@ impl Pacer {
             thread::sleep(self.next - now);
         }
         self.next += bt;
+        late
     }
 
     /// How many bytes the wire can carry now without waiting.
@@ -216,9 +224,16 @@ impl EmuHandle {
                         // A read that returns at once found bytes queued behind earlier ones.
                         let mut was_waiting = asked.elapsed() < Duration::from_micros(50);
                         for &b in &buf[..n] {
-                            pacer.wait(was_waiting);
+                            let late = pacer.wait(was_waiting);
                             was_waiting = true;
-                            lock(&s.core).receive(b);
+                            let mut core = lock(&s.core);
+                            core.host_late = late;
+                            core.receive(b);
+                            if b == b'\n' {
+                                // grbl's main loop picks a completed line up within
+                                // microseconds; do not wait for the next tick.
+                                core.tick(s.start.elapsed().as_secs_f64());
+                            }
                         }
                     }
                     Err(e) if crate::transport::is_timeout(&e) => {}
