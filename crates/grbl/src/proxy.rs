@@ -24,6 +24,9 @@ pub enum Fault {
     Reset { at: u64 },
     /// The connection is cut before this byte (cable pulled); later connections pass.
     Disconnect { at: u64 },
+    /// From this upstream byte on, the firmware's replies stop reaching the sender (a hung
+    /// board or a half-dead link); the connection stays open. Ends with the connection.
+    Silence { at: u64 },
     /// Every firmware line is held back this long (a slow or busy firmware).
     SlowReplies { delay: Duration },
     /// Before every `every`-th firmware line, a line of noise.
@@ -116,6 +119,7 @@ fn pump_pair(
         return;
     };
     let cut = Arc::new(AtomicBool::new(false));
+    let mute = Arc::new(AtomicBool::new(false));
     let close = {
         let (client, server) = (client, server);
         move || {
@@ -126,12 +130,13 @@ fn pump_pair(
     let close = Arc::new(close);
     // Sender → firmware.
     {
-        let (faults, state, stop, cut, close) = (
+        let (faults, state, stop, cut, close, mute) = (
             faults.clone(),
             state.clone(),
             stop.clone(),
             cut.clone(),
             close.clone(),
+            mute.clone(),
         );
         thread::spawn(move || {
             let mut buf = [0u8; 512];
@@ -163,6 +168,9 @@ fn pump_pair(
                                 Fault::Corrupt { at: a, with } if *a == at => byte = Some(*with),
                                 Fault::Reset { at: a } if *a == at => reset_after = true,
                                 Fault::Disconnect { at: a } if *a == at => disconnect = true,
+                                Fault::Silence { at: a } if *a == at => {
+                                    mute.store(true, Ordering::Relaxed)
+                                }
                                 _ => continue,
                             }
                             st.fired[k] = true;
@@ -229,6 +237,9 @@ fn pump_pair(
                     thread::sleep(d);
                 }
                 out.append(&mut line);
+                if mute.load(Ordering::Relaxed) {
+                    continue;
+                }
                 if c_write.write_all(&out).is_err() {
                     cut.store(true, Ordering::Relaxed);
                     break;

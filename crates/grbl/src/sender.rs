@@ -38,6 +38,8 @@ pub struct SenderOptions {
     pub stall_after: Duration,
     /// Longest wait for one reply to a command, or for the machine to come to rest.
     pub reply_timeout: Duration,
+    /// A firmware that answers nothing (not even status queries) this long is lost.
+    pub silence_timeout: Duration,
 }
 
 impl Default for SenderOptions {
@@ -47,6 +49,7 @@ impl Default for SenderOptions {
             status_interval: Duration::from_millis(200),
             stall_after: Duration::from_millis(1500),
             reply_timeout: Duration::from_secs(30),
+            silence_timeout: Duration::from_secs(10),
         }
     }
 }
@@ -437,6 +440,7 @@ impl Sender {
         let bytes_total = job.bytes_from(from) as u64;
         let mut last_query = Instant::now() - self.options.status_interval;
         let mut idle_since: Option<Instant> = None;
+        let mut last_heard = Instant::now();
         let mut holding = false;
         let mut journal_failed = false;
         let mut jrec = |j: &mut Option<&mut Journal>,
@@ -500,8 +504,15 @@ impl Sender {
                 last_query = Instant::now();
             }
             let Some(ev) = self.link.recv(Duration::from_millis(5)) else {
+                if last_heard.elapsed() > self.options.silence_timeout {
+                    break 'outer StreamEnd::Disconnected(format!(
+                        "the firmware answered nothing, not even status queries, for {:.0} s",
+                        self.options.silence_timeout.as_secs_f64()
+                    ));
+                }
                 continue;
             };
+            last_heard = Instant::now();
             match ev {
                 Event::Line(Response::Ok, raw) => match inflight.pop_front() {
                     Some((i, len)) => {

@@ -340,3 +340,38 @@ fn fault_garbage_lines_are_reported_not_counted() {
     assert_each_line_once(&emu, &job, &[]);
     assert_final_position(&emu, &job);
 }
+
+#[test]
+fn fault_firmware_goes_silent_is_detected_and_resumed() {
+    let job = job(JOB_LINES);
+    let (emu, proxy, ep) = with_proxy(vec![Fault::Silence {
+        at: newline_of(&job, 110),
+    }]);
+    let mut s = Sender::connect(
+        &ep,
+        oficina_grbl::sender::SenderOptions {
+            silence_timeout: Duration::from_secs(2),
+            ..options()
+        },
+    )
+    .unwrap();
+    let first = s.stream(&job, 0, None, None, &mut quiet());
+    assert!(proxy.fired()[0]);
+    let StreamEnd::Disconnected(why) = &first.end else {
+        panic!("{:?}", first.end)
+    };
+    assert!(why.contains("answered nothing"), "{why}");
+    // The operator power-cycles the link: a new connection (the fault fired once).
+    drop(s);
+    let mut s = connect_retry(&ep);
+    let at = s
+        .recover(&job, first.certain, first.sent_end, first.acked_end, true)
+        .unwrap();
+    let pre = resume::preamble(&job, at.index, &resume_opts()).unwrap();
+    s.run_preamble(&job, at.index, &resume_opts()).unwrap();
+    let last = s.stream(&job, at.index, None, None, &mut quiet());
+    assert_eq!(last.end, StreamEnd::Completed, "{}", last.describe(&job));
+    assert_no_overflow(&emu, &[first, last]);
+    assert_each_line_once(&emu, &job, &[pre]);
+    assert_final_position(&emu, &job);
+}
