@@ -23,5 +23,6 @@ pub mod reconnect;
 pub mod response;
 pub mod resume;
 pub mod sender;
+pub mod settings;
 pub mod status;
 pub mod transport;

@@ -229,3 +229,38 @@ fn check_mode_reports_every_bad_line_without_moving() {
     assert_eq!(s.command("G0X1").unwrap().error, None);
     assert_eq!(s.wait_at_rest().unwrap(), [1.0, 0.0, 0.0]);
 }
+
+#[test]
+fn settings_overrides_and_safety_door() {
+    use oficina_grbl::realtime::Realtime;
+    use oficina_grbl::settings;
+    use oficina_grbl::status::State;
+    let (_emu, ep) = emulator(None);
+    let mut s = connect(&ep);
+    let all = settings::read(&mut s).unwrap();
+    assert_eq!(all.len(), 34);
+    let x = all.iter().find(|st| st.number == 110).unwrap();
+    assert_eq!(x.describe(), "$110=60000 (X-axis maximum rate, mm/min)");
+    assert_eq!(settings::write(&mut s, 111, 4321.5).unwrap().value, 4321.5);
+    // grbl's own rule: soft limits need homing enabled (error:10).
+    assert!(settings::write(&mut s, 20, 1.0)
+        .unwrap_err()
+        .contains("error:10"));
+    // Overrides: +10 % twice on feed, rapid to 25 %.
+    for r in [
+        Realtime::FeedOverridePlus10,
+        Realtime::FeedOverridePlus10,
+        Realtime::RapidOverride25,
+    ] {
+        s.realtime(r).unwrap();
+    }
+    let ov = (0..40)
+        .find_map(|_| s.status().unwrap().overrides)
+        .expect("Ov appears in status reports");
+    assert_eq!(ov, (120, 25, 100));
+    // Safety door while idle, then cycle start closes it.
+    s.realtime(Realtime::SafetyDoor).unwrap();
+    assert_eq!(s.status().unwrap().state, State::Door(0));
+    s.realtime(Realtime::CycleStart).unwrap();
+    assert_eq!(s.status().unwrap().state, State::Idle);
+}
