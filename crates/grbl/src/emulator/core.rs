@@ -104,6 +104,8 @@ pub struct Core {
     /// Set by the server: the byte being received is late because the host was busy.
     pub host_late: bool,
     starving_host_late: bool,
+    /// After a soft-limit alarm grbl takes no line until a reset.
+    blocked: bool,
     /// Lines parsed but not finished: (text, sequence number of their last block).
     awaiting: VecDeque<(String, u64)>,
     blocks_pushed: u64,
@@ -146,6 +148,7 @@ impl Core {
             awaiting: VecDeque::new(),
             host_late: false,
             starving_host_late: false,
+            blocked: false,
             blocks_pushed: 0,
             blocks_done: 0,
             overrides: (100, 100, 100),
@@ -341,6 +344,7 @@ impl Core {
         }
         self.flush_planner();
         self.pending = None;
+        self.blocked = false;
         self.rx.clear();
         self.line.clear();
         self.line_overflow = false;
@@ -371,10 +375,13 @@ impl Core {
         let dt = (now - self.clock).max(0.0);
         self.clock = now;
         self.run_motion(dt);
+        if self.blocked {
+            return;
+        }
         // Take lines out of the RX ring while the previous one is fully planned.
         for _ in 0..64 {
             self.advance_pending();
-            if self.pending.is_some() {
+            if self.pending.is_some() || self.blocked {
                 break;
             }
             match self.next_line() {
@@ -436,8 +443,8 @@ impl Core {
                 if self.check_mode {
                     return self.say("ok");
                 }
-                if let Some(e) = self.soft_limit_error(&effect.segments) {
-                    return self.alarm_soft_limit(e);
+                if self.beyond_soft_limits(&effect.segments) {
+                    return self.alarm_soft_limit();
                 }
                 self.pending = Some(Pending {
                     sync: effect.sync || effect.flow != Flow::Continue,
@@ -452,22 +459,24 @@ impl Core {
         }
     }
 
-    fn soft_limit_error(&self, segs: &[Segment]) -> Option<()> {
-        if self.setting(20) == 0.0 {
-            return None;
-        }
-        let out = segs
-            .iter()
-            .any(|s| (0..3).any(|i| s.to[i] > 0.0 || s.to[i] < -self.setting(130 + i as u16)));
-        out.then_some(())
+    /// With `$20=1`, grbl's machine space is [-$13x, 0] on each axis.
+    fn beyond_soft_limits(&self, segs: &[Segment]) -> bool {
+        self.setting(20) != 0.0
+            && segs
+                .iter()
+                .any(|s| (0..3).any(|i| s.to[i] > 0.0 || s.to[i] < -self.setting(130 + i as u16)))
     }
 
-    fn alarm_soft_limit(&mut self, _: ()) {
+    /// grbl's limits_soft_check: the line is not run and gets no reply; the firmware raises
+    /// ALARM:2 and answers nothing but status and reset until it is reset.
+    fn alarm_soft_limit(&mut self) {
         self.flush_planner();
+        self.pending = None;
         self.state = State::Alarm;
         self.interp.pos = self.mpos;
         self.say("ALARM:2");
-        self.say("ok");
+        self.say("[MSG:Reset to continue]");
+        self.blocked = true;
     }
 
     fn advance_pending(&mut self) {
@@ -849,7 +858,7 @@ impl Core {
         match self.interp.jog(body) {
             Err(e) => self.reply_error(e),
             Ok(effect) => {
-                if self.soft_limit_error(&effect.segments).is_some() {
+                if self.beyond_soft_limits(&effect.segments) {
                     self.interp.pos = self.planner.back().map(|b| b.to).unwrap_or(self.mpos);
                     return self.reply_error(15);
                 }
@@ -1042,6 +1051,26 @@ mod tests {
             take_out(&mut c),
             "error:9\r\n[MSG:Caution: Unlocked]\r\nok\r\n"
         );
+    }
+
+    #[test]
+    fn soft_limit_alarm_blocks_until_reset() {
+        let mut c = Core::new(Config {
+            settings: vec![(22, 1.0), (20, 1.0)],
+            ..cfg()
+        });
+        feed(&mut c, "$X\nG0X-10\nG0X5\nG0X-1\n");
+        c.tick(0.0);
+        let out = take_out(&mut c);
+        assert!(
+            out.ends_with("ok\r\nok\r\nALARM:2\r\n[MSG:Reset to continue]\r\n"),
+            "{out}"
+        );
+        c.tick(1.0);
+        assert_eq!(take_out(&mut c), "", "no reply to anything before a reset");
+        c.realtime(Realtime::SoftReset);
+        assert_eq!(c.state, State::Alarm);
+        assert!(take_out(&mut c).contains("'$H'|'$X' to unlock"));
     }
 
     #[test]
