@@ -264,3 +264,42 @@ fn settings_overrides_and_safety_door() {
     s.realtime(Realtime::CycleStart).unwrap();
     assert_eq!(s.status().unwrap().state, State::Idle);
 }
+
+#[test]
+fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
+    use oficina_grbl::emulator::Emulator;
+    use oficina_grbl::transport::Endpoint;
+    let mut cfg = config(None);
+    cfg.settings.extend([(22, 1.0), (20, 1.0)]);
+    let emu = Emulator::start(cfg);
+    let ep = Endpoint::Tcp {
+        addr: emu.serve_tcp("127.0.0.1:0").unwrap().to_string(),
+    };
+    let mut s = connect(&ep);
+    assert_eq!(s.command("$H").unwrap().error, None);
+    let text = "G21G90\nG0X-5Y-5\nG1X-10F3000\nG1X-10Y-250\nG1X-20\n";
+    let job = oficina_grbl::job::Job::from_text("limits.nc", text).unwrap();
+    let report = s.stream(&job, 0, None, None, &mut quiet());
+    assert_eq!(report.end, StreamEnd::Alarm(2));
+    assert!(
+        report.describe(&job).contains("Soft limit"),
+        "{}",
+        report.describe(&job)
+    );
+    // grbl holds and resets on a soft-limit violation, so the moves queued before the bad
+    // one did not finish either: the resume point is at or before it, never after, and the
+    // machine is unlocked and at rest inside its travel.
+    let at = s
+        .recover(
+            &job,
+            report.certain,
+            report.sent_end,
+            report.acked_end,
+            true,
+        )
+        .unwrap();
+    assert!(at.index <= 3, "{at:?}");
+    let st = s.status().unwrap();
+    assert_eq!(st.state, oficina_grbl::status::State::Idle);
+    assert!(st.mpos.unwrap().iter().all(|v| *v <= 0.0 && *v >= -200.0));
+}
