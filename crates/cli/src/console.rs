@@ -383,7 +383,7 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
     let report = match outcome {
         RunOutcome::AlreadyDone => {
             say!(
-                "{}: the journal says the job already completed",
+                "{}: nothing left to run: the job already completed",
                 path.display()
             );
             return Ok(ExitCode::SUCCESS);

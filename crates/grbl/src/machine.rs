@@ -56,7 +56,8 @@ impl Default for RunSettings {
 /// What a run did.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RunOutcome {
-    /// The journal says the job had already completed; nothing was sent.
+    /// The job had already completed (journal, or the machine rests at its end); nothing
+    /// was sent.
     AlreadyDone,
     Streamed(StreamReport),
 }
@@ -162,6 +163,9 @@ impl GrblMachine {
                 at.index
             }
         };
+        if from >= job.len() {
+            return Ok(RunOutcome::AlreadyDone);
+        }
         if from > 0 {
             observer(Notice::Message(format!(
                 "resume at {}:{}: restoring modal state and approaching at Z{}",

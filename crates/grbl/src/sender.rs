@@ -455,7 +455,13 @@ impl Sender {
                 }
             }
         };
+        // Nothing left to send is a finished job, not a wait for acknowledgements that
+        // will never come.
+        let nothing_left = from >= job.len();
         let end: StreamEnd = 'outer: loop {
+            if nothing_left {
+                break 'outer StreamEnd::Completed;
+            }
             if let Some(rx) = control {
                 while let Ok(c) = rx.try_recv() {
                     let r = match c {

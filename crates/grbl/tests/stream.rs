@@ -303,3 +303,18 @@ fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
     assert_eq!(st.state, oficina_grbl::status::State::Idle);
     assert!(st.mpos.unwrap().iter().all(|v| *v <= 0.0 && *v >= -200.0));
 }
+
+#[test]
+fn streaming_from_past_the_end_finishes_at_once() {
+    let (_emu, ep) = emulator(None);
+    let mut s = connect(&ep);
+    let job = job(5);
+    let r = s.stream(&job, job.len(), None, None, &mut quiet());
+    assert_eq!(
+        r.end,
+        StreamEnd::PositionMismatch {
+            expected: resume::replay(&job, job.len()).work_pos(),
+            actual: [0.0; 3]
+        }
+    );
+}
