@@ -309,7 +309,10 @@ fn piece_time(p: &Piece, ds: f64) -> f64 {
             };
         }
         // Stable root of a/2·t² + v0·t − ds = 0.
-        let disc = (p.v0 * p.v0 + 2.0 * p.a0 * ds).max(0.0);
+        let disc = p.v0 * p.v0 + 2.0 * p.a0 * ds;
+        if disc <= 0.0 {
+            return p.dur; // beyond a decelerating piece's reach: rounding at its end
+        }
         let t = 2.0 * ds / (p.v0 + disc.sqrt());
         return if t.is_finite() { t.min(p.dur) } else { p.dur };
     }
