@@ -1053,6 +1053,46 @@ mod tests {
         );
     }
 
+    /// The emulator's job time against an independent sum of length / feed per move.
+    #[test]
+    fn job_time_is_length_over_feed() {
+        let mut c = Core::new(cfg());
+        let moves = [
+            (3.0, 4.0, 600.0),
+            (3.0, 0.0, 1200.0),
+            (0.0, 0.0, 300.0),
+            (10.0, 10.0, 6000.0),
+        ];
+        let mut program = String::new();
+        let (mut x, mut y, mut expected) = (0.0f64, 0.0f64, 0.0);
+        for (tx, ty, f) in moves {
+            program += &format!("G1X{tx}Y{ty}F{f}\n");
+            expected += (tx - x).hypot(ty - y) / (f / 60.0);
+            (x, y) = (tx, ty);
+        }
+        // Rapid back home: each axis at most $110/$111 = 6000 mm/min = 100 mm/s, so the
+        // slowest axis sets the time.
+        program += "G0X0Y0\n";
+        expected += x.abs().max(y.abs()) / 100.0;
+        let mut t = 0.0;
+        let mut fed = false;
+        while t < 60.0 {
+            if !fed {
+                feed(&mut c, &program);
+                fed = true;
+            }
+            c.tick(t);
+            if t > 0.0 && c.state == State::Idle && c.rx_used() == 0 && c.planner_free() == 15 {
+                break;
+            }
+            t += 0.001;
+        }
+        assert!(
+            (t - expected).abs() <= 0.0015,
+            "emulated {t:.4} s, expected {expected:.4} s"
+        );
+    }
+
     #[test]
     fn soft_limit_alarm_blocks_until_reset() {
         let mut c = Core::new(Config {
