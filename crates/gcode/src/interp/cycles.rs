@@ -223,7 +223,14 @@ impl Interpreter {
         }
         self.pos = self.cycle_point(aa, bb, clear);
         if !exact {
+            // rs274 restores the mode and, whatever the mode, the naive-CAM tolerance.
             self.emit_control_mode(sink);
+            if self.modal.control != MotionMode::Continuous {
+                self.emit(
+                    sink,
+                    CanonOp::SetNaivecamTolerance(self.modal.naive_tolerance),
+                );
+            }
         }
         self.cycle.last = Some(code);
         self.cycle.r = r_in;

@@ -431,10 +431,14 @@ impl Interpreter {
             let on = d.get('P').map(|p| p != 0.0).unwrap_or(true);
             match m {
                 48 | 49 => {
+                    self.modal.feed_override = m == 48;
                     self.emit(sink, CanonOp::EnableFeedOverride(m == 48));
                     self.emit(sink, CanonOp::EnableSpeedOverride(m == 48));
                 }
-                50 => self.emit(sink, CanonOp::EnableFeedOverride(on)),
+                50 => {
+                    self.modal.feed_override = on;
+                    self.emit(sink, CanonOp::EnableFeedOverride(on))
+                }
                 51 => self.emit(sink, CanonOp::EnableSpeedOverride(on)),
                 52 => self.emit(sink, CanonOp::EnableAdaptiveFeed(on)),
                 _ => self.emit(sink, CanonOp::EnableFeedHold(on)),
@@ -864,7 +868,10 @@ impl Interpreter {
                     f.g5x = [0.0; 6];
                     let through = f.to_machine(want);
                     for i in 0..6 {
-                        if d.has(AXES[i]) || (i < 2 && d.has('R')) {
+                        // X and Y are one rotated pair: rs274 keeps the reading of the
+                        // one not named, which moves both offsets.
+                        let xy = d.has('X') || d.has('Y') || d.has('R');
+                        if d.has(AXES[i]) || (i < 2 && xy) {
                             let s = if i < 3 { mk } else { 1.0 };
                             off[i] = (m[i] - through[i]) / s;
                         }
@@ -1266,6 +1273,11 @@ impl Interpreter {
         if self.dialect != Dialect::Legacy2006 {
             self.modal.feed = 0.0;
             self.emit(sink, CanonOp::SetFeedRate(0.0));
+        }
+        // rs274 switches the feed override back on (only that one) when it was off.
+        if !self.modal.feed_override {
+            self.modal.feed_override = true;
+            self.emit(sink, CanonOp::EnableFeedOverride(true));
         }
         self.modal.comp = None;
         self.comp = comp::CompState::default();

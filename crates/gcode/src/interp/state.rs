@@ -60,6 +60,8 @@ pub struct Modal {
     pub tool_selected: u32,
     pub tool_in_spindle: u32,
     pub tool_length_on: bool,
+    /// M48/M50: the feed override switch (M2 turns it back on).
+    pub feed_override: bool,
     pub comp: Option<Side>,
     /// Radius of compensation, mm.
     pub comp_radius: f64,
@@ -88,6 +90,7 @@ impl Modal {
             tool_selected: 0,
             tool_in_spindle: 0,
             tool_length_on: false,
+            feed_override: true,
             comp: None,
             comp_radius: 0.0,
         }

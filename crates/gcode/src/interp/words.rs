@@ -189,8 +189,9 @@ impl Decoded {
                     let tenths = to_tenths(w.value).ok_or_else(|| unknown_g(w.span, w.value))?;
                     let group = group_of_g(tenths).ok_or_else(|| unknown_g(w.span, w.value))?;
                     // rs274 accepts G80 beside another motion code: the other one wins.
+                    // G80 alone is kept (it cancels the motion mode).
                     if group == g_group::MOTION && (tenths == 800 || d.g_in(group) == Some(800)) {
-                        if tenths != 800 {
+                        if tenths != 800 || d.g[group].is_none() {
                             d.g[group] = Some(Code {
                                 tenths,
                                 span: w.span,
