@@ -190,13 +190,18 @@ fn guessed_reader<'a>(
             path: name.into(),
             detail: e.to_string(),
         })?;
-    if reader.format().is_none() {
-        return Err(ImageError::Format {
+    use image::ImageFormat::{Jpeg, Png, Tiff};
+    match reader.format() {
+        Some(Png | Jpeg | Tiff) => Ok(reader),
+        Some(other) => Err(ImageError::Format {
+            path: name.into(),
+            detail: format!("it looks like {other:?}, which is not supported"),
+        }),
+        None => Err(ImageError::Format {
             path: name.into(),
             detail: "unrecognised file signature".into(),
-        });
+        }),
     }
-    Ok(reader)
 }
 
 /// Width and height from the header alone, without decoding pixels. PNG is read by hand
