@@ -1,1 +1,118 @@
-//! Machines: the [`Machine`] trait and the built-in virtual machine.
+//! Machines: one trait for every machine (the built-in virtual machine now, grbl-family
+//! firmware over serial or TCP later): connect, stream a job, real-time commands and status
+//! events.
+
+pub mod job;
+pub mod virtual_machine;
+
+pub use job::{Job, Pace};
+use std::time::Duration;
+pub use virtual_machine::VirtualMachine;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum State {
+    Idle,
+    Run,
+    /// Decelerating to a feed hold.
+    Holding,
+    Hold,
+    /// M0/M1: waiting for resume.
+    Paused,
+    Jog,
+    Alarm(String),
+}
+
+/// A snapshot of the machine.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Status {
+    pub state: State,
+    /// Machine position, mm.
+    pub machine_pos: [f64; 3],
+    /// Work position (machine minus the active G5x and G92 offsets), mm.
+    pub work_pos: [f64; 3],
+    /// Current path speed, mm/min.
+    pub feed: f64,
+    /// Source line being executed.
+    pub line: u32,
+    /// Planned segments waiting in the look-ahead buffer.
+    pub buffer: usize,
+    /// Machine time executed and planned total, seconds.
+    pub elapsed: f64,
+    pub total: f64,
+    pub feed_override: f64,
+}
+
+impl Status {
+    pub fn idle(pos: [f64; 3]) -> Status {
+        Status {
+            state: State::Idle,
+            machine_pos: pos,
+            work_pos: pos,
+            feed: 0.0,
+            line: 0,
+            buffer: 0,
+            elapsed: 0.0,
+            total: 0.0,
+            feed_override: 1.0,
+        }
+    }
+}
+
+/// Real-time commands, honoured while a job runs.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Feed hold: decelerate on the planned path and wait.
+    Hold,
+    /// Leave a hold or an M0 pause.
+    Resume,
+    /// Decelerate and abandon the job.
+    Stop,
+    /// Jog by `delta` mm at `feed` mm/min (idle only; soft limits checked first).
+    Jog { delta: [f64; 3], feed: f64 },
+    /// Feed override factor for motion not yet started (0.1 … 2.0).
+    FeedOverride(f64),
+    /// Leave the alarm state.
+    Unlock,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Event {
+    Status(Status),
+    /// `(MSG,…)` or an operator message.
+    Message(String),
+    /// The job could not start or had to stop; the machine is in alarm.
+    Alarm(String),
+    /// The job ended: `completed` false when stopped.
+    JobEnd {
+        completed: bool,
+        seconds: f64,
+    },
+}
+
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum MachineError {
+    #[error("not connected")]
+    NotConnected,
+    #[error("busy: {0}")]
+    Busy(String),
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// What a connection reports about the machine.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MachineInfo {
+    pub name: String,
+    pub firmware: String,
+}
+
+pub trait Machine: Send {
+    fn connect(&mut self) -> Result<MachineInfo, MachineError>;
+    /// Starts streaming a job; progress arrives as events.
+    fn start(&mut self, job: Job) -> Result<(), MachineError>;
+    fn command(&mut self, cmd: Command) -> Result<(), MachineError>;
+    /// Waits up to `timeout` for the next event.
+    fn next_event(&mut self, timeout: Duration) -> Option<Event>;
+    fn status(&self) -> Status;
+    fn disconnect(&mut self);
+}

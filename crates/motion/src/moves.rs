@@ -305,8 +305,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             let line = c.line;
             match c.op {
                 CanonOp::SetFeedRate(f) => {
-                    if !(f.is_finite() && f > 0.0) {
-                        return Some(Err(self.bad(line, format!("feed rate F{f} must be > 0"))));
+                    // F0 is legal (M2 resets it); feed moves check for it below.
+                    if !(f.is_finite() && f >= 0.0) {
+                        return Some(Err(self.bad(line, format!("feed rate F{f} must be >= 0"))));
                     }
                     // Inverse-time F is 1/min; otherwise mm/min.
                     self.feed = if self.inverse_time { f } else { f / 60.0 };
@@ -340,6 +341,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         Err(e) => return Some(Err(e)),
                     };
                     let length = dist3(self.pos, b);
+                    if kind == MoveKind::Feed && self.feed <= 0.0 && length >= 1e-9 {
+                        return Some(Err(self.bad(line, "feed move with a zero feed rate; set F")));
+                    }
                     if length < 1e-9 {
                         self.op_count += 1; // keep op indices aligned with the canon stream
                         continue;
@@ -357,6 +361,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
+                    if self.feed <= 0.0 {
+                        return Some(Err(self.bad(line, "arc with a zero feed rate; set F")));
+                    }
                     if turns == 0 || !center.iter().all(|v| v.is_finite()) {
                         return Some(Err(
                             self.bad(line, "arc with zero turns or a non-finite centre")

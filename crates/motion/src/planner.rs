@@ -246,6 +246,11 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
         self.moves.kinematics()
     }
 
+    /// Blocks waiting in the look-ahead buffer.
+    pub fn buffered(&self) -> usize {
+        self.buf.len()
+    }
+
     fn push(&mut self, m: Move) {
         let bl = block_limits(&m, self.profile, self.shape);
         self.tail = (m.end, m.q1);

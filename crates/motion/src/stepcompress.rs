@@ -120,7 +120,7 @@ fn clip(poly: &[(f64, f64)], a: f64, b: f64, k: f64, ge: bool) -> Vec<(f64, f64)
         }
     };
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(poly.len() + 2);
-    let mut keep = |v: (f64, f64), out: &mut Vec<(f64, f64)>| {
+    let keep = |v: (f64, f64), out: &mut Vec<(f64, f64)>| {
         // Drop vertices that coincide with the previous one; they only slow later clips.
         if out
             .last()

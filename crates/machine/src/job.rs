@@ -1,0 +1,124 @@
+//! A job: G-code text plus how to run it. The interpreter runs in its own thread and hands
+//! canon ops over a bounded channel, so memory stays flat however long the program is.
+
+use oficina_canon::{Canon, CanonOp, Pos};
+use oficina_gcode::program::{run_text, RunOptions};
+use oficina_gcode::Severity;
+use std::sync::mpsc::{sync_channel, Receiver};
+use std::sync::{Arc, Mutex};
+use std::thread;
+
+/// How fast the virtual machine runs relative to the clock.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Pace {
+    /// Wall time = machine time / factor (1.0 = real time).
+    Speed(f64),
+    /// No waiting at all.
+    Instant,
+}
+
+#[derive(Clone, Debug)]
+pub struct Job {
+    pub name: String,
+    pub text: Arc<String>,
+    /// Resume from this source line: earlier motion is skipped and the machine goes to the
+    /// point where that line starts, at a safe height, with rapids.
+    pub start_line: Option<u32>,
+    pub pace: Pace,
+}
+
+/// Canon ops of a job, in a bounded stream; the first interpreter error ends the stream and
+/// is left in `error`.
+pub struct CanonStream {
+    rx: Receiver<Canon>,
+    pub error: Arc<Mutex<Option<String>>>,
+}
+
+impl Iterator for CanonStream {
+    type Item = Canon;
+    fn next(&mut self) -> Option<Canon> {
+        self.rx.recv().ok()
+    }
+}
+
+pub fn canon_stream(job: &Job) -> CanonStream {
+    let (tx, rx) = sync_channel(4096);
+    let error = Arc::new(Mutex::new(None));
+    let (text, name, err) = (job.text.clone(), job.name.clone(), error.clone());
+    thread::spawn(move || {
+        let diags = run_text(&text, &RunOptions::default(), &mut |c| {
+            let _ = tx.send(c);
+        });
+        if let Some(d) = diags.iter().find(|d| d.severity == Severity::Error) {
+            let line = text.lines().nth(d.span.line.saturating_sub(1) as usize);
+            *err.lock().unwrap_or_else(|e| e.into_inner()) = Some(d.render(&name, line));
+        }
+    });
+    CanonStream { rx, error }
+}
+
+/// Skips the motion before `line` and replaces it by rapids: up to a safe height, across,
+/// down to the point where `line` starts. State ops (feed, modes, offsets) still pass.
+pub struct ResumeFrom<I> {
+    ops: I,
+    line: u32,
+    start: [f64; 3],
+    pos: Option<Pos>,
+    queue: Vec<Canon>,
+    resumed: bool,
+}
+
+impl<I: Iterator<Item = Canon>> ResumeFrom<I> {
+    pub fn new(ops: I, line: u32, start: [f64; 3]) -> Self {
+        ResumeFrom {
+            ops,
+            line,
+            start,
+            pos: None,
+            queue: Vec::new(),
+            resumed: false,
+        }
+    }
+}
+
+impl<I: Iterator<Item = Canon>> Iterator for ResumeFrom<I> {
+    type Item = Canon;
+    fn next(&mut self) -> Option<Canon> {
+        if let Some(c) = self.queue.pop() {
+            return Some(c);
+        }
+        loop {
+            let c = self.ops.next()?;
+            if self.resumed || c.line < self.line && !c.op.is_motion() {
+                return Some(c);
+            }
+            if c.line < self.line {
+                self.pos = Some(match c.op {
+                    CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => to,
+                    CanonOp::ArcFeed { end, .. } => end,
+                    _ => continue,
+                });
+                continue;
+            }
+            self.resumed = true;
+            let Some(p) = self.pos else { return Some(c) };
+            let z = p.z.max(self.start[2]);
+            let l = c.line;
+            // Pushed in reverse: popped up, across, down, then the op itself.
+            self.queue.push(c);
+            self.queue.push(Canon {
+                line: l,
+                op: CanonOp::StraightTraverse { to: p },
+            });
+            self.queue.push(Canon {
+                line: l,
+                op: CanonOp::StraightTraverse { to: Pos { z, ..p } },
+            });
+            let up = Pos::xyz(self.start[0], self.start[1], z);
+            return Some(Canon {
+                line: l,
+                op: CanonOp::StraightTraverse { to: up },
+            });
+        }
+    }
+}

@@ -1,0 +1,444 @@
+//! The built-in virtual machine: executes planned motion against a clock (real time, scaled
+//! or instant), with feed hold that decelerates on the planned path, resume, stop, jog and
+//! soft limits checked on the whole job before any motion.
+
+use crate::job::{canon_stream, Job, Pace, ResumeFrom};
+use crate::{Command, Event, Machine, MachineError, MachineInfo, State, Status};
+use oficina_canon::{Canon, CanonOp};
+use oficina_motion::moves::Overrides;
+use oficina_motion::{estimate::estimate_with, plan, PlanOptions, Profile, Segment, SegmentKind};
+use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
+use std::sync::{Arc, Mutex};
+use std::thread;
+use std::time::{Duration, Instant};
+
+/// Machine-time step of the execution loop.
+const TICK: f64 = 0.005;
+
+pub struct VirtualMachine {
+    profile: Arc<Profile>,
+    status: Arc<Mutex<Status>>,
+    cmd_tx: Option<Sender<Command>>,
+    ev_rx: Option<Receiver<Event>>,
+    ev_tx: Sender<Event>,
+    ev_rx_own: Option<Receiver<Event>>,
+    connected: bool,
+}
+
+impl VirtualMachine {
+    pub fn new(profile: Profile) -> VirtualMachine {
+        let (ev_tx, ev_rx) = channel();
+        let status = Status::idle(profile.start);
+        VirtualMachine {
+            profile: Arc::new(profile),
+            status: Arc::new(Mutex::new(status)),
+            cmd_tx: None,
+            ev_rx: None,
+            ev_tx,
+            ev_rx_own: Some(ev_rx),
+            connected: false,
+        }
+    }
+}
+
+fn lock(s: &Mutex<Status>) -> std::sync::MutexGuard<'_, Status> {
+    s.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl Machine for VirtualMachine {
+    fn connect(&mut self) -> Result<MachineInfo, MachineError> {
+        self.connected = true;
+        if self.ev_rx.is_none() {
+            self.ev_rx = self.ev_rx_own.take();
+        }
+        Ok(MachineInfo {
+            name: self.profile.name.clone(),
+            firmware: "oficina virtual machine".into(),
+        })
+    }
+
+    fn start(&mut self, job: Job) -> Result<(), MachineError> {
+        if !self.connected {
+            return Err(MachineError::NotConnected);
+        }
+        let state = lock(&self.status).state.clone();
+        match state {
+            State::Idle => {}
+            State::Alarm(a) => {
+                return Err(MachineError::Refused(format!(
+                    "in alarm: {a}; unlock first"
+                )))
+            }
+            s => return Err(MachineError::Busy(format!("{s:?}"))),
+        }
+        let (tx, rx) = channel();
+        self.cmd_tx = Some(tx);
+        let (profile, status, events) = (
+            self.profile.clone(),
+            self.status.clone(),
+            self.ev_tx.clone(),
+        );
+        lock(&status).state = State::Run;
+        thread::spawn(move || {
+            Runner {
+                profile,
+                status,
+                events,
+                cmds: rx,
+                override_: 1.0,
+            }
+            .run_job(job)
+        });
+        Ok(())
+    }
+
+    fn command(&mut self, cmd: Command) -> Result<(), MachineError> {
+        let state = lock(&self.status).state.clone();
+        match (&cmd, &state) {
+            (Command::Unlock, State::Alarm(_)) => {
+                lock(&self.status).state = State::Idle;
+                Ok(())
+            }
+            (Command::Jog { delta, feed }, State::Idle) => {
+                let pos = lock(&self.status).machine_pos;
+                let to = [pos[0] + delta[0], pos[1] + delta[1], pos[2] + delta[2]];
+                let text = format!(
+                    "G90 G1 X{:.6} Y{:.6} Z{:.6} F{:.3}\nM2\n",
+                    to[0], to[1], to[2], feed
+                );
+                self.start(Job {
+                    name: "jog".into(),
+                    text: Arc::new(text),
+                    start_line: None,
+                    pace: Pace::Speed(1.0),
+                })
+            }
+            (Command::Jog { .. }, s) => Err(MachineError::Busy(format!("cannot jog while {s:?}"))),
+            _ => match &self.cmd_tx {
+                Some(tx) if tx.send(cmd.clone()).is_ok() => Ok(()),
+                _ => Err(MachineError::Refused(format!("{cmd:?}: no job is running"))),
+            },
+        }
+    }
+
+    fn next_event(&mut self, timeout: Duration) -> Option<Event> {
+        match self.ev_rx.as_ref()?.recv_timeout(timeout) {
+            Ok(e) => Some(e),
+            Err(RecvTimeoutError::Timeout) | Err(RecvTimeoutError::Disconnected) => None,
+        }
+    }
+
+    fn status(&self) -> Status {
+        lock(&self.status).clone()
+    }
+
+    fn disconnect(&mut self) {
+        if let Some(tx) = &self.cmd_tx {
+            let _ = tx.send(Command::Stop);
+        }
+        self.connected = false;
+    }
+}
+
+/// The job thread.
+struct Runner {
+    profile: Arc<Profile>,
+    status: Arc<Mutex<Status>>,
+    events: Sender<Event>,
+    cmds: Receiver<Command>,
+    override_: f64,
+}
+
+/// Where execution is inside a segment when it leaves the planned timeline (hold/resume).
+enum Mode {
+    Planned,
+    Decel { stop: bool },
+    Held,
+    Accel,
+}
+
+impl Runner {
+    fn ops(
+        &self,
+        job: &Job,
+        start: [f64; 3],
+    ) -> (Box<dyn Iterator<Item = Canon>>, Arc<Mutex<Option<String>>>) {
+        let s = canon_stream(job);
+        let err = s.error.clone();
+        let it: Box<dyn Iterator<Item = Canon>> = match job.start_line {
+            Some(l) => Box::new(ResumeFrom::new(s, l, start)),
+            None => Box::new(s),
+        };
+        (it, err)
+    }
+
+    fn alarm(&self, msg: String) {
+        lock(&self.status).state = State::Alarm(msg.clone());
+        let _ = self.events.send(Event::Alarm(msg));
+        let _ = self.events.send(Event::JobEnd {
+            completed: false,
+            seconds: 0.0,
+        });
+    }
+
+    fn run_job(mut self, job: Job) {
+        let start = lock(&self.status).machine_pos;
+        let mut profile = (*self.profile).clone();
+        profile.start = start;
+        // First pass: the whole job is planned (soft limits, reachability, interpreter
+        // errors) and timed before anything moves.
+        let (ops, err) = self.ops(&job, start);
+        let opts = PlanOptions {
+            overrides: Overrides {
+                feed: self.override_,
+                rapid: 1.0,
+            },
+            shape: None,
+        };
+        let total = match estimate_with(ops, &profile, opts, false) {
+            Ok(e) => e.seconds,
+            Err(e) => return self.alarm(format!("{}: {e}; nothing was moved", job.name)),
+        };
+        if let Some(e) = err.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            return self.alarm(format!("{e}; nothing was moved"));
+        }
+        lock(&self.status).total = total;
+        let (ops, _) = self.ops(&job, start);
+        let offsets = Arc::new(Mutex::new(([0.0; 3], [0.0; 3])));
+        let off = offsets.clone();
+        let messages = self.events.clone();
+        let ops = ops.inspect(move |c| {
+            let mut o = off.lock().unwrap_or_else(|e| e.into_inner());
+            match c.op {
+                CanonOp::SetG5xOffset { offset, .. } => o.0 = [offset.x, offset.y, offset.z],
+                CanonOp::SetG92Offset(p) => o.1 = [p.x, p.y, p.z],
+                CanonOp::Message(ref m) => {
+                    let _ = messages.send(Event::Message(m.clone()));
+                }
+                _ => {}
+            }
+        });
+        let mut planner = match plan(ops, &profile, opts) {
+            Ok(p) => p,
+            Err(e) => return self.alarm(e.to_string()),
+        };
+        let clock = Instant::now();
+        let mut elapsed = 0.0; // machine time executed
+        let mut wall_paused = Duration::ZERO;
+        let mut mode = Mode::Planned;
+        let completed = loop {
+            let seg = match planner.next() {
+                None => break true,
+                Some(Err(e)) => {
+                    self.alarm(e.to_string());
+                    break false;
+                }
+                Some(Ok(s)) => s,
+            };
+            let buffered = planner.buffered();
+            match self.execute(
+                &seg,
+                &mut mode,
+                &mut elapsed,
+                &job,
+                clock,
+                &mut wall_paused,
+                buffered,
+                &offsets,
+                &profile,
+            ) {
+                Ok(()) => {}
+                Err(stopped) => break !stopped,
+            }
+        };
+        let mut st = lock(&self.status);
+        if !matches!(st.state, State::Alarm(_)) {
+            st.state = State::Idle;
+        }
+        st.feed = 0.0;
+        drop(st);
+        let _ = self.events.send(Event::JobEnd {
+            completed,
+            seconds: elapsed,
+        });
+    }
+
+    /// Runs one segment; `Err(true)` when the operator stopped the job.
+    #[allow(clippy::too_many_arguments)]
+    fn execute(
+        &mut self,
+        seg: &Segment,
+        mode: &mut Mode,
+        elapsed: &mut f64,
+        job: &Job,
+        clock: Instant,
+        wall_paused: &mut Duration,
+        buffered: usize,
+        offsets: &Arc<Mutex<([f64; 3], [f64; 3])>>,
+        profile: &Profile,
+    ) -> Result<(), bool> {
+        if seg.kind == SegmentKind::Pause {
+            lock(&self.status).state = State::Paused;
+            let _ = self.events.send(Event::Message(format!(
+                "line {}: program pause (M0/M1); resume to go on",
+                seg.line
+            )));
+            if self.wait_resume(wall_paused) {
+                return Err(true);
+            }
+            lock(&self.status).state = State::Run;
+            return Ok(());
+        }
+        let m = &seg.motion;
+        let accel = path_accel(seg, profile);
+        let (mut t, mut s, mut v) = (0.0, 0.0, m.v_start());
+        loop {
+            // Commands between ticks.
+            while let Ok(c) = self.cmds.try_recv() {
+                match c {
+                    Command::Hold if matches!(mode, Mode::Planned | Mode::Accel) => {
+                        *mode = Mode::Decel { stop: false }
+                    }
+                    Command::Stop => *mode = Mode::Decel { stop: true },
+                    Command::Resume if matches!(mode, Mode::Held) => *mode = Mode::Accel,
+                    Command::FeedOverride(f) => self.override_ = f.clamp(0.1, 2.0),
+                    _ => {}
+                }
+            }
+            let done = match mode {
+                Mode::Planned => {
+                    t = (t + TICK).min(m.duration);
+                    let (ss, vv, _) = m.at(t);
+                    s = ss;
+                    v = vv;
+                    t >= m.duration
+                }
+                Mode::Decel { stop } => {
+                    // Brake at the path's acceleration, never faster than the plan allows.
+                    v = (v - accel * TICK)
+                        .max(0.0)
+                        .min(m.at(m.time_at(s)).1.max(v - accel * TICK));
+                    s = (s + v * TICK).min(m.length);
+                    if v <= 0.0 {
+                        if *stop {
+                            self.publish(
+                                seg,
+                                s,
+                                0.0,
+                                *elapsed,
+                                job,
+                                buffered,
+                                offsets,
+                                State::Idle,
+                            );
+                            return Err(true);
+                        }
+                        *mode = Mode::Held;
+                        lock(&self.status).state = State::Hold;
+                        self.publish(seg, s, 0.0, *elapsed, job, buffered, offsets, State::Hold);
+                        if self.wait_resume(wall_paused) {
+                            return Err(true);
+                        }
+                        *mode = Mode::Accel;
+                    }
+                    s >= m.length
+                }
+                Mode::Held => false,
+                Mode::Accel => {
+                    v += accel * TICK;
+                    s = (s + v * TICK).min(m.length);
+                    let tp = m.time_at(s);
+                    if v >= m.at(tp).1 {
+                        // Caught up with the plan: back on its timeline.
+                        t = tp;
+                        v = m.at(tp).1;
+                        *mode = Mode::Planned;
+                    }
+                    s >= m.length
+                }
+            };
+            *elapsed += TICK.min(m.duration.max(0.0));
+            let state = match mode {
+                Mode::Planned | Mode::Accel => State::Run,
+                Mode::Decel { .. } => State::Holding,
+                Mode::Held => State::Hold,
+            };
+            self.publish(seg, s, v, *elapsed, job, buffered, offsets, state);
+            if let Pace::Speed(f) = job.pace {
+                let due = Duration::from_secs_f64(*elapsed / f.max(1e-3)) + *wall_paused;
+                if let Some(wait) = due.checked_sub(clock.elapsed()) {
+                    thread::sleep(wait);
+                }
+            }
+            if done || m.duration <= 0.0 {
+                return Ok(());
+            }
+        }
+    }
+
+    /// Waits in hold for Resume (false) or Stop (true); wall time spent is not machine time.
+    fn wait_resume(&self, wall_paused: &mut Duration) -> bool {
+        let since = Instant::now();
+        let r = loop {
+            match self.cmds.recv() {
+                Ok(Command::Resume) => break false,
+                Ok(Command::Stop) | Err(_) => break true,
+                _ => {}
+            }
+        };
+        *wall_paused += since.elapsed();
+        r
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn publish(
+        &self,
+        seg: &Segment,
+        s: f64,
+        v: f64,
+        elapsed: f64,
+        _job: &Job,
+        buffered: usize,
+        offsets: &Arc<Mutex<([f64; 3], [f64; 3])>>,
+        state: State,
+    ) {
+        let f = if seg.motion.length > 0.0 {
+            s / seg.motion.length
+        } else {
+            1.0
+        };
+        let p = oficina_motion::moves::lerp3(seg.start, seg.end, f);
+        let (g5x, g92) = *offsets.lock().unwrap_or_else(|e| e.into_inner());
+        let mut st = lock(&self.status);
+        st.state = state;
+        st.machine_pos = p;
+        st.work_pos = std::array::from_fn(|i| p[i] - g5x[i] - g92[i]);
+        st.feed = v * 60.0;
+        st.line = seg.line;
+        st.buffer = buffered;
+        st.elapsed = elapsed.min(st.total.max(elapsed));
+        st.feed_override = self.override_;
+        let snapshot = st.clone();
+        drop(st);
+        let _ = self.events.send(Event::Status(snapshot));
+    }
+}
+
+/// Path acceleration a segment may use: every joint's limit through dq/ds.
+fn path_accel(seg: &Segment, profile: &Profile) -> f64 {
+    let len = seg.motion.length;
+    let mut a = f64::INFINITY;
+    for (i, j) in profile.joints.iter().enumerate() {
+        if let Some(j) = j {
+            let d = ((seg.q1[i] - seg.q0[i]) / len).abs();
+            if d > 0.0 {
+                a = a.min(j.acceleration / d);
+            }
+        }
+    }
+    if a.is_finite() {
+        a
+    } else {
+        1.0
+    }
+}
