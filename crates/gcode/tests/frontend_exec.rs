@@ -191,10 +191,16 @@ fn loops() {
              o9 call [#1] [#2]\n#2=[#2+1]\no2 endrepeat\n#1=[#1+1]\no1 endwhile";
     assert_eq!(xs(p), vec![0.0, 1.0, 10.0, 11.0]);
     // continue in repeat and do loops.
-    assert_eq!(
-        xs("#1=0\no1 repeat [3]\n#1=[#1+1]\no1 continue\nG0 X99\no1 endrepeat\nG0 X#1"),
-        vec![3.0]
+    // rs274: break and continue do not apply to repeat loops ("no matching while/do label").
+    let e = first_error("o1 repeat [3]\no1 continue\no1 endrepeat");
+    assert!(
+        e.message.contains("o1 continue inside o1 repeat"),
+        "{}",
+        e.message
     );
+    assert!(first_error("o1 repeat [3]\no1 break\no1 endrepeat")
+        .message
+        .contains("repeat"));
     assert_eq!(
         xs("#1=0\no1 do\n#1=[#1+1]\no1 continue\nG0 X99\no1 while [#1 LT 3]\nG0 X#1"),
         vec![3.0]
@@ -388,4 +394,23 @@ fn a_huge_line_without_newline_is_an_error_and_streams_past() {
         Some(1.0)
     );
     assert!(exec.next_block(&mut p).is_none());
+}
+
+/// Deliberate differences from rs274 (LinuxCNC 2.9.0~pre1), where its label-based skipping
+/// gives results that contradict its own documentation. Each program's rs274 output is noted.
+#[test]
+fn where_rs274_is_wrong_we_follow_the_documented_semantics() {
+    // rs274 prints X1 only: leaving a while loop by break leaves its `doing_break` flag set,
+    // and the next do-while loop then stops after its first pass.
+    let p =
+        "o1 while [1]\no1 break\no1 endwhile\n#2=0\no2 do\n#2=[#2+1]\nG0 X#2\no2 while [#2 LT 3]";
+    assert_eq!(xs(p), vec![1.0, 2.0, 3.0]);
+    // rs274 prints X1 only: the continue skips forward, reads the (not executed) break of the
+    // same loop on the way and obeys it.
+    let p = "#1=0\no1 do\n#1=[#1+1]\nG0 X#1\no2 if [1]\no1 continue\no2 endif\n\
+             o3 if [0]\no1 break\no3 endif\no1 while [#1 LT 3]";
+    assert_eq!(xs(p), vec![1.0, 2.0, 3.0]);
+    // rs274 prints X1 twice: a do-while inside a skipped branch restarts the repeat.
+    let p = "o1 repeat [1]\nG0 X1\no2 if [0]\no3 do\no3 while [0]\no2 endif\no1 endrepeat";
+    assert_eq!(xs(p), vec![1.0]);
 }

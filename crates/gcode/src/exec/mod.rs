@@ -332,6 +332,25 @@ impl<R: BufRead + Seek> Executor<R> {
             )
             .with_help("subroutine definitions cannot be nested"));
         }
+        if label == skip.label && matches!(keyword, Keyword::Break | Keyword::Continue) {
+            // LinuxCNC looks at a break/continue of the construct being skipped and rejects it
+            // unless that construct is a while or do loop (it also re-reads a finished
+            // repeat's body, see `next_repetition`).
+            let construct = match skip.until.last() {
+                Some(Keyword::EndWhile | Keyword::While) => None,
+                Some(Keyword::EndRepeat) => Some("repeat"),
+                Some(Keyword::EndSub) => Some("sub"),
+                _ => Some("if"),
+            };
+            if let Some(construct) = construct {
+                let name = OWord::display_label(&label);
+                return Err(Diagnostic::error(
+                    self.compact.span(0, self.compact.bytes.len()),
+                    format!("{name} {} inside {name} {construct}", keyword.name()),
+                )
+                .with_help("LinuxCNC allows break and continue only in while and do loops"));
+            }
+        }
         if label != skip.label || !skip.until.contains(&keyword) {
             return Ok(false);
         }
@@ -749,11 +768,12 @@ impl<R: BufRead + Seek> Executor<R> {
         };
         *remaining = remaining.saturating_sub(1);
         if *remaining == 0 {
+            // Like LinuxCNC, go back once more and skip the body to the endrepeat: a
+            // break/continue of this loop inside it is then reported (see `skip_step`).
+            let mark = *mark;
             self.ctl.pop();
-            if o.keyword == Keyword::Continue {
-                // Continuing past the last repetition leaves the loop.
-                self.start_skip(&o.label, &[Keyword::EndRepeat], Arrival::Consume, false);
-            }
+            self.seek(mark)?;
+            self.start_skip(&o.label, &[Keyword::EndRepeat], Arrival::Consume, false);
             return Ok(());
         }
         let mark = *mark;
@@ -824,10 +844,25 @@ impl<R: BufRead + Seek> Executor<R> {
                     format!("{name} {} outside a loop labelled {name}", o.keyword.name()),
                 )
                 .with_help(format!(
-                    "{name} {} must be inside {name} while/do/repeat",
+                    "{name} {} must be inside {name} while or {name} do",
                     o.keyword.name()
                 )));
         };
+        if matches!(
+            &self.ctl[index],
+            Ctl::Loop {
+                kind: LoopKind::Repeat { .. },
+                ..
+            }
+        ) {
+            // LinuxCNC: "no matching while/do label".
+            return Err(self
+                .err(
+                    o,
+                    format!("{name} {} inside {name} repeat", o.keyword.name()),
+                )
+                .with_help("LinuxCNC allows break and continue only in while and do loops"));
+        }
         self.ctl.truncate(index + 1);
         let Some(Ctl::Loop { kind, mark, .. }) = self.ctl.last() else {
             return Ok(());
