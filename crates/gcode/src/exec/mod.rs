@@ -332,15 +332,26 @@ impl<R: BufRead + Seek> Executor<R> {
             )
             .with_help("subroutine definitions cannot be nested"));
         }
-        if label == skip.label && matches!(keyword, Keyword::Break | Keyword::Continue) {
+        if matches!(keyword, Keyword::Break | Keyword::Continue) {
             // LinuxCNC looks at a break/continue of the construct being skipped and rejects it
             // unless that construct is a while or do loop (it also re-reads a finished
-            // repeat's body, see `next_repetition`).
-            let construct = match skip.until.last() {
-                Some(Keyword::EndWhile | Keyword::While) => None,
-                Some(Keyword::EndRepeat) => Some("repeat"),
-                Some(Keyword::EndSub) => Some("sub"),
-                _ => Some("if"),
+            // repeat's body, see `next_repetition`, and keeps a repeat's count across calls):
+            // a break/continue of a repeat loop is reported as soon as it is read.
+            let base = self.ctl_base();
+            let in_open_repeat = self.ctl[base.min(self.ctl.len())..].iter().any(|c| {
+                matches!(c, Ctl::Loop { label: l, kind: LoopKind::Repeat { .. }, .. } if *l == label)
+            });
+            let construct = if in_open_repeat {
+                Some("repeat")
+            } else if label != skip.label {
+                None
+            } else {
+                match skip.until.last() {
+                    Some(Keyword::EndWhile | Keyword::While) => None,
+                    Some(Keyword::EndRepeat) => Some("repeat"),
+                    Some(Keyword::EndSub) => Some("sub"),
+                    _ => Some("if"),
+                }
             };
             if let Some(construct) = construct {
                 let name = OWord::display_label(&label);
