@@ -9,7 +9,7 @@ use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
 use oficina_grbl::link::Event;
 use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use oficina_grbl::messages;
-use oficina_grbl::realtime::Realtime;
+use oficina_grbl::realtime::{self, Realtime};
 use oficina_grbl::reconnect::RetryPolicy;
 use oficina_grbl::response::Response;
 use oficina_grbl::resume::ResumeOptions;
@@ -210,7 +210,7 @@ fn explain(resp: &Response, raw: &str) -> String {
 
 fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset,");
-    eprintln!("/jog X+10 F500 (step), /jog X- F1000 (continuous until Enter), /quit to leave");
+    eprintln!("/jog X+10 F500 (step), /jog X- F1000 (continuous until Enter), /ov f+10 (overrides), /quit to leave");
     let input = stdin_lines();
     let mut last_query = Instant::now();
     let mut jogging: Option<ContinuousJog> = None;
@@ -235,6 +235,13 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                     "/door" => sender.realtime(Realtime::SafetyDoor),
                     "/jogcancel" => sender.realtime(Realtime::JogCancel),
                     "" => Ok(()),
+                    _ if t.starts_with("/ov ") => match realtime::override_by_name(t[4..].trim()) {
+                        Some(r) => sender.realtime(r),
+                        None => {
+                            eprintln!("\r\x1b[Koverrides: f+10 f-10 f+1 f-1 f100 r100 r50 r25 s+10 s-10 s+1 s-1 s100 sstop flood mist");
+                            Ok(())
+                        }
+                    },
                     _ if t.starts_with("/jog") => match jog::parse_request(&t[4..], 500.0) {
                         Ok(JogRequest::Step {
                             axis,
@@ -331,7 +338,7 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
         check_first: args.check,
     };
     let journal_path = GrblMachine::journal_path(path, &settings);
-    eprintln!("keys (then Enter): h hold, r resume, s stop");
+    eprintln!("keys (then Enter): h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …");
     let keys = stdin_lines();
     let (ctl_tx, ctl_rx) = mpsc::channel();
     std::thread::spawn(move || {
@@ -340,7 +347,10 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
                 "h" | "!" | "" => Control::Hold,
                 "r" | "~" => Control::Resume,
                 "s" | "q" => Control::Stop,
-                _ => continue,
+                other => match realtime::override_by_name(other) {
+                    Some(r) => Control::Realtime(r),
+                    None => continue,
+                },
             };
             if ctl_tx.send(c).is_err() {
                 break;

@@ -52,6 +52,31 @@ const TABLE: &[(Realtime, u8)] = &[
     (Realtime::MistToggle, 0xA1),
 ];
 
+/// Operator names for the override and accessory bytes, as typed in the console:
+/// `f+10 f-10 f+1 f-1 f100` (feed), `r100 r50 r25` (rapids), `s+10 s-10 s+1 s-1 s100`
+/// (spindle), `sstop`, `flood`, `mist`.
+pub fn override_by_name(name: &str) -> Option<Realtime> {
+    Some(match name {
+        "f+10" => Realtime::FeedOverridePlus10,
+        "f-10" => Realtime::FeedOverrideMinus10,
+        "f+1" => Realtime::FeedOverridePlus1,
+        "f-1" => Realtime::FeedOverrideMinus1,
+        "f100" => Realtime::FeedOverrideReset,
+        "r100" => Realtime::RapidOverride100,
+        "r50" => Realtime::RapidOverride50,
+        "r25" => Realtime::RapidOverride25,
+        "s+10" => Realtime::SpindleOverridePlus10,
+        "s-10" => Realtime::SpindleOverrideMinus10,
+        "s+1" => Realtime::SpindleOverridePlus1,
+        "s-1" => Realtime::SpindleOverrideMinus1,
+        "s100" => Realtime::SpindleOverrideReset,
+        "sstop" => Realtime::SpindleStopToggle,
+        "flood" => Realtime::FloodToggle,
+        "mist" => Realtime::MistToggle,
+        _ => return None,
+    })
+}
+
 impl Realtime {
     pub fn byte(self) -> u8 {
         TABLE
@@ -84,5 +109,9 @@ mod tests {
             assert!(Realtime::is_realtime_byte(*b));
         }
         assert!(!Realtime::is_realtime_byte(b'G'));
+        assert_eq!(override_by_name("f+10").map(Realtime::byte), Some(0x91));
+        assert_eq!(override_by_name("r25").map(Realtime::byte), Some(0x97));
+        assert_eq!(override_by_name("s-1").map(Realtime::byte), Some(0x9D));
+        assert_eq!(override_by_name("x"), None);
     }
 }
