@@ -7,6 +7,7 @@
 //! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle;
 //! - [`emulator`]: grbl 1.1 in software over a pty or TCP; [`proxy`]: fault injection.
 
+pub mod device;
 pub mod emulator;
 pub mod gline;
 pub mod interp;

@@ -1,0 +1,367 @@
+//! [`GrblDevice`]: grbl-family firmware behind Oficina's [`oficina_machine::Machine`] trait,
+//! so `oficina run FILE --machine grbl:/dev/ttyUSB0` drives a real board exactly as it drives
+//! the virtual machine. A job runs on a worker thread that owns the link; operator commands
+//! reach it over a channel and its progress comes back as the trait's events.
+
+use crate::job::Job as GrblJob;
+use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
+use crate::messages;
+use crate::realtime::Realtime;
+use crate::sender::{Control, Notice, SenderOptions, StreamEnd};
+use crate::status::{State as GrblState, Status as GrblStatus};
+use crate::transport::Endpoint;
+use oficina_machine::{Command, Event, Job, Machine, MachineError, MachineInfo, State, Status};
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+pub struct GrblDevice {
+    pub endpoint: Endpoint,
+    /// How jobs are run (resume approach, reconnect policy, journal).
+    pub settings: RunSettings,
+    /// The link while no job runs; a running job's worker holds it.
+    idle: Arc<Mutex<Option<GrblMachine>>>,
+    status: Arc<Mutex<Status>>,
+    events_tx: Sender<Event>,
+    events_rx: Receiver<Event>,
+    control: Option<Sender<Control>>,
+    worker: Option<JoinHandle<()>>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl GrblDevice {
+    /// `uri`: `grbl:/dev/ttyUSB0`, `/dev/ttyACM0@250000`, `tcp://192.168.1.5:23`. Nothing is
+    /// opened until [`Machine::connect`].
+    pub fn new(uri: &str) -> Result<GrblDevice, String> {
+        let endpoint: Endpoint = uri.parse()?;
+        let (events_tx, events_rx) = mpsc::channel();
+        Ok(GrblDevice {
+            endpoint,
+            settings: RunSettings::default(),
+            idle: Arc::new(Mutex::new(None)),
+            status: Arc::new(Mutex::new(Status::idle([0.0; 3]))),
+            events_tx,
+            events_rx,
+            control: None,
+            worker: None,
+        })
+    }
+
+    /// A job holds the link: the worker took it and has not given it back.
+    fn job_running(&self) -> bool {
+        lock(&self.idle).is_none() && self.worker.as_ref().is_some_and(|w| !w.is_finished())
+    }
+
+    /// Runs `f` on the idle link, or says why it cannot.
+    fn with_idle<R>(
+        &self,
+        f: impl FnOnce(&mut GrblMachine) -> Result<R, String>,
+    ) -> Result<R, MachineError> {
+        let mut guard = lock(&self.idle);
+        match guard.as_mut() {
+            Some(m) => f(m).map_err(MachineError::Refused),
+            // (The lock is held: ask the worker directly rather than through job_running.)
+            None if self.worker.as_ref().is_some_and(|w| !w.is_finished()) => {
+                Err(MachineError::Busy("a job is running".into()))
+            }
+            None => Err(MachineError::NotConnected),
+        }
+    }
+}
+
+/// grbl's status in the trait's terms. `wco` is the last work offset grbl reported.
+pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
+    into.state = match &st.state {
+        GrblState::Idle | GrblState::Check | GrblState::Sleep => State::Idle,
+        GrblState::Run | GrblState::Home => State::Run,
+        GrblState::Hold(0) | GrblState::Door(0) | GrblState::Door(1) => State::Hold,
+        GrblState::Hold(_) | GrblState::Door(_) => State::Holding,
+        GrblState::Jog => State::Jog,
+        GrblState::Alarm => State::Alarm("grbl is in alarm: home ($H) or unlock ($X)".into()),
+        GrblState::Other(s) => State::Alarm(format!("unknown grbl state {s}")),
+    };
+    let pick = |v: Option<Vec<f64>>| v.filter(|v| v.len() >= 3).map(|v| [v[0], v[1], v[2]]);
+    if let Some(m) = pick(st.machine_position(Some(wco))) {
+        into.machine_pos = m;
+    }
+    if let Some(w) = pick(st.work_position(Some(wco))) {
+        into.work_pos = w;
+    }
+    if let Some(f) = st.feed {
+        into.feed = f;
+    }
+    if let Some((feed, _, _)) = st.overrides {
+        into.feed_override = feed as f64 / 100.0;
+    }
+}
+
+/// The real-time bytes that take grbl's feed override from 100 % to `factor` (10–200 %,
+/// in grbl's 10 % and 1 % steps).
+pub fn feed_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
+    if !(0.1..=2.0).contains(&factor) {
+        return Err(format!(
+            "feed override {factor} is outside grbl's 0.1 … 2.0"
+        ));
+    }
+    let target = (factor * 100.0).round() as i32;
+    let mut out = vec![Realtime::FeedOverrideReset];
+    let diff = target - 100;
+    let (tens, ones) = (diff / 10, diff % 10);
+    let (ten, one) = if diff >= 0 {
+        (Realtime::FeedOverridePlus10, Realtime::FeedOverridePlus1)
+    } else {
+        (Realtime::FeedOverrideMinus10, Realtime::FeedOverrideMinus1)
+    };
+    out.extend(std::iter::repeat_n(ten, tens.unsigned_abs() as usize));
+    out.extend(std::iter::repeat_n(one, ones.unsigned_abs() as usize));
+    Ok(out)
+}
+
+impl Machine for GrblDevice {
+    fn connect(&mut self) -> Result<MachineInfo, MachineError> {
+        if self.job_running() {
+            return Err(MachineError::Busy("a job is running".into()));
+        }
+        let m = GrblMachine::connect_to(self.endpoint.clone(), SenderOptions::default())
+            .map_err(MachineError::Refused)?;
+        let info = MachineInfo {
+            name: format!("grbl at {}", self.endpoint),
+            firmware: format!("grbl {}", m.sender.firmware),
+        };
+        *lock(&self.idle) = Some(m);
+        Ok(info)
+    }
+
+    fn start(&mut self, job: Job) -> Result<(), MachineError> {
+        if self.job_running() {
+            return Err(MachineError::Busy("a job is running".into()));
+        }
+        if let Some(w) = self.worker.take() {
+            // The previous job gave the link back; its thread is ending.
+            let _ = w.join();
+        }
+        let grbl_job = GrblJob::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
+        let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
+        let mut settings = self.settings.clone();
+        settings.start = match job.start_line {
+            Some(n) => Start::FileLine(n as usize),
+            None => settings.start,
+        };
+        let journal = settings
+            .journal
+            .clone()
+            .unwrap_or_else(|| format!("{}.journal", job.name).into());
+        let (ctl_tx, ctl_rx) = mpsc::channel();
+        self.control = Some(ctl_tx);
+        let (idle, status, events) = (
+            self.idle.clone(),
+            self.status.clone(),
+            self.events_tx.clone(),
+        );
+        self.worker = Some(std::thread::spawn(move || {
+            let start = Instant::now();
+            let mut wco = vec![0.0; 3];
+            let mut bytes = (0u64, 0u64);
+            let mut observer = |n: Notice| match n {
+                Notice::Status(st) => {
+                    if let Some(w) = &st.wco {
+                        wco = w.clone();
+                    }
+                    let mut s = lock(&status);
+                    translate_status(&st, &wco, &mut s);
+                    s.elapsed = start.elapsed().as_secs_f64();
+                    // Total from the byte rate so far: an extrapolation, not a plan.
+                    s.total = if bytes.0 > 0 {
+                        s.elapsed * bytes.1 as f64 / bytes.0 as f64
+                    } else {
+                        0.0
+                    };
+                    let _ = events.send(Event::Status(s.clone()));
+                }
+                Notice::Progress {
+                    acked,
+                    bytes_acked,
+                    bytes_total,
+                    ..
+                } => {
+                    bytes = (bytes_acked, bytes_total);
+                    if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
+                        lock(&status).line = l.file_line as u32;
+                    }
+                }
+                Notice::Message(m) => {
+                    let _ = events.send(Event::Message(m));
+                }
+                Notice::Unexpected(u) => {
+                    let _ = events.send(Event::Message(format!(
+                        "ignored unexpected firmware line: {u:?}"
+                    )));
+                }
+            };
+            let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);
+            let seconds = start.elapsed().as_secs_f64();
+            let end = match result {
+                Ok(RunOutcome::AlreadyDone) => Event::JobEnd {
+                    completed: true,
+                    seconds,
+                },
+                Ok(RunOutcome::Streamed(report)) => {
+                    let text = report.describe(&grbl_job);
+                    match report.end {
+                        StreamEnd::Completed => Event::JobEnd {
+                            completed: true,
+                            seconds,
+                        },
+                        StreamEnd::Stopped => {
+                            let _ = events.send(Event::Message(text));
+                            Event::JobEnd {
+                                completed: false,
+                                seconds,
+                            }
+                        }
+                        _ => Event::Alarm(text),
+                    }
+                }
+                Err(e) => Event::Alarm(e),
+            };
+            // Where the job left the machine, before saying it ended.
+            if let Ok(st) = machine.sender.status() {
+                let mut s = lock(&status);
+                translate_status(&st, &wco, &mut s);
+                s.elapsed = seconds;
+                let _ = events.send(Event::Status(s.clone()));
+            }
+            // The link goes back before the end is announced, so a start right after the
+            // event finds it.
+            *lock(&idle) = Some(machine);
+            let _ = events.send(end);
+        }));
+        Ok(())
+    }
+
+    fn command(&mut self, cmd: Command) -> Result<(), MachineError> {
+        if self.job_running() {
+            let control = self.control.as_ref().ok_or(MachineError::NotConnected)?;
+            let send = |c: Control| control.send(c).map_err(|_| MachineError::NotConnected);
+            return match cmd {
+                Command::Hold => send(Control::Hold),
+                Command::Resume => send(Control::Resume),
+                Command::Stop => send(Control::Stop),
+                Command::FeedOverride(f) => {
+                    for r in feed_override_bytes(f).map_err(MachineError::Refused)? {
+                        send(Control::Realtime(r))?;
+                    }
+                    Ok(())
+                }
+                Command::Jog { .. } => {
+                    Err(MachineError::Busy("jogging needs an idle machine".into()))
+                }
+                Command::Unlock => Err(MachineError::Busy("a job is running".into())),
+            };
+        }
+        self.with_idle(|m| {
+            let s = &mut m.sender;
+            let io = |e: std::io::Error| e.to_string();
+            match cmd {
+                Command::Hold => s.realtime(Realtime::FeedHold).map_err(io),
+                Command::Resume => s.realtime(Realtime::CycleStart).map_err(io),
+                Command::Stop => s.realtime(Realtime::FeedHold).map_err(io),
+                Command::FeedOverride(f) => {
+                    for r in feed_override_bytes(f)? {
+                        s.realtime(r).map_err(io)?;
+                    }
+                    Ok(())
+                }
+                Command::Jog { delta, feed } => {
+                    let line = format!(
+                        "$J=G91G21X{:.4}Y{:.4}Z{:.4}F{feed:.1}",
+                        delta[0], delta[1], delta[2]
+                    );
+                    match s.command(&line).map_err(io)?.error {
+                        Some(code) => {
+                            Err(format!("jog refused: {}", messages::describe_error(code)))
+                        }
+                        None => Ok(()),
+                    }
+                }
+                Command::Unlock => match s.command("$X").map_err(io)?.error {
+                    Some(code) => Err(format!(
+                        "unlock refused: {}",
+                        messages::describe_error(code)
+                    )),
+                    None => Ok(()),
+                },
+            }
+        })
+    }
+
+    fn next_event(&mut self, timeout: Duration) -> Option<Event> {
+        match self.events_rx.recv_timeout(timeout) {
+            Ok(e) => Some(e),
+            Err(_) => {
+                // Idle: poll the firmware so status keeps flowing between jobs.
+                if self.job_running() {
+                    return None;
+                }
+                let mut guard = lock(&self.idle);
+                let m = guard.as_mut()?;
+                let st = m.sender.status().ok()?;
+                let mut s = lock(&self.status);
+                let wco = st.wco.clone().unwrap_or_default();
+                translate_status(&st, if wco.len() >= 3 { &wco } else { &[0.0; 3] }, &mut s);
+                Some(Event::Status(s.clone()))
+            }
+        }
+    }
+
+    fn status(&self) -> Status {
+        lock(&self.status).clone()
+    }
+
+    fn disconnect(&mut self) {
+        if let Some(c) = self.control.take() {
+            let _ = c.send(Control::Stop);
+        }
+        if let Some(w) = self.worker.take() {
+            let _ = w.join();
+        }
+        *lock(&self.idle) = None;
+    }
+}
+
+impl Drop for GrblDevice {
+    fn drop(&mut self) {
+        self.disconnect();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn feed_override_steps() {
+        use Realtime::*;
+        assert_eq!(feed_override_bytes(1.0).unwrap(), vec![FeedOverrideReset]);
+        assert_eq!(
+            feed_override_bytes(1.23).unwrap(),
+            vec![
+                FeedOverrideReset,
+                FeedOverridePlus10,
+                FeedOverridePlus10,
+                FeedOverridePlus1,
+                FeedOverridePlus1,
+                FeedOverridePlus1
+            ]
+        );
+        assert_eq!(
+            feed_override_bytes(0.8).unwrap(),
+            vec![FeedOverrideReset, FeedOverrideMinus10, FeedOverrideMinus10]
+        );
+        assert!(feed_override_bytes(3.0).is_err());
+    }
+}

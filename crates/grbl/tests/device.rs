@@ -1,0 +1,114 @@
+//! grbl behind Oficina's `Machine` trait, against the emulator: a job with hold, resume,
+//! stop, and a second start from the stop line that finishes the program.
+
+mod common;
+use common::*;
+use oficina_grbl::device::GrblDevice;
+use oficina_machine::{Command, Event, Job, Machine, Pace, State};
+use std::sync::Arc;
+use std::time::Duration;
+
+fn events_until_end(
+    dev: &mut GrblDevice,
+    mut on_status: impl FnMut(&mut GrblDevice, &oficina_machine::Status),
+) -> Event {
+    for _ in 0..20_000 {
+        match dev.next_event(Duration::from_millis(20)) {
+            Some(Event::Status(s)) => on_status(dev, &s),
+            Some(e @ (Event::JobEnd { .. } | Event::Alarm(_))) => return e,
+            _ => {}
+        }
+    }
+    panic!("no end of job within the bound");
+}
+
+#[test]
+fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
+    let (_emu, ep) = emulator(Some(115_200));
+    let mut dev = GrblDevice::new(&ep.to_string()).unwrap();
+    dev.settings.resume.spindle_delay = 0.0;
+    dev.settings.resume.safe_z = 2.0;
+    dev.settings.journal =
+        Some(std::env::temp_dir().join(format!("oficina-device-{}.journal", std::process::id())));
+    let info = dev.connect().unwrap();
+    assert!(info.firmware.starts_with("grbl 1.1h"), "{info:?}");
+    let text = Arc::new(program(300));
+    let job = Job {
+        name: "dev.nc".into(),
+        text: text.clone(),
+        start_line: None,
+        pace: Pace::Speed(1.0),
+    };
+    dev.start(job.clone()).unwrap();
+    assert!(matches!(
+        dev.start(job.clone()),
+        Err(oficina_machine::MachineError::Busy(_))
+    ));
+    let mut step = 0;
+    let mut stop_line = 0;
+    let end = events_until_end(&mut dev, |dev, s| match step {
+        0 if s.line > 50 && s.state == State::Run => {
+            dev.command(Command::Hold).unwrap();
+            step = 1;
+        }
+        1 if s.state == State::Hold => {
+            dev.command(Command::Resume).unwrap();
+            step = 2;
+        }
+        2 if s.line > 150 => {
+            dev.command(Command::Stop).unwrap();
+            stop_line = s.line;
+            step = 3;
+        }
+        _ => {}
+    });
+    assert_eq!(step, 3, "held, resumed and stopped");
+    assert!(
+        matches!(
+            end,
+            Event::JobEnd {
+                completed: false,
+                ..
+            }
+        ),
+        "{end:?}"
+    );
+    // Start again from the line it was stopped at (a few lines back is safe: re-traced).
+    let again = Job {
+        start_line: Some(stop_line),
+        ..job
+    };
+    dev.start(again).unwrap();
+    let end = events_until_end(&mut dev, |_, _| {});
+    assert!(
+        matches!(
+            end,
+            Event::JobEnd {
+                completed: true,
+                ..
+            }
+        ),
+        "{end:?}"
+    );
+    let expected = oficina_grbl::resume::replay(&job_of(&text), usize::MAX).work_pos();
+    let st = dev.status();
+    for a in 0..3 {
+        assert!(
+            (st.work_pos[a] - expected[a]).abs() < 0.01,
+            "{:?} vs {expected:?}",
+            st.work_pos
+        );
+    }
+    // Idle: jog and unlock go straight to the firmware.
+    dev.command(Command::Jog {
+        delta: [1.0, 0.0, 0.0],
+        feed: 3000.0,
+    })
+    .unwrap();
+    assert!(dev.command(Command::FeedOverride(5.0)).is_err());
+    dev.disconnect();
+}
+
+fn job_of(text: &str) -> oficina_grbl::job::Job {
+    oficina_grbl::job::Job::from_text("dev.nc", text).unwrap()
+}
