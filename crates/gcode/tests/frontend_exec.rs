@@ -254,6 +254,12 @@ fn loop_errors() {
         .message
         .contains("without o1 while"));
     assert!(first_error("o1 break").message.contains("outside a loop"));
+    // A break of a repeat is reported when first read, even in a branch not taken (rs274
+    // reports it when its skipping passes the line: here after the loop, at the latest).
+    let (blocks, errors) = run("o1 repeat [2]\no2 if [0]\no1 break\no2 endif\nG0 X1\no1 endrepeat");
+    assert_eq!(errors[0].span.line, 3);
+    assert!(errors[0].message.contains("o1 break inside o1 repeat"));
+    assert!(blocks.len() <= 2);
     assert!(first_error("o1 while [1]\no2 break\no1 endwhile")
         .message
         .contains("o2 break"));
