@@ -419,4 +419,7 @@ fn where_rs274_is_wrong_we_follow_the_documented_semantics() {
     // rs274 prints X1 twice: a do-while inside a skipped branch restarts the repeat.
     let p = "o1 repeat [1]\nG0 X1\no2 if [0]\no3 do\no3 while [0]\no2 endif\no1 endrepeat";
     assert_eq!(xs(p), vec![1.0]);
+    // rs274 prints X1 twice: so does a repeat [0] inside a skipped branch.
+    let p = "o1 repeat [1]\nG0 X1\no2 if [0]\no3 repeat [0]\no3 endrepeat\no2 endif\no1 endrepeat";
+    assert_eq!(xs(p), vec![1.0]);
 }
