@@ -8,6 +8,13 @@
 //!
 //! After an error the next call goes on with the next line, so a checker can report many
 //! errors in one run.
+//!
+//! Where LinuxCNC 2.9's `rs274` is inconsistent we follow its documentation instead (each
+//! case is a test in `tests/frontend_exec.rs`): a `break` leaves no stale state behind for a
+//! later do-while; a `continue` does not obey a `break` it skips over; loops inside a
+//! skipped branch do not restart an enclosing repeat. A break/continue of a repeat loop,
+//! which LinuxCNC rejects whenever its skipping reads it, is reported as soon as it is read.
+//! A call to an undefined subroutine is reported at the call, not at the end of the file.
 
 mod flow;
 mod plain;
