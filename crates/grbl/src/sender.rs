@@ -214,18 +214,26 @@ impl Sender {
                 _ => {}
             }
         }
+        s.learn_firmware();
+        Ok(s)
+    }
+
+    /// Asks `$I` (version, `[OPT:…,blocks,rx]`) and `$$` (arc tolerance, report units) and
+    /// sizes the streaming window. Both need an idle machine: when connecting to a busy one
+    /// the window falls back to send-response until [`Sender::recover`] asks again.
+    fn learn_firmware(&mut self) {
         let mut rx = None;
-        if let Ok(reply) = s.command("$I") {
+        if let Ok(reply) = self.command("$I") {
             for l in &reply.lines {
                 match Response::parse(l) {
                     Response::Version(v) => {
-                        s.firmware = v.split(':').next().unwrap_or("").to_string()
+                        self.firmware = v.split(':').next().unwrap_or("").to_string()
                     }
                     Response::Options {
                         blocks, rx_bytes, ..
                     } => {
                         if let Some(b) = blocks {
-                            s.planner_blocks = b as usize;
+                            self.planner_blocks = b as usize;
                         }
                         rx = rx_bytes;
                     }
@@ -234,16 +242,16 @@ impl Sender {
             }
         }
         // Settings can only be listed at rest; a machine caught mid-job keeps the defaults.
-        if !s.is_moving() {
-            if let Ok(reply) = s.command("$$") {
+        if !self.is_moving() {
+            if let Ok(reply) = self.command("$$") {
                 for l in &reply.lines {
                     if let Response::Setting { number, value } = Response::parse(l) {
                         if let Ok(v) = value.parse::<f64>() {
-                            s.settings.insert(number, v);
+                            self.settings.insert(number, v);
                         }
                         match (number, value.parse::<f64>()) {
-                            (12, Ok(v)) if v > 0.0 => s.arc_tolerance = v,
-                            (13, Ok(v)) => s.reports_inches = v != 0.0,
+                            (12, Ok(v)) if v > 0.0 => self.arc_tolerance = v,
+                            (13, Ok(v)) => self.reports_inches = v != 0.0,
                             _ => {}
                         }
                     }
@@ -251,18 +259,17 @@ impl Sender {
             }
         }
         let rx = rx.or_else(|| {
-            s.last_status
+            self.last_status
                 .as_ref()
                 .and_then(|st| st.buffer)
-                .filter(|_| !s.is_moving())
+                .filter(|_| !self.is_moving())
                 .map(|b| b.1)
         });
-        s.mode = match (s.options.mode, rx) {
+        self.mode = match (self.options.mode, rx) {
             (Some(m), _) => m,
             (None, Some(n)) if n > 1 => Mode::CharCounting(n as usize - 1),
             _ => Mode::SendResponse,
         };
-        Ok(s)
     }
 
     fn is_moving(&self) -> bool {
@@ -675,6 +682,10 @@ impl Sender {
         let pos = self.wait_at_rest().map_err(|e| e.to_string())?;
         self.reset().map_err(|e| e.to_string())?;
         let st = self.status().map_err(|e| e.to_string())?;
+        if self.options.mode.is_none() && self.mode == Mode::SendResponse {
+            // Connected while the machine was busy: size the window now that it rests.
+            self.learn_firmware();
+        }
         if st.state == State::Alarm {
             if !unlock_alarm {
                 return Err("the machine is in alarm: check it, home it ($H) or unlock it ($X), then resume".into());

@@ -318,3 +318,22 @@ fn streaming_from_past_the_end_finishes_at_once() {
         }
     );
 }
+
+#[test]
+fn connecting_to_a_busy_machine_sizes_the_window_once_it_rests() {
+    let (_emu, ep) = emulator(None);
+    let mut first = connect(&ep);
+    // A 3-second move keeps the machine busy while a second sender connects.
+    assert_eq!(first.command("G1X50F1000").unwrap().error, None);
+    drop(first);
+    let mut s = connect(&ep);
+    assert_eq!(
+        s.mode,
+        Mode::SendResponse,
+        "$I is refused while running (error:8)"
+    );
+    let job = oficina_grbl::job::Job::from_text("busy.nc", "G1X50F1000\n").unwrap();
+    let at = s.recover(&job, 0, 1, 1, false).unwrap();
+    assert_eq!(s.mode, Mode::CharCounting(127));
+    assert_eq!(at.index, 1, "{at:?}");
+}

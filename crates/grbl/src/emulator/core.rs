@@ -684,13 +684,20 @@ impl Core {
     }
 
     fn system_command(&mut self, cmd: &str, raw: &str) {
-        let idle_like = matches!(self.state, State::Idle | State::Alarm | State::Check);
+        // system.c: `$$` is refused only in a cycle or hold (it takes too long to print);
+        // `$G`, `$C`, `$X`, `$J=` have their own rules; everything else needs IDLE or ALARM.
+        let idle_like = matches!(self.state, State::Idle | State::Alarm);
+        let in_cycle = matches!(self.state, State::Run | State::Hold(_) | State::Door(_));
+        let own_rules = matches!(cmd, "" | "$" | "G" | "C" | "X") || cmd.starts_with("J=");
+        if !own_rules && !idle_like {
+            return self.reply_error(8);
+        }
         match cmd {
             "" => {
                 self.say("[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]")
             }
             "$" => {
-                if !idle_like {
+                if in_cycle {
                     return self.reply_error(8);
                 }
                 let lines: Vec<String> = self
