@@ -1,7 +1,9 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
+mod bench_carve;
 mod bench_gcode;
+mod bench_motion;
 mod bench_stream;
 mod carve;
 mod check;
@@ -10,6 +12,8 @@ mod emulate;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
+mod plan;
+mod run;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -41,6 +45,10 @@ enum Command {
     Console(console::Args),
     /// Emulate a grbl 1.1 board on a pseudo-terminal or TCP port, for dry runs.
     Emulate(emulate::Args),
+    /// Run a program on the virtual machine: progress, ETA, keyboard hold/resume/stop.
+    Run(run::Args),
+    /// Plan a program: total time, and the motion sampled every millisecond (--trace).
+    Plan(plan::Args),
 }
 
 #[derive(Subcommand)]
@@ -55,6 +63,10 @@ enum BenchCommand {
     Gcode(bench_gcode::BenchGcodeArgs),
     /// Streaming to the grbl emulator over a 115200-baud pty: chars/s vs line rate, planner starvation.
     Stream(bench_stream::Args),
+    /// Planner segments/s on a 1,000,000-segment relief program, steps/s, peak memory.
+    Motion(bench_motion::Args),
+    /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
+    Carve(bench_carve::Args),
 }
 
 fn main() -> ExitCode {
@@ -65,9 +77,13 @@ fn main() -> ExitCode {
         Command::Carve(args) => carve::run(args),
         Command::Console(args) => console::run(args),
         Command::Emulate(args) => emulate::run(args),
+        Command::Run(args) => run::run(args),
+        Command::Plan(args) => plan::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {

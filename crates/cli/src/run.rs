@@ -1,0 +1,169 @@
+//! `oficina run FILE`: execute a program on the virtual machine with a progress bar, and
+//! keyboard hold / resume / stop when stdin is a terminal.
+
+use crate::machine_profile;
+use anyhow::{bail, Context};
+use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
+use crossterm::terminal;
+use indicatif::{ProgressBar, ProgressStyle};
+use oficina_machine::{Command, Event, Job, Machine, Pace, State, VirtualMachine};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Duration;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// G-code program.
+    file: PathBuf,
+    /// Machine profile: a TOML file or a bundled name (grbl-router, hotwire-xy, polar-plotter,
+    /// polargraph-wall, embroidery-xy).
+    #[arg(long, default_value = machine_profile::DEFAULT)]
+    machine: String,
+    /// Run faster than real time, e.g. `10x` or `2.5`.
+    #[arg(long, default_value = "1x")]
+    speed: String,
+    /// No waiting at all: as fast as the computer goes.
+    #[arg(long)]
+    instant: bool,
+    /// Resume from this source line (earlier motion is skipped; rapids take the tool there).
+    #[arg(long)]
+    from_line: Option<u32>,
+}
+
+/// Leaves raw mode however the run ends.
+struct RawMode(bool);
+impl Drop for RawMode {
+    fn drop(&mut self) {
+        if self.0 {
+            let _ = terminal::disable_raw_mode();
+        }
+    }
+}
+
+fn parse_speed(s: &str) -> anyhow::Result<f64> {
+    let v: f64 = s
+        .trim_end_matches(['x', 'X'])
+        .parse()
+        .with_context(|| format!("--speed {s:?}: expected a factor such as 10x"))?;
+    if !(v.is_finite() && v > 0.0 && v <= 1e6) {
+        bail!("--speed {s:?}: the factor must be > 0 and at most 1e6");
+    }
+    Ok(v)
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let profile = machine_profile::resolve(&args.machine)?;
+    let text = std::fs::read_to_string(&args.file)
+        .with_context(|| format!("reading {}", args.file.display()))?;
+    let pace = if args.instant {
+        Pace::Instant
+    } else {
+        Pace::Speed(parse_speed(&args.speed)?)
+    };
+    let factor = if let Pace::Speed(f) = pace {
+        f
+    } else {
+        f64::INFINITY
+    };
+    let mut vm = VirtualMachine::new(profile);
+    let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
+    let name = args.file.display().to_string();
+    vm.start(Job {
+        name: name.clone(),
+        text: Arc::new(text),
+        start_line: args.from_line,
+        pace,
+    })
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let interactive = std::io::stdin().is_terminal() && !args.instant;
+    let _raw = RawMode(interactive && terminal::enable_raw_mode().is_ok());
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    eprintln!(
+        "{} on {}{}",
+        name,
+        info.name,
+        if interactive {
+            "  [space/! hold · ~/r resume · q stop]\r"
+        } else {
+            ""
+        }
+    );
+    let mut result = ExitCode::SUCCESS;
+    loop {
+        if _raw.0 {
+            while event::poll(Duration::ZERO).unwrap_or(false) {
+                if let Ok(Key::Key(k)) = event::read() {
+                    let cmd = match k.code {
+                        KeyCode::Char(' ') | KeyCode::Char('!') => Some(Command::Hold),
+                        KeyCode::Char('~') | KeyCode::Char('r') => Some(Command::Resume),
+                        KeyCode::Char('c') if k.modifiers.contains(KeyModifiers::CONTROL) => {
+                            Some(Command::Stop)
+                        }
+                        KeyCode::Char('q') | KeyCode::Esc => Some(Command::Stop),
+                        _ => None,
+                    };
+                    if let Some(c) = cmd {
+                        let _ = vm.command(c);
+                    }
+                }
+            }
+        }
+        match vm.next_event(Duration::from_millis(50)) {
+            Some(Event::Status(s)) => {
+                let frac = if s.total > 0.0 {
+                    (s.elapsed / s.total).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                bar.set_position((frac * 1000.0) as u64);
+                // ETA in wall time: machine time left at the chosen pace; frozen while held.
+                let left = (s.total - s.elapsed).max(0.0) / factor;
+                let state = match &s.state {
+                    State::Run => String::new(),
+                    other => format!(" [{other:?}]"),
+                };
+                bar.set_message(format!(
+                    "line {:>6}  ETA {}  X{:.3} Y{:.3} Z{:.3}  F{:.0}{state}",
+                    s.line,
+                    clock(left),
+                    s.work_pos[0],
+                    s.work_pos[1],
+                    s.work_pos[2],
+                    s.feed
+                ));
+            }
+            // Through stderr: a hidden bar (no terminal) would swallow println.
+            Some(Event::Message(m)) => bar.suspend(|| eprintln!("{m}")),
+            Some(Event::Alarm(a)) => {
+                bar.suspend(|| eprintln!("ALARM: {a}"));
+                result = ExitCode::FAILURE;
+            }
+            Some(Event::JobEnd { completed, seconds }) => {
+                bar.finish_and_clear();
+                drop(_raw);
+                if completed {
+                    println!("done: {} of machine time", clock(seconds));
+                } else if result == ExitCode::SUCCESS {
+                    println!("stopped after {} of machine time", clock(seconds));
+                    result = ExitCode::from(2);
+                }
+                return Ok(result);
+            }
+            None => {}
+        }
+    }
+}
+
+fn clock(s: f64) -> String {
+    if !s.is_finite() {
+        return "--:--".into();
+    }
+    let s = s.round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
