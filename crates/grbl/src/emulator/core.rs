@@ -374,7 +374,14 @@ impl Core {
     pub fn tick(&mut self, now: f64) {
         let dt = (now - self.clock).max(0.0);
         self.clock = now;
+        // A tick far later than the 1 ms cadence means the host did not run us: motion
+        // catches up in one step while bytes that were due wait in the reader.
+        let was_late = self.host_late;
+        if dt > 0.005 {
+            self.host_late = true;
+        }
         self.run_motion(dt);
+        self.host_late = was_late;
         if self.blocked {
             return;
         }
