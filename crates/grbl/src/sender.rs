@@ -572,7 +572,14 @@ impl Sender {
                     }
                     if at_rest && !inflight.is_empty() && !holding {
                         let since = *idle_since.get_or_insert_with(Instant::now);
-                        if since.elapsed() >= self.options.stall_after {
+                        // A dwell may legitimately show Idle while its line waits.
+                        let dwell = inflight
+                            .front()
+                            .map(|(i, _)| dwell_seconds(&job.lines[*i].text))
+                            .unwrap_or(0.0);
+                        if since.elapsed()
+                            >= self.options.stall_after + Duration::from_secs_f64(dwell)
+                        {
                             self.note_status(st);
                             break 'outer StreamEnd::Stalled;
                         }
@@ -808,6 +815,21 @@ impl Sender {
     }
 }
 
+/// Seconds of a `G4 P…` line (0 for any other line).
+fn dwell_seconds(text: &str) -> f64 {
+    let Ok(words) = crate::gline::words(text) else {
+        return 0.0;
+    };
+    if !words.iter().any(|(l, v)| *l == 'G' && *v == 4.0) {
+        return 0.0;
+    }
+    words
+        .iter()
+        .find(|(l, _)| *l == 'P')
+        .map(|(_, p)| p.max(0.0).min(1e6))
+        .unwrap_or(0.0)
+}
+
 /// grbl goes on executing the lines already in its buffer after rejecting one, so the
 /// machine may have moved past the rejected line on a path that skipped it. Resuming at the
 /// rejected line (once fixed) re-traces those lines from the right starting point.
@@ -833,4 +855,17 @@ pub struct Reply {
     /// Lines before the `ok`/`error` (settings, `[GC:…]`, messages).
     pub lines: Vec<String>,
     pub error: Option<u8>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dwell_seconds;
+
+    #[test]
+    fn dwell_allowance() {
+        assert_eq!(dwell_seconds("G4P2.5"), 2.5);
+        assert_eq!(dwell_seconds("G1X1F100"), 0.0);
+        assert_eq!(dwell_seconds("G4"), 0.0);
+        assert_eq!(dwell_seconds("#garbage"), 0.0);
+    }
 }
