@@ -13,6 +13,8 @@ use crate::ledger::BlockLedger;
 use crate::link::{Event, Link};
 use crate::messages;
 use crate::realtime::Realtime;
+use crate::report::after_rejection;
+pub use crate::report::{StreamEnd, StreamReport};
 use crate::response::Response;
 use crate::resume::{self, Located};
 use crate::status::{State, Status};
@@ -78,80 +80,8 @@ pub enum Notice {
     Message(String),
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum StreamEnd {
-    Completed,
-    Stopped,
-    /// The firmware answered `error:code` to job line `index`.
-    Rejected {
-        index: usize,
-        code: u8,
-    },
-    Alarm(u8),
-    /// The firmware restarted (banner seen): everything in flight was discarded.
-    FirmwareReset,
-    Disconnected(String),
-    /// The firmware went idle with lines unacknowledged: bytes were lost on the link.
-    Stalled,
-    /// The job completed but the machine is not where the program ends.
-    PositionMismatch {
-        expected: [f64; 3],
-        actual: [f64; 3],
-    },
-}
-
-#[derive(Clone, Debug, PartialEq)]
-pub struct StreamReport {
-    pub end: StreamEnd,
-    /// Lines `from..acked_end` were acknowledged in this stream.
-    pub acked_end: usize,
-    /// Nothing at or after this index reached the wire.
-    pub sent_end: usize,
-    /// Lines before this index certainly completed.
-    pub certain: usize,
-    /// Where the machine rested at the end (work mm), when it could be read.
-    pub work_pos: Option<[f64; 3]>,
-    /// Where to continue, when the end allows it.
-    pub resume: Option<Located>,
-    pub bytes_sent: u64,
-    pub elapsed: Duration,
-    /// Largest number of bytes in flight (never above the RX capacity).
-    pub max_in_flight: usize,
-}
-
-impl StreamReport {
-    /// One paragraph for the user: what happened, where, what grbl said, what to do.
-    pub fn describe(&self, job: &Job) -> String {
-        let line = |i: usize| {
-            job.lines
-                .get(i)
-                .map(|l| format!("{}:{} `{}`", job.name, l.file_line, l.text))
-                .unwrap_or_else(|| "end of program".into())
-        };
-        let mut s = match &self.end {
-            StreamEnd::Completed => format!("{}: all {} lines done", job.name, job.len()),
-            StreamEnd::Stopped => "stopped by the operator".to_string(),
-            StreamEnd::Rejected { index, code } => format!("grbl rejected {}: {}", line(*index), messages::describe_error(*code)),
-            StreamEnd::Alarm(c) => format!("grbl raised {}", messages::describe_alarm(*c)),
-            StreamEnd::FirmwareReset => "the firmware restarted during the job (reset, power or USB reconnect); lines in its buffer were lost".to_string(),
-            StreamEnd::Disconnected(why) => format!("connection lost: {why}"),
-            StreamEnd::Stalled => "the firmware went idle while lines were still unacknowledged: bytes were lost on the link".to_string(),
-            StreamEnd::PositionMismatch { expected, actual } => format!(
-                "the job ran to its end but the machine is at {:.3},{:.3},{:.3} instead of {:.3},{:.3},{:.3}: bytes were corrupted on the link",
-                actual[0], actual[1], actual[2], expected[0], expected[1], expected[2]
-            ),
-        };
-        if let Some(r) = &self.resume {
-            if r.index < job.len() {
-                s += &format!(". Resume from {} ({}).", line(r.index), r.reason);
-            }
-        }
-        s
-    }
-}
-
 pub struct Sender {
-    link: Link,
+    pub(crate) link: Link,
     pub options: SenderOptions,
     pub mode: Mode,
     pub firmware: String,
@@ -728,72 +658,6 @@ impl Sender {
         })
     }
 
-    /// Runs `job` through grbl's own check mode (`$C`): the firmware parses every line at
-    /// full serial speed without moving, and every rejected line is collected as
-    /// (job index, error code). Check mode is left again (grbl resets when it is).
-    pub fn check_job(&mut self, job: &Job) -> Result<Vec<(usize, u8)>, String> {
-        let on = self.command("$C").map_err(|e| e.to_string())?;
-        if let Some(code) = on.error {
-            return Err(format!(
-                "check mode ($C) refused: {}",
-                messages::describe_error(code)
-            ));
-        }
-        let capacity = match self.mode {
-            Mode::CharCounting(n) => n,
-            Mode::SendResponse => 0,
-        };
-        let mut rejected = Vec::new();
-        let mut inflight: VecDeque<(usize, usize)> = VecDeque::new();
-        let mut used = 0;
-        let mut next = 0;
-        let mut last_reply = Instant::now();
-        while next < job.len() || !inflight.is_empty() {
-            while next < job.len() {
-                let len = job.lines[next].text.len() + 1;
-                if !(inflight.is_empty() || used + len <= capacity) {
-                    break;
-                }
-                self.link
-                    .send_line(&job.lines[next].text)
-                    .map_err(|e| e.to_string())?;
-                inflight.push_back((next, len));
-                used += len;
-                next += 1;
-            }
-            match self.link.recv(Duration::from_millis(20)) {
-                Some(Event::Line(r @ (Response::Ok | Response::Error(_)), _)) => {
-                    last_reply = Instant::now();
-                    if let Some((i, len)) = inflight.pop_front() {
-                        used -= len;
-                        if let Response::Error(code) = r {
-                            rejected.push((i, code));
-                        }
-                    }
-                }
-                Some(Event::Closed(why)) => return Err(why),
-                _ => {
-                    if last_reply.elapsed() > self.options.reply_timeout {
-                        return Err(format!(
-                            "check mode: no reply for {:?}",
-                            self.options.reply_timeout
-                        ));
-                    }
-                }
-            }
-        }
-        // `$C` again leaves check mode; grbl answers and soft-resets.
-        let off = self.command("$C").map_err(|e| e.to_string())?;
-        if let Some(code) = off.error {
-            return Err(format!(
-                "leaving check mode refused: {}",
-                messages::describe_error(code)
-            ));
-        }
-        let _ = self.wait_at_rest();
-        Ok(rejected)
-    }
-
     /// Runs the resume preamble (modal state, spindle, safe approach) line by line.
     pub fn run_preamble(
         &mut self,
@@ -828,25 +692,6 @@ fn dwell_seconds(text: &str) -> f64 {
         .find(|(l, _)| *l == 'P')
         .map(|(_, p)| p.max(0.0).min(1e6))
         .unwrap_or(0.0)
-}
-
-/// grbl goes on executing the lines already in its buffer after rejecting one, so the
-/// machine may have moved past the rejected line on a path that skipped it. Resuming at the
-/// rejected line (once fixed) re-traces those lines from the right starting point.
-fn after_rejection(job: &Job, rejected: usize, at: Located) -> Located {
-    if at.index <= rejected {
-        return at;
-    }
-    let l = |i: usize| job.lines.get(i).map(|l| l.file_line).unwrap_or(0);
-    Located {
-        index: rejected,
-        reason: format!(
-            "the firmware ran file lines {}..{} after rejecting line {} before the hold took effect; they are run again after it",
-            l(rejected + 1),
-            l(at.index.saturating_sub(1)),
-            l(rejected)
-        ),
-    }
 }
 
 /// The answer to one command.

@@ -1,0 +1,98 @@
+//! How a stream ended, told to the user: what happened, at which file line, what grbl said,
+//! and where to resume.
+
+use crate::job::Job;
+use crate::messages;
+use crate::resume::Located;
+use std::time::Duration;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum StreamEnd {
+    Completed,
+    Stopped,
+    /// The firmware answered `error:code` to job line `index`.
+    Rejected {
+        index: usize,
+        code: u8,
+    },
+    Alarm(u8),
+    /// The firmware restarted (banner seen): everything in flight was discarded.
+    FirmwareReset,
+    Disconnected(String),
+    /// The firmware went idle with lines unacknowledged: bytes were lost on the link.
+    Stalled,
+    /// The job completed but the machine is not where the program ends.
+    PositionMismatch {
+        expected: [f64; 3],
+        actual: [f64; 3],
+    },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct StreamReport {
+    pub end: StreamEnd,
+    /// Lines `from..acked_end` were acknowledged in this stream.
+    pub acked_end: usize,
+    /// Nothing at or after this index reached the wire.
+    pub sent_end: usize,
+    /// Lines before this index certainly completed.
+    pub certain: usize,
+    /// Where the machine rested at the end (work mm), when it could be read.
+    pub work_pos: Option<[f64; 3]>,
+    /// Where to continue, when the end allows it.
+    pub resume: Option<Located>,
+    pub bytes_sent: u64,
+    pub elapsed: Duration,
+    /// Largest number of bytes in flight (never above the RX capacity).
+    pub max_in_flight: usize,
+}
+
+impl StreamReport {
+    /// One paragraph for the user: what happened, where, what grbl said, what to do.
+    pub fn describe(&self, job: &Job) -> String {
+        let line = |i: usize| {
+            job.lines
+                .get(i)
+                .map(|l| format!("{}:{} `{}`", job.name, l.file_line, l.text))
+                .unwrap_or_else(|| "end of program".into())
+        };
+        let mut s = match &self.end {
+            StreamEnd::Completed => format!("{}: all {} lines done", job.name, job.len()),
+            StreamEnd::Stopped => "stopped by the operator".to_string(),
+            StreamEnd::Rejected { index, code } => format!("grbl rejected {}: {}", line(*index), messages::describe_error(*code)),
+            StreamEnd::Alarm(c) => format!("grbl raised {}", messages::describe_alarm(*c)),
+            StreamEnd::FirmwareReset => "the firmware restarted during the job (reset, power or USB reconnect); lines in its buffer were lost".to_string(),
+            StreamEnd::Disconnected(why) => format!("connection lost: {why}"),
+            StreamEnd::Stalled => "the firmware went idle while lines were still unacknowledged: bytes were lost on the link".to_string(),
+            StreamEnd::PositionMismatch { expected, actual } => format!(
+                "the job ran to its end but the machine is at {:.3},{:.3},{:.3} instead of {:.3},{:.3},{:.3}: bytes were corrupted on the link",
+                actual[0], actual[1], actual[2], expected[0], expected[1], expected[2]
+            ),
+        };
+        if let Some(r) = &self.resume {
+            if r.index < job.len() {
+                s += &format!(". Resume from {} ({}).", line(r.index), r.reason);
+            }
+        }
+        s
+    }
+}
+
+/// grbl goes on executing the lines already in its buffer after rejecting one, so the
+/// machine may have moved past the rejected line on a path that skipped it. Resuming at the
+/// rejected line (once fixed) re-traces those lines from the right starting point.
+pub(crate) fn after_rejection(job: &Job, rejected: usize, at: Located) -> Located {
+    if at.index <= rejected {
+        return at;
+    }
+    let l = |i: usize| job.lines.get(i).map(|l| l.file_line).unwrap_or(0);
+    Located {
+        index: rejected,
+        reason: format!(
+            "the firmware ran file lines {}..{} after rejecting line {} before the hold took effect; they are run again after it",
+            l(rejected + 1),
+            l(at.index.saturating_sub(1)),
+            l(rejected)
+        ),
+    }
+}
