@@ -305,9 +305,11 @@ impl Runner {
                     _ => {}
                 }
             }
+            let mut dt = TICK;
             let done = match mode {
                 Mode::Planned => {
-                    t = (t + TICK).min(m.duration);
+                    dt = (t + TICK).min(m.duration) - t;
+                    t += dt;
                     let (ss, vv, _) = m.at(t);
                     s = ss;
                     v = vv;
@@ -357,7 +359,7 @@ impl Runner {
                     s >= m.length
                 }
             };
-            *elapsed += TICK.min(m.duration.max(0.0));
+            *elapsed += dt.max(0.0);
             let state = match mode {
                 Mode::Planned | Mode::Accel => State::Run,
                 Mode::Decel { .. } => State::Holding,
