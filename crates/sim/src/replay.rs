@@ -12,8 +12,6 @@ pub enum SimError {
     UnknownTool { line: u32, tool: u32 },
     #[error("line {line}: motion before any tool change; the simulator needs to know the tool")]
     NoTool { line: u32 },
-    #[error("line {line}: arcs outside the XY plane are not simulated on a height field")]
-    ArcPlane { line: u32 },
 }
 
 /// Replays `ops` on `stock`, starting at `start` (mm, machine coordinates). Rapids cut too:
@@ -57,16 +55,97 @@ pub fn replay<'a>(
                 center,
                 turns,
             } => {
-                if *plane != Plane::XY {
-                    return Err(SimError::ArcPlane { line: c.line });
-                }
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
                 let to = [end.x, end.y, end.z];
-                sweep_arc(stock, t, pos, to, *center, *turns > 0);
+                if *plane == Plane::XY {
+                    sweep_arc(stock, t, pos, to, *center, *turns > 0);
+                } else {
+                    let mut from = pos;
+                    for p in arc_chords(*plane, pos, to, *center, *turns, CHORD_TOLERANCE) {
+                        sweep_line(stock, t, from, p);
+                        from = p;
+                    }
+                }
                 pos = to;
             }
             _ => {}
         }
     }
     Ok(pos)
+}
+
+/// Chord height (mm) allowed when arcs in the XZ and YZ planes are cut into straight pieces:
+/// far below the 1 µm the reports resolve.
+const CHORD_TOLERANCE: f64 = 1e-4;
+
+/// End points of chords along an arc in `plane` (G18/G19 arcs, such as image-to-gcode's
+/// entry and fitted moves), none further than `tol` from the arc.
+pub fn arc_chords(
+    plane: Plane,
+    from: [f64; 3],
+    to: [f64; 3],
+    center: [f64; 2],
+    turns: i32,
+    tol: f64,
+) -> Vec<[f64; 3]> {
+    let (a, b, n) = plane.axes();
+    let a0 = (from[b] - center[1]).atan2(from[a] - center[0]);
+    let a1 = (to[b] - center[1]).atan2(to[a] - center[0]);
+    let r = (from[a] - center[0]).hypot(from[b] - center[1]);
+    let full = std::f64::consts::TAU * (turns.unsigned_abs().max(1) - 1) as f64;
+    let sweep = if turns > 0 {
+        (a1 - a0).rem_euclid(std::f64::consts::TAU) + full
+    } else {
+        -((a0 - a1).rem_euclid(std::f64::consts::TAU) + full)
+    };
+    let step = if r > tol {
+        2.0 * (1.0 - tol / r).acos()
+    } else {
+        std::f64::consts::PI
+    };
+    // Bounded: at most one chord per 0.01° whatever the radius.
+    let count = ((sweep.abs() / step).ceil() as usize)
+        .clamp(1, 36_000 * (turns.unsigned_abs() as usize).max(1));
+    (1..=count)
+        .map(|k| {
+            if k == count {
+                return to;
+            }
+            let t = k as f64 / count as f64;
+            let ang = a0 + sweep * t;
+            let mut p = [0.0; 3];
+            p[a] = center[0] + r * ang.cos();
+            p[b] = center[1] + r * ang.sin();
+            p[n] = from[n] + (to[n] - from[n]) * t;
+            p
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xz_arc_chords_stay_on_the_circle() {
+        // G18 half circle from X0 Z0 to X10 Z0 about X5 Z0, bulging down (clockwise seen
+        // from +Y in (Z, X) coordinates is counter-clockwise there: check both ends).
+        for turns in [1, -1] {
+            let pts = arc_chords(
+                Plane::XZ,
+                [0.0, 2.0, 0.0],
+                [10.0, 2.0, 0.0],
+                [0.0, 5.0],
+                turns,
+                1e-4,
+            );
+            assert_eq!(*pts.last().unwrap(), [10.0, 2.0, 0.0]);
+            let mid = pts[pts.len() / 2];
+            assert!((mid[2].abs() - 5.0).abs() < 1e-3, "{mid:?}");
+            for p in &pts {
+                assert!(((p[0] - 5.0).hypot(p[2]) - 5.0).abs() < 1e-9);
+                assert_eq!(p[1], 2.0);
+            }
+        }
+    }
 }
