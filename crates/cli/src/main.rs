@@ -2,7 +2,6 @@
 //! arguments to the library crates; no domain logic here.
 
 mod bench_carve;
-mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
 mod bench_stream;
@@ -68,8 +67,6 @@ enum BenchCommand {
     Motion(bench_motion::Args),
     /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
     Carve(bench_carve::Args),
-    /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
-    Carve(bench_carve::Args),
 }
 
 fn main() -> ExitCode {
@@ -84,7 +81,6 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
-            BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
