@@ -17,7 +17,11 @@ impl Span {
 
     /// The whole of `line` (column 1, no length): for errors about a block as a whole.
     pub fn line(line: u32) -> Span {
-        Span { line, col: 1, len: 0 }
+        Span {
+            line,
+            col: 1,
+            len: 0,
+        }
     }
 }
 
@@ -41,11 +45,23 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn error(span: Span, message: impl Into<String>) -> Diagnostic {
-        Diagnostic { severity: Severity::Error, span, message: message.into(), help: None, code: None }
+        Diagnostic {
+            severity: Severity::Error,
+            span,
+            message: message.into(),
+            help: None,
+            code: None,
+        }
     }
 
     pub fn warning(span: Span, message: impl Into<String>) -> Diagnostic {
-        Diagnostic { severity: Severity::Warning, span, message: message.into(), help: None, code: None }
+        Diagnostic {
+            severity: Severity::Warning,
+            span,
+            message: message.into(),
+            help: None,
+            code: None,
+        }
     }
 
     pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
@@ -64,7 +80,10 @@ impl Diagnostic {
             Severity::Warning => "warning",
             Severity::Error => "error",
         };
-        let code = self.code.map(|c| format!("[error:{c}] ")).unwrap_or_default();
+        let code = self
+            .code
+            .map(|c| format!("[error:{c}] "))
+            .unwrap_or_default();
         let mut s = format!(
             "{file}:{}:{}: {kind}: {code}{}\n",
             self.span.line, self.span.col, self.message

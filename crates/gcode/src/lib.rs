@@ -43,7 +43,9 @@ impl std::str::FromStr for Dialect {
             "linuxcnc" | "rs274" | "ngc" => Ok(Dialect::LinuxCnc),
             "grbl" => Ok(Dialect::Grbl),
             "legacy-2006" | "legacy" | "legacy2006" => Ok(Dialect::Legacy2006),
-            other => Err(format!("unknown dialect '{other}': use linuxcnc, grbl or legacy-2006")),
+            other => Err(format!(
+                "unknown dialect '{other}': use linuxcnc, grbl or legacy-2006"
+            )),
         }
     }
 }

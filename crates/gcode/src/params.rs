@@ -74,7 +74,10 @@ impl Params {
     }
 
     fn locals(&self) -> &HashMap<String, f64> {
-        self.frames.last().map(|f| &f.locals).unwrap_or(&self.top_locals)
+        self.frames
+            .last()
+            .map(|f| &f.locals)
+            .unwrap_or(&self.top_locals)
     }
 
     /// Read `#<name>`; names are case-insensitive and compared lower-case.
@@ -117,7 +120,10 @@ impl Params {
     pub fn push_call(&mut self, args: &[f64]) {
         let mut saved = [0.0; CALL_ARGS];
         saved.copy_from_slice(&self.numbered[1..=CALL_ARGS]);
-        self.frames.push(Frame { saved_args: saved, locals: HashMap::new() });
+        self.frames.push(Frame {
+            saved_args: saved,
+            locals: HashMap::new(),
+        });
         for i in 0..CALL_ARGS {
             self.numbered[i + 1] = args.get(i).copied().unwrap_or(0.0);
         }
@@ -147,7 +153,10 @@ mod tests {
         p.push_call(&[2.0, 3.0]);
         assert_eq!(p.get(1).unwrap(), 2.0);
         assert_eq!(p.get(3).unwrap(), 0.0);
-        assert!(p.get_named("a").is_err(), "locals are not visible inside a call");
+        assert!(
+            p.get_named("a").is_err(),
+            "locals are not visible inside a call"
+        );
         p.set_named("_g", 5.0).unwrap();
         p.pop_call();
         assert_eq!(p.get(1).unwrap(), 7.0);
@@ -161,6 +170,9 @@ mod tests {
         assert_eq!(p.get(5603), Err(ParamError::OutOfRange(5603)));
         assert!(p.set(-1, 0.0).is_err());
         p.set_system("_x", 1.0);
-        assert_eq!(p.set_named("_x", 2.0), Err(ParamError::ReadOnly("_x".into())));
+        assert_eq!(
+            p.set_named("_x", 2.0),
+            Err(ParamError::ReadOnly("_x".into()))
+        );
     }
 }
