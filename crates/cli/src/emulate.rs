@@ -27,7 +27,10 @@ pub struct Args {
     /// Serial line rate to emulate, bits/s (10 bits a byte); 0 = no limit.
     #[arg(long, default_value_t = 115_200)]
     pub baud: u32,
-    /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable).
+    /// Take $100-$132, $11 and $12 from an Oficina machine profile (e.g. profiles/grbl-router.toml).
+    #[arg(long, value_name = "PROFILE")]
+    pub profile: Option<std::path::PathBuf>,
+    /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable; applied after --profile).
     #[arg(long = "set", value_name = "N=VALUE")]
     pub settings: Vec<String>,
     /// Stop after this many seconds (for scripts); default: run until interrupted.
@@ -57,11 +60,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !args.pty && args.tcp.is_none() {
         bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");
     }
-    let settings = args
+    let mut settings = match &args.profile {
+        Some(path) => {
+            let profile =
+                oficina_motion::Profile::load(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+            oficina_grbl::emulator::profile::grbl_settings(&profile).map_err(anyhow::Error::msg)?
+        }
+        None => Vec::new(),
+    };
+    let overrides = args
         .settings
         .iter()
         .map(|s| parse_setting(s))
         .collect::<anyhow::Result<Vec<_>>>()?;
+    settings.extend(overrides);
     let config = Config {
         baud: (args.baud > 0).then_some(args.baud),
         settings,

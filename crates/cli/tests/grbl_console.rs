@@ -259,3 +259,52 @@ fn console_check_first_refuses_a_job_grbl_would_reject() {
         "{stderr}"
     );
 }
+
+#[test]
+fn emulator_takes_its_settings_from_a_machine_profile() {
+    let profile = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../profiles/grbl-router.toml"
+    );
+    let mut child = Command::new(BIN)
+        .args([
+            "emulate",
+            "grbl",
+            "--tcp",
+            "127.0.0.1:0",
+            "--for-seconds",
+            "30",
+            "--profile",
+            profile,
+        ])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    out.read_line(&mut line).unwrap();
+    let _emu = Emu(child, out);
+    let addr = line.split("tcp://").nth(1).unwrap().trim().to_string();
+    let mut console = Command::new(BIN)
+        .args(["console", "--tcp", &addr])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = console.stdin.take().unwrap();
+    writeln!(stdin, "$$").unwrap();
+    std::thread::sleep(Duration::from_millis(1200));
+    writeln!(stdin, "/quit").unwrap();
+    let text = String::from_utf8_lossy(&console.wait_with_output().unwrap().stdout).to_string();
+    // profiles/grbl-router.toml: X 6000 mm/min, Z 1500 mm/min, 300 mm/s², 800 x 450 x 100 mm.
+    for want in [
+        "$110=6000.000",
+        "$112=1500.000",
+        "$120=300.000",
+        "$130=800.000",
+        "$132=100.000",
+    ] {
+        assert!(text.contains(want), "{want} missing in:\n{text}");
+    }
+}

@@ -3,6 +3,7 @@
 //! time and paces the wire at the emulated baud rate.
 
 pub mod core;
+pub mod profile;
 mod serve;
 
 pub use self::core::{Config, Core, Stats};
