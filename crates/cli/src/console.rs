@@ -5,6 +5,8 @@
 
 use anyhow::{bail, Context};
 use oficina_grbl::emulator::{Config, Emulator};
+use oficina_grbl::eta;
+use oficina_grbl::job::Job;
 use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
 use oficina_grbl::link::Event;
 use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
@@ -359,35 +361,36 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
     });
     let start = Instant::now();
     let mut last = String::new();
-    let mut progress: Option<(usize, usize, u64, u64)> = None;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
+    // Machine time per line from grbl's timing model and the board's own $110… rates.
+    let cumulative = eta::cumulative_seconds(&job, &machine.sender.settings);
+    let mut progress: Option<(usize, usize, usize)> = None;
     let mut observer = |n: Notice| {
         match n {
-            Notice::Progress {
-                acked,
-                total,
-                bytes_acked,
-                bytes_total,
-            } => progress = Some((acked, total, bytes_acked, bytes_total)),
+            Notice::Progress { acked, total, .. } => {
+                let started = progress.map(|p| p.2).unwrap_or(acked.saturating_sub(1));
+                progress = Some((acked, total, started));
+            }
             Notice::Status(st) => last = status_line(&st),
             Notice::Message(m) => eprintln!("\r\x1b[K{m}"),
             Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
         }
-        let Some((acked, total, done, all)) = progress else {
+        let Some((acked, total, started)) = progress else {
             eprint!("\r\x1b[K{last}");
             return;
         };
-        // Bytes acknowledged per second so far, applied to the bytes left.
-        let secs = start.elapsed().as_secs_f64();
-        let eta = (all - done) as f64 * secs / done.max(1) as f64;
+        let left = eta::remaining(&cumulative, started, acked, start.elapsed().as_secs_f64());
         eprint!(
             "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {}:{:02}",
             100.0 * acked as f64 / total.max(1) as f64,
-            eta as u64 / 60,
-            eta as u64 % 60
+            left as u64 / 60,
+            left as u64 % 60
         );
     };
-    let (job, outcome) = machine
-        .run_file(path, &settings, Some(&ctl_rx), &mut observer)
+    let outcome = machine
+        .run(&job, &journal_path, &settings, Some(&ctl_rx), &mut observer)
         .map_err(anyhow::Error::msg)?;
     eprintln!();
     let report = match outcome {

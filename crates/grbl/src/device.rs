@@ -3,6 +3,7 @@
 //! the virtual machine. A job runs on a worker thread that owns the link; operator commands
 //! reach it over a channel and its progress comes back as the trait's events.
 
+use crate::eta;
 use crate::job::Job as GrblJob;
 use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use crate::messages;
@@ -146,6 +147,7 @@ impl Machine for GrblDevice {
         }
         let grbl_job = GrblJob::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
         let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
+        let cumulative = eta::cumulative_seconds(&grbl_job, &machine.sender.settings);
         let mut settings = self.settings.clone();
         settings.start = match job.start_line {
             Some(n) => Start::FileLine(n as usize),
@@ -165,7 +167,8 @@ impl Machine for GrblDevice {
         self.worker = Some(std::thread::spawn(move || {
             let start = Instant::now();
             let mut wco = vec![0.0; 3];
-            let mut bytes = (0u64, 0u64);
+            // (first acknowledged line of this run, last acknowledged line)
+            let mut lines: Option<(usize, usize)> = None;
             let mut observer = |n: Notice| match n {
                 Notice::Status(st) => {
                     if let Some(w) = &st.wco {
@@ -174,21 +177,15 @@ impl Machine for GrblDevice {
                     let mut s = lock(&status);
                     translate_status(&st, &wco, &mut s);
                     s.elapsed = start.elapsed().as_secs_f64();
-                    // Total from the byte rate so far: an extrapolation, not a plan.
-                    s.total = if bytes.0 > 0 {
-                        s.elapsed * bytes.1 as f64 / bytes.0 as f64
-                    } else {
-                        0.0
-                    };
+                    // Elapsed plus grbl's timing model for the rest, at the pace seen so far.
+                    if let Some((first, acked)) = lines {
+                        s.total = s.elapsed + eta::remaining(&cumulative, first, acked, s.elapsed);
+                    }
                     let _ = events.send(Event::Status(s.clone()));
                 }
-                Notice::Progress {
-                    acked,
-                    bytes_acked,
-                    bytes_total,
-                    ..
-                } => {
-                    bytes = (bytes_acked, bytes_total);
+                Notice::Progress { acked, .. } => {
+                    let first = lines.map(|l| l.0).unwrap_or(acked.saturating_sub(1));
+                    lines = Some((first, acked));
                     if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
                         lock(&status).line = l.file_line as u32;
                     }

@@ -12,6 +12,7 @@
 pub mod check;
 pub mod device;
 pub mod emulator;
+pub mod eta;
 pub mod gline;
 pub mod interp;
 pub mod job;
