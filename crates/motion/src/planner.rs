@@ -24,6 +24,10 @@ use std::collections::VecDeque;
 /// Hard cap on buffered blocks, whatever the horizon says (memory bound).
 pub const MAX_BLOCKS: usize = 1 << 16;
 
+/// Blocks read between two backward passes. Each pass walks the new blocks plus the ramp
+/// down to the planned stop behind them, so larger batches walk each block fewer times.
+const BATCH: usize = 128;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SegmentKind {
     Move(MoveKind),
@@ -192,6 +196,8 @@ pub struct Planner<'p, I: Iterator<Item = Canon>> {
     buf: VecDeque<Block>,
     /// Absolute index of `buf[0]`.
     base: u64,
+    /// Blocks at the back of `buf` that no backward pass has seen yet.
+    unplanned: usize,
     /// Absolute index of the latest block whose entry sits at its ceiling.
     ceiling: Option<u64>,
     /// Entry speed of `buf[0]`, fixed by the segment emitted before it.
@@ -233,6 +239,7 @@ pub fn plan<'p, I: Iterator<Item = Canon>>(
         buf: VecDeque::new(),
         base: 0,
         ceiling: None,
+        unplanned: 0,
         front_entry: 0.0,
         buffered_time: 0.0,
         pending: None,
@@ -251,43 +258,54 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
         self.buf.len()
     }
 
+    /// Appends a block without re-planning: the backward pass runs once per batch
+    /// ([`Planner::replan`]), so a long run of blocks is walked about once, not once per push.
     fn push(&mut self, m: Move) {
         let bl = block_limits(&m, self.profile, self.shape);
         self.tail = (m.end, m.q1);
         let max_entry = match self.buf.back() {
-            Some(p) => junction_limit(&p.m, &p.bl, &m, &bl, self.profile),
-            None => 0.0,
+            Some(p) if !m.stop_before => junction_limit(&p.m, &p.bl, &m, &bl, self.profile),
+            _ => 0.0,
         };
-        let max_entry = if m.stop_before { 0.0 } else { max_entry };
         self.buffered_time += m.length / bl.v_nominal;
-        let entry = max_entry.min(reachable(0.0, m.length, bl.lim));
-        let idx = self.base + self.buf.len() as u64;
-        if entry >= max_entry {
-            self.ceiling = Some(idx);
-        }
         self.buf.push_back(Block {
             m,
             bl,
             max_entry,
-            entry,
+            entry: 0.0,
         });
-        // Backward pass: raise earlier entries while the relaxed end lets them rise.
-        let mut i = self.buf.len() - 1;
-        while i > 0 {
-            let exit = self.buf[i].entry;
-            let b = &mut self.buf[i - 1];
+        self.unplanned += 1;
+    }
+
+    /// Backward pass from the planned stop at the end of the buffer (grbl's
+    /// planner_recalculate). Blocks pushed since the last pass are all relaxed; older ones
+    /// only while their entry still rises, since an entry that did not move cannot raise
+    /// anything before it.
+    fn replan(&mut self) {
+        let n = self.buf.len();
+        if self.unplanned == 0 || n == 0 {
+            return;
+        }
+        let first_new = n - self.unplanned;
+        self.unplanned = 0;
+        let mut ceiling_found = false;
+        let mut exit = 0.0;
+        for i in (0..n).rev() {
+            let b = &mut self.buf[i];
             let new = b.max_entry.min(reachable(exit, b.m.length, b.bl.lim));
-            if new <= b.entry {
+            if i < first_new && new <= b.entry {
                 break;
             }
             b.entry = new;
-            if new >= b.max_entry {
-                let abs = self.base + (i - 1) as u64;
+            if !ceiling_found && new >= b.max_entry {
+                // The latest block at its ceiling: nothing after it can raise what is before.
+                ceiling_found = true;
+                let abs = self.base + i as u64;
                 if self.ceiling.is_none_or(|c| c < abs) {
                     self.ceiling = Some(abs);
                 }
             }
-            i -= 1;
+            exit = new;
         }
     }
 
@@ -297,12 +315,18 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
             return false;
         }
         if self.flushing {
+            return self.unplanned == 0;
+        }
+        // Blocks up to the ceiling were planned by a finished backward pass.
+        if self.ceiling.is_some_and(|c| c > self.base) {
             return true;
         }
-        let final_by_ceiling = self.ceiling.is_some_and(|c| c > self.base);
         // A lone block waits for its successor so the junction between them is not lost.
-        let over = self.buffered_time > self.profile.horizon || self.buf.len() >= MAX_BLOCKS;
-        final_by_ceiling || (over && self.buf.len() > 1)
+        self.unplanned == 0 && self.over_horizon() && self.buf.len() > 1
+    }
+
+    fn over_horizon(&self) -> bool {
+        self.buffered_time > self.profile.horizon || self.buf.len() >= MAX_BLOCKS
     }
 
     fn emit_front(&mut self) -> Segment {
@@ -345,6 +369,11 @@ impl<I: Iterator<Item = Canon>> Iterator for Planner<'_, I> {
 
     fn next(&mut self) -> Option<Self::Item> {
         loop {
+            if self.unplanned > 0
+                && (self.unplanned >= BATCH || self.flushing || self.over_horizon())
+            {
+                self.replan();
+            }
             if self.front_ready() {
                 return Some(Ok(self.emit_front()));
             }
