@@ -78,7 +78,7 @@ const PI_HI: f64 = std::f64::consts::PI;
 const PI_LO: f64 = 1.2246467991473532e-16;
 
 /// `r·180/π`, rounded once (LinuxCNC: `(r * 180.0) / M_PIl` in long double).
-fn degrees(r: f64) -> f64 {
+pub(crate) fn degrees(r: f64) -> f64 {
     let hi = r * 180.0;
     let lo = r.mul_add(180.0, -hi);
     let q = hi / PI_HI;
@@ -96,7 +96,7 @@ fn not_finite(v: f64, span: Span) -> Diagnostic {
         .with_help("look for a huge power or EXP, or a zero to a negative power")
 }
 
-fn call(f: Func, x: f64, span: Span) -> Result<f64, Diagnostic> {
+pub(crate) fn call(f: Func, x: f64, span: Span) -> Result<f64, Diagnostic> {
     let v = match f {
         Func::Abs => x.abs(),
         Func::Acos | Func::Asin if !(-1.0..=1.0).contains(&x) => {
@@ -147,7 +147,7 @@ fn truth(b: bool) -> f64 {
     }
 }
 
-fn binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
+pub(crate) fn binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
     let v = match op {
         BinOp::Pow => {
             if a < 0.0 && b.floor() != b {

@@ -82,13 +82,27 @@ impl Params {
 
     /// Read `#<name>`; names are case-insensitive and compared lower-case.
     pub fn get_named(&self, name: &str) -> Result<f64, ParamError> {
-        let key = name.to_ascii_lowercase();
-        let found = if key.starts_with('_') {
-            self.system.get(&key).or_else(|| self.globals.get(&key))
+        // Names from the parser are already lower-case: no copy on that (hot) path.
+        let lowered;
+        let key = if name.bytes().any(|b| b.is_ascii_uppercase()) {
+            lowered = name.to_ascii_lowercase();
+            lowered.as_str()
         } else {
-            self.locals().get(&key)
+            name
         };
-        found.copied().ok_or(ParamError::Undefined(key))
+        let found = if key.starts_with('_') {
+            self.system.get(key).or_else(|| self.globals.get(key))
+        } else {
+            self.locals().get(key)
+        };
+        found
+            .copied()
+            .ok_or_else(|| ParamError::Undefined(key.to_string()))
+    }
+
+    /// Whether `#<name>=…` would be refused because the interpreter owns the name.
+    pub fn is_read_only(&self, name: &str) -> bool {
+        name.starts_with('_') && self.system.contains_key(&name.to_ascii_lowercase())
     }
 
     pub fn exists_named(&self, name: &str) -> bool {

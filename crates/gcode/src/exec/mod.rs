@@ -16,6 +16,7 @@
 //! which LinuxCNC rejects whenever its skipping reads it, is reported as soon as it is read.
 //! A call to an undefined subroutine is reported at the call, not at the end of the file.
 
+mod direct;
 mod flow;
 mod plain;
 mod source;
@@ -72,6 +73,8 @@ pub struct Executor<R> {
     end: Option<ProgramEnd>,
     /// Assignments of the current line, before they are applied (reused buffer).
     pending: Vec<(ParamRef, f64, Span)>,
+    /// Buffers of the one-pass fast path.
+    scratch: direct::Scratch,
     /// Start of the line being run.
     current: Mark,
 }
@@ -103,6 +106,7 @@ impl<R: BufRead + Seek> Executor<R> {
             opened_with_percent: false,
             end: None,
             pending: Vec::new(),
+            scratch: direct::Scratch::default(),
             current: Mark { offset: 0, line: 0 },
         }
     }
@@ -204,7 +208,14 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.skip.is_none()
                 && self.dialect != Dialect::Grbl
                 && self.seen_content
-                && plain::plain_line(self.src.text(), number, block)
+                && (plain::plain_line(self.src.text(), number, block)
+                    || direct::direct_line(
+                        self.src.text(),
+                        number,
+                        params,
+                        block,
+                        &mut self.scratch,
+                    ))
             {
                 self.idle_iterations = 0;
                 return Ok(true);
@@ -918,6 +929,18 @@ impl<R: BufRead + Seek> Executor<R> {
         self.fill_block(params, &mut block)
             .expect("a plain line evaluates");
         block
+    }
+
+    /// The block the full path makes of `line`, or its error (tests of the fast paths).
+    #[cfg(test)]
+    pub(crate) fn full_path_result(
+        &mut self,
+        line: &Line,
+        params: &mut Params,
+    ) -> Result<Block, Diagnostic> {
+        self.line = line.clone();
+        let mut block = Block::default();
+        self.fill_block(params, &mut block).map(|_| block)
     }
 
     /// Evaluate the words and assignments of the current line into `block`.

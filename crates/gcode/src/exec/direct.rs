@@ -1,0 +1,532 @@
+//! The fast path for ordinary lines with expressions (`G1 X[#1 + 2.5] Y#<y>`, `#3 = [#2 *
+//! 2]`): parsed and evaluated in one pass over the raw bytes, straight into the block, with
+//! no compaction, syntax tree or allocation per node.
+//!
+//! It only takes lines it can run exactly as the full path would, and declines (returns
+//! `false`, having changed no parameter) on anything else: comments, o-words, `/`, `%`,
+//! non-ASCII, a blank inside a number or a keyword, `EXISTS`, an assignment that defines a
+//! new name, and every error. The full path then reads the line from scratch, so errors and
+//! unusual syntax keep their one implementation.
+
+use crate::ast::{BinOp, Func};
+use crate::block::{Assignment, Block, ParamRef, Word};
+use crate::diag::Span;
+use crate::expr::{binary, call, degrees, LAST_NUMBERED};
+use crate::params::Params;
+use crate::parse::MAX_NESTING;
+
+/// How far from an integer a parameter number may be (as `expr::param_number`).
+const INTEGER_TOLERANCE: f64 = 0.0001;
+
+/// Scratch space kept between lines (the name being read).
+#[derive(Default)]
+pub struct Scratch {
+    name: String,
+}
+
+/// Fill `block` from `raw` and apply its assignments to `params` if the line is ordinary;
+/// `false` leaves the line (and `params`) to the full path, `block` possibly half-filled.
+pub fn direct_line(
+    raw: &[u8],
+    line: u32,
+    params: &mut Params,
+    block: &mut Block,
+    scratch: &mut Scratch,
+) -> bool {
+    let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+    block.line = line;
+    block.n = None;
+    block.words.clear();
+    block.notes.clear();
+    block.assignments.clear();
+    let mut r = Reader {
+        raw,
+        pos: 0,
+        depth: 0,
+        params,
+        name: &mut scratch.name,
+    };
+    if r.line(line, block).is_none() {
+        return false;
+    }
+    if block.words.is_empty() && block.n.is_none() && block.assignments.is_empty() {
+        return false;
+    }
+    // All values were read from before the line; now the assignments take effect, in
+    // order. Their targets were checked while reading, so none can fail.
+    for a in &block.assignments {
+        let applied = match &a.target {
+            ParamRef::Numbered(n) => params.set(i64::from(*n), a.value),
+            ParamRef::Named(name) => params.set_named(name, a.value),
+        };
+        debug_assert!(applied.is_ok());
+    }
+    true
+}
+
+/// Blanks as the compactor drops them.
+fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | 0x0B | 0x0C)
+}
+
+struct Reader<'a> {
+    raw: &'a [u8],
+    pos: usize,
+    depth: usize,
+    params: &'a Params,
+    name: &'a mut String,
+}
+
+const WORD_OPS: [(&[u8], BinOp); 10] = [
+    (b"mod", BinOp::Mod),
+    (b"and", BinOp::And),
+    (b"xor", BinOp::Xor),
+    (b"eq", BinOp::Eq),
+    (b"ne", BinOp::Ne),
+    (b"gt", BinOp::Gt),
+    (b"ge", BinOp::Ge),
+    (b"lt", BinOp::Lt),
+    (b"le", BinOp::Le),
+    (b"or", BinOp::Or),
+];
+
+/// Functions taken here (`EXISTS` is left to the full path; ATAN has its own syntax).
+const FUNCS: [(&[u8], Option<Func>); 13] = [
+    (b"abs", Some(Func::Abs)),
+    (b"acos", Some(Func::Acos)),
+    (b"asin", Some(Func::Asin)),
+    (b"atan", None),
+    (b"cos", Some(Func::Cos)),
+    (b"exp", Some(Func::Exp)),
+    (b"fix", Some(Func::Fix)),
+    (b"fup", Some(Func::Fup)),
+    (b"ln", Some(Func::Ln)),
+    (b"round", Some(Func::Round)),
+    (b"sin", Some(Func::Sin)),
+    (b"sqrt", Some(Func::Sqrt)),
+    (b"tan", Some(Func::Tan)),
+];
+
+/// Whether `rest` starts with the lower-case `name`, in any case.
+fn starts_with_ci(rest: &[u8], name: &[u8]) -> bool {
+    rest.len() >= name.len() && rest[..name.len()].eq_ignore_ascii_case(name)
+}
+
+impl Reader<'_> {
+    /// The next non-blank byte and its position, without consuming anything.
+    fn peek(&self) -> Option<(u8, usize)> {
+        let mut i = self.pos;
+        while let Some(&b) = self.raw.get(i) {
+            if !is_blank(b) {
+                return Some((b, i));
+            }
+            i += 1;
+        }
+        None
+    }
+
+    /// Consume blanks and the byte after them if it is `want`.
+    fn eat(&mut self, want: u8) -> Option<()> {
+        match self.peek() {
+            Some((b, i)) if b == want => {
+                self.pos = i + 1;
+                Some(())
+            }
+            _ => None,
+        }
+    }
+
+    fn line(&mut self, line: u32, block: &mut Block) -> Option<()> {
+        while let Some((b, start)) = self.peek() {
+            self.pos = start + 1;
+            match b.to_ascii_lowercase() {
+                b'#' => self.assignment(line, start, block)?,
+                b'n' => {
+                    // Only first on the line and unsigned, as the full path reads it.
+                    if !block.words.is_empty() || !block.assignments.is_empty() || block.n.is_some()
+                    {
+                        return None;
+                    }
+                    let (b, i) = self.peek()?;
+                    if !(b.is_ascii_digit() || b == b'.') {
+                        return None;
+                    }
+                    self.pos = i;
+                    block.n = Some(self.number()?);
+                }
+                letter @ b'a'..=b'z' if letter != b'o' => {
+                    let value = self.real_value()?;
+                    block.words.push(Word {
+                        letter: letter.to_ascii_uppercase() as char,
+                        value,
+                        span: Span::new(line, start as u32 + 1, (self.pos - start) as u32),
+                    });
+                }
+                _ => return None,
+            }
+        }
+        Some(())
+    }
+
+    /// `#n = value` or `#<name> = value` (the `#` is consumed), recorded in the block.
+    fn assignment(&mut self, line: u32, start: usize, block: &mut Block) -> Option<()> {
+        let target = match self.peek()? {
+            (b'<', i) => {
+                self.pos = i + 1;
+                self.read_name()?;
+                // A new name is defined while its line is read (later reads on the line
+                // see 0), and read-only names are errors: both for the full path.
+                if !self.params.exists_named(self.name) || self.params.is_read_only(self.name) {
+                    return None;
+                }
+                ParamRef::Named(self.name.clone())
+            }
+            _ => {
+                let v = self.real_value()?;
+                ParamRef::Numbered(param_number(v)? as u32)
+            }
+        };
+        self.eat(b'=')?;
+        let value = self.real_value()?;
+        block.assignments.push(Assignment {
+            target,
+            value,
+            span: Span::new(line, start as u32 + 1, (self.pos - start) as u32),
+        });
+        Some(())
+    }
+
+    /// A name after `<`, up to `>`: lower-cased and without blanks, as the compactor has it.
+    fn read_name(&mut self) -> Option<()> {
+        self.name.clear();
+        while let Some(&b) = self.raw.get(self.pos) {
+            self.pos += 1;
+            match b {
+                b'>' => return Some(()),
+                b'(' | b';' | 0x80.. => return None,
+                b if is_blank(b) => {}
+                b => self.name.push(b.to_ascii_lowercase() as char),
+            }
+        }
+        None
+    }
+
+    /// An unsigned number at `pos`; a blank followed by more digits (a number with a blank
+    /// inside) is for the full path.
+    fn number(&mut self) -> Option<f64> {
+        let (v, len) = crate::lex::scan_number(&self.raw[self.pos..])?.ok()?;
+        self.pos += len;
+        match self.peek() {
+            Some((b, _)) if b.is_ascii_digit() || b == b'.' => None,
+            _ => Some(v),
+        }
+    }
+
+    /// A value: number, `[expression]`, `#parameter`, unary sign, or function.
+    fn real_value(&mut self) -> Option<f64> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            return None;
+        }
+        let v = self.real_value_inner();
+        self.depth -= 1;
+        v
+    }
+
+    fn real_value_inner(&mut self) -> Option<f64> {
+        let (b, i) = self.peek()?;
+        match b {
+            b'0'..=b'9' | b'.' => {
+                self.pos = i;
+                self.number()
+            }
+            b'[' => {
+                self.pos = i + 1;
+                let v = self.expression(0)?;
+                self.eat(b']')?;
+                // LinuxCNC checks each bracketed value (the full path reports it).
+                v.is_finite().then_some(v)
+            }
+            b'#' => {
+                self.pos = i + 1;
+                match self.peek()? {
+                    (b'<', j) => {
+                        self.pos = j + 1;
+                        self.read_name()?;
+                        self.params.get_named(self.name).ok()
+                    }
+                    _ => {
+                        let n = param_number(self.real_value()?)?;
+                        self.params.get(n).ok()
+                    }
+                }
+            }
+            b'-' => {
+                self.pos = i + 1;
+                Some(-self.real_value()?)
+            }
+            b'+' => {
+                self.pos = i + 1;
+                self.real_value()
+            }
+            b'a'..=b'z' | b'A'..=b'Z' => {
+                self.pos = i;
+                self.function()
+            }
+            _ => None,
+        }
+    }
+
+    /// Precedence climbing, all operators left-associative (as `parse::Parser::expression`).
+    fn expression(&mut self, min_prec: u8) -> Option<f64> {
+        let mut lhs = self.real_value()?;
+        loop {
+            let Some((op, at, len)) = self.peek_binop()? else {
+                return Some(lhs);
+            };
+            if op.precedence() < min_prec {
+                return Some(lhs);
+            }
+            self.pos = at + len;
+            let rhs = self.expression(op.precedence() + 1)?;
+            lhs = binary(op, lhs, rhs, Span::default()).ok()?;
+        }
+    }
+
+    /// The operator after the value just read: `Some(None)` when there is none (a `]` or
+    /// the end), `None` when a word follows that is not a whole operator (blanks inside
+    /// `M O D`, or an error).
+    #[allow(clippy::type_complexity)]
+    fn peek_binop(&self) -> Option<Option<(BinOp, usize, usize)>> {
+        let Some((b, i)) = self.peek() else {
+            return Some(None);
+        };
+        let next = self.raw.get(i + 1).copied();
+        Some(Some(match b {
+            b'*' if next == Some(b'*') => (BinOp::Pow, i, 2),
+            b'*' => (BinOp::Mul, i, 1),
+            b'/' => (BinOp::Div, i, 1),
+            b'+' => (BinOp::Add, i, 1),
+            b'-' => (BinOp::Sub, i, 1),
+            b if b.is_ascii_alphabetic() => {
+                let rest = &self.raw[i..];
+                let &(name, op) = WORD_OPS.iter().find(|(n, _)| starts_with_ci(rest, n))?;
+                (op, i, name.len())
+            }
+            // `]`, or anything else the caller will reject.
+            _ => return Some(None),
+        }))
+    }
+
+    /// A function call, `pos` at its name.
+    fn function(&mut self) -> Option<f64> {
+        let rest = &self.raw[self.pos..];
+        let &(name, func) = FUNCS.iter().find(|(n, _)| starts_with_ci(rest, n))?;
+        self.pos += name.len();
+        if !matches!(self.peek(), Some((b'[', _))) {
+            return None;
+        }
+        match func {
+            Some(f) => call(f, self.real_value()?, Span::default()).ok(),
+            None => {
+                // ATAN[y]/[x]
+                let y = self.real_value()?;
+                self.eat(b'/')?;
+                if !matches!(self.peek(), Some((b'[', _))) {
+                    return None;
+                }
+                let x = self.real_value()?;
+                Some(degrees(y.atan2(x)))
+            }
+        }
+    }
+}
+
+/// A parameter number: an integer within 1e-4, from 1 to the last numbered parameter.
+fn param_number(v: f64) -> Option<i64> {
+    let r = v.round();
+    if (v - r).abs() > INTEGER_TOLERANCE || !r.is_finite() {
+        return None;
+    }
+    let n = r.clamp(i64::MIN as f64, i64::MAX as f64) as i64;
+    (1..=LAST_NUMBERED).contains(&n).then_some(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::Line;
+    use crate::lex::Compact;
+    use crate::parse::parse_line;
+    use proptest::prelude::*;
+
+    fn params() -> Params {
+        let mut p = Params::new();
+        p.set(1, 1.0).unwrap();
+        p.set(2, 2.5).unwrap();
+        p.set(3, -4.0).unwrap();
+        p.set_named("a", 3.0).unwrap();
+        p.set_named("b", -1.0).unwrap();
+        p.set_named("_g", 4.0).unwrap();
+        p.set_system("_x", 7.0);
+        p
+    }
+
+    /// The parameters a test line can touch, for comparing two runs.
+    fn touched(p: &Params) -> Vec<Option<f64>> {
+        let mut v: Vec<_> = (1..=6).map(|n| p.get(n).ok()).collect();
+        for name in ["a", "b", "_g", "_x", "new"] {
+            v.push(p.get_named(name).ok());
+        }
+        v
+    }
+
+    /// When the fast path takes `src`, the full path takes it too, with the same block and
+    /// the same parameters afterwards. Returns whether the fast path took it.
+    fn agrees_with_full_path(src: &str) -> bool {
+        let mut fast_params = params();
+        let before = touched(&fast_params);
+        let mut fast = Block::default();
+        if !direct_line(
+            src.as_bytes(),
+            3,
+            &mut fast_params,
+            &mut fast,
+            &mut Scratch::default(),
+        ) {
+            assert_eq!(touched(&fast_params), before, "{src}: declined but changed");
+            return false;
+        }
+        let mut full_params = params();
+        let mut c = Compact::new();
+        c.load(src.as_bytes(), 3)
+            .unwrap_or_else(|e| panic!("{src}: {e}"));
+        let mut line = Line::default();
+        parse_line(&c, crate::Dialect::LinuxCnc, &mut line)
+            .unwrap_or_else(|e| panic!("{src}: {e}"));
+        assert!(
+            line.oword.is_none() && !line.percent && !line.block_delete,
+            "{src}"
+        );
+        let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
+        let full = exec
+            .full_path_result(&line, &mut full_params)
+            .unwrap_or_else(|e| panic!("{src}: {e}"));
+        assert_eq!(fast, full, "{src}");
+        assert_eq!(touched(&fast_params), touched(&full_params), "{src}");
+        true
+    }
+
+    #[test]
+    fn ordinary_lines_match_the_full_path() {
+        for s in [
+            "G1 X[#1 + 2.5] Y#<a> Z-#2",
+            "g1 x[1 mod 2] y[2**3**2] z[-2**2]",
+            "#3 = [#2 * 2] #<a> = [#3 + #<_g>]",
+            "#<b>=#<_G> X#<B>",
+            "N10 G1 X[SIN[30]] Y[atan[1]/[-1]] Z[abs[-1] + fix[2.5] + round[2.5]]",
+            "X[1 EQ 1.00001] Y[1 lt 2 and 0 or 1 xor 1] Z[7 MOD -3]",
+            "X##1 Y#[1+1]",
+            "X[ 1 + 2 ] Y - [ 3 ]",
+            "G1 X[ABS[SIN[12]] * 0 + 1]",
+        ] {
+            assert!(agrees_with_full_path(s), "fast path declined {s}");
+        }
+    }
+
+    #[test]
+    fn unusual_lines_and_errors_are_declined() {
+        for s in [
+            "X[1 m o d 2]",
+            "X[s in[30]]",
+            "X[1 0]",
+            "X[1/0]",
+            "X[SQRT[-1]]",
+            "X#<undefined>",
+            "#<new>=1",
+            "#<_x>=1",
+            "#0=1",
+            "X#[1.5]",
+            "X[EXISTS[#<a>]]",
+            "G1 X[1] (comment)",
+            "G1 X[1] ; comment",
+            "/G1 X[1]",
+            "o1 if [1]",
+            "N1 N2 X[1]",
+            "X[1",
+            "X[0**-1]",
+            "#1 5",
+            "X1 µ",
+        ] {
+            assert!(!agrees_with_full_path(s), "{s} should take the full path");
+        }
+    }
+
+    /// Expressions from the grammar, with blanks and case sprinkled in.
+    fn expression() -> impl Strategy<Value = String> {
+        let leaf = prop_oneof![
+            "[0-9]{1,3}(\\.[0-9]{0,3})?",
+            "#[1-7]",
+            "#<(a|B|_g|_X| a |new)>",
+            Just("#[1+1]".to_string()),
+        ];
+        leaf.prop_recursive(4, 24, 2, |inner| {
+            prop_oneof![
+                (
+                    inner.clone(),
+                    "( ?[-+*/] ?|\\*\\*| (mod|MOD|eq|ne|gt|ge|lt|le|and|or|xor|m od) )",
+                    inner.clone()
+                )
+                    .prop_map(|(a, op, b)| format!("[{a}{op}{b}]")),
+                (inner.clone(), "-|\\+| - ").prop_map(|(a, s)| format!("{s}{a}")),
+                (
+                    inner.clone(),
+                    "(abs|sin|COS|tan|asin|acos|sqrt|ln|exp|fix|fup|round|exists)"
+                )
+                    .prop_map(|(a, f)| format!("{f}[{a}]")),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("atan[{a}]/[{b}]")),
+                inner.prop_map(|a| format!("#{a}")),
+            ]
+        })
+    }
+
+    fn line() -> impl Strategy<Value = String> {
+        let item = prop_oneof![
+            ("[gGxXyYfFzZnO]", " ?", expression()).prop_map(|(l, s, e)| format!("{l}{s}{e}")),
+            ("#[1-6]|#<(a|b|_G|_x|new)>", " ?= ?", expression())
+                .prop_map(|(t, eq, e)| format!("{t}{eq}{e}")),
+            Just("(c)".to_string()),
+        ];
+        prop::collection::vec(item, 1..4).prop_map(|items| items.join(" "))
+    }
+
+    #[test]
+    fn the_generated_lines_often_take_the_fast_path() {
+        // Otherwise the properties below would compare nothing.
+        let mut runner = proptest::test_runner::TestRunner::deterministic();
+        let strategy = line();
+        let taken = (0..1000)
+            .filter(|_| {
+                let src = proptest::strategy::ValueTree::current(
+                    &strategy.new_tree(&mut runner).unwrap(),
+                );
+                agrees_with_full_path(&src)
+            })
+            .count();
+        assert!(taken > 50, "only {taken} of 1000 lines took the fast path");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+        /// Whatever the fast path takes, the full path takes too, with the same result.
+        #[test]
+        fn fast_path_never_disagrees_with_the_full_path(src in line()) {
+            agrees_with_full_path(&src);
+        }
+
+        #[test]
+        fn fast_path_never_disagrees_on_token_soup(src in "[gx#<>=\\[\\]+\\-*/0-9. abmodeqsinatn]{0,20}") {
+            agrees_with_full_path(&src);
+        }
+    }
+}
