@@ -48,6 +48,7 @@ struct Figures {
     line_rate: f64,
     starvations: u64,
     host_late: u64,
+    sender_stalls: u32,
     starved_s: f64,
     overflows: u64,
     max_rx: usize,
@@ -88,6 +89,7 @@ fn one_run(lines: usize, baud: u32, feed: f64) -> anyhow::Result<Figures> {
         line_rate: baud as f64 / 10.0,
         starvations: st.starvations,
         host_late: st.starvations_host_late,
+        sender_stalls: report.sender_stalls,
         starved_s: st.starved_seconds,
         overflows: st.rx_overflows,
         max_rx: st.max_rx_used,
@@ -98,7 +100,7 @@ fn one_run(lines: usize, baud: u32, feed: f64) -> anyhow::Result<Figures> {
 
 fn print(name: &str, feed: f64, f: &Figures) {
     println!(
-        "{name:<13} F{feed:<7.0} {:>7} lines in {:>7.2} s: {:>8.0} chars/s = {:>5.1}% of the line rate ({:.0} B/s); planner ran dry {} times ({:.2} s; {} of them while the emulator's host was late); RX max {} of 127 bytes, {} overflows",
+        "{name:<13} F{feed:<7.0} {:>7} lines in {:>7.2} s: {:>8.0} chars/s = {:>5.1}% of the line rate ({:.0} B/s); planner ran dry {} times ({:.2} s; {} of them while the emulator's host was late; the sender's host held it back {} times); RX max {} of 127 bytes, {} overflows",
         f.lines,
         f.seconds,
         f.chars_per_s,
@@ -107,6 +109,7 @@ fn print(name: &str, feed: f64, f: &Figures) {
         f.starvations,
         f.starved_s,
         f.host_late,
+        f.sender_stalls,
         f.max_rx,
         f.overflows
     );

@@ -45,6 +45,9 @@ pub struct StreamReport {
     pub elapsed: Duration,
     /// Largest number of bytes in flight (never above the RX capacity).
     pub max_in_flight: usize,
+    /// Times the sender itself did not run for over 20 ms (its host was busy): while it
+    /// sleeps, the firmware's buffers drain whatever the link could carry.
+    pub sender_stalls: u32,
 }
 
 impl StreamReport {

@@ -395,7 +395,15 @@ impl Sender {
         // Nothing left to send is a finished job, not a wait for acknowledgements that
         // will never come.
         let nothing_left = from >= job.len();
+        let mut sender_stalls = 0u32;
+        let mut last_turn = Instant::now();
         let end: StreamEnd = 'outer: loop {
+            // One turn of this loop takes at most ~5 ms (the receive timeout) when the host
+            // lets us run.
+            if last_turn.elapsed() > Duration::from_millis(20) {
+                sender_stalls += 1;
+            }
+            last_turn = Instant::now();
             if nothing_left {
                 break 'outer StreamEnd::Completed;
             }
@@ -536,6 +544,7 @@ impl Sender {
             bytes_sent,
             elapsed: start.elapsed(),
             max_in_flight,
+            sender_stalls,
         };
         match report.end.clone() {
             StreamEnd::Completed => {
