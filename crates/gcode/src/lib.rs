@@ -11,6 +11,7 @@
 
 pub mod ast;
 pub mod block;
+mod bytes;
 pub mod diag;
 pub mod exec;
 pub mod expr;

@@ -190,7 +190,7 @@ fn mentions_system_params(source: &mut (impl BufRead + Seek)) -> std::io::Result
             break;
         }
         let n = buf.len();
-        found = (last == b'<' && buf[0] == b'_') || buf.windows(2).any(|w| w == b"<_");
+        found = (last == b'<' && buf[0] == b'_') || contains_lt_underscore(buf);
         last = buf[n - 1];
         source.consume(n);
         if found {
@@ -199,6 +199,17 @@ fn mentions_system_params(source: &mut (impl BufRead + Seek)) -> std::io::Result
     }
     source.seek(std::io::SeekFrom::Start(start))?;
     Ok(found)
+}
+
+/// Whether `buf` holds `<_`: a search for each `<`, as they are rare in G-code.
+fn contains_lt_underscore(mut buf: &[u8]) -> bool {
+    while let Some(i) = crate::bytes::find_byte(b'<', buf) {
+        if buf.get(i + 1) == Some(&b'_') {
+            return true;
+        }
+        buf = &buf[i + 1..];
+    }
+    false
 }
 
 /// [`run`] over a string.

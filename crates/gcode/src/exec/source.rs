@@ -86,7 +86,7 @@ impl<R: BufRead + Seek> LineSource<R> {
                 break;
             }
             any = true;
-            let (take, done) = match chunk.iter().position(|&b| b == b'\n') {
+            let (take, done) = match crate::bytes::find_byte(b'\n', chunk) {
                 Some(i) => (i, true),
                 None => (chunk.len(), false),
             };
