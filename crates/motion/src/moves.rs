@@ -28,8 +28,14 @@ pub struct Move {
     pub q0: [f64; 3],
     pub q1: [f64; 3],
     pub length: f64,
-    /// Requested path speed, mm/s (`INFINITY` for rapids: joint limits only).
+    /// Length of the whole piece this is part of: a live command may cut a piece, which
+    /// shortens `length` but not the corner the piece makes with the next one.
+    pub whole: f64,
+    /// Requested path speed, mm/s (`INFINITY` for rapids: joint limits only), with the
+    /// overrides applied.
     pub speed: f64,
+    /// The feed override scales `speed` (a feed or arc while M48 allows overrides).
+    pub feed_scaled: bool,
     /// The machine must be at rest when this piece starts (G61, after dwell or sync).
     pub stop_before: bool,
     /// Corner blending tolerance at the start of this piece, mm.
@@ -178,7 +184,9 @@ struct Current {
     shape: Shape,
     chords: u64,
     chord: u64,
+    /// Programmed speed before overrides.
     speed: f64,
+    feed_scaled: bool,
     /// Sub-piece cursor inside the current chord (non-linear kinematics only).
     sub_from: f64,
     sub_step: f64,
@@ -234,6 +242,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         })
     }
 
+    /// A new feed override for every piece not yet produced (live override).
+    pub fn set_feed_override(&mut self, factor: f64) {
+        self.overrides.feed = factor;
+    }
+
     /// Joint position at the profile's start point.
     pub fn start_joints(&self) -> [f64; 3] {
         self.q
@@ -257,11 +270,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             _ if self.inverse_time => length * self.feed / 60.0,
             _ => self.feed,
         };
-        let factor = match kind {
-            MoveKind::Rapid => self.overrides.rapid,
-            _ if self.override_enabled => self.overrides.feed,
-            _ => 1.0,
-        };
+        let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
         let chords = match shape {
             Shape::Line { .. } => 1,
             Shape::Arc { r0, r1, sweep, .. } => {
@@ -283,7 +292,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             shape,
             chords,
             chord: 0,
-            speed: speed * factor,
+            speed,
+            feed_scaled,
             sub_from: 0.0,
             sub_step: 1.0,
             first: true,
@@ -511,7 +521,14 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                 cur.shape.point(f1)
             },
         );
-        let (line, op, kind, speed, first) = (cur.line, cur.op, cur.kind, cur.speed, cur.first);
+        let factor = match (cur.kind, cur.feed_scaled) {
+            (MoveKind::Rapid, _) => self.overrides.rapid,
+            (_, true) => self.overrides.feed,
+            _ => 1.0,
+        };
+        let (line, op, kind, speed, first) =
+            (cur.line, cur.op, cur.kind, cur.speed * factor, cur.first);
+        let feed_scaled = cur.feed_scaled;
         cur.first = false;
         let (a, b) = if linear {
             cur.chord += 1;
@@ -586,7 +603,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             q0: self.q,
             q1,
             length: dist3(a, b),
+            whole: dist3(a, b),
             speed,
+            feed_scaled,
             // G61 stops at the ends of programmed moves, not between an arc's chords.
             stop_before: std::mem::take(&mut self.stop_next)
                 || (first && self.mode == MotionMode::ExactStop),

@@ -13,6 +13,8 @@
 //! backward pass met a block already at its junction ceiling), or when the buffer holds more
 //! than `horizon` seconds of motion at nominal speed (bounded memory on any program).
 
+mod live;
+
 pub use crate::moves::MoveKind;
 use crate::moves::{Item, Move, MoveStream, Overrides};
 use crate::profile::{Profile, Shape};
@@ -36,6 +38,17 @@ pub enum SegmentKind {
     Pause,
     /// A spindle, tool or end op reached with the machine at rest.
     Sync,
+    /// Where a feed hold ([`Planner::hold`]) brought the machine to rest.
+    Hold,
+}
+
+/// Where the machine is inside the last segment the planner gave out, when a live command
+/// re-plans what follows: distance done along it and path speed there. The acceleration must
+/// be zero at that instant in S-curve mode (the new motion starts with none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cut {
+    pub s: f64,
+    pub v: f64,
 }
 
 /// One planned, timed straight piece (or a pause at rest).
@@ -162,7 +175,7 @@ pub fn junction_limit(
         v2 = acc * b.deviation * sin_half / (1.0 - sin_half);
     }
     // Centripetal cap: the joint velocity change spread over the shorter piece.
-    let lmin = p.length.min(b.length);
+    let lmin = p.whole.min(b.whole);
     for (i, jt) in profile.joints.iter().enumerate() {
         if let (Some(jt), true) = (jt, dq[i] != 0.0) {
             v2 = v2.min(jt.acceleration * lmin / dq[i].abs());
@@ -180,6 +193,7 @@ fn unit(m: &Move) -> [f64; 3] {
     ]
 }
 
+#[derive(Clone, Copy)]
 struct Block {
     m: Move,
     bl: BlockLimits,
@@ -204,6 +218,12 @@ pub struct Planner<'p, I: Iterator<Item = Canon>> {
     front_entry: f64,
     buffered_time: f64,
     pending: Option<Segment>,
+    /// The block given out last (what a [`Cut`] cuts).
+    last: Option<Block>,
+    /// The feed override in force.
+    feed_factor: f64,
+    /// Absolute block index before which a hold stop is due.
+    hold_before: Option<u64>,
     /// Where the last buffered piece ends (Cartesian, joints): dwells happen there.
     tail: ([f64; 3], [f64; 3]),
     flushing: bool,
@@ -243,6 +263,9 @@ pub fn plan<'p, I: Iterator<Item = Canon>>(
         front_entry: 0.0,
         buffered_time: 0.0,
         pending: None,
+        last: None,
+        feed_factor: opts.overrides.feed,
+        hold_before: None,
         flushing: false,
         done: false,
     })
@@ -263,8 +286,11 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
     fn push(&mut self, m: Move) {
         let bl = block_limits(&m, self.profile, self.shape);
         self.tail = (m.end, m.q1);
+        let after_hold = self.hold_before == Some(self.base + self.buf.len() as u64);
         let max_entry = match self.buf.back() {
-            Some(p) if !m.stop_before => junction_limit(&p.m, &p.bl, &m, &bl, self.profile),
+            Some(p) if !m.stop_before && !after_hold => {
+                junction_limit(&p.m, &p.bl, &m, &bl, self.profile)
+            }
             _ => 0.0,
         };
         self.buffered_time += m.length / bl.v_nominal;
@@ -333,10 +359,12 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
         let b = self.buf.pop_front().expect("front block");
         self.base += 1;
         self.buffered_time = (self.buffered_time - b.m.length / b.bl.v_nominal).max(0.0);
-        let v0 = self.front_entry.min(b.bl.v_nominal);
+        // Above the nominal speed only after a lowered override: the block brakes first.
+        let v0 = self.front_entry;
         let next_entry = self.buf.front().map_or(0.0, |n| n.entry);
         let v1 = next_entry.min(reachable(v0, b.m.length, b.bl.lim));
         self.front_entry = v1;
+        self.last = Some(b);
         Segment {
             line: b.m.line,
             op: b.m.op,
@@ -350,7 +378,15 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
     }
 
     fn at_rest(&self, line: u32, kind: SegmentKind, seconds: f64) -> Segment {
-        let (p, q) = self.tail;
+        let (p, q) = match self.buf.front() {
+            Some(b) if kind == SegmentKind::Hold => (b.m.start, b.m.q0),
+            _ => self.tail,
+        };
+        let line = match (kind, self.buf.front(), &self.last) {
+            (SegmentKind::Hold, Some(b), _) => b.m.line,
+            (SegmentKind::Hold, None, Some(l)) => l.m.line,
+            _ => line,
+        };
         Segment {
             line,
             op: u64::MAX,
@@ -373,6 +409,10 @@ impl<I: Iterator<Item = Canon>> Iterator for Planner<'_, I> {
                 && (self.unplanned >= BATCH || self.flushing || self.over_horizon())
             {
                 self.replan();
+            }
+            if self.hold_before == Some(self.base) {
+                self.hold_before = None;
+                return Some(Ok(self.at_rest(0, SegmentKind::Hold, 0.0)));
             }
             if self.front_ready() {
                 return Some(Ok(self.emit_front()));

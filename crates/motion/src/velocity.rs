@@ -92,6 +92,27 @@ pub fn reachable(v0: f64, dist: f64, lim: Limits) -> f64 {
     v0 + j * u.max(0.0) * u.max(0.0)
 }
 
+/// The lowest speed reachable by braking from `v0` within `dist` (0 when it can stop).
+pub fn brake_floor(v0: f64, dist: f64, lim: Limits) -> f64 {
+    if ramp_distance(0.0, v0, lim) <= dist {
+        return 0.0;
+    }
+    if !lim.jerk.is_finite() {
+        return (v0 * v0 - 2.0 * lim.accel * dist).max(0.0).sqrt();
+    }
+    // ramp_distance(v, v0) falls as v rises towards v0: bisect for the one that equals dist.
+    let (mut lo, mut hi) = (0.0, v0);
+    for _ in 0..60 {
+        let m = 0.5 * (lo + hi);
+        if ramp_distance(m, v0, lim) > dist {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    hi
+}
+
 impl Motion {
     /// A pause of `duration` seconds at rest.
     pub fn dwell(duration: f64) -> Motion {
@@ -111,6 +132,9 @@ impl Motion {
     /// that v1 is reachable from v0 within length (the planner's passes do); small
     /// violations from rounding are absorbed by capping the peak.
     pub fn plan(length: f64, v0: f64, vmax: f64, v1: f64, lim: Limits) -> Motion {
+        if v0 > vmax {
+            return Motion::slow_down(length, v0, vmax, v1, lim);
+        }
         let lo = v0.max(v1);
         let mut peak = vmax.max(lo);
         if ramp_distance(v0, peak, lim) + ramp_distance(peak, v1, lim) > length {
@@ -151,6 +175,47 @@ impl Motion {
             );
         }
         m.ramp(&mut t, &mut s, peak, v1, lim);
+        m.duration = t;
+        m
+    }
+
+    /// Entering above the cruise speed (a feed override lowered it while moving): brake to
+    /// the new cruise speed first, cruise, then reach `v1`. When the block is too short for
+    /// both ramps, the cruise speed is the highest one, between `v1` and `vmax`, that fits.
+    fn slow_down(length: f64, v0: f64, vmax: f64, v1: f64, lim: Limits) -> Motion {
+        let fits = |c: f64| ramp_distance(v0, c, lim) + ramp_distance(c, v1, lim) <= length;
+        let mut cruise = vmax.max(v1);
+        if !fits(cruise) {
+            let (mut a, mut b) = (v1.min(cruise), cruise);
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                if fits(m) {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            cruise = a;
+        }
+        let mut m = Motion {
+            length,
+            ..Motion::default()
+        };
+        let (mut t, mut s) = (0.0, 0.0);
+        m.ramp(&mut t, &mut s, v0, cruise, lim);
+        let rest = length - s - ramp_distance(cruise, v1, lim);
+        if cruise > 0.0 && rest > 0.0 {
+            m.push(
+                &mut t,
+                &mut s,
+                Piece {
+                    dur: rest / cruise,
+                    v0: cruise,
+                    ..Piece::default()
+                },
+            );
+        }
+        m.ramp(&mut t, &mut s, cruise, v1, lim);
         m.duration = t;
         m
     }
@@ -249,6 +314,23 @@ impl Motion {
                 },
             );
         }
+    }
+
+    /// The first `t` seconds of this motion (what was executed before a live re-plan).
+    pub fn truncated(&self, t: f64) -> Motion {
+        let mut m = Motion::default();
+        for p in self.pieces() {
+            if p.t0 >= t {
+                break;
+            }
+            let mut q = *p;
+            q.dur = q.dur.min(t - p.t0);
+            m.pieces[m.n as usize] = q;
+            m.n += 1;
+        }
+        m.duration = t.clamp(0.0, self.duration);
+        m.length = self.at(m.duration).0;
+        m
     }
 
     pub fn pieces(&self) -> &[Piece] {
@@ -382,6 +464,45 @@ mod tests {
                 let t = m.duration * k as f64 / 10.0;
                 let back = m.time_at(m.at(t).0);
                 assert!((back - t).abs() < 1e-7, "{t} {back}");
+            }
+        }
+    }
+
+    #[test]
+    fn slowing_down_from_above_the_cruise_speed() {
+        for lim in [TRAP, SC] {
+            // 40 → 20 mm/s over 100 mm, ending at rest.
+            let m = Motion::plan(100.0, 40.0, 20.0, 0.0, lim);
+            let (s, v, _) = m.at(m.duration);
+            assert!((s - 100.0).abs() < 1e-9 && v.abs() < 1e-9, "{s} {v}");
+            // Closed form: brake 40→20 and 20→0 (each symmetric, so mean speed), cruise the rest.
+            let (t1, t2) = (ramp_time(20.0, lim), ramp_time(20.0, lim));
+            let (d1, d2) = (30.0 * t1, 10.0 * t2);
+            let expect = t1 + t2 + (100.0 - d1 - d2) / 20.0;
+            assert!(
+                (m.duration - expect).abs() < 1e-9,
+                "{} {expect}",
+                m.duration
+            );
+            // Never faster than the entry, and at the new cruise speed halfway.
+            assert!((m.at(m.time_at(50.0)).1 - 20.0).abs() < 1e-9);
+            // Too short to cruise: the brake ends where the block does.
+            let d = ramp_distance(30.0, 40.0, lim);
+            let short = Motion::plan(d, 40.0, 10.0, 30.0, lim);
+            assert!((short.v_end() - 30.0).abs() < 1e-6, "{}", short.v_end());
+        }
+    }
+
+    #[test]
+    fn brake_floor_inverts_ramp_distance() {
+        for lim in [TRAP, SC] {
+            for &(v0, d) in &[(50.0, 0.5), (20.0, 1.0), (5.0, 100.0)] {
+                let v = brake_floor(v0, d, lim);
+                if v > 0.0 {
+                    assert!((ramp_distance(v, v0, lim) - d).abs() < 1e-9, "{v0} {d} {v}");
+                } else {
+                    assert!(ramp_distance(0.0, v0, lim) <= d);
+                }
             }
         }
     }
