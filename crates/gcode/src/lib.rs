@@ -11,6 +11,7 @@
 
 pub mod ast;
 pub mod block;
+mod decimal;
 mod bytes;
 pub mod diag;
 pub mod exec;

@@ -2,6 +2,7 @@
 //! run can be compared line by line with the real peer: program units, program coordinates
 //! (the offsets of the stream are undone), four decimals.
 
+use crate::decimal;
 use crate::interp::frame::Frame;
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos, SpindleDir, Units};
 use std::io::{self, Write};
@@ -20,6 +21,8 @@ pub struct Rs274Printer {
     /// An inverse-time F (1/min) not printed yet: rs274 prints the rate in units per minute
     /// that makes the next feed move take 1/F minutes, so it needs that move's length.
     inverse_f: Option<f64>,
+    /// The line being built, for the calls printed without `write!` (reused).
+    line: Vec<u8>,
 }
 
 impl Rs274Printer {
@@ -69,9 +72,77 @@ impl Rs274Printer {
                 writeln!(out, "SET_FEED_RATE({:.4})", (len * f).max(0.1))?;
             }
         }
+        if self.print_fast(&canon.op, out)? {
+            return Ok(());
+        }
         self.start_line(out)?;
         self.call(&canon.op, out)?;
         writeln!(out)
+    }
+
+    /// The calls of nearly every line of a program (moves and feed rates), built with
+    /// hand-rolled number formatting; `false` for the others.
+    fn print_fast(&mut self, op: &CanonOp, out: &mut impl Write) -> io::Result<bool> {
+        let mut line = std::mem::take(&mut self.line);
+        line.clear();
+        let printed = match op {
+            CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
+                self.last = to.to_array();
+                let p = self.program(to);
+                self.push_prefix(&mut line);
+                line.extend_from_slice(match op {
+                    CanonOp::StraightTraverse { .. } => b"STRAIGHT_TRAVERSE(",
+                    _ => b"STRAIGHT_FEED(",
+                });
+                push_list(&mut line, &p);
+                true
+            }
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
+                self.last = end.to_array();
+                let (a0, a1, a2) = plane.axes();
+                let e = self.program(end);
+                let mut c = end.to_array();
+                c[a0] = center[0];
+                c[a1] = center[1];
+                let c = self.program(&Pos::from_array(c));
+                self.push_prefix(&mut line);
+                line.extend_from_slice(b"ARC_FEED(");
+                push_list(&mut line, &[e[a0], e[a1], c[a0], c[a1]]);
+                line.extend_from_slice(if *turns < 0 { b", -" } else { b", " });
+                decimal::push_u64(&mut line, u64::from(turns.unsigned_abs()));
+                line.extend_from_slice(b", ");
+                push_list(&mut line, &[e[a2], e[3], e[4], e[5]]);
+                true
+            }
+            CanonOp::SetFeedRate(f) if self.feed_mode != FeedMode::InverseTime => {
+                let f = f / self.k();
+                self.push_prefix(&mut line);
+                line.extend_from_slice(b"SET_FEED_RATE(");
+                push_list(&mut line, &[f]);
+                true
+            }
+            _ => false,
+        };
+        if printed {
+            line.extend_from_slice(b")\n");
+            out.write_all(&line)?;
+        }
+        self.line = line;
+        Ok(printed)
+    }
+
+    /// What [`Rs274Printer::start_line`] writes, into `line`.
+    fn push_prefix(&mut self, line: &mut Vec<u8>) {
+        self.count += 1;
+        if self.numbered {
+            decimal::push_u64_padded(line, self.count, 5);
+            line.extend_from_slice(b" N..... ");
+        }
     }
 
     fn start_line(&mut self, out: &mut impl Write) -> io::Result<()> {
@@ -293,6 +364,16 @@ impl Rs274Printer {
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
         }
+    }
+}
+
+/// `v0, v1, …` with four decimals each.
+fn push_list(line: &mut Vec<u8>, values: &[f64]) {
+    for (i, &v) in values.iter().enumerate() {
+        if i > 0 {
+            line.extend_from_slice(b", ");
+        }
+        decimal::push_fixed4(line, v);
     }
 }
 
