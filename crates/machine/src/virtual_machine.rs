@@ -6,6 +6,8 @@ use crate::job::{canon_stream, Job, Pace, ResumeFrom};
 use crate::{Command, Event, Machine, MachineError, MachineInfo, State, Status};
 use oficina_canon::{Canon, CanonOp};
 use oficina_motion::moves::Overrides;
+use oficina_motion::planner::Cut;
+use oficina_motion::profile::Shape;
 use oficina_motion::{estimate::estimate_with, plan, PlanOptions, Profile, Segment, SegmentKind};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
@@ -149,12 +151,23 @@ struct Runner {
     override_: f64,
 }
 
-/// Where execution is inside a segment when it leaves the planned timeline (hold/resume).
-enum Mode {
-    Planned,
-    Decel { stop: bool },
-    Held,
-    Accel,
+/// Live commands waiting for the instant they can be applied, and the hold in progress.
+#[derive(Default)]
+struct Live {
+    feed: Option<f64>,
+    hold_asked: bool,
+    /// Braking towards the planner's Hold segment.
+    holding: bool,
+    /// The job ends at that Hold segment instead of waiting for resume.
+    stop: bool,
+}
+
+/// The clock of one job: machine time executed, wall time spent waiting in holds.
+struct Run {
+    clock: Instant,
+    elapsed: f64,
+    wall_paused: Duration,
+    live: Live,
 }
 
 impl Runner {
@@ -222,10 +235,12 @@ impl Runner {
             Ok(p) => p,
             Err(e) => return self.alarm(e.to_string()),
         };
-        let clock = Instant::now();
-        let mut elapsed = 0.0; // machine time executed
-        let mut wall_paused = Duration::ZERO;
-        let mut mode = Mode::Planned;
+        let mut run = Run {
+            clock: Instant::now(),
+            elapsed: 0.0,
+            wall_paused: Duration::ZERO,
+            live: Live::default(),
+        };
         let completed = loop {
             let seg = match planner.next() {
                 None => break true,
@@ -236,18 +251,22 @@ impl Runner {
                 Some(Ok(s)) => s,
             };
             let buffered = planner.buffered();
-            match self.execute(
-                &seg,
-                &mut mode,
-                &mut elapsed,
-                &job,
-                clock,
-                &mut wall_paused,
-                buffered,
-                &offsets,
-                &profile,
-            ) {
-                Ok(()) => {}
+            match self.execute(&seg, &mut run, &job, buffered, &offsets, profile.shape) {
+                Ok(cut) => {
+                    // A command waiting for a safe instant: re-plan the rest from here.
+                    if let Some(f) = run.live.feed.take() {
+                        if run.live.holding {
+                            run.live.feed = Some(f);
+                        } else {
+                            planner.set_feed_override(f, cut);
+                        }
+                    }
+                    if run.live.hold_asked && !run.live.holding {
+                        run.live.hold_asked = false;
+                        run.live.holding = true;
+                        planner.hold(cut);
+                    }
+                }
                 Err(stopped) => break !stopped,
             }
         };
@@ -259,136 +278,115 @@ impl Runner {
         drop(st);
         let _ = self.events.send(Event::JobEnd {
             completed,
-            seconds: elapsed,
+            seconds: run.elapsed,
         });
     }
 
-    /// Runs one segment; `Err(true)` when the operator stopped the job.
-    #[allow(clippy::too_many_arguments)]
+    /// Runs one segment, or the part of it before a live command can be applied (then the
+    /// cut is returned so the planner re-plans the rest). `Err(true)` when the operator
+    /// stopped the job.
     fn execute(
         &mut self,
         seg: &Segment,
-        mode: &mut Mode,
-        elapsed: &mut f64,
+        run: &mut Run,
         job: &Job,
-        clock: Instant,
-        wall_paused: &mut Duration,
         buffered: usize,
         offsets: &Arc<Mutex<([f64; 3], [f64; 3])>>,
-        profile: &Profile,
-    ) -> Result<(), bool> {
-        if seg.kind == SegmentKind::Pause {
-            lock(&self.status).state = State::Paused;
-            let _ = self.events.send(Event::Message(format!(
-                "line {}: program pause (M0/M1); resume to go on",
-                seg.line
-            )));
-            if self.wait_resume(wall_paused) {
-                return Err(true);
+        shape: Shape,
+    ) -> Result<Option<Cut>, bool> {
+        match seg.kind {
+            SegmentKind::Pause => {
+                lock(&self.status).state = State::Paused;
+                let _ = self.events.send(Event::Message(format!(
+                    "line {}: program pause (M0/M1); resume to go on",
+                    seg.line
+                )));
+                if self.wait_resume(run) {
+                    return Err(true);
+                }
+                lock(&self.status).state = State::Run;
+                return Ok(None);
             }
-            lock(&self.status).state = State::Run;
-            return Ok(());
+            SegmentKind::Hold => {
+                run.live.holding = false;
+                let state = if run.live.stop {
+                    State::Idle
+                } else {
+                    State::Hold
+                };
+                self.publish(seg, 0.0, 0.0, run.elapsed, buffered, offsets, state);
+                if run.live.stop || self.wait_resume(run) {
+                    return Err(true);
+                }
+                return Ok(None);
+            }
+            _ => {}
         }
         let m = &seg.motion;
-        let accel = path_accel(seg, profile);
-        let (mut t, mut s, mut v) = (0.0, 0.0, m.v_start());
+        let moving = matches!(seg.kind, SegmentKind::Move(_));
+        let mut t = 0.0;
         loop {
-            // Commands between ticks.
             while let Ok(c) = self.cmds.try_recv() {
                 match c {
-                    Command::Hold if matches!(mode, Mode::Planned | Mode::Accel) => {
-                        *mode = Mode::Decel { stop: false }
+                    Command::Hold => run.live.hold_asked = true,
+                    Command::Stop => {
+                        run.live.hold_asked = true;
+                        run.live.stop = true;
                     }
-                    Command::Stop => *mode = Mode::Decel { stop: true },
-                    Command::Resume if matches!(mode, Mode::Held) => *mode = Mode::Accel,
-                    Command::FeedOverride(f) => self.override_ = f.clamp(0.1, 2.0),
+                    Command::FeedOverride(f) if f.is_finite() => {
+                        let f = f.clamp(0.1, 2.0);
+                        self.override_ = f;
+                        run.live.feed = Some(f);
+                    }
                     _ => {}
                 }
             }
-            let mut dt = TICK;
-            let done = match mode {
-                Mode::Planned => {
-                    dt = (t + TICK).min(m.duration) - t;
-                    t += dt;
-                    let (ss, vv, _) = m.at(t);
-                    s = ss;
-                    v = vv;
-                    t >= m.duration
-                }
-                Mode::Decel { stop } => {
-                    // Brake at the path's acceleration, never faster than the plan allows.
-                    v = (v - accel * TICK)
-                        .max(0.0)
-                        .min(m.at(m.time_at(s)).1.max(v - accel * TICK));
-                    s = (s + v * TICK).min(m.length);
-                    if v <= 0.0 {
-                        if *stop {
-                            self.publish(
-                                seg,
-                                s,
-                                0.0,
-                                *elapsed,
-                                job,
-                                buffered,
-                                offsets,
-                                State::Idle,
-                            );
-                            return Err(true);
-                        }
-                        *mode = Mode::Held;
-                        lock(&self.status).state = State::Hold;
-                        self.publish(seg, s, 0.0, *elapsed, job, buffered, offsets, State::Hold);
-                        if self.wait_resume(wall_paused) {
-                            return Err(true);
-                        }
-                        *mode = Mode::Accel;
-                    }
-                    s >= m.length
-                }
-                Mode::Held => false,
-                Mode::Accel => {
-                    v += accel * TICK;
-                    s = (s + v * TICK).min(m.length);
-                    let tp = m.time_at(s);
-                    if v >= m.at(tp).1 {
-                        // Caught up with the plan: back on its timeline.
-                        t = tp;
-                        v = m.at(tp).1;
-                        *mode = Mode::Planned;
-                    }
-                    s >= m.length
-                }
+            let wants_cut = run.live.feed.is_some() && !run.live.holding
+                || run.live.hold_asked && !run.live.holding;
+            let (s, v, a) = m.at(t);
+            // S-curve motion is re-planned only where the acceleration is zero, so the jerk
+            // limit holds across the cut (at most one ramp of delay); a trapezoid anywhere.
+            if wants_cut && moving && t < m.duration && (shape == Shape::Trapezoid || a == 0.0) {
+                return Ok(Some(Cut { s, v }));
+            }
+            let dt = (t + TICK).min(m.duration) - t;
+            t += dt;
+            run.elapsed += dt.max(0.0);
+            let (s, v, _) = m.at(t);
+            let state = if run.live.holding {
+                State::Holding
+            } else {
+                State::Run
             };
-            *elapsed += dt.max(0.0);
-            let state = match mode {
-                Mode::Planned | Mode::Accel => State::Run,
-                Mode::Decel { .. } => State::Holding,
-                Mode::Held => State::Hold,
-            };
-            self.publish(seg, s, v, *elapsed, job, buffered, offsets, state);
+            self.publish(seg, s, v, run.elapsed, buffered, offsets, state);
             if let Pace::Speed(f) = job.pace {
-                let due = Duration::from_secs_f64(*elapsed / f.max(1e-3)) + *wall_paused;
-                if let Some(wait) = due.checked_sub(clock.elapsed()) {
+                let due = Duration::from_secs_f64(run.elapsed / f.max(1e-3)) + run.wall_paused;
+                if let Some(wait) = due.checked_sub(run.clock.elapsed()) {
                     thread::sleep(wait);
                 }
             }
-            if done || m.duration <= 0.0 {
-                return Ok(());
+            if t >= m.duration {
+                return Ok(None);
             }
         }
     }
 
     /// Waits in hold for Resume (false) or Stop (true); wall time spent is not machine time.
-    fn wait_resume(&self, wall_paused: &mut Duration) -> bool {
+    /// A feed override given meanwhile applies when motion starts again.
+    fn wait_resume(&mut self, run: &mut Run) -> bool {
         let since = Instant::now();
         let r = loop {
             match self.cmds.recv() {
                 Ok(Command::Resume) => break false,
                 Ok(Command::Stop) | Err(_) => break true,
+                Ok(Command::FeedOverride(f)) if f.is_finite() => {
+                    self.override_ = f.clamp(0.1, 2.0);
+                    run.live.feed = Some(self.override_);
+                }
                 _ => {}
             }
         };
-        *wall_paused += since.elapsed();
+        run.wall_paused += since.elapsed();
         r
     }
 
@@ -399,7 +397,6 @@ impl Runner {
         s: f64,
         v: f64,
         elapsed: f64,
-        _job: &Job,
         buffered: usize,
         offsets: &Arc<Mutex<([f64; 3], [f64; 3])>>,
         state: State,
@@ -423,24 +420,5 @@ impl Runner {
         let snapshot = st.clone();
         drop(st);
         let _ = self.events.send(Event::Status(snapshot));
-    }
-}
-
-/// Path acceleration a segment may use: every joint's limit through dq/ds.
-fn path_accel(seg: &Segment, profile: &Profile) -> f64 {
-    let len = seg.motion.length;
-    let mut a = f64::INFINITY;
-    for (i, j) in profile.joints.iter().enumerate() {
-        if let Some(j) = j {
-            let d = ((seg.q1[i] - seg.q0[i]) / len).abs();
-            if d > 0.0 {
-                a = a.min(j.acceleration / d);
-            }
-        }
-    }
-    if a.is_finite() {
-        a
-    } else {
-        1.0
     }
 }

@@ -122,3 +122,61 @@ fn feed_hold_decelerates_on_the_path_and_resume_finishes() {
     assert!(done);
     assert!((m.status().machine_pos[0] - 400.0).abs() < 1e-6);
 }
+
+/// Machine time of G1 X700 F3000 on the router (a = 300 mm/s²) when the override drops to
+/// 50 % at x = `xc` while cruising at 50 mm/s: closed form.
+fn override_half_time(xc: f64) -> f64 {
+    let ramp = 50.0 / 300.0; // 0 → 50 mm/s, 25·ramp mm
+    let before = ramp + (xc - 25.0 * ramp) / 50.0;
+    let t = 25.0 / 300.0; // 50 → 25 and 25 → 0
+    before + 2.0 * t + (700.0 - xc - 37.5 * t - 12.5 * t) / 25.0
+}
+
+#[test]
+fn feed_override_replans_the_rest_of_a_running_move() {
+    let mut m = vm();
+    // 14.2 s of machine time at 40x.
+    m.start(job("G90 G1 X700 F3000\nM2\n", Pace::Speed(40.0)))
+        .unwrap();
+    let mut last: Option<oficina_machine::Status> = None;
+    let mut sent = false;
+    let mut bracket = None;
+    let seconds = loop {
+        match m.next_event(Duration::from_secs(30)).expect("event") {
+            Event::Status(s) => {
+                if !sent && s.machine_pos[0] > 150.0 {
+                    m.command(Command::FeedOverride(0.5)).unwrap();
+                    sent = true;
+                }
+                if let Some(p) = &last {
+                    let dt = s.elapsed - p.elapsed;
+                    if dt > 1e-9 {
+                        let acc = (s.feed - p.feed) / 60.0 / dt;
+                        assert!(acc.abs() <= 300.0 * (1.0 + 1e-6), "{acc} mm/s² at {s:?}");
+                    }
+                    assert!(s.feed <= 3000.0 + 1e-6);
+                    if bracket.is_none() && s.feed_override == 0.5 {
+                        // The cut lies between the last status before and this one.
+                        bracket = Some((p.machine_pos[0], s.machine_pos[0]));
+                    }
+                }
+                last = Some(s);
+            }
+            Event::JobEnd { completed, seconds } => {
+                assert!(completed);
+                break seconds;
+            }
+            e => panic!("{e:?}"),
+        }
+    };
+    let (lo, hi) = bracket.expect("override seen");
+    // A later cut leaves less to run slowly: the time falls as the cut point advances.
+    let (t_lo, t_hi) = (override_half_time(hi), override_half_time(lo));
+    assert!(
+        seconds >= t_lo - 1e-6 && seconds <= t_hi + 1e-6,
+        "{seconds} not within [{t_lo}, {t_hi}]"
+    );
+    // Roughly doubled: the unchanged job takes 14.17 s.
+    assert!(seconds > 14.17 + 0.9 * (700.0 - hi) / 50.0, "{seconds}");
+    assert!((m.status().machine_pos[0] - 700.0).abs() < 1e-6);
+}
