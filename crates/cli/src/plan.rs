@@ -5,10 +5,15 @@ use crate::machine_profile;
 use anyhow::{bail, Context};
 use oficina_machine::job::canon_stream;
 use oficina_machine::{Job, Pace};
+use oficina_motion::kinematics::Kinematics;
 use oficina_motion::profile::Shape;
+use oficina_motion::stepcompress::Compressor;
+use oficina_motion::steps::{StepGenerator, StepSink};
 use oficina_motion::trace::TraceWriter;
 use oficina_motion::{plan, PlanOptions};
-use std::path::PathBuf;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
@@ -28,6 +33,93 @@ pub struct Args {
     /// Jerk-limited S-curve velocity profile instead of the profile's own.
     #[arg(long)]
     scurve: bool,
+    /// Write every motor step here (CSV: motor, time in s, direction).
+    #[arg(long)]
+    steps: Option<PathBuf>,
+    /// Write the steps compressed as Klipper queue_step runs (motor, interval, count, add, dir).
+    #[arg(long)]
+    steps_compressed: Option<PathBuf>,
+}
+
+/// Klipper's MCU clock for the compressed intervals, and its step time tolerance.
+const CLOCK_HZ: f64 = 16e6;
+const MAX_STEP_ERROR: f64 = 25e-6;
+
+/// Writes steps as they are generated: one CSV row each, and/or compressed runs per motor.
+struct StepFiles {
+    names: [&'static str; 3],
+    csv: Option<BufWriter<File>>,
+    runs: Option<(BufWriter<File>, [Compressor; 3])>,
+    steps: u64,
+    error: Option<std::io::Error>,
+}
+
+impl StepFiles {
+    fn keep(&mut self, r: std::io::Result<()>) {
+        if let (Err(e), None) = (r, &self.error) {
+            self.error = Some(e);
+        }
+    }
+
+    fn drain(&mut self, motor: usize) {
+        if let Some((w, c)) = self.runs.as_mut() {
+            let name = self.names[motor];
+            let r = c[motor].out.drain(..).try_for_each(|q| {
+                writeln!(
+                    w,
+                    "{name},{},{},{},{}",
+                    q.interval,
+                    q.count,
+                    q.add,
+                    if q.forward { '+' } else { '-' }
+                )
+            });
+            self.keep(r);
+        }
+    }
+
+    fn finish(mut self) -> anyhow::Result<u64> {
+        for m in 0..3 {
+            if let Some((_, c)) = self.runs.as_mut() {
+                c[m].flush();
+            }
+            self.drain(m);
+        }
+        if let Some(w) = self.csv.as_mut() {
+            let r = w.flush();
+            self.keep(r);
+        }
+        if let Some((w, _)) = self.runs.as_mut() {
+            let r = w.flush();
+            self.keep(r);
+        }
+        match self.error {
+            Some(e) => Err(e.into()),
+            None => Ok(self.steps),
+        }
+    }
+}
+
+impl StepSink for StepFiles {
+    fn step(&mut self, motor: usize, time: f64, forward: bool) {
+        self.steps += 1;
+        if let Some(w) = self.csv.as_mut() {
+            let dir = if forward { '+' } else { '-' };
+            let r = writeln!(w, "{},{time:.9},{dir}", self.names[motor]);
+            self.keep(r);
+        }
+        if let Some((_, c)) = self.runs.as_mut() {
+            c[motor].push(time, forward);
+            self.drain(motor);
+        }
+    }
+}
+
+fn create(p: &Path, header: &str) -> anyhow::Result<BufWriter<File>> {
+    let f = File::create(p).with_context(|| format!("creating {}", p.display()))?;
+    let mut w = BufWriter::new(f);
+    writeln!(w, "{header}")?;
+    Ok(w)
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -62,6 +154,36 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
+    let names = profile.kinematics.joint_names();
+    let mut steps = match (&args.steps, &args.steps_compressed) {
+        (None, None) => None,
+        (csv, runs) => {
+            let q = oficina_motion::kinematics::for_profile(&profile)
+                .joints(profile.start)
+                .map_err(|e| anyhow::anyhow!("{}: start position: {e}", profile.name))?;
+            let files = StepFiles {
+                names,
+                csv: csv
+                    .as_deref()
+                    .map(|p| create(p, "motor,time_s,dir"))
+                    .transpose()?,
+                runs: runs
+                    .as_deref()
+                    .map(|p| {
+                        create(p, &format!("motor,interval,count,add,dir # {CLOCK_HZ} Hz")).map(
+                            |w| {
+                                let c = || Compressor::new(CLOCK_HZ, MAX_STEP_ERROR);
+                                (w, [c(), c(), c()])
+                            },
+                        )
+                    })
+                    .transpose()?,
+                steps: 0,
+                error: None,
+            };
+            Some((StepGenerator::new(&profile, q), files))
+        }
+    };
     let (mut total, mut segments, mut distance) = (0.0, 0u64, 0.0);
     for seg in planner {
         let seg = seg.map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
@@ -70,6 +192,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         segments += 1;
         if let Some(w) = writer.as_mut() {
             w.segment(&seg)?;
+        }
+        if let Some((g, files)) = steps.as_mut() {
+            g.segment(&seg, files)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
         }
     }
     if let Some(e) = interp_error
@@ -83,7 +209,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(w) = writer {
         w.finish()?;
     }
+    let step_count = steps.map(|(_, f)| f.finish()).transpose()?;
     println!("machine: {}", profile.name);
+    if let Some(n) = step_count {
+        println!("steps: {n}");
+    }
     println!("segments: {segments}  path: {distance:.3} mm");
     println!("total time: {total:.3} s ({})", hms(total));
     if let Some(p) = &args.trace {
