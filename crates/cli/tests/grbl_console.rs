@@ -74,6 +74,42 @@ fn console(addr: &str, extra: &[&str]) -> std::process::Output {
         .expect("run console")
 }
 
+/// Runs an interactive console on `addr`, types `lines`, waits (bounded) until its output
+/// holds every `until` text, then quits; returns what it printed.
+fn console_session(addr: &str, lines: &[&str], until: &[&str]) -> String {
+    let mut child = Command::new(BIN)
+        .args(["console", "--tcp", addr])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    for l in lines {
+        writeln!(stdin, "{l}").unwrap();
+    }
+    let mut text = String::new();
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    while until.iter().any(|u| !text.contains(u)) && std::time::Instant::now() < deadline {
+        if let Ok(line) = rx.recv_timeout(Duration::from_millis(100)) {
+            text.push_str(&line);
+            text.push('\n');
+        }
+    }
+    let _ = writeln!(stdin, "/quit");
+    let _ = child.wait();
+    text
+}
+
 #[test]
 fn console_streams_a_job_then_resumes_from_a_line() {
     let (_emu, addr) = start_emulator();
@@ -115,22 +151,14 @@ fn console_streams_a_job_then_resumes_from_a_line() {
 #[test]
 fn console_terminal_names_settings_and_errors() {
     let (_emu, addr) = start_emulator();
-    let mut child = Command::new(BIN)
-        .args(["console", "--tcp", &addr])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdin = child.stdin.take().unwrap();
-    writeln!(stdin, "$$").unwrap();
-    writeln!(stdin, "G1 X1").unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
-    writeln!(stdin, "/quit").unwrap();
-    let out = child.wait_with_output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("(X-axis maximum rate, mm/min)"), "{stdout}");
-    assert!(stdout.contains("error:22 (Undefined feed rate"), "{stdout}");
+    let want = [
+        "(X-axis maximum rate, mm/min)",
+        "error:22 (Undefined feed rate",
+    ];
+    let stdout = console_session(&addr, &["$$", "G1 X1"], &want);
+    for w in want {
+        assert!(stdout.contains(w), "{w} missing in:\n{stdout}");
+    }
 }
 
 #[test]
@@ -285,26 +313,16 @@ fn emulator_takes_its_settings_from_a_machine_profile() {
     out.read_line(&mut line).unwrap();
     let _emu = Emu(child, out);
     let addr = line.split("tcp://").nth(1).unwrap().trim().to_string();
-    let mut console = Command::new(BIN)
-        .args(["console", "--tcp", &addr])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut stdin = console.stdin.take().unwrap();
-    writeln!(stdin, "$$").unwrap();
-    std::thread::sleep(Duration::from_millis(1200));
-    writeln!(stdin, "/quit").unwrap();
-    let text = String::from_utf8_lossy(&console.wait_with_output().unwrap().stdout).to_string();
-    // profiles/grbl-router.toml: X 6000 mm/min, Z 1500 mm/min, 300 mm/s², 800 x 450 x 100 mm.
-    for want in [
+    let want = [
         "$110=6000.000",
         "$112=1500.000",
         "$120=300.000",
         "$130=800.000",
         "$132=100.000",
-    ] {
-        assert!(text.contains(want), "{want} missing in:\n{text}");
+    ];
+    let text = console_session(&addr, &["$$"], &want);
+    // profiles/grbl-router.toml: X 6000 mm/min, Z 1500 mm/min, 300 mm/s², 800 x 450 x 100 mm.
+    for w in want {
+        assert!(text.contains(w), "{w} missing in:\n{text}");
     }
 }
