@@ -159,30 +159,39 @@ fn starts_char(raw: &[u8], i: usize) -> bool {
 /// mantissa and one division by an exact power of ten (correctly rounded); longer ones fall
 /// back to the standard library parser.
 pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
-    // Digit runs are measured first, then summed over slices: no bounds check or state per
-    // byte in this, the hottest code of the whole front end.
-    let run = |from: usize| {
-        s[from..]
-            .iter()
-            .position(|d| !d.is_ascii_digit())
-            .unwrap_or(s.len() - from)
-    };
-    let accumulate =
-        |m: u64, digits: &[u8]| digits.iter().fold(m, |m, &d| m * 10 + u64::from(d - b'0'));
-    let int_digits = run(0);
-    let mut mantissa = accumulate(0, &s[..int_digits.min(19)]);
-    let mut digits = int_digits;
-    let mut i = int_digits;
-    let mut frac_digits = 0usize;
-    if s.get(i) == Some(&b'.') {
+    // Two tight loops (integer part, fraction) rather than one loop with a state: this is
+    // the hottest code of the whole front end. `i < s.len()` lets the compiler drop the
+    // bounds checks.
+    let mut mantissa: u64 = 0;
+    let mut i = 0;
+    while i < s.len() {
+        let d = s[i].wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        if i < 19 {
+            mantissa = mantissa * 10 + u64::from(d);
+        }
         i += 1;
-        let frac = run(i);
-        // Only the first 19 significant digits go into the mantissa.
-        frac_digits = frac.min(19 - digits.min(19));
-        mantissa = accumulate(mantissa, &s[i..i + frac_digits]);
-        digits += frac;
-        i += frac;
-        if s.get(i) == Some(&b'.') {
+    }
+    let mut digits = i;
+    let mut frac_digits = 0usize;
+    if i < s.len() && s[i] == b'.' {
+        i += 1;
+        while i < s.len() {
+            let d = s[i].wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            // Only the first 19 significant digits go into the mantissa.
+            if digits < 19 {
+                mantissa = mantissa * 10 + u64::from(d);
+                frac_digits += 1;
+            }
+            digits += 1;
+            i += 1;
+        }
+        if i < s.len() && s[i] == b'.' {
             return Some(Err(i + 1));
         }
     }

@@ -11,8 +11,8 @@
 
 pub mod ast;
 pub mod block;
-mod decimal;
 mod bytes;
+mod decimal;
 pub mod diag;
 pub mod exec;
 pub mod expr;

@@ -18,10 +18,13 @@ use crate::parse::MAX_NESTING;
 /// How far from an integer a parameter number may be (as `expr::param_number`).
 const INTEGER_TOLERANCE: f64 = 0.0001;
 
-/// Scratch space kept between lines (the name being read).
+/// Scratch space kept between lines (the name being read), and what the last line held.
 #[derive(Default)]
 pub struct Scratch {
     name: String,
+    /// The last line taken had only letters and plain numbers (no brackets, parameters,
+    /// functions or assignments): one the plain path would have taken.
+    pub was_plain: bool,
 }
 
 /// Fill `block` from `raw` and apply its assignments to `params` if the line is ordinary;
@@ -45,10 +48,12 @@ pub fn direct_line(
         depth: 0,
         params,
         name: &mut scratch.name,
+        plain: true,
     };
     if r.line(line, block).is_none() {
         return false;
     }
+    scratch.was_plain = r.plain;
     if block.words.is_empty() && block.n.is_none() && block.assignments.is_empty() {
         return false;
     }
@@ -75,6 +80,8 @@ struct Reader<'a> {
     depth: usize,
     params: &'a Params,
     name: &'a mut String,
+    /// Nothing but letters and plain numbers so far.
+    plain: bool,
 }
 
 const WORD_OPS: [(&[u8], BinOp); 10] = [
@@ -140,7 +147,10 @@ impl Reader<'_> {
         while let Some((b, start)) = self.peek() {
             self.pos = start + 1;
             match b.to_ascii_lowercase() {
-                b'#' => self.assignment(line, start, block)?,
+                b'#' => {
+                    self.plain = false;
+                    self.assignment(line, start, block)?
+                }
                 b'n' => {
                     // Only first on the line and unsigned, as the full path reads it.
                     if !block.words.is_empty() || !block.assignments.is_empty() || block.n.is_some()
@@ -242,6 +252,7 @@ impl Reader<'_> {
             }
             b'[' => {
                 self.pos = i + 1;
+                self.plain = false;
                 let v = self.expression(0)?;
                 self.eat(b']')?;
                 // LinuxCNC checks each bracketed value (the full path reports it).
@@ -249,6 +260,7 @@ impl Reader<'_> {
             }
             b'#' => {
                 self.pos = i + 1;
+                self.plain = false;
                 match self.peek()? {
                     (b'<', j) => {
                         self.pos = j + 1;
@@ -271,6 +283,7 @@ impl Reader<'_> {
             }
             b'a'..=b'z' | b'A'..=b'Z' => {
                 self.pos = i;
+                self.plain = false;
                 self.function()
             }
             _ => None,

@@ -75,6 +75,8 @@ pub struct Executor<R> {
     pending: Vec<(ParamRef, f64, Span)>,
     /// Buffers of the one-pass fast path.
     scratch: direct::Scratch,
+    /// The last line taken by a fast path was plain: try the plain path first.
+    plain_lines: bool,
     /// Start of the line being run.
     current: Mark,
 }
@@ -107,6 +109,7 @@ impl<R: BufRead + Seek> Executor<R> {
             end: None,
             pending: Vec::new(),
             scratch: direct::Scratch::default(),
+            plain_lines: true,
             current: Mark { offset: 0, line: 0 },
         }
     }
@@ -208,14 +211,7 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.skip.is_none()
                 && self.dialect != Dialect::Grbl
                 && self.seen_content
-                && (plain::plain_line(self.src.text(), number, block)
-                    || direct::direct_line(
-                        self.src.text(),
-                        number,
-                        params,
-                        block,
-                        &mut self.scratch,
-                    ))
+                && self.fast_path(number, params, block)
             {
                 self.idle_iterations = 0;
                 return Ok(true);
@@ -280,6 +276,28 @@ impl<R: BufRead + Seek> Executor<R> {
             self.fill_block(params, block)?;
             self.idle_iterations = 0;
             return Ok(true);
+        }
+    }
+
+    /// The current line through one of the fast paths, if one takes it. Both give what the
+    /// full path gives; the plain one is quicker but wasted on lines with expressions, so
+    /// it goes first only while lines are plain.
+    fn fast_path(&mut self, number: u32, params: &mut Params, block: &mut Block) -> bool {
+        let text = self.src.text();
+        let direct = |params: &mut Params, block: &mut Block, scratch: &mut direct::Scratch| {
+            direct::direct_line(text, number, params, block, scratch)
+        };
+        if self.plain_lines {
+            if plain::plain_line(text, number, block) {
+                return true;
+            }
+            self.plain_lines = false;
+            direct(params, block, &mut self.scratch)
+        } else if direct(params, block, &mut self.scratch) {
+            self.plain_lines = self.scratch.was_plain;
+            true
+        } else {
+            false
         }
     }
 
