@@ -11,7 +11,7 @@ SimpleEntryCut (straight plunge) instead of ArcEntryCut, whose G18/G19 arcs a he
 simulator cannot replay; it does not change the surface computation being timed.
 
 usage: image_to_gcode_peer.py RAW WIDTH HEIGHT PIXEL_MM DEPTH_MM BALL_DIA_MM STEP_PX OUT.ngc
-prints: SECONDS <conversion time>   OFFSET <dx mm> <dy mm> (peer frame -> image grid frame)
+prints: SECONDS <conversion wall time>   CPU <its CPU time>   OFFSET <dx mm> <dy mm> (peer frame -> image grid frame)
 """
 
 import importlib.machinery
@@ -46,6 +46,7 @@ def main():
     with open(out, "w") as f:
         stdout, sys.stdout = sys.stdout, f
         start = time.perf_counter()
+        cpu = time.process_time()
         try:
             # Tolerance 0.001 is image-to-gcode's own default.
             i2g.convert(nim, "G21", tool, pixel, step, 5.0, 0.001, 2000.0,
@@ -53,9 +54,11 @@ def main():
         finally:
             sys.stdout = stdout
         seconds = time.perf_counter() - start
+        cpu = time.process_time() - cpu
     # The tool centre sits ts/2 pixels into each window; the peer's Y counts from row h-ts.
     ts = tool.shape[0]
     print("SECONDS %.6f" % seconds)
+    print("CPU %.6f" % cpu)
     print("OFFSET %.9f %.9f" % (ts / 2 * pixel, (ts / 2 - 1) * pixel))
 
 

@@ -1,10 +1,12 @@
 //! Machine-neutral CAM: cutting tools, toolpaths and the relief (heightmap) strategies.
 
+pub mod lane_max;
 pub mod library;
 pub mod raster;
 pub mod regions;
 pub mod relief;
 pub mod seed004;
+pub mod sliding_max;
 pub mod stock;
 pub mod surface;
 pub mod tool;

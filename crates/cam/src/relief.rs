@@ -2,7 +2,8 @@
 //! bigger tool could not reach, and raster finishing, all on exact drop-cutter surfaces.
 //!
 //! Every pass is the same loop: a target tip surface `T` (the design dilated by the tool,
-//! widened by one pixel along the raster so straight feeds between samples stay above it),
+//! sampled at several points per pixel along the raster and bounded so that straight feeds
+//! between samples stay above it, see [`segment_bound`]),
 //! a known-free surface `C` (the simulated stock dilated by the tool), and depth levels.
 //! Level k cuts `max(T, z_k)` wherever that is below what is already free; what it cut
 //! becomes free for level k+1. Nothing ever goes below `T`, so nothing gouges.
@@ -10,7 +11,9 @@
 use crate::raster::{cut_rows, raster_rows, Clear, Emitter, Feeds, Frame, Row};
 use crate::regions::{grow, label, Region};
 use crate::stock::apply_moves;
-use crate::surface::{surface_grid, surface_rows, transpose, Kernel};
+use crate::surface::{
+    segment_bound, sub_len, surface_grid, surface_rows_sub, transpose, Kernel, SubKernels,
+};
 use crate::tool::Tool;
 use crate::toolpath::{Operation, Toolpath};
 use oficina_io::Heightmap;
@@ -72,6 +75,9 @@ pub struct Job {
     pub clearance: f64,
     /// How far straight feeds may stay above the surface when merging samples, mm.
     pub tolerance: f64,
+    /// Tip heights evaluated per pixel along the raster (1 or more): more points leave less
+    /// material on slopes (the bound between samples tightens) at proportional cost.
+    pub samples_per_pixel: usize,
     pub passes: Vec<Pass>,
     /// Simulate the stock after the last pass too (for reports); earlier passes are
     /// always simulated since the next pass starts from their stock.
@@ -97,7 +103,14 @@ pub enum ReliefError {
     EmptyDesign,
     #[error("{0} must be finite and at least 0")]
     Job(&'static str),
+    #[error("samples per pixel must be between 1 and {max}, got {got}")]
+    Samples { got: usize, max: usize },
 }
+
+/// Default tip heights per pixel along the raster.
+pub const SAMPLES_PER_PIXEL: usize = 4;
+/// Most tip heights per pixel accepted.
+pub const MAX_SAMPLES_PER_PIXEL: usize = 16;
 
 /// Largest kernel half-width, in pixels, that keeps the footprint table small.
 pub const MAX_REACH_PX: usize = 1000;
@@ -123,6 +136,12 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
     }
     if !(job.tolerance.is_finite() && job.tolerance >= 0.0) {
         return Err(ReliefError::Job("tolerance"));
+    }
+    if !(1..=MAX_SAMPLES_PER_PIXEL).contains(&job.samples_per_pixel) {
+        return Err(ReliefError::Samples {
+            got: job.samples_per_pixel,
+            max: MAX_SAMPLES_PER_PIXEL,
+        });
     }
     for p in &job.passes {
         check_pass(p, design.pixel)?;
@@ -153,6 +172,7 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
                 pass,
                 along_y,
                 job.tolerance,
+                job.samples_per_pixel,
             );
             let last = i + 1 == job.passes.len() && d + 1 == directions.len();
             if !last || job.simulate_last {
@@ -253,6 +273,7 @@ fn cut_pass(
     pass: &Pass,
     along_y: bool,
     tol: f64,
+    sub: usize,
 ) {
     let tool = &pass.cutter.tool;
     let grid = if along_y {
@@ -263,8 +284,8 @@ fn cut_pass(
     let frame = Frame {
         pixel: design.pixel,
         along_y,
+        sub,
     };
-    let target_kernel = Kernel::new(tool, grid.pixel, grid.pixel, pass.allowance);
     let clear_grid = stock.map(|s| {
         let s = if along_y { transpose(s) } else { s.clone() };
         surface_grid(&s, &Kernel::new(tool, s.pixel, 0.0, 0.0))
@@ -281,7 +302,7 @@ fn cut_pass(
 
     // The blocks to machine: the whole grid, or the regions with material left.
     let (blocks, labels): (Vec<Region>, Option<Vec<u32>>) = if pass.rest_only {
-        let full = surface_grid(&grid, &target_kernel);
+        let full = surface_grid(&grid, &Kernel::new(tool, grid.pixel, 0.0, pass.allowance));
         let mask: Vec<bool> = full
             .z
             .iter()
@@ -306,10 +327,18 @@ fn cut_pass(
             None,
         )
     };
-    let targets: Vec<Vec<f32>> = surface_rows(&grid, &target_kernel, &rows)
+    let kernels = SubKernels::new(tool, grid.pixel, pass.allowance, sub);
+    let targets: Vec<Vec<f32>> = surface_rows_sub(&grid, &kernels, &rows)
         .into_iter()
-        .map(|r| r.into_iter().map(|t| t + allowance).collect())
+        .map(|mut r| {
+            r.iter_mut().for_each(|t| *t += allowance);
+            segment_bound(&mut r);
+            r
+        })
         .collect();
+    let samples = sub_len(grid.width, sub);
+    // Grid column(s) either side of sample j.
+    let columns = |j: usize| (j / sub, j.div_ceil(sub));
 
     let mut todo: Vec<&Region> = blocks.iter().collect();
     while !todo.is_empty() {
@@ -319,7 +348,7 @@ fn cut_pass(
             .iter()
             .enumerate()
             .map(|(k, r)| {
-                let p = frame.point(r.y0, r.x0, 0.0);
+                let p = frame.point(r.y0, r.x0 * sub, 0.0);
                 (k, (p[0] - here[0]).powi(2) + (p[1] - here[1]).powi(2))
             })
             .fold(
@@ -340,11 +369,20 @@ fn cut_pass(
                 Row {
                     index: iy,
                     target: targets[i].clone(),
-                    clear: (0..grid.width).map(|ix| clear.at(ix, iy)).collect(),
+                    // Free heights are a dilation too: between columns at most their max.
+                    clear: (0..samples)
+                        .map(|j| {
+                            let (a, b) = columns(j);
+                            clear.at(a, iy).max(clear.at(b, iy))
+                        })
+                        .collect(),
                     allowed: labels.as_ref().map(|l| {
-                        l[iy * grid.width..(iy + 1) * grid.width]
-                            .iter()
-                            .map(|&v| v == region.label)
+                        let row = &l[iy * grid.width..(iy + 1) * grid.width];
+                        (0..samples)
+                            .map(|j| {
+                                let (a, b) = columns(j);
+                                row[a] == region.label && row[b] == region.label
+                            })
                             .collect()
                     }),
                 }

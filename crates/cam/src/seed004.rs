@@ -60,6 +60,7 @@ fn job(passes: Vec<Pass>) -> Job {
         safe_z: 2.0,
         clearance: 1.0,
         tolerance: 0.01,
+        samples_per_pixel: crate::relief::SAMPLES_PER_PIXEL,
         passes,
         simulate_last: true,
     }

@@ -4,24 +4,32 @@
 //! `T(p) = max over offsets d of design(p + d) − profile(|d|)`: the grayscale dilation of the
 //! design by the tool (seed 004 took the min here and gouged). The kernel splits the tool
 //! into *flat pieces* (the flat bottom and the shank, constant lift over a disk) that cost a
-//! running max per chord (van Herk / Gil-Werman: three compares per pixel whatever the
-//! width) and *curved offsets* (ball, cone, corner radius), each one a contiguous
-//! `max(out, row − lift)` pass that the compiler vectorises. Rows run in parallel.
+//! running max per chord (van Herk / Gil-Werman, [`crate::sliding_max`]) and *curved
+//! offsets* (ball, cone, corner radius), folded [`LANES`] output samples at a time with the
+//! accumulators in vector registers ([`crate::lane_max`]). A kernel row whose best possible
+//! value (highest design sample in reach minus the row's smallest lift) cannot beat any
+//! accumulator of the block is skipped; rows are visited from the centre out so that
+//! happens early. Rows run in parallel.
 //!
-//! A kernel can be *widened*: along X by `along` mm (Minkowski sum with a segment) and
-//! radially by `radial` mm. Linear moves interpolate Z between samples one pixel apart; a
-//! surface widened by one pixel along the move bounds the true one at every point between
-//! the two samples, so straight feeds between widened samples never gouge.
+//! A kernel may be *shifted* by a fraction of a pixel along X: it then gives `T` at
+//! `x + shift` for each grid point `x`. [`SubKernels`] evaluates a row at several points per
+//! pixel; [`segment_bound`] turns those samples into heights that straight moves may join
+//! without ever dipping below `T` (see there for why that is exact).
+//!
+//! A kernel can also be *widened*: along X by `along` mm (Minkowski sum with a segment) and
+//! radially by `radial` mm (a roughing allowance).
 
+use crate::lane_max::{fold_offsets, LANES};
+use crate::sliding_max::window_max;
 use crate::tool::Tool;
 use oficina_io::Heightmap;
 use rayon::prelude::*;
 
-/// A disk (per-row half widths, −1 = empty row) lifted by a constant.
+/// A disk lifted by a constant: per kernel row the inclusive range of dx it covers.
 #[derive(Clone, Debug)]
 struct FlatPiece {
     lift: f32,
-    half_width: Vec<i32>,
+    span: Vec<Option<(i32, i32)>>,
 }
 
 #[derive(Clone, Debug)]
@@ -31,6 +39,10 @@ pub struct Kernel {
     flats: Vec<FlatPiece>,
     /// Per row offset dy (index dy + reach): (dx, lift) of the curved part.
     curved: Vec<Vec<(i32, f32)>>,
+    /// Smallest lift in each row of `curved` (+∞ when empty), for skipping rows.
+    least_lift: Vec<f32>,
+    /// Row indices from the centre out.
+    order: Vec<usize>,
     /// Every offset with its lift, for single-point queries.
     all: Vec<(i32, i32, f32)>,
 }
@@ -39,10 +51,32 @@ impl Kernel {
     /// Kernel of `tool` on a grid of `pixel` mm, widened by `along` mm in X and `radial` mm
     /// in every direction.
     pub fn new(tool: &Tool, pixel: f64, along: f64, radial: f64) -> Kernel {
-        let reach = ((tool.reach_radius() + along + radial) / pixel).ceil() as usize;
+        Kernel::build(tool, pixel, along, radial, 0.0)
+    }
+
+    /// Kernel giving the tip height `shift` pixels (0 ≤ shift < 1) to the right of each
+    /// grid point.
+    pub fn shifted(tool: &Tool, pixel: f64, radial: f64, shift: f64) -> Kernel {
+        Kernel::build(tool, pixel, 0.0, radial, shift)
+    }
+
+    fn build(tool: &Tool, pixel: f64, along: f64, radial: f64, shift: f64) -> Kernel {
+        let reach = ((tool.reach_radius() + along + radial) / pixel + shift).ceil() as usize;
+        Kernel::build_with_reach(tool, pixel, along, radial, shift, reach)
+    }
+
+    /// As `build`, with offsets up to `reach` pixels (at least what the tool needs).
+    fn build_with_reach(
+        tool: &Tool,
+        pixel: f64,
+        along: f64,
+        radial: f64,
+        shift: f64,
+        reach: usize,
+    ) -> Kernel {
         let r = reach as i32;
         let effective = |dx: i32, dy: i32| {
-            let ex = ((dx.abs() as f64) * pixel - along).max(0.0);
+            let ex = (((dx as f64) - shift).abs() * pixel - along).max(0.0);
             let ey = dy.abs() as f64 * pixel;
             ((ex * ex + ey * ey).sqrt() - radial).max(0.0)
         };
@@ -60,12 +94,11 @@ impl Kernel {
             .iter()
             .map(|&(lift, limit)| FlatPiece {
                 lift: lift as f32,
-                half_width: (-r..=r)
+                span: (-r..=r)
                     .map(|dy| {
-                        (0..=r)
-                            .take_while(|&dx| effective(dx, dy) <= limit)
-                            .last()
-                            .unwrap_or(-1)
+                        let inside: Vec<i32> =
+                            (-r..=r).filter(|&dx| effective(dx, dy) <= limit).collect();
+                        Some((*inside.first()?, *inside.last()?))
                     })
                     .collect(),
             })
@@ -84,10 +117,18 @@ impl Kernel {
                 }
             }
         }
+        let least_lift = curved
+            .iter()
+            .map(|row| row.iter().map(|o| o.1).fold(f32::INFINITY, f32::min))
+            .collect();
+        let mut order: Vec<usize> = (0..curved.len()).collect();
+        order.sort_by_key(|&k| (k as i64 - r as i64).abs());
         Kernel {
             reach,
             flats,
             curved,
+            least_lift,
+            order,
             all,
         }
     }
@@ -98,27 +139,40 @@ impl Kernel {
     }
 }
 
-/// The design padded with −∞ columns so every offset reads inside the buffer.
+/// The design padded with −∞ columns so every offset (and a block of [`LANES`] past the
+/// right edge) reads inside the buffer.
 pub struct Padded<'a> {
     map: &'a Heightmap,
     pad: usize,
+    stride: usize,
     data: Vec<f32>,
 }
 
 impl<'a> Padded<'a> {
     pub fn new(map: &'a Heightmap, pad: usize) -> Padded<'a> {
-        let stride = map.width + 2 * pad;
+        let stride = map.width + 2 * pad + LANES;
         let mut data = vec![f32::NEG_INFINITY; stride * map.height];
         for iy in 0..map.height {
             data[iy * stride + pad..iy * stride + pad + map.width].copy_from_slice(map.row(iy));
         }
-        Padded { map, pad, data }
+        Padded {
+            map,
+            pad,
+            stride,
+            data,
+        }
     }
 
     fn row(&self, iy: usize) -> &[f32] {
-        let stride = self.map.width + 2 * self.pad;
-        &self.data[iy * stride..(iy + 1) * stride]
+        &self.data[iy * self.stride..(iy + 1) * self.stride]
     }
+}
+
+/// Reusable buffers of one worker.
+#[derive(Default)]
+pub struct Scratch {
+    acc: Vec<f32>,
+    window: Vec<f32>,
 }
 
 /// Tool-tip heights along row `iy` of `padded` (padded by at least `kernel.reach`).
@@ -127,66 +181,101 @@ pub fn surface_row(
     kernel: &Kernel,
     iy: usize,
     out: &mut [f32],
-    scratch: &mut Vec<f32>,
+    scratch: &mut Scratch,
 ) {
-    let map = padded.map;
-    let (w, pad, r) = (map.width, padded.pad, kernel.reach as i64);
-    out.fill(f32::NEG_INFINITY);
-    for dy in -r..=r {
-        let sy = iy as i64 + dy;
-        if sy < 0 || sy >= map.height as i64 {
-            continue;
-        }
-        let src = padded.row(sy as usize);
-        let k = (dy + r) as usize;
-        for piece in &kernel.flats {
-            let hw = piece.half_width[k];
-            if hw < 0 {
-                continue;
-            }
-            window_max(src, hw as usize, scratch);
-            let lift = piece.lift;
-            for (o, &m) in out.iter_mut().zip(&scratch[pad..pad + w]) {
-                *o = o.max(m - lift);
-            }
-        }
-        for &(dx, lift) in &kernel.curved[k] {
-            let start = (pad as i64 + dx as i64) as usize;
-            for (o, &s) in out.iter_mut().zip(&src[start..start + w]) {
-                *o = o.max(s - lift);
-            }
-        }
-    }
+    surface_row_multi(
+        padded,
+        std::slice::from_ref(kernel),
+        iy,
+        &mut [out],
+        scratch,
+    );
 }
 
-/// `out[i] = max(src[i − w ..= i + w])` for every i with the window inside `src`
-/// (van Herk / Gil-Werman: block prefix and suffix maxima).
-fn window_max(src: &[f32], w: usize, out: &mut Vec<f32>) {
-    let n = src.len();
-    let k = 2 * w + 1;
-    out.clear();
-    out.resize(n, f32::NEG_INFINITY);
-    if w == 0 {
-        out.copy_from_slice(src);
-        return;
-    }
-    let mut prefix = vec![f32::NEG_INFINITY; n];
-    let mut suffix = vec![f32::NEG_INFINITY; n];
-    for start in (0..n).step_by(k) {
-        let end = (start + k).min(n);
-        let mut m = f32::NEG_INFINITY;
-        for i in start..end {
-            m = m.max(src[i]);
-            prefix[i] = m;
+/// One row for several kernels of equal reach at once (the shifts of [`SubKernels`]): they
+/// read the same design rows, so the test that skips a kernel row is paid once for all.
+fn surface_row_multi(
+    padded: &Padded,
+    kernels: &[Kernel],
+    iy: usize,
+    outs: &mut [&mut [f32]],
+    scratch: &mut Scratch,
+) {
+    let map = padded.map;
+    let reach = kernels[0].reach;
+    let (w, pad, r) = (map.width, padded.pad, reach as i64);
+    assert!(pad >= reach, "padding narrower than the kernel");
+    assert!(
+        kernels.iter().all(|k| k.reach == reach),
+        "kernels of unequal reach"
+    );
+    let blocks = w.div_ceil(LANES);
+    let n = kernels.len();
+    let acc = &mut scratch.acc;
+    acc.clear();
+    acc.resize(n * blocks * LANES, f32::NEG_INFINITY);
+    let source = |k: usize| {
+        let sy = iy as i64 + k as i64 - r;
+        (sy >= 0 && sy < map.height as i64).then(|| padded.row(sy as usize))
+    };
+    for (s, kernel) in kernels.iter().enumerate() {
+        let acc = &mut acc[s * blocks * LANES..][..w];
+        for piece in &kernel.flats {
+            for (k, span) in piece.span.iter().enumerate() {
+                let (Some((lo, hi)), Some(src)) = (span, source(k)) else {
+                    continue;
+                };
+                window_max(src, (hi - lo + 1) as usize, &mut scratch.window);
+                let first = (pad as i64 + *lo as i64) as usize;
+                for (o, &m) in acc.iter_mut().zip(&scratch.window[first..first + w]) {
+                    *o = o.max(m - piece.lift);
+                }
+            }
         }
-        m = f32::NEG_INFINITY;
-        for i in (start..end).rev() {
-            m = m.max(src[i]);
-            suffix[i] = m;
+    }
+    let mut lanes = vec![[f32::NEG_INFINITY; LANES]; n];
+    let mut worst = vec![f32::NEG_INFINITY; n];
+    for b in 0..blocks {
+        let x0 = b * LANES;
+        for (s, l) in lanes.iter_mut().enumerate() {
+            *l = acc[(s * blocks + b) * LANES..][..LANES]
+                .try_into()
+                .expect("LANES long");
+        }
+        // Skipping needs every lane to be a real sample.
+        let whole = x0 + LANES <= w;
+        let mut stale = true;
+        for &k in &kernels[0].order {
+            let Some(src) = source(k) else { continue };
+            let best = if whole {
+                src[pad + x0 - reach..pad + x0 + LANES + reach]
+                    .iter()
+                    .fold(f32::NEG_INFINITY, |m, &v| m.max(v))
+            } else {
+                f32::INFINITY
+            };
+            if stale {
+                for (w, l) in worst.iter_mut().zip(&lanes) {
+                    *w = l.iter().fold(f32::INFINITY, |m, &v| m.min(v));
+                }
+                stale = false;
+            }
+            for (s, kernel) in kernels.iter().enumerate() {
+                let offsets = &kernel.curved[k];
+                // The row's best case (highest sample in reach, least lift) beats nothing.
+                if offsets.is_empty() || best - kernel.least_lift[k] <= worst[s] {
+                    continue;
+                }
+                fold_offsets(&mut lanes[s], src, pad + x0, offsets);
+                stale = true;
+            }
+        }
+        for (s, l) in lanes.iter().enumerate() {
+            acc[(s * blocks + b) * LANES..][..LANES].copy_from_slice(l);
         }
     }
-    for i in w..n.saturating_sub(w) {
-        out[i] = suffix[i - w].max(prefix[i + w]);
+    for (s, out) in outs.iter_mut().enumerate() {
+        out.copy_from_slice(&acc[s * blocks * LANES..][..w]);
     }
 }
 
@@ -204,12 +293,95 @@ pub fn surface_grid(design: &Heightmap, kernel: &Kernel) -> Heightmap {
 pub fn surface_rows(design: &Heightmap, kernel: &Kernel, rows: &[usize]) -> Vec<Vec<f32>> {
     let padded = Padded::new(design, kernel.reach);
     rows.par_iter()
-        .map_init(Vec::new, |scratch, &iy| {
+        .map_init(Scratch::default, |scratch, &iy| {
             let mut out = vec![0.0f32; design.width];
             surface_row(&padded, kernel, iy, &mut out, scratch);
             out
         })
         .collect()
+}
+
+/// Kernels for `count` evenly spaced points per pixel along X.
+pub struct SubKernels {
+    pub count: usize,
+    kernels: Vec<Kernel>,
+}
+
+impl SubKernels {
+    pub fn new(tool: &Tool, pixel: f64, radial: f64, count: usize) -> SubKernels {
+        let count = count.max(1);
+        let shift = |k: usize| k as f64 / count as f64;
+        // One reach for all, so they can share the rows they read.
+        let reach = (0..count)
+            .map(|k| Kernel::shifted(tool, pixel, radial, shift(k)).reach)
+            .max()
+            .unwrap_or(0);
+        SubKernels {
+            count,
+            kernels: (0..count)
+                .map(|k| Kernel::build_with_reach(tool, pixel, 0.0, radial, shift(k), reach))
+                .collect(),
+        }
+    }
+
+    pub fn reach(&self) -> usize {
+        self.kernels[0].reach
+    }
+}
+
+/// Number of sub-samples along a row of `width` grid points at `count` per pixel.
+pub fn sub_len(width: usize, count: usize) -> usize {
+    (width - 1) * count + 1
+}
+
+/// Tool-tip heights along the listed rows at `kernels.count` points per pixel: entry
+/// `j` is the height at X = j / count pixels.
+pub fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]) -> Vec<Vec<f32>> {
+    let padded = Padded::new(design, kernels.reach());
+    let (w, n) = (design.width, kernels.count);
+    rows.par_iter()
+        .map_init(
+            || (Scratch::default(), vec![vec![0.0f32; w]; n]),
+            |(scratch, shifts), &iy| {
+                let mut views: Vec<&mut [f32]> = shifts.iter_mut().map(|v| &mut v[..]).collect();
+                surface_row_multi(&padded, &kernels.kernels, iy, &mut views, scratch);
+                let mut out = vec![0.0f32; sub_len(w, n)];
+                for (k, one) in shifts.iter().enumerate() {
+                    for (o, &t) in out[k..].iter_mut().step_by(n).zip(one.iter()) {
+                        *o = t;
+                    }
+                }
+                out
+            },
+        )
+        .collect()
+}
+
+/// Turns tip heights sampled along a row (X = j·h) into heights that straight moves may
+/// join: after it, any line whose ends and every sample between stand on or above these
+/// values keeps the tool above the design at every X in between, not only at the samples.
+///
+/// Why this is exact and enough: `T(x)` is the max over design points `q` of
+/// `design(q) − profile(|x − q|)`. Each such term is monotone in X between two grid
+/// columns (the profile grows with distance and the term peaks at `q`'s own column), so on
+/// a sub-interval `[j·h, (j+1)·h]` that holds no grid column inside it, `T ≤ max(T_j, T_j+1)`.
+/// A line above that bound at both ends of the sub-interval is above it throughout; raising
+/// each sample to the max of itself and its two neighbours states that for every
+/// sub-interval a move may cross. Requires sample positions that include every grid column
+/// (an integer number of samples per pixel).
+pub fn segment_bound(tips: &mut [f32]) {
+    let n = tips.len();
+    if n < 2 {
+        return;
+    }
+    let mut prev = tips[0];
+    tips[0] = tips[0].max(tips[1]);
+    for j in 1..n {
+        let here = tips[j];
+        let next = if j + 1 < n { tips[j + 1] } else { here };
+        tips[j] = here.max(prev).max(next);
+        prev = here;
+    }
 }
 
 /// The tool-tip height over one grid point (brute force over the footprint).
@@ -322,19 +494,6 @@ mod tests {
                     chord >= need - 1e-5,
                     "at {ix}.5,{iy}: chord {chord} below {need}"
                 );
-            }
-        }
-    }
-
-    #[test]
-    fn window_max_is_a_sliding_maximum() {
-        let src: Vec<f32> = (0..50).map(|i| ((i * 37) % 11) as f32).collect();
-        let mut out = Vec::new();
-        for w in 0..6 {
-            window_max(&src, w, &mut out);
-            for i in w..src.len() - w {
-                let want = src[i - w..=i + w].iter().cloned().fold(f32::MIN, f32::max);
-                assert_eq!(out[i], want);
             }
         }
     }

@@ -34,6 +34,13 @@ pub struct Args {
     /// The driver script for image-to-gcode.
     #[arg(long)]
     pub peer_script: Option<PathBuf>,
+    /// How far oficina's straight moves may stay above the surface when merging samples,
+    /// mm (one-sided: never below). image-to-gcode's 0.001 is two-sided, a 0.002 band.
+    #[arg(long, default_value_t = 0.002)]
+    pub tolerance: f64,
+    /// Tip heights oficina evaluates per pixel along a row.
+    #[arg(long, default_value_t = oficina_cam::relief::SAMPLES_PER_PIXEL)]
+    pub samples_per_pixel: usize,
 }
 
 const PIXEL: f64 = 0.1;
@@ -85,11 +92,12 @@ fn tool() -> Tool {
 }
 
 /// One finishing pass, as image-to-gcode does: rows along X, zig-zag, one level.
-fn job() -> Job {
+fn job(args: &Args) -> Job {
     Job {
         safe_z: 5.0,
         clearance: 1.0,
-        tolerance: 0.005,
+        tolerance: args.tolerance,
+        samples_per_pixel: args.samples_per_pixel,
         passes: vec![Pass {
             name: "finish".into(),
             cutter: Cutter {
@@ -114,33 +122,73 @@ fn job() -> Job {
     }
 }
 
-/// Seconds to build the tool surface and the toolpath; the toolpath's move count.
-fn time_ours(map: &Heightmap) -> Result<(f64, Vec<u8>, usize)> {
-    let start = Instant::now();
-    let planned = plan(map, &job(), &|_, _| {})?;
-    let seconds = start.elapsed().as_secs_f64();
+/// Wall and CPU seconds (CPU: every thread of this process, from getrusage).
+#[derive(Clone, Copy, Debug, Default)]
+struct Cost {
+    wall: f64,
+    cpu: f64,
+}
+
+impl Cost {
+    fn plus(self, o: Cost) -> Cost {
+        Cost {
+            wall: self.wall + o.wall,
+            cpu: self.cpu + o.cpu,
+        }
+    }
+}
+
+/// User + system CPU seconds used so far by this process.
+fn cpu_now() -> f64 {
+    use nix::sys::resource::{getrusage, UsageWho};
+    getrusage(UsageWho::RUSAGE_SELF).map_or(0.0, |u| {
+        let t = |v: nix::sys::time::TimeVal| v.tv_sec() as f64 + v.tv_usec() as f64 * 1e-6;
+        t(u.user_time()) + t(u.system_time())
+    })
+}
+
+fn measure<T>(f: impl FnOnce() -> T) -> (T, Cost) {
+    let (wall, cpu) = (Instant::now(), cpu_now());
+    let out = f();
+    let cost = Cost {
+        wall: wall.elapsed().as_secs_f64(),
+        cpu: cpu_now() - cpu,
+    };
+    (out, cost)
+}
+
+struct Ours {
+    /// Tool surface + toolpath.
+    plan: Cost,
+    /// Writing the G-code text (image-to-gcode's time includes writing its program too).
+    post: Cost,
+    program: String,
+    moves: usize,
+}
+
+fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
+    let (planned, plan_cost) = measure(|| plan(map, &job(args), &|_, _| {}));
+    let planned = planned?;
     let post = PostOptions {
         dialect: Dialect::LinuxCnc,
         allow_m6: false,
         title: "bench carve".into(),
         settings: vec![],
     };
-    let moves = planned.toolpath.move_count();
-    Ok((
-        seconds,
-        program_text(&planned.toolpath, &post).into_bytes(),
-        moves,
-    ))
+    let (program, post_cost) = measure(|| program_text(&planned.toolpath, &post));
+    Ok(Ours {
+        plan: plan_cost,
+        post: post_cost,
+        program,
+        moves: planned.toolpath.move_count(),
+    })
 }
 
-/// The report over the part both programs machine: image-to-gcode's tool centres stop a
-/// tool radius inside the picture, so a margin of one tool diameter is left out.
-fn judge(canon: &[Canon], map: &Heightmap) -> Result<(Report, f64)> {
-    let tools = HashMap::from([(1, tool())]);
-    let mut stock = Heightmap::flat(map.width, map.height, map.pixel, 0.0);
-    replay(canon, &tools, &mut stock, [0.0, 0.0, 5.0])?;
+/// The part both programs machine: image-to-gcode's tool centres stop a tool radius inside
+/// the picture, so a margin of one tool diameter is left out.
+fn inner(h: &Heightmap) -> Heightmap {
     let m = (BALL_DIAMETER / PIXEL).ceil() as usize;
-    let inner = |h: &Heightmap| {
+    {
         let (w, hh) = (h.width - 2 * m, h.height - 2 * m);
         let z = (m..m + hh)
             .flat_map(|iy| h.row(iy)[m..m + w].iter().copied())
@@ -151,7 +199,14 @@ fn judge(canon: &[Canon], map: &Heightmap) -> Result<(Report, f64)> {
             pixel: h.pixel,
             z,
         }
-    };
+    }
+}
+
+/// The simulator's report of a program over the inner part, and the share of it gouged.
+fn judge(canon: &[Canon], map: &Heightmap) -> Result<(Report, f64)> {
+    let tools = HashMap::from([(1, tool())]);
+    let mut stock = Heightmap::flat(map.width, map.height, map.pixel, 0.0);
+    replay(canon, &tools, &mut stock, [0.0, 0.0, 5.0])?;
     let ideal = ideal_surface(map, &tool());
     let (stock, design) = (inner(&stock), inner(map));
     let gouged = stock
@@ -169,6 +224,7 @@ const GOUGE_LIMIT: f64 = 0.001;
 
 struct Peer {
     seconds: f64,
+    cpu: f64,
     canon: Vec<Canon>,
     diagnostics: usize,
     lines: usize,
@@ -213,6 +269,7 @@ fn run_peer(args: &Args, gray: &[u8], c: usize, dir: &std::path::Path) -> Result
             .collect()
     };
     let seconds = field("SECONDS")?[0];
+    let cpu = field("CPU")?[0];
     let offset = field("OFFSET")?;
     let text = std::fs::read_to_string(&out)?;
     let opts = oficina_gcode::program::RunOptions::default();
@@ -242,6 +299,7 @@ fn run_peer(args: &Args, gray: &[u8], c: usize, dir: &std::path::Path) -> Result
     }
     Ok(Peer {
         seconds,
+        cpu,
         canon,
         diagnostics: diags.len(),
         lines: text.lines().count(),
@@ -270,73 +328,135 @@ pub fn run(args: Args) -> Result<()> {
     );
     let gray = relief_image(n);
     let full = design(&gray, n);
-    let (ours_s, _, ours_moves) = time_ours(&full)?;
-    let ours_rate = ours_s / (n * n) as f64;
+    let ours = time_ours(&full, &args)?;
+    let ours_total = ours.plan.plus(ours.post);
+    let px = (n * n) as f64;
     println!(
-        "oficina, full {n} x {n}: {ours_s:.2} s ({:.1} ns/pixel), {ours_moves} moves",
-        ours_rate * 1e9
+        "oficina, full {n} x {n}: {:.2} s wall, {:.2} s CPU ({:.1} ns/pixel wall), {} moves, {:.0} MB of G-code",
+        ours_total.wall,
+        ours_total.cpu,
+        ours_total.wall / px * 1e9,
+        ours.moves,
+        ours.program.len() as f64 / 1e6
     );
     if args.no_peer {
         return Ok(());
     }
+    // The peer on two crop sizes: equal cost per pixel shows it is linear, so scaling its
+    // crop rate to the full image is fair.
+    let dir = tempfile::tempdir()?;
+    let half = (c / 2).max(64);
+    let small_peer = run_peer(&args, &crop(&gray, n, half), half, dir.path())?;
     let small = crop(&gray, n, c);
     let crop_map = design(&small, c);
-    let (ours_crop_s, ours_text, _) = time_ours(&crop_map)?;
-    let dir = tempfile::tempdir()?;
+    let ours_crop = time_ours(&crop_map, &args)?;
     let peer = run_peer(&args, &small, c, dir.path())?;
-    let peer_rate = peer.seconds / (c * c) as f64;
+    // image-to-gcode places tool centres only where the whole tool window fits: it works on
+    // (side − window)² pixels, so that is what its cost is per.
+    let window = (BALL_DIAMETER / PIXEL + 0.5) as usize;
+    let worked = |side: usize| (side.saturating_sub(window).max(1) as f64).powi(2);
+    let peer_rate = peer.seconds / worked(c);
+    let peer_cpu_rate = peer.cpu / worked(c);
     let post = PostOptions {
         dialect: Dialect::LinuxCnc,
         allow_m6: false,
         title: String::new(),
         settings: vec![],
     };
-    let ours_canon = interpret(&String::from_utf8(ours_text)?, &post)?;
+    let ours_canon = interpret(&ours_crop.program, &post)?;
     let ours_q = judge(&ours_canon, &crop_map)?;
     let peer_q = judge(&peer.canon, &crop_map)?;
 
     println!();
-    println!("Time (tool surface + toolpath; image-to-gcode's Converter.convert, headless):");
-    println!("{:<44} {:>12} {:>14}", "", "seconds", "ns per pixel");
     println!(
-        "{:<44} {:>12.2} {:>14.1}",
-        format!("oficina, full {n} x {n} (measured)"),
-        ours_s,
-        ours_rate * 1e9
+        "Time (tool surface + toolpath + G-code text; image-to-gcode's convert() writing its \
+         program, headless). 2 cores shared: wall times are noisy, CPU (getrusage, all threads) less so."
     );
     println!(
-        "{:<44} {:>12.3} {:>14.1}",
-        format!("oficina, crop {c} x {c} (measured)"),
-        ours_crop_s,
-        ours_crop_s / (c * c) as f64 * 1e9
+        "{:<44} {:>9} {:>9} {:>12} {:>12}",
+        "", "wall s", "CPU s", "ns/px wall", "ns/px CPU"
+    );
+    let row = |name: String, c: Cost, pixels: f64| {
+        println!(
+            "{:<44} {:>9.3} {:>9.3} {:>12.1} {:>12.1}",
+            name,
+            c.wall,
+            c.cpu,
+            c.wall / pixels * 1e9,
+            c.cpu / pixels * 1e9
+        )
+    };
+    row(
+        format!("oficina, full {n} x {n}: surface + path"),
+        ours.plan,
+        px,
+    );
+    row(
+        format!("oficina, full {n} x {n}: G-code text"),
+        ours.post,
+        px,
+    );
+    row(format!("oficina, full {n} x {n}: total"), ours_total, px);
+    let crop_px = (c * c) as f64;
+    row(
+        format!("oficina, crop {c} x {c}: total"),
+        ours_crop.plan.plus(ours_crop.post),
+        crop_px,
+    );
+    for (p, side) in [(&small_peer, half), (&peer, c)] {
+        row(
+            format!("image-to-gcode, crop {side} x {side}"),
+            Cost {
+                wall: p.seconds,
+                cpu: p.cpu,
+            },
+            (side * side) as f64,
+        );
+    }
+    let small_rate = small_peer.cpu / worked(half);
+    println!(
+        "image-to-gcode CPU per pixel it works on ((side - {window})^2): {:.0} ns at {half}^2, \
+         {:.0} ns at {c}^2 (ratio {:.2}: {})",
+        small_rate * 1e9,
+        peer_cpu_rate * 1e9,
+        peer_cpu_rate / small_rate,
+        if (0.8..1.25).contains(&(peer_cpu_rate / small_rate)) {
+            "linear in pixels, so its crop rate scales to the full image"
+        } else {
+            "NOT linear: the scaled figure below is only indicative"
+        }
     );
     println!(
-        "{:<44} {:>12.2} {:>14.1}",
-        format!("image-to-gcode, crop {c} x {c} (measured)"),
-        peer.seconds,
-        peer_rate * 1e9
+        "image-to-gcode, {n} x {n} SCALED from the {c}^2 crop: {:.0} s wall, {:.0} s CPU",
+        peer_rate * worked(n),
+        peer_cpu_rate * worked(n)
     );
     println!(
-        "{:<44} {:>12.0} {:>14.1}",
-        format!("image-to-gcode, {n} x {n} (SCALED from crop)"),
-        peer_rate * (n * n) as f64,
-        peer_rate * 1e9
-    );
-    println!(
-        "speed-up: {:.0}x per pixel (oficina full image vs image-to-gcode crop rate), {:.0}x on the same crop",
-        peer_rate / ours_rate,
-        peer.seconds / ours_crop_s
+        "speed-up, oficina full image vs image-to-gcode scaled to it: {:.0}x wall, {:.0}x CPU; \
+         on the same {c}^2 crop: {:.0}x wall, {:.0}x CPU",
+        peer_rate * worked(n) / ours_total.wall,
+        peer_cpu_rate * worked(n) / ours_total.cpu,
+        peer.seconds / ours_crop.plan.plus(ours_crop.post).wall,
+        peer.cpu / ours_crop.plan.plus(ours_crop.post).cpu
     );
     println!();
     println!(
         "Quality on the crop, both programs read by the interpreter and replayed on the \
-         simulated stock (tool-diameter margin excluded; peer's G64 blending not modelled):"
+         simulated stock (tool-diameter margin excluded; peer's G64 blending not modelled). \
+         'best possible' is the ideal surface of the same tool (design dilated then eroded): \
+         what no non-gouging program can go below; leftover under it needs gouging."
     );
     println!(
         "{:<16} {:>10} {:>16} {:>10} {:>10} {:>12} {:>12}",
         "", "gouge mm", "area > 1 um", "left max", "left mean", "scallop max", "scallop mean"
     );
-    for (name, (q, gouged)) in [("oficina", &ours_q), ("image-to-gcode", &peer_q)] {
+    let ideal = inner(&ideal_surface(&crop_map, &tool()));
+    let best = compare(&ideal, &inner(&crop_map), &ideal);
+    for (name, (q, gouged)) in [
+        ("oficina", &ours_q),
+        ("image-to-gcode", &peer_q),
+        ("best possible", &(best, 0.0)),
+    ] {
         println!(
             "{:<16} {:>10.4} {:>15.2}% {:>10.3} {:>10.4} {:>12.3} {:>12.4}",
             name,
@@ -355,8 +475,10 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     println!(
-        "image-to-gcode program: {} lines, {} interpreter diagnostics",
-        peer.lines, peer.diagnostics
+        "programs: oficina {} lines, image-to-gcode {} lines ({} interpreter diagnostics)",
+        ours_crop.program.lines().count(),
+        peer.lines,
+        peer.diagnostics
     );
     Ok(())
 }

@@ -240,6 +240,7 @@ fn build_job(args: &Args, design: &Heightmap) -> Result<Job> {
         safe_z: args.safe_z,
         clearance: 1.0,
         tolerance: 0.005,
+        samples_per_pixel: oficina_cam::relief::SAMPLES_PER_PIXEL,
         passes,
         simulate_last: false,
     })

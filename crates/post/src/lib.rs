@@ -5,7 +5,6 @@
 //! add up to a visible gouge.
 
 use oficina_cam::{Move, Toolpath};
-use std::fmt::Write as _;
 use std::io::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -174,17 +173,20 @@ impl Writer<'_> {
                 let (i, j) = (center[0] - self.pos[0], center[1] - self.pos[1]);
                 self.last_motion = "";
                 self.word_motion(if ccw { "G3" } else { "G2" });
-                let _ = write!(self.line, " X{} Y{}", num(to[0]), num(to[1]));
+                push_word(&mut self.line, 'X', to[0]);
+                push_word(&mut self.line, 'Y', to[1]);
                 if to[2] != self.pos[2] {
-                    let _ = write!(self.line, " Z{}", num(to[2]));
+                    push_word(&mut self.line, 'Z', to[2]);
                 }
-                let _ = write!(self.line, " I{} J{}", num(i), num(j));
+                push_word(&mut self.line, 'I', i);
+                push_word(&mut self.line, 'J', j);
                 self.pos = to;
                 self.feed_word(feed);
             }
             Move::Dwell(s) => {
                 self.last_motion = "";
-                let _ = write!(self.line, "G4 P{}", num(s));
+                self.line.push_str("G4 P");
+                push_num(&mut self.line, s);
             }
         }
         if self.line.is_empty() || self.line == "G0" || self.line == "G1" {
@@ -203,9 +205,9 @@ impl Writer<'_> {
     }
 
     fn axes(&mut self, to: [f64; 3]) {
-        for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
-            if !to[k].is_nan() && num(to[k]) != num(self.pos[k]) {
-                let _ = write!(self.line, " {axis}{}", num(to[k]));
+        for (k, axis) in ['X', 'Y', 'Z'].into_iter().enumerate() {
+            if !to[k].is_nan() && !same_printed(to[k], self.pos[k]) {
+                push_word(&mut self.line, axis, to[k]);
                 self.pos[k] = to[k];
             }
         }
@@ -213,14 +215,79 @@ impl Writer<'_> {
 
     fn feed_word(&mut self, feed_mm_s: f64) {
         let f = feed_mm_s * 60.0;
-        if num(f) != num(self.feed) {
-            let _ = write!(self.line, " F{}", num(f));
+        if !same_printed(f, self.feed) {
+            push_word(&mut self.line, 'F', f);
             self.feed = f;
         }
     }
 }
 
-/// A number with up to 4 decimals, no trailing zeros, no "-0".
+/// Ten-thousandths: the 4 decimals every number is printed with.
+const SCALE: f64 = 1e4;
+/// Beyond this the fixed-point path could overflow; such numbers take the slow path.
+const FIXED_LIMIT: f64 = 1e14;
+
+/// Whether two numbers print the same (both NaN counts as the same).
+fn same_printed(a: f64, b: f64) -> bool {
+    match (fixed(a), fixed(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => num(a) == num(b),
+    }
+}
+
+/// `v` in ten-thousandths, rounded half away from zero, when it fits the fast path.
+fn fixed(v: f64) -> Option<i64> {
+    let scaled = v * SCALE;
+    // `as` truncates toward zero in one instruction; f64::round is a libm call here.
+    (scaled.abs() < FIXED_LIMIT).then(|| (scaled + 0.5f64.copysign(scaled)) as i64)
+}
+
+/// " Xnum": a space, the letter and the number.
+fn push_word(line: &mut String, letter: char, v: f64) {
+    line.push(' ');
+    line.push(letter);
+    push_num(line, v);
+}
+
+/// Writes a number with up to 4 decimals, no trailing zeros, no "-0", without going
+/// through the float formatter (the post writes millions of these).
+fn push_num(out: &mut String, v: f64) {
+    let Some(mut n) = fixed(v) else {
+        out.push_str(&num(v));
+        return;
+    };
+    if n < 0 {
+        out.push('-');
+        n = -n;
+    }
+    let (whole, mut frac) = (n / 10_000, n % 10_000);
+    let mut digits = [0u8; 20];
+    let mut len = 0;
+    let mut w = whole;
+    loop {
+        digits[len] = b'0' + (w % 10) as u8;
+        len += 1;
+        w /= 10;
+        if w == 0 {
+            break;
+        }
+    }
+    out.extend(digits[..len].iter().rev().map(|&d| d as char));
+    if frac != 0 {
+        let mut places = 4;
+        while frac % 10 == 0 {
+            frac /= 10;
+            places -= 1;
+        }
+        out.push('.');
+        for p in (0..places).rev() {
+            out.push((b'0' + (frac / 10i64.pow(p) % 10) as u8) as char);
+        }
+    }
+}
+
+/// A number with up to 4 decimals, no trailing zeros, no "-0" (the float formatter: for
+/// words written once per program and for numbers too large for [`push_num`]).
 fn num(v: f64) -> String {
     if v.is_nan() {
         return "nan".into();
@@ -238,4 +305,43 @@ fn num(v: f64) -> String {
         s = "0".into();
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_numbers_print_as_the_float_formatter_does() {
+        let mut values = vec![
+            0.0, -0.0, 1.0, -1.0, 0.00004, -0.00004, 0.00005, 12.5, -3.14159,
+        ];
+        values.extend([
+            1e9 + 0.123456,
+            -987654.32101,
+            2000.0 / 60.0 * 60.0,
+            0.1 + 0.2,
+        ]);
+        // Deterministic spread of magnitudes and signs.
+        let mut x = 0.7236f64;
+        for _ in 0..20_000 {
+            x = (x * 9301.0 + 0.49297).fract();
+            values.push((x - 0.5) * 10f64.powi((x * 1e4) as i32 % 8 - 2));
+        }
+        for v in values {
+            let mut fast = String::new();
+            push_num(&mut fast, v);
+            let slow = num(v);
+            if fast != slow {
+                // Only a value within rounding noise of a half ten-thousandth may differ, by
+                // one unit in the last place.
+                let (a, b): (f64, f64) = (fast.parse().unwrap(), slow.parse().unwrap());
+                assert!((a - b).abs() <= 1.0001e-4, "{v}: {fast} vs {slow}");
+                assert!(
+                    ((v * SCALE).fract().abs() - 0.5).abs() < 1e-6,
+                    "{v}: {fast} vs {slow}"
+                );
+            }
+        }
+    }
 }

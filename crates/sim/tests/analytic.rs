@@ -50,6 +50,7 @@ fn job(passes: Vec<Pass>) -> Job {
         safe_z: 5.0,
         clearance: 1.0,
         tolerance: 0.005,
+        samples_per_pixel: oficina_cam::relief::SAMPLES_PER_PIXEL,
         passes,
         simulate_last: true,
     }
