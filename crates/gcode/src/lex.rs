@@ -228,6 +228,25 @@ pub fn comment_text(raw: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Every number reads as the standard parser reads its text, with the same length.
+        #[test]
+        fn numbers_match_the_standard_parser(int in "[0-9]{0,24}", frac in "(\\.[0-9]{0,24})?", tail in "[x ;]{0,3}") {
+            let text = format!("{int}{frac}{tail}");
+            let len = int.len() + frac.len();
+            match scan_number(text.as_bytes()) {
+                None => prop_assert_eq!(len, 0),
+                Some(Err(_)) => prop_assert!(int.is_empty() && frac == "."),
+                Some(Ok((v, used))) => {
+                    prop_assert_eq!(used, len);
+                    let reference: f64 = text[..len].parse().unwrap();
+                    prop_assert_eq!(v, reference, "{}", text);
+                }
+            }
+        }
+    }
 
     fn compact(s: &str) -> Compact {
         let mut c = Compact::new();
