@@ -263,6 +263,11 @@ impl Interpreter {
                     .with_help("give a motion code (G0, G1, G2, G3, or a canned cycle) first"));
             }
         }
+        // The checks below are all about these letters, absent from nearly every block.
+        const CHECKED: u32 = words::letter_mask(b"IJKRLPQDH");
+        if !d.has_any_of(CHECKED) {
+            return Ok(());
+        }
         let unused = |letter: char, msg: &str| -> Result<(), Diagnostic> {
             if d.has(letter) {
                 Err(self.fail(d.span_of(letter), msg.to_string(), 36))

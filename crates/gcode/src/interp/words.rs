@@ -81,6 +81,17 @@ pub fn group_of_m(code: u16) -> Option<usize> {
     })
 }
 
+/// The bits of `letters` (upper case) for [`Decoded::has_any_of`].
+pub const fn letter_mask(letters: &[u8]) -> u32 {
+    let mut mask = 0;
+    let mut i = 0;
+    while i < letters.len() {
+        mask |= 1 << (letters[i] - b'A');
+        i += 1;
+    }
+    mask
+}
+
 /// Index of a value letter in [`Decoded::values`].
 pub fn slot(letter: char) -> usize {
     (letter as u8 - b'A') as usize
@@ -133,6 +144,11 @@ impl Decoded {
         self.m[group]
             .map(|c| c.span)
             .unwrap_or(Span::line(self.line))
+    }
+
+    /// Whether any letter of `mask` (see [`letter_mask`]) has a value word.
+    pub fn has_any_of(&self, mask: u32) -> bool {
+        self.present & mask != 0
     }
 
     pub fn any_axis(&self) -> bool {
