@@ -14,7 +14,10 @@ pub struct Extents {
 
 impl Default for Extents {
     fn default() -> Self {
-        Extents { min: [f64::INFINITY; 3], max: [f64::NEG_INFINITY; 3] }
+        Extents {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+        }
     }
 }
 
@@ -45,8 +48,8 @@ pub struct Summary {
     /// Tools in the order they were first changed to.
     pub tools: Vec<u32>,
     pub dwell_seconds: f64,
-    /// Feed moves at their programmed feed plus rapids at `rapid_rate`, no acceleration:
-    /// a lower bound that the planner's exact estimate replaces.
+    /// Feed moves at their programmed feed plus rapids with every axis at its top speed, no
+    /// acceleration: a lower bound that the planner's exact estimate replaces.
     pub feed_rate_seconds: f64,
     /// Feed moves programmed with no usable feed rate (counted, not timed).
     pub untimed_moves: u64,
@@ -58,18 +61,19 @@ pub struct Summarizer {
     pos: Pos,
     feed: f64,
     feed_mode: FeedMode,
-    rapid_rate: f64,
+    rapid_rates: [f64; 3],
     summary: Summary,
 }
 
 impl Summarizer {
-    /// `start` is the machine position before the program; `rapid_rate` in mm/min.
-    pub fn new(start: Pos, rapid_rate: f64) -> Summarizer {
+    /// `start` is the machine position before the program; `rapid_rates` are the top speeds
+    /// of X, Y and Z in mm/min (a rapid takes as long as its slowest axis needs).
+    pub fn new(start: Pos, rapid_rates: [f64; 3]) -> Summarizer {
         Summarizer {
             pos: start,
             feed: 0.0,
             feed_mode: FeedMode::UnitsPerMinute,
-            rapid_rate,
+            rapid_rates,
             summary: Summary::default(),
         }
     }
@@ -85,9 +89,12 @@ impl Summarizer {
                 s.rapid_extents.add(xyz(to));
                 s.rapid_length += len;
                 s.rapid_moves += 1;
-                if self.rapid_rate > 0.0 {
-                    s.feed_rate_seconds += len / self.rapid_rate * 60.0;
-                }
+                let (a, b) = (xyz(&self.pos), xyz(to));
+                let minutes = (0..3)
+                    .filter(|&i| self.rapid_rates[i] > 0.0)
+                    .map(|i| (b[i] - a[i]).abs() / self.rapid_rates[i])
+                    .fold(0.0, f64::max);
+                s.feed_rate_seconds += minutes * 60.0;
                 self.pos = *to;
             }
             CanonOp::StraightFeed { to } => {
@@ -99,7 +106,12 @@ impl Summarizer {
                 self.time_feed(len);
                 self.pos = *to;
             }
-            CanonOp::ArcFeed { plane, end, center, turns } => {
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
                 let (len, ext) = arc_length_and_extents(&self.pos, *plane, end, *center, *turns);
                 let s = &mut self.summary;
                 s.feed_extents.add(ext.min);
@@ -127,7 +139,9 @@ impl Summarizer {
         let s = &mut self.summary;
         match self.feed_mode {
             FeedMode::InverseTime if self.feed > 0.0 => s.feed_rate_seconds += 60.0 / self.feed,
-            FeedMode::UnitsPerMinute if self.feed > 0.0 => s.feed_rate_seconds += len / self.feed * 60.0,
+            FeedMode::UnitsPerMinute if self.feed > 0.0 => {
+                s.feed_rate_seconds += len / self.feed * 60.0
+            }
             _ => s.untimed_moves += 1,
         }
     }
@@ -184,7 +198,11 @@ pub fn arc_length_and_extents(
     let r = r0.max(r1);
     for k in 0..4 {
         let q = k as f64 * TAU / 4.0;
-        let from_start = if ccw { (q - th0).rem_euclid(TAU) } else { (th0 - q).rem_euclid(TAU) };
+        let from_start = if ccw {
+            (q - th0).rem_euclid(TAU)
+        } else {
+            (th0 - q).rem_euclid(TAU)
+        };
         if from_start <= sweep + 1e-12 {
             let w = s[n] + axial * (from_start / sweep).min(1.0);
             put(center[0] + r * q.cos(), center[1] + r * q.sin(), w);
@@ -242,14 +260,21 @@ mod tests {
 
     #[test]
     fn feed_rate_estimate_adds_rapids_feeds_and_dwells() {
-        let mut s = Summarizer::new(Pos::ZERO, 6000.0);
-        s.add(&CanonOp::StraightTraverse { to: Pos::xyz(100.0, 0.0, 0.0) }); // 1 s
+        let mut s = Summarizer::new(Pos::ZERO, [6000.0, 6000.0, 600.0]);
+        // 1 s in X, then 1 s up and 1 s down in Z (its own, slower, top speed).
+        for to in [(100.0, 0.0, 0.0), (100.0, 0.0, 10.0), (100.0, 0.0, 0.0)] {
+            s.add(&CanonOp::StraightTraverse {
+                to: Pos::xyz(to.0, to.1, to.2),
+            });
+        }
         s.add(&CanonOp::SetFeedRate(600.0));
-        s.add(&CanonOp::StraightFeed { to: Pos::xyz(100.0, 50.0, 0.0) }); // 5 s
+        s.add(&CanonOp::StraightFeed {
+            to: Pos::xyz(100.0, 50.0, 0.0),
+        }); // 5 s
         s.add(&CanonOp::Dwell(2.5));
         s.add(&CanonOp::ChangeTool(3));
         let r = s.finish();
-        assert!((r.feed_rate_seconds - 8.5).abs() < 1e-9);
+        assert!((r.feed_rate_seconds - 10.5).abs() < 1e-9);
         assert_eq!(r.tools, vec![3]);
         assert_eq!(r.rapid_extents.max[0], 100.0);
         assert_eq!(r.feed_extents.min[0], 100.0);

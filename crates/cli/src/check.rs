@@ -15,14 +15,18 @@ pub struct Args {
     /// Machine profile (file or bundled name) whose planner gives the time estimate.
     #[arg(long, default_value = machine_profile::DEFAULT)]
     pub machine: String,
+    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
+    #[arg(long, value_parser = machine_profile::parse_xyz)]
+    pub work_offset: Option<[f64; 3]>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let opts = args.program.run_options(true)?;
+    let profile = machine_profile::resolve_with_offset(&args.machine, args.work_offset)?;
+    let mut opts = args.program.run_options(true)?;
+    opts.initial_params = profile.initial_params();
     let source = args.program.open()?;
-    let profile = machine_profile::resolve(&args.machine)?;
     let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), linear_rapid_rate(&profile));
+    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), axis_rapid_rates(&profile));
     let mut ops = 0u64;
     let mut stream = CanonStream::spawn(source, opts);
     let planned = oficina_motion::estimate(
@@ -74,15 +78,20 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// The slowest linear joint's top speed, mm/min: what G0 reaches on a long diagonal at most.
-fn linear_rapid_rate(profile: &oficina_motion::Profile) -> f64 {
-    let linear = profile
-        .joints
-        .iter()
-        .enumerate()
-        .filter_map(|(i, j)| j.as_ref().filter(|_| !profile.kinematics.is_angular(i)))
-        .map(|j| j.max_rate * 60.0);
-    linear.fold(f64::INFINITY, f64::min).min(1e9)
+/// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
+/// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
+fn axis_rapid_rates(profile: &oficina_motion::Profile) -> [f64; 3] {
+    use oficina_motion::profile::KinematicsKind;
+    let rate = |j: &Option<oficina_motion::profile::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
+    if profile.kinematics == KinematicsKind::Cartesian {
+        return [0, 1, 2].map(|i| rate(&profile.joints[i]).unwrap_or(0.0));
+    }
+    let slowest = (0..3)
+        .filter(|&i| !profile.kinematics.is_angular(i))
+        .filter_map(|i| rate(&profile.joints[i]))
+        .fold(f64::INFINITY, f64::min);
+    let slowest = if slowest.is_finite() { slowest } else { 0.0 };
+    [slowest; 3]
 }
 
 fn plural(n: usize) -> &'static str {

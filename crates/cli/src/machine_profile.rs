@@ -50,6 +50,34 @@ pub fn resolve(spec: &str) -> anyhow::Result<Profile> {
     Profile::parse(text, &format!("<bundled {name}>")).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// `X,Y,Z` in mm, for `--work-offset`.
+pub fn parse_xyz(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected X,Y,Z (three numbers in mm), got '{text}'"
+        ));
+    }
+    let mut v = [0.0; 3];
+    for (slot, p) in v.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("'{p}' is not a number (in '{text}')"))?;
+    }
+    Ok(v)
+}
+
+/// [`resolve`], then replace the stored work offset by the one given on the command line.
+pub fn resolve_with_offset(spec: &str, work_offset: Option<[f64; 3]>) -> anyhow::Result<Profile> {
+    let mut profile = resolve(spec)?;
+    if let Some(w) = work_offset {
+        profile.work_offset = w;
+    }
+    Ok(profile)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -59,6 +87,14 @@ mod tests {
         for (name, _) in BUNDLED {
             resolve(name).unwrap_or_else(|e| panic!("bundled profile {name}: {e}"));
         }
+    }
+
+    #[test]
+    fn work_offsets_parse_and_reject_garbage() {
+        assert_eq!(parse_xyz("10, 20,-30.5"), Ok([10.0, 20.0, -30.5]));
+        assert!(parse_xyz("1,2").is_err());
+        assert!(parse_xyz("1,2,x").unwrap_err().contains("'x'"));
+        assert!(parse_xyz("1,2,inf").is_err());
     }
 
     #[test]

@@ -24,6 +24,9 @@ pub struct Args {
     /// Machine profile: a TOML file or a bundled name.
     #[arg(long, default_value = machine_profile::DEFAULT)]
     machine: String,
+    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
+    #[arg(long, value_parser = machine_profile::parse_xyz)]
+    work_offset: Option<[f64; 3]>,
     /// Write the sampled motion here (CSV).
     #[arg(long)]
     trace: Option<PathBuf>,
@@ -126,7 +129,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.period_ms.is_finite() && args.period_ms >= 0.01) {
         bail!("--period-ms must be at least 0.01");
     }
-    let profile = machine_profile::resolve(&args.machine)?;
+    let profile = machine_profile::resolve_with_offset(&args.machine, args.work_offset)?;
     let text = std::fs::read_to_string(&args.file)
         .with_context(|| format!("reading {}", args.file.display()))?;
     let job = Job {
@@ -135,7 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         start_line: None,
         pace: Pace::Instant,
     };
-    let ops = canon_stream(&job);
+    let ops = canon_stream(&job, profile.initial_params());
     let interp_error = ops.error.clone();
     let opts = PlanOptions {
         shape: args.scurve.then_some(Shape::SCurve),

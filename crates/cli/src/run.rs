@@ -17,10 +17,15 @@ use std::time::Duration;
 pub struct Args {
     /// G-code program.
     file: PathBuf,
-    /// Machine profile: a TOML file or a bundled name (grbl-router, hotwire-xy, polar-plotter,
-    /// polargraph-wall, embroidery-xy).
+    /// The machine: a profile of the built-in virtual machine (a TOML file or a bundled name:
+    /// grbl-router, hotwire-xy, polar-plotter, polargraph-wall, embroidery-xy; `virtual` is
+    /// grbl-router), or real grbl-family firmware: `grbl:/dev/ttyUSB0[@baud]`,
+    /// `tcp://HOST:PORT` (grblHAL, FluidNC).
     #[arg(long, default_value = machine_profile::DEFAULT)]
     machine: String,
+    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
+    #[arg(long, value_parser = machine_profile::parse_xyz)]
+    work_offset: Option<[f64; 3]>,
     /// Run faster than real time, e.g. `10x` or `2.5`.
     #[arg(long, default_value = "1x")]
     speed: String,
@@ -30,6 +35,35 @@ pub struct Args {
     /// Resume from this source line (earlier motion is skipped; rapids take the tool there).
     #[arg(long)]
     from_line: Option<u32>,
+    /// Without a terminal to press resume on, a program pause (M0/M1) is passed by itself;
+    /// this stops the run there instead.
+    #[arg(long)]
+    stop_at_pauses: bool,
+}
+
+/// Real firmware is named by a link address; anything else is a virtual machine profile.
+fn is_firmware(machine: &str) -> bool {
+    machine.starts_with("grbl:") || machine.starts_with("tcp://") || machine.starts_with("/dev/")
+}
+
+/// Open the machine `spec` names; the work offset applies to the virtual machine only
+/// (real firmware keeps its own).
+fn open_machine(spec: &str, work_offset: Option<[f64; 3]>) -> anyhow::Result<Box<dyn Machine>> {
+    if is_firmware(spec) {
+        if work_offset.is_some() {
+            bail!("--work-offset is for the virtual machine; real firmware keeps its own G54 (set it with G10 L20 in the console)");
+        }
+        let device = oficina_grbl::device::GrblDevice::new(spec)
+            .map_err(|e| anyhow::anyhow!("--machine {spec}: {e}"))?;
+        return Ok(Box::new(device));
+    }
+    let spec = if spec == "virtual" {
+        machine_profile::DEFAULT
+    } else {
+        spec
+    };
+    let profile = machine_profile::resolve_with_offset(spec, work_offset)?;
+    Ok(Box::new(VirtualMachine::new(profile)))
 }
 
 /// Leaves raw mode however the run ends.
@@ -54,7 +88,7 @@ fn parse_speed(s: &str) -> anyhow::Result<f64> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let profile = machine_profile::resolve(&args.machine)?;
+    let mut vm = open_machine(&args.machine, args.work_offset)?;
     let text = std::fs::read_to_string(&args.file)
         .with_context(|| format!("reading {}", args.file.display()))?;
     let pace = if args.instant {
@@ -67,7 +101,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         f64::INFINITY
     };
-    let mut vm = VirtualMachine::new(profile);
     let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
     let name = args.file.display().to_string();
     vm.start(Job {
@@ -95,6 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     );
     let mut result = ExitCode::SUCCESS;
+    let mut passed_pause = false;
     loop {
         if _raw.0 {
             while event::poll(Duration::ZERO).unwrap_or(false) {
@@ -114,6 +148,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 }
             }
         }
+        // A pause waits for the operator; with no terminal there is none, so pass it (or stop).
+        let paused = vm.status().state == State::Paused;
+        if paused && !interactive && !passed_pause {
+            if args.stop_at_pauses {
+                let _ = vm.command(Command::Stop);
+            } else {
+                bar.suspend(|| {
+                    eprintln!("(no terminal to resume from: going on; --stop-at-pauses stops here)")
+                });
+                let _ = vm.command(Command::Resume);
+            }
+        }
+        passed_pause = paused;
         match vm.next_event(Duration::from_millis(50)) {
             Some(Event::Status(s)) => {
                 let frac = if s.total > 0.0 {

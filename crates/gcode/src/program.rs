@@ -24,6 +24,9 @@ pub struct RunOptions {
     pub start: StartState,
     /// Most diagnostics kept in check mode (0 = 1000).
     pub max_diagnostics: usize,
+    /// Parameter values the machine holds before the program starts, like LinuxCNC's `.var`
+    /// file or grbl's EEPROM: e.g. the stored G54 offset in #5221…#5223 (machine units).
+    pub initial_params: Vec<(i64, f64)>,
 }
 
 impl RunOptions {
@@ -54,6 +57,11 @@ impl Driver {
     pub fn new(opts: &RunOptions, sink: &mut dyn FnMut(Canon)) -> Driver {
         let mut interp = Interpreter::new(opts.dialect, &opts.start, opts.tool_table.clone());
         let mut params = Params::new();
+        for &(n, v) in &opts.initial_params {
+            // Numbers come from our own callers (profiles, CLI), checked there; a bad one is
+            // ignored rather than aborting a run before it starts.
+            let _ = params.set(n, v);
+        }
         interp.begin(&mut params, sink);
         interp.update_named_params(&mut params);
         Driver {

@@ -41,12 +41,18 @@ impl Iterator for CanonStream {
     }
 }
 
-pub fn canon_stream(job: &Job) -> CanonStream {
+/// `initial_params`: what the machine holds before the program (e.g. its stored G54 offset,
+/// [`oficina_motion::Profile::initial_params`]).
+pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
     let (tx, rx) = sync_channel(4096);
     let error = Arc::new(Mutex::new(None));
     let (text, name, err) = (job.text.clone(), job.name.clone(), error.clone());
     thread::spawn(move || {
-        let diags = run_text(&text, &RunOptions::default(), &mut |c| {
+        let opts = RunOptions {
+            initial_params,
+            ..RunOptions::default()
+        };
+        let diags = run_text(&text, &opts, &mut |c| {
             let _ = tx.send(c);
         });
         if let Some(d) = diags.iter().find(|d| d.severity == Severity::Error) {

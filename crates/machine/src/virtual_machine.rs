@@ -176,7 +176,7 @@ impl Runner {
         job: &Job,
         start: [f64; 3],
     ) -> (Box<dyn Iterator<Item = Canon>>, Arc<Mutex<Option<String>>>) {
-        let s = canon_stream(job);
+        let s = canon_stream(job, self.profile.initial_params());
         let err = s.error.clone();
         let it: Box<dyn Iterator<Item = Canon>> = match job.start_line {
             Some(l) => Box::new(ResumeFrom::new(s, l, start)),

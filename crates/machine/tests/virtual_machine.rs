@@ -6,7 +6,10 @@ use std::time::Duration;
 fn vm() -> VirtualMachine {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../profiles/grbl-router.toml");
-    let mut m = VirtualMachine::new(Profile::load(&path).unwrap());
+    let mut profile = Profile::load(&path).unwrap();
+    // These programs are written in machine coordinates: no stored work offset.
+    profile.work_offset = [0.0; 3];
+    let mut m = VirtualMachine::new(profile);
     m.connect().unwrap();
     m
 }

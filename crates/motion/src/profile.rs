@@ -120,6 +120,9 @@ pub struct Profile {
     pub max_step_rate: f64,
     /// Feed used until the program sets one, mm/s.
     pub default_feed: f64,
+    /// The G54 work offset the machine keeps between jobs (grbl's EEPROM, LinuxCNC's .var),
+    /// mm: where work zero sits in machine coordinates before a program sets its own.
+    pub work_offset: [f64; 3],
 }
 
 #[derive(Deserialize)]
@@ -133,6 +136,14 @@ struct RawProfile {
     travel: RawTravel,
     planner: RawPlanner,
     joints: BTreeMap<String, RawJoint>,
+    #[serde(default)]
+    work: Option<RawWork>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWork {
+    g54: [f64; 3],
 }
 
 #[derive(Deserialize)]
@@ -193,7 +204,33 @@ struct RawHoming {
     pull_off: f64,
 }
 
+/// The stored G54 offset: work zero must lie inside the travel, or nothing could reach it.
+fn work_offset(
+    file: &str,
+    work: Option<&RawWork>,
+    travel: &[[f64; 2]; 3],
+) -> Result<[f64; 3], ProfileError> {
+    let Some(w) = work else { return Ok([0.0; 3]) };
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        let [lo, hi] = travel[i];
+        if !w.g54[i].is_finite() || w.g54[i] < lo || w.g54[i] > hi {
+            return Err(err(
+                file,
+                "work.g54",
+                format!("{axis} = {} lies outside travel.{axis} [{lo}, {hi}]", w.g54[i]),
+            ));
+        }
+    }
+    Ok(w.g54)
+}
+
 impl Profile {
+    /// The parameter values the machine holds at power-up, for the interpreter: the stored
+    /// G54 offset in #5221…#5223 (LinuxCNC's numbering), in mm.
+    pub fn initial_params(&self) -> Vec<(i64, f64)> {
+        (0..3).map(|i| (5221 + i as i64, self.work_offset[i])).collect()
+    }
+
     /// Reads and validates a profile file.
     pub fn load(path: &Path) -> Result<Profile, ProfileError> {
         let file = path.display().to_string();
@@ -479,6 +516,7 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
         horizon: positive(file, "planner.horizon", p.horizon.unwrap_or(2.0))?,
         max_step_rate,
         default_feed: positive(file, "planner.default_feed", p.default_feed)? / 60.0,
+        work_offset: work_offset(file, raw.work.as_ref(), &travel)?,
     };
     use crate::kinematics::Kinematics;
     let kin = crate::kinematics::for_profile(&profile);

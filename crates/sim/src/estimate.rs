@@ -11,7 +11,7 @@ pub fn feed_only_estimate<'a>(
     start: [f64; 3],
     rapid_mm_min: f64,
 ) -> f64 {
-    let mut s = Summarizer::new(Pos::xyz(start[0], start[1], start[2]), rapid_mm_min);
+    let mut s = Summarizer::new(Pos::xyz(start[0], start[1], start[2]), [rapid_mm_min; 3]);
     for c in ops {
         s.add(&c.op);
     }
