@@ -5,62 +5,97 @@
 /// Above this, `v·10⁴` no longer has a fraction to round: left to the standard formatter.
 const FAST_LIMIT: f64 = 4_503_599_627_370_496.0; // 2^52
 
-/// Append `v` with four decimals, exactly as `format!("{v:.4}")` (and C's `%.4f`) writes
-/// it, `-0.0000` included.
-pub fn push_fixed4(out: &mut Vec<u8>, v: f64) {
-    let a = v.abs();
-    let p = a * 1e4;
-    if !(p < FAST_LIMIT) {
-        // Huge, infinite or NaN: rare enough for the general formatter.
-        out.extend_from_slice(format!("{v:.4}").as_bytes());
-        return;
-    }
-    // p is a·10⁴ rounded; err is what that rounding lost, exactly (10⁴ is exact and the
-    // product's error is representable), so a·10⁴ = p + err.
-    let err = a.mul_add(1e4, -p);
-    let floor = p.floor();
-    // t is exact (p and floor are within one of each other) and a multiple of p's ulp;
-    // |err| is at most half an ulp, so it only decides when t is exactly one half.
-    let t = p - floor;
-    let up = t > 0.5 || (t == 0.5 && (err > 0.0 || (err == 0.0 && floor % 2.0 != 0.0)));
-    let n = floor as u64 + u64::from(up);
-    if v.is_sign_negative() {
-        out.push(b'-');
-    }
-    push_u64(out, n / 10_000);
-    let frac = n % 10_000;
-    out.extend_from_slice(&[
-        b'.',
-        b'0' + (frac / 1000) as u8,
-        b'0' + (frac / 100 % 10) as u8,
-        b'0' + (frac / 10 % 10) as u8,
-        b'0' + (frac % 10) as u8,
-    ]);
+/// Whether [`Line::push_fixed4`] can write `v` (finite and below about 4.5·10¹¹).
+pub fn fixed4_fits(v: f64) -> bool {
+    v.abs() * 1e4 < FAST_LIMIT
 }
 
-/// Append `n` in decimal.
-pub fn push_u64(out: &mut Vec<u8>, mut n: u64) {
-    let mut digits = [0u8; 20];
-    let mut i = digits.len();
-    loop {
-        i -= 1;
-        digits[i] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
+/// Longest line [`Line`] holds: far above any call the printer builds with it.
+pub const LINE_MAX: usize = 512;
+
+/// One output line built in place: digits are written straight into a fixed buffer, with
+/// no capacity checks or copies per number.
+#[derive(Clone, Debug)]
+pub struct Line {
+    buf: [u8; LINE_MAX],
+    len: usize,
+}
+
+impl Default for Line {
+    fn default() -> Line {
+        Line {
+            buf: [0; LINE_MAX],
+            len: 0,
         }
     }
-    out.extend_from_slice(&digits[i..]);
 }
 
-/// Append `n` right-aligned in `width` columns, as `format!("{n:width$}")`.
-pub fn push_u64_padded(out: &mut Vec<u8>, n: u64, width: usize) {
-    let start = out.len();
-    push_u64(out, n);
-    let len = out.len() - start;
-    if len < width {
-        let pad = width - len;
-        out.splice(start..start, std::iter::repeat_n(b' ', pad));
+impl Line {
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.buf[..self.len]
+    }
+
+    pub fn push_bytes(&mut self, bytes: &[u8]) {
+        self.buf[self.len..self.len + bytes.len()].copy_from_slice(bytes);
+        self.len += bytes.len();
+    }
+
+    /// Append `v` with four decimals, exactly as `format!("{v:.4}")` (and C's `%.4f`)
+    /// writes it, `-0.0000` included. `v` must pass [`fixed4_fits`].
+    pub fn push_fixed4(&mut self, v: f64) {
+        debug_assert!(fixed4_fits(v));
+        let a = v.abs();
+        let p = a * 1e4;
+        // p is a·10⁴ rounded; err is what that rounding lost, exactly (10⁴ is exact and
+        // the product's error is representable), so a·10⁴ = p + err.
+        let err = a.mul_add(1e4, -p);
+        // 0 <= p < 2^52: truncation is the floor, and t = p - floor is exact and a
+        // multiple of p's ulp; |err| is at most half an ulp, so it only decides when t is
+        // exactly one half (then the exact value rounds half to even).
+        let floor = p as u64;
+        let t = p - floor as f64;
+        let up = t > 0.5 || (t == 0.5 && (err > 0.0 || (err == 0.0 && floor % 2 == 1)));
+        let n = floor + u64::from(up);
+        if v.is_sign_negative() {
+            self.push_bytes(b"-");
+        }
+        self.push_u64(n / 10_000);
+        let frac = (n % 10_000) as u16;
+        self.push_bytes(&[
+            b'.',
+            b'0' + (frac / 1000) as u8,
+            b'0' + (frac / 100 % 10) as u8,
+            b'0' + (frac / 10 % 10) as u8,
+            b'0' + (frac % 10) as u8,
+        ]);
+    }
+
+    /// Append `n` in decimal.
+    pub fn push_u64(&mut self, mut n: u64) {
+        let mut digits = [0u8; 20];
+        let mut i = digits.len();
+        loop {
+            i -= 1;
+            digits[i] = b'0' + (n % 10) as u8;
+            n /= 10;
+            if n == 0 {
+                break;
+            }
+        }
+        self.push_bytes(&digits[i..]);
+    }
+
+    /// Append `n` right-aligned in `width` (at most 20) columns, as `format!("{n:width$}")`.
+    pub fn push_u64_padded(&mut self, n: u64, width: usize) {
+        let digits = n.checked_ilog10().unwrap_or(0) as usize + 1;
+        for _ in digits..width.min(20) {
+            self.push_bytes(b" ");
+        }
+        self.push_u64(n);
     }
 }
 
@@ -70,9 +105,13 @@ mod tests {
     use proptest::prelude::*;
 
     fn fixed4(v: f64) -> String {
-        let mut out = Vec::new();
-        push_fixed4(&mut out, v);
-        String::from_utf8(out).unwrap()
+        if !fixed4_fits(v) {
+            // What the printer does with these.
+            return format!("{v:.4}");
+        }
+        let mut line = Line::default();
+        line.push_fixed4(v);
+        String::from_utf8(line.as_bytes().to_vec()).unwrap()
     }
 
     #[test]
@@ -120,10 +159,10 @@ mod tests {
 
     #[test]
     fn integers_are_padded_like_the_standard_formatter() {
-        for n in [0u64, 7, 12345, 123456, u64::MAX] {
-            let mut out = Vec::new();
-            push_u64_padded(&mut out, n, 5);
-            assert_eq!(String::from_utf8(out).unwrap(), format!("{n:5}"));
+        for n in [0u64, 7, 10, 9999, 12345, 123456, u64::MAX] {
+            let mut line = Line::default();
+            line.push_u64_padded(n, 5);
+            assert_eq!(line.as_bytes(), format!("{n:5}").as_bytes());
         }
     }
 

@@ -22,7 +22,7 @@ pub struct Rs274Printer {
     /// that makes the next feed move take 1/F minutes, so it needs that move's length.
     inverse_f: Option<f64>,
     /// The line being built, for the calls printed without `write!` (reused).
-    line: Vec<u8>,
+    line: decimal::Line,
 }
 
 impl Rs274Printer {
@@ -81,21 +81,25 @@ impl Rs274Printer {
     }
 
     /// The calls of nearly every line of a program (moves and feed rates), built with
-    /// hand-rolled number formatting; `false` for the others.
+    /// hand-rolled number formatting; `false` for the others (and for numbers too large
+    /// for it).
     fn print_fast(&mut self, op: &CanonOp, out: &mut impl Write) -> io::Result<bool> {
         let mut line = std::mem::take(&mut self.line);
         line.clear();
         let printed = match op {
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
-                self.last = to.to_array();
                 let p = self.program(to);
-                self.push_prefix(&mut line);
-                line.extend_from_slice(match op {
-                    CanonOp::StraightTraverse { .. } => b"STRAIGHT_TRAVERSE(",
-                    _ => b"STRAIGHT_FEED(",
-                });
-                push_list(&mut line, &p);
-                true
+                let fits = p.iter().all(|&v| decimal::fixed4_fits(v));
+                if fits {
+                    self.last = to.to_array();
+                    self.push_prefix(&mut line);
+                    line.push_bytes(match op {
+                        CanonOp::StraightTraverse { .. } => b"STRAIGHT_TRAVERSE(",
+                        _ => b"STRAIGHT_FEED(",
+                    });
+                    push_list(&mut line, &p);
+                }
+                fits
             }
             CanonOp::ArcFeed {
                 plane,
@@ -103,45 +107,56 @@ impl Rs274Printer {
                 center,
                 turns,
             } => {
-                self.last = end.to_array();
                 let (a0, a1, a2) = plane.axes();
                 let e = self.program(end);
                 let mut c = end.to_array();
                 c[a0] = center[0];
                 c[a1] = center[1];
                 let c = self.program(&Pos::from_array(c));
-                self.push_prefix(&mut line);
-                line.extend_from_slice(b"ARC_FEED(");
-                push_list(&mut line, &[e[a0], e[a1], c[a0], c[a1]]);
-                line.extend_from_slice(if *turns < 0 { b", -" } else { b", " });
-                decimal::push_u64(&mut line, u64::from(turns.unsigned_abs()));
-                line.extend_from_slice(b", ");
-                push_list(&mut line, &[e[a2], e[3], e[4], e[5]]);
-                true
+                let first = [e[a0], e[a1], c[a0], c[a1]];
+                let second = [e[a2], e[3], e[4], e[5]];
+                let fits = first
+                    .iter()
+                    .chain(&second)
+                    .all(|&v| decimal::fixed4_fits(v));
+                if fits {
+                    self.last = end.to_array();
+                    self.push_prefix(&mut line);
+                    line.push_bytes(b"ARC_FEED(");
+                    push_list(&mut line, &first);
+                    line.push_bytes(if *turns < 0 { b", -" } else { b", " });
+                    line.push_u64(u64::from(turns.unsigned_abs()));
+                    line.push_bytes(b", ");
+                    push_list(&mut line, &second);
+                }
+                fits
             }
             CanonOp::SetFeedRate(f) if self.feed_mode != FeedMode::InverseTime => {
                 let f = f / self.k();
-                self.push_prefix(&mut line);
-                line.extend_from_slice(b"SET_FEED_RATE(");
-                push_list(&mut line, &[f]);
-                true
+                let fits = decimal::fixed4_fits(f);
+                if fits {
+                    self.push_prefix(&mut line);
+                    line.push_bytes(b"SET_FEED_RATE(");
+                    push_list(&mut line, &[f]);
+                }
+                fits
             }
             _ => false,
         };
         if printed {
-            line.extend_from_slice(b")\n");
-            out.write_all(&line)?;
+            line.push_bytes(b")\n");
+            out.write_all(line.as_bytes())?;
         }
         self.line = line;
         Ok(printed)
     }
 
     /// What [`Rs274Printer::start_line`] writes, into `line`.
-    fn push_prefix(&mut self, line: &mut Vec<u8>) {
+    fn push_prefix(&mut self, line: &mut decimal::Line) {
         self.count += 1;
         if self.numbered {
-            decimal::push_u64_padded(line, self.count, 5);
-            line.extend_from_slice(b" N..... ");
+            line.push_u64_padded(self.count, 5);
+            line.push_bytes(b" N..... ");
         }
     }
 
@@ -367,13 +382,13 @@ impl Rs274Printer {
     }
 }
 
-/// `v0, v1, …` with four decimals each.
-fn push_list(line: &mut Vec<u8>, values: &[f64]) {
+/// `v0, v1, …` with four decimals each (each passing [`decimal::fixed4_fits`]).
+fn push_list(line: &mut decimal::Line, values: &[f64]) {
     for (i, &v) in values.iter().enumerate() {
         if i > 0 {
-            line.extend_from_slice(b", ");
+            line.push_bytes(b", ");
         }
-        decimal::push_fixed4(line, v);
+        line.push_fixed4(v);
     }
 }
 
