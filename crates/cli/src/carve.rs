@@ -136,12 +136,21 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         &bar,
     )?;
     bar.finish_and_clear();
-    std::fs::write(output, &eval.program)
-        .with_context(|| format!("{}: cannot write the program", output.display()))?;
+    // The preview sits beside the program; neither may ever replace the design image.
     let preview = args
         .preview
         .clone()
-        .unwrap_or_else(|| output.with_extension("png"));
+        .unwrap_or_else(|| output.with_extension("preview.png"));
+    for target in [output, &preview] {
+        if same_file(target, image) {
+            bail!(
+                "{} is the input image: choose another output name (-o / --preview)",
+                target.display()
+            );
+        }
+    }
+    std::fs::write(output, &eval.program)
+        .with_context(|| format!("{}: cannot write the program", output.display()))?;
     render_png(&eval.stock, &preview).map_err(anyhow::Error::msg)?;
     println!(
         "program: {} ({} lines)",
@@ -502,4 +511,12 @@ fn seed_comparison(args: &Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// True when both paths name one existing file (however they are spelled).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
 }

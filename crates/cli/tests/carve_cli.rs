@@ -123,8 +123,14 @@ fn carves_a_picture_into_program_preview_and_estimate() {
     assert!(program.contains("T1\n") && program.contains("T2\nM0"));
     assert!(program.trim_end().ends_with("M30"));
 
-    let preview = out.with_extension("png");
+    // Beside the program, never over the design (here dome.png, the same stem as dome.nc).
+    let preview = out.with_extension("preview.png");
     let shaded = image::open(&preview).expect("the preview decodes");
+    let design_after = image::open(&picture).expect("the design is untouched");
+    assert_ne!(
+        shaded.to_rgb8().into_raw(),
+        design_after.to_rgb8().into_raw()
+    );
     assert_eq!((shaded.width(), shaded.height()), (W, H));
 
     // Printed figures: zero gouge, and the feed-only time equals the one read here.
@@ -252,4 +258,35 @@ fn missing_arguments_are_usage_errors() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("--pixel-size"));
     let run = oficina(&["carve", "--tool", "cone:3"]);
     assert_ne!(run.status.code(), Some(0));
+}
+
+#[test]
+fn an_output_that_would_replace_the_design_image_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let picture = write_picture(dir.path());
+    let before = std::fs::read(&picture).unwrap();
+    let run = oficina(&[
+        "carve",
+        picture.to_str().unwrap(),
+        "--pixel-size",
+        "0.5",
+        "--depth",
+        "3",
+        "--tool",
+        "ball:3",
+        "--profile",
+        &profile(),
+        "-o",
+        dir.path().join("out.nc").to_str().unwrap(),
+        "--preview",
+        picture.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success());
+    assert!(err.contains("is the input image"), "{err}");
+    assert_eq!(
+        std::fs::read(&picture).unwrap(),
+        before,
+        "the design must not change"
+    );
 }

@@ -4,7 +4,8 @@
 use oficina_canon::summary::Summarizer;
 use oficina_canon::{Canon, Pos};
 
-/// Seconds for `ops`: feed moves at their programmed feed, rapids at `rapid_mm_min`, dwells
+/// Seconds for `ops`: feed moves at their programmed feed, rapids with every axis at
+/// `rapid_mm_min` (the slowest axis sets the time), dwells
 /// as written, starting from `start`.
 pub fn feed_only_estimate<'a>(
     ops: impl IntoIterator<Item = &'a Canon>,

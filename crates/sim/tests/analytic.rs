@@ -223,9 +223,11 @@ fn feed_only_estimate_matches_move_by_move_sum() {
                     + (to[1] - pos[1]).powi(2)
                     + (to[2] - pos[2]).powi(2))
                 .sqrt();
+                // A rapid takes as long as its slowest axis: each axis at the rapid rate.
+                let axis_max = (0..3).map(|i| (to[i] - pos[i]).abs()).fold(0.0, f64::max);
                 t += match m {
                     oficina_cam::Move::Line { feed, .. } => len / feed,
-                    _ => len / (rapid / 60.0),
+                    _ => axis_max / (rapid / 60.0),
                 };
                 pos = to;
             }
