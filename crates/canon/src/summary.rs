@@ -45,7 +45,7 @@ pub struct Summary {
     pub rapid_moves: u64,
     pub feed_moves: u64,
     pub arcs: u64,
-    /// Tools in the order they were first changed to.
+    /// Tools in the order they were first selected or changed to.
     pub tools: Vec<u32>,
     pub dwell_seconds: f64,
     /// Feed moves at their programmed feed plus rapids with every axis at its top speed, no
@@ -122,7 +122,8 @@ impl Summarizer {
                 self.time_feed(len);
                 self.pos = *end;
             }
-            CanonOp::ChangeTool(t) => {
+            // T selects, M6 changes; grbl programs change by hand at an M0, so both count.
+            CanonOp::SelectTool(t) | CanonOp::ChangeTool(t) => {
                 if !s.tools.contains(t) {
                     s.tools.push(*t);
                 }
