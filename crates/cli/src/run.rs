@@ -6,7 +6,7 @@ use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
-use oficina_machine::{Command, Event, Job, Machine, Pace, State, VirtualMachine};
+use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status, VirtualMachine};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -162,29 +162,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         passed_pause = paused;
         match vm.next_event(Duration::from_millis(50)) {
-            Some(Event::Status(s)) => {
-                let frac = if s.total > 0.0 {
-                    (s.elapsed / s.total).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                bar.set_position((frac * 1000.0) as u64);
-                // ETA in wall time: machine time left at the chosen pace; frozen while held.
-                let left = (s.total - s.elapsed).max(0.0) / factor;
-                let state = match &s.state {
-                    State::Run => String::new(),
-                    other => format!(" [{other:?}]"),
-                };
-                bar.set_message(format!(
-                    "line {:>6}  ETA {}  X{:.3} Y{:.3} Z{:.3}  F{:.0}{state}",
-                    s.line,
-                    clock(left),
-                    s.work_pos[0],
-                    s.work_pos[1],
-                    s.work_pos[2],
-                    s.feed
-                ));
-            }
+            Some(Event::Status(s)) => show_status(&bar, &s, factor),
+            // The bar draws at most ~20 times a second, so the last updates before a hold
+            // (decelerating takes milliseconds) can be dropped; with no events while held the
+            // line would stay on a stale Run. Redraw the latest snapshot when idle.
+            None => show_status(&bar, &vm.status(), factor),
             // Through stderr: a hidden bar (no terminal) would swallow println.
             Some(Event::Message(m)) => bar.suspend(|| eprintln!("{m}")),
             Some(Event::Alarm(a)) => {
@@ -202,9 +184,33 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 }
                 return Ok(result);
             }
-            None => {}
         }
     }
+}
+
+/// The progress and the status line: line, ETA, work position, feed and any non-Run state.
+fn show_status(bar: &ProgressBar, s: &Status, factor: f64) {
+    let frac = if s.total > 0.0 {
+        (s.elapsed / s.total).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    bar.set_position((frac * 1000.0) as u64);
+    // ETA in wall time: machine time left at the chosen pace; frozen while held.
+    let left = (s.total - s.elapsed).max(0.0) / factor;
+    let state = match &s.state {
+        State::Run => String::new(),
+        other => format!(" [{other:?}]"),
+    };
+    bar.set_message(format!(
+        "line {:>6}  ETA {}  X{:.3} Y{:.3} Z{:.3}  F{:.0}{state}",
+        s.line,
+        clock(left),
+        s.work_pos[0],
+        s.work_pos[1],
+        s.work_pos[2],
+        s.feed
+    ));
 }
 
 fn clock(s: f64) -> String {
