@@ -73,6 +73,22 @@ impl Params {
         Ok(())
     }
 
+    /// Set `#first`, `#first+1`, … to `values` (all within 1…5602): one range check for
+    /// the parameters the interpreter refreshes after every block.
+    pub fn set_run(&mut self, first: i64, values: &[f64]) -> Result<(), ParamError> {
+        let start = Self::index(first)?;
+        if start == 0 {
+            return Err(ParamError::OutOfRange(0));
+        }
+        let end = start + values.len();
+        let slots = self
+            .numbered
+            .get_mut(start..end)
+            .ok_or(ParamError::OutOfRange(end as i64 - 1))?;
+        slots.copy_from_slice(values);
+        Ok(())
+    }
+
     fn locals(&self) -> &HashMap<String, f64> {
         self.frames
             .last()
@@ -182,6 +198,13 @@ mod tests {
     fn out_of_range_and_read_only_are_errors() {
         let mut p = Params::new();
         assert_eq!(p.get(5603), Err(ParamError::OutOfRange(5603)));
+        assert_eq!(
+            p.set_run(5600, &[1.0, 2.0, 3.0, 4.0]),
+            Err(ParamError::OutOfRange(5603))
+        );
+        assert_eq!(p.set_run(0, &[1.0]), Err(ParamError::OutOfRange(0)));
+        p.set_run(5600, &[1.0, 2.0, 3.0]).unwrap();
+        assert_eq!(p.get(5602), Ok(3.0));
         assert!(p.set(-1, 0.0).is_err());
         p.set_system("_x", 1.0);
         assert_eq!(

@@ -1304,10 +1304,11 @@ impl Interpreter {
     /// `#5420…` current position, `#5400` tool, and the cheap named `#<_…>` values.
     fn update_params(&self, params: &mut Params) {
         let k = self.k();
-        for i in 0..6 {
-            let s = if i < 3 { k } else { 1.0 };
-            let _ = params.set(param::POSITION + i as i64, self.pos[i] / s);
+        let mut here = self.pos;
+        for v in &mut here[..3] {
+            *v /= k;
         }
+        let _ = params.set_run(param::POSITION, &here);
         let _ = params.set(param::COORD_SYSTEM, self.modal.coord_system as f64);
         let _ = params.set(param::TOOL_NUMBER, self.modal.tool_in_spindle as f64);
     }
