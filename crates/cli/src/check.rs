@@ -1,10 +1,11 @@
 //! `oficina check FILE`: every diagnostic with its place (the check goes on after errors),
 //! then what the program does: extents, path length, tools and a time estimate.
 
-use crate::gcode_input::{print_diagnostics, CanonStream, ProgramArgs};
+use crate::gcode_input::{print_diagnostics, ProgramArgs};
 use crate::machine_profile;
 use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
+use oficina_gcode::stream::CanonStream;
 use oficina_gcode::Severity;
 use std::process::ExitCode;
 

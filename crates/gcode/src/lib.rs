@@ -22,6 +22,7 @@ pub mod params;
 pub mod parse;
 pub mod print;
 pub mod program;
+pub mod stream;
 
 pub use diag::{Diagnostic, Severity, Span};
 

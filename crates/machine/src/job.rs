@@ -2,11 +2,9 @@
 //! canon ops over a bounded channel, so memory stays flat however long the program is.
 
 use oficina_canon::{Canon, CanonOp, Pos};
-use oficina_gcode::program::{run_text, RunOptions};
+use oficina_gcode::program::RunOptions;
 use oficina_gcode::Severity;
-use std::sync::mpsc::{sync_channel, Receiver};
 use std::sync::{Arc, Mutex};
-use std::thread;
 
 /// How fast the virtual machine runs relative to the clock.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,37 +28,54 @@ pub struct Job {
 /// Canon ops of a job, in a bounded stream; the first interpreter error ends the stream and
 /// is left in `error`.
 pub struct CanonStream {
-    rx: Receiver<Canon>,
+    inner: oficina_gcode::stream::CanonStream,
+    name: String,
+    text: Arc<String>,
     pub error: Arc<Mutex<Option<String>>>,
 }
 
 impl Iterator for CanonStream {
     type Item = Canon;
     fn next(&mut self) -> Option<Canon> {
-        self.rx.recv().ok()
+        let next = self.inner.next();
+        if next.is_none() {
+            let diags = self.inner.diagnostics();
+            if let Some(d) = diags.iter().find(|d| d.severity == Severity::Error) {
+                let line = self
+                    .text
+                    .lines()
+                    .nth(d.span.line.saturating_sub(1) as usize);
+                *self.error.lock().unwrap_or_else(|e| e.into_inner()) =
+                    Some(d.render(&self.name, line));
+            }
+        }
+        next
     }
 }
 
 /// `initial_params`: what the machine holds before the program (e.g. its stored G54 offset,
 /// [`oficina_motion::Profile::initial_params`]).
 pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
-    let (tx, rx) = sync_channel(4096);
-    let error = Arc::new(Mutex::new(None));
-    let (text, name, err) = (job.text.clone(), job.name.clone(), error.clone());
-    thread::spawn(move || {
-        let opts = RunOptions {
-            initial_params,
-            ..RunOptions::default()
-        };
-        let diags = run_text(&text, &opts, &mut |c| {
-            let _ = tx.send(c);
-        });
-        if let Some(d) = diags.iter().find(|d| d.severity == Severity::Error) {
-            let line = text.lines().nth(d.span.line.saturating_sub(1) as usize);
-            *err.lock().unwrap_or_else(|e| e.into_inner()) = Some(d.render(&name, line));
-        }
-    });
-    CanonStream { rx, error }
+    let opts = RunOptions {
+        initial_params,
+        ..RunOptions::default()
+    };
+    let source = std::io::Cursor::new(ArcText(job.text.clone()));
+    CanonStream {
+        inner: oficina_gcode::stream::CanonStream::spawn(source, opts),
+        name: job.name.clone(),
+        text: job.text.clone(),
+        error: Arc::new(Mutex::new(None)),
+    }
+}
+
+/// The job's text, shared with the interpreter thread without a copy.
+struct ArcText(Arc<String>);
+
+impl AsRef<[u8]> for ArcText {
+    fn as_ref(&self) -> &[u8] {
+        self.0.as_bytes()
+    }
 }
 
 /// Skips the motion before `line` and replaces it by rapids: up to a safe height, across,
