@@ -159,6 +159,12 @@ fn starts_char(raw: &[u8], i: usize) -> bool {
 /// mantissa and one division by an exact power of ten (correctly rounded); longer ones fall
 /// back to the standard library parser.
 pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
+    // A single digit (G1, #1, M2) is the most common number of all.
+    if let [d @ b'0'..=b'9', rest @ ..] = s {
+        if !matches!(rest.first(), Some(b'0'..=b'9' | b'.')) {
+            return Some(Ok((f64::from(d - b'0'), 1)));
+        }
+    }
     // Two tight loops (integer part, fraction) rather than one loop with a state: this is
     // the hottest code of the whole front end. `i < s.len()` lets the compiler drop the
     // bounds checks.

@@ -357,12 +357,14 @@ impl Reader<'_> {
 
 /// A parameter number: an integer within 1e-4, from 1 to the last numbered parameter.
 fn param_number(v: f64) -> Option<i64> {
-    let r = v.round();
-    if (v - r).abs() > INTEGER_TOLERANCE || !r.is_finite() {
+    // Only 0.5 ≤ v < LAST + 0.5 can round into range (NaN fails too); there, truncating
+    // v + 0.5 rounds without a call to `round`, differing only next to a half, which is
+    // outside the tolerance either way.
+    if !(v >= 0.5 && v < LAST_NUMBERED as f64 + 0.5) {
         return None;
     }
-    let n = r.clamp(i64::MIN as f64, i64::MAX as f64) as i64;
-    (1..=LAST_NUMBERED).contains(&n).then_some(n)
+    let n = (v + 0.5) as i64;
+    ((v - n as f64).abs() <= INTEGER_TOLERANCE && (1..=LAST_NUMBERED).contains(&n)).then_some(n)
 }
 
 #[cfg(test)]

@@ -284,8 +284,15 @@ impl Decoded {
 
 /// G numbers have at most one decimal (G38.2); anything finer is not a G code.
 fn to_tenths(v: f64) -> Option<u16> {
-    let t = (v * 10.0).round();
-    ((v * 10.0 - t).abs() < 1e-6 && (0.0..10000.0).contains(&t)).then_some(t as u16)
+    let x = v * 10.0;
+    // Codes 0 to 999.9 (NaN fails too). In that range `(x + 0.5) as u16` is x rounded,
+    // without a call to `round` (a library routine on baseline x86-64); the two differ
+    // only next to a half, which is far from any code anyway.
+    if !(x > -0.5 && x < 9999.5) {
+        return None;
+    }
+    let t = (x + 0.5) as u16;
+    ((x - f64::from(t)).abs() < 1e-6).then_some(t)
 }
 
 fn unknown_g(span: Span, value: f64) -> Diagnostic {
@@ -342,5 +349,11 @@ mod tests {
         assert!(e.help.unwrap().contains("not supported"));
         assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
         assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());
+        assert_eq!(to_tenths(38.2), Some(382));
+        assert_eq!(to_tenths(-0.00000001), Some(0));
+        assert_eq!(to_tenths(999.9), Some(9999));
+        for bad in [-0.1, 1.05, 999.96, 1000.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(to_tenths(bad), None, "{bad}");
+        }
     }
 }
