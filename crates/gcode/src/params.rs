@@ -126,6 +126,17 @@ impl Params {
     }
 
     pub fn set_named(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
+        // Updating a lower-case name that exists (the usual case) allocates nothing.
+        if !name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()) {
+            let locals = match self.frames.last_mut() {
+                Some(f) => &mut f.locals,
+                None => &mut self.top_locals,
+            };
+            if let Some(slot) = locals.get_mut(name) {
+                *slot = value;
+                return Ok(());
+            }
+        }
         let key = name.to_ascii_lowercase();
         if key.starts_with('_') {
             if self.system.contains_key(&key) {
