@@ -122,6 +122,12 @@ fn starts_with_ci(rest: &[u8], name: &[u8]) -> bool {
 impl Reader<'_> {
     /// The next non-blank byte and its position, without consuming anything.
     fn peek(&self) -> Option<(u8, usize)> {
+        // Usually the next byte is the token itself (blanks are all at most b' ').
+        if let Some(&b) = self.raw.get(self.pos) {
+            if b > b' ' {
+                return Some((b, self.pos));
+            }
+        }
         let mut i = self.pos;
         while let Some(&b) = self.raw.get(i) {
             if !is_blank(b) {
