@@ -13,6 +13,7 @@
 //! backward pass met a block already at its junction ceiling), or when the buffer holds more
 //! than `horizon` seconds of motion at nominal speed (bounded memory on any program).
 
+pub mod incremental;
 mod live;
 
 pub use crate::moves::MoveKind;
@@ -22,6 +23,8 @@ use crate::velocity::{reachable, Limits, Motion};
 use crate::MotionError;
 use oficina_canon::Canon;
 use std::collections::VecDeque;
+
+pub use incremental::Incremental;
 
 /// Hard cap on buffered blocks, whatever the horizon says (memory bound).
 pub const MAX_BLOCKS: usize = 1 << 16;
