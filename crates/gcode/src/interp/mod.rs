@@ -10,6 +10,7 @@ pub mod comp;
 pub mod cycles;
 pub mod dialect;
 pub mod frame;
+mod simple;
 pub mod state;
 pub mod tool_table;
 pub mod words;
@@ -183,6 +184,19 @@ impl Interpreter {
 
     /// Run one block.
     pub fn execute(
+        &mut self,
+        block: &Block,
+        params: &mut Params,
+        sink: Sink,
+    ) -> Result<Flow, Diagnostic> {
+        match self.simple_move(block, params, sink) {
+            Some(flow) => Ok(flow),
+            None => self.execute_full(block, params, sink),
+        }
+    }
+
+    /// [`Interpreter::execute`] without the short way for simple moves.
+    fn execute_full(
         &mut self,
         block: &Block,
         params: &mut Params,
