@@ -3,14 +3,18 @@
 
 use crate::machine_profile;
 use anyhow::{bail, Context};
-use oficina_machine::job::canon_stream;
+use oficina_gcode::interp::StartState;
+use oficina_gcode::program::RunOptions;
+use oficina_gcode::Dialect;
+use oficina_machine::job::{canon_stream_with, CanonStream};
 use oficina_machine::{Job, Pace};
+use oficina_motion::dda_steps::dda_steps;
 use oficina_motion::kinematics::Kinematics;
 use oficina_motion::profile::Shape;
 use oficina_motion::stepcompress::Compressor;
-use oficina_motion::steps::{StepGenerator, StepSink};
+use oficina_motion::steps::{StepCount, StepGenerator, StepSink};
 use oficina_motion::trace::TraceWriter;
-use oficina_motion::{plan, PlanOptions};
+use oficina_motion::{plan, PlanOptions, Profile};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -42,6 +46,19 @@ pub struct Args {
     /// Write the steps compressed as Klipper queue_step runs (motor, interval, count, add, dir).
     #[arg(long)]
     steps_compressed: Option<PathBuf>,
+    /// Who makes the steps: `exact` (the planned motion's exact step times) or `dda` (seed
+    /// 002's linear and circular DDA on a cartesian machine, no ramps; docs/trace-format.md).
+    #[arg(long, value_enum, default_value_t = Interpolator::Exact)]
+    interpolator: Interpolator,
+    /// G-code dialect: linuxcnc (default), grbl or legacy-2006 (seed 002's programs).
+    #[arg(long, default_value = "linuxcnc")]
+    dialect: Dialect,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolator {
+    Exact,
+    Dda,
 }
 
 /// Klipper's MCU clock for the compressed intervals, and its step time tolerance.
@@ -138,8 +155,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         start_line: None,
         pace: Pace::Instant,
     };
-    let ops = canon_stream(&job, profile.initial_params());
+    let ops = canon_stream_with(&job, run_options(&profile, args.dialect));
     let interp_error = ops.error.clone();
+    if args.interpolator == Interpolator::Dda {
+        return run_dda(&args, ops, &profile, &job.name);
+    }
     let opts = PlanOptions {
         shape: args.scurve.then_some(Shape::SCurve),
         ..PlanOptions::default()
@@ -158,32 +178,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let names = profile.kinematics.joint_names();
-    let mut steps = match (&args.steps, &args.steps_compressed) {
-        (None, None) => None,
-        (csv, runs) => {
+    let mut steps = match step_files(&args, names)? {
+        None => None,
+        Some(files) => {
             let q = oficina_motion::kinematics::for_profile(&profile)
                 .joints(profile.start)
                 .map_err(|e| anyhow::anyhow!("{}: start position: {e}", profile.name))?;
-            let files = StepFiles {
-                names,
-                csv: csv
-                    .as_deref()
-                    .map(|p| create(p, "motor,time_s,dir"))
-                    .transpose()?,
-                runs: runs
-                    .as_deref()
-                    .map(|p| {
-                        create(p, &format!("motor,interval,count,add,dir # {CLOCK_HZ} Hz")).map(
-                            |w| {
-                                let c = || Compressor::new(CLOCK_HZ, MAX_STEP_ERROR);
-                                (w, [c(), c(), c()])
-                            },
-                        )
-                    })
-                    .transpose()?,
-                steps: 0,
-                error: None,
-            };
             Some((StepGenerator::new(&profile, q), files))
         }
     };
@@ -226,6 +226,91 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             p.display()
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The interpreter's options: the machine's stored offsets, and for seed 002's dialect, whose
+/// feed comes from the machine configuration, the profile's default feed.
+fn run_options(profile: &Profile, dialect: Dialect) -> RunOptions {
+    let feed = if dialect == Dialect::Legacy2006 {
+        profile.default_feed * 60.0
+    } else {
+        0.0
+    };
+    RunOptions {
+        dialect,
+        initial_params: profile.initial_params(),
+        start: StartState {
+            feed,
+            ..StartState::default()
+        },
+        ..RunOptions::default()
+    }
+}
+
+/// The step outputs asked for (`--steps`, `--steps-compressed`), created with their headers.
+fn step_files(args: &Args, names: [&'static str; 3]) -> anyhow::Result<Option<StepFiles>> {
+    if args.steps.is_none() && args.steps_compressed.is_none() {
+        return Ok(None);
+    }
+    Ok(Some(StepFiles {
+        names,
+        csv: args
+            .steps
+            .as_deref()
+            .map(|p| create(p, "motor,time_s,dir"))
+            .transpose()?,
+        runs: args
+            .steps_compressed
+            .as_deref()
+            .map(|p| {
+                create(p, &format!("motor,interval,count,add,dir # {CLOCK_HZ} Hz")).map(|w| {
+                    let c = || Compressor::new(CLOCK_HZ, MAX_STEP_ERROR);
+                    (w, [c(), c(), c()])
+                })
+            })
+            .transpose()?,
+        steps: 0,
+        error: None,
+    }))
+}
+
+/// `--interpolator dda`: the program stepped by seed 002's interpolators, no planner.
+fn run_dda(
+    args: &Args,
+    ops: CanonStream,
+    profile: &Profile,
+    name: &str,
+) -> anyhow::Result<ExitCode> {
+    if args.trace.is_some() || args.scurve {
+        bail!("--interpolator dda makes steps only: --trace and --scurve belong to the planned motion (drop them or use --interpolator exact)");
+    }
+    let interp_error = ops.error.clone();
+    let mut files = step_files(args, profile.kinematics.joint_names())?;
+    let summary = match files.as_mut() {
+        Some(f) => dda_steps(ops, profile, f),
+        None => dda_steps(ops, profile, &mut StepCount::default()),
+    }
+    .map_err(|e| anyhow::anyhow!("{name}: --interpolator dda: {e}"))?;
+    if let Some(e) = interp_error
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .take()
+    {
+        bail!("{e}");
+    }
+    if let Some(f) = files {
+        f.finish()?;
+    }
+    println!("machine: {}", profile.name);
+    println!("interpolator: seed 002 DDA");
+    println!("steps: {}", summary.steps);
+    println!("moves: {}  path: {:.3} mm", summary.moves, summary.distance);
+    println!(
+        "total time: {:.3} s ({})",
+        summary.seconds,
+        hms(summary.seconds)
+    );
     Ok(ExitCode::SUCCESS)
 }
 

@@ -56,10 +56,17 @@ impl Iterator for CanonStream {
 /// `initial_params`: what the machine holds before the program (e.g. its stored G54 offset,
 /// [`oficina_motion::Profile::initial_params`]).
 pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
-    let opts = RunOptions {
-        initial_params,
-        ..RunOptions::default()
-    };
+    canon_stream_with(
+        job,
+        RunOptions {
+            initial_params,
+            ..RunOptions::default()
+        },
+    )
+}
+
+/// [`canon_stream`] with every interpreter option (dialect, start feed, …).
+pub fn canon_stream_with(job: &Job, opts: RunOptions) -> CanonStream {
     let source = std::io::Cursor::new(ArcText(job.text.clone()));
     CanonStream {
         inner: oficina_gcode::stream::CanonStream::spawn(source, opts),

@@ -163,6 +163,20 @@ impl CircularDda {
     pub fn position(&self) -> (i64, i64) {
         self.pos
     }
+
+    /// True when the rest of the arc crosses no axis (where X or Y reaches an extreme), so
+    /// both coordinates only move towards the end point.
+    fn monotonic_to_end(&self) -> bool {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let angle = (self.pos.1 as f64).atan2(self.pos.0 as f64);
+        // Angle to the next axis strictly ahead in the direction of travel, in (0, π/2].
+        let to_axis = if self.cw {
+            angle - ((angle / quarter).ceil() - 1.0) * quarter
+        } else {
+            ((angle / quarter).floor() + 1.0) * quarter - angle
+        };
+        to_axis >= self.sweep - self.swept - 1e-9
+    }
 }
 
 impl Iterator for CircularDda {
@@ -199,6 +213,16 @@ impl Iterator for CircularDda {
                 let s = self.sum.1.signum();
                 self.sum.1 -= s * self.limit;
                 dy = -s as i8;
+            }
+            // On the last stretch, where neither coordinate turns back before the end, a step
+            // past the end coordinate would only be undone by the snap: drop it.
+            if self.monotonic_to_end() {
+                if (self.end.0 - self.pos.0 - dx as i64).abs() > (self.end.0 - self.pos.0).abs() {
+                    dx = 0;
+                }
+                if (self.end.1 - self.pos.1 - dy as i64).abs() > (self.end.1 - self.pos.1).abs() {
+                    dy = 0;
+                }
             }
             if dx != 0 || dy != 0 {
                 let old = self.pos;
@@ -296,6 +320,37 @@ mod tests {
             assert_eq!(d.position(), e);
             assert!(worst.abs() <= 1.5, "radial error {worst}");
             assert!(n as f64 >= r * 1.4 && (n as f64) <= r * 2.1, "{n} steps");
+        }
+    }
+
+    #[test]
+    fn quarter_arcs_between_axes_step_each_axis_one_way_only() {
+        // Test 1's quarter circles at 100 steps/mm, CW and CCW: no step past the end point
+        // (which the snap would undo), so each motor steps exactly its displacement.
+        for &(s, e) in &[
+            ((0, -8000), (-8000, 0)),
+            ((-16000, 0), (0, 16000)),
+            ((0, 8000), (8000, 0)),
+            ((16000, 0), (0, -16000)),
+        ] {
+            for (from, to, cw) in [(s, e, true), (e, s, false)] {
+                let d = CircularDda::new(from, to, cw, std::f64::consts::FRAC_PI_2);
+                let (mut moved, mut signs) = ((0i64, 0i64), (0i8, 0i8));
+                for (dx, dy) in d {
+                    moved.0 += dx.abs() as i64;
+                    moved.1 += dy.abs() as i64;
+                    for (d, sign) in [(dx, &mut signs.0), (dy, &mut signs.1)] {
+                        assert!(
+                            d == 0 || *sign == 0 || d == *sign,
+                            "{from:?}→{to:?} reverses"
+                        );
+                        if d != 0 {
+                            *sign = d;
+                        }
+                    }
+                }
+                assert_eq!(moved, ((to.0 - from.0).abs(), (to.1 - from.1).abs()));
+            }
         }
     }
 }

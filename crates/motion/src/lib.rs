@@ -10,11 +10,12 @@
 //! - [`check`]: an independent checker of every invariant the planner promises;
 //! - [`estimate`]: total job time;
 //! - [`steps`], [`stepcompress`], [`dda`]: exact step times, Klipper-style compression and the
-//!   seed 002 interpolators;
+//!   seed 002 interpolators; [`dda_steps`]: a program stepped by those interpolators;
 //! - [`trace`]: the planned motion sampled at a fixed period.
 
 pub mod check;
 pub mod dda;
+pub mod dda_steps;
 pub mod error;
 pub mod estimate;
 pub mod kinematics;
