@@ -5,15 +5,20 @@
 //! out of the RX ring only when the previous one is fully in the planner (15 blocks), and
 //! `ok` is sent once its blocks are queued.
 //!
-//! Timing model: each planner block runs at its programmed feed (scaled by the override),
-//! capped by the per-axis maximum rates ($110…); rapids at the maximum rate. There is no
-//! acceleration except for feed hold, which decelerates at $120… as grbl does.
+//! Timing model: the blocks in the planner buffer are planned by Oficina's own incremental
+//! planner ([`Incremental`]) with the machine the `$` settings describe ($110… rates, $120…
+//! accelerations, $11 junction deviation): as in grbl the plan always ends at rest after the
+//! last buffered block, so a starved buffer slows the machine, and every new block re-plans
+//! the rest from the current speed. Feed hold brakes and cycle start accelerates through the
+//! same planner; overrides re-plan at once.
 
 use crate::gline;
 use crate::interp::{self, Flow, Interp, Rate, Segment};
 use crate::messages::{self, SETTINGS};
 use crate::realtime::Realtime;
 use crate::status::State;
+use oficina_motion::planner::incremental::{Incremental, Push};
+use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
 
 /// Knobs of the emulated board.
@@ -64,15 +69,6 @@ pub struct Stats {
     pub max_rx_used: usize,
 }
 
-#[derive(Clone, Debug)]
-struct Block {
-    from: [f64; 3],
-    to: [f64; 3],
-    rate: Rate,
-    done: f64,
-    length: f64,
-}
-
 /// A line taken out of the RX ring whose work is not finished: it may wait for the
 /// planner to drain (sync), dwell, then push its blocks as space frees.
 struct Pending {
@@ -95,7 +91,8 @@ pub struct Core {
     rx: VecDeque<u8>,
     line: Vec<u8>,
     line_overflow: bool,
-    planner: VecDeque<Block>,
+    /// The planner buffer and the motion it plans.
+    motion: Incremental,
     pending: Option<Pending>,
     pub out: VecDeque<u8>,
     pub stats: Stats,
@@ -113,14 +110,13 @@ pub struct Core {
     /// (feed, rapid, spindle) overrides in percent.
     pub overrides: (u32, u32, u32),
     check_mode: bool,
-    /// Remaining time of a deceleration to a hold, and its initial speed (mm/s).
-    decel: Option<(f64, f64)>,
+    /// A jog cancel is braking; the jog blocks go once the machine is at rest.
+    jog_cancelling: bool,
     resume_state: State,
     starving: Option<f64>,
     clock: f64,
     report_counter: u32,
     startup_lines: [String; 2],
-    speed: f64,
     jogging: bool,
 }
 
@@ -131,6 +127,7 @@ impl Core {
         for (n, v) in &config.settings {
             settings.insert(*n, *v);
         }
+        let motion = new_motion(&settings, [0.0; 3]);
         let mut core = Core {
             config,
             settings,
@@ -140,7 +137,7 @@ impl Core {
             rx: VecDeque::new(),
             line: Vec::new(),
             line_overflow: false,
-            planner: VecDeque::new(),
+            motion,
             pending: None,
             out: VecDeque::new(),
             stats: Stats::default(),
@@ -153,13 +150,12 @@ impl Core {
             blocks_done: 0,
             overrides: (100, 100, 100),
             check_mode: false,
-            decel: None,
+            jog_cancelling: false,
             resume_state: State::Idle,
             starving: None,
             clock: 0.0,
             report_counter: 0,
             startup_lines: [String::new(), String::new()],
-            speed: 0.0,
             jogging: false,
         };
         core.interp.arc_tolerance = core.setting(12);
@@ -186,9 +182,7 @@ impl Core {
     }
 
     pub fn planner_free(&self) -> usize {
-        self.config
-            .planner_blocks
-            .saturating_sub(self.planner.len())
+        self.config.planner_blocks.saturating_sub(self.motion.len())
     }
 
     fn rx_capacity(&self) -> usize {
@@ -213,7 +207,7 @@ impl Core {
     }
 
     fn moving(&self) -> bool {
-        !self.planner.is_empty()
+        !self.motion.is_empty()
             && matches!(
                 self.state,
                 State::Run | State::Jog | State::Hold(1) | State::Door(2)
@@ -237,7 +231,7 @@ impl Core {
                 if self.moving() {
                     self.begin_decel(State::Door(2));
                 } else if !matches!(self.state, State::Alarm | State::Sleep) {
-                    self.resume_state = if self.planner.is_empty() {
+                    self.resume_state = if self.motion.is_empty() {
                         State::Idle
                     } else {
                         State::Run
@@ -247,13 +241,17 @@ impl Core {
             }
             Realtime::CycleStart => match self.state {
                 State::Hold(0) | State::Door(0) => {
-                    self.state = if self.planner.is_empty() && self.pending.is_none() {
+                    self.motion.resume();
+                    self.state = if self.motion.is_empty() && self.pending.is_none() {
                         State::Idle
                     } else {
                         State::Run
                     };
                 }
-                State::Idle if !self.planner.is_empty() => self.state = State::Run,
+                State::Idle if !self.motion.is_empty() => {
+                    self.motion.resume();
+                    self.state = State::Run;
+                }
                 _ => {}
             },
             Realtime::SoftReset => self.soft_reset(),
@@ -287,6 +285,9 @@ impl Core {
             Realtime::FloodToggle => self.interp.modal.flood = !self.interp.modal.flood,
             Realtime::MistToggle => self.interp.modal.mist = !self.interp.modal.mist,
         }
+        let (feed, rapid, _) = self.overrides;
+        self.motion
+            .set_overrides(feed as f64 / 100.0, rapid as f64 / 100.0);
     }
 
     /// Moves finished lines from `awaiting` to `executed`.
@@ -303,32 +304,36 @@ impl Core {
 
     /// Drops every queued block; lines whose motion had not finished never ran.
     fn flush_planner(&mut self) {
-        self.planner.clear();
+        self.motion.clear();
+        self.mpos = self.motion.position();
         self.blocks_pushed = self.blocks_done;
         self.awaiting.clear();
     }
 
+    /// grbl decelerates to a stop, then flushes every jog block.
     fn cancel_jog(&mut self) {
-        // grbl decelerates and then flushes every jog block; stopping at once is the limit
-        // of that with this model's infinite acceleration.
-        self.flush_planner();
         // A jog line still waiting for planner room is dropped too, but it was received
         // and so is answered: every line gets exactly one reply.
         if let Some(p) = self.pending.take() {
             self.say(&p.reply);
         }
+        self.motion.hold();
+        self.jog_cancelling = true;
+        if self.motion.held() || self.motion.is_empty() {
+            self.end_jog_cancel();
+        }
+    }
+
+    fn end_jog_cancel(&mut self) {
+        self.flush_planner();
+        self.jog_cancelling = false;
         self.jogging = false;
         self.state = State::Idle;
         self.interp.pos = self.mpos;
     }
 
     fn begin_decel(&mut self, into: State) {
-        let accel = (100..=102)
-            .map(|n| self.setting(n + 20))
-            .fold(f64::INFINITY, f64::min)
-            .max(1e-3);
-        let t = self.speed / accel;
-        self.decel = Some((t, self.speed));
+        self.motion.hold();
         self.state = into;
     }
 
@@ -348,11 +353,11 @@ impl Core {
         self.rx.clear();
         self.line.clear();
         self.line_overflow = false;
-        self.decel = None;
+        self.jog_cancelling = false;
         self.jogging = false;
         self.check_mode = false;
         self.overrides = (100, 100, 100);
-        self.speed = 0.0;
+        self.motion.set_overrides(1.0, 1.0);
         let keep = (self.interp.wcs_offsets, self.interp.g28, self.interp.g30);
         self.interp = Interp {
             wcs_offsets: keep.0,
@@ -490,27 +495,34 @@ impl Core {
         let Some(p) = self.pending.as_mut() else {
             return;
         };
-        if p.sync && !self.planner.is_empty() {
+        if p.sync && !self.motion.is_empty() {
             return;
         }
         if p.sync && p.dwell > 0.0 {
             // A dwell holds the line until it has elapsed; time passes in run_motion.
             return;
         }
-        while !p.segments.is_empty() && self.planner.len() < self.config.planner_blocks {
+        while !p.segments.is_empty() && self.motion.len() < self.config.planner_blocks {
             let s = p.segments.pop_front().unwrap_or(Segment {
                 to: self.mpos,
                 rate: Rate::Rapid,
             });
-            let from = self.planner.back().map(|b| b.to).unwrap_or(self.mpos);
-            let length = interp::dist(&from, &s.to);
-            self.planner.push_back(Block {
-                from,
-                to: s.to,
-                rate: s.rate,
-                done: 0.0,
-                length,
-            });
+            let (speed, kind) = match s.rate {
+                Rate::Rapid => (f64::INFINITY, MoveKind::Rapid),
+                // grbl's feeds are mm/min; the planner's mm/s.
+                Rate::Feed(f) => (f / 60.0, MoveKind::Feed),
+            };
+            let push = Push {
+                line: 0,
+                end: s.to,
+                speed,
+                kind,
+            };
+            // A block without length queues nothing, as grbl drops blocks without steps;
+            // the parser never lets a zero feed through, so no push fails.
+            if !self.motion.push(push).unwrap_or(false) {
+                continue;
+            }
             self.blocks_pushed += 1;
             if self.state == State::Idle {
                 self.state = if self.jogging { State::Jog } else { State::Run };
@@ -547,29 +559,12 @@ impl Core {
         self.say(&reply);
     }
 
-    fn block_speed(&self, b: &Block) -> f64 {
-        let dir: Vec<f64> = (0..3)
-            .map(|i| (b.to[i] - b.from[i]) / b.length.max(1e-12))
-            .collect();
-        let mut cap = f64::INFINITY;
-        for (i, d) in dir.iter().enumerate() {
-            if d.abs() > 1e-12 {
-                cap = cap.min(self.setting(110 + i as u16) / d.abs());
-            }
-        }
-        let mm_min = match b.rate {
-            Rate::Rapid => cap * self.overrides.1 as f64 / 100.0,
-            Rate::Feed(f) => (f * self.overrides.0 as f64 / 100.0).min(cap),
-        };
-        (mm_min / 60.0).max(1e-6)
-    }
-
-    fn run_motion(&mut self, mut dt: f64) {
+    fn run_motion(&mut self, dt: f64) {
         // Dwell of a waiting line.
         if let Some(p) = self.pending.as_mut() {
             if p.sync
                 && p.dwell > 0.0
-                && self.planner.is_empty()
+                && self.motion.is_empty()
                 && !matches!(self.state, State::Hold(_) | State::Door(_))
             {
                 let used = p.dwell.min(dt);
@@ -579,114 +574,52 @@ impl Core {
                 }
             }
         }
-        if self.planner.is_empty() {
-            self.speed = 0.0;
-            if matches!(self.state, State::Run | State::Jog) && self.pending.is_none() {
-                self.state = State::Idle;
-                self.jogging = false;
+        if self.motion.is_empty() {
+            match self.state {
+                State::Run | State::Jog if self.pending.is_none() => {
+                    self.state = State::Idle;
+                    self.jogging = false;
+                }
+                State::Hold(1) => self.state = State::Hold(0),
+                State::Door(2) => self.state = State::Door(0),
+                _ => {}
             }
             return;
         }
-        let holding = matches!(
+        if !matches!(
             self.state,
-            State::Hold(0)
-                | State::Door(0)
-                | State::Door(1)
-                | State::Alarm
-                | State::Sleep
-                | State::Idle
-                | State::Check
-        );
-        if holding {
-            self.speed = 0.0;
+            State::Run | State::Jog | State::Hold(1) | State::Door(2)
+        ) {
             return;
         }
-        self.stats.busy_seconds += dt;
-        while dt > 0.0 {
-            let Some(b) = self.planner.front().cloned() else {
-                break;
-            };
-            let mut v = self.block_speed(&b);
-            if let Some((left, v0)) = self.decel {
-                let total = (v0 / self.speed.max(1e-9)).max(1.0);
-                let _ = total;
-                // Linear ramp from v0 to 0 over the deceleration time.
-                let accel = if left > 0.0 {
-                    self.speed / left
-                } else {
-                    f64::INFINITY
-                };
-                let step = dt.min(left);
-                let v_end = (self.speed - accel * step).max(0.0);
-                v = 0.5 * (self.speed + v_end);
-                self.decel = Some((left - step, v0));
-                self.speed = v_end;
-                if left - step <= 1e-9 {
-                    self.decel = None;
-                    self.speed = 0.0;
-                    self.state = match self.state {
-                        State::Door(_) => State::Door(0),
-                        _ => State::Hold(0),
-                    };
-                }
-                self.advance_along(v * step);
-                if self.decel.is_none() {
-                    return;
-                }
-                dt -= step;
-                continue;
-            }
-            self.speed = v;
-            let left = b.length - b.done;
-            let t_left = left / v;
-            if t_left <= dt {
-                dt -= t_left;
-                self.mpos = b.to;
-                self.planner.pop_front();
-                self.blocks_done += 1;
-                self.record_done();
-                if self.planner.is_empty() {
-                    self.speed = 0.0;
-                    let more = !self.rx.is_empty() || self.pending.is_some();
-                    if matches!(self.state, State::Run) {
-                        self.starving = Some(self.clock - dt);
-                        self.starving_host_late = self.host_late;
-                        if !more {
-                            self.state = State::Idle;
-                        }
-                    } else if self.state == State::Jog && !more {
-                        self.state = State::Idle;
-                        self.jogging = false;
-                    }
-                    break;
-                }
-            } else {
-                self.advance_along(v * dt);
-                dt = 0.0;
-            }
+        let step = self.motion.advance(dt);
+        self.stats.busy_seconds += dt - step.rest;
+        self.mpos = self.motion.position();
+        self.blocks_done += step.finished as u64;
+        self.record_done();
+        let at_rest = self.motion.held() || self.motion.is_empty();
+        if self.jog_cancelling && at_rest {
+            return self.end_jog_cancel();
         }
-    }
-
-    fn advance_along(&mut self, mut d: f64) {
-        while d > 0.0 {
-            let Some(b) = self.planner.front_mut() else {
-                return;
-            };
-            let left = b.length - b.done;
-            if d >= left {
-                d -= left;
-                self.mpos = b.to;
-                self.planner.pop_front();
-                self.blocks_done += 1;
-                self.record_done();
-            } else {
-                b.done += d;
-                let t = b.done / b.length.max(1e-12);
-                for i in 0..3 {
-                    self.mpos[i] = b.from[i] + (b.to[i] - b.from[i]) * t;
-                }
-                return;
+        match self.state {
+            State::Hold(1) if at_rest => self.state = State::Hold(0),
+            State::Door(2) if at_rest => self.state = State::Door(0),
+            _ => {}
+        }
+        if !self.motion.is_empty() {
+            return;
+        }
+        // The buffer ran dry: the machine stopped at the end of the last block.
+        let more = !self.rx.is_empty() || self.pending.is_some();
+        if self.state == State::Run {
+            self.starving = Some(self.clock - step.rest);
+            self.starving_host_late = self.host_late;
+            if !more {
+                self.state = State::Idle;
             }
+        } else if self.state == State::Jog && !more {
+            self.state = State::Idle;
+            self.jogging = false;
         }
     }
 
@@ -786,6 +719,7 @@ impl Core {
                 }
                 // Homing ends at machine zero; the seek takes travel / seek rate.
                 self.mpos = [0.0; 3];
+                self.motion = new_motion(&self.settings, self.mpos);
                 self.interp.pos = self.mpos;
                 self.state = State::Idle;
             }
@@ -796,6 +730,7 @@ impl Core {
             "RST=$" | "RST=#" | "RST=*" => {
                 if cmd != "RST=#" {
                     self.settings = SETTINGS.iter().map(|s| (s.number, s.default)).collect();
+                    self.motion = new_motion(&self.settings, self.mpos);
                 }
                 if cmd != "RST=$" {
                     self.interp.wcs_offsets = [[0.0; 3]; 6];
@@ -832,6 +767,8 @@ impl Core {
                     return self.reply_error(10);
                 }
                 self.settings.insert(n, v);
+                // Idle, so the buffer is empty: the machine changes under no block.
+                self.motion = new_motion(&self.settings, self.mpos);
                 if n == 12 {
                     self.interp.arc_tolerance = v;
                 }
@@ -873,7 +810,7 @@ impl Core {
             Err(e) => self.reply_error(e),
             Ok(effect) => {
                 if self.beyond_soft_limits(&effect.segments) {
-                    self.interp.pos = self.planner.back().map(|b| b.to).unwrap_or(self.mpos);
+                    self.interp.pos = self.motion.tail();
                     return self.reply_error(15);
                 }
                 self.jogging = true;
@@ -920,7 +857,11 @@ impl Core {
         } else {
             self.interp.spindle_speed
         };
-        s += &format!("|FS:{:.0},{:.0}", self.speed * 60.0 / inch, spindle);
+        s += &format!(
+            "|FS:{:.0},{:.0}",
+            self.motion.speed() * 60.0 / inch,
+            spindle
+        );
         if self.report_counter == 0 {
             s += &format!("|WCO:{}", f(wco));
             self.report_counter = if self.state == State::Idle { 10 } else { 30 };
@@ -956,6 +897,12 @@ impl Core {
     }
 }
 
+/// The planner for the machine the `$` settings describe, at rest at `at`.
+fn new_motion(settings: &BTreeMap<u16, f64>, at: [f64; 3]) -> Incremental {
+    Incremental::new(super::profile::motion_profile(settings), at)
+        .expect("a Cartesian machine has linear kinematics")
+}
+
 fn format_setting(n: u16, v: f64) -> String {
     let unit = messages::setting_info(n).map(|s| s.unit).unwrap_or("");
     if matches!(unit, "mask" | "boolean" | "microseconds" | "milliseconds") {
@@ -989,17 +936,20 @@ mod tests {
     }
 
     #[test]
-    fn boots_answers_and_moves_at_the_programmed_feed() {
+    fn boots_answers_and_moves_with_acceleration() {
         let mut c = Core::new(cfg());
         assert!(take_out(&mut c).contains("Grbl 1.1h ['$' for help]"));
         feed(&mut c, "G1 X10 F600\n");
         c.tick(0.0);
         assert_eq!(take_out(&mut c), "ok\r\n");
         assert_eq!(c.state, State::Run);
-        // 10 mm at 600 mm/min = 1 s: half way after 0.5 s.
+        // 10 mm/s at grbl's default $120 = 10 mm/s²: 1 s and 5 mm up, 1 s and 5 mm down.
         c.tick(0.5);
+        assert!((c.mpos[0] - 1.25).abs() < 1e-9, "{:?}", c.mpos);
+        c.tick(1.0);
         assert!((c.mpos[0] - 5.0).abs() < 1e-9, "{:?}", c.mpos);
-        c.tick(1.0001);
+        assert!(c.status_report().contains("|FS:600,0"));
+        c.tick(2.0001);
         assert_eq!(c.mpos, [10.0, 0.0, 0.0]);
         assert_eq!(c.state, State::Idle);
         feed(&mut c, "G1 X10 Y\n$99=1\n$I\n");
@@ -1030,7 +980,10 @@ mod tests {
         assert_eq!(c.planner_free(), 0);
         // The 16th line waits in the planner queue, so only 15 oks so far.
         assert_eq!(take_out(&mut c).matches("ok").count(), 15);
-        c.tick(1.0001);
+        // 0.1 s and 0.05 mm to reach 1 mm/s at 10 mm/s², then 0.95 s to the block's end.
+        c.tick(1.04);
+        assert_eq!(take_out(&mut c).matches("ok").count(), 0);
+        c.tick(1.06);
         assert_eq!(take_out(&mut c).matches("ok").count(), 1);
     }
 
@@ -1045,15 +998,20 @@ mod tests {
         c.tick(1.0);
         c.realtime(Realtime::FeedHold);
         assert_eq!(c.state, State::Hold(1));
-        // 10 mm/s at 100 mm/s² stops in 0.1 s over 0.5 mm.
+        // 0.1 s and 0.5 mm up to 10 mm/s, then 0.9 s cruising: at 9.5 mm. Braking at
+        // 100 mm/s² takes 0.1 s over 0.5 mm.
+        assert!((c.mpos[0] - 9.5).abs() < 1e-9, "{:?}", c.mpos);
+        c.tick(1.05);
+        assert_eq!(c.state, State::Hold(1));
+        assert!((c.mpos[0] - 9.875).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(1.2);
         assert_eq!(c.state, State::Hold(0));
-        assert!((c.mpos[0] - 10.5).abs() < 1e-6, "{:?}", c.mpos);
+        assert!((c.mpos[0] - 10.0).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(5.0);
-        assert!((c.mpos[0] - 10.5).abs() < 1e-6);
+        assert!((c.mpos[0] - 10.0).abs() < 1e-9);
         c.realtime(Realtime::CycleStart);
         c.tick(6.0);
-        assert!((c.mpos[0] - 20.5).abs() < 1e-6);
+        assert!((c.mpos[0] - 19.5).abs() < 1e-9, "{:?}", c.mpos);
         take_out(&mut c);
         c.realtime(Realtime::SoftReset);
         assert_eq!(c.state, State::Alarm);
@@ -1067,10 +1025,13 @@ mod tests {
         );
     }
 
-    /// The emulator's job time against an independent sum of length / feed per move.
+    /// The emulator's job time against an independent sum of length / feed per move, with
+    /// accelerations so high that the ramps take microseconds.
     #[test]
     fn job_time_is_length_over_feed() {
-        let mut c = Core::new(cfg());
+        let mut config = cfg();
+        config.settings.extend([(120, 1e7), (121, 1e7), (122, 1e7)]);
+        let mut c = Core::new(config);
         let moves = [
             (3.0, 4.0, 600.0),
             (3.0, 0.0, 1200.0),

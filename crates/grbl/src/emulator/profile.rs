@@ -1,9 +1,14 @@
 //! grbl settings from an Oficina machine profile, so the emulator behaves like the machine
 //! the rest of Oficina plans for: steps/mm ($100…), maximum rates ($110…, mm/min),
-//! accelerations ($120…), travel ($130…), junction deviation ($11) and arc tolerance ($12).
+//! accelerations ($120…), travel ($130…), junction deviation ($11) and arc tolerance ($12);
+//! and back: the motion profile the emulator plans with, from its `$` settings.
 
-use oficina_motion::profile::KinematicsKind;
+use oficina_motion::profile::{Joint, KinematicsKind, Shape};
 use oficina_motion::Profile;
+use std::collections::BTreeMap;
+
+/// grbl 1.1's step rate ceiling on a 16 MHz ATmega328P (its documented 30 kHz).
+pub const GRBL_MAX_STEP_RATE: f64 = 30_000.0;
 
 /// The `$N` values a grbl board for `profile` would carry. Only Cartesian machines have a
 /// stock grbl build.
@@ -37,6 +42,42 @@ pub fn grbl_settings(profile: &Profile) -> Result<Vec<(u16, f64)>, String> {
     Ok(out)
 }
 
+/// The Cartesian machine a grbl board with these `$` settings drives (values missing from
+/// `settings` count as 0). Zero or negative rates and accelerations, which grbl accepts but
+/// cannot move with, are raised to a crawl so the emulator never divides by zero.
+pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
+    let get = |n: u16| settings.get(&n).copied().unwrap_or(0.0);
+    let names = KinematicsKind::Cartesian.joint_names();
+    let joint = |i: u16| Joint {
+        name: names[i as usize],
+        steps_per_unit: get(100 + i).max(1e-3),
+        // $110 is mm/min; the profile keeps mm/s.
+        max_rate: get(110 + i).max(1.0) / 60.0,
+        acceleration: get(120 + i).max(0.1),
+        jerk: None,
+        backlash: 0.0,
+        invert_direction: false,
+        limits: None,
+        homing: None,
+    };
+    Profile {
+        name: "grbl $ settings".into(),
+        kinematics: KinematicsKind::Cartesian,
+        joints: [Some(joint(0)), Some(joint(1)), Some(joint(2))],
+        // grbl's machine space with soft limits: [-$13x, 0].
+        travel: [0, 1, 2].map(|i| [-get(130 + i), 0.0]),
+        start: [0.0; 3],
+        junction_deviation: get(11).max(0.0),
+        arc_tolerance: get(12).max(1e-4),
+        path_tolerance: get(12).max(1e-4),
+        shape: Shape::Trapezoid,
+        horizon: f64::INFINITY,
+        max_step_rate: GRBL_MAX_STEP_RATE,
+        default_feed: 1.0,
+        work_offset: [0.0; 3],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -58,5 +99,27 @@ mod tests {
         assert_eq!(s[&130], 800.0);
         assert_eq!(s[&132], 100.0);
         assert_eq!(s[&11], 0.01);
+    }
+
+    #[test]
+    fn settings_become_a_motion_profile_and_back() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../profiles/grbl-router.toml"
+        );
+        let p = Profile::load(std::path::Path::new(path)).unwrap();
+        let s: BTreeMap<u16, f64> = grbl_settings(&p).unwrap().into_iter().collect();
+        let back = motion_profile(&s);
+        for i in 0..3 {
+            let (a, b) = (p.joints[i].unwrap(), back.joints[i].unwrap());
+            assert!((a.max_rate - b.max_rate).abs() < 1e-12);
+            assert_eq!(a.acceleration, b.acceleration);
+            assert_eq!(a.steps_per_unit, b.steps_per_unit);
+        }
+        assert_eq!(back.junction_deviation, p.junction_deviation);
+        // Nonsense settings still give a machine that moves.
+        let zero = motion_profile(&BTreeMap::new());
+        assert!(zero.joints[0].unwrap().max_rate > 0.0);
+        assert!(zero.joints[0].unwrap().acceleration > 0.0);
     }
 }
