@@ -1,6 +1,7 @@
-//! The short way through the interpreter for the block that makes up most programs: a
-//! straight move (`G0`/`G1`, or the modal one) with axis words and perhaps an `F`, in the
-//! LinuxCNC dialect, without cutter compensation or inverse-time feed.
+//! The short way through the interpreter for the blocks that make up most programs: a
+//! move (`G0`…`G3`, or the modal one) with axis words, perhaps an `F` and, for arcs, the
+//! centre or radius words, in the LinuxCNC dialect, without cutter compensation or
+//! inverse-time feed.
 //!
 //! It does exactly what the full path does for such a block (set the feed, set the motion
 //! mode, move, refresh the position parameters) and declines (`None`, nothing changed)
@@ -8,6 +9,7 @@
 //! every message keep their single implementation in the full path.
 
 use super::state::Motion;
+use super::words::Decoded;
 use super::{Flow, Interpreter, Sink};
 use crate::block::Block;
 use crate::params::Params;
@@ -34,6 +36,7 @@ impl Interpreter {
         // Axis values in `Pos` order, and which were given.
         let mut axes = [0.0; 6];
         let mut given = 0u8;
+        let mut arc_words = false;
         for w in &block.words {
             let axis = match w.letter {
                 'G' if !g_seen => {
@@ -41,8 +44,15 @@ impl Interpreter {
                     motion = match w.value {
                         0.0 => Motion::Rapid,
                         1.0 => Motion::Linear,
+                        2.0 => Motion::Clockwise,
+                        3.0 => Motion::CounterClockwise,
                         _ => return None,
                     };
+                    continue;
+                }
+                // Arc words: checked against the motion below, read by the arc code.
+                'I' | 'J' | 'K' | 'R' | 'P' => {
+                    arc_words = true;
                     continue;
                 }
                 'F' if feed.is_none() && w.value >= 0.0 => {
@@ -63,17 +73,26 @@ impl Interpreter {
             given |= 1 << axis;
             axes[axis] = w.value;
         }
-        let k = self.k();
-        let new_feed = feed.map(|f| f * k);
-        let feeding = match motion {
+        let new_feed = feed.map(|f| f * self.k());
+        let feed_ok = new_feed.unwrap_or(self.modal.feed) > 0.0;
+        // A zero feed, and I J K R P without an arc, are the full path's to report.
+        let arc = match motion {
+            Motion::Rapid | Motion::Linear if arc_words => return None,
             Motion::Rapid => false,
-            // "Cannot do g1 with zero feed rate" is the full path's to report.
-            Motion::Linear if new_feed.unwrap_or(self.modal.feed) > 0.0 => true,
+            Motion::Linear if feed_ok => false,
+            Motion::Clockwise | Motion::CounterClockwise if feed_ok => true,
             _ => return None,
         };
         if given == 0 {
             return None;
         }
+        let end = self.target(&axes, given);
+        // An arc's centre and turns, or the error that sends the block the full way.
+        let arc = if arc {
+            Some(self.arc_geometry(block, motion, end)?)
+        } else {
+            None
+        };
         // Committed: the full path's steps for this block, in its order.
         self.line = block.line;
         if let Some(f) = new_feed {
@@ -82,6 +101,19 @@ impl Interpreter {
         }
         self.modal.motion = motion;
         self.cycle.reset();
+        match arc {
+            Some((center, turns)) => self.emit_arc(sink, end, center, turns),
+            None => self.emit_straight(sink, motion == Motion::Linear, end),
+        }
+        self.pos = end;
+        self.update_params(params);
+        Some(Flow::Continue)
+    }
+
+    /// The end point of a move to the `given` axes (bit i for `axes[i]`), as
+    /// `axis_target` computes it.
+    fn target(&self, axes: &[f64; 6], given: u8) -> [f64; 6] {
+        let k = self.k();
         let mut end = self.pos;
         for (i, &v) in axes.iter().enumerate() {
             if given & (1 << i) != 0 {
@@ -93,10 +125,35 @@ impl Interpreter {
                 };
             }
         }
-        self.emit_straight(sink, feeding, end);
-        self.pos = end;
-        self.update_params(params);
-        Some(Flow::Continue)
+        end
+    }
+
+    /// Centre and turns of the arc of `block` to `end` in the current plane, by the full
+    /// path's own code (which reads the direction from the motion mode, so `motion` is set
+    /// while it runs); `None`, with nothing changed, on any error.
+    fn arc_geometry(
+        &mut self,
+        block: &Block,
+        motion: Motion,
+        end: [f64; 6],
+    ) -> Option<([f64; 2], i32)> {
+        let previous = std::mem::replace(&mut self.modal.motion, motion);
+        let (a0, a1, _) = self.modal.plane.axes();
+        let mut d = self
+            .decoded
+            .take()
+            .unwrap_or_else(|| Box::new(Decoded::empty()));
+        let geometry = d.fill(block).ok().and_then(|_| {
+            let center = self
+                .arc_center(&d, [self.pos[a0], self.pos[a1]], [end[a0], end[a1]])
+                .ok()?;
+            Some((center, self.arc_turns(&d).ok()?))
+        });
+        self.decoded = Some(d);
+        if geometry.is_none() {
+            self.modal.motion = previous;
+        }
+        geometry
     }
 }
 
@@ -122,6 +179,7 @@ mod tests {
             Just(-0.0),
             Just(1.0),
             Just(2.0),
+            Just(3.0),
             Just(1.0000001),
             Just(20.0),
             Just(21.0),
@@ -132,7 +190,49 @@ mod tests {
             Just(-1.0),
             -100.0..100.0f64,
         ];
-        ("[GGGXYZAFMN]", value).prop_map(|(l, v)| (l.chars().next().unwrap(), v))
+        ("[GGGXYZAFMNIJKRP]", value).prop_map(|(l, v)| (l.chars().next().unwrap(), v))
+    }
+
+    /// Runs `blocks` with and without the short way, checking after each block that the
+    /// operations, errors and state agree; returns how many blocks took the short way.
+    fn run_both(blocks: &[Vec<(char, f64)>]) -> Result<usize, TestCaseError> {
+        let make = || {
+            Interpreter::new(
+                Dialect::LinuxCnc,
+                &StartState::default(),
+                ToolTable::default(),
+            )
+        };
+        let (mut fast, mut full) = (make(), make());
+        let (mut fast_params, mut full_params) = (Params::new(), Params::new());
+        let (mut fast_ops, mut full_ops) = (Vec::<Canon>::new(), Vec::<Canon>::new());
+        let mut short = 0;
+        for (n, words) in blocks.iter().enumerate() {
+            let block = Block {
+                line: n as u32 + 1,
+                words: words
+                    .iter()
+                    .map(|&(letter, value)| Word {
+                        letter,
+                        value,
+                        span: Span::new(n as u32 + 1, 1, 2),
+                    })
+                    .collect(),
+                ..Block::default()
+            };
+            let a = match fast.simple_move(&block, &mut fast_params, &mut |c| fast_ops.push(c)) {
+                Some(flow) => {
+                    short += 1;
+                    Ok(flow)
+                }
+                None => fast.execute_full(&block, &mut fast_params, &mut |c| fast_ops.push(c)),
+            };
+            let b = full.execute_full(&block, &mut full_params, &mut |c| full_ops.push(c));
+            prop_assert_eq!(format!("{a:?}"), format!("{b:?}"), "block {}", n + 1);
+            prop_assert_eq!(&fast_ops, &full_ops, "block {}", n + 1);
+            prop_assert_eq!(state(&fast, &fast_params), state(&full, &full_params));
+        }
+        Ok(short)
     }
 
     proptest! {
@@ -140,26 +240,27 @@ mod tests {
         /// take the short way or not.
         #[test]
         fn the_short_way_changes_nothing(blocks in prop::collection::vec(prop::collection::vec(word(), 0..5), 1..25)) {
-            let make = || Interpreter::new(Dialect::LinuxCnc, &StartState::default(), ToolTable::default());
-            let (mut fast, mut full) = (make(), make());
-            let (mut fast_params, mut full_params) = (Params::new(), Params::new());
-            let (mut fast_ops, mut full_ops) = (Vec::<Canon>::new(), Vec::<Canon>::new());
-            for (n, words) in blocks.iter().enumerate() {
-                let block = Block {
-                    line: n as u32 + 1,
-                    words: words
-                        .iter()
-                        .map(|&(letter, value)| Word { letter, value, span: Span::new(n as u32 + 1, 1, 2) })
-                        .collect(),
-                    ..Block::default()
-                };
-                let a = fast.execute(&block, &mut fast_params, &mut |c| fast_ops.push(c));
-                let b = full.execute_full(&block, &mut full_params, &mut |c| full_ops.push(c));
-                prop_assert_eq!(format!("{a:?}"), format!("{b:?}"));
-                prop_assert_eq!(&fast_ops, &full_ops);
-                prop_assert_eq!(state(&fast, &fast_params), state(&full, &full_params));
-            }
+            run_both(&blocks)?;
         }
+    }
+
+    #[test]
+    fn arcs_the_short_way_match_the_full_path() {
+        let b = |words: &[(char, f64)]| words.to_vec();
+        let blocks = [
+            b(&[('G', 1.0), ('X', 0.0), ('Y', 0.0), ('F', 100.0)]),
+            b(&[('G', 2.0), ('X', 10.0), ('Y', 0.0), ('I', 5.0), ('J', 0.0)]),
+            b(&[('G', 3.0), ('X', 0.0), ('Y', 0.0), ('I', -5.0), ('J', 0.0)]),
+            b(&[('G', 2.0), ('X', 10.0), ('Y', 0.0), ('R', 5.0)]),
+            b(&[('G', 3.0), ('X', 0.0), ('Y', 0.0), ('R', -5.0), ('P', 2.0)]),
+            b(&[('X', 10.0), ('Y', 0.0), ('R', 5.0), ('Z', -1.0)]),
+            b(&[('G', 2.0), ('X', 10.0), ('Y', 0.0), ('I', 7.0), ('J', 0.0)]),
+            b(&[('G', 2.0), ('X', 0.0), ('I', 5.0), ('P', 1.5)]),
+            b(&[('G', 3.0), ('X', 10.0), ('I', 5.0), ('K', 1.0)]),
+        ];
+        let short = run_both(&blocks).unwrap();
+        // Block 7 is a whole circle (it ends where it starts); 8 and 9 are errors.
+        assert_eq!(short, 7, "the last two blocks are errors for the full path");
     }
 
     #[test]
@@ -195,7 +296,8 @@ mod tests {
             .is_some());
         assert_eq!(ops.len(), 3, "{ops:?}");
         for declined in [
-            &[('G', 2.0), ('X', 1.0)][..],
+            &[('G', 4.0), ('X', 1.0)][..],
+            &[('G', 1.0), ('X', 1.0), ('I', 1.0)],
             &[('X', 1.0), ('X', 2.0)],
             &[('F', -1.0), ('X', 1.0)],
             &[('G', 1.0)],
