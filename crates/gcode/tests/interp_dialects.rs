@@ -154,3 +154,99 @@ fn grbl_rejects_what_grbl_rejects_with_its_numbers() {
         .unwrap()
         .contains("six work coordinate systems"));
 }
+
+fn grbl(text: &str) -> Run {
+    run_with(
+        text,
+        Dialect::Grbl,
+        Default::default(),
+        StartState::default(),
+    )
+}
+
+#[test]
+fn grbl_starts_in_g0_so_bare_axis_words_move() {
+    // grbl's gc_init zeroes the modal state: motion mode G0, so `G91 X1` is a rapid.
+    let r = grbl("G91 X1\nY2\n");
+    assert!(r.errors.is_empty(), "{:?}", r.errors);
+    assert_eq!(moves(&r), vec![('R', [1.0, 0.0]), ('R', [1.0, 2.0])]);
+    // LinuxCNC has no motion mode at start: the same block is an error there.
+    let r = run_with(
+        "G91 X1\n",
+        Dialect::LinuxCnc,
+        Default::default(),
+        StartState::default(),
+    );
+    assert!(
+        r.errors[0].message.contains("without a g code"),
+        "{:?}",
+        r.errors
+    );
+}
+
+#[test]
+fn grbl_g10_checks_axis_words_before_l_and_p() {
+    assert_eq!(grbl_code("G10 L2 P1\n"), Some(26));
+    assert_eq!(grbl_code("G10 L20 P1\n"), Some(26));
+    assert_eq!(grbl_code("G10 L3 P1\n"), Some(26));
+    assert_eq!(grbl_code("G10 L2 X1\n"), Some(28));
+    assert_eq!(grbl_code("G10 P1 X1\n"), Some(28));
+    assert_eq!(grbl_code("G10 L2 P7 X1\n"), Some(29));
+    assert_eq!(grbl_code("G10 L3 P1 X1\n"), Some(20));
+    assert_eq!(grbl_code("G10 L2 P1 R5 X1\n"), Some(20));
+    // The offset is still set when the block is whole.
+    let r = grbl("G10 L2 P1 X10\nG54 G0 X0\n");
+    assert!(r.errors.is_empty(), "{:?}", r.errors);
+    assert_eq!(moves(&r).last(), Some(&('R', [10.0, 0.0])));
+}
+
+#[test]
+fn grbl_probes_feed_straight_to_the_target() {
+    for code in ["G38.2", "G38.3", "G38.4", "G38.5"] {
+        let r = grbl(&format!("G21 G90 F100\n{code} Z-5\nX2\n"));
+        assert!(r.errors.is_empty(), "{code}: {:?}", r.errors);
+        let feeds: Vec<Pos> = r
+            .ops
+            .iter()
+            .filter_map(|c| match &c.op {
+                CanonOp::StraightFeed { to } => Some(*to),
+                _ => None,
+            })
+            .collect();
+        // No probe input: the move ends at the target; the motion mode then is G1.
+        assert_eq!(
+            feeds,
+            vec![Pos::xyz(0.0, 0.0, -5.0), Pos::xyz(2.0, 0.0, -5.0)],
+            "{code}"
+        );
+    }
+    // grbl's G38 errors, in gcode.c's order: feed, axis words, target.
+    assert_eq!(grbl_code("G38.2 Z-5\n"), Some(22));
+    assert_eq!(grbl_code("F100 G38.2\n"), Some(26));
+    assert_eq!(grbl_code("F100 G38.2 Z0\n"), Some(33));
+    assert_eq!(grbl_code("F100 G91 G38.2 Z0 X0\n"), Some(33));
+    // Inverse time wants F in the probing block itself.
+    assert_eq!(grbl_code("F100\nG93 G38.2 Z-5\n"), Some(22));
+    assert_eq!(grbl_code("G93 G38.2 Z-5 F100\n"), None);
+    assert_eq!(grbl_code("F100 G38.1 Z-5\n"), Some(20));
+}
+
+#[test]
+fn linuxcnc_and_legacy_still_refuse_probing() {
+    for dialect in [Dialect::LinuxCnc, Dialect::Legacy2006] {
+        let r = run_with(
+            "G21 G90 F100\nG38.2 Z-5\n",
+            dialect,
+            Default::default(),
+            StartState::default(),
+        );
+        assert_eq!(r.errors.len(), 1, "{dialect:?}");
+        let e = &r.errors[0];
+        assert_eq!(e.message, "Unknown g code used: G38.2", "{dialect:?}");
+        assert_eq!(e.span.line, 2);
+        assert!(
+            e.help.as_deref().unwrap().contains("probing"),
+            "{dialect:?}"
+        );
+    }
+}

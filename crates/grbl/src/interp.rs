@@ -537,6 +537,10 @@ impl Interp {
                 if p.fract() != 0.0 || p > 6.0 {
                     return Err(E_UNSUPPORTED_WCS);
                 }
+                // gcode.c: "[G10 L2 R not supported]".
+                if l == 2.0 && take('R').is_some() {
+                    return Err(E_UNSUPPORTED);
+                }
                 let index = if p == 0.0 {
                     self.modal.wcs as usize
                 } else {

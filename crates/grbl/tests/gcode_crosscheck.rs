@@ -33,13 +33,28 @@ fn theirs(line: &str) -> Option<u16> {
         .map(|d| d.code.unwrap_or(0))
 }
 
-/// Lines on which oficina-gcode's grbl dialect differed when this test was written, with
-/// what grbl 1.1h does (gcode.c): the power-up motion mode is G0 (gc_init zeroes it), so bare
-/// axis words move; G10 checks axis words before L/P (error 26); G38.2 is standard in 1.1.
+/// Lines on which oficina-gcode's grbl dialect once differed from the emulator, with what
+/// grbl 1.1h does (gcode.c): the power-up motion mode is G0 (gc_init zeroes it), so bare
+/// axis words move; G10 checks axis words before L/P (error 26); G38.2 is standard in 1.1
+/// and checks feed (22), axis words (26), then a target that is not the current point (33).
+/// Both implementations must give grbl's verdict.
 const GRBL_SOURCE_RULINGS: &[(&str, Option<u16>)] = &[
     ("G91 X1", None),
+    ("X1", None),
     ("G10 L2 P1", Some(26)),
+    ("G10 L20 P1", Some(26)),
+    ("G10 L3 P1", Some(26)),
     ("G38.2 Z-5", None),
+    ("G38.3 Z-5", None),
+    ("G38.4 X2", None),
+    ("G38.5 Y-3", None),
+    ("G38.2", Some(26)),
+    ("G38.2 Z0", Some(33)),
+    ("G91 G38.2 Z0", Some(33)),
+    ("G93 G38.2 Z-5", Some(22)),
+    ("G93 G38.2 Z-5 F50", None),
+    ("G38.1 Z-5", Some(20)),
+    ("G10 L2 P1 R5 X1", Some(20)),
 ];
 
 #[test]
@@ -73,16 +88,20 @@ fn grbl_verdicts_agree() {
         "M6",
         "G38.2 Z-5",
         "G53 G2 X1 I1",
+        "G92",
+        "G10 L2 P7 X1",
+        "G10 L20 X1",
+        "G10 L2 X1",
+        "G38.2 G0 Z-5",
+        "G38.2 Z-5 P1",
     ];
     let mut disagree = Vec::new();
     for (c, grbl) in GRBL_SOURCE_RULINGS {
         // Where the two differ, grbl 1.1h's gcode.c decides; the emulator must follow it.
-        assert_eq!(ours(c), *grbl, "{c}");
+        assert_eq!(ours(c), *grbl, "emulator on {c}");
+        assert_eq!(theirs(c), *grbl, "oficina-gcode on {c}");
     }
-    for c in cases
-        .into_iter()
-        .filter(|c| !GRBL_SOURCE_RULINGS.iter().any(|(r, _)| r == c))
-    {
+    for c in cases {
         let (a, b) = (ours(c), theirs(c));
         if a != b {
             disagree.push(format!("{c:?}: emulator {a:?}, oficina-gcode {b:?}"));

@@ -1,14 +1,19 @@
 //! The two dialects beside LinuxCNC's.
 //!
 //! grbl 1.1 (gcode.c, report.c): the same interpreter, but only grbl's G/M set is accepted
-//! and errors carry grbl's `error:N` numbers and texts.
+//! and errors carry grbl's `error:N` numbers and texts. The motion mode at power-up is G0,
+//! as in grbl. Probing (G38.2 to G38.5) is checked as grbl checks it (feed, axis words, a
+//! target that is not the current point) and then runs as a straight feed to the target:
+//! Oficina's machines have no probe input, so a probe never trips and the move ends at the
+//! target; the motion mode afterwards is G1.
 //!
 //! Legacy 2006 (seed 002, §3): G90/G91 are themselves linear feed moves (absolute /
 //! incremental), I J are absolute arc centres, motion codes are modal, G0 is a rapid.
 
-use super::words::{g_group as G, m_group as M, Decoded};
+use super::words::{g_group as G, m_group as M, unknown_g, Decoded};
 use super::Interpreter;
 use crate::diag::Diagnostic;
+use oficina_canon::FeedMode;
 
 /// grbl's text for an error number (report.c / the grbl wiki's error table).
 pub fn grbl_text(code: u16) -> &'static str {
@@ -64,12 +69,12 @@ fn unsupported(d: &Decoded, span: crate::diag::Span, what: String) -> Diagnostic
 }
 
 /// Reject what grbl 1.1 rejects before the common interpreter sees the block.
-pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
+pub fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Diagnostic> {
     for (group, code) in d.g.iter().enumerate() {
         let Some(c) = code else { continue };
         let ok = match group {
             G::NON_MODAL => matches!(c.tenths, 40 | 100 | 280 | 281 | 300 | 301 | 530 | 920 | 921),
-            G::MOTION => matches!(c.tenths, 0 | 10 | 20 | 30 | 800),
+            G::MOTION => matches!(c.tenths, 0 | 10 | 20 | 30 | 382..=385 | 800),
             G::ARC_DISTANCE => c.tenths == 911,
             G::FEED_MODE => matches!(c.tenths, 930 | 940),
             G::CUTTER_COMP => c.tenths == 400,
@@ -114,12 +119,47 @@ pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
         }
     }
     if d.g_in(G::NON_MODAL) == Some(100) {
-        let l = d.get('L');
-        if !matches!(l, Some(v) if v == 2.0 || v == 20.0) {
+        // gcode.c checks the axis words of G10 before its L and P words.
+        if !d.any_axis() {
+            return Err(grbl_error(
+                Diagnostic::error(
+                    d.g_span(G::NON_MODAL),
+                    "G10 without axis words: nothing to set",
+                ),
+                26,
+            ));
+        }
+        let (Some(l), Some(p)) = (d.get('L'), d.get('P')) else {
+            let missing = if d.has('L') { 'P' } else { 'L' };
+            return Err(grbl_error(
+                Diagnostic::error(
+                    d.g_span(G::NON_MODAL),
+                    format!("G10 without an {missing} word"),
+                ),
+                28,
+            ));
+        };
+        if p.trunc() > 6.0 {
+            return Err(grbl_error(
+                Diagnostic::error(
+                    d.span_of('P'),
+                    format!("G10 P{p}: grbl has six work coordinate systems (P0 to P6)"),
+                ),
+                29,
+            ));
+        }
+        if l != 2.0 && l != 20.0 {
             return Err(unsupported(
                 d,
                 d.span_of('L'),
                 "grbl supports G10 L2 and L20 only".into(),
+            ));
+        }
+        if l == 2.0 && d.has('R') {
+            return Err(unsupported(
+                d,
+                d.span_of('R'),
+                "G10 L2 R (a rotation) is not supported by grbl".into(),
             ));
         }
     }
@@ -173,7 +213,76 @@ pub fn check_grbl(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
             ));
         }
     }
+    if let Some(probe) = d.g[G::MOTION].filter(|c| (382..=385).contains(&c.tenths)) {
+        check_grbl_probe(interp, d)?;
+        // No probe input to trip: the probe is a feed to its target.
+        d.g[G::MOTION] = Some(super::words::Code {
+            tenths: 10,
+            span: probe.span,
+        });
+    }
     Ok(())
+}
+
+/// grbl's G38 errors, in gcode.c's order: no feed (22), no axis words (26), a target equal
+/// to the current point (33).
+fn check_grbl_probe(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic> {
+    let span = d.g_span(G::MOTION);
+    let inverse_time = match d.g_in(G::FEED_MODE) {
+        Some(930) => true,
+        Some(_) => false,
+        None => interp.modal.feed_mode == FeedMode::InverseTime,
+    };
+    let feed = if inverse_time {
+        d.get('F').unwrap_or(0.0)
+    } else {
+        d.get('F').unwrap_or(interp.modal.feed)
+    };
+    if feed == 0.0 {
+        return Err(grbl_error(
+            Diagnostic::error(span, "probe without a feed rate; set F"),
+            22,
+        ));
+    }
+    if !d.any_axis() {
+        return Err(grbl_error(
+            Diagnostic::error(span, "probe without axis words: no target"),
+            26,
+        ));
+    }
+    // The target as the block's own G90/G91 and G20/G21 make it.
+    let incremental = match d.g_in(G::DISTANCE) {
+        Some(t) => t == 910,
+        None => interp.modal.incremental,
+    };
+    let k = match d.g_in(G::UNITS) {
+        Some(200) => 25.4,
+        Some(_) => 1.0,
+        None => interp.k(),
+    };
+    let same = (0..3).all(|i| match d.get(super::AXES[i]) {
+        Some(v) if incremental => v == 0.0,
+        Some(v) => v * k == interp.pos[i],
+        None => true,
+    });
+    if same {
+        return Err(grbl_error(
+            Diagnostic::error(span, "probe target is the current point"),
+            33,
+        ));
+    }
+    Ok(())
+}
+
+/// LinuxCNC and the legacy dialect: probing is not supported (the machines have no probe),
+/// with the message an unknown code gets.
+pub fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
+    match d.g[G::MOTION] {
+        Some(c) if (382..=385).contains(&c.tenths) => {
+            Err(unknown_g(c.span, f64::from(c.tenths) / 10.0))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Rewrite a seed-002 block into its LinuxCNC meaning: `G90`/`G91` become `G1` plus the

@@ -99,6 +99,10 @@ impl Interpreter {
     pub fn new(dialect: Dialect, start: &StartState, tools: ToolTable) -> Interpreter {
         let mut modal = Modal::new(start.units);
         modal.feed = start.feed;
+        if dialect == Dialect::Grbl {
+            // grbl's gc_init zeroes its state: the motion mode at power-up is G0.
+            modal.motion = Motion::Rapid;
+        }
         if dialect == Dialect::Legacy2006 {
             // Seed 002: I and J are absolute centres; the feed is the machine's.
             modal.arc_incremental = false;
@@ -226,8 +230,11 @@ impl Interpreter {
         })?;
         match self.dialect {
             Dialect::Grbl => dialect::check_grbl(self, d)?,
-            Dialect::Legacy2006 => dialect::translate_legacy(d),
-            Dialect::LinuxCnc => {}
+            Dialect::Legacy2006 => {
+                dialect::refuse_probe(d)?;
+                dialect::translate_legacy(d)
+            }
+            Dialect::LinuxCnc => dialect::refuse_probe(d)?,
         }
         self.check_words(d)?;
         let flow = self.run_block(d, block, params, sink)?;

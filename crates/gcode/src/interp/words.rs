@@ -54,6 +54,9 @@ pub fn group_of_g(tenths: u16) -> Option<usize> {
         0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880 | 890 => {
             MOTION
         }
+        // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
+        // refuse them after decoding (dialect::refuse_probe).
+        382..=385 => MOTION,
         170 | 180 | 190 => PLANE,
         900 | 910 => DISTANCE,
         901 | 911 => ARC_DISTANCE,
@@ -295,7 +298,7 @@ fn to_tenths(v: f64) -> Option<u16> {
     ((x - f64::from(t)).abs() < 1e-6).then_some(t)
 }
 
-fn unknown_g(span: Span, value: f64) -> Diagnostic {
+pub(crate) fn unknown_g(span: Span, value: f64) -> Diagnostic {
     let help = match to_tenths(value) {
         Some(50 | 51 | 52 | 70 | 80 | 330 | 331 | 382 | 383 | 384 | 385 | 760 | 960 | 970) => {
             "this LinuxCNC code (splines, lathe, threading, probing, CSS) is not supported by Oficina"
@@ -345,7 +348,7 @@ mod tests {
         assert_eq!(e.message, "Multiple x words on one line");
         let e = Decoded::from_block(&block(&[('G', 1.5)])).unwrap_err();
         assert!(e.message.starts_with("Unknown g code"));
-        let e = Decoded::from_block(&block(&[('G', 38.2)])).unwrap_err();
+        let e = Decoded::from_block(&block(&[('G', 33.0)])).unwrap_err();
         assert!(e.help.unwrap().contains("not supported"));
         assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
         assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());
