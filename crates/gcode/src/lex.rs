@@ -166,8 +166,9 @@ pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
         }
     }
     // Two tight loops (integer part, fraction) rather than one loop with a state: this is
-    // the hottest code of the whole front end. `i < s.len()` lets the compiler drop the
-    // bounds checks.
+    // the hottest code of the whole front end. The mantissa may wrap when there are more
+    // than 19 digits, but it is only used for 15 digits or fewer (the rest are parsed by
+    // the standard library). `i < s.len()` lets the compiler drop the bounds checks.
     let mut mantissa: u64 = 0;
     let mut i = 0;
     while i < s.len() {
@@ -175,28 +176,23 @@ pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
         if d > 9 {
             break;
         }
-        if i < 19 {
-            mantissa = mantissa * 10 + u64::from(d);
-        }
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
         i += 1;
     }
-    let mut digits = i;
+    let int_digits = i;
     let mut frac_digits = 0usize;
     if i < s.len() && s[i] == b'.' {
         i += 1;
+        let frac_start = i;
         while i < s.len() {
             let d = s[i].wrapping_sub(b'0');
             if d > 9 {
                 break;
             }
-            // Only the first 19 significant digits go into the mantissa.
-            if digits < 19 {
-                mantissa = mantissa * 10 + u64::from(d);
-                frac_digits += 1;
-            }
-            digits += 1;
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
             i += 1;
         }
+        frac_digits = i - frac_start;
         if i < s.len() && s[i] == b'.' {
             return Some(Err(i + 1));
         }
@@ -204,16 +200,17 @@ pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
     if i == 0 {
         return None;
     }
+    let digits = int_digits + frac_digits;
     if digits == 0 {
         return Some(Err(i));
     }
-    const POW10: [f64; 23] = [
-        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    const POW10: [f64; 16] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
     ];
-    if digits <= 15 && frac_digits < POW10.len() {
-        // Both the mantissa (< 2^53) and the power are exact: one correctly rounded division.
-        return Some(Ok((mantissa as f64 / POW10[frac_digits], i)));
+    if digits <= 15 {
+        // Both the mantissa (< 10^15 < 2^53, so exact through i64) and the power are
+        // exact: one correctly rounded division.
+        return Some(Ok((mantissa as i64 as f64 / POW10[frac_digits], i)));
     }
     // Only ASCII digits and one point: always valid UTF-8 and a valid Rust float literal.
     let text = std::str::from_utf8(&s[..i]).unwrap_or("0");
