@@ -176,7 +176,7 @@ const INV_FACTORIAL: [Dd; 28] = [
 fn series(u: Dd, first: usize) -> Dd {
     let term = |k: usize| {
         let c = INV_FACTORIAL[first + 2 * k];
-        if k % 2 == 0 {
+        if k.is_multiple_of(2) {
             c
         } else {
             c.neg()
