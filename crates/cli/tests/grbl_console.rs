@@ -36,6 +36,13 @@ fn start_emulator() -> (Emu, String) {
             "111=60000",
             "--set",
             "112=60000",
+            // The emulator accelerates: fast ramps keep the jobs short.
+            "--set",
+            "120=20000",
+            "--set",
+            "121=20000",
+            "--set",
+            "122=20000",
         ])
         .stdout(Stdio::piped())
         .spawn()
