@@ -341,14 +341,13 @@ impl Interpreter {
                         .partial_cmp(&len(sub(*b, corner)))
                         .unwrap_or(std::cmp::Ordering::Equal)
                 });
-                let prev_start = match prev {
-                    Seg::Line { start, .. } | Seg::Arc { start, .. } => start,
-                };
+                // A line gouges when the corner point falls behind its start; an arc's
+                // candidates all lie on the arc itself (the nearest to the corner was kept).
                 let gouge = match best {
                     None => true,
                     Some(x) => match prev {
                         Seg::Line { start, dir, .. } => dot(sub(x, start), dir) < -1e-9,
-                        Seg::Arc { .. } => len(sub(x, prev_start)) < 1e-12 && false,
+                        Seg::Arc { .. } => false,
                     },
                 };
                 if gouge {
