@@ -23,10 +23,22 @@ pub struct Pos {
 }
 
 impl Pos {
-    pub const ZERO: Pos = Pos { x: 0.0, y: 0.0, z: 0.0, a: 0.0, b: 0.0, c: 0.0 };
+    pub const ZERO: Pos = Pos {
+        x: 0.0,
+        y: 0.0,
+        z: 0.0,
+        a: 0.0,
+        b: 0.0,
+        c: 0.0,
+    };
 
     pub fn xyz(x: f64, y: f64, z: f64) -> Pos {
-        Pos { x, y, z, ..Pos::ZERO }
+        Pos {
+            x,
+            y,
+            z,
+            ..Pos::ZERO
+        }
     }
 
     pub fn to_array(self) -> [f64; 6] {
@@ -34,7 +46,14 @@ impl Pos {
     }
 
     pub fn from_array(v: [f64; 6]) -> Pos {
-        Pos { x: v[0], y: v[1], z: v[2], a: v[3], b: v[4], c: v[5] }
+        Pos {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+            a: v[3],
+            b: v[4],
+            c: v[5],
+        }
     }
 
     /// Euclidean distance of the linear axes.
@@ -114,21 +133,36 @@ pub enum SpindleDir {
 pub enum CanonOp {
     UseLengthUnits(Units),
     /// Work coordinate system `index` (1 = G54 … 9 = G59.3) is active with this offset.
-    SetG5xOffset { index: u8, offset: Pos },
+    SetG5xOffset {
+        index: u8,
+        offset: Pos,
+    },
     SetG92Offset(Pos),
     /// Rotation of the XY plane of the active coordinate system, degrees.
     SetXyRotation(f64),
     SelectPlane(Plane),
     SetFeedRate(f64),
     SetFeedMode(FeedMode),
-    SetMotionControlMode { mode: MotionMode, tolerance: f64 },
+    SetMotionControlMode {
+        mode: MotionMode,
+        tolerance: f64,
+    },
     SetNaivecamTolerance(f64),
-    StraightTraverse { to: Pos },
-    StraightFeed { to: Pos },
+    StraightTraverse {
+        to: Pos,
+    },
+    StraightFeed {
+        to: Pos,
+    },
     /// Arc (or helix) in `plane` ending at `end`, about `center` given as the two in-plane
     /// coordinates (first, second); `turns` > 0 is counter-clockwise, < 0 clockwise, and its
     /// magnitude counts full turns plus the partial one (1 = less than one full turn).
-    ArcFeed { plane: Plane, end: Pos, center: [f64; 2], turns: i32 },
+    ArcFeed {
+        plane: Plane,
+        end: Pos,
+        center: [f64; 2],
+        turns: i32,
+    },
     Dwell(f64),
     SetSpindleSpeed(f64),
     StartSpindle(SpindleDir),
@@ -168,7 +202,9 @@ impl CanonOp {
     pub fn is_motion(&self) -> bool {
         matches!(
             self,
-            CanonOp::StraightTraverse { .. } | CanonOp::StraightFeed { .. } | CanonOp::ArcFeed { .. }
+            CanonOp::StraightTraverse { .. }
+                | CanonOp::StraightFeed { .. }
+                | CanonOp::ArcFeed { .. }
         )
     }
 }

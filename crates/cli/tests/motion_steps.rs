@@ -13,6 +13,8 @@ fn step_files_match_the_closed_form_and_each_other() {
     let (csv, runs) = (dir.join("steps.csv"), dir.join("steps.txt"));
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .args(["plan", prog.to_str().unwrap(), "--machine", "grbl-router"])
+        // Machine coordinates: no stored work offset, so G1 X10 is 2000 steps from home.
+        .args(["--work-offset", "0,0,0"])
         .args(["--steps", csv.to_str().unwrap()])
         .args(["--steps-compressed", runs.to_str().unwrap()])
         .output()

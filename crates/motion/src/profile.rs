@@ -217,7 +217,10 @@ fn work_offset(
             return Err(err(
                 file,
                 "work.g54",
-                format!("{axis} = {} lies outside travel.{axis} [{lo}, {hi}]", w.g54[i]),
+                format!(
+                    "{axis} = {} lies outside travel.{axis} [{lo}, {hi}]",
+                    w.g54[i]
+                ),
             ));
         }
     }
@@ -228,7 +231,9 @@ impl Profile {
     /// The parameter values the machine holds at power-up, for the interpreter: the stored
     /// G54 offset in #5221…#5223 (LinuxCNC's numbering), in mm.
     pub fn initial_params(&self) -> Vec<(i64, f64)> {
-        (0..3).map(|i| (5221 + i as i64, self.work_offset[i])).collect()
+        (0..3)
+            .map(|i| (5221 + i as i64, self.work_offset[i]))
+            .collect()
     }
 
     /// Reads and validates a profile file.
