@@ -2,6 +2,44 @@
 //! `#<_name>` (global), as LinuxCNC keeps them.
 
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// Names are short and hashed on every `#<name>` read: the multiply-rotate hash rustc uses
+/// (FxHash) costs a few instructions per 8 bytes, where the default SipHash costs ~100.
+#[derive(Default, Clone, Copy)]
+struct NameHasher(u64);
+
+impl NameHasher {
+    const SEED: u64 = 0x51_7c_c1_b7_27_22_0a_95;
+
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(Self::SEED);
+    }
+}
+
+impl Hasher for NameHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        let mut chunks = bytes.chunks_exact(8);
+        for c in &mut chunks {
+            self.add(u64::from_le_bytes(c.try_into().unwrap_or([0; 8])));
+        }
+        let mut last = [0u8; 8];
+        let rest = chunks.remainder();
+        last[..rest.len()].copy_from_slice(rest);
+        // The length tells "a" from "a\0" apart.
+        self.add(u64::from_le_bytes(last) ^ ((rest.len() as u64) << 59));
+    }
+
+    fn write_u8(&mut self, b: u8) {
+        self.add(u64::from(b));
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+type NameMap = HashMap<String, f64, BuildHasherDefault<NameHasher>>;
 
 /// Highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS − 1).
 pub const MAX_NUMBERED: u32 = 5602;
@@ -11,7 +49,7 @@ pub const CALL_ARGS: usize = 30;
 #[derive(Clone, Debug)]
 struct Frame {
     saved_args: [f64; CALL_ARGS],
-    locals: HashMap<String, f64>,
+    locals: NameMap,
 }
 
 /// Why a parameter could not be read or written.
@@ -28,11 +66,11 @@ pub enum ParamError {
 #[derive(Clone, Debug)]
 pub struct Params {
     numbered: Vec<f64>,
-    globals: HashMap<String, f64>,
+    globals: NameMap,
     /// Read-only `#<_…>` values kept up to date by the interpreter (`_x`, `_metric`, …).
-    system: HashMap<String, f64>,
+    system: NameMap,
     frames: Vec<Frame>,
-    top_locals: HashMap<String, f64>,
+    top_locals: NameMap,
 }
 
 impl Default for Params {
@@ -45,10 +83,10 @@ impl Params {
     pub fn new() -> Params {
         Params {
             numbered: vec![0.0; MAX_NUMBERED as usize + 1],
-            globals: HashMap::new(),
-            system: HashMap::new(),
+            globals: NameMap::default(),
+            system: NameMap::default(),
             frames: Vec::new(),
-            top_locals: HashMap::new(),
+            top_locals: NameMap::default(),
         }
     }
 
@@ -89,7 +127,7 @@ impl Params {
         Ok(())
     }
 
-    fn locals(&self) -> &HashMap<String, f64> {
+    fn locals(&self) -> &NameMap {
         self.frames
             .last()
             .map(|f| &f.locals)
@@ -163,7 +201,7 @@ impl Params {
         saved.copy_from_slice(&self.numbered[1..=CALL_ARGS]);
         self.frames.push(Frame {
             saved_args: saved,
-            locals: HashMap::new(),
+            locals: NameMap::default(),
         });
         for i in 0..CALL_ARGS {
             self.numbered[i + 1] = args.get(i).copied().unwrap_or(0.0);
@@ -203,6 +241,20 @@ mod tests {
         assert_eq!(p.get(1).unwrap(), 7.0);
         assert_eq!(p.get_named("a").unwrap(), 1.0);
         assert_eq!(p.get_named("_G").unwrap(), 5.0);
+    }
+
+    #[test]
+    fn many_names_of_every_length_keep_their_own_values() {
+        let mut p = Params::new();
+        let names: Vec<String> = (0..200)
+            .map(|i| format!("{}{i}", "n".repeat(i % 19)))
+            .collect();
+        for (i, n) in names.iter().enumerate() {
+            p.set_named(n, i as f64).unwrap();
+        }
+        for (i, n) in names.iter().enumerate() {
+            assert_eq!(p.get_named(n).unwrap(), i as f64, "{n}");
+        }
     }
 
     #[test]
