@@ -232,30 +232,39 @@ impl Reader<'_> {
     fn number(&mut self) -> Option<f64> {
         let (v, len) = crate::lex::scan_number(&self.raw[self.pos..])?.ok()?;
         self.pos += len;
-        match self.peek() {
-            Some((b, _)) if b.is_ascii_digit() || b == b'.' => None,
-            _ => Some(v),
+        // The number stopped at a byte that is neither a digit nor a point: only a blank
+        // can hide more digits after it.
+        if self.raw.get(self.pos).is_some_and(|&b| is_blank(b)) {
+            if let Some((b, _)) = self.peek() {
+                if b.is_ascii_digit() || b == b'.' {
+                    return None;
+                }
+            }
         }
+        Some(v)
     }
 
     /// A value: number, `[expression]`, `#parameter`, unary sign, or function.
     fn real_value(&mut self) -> Option<f64> {
-        self.depth += 1;
-        if self.depth > MAX_NESTING {
+        // Each value counts one level of nesting, as in the full path; a plain number
+        // (the usual value) only checks the limit, without the bookkeeping around a call.
+        if self.depth >= MAX_NESTING {
             return None;
         }
-        let v = self.real_value_inner();
+        let (b, i) = self.peek()?;
+        if b.is_ascii_digit() || b == b'.' {
+            self.pos = i;
+            return self.number();
+        }
+        self.depth += 1;
+        let v = self.compound_value(b, i);
         self.depth -= 1;
         v
     }
 
-    fn real_value_inner(&mut self) -> Option<f64> {
-        let (b, i) = self.peek()?;
+    /// A value that is not a plain number, its first byte `b` at `i`.
+    fn compound_value(&mut self, b: u8, i: usize) -> Option<f64> {
         match b {
-            b'0'..=b'9' | b'.' => {
-                self.pos = i;
-                self.number()
-            }
             b'[' => {
                 self.pos = i + 1;
                 self.plain = false;
@@ -272,6 +281,12 @@ impl Reader<'_> {
                         self.pos = j + 1;
                         self.read_name()?;
                         self.params.get_named(self.name).ok()
+                    }
+                    (b'0'..=b'9', j) if self.depth < MAX_NESTING => {
+                        // `#1`: the number as `real_value` would read it, one level down.
+                        self.pos = j;
+                        let n = param_number(self.number()?)?;
+                        self.params.get(n).ok()
                     }
                     _ => {
                         let n = param_number(self.real_value()?)?;
