@@ -45,7 +45,7 @@ enum Command {
     Console(console::Args),
     /// Emulate a grbl 1.1 board on a pseudo-terminal or TCP port, for dry runs.
     Emulate(emulate::Args),
-    /// Run a program on the virtual machine: progress, ETA, keyboard hold/resume/stop.
+    /// Run a program on the virtual machine or grbl firmware: progress, ETA, keyboard hold/resume/stop.
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
     Plan(plan::Args),
