@@ -193,7 +193,12 @@ fn time_rs274(program: &Path, tools: &Path, output: &Path) -> Timing {
     let children = nix::sys::resource::UsageWho::RUSAGE_CHILDREN;
     let cpu_before = cpu_seconds(children);
     let started = Instant::now();
+    // rs274 keeps its tool table in `$HOME/.tool.mmap`: a private HOME keeps a concurrent
+    // rs274 (a test run, another bench) from corrupting this one.
+    let home = output.with_extension("home");
+    let _ = std::fs::create_dir_all(&home);
     let status = Command::new("rs274")
+        .env("HOME", &home)
         .arg("-g")
         .arg("-t")
         .arg(tools)
@@ -209,7 +214,12 @@ fn time_rs274(program: &Path, tools: &Path, output: &Path) -> Timing {
         Err(e) => Timing::Unavailable(format!("rs274 not runnable ({e}); install linuxcnc-uspace")),
         Ok(out) if !out.status.success() => {
             let msg = String::from_utf8_lossy(&out.stderr).replace("executing", "");
-            Timing::Unavailable(format!("rs274 rejected the program: {}", msg.trim()))
+            match out.status.code() {
+                Some(_) => {
+                    Timing::Unavailable(format!("rs274 rejected the program: {}", msg.trim()))
+                }
+                None => Timing::Unavailable(format!("rs274 died ({}): {}", out.status, msg.trim())),
+            }
         }
         Ok(_) => Timing::Took { wall: elapsed, cpu },
     }
