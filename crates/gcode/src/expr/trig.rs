@@ -228,6 +228,8 @@ fn sin_cos_deg(deg: f64) -> (Dd, Dd) {
 /// sin d° for whole degrees d = 0…359, as `sin_deg_series` computes it (a test checks
 /// every entry): programs mostly take the sine of whole degrees, and the series costs
 /// about a thousand instructions.
+// Entries such as sin 45° are the rounded constants clippy knows; they are data here.
+#[allow(clippy::approx_constant)]
 #[rustfmt::skip]
 const SIN_WHOLE_DEGREES: [f64; 360] = [
     0.0, 0.01745240643728351, 0.03489949670250097, 0.052335956242943835,
