@@ -441,11 +441,8 @@ mod tests {
             assert_eq!(sin_deg(x).to_bits(), sin_deg_series(x).to_bits(), "sin {x}");
             assert_eq!(cos_deg(x).to_bits(), cos_deg_series(x).to_bits(), "cos {x}");
         }
-        for d in 0..360 {
-            assert_eq!(
-                SIN_WHOLE_DEGREES[d].to_bits(),
-                sin_deg_series(d as f64).to_bits()
-            );
+        for (d, entry) in SIN_WHOLE_DEGREES.iter().enumerate() {
+            assert_eq!(entry.to_bits(), sin_deg_series(d as f64).to_bits(), "{d}");
         }
     }
 
