@@ -184,6 +184,23 @@ pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
     if i < s.len() && s[i] == b'.' {
         i += 1;
         let frac_start = i;
+        // Four digits at a time (CAM output usually writes four decimals): one load, a
+        // check that all four bytes are digits, and two multiply-add steps to combine them.
+        while let Some(chunk) = s.get(i..i + 4) {
+            let word = u32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
+            // Each byte is 0x30..=0x39: high nibble 3, and still 3 after adding 6.
+            if (word & 0xF0F0_F0F0) | ((word.wrapping_add(0x0606_0606) & 0xF0F0_F0F0) >> 4)
+                != 0x3333_3333
+            {
+                break;
+            }
+            let d = word - 0x3030_3030;
+            // Bytes d0 d1 d2 d3 (d0 first) → pairs d0d1, d2d3 → d0d1d2d3.
+            let pairs = (d.wrapping_mul(10) + (d >> 8)) & 0x00FF_00FF;
+            let four = (pairs.wrapping_mul(100) + (pairs >> 16)) & 0xFFFF;
+            mantissa = mantissa.wrapping_mul(10_000).wrapping_add(u64::from(four));
+            i += 4;
+        }
         while i < s.len() {
             let d = s[i].wrapping_sub(b'0');
             if d > 9 {
@@ -247,6 +264,39 @@ mod tests {
                     let reference: f64 = text[..len].parse().unwrap();
                     prop_assert_eq!(v, reference, "{}", text);
                 }
+            }
+        }
+    }
+
+    proptest! {
+        /// Any byte after the digits ends the number, including near-digits such as `:` and
+        /// `/` and bytes that carry when the four-digit check adds 6.
+        #[test]
+        fn numbers_stop_at_any_other_byte(int in "[0-9]{0,3}", frac in "[0-9]{1,9}", tail in proptest::collection::vec(any::<u8>(), 0..5)) {
+            prop_assume!(!tail.first().is_some_and(|&b| b.is_ascii_digit() || b == b'.'));
+            let text = format!("{int}.{frac}");
+            let mut bytes = text.clone().into_bytes();
+            bytes.extend(&tail);
+            let reference: f64 = text.parse().unwrap();
+            prop_assert_eq!(scan_number(&bytes), Some(Ok((reference, text.len()))));
+        }
+    }
+
+    #[test]
+    fn four_digit_groups_reject_each_neighbour_of_the_digits() {
+        for bad in [b'/', b':', 0xFA, 0x39 + 0x80, 0x00, b'?'] {
+            for at in 0..4 {
+                let mut text = b"1.5555".to_vec();
+                text[2 + at] = bad;
+                let want: f64 = std::str::from_utf8(&text[..2 + at])
+                    .unwrap()
+                    .parse()
+                    .unwrap();
+                assert_eq!(
+                    scan_number(&text),
+                    Some(Ok((want, 2 + at))),
+                    "{bad} at {at}"
+                );
             }
         }
     }
