@@ -119,6 +119,16 @@ fn starts_with_ci(rest: &[u8], name: &[u8]) -> bool {
     rest.len() >= name.len() && rest[..name.len()].eq_ignore_ascii_case(name)
 }
 
+/// The first entry of `table` whose lower-case name starts `rest`, in any case. The first
+/// byte is compared alone before the whole name: most entries fail on it, cheaply.
+fn lookup<T: Copy>(table: &[(&'static [u8], T)], rest: &[u8]) -> Option<(&'static [u8], T)> {
+    let first = rest.first()?.to_ascii_lowercase();
+    table
+        .iter()
+        .find(|(n, _)| n[0] == first && starts_with_ci(rest, n))
+        .copied()
+}
+
 impl Reader<'_> {
     /// The next non-blank byte and its position, without consuming anything.
     fn peek(&self) -> Option<(u8, usize)> {
@@ -344,7 +354,7 @@ impl Reader<'_> {
             b'-' => (BinOp::Sub, i, 1),
             b if b.is_ascii_alphabetic() => {
                 let rest = &self.raw[i..];
-                let &(name, op) = WORD_OPS.iter().find(|(n, _)| starts_with_ci(rest, n))?;
+                let (name, op) = lookup(&WORD_OPS, rest)?;
                 (op, i, name.len())
             }
             // `]`, or anything else the caller will reject.
@@ -355,7 +365,7 @@ impl Reader<'_> {
     /// A function call, `pos` at its name.
     fn function(&mut self) -> Option<f64> {
         let rest = &self.raw[self.pos..];
-        let &(name, func) = FUNCS.iter().find(|(n, _)| starts_with_ci(rest, n))?;
+        let (name, func) = lookup(&FUNCS, rest)?;
         self.pos += name.len();
         if !matches!(self.peek(), Some((b'[', _))) {
             return None;
