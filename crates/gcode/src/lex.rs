@@ -158,6 +158,9 @@ fn starts_char(raw: &[u8], i: usize) -> bool {
 /// Exact for the usual CNC numbers: up to 19 significant digits go through an integer
 /// mantissa and one division by an exact power of ten (correctly rounded); longer ones fall
 /// back to the standard library parser.
+// Inlined into the readers: the nested Option/Result then stays in registers instead of
+// going through memory on every number.
+#[inline]
 pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
     // A single digit (G1, #1, M2) is the most common number of all.
     if let [d @ b'0'..=b'9', rest @ ..] = s {
@@ -229,9 +232,16 @@ pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
         // exact: one correctly rounded division.
         return Some(Ok((mantissa as i64 as f64 / POW10[frac_digits], i)));
     }
+    Some(Ok((parse_long(&s[..i]), i)))
+}
+
+/// A number of more than 15 digits, by the standard library (rare: kept out of line).
+#[cold]
+#[inline(never)]
+fn parse_long(s: &[u8]) -> f64 {
     // Only ASCII digits and one point: always valid UTF-8 and a valid Rust float literal.
-    let text = std::str::from_utf8(&s[..i]).unwrap_or("0");
-    Some(Ok((text.parse::<f64>().unwrap_or(0.0), i)))
+    let text = std::str::from_utf8(s).unwrap_or("0");
+    text.parse::<f64>().unwrap_or(0.0)
 }
 
 /// The text of a comment body with the comment marker removed: `(text)` → `text`,
