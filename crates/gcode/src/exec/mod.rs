@@ -77,6 +77,8 @@ pub struct Executor<R> {
     scratch: direct::Scratch,
     /// The last line taken by a fast path was plain: try the plain path first.
     plain_lines: bool,
+    /// Plain lines the direct path has taken in a row since the plain path last failed.
+    plain_run: u8,
     /// Start of the line being run.
     current: Mark,
 }
@@ -110,6 +112,7 @@ impl<R: BufRead + Seek> Executor<R> {
             pending: Vec::new(),
             scratch: direct::Scratch::default(),
             plain_lines: true,
+            plain_run: 0,
             current: Mark { offset: 0, line: 0 },
         }
     }
@@ -292,9 +295,18 @@ impl<R: BufRead + Seek> Executor<R> {
                 return true;
             }
             self.plain_lines = false;
+            self.plain_run = 0;
             direct(params, block, &mut self.scratch)
         } else if direct(params, block, &mut self.scratch) {
-            self.plain_lines = self.scratch.was_plain;
+            // Back to the plain path only after two plain lines in a row: a lone plain line
+            // between lines with expressions would make the next line fail the plain path
+            // first, wasting its reading.
+            self.plain_run = if self.scratch.was_plain {
+                self.plain_run.saturating_add(1)
+            } else {
+                0
+            };
+            self.plain_lines = self.plain_run >= 2;
             true
         } else {
             false
