@@ -266,6 +266,15 @@ impl Reader<'_> {
             self.pos = i;
             return self.number();
         }
+        // `-2.5` (a digit right after the sign): read as `compound_value` would, sign then
+        // number one level down, without the bookkeeping of two calls.
+        if b == b'-'
+            && self.depth + 1 < MAX_NESTING
+            && matches!(self.raw.get(i + 1), Some(b'0'..=b'9' | b'.'))
+        {
+            self.pos = i + 1;
+            return Some(-self.number()?);
+        }
         self.depth += 1;
         let v = self.compound_value(b, i);
         self.depth -= 1;
@@ -506,6 +515,23 @@ mod tests {
         ] {
             assert!(!agrees_with_full_path(s), "{s} should take the full path");
         }
+    }
+
+    #[test]
+    fn signs_count_towards_the_nesting_limit_as_in_the_full_path() {
+        // A negative number read in one step must still fail exactly where the full path
+        // runs out of nesting.
+        let mut taken = 0;
+        for n in MAX_NESTING.saturating_sub(3)..=MAX_NESTING + 1 {
+            for src in [
+                format!("X{}1.5", "-".repeat(n)),
+                format!("X{}-1.5{}", "[".repeat(n), "]".repeat(n)),
+                format!("X{}.5{}", "[-".repeat(n), "]".repeat(n)),
+            ] {
+                taken += usize::from(agrees_with_full_path(&src));
+            }
+        }
+        assert!(taken > 0);
     }
 
     /// Expressions from the grammar, with blanks and case sprinkled in.
