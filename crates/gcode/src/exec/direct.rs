@@ -137,6 +137,14 @@ impl Reader<'_> {
             if b > b' ' {
                 return Some((b, self.pos));
             }
+            // Or after the one space that usually separates tokens.
+            if b == b' ' {
+                if let Some(&c) = self.raw.get(self.pos + 1) {
+                    if c > b' ' {
+                        return Some((c, self.pos + 1));
+                    }
+                }
+            }
         }
         let mut i = self.pos;
         while let Some(&b) = self.raw.get(i) {
