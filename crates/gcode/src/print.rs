@@ -49,6 +49,16 @@ impl Rs274Printer {
         q
     }
 
+    /// An arc's end and centre in program coordinates. The centre is a machine point that
+    /// shares the end's off-plane coordinates, so a rotated frame maps it like any point.
+    fn arc_in_program(&self, plane: Plane, end: &Pos, center: &[f64; 2]) -> ([f64; 6], [f64; 6]) {
+        let (a0, a1, _) = plane.axes();
+        let mut c = end.to_array();
+        c[a0] = center[0];
+        c[a1] = center[1];
+        (self.program(end), self.program(&Pos::from_array(c)))
+    }
+
     fn lengths(&self, p: &Pos) -> [f64; 6] {
         let mut q = p.to_array();
         for v in q.iter_mut().take(3) {
@@ -108,11 +118,7 @@ impl Rs274Printer {
                 turns,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let e = self.program(end);
-                let mut c = end.to_array();
-                c[a0] = center[0];
-                c[a1] = center[1];
-                let c = self.program(&Pos::from_array(c));
+                let (e, c) = self.arc_in_program(*plane, end, center);
                 let first = [e[a0], e[a1], c[a0], c[a1]];
                 let second = [e[a2], e[3], e[4], e[5]];
                 let fits = first
@@ -310,11 +316,7 @@ impl Rs274Printer {
                 turns,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let e = self.program(end);
-                let mut c = end.to_array();
-                c[a0] = center[0];
-                c[a1] = center[1];
-                let c = self.program(&Pos::from_array(c));
+                let (e, c) = self.arc_in_program(*plane, end, center);
                 write!(
                     out,
                     "ARC_FEED({:.4}, {:.4}, {:.4}, {:.4}, {turns}, {:.4}, {:.4}, {:.4}, {:.4})",
