@@ -67,7 +67,8 @@ const FUNCS: [(&[u8], FuncName); 14] = [
     (b"tan", FuncName::Unary(Func::Tan)),
 ];
 
-const WORD_OPS: [(&[u8], BinOp); 10] = [
+/// The word operators (`[a MOD b]`, `[a EQ b]` …), lower case; shared with the direct path.
+pub(crate) const WORD_OPS: [(&[u8], BinOp); 10] = [
     (b"mod", BinOp::Mod),
     (b"and", BinOp::And),
     (b"xor", BinOp::Xor),

@@ -347,34 +347,10 @@ impl Rs274Printer {
                     v[0], v[1], v[2], v[3], v[4], v[5]
                 )
             }
-            CanonOp::EnableFeedOverride(on) => {
-                write!(
-                    out,
-                    "{}_FEED_OVERRIDE()",
-                    if *on { "ENABLE" } else { "DISABLE" }
-                )
-            }
-            CanonOp::EnableSpeedOverride(on) => {
-                write!(
-                    out,
-                    "{}_SPEED_OVERRIDE(0)",
-                    if *on { "ENABLE" } else { "DISABLE" }
-                )
-            }
-            CanonOp::EnableAdaptiveFeed(on) => {
-                write!(
-                    out,
-                    "{}_ADAPTIVE_FEED()",
-                    if *on { "ENABLE" } else { "DISABLE" }
-                )
-            }
-            CanonOp::EnableFeedHold(on) => {
-                write!(
-                    out,
-                    "{}_FEED_HOLD()",
-                    if *on { "ENABLE" } else { "DISABLE" }
-                )
-            }
+            CanonOp::EnableFeedOverride(on) => switch_call(out, *on, "FEED_OVERRIDE()"),
+            CanonOp::EnableSpeedOverride(on) => switch_call(out, *on, "SPEED_OVERRIDE(0)"),
+            CanonOp::EnableAdaptiveFeed(on) => switch_call(out, *on, "ADAPTIVE_FEED()"),
+            CanonOp::EnableFeedHold(on) => switch_call(out, *on, "FEED_HOLD()"),
             CanonOp::ProgramStop => write!(out, "PROGRAM_STOP()"),
             CanonOp::OptionalProgramStop => write!(out, "OPTIONAL_PROGRAM_STOP()"),
             CanonOp::ProgramEnd => write!(out, "PROGRAM_END()"),
@@ -453,4 +429,9 @@ mod tests {
             "SET_G5X_OFFSET(1, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
         );
     }
+}
+
+/// `ENABLE_…` or `DISABLE_…`: rs274's pair of calls for each override switch.
+fn switch_call(out: &mut impl Write, on: bool, call: &str) -> io::Result<()> {
+    write!(out, "{}_{call}", if on { "ENABLE" } else { "DISABLE" })
 }

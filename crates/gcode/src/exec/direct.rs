@@ -13,7 +13,7 @@ use crate::block::{Assignment, Block, ParamRef, Word};
 use crate::diag::Span;
 use crate::expr::{binary, call, degrees, LAST_NUMBERED};
 use crate::params::Params;
-use crate::parse::MAX_NESTING;
+use crate::parse::{MAX_NESTING, WORD_OPS};
 
 /// How far from an integer a parameter number may be (as `expr::param_number`).
 const INTEGER_TOLERANCE: f64 = 0.0001;
@@ -83,19 +83,6 @@ struct Reader<'a> {
     /// Nothing but letters and plain numbers so far.
     plain: bool,
 }
-
-const WORD_OPS: [(&[u8], BinOp); 10] = [
-    (b"mod", BinOp::Mod),
-    (b"and", BinOp::And),
-    (b"xor", BinOp::Xor),
-    (b"eq", BinOp::Eq),
-    (b"ne", BinOp::Ne),
-    (b"gt", BinOp::Gt),
-    (b"ge", BinOp::Ge),
-    (b"lt", BinOp::Lt),
-    (b"le", BinOp::Le),
-    (b"or", BinOp::Or),
-];
 
 /// Functions taken here (`EXISTS` is left to the full path; ATAN has its own syntax).
 const FUNCS: [(&[u8], Option<Func>); 13] = [
