@@ -48,7 +48,10 @@ pub fn raster_rows(count: usize, pixel: f64, stepover: f64) -> Vec<usize> {
         return Vec::new();
     }
     let span = (count - 1) as f64 * pixel;
-    let n = (span / stepover.max(pixel)).ceil().max(1.0) as usize;
+    // Never more rows than the grid has (an infinite span must not ask for more).
+    let n = (span / stepover.max(pixel))
+        .ceil()
+        .clamp(1.0, (count - 1).max(1) as f64) as usize;
     let mut rows: Vec<usize> = (0..=n)
         .map(|i| ((i * (count - 1)) as f64 / n as f64).round() as usize)
         .collect();

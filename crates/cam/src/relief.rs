@@ -8,6 +8,7 @@
 //! Level k cuts `max(T, z_k)` wherever that is below what is already free; what it cut
 //! becomes free for level k+1. Nothing ever goes below `T`, so nothing gouges.
 
+use crate::memory::{check, Budget, Lever, OverBudget, PassShape};
 use crate::raster::{cut_rows, raster_rows, Clear, Emitter, Feeds, Frame, Row};
 use crate::regions::{grow, label, Region};
 use crate::stock::apply_moves;
@@ -101,11 +102,27 @@ pub enum ReliefError {
     },
     #[error("the height map is empty")]
     EmptyDesign,
+    #[error("the pixel size must be a finite number above 0, got {0}")]
+    Pixel(f64),
+    #[error("the part would be {size:.0} mm {what}, more than any machine's {MAX_EXTENT_MM} mm; use a smaller pixel size or depth")]
+    TooLarge { what: &'static str, size: f64 },
+    #[error("the height map claims {width} x {height} samples but holds {len}")]
+    Shape {
+        width: usize,
+        height: usize,
+        len: usize,
+    },
     #[error("{0} must be finite and at least 0")]
     Job(&'static str),
     #[error("samples per pixel must be between 1 and {max}, got {got}")]
     Samples { got: usize, max: usize },
+    #[error(transparent)]
+    Memory(#[from] OverBudget),
 }
+
+/// Largest size of a part in X, Y or Z, mm (100 m: beyond any router's travel, and far
+/// inside what f64 coordinates and G-code numbers carry exactly enough).
+pub const MAX_EXTENT_MM: f64 = 100_000.0;
 
 /// Default tip heights per pixel along the raster.
 pub const SAMPLES_PER_PIXEL: usize = 4;
@@ -124,9 +141,33 @@ pub struct Planned {
     pub stock: Option<Heightmap>,
 }
 
+/// Plans `job` on `design` with no memory limit; see [`plan_within`].
 pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned, ReliefError> {
+    plan_within(design, job, Budget::UNLIMITED, progress)
+}
+
+/// Plans `job` on `design`. Every pass's grids are estimated before any is allocated and the
+/// moves are counted as they grow: whatever would exceed `budget` is refused
+/// ([`ReliefError::Memory`]) instead of allocated.
+pub fn plan_within(
+    design: &Heightmap,
+    job: &Job,
+    budget: Budget,
+    progress: Progress,
+) -> Result<Planned, ReliefError> {
     if design.width == 0 || design.height == 0 {
         return Err(ReliefError::EmptyDesign);
+    }
+    if !(design.pixel.is_finite() && design.pixel > 0.0) {
+        return Err(ReliefError::Pixel(design.pixel));
+    }
+    let (ex, ey) = design.extent();
+    let side = ex.max(ey);
+    if !(side <= MAX_EXTENT_MM) {
+        return Err(ReliefError::TooLarge {
+            what: "wide",
+            size: side,
+        });
     }
     if !(job.safe_z.is_finite() && job.safe_z >= 0.0) {
         return Err(ReliefError::Job("safe Z"));
@@ -146,17 +187,46 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
     for p in &job.passes {
         check_pass(p, design.pixel)?;
     }
+    for (i, pass) in job.passes.iter().enumerate() {
+        for (d, &along_y) in directions(pass.direction).iter().enumerate() {
+            let shape = pass_shape(design, pass, along_y, job.samples_per_pixel, i + d > 0);
+            check(
+                || {
+                    format!(
+                        "pass '{}' ({} rows of {} x {} grid points)",
+                        pass.name, shape.rows, shape.width, shape.height
+                    )
+                },
+                shape.bytes(),
+                budget.bytes,
+                Lever::PixelSize,
+            )?;
+        }
+    }
+    if design.width.checked_mul(design.height) != Some(design.z.len()) {
+        return Err(ReliefError::Shape {
+            width: design.width,
+            height: design.height,
+            len: design.z.len(),
+        });
+    }
+    let (lo, hi) = design.range();
+    let deep = (hi as f64 - lo as f64)
+        .max(hi.abs() as f64)
+        .max(lo.abs() as f64);
+    if !(deep <= MAX_EXTENT_MM) {
+        return Err(ReliefError::TooLarge {
+            what: "deep",
+            size: deep,
+        });
+    }
     let mut stock: Option<Heightmap> = None;
     let mut operations = Vec::new();
     let mut pos: Option<[f64; 3]> = None;
     for (i, pass) in job.passes.iter().enumerate() {
         let mut em = Emitter::new(pass.cutter.feeds, job.safe_z, job.clearance);
         em.pos = pos;
-        let directions: &[bool] = match pass.direction {
-            Direction::X => &[false],
-            Direction::Y => &[true],
-            Direction::Both => &[false, true],
-        };
+        let directions = directions(pass.direction);
         for (d, &along_y) in directions.iter().enumerate() {
             let stage = format!(
                 "{} ({})",
@@ -165,6 +235,19 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
             );
             progress(&stage, 0.0);
             let before = em.moves.len();
+            let shape = pass_shape(
+                design,
+                pass,
+                along_y,
+                job.samples_per_pixel,
+                stock.is_some(),
+            );
+            let moves = Moves {
+                earlier: operations.iter().map(|o: &Operation| o.moves.len()).sum(),
+                budget,
+                fixed: shape.bytes(),
+                pass: &pass.name,
+            };
             cut_pass(
                 &mut em,
                 design,
@@ -173,7 +256,8 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
                 along_y,
                 job.tolerance,
                 job.samples_per_pixel,
-            );
+                &moves,
+            )?;
             let last = i + 1 == job.passes.len() && d + 1 == directions.len();
             if !last || job.simulate_last {
                 // The next direction or pass starts from what this one left.
@@ -206,6 +290,79 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
         },
         stock,
     })
+}
+
+/// Raster directions of a pass: `false` = rows along X, `true` = along Y.
+fn directions(d: Direction) -> &'static [bool] {
+    match d {
+        Direction::X => &[false],
+        Direction::Y => &[true],
+        Direction::Both => &[false, true],
+    }
+}
+
+/// How one pass in one direction lays out its grids, for the memory estimate.
+fn pass_shape(
+    design: &Heightmap,
+    pass: &Pass,
+    along_y: bool,
+    sub: usize,
+    has_stock: bool,
+) -> PassShape {
+    let (width, height) = if along_y {
+        (design.height, design.width)
+    } else {
+        (design.width, design.height)
+    };
+    // As `SubKernels`: the widest shifted kernel reaches one pixel further at most.
+    let reach =
+        ((pass.cutter.tool.reach_radius() + pass.allowance) / design.pixel + 1.0).ceil() as usize;
+    PassShape {
+        width,
+        height,
+        reach,
+        rows: raster_rows(height, design.pixel, pass.stepover).len(),
+        sub,
+        has_stock,
+        rest_only: pass.rest_only,
+    }
+}
+
+/// The move count of a plan against its budget: moves of earlier passes, and the bytes the
+/// current pass holds besides its moves.
+struct Moves<'a> {
+    earlier: usize,
+    budget: Budget,
+    fixed: u64,
+    pass: &'a str,
+}
+
+impl Moves<'_> {
+    /// `Err` when `count` more moves than the earlier ones would not fit; `at_least` says
+    /// whether `count` is a lower bound (before cutting) or a count (while cutting).
+    fn check(&self, count: u64, at_least: bool) -> Result<(), OverBudget> {
+        let total = count.saturating_add(self.earlier as u64);
+        let bytes = total
+            .saturating_mul(self.budget.per_move)
+            .saturating_add(self.fixed);
+        check(
+            || {
+                format!(
+                    "the toolpath of pass '{}' ({}{} moves)",
+                    self.pass,
+                    if at_least { "at least " } else { "over " },
+                    total
+                )
+            },
+            bytes,
+            self.budget.bytes,
+            if at_least {
+                Lever::Levels
+            } else {
+                Lever::Moves
+            },
+        )
+    }
 }
 
 /// Where the tool was before move `index`.
@@ -266,6 +423,7 @@ fn level_floors(deepest: f32, top: f32, stepdown: f64) -> Vec<f32> {
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn cut_pass(
     em: &mut Emitter,
     design: &Heightmap,
@@ -274,7 +432,8 @@ fn cut_pass(
     along_y: bool,
     tol: f64,
     sub: usize,
-) {
+    moves: &Moves,
+) -> Result<(), OverBudget> {
     let tool = &pass.cutter.tool;
     let grid = if along_y {
         transpose(design)
@@ -328,10 +487,18 @@ fn cut_pass(
         )
     };
     let kernels = SubKernels::new(tool, grid.pixel, pass.allowance, sub);
+    // Between grid points a tool narrower than a pixel has no sample under it (a tip height
+    // of −∞): the design's lowest point is a floor that still touches no sample.
+    let lowest = grid.range().0;
     let targets: Vec<Vec<f32>> = surface_rows_sub(&grid, &kernels, &rows)
         .into_iter()
         .map(|mut r| {
-            r.iter_mut().for_each(|t| *t += allowance);
+            r.iter_mut().for_each(|t| {
+                if !t.is_finite() {
+                    *t = lowest;
+                }
+                *t += allowance
+            });
             segment_bound(&mut r);
             r
         })
@@ -396,6 +563,28 @@ fn cut_pass(
             .iter()
             .flat_map(|r| r.clear.iter().cloned())
             .fold(f32::NEG_INFINITY, f32::max);
+        // Each row visited at a level costs a travel and a feed at least: refuse a number of
+        // levels that cannot fit before cutting any.
+        // A sample whose target lies `d` below its free height is cut at every level whose
+        // floor falls in between: at least ⌊(d − min cut) / stepdown⌋ of them.
+        let visits: u64 = block_rows
+            .iter()
+            .zip(&members)
+            .map(|(r, &i)| {
+                let deepest_cut = targets[i]
+                    .iter()
+                    .zip(&r.clear)
+                    .map(|(&t, &c)| (c - t) as f64)
+                    .fold(0.0, f64::max);
+                ((deepest_cut - pass.min_cut) / pass.stepdown)
+                    .floor()
+                    .max(0.0) as u64
+            })
+            .fold(0u64, u64::saturating_add);
+        moves.check(
+            (em.moves.len() as u64).saturating_add(visits.saturating_mul(2)),
+            true,
+        )?;
         for floor in level_floors(deepest, top, pass.stepdown) {
             let level_rows: Vec<Row> = block_rows
                 .iter()
@@ -416,6 +605,7 @@ fn cut_pass(
                 pass.min_cut as f32,
                 tol,
             );
+            moves.check(em.moves.len() as u64, false)?;
             // What this level reached is free for the next one.
             for (r, l) in block_rows.iter_mut().zip(&level_rows) {
                 for (c, &t) in r.clear.iter_mut().zip(&l.target) {
@@ -424,4 +614,5 @@ fn cut_pass(
             }
         }
     }
+    Ok(())
 }

@@ -331,7 +331,7 @@ impl SubKernels {
 
 /// Number of sub-samples along a row of `width` grid points at `count` per pixel.
 pub fn sub_len(width: usize, count: usize) -> usize {
-    (width - 1) * count + 1
+    width.saturating_sub(1) * count + 1
 }
 
 /// Tool-tip heights along the listed rows at `kernels.count` points per pixel: entry
@@ -347,7 +347,7 @@ pub fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]
                 surface_row_multi(&padded, &kernels.kernels, iy, &mut views, scratch);
                 let mut out = vec![0.0f32; sub_len(w, n)];
                 for (k, one) in shifts.iter().enumerate() {
-                    for (o, &t) in out[k..].iter_mut().step_by(n).zip(one.iter()) {
+                    for (o, &t) in out.iter_mut().skip(k).step_by(n).zip(one.iter()) {
                         *o = t;
                     }
                 }

@@ -274,6 +274,63 @@ impl Profile {
     }
 }
 
+/// The profiles of the repository's `profiles/`, compiled in: (name, TOML text). Every
+/// command finds a machine by these names, from any folder and with no install step.
+pub const BUNDLED: &[(&str, &str)] = &[
+    (
+        "grbl-router",
+        include_str!("../../../profiles/grbl-router.toml"),
+    ),
+    (
+        "hotwire-xy",
+        include_str!("../../../profiles/hotwire-xy.toml"),
+    ),
+    (
+        "polar-plotter",
+        include_str!("../../../profiles/polar-plotter.toml"),
+    ),
+    (
+        "polargraph-wall",
+        include_str!("../../../profiles/polargraph-wall.toml"),
+    ),
+    (
+        "embroidery-xy",
+        include_str!("../../../profiles/embroidery-xy.toml"),
+    ),
+];
+
+/// The profile used when none is named: the seed 004 grbl router.
+pub const DEFAULT: &str = "grbl-router";
+
+/// The bundled profile `name` (with or without `.toml` or a leading folder), parsed.
+pub fn bundled(name: &str) -> Option<Result<Profile, ProfileError>> {
+    let name = name.trim_end_matches(".toml");
+    let name = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    BUNDLED
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(n, text)| Profile::parse(text, &format!("<bundled {n}>")))
+}
+
+/// Finds a machine: `spec` is an existing profile file, else the name of a bundled profile.
+pub fn resolve(spec: &str) -> Result<Profile, ProfileError> {
+    let path = Path::new(spec);
+    if path.is_file() {
+        return Profile::load(path);
+    }
+    bundled(spec).unwrap_or_else(|| {
+        let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
+        Err(err(
+            spec,
+            "",
+            format!(
+                "no such profile file, and no bundled profile of that name (bundled: {})",
+                names.join(", ")
+            ),
+        ))
+    })
+}
+
 fn err(file: &str, key: &str, message: String) -> ProfileError {
     ProfileError {
         file: file.to_string(),
@@ -533,4 +590,27 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
         )
     })?;
     Ok(profile)
+}
+
+#[cfg(test)]
+mod bundled_tests {
+    use super::*;
+
+    #[test]
+    fn every_bundled_profile_parses_by_name_and_by_file_name() {
+        for (name, _) in BUNDLED {
+            resolve(name).unwrap_or_else(|e| panic!("bundled profile {name}: {e}"));
+            assert!(bundled(&format!("profiles/{name}.toml")).is_some());
+        }
+        assert!(BUNDLED.iter().any(|(n, _)| *n == DEFAULT));
+    }
+
+    #[test]
+    fn unknown_names_list_the_bundled_ones() {
+        let e = resolve("no-such-machine").unwrap_err().to_string();
+        assert!(
+            e.contains("grbl-router") && e.contains("no-such-machine"),
+            "{e}"
+        );
+    }
 }
