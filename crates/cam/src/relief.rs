@@ -338,30 +338,44 @@ struct Moves<'a> {
 }
 
 impl Moves<'_> {
-    /// `Err` when `count` more moves than the earlier ones would not fit; `at_least` says
-    /// whether `count` is a lower bound (before cutting) or a count (while cutting).
-    fn check(&self, count: u64, at_least: bool) -> Result<(), OverBudget> {
-        let total = count.saturating_add(self.earlier as u64);
-        let bytes = total
+    fn bytes(&self, count: u64) -> u64 {
+        count
+            .saturating_add(self.earlier as u64)
             .saturating_mul(self.budget.per_move)
-            .saturating_add(self.fixed);
+            .saturating_add(self.fixed)
+    }
+
+    /// Before cutting: `Err` when `at_least` more moves cannot fit.
+    fn check_bound(&self, at_least: u64) -> Result<(), OverBudget> {
         check(
             || {
                 format!(
-                    "the toolpath of pass '{}' ({}{} moves)",
-                    self.pass,
-                    if at_least { "at least " } else { "over " },
-                    total
+                    "the toolpath of pass '{}' (at least {at_least} moves)",
+                    self.pass
                 )
             },
-            bytes,
+            self.bytes(at_least),
             self.budget.bytes,
-            if at_least {
-                Lever::Levels
-            } else {
-                Lever::Moves
-            },
+            Lever::Levels,
         )
+    }
+
+    /// While cutting: `Err` once `count` moves, `done` of `levels` levels into the pass, no
+    /// longer fit; the figure given is the whole pass's at the rate so far.
+    fn check_count(&self, count: u64, done: usize, levels: usize) -> Result<(), OverBudget> {
+        if self.bytes(count) <= self.budget.bytes {
+            return Ok(());
+        }
+        let whole = (count as f64 * levels as f64 / done.max(1) as f64) as u64;
+        Err(OverBudget {
+            what: format!(
+                "the toolpath of pass '{}' ({count} moves after {done} of {levels} levels)",
+                self.pass
+            ),
+            needed: self.bytes(whole.max(count)),
+            budget: self.budget.bytes,
+            lever: Lever::Moves,
+        })
     }
 }
 
@@ -581,11 +595,9 @@ fn cut_pass(
                     .max(0.0) as u64
             })
             .fold(0u64, u64::saturating_add);
-        moves.check(
-            (em.moves.len() as u64).saturating_add(visits.saturating_mul(2)),
-            true,
-        )?;
-        for floor in level_floors(deepest, top, pass.stepdown) {
+        moves.check_bound((em.moves.len() as u64).saturating_add(visits.saturating_mul(2)))?;
+        let floors = level_floors(deepest, top, pass.stepdown);
+        for (done, &floor) in floors.iter().enumerate() {
             let level_rows: Vec<Row> = block_rows
                 .iter()
                 .zip(&members)
@@ -605,7 +617,7 @@ fn cut_pass(
                 pass.min_cut as f32,
                 tol,
             );
-            moves.check(em.moves.len() as u64, false)?;
+            moves.check_count(em.moves.len() as u64, done + 1, floors.len())?;
             // What this level reached is free for the next one.
             for (r, l) in block_rows.iter_mut().zip(&level_rows) {
                 for (c, &t) in r.clear.iter_mut().zip(&l.target) {

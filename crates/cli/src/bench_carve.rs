@@ -2,7 +2,6 @@
 //! LinuxCNC's image-to-gcode on a crop of the same image with the same tool and step, and
 //! both programs replayed through the interpreter and the stock simulator for gouge.
 
-use crate::carve::interpret;
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use oficina_cam::raster::Feeds;
@@ -12,6 +11,7 @@ use oficina_canon::{Canon, CanonOp};
 use oficina_io::image_in::luminance_to_heights;
 use oficina_io::{DepthMapping, Heightmap};
 use oficina_post::{program_text, Dialect, PostOptions};
+use oficina_sim::carve::interpret;
 use oficina_sim::{compare, ideal_surface, replay, Report};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -340,6 +340,7 @@ pub fn run(args: Args) -> Result<()> {
         ours.program.len() as f64 / 1e6
     );
     if args.no_peer {
+        print_peak_memory();
         return Ok(());
     }
     // The peer on two crop sizes: equal cost per pixel shows it is linear, so scaling its
@@ -480,5 +481,21 @@ pub fn run(args: Args) -> Result<()> {
         peer.lines,
         peer.diagnostics
     );
+    print_peak_memory();
     Ok(())
+}
+
+/// The process's peak resident memory (VmHWM): the whole benchmark's, since the kernel
+/// keeps the high-water mark.
+fn print_peak_memory() {
+    let peak = std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find(|l| l.starts_with("VmHWM:"))?.to_owned();
+            line.split_whitespace().nth(1)?.parse::<u64>().ok()
+        });
+    match peak {
+        Some(kb) => println!("peak memory (VmHWM): {:.0} MB", kb as f64 / 1024.0),
+        None => println!("peak memory: unavailable (no /proc/self/status)"),
+    }
 }

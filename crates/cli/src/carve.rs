@@ -1,16 +1,17 @@
 //! `oficina carve`: relief carving from a grayscale elevation image. Wiring only: the
 //! import, CAM, post, simulator and estimators live in their crates.
 
+use crate::machine_profile;
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
-use oficina_cam::raster::Feeds;
-use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass, Planned};
-use oficina_cam::{seed004, Tool};
+use oficina_cam::memory::Lever;
+use oficina_cam::relief::{Job, ReliefError};
+use oficina_cam::seed004;
 use oficina_io::{DepthMapping, Heightmap, Scale};
-use oficina_post::{program_text, Dialect, PostOptions};
-use oficina_sim::{compare, feed_only_estimate, ideal_surface, render_png, replay, Report};
-use std::collections::HashMap;
+use oficina_post::{Dialect, PostOptions};
+use oficina_sim::carve::{evaluate, CarveError, Evaluation, Settings};
+use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
 
 #[derive(ClapArgs, Debug)]
@@ -82,16 +83,17 @@ pub struct Args {
     /// The machine accepts M6 (grbl otherwise pauses with M0 at tool changes).
     #[arg(long)]
     pub allow_m6: bool,
-    /// Machine profile for the planner's time estimate.
-    #[arg(long, default_value = "profiles/grbl-router.toml")]
-    pub profile: PathBuf,
+    /// Machine profile for the planner's time estimate: a TOML file or a bundled name
+    /// (grbl-router, hotwire-xy, polar-plotter, polargraph-wall, embroidery-xy).
+    #[arg(long, default_value = machine_profile::DEFAULT)]
+    pub profile: String,
     /// Output program.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Preview PNG of the simulated result (default: next to the program).
     #[arg(long)]
     pub preview: Option<PathBuf>,
-    /// Memory budget for the import, MB.
+    /// Memory budget for the whole job (image, toolpaths, program, simulation, preview), MB.
     #[arg(long, default_value_t = 2048)]
     pub memory_mb: u64,
     /// Reproduce seed 004's hemisphere experiment and print the comparison table.
@@ -100,17 +102,6 @@ pub struct Args {
     /// Pixel sizes for --seed-comparison, mm.
     #[arg(long, value_delimiter = ',', default_values_t = vec![1.0, 0.5])]
     pub seed_pixels: Vec<f64>,
-}
-
-/// What one planned job gives: times and the simulated quality.
-pub struct Evaluation {
-    pub planned: Planned,
-    pub program: String,
-    pub stock: Heightmap,
-    pub report: Report,
-    pub feed_only_s: f64,
-    pub planner_s: Option<f64>,
-    pub planner_error: Option<String>,
 }
 
 pub fn run(args: Args) -> Result<std::process::ExitCode> {
@@ -124,18 +115,23 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
     let Some(output) = &args.output else {
         bail!("give the output program with -o OUT.nc")
     };
+    let profile = machine_profile::resolve(&args.profile)?;
     let design = load_design(&args, image)?;
-    let job = build_job(&args, &design)?;
-    let settings = settings(&args, &design);
+    let settings = settings(&args)?;
+    let job = settings.job()?;
+    let header = header(&args, image, &design, &settings);
     let bar = progress_bar();
     let eval = evaluate(
         &design,
         &job,
-        &args.profile,
-        &post_options(&args, settings)?,
-        &bar,
-    )?;
+        Some(&profile),
+        &post_options(&args, header)?,
+        budget(&args),
+        &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
+    )
+    .map_err(explain);
     bar.finish_and_clear();
+    let eval = eval?;
     // The preview sits beside the program; neither may ever replace the design image.
     let preview = args
         .preview
@@ -162,8 +158,28 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
     Ok(std::process::ExitCode::SUCCESS)
 }
 
+fn budget(args: &Args) -> u64 {
+    args.memory_mb.saturating_mul(1 << 20)
+}
+
+/// A memory refusal names the options that change it.
+fn explain(e: CarveError) -> anyhow::Error {
+    if let CarveError::Plan(ReliefError::TooLarge { .. }) = e {
+        return anyhow::anyhow!("{e} (options: --pixel-size or --width, --depth)");
+    }
+    let Some(over) = e.over_budget() else {
+        return e.into();
+    };
+    let options = match over.lever {
+        Lever::PixelSize => "--pixel-size (or --width), --memory-mb",
+        Lever::Levels => "--stepdown, --depth, --memory-mb",
+        Lever::Moves => "--stepover (or --scallop), --stepdown, --memory-mb",
+    };
+    anyhow::anyhow!("{e} (options: {options})")
+}
+
 fn load_design(args: &Args, image: &Path) -> Result<Heightmap> {
-    let budget = args.memory_mb.saturating_mul(1 << 20);
+    let budget = budget(args);
     let is_raw = image
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("f32"));
@@ -190,77 +206,38 @@ fn load_design(args: &Args, image: &Path) -> Result<Heightmap> {
     Ok(oficina_io::load_image(image, scale, mapping, budget)?)
 }
 
-fn cutter(args: &Args, number: u32, spec: &str) -> Result<Cutter> {
-    let tool: Tool = spec.parse()?;
-    Ok(Cutter {
-        number,
-        tool,
-        feeds: Feeds {
-            cut: args.feed / 60.0,
-            plunge: args.plunge_feed / 60.0,
-            rapid: 5000.0 / 60.0,
-        },
-        spindle_rpm: args.rpm,
-    })
-}
-
-fn build_job(args: &Args, design: &Heightmap) -> Result<Job> {
-    let direction: Direction = args.direction.parse().map_err(anyhow::Error::msg)?;
-    let finish = cutter(args, 2, &args.tool)?;
-    let stepover = args
-        .stepover
-        .unwrap_or_else(|| finish.tool.stepover_for_scallop(args.scallop));
-    let base = |name: &str, c: Cutter, stepover: f64| Pass {
-        name: name.into(),
-        cutter: c,
-        stepover,
+fn settings(args: &Args) -> Result<Settings> {
+    Ok(Settings {
+        tool: args.tool.clone(),
+        rough_tool: args.rough_tool.clone(),
+        scallop: args.scallop,
+        stepover: args.stepover,
+        rough_stepover: args.rough_stepover,
         stepdown: args.stepdown,
-        allowance: 0.0,
-        direction: Direction::X,
-        zigzag: !args.one_way,
-        rest_only: false,
-        min_cut: 0.01,
-    };
-    let mut passes = Vec::new();
-    if let Some(spec) = &args.rough_tool {
-        let rough = cutter(args, 1, spec)?;
-        let so = rough.tool.diameter * args.rough_stepover;
-        passes.push(Pass {
-            allowance: args.allowance,
-            ..base("roughing", rough, so)
-        });
-        if !args.no_rest {
-            // The finishing tool clears, level by level, what the big tool could not reach.
-            let so = finish.tool.diameter * 0.5;
-            passes.push(Pass {
-                allowance: args.allowance.min(0.2),
-                rest_only: true,
-                min_cut: args.allowance + 0.3,
-                ..base("rest machining", finish.clone(), so)
-            });
-        }
-    }
-    passes.push(Pass {
-        direction,
-        ..base("finishing", finish, stepover)
-    });
-    let _ = design;
-    Ok(Job {
+        allowance: args.allowance,
+        direction: args.direction.parse().map_err(anyhow::Error::msg)?,
+        one_way: args.one_way,
+        no_rest: args.no_rest,
+        feed: args.feed,
+        plunge_feed: args.plunge_feed,
+        rpm: args.rpm,
         safe_z: args.safe_z,
-        clearance: 1.0,
-        tolerance: 0.005,
-        samples_per_pixel: oficina_cam::relief::SAMPLES_PER_PIXEL,
-        passes,
-        simulate_last: false,
     })
 }
 
-fn settings(args: &Args, design: &Heightmap) -> Vec<(String, String)> {
-    let mut s = vec![
+/// The program's header: how it was made, readable (`name = value`).
+fn header(
+    args: &Args,
+    image: &Path,
+    design: &Heightmap,
+    settings: &Settings,
+) -> Vec<(String, String)> {
+    let mut h = vec![
         (
             "command".to_string(),
             std::env::args().collect::<Vec<_>>().join(" "),
         ),
+        ("image".into(), image.display().to_string()),
         (
             "grid".into(),
             format!(
@@ -269,8 +246,19 @@ fn settings(args: &Args, design: &Heightmap) -> Vec<(String, String)> {
             ),
         ),
     ];
-    s.push(("settings".into(), format!("{args:?}")));
-    s
+    if args.raw_width.is_none() {
+        let mut depth = format!("{} mm at black", args.depth);
+        if args.invert {
+            depth = format!("{} mm at white", args.depth);
+        }
+        if args.normalize {
+            depth.push_str(", normalized");
+        }
+        h.push(("depth".into(), depth));
+    }
+    h.extend(settings.describe());
+    h.push(("machine profile".into(), args.profile.clone()));
+    h
 }
 
 fn post_options(args: &Args, settings: Vec<(String, String)>) -> Result<PostOptions> {
@@ -293,126 +281,6 @@ fn progress_bar() -> ProgressBar {
     bar
 }
 
-/// Plans, posts, simulates and times one job.
-pub fn evaluate(
-    design: &Heightmap,
-    job: &Job,
-    profile: &Path,
-    post: &PostOptions,
-    bar: &ProgressBar,
-) -> Result<Evaluation> {
-    let report_stage =
-        |stage: &str, f: f64| bar.set_message(format!("{stage}: {:.0} %", f * 100.0));
-    let planned = plan(design, job, &report_stage)?;
-    bar.set_message("writing G-code");
-    let program = program_text(&planned.toolpath, post);
-    // Everything downstream judges the program as a machine would read it: the written
-    // text through the interpreter, never the CAM's own idea of the moves.
-    bar.set_message("interpreting the program");
-    let canon = interpret(&program, post)?;
-    bar.set_message("simulating the stock");
-    let tools: HashMap<u32, Tool> = planned
-        .toolpath
-        .operations
-        .iter()
-        .map(|o| (o.tool_number, o.tool.clone()))
-        .collect();
-    let mut stock = Heightmap::flat(design.width, design.height, design.pixel, 0.0);
-    let start = [0.0, 0.0, job.safe_z];
-    replay(&canon, &tools, &mut stock, start)?;
-    let last_tool = &planned
-        .toolpath
-        .operations
-        .last()
-        .context("the job has no passes")?
-        .tool;
-    let report = compare(&stock, design, &ideal_surface(design, last_tool));
-    bar.set_message("estimating time");
-    let feed_only_s = feed_only_estimate(&canon, start, 6000.0);
-    let (planner_s, planner_error) = match oficina_motion::Profile::load(profile) {
-        Ok(p) => {
-            match oficina_motion::estimate(to_machine(&canon, job.safe_z + 1.0).into_iter(), &p) {
-                Ok(e) => (Some(e.seconds), None),
-                Err(e) => (None, Some(e.to_string())),
-            }
-        }
-        Err(e) => (None, Some(e.to_string())),
-    };
-    Ok(Evaluation {
-        planned,
-        program,
-        stock,
-        report,
-        feed_only_s,
-        planner_s,
-        planner_error,
-    })
-}
-
-/// The canonical operations of our own program. Any diagnostic means the post wrote
-/// something the control would reject or misread: a bug, reported with its line.
-pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<oficina_canon::Canon>> {
-    use oficina_gcode::program::{run_text, RunOptions};
-    // M6-capable grbl forks read tool changes as LinuxCNC does.
-    let dialect = match post.dialect {
-        Dialect::Grbl if !post.allow_m6 => oficina_gcode::Dialect::Grbl,
-        _ => oficina_gcode::Dialect::LinuxCnc,
-    };
-    let opts = RunOptions {
-        dialect,
-        ..RunOptions::default()
-    };
-    let mut canon = Vec::new();
-    let diagnostics = run_text(program, &opts, &mut |c| canon.push(c));
-    if let Some(d) = diagnostics.first() {
-        let line = program.lines().nth(d.span.line.saturating_sub(1) as usize);
-        bail!(
-            "internal error: the interpreter rejects the generated program ({} diagnostics); \
-             please report it:\n{}",
-            diagnostics.len(),
-            d.render("<generated program>", line)
-        );
-    }
-    Ok(canon)
-}
-
-/// The program placed in machine coordinates with the work zero `drop` mm below the
-/// top of Z travel (the usual Z-zero-at-top router), so the planner's travel check passes;
-/// times do not depend on where the work zero is.
-fn to_machine(canon: &[oficina_canon::Canon], drop: f64) -> Vec<oficina_canon::Canon> {
-    use oficina_canon::CanonOp;
-    let shift = |mut p: oficina_canon::Pos| {
-        p.z -= drop;
-        p
-    };
-    canon
-        .iter()
-        // The interpreter resets the feed to 0 on G94 before any F word; the planner takes
-        // every feed rate as one to move at. A feed move without F is an interpreter error,
-        // so dropping the reset loses nothing.
-        .filter(|c| !matches!(c.op, CanonOp::SetFeedRate(f) if f <= 0.0))
-        .map(|c| {
-            let op = match &c.op {
-                CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
-                CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
-                CanonOp::ArcFeed {
-                    plane,
-                    end,
-                    center,
-                    turns,
-                } => CanonOp::ArcFeed {
-                    plane: *plane,
-                    end: shift(*end),
-                    center: *center,
-                    turns: *turns,
-                },
-                other => other.clone(),
-            };
-            oficina_canon::Canon { line: c.line, op }
-        })
-        .collect()
-}
-
 fn hms(s: f64) -> String {
     let s = s.round() as u64;
     format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
@@ -431,21 +299,21 @@ fn print_evaluation(e: &Evaluation) {
         );
     }
     println!("max gouge: {:.4} mm   leftover vs design: max {:.3} mean {:.4} mm   scallop vs ideal: max {:.3} mean {:.4} mm", r.max_gouge, r.leftover_max, r.leftover_mean, r.scallop_max, r.scallop_mean);
-    match (e.planner_s, &e.planner_error) {
-        (Some(p), _) => println!(
+    match &e.planner {
+        Ok(p) => println!(
             "time: planner {}   feed-only {}",
-            hms(p),
+            hms(*p),
             hms(e.feed_only_s)
         ),
-        (None, Some(err)) => println!(
+        Err(err) => println!(
             "time: feed-only {} (planner unavailable: {err})",
             hms(e.feed_only_s)
         ),
-        _ => println!("time: feed-only {}", hms(e.feed_only_s)),
     }
 }
 
 fn seed_comparison(args: &Args) -> Result<()> {
+    let profile = &machine_profile::resolve(&args.profile)?;
     println!(
         "Seed 004 hemisphere: 150 x 150 mm, 25 mm deep, F{} mm/min (the seed's feed)",
         seed004::SEED_FEED_MM_MIN
@@ -467,30 +335,29 @@ fn seed_comparison(args: &Args) -> Result<()> {
             settings: vec![],
         };
         let bar = progress_bar();
-        let one = evaluate(
-            &design,
-            &seed004::seed_one_tool(),
-            &args.profile,
-            &post,
-            &bar,
-        )?;
-        let two = evaluate(
-            &design,
-            &seed004::seed_two_tools(),
-            &args.profile,
-            &post,
-            &bar,
-        )?;
+        let run = |job: &Job| {
+            evaluate(
+                &design,
+                job,
+                Some(profile),
+                &post,
+                budget(args),
+                &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
+            )
+            .map_err(explain)
+        };
+        let one = run(&seed004::seed_one_tool())?;
+        let two = run(&seed004::seed_two_tools())?;
         // Ours must be at least as good: finish scallop chosen to match the seed's mean leftover.
-        let ours = evaluate(&design, &seed004::improved(), &args.profile, &post, &bar)?;
+        let ours = run(&seed004::improved())?;
         bar.finish_and_clear();
         if let Some(err) = [&one, &two, &ours]
             .iter()
-            .find_map(|e| e.planner_error.as_ref())
+            .find_map(|e| e.planner.as_ref().err())
         {
             println!("        (planner unavailable, savings from feed-only times: {err})");
         }
-        let base = |e: &Evaluation| e.planner_s.unwrap_or(e.feed_only_s);
+        let base = |e: &Evaluation| *e.planner.as_ref().unwrap_or(&e.feed_only_s);
         for (name, e) in [
             ("seed: 3 mm flat alone", &one),
             ("seed: 12 mm + 3 mm flat", &two),
@@ -501,7 +368,10 @@ fn seed_comparison(args: &Args) -> Result<()> {
                 "{:>6}  {:<34} {:>10} {:>10} {:>8.4} {:>9.3} {:>9.4} {:>8.1}%",
                 pixel,
                 name,
-                e.planner_s.map(hms).unwrap_or_else(|| "-".into()),
+                e.planner
+                    .as_ref()
+                    .map(|p| hms(*p))
+                    .unwrap_or_else(|_| "-".into()),
                 hms(e.feed_only_s),
                 e.report.max_gouge,
                 e.report.leftover_max,

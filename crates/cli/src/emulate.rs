@@ -27,9 +27,10 @@ pub struct Args {
     /// Serial line rate to emulate, bits/s (10 bits a byte); 0 = no limit.
     #[arg(long, default_value_t = 115_200)]
     pub baud: u32,
-    /// Take $100-$132, $11 and $12 from an Oficina machine profile (e.g. profiles/grbl-router.toml).
+    /// Take $100-$132, $11 and $12 from an Oficina machine profile: a TOML file or a bundled
+    /// name (e.g. grbl-router).
     #[arg(long, value_name = "PROFILE")]
-    pub profile: Option<std::path::PathBuf>,
+    pub profile: Option<String>,
     /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable; applied after --profile).
     #[arg(long = "set", value_name = "N=VALUE")]
     pub settings: Vec<String>,
@@ -61,9 +62,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");
     }
     let mut settings = match &args.profile {
-        Some(path) => {
-            let profile =
-                oficina_motion::Profile::load(path).map_err(|e| anyhow::anyhow!("{e}"))?;
+        Some(spec) => {
+            let profile = crate::machine_profile::resolve(spec)?;
             oficina_grbl::emulator::profile::grbl_settings(&profile).map_err(anyhow::Error::msg)?
         }
         None => Vec::new(),

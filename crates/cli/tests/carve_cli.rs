@@ -119,7 +119,18 @@ fn carves_a_picture_into_program_preview_and_estimate() {
         program.contains("(grid = 60 x 40 samples, 0.5 mm per pixel)"),
         "{program:.600}"
     );
-    assert!(program.contains("(command = ") && program.contains("rough_tool: Some"));
+    assert!(program.contains("(command = "), "{program:.600}");
+    // Readable settings, one per line, never a Rust value dumped.
+    assert!(program.contains("(rough tool = flat:6)"), "{program:.900}");
+    assert!(program.contains("(tool = ball:3)"), "{program:.900}");
+    assert!(
+        program.contains("(depth = 3 mm at black)"),
+        "{program:.900}"
+    );
+    assert!(
+        !program.contains("Args {") && !program.contains("Some("),
+        "{program:.900}"
+    );
     assert!(program.contains("T1\n") && program.contains("T2\nM0"));
     assert!(program.trim_end().ends_with("M30"));
 
@@ -289,4 +300,248 @@ fn an_output_that_would_replace_the_design_image_is_refused() {
         before,
         "the design must not change"
     );
+}
+
+/// A gray picture of `w` × `h` pixels with a dark spot, as PNG.
+fn small_picture(dir: &Path, w: u32, h: u32) -> PathBuf {
+    let path = dir.join(format!("p{w}x{h}.png"));
+    image::ImageBuffer::from_fn(w, h, |x, y| image::Luma([((x * 37 + y * 91) % 256) as u8]))
+        .save(&path)
+        .unwrap();
+    path
+}
+
+/// Runs `oficina` with its address space capped at `limit` bytes: a command that tried to
+/// grow past its memory budget would die here instead of thrashing the machine.
+fn oficina_capped(args: &[&str], cwd: &Path, limit: u64) -> Output {
+    use std::os::unix::process::CommandExt;
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_oficina"));
+    cmd.args(args).current_dir(cwd);
+    // SAFETY: setrlimit is async-signal-safe; nothing else runs between fork and exec.
+    unsafe {
+        cmd.pre_exec(move || {
+            nix::sys::resource::setrlimit(nix::sys::resource::Resource::RLIMIT_AS, limit, limit)
+                .map_err(std::io::Error::from)
+        });
+    }
+    cmd.output().expect("the binary runs")
+}
+
+#[test]
+fn degenerate_pictures_tools_and_steps_carve_without_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.nc");
+    for (w, h) in [(1, 1), (1, 5), (5, 1), (2, 2), (1, 40), (40, 1)] {
+        let picture = small_picture(dir.path(), w, h);
+        for extra in [
+            &["--tool", "ball:3"][..],
+            &["--tool", "flat:100", "--rough-tool", "flat:150"],
+            &[
+                "--tool",
+                "v:30:60",
+                "--stepover",
+                "1000",
+                "--stepdown",
+                "1000",
+            ],
+            &[
+                "--tool",
+                "ball:3",
+                "--rough-tool",
+                "flat:6",
+                "--direction",
+                "both",
+            ],
+        ] {
+            let mut args = vec![
+                "carve",
+                picture.to_str().unwrap(),
+                "--pixel-size",
+                "0.5",
+                "--depth",
+                "5",
+                "-o",
+                out.to_str().unwrap(),
+            ];
+            args.extend_from_slice(extra);
+            let run = oficina(&args);
+            let err = String::from_utf8_lossy(&run.stderr);
+            assert!(
+                run.status.success() && !err.contains("panicked"),
+                "{w} x {h} {extra:?}: {err}"
+            );
+            let program = std::fs::read_to_string(&out).unwrap();
+            assert!(program.trim_end().ends_with("M30"), "{w} x {h} {extra:?}");
+        }
+    }
+}
+
+#[test]
+fn absurd_sizes_are_refused_with_the_option_that_changes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let dome = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/relief/dome.png");
+    let out = dir.path().join("x.nc");
+    let cases: [(&[&str], &[&str]); 4] = [
+        (&["--pixel-size", "1000000"], &["wide", "--pixel-size"]),
+        (
+            &["--pixel-size", "0.5", "--depth", "1000000"],
+            &["deep", "--depth"],
+        ),
+        // 18000 levels of 5 mm: within the machine's size, not within 256 MB of moves.
+        (
+            &[
+                "--pixel-size",
+                "0.5",
+                "--depth",
+                "90000",
+                "--memory-mb",
+                "256",
+            ],
+            &[
+                "MB",
+                "over the memory budget of 256 MB",
+                "--stepdown",
+                "--memory-mb",
+            ],
+        ),
+        // A grid too large for the simulation and preview within 1 MB.
+        (
+            &["--pixel-size", "0.5", "--memory-mb", "1"],
+            &["over the memory budget of 1 MB", "--memory-mb"],
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["carve", dome.to_str().unwrap(), "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let run = oficina_capped(&args, dir.path(), 1 << 31);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{extra:?}: {err}");
+        for w in want {
+            assert!(err.contains(w), "{extra:?}: want '{w}' in {err}");
+        }
+        assert!(!out.exists(), "{extra:?}: no program");
+    }
+}
+
+#[test]
+fn profiles_are_found_by_name_from_any_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let picture = small_picture(dir.path(), 12, 10);
+    let out = dir.path().join("x.nc");
+    // The default profile, and a bundled name, from a folder that holds no profiles/.
+    for extra in [&[][..], &["--profile", "grbl-router"]] {
+        let mut args = vec![
+            "carve",
+            picture.to_str().unwrap(),
+            "--pixel-size",
+            "0.5",
+            "--depth",
+            "2",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let run = oficina_capped(&args, dir.path(), 1 << 32);
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(stdout.contains("time: planner "), "{extra:?}: {stdout}");
+    }
+    let run = oficina(&[
+        "carve",
+        picture.to_str().unwrap(),
+        "--pixel-size",
+        "0.5",
+        "--profile",
+        "no-such-router",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no-such-router") && err.contains("grbl-router"),
+        "{err}"
+    );
+
+    let run = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args([
+            "emulate",
+            "grbl",
+            "--tcp",
+            "127.0.0.1:0",
+            "--profile",
+            "grbl-router",
+            "--for-seconds",
+            "0.2",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// The bundled sample is a dome: where the carved program's tool tip goes lowest, cell by
+/// cell (2 mm), the centre stands highest and the corners are at full depth.
+#[test]
+fn the_bundled_dome_sample_carves_a_dome() {
+    let dir = tempfile::tempdir().unwrap();
+    let dome = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/relief/dome.png");
+    let out = dir.path().join("dome.nc");
+    let run = oficina(&[
+        "carve",
+        dome.to_str().unwrap(),
+        "--pixel-size",
+        "0.5",
+        "--depth",
+        "6",
+        "--tool",
+        "ball:3",
+        "--rough-tool",
+        "flat:6",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (points, _) = positions(&std::fs::read_to_string(&out).unwrap());
+    let picture = image::open(&dome).unwrap();
+    let (w, h) = (
+        (picture.width() - 1) as f64 * 0.5,
+        (picture.height() - 1) as f64 * 0.5,
+    );
+    let cell = 2.0;
+    let (nx, ny) = ((w / cell).ceil() as usize, (h / cell).ceil() as usize);
+    // Untouched cells stand at the stock top.
+    let mut lowest = vec![0.0f64; nx * ny];
+    for p in &points {
+        let (ix, iy) = ((p[0] / cell) as usize, (p[1] / cell) as usize);
+        if ix < nx && iy < ny {
+            let c = &mut lowest[iy * nx + ix];
+            *c = c.min(p[2]);
+        }
+    }
+    let centre = lowest[(ny / 2) * nx + nx / 2];
+    let highest = lowest.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        centre >= highest - 0.05,
+        "the centre ({centre}) must be the highest point ({highest})"
+    );
+    assert!(
+        centre > -1.0,
+        "the dome's top is near the stock top: {centre}"
+    );
+    for corner in [0, nx - 1, (ny - 1) * nx, ny * nx - 1] {
+        assert!(lowest[corner] < -5.5, "corner at {}", lowest[corner]);
+    }
 }

@@ -2,6 +2,7 @@
 //! tool shapes, then compares the result with the design (gouge, leftover, scallop),
 //! renders a preview and gives a time estimate.
 
+pub mod carve;
 pub mod estimate;
 pub mod render;
 pub mod replay;
