@@ -78,7 +78,13 @@ pub enum ImageError {
     Decode { path: String, detail: String },
     #[error("{what} must be a finite number above 0, got {value}")]
     BadParameter { what: &'static str, value: f64 },
+    #[error("a depth of {0} mm is beyond any part (at most {MAX_DEPTH_MM} mm)")]
+    TooDeep(f64),
 }
+
+/// Deepest black level accepted, mm: a kilometre, far beyond any machine and well inside
+/// what f32 heights hold.
+pub const MAX_DEPTH_MM: f64 = 1.0e6;
 
 /// Default memory budget for one import: 2 GiB.
 pub const DEFAULT_BUDGET: u64 = 2 << 30;
@@ -122,6 +128,9 @@ pub fn load_image_bytes(
     budget: u64,
 ) -> Result<Heightmap, ImageError> {
     check_positive("max depth", mapping.max_depth)?;
+    if mapping.max_depth > MAX_DEPTH_MM {
+        return Err(ImageError::TooDeep(mapping.max_depth));
+    }
     match scale {
         Scale::PixelSize(p) => check_positive("pixel size", p)?,
         Scale::Width(w) => check_positive("width", w)?,
@@ -137,7 +146,9 @@ pub fn load_image_bytes(
             height,
         });
     }
-    let needed = width as u64 * height as u64 * BYTES_PER_PIXEL;
+    // 2^32 × 2^32 × 24 does not fit in u64: saturate, or a hostile header would wrap to a
+    // small figure and pass.
+    let needed = (width as u64 * height as u64).saturating_mul(BYTES_PER_PIXEL);
     if needed > budget {
         return Err(ImageError::TooBig {
             path: name.into(),

@@ -46,12 +46,7 @@ pub fn load_raw_f32(
     budget: u64,
 ) -> Result<Heightmap, RawError> {
     let name = path.display().to_string();
-    if width == 0 {
-        return Err(RawError::BadParameter { what: "raw width" });
-    }
-    if !(pixel.is_finite() && pixel > 0.0) {
-        return Err(RawError::BadParameter { what: "pixel size" });
-    }
+    check_parameters(width, pixel)?;
     let bytes = std::fs::metadata(path)
         .map_err(|source| RawError::Read {
             path: name.clone(),
@@ -72,13 +67,26 @@ pub fn load_raw_f32(
     raw_f32_from_bytes(&name, &data, width, pixel)
 }
 
+fn check_parameters(width: usize, pixel: f64) -> Result<(), RawError> {
+    if width == 0 {
+        return Err(RawError::BadParameter { what: "raw width" });
+    }
+    if !(pixel.is_finite() && pixel > 0.0) {
+        return Err(RawError::BadParameter { what: "pixel size" });
+    }
+    Ok(())
+}
+
+/// Decodes `data` (named `name` in messages): rows of `width` f32 samples, `pixel` mm apart.
 pub fn raw_f32_from_bytes(
     name: &str,
     data: &[u8],
     width: usize,
     pixel: f64,
 ) -> Result<Heightmap, RawError> {
-    let row = width as u64 * 4;
+    check_parameters(width, pixel)?;
+    // A width whose row does not even fit in u64 is simply not a whole number of rows.
+    let row = (width as u64).saturating_mul(4);
     if data.is_empty() {
         return Err(RawError::Empty { path: name.into() });
     }
@@ -90,7 +98,7 @@ pub fn raw_f32_from_bytes(
             row,
         });
     }
-    let height = data.len() / (width * 4);
+    let height = (data.len() as u64 / row) as usize;
     let mut z = Vec::with_capacity(width * height);
     for image_row in (0..height).rev() {
         for col in 0..width {
