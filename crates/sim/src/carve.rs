@@ -73,7 +73,79 @@ const REST_MARGIN: f64 = 0.3;
 /// Rest machining's step-over, as a fraction of the finishing tool's diameter.
 const REST_STEPOVER: f64 = 0.5;
 
+/// A setting outside what any machine or part could mean.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SettingsError {
+    #[error(transparent)]
+    Tool(#[from] ToolError),
+    #[error("{what} must be a number from {min} to {max}{unit}, got {value}")]
+    Range {
+        what: &'static str,
+        value: f64,
+        min: f64,
+        max: f64,
+        unit: &'static str,
+    },
+    #[error("{what} must be a number above 0 and at most {max}{unit}, got {value}")]
+    Positive {
+        what: &'static str,
+        value: f64,
+        max: f64,
+        unit: &'static str,
+    },
+}
+
+/// Largest length a setting may have, mm: no part or machine is larger (see the planner's
+/// own limit on the part).
+const MAX_LENGTH_MM: f64 = oficina_cam::relief::MAX_EXTENT_MM;
+
 impl Settings {
+    /// Every number finite and within what a machine could do.
+    fn check(&self) -> Result<(), SettingsError> {
+        let positive = |what, value: f64, max, unit| {
+            if value.is_finite() && value > 0.0 && value <= max {
+                Ok(())
+            } else {
+                Err(SettingsError::Positive {
+                    what,
+                    value,
+                    max,
+                    unit,
+                })
+            }
+        };
+        positive("scallop", self.scallop, MAX_LENGTH_MM, " mm")?;
+        if let Some(s) = self.stepover {
+            positive("step-over", s, MAX_LENGTH_MM, " mm")?;
+        }
+        positive(
+            "roughing step-over",
+            self.rough_stepover,
+            100.0,
+            " diameters",
+        )?;
+        positive("step-down", self.stepdown, MAX_LENGTH_MM, " mm")?;
+        // Feeds as the post writes them (4 decimals) must not read as F0.
+        for (what, value, min, max, unit) in [
+            ("feed", self.feed, 0.01, 1.0e6, " mm/min"),
+            ("plunge feed", self.plunge_feed, 0.01, 1.0e6, " mm/min"),
+            ("allowance", self.allowance, 0.0, MAX_LENGTH_MM, " mm"),
+            ("safe Z", self.safe_z, 0.0, MAX_LENGTH_MM, " mm"),
+            ("spindle speed", self.rpm, 0.0, 1.0e6, " rpm"),
+        ] {
+            if !(value.is_finite() && (min..=max).contains(&value)) {
+                return Err(SettingsError::Range {
+                    what,
+                    value,
+                    min,
+                    max,
+                    unit,
+                });
+            }
+        }
+        Ok(())
+    }
+
     fn cutter(&self, number: u32, spec: &str) -> Result<Cutter, ToolError> {
         Ok(Cutter {
             number,
@@ -88,8 +160,9 @@ impl Settings {
     }
 
     /// The CAM job: roughing and rest machining when a roughing tool is given, then the
-    /// finish. Numbers are checked by the planner.
-    pub fn job(&self) -> Result<Job, ToolError> {
+    /// finish.
+    pub fn job(&self) -> Result<Job, SettingsError> {
+        self.check()?;
         let finish = self.cutter(2, &self.tool)?;
         let stepover = self
             .stepover
