@@ -4,8 +4,9 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
+use oficina_cam::memory::{self, Budget, Lever};
 use oficina_cam::raster::Feeds;
-use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, ReliefError};
 use oficina_cam::Tool;
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::image_in::luminance_to_heights;
@@ -41,6 +42,9 @@ pub struct Args {
     /// Tip heights oficina evaluates per pixel along a row.
     #[arg(long, default_value_t = oficina_cam::relief::SAMPLES_PER_PIXEL)]
     pub samples_per_pixel: usize,
+    /// Memory budget for the generated relief, the toolpath and its G-code text, MB.
+    #[arg(long, default_value_t = 4096)]
+    pub memory_mb: u64,
 }
 
 const PIXEL: f64 = 0.1;
@@ -167,8 +171,16 @@ struct Ours {
 }
 
 fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
-    let (planned, plan_cost) = measure(|| plan(map, &job(args), &|_, _| {}));
-    let planned = planned?;
+    // Each move is kept as a move and as a line of text.
+    let budget = Budget {
+        bytes: args.memory_mb.saturating_mul(1 << 20),
+        per_move: oficina_sim::carve::bytes_per_move(),
+    };
+    let (planned, plan_cost) = measure(|| plan_within(map, &job(args), budget, &|_, _| {}));
+    let planned = planned.map_err(|e| match e {
+        ReliefError::Memory(_) => anyhow::anyhow!("{e} (options: --size, --memory-mb)"),
+        e => e.into(),
+    })?;
     let post = PostOptions {
         dialect: Dialect::LinuxCnc,
         allow_m6: false,
@@ -326,6 +338,14 @@ pub fn run(args: Args) -> Result<()> {
          ball {BALL_DIAMETER} mm, rows every {STEP_PX} pixels ({} mm), one finishing pass along X",
         STEP_PX as f64 * PIXEL
     );
+    // The gray picture (1 byte a pixel), its luminance and the height grid (4 bytes each).
+    memory::check(
+        || format!("the generated {n} x {n} relief"),
+        memory::grid_bytes(n, n).saturating_mul(2) + (n * n) as u64,
+        args.memory_mb.saturating_mul(1 << 20),
+        Lever::PixelSize,
+    )
+    .map_err(|e| anyhow::anyhow!("{e} (options: --size, --memory-mb)"))?;
     let gray = relief_image(n);
     let full = design(&gray, n);
     let ours = time_ours(&full, &args)?;
