@@ -124,6 +124,12 @@ pub enum ReliefError {
 /// inside what f64 coordinates and G-code numbers carry exactly enough).
 pub const MAX_EXTENT_MM: f64 = 100_000.0;
 
+/// How far a program may place the tool from the planned XY, mm: posts write 4 decimals, so
+/// each axis rounds by up to 0.05 µm, 0.07 µm both together. The targets are the tool-tip
+/// surface dilated over a disk this wide, so a rounded move still touches nothing below the
+/// design: on a 1° tapered ball's flank 0.07 µm across is 4 µm down.
+pub const XY_ROUNDING_MM: f64 = 1.0e-4;
+
 /// Default tip heights per pixel along the raster.
 pub const SAMPLES_PER_PIXEL: usize = 4;
 /// Most tip heights per pixel accepted.
@@ -500,19 +506,16 @@ fn cut_pass(
             None,
         )
     };
-    let kernels = SubKernels::new(tool, grid.pixel, pass.allowance, sub);
-    // Between grid points a tool narrower than a pixel has no sample under it (a tip height
-    // of −∞): the design's lowest point is a floor that still touches no sample.
+    // Widened by the programs' rounding: a move written to the nearest 0.1 µm still clears.
+    let kernels = SubKernels::new(tool, grid.pixel, pass.allowance + XY_ROUNDING_MM, sub);
+    // Between grid points a pointed tool reaches below the samples beside it (a needle-thin
+    // V bit by metres, a tool narrower than a pixel to −∞ with no sample under it): no
+    // target goes beneath the design's lowest point, which touches no sample either.
     let lowest = grid.range().0;
     let targets: Vec<Vec<f32>> = surface_rows_sub(&grid, &kernels, &rows)
         .into_iter()
         .map(|mut r| {
-            r.iter_mut().for_each(|t| {
-                if !t.is_finite() {
-                    *t = lowest;
-                }
-                *t += allowance
-            });
+            r.iter_mut().for_each(|t| *t = t.max(lowest) + allowance);
             segment_bound(&mut r);
             r
         })

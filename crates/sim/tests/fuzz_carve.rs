@@ -4,7 +4,8 @@
 //!
 //! Asserted for every input: no panic; a refusal is a user error (never the "internal
 //! error" of a program our own post wrote and our interpreter rejects); a carved job never
-//! gouges the design and its program ends with M30.
+//! gouges the design and its program ends with M30. A case slower than a second is reported
+//! on stderr.
 //!
 //! Cases: `PROPTEST_CASES` (default 256). A long run:
 //! `PROPTEST_CASES=20000 cargo test --release -p oficina-sim --test fuzz_carve`.
@@ -114,7 +115,15 @@ proptest! {
             settings: settings.describe(),
         };
         let profile = oficina_motion::profile::bundled("grbl-router").unwrap().unwrap();
-        match evaluate(&design, &job, Some(&profile), &post, budget, &|_, _| {}) {
+        let t = std::time::Instant::now();
+        let result = evaluate(&design, &job, Some(&profile), &post, budget, &|_, _| {});
+        if t.elapsed().as_secs_f64() > 1.0 {
+            eprintln!(
+                "slow case: {:.1} s, {} x {} px of {} mm, {settings:?}",
+                t.elapsed().as_secs_f64(), design.width, design.height, design.pixel
+            );
+        }
+        match result {
             Ok(e) => {
                 prop_assert!(e.program.trim_end().ends_with("M30"));
                 prop_assert!(
