@@ -240,7 +240,19 @@ proptest! {
         job.samples_per_pixel = sub;
         job.safe_z = safe_z;
         let budget = Budget { bytes: 64 << 20, per_move: 200 };
-        if let Ok(planned) = plan_within(&d, &job, budget, &|_, _| {}) {
+        let t = std::time::Instant::now();
+        let result = plan_within(&d, &job, budget, &|stage, f| {
+            if t.elapsed().as_secs_f64() > 1.0 {
+                eprintln!("slow case: {:.1} s at {stage} {f}", t.elapsed().as_secs_f64());
+            }
+        });
+        if t.elapsed().as_secs_f64() > 1.0 {
+            eprintln!(
+                "slow case: {:.1} s, {w} x {h} px of {pixel} mm, {rough} {finish} stepover {stepover} stepdown {stepdown} allowance {allowance} tol {tol} sub {sub}",
+                t.elapsed().as_secs_f64()
+            );
+        }
+        if let Ok(planned) = result {
             sane(&planned.toolpath, &d);
         }
     }
