@@ -321,8 +321,9 @@ fn pass_shape(
         (design.width, design.height)
     };
     // As `SubKernels`: the widest shifted kernel reaches one pixel further at most.
-    let reach =
-        ((pass.cutter.tool.reach_radius() + pass.allowance) / design.pixel + 1.0).ceil() as usize;
+    let reach = ((pass.cutter.tool.reach_radius() + pass.allowance + XY_ROUNDING_MM) / design.pixel
+        + 1.0)
+        .ceil() as usize;
     PassShape {
         width,
         height,
@@ -416,7 +417,10 @@ fn check_pass(p: &Pass, pixel: f64) -> Result<(), ReliefError> {
     if !(p.min_cut.is_finite() && p.min_cut > 0.0) {
         return Err(bad("minimum cut", p.min_cut));
     }
-    let reach = ((p.cutter.tool.reach_radius() + pixel + p.allowance) / pixel).ceil();
+    // The widest kernel of the pass: shifted by up to a pixel, widened by the allowance and
+    // the programs' rounding.
+    let reach =
+        ((p.cutter.tool.reach_radius() + pixel + p.allowance + XY_ROUNDING_MM) / pixel).ceil();
     if reach > MAX_REACH_PX as f64 {
         return Err(ReliefError::ToolTooLarge {
             pass: p.name.clone(),
