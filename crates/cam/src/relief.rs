@@ -100,6 +100,8 @@ pub enum ReliefError {
         pixel: f64,
         max: usize,
     },
+    #[error("pass '{pass}': step-down {value} mm is below {MIN_STEPDOWN_MM} mm")]
+    StepDown { pass: String, value: f64 },
     #[error("the height map is empty")]
     EmptyDesign,
     #[error("the pixel size must be a finite number above 0, got {0}")]
@@ -129,6 +131,9 @@ pub const MAX_EXTENT_MM: f64 = 100_000.0;
 /// surface dilated over a disk this wide, so a rounded move still touches nothing below the
 /// design: on a 1° tapered ball's flank 0.07 µm across is 4 µm down.
 pub const XY_ROUNDING_MM: f64 = 1.0e-4;
+
+/// Smallest step-down, mm (1 µm).
+pub const MIN_STEPDOWN_MM: f64 = 1.0e-3;
 
 /// Default tip heights per pixel along the raster.
 pub const SAMPLES_PER_PIXEL: usize = 4;
@@ -411,6 +416,14 @@ fn check_pass(p: &Pass, pixel: f64) -> Result<(), ReliefError> {
             return Err(bad(what, v));
         }
     }
+    // Finer depth steps than this mean nothing to a router, and f64 levels over a part
+    // of MAX_EXTENT_MM stay distinct.
+    if p.stepdown < MIN_STEPDOWN_MM {
+        return Err(ReliefError::StepDown {
+            pass: p.name.clone(),
+            value: p.stepdown,
+        });
+    }
     if !(p.allowance.is_finite() && p.allowance >= 0.0) {
         return Err(bad("allowance", p.allowance));
     }
@@ -433,18 +446,35 @@ fn check_pass(p: &Pass, pixel: f64) -> Result<(), ReliefError> {
 }
 
 /// Depth levels: floors every `stepdown` down to the deepest target.
-fn level_floors(deepest: f32, top: f32, stepdown: f64) -> Vec<f32> {
-    let mut floors = Vec::new();
-    let mut k = 1;
-    loop {
-        let z = top as f64 - k as f64 * stepdown;
-        if z <= deepest as f64 {
-            floors.push(f32::NEG_INFINITY);
-            return floors;
-        }
-        floors.push(z as f32);
-        k += 1;
+/// Floor of depth level `k` (1, 2, …): `stepdown` apart below `top`; the last level, the
+/// first that would reach `deepest`, has no floor (−∞).
+fn level_floor(k: u64, deepest: f32, top: f32, stepdown: f64) -> f32 {
+    let z = top as f64 - k as f64 * stepdown;
+    if z <= deepest as f64 {
+        f32::NEG_INFINITY
+    } else {
+        z as f32
     }
+}
+
+/// Number of depth levels from `top` down to `deepest`.
+fn level_count(deepest: f32, top: f32, stepdown: f64) -> u64 {
+    ((top as f64 - deepest as f64) / stepdown).floor().max(0.0) as u64 + 1
+}
+
+/// The highest floor that still cuts something in `rows`: a level cuts a sample (allowed,
+/// target `t`, free height `c`) only when its floor and `t` both lie below `c − min_cut`.
+/// −∞ when no sample is left to cut.
+fn cut_ceiling(rows: &[Row], targets: &[&[f32]], min_cut: f32) -> f32 {
+    let mut ceiling = f32::NEG_INFINITY;
+    for (r, t) in rows.iter().zip(targets) {
+        for (j, (&t, &c)) in t.iter().zip(&r.clear).enumerate() {
+            if t < c - min_cut && r.allowed.as_ref().is_none_or(|a| a[j]) {
+                ceiling = ceiling.max(c - min_cut);
+            }
+        }
+    }
+    ceiling
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -588,6 +618,12 @@ fn cut_pass(
         // levels that cannot fit before cutting any.
         // A sample whose target lies `d` below its free height is cut at every level whose
         // floor falls in between: at least ⌊(d − min cut) / stepdown⌋ of them.
+        let step = if pass.stepdown >= pass.min_cut {
+            pass.stepdown
+        } else {
+            // Cut again only once the floor is `min_cut` below the last cut.
+            pass.min_cut + pass.stepdown
+        };
         let visits: u64 = block_rows
             .iter()
             .zip(&members)
@@ -597,14 +633,44 @@ fn cut_pass(
                     .zip(&r.clear)
                     .map(|(&t, &c)| (c - t) as f64)
                     .fold(0.0, f64::max);
-                ((deepest_cut - pass.min_cut) / pass.stepdown)
-                    .floor()
-                    .max(0.0) as u64
+                ((deepest_cut - pass.min_cut) / step).floor().max(0.0) as u64
             })
             .fold(0u64, u64::saturating_add);
         moves.check_bound((em.moves.len() as u64).saturating_add(visits.saturating_mul(2)))?;
-        let floors = level_floors(deepest, top, pass.stepdown);
-        for (done, &floor) in floors.iter().enumerate() {
+        let levels = level_count(deepest, top, pass.stepdown);
+        let block_targets: Vec<&[f32]> = members.iter().map(|&i| &targets[i][..]).collect();
+        let min_cut = pass.min_cut as f32;
+        let floor_at = |k: u64| level_floor(k, deepest, top, pass.stepdown);
+        let mut k = 1u64;
+        loop {
+            // Levels that cut nothing are skipped (else a tiny step-down over a deep block
+            // would loop without end): their only effect, lowering free heights to
+            // max(target, floor), is that of the last one skipped, since floors descend.
+            let ceiling = cut_ceiling(&block_rows, &block_targets, min_cut);
+            if ceiling == f32::NEG_INFINITY {
+                break;
+            }
+            if floor_at(k) >= ceiling {
+                let mut next = (((top - ceiling) as f64 / pass.stepdown).floor().max(0.0) as u64)
+                    .saturating_add(1)
+                    .max(k + 1);
+                while next > k + 1 && floor_at(next - 1) < ceiling {
+                    next -= 1;
+                }
+                while floor_at(next) >= ceiling {
+                    next += 1;
+                }
+                let skipped = floor_at(next - 1);
+                for (r, t) in block_rows.iter_mut().zip(&block_targets) {
+                    for (c, &t) in r.clear.iter_mut().zip(t.iter()) {
+                        *c = c.min(t.max(skipped));
+                    }
+                }
+                k = next;
+                continue;
+            }
+            let floor = floor_at(k);
+            let done = k as usize;
             let level_rows: Vec<Row> = block_rows
                 .iter()
                 .zip(&members)
@@ -624,13 +690,17 @@ fn cut_pass(
                 pass.min_cut as f32,
                 tol,
             );
-            moves.check_count(em.moves.len() as u64, done + 1, floors.len())?;
+            moves.check_count(em.moves.len() as u64, done, levels as usize)?;
             // What this level reached is free for the next one.
             for (r, l) in block_rows.iter_mut().zip(&level_rows) {
                 for (c, &t) in r.clear.iter_mut().zip(&l.target) {
                     *c = c.min(t);
                 }
             }
+            if floor == f32::NEG_INFINITY {
+                break;
+            }
+            k += 1;
         }
     }
     Ok(())
