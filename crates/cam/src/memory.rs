@@ -29,7 +29,8 @@ impl Budget {
 /// What makes an estimate smaller, for the message (the CLI names its option).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Lever {
-    /// Fewer grid points: a coarser pixel size (or a smaller picture).
+    /// Fewer grid points (a smaller picture), or a kernel of fewer pixels (a coarser pixel
+    /// size).
     PixelSize,
     /// Fewer depth levels: a larger step-down or a shallower relief.
     Levels,
@@ -40,7 +41,9 @@ pub enum Lever {
 impl Lever {
     pub fn describe(self) -> &'static str {
         match self {
-            Lever::PixelSize => "a coarser pixel size",
+            Lever::PixelSize => {
+                "fewer grid points (a smaller picture) or fewer pixels across the tool (a coarser pixel size)"
+            }
             Lever::Levels => "a larger step-down or a shallower depth",
             Lever::Moves => "a larger step-over or step-down",
         }

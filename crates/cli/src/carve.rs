@@ -171,7 +171,7 @@ fn explain(e: CarveError) -> anyhow::Error {
         return e.into();
     };
     let options = match over.lever {
-        Lever::PixelSize => "--pixel-size (or --width), --memory-mb",
+        Lever::PixelSize => "--memory-mb, a picture of fewer pixels, --pixel-size or --width",
         Lever::Levels => "--stepdown, --depth, --memory-mb",
         Lever::Moves => "--stepover (or --scallop), --stepdown, --memory-mb",
     };
