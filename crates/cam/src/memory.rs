@@ -15,6 +15,8 @@ use crate::toolpath::Move;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budget {
     pub bytes: u64,
+    /// Bytes the caller holds or will hold besides the plan's (its own grids).
+    pub reserved: u64,
     pub per_move: u64,
 }
 
@@ -22,6 +24,7 @@ impl Budget {
     /// No limit: each move costs its own size.
     pub const UNLIMITED: Budget = Budget {
         bytes: u64::MAX,
+        reserved: 0,
         per_move: std::mem::size_of::<Move>() as u64,
     };
 }
@@ -54,8 +57,8 @@ impl Lever {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error(
     "{what} would need about {} MB, over the memory budget of {} MB; use {} or a larger budget",
-    mb(*.needed),
-    mb(*.budget),
+    show_mb(*.needed),
+    show_mb(*.budget),
     .lever.describe()
 )]
 pub struct OverBudget {
@@ -65,9 +68,15 @@ pub struct OverBudget {
     pub lever: Lever,
 }
 
-/// Bytes as whole MB, rounded up (so "0 MB" never appears in a refusal).
-pub fn mb(bytes: u64) -> u64 {
-    bytes.div_ceil(1 << 20)
+/// Bytes as MB for a message: tenths below 10 MB, so a refusal never reads "1 MB, over the
+/// budget of 1 MB".
+pub fn show_mb(bytes: u64) -> String {
+    let mb = bytes as f64 / (1u64 << 20) as f64;
+    if mb < 10.0 {
+        format!("{mb:.1}")
+    } else {
+        format!("{mb:.0}")
+    }
 }
 
 /// `Err` when `needed` exceeds `budget`.

@@ -208,7 +208,7 @@ pub fn plan_within(
                         pass.name, shape.rows, shape.width, shape.height
                     )
                 },
-                shape.bytes(),
+                shape.bytes().saturating_add(budget.reserved),
                 budget.bytes,
                 Lever::PixelSize,
             )?;
@@ -256,7 +256,7 @@ pub fn plan_within(
             let moves = Moves {
                 earlier: operations.iter().map(|o: &Operation| o.moves.len()).sum(),
                 budget,
-                fixed: shape.bytes(),
+                fixed: shape.bytes().saturating_add(budget.reserved),
                 pass: &pass.name,
             };
             cut_pass(

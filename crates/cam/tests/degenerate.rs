@@ -147,6 +147,7 @@ fn a_tool_narrower_than_a_pixel_plans_finite_moves() {
 fn absurd_depths_and_grids_are_refused_by_their_estimate() {
     let budget = Budget {
         bytes: 256 << 20,
+        reserved: 0,
         per_move: 200,
     };
     // 100 m deep in 0.5 mm levels: 200000 levels of every row.
@@ -239,7 +240,7 @@ proptest! {
         job.tolerance = tol;
         job.samples_per_pixel = sub;
         job.safe_z = safe_z;
-        let budget = Budget { bytes: 64 << 20, per_move: 200 };
+        let budget = Budget { bytes: 64 << 20, reserved: 0, per_move: 200 };
         let t = std::time::Instant::now();
         let result = plan_within(&d, &job, budget, &|stage, f| {
             if t.elapsed().as_secs_f64() > 1.0 {

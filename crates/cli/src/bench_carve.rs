@@ -174,6 +174,7 @@ fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
     // Each move is kept as a move and as a line of text.
     let budget = Budget {
         bytes: args.memory_mb.saturating_mul(1 << 20),
+        reserved: 0,
         per_move: oficina_sim::carve::bytes_per_move(),
     };
     let (planned, plan_cost) = measure(|| plan_within(map, &job(args), budget, &|_, _| {}));

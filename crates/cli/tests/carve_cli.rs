@@ -407,7 +407,7 @@ fn absurd_sizes_are_refused_with_the_option_that_changes_them() {
         // A grid too large for the simulation and preview within 1 MB.
         (
             &["--pixel-size", "0.5", "--memory-mb", "1"],
-            &["over the memory budget of 1 MB", "--memory-mb"],
+            &["over the memory budget of 1.0 MB", "--memory-mb"],
         ),
     ];
     for (extra, want) in cases {

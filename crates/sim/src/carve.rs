@@ -340,7 +340,8 @@ pub fn evaluate(
         Lever::PixelSize,
     )?;
     let budget = Budget {
-        bytes: budget_bytes - fixed,
+        bytes: budget_bytes,
+        reserved: fixed,
         per_move: bytes_per_move(),
     };
     let planned = plan_within(design, job, budget, progress)?;
