@@ -12,6 +12,7 @@ mod emulate;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
+mod peak_memory;
 mod plan;
 mod run;
 
