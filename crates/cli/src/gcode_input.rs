@@ -100,13 +100,14 @@ impl ProgramArgs {
                 .with_context(|| format!("cannot read tool table {}", path.display()))?;
             let text = oficina_gcode::text::decode(&bytes);
             opts.tool_table = ToolTable::parse(&text, machine_units).map_err(|d| {
-                anyhow::anyhow!(
+                eprint!(
                     "{}",
                     d.render(
                         &path.display().to_string(),
-                        text.lines().nth(d.span.line as usize - 1)
+                        text.lines().nth(d.span.line.saturating_sub(1) as usize)
                     )
-                )
+                );
+                crate::Reported
             })?;
         }
         Ok(opts)
@@ -116,6 +117,9 @@ impl ProgramArgs {
 /// Open a program to stream it through the interpreter (`check`, `gcode canon`).
 pub fn open(path: &Path) -> anyhow::Result<BufReader<File>> {
     let f = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    if f.metadata().is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!("{} is a directory, not a program", path.display());
+    }
     Ok(BufReader::with_capacity(1 << 16, f))
 }
 

@@ -167,8 +167,11 @@ fn no_message_says_error_twice_or_repeats_the_os_error() {
         );
     }
     let f = write("badword.nc", b"G21\nG1 X1 Q\nM2\n");
-    for cmd in COMMANDS {
+    let table = write("bad.tbl", b"T1 Znan\n");
+    let with_table = ["check", "--tool-table", table.to_str().unwrap()];
+    for cmd in COMMANDS.iter().copied().chain([&with_table[..]]) {
         let o = oficina(cmd, &f);
+        assert!(!o.status.success(), "{cmd:?}");
         for line in stderr(&o).lines() {
             assert!(
                 line.matches("error").count() <= 1,

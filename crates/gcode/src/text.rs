@@ -125,7 +125,14 @@ impl std::fmt::Display for ReadError {
 /// Latin-1. A file that is all UTF-8 is returned unchanged.
 pub fn read_program(path: &Path, max_bytes: u64) -> Result<String, ReadError> {
     let file = std::fs::File::open(path).map_err(ReadError::Io)?;
-    let len = file.metadata().map_err(ReadError::Io)?.len();
+    let meta = file.metadata().map_err(ReadError::Io)?;
+    if meta.is_dir() {
+        return Err(ReadError::Io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "a directory, not a program",
+        )));
+    }
+    let len = meta.len();
     if len > max_bytes {
         return Err(ReadError::TooLarge {
             bytes: len,
