@@ -116,11 +116,24 @@ impl ProgramArgs {
 
 /// Open a program to stream it through the interpreter (`check`, `gcode canon`).
 pub fn open(path: &Path) -> anyhow::Result<BufReader<File>> {
-    let f = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-    if f.metadata().is_ok_and(|m| m.is_dir()) {
-        anyhow::bail!("{} is a directory, not a program", path.display());
+    oficina_gcode::text::open_program(path).map_err(|e| read_error(path, e))
+}
+
+/// A program that could not be opened or read: the OS error once, after the file name.
+fn read_error(path: &Path, e: oficina_gcode::text::ReadError) -> anyhow::Error {
+    use oficina_gcode::text::ReadError;
+    match e {
+        ReadError::Io(e) => {
+            anyhow::Error::new(e).context(format!("cannot read {}", path.display()))
+        }
+        ReadError::TooLarge { .. } => {
+            anyhow::anyhow!(
+                "{}: {e} (--max-program-mb raises the limit)",
+                path.display()
+            )
+        }
+        ReadError::Bad(d) => anyhow::anyhow!("{}:{d}", path.display()),
     }
-    Ok(BufReader::with_capacity(1 << 16, f))
 }
 
 /// Most of a program `run` and `plan` hold in memory, by default.
@@ -132,19 +145,11 @@ pub fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<Result<String, E
     use oficina_gcode::text::ReadError;
     match oficina_gcode::text::read_program(path, max_mb.saturating_mul(1_000_000)) {
         Ok(text) => Ok(Ok(text)),
-        Err(ReadError::Io(e)) => {
-            Err(anyhow::Error::new(e).context(format!("cannot read {}", path.display())))
-        }
-        Err(e @ ReadError::TooLarge { .. }) => {
-            anyhow::bail!(
-                "{}: {e} (--max-program-mb raises the limit)",
-                path.display()
-            )
-        }
         Err(ReadError::Bad(d)) => {
             print_diagnostics(path, std::slice::from_ref(&d), 0);
             Ok(Err(ExitCode::FAILURE))
         }
+        Err(e) => Err(read_error(path, e)),
     }
 }
 

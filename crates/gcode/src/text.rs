@@ -119,20 +119,26 @@ impl std::fmt::Display for ReadError {
     }
 }
 
-/// Read a whole program file as text by the rule of this module: refused when it is larger
-/// than `max_bytes`, or when a line holds bytes outside UTF-8 outside its comments (the
-/// lexer's error, with line and column); bytes outside UTF-8 inside comments are decoded as
-/// Latin-1. A file that is all UTF-8 is returned unchanged.
-pub fn read_program(path: &Path, max_bytes: u64) -> Result<String, ReadError> {
+/// Open a program file to stream it (what `check` and `gcode canon` do; [`read_program`]
+/// starts here too): a directory is refused by name.
+pub fn open_program(path: &Path) -> Result<std::io::BufReader<std::fs::File>, ReadError> {
     let file = std::fs::File::open(path).map_err(ReadError::Io)?;
-    let meta = file.metadata().map_err(ReadError::Io)?;
-    if meta.is_dir() {
+    if file.metadata().map_err(ReadError::Io)?.is_dir() {
         return Err(ReadError::Io(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
             "a directory, not a program",
         )));
     }
-    let len = meta.len();
+    Ok(std::io::BufReader::with_capacity(1 << 16, file))
+}
+
+/// Read a whole program file as text by the rule of this module: refused when it is larger
+/// than `max_bytes`, or when a line holds bytes outside UTF-8 outside its comments (the
+/// lexer's error, with line and column); bytes outside UTF-8 inside comments are decoded as
+/// Latin-1. A file that is all UTF-8 is returned unchanged.
+pub fn read_program(path: &Path, max_bytes: u64) -> Result<String, ReadError> {
+    let reader = open_program(path)?;
+    let len = reader.get_ref().metadata().map_err(ReadError::Io)?.len();
     if len > max_bytes {
         return Err(ReadError::TooLarge {
             bytes: len,
@@ -141,7 +147,8 @@ pub fn read_program(path: &Path, max_bytes: u64) -> Result<String, ReadError> {
     }
     let mut bytes = Vec::with_capacity(len as usize);
     // A file that grows while it is read is still cut at the limit.
-    file.take(max_bytes.saturating_add(1))
+    reader
+        .take(max_bytes.saturating_add(1))
         .read_to_end(&mut bytes)
         .map_err(ReadError::Io)?;
     if bytes.len() as u64 > max_bytes {
