@@ -124,7 +124,7 @@ fn read_error(path: &Path, e: oficina_gcode::text::ReadError) -> anyhow::Error {
     use oficina_gcode::text::ReadError;
     match e {
         ReadError::Io(e) => {
-            anyhow::Error::new(e).context(format!("cannot read {}", path.display()))
+            anyhow::Error::new(e).context(format!("cannot open {}", path.display()))
         }
         ReadError::TooLarge { .. } => {
             anyhow::anyhow!(
