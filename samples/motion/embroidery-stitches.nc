@@ -1,4 +1,5 @@
 (Seed 000: a running stitch around a 40 mm circle, 2.5 mm stitches, then a jump.)
+(machine: embroidery-xy)
 G21 G90
 F7800
 G0 X40 Y0

@@ -1,4 +1,5 @@
 (Seed 002, Test 1, program 1 in standard G-code: quarter arcs of 80 and 160 mm about the origin.)
+(machine: hotwire-xy)
 G21 G90 G17
 F300
 G1 Y-80

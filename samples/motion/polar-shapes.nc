@@ -1,4 +1,5 @@
 (Seed 003: a square and a hexagon drawn on the wall; Z5 = pen up, Z0 = pen down.)
+(machine: polar-plotter)
 G21 G90
 G0 X600 Y0 Z5 (start from the reset position: the interpreter knows no other)
 G0 X300 Y-500

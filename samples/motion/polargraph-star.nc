@@ -1,4 +1,5 @@
 (A five-pointed star on the hanging polargraph.)
+(machine: polargraph-wall)
 G21 G90
 G0 X500 Y-400 Z5 (start from the reset position: the interpreter knows no other)
 G0 X500 Y-250

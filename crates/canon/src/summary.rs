@@ -48,20 +48,39 @@ pub struct Summary {
     /// Tools in the order they were first selected or changed to.
     pub tools: Vec<u32>,
     pub dwell_seconds: f64,
-    /// Feed moves at their programmed feed plus rapids with every axis at its top speed, no
-    /// acceleration: a lower bound that the planner's exact estimate replaces.
+    /// Feed moves at their programmed feed plus rapids at the machine's top speed, no
+    /// acceleration, every move at least as long as its [`MoveBound`]: a lower bound of the
+    /// time any planner within those limits takes (the planner's exact estimate replaces it).
     pub feed_rate_seconds: f64,
     /// Feed moves programmed with no usable feed rate (counted, not timed).
     pub untimed_moves: u64,
 }
 
+/// The least time, in seconds, any move between two machine points (X, Y, Z mm) can take on
+/// a machine, whatever its path: e.g. from the top speed of each joint, as a joint must cover
+/// at least the difference of its end values. Rapids take exactly this long in the
+/// feed-rate figure; feed moves take at least this long.
+pub trait MoveBound {
+    fn min_seconds(&self, from: [f64; 3], to: [f64; 3]) -> f64;
+}
+
+/// X, Y and Z top speeds in mm/min, each axis its own motor (a move takes as long as its
+/// slowest axis needs); 0 = no limit known.
+impl MoveBound for [f64; 3] {
+    fn min_seconds(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
+        (0..3)
+            .filter(|&i| self[i] > 0.0)
+            .map(|i| (b[i] - a[i]).abs() / self[i] * 60.0)
+            .fold(0.0, f64::max)
+    }
+}
+
 /// Folds canon operations into a [`Summary`].
-#[derive(Clone, Debug)]
 pub struct Summarizer {
     pos: Pos,
     feed: f64,
     feed_mode: FeedMode,
-    rapid_rates: [f64; 3],
+    bound: Box<dyn MoveBound + Send>,
     summary: Summary,
 }
 
@@ -69,11 +88,17 @@ impl Summarizer {
     /// `start` is the machine position before the program; `rapid_rates` are the top speeds
     /// of X, Y and Z in mm/min (a rapid takes as long as its slowest axis needs).
     pub fn new(start: Pos, rapid_rates: [f64; 3]) -> Summarizer {
+        Summarizer::with_bound(start, Box::new(rapid_rates))
+    }
+
+    /// As [`Summarizer::new`], with the machine's own bound on the time of a move (e.g. one
+    /// computed in joint space for a machine whose joints are not its axes).
+    pub fn with_bound(start: Pos, bound: Box<dyn MoveBound + Send>) -> Summarizer {
         Summarizer {
             pos: start,
             feed: 0.0,
             feed_mode: FeedMode::UnitsPerMinute,
-            rapid_rates,
+            bound,
             summary: Summary::default(),
         }
     }
@@ -89,12 +114,7 @@ impl Summarizer {
                 s.rapid_extents.add(xyz(to));
                 s.rapid_length += len;
                 s.rapid_moves += 1;
-                let (a, b) = (xyz(&self.pos), xyz(to));
-                let minutes = (0..3)
-                    .filter(|&i| self.rapid_rates[i] > 0.0)
-                    .map(|i| (b[i] - a[i]).abs() / self.rapid_rates[i])
-                    .fold(0.0, f64::max);
-                s.feed_rate_seconds += minutes * 60.0;
+                s.feed_rate_seconds += self.bound.min_seconds(xyz(&self.pos), xyz(to));
                 self.pos = *to;
             }
             CanonOp::StraightFeed { to } => {
@@ -103,7 +123,7 @@ impl Summarizer {
                 s.feed_extents.add(xyz(to));
                 s.feed_moves += 1;
                 s.feed_length += len;
-                self.time_feed(len);
+                self.time_feed(len, to);
                 self.pos = *to;
             }
             CanonOp::ArcFeed {
@@ -119,7 +139,7 @@ impl Summarizer {
                 s.feed_moves += 1;
                 s.arcs += 1;
                 s.feed_length += len;
-                self.time_feed(len);
+                self.time_feed(len, end);
                 self.pos = *end;
             }
             // T selects, M6 changes; grbl programs change by hand at an M0, so both count.
@@ -136,15 +156,19 @@ impl Summarizer {
         }
     }
 
-    fn time_feed(&mut self, len: f64) {
-        let s = &mut self.summary;
-        match self.feed_mode {
-            FeedMode::InverseTime if self.feed > 0.0 => s.feed_rate_seconds += 60.0 / self.feed,
-            FeedMode::UnitsPerMinute if self.feed > 0.0 => {
-                s.feed_rate_seconds += len / self.feed * 60.0
+    /// A feed move of `len` mm from the current point to `to`: at its programmed feed, and
+    /// never faster than the machine allows.
+    fn time_feed(&mut self, len: f64, to: &Pos) {
+        let at_feed = match self.feed_mode {
+            FeedMode::InverseTime if self.feed > 0.0 => 60.0 / self.feed,
+            FeedMode::UnitsPerMinute if self.feed > 0.0 => len / self.feed * 60.0,
+            _ => {
+                self.summary.untimed_moves += 1;
+                return;
             }
-            _ => s.untimed_moves += 1,
-        }
+        };
+        let least = self.bound.min_seconds(xyz(&self.pos), xyz(to));
+        self.summary.feed_rate_seconds += at_feed.max(least);
     }
 
     pub fn finish(self) -> Summary {

@@ -357,6 +357,7 @@ pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
     if let Some(kept) = &args.keep {
         println!("kept the mixed program at {}", kept.display());
     }
+    crate::peak_memory::print();
     Ok(())
 }
 

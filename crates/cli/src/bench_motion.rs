@@ -46,12 +46,6 @@ fn relief(n: u64) -> impl Iterator<Item = Canon> {
         })
 }
 
-fn vm_hwm_kb() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let l = s.lines().find(|l| l.starts_with("VmHWM:"))?;
-    l.split_whitespace().nth(1)?.parse().ok()
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let profile = machine_profile::resolve(&args.machine)?;
     println!("machine: {}", profile.name);
@@ -70,7 +64,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         println!(
             "plan {n:>9} input segments: {segs} planned in {dt:.3} s = {:.0} segments/s (machine time {machine_time:.0} s); VmHWM {} kB",
             segs as f64 / dt,
-            vm_hwm_kb().map_or("?".into(), |v| v.to_string())
+            crate::peak_memory::vm_hwm_kb().map_or("?".into(), |v| v.to_string())
         );
     }
     // Steps: generate every step of the small program.
@@ -95,5 +89,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         sink.steps,
         sink.steps as f64 / dt
     );
+    crate::peak_memory::print();
     Ok(())
 }

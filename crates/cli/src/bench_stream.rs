@@ -148,5 +148,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !matches!(args.run.as_str(), "link" | "motion" | "both") {
         anyhow::bail!("--run {}: use link, motion or both", args.run);
     }
+    crate::peak_memory::print();
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `oficina check FILE`: every diagnostic with its place (the check goes on after errors),
 //! then what the program does: extents, path length, tools and a time estimate.
 
-use crate::gcode_input::{print_diagnostics, ProgramArgs};
+use crate::gcode_input::{machine_for, print_diagnostics, ProgramArgs};
 use crate::machine_profile;
 use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
@@ -13,21 +13,26 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
-    /// Machine profile (file or bundled name) whose planner gives the time estimate.
-    #[arg(long, default_value = machine_profile::DEFAULT)]
-    pub machine: String,
+    /// Machine profile (file or bundled name) whose planner gives the time estimate; default:
+    /// the program's `(machine: NAME)` opening comment, else grbl-router.
+    #[arg(long)]
+    pub machine: Option<String>,
     /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
     #[arg(long, value_parser = machine_profile::parse_xyz)]
     pub work_offset: Option<[f64; 3]>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let profile = machine_profile::resolve_with_offset(&args.machine, args.work_offset)?;
+    let machine = machine_for(args.machine.as_deref(), &args.program.file);
+    let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
     let mut opts = args.program.run_options(true)?;
     opts.initial_params = profile.initial_params();
     let source = args.program.open()?;
     let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), axis_rapid_rates(&profile));
+    let mut summarizer = Summarizer::with_bound(
+        Pos::xyz(x, y, z),
+        Box::new(oficina_motion::bound::JointBound::new(&profile)),
+    );
     let mut ops = 0u64;
     let mut stream = CanonStream::spawn(source, opts);
     let planned = oficina_motion::estimate(
@@ -43,7 +48,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         summarizer.add(&c.op);
     }
     let diags = stream.finish();
-    print_diagnostics(&args.program.file, &diags);
+    print_diagnostics(&args.program.file, &diags, args.program.max_errors);
     let errors = diags
         .iter()
         .filter(|d| d.severity == Severity::Error)
@@ -64,12 +69,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Ok(e) => println!(
             "  time estimate           {} on {} (look-ahead planner, {} segments)",
             hms(e.seconds),
-            args.machine,
+            machine,
             e.segments
         ),
         Err(e) => println!(
             "  time estimate           not available on {}: {e}",
-            args.machine
+            machine
         ),
     }
     Ok(if errors > 0 {
@@ -77,22 +82,6 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
-}
-
-/// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
-/// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
-fn axis_rapid_rates(profile: &oficina_motion::Profile) -> [f64; 3] {
-    use oficina_motion::profile::KinematicsKind;
-    let rate = |j: &Option<oficina_motion::profile::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
-    if profile.kinematics == KinematicsKind::Cartesian {
-        return [0, 1, 2].map(|i| rate(&profile.joints[i]).unwrap_or(0.0));
-    }
-    let slowest = (0..3)
-        .filter(|&i| !profile.kinematics.is_angular(i))
-        .filter_map(|i| rate(&profile.joints[i]))
-        .fold(f64::INFINITY, f64::min);
-    let slowest = if slowest.is_finite() { slowest } else { 0.0 };
-    [slowest; 3]
 }
 
 fn plural(n: usize) -> &'static str {
@@ -124,7 +113,7 @@ fn print_summary(s: &Summary) {
         }
     );
     print!(
-        "  feed-rate time          {} (programmed feeds only, no acceleration",
+        "  feed-rate time          {} (a lower bound: programmed feeds and joint top speeds, no acceleration",
         hms(s.feed_rate_seconds)
     );
     if s.untimed_moves > 0 {

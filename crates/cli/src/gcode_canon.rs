@@ -11,7 +11,10 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
-    /// Prefix each call with a counter and `N.....` exactly as `rs274 -g` does.
+    /// Prefix each call with a counter and `N.....` in the layout of `rs274 -g`. The counter
+    /// numbers the calls printed here; rs274 also numbers calls of its own driver that are not
+    /// machine operations (ON_RESET, SET_FEED_REFERENCE, START_CHANGE, its `interpreter:`
+    /// comments), so compare the calls, not the numbers.
     #[arg(long)]
     pub numbered: bool,
 }
@@ -40,7 +43,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             return Err(e.into());
         }
     }
-    print_diagnostics(&args.program.file, &diags);
+    print_diagnostics(&args.program.file, &diags, args.program.max_errors);
     let failed = diags.iter().any(|d| d.severity == Severity::Error);
     Ok(if failed {
         ExitCode::FAILURE

@@ -1,4 +1,5 @@
-//! What `check` and `gcode canon` share: opening a program and the interpreter options.
+//! What the commands that read a program share: opening it, the interpreter options, the
+//! machine it names, and printing diagnostics so that they fit a terminal.
 
 use anyhow::Context;
 use oficina_canon::Units;
@@ -9,6 +10,7 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct ProgramArgs {
@@ -28,7 +30,30 @@ pub struct ProgramArgs {
     /// `check` to mm.
     #[arg(long, value_enum)]
     pub machine_units: Option<MachineUnits>,
+    #[command(flatten)]
+    pub limits: LineLimit,
+    /// Print at most this many diagnostics (then a count of the rest); 0 prints them all.
+    #[arg(long, default_value_t = 50)]
+    pub max_errors: usize,
 }
+
+/// Longest program line accepted, for every command that reads a program.
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct LineLimit {
+    /// Longest line accepted, KiB (longer ones are errors, never held in memory).
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
+    pub max_line_kb: u32,
+}
+
+impl LineLimit {
+    pub fn bytes(self) -> usize {
+        self.max_line_kb as usize * 1024
+    }
+}
+
+/// Diagnostics kept by `check` beyond those printed, so the rest can be counted; past this
+/// many the interpreter stops checking (memory stays bounded on a binary file).
+const KEPT_DIAGNOSTICS: usize = 10_000;
 
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MachineUnits {
@@ -47,9 +72,7 @@ impl From<MachineUnits> for Units {
 
 impl ProgramArgs {
     pub fn open(&self) -> anyhow::Result<BufReader<File>> {
-        let f = File::open(&self.file)
-            .with_context(|| format!("cannot open {}", self.file.display()))?;
-        Ok(BufReader::with_capacity(1 << 16, f))
+        open(&self.file)
     }
 
     pub fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
@@ -62,6 +85,8 @@ impl ProgramArgs {
             }
         };
         opts.block_delete = self.block_delete;
+        opts.max_line_len = self.limits.bytes();
+        opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
         // `gcode canon` exists to be compared with `rs274`, whose machine is in inches.
         let default_units = if check_mode {
             MachineUnits::Mm
@@ -71,30 +96,105 @@ impl ProgramArgs {
         let machine_units: Units = self.machine_units.unwrap_or(default_units).into();
         opts.start.machine_units = machine_units;
         if let Some(path) = &self.tool_table {
-            let text = std::fs::read_to_string(path)
+            let bytes = std::fs::read(path)
                 .with_context(|| format!("cannot read tool table {}", path.display()))?;
+            let text = oficina_gcode::text::decode(&bytes);
             opts.tool_table = ToolTable::parse(&text, machine_units).map_err(|d| {
-                anyhow::anyhow!(
+                eprint!(
                     "{}",
                     d.render(
                         &path.display().to_string(),
-                        text.lines().nth(d.span.line as usize - 1)
+                        text.lines().nth(d.span.line.saturating_sub(1) as usize)
                     )
-                )
+                );
+                crate::Reported
             })?;
         }
         Ok(opts)
     }
 }
 
-/// Longest source line shown under a diagnostic; longer ones are cut (a 10 GB line is not
-/// echoed to the terminal).
-const SHOWN_LINE_MAX: usize = 240;
+/// Open a program to stream it through the interpreter (`check`, `gcode canon`).
+pub fn open(path: &Path) -> anyhow::Result<BufReader<File>> {
+    oficina_gcode::text::open_program(path).map_err(|e| read_error(path, e))
+}
 
-/// Fetch the text of the given 1-based lines by streaming the file once more.
-pub fn source_lines(path: &Path, wanted: impl IntoIterator<Item = u32>) -> BTreeMap<u32, String> {
-    let mut out: BTreeMap<u32, String> = wanted.into_iter().map(|l| (l, String::new())).collect();
-    let Some(&last) = out.keys().next_back() else {
+/// A program that could not be opened or read: the OS error once, after the file name.
+fn read_error(path: &Path, e: oficina_gcode::text::ReadError) -> anyhow::Error {
+    use oficina_gcode::text::ReadError;
+    match e {
+        ReadError::Io(e) => {
+            anyhow::Error::new(e).context(format!("cannot open {}", path.display()))
+        }
+        ReadError::TooLarge { .. } => {
+            anyhow::anyhow!(
+                "{}: {e} (--max-program-mb raises the limit)",
+                path.display()
+            )
+        }
+        ReadError::Bad(d) => anyhow::anyhow!("{}:{d}", path.display()),
+    }
+}
+
+/// Most of a program `run` and `plan` hold in memory, by default.
+pub const DEFAULT_MAX_PROGRAM_MB: u64 = 1024;
+
+/// Read a whole program as text for `run` and `plan`, by the same rule as the streaming
+/// commands (oficina_gcode::text). A diagnostic is printed here, as `check` prints it.
+pub fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<Result<String, ExitCode>> {
+    use oficina_gcode::text::ReadError;
+    match oficina_gcode::text::read_program(path, max_mb.saturating_mul(1_000_000)) {
+        Ok(text) => Ok(Ok(text)),
+        Err(ReadError::Bad(d)) => {
+            print_diagnostics(path, std::slice::from_ref(&d), 0);
+            Ok(Err(ExitCode::FAILURE))
+        }
+        Err(e) => Err(read_error(path, e)),
+    }
+}
+
+/// The machine profile to use: `--machine` when given, else the one the program names in a
+/// `(machine: NAME)` opening comment (said on stderr), else the default.
+pub fn machine_for(given: Option<&str>, program: &Path) -> String {
+    if let Some(m) = given {
+        return m.to_string();
+    }
+    let hint = File::open(program)
+        .ok()
+        .and_then(|f| oficina_gcode::header::machine_hint(BufReader::new(f)));
+    match hint {
+        Some(h) => {
+            eprintln!(
+                "machine: {} (named on line {} of {}; --machine overrides it)",
+                oficina_gcode::text::escape(&h.name),
+                h.line,
+                program.display()
+            );
+            h.name
+        }
+        None => crate::machine_profile::DEFAULT.to_string(),
+    }
+}
+
+/// Bytes of a line kept to quote a place at `col`: the characters up to a screen past it,
+/// at most 4 bytes each, and never more than 1 MiB (the line limit is checked elsewhere).
+fn quoted_bytes(col: u32) -> u64 {
+    ((u64::from(col) + oficina_gcode::text::QUOTE_WIDTH as u64) * 4).min(1 << 20)
+}
+
+/// Fetch the text of the given 1-based lines (each up to the column it is quoted at) by
+/// streaming the file once more; long lines are skipped without being kept.
+pub fn source_lines(
+    path: &Path,
+    wanted: impl IntoIterator<Item = (u32, u32)>,
+) -> BTreeMap<u32, String> {
+    let mut cols: BTreeMap<u32, u32> = BTreeMap::new();
+    for (line, col) in wanted {
+        let c = cols.entry(line).or_insert(col);
+        *c = (*c).max(col);
+    }
+    let mut out = BTreeMap::new();
+    let Some(&last) = cols.keys().next_back() else {
         return out;
     };
     let Ok(f) = File::open(path) else { return out };
@@ -102,9 +202,9 @@ pub fn source_lines(path: &Path, wanted: impl IntoIterator<Item = u32>) -> BTree
     let mut buf = Vec::new();
     for line_no in 1..=last {
         buf.clear();
-        // Read at most a screenful of each line, then skip to its end without keeping it.
+        let keep = cols.get(&line_no).map_or(1, |&c| quoted_bytes(c));
         let n = (&mut reader)
-            .take(SHOWN_LINE_MAX as u64)
+            .take(keep)
             .read_until(b'\n', &mut buf)
             .unwrap_or(0);
         if n == 0 {
@@ -123,23 +223,42 @@ pub fn source_lines(path: &Path, wanted: impl IntoIterator<Item = u32>) -> BTree
                 }
             }
         }
-        if let Some(slot) = out.get_mut(&line_no) {
-            *slot = String::from_utf8_lossy(&buf)
-                .trim_end_matches(['\n', '\r'])
-                .to_string();
+        if cols.contains_key(&line_no) {
+            let text = oficina_gcode::text::decode(&buf);
+            out.insert(line_no, text.trim_end_matches(['\n', '\r']).to_string());
         }
     }
     out
 }
 
-/// Print diagnostics like a compiler, with the source line and a caret under the place.
-pub fn print_diagnostics(path: &Path, diags: &[Diagnostic]) {
-    let lines = source_lines(path, diags.iter().map(|d| d.span.line));
+/// Print diagnostics like a compiler, with the source line and a caret under the place: the
+/// first `max_shown` (0 = all), then how many more there are of each kind.
+pub fn print_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) {
+    let shown = if max_shown == 0 {
+        diags
+    } else {
+        &diags[..diags.len().min(max_shown)]
+    };
+    let lines = source_lines(path, shown.iter().map(|d| (d.span.line, d.span.col)));
     let name = path.display().to_string();
-    for d in diags {
+    for d in shown {
         eprint!(
             "{}",
             d.render(&name, lines.get(&d.span.line).map(|s| s.as_str()))
+        );
+    }
+    let rest = &diags[shown.len()..];
+    if !rest.is_empty() {
+        let errors = rest
+            .iter()
+            .filter(|d| d.severity == oficina_gcode::Severity::Error)
+            .count();
+        eprintln!(
+            "{name}: {} more not shown ({errors} error{}, {} warning{}); --max-errors 0 shows all",
+            rest.len(),
+            if errors == 1 { "" } else { "s" },
+            rest.len() - errors,
+            if rest.len() - errors == 1 { "" } else { "s" },
         );
     }
 }

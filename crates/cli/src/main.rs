@@ -12,6 +12,7 @@ mod emulate;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
+mod peak_memory;
 mod plan;
 mod run;
 
@@ -69,6 +70,19 @@ enum BenchCommand {
     Carve(bench_carve::Args),
 }
 
+/// An error already printed in full where it happened (a rendered diagnostic says "error"
+/// itself): `main` only fails, without printing it again.
+#[derive(Debug)]
+pub struct Reported;
+
+impl std::fmt::Display for Reported {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("reported above")
+    }
+}
+
+impl std::error::Error for Reported {}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
@@ -88,6 +102,8 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        // Printed in full already (a diagnostic with its own "error:").
+        Err(e) if e.is::<Reported>() => ExitCode::FAILURE,
         Err(e) => {
             eprintln!("oficina: error: {e:#}");
             ExitCode::FAILURE

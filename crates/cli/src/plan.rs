@@ -1,6 +1,7 @@
 //! `oficina plan FILE --trace OUT.csv`: the planned motion sampled every millisecond of machine
 //! time (docs/trace-format.md), and the total time.
 
+use crate::gcode_input::{machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB};
 use crate::machine_profile;
 use anyhow::{bail, Context};
 use oficina_gcode::interp::StartState;
@@ -25,9 +26,10 @@ use std::sync::Arc;
 pub struct Args {
     /// G-code program.
     file: PathBuf,
-    /// Machine profile: a TOML file or a bundled name.
-    #[arg(long, default_value = machine_profile::DEFAULT)]
-    machine: String,
+    /// Machine profile: a TOML file or a bundled name. Default: the program's
+    /// `(machine: NAME)` opening comment, else grbl-router.
+    #[arg(long)]
+    machine: Option<String>,
     /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
     #[arg(long, value_parser = machine_profile::parse_xyz)]
     work_offset: Option<[f64; 3]>,
@@ -53,7 +55,19 @@ pub struct Args {
     /// G-code dialect: linuxcnc (default), grbl or legacy-2006 (seed 002's programs).
     #[arg(long, default_value = "linuxcnc")]
     dialect: Dialect,
+    /// Largest output file (--trace, --steps) written, MB: the size is estimated by planning
+    /// the program once before anything is written, and a larger output is refused.
+    #[arg(long, default_value_t = 2048)]
+    max_output_mb: u64,
+    #[command(flatten)]
+    line_limit: LineLimit,
+    /// Largest program held in memory, MB.
+    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
+    max_program_mb: u64,
 }
+
+/// Bytes of one `--steps` row: a joint name, a time with 9 decimals, a direction.
+const STEP_ROW_BYTES: u64 = 24;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Interpolator {
@@ -146,24 +160,37 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.period_ms.is_finite() && args.period_ms >= 0.01) {
         bail!("--period-ms must be at least 0.01");
     }
-    let profile = machine_profile::resolve_with_offset(&args.machine, args.work_offset)?;
-    let text = std::fs::read_to_string(&args.file)
-        .with_context(|| format!("reading {}", args.file.display()))?;
+    let machine = machine_for(args.machine.as_deref(), &args.file);
+    let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
+    let text = match read_program(&args.file, args.max_program_mb)? {
+        Ok(text) => text,
+        Err(code) => return Ok(code),
+    };
     let job = Job {
         name: args.file.display().to_string(),
         text: Arc::new(text),
         start_line: None,
         pace: Pace::Instant,
     };
-    let ops = canon_stream_with(&job, run_options(&profile, args.dialect));
-    let interp_error = ops.error.clone();
+    let interp_opts = run_options(&profile, args.dialect, args.line_limit);
     if args.interpolator == Interpolator::Dda {
+        let ops = canon_stream_with(&job, interp_opts);
         return run_dda(&args, ops, &profile, &job.name);
     }
     let opts = PlanOptions {
         shape: args.scurve.then_some(Shape::SCurve),
         ..PlanOptions::default()
     };
+    if args.trace.is_some() || args.steps.is_some() || args.steps_compressed.is_some() {
+        // Planned once to size the output; the interpreter's error, if any, is reported by
+        // the run that follows.
+        let sizing = canon_stream_with(&job, interp_opts.clone());
+        if let Ok(e) = oficina_motion::estimate::estimate_with(sizing, &profile, opts, false) {
+            check_output_size(&args, &e)?;
+        }
+    }
+    let ops = canon_stream_with(&job, interp_opts);
+    let interp_error = ops.error.clone();
     let planner = plan(ops, &profile, opts).map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
     let mut writer = match &args.trace {
         Some(p) => {
@@ -201,12 +228,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 .map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
         }
     }
-    if let Some(e) = interp_error
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .take()
-    {
-        bail!("{e}");
+    if let Some(code) = interp_failed(&interp_error) {
+        return Ok(code);
     }
     let rows = writer.as_ref().map_or(0, |w| w.rows);
     if let Some(w) = writer {
@@ -229,9 +252,53 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The interpreter's error, already rendered like `check` renders it: printed as it is (not
+/// as "error: …: error: …") and the command fails.
+fn interp_failed(error: &std::sync::Mutex<Option<String>>) -> Option<ExitCode> {
+    let e = error.lock().unwrap_or_else(|e| e.into_inner()).take()?;
+    eprint!("{e}");
+    Some(ExitCode::FAILURE)
+}
+
+/// Refuse outputs that would be larger than `--max-output-mb`, from the planned motion.
+fn check_output_size(args: &Args, e: &oficina_motion::Estimate) -> anyhow::Result<()> {
+    let limit = args.max_output_mb.saturating_mul(1_000_000);
+    let mb = |b: f64| b / 1e6;
+    if let Some(p) = &args.trace {
+        let rows = (e.seconds / (args.period_ms / 1000.0)).floor() + 1.0;
+        let bytes = rows * TraceWriter::<File>::ROW_BYTES as f64;
+        if bytes > limit as f64 {
+            bail!(
+                "--trace {}: {:.0} rows every {} ms of {} of machine time make about {:.0} MB,                  more than --max-output-mb {} (raise it, or sample less often with --period-ms)",
+                p.display(),
+                rows,
+                args.period_ms,
+                hms(e.seconds),
+                mb(bytes),
+                args.max_output_mb
+            );
+        }
+    }
+    if let Some(p) = args.steps.as_ref().or(args.steps_compressed.as_ref()) {
+        // A compressed run holds at least one step: its file is never larger than the CSV.
+        let bytes = e.steps * STEP_ROW_BYTES as f64;
+        if bytes > limit as f64 {
+            bail!(
+                "{}: about {:.0} motor steps make up to {:.0} MB, more than --max-output-mb {} \
+                 (raise it)",
+                p.display(),
+                e.steps,
+                mb(bytes),
+                args.max_output_mb
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The interpreter's options: the machine's stored offsets, and for seed 002's dialect, whose
 /// feed comes from the machine configuration, the profile's default feed.
-fn run_options(profile: &Profile, dialect: Dialect) -> RunOptions {
+fn run_options(profile: &Profile, dialect: Dialect, line_limit: LineLimit) -> RunOptions {
     let feed = if dialect == Dialect::Legacy2006 {
         profile.default_feed * 60.0
     } else {
@@ -239,6 +306,7 @@ fn run_options(profile: &Profile, dialect: Dialect) -> RunOptions {
     };
     RunOptions {
         dialect,
+        max_line_len: line_limit.bytes(),
         initial_params: profile.initial_params(),
         start: StartState {
             feed,
@@ -292,12 +360,8 @@ fn run_dda(
         None => dda_steps(ops, profile, &mut StepCount::default()),
     }
     .map_err(|e| anyhow::anyhow!("{name}: --interpolator dda: {e}"))?;
-    if let Some(e) = interp_error
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .take()
-    {
-        bail!("{e}");
+    if let Some(code) = interp_failed(&interp_error) {
+        return Ok(code);
     }
     if let Some(f) = files {
         f.finish()?;

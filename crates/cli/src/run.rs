@@ -1,6 +1,7 @@
 //! `oficina run FILE`: execute a program on the virtual machine with a progress bar, and
 //! keyboard hold / resume / stop when stdin is a terminal.
 
+use crate::gcode_input::{machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB};
 use crate::machine_profile;
 use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
@@ -20,9 +21,10 @@ pub struct Args {
     /// The machine: a profile of the built-in virtual machine (a TOML file or a bundled name:
     /// grbl-router, hotwire-xy, polar-plotter, polargraph-wall, embroidery-xy; `virtual` is
     /// grbl-router), or real grbl-family firmware: `grbl:/dev/ttyUSB0[@baud]`,
-    /// `tcp://HOST:PORT` (grblHAL, FluidNC).
-    #[arg(long, default_value = machine_profile::DEFAULT)]
-    machine: String,
+    /// `tcp://HOST:PORT` (grblHAL, FluidNC). Default: the program's `(machine: NAME)` opening
+    /// comment, else grbl-router.
+    #[arg(long)]
+    machine: Option<String>,
     /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
     #[arg(long, value_parser = machine_profile::parse_xyz)]
     work_offset: Option<[f64; 3]>,
@@ -32,13 +34,19 @@ pub struct Args {
     /// No waiting at all: as fast as the computer goes.
     #[arg(long)]
     instant: bool,
-    /// Resume from this source line (earlier motion is skipped; rapids take the tool there).
+    /// Resume from this source line (earlier motion, pauses and messages are skipped; the
+    /// modes and the tool they set are kept; rapids take the tool there).
     #[arg(long)]
     from_line: Option<u32>,
     /// Without a terminal to press resume on, a program pause (M0/M1) is passed by itself;
     /// this stops the run there instead.
     #[arg(long)]
     stop_at_pauses: bool,
+    #[command(flatten)]
+    line_limit: LineLimit,
+    /// Largest program held in memory, MB.
+    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
+    max_program_mb: u64,
 }
 
 /// Real firmware is named by a link address; anything else is a virtual machine profile.
@@ -48,7 +56,11 @@ fn is_firmware(machine: &str) -> bool {
 
 /// Open the machine `spec` names; the work offset applies to the virtual machine only
 /// (real firmware keeps its own).
-fn open_machine(spec: &str, work_offset: Option<[f64; 3]>) -> anyhow::Result<Box<dyn Machine>> {
+fn open_machine(
+    spec: &str,
+    work_offset: Option<[f64; 3]>,
+    max_line_len: usize,
+) -> anyhow::Result<Box<dyn Machine>> {
     if is_firmware(spec) {
         if work_offset.is_some() {
             bail!("--work-offset is for the virtual machine; real firmware keeps its own G54 (set it with G10 L20 in the console)");
@@ -63,7 +75,9 @@ fn open_machine(spec: &str, work_offset: Option<[f64; 3]>) -> anyhow::Result<Box
         spec
     };
     let profile = machine_profile::resolve_with_offset(spec, work_offset)?;
-    Ok(Box::new(VirtualMachine::new(profile)))
+    Ok(Box::new(
+        VirtualMachine::new(profile).with_max_line_len(max_line_len),
+    ))
 }
 
 /// Leaves raw mode however the run ends.
@@ -88,9 +102,15 @@ fn parse_speed(s: &str) -> anyhow::Result<f64> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mut vm = open_machine(&args.machine, args.work_offset)?;
-    let text = std::fs::read_to_string(&args.file)
-        .with_context(|| format!("reading {}", args.file.display()))?;
+    let machine = machine_for(args.machine.as_deref(), &args.file);
+    let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes())?;
+    let text = match read_program(&args.file, args.max_program_mb)? {
+        Ok(text) => text,
+        Err(code) => return Ok(code),
+    };
+    if let Some(line) = args.from_line {
+        oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
+    }
     let pace = if args.instant {
         Pace::Instant
     } else {

@@ -75,32 +75,37 @@ impl Diagnostic {
     }
 
     /// Render like a compiler: `file:line:col: error: message`, the source line, a caret, help.
+    /// At most [`crate::text::QUOTE_WIDTH`] columns of the line are quoted, around the place,
+    /// and control characters are escaped, so whatever the file holds fits a terminal.
     pub fn render(&self, file: &str, source_line: Option<&str>) -> String {
-        let kind = match self.severity {
-            Severity::Warning => "warning",
-            Severity::Error => "error",
+        use crate::text::{escape, quote};
+        // A firmware code reads like rustc's `error[E0308]`: "error" is said once.
+        let kind = match (self.severity, self.code) {
+            (Severity::Warning, None) => "warning".to_string(),
+            (Severity::Error, None) => "error".to_string(),
+            (Severity::Warning, Some(c)) => format!("warning[grbl:{c}]"),
+            (Severity::Error, Some(c)) => format!("error[grbl:{c}]"),
         };
-        let code = self
-            .code
-            .map(|c| format!("[error:{c}] "))
-            .unwrap_or_default();
         let mut s = format!(
-            "{file}:{}:{}: {kind}: {code}{}\n",
-            self.span.line, self.span.col, self.message
+            "{}:{}:{}: {kind}: {}\n",
+            escape(file),
+            self.span.line,
+            self.span.col,
+            escape(&self.message)
         );
         if let Some(text) = source_line {
+            let q = quote(text, self.span.col, self.span.len);
             let gutter = format!("{}", self.span.line);
-            s.push_str(&format!("{gutter} | {text}\n"));
-            let pad: String = text
-                .chars()
-                .take(self.span.col.saturating_sub(1) as usize)
-                .map(|c| if c == '\t' { '\t' } else { ' ' })
-                .collect();
-            let carets = "^".repeat(self.span.len.max(1) as usize);
-            s.push_str(&format!("{} | {pad}{carets}\n", " ".repeat(gutter.len())));
+            s.push_str(&format!("{gutter} | {}\n", q.text));
+            s.push_str(&format!(
+                "{} | {}{}\n",
+                " ".repeat(gutter.len()),
+                " ".repeat(q.pad),
+                "^".repeat(q.width)
+            ));
         }
         if let Some(h) = &self.help {
-            s.push_str(&format!("  = help: {h}\n"));
+            s.push_str(&format!("  = help: {}\n", escape(h)));
         }
         s
     }

@@ -115,17 +115,7 @@ impl Compact {
                     }
                     break;
                 }
-                0x80.. if !grbl => {
-                    let ch = String::from_utf8_lossy(&raw[i..raw.len().min(i + 4)])
-                        .chars()
-                        .next()
-                        .unwrap_or('\u{FFFD}');
-                    return Err(Diagnostic::error(
-                        Span::new(line, col, 1),
-                        format!("bad character '{ch}': only ASCII is allowed outside comments"),
-                    )
-                    .with_help("put text in a comment: ( … )"));
-                }
+                0x80.. if !grbl => return Err(non_ascii(raw, i, line, col)),
                 _ => {
                     self.bytes.push(b.to_ascii_lowercase());
                     self.cols.push(col);
@@ -143,6 +133,41 @@ impl Compact {
         }
         Ok(())
     }
+}
+
+/// The error for the byte outside ASCII at `raw[i]` (outside a comment): a UTF-8 byte-order
+/// mark, a character, or a byte that is not UTF-8 at all, each named as what it is.
+fn non_ascii(raw: &[u8], i: usize, line: u32, col: u32) -> Diagnostic {
+    let span = Span::new(line, col, 1);
+    if line == 1 && i == 0 && raw.starts_with(crate::text::UTF8_BOM) {
+        return Diagnostic::error(
+            span,
+            "the file starts with a UTF-8 byte-order mark (bytes EF BB BF)",
+        )
+        .with_help(
+            "save the program as UTF-8 without a BOM (or as ASCII); LinuxCNC refuses it too",
+        );
+    }
+    let rest = &raw[i..raw.len().min(i + 4)];
+    let valid = match std::str::from_utf8(rest) {
+        Ok(s) => s.chars().next(),
+        Err(e) => std::str::from_utf8(&rest[..e.valid_up_to()])
+            .ok()
+            .and_then(|s| s.chars().next()),
+    };
+    let message = match valid {
+        Some(ch) => format!(
+            "bad character '{}' (U+{:04X}): only ASCII is allowed outside comments",
+            crate::text::escape(&ch.to_string()),
+            ch as u32
+        ),
+        None => format!(
+            "byte 0x{:02X} is not UTF-8 text: only ASCII is allowed outside comments",
+            raw[i]
+        ),
+    };
+    Diagnostic::error(span, message)
+        .with_help("put text in a comment: ( … ), where bytes of any encoding are kept")
 }
 
 /// Columns count characters: a UTF-8 continuation byte does not start a new one, unless
@@ -252,7 +277,7 @@ pub fn comment_text(raw: &[u8]) -> String {
         Some(b';') => &raw[1..],
         _ => raw,
     };
-    String::from_utf8_lossy(inner).into_owned()
+    crate::text::decode(inner).into_owned()
 }
 
 #[cfg(test)]

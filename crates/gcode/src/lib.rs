@@ -16,6 +16,7 @@ mod decimal;
 pub mod diag;
 pub mod exec;
 pub mod expr;
+pub mod header;
 pub mod interp;
 pub mod lex;
 pub mod params;
@@ -23,6 +24,7 @@ pub mod parse;
 pub mod print;
 pub mod program;
 pub mod stream;
+pub mod text;
 
 pub use diag::{Diagnostic, Severity, Span};
 

@@ -22,8 +22,10 @@ pub struct RunOptions {
     /// Check mode: report an erroneous block, skip it, go on. Run mode stops at the first.
     pub continue_after_error: bool,
     pub start: StartState,
-    /// Most diagnostics kept in check mode (0 = 1000).
+    /// Most diagnostics kept in check mode (0 = 1000); past it checking stops.
     pub max_diagnostics: usize,
+    /// Longest line accepted, in bytes (0 = [`crate::exec::DEFAULT_MAX_LINE_LEN`]).
+    pub max_line_len: usize,
     /// Parameter values the machine holds before the program starts, like LinuxCNC's `.var`
     /// file or grbl's EEPROM: e.g. the stored G54 offset in #5221…#5223 (machine units).
     pub initial_params: Vec<(i64, f64)>,
@@ -93,8 +95,14 @@ impl Driver {
         } else if self.diagnostics.len() == self.limit {
             let line = d.span.line;
             self.diagnostics.push(
-                Diagnostic::error(Span::line(line), "too many errors; checking stopped here")
-                    .with_help("fix the errors above and check again"),
+                Diagnostic::error(
+                    Span::line(line),
+                    format!(
+                        "more than {} diagnostics: checking stopped here",
+                        self.limit
+                    ),
+                )
+                .with_help("fix the ones above and check again"),
             );
         }
     }
@@ -181,6 +189,9 @@ pub fn run(
     let named = mentions_system_params(&mut source).unwrap_or(true);
     let mut exec = Executor::new(source, opts.dialect);
     exec.set_block_delete(opts.block_delete);
+    if opts.max_line_len > 0 {
+        exec.set_max_line_len(opts.max_line_len);
+    }
     Driver::new(opts, sink)
         .refresh_named_params(named)
         .run(&mut exec, sink)

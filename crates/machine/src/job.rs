@@ -53,6 +53,22 @@ impl Iterator for CanonStream {
     }
 }
 
+/// Refuse a resume line the program does not have (lines count from 1; a last line without a
+/// newline counts).
+pub fn check_start_line(text: &str, line: u32) -> Result<(), String> {
+    let lines = text.lines().count();
+    if line == 0 {
+        return Err("--from-line 0: lines are counted from 1".into());
+    }
+    if line as usize > lines {
+        return Err(format!(
+            "--from-line {line}: the program has {lines} line{}",
+            if lines == 1 { "" } else { "s" }
+        ));
+    }
+    Ok(())
+}
+
 /// `initial_params`: what the machine holds before the program (e.g. its stored G54 offset,
 /// [`oficina_motion::Profile::initial_params`]).
 pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
@@ -86,7 +102,9 @@ impl AsRef<[u8]> for ArcText {
 }
 
 /// Skips the motion before `line` and replaces it by rapids: up to a safe height, across,
-/// down to the point where `line` starts. State ops (feed, modes, offsets) still pass.
+/// down to the point where `line` starts. State ops (feed, modes, offsets, the tool in the
+/// spindle) still pass; what waits for or talks to the operator before `line` (M0/M1 pauses,
+/// `(MSG,…)` prompts, dwells) is dropped: those steps were done in the run being resumed.
 pub struct ResumeFrom<I> {
     ops: I,
     line: u32,
@@ -117,6 +135,9 @@ impl<I: Iterator<Item = Canon>> Iterator for ResumeFrom<I> {
         }
         loop {
             let c = self.ops.next()?;
+            if !self.resumed && c.line < self.line && is_operator_step(&c.op) {
+                continue;
+            }
             if self.resumed || c.line < self.line && !c.op.is_motion() {
                 return Some(c);
             }
@@ -149,4 +170,16 @@ impl<I: Iterator<Item = Canon>> Iterator for ResumeFrom<I> {
             });
         }
     }
+}
+
+/// Operations that only wait for the operator or tell them something: nothing of the machine's
+/// state changes with them.
+fn is_operator_step(op: &CanonOp) -> bool {
+    matches!(
+        op,
+        CanonOp::ProgramStop
+            | CanonOp::OptionalProgramStop
+            | CanonOp::Message(_)
+            | CanonOp::Dwell(_)
+    )
 }

@@ -2,7 +2,7 @@
 //! or instant), with feed hold that decelerates on the planned path, resume, stop, jog and
 //! soft limits checked on the whole job before any motion.
 
-use crate::job::{canon_stream, Job, Pace, ResumeFrom};
+use crate::job::{canon_stream_with, check_start_line, Job, Pace, ResumeFrom};
 use crate::{Command, Event, Machine, MachineError, MachineInfo, State, Status};
 use oficina_canon::{Canon, CanonOp};
 use oficina_motion::moves::Overrides;
@@ -25,6 +25,8 @@ pub struct VirtualMachine {
     ev_tx: Sender<Event>,
     ev_rx_own: Option<Receiver<Event>>,
     connected: bool,
+    /// Longest program line accepted, bytes (0: the interpreter's default).
+    max_line_len: usize,
 }
 
 impl VirtualMachine {
@@ -39,7 +41,14 @@ impl VirtualMachine {
             ev_tx,
             ev_rx_own: Some(ev_rx),
             connected: false,
+            max_line_len: 0,
         }
+    }
+
+    /// Accept program lines up to `bytes` long (the interpreter's own default otherwise).
+    pub fn with_max_line_len(mut self, bytes: usize) -> VirtualMachine {
+        self.max_line_len = bytes;
+        self
     }
 }
 
@@ -73,12 +82,16 @@ impl Machine for VirtualMachine {
             }
             s => return Err(MachineError::Busy(format!("{s:?}"))),
         }
+        if let Some(line) = job.start_line {
+            check_start_line(&job.text, line).map_err(MachineError::Refused)?;
+        }
         let (tx, rx) = channel();
         self.cmd_tx = Some(tx);
-        let (profile, status, events) = (
+        let (profile, status, events, max_line_len) = (
             self.profile.clone(),
             self.status.clone(),
             self.ev_tx.clone(),
+            self.max_line_len,
         );
         lock(&status).state = State::Run;
         thread::spawn(move || {
@@ -88,6 +101,7 @@ impl Machine for VirtualMachine {
                 events,
                 cmds: rx,
                 override_: 1.0,
+                max_line_len,
             }
             .run_job(job)
         });
@@ -149,6 +163,7 @@ struct Runner {
     events: Sender<Event>,
     cmds: Receiver<Command>,
     override_: f64,
+    max_line_len: usize,
 }
 
 /// Live commands waiting for the instant they can be applied, and the hold in progress.
@@ -176,7 +191,12 @@ impl Runner {
         job: &Job,
         start: [f64; 3],
     ) -> (Box<dyn Iterator<Item = Canon>>, Arc<Mutex<Option<String>>>) {
-        let s = canon_stream(job, self.profile.initial_params());
+        let opts = oficina_gcode::program::RunOptions {
+            initial_params: self.profile.initial_params(),
+            max_line_len: self.max_line_len,
+            ..Default::default()
+        };
+        let s = canon_stream_with(job, opts);
         let err = s.error.clone();
         let it: Box<dyn Iterator<Item = Canon>> = match job.start_line {
             Some(l) => Box::new(ResumeFrom::new(s, l, start)),
@@ -213,7 +233,8 @@ impl Runner {
             Err(e) => return self.alarm(format!("{}: {e}; nothing was moved", job.name)),
         };
         if let Some(e) = err.lock().unwrap_or_else(|e| e.into_inner()).take() {
-            return self.alarm(format!("{e}; nothing was moved"));
+            // The interpreter's diagnostic is rendered over several lines: said first.
+            return self.alarm(format!("nothing was moved: {}", e.trim_end()));
         }
         lock(&self.status).total = total;
         let (ops, _) = self.ops(&job, start);

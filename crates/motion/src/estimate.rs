@@ -17,6 +17,9 @@ pub struct Estimate {
     pub distance: f64,
     /// Number of planned segments.
     pub segments: u64,
+    /// Motor steps the motion makes: each joint's travel in steps, summed (backlash and the
+    /// rounding at segment ends aside). What a step file will hold, before it is written.
+    pub steps: f64,
 }
 
 /// Estimates the time of a program without per-line detail (constant memory).
@@ -40,6 +43,11 @@ pub fn estimate_with(
         e.seconds += seg.duration();
         e.distance += seg.motion.length;
         e.segments += 1;
+        for (i, joint) in profile.joints.iter().enumerate() {
+            if let Some(j) = joint {
+                e.steps += (seg.q1[i] - seg.q0[i]).abs() * j.steps_per_unit;
+            }
+        }
         if per_line {
             match e.per_line.last_mut() {
                 Some((l, s)) if *l == seg.line => *s += seg.duration(),

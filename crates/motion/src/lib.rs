@@ -8,11 +8,12 @@
 //! - [`velocity`]: trapezoidal and jerk-limited (S-curve) velocity profiles;
 //! - [`planner`]: streaming look-ahead with junction deviation and a time horizon;
 //! - [`check`]: an independent checker of every invariant the planner promises;
-//! - [`estimate`]: total job time;
+//! - [`estimate`]: total job time; [`bound`]: the least time of a move, in joint space;
 //! - [`steps`], [`stepcompress`], [`dda`]: exact step times, Klipper-style compression and the
 //!   seed 002 interpolators; [`dda_steps`]: a program stepped by those interpolators;
 //! - [`trace`]: the planned motion sampled at a fixed period.
 
+pub mod bound;
 pub mod check;
 pub mod dda;
 pub mod dda_steps;

@@ -339,14 +339,16 @@ fn err(file: &str, key: &str, message: String) -> ProfileError {
     }
 }
 
+/// A rate, size or count: > 0, and within a range where times and distances computed from it
+/// stay finite (the fuzzer found max_rate = 1e-308 making a move last forever).
 fn positive(file: &str, key: &str, v: f64) -> Result<f64, ProfileError> {
-    if v.is_finite() && v > 0.0 {
+    if v.is_finite() && (1e-9..=1e15).contains(&v) {
         Ok(v)
     } else {
         Err(err(
             file,
             key,
-            format!("must be a finite number > 0 (got {v})"),
+            format!("must be a number from 1e-9 to 1e15, > 0 (got {v})"),
         ))
     }
 }
@@ -361,6 +363,20 @@ fn non_negative(file: &str, key: &str, v: f64) -> Result<f64, ProfileError> {
             format!("must be a finite number >= 0 (got {v})"),
         ))
     }
+}
+
+/// A chord or path tolerance, mm: below 0.1 µm no machine can tell, and moves would be cut
+/// into pieces without end (the fuzzer found 5e-324).
+fn tolerance(file: &str, key: &str, v: f64) -> Result<f64, ProfileError> {
+    const MIN: f64 = 1e-4;
+    if positive(file, key, v)? < MIN {
+        return Err(err(
+            file,
+            key,
+            format!("must be at least {MIN} mm (got {v})"),
+        ));
+    }
+    Ok(v)
 }
 
 fn range(file: &str, key: &str, r: [f64; 2]) -> Result<[f64; 2], ProfileError> {
@@ -568,8 +584,8 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
         travel,
         start,
         junction_deviation: non_negative(file, "planner.junction_deviation", p.junction_deviation)?,
-        arc_tolerance: positive(file, "planner.arc_tolerance", p.arc_tolerance)?,
-        path_tolerance: positive(
+        arc_tolerance: tolerance(file, "planner.arc_tolerance", p.arc_tolerance)?,
+        path_tolerance: tolerance(
             file,
             "planner.path_tolerance",
             p.path_tolerance.unwrap_or(0.01),

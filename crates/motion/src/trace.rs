@@ -3,7 +3,9 @@
 use crate::planner::Segment;
 use std::io::{self, Write};
 
-/// Writes `t,x,y,z,j0,j1,j2,speed,line` rows every `period` seconds of machine time.
+/// Writes `t,x,y,z,joint_<j0>,joint_<j1>,joint_<j2>,speed,line` rows every `period` seconds of
+/// machine time: the joint columns carry a prefix, so a Cartesian machine's joints (`x,y,z`)
+/// do not repeat the names of the machine position columns.
 pub struct TraceWriter<W: Write> {
     out: W,
     period: f64,
@@ -18,7 +20,7 @@ impl<W: Write> TraceWriter<W> {
     pub fn new(mut out: W, period: f64, joint_names: [&str; 3]) -> io::Result<Self> {
         writeln!(
             out,
-            "t,x,y,z,{},{},{},speed,line",
+            "t,x,y,z,joint_{},joint_{},joint_{},speed,line",
             joint_names[0], joint_names[1], joint_names[2]
         )?;
         Ok(TraceWriter {
@@ -54,6 +56,11 @@ impl<W: Write> TraceWriter<W> {
         self.t_seg = end;
         Ok(())
     }
+
+    /// Bytes of one row on a machine of ordinary size (an estimate of the file before it is
+    /// written): t (12), x y z (3 × 14), the joints (3 × 15), speed (12), line (10), the
+    /// commas and the newline.
+    pub const ROW_BYTES: u64 = 12 + 3 * 14 + 3 * 15 + 12 + 10 + 9;
 
     pub fn finish(mut self) -> io::Result<f64> {
         self.out.flush()?;

@@ -196,7 +196,7 @@ impl<R: BufRead + Seek> Executor<R> {
                         Span::line(number),
                         format!("line {number} is {len} bytes long, more than the limit of {} bytes", self.src.max_len()),
                     )
-                    .with_help("a G-code line is short; is this really a G-code file? (the limit can be raised)"));
+                    .with_help("a G-code line is short; is this really a G-code file? (--max-line-kb raises the limit)"));
                 }
                 Ok(Read::Eof) => return self.at_end_of_file(),
                 Err(e) => {
@@ -656,7 +656,7 @@ impl<R: BufRead + Seek> Executor<R> {
                     ),
                 )
                 .with_help(
-                    "is the recursion missing its end condition? (the limit can be raised)",
+                    "is the recursion missing its end condition? (LinuxCNC allows 10 levels)",
                 ));
         }
         self.total_jumps += 1;
@@ -669,7 +669,7 @@ impl<R: BufRead + Seek> Executor<R> {
                         self.limits.max_total_jumps
                     ),
                 )
-                .with_help("the limits can be raised with Executor::set_limits"));
+                .with_help("does every loop and recursion reach its end condition?"));
         }
         let resume = self.next_mark();
         let def = match self.subs.get(&o.label) {
@@ -887,7 +887,7 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         Err(self
             .err(o, message)
-            .with_help("is the loop condition ever false? (the limits can be raised with Executor::set_limits)"))
+            .with_help("is the loop condition ever false?"))
     }
 
     fn break_or_continue(&mut self, o: &OWord) -> Result<(), Diagnostic> {

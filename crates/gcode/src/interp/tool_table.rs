@@ -89,6 +89,15 @@ impl ToolTable {
                     .with_help("tool table words look like T1 P1 Z10.5 D6")
                 })?;
                 let length = value * units.mm();
+                // NaN, infinity, or a number that overflows once converted to mm would reach
+                // the positions of every move made with the tool (found by fuzzing).
+                if !length.is_finite() {
+                    return Err(Diagnostic::error(
+                        span,
+                        format!("'{word}' is not a finite number of {}", units_name(units)),
+                    )
+                    .with_help("tool table values are lengths and angles of a real tool"));
+                }
                 match letter {
                     'T' | 'P' => {
                         if value < 0.0 || value.fract() != 0.0 || value > u32::MAX as f64 {
@@ -152,6 +161,13 @@ impl ToolTable {
             ));
         }
         s
+    }
+}
+
+fn units_name(units: Units) -> &'static str {
+    match units {
+        Units::Mm => "mm",
+        Units::Inch => "inches",
     }
 }
 
