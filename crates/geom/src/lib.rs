@@ -3,6 +3,7 @@
 
 mod arc;
 mod drawing;
+mod offset;
 mod polygon;
 
 pub use arc::{
@@ -12,6 +13,7 @@ pub use arc::{
 pub use drawing::{to_ring, Color, Drawing, Layer, Path, Segment, SourceRef, Style};
 pub use kurbo;
 pub use kurbo::{Point, Rect, Vec2};
+pub use offset::{offset_areas, oriented, Area};
 pub use polygon::{
     boolean, boolean_fixed, offset_regions, offset_rings, ring_area, simplify, total_area, BoolOp,
     Fill, Join, PolygonError, Region, Ring,
