@@ -3,6 +3,8 @@
 
 mod arc;
 mod drawing;
+mod grade;
+mod mirror;
 mod offset;
 mod polygon;
 
@@ -11,8 +13,10 @@ pub use arc::{
     ArcError, ArcTolerance, Helix, Plane, MAX_CHORDS,
 };
 pub use drawing::{to_ring, Color, Drawing, Layer, Path, Segment, SourceRef, Style};
+pub use grade::{GradeError, Grading, Reference, SizeSystem};
 pub use kurbo;
 pub use kurbo::{Point, Rect, Vec2};
+pub use mirror::{mirror_drawing, mirror_path, MirrorAxis};
 pub use offset::{offset_areas, oriented, Area};
 pub use polygon::{
     boolean, boolean_fixed, offset_regions, offset_rings, ring_area, simplify, total_area, BoolOp,
