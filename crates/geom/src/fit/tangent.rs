@@ -29,6 +29,15 @@ pub enum TangentError {
         points: [Point; 3],
     },
     #[error(
+        "circle {circle} runs the wrong way round ({sweep:.2} rad) after the tangency moves: \
+         a loop in the contour; choose other points near {points:?}"
+    )]
+    Loop {
+        circle: usize,
+        sweep: f64,
+        points: Vec<Point>,
+    },
+    #[error(
         "circle {moved} cannot touch circles {fixed:?} (d = {d:.3}, G3 = {g3:.3}, G4 = {g4:.3}); \
          re-enter points near {points:?} so the neighbours reach each other"
     )]
@@ -198,15 +207,23 @@ pub fn tangent_circles(pts: &[Point]) -> Result<Path, TangentError> {
     let junction: Vec<Point> = (0..m)
         .map(|k| contact_point(&circles[k], &circles[(k + 1) % m], pts[(2 * k + 2) % n]))
         .collect();
-    let segments = (0..m)
-        .map(|k| {
-            let c = circles[k];
-            let (s, e) = (junction[(k + m - 1) % m], junction[k]);
-            let a0 = (s - c.center).atan2();
-            let sweep = sweep_between(a0, (e - c.center).atan2(), c.sign as i32);
-            Segment::Arc(Arc::new(c.center, c.radius, a0, sweep))
-        })
-        .collect();
+    let mut segments = Vec::with_capacity(m);
+    for k in 0..m {
+        let c = circles[k];
+        let (s, e) = (junction[(k + m - 1) % m], junction[k]);
+        let a0 = (s - c.center).atan2();
+        let sweep = sweep_between(a0, (e - c.center).atan2(), c.sign as i32);
+        // Three neighbouring points of a closed contour span well under half a turn; an arc
+        // of more than that met its neighbours' contacts in the reverse order (a loop).
+        if sweep.abs() > std::f64::consts::PI {
+            return Err(TangentError::Loop {
+                circle: k + 1,
+                sweep,
+                points: (2 * k..=2 * k + 2).map(|i| pts[i % n]).collect(),
+            });
+        }
+        segments.push(Segment::Arc(Arc::new(c.center, c.radius, a0, sweep)));
+    }
     Ok(Path::new(segments, true))
 }
 
