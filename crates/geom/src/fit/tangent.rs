@@ -308,15 +308,33 @@ mod tests {
             tangent_circles(&ellipse(10, 1.0, 2.0)),
             Err(TangentError::PointCount(10))
         );
-        // A tiny circle between two far-apart ones: G3 + G4 < d.
-        let mut pts = ellipse(8, 50.0, 50.0);
-        pts[3] = Point::new(-0.5 * 50.0 * 0.7071, 0.5 * 50.0 * 0.7071);
-        pts[2] = Point::new(0.0, 2.0);
-        pts[4] = Point::new(-1.0, 1.0);
+        // Small circles far apart at the ends, joined by flat stretches: a moved circle
+        // cannot reach both neighbours (eq. 3.1 has no real root).
+        let pts = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, -1.0),
+            Point::new(2.0, 0.0),
+            Point::new(25.0, -1.0),
+            Point::new(50.0, 0.0),
+            Point::new(51.0, 1.0),
+            Point::new(50.0, 2.0),
+            Point::new(25.0, 30.0),
+        ];
         match tangent_circles(&pts) {
-            Err(TangentError::NoTangent { points, .. }) => assert_eq!(points.len(), 5),
-            Err(TangentError::Collinear { .. }) => {}
-            other => panic!("expected a failure, got {other:?}"),
+            Err(TangentError::NoTangent {
+                moved,
+                fixed,
+                points,
+                g3,
+                g4,
+                d,
+            }) => {
+                // Circle 2 could be placed; circle 4, between 3 and 1, cannot.
+                assert_eq!((moved, fixed), (4, [3, 1]));
+                assert!(g3 + g4 < d || (g3 - g4).abs() > d);
+                assert_eq!(points, vec![pts[4], pts[5], pts[6], pts[7], pts[0]]);
+            }
+            other => panic!("expected no tangent solution, got {other:?}"),
         }
     }
 }
