@@ -14,4 +14,4 @@ pub mod toolpath;
 
 pub use library::Library;
 pub use tool::{Shape, Tool, ToolError};
-pub use toolpath::{Move, Operation, Toolpath};
+pub use toolpath::{Drill, Move, Operation, PathMode, Toolpath};
