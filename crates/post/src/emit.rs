@@ -72,6 +72,11 @@ impl<'a> Emitter<'a> {
         }
     }
 
+    /// A line written as is, without a block number (`%` tape marks).
+    pub fn raw(&mut self, s: &str) -> io::Result<()> {
+        writeln!(self.out, "{s}")
+    }
+
     /// A comment line; parentheses inside would end it early.
     pub fn comment(&mut self, s: &str) -> io::Result<()> {
         let clean: String = s

@@ -95,7 +95,7 @@ impl Post for Sinumerik {
     }
 
     fn prologue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
-        e.block("%")?;
+        e.raw("%")?;
         e.comment(&opts.title)?;
         for (k, v) in &opts.settings {
             e.comment(&format!("{k} = {v}"))?;
