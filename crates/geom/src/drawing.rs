@@ -1,0 +1,449 @@
+//! `Drawing`: named layers of paths; a path is a chain of lines, circular arcs and cubic
+//! Béziers with a style and a reference to where it came from (for error messages).
+
+use crate::arc::Arc;
+use kurbo::{CubicBez, Line, ParamCurve, ParamCurveArclen, ParamCurveNearest, Point, Rect};
+use std::fmt;
+
+/// One piece of a path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Segment {
+    Line(Line),
+    Arc(Arc),
+    Cubic(CubicBez),
+}
+
+impl Segment {
+    pub fn line(a: Point, b: Point) -> Segment {
+        Segment::Line(Line::new(a, b))
+    }
+
+    pub fn start(&self) -> Point {
+        match self {
+            Segment::Line(l) => l.p0,
+            Segment::Arc(a) => a.start(),
+            Segment::Cubic(c) => c.p0,
+        }
+    }
+
+    pub fn end(&self) -> Point {
+        match self {
+            Segment::Line(l) => l.p1,
+            Segment::Arc(a) => a.end(),
+            Segment::Cubic(c) => c.p3,
+        }
+    }
+
+    pub fn length(&self) -> f64 {
+        match self {
+            Segment::Line(l) => l.p0.distance(l.p1),
+            Segment::Arc(a) => a.length(),
+            Segment::Cubic(c) => c.arclen(1e-6),
+        }
+    }
+
+    pub fn reversed(&self) -> Segment {
+        match self {
+            Segment::Line(l) => Segment::line(l.p1, l.p0),
+            Segment::Arc(a) => Segment::Arc(a.reversed()),
+            Segment::Cubic(c) => Segment::Cubic(CubicBez::new(c.p3, c.p2, c.p1, c.p0)),
+        }
+    }
+
+    /// Appends the points after the start, no chord further than `tol` from the segment.
+    pub fn flatten_into(&self, tol: f64, out: &mut Vec<Point>) {
+        match self {
+            Segment::Line(l) => out.push(l.p1),
+            Segment::Arc(a) => out.extend(a.flatten(tol).into_iter().skip(1)),
+            Segment::Cubic(c) => {
+                // kurbo's flattening of a one-segment Bézier path, to `tol`.
+                let mut first = true;
+                let els = [
+                    kurbo::PathEl::MoveTo(c.p0),
+                    kurbo::PathEl::CurveTo(c.p1, c.p2, c.p3),
+                ];
+                kurbo::flatten(els, tol.max(1e-9), |el| match el {
+                    kurbo::PathEl::LineTo(p) => out.push(p),
+                    kurbo::PathEl::MoveTo(_) if first => first = false,
+                    _ => {}
+                });
+            }
+        }
+    }
+
+    /// Distance from `p` to the segment.
+    pub fn distance(&self, p: Point) -> f64 {
+        match self {
+            Segment::Line(l) => l.nearest(p, 1e-9).distance_sq.sqrt(),
+            Segment::Arc(a) => a.distance(p),
+            Segment::Cubic(c) => c.nearest(p, 1e-9).distance_sq.sqrt(),
+        }
+    }
+
+    pub fn bounding_box(&self) -> Rect {
+        match self {
+            Segment::Line(l) => Rect::from_points(l.p0, l.p1),
+            Segment::Arc(a) => a.bounding_box(),
+            Segment::Cubic(c) => kurbo::ParamCurveExtrema::bounding_box(c),
+        }
+    }
+
+    /// The point at fraction `t` ∈ [0, 1] (by parameter, not by length, for Béziers).
+    pub fn eval(&self, t: f64) -> Point {
+        match self {
+            Segment::Line(l) => l.eval(t),
+            Segment::Arc(a) => a.point_at(t),
+            Segment::Cubic(c) => c.eval(t),
+        }
+    }
+}
+
+/// 8-bit RGBA colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Color {
+    pub r: u8,
+    pub g: u8,
+    pub b: u8,
+    pub a: u8,
+}
+
+impl Color {
+    pub const BLACK: Color = Color::rgb(0, 0, 0);
+
+    pub const fn rgb(r: u8, g: u8, b: u8) -> Color {
+        Color { r, g, b, a: 255 }
+    }
+}
+
+/// How a path is drawn: stroke colour and width (mm), fill colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Style {
+    pub stroke: Option<Color>,
+    pub stroke_width: f64,
+    pub fill: Option<Color>,
+}
+
+impl Default for Style {
+    fn default() -> Self {
+        Style {
+            stroke: Some(Color::BLACK),
+            stroke_width: 0.0,
+            fill: None,
+        }
+    }
+}
+
+/// Where a path came from: file, element (SVG id, DXF handle, entity number) and line.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SourceRef {
+    pub file: String,
+    pub element: String,
+    pub line: Option<usize>,
+}
+
+impl SourceRef {
+    pub fn new(file: impl Into<String>, element: impl Into<String>) -> SourceRef {
+        SourceRef {
+            file: file.into(),
+            element: element.into(),
+            line: None,
+        }
+    }
+}
+
+impl fmt::Display for SourceRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let file = if self.file.is_empty() {
+            "<drawing>"
+        } else {
+            &self.file
+        };
+        write!(f, "{file}")?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        if !self.element.is_empty() {
+            write!(f, " ({})", self.element)?;
+        }
+        Ok(())
+    }
+}
+
+/// A chain of segments, each starting where the previous ends; `closed` joins the last end
+/// to the first start (with a line if they differ).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Path {
+    pub segments: Vec<Segment>,
+    pub closed: bool,
+    pub style: Style,
+    pub source: SourceRef,
+}
+
+impl Path {
+    pub fn new(segments: Vec<Segment>, closed: bool) -> Path {
+        Path {
+            segments,
+            closed,
+            ..Path::default()
+        }
+    }
+
+    /// A polyline through `points` (closed or not).
+    pub fn polyline(points: &[Point], closed: bool) -> Path {
+        let segments = points
+            .windows(2)
+            .filter(|w| w[0] != w[1])
+            .map(|w| Segment::line(w[0], w[1]))
+            .collect();
+        let mut p = Path::new(segments, closed);
+        p.close_gap();
+        p
+    }
+
+    pub fn with_source(mut self, source: SourceRef) -> Path {
+        self.source = source;
+        self
+    }
+
+    pub fn with_style(mut self, style: Style) -> Path {
+        self.style = style;
+        self
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty()
+    }
+
+    pub fn start(&self) -> Option<Point> {
+        self.segments.first().map(|s| s.start())
+    }
+
+    pub fn end(&self) -> Option<Point> {
+        self.segments.last().map(|s| s.end())
+    }
+
+    /// For a closed path whose last end misses its first start, adds the closing line.
+    pub fn close_gap(&mut self) {
+        if let (true, Some(s), Some(e)) = (self.closed, self.start(), self.end()) {
+            if s.distance(e) > 1e-9 {
+                self.segments.push(Segment::line(e, s));
+            }
+        }
+    }
+
+    pub fn length(&self) -> f64 {
+        self.segments.iter().map(|s| s.length()).sum()
+    }
+
+    /// Vertices of the path flattened to `tol`: first point first; a closed path does not
+    /// repeat its first point at the end.
+    pub fn flatten(&self, tol: f64) -> Vec<Point> {
+        let mut out = Vec::new();
+        if let Some(s) = self.start() {
+            out.push(s);
+        }
+        for seg in &self.segments {
+            seg.flatten_into(tol, &mut out);
+        }
+        if self.closed && out.len() > 1 && out[0].distance(*out.last().unwrap()) < 1e-9 {
+            out.pop();
+        }
+        out
+    }
+
+    /// Signed area of the closed path (> 0 counter-clockwise), from its flattening to 1 µm.
+    pub fn area(&self) -> f64 {
+        crate::polygon::ring_area(&to_ring(&self.flatten(1e-3)))
+    }
+
+    /// The path run backwards.
+    pub fn reversed(&self) -> Path {
+        Path {
+            segments: self.segments.iter().rev().map(|s| s.reversed()).collect(),
+            ..self.clone()
+        }
+    }
+
+    pub fn bounding_box(&self) -> Option<Rect> {
+        self.segments
+            .iter()
+            .map(|s| s.bounding_box())
+            .reduce(|a, b| a.union(b))
+    }
+
+    /// Distance from `p` to the nearest segment.
+    pub fn distance(&self, p: Point) -> f64 {
+        self.segments
+            .iter()
+            .map(|s| s.distance(p))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Count of each kind: (lines, arcs, cubics).
+    pub fn counts(&self) -> (usize, usize, usize) {
+        let mut c = (0, 0, 0);
+        for s in &self.segments {
+            match s {
+                Segment::Line(_) => c.0 += 1,
+                Segment::Arc(_) => c.1 += 1,
+                Segment::Cubic(_) => c.2 += 1,
+            }
+        }
+        c
+    }
+
+    /// Applies `f` to every point of a path made only of lines and cubics, and maps arcs by
+    /// `arc_map`: used by transforms that keep circles circles.
+    pub fn map(&self, f: impl Fn(Point) -> Point, arc_map: impl Fn(&Arc) -> Segment) -> Path {
+        let segments = self
+            .segments
+            .iter()
+            .map(|s| match s {
+                Segment::Line(l) => Segment::line(f(l.p0), f(l.p1)),
+                Segment::Cubic(c) => {
+                    Segment::Cubic(CubicBez::new(f(c.p0), f(c.p1), f(c.p2), f(c.p3)))
+                }
+                Segment::Arc(a) => arc_map(a),
+            })
+            .collect();
+        Path {
+            segments,
+            ..self.clone()
+        }
+    }
+}
+
+/// Points as `[x, y]` pairs (the polygon library's type).
+pub fn to_ring(points: &[Point]) -> Vec<[f64; 2]> {
+    points.iter().map(|p| [p.x, p.y]).collect()
+}
+
+/// A named layer of paths.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layer {
+    pub name: String,
+    pub paths: Vec<Path>,
+}
+
+/// Layers of paths, in mm, y up.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Drawing {
+    pub layers: Vec<Layer>,
+}
+
+impl Drawing {
+    pub fn new() -> Drawing {
+        Drawing::default()
+    }
+
+    /// The layer called `name`, made if missing.
+    pub fn layer_mut(&mut self, name: &str) -> &mut Layer {
+        if let Some(i) = self.layers.iter().position(|l| l.name == name) {
+            return &mut self.layers[i];
+        }
+        self.layers.push(Layer {
+            name: name.to_string(),
+            paths: Vec::new(),
+        });
+        self.layers.last_mut().unwrap()
+    }
+
+    pub fn push(&mut self, layer: &str, path: Path) {
+        self.layer_mut(layer).paths.push(path);
+    }
+
+    /// Every path, layer by layer.
+    pub fn paths(&self) -> impl Iterator<Item = &Path> {
+        self.layers.iter().flat_map(|l| l.paths.iter())
+    }
+
+    pub fn path_count(&self) -> usize {
+        self.layers.iter().map(|l| l.paths.len()).sum()
+    }
+
+    pub fn bounding_box(&self) -> Option<Rect> {
+        self.paths()
+            .filter_map(|p| p.bounding_box())
+            .reduce(|a, b| a.union(b))
+    }
+
+    /// Every closed path (the candidates for pockets and profiles).
+    pub fn closed_paths(&self) -> impl Iterator<Item = &Path> {
+        self.paths().filter(|p| p.closed)
+    }
+
+    /// A copy with `f` applied to each path.
+    pub fn map_paths(&self, f: impl Fn(&Path) -> Path) -> Drawing {
+        Drawing {
+            layers: self
+                .layers
+                .iter()
+                .map(|l| Layer {
+                    name: l.name.clone(),
+                    paths: l.paths.iter().map(&f).collect(),
+                })
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn closed_square_area_sign_and_reverse() {
+        let sq = [
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let p = Path::polyline(&sq, true);
+        assert_eq!(p.segments.len(), 4, "closing line added");
+        assert!((p.area() - 100.0).abs() < 1e-9);
+        assert!((p.reversed().area() + 100.0).abs() < 1e-9);
+        assert!((p.length() - 40.0).abs() < 1e-12);
+        assert!((p.distance(Point::new(5.0, 5.0)) - 5.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn circle_path_flattens_within_tolerance_and_has_pi_r2_area() {
+        let c = Path::new(
+            vec![Segment::Arc(Arc::circle(Point::new(1.0, 2.0), 10.0))],
+            true,
+        );
+        let pts = c.flatten(0.001);
+        assert!(pts
+            .iter()
+            .all(|p| (p.distance(Point::new(1.0, 2.0)) - 10.0).abs() < 1e-9));
+        // Inscribed polygon loses at most perimeter × tolerance.
+        let a = c.area();
+        assert!(a < 100.0 * std::f64::consts::PI && a > 100.0 * std::f64::consts::PI - 0.07);
+    }
+
+    #[test]
+    fn cubic_flattening_ends_at_the_end_point() {
+        let s = Segment::Cubic(CubicBez::new(
+            (0.0, 0.0),
+            (0.0, 10.0),
+            (10.0, 10.0),
+            (10.0, 0.0),
+        ));
+        let mut out = vec![s.start()];
+        s.flatten_into(0.01, &mut out);
+        assert!(out.len() > 5);
+        assert_eq!(*out.last().unwrap(), Point::new(10.0, 0.0));
+        for w in out.windows(2) {
+            let m = w[0].midpoint(w[1]);
+            assert!(s.distance(m) < 0.011);
+        }
+    }
+
+    #[test]
+    fn source_reference_reads_well() {
+        let mut s = SourceRef::new("a.dxf", "LINE #3");
+        s.line = Some(12);
+        assert_eq!(s.to_string(), "a.dxf:12 (LINE #3)");
+    }
+}

@@ -1,0 +1,316 @@
+//! Polygons (straight-edged rings) and their booleans and offsets, over i_overlay.
+//!
+//! A `Ring` is a closed list of vertices (the last is not repeated). A `Region` is one outer
+//! ring (counter-clockwise) with its holes (clockwise), as i_overlay returns them.
+
+use i_overlay::core::fill_rule::FillRule;
+use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::float::scale::FixedScaleFloatOverlay;
+use i_overlay::float::single::SingleFloatOverlay;
+use i_overlay::mesh::float::outline::offset::OutlineOffset;
+use i_overlay::mesh::float::style::{LineJoin, OutlineStyle};
+
+pub type Ring = Vec<[f64; 2]>;
+
+/// One connected area: an outer ring (counter-clockwise) and holes (clockwise).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Region {
+    pub outer: Ring,
+    pub holes: Vec<Ring>,
+}
+
+impl Region {
+    /// Area of the outer ring less the holes.
+    pub fn area(&self) -> f64 {
+        ring_area(&self.outer).abs() - self.holes.iter().map(|h| ring_area(h).abs()).sum::<f64>()
+    }
+
+    fn rings(&self) -> Vec<Ring> {
+        let mut v = vec![self.outer.clone()];
+        v.extend(self.holes.iter().cloned());
+        v
+    }
+}
+
+/// The boolean operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoolOp {
+    Union,
+    Intersection,
+    Difference,
+    Xor,
+}
+
+/// Which points are inside rings that overlap or wind more than once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fill {
+    EvenOdd,
+    NonZero,
+    Positive,
+    Negative,
+}
+
+/// How an outward corner of an offset is joined.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Join {
+    /// A circular arc about the corner, cut into chords no further than `tolerance` (mm)
+    /// from it.
+    Round {
+        tolerance: f64,
+    },
+    /// A sharp corner, cut off where the interior angle is below `min_angle` (radians).
+    Miter {
+        min_angle: f64,
+    },
+    Bevel,
+}
+
+/// Error of a polygon operation (non-finite or out-of-range coordinates).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("polygon operation failed: {0}")]
+pub struct PolygonError(pub String);
+
+fn fill_rule(f: Fill) -> FillRule {
+    match f {
+        Fill::EvenOdd => FillRule::EvenOdd,
+        Fill::NonZero => FillRule::NonZero,
+        Fill::Positive => FillRule::Positive,
+        Fill::Negative => FillRule::Negative,
+    }
+}
+
+/// Signed area (shoelace), > 0 for counter-clockwise.
+pub fn ring_area(r: &[[f64; 2]]) -> f64 {
+    let n = r.len();
+    if n < 3 {
+        return 0.0;
+    }
+    let mut s = 0.0;
+    for i in 0..n {
+        let a = r[i];
+        let b = r[(i + 1) % n];
+        s += a[0] * b[1] - b[0] * a[1];
+    }
+    s / 2.0
+}
+
+/// Total area of regions.
+pub fn total_area(regions: &[Region]) -> f64 {
+    regions.iter().map(Region::area).sum()
+}
+
+fn check_finite(rings: &[Ring]) -> Result<(), PolygonError> {
+    for (i, r) in rings.iter().enumerate() {
+        if let Some(p) = r.iter().find(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return Err(PolygonError(format!(
+                "ring {i} has a non-finite point {p:?}"
+            )));
+        }
+        if let Some(p) = r.iter().find(|p| p[0].abs() > 1e12 || p[1].abs() > 1e12) {
+            return Err(PolygonError(format!("ring {i} has an absurd point {p:?}")));
+        }
+    }
+    Ok(())
+}
+
+fn regions_from(shapes: Vec<Vec<Vec<[f64; 2]>>>) -> Vec<Region> {
+    shapes
+        .into_iter()
+        .filter(|s| !s.is_empty())
+        .map(|mut s| {
+            let outer = s.remove(0);
+            Region { outer, holes: s }
+        })
+        .collect()
+}
+
+/// Subject `op` clip, each side's rings read with `fill`.
+pub fn boolean(
+    subject: &[Ring],
+    clip: &[Ring],
+    op: BoolOp,
+    fill: Fill,
+) -> Result<Vec<Region>, PolygonError> {
+    check_finite(subject)?;
+    check_finite(clip)?;
+    let rule = match op {
+        BoolOp::Union => OverlayRule::Union,
+        BoolOp::Intersection => OverlayRule::Intersect,
+        BoolOp::Difference => OverlayRule::Difference,
+        BoolOp::Xor => OverlayRule::Xor,
+    };
+    let subj: Vec<Ring> = subject.to_vec();
+    let clip: Vec<Ring> = clip.to_vec();
+    Ok(regions_from(subj.overlay(&clip, rule, fill_rule(fill))))
+}
+
+/// The regions that `rings` enclose under `fill` (resolves self-intersections and overlaps;
+/// orients outers counter-clockwise and holes clockwise).
+pub fn simplify(rings: &[Ring], fill: Fill) -> Result<Vec<Region>, PolygonError> {
+    check_finite(rings)?;
+    let subj: Vec<Ring> = rings.to_vec();
+    let empty: Vec<Ring> = Vec::new();
+    Ok(regions_from(subj.overlay(
+        &empty,
+        OverlayRule::Subject,
+        fill_rule(fill),
+    )))
+}
+
+/// Same as [`boolean`] on a fixed grid of `1/scale` mm (deterministic snapping).
+pub fn boolean_fixed(
+    subject: &[Ring],
+    clip: &[Ring],
+    op: BoolOp,
+    fill: Fill,
+    scale: f64,
+) -> Result<Vec<Region>, PolygonError> {
+    check_finite(subject)?;
+    check_finite(clip)?;
+    let rule = match op {
+        BoolOp::Union => OverlayRule::Union,
+        BoolOp::Intersection => OverlayRule::Intersect,
+        BoolOp::Difference => OverlayRule::Difference,
+        BoolOp::Xor => OverlayRule::Xor,
+    };
+    let subj: Vec<Ring> = subject.to_vec();
+    let clip: Vec<Ring> = clip.to_vec();
+    subj.overlay_with_fixed_scale(&clip, rule, fill_rule(fill), scale)
+        .map(regions_from)
+        .map_err(|e| PolygonError(format!("{e:?}")))
+}
+
+/// i_overlay's round join takes the step angle L/R; a chord of angle φ on radius R has
+/// sagitta R·(1 − cos φ/2) ≈ R·φ²/8, so φ = √(8·tol/R) keeps chords within `tol`.
+fn line_join(join: Join, distance: f64) -> LineJoin<f64> {
+    match join {
+        Join::Round { tolerance } => {
+            let r = distance.abs().max(1e-9);
+            let phi = (8.0 * tolerance.max(1e-9) / r)
+                .sqrt()
+                .min(std::f64::consts::FRAC_PI_2);
+            LineJoin::Round(phi)
+        }
+        Join::Miter { min_angle } => LineJoin::Miter(min_angle),
+        Join::Bevel => LineJoin::Bevel,
+    }
+}
+
+/// Offsets regions by `distance` (> 0 grows them, < 0 shrinks them: holes grow). Parts that
+/// vanish are gone; a region that pinches in two comes back as two regions.
+pub fn offset_regions(
+    regions: &[Region],
+    distance: f64,
+    join: Join,
+) -> Result<Vec<Region>, PolygonError> {
+    if !distance.is_finite() {
+        return Err(PolygonError(format!(
+            "offset distance {distance} is not finite"
+        )));
+    }
+    let shapes: Vec<Vec<Ring>> = regions.iter().map(Region::rings).collect();
+    for s in &shapes {
+        check_finite(s)?;
+    }
+    if distance == 0.0 {
+        return Ok(regions.to_vec());
+    }
+    let style = OutlineStyle::new(distance).line_join(line_join(join, distance));
+    Ok(regions_from(shapes.outline(&style)))
+}
+
+/// Offsets the area that `rings` enclose under `fill`.
+pub fn offset_rings(
+    rings: &[Ring],
+    fill: Fill,
+    distance: f64,
+    join: Join,
+) -> Result<Vec<Region>, PolygonError> {
+    offset_regions(&simplify(rings, fill)?, distance, join)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(x: f64, y: f64, s: f64) -> Ring {
+        vec![[x, y], [x + s, y], [x + s, y + s], [x, y + s]]
+    }
+
+    #[test]
+    fn union_difference_and_orientation() {
+        let a = square(0.0, 0.0, 10.0);
+        let b = square(5.0, 5.0, 10.0);
+        let u = boolean(&[a.clone()], &[b.clone()], BoolOp::Union, Fill::NonZero).unwrap();
+        assert_eq!(u.len(), 1);
+        assert!((total_area(&u) - 175.0).abs() < 1e-6);
+        assert!(ring_area(&u[0].outer) > 0.0, "outer counter-clockwise");
+        let d = boolean(
+            &[a.clone()],
+            &[square(2.0, 2.0, 2.0)],
+            BoolOp::Difference,
+            Fill::NonZero,
+        )
+        .unwrap();
+        assert_eq!(d[0].holes.len(), 1);
+        assert!(ring_area(&d[0].holes[0]) < 0.0, "hole clockwise");
+        assert!((total_area(&d) - 96.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn offsets_grow_and_shrink_a_square_like_minkowski() {
+        let sq = vec![Region {
+            outer: square(0.0, 0.0, 10.0),
+            holes: vec![],
+        }];
+        let grown = offset_regions(&sq, 1.0, Join::Round { tolerance: 0.0005 }).unwrap();
+        // Square grown by r: area + perimeter·r + π r².
+        let want = 100.0 + 40.0 + std::f64::consts::PI;
+        assert!(
+            (total_area(&grown) - want).abs() < 0.01,
+            "{}",
+            total_area(&grown)
+        );
+        let shrunk = offset_regions(&sq, -1.0, Join::Round { tolerance: 0.001 }).unwrap();
+        assert!(
+            (total_area(&shrunk) - 64.0).abs() < 1e-3,
+            "{}",
+            total_area(&shrunk)
+        );
+        assert!(offset_regions(&sq, -6.0, Join::Bevel).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_dumbbell_pinches_into_two_regions() {
+        // Two 20 mm squares joined by a 4 mm wide neck; an inset of 3 mm splits it.
+        let ring = vec![
+            [0.0, 0.0],
+            [20.0, 0.0],
+            [20.0, 8.0],
+            [30.0, 8.0],
+            [30.0, 0.0],
+            [50.0, 0.0],
+            [50.0, 20.0],
+            [30.0, 20.0],
+            [30.0, 12.0],
+            [20.0, 12.0],
+            [20.0, 20.0],
+            [0.0, 20.0],
+        ];
+        let r = offset_rings(
+            &[ring],
+            Fill::NonZero,
+            -3.0,
+            Join::Round { tolerance: 0.01 },
+        )
+        .unwrap();
+        assert_eq!(r.len(), 2);
+    }
+
+    #[test]
+    fn bad_numbers_are_errors_not_panics() {
+        let bad = vec![[0.0, 0.0], [f64::NAN, 1.0], [1.0, 1.0]];
+        assert!(boolean(&[bad.clone()], &[], BoolOp::Union, Fill::NonZero).is_err());
+        assert!(offset_rings(&[bad], Fill::NonZero, 1.0, Join::Bevel).is_err());
+    }
+}
