@@ -2,6 +2,7 @@
 
 pub mod lane_max;
 pub mod library;
+pub mod ops;
 pub mod raster;
 pub mod regions;
 pub mod relief;
