@@ -3,6 +3,7 @@
 
 mod arc;
 mod drawing;
+pub mod fit;
 mod grade;
 mod mirror;
 mod offset;
