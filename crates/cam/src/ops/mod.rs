@@ -17,6 +17,7 @@ pub mod mill;
 pub mod pocket;
 pub mod preview;
 pub mod profile;
+pub mod sole;
 
 pub use chain::{Chain, Piece};
 pub use drill::{drill, DrillParams};
@@ -25,6 +26,7 @@ pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::preview_svg;
 pub use profile::{profile, ProfileParams, Side, Tabs};
+pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
 
 use crate::{Move, Tool};
 
