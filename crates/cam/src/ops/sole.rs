@@ -72,6 +72,8 @@ pub struct SoleProgram {
     pub contour: Path,
     /// Block size X, Y, Z (mm).
     pub block: [f64; 3],
+    /// Depth cut below the block top, mm.
+    pub depth: f64,
     pub toolpath: Toolpath,
 }
 
@@ -87,10 +89,6 @@ impl SoleProgram {
             Foot::Right => "right",
         };
         format!("{part}-{foot}")
-    }
-
-    pub fn depth(&self) -> f64 {
-        self.block[2]
     }
 }
 
@@ -197,6 +195,7 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
             toolpath: insert_toolpath(&insert, job.insert_depth)?,
             contour: insert,
             block: [block_xy[0], block_xy[1], job.insert_depth],
+            depth: job.insert_depth,
         });
         programs.push(SoleProgram {
             foot,
@@ -204,6 +203,7 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
             toolpath: cavity_toolpath(&placed, job.cavity_depth)?,
             contour: placed,
             block: [block_xy[0], block_xy[1], job.cavity_depth + 10.0],
+            depth: job.cavity_depth,
         });
     }
     Ok(SoleResult {
