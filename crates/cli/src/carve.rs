@@ -352,28 +352,8 @@ pub fn evaluate(
 /// The canonical operations of our own program. Any diagnostic means the post wrote
 /// something the control would reject or misread: a bug, reported with its line.
 pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<oficina_canon::Canon>> {
-    use oficina_gcode::program::{run_text, RunOptions};
-    // M6-capable grbl forks read tool changes as LinuxCNC does.
-    let dialect = match post.dialect {
-        Dialect::Grbl if !post.allow_m6 => oficina_gcode::Dialect::Grbl,
-        _ => oficina_gcode::Dialect::LinuxCnc,
-    };
-    let opts = RunOptions {
-        dialect,
-        ..RunOptions::default()
-    };
-    let mut canon = Vec::new();
-    let diagnostics = run_text(program, &opts, &mut |c| canon.push(c));
-    if let Some(d) = diagnostics.first() {
-        let line = program.lines().nth(d.span.line.saturating_sub(1) as usize);
-        bail!(
-            "internal error: the interpreter rejects the generated program ({} diagnostics); \
-             please report it:\n{}",
-            diagnostics.len(),
-            d.render("<generated program>", line)
-        );
-    }
-    Ok(canon)
+    oficina_post::read_back(program, post)
+        .map_err(|e| anyhow::anyhow!("internal error: {e}; please report it"))
 }
 
 /// The program placed in machine coordinates with the work zero `drop` mm below the
