@@ -12,29 +12,47 @@ pub struct DrillParams {
     pub dwell: f64,
 }
 
-/// The centre of every closed path made of arcs only (circles, as SVG and DXF give them).
+/// The centre of every closed path that is a circle: arcs about one centre (DXF CIRCLE), or
+/// any closed curve whose points all lie within 0.5 % (and 0.02 mm) of one radius about their
+/// mean (SVG circles arrive as four cubic Béziers).
 pub fn hole_centres(paths: &[Path]) -> Vec<[f64; 2]> {
     paths
         .iter()
         .filter(|p| p.closed && !p.segments.is_empty())
-        .filter_map(|p| {
-            let mut c = None;
-            for s in &p.segments {
-                match s {
-                    Segment::Arc(a) => {
-                        let here = [a.center.x, a.center.y];
-                        match c {
-                            None => c = Some(here),
-                            Some(k) if (k[0] - here[0]).hypot(k[1] - here[1]) < 1e-6 => {}
-                            Some(_) => return None,
-                        }
-                    }
-                    _ => return None,
-                }
-            }
-            c
-        })
+        .filter_map(circle_centre)
         .collect()
+}
+
+fn circle_centre(p: &Path) -> Option<[f64; 2]> {
+    let arcs: Vec<_> = p
+        .segments
+        .iter()
+        .map(|s| match s {
+            Segment::Arc(a) => Some(a.center),
+            _ => None,
+        })
+        .collect();
+    if let Some(Some(c)) = arcs.first() {
+        if arcs
+            .iter()
+            .all(|a| a.is_some_and(|k| k.distance(*c) < 1e-6))
+        {
+            return Some([c.x, c.y]);
+        }
+    }
+    let pts = p.flatten(0.001);
+    if pts.len() < 8 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let c = pts
+        .iter()
+        .fold((0.0, 0.0), |a, q| (a.0 + q.x / n, a.1 + q.y / n));
+    let radii: Vec<f64> = pts.iter().map(|q| (q.x - c.0).hypot(q.y - c.1)).collect();
+    let (lo, hi) = radii
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+    (hi > 0.0 && hi - lo <= (0.005 * hi).min(0.02)).then_some([c.0, c.1])
 }
 
 pub fn drill(name: &str, paths: &[Path], cut: &Cut, p: &DrillParams) -> Result<Operation, OpError> {
