@@ -229,18 +229,22 @@ pub fn judge(
     let (mut gouge, mut leftover_mean, mut stock_png) = (None, None, None);
     if let Some(design) = design {
         bar.set_message("simulating the stock");
-        // The legacy control has no tool words: the operator loads the first tool.
-        let mut ops = canon.clone();
+        // The tool in the spindle when the program starts: the legacy control has no tool
+        // words, and the Sinumerik program moves to its change position before T01 M06.
+        // Nothing after the last motion cuts (the Sinumerik end loads the empty T99).
+        let end = canon
+            .iter()
+            .rposition(|c| c.op.is_motion())
+            .map_or(0, |k| k + 1);
+        let mut ops = canon[..end].to_vec();
         if let Some(first) = tp.operations.first() {
-            if post.dialect == Dialect::Legacy2006 {
-                ops.insert(
-                    0,
-                    oficina_canon::Canon {
-                        line: 0,
-                        op: oficina_canon::CanonOp::ChangeTool(first.tool_number),
-                    },
-                );
-            }
+            ops.insert(
+                0,
+                oficina_canon::Canon {
+                    line: 0,
+                    op: oficina_canon::CanonOp::SelectTool(first.tool_number),
+                },
+            );
             let check = check_mill(
                 &ops,
                 &tools,

@@ -188,3 +188,31 @@ fn bad_drawings_are_refused_with_the_file_named() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("narrower than the 10 mm tool"), "{err}");
 }
+
+#[test]
+fn every_post_reads_back_and_checks_clean() {
+    let dir = tmp("posts");
+    for post in ["sinumerik", "legacy-2006", "grbl"] {
+        let f = dir.join(format!("{post}.nc"));
+        let out = oficina(&[
+            "mill",
+            "samples/mill/plate.svg",
+            "--op",
+            "profile-in",
+            "--depth",
+            "3",
+            "--post",
+            post,
+            "-o",
+            f.to_str().unwrap(),
+        ]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success() && stdout.contains("gouge:    none"),
+            "{post}: {}\n{stdout}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let sin = std::fs::read_to_string(dir.join("sinumerik.nc")).unwrap();
+    assert!(sin.starts_with("%\n") && sin.contains("T01 M06") && sin.contains("T99 M06"));
+}

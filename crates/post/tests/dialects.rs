@@ -445,3 +445,16 @@ fn sinumerik_reader_names_a_bad_word() {
     let e = sinumerik::to_ngc("N10 G01 X12.5\n").unwrap_err();
     assert_eq!(e, "line 1: cannot read word 'X12.5'");
 }
+
+#[test]
+fn sinumerik_end_puts_the_tool_away_after_the_last_motion() {
+    let text = program_text(&sample(), &options(Dialect::Sinumerik));
+    let ngc = sinumerik::to_ngc(&text).unwrap();
+    let canon = read_back(&text, &options(Dialect::Sinumerik)).unwrap();
+    let last_motion = canon.iter().rposition(|c| c.op.is_motion()).unwrap();
+    let put_away = canon
+        .iter()
+        .rposition(|c| c.op == CanonOp::ChangeTool(99))
+        .unwrap_or_else(|| panic!("{ngc}"));
+    assert!(put_away > last_motion, "{ngc}\n{:?}", &canon[last_motion..]);
+}
