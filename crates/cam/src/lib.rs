@@ -3,6 +3,7 @@
 pub mod lane_max;
 pub mod library;
 pub mod memory;
+pub mod ops;
 pub mod raster;
 pub mod regions;
 pub mod relief;
@@ -15,4 +16,4 @@ pub mod toolpath;
 
 pub use library::Library;
 pub use tool::{Shape, Tool, ToolError};
-pub use toolpath::{Move, Operation, Toolpath};
+pub use toolpath::{Drill, Move, Operation, PathMode, Toolpath};

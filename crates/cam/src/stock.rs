@@ -114,7 +114,8 @@ pub fn apply_moves(
                 sweep_arc(stock, tool, pos, to, center, ccw);
                 pos = to;
             }
-            Move::Dwell(_) => {}
+            Move::Drill(d) => pos = apply_moves(stock, tool, pos, &d.moves(pos)),
+            Move::Dwell(_) | Move::PathMode(_) => {}
         }
     }
     pos

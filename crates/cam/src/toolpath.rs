@@ -3,7 +3,7 @@
 //! post-processors turn it into a dialect, and [`Toolpath::canon`] into canonical operations.
 
 use crate::tool::Tool;
-use oficina_canon::{Canon, CanonOp, Plane, Pos, SpindleDir};
+use oficina_canon::{Canon, CanonOp, MotionMode, Plane, Pos, SpindleDir};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Move {
@@ -24,6 +24,90 @@ pub enum Move {
     },
     /// Seconds.
     Dwell(f64),
+    /// One drilled hole: a canned cycle where the control has them (G81/G82/G83), the same
+    /// moves written out where it has not ([`Drill::moves`] says what they are).
+    Drill(Drill),
+    /// Corner behaviour from here on (G61/G64, Sinumerik G60/G64).
+    PathMode(PathMode),
+}
+
+/// A drilling cycle at one point, retracting to the R plane after the hole (LinuxCNC G99).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drill {
+    /// Hole centre (X, Y).
+    pub at: [f64; 2],
+    /// Z of the hole bottom.
+    pub bottom: f64,
+    /// Z of the R plane: rapids stop here, the feed starts here, the tool returns here.
+    pub r: f64,
+    /// Depth of each peck (G83); `None` drills in one feed.
+    pub peck: Option<f64>,
+    /// Seconds at the bottom (G82); 0 for none.
+    pub dwell: f64,
+    /// Feed, mm/s.
+    pub feed: f64,
+}
+
+/// How the control treats block joints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathMode {
+    /// Stop exactly at each block end: sharp corners (G61, Sinumerik G60).
+    ExactStop,
+    /// Blend through joints without slowing: no dwell marks on a contour (G64).
+    Continuous,
+}
+
+/// LinuxCNC's G83 rapids back down to this far (0.010 inch) above the last peck's bottom.
+pub const PECK_CLEARANCE: f64 = 0.254;
+
+impl Drill {
+    /// The cycle as plain moves from `from`, as LinuxCNC executes it under G99: up to R if
+    /// below it, rapid over the hole, rapid down to R, feed to the bottom (in pecks, each
+    /// followed by a rapid out to R and back down to [`PECK_CLEARANCE`] above the cut), dwell,
+    /// rapid back to R.
+    pub fn moves(&self, from: [f64; 3]) -> Vec<Move> {
+        let [x, y] = self.at;
+        let mut out = Vec::new();
+        if from[2] < self.r {
+            out.push(Move::Rapid {
+                to: [from[0], from[1], self.r],
+            });
+        }
+        let z0 = from[2].max(self.r);
+        out.push(Move::Rapid { to: [x, y, z0] });
+        if z0 != self.r {
+            out.push(Move::Rapid { to: [x, y, self.r] });
+        }
+        match self.peck {
+            Some(q) if q > 0.0 => {
+                let mut depth = self.r;
+                loop {
+                    let next = (depth - q).max(self.bottom);
+                    out.push(Move::Line {
+                        to: [x, y, next],
+                        feed: self.feed,
+                    });
+                    depth = next;
+                    if depth <= self.bottom {
+                        break;
+                    }
+                    out.push(Move::Rapid { to: [x, y, self.r] });
+                    out.push(Move::Rapid {
+                        to: [x, y, depth + PECK_CLEARANCE],
+                    });
+                }
+            }
+            _ => out.push(Move::Line {
+                to: [x, y, self.bottom],
+                feed: self.feed,
+            }),
+        }
+        if self.dwell > 0.0 {
+            out.push(Move::Dwell(self.dwell));
+        }
+        out.push(Move::Rapid { to: [x, y, self.r] });
+        out
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -46,7 +130,8 @@ impl Move {
     pub fn end(&self) -> Option<[f64; 3]> {
         match *self {
             Move::Rapid { to } | Move::Line { to, .. } | Move::Arc { to, .. } => Some(to),
-            Move::Dwell(_) => None,
+            Move::Dwell(_) | Move::PathMode(_) => None,
+            Move::Drill(d) => Some([d.at[0], d.at[1], d.r]),
         }
     }
 }
@@ -59,6 +144,7 @@ impl Toolpath {
         let mut out = Vec::new();
         let mut push = |op| out.push(Canon { line: 0, op });
         let mut current_tool = None;
+        let mut at = [0.0, 0.0, self.safe_z];
         for op in &self.operations {
             if current_tool != Some(op.tool_number) {
                 push(CanonOp::SelectTool(op.tool_number));
@@ -67,8 +153,10 @@ impl Toolpath {
             }
             push(CanonOp::SetSpindleSpeed(op.spindle_rpm));
             push(CanonOp::StartSpindle(SpindleDir::Clockwise));
-            for m in &op.moves {
-                match *m {
+            let plain;
+            (plain, at) = plain_moves(&op.moves, at);
+            for m in plain {
+                match m {
                     Move::Rapid { to } => push(CanonOp::StraightTraverse { to: pos(to) }),
                     Move::Line { to, feed } => {
                         push(CanonOp::SetFeedRate(feed * 60.0));
@@ -89,6 +177,15 @@ impl Toolpath {
                         });
                     }
                     Move::Dwell(s) => push(CanonOp::Dwell(s)),
+                    Move::PathMode(mode) => push(CanonOp::SetMotionControlMode {
+                        mode: match mode {
+                            PathMode::ExactStop => MotionMode::ExactPath,
+                            PathMode::Continuous => MotionMode::Continuous,
+                        },
+                        tolerance: 0.0,
+                    }),
+                    // Expanded into plain moves above.
+                    Move::Drill(_) => {}
                 }
             }
         }
@@ -104,6 +201,23 @@ impl Toolpath {
             .map(|o| o.moves.iter().filter(|m| m.end().is_some()).count())
             .sum()
     }
+}
+
+/// `moves` with every [`Move::Drill`] written out as the moves it makes, starting at
+/// `from`; also returns where they end.
+pub fn plain_moves(moves: &[Move], from: [f64; 3]) -> (Vec<Move>, [f64; 3]) {
+    let mut at = from;
+    let mut out = Vec::with_capacity(moves.len());
+    for m in moves {
+        match m {
+            Move::Drill(d) => out.extend(d.moves(at)),
+            m => out.push(m.clone()),
+        }
+        if let Some(to) = m.end() {
+            at = to;
+        }
+    }
+    (out, at)
 }
 
 fn pos(p: [f64; 3]) -> Pos {

@@ -14,8 +14,10 @@ mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
 mod peak_memory;
+mod mill;
 mod plan;
 mod run;
+mod sole;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -53,6 +55,10 @@ enum Command {
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
     Plan(plan::Args),
+    /// 2.5D milling of an SVG/DXF drawing: pocket, profile, drill → program, preview, check, time.
+    Mill(mill::Args),
+    /// Shoe-sole molds (seed 001): digitised contour → graded, mirrored insert and cavity programs.
+    Sole(sole::Args),
 }
 
 #[derive(Subcommand)]
@@ -97,6 +103,8 @@ fn main() -> ExitCode {
         Command::Fit(args) => fit::run(args),
         Command::Run(args) => run::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Mill(args) => mill::run(args),
+        Command::Sole(args) => sole::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),

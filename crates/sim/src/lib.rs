@@ -4,11 +4,13 @@
 
 pub mod carve;
 pub mod estimate;
+pub mod mill;
 pub mod render;
 pub mod replay;
 pub mod report;
 
 pub use estimate::feed_only_estimate;
+pub use mill::{check_mill, Design, MillCheck};
 pub use render::{render_png, shade};
 pub use replay::{replay, SimError};
 pub use report::{compare, ideal_surface, Report};

@@ -1,0 +1,180 @@
+//! 2.5D operations: drawings → [`Operation`]s of tool-centre moves.
+//!
+//! - [`profile`]: inside / outside / on the line, depth passes, a finishing pass at full
+//!   depth, tabs, a tangent lead-out;
+//! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
+//!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
+//! - [`drill`]: canned cycles at circle centres;
+//! - [`entry`]: how a cut goes down into material: ramp along the path, helix, or a plunge
+//!   only where the user says the tool can.
+//!
+//! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
+
+pub mod chain;
+pub mod drill;
+pub mod entry;
+pub mod mill;
+pub mod pocket;
+pub mod preview;
+pub mod profile;
+pub mod sole;
+
+pub use chain::{Chain, Piece};
+pub use drill::{drill, DrillParams};
+pub use entry::Entry;
+pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
+pub use pocket::{pocket, PocketParams, Strategy};
+pub use preview::preview_svg;
+pub use profile::{profile, ProfileParams, Side, Tabs};
+pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
+
+use crate::{Move, Tool};
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum OpError {
+    #[error("{0}")]
+    Invalid(String),
+    #[error("geometry: {0}")]
+    Geometry(String),
+    #[error("nothing to cut: {0}")]
+    Empty(String),
+}
+
+/// The technology of one operation: tool, speeds, depths, planes, entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cut {
+    pub tool_number: u32,
+    pub tool: Tool,
+    pub spindle_rpm: f64,
+    /// Cutting feed, mm/s.
+    pub feed: f64,
+    /// Feed for ramps, helices and plunges, mm/s.
+    pub plunge_feed: f64,
+    /// Z of the stock top.
+    pub top: f64,
+    /// How deep below the top, mm (> 0).
+    pub depth: f64,
+    /// Largest depth of one pass, mm (> 0); passes are equal.
+    pub stepdown: f64,
+    /// Retraction plane: rapids between cuts happen here (seed 001's "plano de retração").
+    pub clear_z: f64,
+    pub entry: Entry,
+}
+
+/// A gap (mm) above the last cut floor to which rapids may come down before a ramp.
+pub const RAPID_GAP: f64 = 0.5;
+
+impl Cut {
+    pub fn validate(&self) -> Result<(), OpError> {
+        let pos = |v: f64, what: &str| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(OpError::Invalid(format!(
+                    "{what} must be above 0 (got {v})"
+                )))
+            }
+        };
+        pos(self.depth, "depth")?;
+        pos(self.stepdown, "stepdown")?;
+        pos(self.feed, "feed")?;
+        pos(self.plunge_feed, "plunge feed")?;
+        pos(self.tool.diameter, "tool diameter")?;
+        if !(self.top.is_finite() && self.clear_z.is_finite() && self.clear_z > self.top) {
+            return Err(OpError::Invalid(format!(
+                "the retraction plane Z{} must be above the stock top Z{}",
+                self.clear_z, self.top
+            )));
+        }
+        if self.depth > 1000.0 || self.depth / self.stepdown > 10_000.0 {
+            return Err(OpError::Invalid(format!(
+                "depth {} mm in passes of {} mm is beyond any machine",
+                self.depth, self.stepdown
+            )));
+        }
+        if self.tool.flute_length > 0.0 && self.depth > self.tool.flute_length {
+            return Err(OpError::Invalid(format!(
+                "depth {} mm is more than the flute length {} mm of {}",
+                self.depth,
+                self.tool.flute_length,
+                self.tool.spec()
+            )));
+        }
+        self.entry.validate()
+    }
+
+    /// Z of each pass, top down, equal passes no deeper than `stepdown`, the last at full
+    /// depth.
+    pub fn levels(&self) -> Vec<f64> {
+        let n = (self.depth / self.stepdown - 1e-9).ceil().max(1.0) as usize;
+        (1..=n)
+            .map(|k| self.top - self.depth * k as f64 / n as f64)
+            .collect()
+    }
+
+    pub fn bottom(&self) -> f64 {
+        self.top - self.depth
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.tool.diameter / 2.0
+    }
+}
+
+/// Moves being built, knowing where the tool is.
+pub(crate) struct Builder {
+    pub moves: Vec<Move>,
+    pub at: [f64; 3],
+}
+
+impl Builder {
+    pub fn new(clear_z: f64) -> Builder {
+        Builder {
+            moves: vec![],
+            at: [f64::NAN, f64::NAN, clear_z],
+        }
+    }
+
+    pub fn push(&mut self, m: Move) {
+        if let Some(to) = m.end() {
+            self.at = to;
+        }
+        self.moves.push(m);
+    }
+
+    pub fn extend(&mut self, ms: Vec<Move>) {
+        for m in ms {
+            self.push(m);
+        }
+    }
+
+    /// Up to the retraction plane, across, and down to `z` (all rapids).
+    pub fn travel(&mut self, clear_z: f64, to: [f64; 2], z: f64) {
+        if self.at[2] < clear_z {
+            self.push(Move::Rapid {
+                to: [self.at[0], self.at[1], clear_z],
+            });
+        }
+        self.push(Move::Rapid {
+            to: [to[0], to[1], clear_z],
+        });
+        if z < clear_z {
+            self.push(Move::Rapid {
+                to: [to[0], to[1], z],
+            });
+        }
+    }
+
+    pub fn line(&mut self, to: [f64; 3], feed: f64) {
+        self.push(Move::Line { to, feed });
+    }
+
+    pub fn finish(mut self, clear_z: f64) -> Vec<Move> {
+        if self.at[2] < clear_z {
+            self.push(Move::Rapid {
+                to: [self.at[0], self.at[1], clear_z],
+            });
+        }
+        self.moves
+    }
+}

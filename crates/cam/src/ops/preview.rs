@@ -1,0 +1,116 @@
+//! An SVG picture of a toolpath over its drawing: the drawing in black, cutting moves in
+//! blue, rapids in dashed red, Y up as on the machine.
+
+use crate::{Move, Toolpath};
+use oficina_geom::Path;
+use std::fmt::Write;
+
+/// The SVG text (mm units).
+pub fn preview_svg(drawing: &[Path], tp: &Toolpath) -> String {
+    let mut pts: Vec<[f64; 2]> = drawing
+        .iter()
+        .flat_map(|p| p.flatten(0.05))
+        .map(|p| [p.x, p.y])
+        .collect();
+    let (plain, _) = crate::toolpath::plain_moves(
+        &tp.operations
+            .iter()
+            .flat_map(|o| o.moves.iter().cloned())
+            .collect::<Vec<_>>(),
+        [0.0, 0.0, tp.safe_z],
+    );
+    pts.extend(
+        plain
+            .iter()
+            .filter_map(Move::end)
+            .filter(|e| e[0].is_finite() && e[1].is_finite())
+            .map(|e| [e[0], e[1]]),
+    );
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in &pts {
+        x0 = x0.min(p[0]);
+        y0 = y0.min(p[1]);
+        x1 = x1.max(p[0]);
+        y1 = y1.max(p[1]);
+    }
+    if x0 > x1 {
+        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
+    }
+    let m = 2.0;
+    let (w, h) = (x1 - x0 + 2.0 * m, y1 - y0 + 2.0 * m);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.2}mm" height="{h:.2}mm" viewBox="{:.3} {:.3} {w:.3} {h:.3}">"#,
+        x0 - m,
+        -(y1 + m)
+    );
+    let _ = writeln!(s, r#"<g transform="scale(1,-1)" fill="none">"#);
+    for p in drawing {
+        let d = p.flatten(0.02);
+        let _ = write!(s, r#"<polyline stroke="black" stroke-width="0.2" points=""#);
+        for q in &d {
+            let _ = write!(s, "{:.3},{:.3} ", q.x, q.y);
+        }
+        if p.closed {
+            if let Some(q) = d.first() {
+                let _ = write!(s, "{:.3},{:.3}", q.x, q.y);
+            }
+        }
+        let _ = writeln!(s, r#""/>"#);
+    }
+    // Runs of cutting moves become one polyline; arcs are drawn as chords.
+    let mut at = [f64::NAN, f64::NAN, tp.safe_z];
+    let mut run: Vec<[f64; 2]> = Vec::new();
+    let flush = |s: &mut String, run: &mut Vec<[f64; 2]>| {
+        if run.len() > 1 {
+            let _ = write!(s, r#"<polyline stroke="blue" stroke-width="0.1" points=""#);
+            for q in run.iter() {
+                let _ = write!(s, "{:.3},{:.3} ", q[0], q[1]);
+            }
+            let _ = writeln!(s, r#""/>"#);
+        }
+        run.clear();
+    };
+    for m in &plain {
+        match *m {
+            Move::Rapid { to } => {
+                flush(&mut s, &mut run);
+                if at[0].is_finite() && to[0].is_finite() && (at[0] != to[0] || at[1] != to[1]) {
+                    let _ = writeln!(
+                        s,
+                        r#"<line stroke="red" stroke-width="0.1" stroke-dasharray="1,1" x1="{:.3}" y1="{:.3}" x2="{:.3}" y2="{:.3}"/>"#,
+                        at[0], at[1], to[0], to[1]
+                    );
+                }
+                at = to;
+            }
+            Move::Line { to, .. } => {
+                if run.is_empty() {
+                    run.push([at[0], at[1]]);
+                }
+                run.push([to[0], to[1]]);
+                at = to;
+            }
+            Move::Arc {
+                to, center, ccw, ..
+            } => {
+                if run.is_empty() {
+                    run.push([at[0], at[1]]);
+                }
+                let arc = oficina_geom::Arc::from_center(
+                    (at[0], at[1]).into(),
+                    (to[0], to[1]).into(),
+                    (center[0], center[1]).into(),
+                    if ccw { 1 } else { -1 },
+                );
+                run.extend(arc.flatten(0.02).into_iter().skip(1).map(|p| [p.x, p.y]));
+                at = to;
+            }
+            _ => {}
+        }
+    }
+    flush(&mut s, &mut run);
+    let _ = writeln!(s, "</g>\n</svg>");
+    s
+}

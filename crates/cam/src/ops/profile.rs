@@ -1,0 +1,289 @@
+//! Cutting along a contour: outside it (the part stays), inside it (a hole), or on it (a
+//! groove, the seed's slots and letters). Tool-centre paths are exact offsets at the tool
+//! radius (arcs stay arcs); climb milling with a clockwise spindle: outside contours run
+//! clockwise, inside ones counter-clockwise.
+
+use super::chain::{max_profile, Chain, Piece};
+use super::entry::enter_open;
+use super::{Builder, Cut, OpError, RAPID_GAP};
+use crate::{Move, Operation};
+use oficina_geom::{offset_areas, Area, Path};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Inside,
+    Outside,
+    On,
+}
+
+/// Bridges left standing so a cut-out part stays in the stock.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tabs {
+    /// Tabs per contour, evenly spaced.
+    pub count: usize,
+    /// Length of material left, mm (the tool centre rises over this plus a diameter).
+    pub width: f64,
+    /// Height of the bridge above the bottom of the cut, mm.
+    pub height: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProfileParams {
+    pub side: Side,
+    /// Stock left on the wall by the depth passes, taken by one finishing pass at full
+    /// depth (0: the passes cut to size).
+    pub allowance: f64,
+    pub tabs: Option<Tabs>,
+    /// Radius of a tangent arc off the wall after the last pass (0: none).
+    pub lead_out: f64,
+}
+
+/// Offsets are exact to this (mm).
+pub const OFFSET_TOL: f64 = 0.001;
+
+/// The tool-centre loops for `side` at wall distance `d` (≥ 0) from the contours.
+pub fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
+    match side {
+        Side::On => Ok(paths
+            .iter()
+            .map(Chain::from_path)
+            .filter(|c| !c.pieces.is_empty())
+            .collect()),
+        Side::Inside | Side::Outside => {
+            let areas = Area::from_paths(paths);
+            if areas.is_empty() {
+                return Err(OpError::Empty(
+                    "no closed contour to cut inside or outside of".into(),
+                ));
+            }
+            let dist = if side == Side::Outside { d } else { -d };
+            let out = offset_areas(&areas, dist, OFFSET_TOL)
+                .map_err(|e| OpError::Geometry(e.to_string()))?;
+            Ok(out
+                .iter()
+                .map(|a| {
+                    let c = Chain::from_path(&a.outer);
+                    if side == Side::Outside {
+                        c.reversed()
+                    } else {
+                        c
+                    }
+                })
+                .filter(|c| !c.pieces.is_empty())
+                .collect())
+        }
+    }
+}
+
+/// Nearest-neighbour order from `from`.
+pub(crate) fn order_nearest(mut chains: Vec<Chain>, mut from: [f64; 2]) -> Vec<Chain> {
+    let mut out = Vec::with_capacity(chains.len());
+    while !chains.is_empty() {
+        let (k, _) = chains
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let s = c.start();
+                (k, (s[0] - from[0]).hypot(s[1] - from[1]))
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("not empty");
+        let c = chains.swap_remove(k);
+        from = c.end();
+        out.push(c);
+    }
+    out
+}
+
+pub fn profile(
+    name: &str,
+    paths: &[Path],
+    cut: &Cut,
+    p: &ProfileParams,
+) -> Result<Operation, OpError> {
+    cut.validate()?;
+    if !(p.allowance.is_finite() && p.allowance >= 0.0 && p.lead_out >= 0.0) {
+        return Err(OpError::Invalid(
+            "allowance and lead-out must be 0 or more".into(),
+        ));
+    }
+    if let Some(t) = p.tabs {
+        if t.count == 0 || !(t.width > 0.0 && t.height > 0.0) || t.height >= cut.depth {
+            return Err(OpError::Invalid(format!(
+                "tabs need a count, a width above 0 and a height between 0 and the depth {} mm",
+                cut.depth
+            )));
+        }
+    }
+    let r = cut.radius();
+    let finishing = p.allowance > 0.0 && p.side != Side::On;
+    let rough = contour_loops(paths, p.side, r + p.allowance)?;
+    if rough.is_empty() {
+        return Err(OpError::Empty(format!(
+            "every contour is too small for a {} mm tool",
+            cut.tool.diameter
+        )));
+    }
+    let mut b = Builder::new(cut.clear_z);
+    for chain in order_nearest(rough, [0.0, 0.0]) {
+        passes(&mut b, &chain, cut, p, &cut.levels())?;
+    }
+    if finishing {
+        let finish = contour_loops(paths, p.side, r)?;
+        for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
+            // One pass at full depth, ramping down along the wall: only the allowance
+            // is left there.
+            passes(&mut b, &chain, cut, p, &[cut.bottom()])?;
+        }
+    }
+    Ok(Operation {
+        name: name.into(),
+        tool_number: cut.tool_number,
+        tool: cut.tool.clone(),
+        spindle_rpm: cut.spindle_rpm,
+        moves: b.finish(cut.clear_z),
+    })
+}
+
+/// Cuts `chain` at each of `levels` without leaving it, then the lead-out.
+fn passes(
+    b: &mut Builder,
+    chain: &Chain,
+    cut: &Cut,
+    p: &ProfileParams,
+    levels: &[f64],
+) -> Result<(), OpError> {
+    let start = chain.start();
+    b.travel(cut.clear_z, start, cut.top + RAPID_GAP);
+    let mut z = cut.top + RAPID_GAP;
+    if !chain.closed {
+        // Open grooves: back and forth, each level entered where the last ended.
+        let mut c = chain.clone();
+        for &level in levels {
+            enter_open(b, &c, cut.entry, z, level, cut.plunge_feed)?;
+            let mut moves = Vec::new();
+            c.walk(&[(0.0, level), (c.length(), level)], cut.feed, &mut moves);
+            b.extend(moves);
+            z = level;
+            c = c.reversed();
+        }
+        return Ok(());
+    }
+    let len = chain.length();
+    let mut s = 0.0;
+    for &level in levels {
+        let mut profile = match cut.entry.angle() {
+            Some(angle) => {
+                let run = (z - level).max(0.0) / angle.tan();
+                vec![(s, z), (s + run, level), (s + run + len, level)]
+            }
+            None => {
+                let here = b.at;
+                b.line([here[0], here[1], level], cut.plunge_feed);
+                vec![(s, level), (s + len, level)]
+            }
+        };
+        if let Some(t) = p.tabs {
+            let angle = cut.entry.angle().unwrap_or(45f64.to_radians());
+            profile = max_profile(&profile, &tab_profile(t, cut, len, &profile, angle));
+        }
+        let mut moves = Vec::new();
+        chain.walk(&profile, cut.feed, &mut moves);
+        b.extend(moves);
+        s = profile.last().map_or(s, |q| q.0);
+        z = level;
+    }
+    if p.lead_out > 0.0 {
+        let ended = chain.rotated(s);
+        lead_out(b, &ended, p.lead_out, cut.feed);
+    }
+    Ok(())
+}
+
+/// Z of the tool centre over the tabs (raised to the bridge top), and below any cut
+/// elsewhere, over the span of `base`.
+fn tab_profile(t: Tabs, cut: &Cut, len: f64, base: &[(f64, f64)], angle: f64) -> Vec<(f64, f64)> {
+    let (s0, s1) = (base[0].0, base[base.len() - 1].0);
+    let low = cut.bottom() - 1.0;
+    let top = cut.bottom() + t.height;
+    let half = (t.width + cut.tool.diameter) / 2.0;
+    let ramp = (top - low) / angle.tan();
+    let mut out = vec![(s0, low)];
+    let spacing = len / t.count as f64;
+    let first = ((s0 - half - ramp) / len).floor() * len;
+    let mut k = 0usize;
+    loop {
+        let c = first + (k as f64 + 0.5) * spacing;
+        k += 1;
+        if c - half - ramp > s1 {
+            break;
+        }
+        for (s, z) in [
+            (c - half - ramp, low),
+            (c - half, top),
+            (c + half, top),
+            (c + half + ramp, low),
+        ] {
+            if s > out.last().map_or(f64::MIN, |q: &(f64, f64)| q.0) {
+                out.push((s, z));
+            }
+        }
+    }
+    out.push((s1.max(out.last().map_or(s1, |q| q.0)), low));
+    // Clip to the span [s0, s1] by evaluating at the ends through max_profile's sampler.
+    let clipped: Vec<(f64, f64)> = out
+        .iter()
+        .copied()
+        .filter(|q| q.0 >= s0 && q.0 <= s1)
+        .collect();
+    let eval = |s: f64| -> f64 {
+        match out.iter().position(|q| q.0 >= s) {
+            None | Some(0) => low,
+            Some(i) => {
+                let ((a, za), (b2, zb)) = (out[i - 1], out[i]);
+                if b2 - a <= 0.0 {
+                    zb
+                } else {
+                    za + (zb - za) * (s - a) / (b2 - a)
+                }
+            }
+        }
+    };
+    let mut res = vec![(s0, eval(s0))];
+    res.extend(clipped.into_iter().filter(|q| q.0 > s0 && q.0 < s1));
+    res.push((s1, eval(s1)));
+    res
+}
+
+/// A quarter arc off the wall to the left of travel (the waste side when climb milling).
+fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
+    let Some(last) = chain.pieces.last() else {
+        return;
+    };
+    let end = last.end();
+    let tangent = match *last {
+        Piece::Line { a, b } => [b[0] - a[0], b[1] - a[1]],
+        Piece::Arc { c, sweep, .. } => {
+            let rv = [end[0] - c[0], end[1] - c[1]];
+            if sweep > 0.0 {
+                [-rv[1], rv[0]]
+            } else {
+                [rv[1], -rv[0]]
+            }
+        }
+    };
+    let n = tangent[0].hypot(tangent[1]);
+    if n <= 0.0 {
+        return;
+    }
+    let (tx, ty) = (tangent[0] / n, tangent[1] / n);
+    // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
+    let centre = [end[0] - ty * radius, end[1] + tx * radius];
+    let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];
+    b.push(Move::Arc {
+        to,
+        center: centre,
+        ccw: true,
+        feed,
+    });
+}

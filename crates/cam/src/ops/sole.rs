@@ -1,0 +1,339 @@
+//! The shoe-sole mold job of seed 001 (§3, §4, §6.4, §7): a digitised pattern contour is
+//! graded to the target size with shrinkage, re-fitted (tangent circles, biarcs if the
+//! points admit no tangent solution), mirrored for the other foot, and machined as an
+//! insert (postiço: the sole outline standing proud, cut outside) and a cavity (the same
+//! outline as a pocket) for each foot, with the seed's tools and feeds.
+
+use super::pocket::{pocket, PocketParams, Strategy};
+use super::profile::{profile, ProfileParams, Side, OFFSET_TOL};
+use super::{Cut, Entry, OpError};
+use crate::{Tool, Toolpath};
+use oficina_geom::fit::{fit_method, Fit, Method};
+use oficina_geom::{
+    mirror_path, offset_areas, oriented, Arc, Area, Grading, MirrorAxis, Path, Point, Reference,
+    Segment, SizeSystem, Vec2,
+};
+
+/// What to make.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SoleJob {
+    pub from_size: f64,
+    pub to_size: f64,
+    pub system: SizeSystem,
+    /// Material shrinkage as a fraction (seed: 2 % = 0.02).
+    pub shrink: f64,
+    /// Largest distance of the fitted contour from the graded points, mm.
+    pub fit_tolerance: f64,
+    /// The insert is made this much smaller all round so it fits the cavity (seed: ~0.05).
+    pub insert_clearance: f64,
+    /// Insert plate thickness = its cut depth (seed: 22 mm in 3 passes).
+    pub insert_depth: f64,
+    /// Cavity depth (seed: 26 mm in 3 passes).
+    pub cavity_depth: f64,
+    /// Block margin round the contour, mm (the part zero is the block's lower-left corner).
+    pub margin: f64,
+}
+
+impl SoleJob {
+    /// The seed's prototype: size 34 → 40, Brazilian sizes, 2 % shrinkage.
+    pub fn seed(from_size: f64, to_size: f64) -> SoleJob {
+        SoleJob {
+            from_size,
+            to_size,
+            system: SizeSystem::BRAZILIAN,
+            shrink: 0.02,
+            fit_tolerance: 0.3,
+            insert_clearance: 0.05,
+            insert_depth: 22.0,
+            cavity_depth: 26.0,
+            margin: 30.0,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Foot {
+    Left,
+    Right,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Insert,
+    Cavity,
+}
+
+/// One program of the job.
+#[derive(Clone, Debug)]
+pub struct SoleProgram {
+    pub foot: Foot,
+    pub part: Part,
+    /// The contour as machined (placed on the block, insert clearance applied).
+    pub contour: Path,
+    /// Block size X, Y, Z (mm).
+    pub block: [f64; 3],
+    /// Depth cut below the block top, mm.
+    pub depth: f64,
+    pub toolpath: Toolpath,
+}
+
+impl SoleProgram {
+    /// `insert-left`, `cavity-right`, …
+    pub fn name(&self) -> String {
+        let part = match self.part {
+            Part::Insert => "insert",
+            Part::Cavity => "cavity",
+        };
+        let foot = match self.foot {
+            Foot::Left => "left",
+            Foot::Right => "right",
+        };
+        format!("{part}-{foot}")
+    }
+}
+
+pub struct SoleResult {
+    pub grading: Grading,
+    /// (α, β) applied.
+    pub factors: (f64, f64),
+    pub fit: Fit,
+    /// Why tangent circles were not used, if they were not.
+    pub fallback: Option<String>,
+    pub programs: Vec<SoleProgram>,
+}
+
+/// Seed 001 §7 tools: (number, spec, rpm, feed mm/min).
+pub const ROUGH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1600.0, 190.0);
+pub const FINISH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1800.0, 100.0);
+pub const DETAIL_6: (u32, &str, f64, f64) = (2, "flat:6,flute=30", 2000.0, 170.0);
+
+/// Safety plane Z (seed Fig. 7.3) and retraction plane.
+pub const SAFE_Z: f64 = 40.0;
+pub const CLEAR_Z: f64 = 5.0;
+
+fn cut(tool: (u32, &str, f64, f64), depth: f64, passes: usize) -> Result<Cut, OpError> {
+    let t: Tool = tool
+        .1
+        .parse()
+        .map_err(|e: crate::ToolError| OpError::Invalid(e.to_string()))?;
+    Ok(Cut {
+        tool_number: tool.0,
+        tool: t,
+        spindle_rpm: tool.2,
+        feed: tool.3 / 60.0,
+        plunge_feed: tool.3 / 2.0 / 60.0,
+        top: 0.0,
+        depth,
+        stepdown: depth / passes as f64 + 1e-9,
+        clear_z: CLEAR_Z,
+        entry: Entry::Ramp { angle: 3.0 },
+    })
+}
+
+/// Runs the whole job on the pattern's digitised points (closed contour, any direction).
+pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> {
+    let bad = |what: &str, v: f64| OpError::Invalid(format!("{what} {v} is out of range"));
+    if !(job.insert_depth > 0.0 && job.insert_depth <= 29.0) {
+        return Err(bad(
+            "insert depth (0–29 mm for the 30 mm flutes)",
+            job.insert_depth,
+        ));
+    }
+    if !(job.cavity_depth > 0.0 && job.cavity_depth <= 29.0) {
+        return Err(bad(
+            "cavity depth (0–29 mm for the 30 mm flutes)",
+            job.cavity_depth,
+        ));
+    }
+    if !(job.margin >= 20.0 && job.margin <= 500.0) {
+        return Err(bad("margin (20–500 mm)", job.margin));
+    }
+    if !(job.insert_clearance >= 0.0 && job.insert_clearance < 1.0) {
+        return Err(bad("insert clearance (0–1 mm)", job.insert_clearance));
+    }
+    let grading = Grading::for_points(
+        points,
+        job.system,
+        job.from_size,
+        job.shrink,
+        Reference::Heel,
+    )
+    .map_err(|e| OpError::Invalid(e.to_string()))?;
+    let graded = grading
+        .points(points, job.to_size)
+        .map_err(|e| OpError::Invalid(e.to_string()))?;
+    let factors = grading.factors(job.to_size);
+    let (fit, fallback) = match fit_method(Method::TangentCircles, &graded, job.fit_tolerance) {
+        Ok(f) if f.max_deviation <= job.fit_tolerance => (f, None),
+        first => {
+            let why = match first {
+                Ok(f) => format!(
+                    "tangent circles deviate {:.3} mm (> {} mm)",
+                    f.max_deviation, job.fit_tolerance
+                ),
+                Err(e) => e.to_string(),
+            };
+            let f = fit_method(Method::Biarc, &graded, job.fit_tolerance)
+                .map_err(|e| OpError::Geometry(e.to_string()))?;
+            (f, Some(why))
+        }
+    };
+    let left = oriented(&fit.path, true);
+    let bbox = left
+        .bounding_box()
+        .ok_or_else(|| OpError::Geometry("the fitted contour is empty".into()))?;
+    let right = oriented(&mirror_path(&left, MirrorAxis::X(bbox.center().x)), true);
+    let mut programs = Vec::new();
+    for (foot, contour) in [(Foot::Left, &left), (Foot::Right, &right)] {
+        let b = contour.bounding_box().expect("not empty");
+        let placed = translate(contour, Vec2::new(job.margin - b.x0, job.margin - b.y0));
+        let block_xy = [b.width() + 2.0 * job.margin, b.height() + 2.0 * job.margin];
+        let insert = shrunk(&placed, job.insert_clearance)?;
+        programs.push(SoleProgram {
+            foot,
+            part: Part::Insert,
+            toolpath: insert_toolpath(&insert, job.insert_depth)?,
+            contour: insert,
+            block: [block_xy[0], block_xy[1], job.insert_depth],
+            depth: job.insert_depth,
+        });
+        programs.push(SoleProgram {
+            foot,
+            part: Part::Cavity,
+            toolpath: cavity_toolpath(&placed, job.cavity_depth)?,
+            contour: placed,
+            block: [block_xy[0], block_xy[1], job.cavity_depth + 10.0],
+            depth: job.cavity_depth,
+        });
+    }
+    Ok(SoleResult {
+        grading,
+        factors,
+        fit,
+        fallback,
+        programs,
+    })
+}
+
+fn translate(p: &Path, v: Vec2) -> Path {
+    p.map(
+        |q| q + v,
+        |a| {
+            Segment::Arc(Arc {
+                center: a.center + v,
+                ..*a
+            })
+        },
+    )
+}
+
+/// The outer contour of `p` offset by `d` (> 0 grows).
+fn offset_outer(p: &Path, d: f64) -> Result<Path, OpError> {
+    let areas = offset_areas(&Area::from_paths(std::slice::from_ref(p)), d, OFFSET_TOL)
+        .map_err(|e| OpError::Geometry(e.to_string()))?;
+    areas
+        .into_iter()
+        .next()
+        .map(|a| a.outer)
+        .ok_or_else(|| OpError::Geometry(format!("the contour vanishes offset by {d} mm")))
+}
+
+fn shrunk(p: &Path, d: f64) -> Result<Path, OpError> {
+    if d > 0.0 {
+        offset_outer(p, -d)
+    } else {
+        Ok(p.clone())
+    }
+}
+
+/// Stock the roughing passes leave on the wall for the finishing pass, mm.
+pub const ALLOWANCE: f64 = 0.5;
+
+/// Insert: two roughing offsets (the second 0.75·D further out clears the block edge) in 3
+/// passes, the finishing offset in one pass at full depth, then the 6 mm tool round the
+/// outline at full depth for what the 16 mm one could not reach (concave waist).
+fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
+    let rough = cut(ROUGH_16, depth, 3)?;
+    let outer = [
+        offset_outer(contour, ALLOWANCE)?,
+        offset_outer(contour, ALLOWANCE + 0.75 * 16.0)?,
+    ];
+    let side = |side| ProfileParams {
+        side,
+        allowance: 0.0,
+        tabs: None,
+        lead_out: 0.0,
+    };
+    let mut ops = Vec::new();
+    for (k, ring) in outer.iter().enumerate().rev() {
+        ops.push(profile(
+            &format!("insert roughing offset {}", k + 1),
+            std::slice::from_ref(ring),
+            &rough,
+            &side(Side::Outside),
+        )?);
+    }
+    let finish = cut(FINISH_16, depth, 1)?;
+    ops.push(profile(
+        "insert finishing offset",
+        std::slice::from_ref(contour),
+        &finish,
+        &ProfileParams {
+            lead_out: 4.0,
+            ..side(Side::Outside)
+        },
+    )?);
+    ops.push(profile(
+        "insert detail (6 mm, rest)",
+        std::slice::from_ref(contour),
+        &cut(DETAIL_6, depth, 2)?,
+        &side(Side::Outside),
+    )?);
+    Ok(Toolpath {
+        safe_z: SAFE_Z,
+        operations: ops,
+    })
+}
+
+/// Cavity: contour-parallel pocket from the centre out in 3 passes, the finishing offset at
+/// full depth in one pass, the 6 mm tool round the wall for the corners.
+fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
+    let mut rough = cut(ROUGH_16, depth, 3)?;
+    rough.entry = Entry::Helix {
+        radius: 4.0,
+        angle: 3.0,
+    };
+    let inner = offset_outer(contour, -ALLOWANCE)?;
+    let mut ops = vec![pocket(
+        "cavity roughing (centre out)",
+        std::slice::from_ref(&inner),
+        &rough,
+        &PocketParams {
+            strategy: Strategy::Offset,
+            stepover: 0.6 * 16.0,
+            allowance: 0.0,
+        },
+    )?];
+    let side = ProfileParams {
+        side: Side::Inside,
+        allowance: 0.0,
+        tabs: None,
+        lead_out: 0.0,
+    };
+    ops.push(profile(
+        "cavity finishing offset",
+        std::slice::from_ref(contour),
+        &cut(FINISH_16, depth, 1)?,
+        &side,
+    )?);
+    ops.push(profile(
+        "cavity detail (6 mm, rest)",
+        std::slice::from_ref(contour),
+        &cut(DETAIL_6, depth, 2)?,
+        &side,
+    )?);
+    Ok(Toolpath {
+        safe_z: SAFE_Z,
+        operations: ops,
+    })
+}

@@ -1,0 +1,129 @@
+//! LinuxCNC (RS274/NGC): `T n M6` tool changes, G81/G82/G83 drilling, G61/G64.
+
+use crate::emit::{Emitter, MotionWords};
+use crate::format::{push_decimal, Units};
+use crate::{header_comments, Post, PostOptions};
+use oficina_cam::{Drill, Operation, PathMode, Toolpath};
+use std::io;
+
+pub struct LinuxCnc;
+
+/// G0 G1 G2 G3, I J from the start, F words.
+pub const RS274_WORDS: MotionWords = MotionWords {
+    rapid: "G0",
+    line: "G1",
+    cw: "G2",
+    ccw: "G3",
+    absolute_centres: false,
+    feed_words: true,
+    integer_feed: false,
+};
+
+/// "G21 G90 G94 G17" (G20 in inches): the modal state every rs274 program sets first.
+pub(crate) fn modal_setup(e: &mut Emitter) -> io::Result<()> {
+    let units = match e.format.units {
+        Units::Mm => "G21",
+        Units::Inch => "G20",
+    };
+    e.block(&format!("{units} G90 G94 G17"))
+}
+
+/// Spindle on; the same block in LinuxCNC and grbl.
+pub(crate) fn spindle_on(e: &mut Emitter, op: &Operation) -> io::Result<()> {
+    let mut s = String::from("S");
+    push_decimal(&mut s, op.spindle_rpm, 4);
+    s.push_str(" M3");
+    e.block(&s)
+}
+
+/// `T n M6`, from safe Z when a tool is already in; the first one then goes to safe Z.
+pub(crate) fn m6_change(
+    e: &mut Emitter,
+    tp: &Toolpath,
+    op: &Operation,
+    previous: Option<u32>,
+) -> io::Result<()> {
+    if previous.is_some() {
+        e.rapid_z(tp.safe_z)?;
+    }
+    e.block(&format!("T{} M6", op.tool_number))?;
+    if previous.is_none() {
+        // First move of the program: up to safe Z with the tool now known.
+        e.rapid_z(tp.safe_z)?;
+    }
+    Ok(())
+}
+
+/// Safe Z, spindle off, M30.
+pub(crate) fn end(e: &mut Emitter, tp: &Toolpath) -> io::Result<()> {
+    e.rapid_z(tp.safe_z)?;
+    e.block("M5")?;
+    e.block("M30")
+}
+
+impl Post for LinuxCnc {
+    fn words(&self) -> MotionWords {
+        RS274_WORDS
+    }
+
+    fn prologue(&self, e: &mut Emitter, _tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
+        let format = e.format;
+        header_comments(e, opts, &format)?;
+        modal_setup(e)
+    }
+
+    fn tool_change(
+        &self,
+        e: &mut Emitter,
+        tp: &Toolpath,
+        _opts: &PostOptions,
+        op: &Operation,
+        previous: Option<u32>,
+    ) -> io::Result<()> {
+        m6_change(e, tp, op, previous)
+    }
+
+    fn spindle(&self, e: &mut Emitter, _tp: &Toolpath, op: &Operation, _: bool) -> io::Result<()> {
+        spindle_on(e, op)
+    }
+
+    /// G99 (back to R) G81, G82 with P seconds, or G83 with Q pecks.
+    fn drill(&self, e: &mut Emitter, d: &Drill) -> io::Result<()> {
+        let code = match (d.peck, d.dwell > 0.0) {
+            (Some(q), _) if q > 0.0 => "G83",
+            (_, true) => "G82",
+            _ => "G81",
+        };
+        let f = e.format;
+        let mut s = format!("G99 {code}");
+        f.push_word(&mut s, 'X', f.length(d.at[0]));
+        f.push_word(&mut s, 'Y', f.length(d.at[1]));
+        f.push_word(&mut s, 'Z', f.length(d.bottom));
+        f.push_word(&mut s, 'R', f.length(d.r));
+        if let Some(q) = d.peck.filter(|q| *q > 0.0) {
+            f.push_word(&mut s, 'Q', f.length(q));
+        }
+        if d.dwell > 0.0 {
+            s.push_str(" P");
+            push_decimal(&mut s, d.dwell, 4);
+        }
+        let feed = f.length(d.feed * 60.0);
+        s.push_str(" F");
+        push_decimal(&mut s, feed, 4);
+        e.block(&s)?;
+        e.set_feed_written(feed);
+        e.pos = [d.at[0], d.at[1], d.r];
+        Ok(())
+    }
+
+    fn path_mode(&self, e: &mut Emitter, mode: PathMode) -> io::Result<()> {
+        e.block(match mode {
+            PathMode::ExactStop => "G61",
+            PathMode::Continuous => "G64",
+        })
+    }
+
+    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
+        end(e, tp)
+    }
+}

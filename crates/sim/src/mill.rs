@@ -1,0 +1,144 @@
+//! Checking a 2.5D milling program against its drawing: the program, as the interpreter
+//! read it, is replayed on a flat stock; the design is the stock top with the regions the
+//! operation may cut lowered to the floor. Gouge = stock below the design (a cut outside
+//! the allowed region or below the floor); leftover = stock above it.
+
+use crate::replay::{replay, SimError};
+use crate::report::{compare, ideal_surface, Report};
+use oficina_cam::Tool;
+use oficina_canon::{Canon, CanonOp, Pos};
+use oficina_io::Heightmap;
+use std::collections::HashMap;
+
+/// What may be cut: the inside of `rings` (even–odd) or their outside, down to `floor`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Design {
+    pub rings: Vec<Vec<[f64; 2]>>,
+    pub cut_inside: bool,
+    pub top: f64,
+    pub floor: f64,
+}
+
+/// Result of a check, with the grids for previews.
+pub struct MillCheck {
+    pub report: Report,
+    pub stock: Heightmap,
+    pub design: Heightmap,
+    /// Where grid point (0, 0) is in program coordinates.
+    pub origin: [f64; 2],
+}
+
+/// Largest grid the check builds (about 64 MB of f32 per map): a bigger drawing gets a
+/// coarser pixel rather than an allocation without bound.
+pub const MAX_PIXELS: usize = 16_000_000;
+
+/// Replays `canon` over the drawing's extent plus `margin` mm at `pixel` mm (coarsened if
+/// the grid would pass [`MAX_PIXELS`]) and compares with `design`. `last_tool` judges the
+/// scallops (what that tool can reach).
+pub fn check_mill(
+    canon: &[Canon],
+    tools: &HashMap<u32, Tool>,
+    design: &Design,
+    mut pixel: f64,
+    margin: f64,
+    start_z: f64,
+    last_tool: &Tool,
+) -> Result<MillCheck, SimError> {
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in design.rings.iter().flatten() {
+        x0 = x0.min(p[0]);
+        y0 = y0.min(p[1]);
+        x1 = x1.max(p[0]);
+        y1 = y1.max(p[1]);
+    }
+    if x0 > x1 {
+        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
+    }
+    let (x0, y0) = (x0 - margin, y0 - margin);
+    let (w_mm, h_mm) = (x1 + margin - x0, y1 + margin - y0);
+    while (w_mm / pixel) * (h_mm / pixel) > MAX_PIXELS as f64 {
+        pixel *= 1.5;
+    }
+    let width = (w_mm / pixel).ceil() as usize + 1;
+    let height = (h_mm / pixel).ceil() as usize + 1;
+    let mut d = Heightmap::flat(width, height, pixel, design.top as f32);
+    // Scanline fill: per row, the crossings of every ring edge.
+    let low = design.floor as f32;
+    for iy in 0..height {
+        let y = y0 + iy as f64 * pixel;
+        let mut xs = Vec::new();
+        for r in &design.rings {
+            let n = r.len();
+            for i in 0..n {
+                let (a, b) = (r[i], r[(i + 1) % n]);
+                if (a[1] > y) != (b[1] > y) {
+                    xs.push(a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0]));
+                }
+            }
+        }
+        xs.sort_by(f64::total_cmp);
+        let row = &mut d.z[iy * width..(iy + 1) * width];
+        let mut fill = |from: f64, to: f64| {
+            let a = ((from - x0) / pixel).ceil().max(0.0) as usize;
+            let b = (((to - x0) / pixel).floor() + 1.0).clamp(0.0, width as f64) as usize;
+            for v in row.iter_mut().take(b).skip(a) {
+                *v = low;
+            }
+        };
+        if design.cut_inside {
+            for c in xs.chunks_exact(2) {
+                fill(c[0], c[1]);
+            }
+        } else {
+            let mut from = x0 - 1.0;
+            for c in xs.chunks_exact(2) {
+                fill(from, c[0]);
+                from = c[1];
+            }
+            fill(from, x0 + w_mm + 1.0);
+        }
+    }
+    let shifted = shift(canon, [-x0, -y0]);
+    let mut stock = Heightmap::flat(width, height, pixel, design.top as f32);
+    replay(&shifted, tools, &mut stock, [-x0, -y0, start_z])?;
+    let ideal = ideal_surface(&d, last_tool);
+    let mut report = compare(&stock, &d, &ideal);
+    report.gouge_at = [report.gouge_at[0] + x0, report.gouge_at[1] + y0];
+    Ok(MillCheck {
+        report,
+        stock,
+        design: d,
+        origin: [x0, y0],
+    })
+}
+
+/// The operations moved by `by` in X and Y (the grid starts at 0, the drawing need not).
+pub fn shift(canon: &[Canon], by: [f64; 2]) -> Vec<Canon> {
+    let mv = |p: &Pos| Pos {
+        x: p.x + by[0],
+        y: p.y + by[1],
+        ..*p
+    };
+    canon
+        .iter()
+        .map(|c| {
+            let op = match &c.op {
+                CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: mv(to) },
+                CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: mv(to) },
+                CanonOp::ArcFeed {
+                    plane: oficina_canon::Plane::XY,
+                    end,
+                    center,
+                    turns,
+                } => CanonOp::ArcFeed {
+                    plane: oficina_canon::Plane::XY,
+                    end: mv(end),
+                    center: [center[0] + by[0], center[1] + by[1]],
+                    turns: *turns,
+                },
+                op => op.clone(),
+            };
+            Canon { line: c.line, op }
+        })
+        .collect()
+}
