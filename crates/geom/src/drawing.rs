@@ -313,6 +313,67 @@ impl Path {
     }
 }
 
+impl Path {
+    /// The path under an affine map. Arcs stay arcs under similarities (rotation, uniform
+    /// scale, translation, reflection: a reflection reverses their direction); under any
+    /// other map they become cubic Béziers (a circle becomes an ellipse).
+    pub fn transform(&self, m: kurbo::Affine) -> Path {
+        let c = m.as_coeffs();
+        let det = c[0] * c[3] - c[1] * c[2];
+        // Similar iff the columns are orthogonal and of equal length.
+        let col0 = kurbo::Vec2::new(c[0], c[1]);
+        let col1 = kurbo::Vec2::new(c[2], c[3]);
+        let scale = det.abs().sqrt();
+        let similar = (col0.dot(col1)).abs() <= 1e-12 * (1.0 + col0.hypot2())
+            && (col0.hypot() - col1.hypot()).abs() <= 1e-12 * (1.0 + col0.hypot());
+        let mut segments = Vec::with_capacity(self.segments.len());
+        for s in &self.segments {
+            match s {
+                Segment::Line(l) => segments.push(Segment::line(m * l.p0, m * l.p1)),
+                Segment::Cubic(b) => segments.push(Segment::Cubic(CubicBez::new(
+                    m * b.p0,
+                    m * b.p1,
+                    m * b.p2,
+                    m * b.p3,
+                ))),
+                Segment::Arc(a) if similar && det != 0.0 => {
+                    let center = m * a.center;
+                    let start = m * a.start();
+                    segments.push(Segment::Arc(Arc::new(
+                        center,
+                        a.radius * scale,
+                        (start - center).atan2(),
+                        a.sweep * det.signum(),
+                    )));
+                }
+                Segment::Arc(a) => {
+                    let k = kurbo::Arc::new(
+                        a.center,
+                        (a.radius, a.radius),
+                        a.start_angle,
+                        a.sweep,
+                        0.0,
+                    );
+                    let mut from = a.start();
+                    k.to_cubic_beziers(1e-6, |p1, p2, p3| {
+                        segments.push(Segment::Cubic(CubicBez::new(
+                            m * from,
+                            m * p1,
+                            m * p2,
+                            m * p3,
+                        )));
+                        from = p3;
+                    });
+                }
+            }
+        }
+        Path {
+            segments,
+            ..self.clone()
+        }
+    }
+}
+
 /// Points as `[x, y]` pairs (the polygon library's type).
 pub fn to_ring(points: &[Point]) -> Vec<[f64; 2]> {
     points.iter().map(|p| [p.x, p.y]).collect()
@@ -438,6 +499,34 @@ mod tests {
             let m = w[0].midpoint(w[1]);
             assert!(s.distance(m) < 0.011);
         }
+    }
+
+    #[test]
+    fn transforms_keep_arcs_under_similarities_only() {
+        let c = Path::new(
+            vec![Segment::Arc(Arc::circle(Point::new(1.0, 0.0), 2.0))],
+            true,
+        );
+        let m = kurbo::Affine::translate((5.0, 0.0))
+            * kurbo::Affine::rotate(0.3)
+            * kurbo::Affine::scale(3.0);
+        let t = c.transform(m);
+        let Segment::Arc(a) = t.segments[0] else {
+            panic!()
+        };
+        assert!((a.radius - 6.0).abs() < 1e-12 && a.is_ccw());
+        let flip = c.transform(kurbo::Affine::FLIP_Y);
+        let Segment::Arc(f) = flip.segments[0] else {
+            panic!()
+        };
+        assert!(!f.is_ccw() && (f.center.y).abs() < 1e-12);
+        let e = c.transform(kurbo::Affine::scale_non_uniform(2.0, 1.0));
+        assert!(e.segments.iter().all(|s| matches!(s, Segment::Cubic(_))));
+        assert!(
+            (e.area() - 2.0 * std::f64::consts::PI * 4.0).abs() < 0.02,
+            "{}",
+            e.area()
+        );
     }
 
     #[test]
