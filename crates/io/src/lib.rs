@@ -18,3 +18,4 @@ pub mod svg;
 pub use import::{load_drawing, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES};
 pub use points::{load_points, parse_points, write_points_csv};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
+pub mod hpgl;

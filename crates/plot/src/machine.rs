@@ -43,7 +43,7 @@ impl PenMachine {
             },
             draw_feed: p.default_feed * 60.0,
             lift_dwell: 0.0,
-            home: Point::new(p.start[0], p.start[1]),
+            home: Point::new(p.start[0] - p.work_offset[0], p.start[1] - p.work_offset[1]),
             pause_between_pens: true,
         }
     }
