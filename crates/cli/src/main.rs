@@ -4,6 +4,7 @@
 mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
+mod bench_plot;
 mod bench_stream;
 mod carve;
 mod check;
@@ -13,6 +14,7 @@ mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
 mod plan;
+mod plot;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -49,6 +51,8 @@ enum Command {
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
     Plan(plan::Args),
+    /// Pen plotting: SVG / DXF / HPGL / image / text → optimised G-code, joint-space or HPGL.
+    Plot(plot::Args),
 }
 
 #[derive(Subcommand)]
@@ -67,6 +71,8 @@ enum BenchCommand {
     Motion(bench_motion::Args),
     /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
     Carve(bench_carve::Args),
+    /// Path optimisation of a generated 100,000-path drawing, beside vpype linemerge linesort.
+    Plot(bench_plot::Args),
 }
 
 fn main() -> ExitCode {
@@ -79,11 +85,13 @@ fn main() -> ExitCode {
         Command::Emulate(args) => emulate::run(args),
         Command::Run(args) => run::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Plot(args) => plot::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Plot(args) => bench_plot::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {
