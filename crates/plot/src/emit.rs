@@ -56,7 +56,17 @@ fn pen_up(out: &mut String, m: &PenMachine) {
 pub fn gcode(plot: &Plot, m: &PenMachine, profile: &Profile) -> String {
     let mut out = String::new();
     out.push_str("(oficina plot)\nG21 G90 G94 G17\n");
-    pen_up(&mut out, m);
+    // The first move names every axis: an interpreter knows no position before it, and on a
+    // polar arm the move from an unknown place could not be checked.
+    match m.lift {
+        PenLift::Z { up, .. } => {
+            let _ = writeln!(out, "G0 X{} Y{} Z{}", num(m.home.x), num(m.home.y), num(up));
+        }
+        _ => {
+            pen_up(&mut out, m);
+            let _ = writeln!(out, "G0 X{} Y{}", num(m.home.x), num(m.home.y));
+        }
+    }
     for (pi, pen) in plot.pens.iter().enumerate() {
         if pi > 0 && m.pause_between_pens {
             pen_up(&mut out, m);
