@@ -216,35 +216,50 @@ fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
     let m = machine(a, &profile)?;
     let rows = oficina_plot::seed_check(&profile, &m)?;
     println!(
-        "seed 003 check on '{}' (pivot at the lower-right corner of the board; drawing feed {} mm/min)",
+        "seed 003 check on '{}' (pivot at the lower-left corner of the board; drawing feed {} mm/min)",
         profile.name, m.draw_feed
     );
     for r in oficina_plot::ramps(&profile) {
         println!("  ramp {r}");
     }
     println!(
-        "{:<12} {:>7} | {:>22} | {:>22} | {:>22}",
-        "place", "R mm", "squares ours/seed s", "triangles ours/seed s", "hexagons ours/seed s"
+        "seconds per set: planner = our look-ahead planner; stop-start = the seed's host model (rest to rest every {} mm); seed = its Table 1",
+        oficina_plot::STOP_PIECE
+    );
+    println!(
+        "{:<12} {:>6} | {:>26} | {:>26} | {:>26}",
+        "place",
+        "R mm",
+        "squares plan/stop/seed",
+        "triangles plan/stop/seed",
+        "hexagons plan/stop/seed"
     );
     for r in &rows {
+        let cell = |f: usize| {
+            format!(
+                "{:.1} / {:.1} / {:.0}",
+                r.planned[f], r.stop_start[f], r.seed[f]
+            )
+        };
         println!(
-            "{:<12} {:>7.0} | {:>10.1} / {:>9.0} | {:>10.1} / {:>9.0} | {:>10.1} / {:>9.0}",
+            "{:<12} {:>6.0} | {:>26} | {:>26} | {:>26}",
             r.place,
             r.radius,
-            r.planned[0],
-            r.seed[0],
-            r.planned[1],
-            r.seed[1],
-            r.planned[2],
-            r.seed[2]
+            cell(0),
+            cell(1),
+            cell(2)
         );
     }
     let ratio = |i: usize, f: usize| rows[i].planned[f] / rows[0].planned[f];
+    let stop = |i: usize, f: usize| rows[i].stop_start[f] / rows[0].stop_start[f];
     println!(
-        "lower-left / lower-right: ours {:.2} {:.2} {:.2}, seed {:.2} {:.2} {:.2}",
+        "lower-left / lower-right: planner {:.2} {:.2} {:.2}, stop-start {:.2} {:.2} {:.2}, seed {:.2} {:.2} {:.2}",
         ratio(4, 0),
         ratio(4, 1),
         ratio(4, 2),
+        stop(4, 0),
+        stop(4, 1),
+        stop(4, 2),
         rows[4].seed[0] / rows[0].seed[0],
         rows[4].seed[1] / rows[0].seed[1],
         rows[4].seed[2] / rows[0].seed[2]

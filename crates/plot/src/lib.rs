@@ -30,6 +30,9 @@ pub use merge::merge;
 pub use optimise::{optimise, Optimise, Report};
 pub use order::{nearest_neighbour, two_opt};
 pub use preview::svg as preview_svg;
-pub use seed_check::{figures, seed_check, Row as SeedRow, FIGURES, PLACES, SEED_SECONDS};
+pub use seed_check::{
+    figures, seed_check, stop_start_seconds, Row as SeedRow, FIGURES, PLACES, SEED_SECONDS,
+    STOP_PIECE,
+};
 pub use strokes::{polyline_length, Lengths, Pen, PenBy, Plot, Stroke};
 pub use text::text_strokes;
