@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1.0)]
     scale: f64,
     /// Put the lower-left corner of the drawing here, X,Y mm (work coordinates).
-    #[arg(long, value_parser = parse_xy)]
+    #[arg(long, value_parser = parse_xy, allow_hyphen_values = true)]
     at: Option<[f64; 2]>,
     /// Paper size W,H mm; the drawing must fit on it (its corner at --at).
     #[arg(long, value_parser = parse_xy)]
