@@ -4,6 +4,7 @@
 mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
+mod bench_plot;
 mod bench_stream;
 mod carve;
 mod check;
@@ -16,6 +17,7 @@ mod machine_profile;
 mod peak_memory;
 mod mill;
 mod plan;
+mod plot;
 mod run;
 mod sole;
 
@@ -59,6 +61,8 @@ enum Command {
     Mill(mill::Args),
     /// Shoe-sole molds (seed 001): digitised contour → graded, mirrored insert and cavity programs.
     Sole(sole::Args),
+    /// Pen plotting: SVG / DXF / HPGL / image / text → optimised G-code, joint-space or HPGL.
+    Plot(plot::Args),
 }
 
 #[derive(Subcommand)]
@@ -77,6 +81,8 @@ enum BenchCommand {
     Motion(bench_motion::Args),
     /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
     Carve(bench_carve::Args),
+    /// Path optimisation of a generated 100,000-path drawing, beside vpype linemerge linesort.
+    Plot(bench_plot::Args),
 }
 
 /// An error already printed in full where it happened (a rendered diagnostic says "error"
@@ -105,11 +111,13 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(args),
         Command::Mill(args) => mill::run(args),
         Command::Sole(args) => sole::run(args),
+        Command::Plot(args) => plot::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Plot(args) => bench_plot::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {

@@ -20,3 +20,4 @@ pub use import::{load_drawing, ImportError, Imported, Unsupported, MAX_DRAWING_B
 pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
+pub mod hpgl;

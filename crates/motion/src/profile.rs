@@ -297,6 +297,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
         "embroidery-xy",
         include_str!("../../../profiles/embroidery-xy.toml"),
     ),
+    (
+        "pen-plotter",
+        include_str!("../../../profiles/pen-plotter.toml"),
+    ),
 ];
 
 /// The profile used when none is named: the seed 004 grbl router.

@@ -1,0 +1,352 @@
+//! `oficina plot DESIGN --machine PROFILE -o OUT`: a drawing (SVG, DXF, HPGL, an image to
+//! hatch, or text) becomes an optimised pen-plotter program, with a preview and a report.
+//! `oficina plot --seed-check --machine polar-plotter` prints seed 003's timing table.
+
+use crate::machine_profile;
+use anyhow::{bail, Context};
+use oficina_geom::Point;
+use oficina_motion::estimate::estimate_with;
+use oficina_motion::PlanOptions;
+use oficina_plot::{
+    prepare, text_strokes, Format, Gray, Hatching, Optimise, PenBy, PenLift, PenMachine, Plot,
+    Settings,
+};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The design: .svg, .dxf, .hpgl/.plt/.hpg, or an image (.png/.jpg) to hatch.
+    input: Option<PathBuf>,
+    /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
+    /// polargraph-wall, …).
+    #[arg(long, default_value = "pen-plotter")]
+    machine: String,
+    /// Where to write the program.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Program format: gcode (Cartesian, grbl family), joint (X/Y = the two joints, for
+    /// polar and hanging plotters driven by a plain controller), hpgl (vintage plotters).
+    #[arg(long, value_enum, default_value_t = FormatArg::Gcode)]
+    format: FormatArg,
+    /// Write an SVG preview with the pen-up moves dashed.
+    #[arg(long)]
+    preview: Option<PathBuf>,
+    /// Text to draw in a single-stroke Hershey font (besides or instead of the input).
+    #[arg(long)]
+    text: Option<String>,
+    /// Capital height of --text, mm.
+    #[arg(long, default_value_t = 10.0)]
+    text_height: f64,
+    /// One pen per stroke colour or per layer (DXF layers, HPGL pens).
+    #[arg(long, value_enum, default_value_t = PenByArg::Color)]
+    pens: PenByArg,
+    /// Pen lift: z (a Z axis), servo (M3 S<--pen-down> / M5), or command (--pen-down-cmd /
+    /// --pen-up-cmd lines as given).
+    #[arg(long, value_enum, default_value_t = LiftArg::Z)]
+    pen: LiftArg,
+    /// Servo value for pen down (S word).
+    #[arg(long, default_value_t = 30.0)]
+    servo_down: f64,
+    #[arg(long)]
+    pen_down_cmd: Option<String>,
+    #[arg(long)]
+    pen_up_cmd: Option<String>,
+    /// Seconds to wait after each pen move.
+    #[arg(long, default_value_t = 0.0)]
+    pen_dwell: f64,
+    /// Drawing feed, mm/min (default: the profile's default feed).
+    #[arg(long)]
+    feed: Option<f64>,
+    /// Scale the drawing by this factor.
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Put the lower-left corner of the drawing here, X,Y mm (work coordinates).
+    #[arg(long, value_parser = parse_xy, allow_hyphen_values = true)]
+    at: Option<[f64; 2]>,
+    /// Paper size W,H mm; the drawing must fit on it (its corner at --at).
+    #[arg(long, value_parser = parse_xy)]
+    paper: Option<[f64; 2]>,
+    /// Image hatching: pixel size on paper, mm.
+    #[arg(long, default_value_t = 0.5)]
+    pixel: f64,
+    /// Image hatching: distance between hatch lines, mm.
+    #[arg(long, default_value_t = 1.0)]
+    pitch: f64,
+    /// Image hatching: layers of hatching, 1…4.
+    #[arg(long, default_value_t = 3)]
+    hatch_layers: usize,
+    /// Join strokes whose ends are this close, mm (0: no merging).
+    #[arg(long, default_value_t = 0.05)]
+    merge_tol: f64,
+    /// Simplify strokes within this tolerance, mm (0: keep every point).
+    #[arg(long, default_value_t = 0.01)]
+    simplify_tol: f64,
+    /// Draw strokes as given: no merging, ordering, simplifying or de-duplicating.
+    #[arg(long)]
+    no_optimise: bool,
+    /// Refuse a profile whose joint acceleration ramps are shorter than this many steps.
+    #[arg(long, default_value_t = 100.0)]
+    min_ramp_steps: f64,
+    /// Chord tolerance for curves, mm.
+    #[arg(long, default_value_t = 0.02)]
+    tolerance: f64,
+    /// Print seed 003's test (squares, triangles, hexagons at five places) planned on
+    /// --machine beside the seed's measured times, and exit.
+    #[arg(long)]
+    seed_check: bool,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum FormatArg {
+    Gcode,
+    Joint,
+    Hpgl,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum PenByArg {
+    Color,
+    Layer,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy)]
+enum LiftArg {
+    Z,
+    Servo,
+    Command,
+}
+
+fn parse_xy(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| {
+            p.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("'{p}' is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        [x, y] if x.is_finite() && y.is_finite() => Ok([*x, *y]),
+        _ => Err(format!("expected X,Y (two numbers in mm), got '{s}'")),
+    }
+}
+
+/// Reads the design into pens of strokes.
+fn load(path: &Path, a: &Args) -> anyhow::Result<Plot> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let by = match a.pens {
+        PenByArg::Color => PenBy::Color,
+        PenByArg::Layer => PenBy::Layer,
+    };
+    match ext.as_str() {
+        "hpgl" | "plt" | "hpg" | "hgl" => {
+            let h = oficina_io::hpgl::load_hpgl(path)?;
+            if !h.imported.unsupported.is_empty() {
+                eprintln!("note: {}", h.imported.unsupported);
+            }
+            // HPGL pens are layers whatever --pens says.
+            let mut plot = Plot::from_drawing(&h.imported.drawing, PenBy::Layer, a.tolerance);
+            for l in &h.labels {
+                let strokes = text_strokes(&l.text, l.at, l.height, l.angle);
+                plot.pen_mut(&l.layer).strokes.extend(strokes);
+            }
+            Ok(plot)
+        }
+        "png" | "jpg" | "jpeg" => {
+            let (w, h, px) = oficina_plot::load_gray(path)?;
+            let strokes = oficina_plot::hatch(
+                &Gray {
+                    width: w,
+                    height: h,
+                    pixels: &px,
+                },
+                &Hatching {
+                    pixel: a.pixel,
+                    pitch: a.pitch,
+                    layers: a.hatch_layers,
+                },
+            )?;
+            let mut plot = Plot::default();
+            plot.pen_mut("#000000").strokes = strokes;
+            Ok(plot)
+        }
+        _ => {
+            let imported = oficina_io::load_drawing(path)?;
+            if !imported.unsupported.is_empty() {
+                eprintln!("note: {}", imported.unsupported);
+            }
+            Ok(Plot::from_drawing(&imported.drawing, by, a.tolerance))
+        }
+    }
+}
+
+fn machine(a: &Args, profile: &oficina_motion::Profile) -> anyhow::Result<PenMachine> {
+    let mut m = PenMachine::for_profile(profile);
+    m.lift = match a.pen {
+        LiftArg::Z => m.lift,
+        LiftArg::Servo => PenLift::Servo { down: a.servo_down },
+        LiftArg::Command => PenLift::Command {
+            down: a
+                .pen_down_cmd
+                .clone()
+                .context("--pen command needs --pen-down-cmd")?,
+            up: a
+                .pen_up_cmd
+                .clone()
+                .context("--pen command needs --pen-up-cmd")?,
+        },
+    };
+    if let Some(f) = a.feed {
+        if !(f.is_finite() && f > 0.0) {
+            bail!("--feed {f}: must be > 0 mm/min");
+        }
+        m.draw_feed = f;
+    }
+    m.lift_dwell = a.pen_dwell;
+    Ok(m)
+}
+
+fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
+    let profile = machine_profile::resolve(&a.machine)?;
+    let m = machine(a, &profile)?;
+    let rows = oficina_plot::seed_check(&profile, &m)?;
+    println!(
+        "seed 003 check on '{}' (pivot at the lower-left corner of the board; drawing feed {} mm/min)",
+        profile.name, m.draw_feed
+    );
+    for r in oficina_plot::ramps(&profile) {
+        println!("  ramp {r}");
+    }
+    println!(
+        "seconds per set: planner = our look-ahead planner; stop-start = the seed's host model (rest to rest every {} mm); seed = its Table 1",
+        oficina_plot::STOP_PIECE
+    );
+    println!(
+        "{:<12} {:>6} | {:>26} | {:>26} | {:>26}",
+        "place",
+        "R mm",
+        "squares plan/stop/seed",
+        "triangles plan/stop/seed",
+        "hexagons plan/stop/seed"
+    );
+    for r in &rows {
+        let cell = |f: usize| {
+            format!(
+                "{:.1} / {:.1} / {:.0}",
+                r.planned[f], r.stop_start[f], r.seed[f]
+            )
+        };
+        println!(
+            "{:<12} {:>6.0} | {:>26} | {:>26} | {:>26}",
+            r.place,
+            r.radius,
+            cell(0),
+            cell(1),
+            cell(2)
+        );
+    }
+    let ratio = |i: usize, f: usize| rows[i].planned[f] / rows[0].planned[f];
+    let stop = |i: usize, f: usize| rows[i].stop_start[f] / rows[0].stop_start[f];
+    println!(
+        "lower-left / lower-right: planner {:.2} {:.2} {:.2}, stop-start {:.2} {:.2} {:.2}, seed {:.2} {:.2} {:.2}",
+        ratio(4, 0),
+        ratio(4, 1),
+        ratio(4, 2),
+        stop(4, 0),
+        stop(4, 1),
+        stop(4, 2),
+        rows[4].seed[0] / rows[0].seed[0],
+        rows[4].seed[1] / rows[0].seed[1],
+        rows[4].seed[2] / rows[0].seed[2]
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    if a.seed_check {
+        return seed_check(&a);
+    }
+    let profile = machine_profile::resolve(&a.machine)?;
+    let m = machine(&a, &profile)?;
+    let mut plot = match &a.input {
+        Some(p) => load(p, &a)?,
+        None => Plot::default(),
+    };
+    if let Some(t) = &a.text {
+        let below = plot.bounds().map_or(0.0, |b| b[1] - 2.0 * a.text_height);
+        let strokes = text_strokes(t, Point::new(0.0, below), a.text_height, 0.0);
+        plot.pen_mut("#000000").strokes.extend(strokes);
+    }
+    if a.input.is_none() && a.text.is_none() {
+        bail!("nothing to plot: give a design file or --text");
+    }
+    let settings = Settings {
+        scale: a.scale,
+        at: a.at.map(|[x, y]| Point::new(x, y)),
+        paper: a.paper.map(|[w, h]| (w, h)),
+        optimise: (!a.no_optimise).then(|| Optimise {
+            merge_tol: a.merge_tol,
+            simplify_tol: a.simplify_tol,
+            ..Optimise::default()
+        }),
+        min_ramp_steps: a.min_ramp_steps,
+        format: match a.format {
+            FormatArg::Gcode => Format::Gcode,
+            FormatArg::Joint => Format::Joint,
+            FormatArg::Hpgl => Format::Hpgl,
+        },
+        joint_piece: 1.0,
+    };
+    let p = prepare(plot, &profile, &m, &settings)?;
+    println!("machine: {}", profile.name);
+    for (i, pen) in p.plot.pens.iter().enumerate() {
+        println!(
+            "pen {}: {} ({} strokes)",
+            i + 1,
+            pen.name,
+            pen.strokes.len()
+        );
+    }
+    let b = p.bounds;
+    println!(
+        "drawing: {:.1} x {:.1} mm at ({:.1}, {:.1})",
+        b[2] - b[0],
+        b[3] - b[1],
+        b[0],
+        b[1]
+    );
+    if let Some(r) = &p.report {
+        println!(
+            "strokes {} -> {} ({} duplicates dropped), points {} -> {}",
+            r.before.strokes, r.after.strokes, r.duplicates, r.points_before, r.points_after
+        );
+        println!(
+            "pen-down {:.1} -> {:.1} mm, pen-up {:.1} -> {:.1} mm",
+            r.before.pen_down, r.after.pen_down, r.before.pen_up, r.after.pen_up
+        );
+    }
+    let e = estimate_with(
+        oficina_plot::to_canon(&p.plot, &m, &profile).into_iter(),
+        &profile,
+        PlanOptions::default(),
+        false,
+    )
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    println!("planned time: {:.1} s", e.seconds);
+    if let Some(out) = &a.output {
+        std::fs::write(out, &p.program).with_context(|| format!("writing {}", out.display()))?;
+        println!("wrote {}", out.display());
+    } else {
+        print!("{}", p.program);
+    }
+    if let Some(pv) = &a.preview {
+        std::fs::write(pv, &p.preview).with_context(|| format!("writing {}", pv.display()))?;
+        println!("preview {}", pv.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,199 @@
+//! `oficina plot` end to end: design → program → live run on the virtual machine, for a
+//! Cartesian pen plotter and the seed-003 polar plotter; HPGL and joint-space output; bounds
+//! refused before drawing; the seed-check table.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn oficina(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("oficina runs")
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn ok(o: &Output) -> String {
+    let out = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(
+        o.status.success(),
+        "failed: {}\n{out}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    out
+}
+
+fn number_after(text: &str, key: &str) -> f64 {
+    let i = text
+        .find(key)
+        .unwrap_or_else(|| panic!("no '{key}' in {text}"))
+        + key.len();
+    text[i..]
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .find(|s| !s.is_empty())
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = dir.path().join("out.nc");
+    let svg = dir.path().join("preview.svg");
+    let out = ok(&oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--machine",
+        "pen-plotter",
+        "--at",
+        "20,20",
+        "-o",
+        nc.to_str().unwrap(),
+        "--preview",
+        svg.to_str().unwrap(),
+    ]));
+    // Two pens (black and red); the black grid of rect + open box + 3 lines merges.
+    assert!(
+        out.contains("pen 1: #000000") && out.contains("pen 2: #ff0000"),
+        "{out}"
+    );
+    let before = number_after(&out, "pen-up ");
+    let after = number_after(&out, "-> ");
+    let _ = after;
+    let pen_up_after: f64 = number_after(out.split("pen-up").nth(1).unwrap(), "-> ");
+    assert!(pen_up_after < before, "{out}");
+    let program = std::fs::read_to_string(&nc).unwrap();
+    assert!(
+        program.contains("M0 (MSG, pen 2"),
+        "a pause to change the pen"
+    );
+    assert!(std::fs::read_to_string(&svg)
+        .unwrap()
+        .contains("id=\"pen-up\""));
+    let run = ok(&oficina(&[
+        "run",
+        nc.to_str().unwrap(),
+        "--machine",
+        "pen-plotter",
+        "--instant",
+    ]));
+    let _ = run;
+}
+
+#[test]
+fn the_polar_plotter_draws_the_same_design_and_runs_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = dir.path().join("polar.nc");
+    ok(&oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--machine",
+        "polar-plotter",
+        "--at",
+        "300,-100",
+        "-o",
+        nc.to_str().unwrap(),
+    ]));
+    ok(&oficina(&[
+        "run",
+        nc.to_str().unwrap(),
+        "--machine",
+        "polar-plotter",
+        "--instant",
+    ]));
+    // Joint space: X is the arm angle in degrees, Y the carriage in mm, timed by G93.
+    let joint = dir.path().join("joint.nc");
+    ok(&oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--machine",
+        "polar-plotter",
+        "--at",
+        "300,-100",
+        "--format",
+        "joint",
+        "-o",
+        joint.to_str().unwrap(),
+    ]));
+    let text = std::fs::read_to_string(&joint).unwrap();
+    assert!(
+        text.contains("G93") && text.contains("X = theta"),
+        "{}",
+        &text[..200]
+    );
+}
+
+#[test]
+fn hpgl_in_and_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("house.hpgl");
+    let o = ok(&oficina(&[
+        "plot",
+        "samples/plot/house.plt",
+        "--machine",
+        "pen-plotter",
+        "--format",
+        "hpgl",
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(
+        o.contains("pen 1: pen 1") && o.contains("pen 2: pen 2"),
+        "{o}"
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("IN;") && text.contains("SP2;"));
+}
+
+#[test]
+fn a_drawing_off_the_machine_is_refused_before_drawing() {
+    let o = oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--machine",
+        "pen-plotter",
+        "--at",
+        "400,0",
+    ]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("outside the machine travel x"), "{e}");
+    // Inside h of the polar pivot.
+    let o = oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--machine",
+        "polar-plotter",
+        "--at",
+        "-20,-20",
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("pen offset"));
+    let o = oficina(&["plot", "samples/plot/design.svg", "--paper", "50,50"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("does not fit the paper"));
+}
+
+#[test]
+fn the_seed_check_prints_five_places() {
+    let out = ok(&oficina(&[
+        "plot",
+        "--seed-check",
+        "--machine",
+        "polar-plotter",
+    ]));
+    for place in [
+        "lower right",
+        "upper right",
+        "centre",
+        "upper left",
+        "lower left",
+    ] {
+        assert!(out.contains(place), "{out}");
+    }
+    assert!(out.contains("ramp theta"), "{out}");
+}

@@ -1,0 +1,106 @@
+//! The plot job: place the drawing, check it, optimise it and write the program and preview.
+
+use oficina_geom::Point;
+use oficina_motion::kinematics::{for_profile, Kinematics};
+use oficina_motion::Profile;
+
+use crate::machine::{check_paper, check_ramps, check_reach, PenMachine, PlotError, Ramp};
+use crate::optimise::{optimise, Optimise, Report};
+use crate::strokes::Plot;
+
+/// Which program to write.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// G-code in Cartesian work coordinates for grbl-family firmware (or our virtual machine).
+    Gcode,
+    /// G-code whose X and Y are the two joints, timed in inverse time (polar, hanging).
+    Joint,
+    /// HPGL for vintage plotters.
+    Hpgl,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// Uniform scale applied first.
+    pub scale: f64,
+    /// Where the lower-left corner of the drawing goes (work coordinates, mm); `None` keeps
+    /// the drawing where it is.
+    pub at: Option<Point>,
+    /// The sheet (width, height) in mm, its lower-left corner where the drawing's is put.
+    pub paper: Option<(f64, f64)>,
+    pub optimise: Option<Optimise>,
+    /// Joint ramps shorter than this many steps are refused (the seed arm's oscillation).
+    pub min_ramp_steps: f64,
+    pub format: Format,
+    /// Sub-segment length for joint-space programs, mm.
+    pub joint_piece: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            scale: 1.0,
+            at: None,
+            paper: None,
+            optimise: Some(Optimise::default()),
+            min_ramp_steps: 100.0,
+            format: Format::Gcode,
+            joint_piece: 1.0,
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prepared {
+    pub plot: Plot,
+    pub program: String,
+    pub report: Option<Report>,
+    pub ramps: Vec<Ramp>,
+    pub preview: String,
+    /// Bounding box of the placed drawing (min x, min y, max x, max y), mm.
+    pub bounds: [f64; 4],
+}
+
+/// Scales and places `plot`, checks paper, ramps and reach, optimises, and writes the
+/// program for `profile`.
+pub fn prepare(
+    mut plot: Plot,
+    profile: &Profile,
+    m: &PenMachine,
+    s: &Settings,
+) -> Result<Prepared, PlotError> {
+    let b = plot.bounds().ok_or(PlotError::Empty)?;
+    let scale = s.scale;
+    let origin = s.at.unwrap_or(Point::new(b[0] * scale, b[1] * scale));
+    let shift = origin - Point::new(b[0] * scale, b[1] * scale);
+    plot.map_points(|p| Point::new(p.x * scale, p.y * scale) + shift);
+    if let Some((w, h)) = s.paper {
+        let mut on_paper = plot.clone();
+        on_paper.map_points(|p| p - origin.to_vec2());
+        check_paper(&on_paper, w, h)?;
+    }
+    let ramps = check_ramps(profile, s.min_ramp_steps)?;
+    let report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
+    // Straight lines stay straight in joint space on linear machines: their ends suffice.
+    let step = if for_profile(profile).is_linear() {
+        f64::INFINITY
+    } else {
+        2.0
+    };
+    check_reach(&plot, profile, step)?;
+    let program = match s.format {
+        Format::Gcode => crate::emit::gcode(&plot, m, profile),
+        Format::Joint => crate::emit::joint_gcode(&plot, m, profile, s.joint_piece)?,
+        Format::Hpgl => crate::emit::hpgl(&plot),
+    };
+    let preview = crate::preview::svg(&plot, m.home);
+    let bounds = plot.bounds().ok_or(PlotError::Empty)?;
+    Ok(Prepared {
+        plot,
+        program,
+        report,
+        ramps,
+        preview,
+        bounds,
+    })
+}
