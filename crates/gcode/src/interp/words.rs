@@ -155,12 +155,10 @@ impl Decoded {
     }
 
     pub fn any_axis(&self) -> bool {
-        const AXES: u32 = 1 << (b'X' - b'A')
-            | 1 << (b'Y' - b'A')
-            | 1 << (b'Z' - b'A')
-            | 1 << (b'A' - b'A')
-            | 1 << (b'B' - b'A')
-            | 1 << (b'C' - b'A');
+        const fn bit(letter: u8) -> u32 {
+            1 << (letter - b'A')
+        }
+        const AXES: u32 = bit(b'X') | bit(b'Y') | bit(b'Z') | bit(b'A') | bit(b'B') | bit(b'C');
         self.present & AXES != 0
     }
 
