@@ -14,6 +14,7 @@ mod gcode_input;
 mod machine_profile;
 mod plan;
 mod run;
+mod serve;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -49,6 +50,8 @@ enum Command {
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
     Plan(plan::Args),
+    /// The web workbench: editor, preview and machine panel in the browser (127.0.0.1:7878).
+    Serve(serve::Args),
 }
 
 #[derive(Subcommand)]
@@ -79,6 +82,7 @@ fn main() -> ExitCode {
         Command::Emulate(args) => emulate::run(args),
         Command::Run(args) => run::run(args),
         Command::Plan(args) => plan::run(args),
+        Command::Serve(args) => serve::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
