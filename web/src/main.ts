@@ -18,7 +18,7 @@ interface Program { name: string; text: string; saved: boolean; }
 
 const editor = new Editor();
 const preview = new Preview($('viewport'));
-const stats = { checks: 0, previews: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
+const stats = { checks: 0, previews: 0, previewDone: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
 let program: Program = { name: 'untitled.nc', text: '', saved: false };
 let worker: Worker | null = null;
 let image: { name: string; bytes: ArrayBuffer } | null = null;
@@ -107,6 +107,7 @@ function runPreview() {
     } else if (m.type === 'done') {
       preview.finished();
       stats.segments = m.segments;
+      stats.previewDone = gen;
       stats.previewMs = performance.now() - t0;
       const scrub = $<HTMLInputElement>('scrub');
       scrub.max = String(preview.total);

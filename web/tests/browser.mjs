@@ -109,6 +109,7 @@ await test('a bad line gets a diagnostic with its line and column', async () => 
 });
 
 await test('the timeline scrubs the path and highlights the line', async () => {
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews, null, { timeout: 20000 });
   const total = await segments();
   await page.$eval('#scrub', (s, v) => { s.value = String(v); s.dispatchEvent(new Event('input')); }, Math.floor(total / 2));
   const info = await page.textContent('#scrub-info');
@@ -213,7 +214,7 @@ await test('a file dropped on the page opens', async () => {
   }, text);
   await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
   await page.waitForFunction(() => document.getElementById('program-name').textContent === 'dropped.nc', null, { timeout: 10000 });
-  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 50, null, { timeout: 20000 });
+  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 30, null, { timeout: 20000 });
 });
 
 await test('no script errors in the page', async () => {

@@ -234,17 +234,17 @@ async fn preview(
         .into_response())
 }
 
+/// The image's name (for messages and the program's name), beside the relief parameters in
+/// the same query (serde's `flatten` would read every number as a string).
 #[derive(Deserialize)]
-struct CarveQuery {
-    /// Name of the image (for messages and the program's name).
+struct ImageName {
     name: String,
-    #[serde(flatten)]
-    params: ReliefParams,
 }
 
 async fn carve(
     State(st): State<Arc<AppState>>,
-    Query(q): Query<CarveQuery>,
+    Query(q): Query<ImageName>,
+    Query(params): Query<ReliefParams>,
     body: Bytes,
 ) -> ApiResult {
     let stem = q.name.rsplit_once('.').map_or(q.name.as_str(), |(s, _)| s);
@@ -254,7 +254,7 @@ async fn carve(
     let name = q.name.clone();
     let result = tokio::task::spawn_blocking(move || {
         let last = std::sync::Mutex::new(-1i64);
-        carve_relief(&name, &body, &q.params, &|stage: &str, f: f64| {
+        carve_relief(&name, &body, &params, &|stage: &str, f: f64| {
             // At most a hundred progress messages per stage.
             let pct = (f * 100.0) as i64;
             let mut l = lock(&last);
