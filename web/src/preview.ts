@@ -277,8 +277,9 @@ export class Preview {
     this.dirty = true;
   }
 
-  /// Orbit the camera by `frames` steps, rendering each: for the frame-time benchmark.
-  orbitFrames(frames: number): Promise<number[]> {
+  /// Orbit the camera by `frames` steps, rendering each: for the frame-time benchmark
+  /// (`lod` false keeps full detail while moving).
+  orbitFrames(frames: number, lod = true): Promise<number[]> {
     return new Promise((resolve) => {
       const times: number[] = [];
       let last = performance.now();
@@ -287,7 +288,7 @@ export class Preview {
         offset.applyAxisAngle(new THREE.Vector3(0, 0, 1), 0.02);
         this.camera.position.copy(this.controls.target).add(offset);
         this.camera.lookAt(this.controls.target);
-        this.cameraMoved();
+        if (lod) this.cameraMoved();
         this.render();
         // Reading a pixel waits for the GPU (or the software rasteriser) to finish the frame.
         const gl = this.renderer.getContext();

@@ -181,15 +181,15 @@ mod tests {
         let r =
             check("G21 G90 G54\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10 F600\nY10\nX0\nY0\nG0 Z5\nM2\n");
         assert_eq!(r.errors, 0, "{:?}", r.diagnostics);
-        // 1 mm plunge + 4 sides of 10 mm, fed.
-        assert!((r.feed_length - 41.0).abs() < 1e-9, "{}", r.feed_length);
+        // A 6 mm plunge (Z5 to Z-1) + 4 sides of 10 mm, fed.
+        assert!((r.feed_length - 46.0).abs() < 1e-9, "{}", r.feed_length);
         let f = r.feed_extents.unwrap();
         // Machine coordinates: the box is 10 x 10 whatever the stored G54 is.
         assert!((f.max[0] - f.min[0] - 10.0).abs() < 1e-9);
         assert!((f.max[1] - f.min[1] - 10.0).abs() < 1e-9);
         let t = r.time.unwrap();
-        // 40 mm at 600 mm/min is 4 s and the plunge 0.6 s: acceleration only adds to it.
-        assert!(t.seconds > 4.6 && t.seconds < 8.0, "{}", t.seconds);
+        // 40 mm at 600 mm/min is 4 s and the plunge 3.6 s: acceleration only adds to it.
+        assert!(t.seconds > 7.6 && t.seconds < 12.0, "{}", t.seconds);
     }
 
     #[test]

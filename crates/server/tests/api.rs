@@ -46,10 +46,10 @@ async fn check_reports_extents_time_and_diagnostics_with_places() {
     let r = json(&b);
     assert_eq!(r["errors"], 0);
     assert!(
-        (r["feed_length"].as_f64().unwrap() - 41.0).abs() < 1e-9,
+        (r["feed_length"].as_f64().unwrap() - 46.0).abs() < 1e-9,
         "{r}"
     );
-    assert!(r["time"]["Ok"]["seconds"].as_f64().unwrap() > 4.6);
+    assert!(r["time"]["Ok"]["seconds"].as_f64().unwrap() > 7.6);
 
     let (s, b) = call(&st, post("/api/check", "G0 X0\nG1 X10 Qbad\nM2\n")).await;
     assert_eq!(s, StatusCode::OK);
