@@ -115,7 +115,8 @@ await test('the timeline scrubs the path and highlights the line', async () => {
   const info = await page.textContent('#scrub-info');
   const line = Number(info.match(/line (\d+)/)[1]);
   assert(line > 5, info);
-  assert(await page.isVisible('#current-line'), 'the current line is marked');
+  // The editor draws on the next animation frame.
+  await page.waitForFunction(() => getComputedStyle(document.getElementById('current-line')).display === 'block', null, { timeout: 5000 });
   await shot('timeline');
   await page.$eval('#scrub', (s) => { s.value = s.max; s.dispatchEvent(new Event('input')); });
 });
