@@ -5,8 +5,9 @@
 import type { Diag } from './api';
 
 const LINE_HEIGHT = 18;
-/// Above this size the text is shown without colouring (the textarea still holds it all).
-const COLOUR_LIMIT = 50 * 1024 * 1024;
+/// Above this size the program is shown read-only, only its visible lines in the page: a
+/// browser's textarea takes most of a minute to lay out a million lines.
+const LARGE = 2 * 1024 * 1024;
 
 function esc(s: string): string {
   return s.replace(/&/g, '&amp;').replace(/</g, '&lt;').replace(/>/g, '&gt;');
@@ -52,6 +53,11 @@ export class Editor {
   private highlight = document.getElementById('highlight') as HTMLPreElement;
   private gutter = document.getElementById('gutter-inner') as HTMLDivElement;
   private current = document.getElementById('current-line') as HTMLDivElement;
+  private code = document.getElementById('code') as HTMLDivElement;
+  private scroller = document.getElementById('scroller') as HTMLDivElement;
+  private spacer = document.getElementById('spacer') as HTMLDivElement;
+  private large = false;
+  private whole = '';
   private lines: string[] = [];
   private diags = new Map<number, Diag[]>();
   private currentLine = 0;
@@ -60,21 +66,29 @@ export class Editor {
 
   constructor() {
     this.text.addEventListener('scroll', () => this.schedule());
+    this.scroller.addEventListener('scroll', () => this.schedule());
     this.text.addEventListener('input', () => {
-      this.lines = this.text.value.split('\n');
+      this.whole = this.text.value;
+      this.lines = this.whole.split('\n');
       this.schedule();
       this.onChange(this.text.value);
     });
     new ResizeObserver(() => this.schedule()).observe(this.text);
   }
 
-  get value(): string { return this.text.value; }
+  get value(): string { return this.whole; }
+
+  /// The element that scrolls: the textarea, or the read-only view of a large program.
+  private get pane(): HTMLElement { return this.large ? this.scroller : this.text; }
 
   set value(v: string) {
-    this.text.value = v;
+    this.whole = v;
+    this.large = v.length > LARGE;
+    this.code.classList.toggle('large', this.large);
+    this.text.value = this.large ? '' : v;
     this.lines = v.split('\n');
-    this.text.classList.toggle('plain', v.length > COLOUR_LIMIT);
-    this.text.scrollTop = 0;
+    this.spacer.style.height = this.large ? `${this.lines.length * LINE_HEIGHT}px` : '0';
+    this.pane.scrollTop = 0;
     this.diags.clear();
     this.schedule();
   }
@@ -94,15 +108,17 @@ export class Editor {
     if (line === this.currentLine) return;
     this.currentLine = line;
     if (scroll && line > 0) {
-      const top = (line - 1) * LINE_HEIGHT, h = this.text.clientHeight;
-      if (top < this.text.scrollTop || top > this.text.scrollTop + h - 2 * LINE_HEIGHT) {
-        this.text.scrollTop = Math.max(0, top - h / 3);
+      const pane = this.pane;
+      const top = (line - 1) * LINE_HEIGHT, h = pane.clientHeight;
+      if (top < pane.scrollTop || top > pane.scrollTop + h - 2 * LINE_HEIGHT) {
+        pane.scrollTop = Math.max(0, top - h / 3);
       }
     }
     this.schedule();
   }
 
   goTo(line: number, col: number) {
+    if (this.large) return this.setCurrentLine(line);
     let pos = 0;
     for (let i = 0; i < line - 1 && i < this.lines.length; i++) pos += this.lines[i].length + 1;
     pos += Math.max(0, col - 1);
@@ -116,9 +132,10 @@ export class Editor {
   }
 
   private draw() {
-    const top = this.text.scrollTop;
+    const pane = this.pane;
+    const top = pane.scrollTop;
     const first = Math.floor(top / LINE_HEIGHT);
-    const count = Math.ceil(this.text.clientHeight / LINE_HEIGHT) + 1;
+    const count = Math.ceil(pane.clientHeight / LINE_HEIGHT) + 1;
     const last = Math.min(this.lines.length, first + count);
     const offset = first * LINE_HEIGHT - top;
     let nums = '';
@@ -129,9 +146,7 @@ export class Editor {
     }
     this.gutter.style.top = offset + 'px';
     this.gutter.innerHTML = nums;
-    if (this.text.classList.contains('plain')) {
-      this.highlight.innerHTML = '';
-    } else {
+    {
       let html = '';
       for (let i = first; i < last; i++) {
         const line = this.lines[i];
@@ -144,7 +159,7 @@ export class Editor {
           html += colourLine(line) + '\n';
         }
       }
-      this.highlight.innerHTML = `<div class="lines" style="top:${offset}px;left:${6 - this.text.scrollLeft}px">${html}</div>`;
+      this.highlight.innerHTML = `<div class="lines" style="top:${offset}px;left:${6 - pane.scrollLeft}px">${html}</div>`;
     }
     if (this.currentLine > 0) {
       this.current.style.display = 'block';

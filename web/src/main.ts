@@ -18,7 +18,7 @@ interface Program { name: string; text: string; saved: boolean; }
 
 const editor = new Editor();
 const preview = new Preview($('viewport'));
-const stats = { checks: 0, previews: 0, previewDone: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
+const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
 let program: Program = { name: 'untitled.nc', text: '', saved: false };
 let worker: Worker | null = null;
 let image: { name: string; bytes: ArrayBuffer } | null = null;
@@ -123,8 +123,10 @@ function runPreview() {
 }
 
 function loadProgram(name: string, text: string, saved = false) {
+  stats.loadStartMs = performance.now();
   program = { name: safeName(name), text, saved };
   editor.value = text;
+  stats.editorMs = performance.now() - stats.loadStartMs;
   editor.setCurrentLine(0);
   $('program-name').textContent = program.name;
   error('');
@@ -265,8 +267,8 @@ async function onLive(m: LiveMessage) {
       const j = await getJson<{ name: string; text: string }>('/api/job');
       loadProgram(j.name, j.text, true);
     } else {
-      const o = await getJson<{ name: string; text: string }>('/api/open');
-      loadProgram(o.name, o.text, false);
+      const o = await getJson<{ name: string; text: string; saved: boolean }>('/api/open');
+      loadProgram(o.name, o.text, o.saved);
     }
   }
 }

@@ -14,7 +14,7 @@ const COLOURS: [number, number, number][] = [
 /// Above this many segments, a decimated copy is drawn while the camera moves.
 const LOD_THRESHOLD = 200_000;
 /// The coarse copy keeps about this many segments.
-const LOD_TARGET = 150_000;
+const LOD_TARGET = 60_000;
 /// Full detail comes back this long after the last camera move, ms.
 const LOD_SETTLE_MS = 200;
 

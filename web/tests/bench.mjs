@@ -28,8 +28,10 @@ const full = await page.evaluate(() => window.__oficina.preview.orbitFrames(10, 
 console.log(`program: ${s.segments.toLocaleString()} segments`);
 console.log(`page load to first preview drawn: ${(tFirst / 1000).toFixed(2)} s (first batch ${(s.firstBatchMs / 1000).toFixed(2)} s after the preview request)`);
 console.log(`page load to the whole preview:   ${(tAll / 1000).toFixed(2)} s`);
+console.log(`  of which: page and program fetched ${(s.loadStartMs / 1000).toFixed(2)} s after navigation; text into the editor ${(s.editorMs / 1000).toFixed(2)} s; preview stream ${(s.previewMs / 1000).toFixed(2)} s`);
 console.log(`timer lateness after loading:     ${lateness.toFixed(1)} ms`);
 console.log(`orbit frame time, level of detail: median ${median(lod.slice(1)).toFixed(1)} ms (${(1000 / median(lod.slice(1))).toFixed(1)} frames/s)`);
 console.log(`orbit frame time, full detail:     median ${median(full.slice(1)).toFixed(1)} ms (${(1000 / median(full.slice(1))).toFixed(1)} frames/s)`);
 console.log('(headless chromium with --disable-gpu renders in software: a GPU draws far faster)');
+if (process.env.OFICINA_BENCH_SHOT) await page.screenshot({ path: process.env.OFICINA_BENCH_SHOT });
 await browser.close();

@@ -62,7 +62,9 @@ async fn info(State(st): State<Arc<AppState>>) -> Json<serde_json::Value> {
 async fn open_program(State(st): State<Arc<AppState>>) -> ApiResult {
     let name = st.config.open.as_deref().unwrap_or(samples::DEFAULT);
     let text = program_text(&st, name)?;
-    Ok(Json(json!({"name": name, "text": text.as_str()})).into_response())
+    // Already in the job folder: the page checks it there by name instead of uploading it.
+    let saved = path_in(&st.config.job_dir, name).is_ok_and(|p| p.is_file());
+    Ok(Json(json!({"name": name, "text": text.as_str(), "saved": saved})).into_response())
 }
 
 /// A file of the job folder, or else a bundled sample of that name.
