@@ -199,10 +199,8 @@ impl Session {
             )));
         }
         let mut profile = profile.clone();
-        for i in 0..3 {
-            if axes[i] {
-                profile.work_offset[i] = status.machine_pos[i];
-            }
+        for (i, _) in axes.iter().enumerate().filter(|(_, on)| **on) {
+            profile.work_offset[i] = status.machine_pos[i];
         }
         profile.start = status.machine_pos;
         let mut machine: Box<dyn Machine> =

@@ -98,7 +98,7 @@ impl AppState {
                 return Err(format!("the machine is busy ({state}): stop the job first"));
             }
         }
-        *guard = None;
+        // Opened before the old one is dropped: a bad address leaves the machine as it was.
         *guard = Some(Session::open(uri).map_err(|e| e.to_string())?);
         drop(guard);
         self.say(&format!("connected to {uri}"));

@@ -90,6 +90,12 @@ async fn one_page_controls_and_a_dropped_page_never_stops_the_job() {
     assert_eq!(r["type"], "error", "{r}");
     let r = send(&mut a, json!({"cmd": "feed_override", "value": 9.0})).await;
     assert_eq!(r["type"], "error", "{r}");
+    // A machine that cannot be opened leaves the connected one in place.
+    let r = send(&mut a, json!({"cmd": "connect", "uri": "no-such-profile"})).await;
+    assert!(
+        r["message"].as_str().unwrap().contains("no-such-profile"),
+        "{r}"
+    );
 
     // The controller starts the bundled sample (81 s of machine time) at 5x.
     let r = send(
