@@ -14,11 +14,12 @@ mod fit;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
-mod peak_memory;
 mod mill;
+mod peak_memory;
 mod plan;
 mod plot;
 mod run;
+mod serve;
 mod sole;
 
 use clap::{Parser, Subcommand};
@@ -63,6 +64,8 @@ enum Command {
     Sole(sole::Args),
     /// Pen plotting: SVG / DXF / HPGL / image / text → optimised G-code, joint-space or HPGL.
     Plot(plot::Args),
+    /// The web workbench: editor, preview and machine panel in the browser (127.0.0.1:7878).
+    Serve(serve::Args),
 }
 
 #[derive(Subcommand)]
@@ -112,6 +115,7 @@ fn main() -> ExitCode {
         Command::Mill(args) => mill::run(args),
         Command::Sole(args) => sole::run(args),
         Command::Plot(args) => plot::run(args),
+        Command::Serve(args) => serve::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),

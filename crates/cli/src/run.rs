@@ -7,7 +7,7 @@ use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
-use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status, VirtualMachine};
+use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -49,35 +49,17 @@ pub struct Args {
     max_program_mb: u64,
 }
 
-/// Real firmware is named by a link address; anything else is a virtual machine profile.
-fn is_firmware(machine: &str) -> bool {
-    machine.starts_with("grbl:") || machine.starts_with("tcp://") || machine.starts_with("/dev/")
-}
-
-/// Open the machine `spec` names; the work offset applies to the virtual machine only
-/// (real firmware keeps its own).
+/// The machine `spec` names, opened by the application layer.
 fn open_machine(
     spec: &str,
     work_offset: Option<[f64; 3]>,
     max_line_len: usize,
 ) -> anyhow::Result<Box<dyn Machine>> {
-    if is_firmware(spec) {
-        if work_offset.is_some() {
-            bail!("--work-offset is for the virtual machine; real firmware keeps its own G54 (set it with G10 L20 in the console)");
-        }
-        let device = oficina_grbl::device::GrblDevice::new(spec)
-            .map_err(|e| anyhow::anyhow!("--machine {spec}: {e}"))?;
-        return Ok(Box::new(device));
-    }
-    let spec = if spec == "virtual" {
-        machine_profile::DEFAULT
-    } else {
-        spec
-    };
-    let profile = machine_profile::resolve_with_offset(spec, work_offset)?;
-    Ok(Box::new(
-        VirtualMachine::new(profile).with_max_line_len(max_line_len),
-    ))
+    Ok(oficina_app::open_machine_with(
+        spec,
+        work_offset,
+        max_line_len,
+    )?)
 }
 
 /// Leaves raw mode however the run ends.

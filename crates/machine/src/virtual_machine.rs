@@ -118,8 +118,9 @@ impl Machine for VirtualMachine {
             (Command::Jog { delta, feed }, State::Idle) => {
                 let pos = lock(&self.status).machine_pos;
                 let to = [pos[0] + delta[0], pos[1] + delta[1], pos[2] + delta[2]];
+                // G53: the target is in machine coordinates, whatever work offset is stored.
                 let text = format!(
-                    "G90 G1 X{:.6} Y{:.6} Z{:.6} F{:.3}\nM2\n",
+                    "G90 G53 G1 X{:.6} Y{:.6} Z{:.6} F{:.3}\nM2\n",
                     to[0], to[1], to[2], feed
                 );
                 self.start(Job {

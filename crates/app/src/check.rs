@@ -1,0 +1,204 @@
+//! The check of a program, as data: every diagnostic with its place, extents, path lengths,
+//! tools and the planner's time on a machine profile (what `oficina check` prints and the
+//! workbench's editor shows).
+
+use crate::text::reader;
+use oficina_canon::summary::{Extents, Summarizer, Summary};
+use oficina_canon::Pos;
+use oficina_gcode::program::RunOptions;
+use oficina_gcode::stream::CanonStream;
+use oficina_gcode::{Diagnostic, Dialect, Severity};
+use oficina_motion::Profile;
+use serde::Serialize;
+use std::sync::Arc;
+
+pub struct CheckOptions {
+    pub profile: Profile,
+    pub dialect: Dialect,
+}
+
+/// One diagnostic: 1-based line and column, the length of the marked text.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Diag {
+    pub line: u32,
+    pub col: u32,
+    pub len: u32,
+    pub severity: &'static str,
+    pub message: String,
+    pub help: Option<String>,
+}
+
+impl From<&Diagnostic> for Diag {
+    fn from(d: &Diagnostic) -> Diag {
+        Diag {
+            line: d.span.line,
+            col: d.span.col,
+            len: d.span.len,
+            severity: match d.severity {
+                Severity::Error => "error",
+                Severity::Warning => "warning",
+            },
+            message: d.message.clone(),
+            help: d.help.clone(),
+        }
+    }
+}
+
+/// An axis-aligned box in machine mm; `None` when no move of that kind exists.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ExtentsBox {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+fn extents_box(e: &Extents) -> Option<ExtentsBox> {
+    (!e.is_empty()).then_some(ExtentsBox {
+        min: e.min,
+        max: e.max,
+    })
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct TimeEstimate {
+    pub seconds: f64,
+    pub segments: u64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CheckReport {
+    pub diagnostics: Vec<Diag>,
+    pub errors: usize,
+    pub warnings: usize,
+    pub operations: u64,
+    pub feed_extents: Option<ExtentsBox>,
+    pub rapid_extents: Option<ExtentsBox>,
+    pub feed_length: f64,
+    pub rapid_length: f64,
+    pub feed_moves: u64,
+    pub rapid_moves: u64,
+    pub arcs: u64,
+    pub tools: Vec<u32>,
+    /// Programmed feeds only, no acceleration: a lower bound.
+    pub feed_rate_seconds: f64,
+    /// The look-ahead planner's time on the profile, or why there is none.
+    pub time: Result<TimeEstimate, String>,
+    pub machine: String,
+}
+
+/// Interpret `text` in check mode on `opts.profile`: the summary covers the whole program even
+/// where the planner stops early (an unreachable point).
+pub fn check_program(text: &Arc<String>, opts: &CheckOptions) -> CheckReport {
+    let profile = &opts.profile;
+    let mut run = RunOptions::check(opts.dialect);
+    run.initial_params = profile.initial_params();
+    let [x, y, z] = profile.start;
+    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), axis_rapid_rates(profile));
+    let mut ops = 0u64;
+    let mut stream = CanonStream::spawn(reader(text), run);
+    let planned = oficina_motion::estimate(
+        stream.by_ref().inspect(|c| {
+            ops += 1;
+            summarizer.add(&c.op);
+        }),
+        profile,
+    );
+    for c in stream.by_ref() {
+        ops += 1;
+        summarizer.add(&c.op);
+    }
+    let diags = stream.finish();
+    report(&diags, summarizer.finish(), ops, planned, &profile.name)
+}
+
+fn report(
+    diags: &[Diagnostic],
+    s: Summary,
+    operations: u64,
+    planned: Result<oficina_motion::Estimate, oficina_motion::MotionError>,
+    machine: &str,
+) -> CheckReport {
+    let errors = diags
+        .iter()
+        .filter(|d| d.severity == Severity::Error)
+        .count();
+    CheckReport {
+        diagnostics: diags.iter().map(Diag::from).collect(),
+        errors,
+        warnings: diags.len() - errors,
+        operations,
+        feed_extents: extents_box(&s.feed_extents),
+        rapid_extents: extents_box(&s.rapid_extents),
+        feed_length: s.feed_length,
+        rapid_length: s.rapid_length,
+        feed_moves: s.feed_moves,
+        rapid_moves: s.rapid_moves,
+        arcs: s.arcs,
+        tools: s.tools,
+        feed_rate_seconds: s.feed_rate_seconds,
+        time: planned
+            .map(|e| TimeEstimate {
+                seconds: e.seconds,
+                segments: e.segments,
+            })
+            .map_err(|e| e.to_string()),
+        machine: machine.to_string(),
+    }
+}
+
+/// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
+/// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
+pub fn axis_rapid_rates(profile: &Profile) -> [f64; 3] {
+    use oficina_motion::profile::KinematicsKind;
+    let rate = |j: &Option<oficina_motion::profile::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
+    if profile.kinematics == KinematicsKind::Cartesian {
+        return [0, 1, 2].map(|i| rate(&profile.joints[i]).unwrap_or(0.0));
+    }
+    let slowest = (0..3)
+        .filter(|&i| !profile.kinematics.is_angular(i))
+        .filter_map(|i| rate(&profile.joints[i]))
+        .fold(f64::INFINITY, f64::min);
+    let slowest = if slowest.is_finite() { slowest } else { 0.0 };
+    [slowest; 3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check(text: &str) -> CheckReport {
+        let profile = crate::profile::resolve("grbl-router").unwrap();
+        check_program(
+            &Arc::new(text.to_string()),
+            &CheckOptions {
+                profile,
+                dialect: Dialect::LinuxCnc,
+            },
+        )
+    }
+
+    #[test]
+    fn a_square_has_its_extents_length_and_time() {
+        let r =
+            check("G21 G90 G54\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10 F600\nY10\nX0\nY0\nG0 Z5\nM2\n");
+        assert_eq!(r.errors, 0, "{:?}", r.diagnostics);
+        // A 6 mm plunge (Z5 to Z-1) + 4 sides of 10 mm, fed.
+        assert!((r.feed_length - 46.0).abs() < 1e-9, "{}", r.feed_length);
+        let f = r.feed_extents.unwrap();
+        // Machine coordinates: the box is 10 x 10 whatever the stored G54 is.
+        assert!((f.max[0] - f.min[0] - 10.0).abs() < 1e-9);
+        assert!((f.max[1] - f.min[1] - 10.0).abs() < 1e-9);
+        let t = r.time.unwrap();
+        // 40 mm at 600 mm/min is 4 s and the plunge 3.6 s: acceleration only adds to it.
+        assert!(t.seconds > 7.6 && t.seconds < 12.0, "{}", t.seconds);
+    }
+
+    #[test]
+    fn errors_carry_line_and_column_and_the_check_goes_on() {
+        let r = check("G0 X0\nG1 X10 Qbad\nG2 X10 Y10\nG1 X5 F100\nM2\n");
+        assert!(r.errors >= 1, "{:?}", r.diagnostics);
+        let d = &r.diagnostics[0];
+        assert_eq!(d.line, 2, "{d:?}");
+        assert!(d.col >= 1);
+        assert!(r.diagnostics.iter().all(|d| !d.message.is_empty()));
+    }
+}

@@ -1,0 +1,176 @@
+//! Straight pieces of a program's path for a preview, in machine coordinates, each tagged
+//! with its source line and whether it is a rapid, a feed or a plunge. The interpreter reads
+//! the program (no second G-code reader in the page); arcs become chords.
+
+use crate::check::Diag;
+use crate::text::reader;
+use oficina_canon::{CanonOp, Pos};
+use oficina_gcode::program::RunOptions;
+use oficina_gcode::stream::CanonStream;
+use oficina_gcode::Dialect;
+use oficina_motion::moves::{arc_point, arc_sweep};
+use oficina_motion::Profile;
+use std::sync::Arc;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum PathKind {
+    Rapid = 0,
+    Feed = 1,
+    /// A feed move straight down (Z falls, X and Y stay).
+    Plunge = 2,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreviewSegment {
+    pub kind: PathKind,
+    pub line: u32,
+    pub from: [f64; 3],
+    pub to: [f64; 3],
+}
+
+/// Chord height allowed on arcs in the preview, mm: invisible at any zoom a workbench shows.
+const CHORD_TOLERANCE: f64 = 0.01;
+/// At most this many chords per full turn, so a 1 km radius arc stays a few hundred pieces.
+const MAX_CHORDS_PER_TURN: f64 = 720.0;
+
+/// Call `emit` for every straight piece of the path of `text`; returns the diagnostics.
+pub fn for_each_segment(
+    text: &Arc<String>,
+    profile: &Profile,
+    dialect: Dialect,
+    mut emit: impl FnMut(PreviewSegment),
+) -> Vec<Diag> {
+    let mut run = RunOptions::check(dialect);
+    run.initial_params = profile.initial_params();
+    let mut stream = CanonStream::spawn(reader(text), run);
+    let [x, y, z] = profile.start;
+    let mut at = Pos::xyz(x, y, z);
+    for c in stream.by_ref() {
+        let line = c.line;
+        match c.op {
+            CanonOp::StraightTraverse { to } => {
+                emit(straight(PathKind::Rapid, line, &at, &to));
+                at = to;
+            }
+            CanonOp::StraightFeed { to } => {
+                emit(straight(PathKind::Feed, line, &at, &to));
+                at = to;
+            }
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+            } => {
+                let axes = plane.axes();
+                let (s, e) = (at.to_array(), end.to_array());
+                let (sx, sy) = (s[axes.0] - center[0], s[axes.1] - center[1]);
+                let (ex, ey) = (e[axes.0] - center[0], e[axes.1] - center[1]);
+                let (r0, r1) = (sx.hypot(sy), ex.hypot(ey));
+                let (a0, a1) = (sy.atan2(sx), ey.atan2(ex));
+                let sweep = arc_sweep(a0, a1, turns);
+                let n = chords(r0.max(r1), sweep);
+                let mut prev = xyz(&at);
+                for k in 1..=n {
+                    let p = if k == n {
+                        xyz(&end)
+                    } else {
+                        let f = k as f64 / n as f64;
+                        arc_point(axes, center, r0, r1, a0, sweep, s[axes.2], e[axes.2], f)
+                    };
+                    emit(PreviewSegment {
+                        kind: PathKind::Feed,
+                        line,
+                        from: prev,
+                        to: p,
+                    });
+                    prev = p;
+                }
+                at = end;
+            }
+            _ => {}
+        }
+    }
+    stream.finish().iter().map(Diag::from).collect()
+}
+
+/// Chords for an arc of radius `r` sweeping `sweep` radians: the chord of angle θ stands
+/// r(1 − cos θ/2) off the arc, so θ = 2 acos(1 − tol/r) keeps it within the tolerance.
+fn chords(r: f64, sweep: f64) -> usize {
+    let step = if r > CHORD_TOLERANCE {
+        (2.0 * (1.0 - CHORD_TOLERANCE / r).acos()).max(std::f64::consts::TAU / MAX_CHORDS_PER_TURN)
+    } else {
+        std::f64::consts::PI
+    };
+    ((sweep.abs() / step).ceil() as usize).max(1)
+}
+
+fn xyz(p: &Pos) -> [f64; 3] {
+    [p.x, p.y, p.z]
+}
+
+fn straight(kind: PathKind, line: u32, from: &Pos, to: &Pos) -> PreviewSegment {
+    let plunge = kind == PathKind::Feed
+        && to.z < from.z
+        && (to.x - from.x).abs() < 1e-9
+        && (to.y - from.y).abs() < 1e-9;
+    PreviewSegment {
+        kind: if plunge { PathKind::Plunge } else { kind },
+        line,
+        from: xyz(from),
+        to: xyz(to),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn segments(text: &str) -> Vec<PreviewSegment> {
+        let profile = crate::profile::resolve("grbl-router").unwrap();
+        let mut out = Vec::new();
+        let diags = for_each_segment(&Arc::new(text.into()), &profile, Dialect::LinuxCnc, |s| {
+            out.push(s)
+        });
+        assert!(diags.is_empty(), "{diags:?}");
+        out
+    }
+
+    #[test]
+    fn kinds_and_lines_follow_the_program() {
+        let s = segments("G0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10\nG0 Z5\nM2\n");
+        let kinds: Vec<_> = s.iter().map(|s| (s.kind, s.line)).collect();
+        assert_eq!(
+            kinds,
+            [
+                (PathKind::Rapid, 1),
+                (PathKind::Plunge, 2),
+                (PathKind::Feed, 3),
+                (PathKind::Rapid, 4)
+            ]
+        );
+        // Each piece starts where the one before ended.
+        for w in s.windows(2) {
+            assert_eq!(w[0].to, w[1].from);
+        }
+    }
+
+    #[test]
+    fn a_full_circle_stays_on_its_radius() {
+        let s = segments("G0 X10 Y0 Z0\nG2 X10 Y0 I-10 J0 F100\nM2\n");
+        let arc: Vec<_> = s.iter().filter(|s| s.line == 2).collect();
+        assert!(arc.len() > 50, "{}", arc.len());
+        let c = arc[0].from;
+        let centre = [c[0] - 10.0, c[1]];
+        for p in &arc {
+            let r = (p.to[0] - centre[0]).hypot(p.to[1] - centre[1]);
+            assert!((r - 10.0).abs() < 1e-9, "{r}");
+            // The chord's midpoint is inside the tolerance of the arc.
+            let m = [(p.from[0] + p.to[0]) / 2.0, (p.from[1] + p.to[1]) / 2.0];
+            let rm = (m[0] - centre[0]).hypot(m[1] - centre[1]);
+            assert!(10.0 - rm <= CHORD_TOLERANCE + 1e-12, "{rm}");
+        }
+        assert_eq!(arc.last().unwrap().to, c);
+    }
+}

@@ -1,0 +1,71 @@
+//! Finding a machine profile: a path to a TOML file, or the name of a profile bundled in the
+//! binary (so `oficina` works from any folder, with no install step).
+
+use crate::Error;
+pub use oficina_motion::Profile;
+
+/// The bundled profiles and the default live in `oficina_motion::profile`: one list for
+/// every command and the server.
+pub use oficina_motion::profile::{BUNDLED, DEFAULT};
+
+/// Load `spec`: an existing file path, or a bundled name (with or without `.toml`).
+pub fn resolve(spec: &str) -> Result<Profile, Error> {
+    oficina_motion::profile::resolve(spec).map_err(Error::from_display)
+}
+
+/// `X,Y,Z` in mm, for `--work-offset`.
+pub fn parse_xyz(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected X,Y,Z (three numbers in mm), got '{text}'"
+        ));
+    }
+    let mut v = [0.0; 3];
+    for (slot, p) in v.iter_mut().zip(&parts) {
+        *slot = p
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("'{p}' is not a number (in '{text}')"))?;
+    }
+    Ok(v)
+}
+
+/// [`resolve`], then replace the stored work offset by the one given on the command line.
+pub fn resolve_with_offset(spec: &str, work_offset: Option<[f64; 3]>) -> Result<Profile, Error> {
+    let mut profile = resolve(spec)?;
+    if let Some(w) = work_offset {
+        profile.work_offset = w;
+    }
+    Ok(profile)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_bundled_profile_parses() {
+        for (name, _) in BUNDLED {
+            resolve(name).unwrap_or_else(|e| panic!("bundled profile {name}: {e}"));
+        }
+    }
+
+    #[test]
+    fn work_offsets_parse_and_reject_garbage() {
+        assert_eq!(parse_xyz("10, 20,-30.5"), Ok([10.0, 20.0, -30.5]));
+        assert!(parse_xyz("1,2").is_err());
+        assert!(parse_xyz("1,2,x").unwrap_err().contains("'x'"));
+        assert!(parse_xyz("1,2,inf").is_err());
+    }
+
+    #[test]
+    fn unknown_names_list_the_bundled_ones() {
+        let e = resolve("no-such-machine").unwrap_err().to_string();
+        assert!(
+            e.contains("grbl-router") && e.contains("no-such-machine"),
+            "{e}"
+        );
+    }
+}

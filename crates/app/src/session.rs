@@ -1,0 +1,403 @@
+//! A session with one machine: the job it runs, real-time commands, jog, home and work zero,
+//! and a snapshot that a page (or a terminal) shows. Events are drained by the caller; the
+//! machine runs its job on its own thread, so whoever watches may come and go.
+
+use crate::{machine_uri, profile, Error};
+use oficina_machine::{Command, Event, Job, Machine, MachineInfo, Pace, State};
+use oficina_motion::Profile;
+use serde::Serialize;
+use std::sync::Arc;
+use std::time::Duration;
+
+/// A job to start: the program, where to begin and how fast the virtual machine runs.
+pub struct JobRequest {
+    pub name: String,
+    pub text: Arc<String>,
+    pub from_line: Option<u32>,
+    /// Wall time = machine time / speed on the virtual machine; `None`: no waiting at all.
+    pub speed: Option<f64>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum SessionEvent {
+    Message { text: String },
+    Alarm { message: String, meaning: String },
+    JobEnd { completed: bool, seconds: f64 },
+}
+
+/// The job as the page shows it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JobView {
+    pub name: String,
+    pub lines: usize,
+    pub from_line: Option<u32>,
+    pub speed: Option<f64>,
+    /// Set once the job has ended: true when it ran to its end.
+    pub completed: Option<bool>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Snapshot {
+    pub uri: String,
+    pub machine: String,
+    pub firmware: String,
+    /// idle, run, holding, hold, paused, jog or alarm.
+    pub state: &'static str,
+    pub alarm: Option<String>,
+    pub alarm_meaning: Option<String>,
+    pub machine_pos: [f64; 3],
+    pub work_pos: [f64; 3],
+    /// mm/min
+    pub feed: f64,
+    pub line: u32,
+    /// Machine time done and planned, seconds.
+    pub elapsed: f64,
+    pub total: f64,
+    /// Wall time left at the job's speed, seconds (`None` when not known).
+    pub remaining: Option<f64>,
+    pub feed_override: f64,
+    pub job: Option<JobView>,
+    pub can_home_and_zero: bool,
+}
+
+pub struct Session {
+    uri: String,
+    machine: Box<dyn Machine>,
+    info: MachineInfo,
+    /// The virtual machine's profile (none for real firmware).
+    profile: Option<Profile>,
+    /// Where the virtual machine homes to: the profile's start.
+    home: [f64; 3],
+    job: Option<JobView>,
+    /// No job has run since the virtual machine was made: its idle status still shows the
+    /// machine position as the work position, so the snapshot applies the offset itself.
+    fresh: bool,
+}
+
+/// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
+const FEED_OVERRIDE: std::ops::RangeInclusive<f64> = 0.1..=2.0;
+/// Homing speed of the virtual machine, mm/min.
+const HOME_FEED: f64 = 3000.0;
+
+impl Session {
+    /// Connect to the machine `uri` names (see [`machine_uri::open_machine`]).
+    pub fn open(uri: &str) -> Result<Session, Error> {
+        let profile = if machine_uri::is_firmware(uri) {
+            None
+        } else {
+            Some(profile::resolve(machine_uri::virtual_name(uri))?)
+        };
+        let mut machine = machine_uri::open_machine(uri, None)?;
+        let info = machine.connect().map_err(Error::from_display)?;
+        let home = profile.as_ref().map_or([0.0; 3], |p| p.start);
+        Ok(Session {
+            uri: uri.to_string(),
+            machine,
+            info,
+            profile,
+            home,
+            job: None,
+            fresh: true,
+        })
+    }
+
+    pub fn profile(&self) -> Option<&Profile> {
+        self.profile.as_ref()
+    }
+
+    pub fn start(&mut self, req: JobRequest) -> Result<(), Error> {
+        if let Some(s) = req.speed {
+            if !(s.is_finite() && s > 0.0 && s <= 1e6) {
+                return Err(Error(format!(
+                    "speed {s}: the factor must be > 0 and at most 1e6"
+                )));
+            }
+        }
+        if req.from_line == Some(0) {
+            return Err(Error("resume from line 0: lines count from 1".into()));
+        }
+        let lines = req.text.lines().count();
+        if let Some(l) = req.from_line {
+            if l as usize > lines {
+                return Err(Error(format!(
+                    "resume from line {l}: the program has {lines} lines"
+                )));
+            }
+        }
+        self.machine
+            .start(Job {
+                name: req.name.clone(),
+                text: req.text.clone(),
+                start_line: req.from_line,
+                pace: req.speed.map_or(Pace::Instant, Pace::Speed),
+            })
+            .map_err(Error::from_display)?;
+        self.fresh = false;
+        self.job = Some(JobView {
+            name: req.name,
+            lines,
+            from_line: req.from_line,
+            speed: req.speed,
+            completed: None,
+        });
+        Ok(())
+    }
+
+    /// Hold, resume, stop, unlock or a feed override.
+    pub fn command(&mut self, cmd: Command) -> Result<(), Error> {
+        match cmd {
+            Command::FeedOverride(f) if !FEED_OVERRIDE.contains(&f) => Err(Error(format!(
+                "feed override {f}: between {} and {}",
+                FEED_OVERRIDE.start(),
+                FEED_OVERRIDE.end()
+            ))),
+            Command::Jog { delta, feed } => self.jog(delta, feed),
+            cmd => self.machine.command(cmd).map_err(Error::from_display),
+        }
+    }
+
+    /// Move by `delta` mm at `feed` mm/min (idle only; the machine checks its soft limits).
+    pub fn jog(&mut self, delta: [f64; 3], feed: f64) -> Result<(), Error> {
+        if !delta.iter().all(|d| d.is_finite() && d.abs() <= 10_000.0) {
+            return Err(Error(format!("jog {delta:?}: each step within ±10000 mm")));
+        }
+        if !(feed.is_finite() && feed > 0.0 && feed <= 100_000.0) {
+            return Err(Error(format!(
+                "jog feed {feed}: > 0 and at most 100000 mm/min"
+            )));
+        }
+        self.machine
+            .command(Command::Jog { delta, feed })
+            .map_err(Error::from_display)?;
+        self.fresh = false;
+        Ok(())
+    }
+
+    /// The virtual machine goes back to its reference point (the profile's start).
+    pub fn home(&mut self) -> Result<(), Error> {
+        if self.profile.is_none() {
+            return Err(Error("home real firmware from its console ($H)".into()));
+        }
+        let p = self.machine.status().machine_pos;
+        let delta = [0, 1, 2].map(|i| self.home[i] - p[i]);
+        self.jog(delta, HOME_FEED)
+    }
+
+    /// Make the current point the work zero (G54) of the virtual machine, for the axes asked.
+    pub fn zero(&mut self, axes: [bool; 3]) -> Result<(), Error> {
+        let Some(profile) = &self.profile else {
+            return Err(Error(
+                "set real firmware's work zero from its console (G10 L20 P1 X0 Y0 Z0)".into(),
+            ));
+        };
+        let status = self.machine.status();
+        if status.state != State::Idle {
+            return Err(Error(format!(
+                "work zero is set when idle, not while {}",
+                state_name(&status.state)
+            )));
+        }
+        let mut profile = profile.clone();
+        for (i, _) in axes.iter().enumerate().filter(|(_, on)| **on) {
+            profile.work_offset[i] = status.machine_pos[i];
+        }
+        profile.start = status.machine_pos;
+        let mut machine: Box<dyn Machine> =
+            Box::new(oficina_machine::VirtualMachine::new(profile.clone()));
+        self.info = machine.connect().map_err(Error::from_display)?;
+        self.machine.disconnect();
+        self.machine = machine;
+        self.profile = Some(profile);
+        self.fresh = true;
+        Ok(())
+    }
+
+    /// Every event waiting now (waits up to `timeout` for the first).
+    pub fn poll(&mut self, timeout: Duration) -> Vec<SessionEvent> {
+        let mut out = Vec::new();
+        let mut wait = timeout;
+        while let Some(e) = self.machine.next_event(wait) {
+            wait = Duration::ZERO;
+            match e {
+                Event::Status(_) => {}
+                Event::Message(text) => out.push(SessionEvent::Message { text }),
+                Event::Alarm(message) => out.push(SessionEvent::Alarm {
+                    meaning: alarm_meaning(&message),
+                    message,
+                }),
+                Event::JobEnd { completed, seconds } => {
+                    if let Some(j) = &mut self.job {
+                        j.completed = Some(completed);
+                    }
+                    out.push(SessionEvent::JobEnd { completed, seconds });
+                }
+            }
+        }
+        out
+    }
+
+    pub fn snapshot(&self) -> Snapshot {
+        let mut s = self.machine.status();
+        if let (true, Some(p)) = (self.fresh, &self.profile) {
+            s.work_pos = std::array::from_fn(|i| s.machine_pos[i] - p.work_offset[i]);
+        }
+        let alarm = match &s.state {
+            State::Alarm(a) => Some(a.clone()),
+            _ => None,
+        };
+        let running = self.job.as_ref().is_some_and(|j| j.completed.is_none());
+        let remaining = match self.job.as_ref().and_then(|j| j.speed) {
+            Some(speed) if running && s.total > 0.0 => Some((s.total - s.elapsed).max(0.0) / speed),
+            _ => None,
+        };
+        Snapshot {
+            uri: self.uri.clone(),
+            machine: self.info.name.clone(),
+            firmware: self.info.firmware.clone(),
+            state: state_name(&s.state),
+            alarm_meaning: alarm.as_deref().map(alarm_meaning),
+            alarm,
+            machine_pos: s.machine_pos,
+            work_pos: s.work_pos,
+            feed: s.feed,
+            line: s.line,
+            elapsed: s.elapsed,
+            total: s.total,
+            remaining,
+            feed_override: s.feed_override,
+            job: self.job.clone(),
+            can_home_and_zero: self.profile.is_some(),
+        }
+    }
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        self.machine.disconnect();
+    }
+}
+
+fn state_name(s: &State) -> &'static str {
+    match s {
+        State::Idle => "idle",
+        State::Run => "run",
+        State::Holding => "holding",
+        State::Hold => "hold",
+        State::Paused => "paused",
+        State::Jog => "jog",
+        State::Alarm(_) => "alarm",
+    }
+}
+
+/// What an alarm means and what to do: grbl's own table for `ALARM:N`, else the virtual
+/// machine's message (it names the line and the limit) with the way out.
+pub fn alarm_meaning(message: &str) -> String {
+    if let Some(code) = message
+        .split("ALARM:")
+        .nth(1)
+        .and_then(|r| r.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|n| n.parse::<u8>().ok())
+    {
+        return format!(
+            "{}. Unlock, then re-home or check the machine before running again.",
+            oficina_grbl::messages::describe_alarm(code)
+        );
+    }
+    if message.contains("limit") {
+        return "The program goes outside the machine's travel (soft limits, checked before any motion). Nothing moved: fix the work zero or the program, then unlock.".into();
+    }
+    "The job could not run; nothing after the reported point moved. Read the message, fix the program or the machine setting it names, then unlock.".into()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Instant;
+
+    fn wait_end(s: &mut Session) -> Vec<SessionEvent> {
+        let t = Instant::now();
+        let mut all = Vec::new();
+        while t.elapsed() < Duration::from_secs(60) {
+            let ev = s.poll(Duration::from_millis(20));
+            let end = ev.iter().any(|e| matches!(e, SessionEvent::JobEnd { .. }));
+            all.extend(ev);
+            if end {
+                return all;
+            }
+        }
+        panic!("the job did not end: {all:?}");
+    }
+
+    fn job(text: &str) -> JobRequest {
+        JobRequest {
+            name: "t.nc".into(),
+            text: Arc::new(text.into()),
+            from_line: None,
+            speed: None,
+        }
+    }
+
+    #[test]
+    fn a_job_runs_to_its_end_and_the_snapshot_says_so() {
+        let mut s = Session::open("virtual").unwrap();
+        s.start(job("G90 G0 X0 Y0 Z0\nG1 X10 F600\n(MSG,hello)\nM2\n"))
+            .unwrap();
+        let ev = wait_end(&mut s);
+        assert!(ev.contains(&SessionEvent::Message {
+            text: "hello".into()
+        }));
+        assert!(matches!(
+            ev.last(),
+            Some(SessionEvent::JobEnd {
+                completed: true,
+                ..
+            })
+        ));
+        let snap = s.snapshot();
+        assert_eq!(snap.state, "idle");
+        assert_eq!(snap.job.unwrap().completed, Some(true));
+        assert!(
+            (snap.work_pos[0] - 10.0).abs() < 1e-6,
+            "{:?}",
+            snap.work_pos
+        );
+    }
+
+    #[test]
+    fn bad_requests_are_refused_with_their_reason() {
+        let mut s = Session::open("virtual").unwrap();
+        let mut j = job("G0 X1\n");
+        j.from_line = Some(5);
+        assert!(s.start(j).unwrap_err().0.contains("1 lines"));
+        let mut j = job("G0 X1\n");
+        j.speed = Some(f64::NAN);
+        assert!(s.start(j).is_err());
+        assert!(s.command(Command::FeedOverride(7.0)).is_err());
+        assert!(s.jog([f64::INFINITY, 0.0, 0.0], 100.0).is_err());
+        assert!(s.jog([1.0, 0.0, 0.0], -5.0).is_err());
+    }
+
+    #[test]
+    fn zero_sets_work_coordinates_and_home_returns() {
+        let mut s = Session::open("virtual").unwrap();
+        let home = s.snapshot().machine_pos;
+        s.start(job("G90 G0 X5 Y5 Z0\nM2\n")).unwrap();
+        wait_end(&mut s);
+        s.zero([true, true, true]).unwrap();
+        let snap = s.snapshot();
+        assert_eq!(snap.work_pos, [0.0; 3], "{snap:?}");
+        s.home().unwrap();
+        wait_end(&mut s);
+        let back = s.snapshot().machine_pos;
+        for i in 0..3 {
+            assert!((back[i] - home[i]).abs() < 1e-6, "{back:?} vs {home:?}");
+        }
+    }
+
+    #[test]
+    fn alarms_are_explained() {
+        assert!(alarm_meaning("ALARM:2").contains("ALARM:2 ("));
+        assert!(alarm_meaning("soft limit on X at line 3").contains("travel"));
+    }
+}

@@ -1,0 +1,298 @@
+//! The HTTP API: samples, the job folder, check summaries, preview segments, relief jobs,
+//! and the page itself.
+
+use crate::files::path_in;
+use crate::samples;
+use crate::state::lock;
+use crate::{auth, AppState};
+use axum::body::{Body, Bytes};
+use axum::extract::{DefaultBodyLimit, Path, Query, State};
+use axum::http::{header, StatusCode};
+use axum::response::{Html, IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use oficina_app::{
+    carve_relief, check_program, for_each_segment, profile, CheckOptions, ReliefParams,
+};
+use oficina_gcode::Dialect;
+use serde::Deserialize;
+use serde_json::json;
+use std::sync::Arc;
+
+type ApiResult = Result<Response, (StatusCode, String)>;
+
+fn bad(msg: impl Into<String>) -> (StatusCode, String) {
+    (StatusCode::BAD_REQUEST, msg.into())
+}
+
+pub fn routes(state: Arc<AppState>) -> Router {
+    let limit = state.config.upload_limit;
+    Router::new()
+        .route("/api/info", get(info))
+        .route("/api/open", get(open_program))
+        .route("/api/job", get(running_job))
+        .route("/api/samples/{name}", get(sample))
+        .route("/api/files", get(list_files))
+        .route("/api/files/{name}", get(read_file).put(write_file))
+        .route("/api/check", post(check))
+        .route("/api/preview", post(preview))
+        .route("/api/carve", post(carve))
+        .layer(DefaultBodyLimit::max(limit))
+        .route_layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            auth::require_token,
+        ))
+        .with_state(state)
+}
+
+async fn info(State(st): State<Arc<AppState>>) -> Json<serde_json::Value> {
+    let profiles: Vec<&str> = profile::BUNDLED.iter().map(|(n, _)| *n).collect();
+    let programs: Vec<&str> = samples::PROGRAMS.iter().map(|(n, _)| *n).collect();
+    let images: Vec<&str> = samples::IMAGES.iter().map(|(n, _)| *n).collect();
+    Json(json!({
+        "machine": st.config.machine,
+        "profiles": profiles,
+        "samples": programs,
+        "images": images,
+        "upload_limit": st.config.upload_limit,
+    }))
+}
+
+/// The program the page opens with: the one named at start, else the default sample.
+async fn open_program(State(st): State<Arc<AppState>>) -> ApiResult {
+    let name = st.config.open.as_deref().unwrap_or(samples::DEFAULT);
+    let text = program_text(&st, name)?;
+    // Already in the job folder: the page checks it there by name instead of uploading it.
+    let saved = path_in(&st.config.job_dir, name).is_ok_and(|p| p.is_file());
+    Ok(Json(json!({"name": name, "text": text.as_str(), "saved": saved})).into_response())
+}
+
+/// A file of the job folder, or else a bundled sample of that name.
+pub fn program_text(st: &AppState, name: &str) -> Result<Arc<String>, (StatusCode, String)> {
+    let path = path_in(&st.config.job_dir, name).map_err(bad)?;
+    if path.is_file() {
+        return std::fs::read_to_string(&path)
+            .map(Arc::new)
+            .map_err(|e| bad(format!("{name}: {e}")));
+    }
+    samples::PROGRAMS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, t)| Arc::new(t.to_string()))
+        .ok_or((StatusCode::NOT_FOUND, format!("no program named {name}")))
+}
+
+async fn running_job(State(st): State<Arc<AppState>>) -> ApiResult {
+    match lock(&st.job).clone() {
+        Some(j) => Ok(Json(json!({"name": j.name, "text": j.text.as_str()})).into_response()),
+        None => Err((StatusCode::NOT_FOUND, "no job has run".into())),
+    }
+}
+
+async fn sample(Path(name): Path<String>) -> ApiResult {
+    if let Some((_, t)) = samples::PROGRAMS.iter().find(|(n, _)| *n == name) {
+        return Ok(t.to_string().into_response());
+    }
+    if let Some((_, b)) = samples::IMAGES.iter().find(|(n, _)| *n == name) {
+        return Ok(([(header::CONTENT_TYPE, "image/png")], *b).into_response());
+    }
+    Err((StatusCode::NOT_FOUND, format!("no sample named {name}")))
+}
+
+async fn list_files(State(st): State<Arc<AppState>>) -> ApiResult {
+    let mut names = Vec::new();
+    let dir = std::fs::read_dir(&st.config.job_dir).map_err(|e| bad(e.to_string()))?;
+    for e in dir.flatten() {
+        if e.path().is_file() {
+            names.push(e.file_name().to_string_lossy().into_owned());
+        }
+    }
+    names.sort();
+    Ok(Json(names).into_response())
+}
+
+async fn read_file(State(st): State<Arc<AppState>>, Path(name): Path<String>) -> ApiResult {
+    let path = path_in(&st.config.job_dir, &name).map_err(bad)?;
+    match tokio::fs::read(&path).await {
+        Ok(b) => Ok(b.into_response()),
+        Err(_) => Err((StatusCode::NOT_FOUND, format!("no file named {name}"))),
+    }
+}
+
+async fn write_file(
+    State(st): State<Arc<AppState>>,
+    Path(name): Path<String>,
+    body: Bytes,
+) -> ApiResult {
+    let path = path_in(&st.config.job_dir, &name).map_err(bad)?;
+    tokio::fs::write(&path, &body)
+        .await
+        .map_err(|e| bad(format!("{name}: {e}")))?;
+    st.say(&format!("saved {name} ({} bytes)", body.len()));
+    Ok(Json(json!({"name": name, "bytes": body.len()})).into_response())
+}
+
+#[derive(Deserialize)]
+struct ProgramQuery {
+    dialect: Option<String>,
+    /// A file of the job folder (or a sample) instead of the body.
+    file: Option<String>,
+}
+
+impl ProgramQuery {
+    fn dialect(&self) -> Result<Dialect, (StatusCode, String)> {
+        match &self.dialect {
+            None => Ok(Dialect::LinuxCnc),
+            Some(d) => d.parse().map_err(|e| bad(format!("dialect {d:?}: {e}"))),
+        }
+    }
+
+    fn text(&self, st: &AppState, body: Bytes) -> Result<Arc<String>, (StatusCode, String)> {
+        if let Some(name) = &self.file {
+            return program_text(st, name);
+        }
+        String::from_utf8(body.to_vec()).map(Arc::new).map_err(|e| {
+            bad(format!(
+                "the program is not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to()
+            ))
+        })
+    }
+}
+
+/// The machine profile the check and the preview use: the connected virtual machine's, or
+/// the default profile when the machine is real firmware.
+fn current_profile(st: &AppState) -> Result<oficina_app::profile::Profile, (StatusCode, String)> {
+    let p = st.with_session(|s| Ok(s.profile().cloned())).map_err(bad)?;
+    match p {
+        Some(p) => Ok(p),
+        None => profile::resolve(profile::DEFAULT).map_err(|e| bad(e.to_string())),
+    }
+}
+
+async fn check(
+    State(st): State<Arc<AppState>>,
+    Query(q): Query<ProgramQuery>,
+    body: Bytes,
+) -> ApiResult {
+    let text = q.text(&st, body)?;
+    let opts = CheckOptions {
+        profile: current_profile(&st)?,
+        dialect: q.dialect()?,
+    };
+    let report = tokio::task::spawn_blocking(move || check_program(&text, &opts))
+        .await
+        .map_err(|e| bad(e.to_string()))?;
+    Ok(Json(report).into_response())
+}
+
+/// Bytes per preview segment: from and to as 6 × f32, then line << 2 | kind as u32, all
+/// little-endian (the page reads them straight into typed arrays).
+pub const SEGMENT_BYTES: usize = 28;
+/// Segments per chunk sent: the page draws as they arrive.
+const CHUNK_SEGMENTS: usize = 8192;
+
+async fn preview(
+    State(st): State<Arc<AppState>>,
+    Query(q): Query<ProgramQuery>,
+    body: Bytes,
+) -> ApiResult {
+    let text = q.text(&st, body)?;
+    let profile = current_profile(&st)?;
+    let dialect = q.dialect()?;
+    let (tx, rx) = tokio::sync::mpsc::channel::<Vec<u8>>(8);
+    tokio::task::spawn_blocking(move || {
+        let mut buf = Vec::with_capacity(CHUNK_SEGMENTS * SEGMENT_BYTES);
+        let mut closed = false;
+        for_each_segment(&text, &profile, dialect, |s| {
+            if closed {
+                return;
+            }
+            for v in s.from.iter().chain(&s.to) {
+                buf.extend_from_slice(&(*v as f32).to_le_bytes());
+            }
+            let tag = (s.line.min(u32::MAX >> 2) << 2) | s.kind as u32;
+            buf.extend_from_slice(&tag.to_le_bytes());
+            if buf.len() >= CHUNK_SEGMENTS * SEGMENT_BYTES {
+                let full =
+                    std::mem::replace(&mut buf, Vec::with_capacity(CHUNK_SEGMENTS * SEGMENT_BYTES));
+                // The page went away: stop sending (the interpreter finishes on its own).
+                closed = tx.blocking_send(full).is_err();
+            }
+        });
+        if !buf.is_empty() && !closed {
+            let _ = tx.blocking_send(buf);
+        }
+    });
+    let stream = futures_util::stream::unfold(rx, |mut rx| async move {
+        rx.recv()
+            .await
+            .map(|b| (Ok::<_, std::io::Error>(Bytes::from(b)), rx))
+    });
+    Ok((
+        [(header::CONTENT_TYPE, "application/octet-stream")],
+        Body::from_stream(stream),
+    )
+        .into_response())
+}
+
+/// The image's name (for messages and the program's name), beside the relief parameters in
+/// the same query (serde's `flatten` would read every number as a string).
+#[derive(Deserialize)]
+struct ImageName {
+    name: String,
+}
+
+async fn carve(
+    State(st): State<Arc<AppState>>,
+    Query(q): Query<ImageName>,
+    Query(params): Query<ReliefParams>,
+    body: Bytes,
+) -> ApiResult {
+    let stem = q.name.rsplit_once('.').map_or(q.name.as_str(), |(s, _)| s);
+    let out_name = format!("{}.nc", crate::files::safe_name(stem).map_err(bad)?);
+    let out = path_in(&st.config.job_dir, &out_name).map_err(bad)?;
+    let live = st.clone();
+    let name = q.name.clone();
+    let result = tokio::task::spawn_blocking(move || {
+        let last = std::sync::Mutex::new(-1i64);
+        carve_relief(&name, &body, &params, &|stage: &str, f: f64| {
+            // At most a hundred progress messages per stage.
+            let pct = (f * 100.0) as i64;
+            let mut l = lock(&last);
+            if pct != *l {
+                *l = pct;
+                let _ = live
+                    .live
+                    .send(json!({"type": "progress", "stage": stage, "fraction": f}).to_string());
+            }
+        })
+    })
+    .await
+    .map_err(|e| bad(e.to_string()))?
+    .map_err(|e| bad(e.to_string()))?;
+    tokio::fs::write(&out, &result.program)
+        .await
+        .map_err(|e| bad(format!("{out_name}: {e}")))?;
+    st.say(&format!(
+        "carved {} ({} x {} pixels of {:.3} mm) into {out_name}",
+        q.name, result.pixels[0], result.pixels[1], result.pixel_size
+    ));
+    Ok(Json(json!({"name": out_name, "text": result.program})).into_response())
+}
+
+/// The built page, or a page that says how to build it.
+pub fn page_service(st: &AppState) -> Router {
+    match &st.config.web_dir {
+        Some(dir) if dir.join("index.html").is_file() => Router::new().fallback_service(
+            tower_http::services::ServeDir::new(dir)
+                .fallback(tower_http::services::ServeFile::new(dir.join("index.html"))),
+        ),
+        _ => Router::new().fallback(|| async {
+            (
+                StatusCode::OK,
+                Html("<!doctype html><title>Oficina</title><h1>Oficina workbench</h1><p>The page is not built: run <code>npm ci &amp;&amp; npm run build</code> in <code>web/</code> (or <code>bash scripts/workbench</code>), then reload. The API is up under <code>/api</code>.</p>"),
+            )
+        }),
+    }
+}

@@ -1,0 +1,55 @@
+//! The workbench server: HTTP and a WebSocket over `oficina-app`, and the page from `web/`.
+//! No domain logic here: requests are parsed, the application layer is called, its data is
+//! sent back as JSON (or, for previews, packed binary).
+
+mod api;
+mod auth;
+mod files;
+mod samples;
+mod state;
+mod ws;
+
+pub use state::{AppState, Config};
+
+use axum::Router;
+use std::net::SocketAddr;
+use std::sync::Arc;
+
+/// Every route: the API under /api, the live channel at /ws, the page everywhere else.
+pub fn router(state: Arc<AppState>) -> Router {
+    api::routes(state.clone())
+        .merge(ws::routes(state.clone()))
+        .fallback_service(api::page_service(&state))
+}
+
+/// Refuse to listen beyond this computer without a token: anyone on the network could
+/// otherwise move the machine.
+pub fn check_listen(addr: &SocketAddr, token: Option<&str>) -> Result<(), String> {
+    if addr.ip().is_loopback() {
+        return Ok(());
+    }
+    match token {
+        Some(t) if t.len() >= 16 => Ok(()),
+        Some(_) => Err("--token: at least 16 characters on a network address".into()),
+        None => Err(format!(
+            "--listen {addr} reaches beyond this computer: give --token SECRET (16 characters or more); the page is then opened as http://{addr}/?token=SECRET"
+        )),
+    }
+}
+
+/// Bind, tell `ready` the address, and serve until the process ends.
+pub async fn serve(
+    config: Config,
+    ready: impl FnOnce(SocketAddr),
+) -> Result<(), Box<dyn std::error::Error>> {
+    check_listen(&config.addr, config.token.as_deref())?;
+    let listener = tokio::net::TcpListener::bind(config.addr)
+        .await
+        .map_err(|e| format!("cannot listen on {}: {e}", config.addr))?;
+    let addr = listener.local_addr()?;
+    let state = AppState::new(config)?;
+    state::spawn_pump(state.clone());
+    ready(addr);
+    axum::serve(listener, router(state)).await?;
+    Ok(())
+}

@@ -1,0 +1,24 @@
+//! Programs and images bundled in the binary, so the page opens with something to run.
+
+pub const PROGRAMS: &[(&str, &str)] = &[
+    (
+        "plate.nc",
+        include_str!("../../../samples/workbench/plate.nc"),
+    ),
+    (
+        "router-square.nc",
+        include_str!("../../../samples/motion/router-square.nc"),
+    ),
+    (
+        "polar-shapes.nc",
+        include_str!("../../../samples/motion/polar-shapes.nc"),
+    ),
+];
+
+pub const IMAGES: &[(&str, &[u8])] = &[(
+    "dome.png",
+    include_bytes!("../../../samples/relief/dome.png"),
+)];
+
+/// The program the page opens with when none is given.
+pub const DEFAULT: &str = "plate.nc";

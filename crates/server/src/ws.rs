@@ -1,0 +1,192 @@
+//! The live channel: status, console and events to every page; commands from the one page
+//! that controls the machine. A page that goes away releases control and nothing else: the
+//! job runs on.
+
+use crate::state::lock;
+use crate::{auth, AppState};
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::extract::State;
+use axum::response::Response;
+use axum::routing::get;
+use axum::Router;
+use futures_util::{SinkExt, StreamExt};
+use oficina_app::JobRequest;
+use oficina_machine::Command;
+use serde::Deserialize;
+use serde_json::json;
+use std::sync::Arc;
+
+pub fn routes(state: Arc<AppState>) -> Router {
+    Router::new()
+        .route("/ws", get(upgrade))
+        .route_layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            auth::require_token,
+        ))
+        .with_state(state)
+}
+
+/// Largest command message; programs go to the job folder, not through the socket.
+const MESSAGE_LIMIT: usize = 64 * 1024;
+
+async fn upgrade(State(st): State<Arc<AppState>>, ws: WebSocketUpgrade) -> Response {
+    ws.max_message_size(MESSAGE_LIMIT)
+        .on_upgrade(move |socket| client(st, socket))
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "cmd", rename_all = "snake_case")]
+enum Request {
+    TakeControl,
+    Connect {
+        uri: String,
+    },
+    Start {
+        /// A file of the job folder or a bundled sample.
+        file: String,
+        from_line: Option<u32>,
+        speed: Option<f64>,
+    },
+    Hold,
+    Resume,
+    Stop,
+    Unlock,
+    FeedOverride {
+        value: f64,
+    },
+    Jog {
+        delta: [f64; 3],
+        feed: f64,
+    },
+    Home,
+    Zero {
+        axes: [bool; 3],
+    },
+}
+
+async fn client(st: Arc<AppState>, socket: WebSocket) {
+    let me = st.new_client();
+    let controls = {
+        let mut c = lock(&st.controller);
+        if c.is_none() {
+            *c = Some(me);
+        }
+        *c == Some(me)
+    };
+    let mut live = st.live.subscribe();
+    let (mut tx, mut rx) = socket.split();
+    let history: Vec<String> = lock(&st.console).iter().cloned().collect();
+    let hello = [
+        json!({"type": "hello", "client": me, "controller": controls}),
+        json!({"type": "console", "lines": history}),
+        st.snapshot_json(),
+    ];
+    for m in hello {
+        if tx.send(Message::Text(m.to_string().into())).await.is_err() {
+            return release(&st, me);
+        }
+    }
+    if controls {
+        announce_control(&st);
+    }
+    loop {
+        tokio::select! {
+            out = live.recv() => match out {
+                Ok(text) => {
+                    if tx.send(Message::Text(text.into())).await.is_err() {
+                        break;
+                    }
+                }
+                // A slow page skips status it could not keep up with.
+                Err(tokio::sync::broadcast::error::RecvError::Lagged(_)) => continue,
+                Err(_) => break,
+            },
+            inc = rx.next() => match inc {
+                Some(Ok(Message::Text(text))) => {
+                    let reply = handle(&st, me, &text).await;
+                    if tx.send(Message::Text(reply.to_string().into())).await.is_err() {
+                        break;
+                    }
+                }
+                Some(Ok(Message::Close(_))) | None | Some(Err(_)) => break,
+                Some(Ok(_)) => {}
+            },
+        }
+    }
+    release(&st, me);
+}
+
+fn release(st: &AppState, me: u64) {
+    let mut c = lock(&st.controller);
+    if *c == Some(me) {
+        *c = None;
+        drop(c);
+        announce_control(st);
+    }
+}
+
+fn announce_control(st: &AppState) {
+    let c = *lock(&st.controller);
+    let _ = st
+        .live
+        .send(json!({"type": "control", "controller": c}).to_string());
+}
+
+async fn handle(st: &Arc<AppState>, me: u64, text: &str) -> serde_json::Value {
+    let req: Request = match serde_json::from_str(text) {
+        Ok(r) => r,
+        Err(e) => return json!({"type": "error", "message": format!("bad command: {e}")}),
+    };
+    if let Request::TakeControl = req {
+        *lock(&st.controller) = Some(me);
+        announce_control(st);
+        return json!({"type": "ok", "cmd": "take_control", "controller": me});
+    }
+    if *lock(&st.controller) != Some(me) {
+        return json!({"type": "error", "message": "another page controls the machine: this one watches (take control to act)"});
+    }
+    let st2 = st.clone();
+    let result = tokio::task::spawn_blocking(move || run(&st2, req))
+        .await
+        .unwrap_or_else(|e| Err(e.to_string()));
+    match result {
+        Ok(what) => json!({"type": "ok", "cmd": what}),
+        Err(message) => json!({"type": "error", "message": message}),
+    }
+}
+
+fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
+    let cmd = |c: Command| st.with_session(|s| s.command(c).map_err(|e| e.to_string()));
+    match req {
+        Request::TakeControl => Ok("take_control"),
+        Request::Connect { uri } => st.connect(&uri).map(|()| "connect"),
+        Request::Start {
+            file,
+            from_line,
+            speed,
+        } => {
+            let text = crate::api::program_text(st, &file).map_err(|(_, m)| m)?;
+            st.start(JobRequest {
+                name: file,
+                text,
+                from_line,
+                speed,
+            })
+            .map(|()| "start")
+        }
+        Request::Hold => cmd(Command::Hold).map(|()| "hold"),
+        Request::Resume => cmd(Command::Resume).map(|()| "resume"),
+        Request::Stop => cmd(Command::Stop).map(|()| "stop"),
+        Request::Unlock => cmd(Command::Unlock).map(|()| "unlock"),
+        Request::FeedOverride { value } => {
+            cmd(Command::FeedOverride(value)).map(|()| "feed_override")
+        }
+        Request::Jog { delta, feed } => cmd(Command::Jog { delta, feed }).map(|()| "jog"),
+        Request::Home => st
+            .with_session(|s| s.home().map_err(|e| e.to_string()))
+            .map(|()| "home"),
+        Request::Zero { axes } => st
+            .with_session(|s| s.zero(axes).map_err(|e| e.to_string()))
+            .map(|()| "zero"),
+    }
+}

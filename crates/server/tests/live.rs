@@ -1,0 +1,169 @@
+//! The live channel over a real socket: one page controls, others watch; a page that goes
+//! away never stops the job; the page that comes back finds it where it is.
+
+use futures_util::{SinkExt, StreamExt};
+use oficina_server::Config;
+use serde_json::{json, Value};
+use std::time::Duration;
+use tokio_tungstenite::tungstenite::Message;
+
+type Ws =
+    tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
+
+async fn server(dir: &std::path::Path) -> std::net::SocketAddr {
+    let (tx, rx) = tokio::sync::oneshot::channel();
+    let config = Config {
+        addr: "127.0.0.1:0".parse().unwrap(),
+        token: None,
+        job_dir: dir.join("jobs"),
+        web_dir: None,
+        machine: "virtual".into(),
+        upload_limit: 1 << 20,
+        open: None,
+    };
+    tokio::spawn(async move {
+        oficina_server::serve(config, |a| {
+            let _ = tx.send(a);
+        })
+        .await
+        .unwrap();
+    });
+    rx.await.unwrap()
+}
+
+async fn connect(addr: std::net::SocketAddr) -> Ws {
+    tokio_tungstenite::connect_async(format!("ws://{addr}/ws"))
+        .await
+        .unwrap()
+        .0
+}
+
+/// The next message for which `want` is true (others are skipped), within 30 s.
+async fn until(ws: &mut Ws, want: impl Fn(&Value) -> bool) -> Value {
+    let wait = async {
+        while let Some(Ok(m)) = ws.next().await {
+            if let Message::Text(t) = m {
+                let v: Value = serde_json::from_str(&t).unwrap();
+                if want(&v) {
+                    return v;
+                }
+            }
+        }
+        panic!("the socket closed");
+    };
+    tokio::time::timeout(Duration::from_secs(30), wait)
+        .await
+        .expect("no such message within 30 s")
+}
+
+async fn send(ws: &mut Ws, v: Value) -> Value {
+    ws.send(Message::Text(v.to_string().into())).await.unwrap();
+    until(ws, |m| m["type"] == "ok" || m["type"] == "error").await
+}
+
+fn state_is(s: &'static str) -> impl Fn(&Value) -> bool {
+    move |m| m["type"] == "status" && m["status"]["state"] == s
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_page_controls_and_a_dropped_page_never_stops_the_job() {
+    let dir = tempfile::tempdir().unwrap();
+    let addr = server(dir.path()).await;
+    let mut a = connect(addr).await;
+    let hello = until(&mut a, |m| m["type"] == "hello").await;
+    assert_eq!(hello["controller"], true);
+    let mut b = connect(addr).await;
+    let hello_b = until(&mut b, |m| m["type"] == "hello").await;
+    assert_eq!(hello_b["controller"], false);
+
+    // The watcher may not move the machine.
+    let r = send(&mut b, json!({"cmd": "hold"})).await;
+    assert_eq!(r["type"], "error");
+    assert!(r["message"].as_str().unwrap().contains("controls"), "{r}");
+    // Bad commands are refused with the reason.
+    let r = send(&mut a, json!({"cmd": "fly"})).await;
+    assert!(
+        r["message"].as_str().unwrap().contains("bad command"),
+        "{r}"
+    );
+    let r = send(&mut a, json!({"cmd": "start", "file": "../x.nc"})).await;
+    assert_eq!(r["type"], "error", "{r}");
+    let r = send(&mut a, json!({"cmd": "feed_override", "value": 9.0})).await;
+    assert_eq!(r["type"], "error", "{r}");
+    // A machine that cannot be opened leaves the connected one in place.
+    let r = send(&mut a, json!({"cmd": "connect", "uri": "no-such-profile"})).await;
+    assert!(
+        r["message"].as_str().unwrap().contains("no-such-profile"),
+        "{r}"
+    );
+
+    // The controller starts the bundled sample (81 s of machine time) at 5x.
+    let r = send(
+        &mut a,
+        json!({"cmd": "start", "file": "plate.nc", "speed": 5.0}),
+    )
+    .await;
+    assert_eq!(r["type"], "ok", "{r}");
+    until(&mut b, state_is("run")).await;
+    // The controlling page goes away mid-job.
+    drop(a);
+    let c = until(&mut b, |m| m["type"] == "control").await;
+    assert_eq!(c["controller"], Value::Null);
+    let s = until(&mut b, state_is("run")).await;
+    let line_then = s["status"]["line"].as_u64().unwrap();
+
+    // A page that comes back sees the job where it is, and its text.
+    let mut a2 = connect(addr).await;
+    let hello = until(&mut a2, |m| m["type"] == "hello").await;
+    assert_eq!(
+        hello["controller"], true,
+        "control was free: the new page has it"
+    );
+    let s = until(&mut a2, state_is("run")).await;
+    assert!(s["status"]["line"].as_u64().unwrap() >= line_then);
+    assert_eq!(s["status"]["job"]["name"], "plate.nc");
+    let job: Value = serde_json::from_str(
+        &tokio::task::spawn_blocking(move || http_get(addr, "/api/job"))
+            .await
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(job["name"], "plate.nc");
+
+    // Hold, then resume, then the job ends complete.
+    assert_eq!(send(&mut a2, json!({"cmd": "hold"})).await["type"], "ok");
+    let held = until(&mut a2, state_is("hold")).await;
+    let t = held["status"]["elapsed"].as_f64().unwrap();
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let still = until(&mut a2, state_is("hold")).await;
+    assert_eq!(
+        still["status"]["elapsed"].as_f64().unwrap(),
+        t,
+        "held means still"
+    );
+    assert_eq!(send(&mut a2, json!({"cmd": "resume"})).await["type"], "ok");
+    let end = until(&mut a2, |m| {
+        m["type"] == "event" && m["event"]["type"] == "job_end"
+    })
+    .await;
+    assert_eq!(end["event"]["completed"], true, "{end}");
+    let s = until(&mut a2, state_is("idle")).await;
+    assert_eq!(s["status"]["job"]["completed"], true);
+}
+
+/// A plain HTTP GET (the test needs no HTTP client crate for one request).
+fn http_get(addr: std::net::SocketAddr, path: &str) -> String {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(addr).unwrap();
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut out = String::new();
+    s.read_to_string(&mut out).unwrap();
+    let body = out.split_once("\r\n\r\n").unwrap().1;
+    // Chunked or not, the JSON object is the part between the outer braces.
+    let (a, b) = (body.find('{').unwrap(), body.rfind('}').unwrap());
+    body[a..=b].to_string()
+}

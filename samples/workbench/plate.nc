@@ -1,0 +1,82 @@
+(Oficina workbench sample: a 60 x 40 mm plate outline, a round pocket and four holes)
+(Work coordinates: the profile's stored G54; Z0 is the stock top, 3 mm deep in 1 mm passes)
+G21 G90 G17 G54
+T1 M6 (flat 3 mm)
+S18000 M3
+G0 Z5
+#1 = 3 (tool diameter)
+(outline pass 1)
+G0 X-1.5 Y-1.5
+G1 Z-1 F300
+G1 X61.5 F1200
+Y41.5
+X-1.5
+Y-1.5
+G0 Z5
+(outline pass 2)
+G0 X-1.5 Y-1.5
+G1 Z-2 F300
+G1 X61.5 F1200
+Y41.5
+X-1.5
+Y-1.5
+G0 Z5
+(outline pass 3)
+G0 X-1.5 Y-1.5
+G1 Z-3 F300
+G1 X61.5 F1200
+Y41.5
+X-1.5
+Y-1.5
+G0 Z5
+(round pocket pass 1)
+G0 X20 Y20
+G1 Z-1 F300
+G1 X22 Y20 F1200
+G3 X22 Y20 I-2 J0
+G1 X24 Y20 F1200
+G3 X24 Y20 I-4 J0
+G1 X26 Y20 F1200
+G3 X26 Y20 I-6 J0
+G1 X28 Y20 F1200
+G3 X28 Y20 I-8 J0
+G0 Z5
+(round pocket pass 2)
+G0 X20 Y20
+G1 Z-2 F300
+G1 X22 Y20 F1200
+G3 X22 Y20 I-2 J0
+G1 X24 Y20 F1200
+G3 X24 Y20 I-4 J0
+G1 X26 Y20 F1200
+G3 X26 Y20 I-6 J0
+G1 X28 Y20 F1200
+G3 X28 Y20 I-8 J0
+G0 Z5
+(round pocket pass 3)
+G0 X20 Y20
+G1 Z-3 F300
+G1 X22 Y20 F1200
+G3 X22 Y20 I-2 J0
+G1 X24 Y20 F1200
+G3 X24 Y20 I-4 J0
+G1 X26 Y20 F1200
+G3 X26 Y20 I-6 J0
+G1 X28 Y20 F1200
+G3 X28 Y20 I-8 J0
+G0 Z5
+G0 X45 Y10
+G1 Z-3 F200
+G0 Z5
+G0 X55 Y10
+G1 Z-3 F200
+G0 Z5
+G0 X45 Y30
+G1 Z-3 F200
+G0 Z5
+G0 X55 Y30
+G1 Z-3 F200
+G0 Z5
+M5
+G0 X0 Y0 Z10
+M30

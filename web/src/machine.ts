@@ -1,0 +1,148 @@
+// The machine panel: connect, DRO, jog, home, zero, start / hold / resume / stop, resume from
+// a line, feed override, progress with elapsed and remaining time, console and alarms.
+
+import type { LiveMessage, Snapshot } from './api';
+
+const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
+
+interface Hooks {
+  send(cmd: Record<string, unknown>): void;
+  prepareStart(): Promise<string>;
+  error(msg: string): void;
+  onStatus(s: Snapshot): void;
+}
+
+function hms(s: number | null): string {
+  if (s === null || !isFinite(s)) return '—';
+  s = Math.max(0, Math.round(s));
+  return `${Math.floor(s / 3600)}:${String(Math.floor(s / 60) % 60).padStart(2, '0')}:${String(s % 60).padStart(2, '0')}`;
+}
+
+export class MachinePanel {
+  private controls = false;
+  private client = 0;
+  private last: Snapshot | null = null;
+
+  constructor(private hooks: Hooks) {
+    const send = (cmd: Record<string, unknown>) => {
+      try { hooks.send(cmd); } catch (e) { hooks.error((e as Error).message); }
+    };
+    $('connect').onclick = () => send({ cmd: 'connect', uri: $<HTMLSelectElement>('machine-uri').value });
+    $('hold').onclick = () => send({ cmd: 'hold' });
+    $('resume').onclick = () => send({ cmd: 'resume' });
+    $('stop').onclick = () => send({ cmd: 'stop' });
+    $('unlock').onclick = () => send({ cmd: 'unlock' });
+    $('home').onclick = () => send({ cmd: 'home' });
+    $('zero').onclick = () => send({ cmd: 'zero', axes: [true, true, true] });
+    $('control').onclick = () => { if (!this.controls) send({ cmd: 'take_control' }); };
+    $('start').onclick = async () => {
+      try {
+        const file = await hooks.prepareStart();
+        const from = $<HTMLInputElement>('from-line').value;
+        const speed = Number($<HTMLSelectElement>('speed').value);
+        send({ cmd: 'start', file, from_line: from ? Number(from) : null, speed: speed > 0 ? speed : null });
+      } catch (e) {
+        hooks.error((e as Error).message);
+      }
+    };
+    for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) {
+      b.onclick = () => {
+        const step = Number($<HTMLSelectElement>('jog-step').value);
+        const delta = b.dataset.jog!.split(',').map((v) => Number(v) * step);
+        send({ cmd: 'jog', delta, feed: Number($<HTMLInputElement>('jog-feed').value) });
+      };
+    }
+    const fo = $<HTMLInputElement>('fo');
+    fo.oninput = () => { $('fo-value').textContent = `${fo.value} %`; };
+    fo.onchange = () => send({ cmd: 'feed_override', value: Number(fo.value) / 100 });
+  }
+
+  setMachines(current: string, profiles: string[]) {
+    const sel = $<HTMLSelectElement>('machine-uri');
+    const options = ['virtual', ...profiles.map((p) => `virtual:${p}`)];
+    if (!options.includes(current)) options.unshift(current);
+    sel.innerHTML = options.map((o) => `<option${o === current ? ' selected' : ''}>${o}</option>`).join('');
+    const custom = document.createElement('option');
+    custom.textContent = 'grbl: or tcp://… (type)';
+    custom.value = '';
+    sel.appendChild(custom);
+    sel.onchange = () => {
+      if (sel.value === '') {
+        const uri = prompt('Machine address: grbl:/dev/ttyUSB0, tcp://HOST:PORT', 'tcp://127.0.0.1:2323');
+        if (uri) { const o = document.createElement('option'); o.textContent = uri; sel.insertBefore(o, custom); sel.value = uri; }
+      }
+    };
+  }
+
+  connected() {
+    this.log('(connected to the server)');
+  }
+
+  private log(line: string) {
+    const c = $('console');
+    c.textContent += line + '\n';
+    if (c.textContent!.length > 100_000) c.textContent = c.textContent!.slice(-50_000);
+    c.scrollTop = c.scrollHeight;
+  }
+
+  private setControl(controls: boolean) {
+    this.controls = controls;
+    const pill = $('control');
+    pill.textContent = controls ? 'controlling the machine' : 'watching (click to take control)';
+    pill.classList.toggle('controls', controls);
+    this.updateButtons();
+  }
+
+  handle(m: LiveMessage) {
+    switch (m.type) {
+      case 'hello': this.client = m.client; this.setControl(m.controller); break;
+      case 'control': this.setControl(m.controller === this.client); break;
+      case 'console': for (const l of m.lines) this.log(l); break;
+      case 'status': if (m.status) this.status(m.status); break;
+      case 'progress': $('carve-status').textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`; break;
+      case 'error': this.hooks.error(m.message); this.log('! ' + m.message); break;
+      case 'ok': this.hooks.error(''); break;
+      case 'event': break;
+    }
+  }
+
+  private status(s: Snapshot) {
+    this.last = s;
+    $('machine-name').textContent = `${s.machine} · ${s.firmware}`;
+    const f = (v: number) => v.toFixed(3);
+    ['x', 'y', 'z'].forEach((a, i) => {
+      $('w' + a).textContent = f(s.work_pos[i]);
+      $('m' + a).textContent = f(s.machine_pos[i]);
+    });
+    $('state').textContent = s.state;
+    $('line').textContent = String(s.line);
+    $('feed').textContent = s.feed.toFixed(0);
+    const p = $<HTMLProgressElement>('progress');
+    p.value = s.total > 0 ? Math.min(1, s.elapsed / s.total) : 0;
+    const speed = s.job?.speed ?? null;
+    $('elapsed').textContent = hms(speed ? s.elapsed / speed : s.elapsed);
+    $('remaining').textContent = hms(s.remaining);
+    $('alarm').hidden = s.alarm === null;
+    $('alarm-text').textContent = s.alarm ?? '';
+    $('alarm-meaning').textContent = s.alarm_meaning ?? '';
+    document.body.dataset.state = s.state;
+    document.body.dataset.jobDone = s.job?.completed === true ? 'completed' : s.job?.completed === false ? 'stopped' : '';
+    this.updateButtons();
+    this.hooks.onStatus(s);
+  }
+
+  private updateButtons() {
+    const s = this.last?.state ?? 'idle';
+    const c = this.controls;
+    const idle = s === 'idle';
+    const set = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !(c && on); };
+    set('start', idle);
+    set('hold', s === 'run');
+    set('resume', s === 'hold' || s === 'holding' || s === 'paused');
+    set('stop', !idle && s !== 'alarm');
+    set('connect', idle || s === 'alarm');
+    set('home', idle && !!this.last?.can_home_and_zero);
+    set('zero', idle && !!this.last?.can_home_and_zero);
+    for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) b.disabled = !(c && idle);
+  }
+}

@@ -1,0 +1,286 @@
+// The workbench page: wires the editor, the preview and the machine panel to the server.
+// Everything the page knows about G-code comes from the server's interpreter.
+
+import { CheckReport, Live, LiveMessage, Snapshot, getJson, postJson, putFile, withToken } from './api';
+import { Editor } from './editor';
+import { Preview, View } from './preview';
+import type { WorkerOut } from './worker';
+import { MachinePanel } from './machine';
+
+const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
+
+/// Programs larger than this go to the job folder once and are checked there by name.
+const INLINE_LIMIT = 4 * 1024 * 1024;
+/// Typing pauses this long before the check and the preview run again, ms.
+const EDIT_DEBOUNCE_MS = 350;
+
+interface Program { name: string; text: string; saved: boolean; }
+
+const editor = new Editor();
+const preview = new Preview($('viewport'));
+const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
+let program: Program = { name: 'untitled.nc', text: '', saved: false };
+let worker: Worker | null = null;
+let image: { name: string; bytes: ArrayBuffer } | null = null;
+let editTimer = 0;
+
+function error(msg: string) {
+  $('error').textContent = msg;
+}
+
+function safeName(name: string): string {
+  const s = name.replace(/[^A-Za-z0-9._-]/g, '_').replace(/^\.+/, '').slice(0, 100);
+  return s || 'program.nc';
+}
+
+function hms(s: number): string {
+  if (!isFinite(s)) return '—';
+  s = Math.max(0, Math.round(s));
+  return `${Math.floor(s / 3600)}:${String(Math.floor(s / 60) % 60).padStart(2, '0')}:${String(s % 60).padStart(2, '0')}`;
+}
+
+async function ensureSaved(): Promise<void> {
+  if (program.saved) return;
+  await putFile(program.name, program.text);
+  program.saved = true;
+}
+
+/// Where the check and the preview read the program: inline, or the saved file when big.
+async function source(path: string): Promise<{ url: string; body: string | null }> {
+  if (program.text.length > INLINE_LIMIT) {
+    await ensureSaved();
+    return { url: withToken(`${path}?file=${encodeURIComponent(program.name)}`), body: null };
+  }
+  return { url: withToken(path), body: program.text };
+}
+
+async function runCheck() {
+  const gen = ++stats.checks;
+  try {
+    const src = await source('/api/check');
+    const r = await fetch(src.url, { method: 'POST', body: src.body });
+    if (!r.ok) throw new Error(await r.text());
+    const report: CheckReport = await r.json();
+    if (gen !== stats.checks) return;
+    stats.lastCheck = report;
+    showCheck(report);
+  } catch (e) {
+    error(`check: ${(e as Error).message}`);
+  }
+}
+
+function showCheck(r: CheckReport) {
+  editor.setDiagnostics(r.diagnostics);
+  const list = $('diagnostics');
+  list.innerHTML = '';
+  for (const d of r.diagnostics.slice(0, 500)) {
+    const li = document.createElement('li');
+    li.className = d.severity;
+    li.textContent = `${d.line}:${d.col} ${d.message}${d.help ? ' — ' + d.help : ''}`;
+    li.onclick = () => editor.goTo(d.line, d.col);
+    list.appendChild(li);
+  }
+  const e = r.feed_extents;
+  const size = e ? `${(e.max[0] - e.min[0]).toFixed(1)} × ${(e.max[1] - e.min[1]).toFixed(1)} × ${(e.max[2] - e.min[2]).toFixed(1)} mm` : 'no cutting moves';
+  const time = r.time.Ok ? hms(r.time.Ok.seconds) : `no estimate (${r.time.Err})`;
+  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}`;
+  $('summary').dataset.extents = e ? JSON.stringify(e) : '';
+}
+
+function runPreview() {
+  worker?.terminate();
+  preview.clear();
+  // About one segment per 25 bytes of G-code: enough to choose the level of detail early.
+  preview.expect(program.text.length / 25);
+  const gen = ++stats.previews;
+  const t0 = performance.now();
+  let first = true;
+  const w = new Worker(new URL('./worker.ts', import.meta.url), { type: 'module' });
+  worker = w;
+  w.onmessage = (e: MessageEvent<WorkerOut>) => {
+    if (gen !== stats.previews) return;
+    const m = e.data;
+    if (m.type === 'batch') {
+      preview.add(m);
+      if (first) { stats.firstBatchMs = performance.now() - t0; first = false; }
+      $('preview-info').textContent = `${preview.total.toLocaleString()} segments…`;
+    } else if (m.type === 'done') {
+      preview.finished();
+      stats.segments = m.segments;
+      stats.previewDone = gen;
+      stats.previewMs = performance.now() - t0;
+      const scrub = $<HTMLInputElement>('scrub');
+      scrub.max = String(preview.total);
+      scrub.value = String(preview.total);
+      $('preview-info').textContent = `${m.segments.toLocaleString()} segments in ${(stats.previewMs / 1000).toFixed(2)} s`;
+      $('viewport').dataset.segments = String(m.segments);
+      w.terminate();
+    } else {
+      error(`preview: ${m.message}`);
+    }
+  };
+  source('/api/preview').then((src) => w.postMessage(src)).catch((e) => error(`preview: ${e.message}`));
+}
+
+function loadProgram(name: string, text: string, saved = false) {
+  stats.loadStartMs = performance.now();
+  program = { name: safeName(name), text, saved };
+  editor.value = text;
+  stats.editorMs = performance.now() - stats.loadStartMs;
+  editor.setCurrentLine(0);
+  $('program-name').textContent = program.name;
+  error('');
+  runCheck();
+  runPreview();
+}
+
+editor.onChange = (text) => {
+  program.text = text;
+  program.saved = false;
+  clearTimeout(editTimer);
+  editTimer = window.setTimeout(() => { runCheck(); runPreview(); }, EDIT_DEBOUNCE_MS);
+};
+
+// Opening files: picker, drag and drop, samples.
+const IMAGE = /\.(png|jpe?g|tiff?)$/i;
+async function openFile(f: File) {
+  if (IMAGE.test(f.name)) {
+    image = { name: safeName(f.name), bytes: await f.arrayBuffer() };
+    setProcess('relief');
+  } else {
+    setProcess('gcode');
+    loadProgram(f.name, await f.text());
+  }
+}
+$<HTMLInputElement>('file-input').onchange = (e) => {
+  const f = (e.target as HTMLInputElement).files?.[0];
+  if (f) openFile(f);
+};
+let dragDepth = 0;
+window.addEventListener('dragenter', (e) => { e.preventDefault(); dragDepth++; $('drop').hidden = false; });
+window.addEventListener('dragleave', () => { if (--dragDepth <= 0) { dragDepth = 0; $('drop').hidden = true; } });
+window.addEventListener('dragover', (e) => e.preventDefault());
+window.addEventListener('drop', (e) => {
+  e.preventDefault();
+  dragDepth = 0;
+  $('drop').hidden = true;
+  const f = e.dataTransfer?.files[0];
+  if (f) openFile(f);
+});
+
+async function openSample(name: string) {
+  const r = await fetch(withToken('/api/samples/' + encodeURIComponent(name)));
+  if (!r.ok) return error(await r.text());
+  if (IMAGE.test(name)) {
+    image = { name, bytes: await r.arrayBuffer() };
+    setProcess('relief');
+  } else {
+    setProcess('gcode');
+    loadProgram(name, await r.text());
+  }
+}
+$<HTMLSelectElement>('sample').onchange = (e) => {
+  const v = (e.target as HTMLSelectElement).value;
+  if (v) openSample(v);
+};
+
+// Processes: a G-code program as it is, or a relief carved from an image.
+function setProcess(p: 'gcode' | 'relief') {
+  $<HTMLSelectElement>('process').value = p;
+  $('relief-form').hidden = p !== 'relief';
+  $('relief-image').textContent = image ? image.name : 'an image (open one)';
+}
+$<HTMLSelectElement>('process').onchange = (e) => {
+  const p = (e.target as HTMLSelectElement).value as 'gcode' | 'relief';
+  if (p === 'relief' && !image) openSample('dome.png');
+  else setProcess(p);
+};
+
+async function carve() {
+  if (!image) return error('open an image first');
+  const form = $('relief-form');
+  const params = new URLSearchParams({ name: image.name });
+  for (const input of Array.from(form.querySelectorAll('input'))) {
+    if (!input.checkValidity()) {
+      input.focus();
+      return error(`${input.name}: ${input.validationMessage}`);
+    }
+    if (input.value !== '') params.set(input.name, input.value);
+  }
+  $<HTMLButtonElement>('carve').disabled = true;
+  $('carve-status').textContent = 'carving…';
+  try {
+    const r = await postJson<{ name: string; text: string }>('/api/carve?' + params, image.bytes);
+    $('carve-status').textContent = `${r.name}: ${r.text.split('\n').length} lines`;
+    loadProgram(r.name, r.text, true);
+  } catch (e) {
+    $('carve-status').textContent = '';
+    error(`carve: ${(e as Error).message}`);
+  } finally {
+    $<HTMLButtonElement>('carve').disabled = false;
+  }
+}
+$('carve').onclick = carve;
+
+// Views and the timeline.
+for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#views button'))) {
+  b.onclick = () => {
+    preview.setView(b.dataset.view as View);
+    document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', x === b));
+  };
+}
+$<HTMLInputElement>('scrub').oninput = (e) => {
+  const s = Number((e.target as HTMLInputElement).value);
+  const line = preview.scrubTo(s);
+  editor.setCurrentLine(line);
+  $('scrub-info').textContent = `segment ${s.toLocaleString()} · line ${line}`;
+};
+
+// The machine.
+const panel = new MachinePanel({
+  send: (cmd) => live.send(cmd),
+  prepareStart: async () => { await ensureSaved(); return program.name; },
+  error,
+  onStatus: (s: Snapshot) => followJob(s),
+});
+
+/// While the loaded program runs, the editor and the preview follow the machine.
+function followJob(s: Snapshot) {
+  const running = s.job && s.job.completed === null && s.job.name === program.name;
+  if (!running || s.line <= 0) return;
+  editor.setCurrentLine(s.line);
+  const seg = preview.segmentOfLine(s.line);
+  preview.scrubTo(seg);
+  preview.placeMarker(s.machine_pos[0], s.machine_pos[1], s.machine_pos[2]);
+  $<HTMLInputElement>('scrub').value = String(seg);
+  $('scrub-info').textContent = `line ${s.line}`;
+}
+
+/// A page that opens (or reloads) while a job runs shows that job, where it is.
+let joined = false;
+async function onLive(m: LiveMessage) {
+  panel.handle(m);
+  if (m.type === 'status' && m.status && !joined) {
+    joined = true;
+    const job = m.status.job;
+    if (job && job.completed === null) {
+      const j = await getJson<{ name: string; text: string }>('/api/job');
+      loadProgram(j.name, j.text, true);
+    } else {
+      const o = await getJson<{ name: string; text: string; saved: boolean }>('/api/open');
+      loadProgram(o.name, o.text, o.saved);
+    }
+  }
+}
+const live = new Live(onLive, () => panel.connected());
+
+async function init() {
+  const info = await getJson<{ machine: string; profiles: string[]; samples: string[]; images: string[] }>('/api/info');
+  const sample = $<HTMLSelectElement>('sample');
+  sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images].map((n) => `<option>${n}</option>`).join('');
+  panel.setMachines(info.machine, info.profiles);
+}
+init().catch((e) => error(String(e.message || e)));
+
+// For the browser tests and the benchmark: the page's state, read-only.
+(window as unknown as { __oficina: unknown }).__oficina = { preview, editor, stats, program: () => program };
