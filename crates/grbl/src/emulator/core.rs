@@ -42,6 +42,9 @@ pub struct Config {
     /// Ignore every n-th status query (0: answer all), as a harness that loses real-time
     /// flags does (grblHAL's Simulator) or a noisy link would.
     pub lose_status_every: u32,
+    /// Keep every straight piece of motion the machine made (a block run to its end, or
+    /// up to where a reset cut it): the witness for "every part of the path cut once".
+    pub record_motion: bool,
 }
 
 impl Config {
@@ -69,6 +72,7 @@ impl Default for Config {
             record_lines: false,
             flavor: Flavor::Grbl,
             lose_status_every: 0,
+            record_motion: false,
         }
     }
 }
@@ -143,6 +147,10 @@ pub struct Core {
     /// Where each block in the planner ends (front first), for grblHAL's `Bf:`.
     block_ends: VecDeque<[f64; 3]>,
     status_queries: u32,
+    /// Pieces of motion made, (from, to) in machine mm (with `record_motion`).
+    pub motion_record: Vec<([f64; 3], [f64; 3])>,
+    /// Where the running block's motion began (it may have begun before a hold).
+    piece_start: [f64; 3],
 }
 
 impl Core {
@@ -184,6 +192,8 @@ impl Core {
             jogging: false,
             block_ends: VecDeque::new(),
             status_queries: 0,
+            motion_record: Vec::new(),
+            piece_start: [0.0; 3],
         };
         core.interp.arc_tolerance = core.setting(12);
         core.boot();
@@ -264,6 +274,7 @@ impl Core {
     }
 
     pub fn realtime(&mut self, r: Realtime) {
+        let before = self.overrides;
         match r {
             Realtime::StatusQuery => {
                 self.status_queries = self.status_queries.wrapping_add(1);
@@ -339,9 +350,21 @@ impl Core {
             Realtime::FloodToggle => self.interp.modal.flood = !self.interp.modal.flood,
             Realtime::MistToggle => self.interp.modal.mist = !self.interp.modal.mist,
         }
+        // grbl (report.c): a changed override is shown in the very next report.
+        if self.overrides != before && self.report_counter > 0 {
+            self.report_counter = 6;
+        }
         let (feed, rapid, _) = self.overrides;
         self.motion
             .set_overrides(feed as f64 / 100.0, rapid as f64 / 100.0);
+    }
+
+    /// The running block's motion so far ends at `to`.
+    fn record_piece(&mut self, to: [f64; 3]) {
+        if self.config.record_motion && interp::dist(&self.piece_start, &to) > 1e-9 {
+            self.motion_record.push((self.piece_start, to));
+        }
+        self.piece_start = to;
     }
 
     /// Moves finished lines from `awaiting` to `executed`.
@@ -358,6 +381,7 @@ impl Core {
 
     /// Drops every queued block; lines whose motion had not finished never ran.
     fn flush_planner(&mut self) {
+        self.record_piece(self.motion.position());
         self.motion.clear();
         self.block_ends.clear();
         self.mpos = self.motion.position();
@@ -652,7 +676,9 @@ impl Core {
         self.mpos = self.motion.position();
         self.blocks_done += step.finished as u64;
         for _ in 0..step.finished {
-            self.block_ends.pop_front();
+            if let Some(end) = self.block_ends.pop_front() {
+                self.record_piece(end);
+            }
         }
         self.record_done();
         let at_rest = self.motion.held() || self.motion.is_empty();
