@@ -398,6 +398,7 @@ impl Sender {
         let mut all_acked = false;
         let mut rest_seen: Option<Vec<f64>> = None;
         let mut confirmed_rest: Option<[f64; 3]> = None;
+        let mut at_rest_confirmed = false;
         let mut used = 0usize;
         let mut max_in_flight = 0usize;
         let mut acked_end = from;
@@ -539,12 +540,17 @@ impl Sender {
                     // Done means at rest: two reports in a row, idle with an empty planner,
                     // at the same place (a reply to an older query cannot pass for it).
                     if all_acked && at_rest && self.planner_drained(&st) {
-                        if let Some(w) = work.filter(|w| w.len() >= 3) {
-                            if rest_seen.as_ref() == Some(&w) {
-                                let k = if self.reports_inches { 25.4 } else { 1.0 };
-                                confirmed_rest = Some([w[0] * k, w[1] * k, w[2] * k]);
+                        // Machine position: a report always has one, the work offset not.
+                        let m = st.machine_position(self.last_wco.as_deref());
+                        if let Some(m) = m.or_else(|| st.mpos.clone()) {
+                            if rest_seen.as_ref() == Some(&m) {
+                                at_rest_confirmed = true;
+                                confirmed_rest = work.filter(|w| w.len() >= 3).map(|w| {
+                                    let k = if self.reports_inches { 25.4 } else { 1.0 };
+                                    [w[0] * k, w[1] * k, w[2] * k]
+                                });
                             }
-                            rest_seen = Some(w);
+                            rest_seen = Some(m);
                         }
                     } else {
                         rest_seen = None;
@@ -567,7 +573,7 @@ impl Sender {
                     }
                     observer(Notice::Status(st.clone()));
                     self.note_status(st);
-                    if confirmed_rest.is_some() {
+                    if at_rest_confirmed {
                         break 'outer StreamEnd::Completed;
                     }
                 }

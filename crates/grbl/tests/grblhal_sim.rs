@@ -23,7 +23,7 @@ fn sim_reset_banner_is_recognised() {
         return;
     };
     let s = scenarios::reset_is_recognised(&sim.endpoint);
-    assert_eq!(s.firmware, "1.1f");
+    assert!(s.firmware.starts_with("1.1f"), "{}", s.firmware);
 }
 
 #[test]

@@ -56,6 +56,11 @@ impl Config {
             planner_blocks,
             rx_buffer,
             version: flavor.version().into(),
+            // grblHAL reports everything by default (`Bf:` included); grbl needs `$10=3`.
+            settings: match flavor {
+                Flavor::GrblHal => vec![(10, 511.0)],
+                _ => Vec::new(),
+            },
             ..Config::default()
         }
     }

@@ -50,7 +50,48 @@ fn project(p: [f64; 3], a: [f64; 3], u: [f64; 3], len: f64) -> (f64, f64) {
     (dot(sub(p, q), sub(p, q)).sqrt(), t)
 }
 
+/// Distance of `p` from program segment `seg`.
+fn off(p: [f64; 3], seg: &Piece) -> f64 {
+    let d = sub(seg.1, seg.0);
+    let len = dot(d, d).sqrt();
+    if len < 1e-12 {
+        return dot(sub(p, seg.0), sub(p, seg.0)).sqrt();
+    }
+    project(p, seg.0, [d[0] / len, d[1] / len, d[2] / len], len).0
+}
+
+/// A sampled record (grblHAL's, every few ms) has pieces that cross a vertex of the path:
+/// the machine went through the vertex (grbl's planner never cuts a corner, it slows), so
+/// such a piece is split there. Pieces on one segment, or off the path, are kept as they are.
+fn through_vertices(program: &[Piece], made: &[Piece], tol: f64) -> Vec<Piece> {
+    let mut out = Vec::with_capacity(made.len());
+    for &(p, q) in made {
+        if program.iter().any(|s| off(p, s) <= tol && off(q, s) <= tol) {
+            out.push((p, q));
+            continue;
+        }
+        let split = program.iter().enumerate().find_map(|(i, s)| {
+            if off(p, s) > tol {
+                return None;
+            }
+            (i + 1..program.len().min(i + 4))
+                .find(|&j| off(q, &program[j]) <= tol)
+                .map(|j| (i, j))
+        });
+        match split {
+            Some((i, j)) => {
+                out.push((p, program[i].1));
+                out.extend(program[i + 1..j].iter().copied());
+                out.push((program[j].0, q));
+            }
+            None => out.push((p, q)),
+        }
+    }
+    out
+}
+
 pub fn check(program: &[Piece], made: &[Piece], tol: f64) -> Coverage {
+    let made = &through_vertices(program, made, tol);
     let mut c = Coverage::default();
     for (i, &(a, b)) in program.iter().enumerate() {
         let d = sub(b, a);

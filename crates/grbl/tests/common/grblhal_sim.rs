@@ -15,12 +15,13 @@ use std::net::TcpListener;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::Duration;
 
 pub struct Sim {
-    child: Child,
+    child: Mutex<Child>,
+    master: std::fs::File,
     pub endpoint: Endpoint,
     pub dir: PathBuf,
     /// While set, every `?` from the sender is dropped before it reaches the simulator.
@@ -124,7 +125,8 @@ pub fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
     // The simulator reads nothing for its first simulated second.
     thread::sleep(Duration::from_millis(1200));
     Some(Sim {
-        child,
+        child: Mutex::new(child),
+        master: pty.master.try_clone().expect("pty master"),
         endpoint,
         dir,
         drop_queries,
@@ -134,6 +136,21 @@ pub fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
 }
 
 impl Sim {
+    /// Ends the simulator the clean way (Ctrl-F: it exits once idle, flushing its position
+    /// record; grblHAL's harness writes the last block's end point only then).
+    pub fn finish(&self) {
+        let mut child = self.child.lock().unwrap();
+        if let Ok(None) = child.try_wait() {
+            let _ = (&self.master).write_all(&[0x06]);
+            for _ in 0..100 {
+                if let Ok(Some(_)) = child.try_wait() {
+                    break;
+                }
+                thread::sleep(Duration::from_millis(50));
+            }
+        }
+    }
+
     /// The position record: (simulated seconds, steps per axis) in order.
     pub fn samples(&self) -> Vec<(f64, [i64; 3])> {
         let text = std::fs::read_to_string(self.dir.join("steps.out")).unwrap_or_default();
@@ -151,7 +168,9 @@ impl Sim {
     }
 
     /// The motion made, as straight pieces in machine mm (`steps_per_mm` from `$100…`).
+    /// Calls [`Sim::finish`] first.
     pub fn pieces(&self, steps_per_mm: f64) -> Vec<([f64; 3], [f64; 3])> {
+        self.finish();
         let pts: Vec<[f64; 3]> = self
             .samples()
             .iter()
@@ -168,8 +187,12 @@ impl Drop for Sim {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);
         // The simulator ignores SIGTERM (it only saves its EEPROM file): kill it.
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-        let _ = std::fs::remove_dir_all(&self.dir);
+        if let Ok(mut c) = self.child.lock() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+        if std::env::var_os("OFICINA_KEEP_SIM_DIR").is_none() {
+            let _ = std::fs::remove_dir_all(&self.dir);
+        }
     }
 }

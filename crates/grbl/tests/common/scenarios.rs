@@ -33,7 +33,6 @@ pub fn configure(s: &mut Sender) {
         (120, 400.0),
         (121, 400.0),
         (122, 200.0),
-        (10, 3.0),
     ] {
         let r = s.command(&format!("${n}={v}")).expect("setting");
         assert_eq!(r.error, None, "${n}={v} refused");
