@@ -54,7 +54,9 @@ fn sim_resume_comes_from_the_reported_position() {
 }
 
 /// Random stops on a relief raster, each in a fresh simulator, its position record the
-/// witness. `OFICINA_RANDOM_STOPS` sets how many (default 4).
+/// witness. `OFICINA_RANDOM_STOPS` sets how many (default 4). Under host load grblHAL's
+/// harness sometimes stops sampling while the machine moves; a trial whose record has such
+/// a hole is reported and not counted as a witness.
 #[test]
 fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
     if std::env::var_os("OFICINA_GRBLHAL_SIM").is_none() {
@@ -68,42 +70,124 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
         scenarios::configure(&mut s);
         let (c, report) =
             scenarios::stop_and_resume(&mut s, &job, stop, &|| sim.pieces(STEPS_PER_MM));
-        (c, report, sim.samples())
+        // Samples every 5 ms at F1500 (25 mm/s) are 0.125 mm apart.
+        let hole = coverage::record_hole(
+            &coverage::program_cuts(&job),
+            &sim.pieces(STEPS_PER_MM),
+            0.01,
+            2.0 * 25.0 * 0.005 + 0.02,
+        );
+        (c, report, sim.samples(), hole)
     };
-    let (full, _, samples) = run(Duration::from_secs(3600));
-    assert!(
-        full.worst_gap <= 0.01 && full.worst_double <= 0.01,
-        "{full:?}"
-    );
-    let total = samples.last().unwrap().0 - samples.first().unwrap().0;
     let trials: u64 = std::env::var("OFICINA_RANDOM_STOPS")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(4);
+    let mut total = 0.0;
     let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut worst = (0.0f64, 0.0f64);
-    for k in 0..trials {
+    let (mut worst_gap, mut worst_double, mut witnessed) = (0.0f64, 0.0f64, 0);
+    // Trial 0 runs the job without a stop (and measures its length).
+    for k in 0..=trials {
         seed ^= seed << 13;
         seed ^= seed >> 7;
         seed ^= seed << 17;
         let f = 0.1 + 0.8 * (seed >> 11) as f64 / (1u64 << 53) as f64;
-        let stop = Duration::from_secs_f64(total * f);
-        let (c, report, _) = run(stop);
+        let stop = if k == 0 {
+            Duration::from_secs(3600)
+        } else {
+            Duration::from_secs_f64(total * f)
+        };
+        let (c, report, samples, hole) = run(stop);
+        if k == 0 {
+            total = samples.last().unwrap().0 - samples.first().unwrap().0;
+        }
         eprintln!(
-            "sim stop {k}: after {:.2} s of {total:.2} s, resumed at {:?}: worst gap {:.4} mm, worst double cut {:.4} mm",
-            stop.as_secs_f64(),
+            "sim stop {k}: after {:.2} s of {total:.2} s, resumed at {:?}: worst gap {:.4} mm, worst double cut {:.4} mm{}",
+            if k == 0 { total } else { stop.as_secs_f64() },
             report.resume.as_ref().map(|r| (r.index, r.entry)),
             c.worst_gap,
-            c.worst_double
+            c.worst_double,
+            if hole > 0.0 { format!(" (the record jumps {hole:.2} mm along the path: not a witness)") } else { String::new() }
         );
-        worst = (worst.0.max(c.worst_gap), worst.1.max(c.worst_double));
+        if hole > 0.0 {
+            continue;
+        }
+        witnessed += 1;
+        worst_gap = worst_gap.max(c.worst_gap);
+        worst_double = worst_double.max(c.worst_double);
         assert!(
             c.worst_gap <= 0.01 && c.worst_double <= 0.01,
             "stop {k} at {stop:?}: {c:?} {report:?}"
         );
     }
     eprintln!(
-        "sim random stops: {trials} trials, worst gap {:.4} mm, worst double cut {:.4} mm",
-        worst.0, worst.1
+        "sim random stops: {} runs, {witnessed} with a complete record: worst gap {worst_gap:.4} mm, worst double cut {worst_double:.4} mm",
+        trials + 1
     );
+    assert!(witnessed > 0, "no run had a complete position record");
+}
+
+/// Oficina's time estimate (its planner, with the `$` settings the firmware reports)
+/// against the firmware's own run time (the simulated time of its position record, first
+/// to last motion) on a zig-zag, arcs and a relief raster. Printed as a table; the
+/// estimate must be within 5 % (the firmware's time includes any wait for the serial
+/// line, so it can only be longer).
+#[test]
+fn sim_time_estimates_match_the_firmware() {
+    use oficina_gcode::program::{run as gcode_run, RunOptions};
+    use oficina_grbl::emulator::profile::motion_profile;
+    let mut zigzag = String::from("G21G90G94\nG0X0Y0\nG1F3000\n");
+    for i in 0..20 {
+        zigzag += &format!("X{}Y{}\n", if i % 2 == 0 { 30 } else { 0 }, i + 1);
+    }
+    let mut arcs = String::from("G21G90G94\nG0X10Y0\nG1F2000\n");
+    for i in 0..6 {
+        let r = 10.0 + i as f64;
+        arcs += &format!("G1X{r}Y0\nG3X{r}Y0I{}J0\n", -r);
+    }
+    let relief = coverage::relief_program(6, 30, 0.5, 1500.0);
+    let mut rows = Vec::new();
+    for (name, text) in [
+        ("zig-zag", zigzag),
+        ("arcs", arcs),
+        ("relief raster", relief),
+    ] {
+        let Some(sim) = grblhal_sim::start("estimates", Some(0.005)) else {
+            return;
+        };
+        let mut s = scenarios::connect(&sim.endpoint);
+        scenarios::configure(&mut s);
+        let job = Job::from_text(name, &text).unwrap();
+        let report = s.stream(&job, 0, None, None, &mut |_| {});
+        assert_eq!(report.end, oficina_grbl::report::StreamEnd::Completed);
+        sim.finish();
+        let samples = sim.samples();
+        let moving: Vec<&(f64, [i64; 3])> = samples.iter().collect();
+        let firmware = moving.last().unwrap().0 - moving.first().unwrap().0;
+        let mut ops = Vec::new();
+        gcode_run(
+            std::io::Cursor::new((text.clone() + "M2\n").into_bytes()),
+            &RunOptions::check(oficina_gcode::Dialect::Grbl),
+            &mut |c| ops.push(c),
+        );
+        let profile = motion_profile(&s.settings);
+        let estimate = oficina_motion::estimate(ops.into_iter(), &profile)
+            .unwrap()
+            .seconds;
+        rows.push((name, estimate, firmware));
+    }
+    eprintln!("| program | Oficina estimate (s) | grblHAL Simulator (s) | difference |");
+    eprintln!("|---|---|---|---|");
+    for (name, e, f) in &rows {
+        eprintln!(
+            "| {name} | {e:.3} | {f:.3} | {:+.2} % |",
+            (e - f) / f * 100.0
+        );
+    }
+    for (name, e, f) in &rows {
+        assert!(
+            (e - f).abs() / f < 0.05,
+            "{name}: estimate {e:.3} s, firmware {f:.3} s"
+        );
+    }
 }

@@ -8,17 +8,15 @@ use oficina_grbl::job::Job;
 
 pub type Piece = ([f64; 3], [f64; 3]);
 
-/// The program's feed moves, in machine mm.
-pub fn program_cuts(job: &Job) -> Vec<Piece> {
+/// The program's moves in machine mm, each with whether it cuts (a feed move).
+pub fn program_cuts(job: &Job) -> Vec<(Piece, bool)> {
     let mut it = Interp::default();
     let mut out = Vec::new();
     for l in &job.lines {
         let mut from = it.pos;
         if let Ok(e) = it.execute(&l.text) {
             for s in e.segments {
-                if matches!(s.rate, Rate::Feed(_)) {
-                    out.push((from, s.to));
-                }
+                out.push(((from, s.to), matches!(s.rate, Rate::Feed(_))));
                 from = s.to;
             }
         }
@@ -90,10 +88,34 @@ fn through_vertices(program: &[Piece], made: &[Piece], tol: f64) -> Vec<Piece> {
     out
 }
 
-pub fn check(program: &[Piece], made: &[Piece], tol: f64) -> Coverage {
-    let made = &through_vertices(program, made, tol);
+/// The longest jump between consecutive samples of a sampled record (`made`, as its
+/// pieces) that both lie on a cutting move, when longer than `max_step` (the most the
+/// machine moves between two samples at the job's feed): the record has a hole there, it
+/// missed motion. 0 when there is none.
+pub fn record_hole(program: &[(Piece, bool)], made: &[Piece], tol: f64, max_step: f64) -> f64 {
+    let cuts: Vec<Piece> = program
+        .iter()
+        .filter(|(_, c)| *c)
+        .map(|(p, _)| *p)
+        .collect();
+    let on_path = |p: [f64; 3]| cuts.iter().any(|s| off(p, s) <= tol);
+    made.iter()
+        .map(|&(p, q)| dot(sub(q, p), sub(q, p)).sqrt())
+        .zip(made)
+        .filter(|(d, (p, q))| *d > max_step && on_path(*p) && on_path(*q))
+        .map(|(d, _)| d)
+        .fold(0.0, f64::max)
+}
+
+/// How the cutting moves of `program` are covered by the motion `made`.
+pub fn check(program: &[(Piece, bool)], made: &[Piece], tol: f64) -> Coverage {
+    let path: Vec<Piece> = program.iter().map(|(p, _)| *p).collect();
+    let made = &through_vertices(&path, made, tol);
     let mut c = Coverage::default();
-    for (i, &(a, b)) in program.iter().enumerate() {
+    for (i, &((a, b), cuts)) in program.iter().enumerate() {
+        if !cuts {
+            continue;
+        }
         let d = sub(b, a);
         let len = dot(d, d).sqrt();
         if len < 1e-9 {
