@@ -443,7 +443,17 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
     };
     say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {
-        if r.index < job.len() {
+        if r.index < job.len() && r.entry.is_some() {
+            // Only the journal path finishes the interrupted line from the stop point;
+            // --from-line restarts it from its beginning.
+            say!(
+                "to continue from where the machine stopped: oficina console {} --job {} --resume   (--from-line {} would re-cut line {} from its start)",
+                endpoint_flags(args),
+                path.display(),
+                job.lines[r.index].file_line,
+                job.lines[r.index].file_line
+            );
+        } else if r.index < job.len() {
             say!(
                 "to continue: oficina console {} --job {} --from-line {}   (or --resume to use the journal {})",
                 endpoint_flags(args),

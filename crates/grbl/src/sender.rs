@@ -640,6 +640,11 @@ impl Sender {
                 report.resume = Some(at);
             }
         }
+        // What the position told: `--resume` starts its search for the stop point there.
+        if report.certain > from && report.end != StreamEnd::Completed {
+            let certain = report.certain;
+            jrec(&mut journal, &|j| j.completed(certain), observer);
+        }
         let note = format!("{:?}", report.end);
         jrec(&mut journal, &|j| j.end(&note), observer);
         report.elapsed = start.elapsed();

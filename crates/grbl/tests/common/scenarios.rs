@@ -227,7 +227,10 @@ pub fn stop_and_resume(
     });
     drop(tx);
     if report.end == StreamEnd::Stopped {
-        let at = report.resume.clone().expect("resume point");
+        let at = report
+            .resume
+            .clone()
+            .unwrap_or_else(|| panic!("no resume point: {report:?}"));
         if at.index < job.len() {
             s.run_preamble_at(job, at.index, at.entry, &resume_options())
                 .unwrap();
