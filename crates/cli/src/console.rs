@@ -217,8 +217,30 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     let mut last_query = Instant::now();
     let mut jogging: Option<ContinuousJog> = None;
     let mut jog_acks = 0;
+    // Lines sent that grbl has not yet answered (`ok`/`error`): when the input ends (a
+    // pipe), the console waits for them, at most `REPLY_WAIT` after the last reply.
+    const REPLY_WAIT: Duration = Duration::from_secs(10);
+    let mut unanswered = 0usize;
+    let mut input_closed = false;
+    let mut last_reply = Instant::now();
     loop {
-        match input.try_recv() {
+        if input_closed {
+            if unanswered == 0 {
+                return Ok(ExitCode::SUCCESS);
+            }
+            if last_reply.elapsed() > REPLY_WAIT {
+                eprintln!(
+                    "\r\x1b[Kinput ended; {unanswered} line(s) still unanswered by the firmware after {} s",
+                    REPLY_WAIT.as_secs()
+                );
+                return Ok(ExitCode::FAILURE);
+            }
+        }
+        match if input_closed {
+            Err(mpsc::TryRecvError::Empty)
+        } else {
+            input.try_recv()
+        } {
             Ok(line) => {
                 let t = line.trim();
                 // Any line ends a continuous jog, as releasing the key would.
@@ -250,7 +272,10 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                             distance,
                             feed,
                         }) => match jog::step_line(axis, distance, feed) {
-                            Ok(l) => sender.link().send_line(&l),
+                            Ok(l) => {
+                                unanswered += 1;
+                                sender.link().send_line(&l)
+                            }
                             Err(e) => {
                                 eprintln!("\r\x1b[K{e}");
                                 Ok(())
@@ -279,11 +304,20 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                             Ok(())
                         }
                     },
-                    _ => sender.link().send_line(t),
+                    _ => {
+                        unanswered += 1;
+                        sender.link().send_line(t)
+                    }
                 };
                 r.context("write to the firmware failed")?;
             }
-            Err(mpsc::TryRecvError::Disconnected) => return Ok(ExitCode::SUCCESS),
+            Err(mpsc::TryRecvError::Disconnected) => {
+                if let Some(j) = jogging.take() {
+                    j.stop(sender).context("write to the firmware failed")?;
+                }
+                input_closed = true;
+                last_reply = Instant::now();
+            }
             Err(mpsc::TryRecvError::Empty) => {}
         }
         if let Some(j) = jogging.as_mut() {
@@ -304,6 +338,10 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             // The increments of a continuous jog are acknowledged silently.
             Some(Event::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
             Some(Event::Line(resp, raw)) => {
+                if resp.is_ack() {
+                    unanswered = unanswered.saturating_sub(1);
+                    last_reply = Instant::now();
+                }
                 if matches!(resp, Response::Error(_)) {
                     if let Some(j) = jogging.take() {
                         j.stop(sender).context("write to the firmware failed")?;
@@ -405,7 +443,17 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
     };
     say!("{}", report.describe(&job));
     if let Some(r) = &report.resume {
-        if r.index < job.len() {
+        if r.index < job.len() && r.entry.is_some() {
+            // Only the journal path finishes the interrupted line from the stop point;
+            // --from-line restarts it from its beginning.
+            say!(
+                "to continue from where the machine stopped: oficina console {} --job {} --resume   (--from-line {} would re-cut line {} from its start)",
+                endpoint_flags(args),
+                path.display(),
+                job.lines[r.index].file_line,
+                job.lines[r.index].file_line
+            );
+        } else if r.index < job.len() {
             say!(
                 "to continue: oficina console {} --job {} --from-line {}   (or --resume to use the journal {})",
                 endpoint_flags(args),

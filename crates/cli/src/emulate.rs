@@ -27,6 +27,11 @@ pub struct Args {
     /// Serial line rate to emulate, bits/s (10 bits a byte); 0 = no limit.
     #[arg(long, default_value_t = 115_200)]
     pub baud: u32,
+    /// Which firmware to be: grbl (1.1h: 15 blocks, 128-byte RX), grblhal (100 blocks,
+    /// 1024 bytes, `Bf:` freed as soon as a block is prepared, silent TCP port) or fluidnc
+    /// (FluidNC's banner and `[MSG:INFO:…]` lines).
+    #[arg(long, default_value = "grbl", value_name = "grbl|grblhal|fluidnc")]
+    pub flavor: oficina_grbl::emulator::Flavor,
     /// Take $100-$132, $11 and $12 from an Oficina machine profile: a TOML file or a bundled
     /// name (e.g. grbl-router).
     #[arg(long, value_name = "PROFILE")]
@@ -74,23 +79,25 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map(|s| parse_setting(s))
         .collect::<anyhow::Result<Vec<_>>>()?;
     settings.extend(overrides);
+    let base = Config::flavored(args.flavor);
     let config = Config {
         baud: (args.baud > 0).then_some(args.baud),
-        settings,
-        ..Config::default()
+        settings: base.settings.iter().copied().chain(settings).collect(),
+        ..base
     };
     let emu = Emulator::start(config);
     if args.pty {
         let path = emu.serve_pty().context("cannot open a pseudo-terminal")?;
         say(&format!(
-            "grbl emulator on pty {path} (open it as a serial port at any baud)"
+            "{} emulator on pty {path} (open it as a serial port at any baud)",
+            args.flavor
         ));
     }
     if let Some(addr) = &args.tcp {
         let local = emu
             .serve_tcp(addr)
             .with_context(|| format!("cannot listen on {addr}"))?;
-        say(&format!("grbl emulator on tcp://{local}"));
+        say(&format!("{} emulator on tcp://{local}", args.flavor));
     }
     say(&format!(
         "line rate: {}",

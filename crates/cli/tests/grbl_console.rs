@@ -20,6 +20,10 @@ impl Drop for Emu {
 }
 
 fn start_emulator() -> (Emu, String) {
+    start_emulator_with(&[])
+}
+
+fn start_emulator_with(extra: &[&str]) -> (Emu, String) {
     let mut child = Command::new(BIN)
         .args([
             "emulate",
@@ -29,6 +33,7 @@ fn start_emulator() -> (Emu, String) {
             "--for-seconds",
             "60",
         ])
+        .args(extra)
         .args([
             "--set",
             "110=60000",
@@ -331,5 +336,31 @@ fn emulator_takes_its_settings_from_a_machine_profile() {
     // profiles/grbl-router.toml: X 6000 mm/min, Z 1500 mm/min, 300 mm/s², 800 x 450 x 100 mm.
     for w in want {
         assert!(text.contains(w), "{w} missing in:\n{text}");
+    }
+}
+
+/// `console` fed by a pipe: every line is written at once and the input ends; the console
+/// waits (bounded) for the firmware's answers to all of them before it exits.
+#[test]
+fn console_fed_by_a_pipe_waits_for_every_reply() {
+    let (_emu, addr) = start_emulator_with(&["--flavor", "grblhal"]);
+    let mut child = Command::new(BIN)
+        .args(["console", "--tcp", &addr])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    {
+        let mut stdin = child.stdin.take().unwrap();
+        stdin.write_all(b"$I\n$$\n$G\n$#\nG4P0.5\nG0X5\n").unwrap();
+    }
+    let out = child.wait_with_output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    // grblHAL's build info (the emulator's grblhal flavour), its settings, parser state
+    // and offsets; the last two replies come after a half-second dwell.
+    for want in ["[OPT:VNML+,100,1024,3,0]", "$110=", "[GC:G0", "[G54:"] {
+        assert!(text.contains(want), "missing {want}: {text}");
     }
 }

@@ -3,7 +3,7 @@
 //! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
 //! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
 //! - [`transport`], [`link`]: serial, TCP and pty byte pipes and the line reader;
-//! - [`job`], [`journal`], [`sender`], [`report`], [`ledger`], [`resume`]: streaming, its record,
+//! - [`job`], [`journal`], [`sender`], [`report`], [`track`], [`resume`]: streaming, its record,
 //!   how it ended and resume; [`check`]: a job through grbl's check mode;
 //! - [`settings`], [`jog`], [`device`] (the `Machine` trait): the rest of the machine panel;
 //! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle;
@@ -18,7 +18,6 @@ pub mod interp;
 pub mod job;
 pub mod jog;
 pub mod journal;
-pub mod ledger;
 pub mod link;
 pub mod machine;
 pub mod messages;
@@ -31,4 +30,5 @@ pub mod resume;
 pub mod sender;
 pub mod settings;
 pub mod status;
+pub mod track;
 pub mod transport;

@@ -142,6 +142,7 @@ impl GrblMachine {
                 ));
             }
         }
+        let mut entry = None;
         let mut from = match settings.start {
             Start::Beginning => 0,
             Start::FileLine(n) => job
@@ -160,6 +161,7 @@ impl GrblMachine {
                     settings.unlock_alarm,
                 )?;
                 observer(Notice::Message(format!("resuming: {}", at.reason)));
+                entry = at.entry;
                 at.index
             }
         };
@@ -171,7 +173,8 @@ impl GrblMachine {
                 "resume at {}:{}: restoring modal state and approaching at Z{}",
                 job.name, job.lines[from].file_line, settings.resume.safe_z
             )));
-            self.sender.run_preamble(job, from, &settings.resume)?;
+            self.sender
+                .run_preamble_at(job, from, entry, &settings.resume)?;
         }
         let mut journal = Journal::open(journal_path, job)
             .map_err(|e| format!("cannot write journal {}: {e}", journal_path.display()))?;
@@ -219,7 +222,8 @@ impl GrblMachine {
                     ..report
                 }));
             }
-            self.sender.run_preamble(job, at.index, &settings.resume)?;
+            self.sender
+                .run_preamble_at(job, at.index, at.entry, &settings.resume)?;
             from = at.index;
         }
     }

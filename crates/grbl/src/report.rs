@@ -97,5 +97,6 @@ pub(crate) fn after_rejection(job: &Job, rejected: usize, at: Located) -> Locate
             l(at.index.saturating_sub(1)),
             l(rejected)
         ),
+        entry: None,
     }
 }

@@ -10,8 +10,12 @@ pub enum Response {
     Error(u8),
     Alarm(u8),
     Status(Status),
-    /// `Grbl 1.1h ['$' for help]`: the firmware (re)started; everything in flight is gone.
+    /// The firmware (re)started; everything in flight is gone. grbl: `Grbl 1.1h ['$' for
+    /// help]`; grblHAL: `GrblHAL 1.1f ['$' or '$HELP' for help]`; FluidNC: `Grbl 3.7.12
+    /// [FluidNC v3.7.12 (wifi) '$' for help]`.
     Welcome {
+        /// `Grbl`, `GrblHAL` or `FluidNC`.
+        firmware: String,
         version: String,
     },
     /// `[MSG:…]`
@@ -70,9 +74,8 @@ impl Response {
                 Err(_) => Response::Unknown(line.to_string()),
             };
         }
-        if let Some(rest) = line.strip_prefix("Grbl ") {
-            let version = rest.split_whitespace().next().unwrap_or("").to_string();
-            return Response::Welcome { version };
+        if let Some(w) = welcome(line) {
+            return w;
         }
         if let Some(inner) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
             let (tag, value) = inner.split_once(':').unwrap_or((inner, ""));
@@ -129,6 +132,28 @@ impl Response {
     }
 }
 
+/// A reset banner: a firmware name, a version that starts with a digit, then `[…help]`.
+/// The version rule keeps a message such as `Grbl is busy` from passing for a reset.
+fn welcome(line: &str) -> Option<Response> {
+    let (name, rest) = line.split_once(' ')?;
+    if !matches!(name, "Grbl" | "GrblHAL") {
+        return None;
+    }
+    let (version, tail) = rest.split_once(' ').unwrap_or((rest, ""));
+    if !version.starts_with(|c: char| c.is_ascii_digit()) || !tail.starts_with('[') {
+        return None;
+    }
+    let firmware = if tail.starts_with("[FluidNC") {
+        "FluidNC"
+    } else {
+        name
+    };
+    Some(Response::Welcome {
+        firmware: firmware.to_string(),
+        version: version.to_string(),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,6 +166,7 @@ mod tests {
         assert_eq!(
             Response::parse("Grbl 1.1h ['$' for help]"),
             Response::Welcome {
+                firmware: "Grbl".into(),
                 version: "1.1h".into()
             }
         );
@@ -177,6 +203,42 @@ mod tests {
             Response::parse("<Idle|MPos:0,0,0>"),
             Response::Status(_)
         ));
+    }
+
+    #[test]
+    fn every_family_banner_is_a_reset() {
+        // grblHAL's and FluidNC's banners as their firmware prints them (grblHAL's from
+        // its Simulator, FluidNC's from its serial log).
+        for (line, firmware, version) in [
+            ("GrblHAL 1.1f ['$' or '$HELP' for help]", "GrblHAL", "1.1f"),
+            (
+                "Grbl 3.7.12 [FluidNC v3.7.12 (wifi) '$' for help]",
+                "FluidNC",
+                "3.7.12",
+            ),
+            ("Grbl 1.1f ['$' for help]", "Grbl", "1.1f"),
+        ] {
+            assert_eq!(
+                Response::parse(line),
+                Response::Welcome {
+                    firmware: firmware.into(),
+                    version: version.into()
+                },
+                "{line}"
+            );
+        }
+        for not in [
+            "Grbl is busy",
+            "GrblHAL",
+            "Grbl ",
+            "GrblHALx 1.1 [x]",
+            "Grbl 1.1h",
+        ] {
+            assert!(
+                !matches!(Response::parse(not), Response::Welcome { .. }),
+                "{not}"
+            );
+        }
     }
 
     #[test]

@@ -29,6 +29,24 @@ pub fn replay(job: &Job, index: usize) -> Interp {
 pub struct Located {
     pub index: usize,
     pub reason: String,
+    /// The machine stopped inside line `index` at this work position (mm), and that line
+    /// can be finished from there: approach this point instead of the line's start, so
+    /// the part of the line already cut is not cut again.
+    pub entry: Option<[f64; 3]>,
+}
+
+/// Whether a line interrupted part-way can be finished by approaching the stop point and
+/// sending the line itself: a single straight move to an absolute end point, at a feed
+/// that does not depend on the move's length. Arcs, incremental moves, inverse-time feeds
+/// and moves in other coordinates are run again from their start instead.
+pub fn enterable_midway(after: &Interp, text: &str, effect: &interp::Effect) -> bool {
+    effect.segments.len() == 1
+        && after.modal.absolute
+        && !after.modal.inverse_time
+        && matches!(after.modal.motion, MotionMode::Rapid | MotionMode::Linear)
+        && !["G53", "G28", "G30", "G92", "G10", "G38", "G4"]
+            .iter()
+            .any(|g| text.contains(g))
 }
 
 /// The first line not completed, given that lines before `certain` completed, nothing at or
@@ -77,9 +95,19 @@ pub fn locate(
                             "machine rests at the end of file line {} ({})",
                             l.file_line, l.text
                         ),
+                        entry: None,
+                    }
+                } else if enterable_midway(&st, &l.text, &effect) {
+                    Located {
+                        index: j,
+                        reason: format!(
+                            "machine stopped inside file line {} ({}) at {:.3},{:.3},{:.3}; the rest of it is cut from there",
+                            l.file_line, l.text, work_pos[0], work_pos[1], work_pos[2]
+                        ),
+                        entry: Some(work_pos),
                     }
                 } else {
-                    Located { index: j, reason: format!("machine stopped inside file line {} ({}); it is run again from its start", l.file_line, l.text) }
+                    Located { index: j, reason: format!("machine stopped inside file line {} ({}); it is run again from its start", l.file_line, l.text), entry: None }
                 };
             }
             from = to;
@@ -91,10 +119,11 @@ pub fn locate(
             "position {:.3},{:.3},{:.3} is not on the path of the lines that were in flight; resuming from the last line known complete",
             work_pos[0], work_pos[1], work_pos[2]
         ),
+        entry: None,
     }
 }
 
-fn point_segment_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn point_segment_distance(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
     let len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -131,6 +160,17 @@ impl Default for ResumeOptions {
 /// The lines to send before streaming `job` from `index`: modal state, spindle and coolant,
 /// retract, approach, then the program's own units, distance mode, feed and motion mode.
 pub fn preamble(job: &Job, index: usize, opts: &ResumeOptions) -> Result<Vec<String>, String> {
+    preamble_at(job, index, None, opts)
+}
+
+/// [`preamble`], approaching `entry` (work mm, a point on line `index` where the machine
+/// stopped, see [`Located::entry`]) instead of the line's start point.
+pub fn preamble_at(
+    job: &Job,
+    index: usize,
+    entry: Option<[f64; 3]>,
+    opts: &ResumeOptions,
+) -> Result<Vec<String>, String> {
     let st = replay(job, index);
     if st.g92 != [0.0; 3] || st.tool_length != 0.0 {
         return Err(format!(
@@ -154,7 +194,7 @@ pub fn preamble(job: &Job, index: usize, opts: &ResumeOptions) -> Result<Vec<Str
             ));
         }
     }
-    let w = st.work_pos();
+    let w = entry.unwrap_or_else(|| st.work_pos());
     let mut out = Vec::new();
     out.push(format!("G21G90G94G{}G{}", 54 + m.wcs, 17 + m.plane));
     if st.tool != 0 {

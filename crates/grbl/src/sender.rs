@@ -9,7 +9,6 @@
 
 use crate::job::Job;
 use crate::journal::Journal;
-use crate::ledger::BlockLedger;
 use crate::link::{Event, Link};
 use crate::messages;
 use crate::realtime::Realtime;
@@ -18,6 +17,7 @@ pub use crate::report::{StreamEnd, StreamReport};
 use crate::response::Response;
 use crate::resume::{self, Located};
 use crate::status::{State, Status};
+use crate::track::PathTracker;
 use crate::transport::Endpoint;
 use std::collections::VecDeque;
 use std::io;
@@ -133,7 +133,7 @@ impl Sender {
                 last_query = Instant::now();
             }
             match s.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Welcome { version }, _)) => s.firmware = version,
+                Some(Event::Line(Response::Welcome { version, .. }, _)) => s.firmware = version,
                 Some(Event::Line(Response::Status(st), _)) => s.note_status(st),
                 Some(Event::Closed(why)) => {
                     return Err(err(
@@ -200,6 +200,12 @@ impl Sender {
             (None, Some(n)) if n > 1 => Mode::CharCounting(n as usize - 1),
             _ => Mode::SendResponse,
         };
+    }
+
+    /// Whether a report says the planner holds no blocks (`true` when it does not say).
+    fn planner_drained(&self, st: &Status) -> bool {
+        st.buffer
+            .is_none_or(|(free, _)| free as usize >= self.planner_blocks)
     }
 
     fn is_moving(&self) -> bool {
@@ -272,9 +278,15 @@ impl Sender {
                 _ => {}
             }
         }
-        self.link.send_realtime(Realtime::StatusQuery)?;
+        // A query can be lost (a busy firmware's real-time flags, a noisy link): ask again
+        // every 250 ms until the bound.
         let deadline = Instant::now() + Duration::from_secs(2);
+        let mut last_query: Option<Instant> = None;
         while Instant::now() < deadline {
+            if last_query.map_or(true, |t| t.elapsed() >= Duration::from_millis(250)) {
+                self.link.send_realtime(Realtime::StatusQuery)?;
+                last_query = Some(Instant::now());
+            }
             match self.link.recv(Duration::from_millis(50)) {
                 Some(Event::Line(Response::Status(st), _)) => {
                     self.note_status(st.clone());
@@ -297,7 +309,17 @@ impl Sender {
         let mut last_pos: Option<Vec<f64>> = None;
         let mut rest: Option<Vec<f64>> = None;
         loop {
-            let st = self.status()?;
+            // A lost report is not the end of the wait: only the deadline is.
+            let st = match self.status() {
+                Ok(st) => st,
+                Err(e) if e.kind() == io::ErrorKind::TimedOut => {
+                    if Instant::now() > deadline {
+                        return Err(e);
+                    }
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
             // A long last move is progress, not a hang: the deadline follows motion.
             let pos = st.machine_position(self.last_wco.as_deref());
             if pos.is_some() && pos != last_pos {
@@ -306,7 +328,10 @@ impl Sender {
             }
             // Two reports at rest at the same place: a reply to an older query that was
             // still on the wire cannot pass for the final position.
-            if !st.state.is_moving() && !(st.state == State::Run) {
+            // Idle with blocks still planned is the moment before a cycle starts; a hold at
+            // rest keeps its blocks.
+            let settled = st.state != State::Idle || self.planner_drained(&st);
+            if !st.state.is_moving() && st.state != State::Run && settled {
                 if let Some(w) = st.work_position(self.last_wco.as_deref()) {
                     if w.len() >= 3 && rest.as_ref() == Some(&w) {
                         let k = if self.reports_inches { 25.4 } else { 1.0 };
@@ -367,7 +392,13 @@ impl Sender {
         };
         let mut next = from;
         let mut inflight: VecDeque<(usize, usize)> = VecDeque::new();
-        let mut ledger = BlockLedger::new(job, from, self.arc_tolerance);
+        let mut tracker = PathTracker::new(job, from, self.arc_tolerance);
+        // Every line acknowledged: the job is done only once reports confirm the machine
+        // rests, and until then hold, stop and overrides still act.
+        let mut all_acked = false;
+        let mut rest_seen: Option<Vec<f64>> = None;
+        let mut confirmed_rest: Option<[f64; 3]> = None;
+        let mut at_rest_confirmed = false;
         let mut used = 0usize;
         let mut max_in_flight = 0usize;
         let mut acked_end = from;
@@ -442,7 +473,7 @@ impl Sender {
                     break 'outer StreamEnd::Disconnected(format!("write failed: {e}"));
                 }
                 inflight.push_back((next, len));
-                ledger.sent(next, &job.lines[next].text);
+                tracker.sent(next, &job.lines[next].text);
                 used += len;
                 max_in_flight = max_in_flight.max(used);
                 bytes_sent += len as u64;
@@ -468,7 +499,6 @@ impl Sender {
                 Event::Line(Response::Ok, raw) => match inflight.pop_front() {
                     Some((i, len)) => {
                         used -= len;
-                        ledger.acked();
                         bytes_acked += len as u64;
                         acked_end = i + 1;
                         idle_since = None;
@@ -479,9 +509,7 @@ impl Sender {
                             bytes_acked,
                             bytes_total,
                         });
-                        if acked_end == job.len() {
-                            break 'outer StreamEnd::Completed;
-                        }
+                        all_acked = acked_end == job.len();
                     }
                     None => observer(Notice::Unexpected(raw)),
                 },
@@ -497,16 +525,35 @@ impl Sender {
                 Event::Line(Response::Welcome { .. }, _) => break 'outer StreamEnd::FirmwareReset,
                 Event::Line(Response::Status(st), _) => {
                     let at_rest = st.state == State::Idle;
-                    if at_rest && inflight.is_empty() {
+                    let work = st.work_position(self.last_wco.as_deref());
+                    if at_rest && inflight.is_empty() && self.planner_drained(&st) {
                         certain = acked_end;
                         jrec(&mut journal, &|j| j.completed(certain), observer);
                     } else {
                         certain = certain.max(self.certain_bound(job, acked_end, certain));
-                        if let Some((free, _)) = st.buffer {
-                            let used_blocks = self.planner_blocks.saturating_sub(free as usize);
-                            certain =
-                                certain.max(ledger.executing(used_blocks).unwrap_or(acked_end));
+                        if let Some(w) = work.as_ref().filter(|w| w.len() >= 3) {
+                            let k = if self.reports_inches { 25.4 } else { 1.0 };
+                            tracker.observe([w[0] * k, w[1] * k, w[2] * k]);
+                            certain = certain.max(tracker.done_before.min(acked_end));
                         }
+                    }
+                    // Done means at rest: two reports in a row, idle with an empty planner,
+                    // at the same place (a reply to an older query cannot pass for it).
+                    if all_acked && at_rest && self.planner_drained(&st) {
+                        // Machine position: a report always has one, the work offset not.
+                        let m = st.machine_position(self.last_wco.as_deref());
+                        if let Some(m) = m.or_else(|| st.mpos.clone()) {
+                            if rest_seen.as_ref() == Some(&m) {
+                                at_rest_confirmed = true;
+                                confirmed_rest = work.filter(|w| w.len() >= 3).map(|w| {
+                                    let k = if self.reports_inches { 25.4 } else { 1.0 };
+                                    [w[0] * k, w[1] * k, w[2] * k]
+                                });
+                            }
+                            rest_seen = Some(m);
+                        }
+                    } else {
+                        rest_seen = None;
                     }
                     if at_rest && !inflight.is_empty() && !holding {
                         let since = *idle_since.get_or_insert_with(Instant::now);
@@ -526,6 +573,9 @@ impl Sender {
                     }
                     observer(Notice::Status(st.clone()));
                     self.note_status(st);
+                    if at_rest_confirmed {
+                        break 'outer StreamEnd::Completed;
+                    }
                 }
                 Event::Line(Response::Message(m), _) => observer(Notice::Message(m)),
                 Event::Line(Response::Unknown(u), _) => observer(Notice::Unexpected(u)),
@@ -548,7 +598,11 @@ impl Sender {
         };
         match report.end.clone() {
             StreamEnd::Completed => {
-                if let Ok(pos) = self.wait_at_rest() {
+                let rest = match confirmed_rest {
+                    Some(p) => Ok(p),
+                    None => self.wait_at_rest(),
+                };
+                if let Ok(pos) = rest {
                     report.work_pos = Some(pos);
                     report.certain = job.len();
                     jrec(&mut journal, &|j| j.completed(job.len()), observer);
@@ -564,12 +618,9 @@ impl Sender {
             StreamEnd::Rejected { .. } | StreamEnd::Stopped | StreamEnd::Stalled => {
                 let _ = self.link.send_realtime(Realtime::FeedHold);
                 report.work_pos = self.wait_at_rest().ok();
-                // At rest in a hold the planner still holds what was not run: `Bf` names the
-                // interrupted line exactly.
-                if let Some((free, _)) = self.last_status.as_ref().and_then(|s| s.buffer) {
-                    let used_blocks = self.planner_blocks.saturating_sub(free as usize);
-                    let exec = ledger.executing(used_blocks).unwrap_or(report.acked_end);
-                    report.certain = report.certain.max(exec);
+                if let Some(p) = report.work_pos {
+                    tracker.observe(p);
+                    report.certain = report.certain.max(tracker.done_before.min(acked_end));
                 }
                 let _ = self.reset();
             }
@@ -589,6 +640,11 @@ impl Sender {
                 report.resume = Some(at);
             }
         }
+        // What the position told: `--resume` starts its search for the stop point there.
+        if report.certain > from && report.end != StreamEnd::Completed {
+            let certain = report.certain;
+            jrec(&mut journal, &|j| j.completed(certain), observer);
+        }
         let note = format!("{:?}", report.end);
         jrec(&mut journal, &|j| j.end(&note), observer);
         report.elapsed = start.elapsed();
@@ -596,7 +652,8 @@ impl Sender {
     }
 
     /// Lines before the returned index have completed: at most `planner_blocks` motion
-    /// lines (each at least one block) can still be queued behind the last `ok`.
+    /// lines (each at least one block) can still be queued behind the last `ok`, plus the
+    /// tails of two blocks grblHAL already took out of its planner into its step segments.
     fn certain_bound(&self, job: &Job, acked_end: usize, floor: usize) -> usize {
         let mut motion = 0;
         let mut i = acked_end;
@@ -605,7 +662,7 @@ impl Sender {
             let t = &job.lines[i].text;
             if t.contains(['X', 'Y', 'Z']) || t.starts_with("G4") {
                 motion += 1;
-                if motion > self.planner_blocks {
+                if motion > self.planner_blocks + 2 {
                     return i;
                 }
             }
@@ -674,7 +731,19 @@ impl Sender {
         index: usize,
         opts: &resume::ResumeOptions,
     ) -> Result<(), String> {
-        let lines = resume::preamble(job, index, opts)?;
+        self.run_preamble_at(job, index, None, opts)
+    }
+
+    /// [`Sender::run_preamble`] approaching `entry`, the point on line `index` where the
+    /// machine stopped ([`Located::entry`]), so the line is finished from there.
+    pub fn run_preamble_at(
+        &mut self,
+        job: &Job,
+        index: usize,
+        entry: Option<[f64; 3]>,
+        opts: &resume::ResumeOptions,
+    ) -> Result<(), String> {
+        let lines = resume::preamble_at(job, index, entry, opts)?;
         for l in lines {
             let reply = self.command(&l).map_err(|e| e.to_string())?;
             if let Some(code) = reply.error {

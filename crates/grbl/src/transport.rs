@@ -23,19 +23,33 @@ pub enum Endpoint {
 impl FromStr for Endpoint {
     type Err = String;
     /// Accepts `grbl:/dev/ttyUSB0`, `/dev/ttyUSB0@115200`, `serial:COM3@250000`,
-    /// `tcp://192.168.1.5:23` and `grbl:tcp://…`.
+    /// `tcp://192.168.1.5:23`, `telnet://fluidnc.local` (port 23) and `grbl:tcp://…`.
     fn from_str(s: &str) -> Result<Self, String> {
         let s = s.trim();
         let s = s.strip_prefix("grbl:").unwrap_or(s);
         if let Some(addr) = s.strip_prefix("tcp://") {
             if addr.is_empty() || !addr.contains(':') {
                 return Err(format!(
-                    "tcp address '{addr}' needs HOST:PORT, e.g. tcp://192.168.1.5:23"
+                    "tcp address '{addr}' needs HOST:PORT, e.g. tcp://192.168.1.5:23 (or telnet://HOST for port 23)"
                 ));
             }
             return Ok(Endpoint::Tcp {
                 addr: addr.to_string(),
             });
+        }
+        // grblHAL's and FluidNC's raw "telnet" port: 23 unless given.
+        if let Some(host) = s.strip_prefix("telnet://") {
+            if host.is_empty() {
+                return Err(
+                    "telnet address is empty: use telnet://HOST or telnet://HOST:PORT".into(),
+                );
+            }
+            let addr = if host.contains(':') {
+                host.to_string()
+            } else {
+                format!("{host}:23")
+            };
+            return Ok(Endpoint::Tcp { addr });
         }
         let s = s.strip_prefix("serial:").unwrap_or(s);
         if s.is_empty() {
@@ -214,6 +228,19 @@ mod tests {
             }
         );
         assert!("tcp://nohost".parse::<Endpoint>().is_err());
+        assert_eq!(
+            "telnet://fluidnc.local".parse::<Endpoint>().unwrap(),
+            Endpoint::Tcp {
+                addr: "fluidnc.local:23".into()
+            }
+        );
+        assert_eq!(
+            "grbl:telnet://10.0.0.5:2323".parse::<Endpoint>().unwrap(),
+            Endpoint::Tcp {
+                addr: "10.0.0.5:2323".into()
+            }
+        );
+        assert!("telnet://".parse::<Endpoint>().is_err());
         assert!("/dev/x@fast"
             .parse::<Endpoint>()
             .unwrap_err()

@@ -143,7 +143,10 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
     assert_eq!(report.end, StreamEnd::Stopped);
     let at = report.resume.clone().unwrap();
     // Lap 6 of 10 (lines 404..483), nowhere near the first laps on the same path.
-    assert!(at.index > 400 && at.index <= report.acked_end, "{at:?}");
+    assert!(
+        at.index > 400 && at.index <= report.acked_end,
+        "{at:?} {report:?}"
+    );
     let opts = ResumeOptions {
         safe_z: 1.0,
         plunge_feed: 2000.0,

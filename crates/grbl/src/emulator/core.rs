@@ -12,6 +12,7 @@
 //! the rest from the current speed. Feed hold brakes and cycle start accelerates through the
 //! same planner; overrides re-plan at once.
 
+use super::flavor::Flavor;
 use crate::gline;
 use crate::interp::{self, Flow, Interp, Rate, Segment};
 use crate::messages::{self, SETTINGS};
@@ -36,6 +37,33 @@ pub struct Config {
     /// Keep the text of every G-code line whose motion completed (tests check that a job
     /// with stops and resumes ran every line exactly once).
     pub record_lines: bool,
+    /// Which firmware to be: banner, `$I`, boot messages, what `Bf:` counts.
+    pub flavor: Flavor,
+    /// Ignore every n-th status query (0: answer all), as a harness that loses real-time
+    /// flags does (grblHAL's Simulator) or a noisy link would.
+    pub lose_status_every: u32,
+    /// Keep every straight piece of motion the machine made (a block run to its end, or
+    /// up to where a reset cut it): the witness for "every part of the path cut once".
+    pub record_motion: bool,
+}
+
+impl Config {
+    /// The defaults of `flavor`: its buffer sizes and version.
+    pub fn flavored(flavor: Flavor) -> Config {
+        let (planner_blocks, rx_buffer) = flavor.buffers();
+        Config {
+            flavor,
+            planner_blocks,
+            rx_buffer,
+            version: flavor.version().into(),
+            // grblHAL reports everything by default (`Bf:` included); grbl needs `$10=3`.
+            settings: match flavor {
+                Flavor::GrblHal => vec![(10, 511.0)],
+                _ => Vec::new(),
+            },
+            ..Config::default()
+        }
+    }
 }
 
 impl Default for Config {
@@ -47,6 +75,9 @@ impl Default for Config {
             version: "1.1h".into(),
             settings: Vec::new(),
             record_lines: false,
+            flavor: Flavor::Grbl,
+            lose_status_every: 0,
+            record_motion: false,
         }
     }
 }
@@ -118,6 +149,13 @@ pub struct Core {
     report_counter: u32,
     startup_lines: [String; 2],
     jogging: bool,
+    /// Where each block in the planner ends (front first), for grblHAL's `Bf:`.
+    block_ends: VecDeque<[f64; 3]>,
+    status_queries: u32,
+    /// Pieces of motion made, (from, to) in machine mm (with `record_motion`).
+    pub motion_record: Vec<([f64; 3], [f64; 3])>,
+    /// Where the running block's motion began (it may have begun before a hold).
+    piece_start: [f64; 3],
 }
 
 impl Core {
@@ -157,6 +195,10 @@ impl Core {
             report_counter: 0,
             startup_lines: [String::new(), String::new()],
             jogging: false,
+            block_ends: VecDeque::new(),
+            status_queries: 0,
+            motion_record: Vec::new(),
+            piece_start: [0.0; 3],
         };
         core.interp.arc_tolerance = core.setting(12);
         core.boot();
@@ -172,9 +214,16 @@ impl Core {
         self.out.extend(b"\r\n");
     }
 
-    fn boot(&mut self) {
-        let banner = format!("\r\nGrbl {} ['$' for help]", self.config.version);
+    fn banner(&mut self) {
+        let banner = format!("\r\n{}", self.config.flavor.banner(&self.config.version));
         self.say(&banner);
+        for m in self.config.flavor.boot_messages() {
+            self.say(&m);
+        }
+    }
+
+    fn boot(&mut self) {
+        self.banner();
         if self.setting(22) != 0.0 {
             self.state = State::Alarm;
             self.say("[MSG:'$H'|'$X' to unlock]");
@@ -183,6 +232,21 @@ impl Core {
 
     pub fn planner_free(&self) -> usize {
         self.config.planner_blocks.saturating_sub(self.motion.len())
+    }
+
+    /// The planner's free blocks as `Bf:` reports them. grblHAL discards the running block
+    /// once its steps are prepared, which happens up to [`Flavor::prepared_ahead`] seconds
+    /// before it has run: from then on it no longer counts, although it still moves.
+    pub fn reported_planner_free(&self) -> usize {
+        let ahead = self.config.flavor.prepared_ahead();
+        let prepared = match self.block_ends.front() {
+            Some(end) if ahead > 0.0 && self.moving() => {
+                let left = interp::dist(&self.mpos, end);
+                usize::from(left <= self.motion.speed() * ahead)
+            }
+            _ => 0,
+        };
+        (self.planner_free() + prepared).min(self.config.planner_blocks)
     }
 
     fn rx_capacity(&self) -> usize {
@@ -215,8 +279,14 @@ impl Core {
     }
 
     pub fn realtime(&mut self, r: Realtime) {
+        let before = self.overrides;
         match r {
             Realtime::StatusQuery => {
+                self.status_queries = self.status_queries.wrapping_add(1);
+                let n = self.config.lose_status_every;
+                if n > 0 && self.status_queries % n == 0 {
+                    return;
+                }
                 let s = self.status_report();
                 self.say(&s);
             }
@@ -285,9 +355,21 @@ impl Core {
             Realtime::FloodToggle => self.interp.modal.flood = !self.interp.modal.flood,
             Realtime::MistToggle => self.interp.modal.mist = !self.interp.modal.mist,
         }
+        // grbl (report.c): a changed override is shown in the very next report.
+        if self.overrides != before && self.report_counter > 0 {
+            self.report_counter = 6;
+        }
         let (feed, rapid, _) = self.overrides;
         self.motion
             .set_overrides(feed as f64 / 100.0, rapid as f64 / 100.0);
+    }
+
+    /// The running block's motion so far ends at `to`.
+    fn record_piece(&mut self, to: [f64; 3]) {
+        if self.config.record_motion && interp::dist(&self.piece_start, &to) > 1e-9 {
+            self.motion_record.push((self.piece_start, to));
+        }
+        self.piece_start = to;
     }
 
     /// Moves finished lines from `awaiting` to `executed`.
@@ -304,7 +386,9 @@ impl Core {
 
     /// Drops every queued block; lines whose motion had not finished never ran.
     fn flush_planner(&mut self) {
+        self.record_piece(self.motion.position());
         self.motion.clear();
+        self.block_ends.clear();
         self.mpos = self.motion.position();
         self.blocks_pushed = self.blocks_done;
         self.awaiting.clear();
@@ -368,8 +452,7 @@ impl Core {
             ..Interp::default()
         };
         self.starving = None;
-        let banner = format!("\r\nGrbl {} ['$' for help]", self.config.version);
-        self.say(&banner);
+        self.banner();
         if self.state == State::Alarm {
             self.say("[MSG:'$H'|'$X' to unlock]");
         }
@@ -524,6 +607,7 @@ impl Core {
                 continue;
             }
             self.blocks_pushed += 1;
+            self.block_ends.push_back(s.to);
             if self.state == State::Idle {
                 self.state = if self.jogging { State::Jog } else { State::Run };
             }
@@ -596,6 +680,11 @@ impl Core {
         self.stats.busy_seconds += dt - step.rest;
         self.mpos = self.motion.position();
         self.blocks_done += step.finished as u64;
+        for _ in 0..step.finished {
+            if let Some(end) = self.block_ends.pop_front() {
+                self.record_piece(end);
+            }
+        }
         self.record_done();
         let at_rest = self.motion.held() || self.motion.is_empty();
         if self.jog_cancelling && at_rest {
@@ -671,13 +760,13 @@ impl Core {
                 self.say(&l);
             }
             "I" => {
-                let l = format!("[VER:{}.20190830:]", self.config.version);
-                self.say(&l);
-                let l = format!(
-                    "[OPT:V,{},{}]",
-                    self.config.planner_blocks, self.config.rx_buffer
-                );
-                self.say(&l);
+                let c = &self.config;
+                for l in c
+                    .flavor
+                    .build_info(&c.version, c.planner_blocks, c.rx_buffer)
+                {
+                    self.say(&l);
+                }
             }
             "N" => {
                 let lines: Vec<String> = self
@@ -850,7 +939,12 @@ impl Core {
         if mask & 2 != 0 {
             // grbl's serial_get_rx_buffer_available(): the full size when empty.
             let rx_free = self.config.rx_buffer - self.rx.len();
-            s += &format!("|Bf:{},{}", self.planner_free(), rx_free);
+            // grblHAL reports one byte less: its ring keeps one slot unused.
+            let rx_free = match self.config.flavor {
+                Flavor::GrblHal => rx_free - 1,
+                _ => rx_free,
+            };
+            s += &format!("|Bf:{},{}", self.reported_planner_free(), rx_free);
         }
         let spindle = if self.interp.modal.spindle == interp::Spindle::Off {
             0.0

@@ -3,8 +3,10 @@
 //! time and paces the wire at the emulated baud rate.
 
 pub mod core;
+pub mod flavor;
 pub mod profile;
 mod serve;
 
 pub use self::core::{Config, Core, Stats};
+pub use flavor::Flavor;
 pub use serve::Emulator;

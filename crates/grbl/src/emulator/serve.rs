@@ -185,15 +185,18 @@ impl EmuHandle {
         stream.set_read_timeout(Some(Duration::from_millis(50)))?;
         let reader = stream.try_clone()?;
         let writer = stream.try_clone()?;
-        // A network client connecting sees the banner, like grblHAL's telnet port.
-        let banner = {
-            format!(
-                "\r\nGrbl {} ['$' for help]\r\n",
-                lock(&self.shared.core).config.version
-            )
+        // Classic grbl emulations greet a network client with the banner (a serial open
+        // resets an Arduino); grblHAL's and FluidNC's telnet ports say nothing.
+        let greeting = {
+            let c = &lock(&self.shared.core).config;
+            c.flavor
+                .greets_tcp_clients()
+                .then(|| format!("\r\n{}\r\n", c.flavor.banner(&c.version)))
         };
         let mut w = writer;
-        w.write_all(banner.as_bytes())?;
+        if let Some(g) = greeting {
+            w.write_all(g.as_bytes())?;
+        }
         self.attach(Box::new(reader), Box::new(w), Some(stream));
         Ok(())
     }

@@ -1,6 +1,10 @@
 //! Shared set-up for the link tests: an emulator on a loopback port and a sender on it.
 #![allow(dead_code)]
 
+pub mod coverage;
+pub mod grblhal_sim;
+pub mod scenarios;
+
 use oficina_grbl::emulator::{Config, Emulator};
 use oficina_grbl::job::Job;
 use oficina_grbl::sender::{Notice, Sender, SenderOptions};

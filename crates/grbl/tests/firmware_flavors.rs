@@ -1,0 +1,193 @@
+//! The emulator as each firmware it claims to be, and the sender's four failures on real
+//! grblHAL (lost `?` after the last `ok`, controls dead once all was acknowledged, resume
+//! from a block count, the unrecognised banner) replayed against its grblHAL flavour. The
+//! same scenarios run against grblHAL's own Simulator in `grblhal_sim.rs`.
+
+mod common;
+
+use common::coverage;
+use common::scenarios;
+use oficina_grbl::emulator::{Config, Emulator, Flavor};
+use oficina_grbl::job::Job;
+use oficina_grbl::link::{Event, Link};
+use oficina_grbl::response::Response;
+use oficina_grbl::transport::Endpoint;
+use std::time::Duration;
+
+fn start(flavor: Flavor) -> (Emulator, Endpoint) {
+    let emu = Emulator::start(Config {
+        record_motion: true,
+        ..Config::flavored(flavor)
+    });
+    let addr = emu.serve_tcp("127.0.0.1:0").unwrap();
+    (
+        emu,
+        Endpoint::Tcp {
+            addr: addr.to_string(),
+        },
+    )
+}
+
+fn made(emu: &Emulator) -> Vec<coverage::Piece> {
+    emu.with_core(|c| c.motion_record.clone())
+}
+
+#[test]
+fn each_flavor_speaks_like_its_firmware() {
+    for (flavor, banner, opt) in [
+        (Flavor::Grbl, "Grbl 1.1h ['$' for help]", "[OPT:V,15,128]"),
+        (
+            Flavor::GrblHal,
+            "GrblHAL 1.1f ['$' or '$HELP' for help]",
+            "[OPT:VNML+,100,1024,3,0]",
+        ),
+        (
+            Flavor::FluidNc,
+            "Grbl 3.7 [FluidNC v3.7.12 (noradio) '$' for help]",
+            "[OPT:PH]",
+        ),
+    ] {
+        let (_emu, ep) = start(flavor);
+        let mut link = Link::open(&ep).unwrap();
+        // Only classic grbl greets a network client.
+        let mut first = Vec::new();
+        while let Some(Event::Line(_, raw)) = link.recv(Duration::from_millis(300)) {
+            first.push(raw);
+        }
+        assert_eq!(
+            first.iter().any(|l| l == banner),
+            flavor == Flavor::Grbl,
+            "{flavor}: {first:?}"
+        );
+        link.send_line("$I").unwrap();
+        let mut info = Vec::new();
+        while let Some(Event::Line(r, raw)) = link.recv(Duration::from_millis(500)) {
+            if r == Response::Ok {
+                break;
+            }
+            info.push(raw);
+        }
+        assert!(info.iter().any(|l| l == opt), "{flavor}: {info:?}");
+        link.send_realtime(oficina_grbl::realtime::Realtime::SoftReset)
+            .unwrap();
+        let mut after = Vec::new();
+        while let Some(Event::Line(r, raw)) = link.recv(Duration::from_millis(300)) {
+            after.push((r, raw));
+        }
+        assert!(
+            after
+                .iter()
+                .any(|(r, raw)| raw == banner && matches!(r, Response::Welcome { .. })),
+            "{flavor}: {after:?}"
+        );
+        if flavor == Flavor::FluidNc {
+            assert!(
+                after
+                    .iter()
+                    .any(|(r, _)| matches!(r, Response::Message(m) if m.starts_with("INFO:"))),
+                "{after:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
+    use oficina_grbl::emulator::Core;
+    let mut c = Core::new(Config {
+        baud: None,
+        settings: vec![(10, 3.0), (120, 100.0)],
+        ..Config::flavored(Flavor::GrblHal)
+    });
+    for b in b"G1X10F600\n" {
+        c.receive(*b);
+    }
+    let mut t = 0.0;
+    let mut seen_free_while_moving = false;
+    while t < 3.0 {
+        t += 0.001;
+        c.tick(t);
+        if c.state == oficina_grbl::status::State::Run && c.reported_planner_free() == 100 {
+            seen_free_while_moving = true;
+            // Within the last 100 ms of the move (10 mm/s → 1 mm).
+            assert!(c.mpos[0] > 8.9, "{:?}", c.mpos);
+        }
+    }
+    assert!(seen_free_while_moving);
+}
+
+#[test]
+fn reset_banner_of_grblhal_and_fluidnc_is_recognised() {
+    for f in [Flavor::GrblHal, Flavor::FluidNc] {
+        let (_emu, ep) = start(f);
+        scenarios::reset_is_recognised(&ep);
+    }
+}
+
+#[test]
+fn done_means_at_rest_when_status_queries_are_lost() {
+    let (emu, ep) = start(Flavor::GrblHal);
+    let drop = |on: bool| emu.with_core(|c| c.config.lose_status_every = u32::from(on));
+    scenarios::done_means_at_rest(&ep, &drop);
+}
+
+#[test]
+fn hold_resume_override_stop_work_until_idle() {
+    let (_emu, ep) = start(Flavor::GrblHal);
+    scenarios::controls_work_until_idle(&ep);
+}
+
+#[test]
+fn resume_comes_from_the_reported_position_not_from_bf() {
+    let (emu, ep) = start(Flavor::GrblHal);
+    scenarios::resume_from_the_position(
+        &ep,
+        &|| emu.with_core(|c| c.motion_record.clear()),
+        &|| made(&emu),
+    );
+}
+
+/// Random stops on a relief raster: after each stop and resume, the motion made covers the
+/// whole program path, with no gap and no double cut over 0.01 mm.
+#[test]
+fn random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
+    let (emu, ep) = start(Flavor::GrblHal);
+    let mut s = scenarios::connect(&ep);
+    scenarios::configure(&mut s);
+    let job = Job::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0)).unwrap();
+    // A full run first: how long the job takes, and that it covers itself exactly.
+    emu.with_core(|c| c.motion_record.clear());
+    let t0 = std::time::Instant::now();
+    let (full, _) =
+        scenarios::stop_and_resume(&mut s, &job, Duration::from_secs(3600), &|| made(&emu));
+    let total = t0.elapsed().as_secs_f64();
+    assert!(
+        full.worst_gap <= 0.01 && full.worst_double <= 0.01,
+        "{full:?}"
+    );
+    let trials: u64 = std::env::var("OFICINA_RANDOM_STOPS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(8);
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    for k in 0..trials {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        let f = 0.1 + 0.8 * (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let stop = Duration::from_secs_f64(total * f);
+        emu.with_core(|c| c.motion_record.clear());
+        let (c, report) = scenarios::stop_and_resume(&mut s, &job, stop, &|| made(&emu));
+        eprintln!(
+            "stop {k}: after {:.2} s, resumed at {:?}: worst gap {:.4} mm, worst double cut {:.4} mm",
+            stop.as_secs_f64(),
+            report.resume.as_ref().map(|r| (r.index, r.entry)),
+            c.worst_gap,
+            c.worst_double
+        );
+        assert!(
+            c.worst_gap <= 0.01 && c.worst_double <= 0.01,
+            "stop {k} at {stop:?}: {c:?} {report:?}"
+        );
+    }
+}
