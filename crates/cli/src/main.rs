@@ -1,6 +1,7 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
+mod bench_cam;
 mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
@@ -73,6 +74,8 @@ enum BenchCommand {
     Motion(bench_motion::Args),
     /// Relief toolpath generation on a generated 4000 x 4000 image, beside LinuxCNC's image-to-gcode.
     Carve(bench_carve::Args),
+    /// 59 offsets of a 10,000-vertex contour beside shapely and pyclipper; pockets of a 1,000-shape DXF.
+    Cam(bench_cam::Args),
 }
 
 fn main() -> ExitCode {
@@ -92,6 +95,7 @@ fn main() -> ExitCode {
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Cam(args) => bench_cam::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {
