@@ -181,6 +181,16 @@ pub fn run(args: Args) -> Result<()> {
         "1. {} offsets at {} mm steps of a {}-vertex contour, round joins within {} mm",
         args.offsets, args.step, args.vertices, args.tolerance
     );
+    // Peers first: a child inherits the parent's peak RSS at fork (Linux signal->maxrss), so
+    // they run while this process is still small.
+    let peers: Vec<(&str, Result<Peer>)> = if args.no_peers {
+        vec![]
+    } else {
+        ["shapely", "pyclipper"]
+            .into_iter()
+            .map(|w| (w, run_peer(w, &file, &args)))
+            .collect()
+    };
     let region = Region {
         outer: pts.clone(),
         holes: vec![],
@@ -216,9 +226,9 @@ pub fn run(args: Args) -> Result<()> {
         "     ({regions_total} regions in all; offset 59 area {:.1} mm²)",
         ours.last().copied().unwrap_or(0.0)
     );
-    if !args.no_peers {
-        for which in ["shapely", "pyclipper"] {
-            match run_peer(which, &file, &args) {
+    {
+        for (which, peer) in peers {
+            match peer {
                 Ok(p) => {
                     let diff = ours
                         .iter()
