@@ -223,7 +223,7 @@ pub fn run(args: Args) -> Result<()> {
         "—"
     );
     println!(
-        "     ({regions_total} regions in all; offset 59 area {:.1} mm²)",
+        "     ({regions_total} regions in all; last offset area {:.1} mm²)",
         ours.last().copied().unwrap_or(0.0)
     );
     {
