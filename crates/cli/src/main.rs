@@ -1,6 +1,7 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
+mod bench_cam;
 mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
@@ -86,6 +87,8 @@ enum BenchCommand {
     Carve(bench_carve::Args),
     /// Path optimisation of a generated 100,000-path drawing, beside vpype linemerge linesort.
     Plot(bench_plot::Args),
+    /// 59 offsets of a 10,000-vertex contour beside shapely and pyclipper; pockets of a 1,000-shape DXF.
+    Cam(bench_cam::Args),
 }
 
 /// An error already printed in full where it happened (a rendered diagnostic says "error"
@@ -122,6 +125,7 @@ fn main() -> ExitCode {
             BenchCommand::Carve(args) => bench_carve::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Plot(args) => bench_plot::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Cam(args) => bench_cam::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {
