@@ -18,6 +18,7 @@ pub mod dda;
 pub mod dda_steps;
 pub mod error;
 pub mod estimate;
+mod hms;
 pub mod kinematics;
 pub mod moves;
 pub mod planner;
@@ -29,5 +30,6 @@ pub mod velocity;
 
 pub use error::MotionError;
 pub use estimate::{estimate, Estimate};
+pub use hms::format_hms;
 pub use planner::{plan, MoveKind, PlanOptions, Planner, Segment, SegmentKind};
 pub use profile::Profile;
