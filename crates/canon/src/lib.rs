@@ -1,5 +1,18 @@
 //! Canonical machining operations.
 //!
+//! ```
+//! use oficina_canon::summary::Summarizer;
+//! use oficina_canon::{CanonOp, Pos};
+//!
+//! // A 3-4-5 feed move at 600 mm/min, summarised without a machine model.
+//! let mut s = Summarizer::new(Pos::ZERO, [3000.0; 3]);
+//! s.add(&CanonOp::SetFeedRate(600.0));
+//! s.add(&CanonOp::StraightFeed { to: Pos::xyz(30.0, 40.0, 0.0) });
+//! let summary = s.finish();
+//! assert_eq!(summary.feed_length, 50.0);
+//! assert_eq!(summary.feed_rate_seconds, 5.0);
+//! ```
+//!
 //! The interpreter turns G-code text into a stream of [`Canon`] records; the planner, the
 //! simulators, the estimators and the machine links consume only this stream, never text.
 //! The idea and the names follow LinuxCNC's canonical machining functions.

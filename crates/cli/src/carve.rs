@@ -282,8 +282,7 @@ fn progress_bar() -> ProgressBar {
 }
 
 fn hms(s: f64) -> String {
-    let s = s.round() as u64;
-    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    oficina_motion::format_hms(s, 0)
 }
 
 fn print_evaluation(e: &Evaluation) {

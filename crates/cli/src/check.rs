@@ -141,9 +141,5 @@ fn print_extents(name: &str, e: &Extents) {
 
 /// Seconds as h:mm:ss.s
 pub fn hms(seconds: f64) -> String {
-    let total = seconds.max(0.0);
-    let h = (total / 3600.0).floor();
-    let m = ((total - h * 3600.0) / 60.0).floor();
-    let s = total - h * 3600.0 - m * 60.0;
-    format!("{}:{:02}:{:04.1}", h as u64, m as u64, s)
+    oficina_motion::format_hms(seconds, 1)
 }

@@ -379,6 +379,5 @@ fn run_dda(
 }
 
 fn hms(s: f64) -> String {
-    let r = s.round() as u64;
-    format!("{}:{:02}:{:02}", r / 3600, r / 60 % 60, r % 60)
+    oficina_motion::format_hms(s, 0)
 }

@@ -1,5 +1,21 @@
 //! Motion: from canonical operations to timed motion and motor steps.
 //!
+//! ```
+//! use oficina_canon::{Canon, CanonOp, Pos};
+//! use oficina_motion::{estimate, profile};
+//!
+//! // A bundled machine profile, and a program already turned into canon operations.
+//! let machine = profile::resolve("grbl-router").unwrap();
+//! let ops = [
+//!     CanonOp::SetFeedRate(600.0),
+//!     CanonOp::StraightFeed { to: Pos::xyz(30.0, 40.0, 0.0) },
+//! ];
+//! let ops = ops.into_iter().map(|op| Canon { line: 1, op });
+//! let e = estimate(ops, &machine).unwrap();
+//! // 50 mm at 10 mm/s is 5 s at full speed; accelerating and stopping take longer.
+//! assert!(e.seconds > 5.0 && e.seconds < 6.0, "{}", e.seconds);
+//! ```
+//!
 //! The stages, each in its own module:
 //! - [`profile`]: the machine profile (TOML) with every limit the planner honours;
 //! - [`kinematics`]: Cartesian ↔ joint maps (Cartesian, CoreXY, offset-pen polar, polargraph);
@@ -19,6 +35,7 @@ pub mod dda;
 pub mod dda_steps;
 pub mod error;
 pub mod estimate;
+mod hms;
 pub mod kinematics;
 pub mod moves;
 pub mod planner;
@@ -30,5 +47,6 @@ pub mod velocity;
 
 pub use error::MotionError;
 pub use estimate::{estimate, Estimate};
+pub use hms::format_hms;
 pub use planner::{plan, MoveKind, PlanOptions, Planner, Segment, SegmentKind};
 pub use profile::Profile;

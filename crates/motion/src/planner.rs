@@ -142,6 +142,25 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
 }
 
 /// Largest speed allowed through the junction between `p` and `b`.
+///
+/// Junction deviation, derived as grbl's `planner.c` does. The machine does not really round
+/// the corner, but it may pass it as fast as if it followed a circle tangent to both moves
+/// whose closest approach to the corner is δ (`b.deviation`). Let θ be the angle between the
+/// two moves at the corner, so cos θ = −u_p·u_b with u_p, u_b their unit directions
+/// (θ = π straight on, θ → 0 a reversal). The circle's centre lies on the corner's
+/// bisector; its radius R meets each move at a right angle, so the centre is d = R / sin(θ/2)
+/// from the corner and the circle passes d − R from it. Setting d − R = δ:
+///
+/// ```text
+/// δ = R / sin(θ/2) − R   ⇒   R = δ · sin(θ/2) / (1 − sin(θ/2))
+/// ```
+///
+/// with sin(θ/2) = √((1 − cos θ) / 2), no trigonometric call needed. Going round that circle
+/// at speed v needs the centripetal acceleration v²/R, so v² = a·R, where a is the
+/// acceleration available along the junction vector u_b − u_p: each joint i allows
+/// a_i·|u_b − u_p| / |Δq_i|, with Δq_i the change of joint i's rate per mm across the corner
+/// (for Cartesian machines grbl's `junction_unit_vec` limit). A reversal (θ ≈ 0) must stop;
+/// straight on (θ ≈ π) the circle is infinite and only the caps below apply.
 pub fn junction_limit(
     p: &Move,
     pl: &BlockLimits,

@@ -2,10 +2,13 @@
 //! planner settings), validated into [`Profile`] with every value in internal units
 //! (mm, s, rad). See docs/machine-profiles.md for the format.
 
+use crate::kinematics::{Check, RawKinematics};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
+
+pub use crate::kinematics::KinematicsKind;
 
 /// A bad profile: the file, the key (dotted path) and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -22,39 +25,6 @@ impl fmt::Display for ProfileError {
         } else {
             write!(f, "{}: {}: {}", self.file, self.key, self.message)
         }
-    }
-}
-
-/// Which kinematics the machine has, with its parameters (mm).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum KinematicsKind {
-    Cartesian,
-    CoreXy,
-    /// Seed 003: an arm rotating about the origin, carriage at radius R, pen offset `h`.
-    Polar {
-        pen_offset: f64,
-    },
-    /// Two motors at (0, 0) and (`motor_distance`, 0) with the pen hanging below (y < 0).
-    Polargraph {
-        motor_distance: f64,
-        min_drop: f64,
-    },
-}
-
-impl KinematicsKind {
-    /// Joint names in order; the third joint is always Z (pen lift, spindle axis).
-    pub fn joint_names(self) -> [&'static str; 3] {
-        match self {
-            KinematicsKind::Cartesian => ["x", "y", "z"],
-            KinematicsKind::CoreXy => ["a", "b", "z"],
-            KinematicsKind::Polar { .. } => ["theta", "r", "z"],
-            KinematicsKind::Polargraph { .. } => ["left", "right", "z"],
-        }
-    }
-
-    /// True for joints measured in degrees in the file (radians inside).
-    pub fn is_angular(self, joint: usize) -> bool {
-        matches!(self, KinematicsKind::Polar { .. }) && joint == 0
     }
 }
 
@@ -144,16 +114,6 @@ struct RawProfile {
 #[serde(deny_unknown_fields)]
 struct RawWork {
     g54: [f64; 3],
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawKinematics {
-    #[serde(rename = "type")]
-    kind: String,
-    pen_offset: Option<f64>,
-    motor_distance: Option<f64>,
-    min_drop: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -395,44 +355,30 @@ fn range(file: &str, key: &str, r: [f64; 2]) -> Result<[f64; 2], ProfileError> {
     }
 }
 
+/// The checks above, lent to the kinematics settings readers.
+struct FileCheck<'a>(&'a str);
+
+impl Check for FileCheck<'_> {
+    type Error = ProfileError;
+    fn error(&self, key: &str, message: String) -> ProfileError {
+        err(self.0, key, message)
+    }
+    fn positive(&self, key: &str, v: f64) -> Result<f64, ProfileError> {
+        positive(self.0, key, v)
+    }
+    fn non_negative(&self, key: &str, v: f64) -> Result<f64, ProfileError> {
+        non_negative(self.0, key, v)
+    }
+}
+
+impl AsRef<KinematicsKind> for Profile {
+    fn as_ref(&self) -> &KinematicsKind {
+        &self.kinematics
+    }
+}
+
 fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
-    let k = &raw.kinematics;
-    let kinematics = match k.kind.as_str() {
-        "cartesian" => KinematicsKind::Cartesian,
-        "corexy" => KinematicsKind::CoreXy,
-        "polar" => {
-            let h = k.pen_offset.ok_or_else(|| {
-                err(
-                    file,
-                    "kinematics.pen_offset",
-                    "required for type = \"polar\" (mm)".into(),
-                )
-            })?;
-            KinematicsKind::Polar {
-                pen_offset: non_negative(file, "kinematics.pen_offset", h)?,
-            }
-        }
-        "polargraph" => {
-            let w = k.motor_distance.ok_or_else(|| {
-                err(
-                    file,
-                    "kinematics.motor_distance",
-                    "required for type = \"polargraph\"".into(),
-                )
-            })?;
-            KinematicsKind::Polargraph {
-                motor_distance: positive(file, "kinematics.motor_distance", w)?,
-                min_drop: positive(file, "kinematics.min_drop", k.min_drop.unwrap_or(10.0))?,
-            }
-        }
-        other => {
-            return Err(err(
-                file,
-                "kinematics.type",
-                format!("unknown kinematics {other:?}; use cartesian, corexy, polar or polargraph"),
-            ))
-        }
-    };
+    let kinematics = KinematicsKind::from_settings(&raw.kinematics, &FileCheck(file))?;
     let p = &raw.planner;
     let shape = match p.velocity_profile.as_deref().unwrap_or("trapezoid") {
         "trapezoid" => Shape::Trapezoid,
