@@ -10,6 +10,7 @@ mod carve;
 mod check;
 mod console;
 mod emulate;
+mod fit;
 mod gcode_canon;
 mod gcode_input;
 mod machine_profile;
@@ -47,6 +48,8 @@ enum Command {
     Console(console::Args),
     /// Emulate a grbl 1.1 board on a pseudo-terminal or TCP port, for dry runs.
     Emulate(emulate::Args),
+    /// Fit a digitised contour by every method: blocks and deviation of each.
+    Fit(fit::Args),
     /// Run a program on the virtual machine or grbl firmware: progress, ETA, keyboard hold/resume/stop.
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
@@ -83,6 +86,7 @@ fn main() -> ExitCode {
         Command::Carve(args) => carve::run(args),
         Command::Console(args) => console::run(args),
         Command::Emulate(args) => emulate::run(args),
+        Command::Fit(args) => fit::run(args),
         Command::Run(args) => run::run(args),
         Command::Plan(args) => plan::run(args),
         Command::Plot(args) => plot::run(args),

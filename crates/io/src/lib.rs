@@ -16,6 +16,8 @@ pub mod seed001;
 pub mod svg;
 
 pub use import::{load_drawing, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES};
+/// The geometry crate the drawings are made of, for callers that only depend on `io`.
+pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
 pub mod hpgl;

@@ -127,6 +127,8 @@ fn fit_tangent_circles(pts: &[Point], raw: &[Point], tol: f64) -> Result<(Path, 
             ctrl.rotate_left(shift);
             let ctrl: Vec<Point> = ctrl.into_iter().step_by(4).collect();
             match tangent_circles(&ctrl) {
+                // A simple closed contour turns once; anything else has a loop somewhere.
+                Ok(path) if (turning(&path) - std::f64::consts::TAU).abs() > 0.1 => {}
                 Ok(path) => {
                     let dev = max_deviation(raw, &path);
                     if dev <= tol {
@@ -145,6 +147,17 @@ fn fit_tangent_circles(pts: &[Point], raw: &[Point], tol: f64) -> Result<(Path, 
         (None, Some(e)) => Err(e.into()),
         (None, None) => Err(FitError::TooFewPoints(pts.len())),
     }
+}
+
+/// Total turning of a path of arcs and lines joined smoothly: the sum of the arc sweeps.
+fn turning(p: &Path) -> f64 {
+    p.segments
+        .iter()
+        .map(|s| match s {
+            crate::drawing::Segment::Arc(a) => a.sweep,
+            _ => 0.0,
+        })
+        .sum()
 }
 
 /// Every method on the same contour.

@@ -29,6 +29,15 @@ pub enum TangentError {
         points: [Point; 3],
     },
     #[error(
+        "circle {circle} runs the wrong way round ({sweep:.2} rad) after the tangency moves: \
+         a loop in the contour; choose other points near {points:?}"
+    )]
+    Loop {
+        circle: usize,
+        sweep: f64,
+        points: Vec<Point>,
+    },
+    #[error(
         "circle {moved} cannot touch circles {fixed:?} (d = {d:.3}, G3 = {g3:.3}, G4 = {g4:.3}); \
          re-enter points near {points:?} so the neighbours reach each other"
     )]
@@ -198,15 +207,23 @@ pub fn tangent_circles(pts: &[Point]) -> Result<Path, TangentError> {
     let junction: Vec<Point> = (0..m)
         .map(|k| contact_point(&circles[k], &circles[(k + 1) % m], pts[(2 * k + 2) % n]))
         .collect();
-    let segments = (0..m)
-        .map(|k| {
-            let c = circles[k];
-            let (s, e) = (junction[(k + m - 1) % m], junction[k]);
-            let a0 = (s - c.center).atan2();
-            let sweep = sweep_between(a0, (e - c.center).atan2(), c.sign as i32);
-            Segment::Arc(Arc::new(c.center, c.radius, a0, sweep))
-        })
-        .collect();
+    let mut segments = Vec::with_capacity(m);
+    for k in 0..m {
+        let c = circles[k];
+        let (s, e) = (junction[(k + m - 1) % m], junction[k]);
+        let a0 = (s - c.center).atan2();
+        let sweep = sweep_between(a0, (e - c.center).atan2(), c.sign as i32);
+        // Three neighbouring points of a closed contour span well under half a turn; an arc
+        // of more than that met its neighbours' contacts in the reverse order (a loop).
+        if sweep.abs() > std::f64::consts::PI {
+            return Err(TangentError::Loop {
+                circle: k + 1,
+                sweep,
+                points: (2 * k..=2 * k + 2).map(|i| pts[i % n]).collect(),
+            });
+        }
+        segments.push(Segment::Arc(Arc::new(c.center, c.radius, a0, sweep)));
+    }
     Ok(Path::new(segments, true))
 }
 
@@ -291,15 +308,33 @@ mod tests {
             tangent_circles(&ellipse(10, 1.0, 2.0)),
             Err(TangentError::PointCount(10))
         );
-        // A tiny circle between two far-apart ones: G3 + G4 < d.
-        let mut pts = ellipse(8, 50.0, 50.0);
-        pts[3] = Point::new(-0.5 * 50.0 * 0.7071, 0.5 * 50.0 * 0.7071);
-        pts[2] = Point::new(0.0, 2.0);
-        pts[4] = Point::new(-1.0, 1.0);
+        // Small circles far apart at the ends, joined by flat stretches: a moved circle
+        // cannot reach both neighbours (eq. 3.1 has no real root).
+        let pts = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, -1.0),
+            Point::new(2.0, 0.0),
+            Point::new(25.0, -1.0),
+            Point::new(50.0, 0.0),
+            Point::new(51.0, 1.0),
+            Point::new(50.0, 2.0),
+            Point::new(25.0, 30.0),
+        ];
         match tangent_circles(&pts) {
-            Err(TangentError::NoTangent { points, .. }) => assert_eq!(points.len(), 5),
-            Err(TangentError::Collinear { .. }) => {}
-            other => panic!("expected a failure, got {other:?}"),
+            Err(TangentError::NoTangent {
+                moved,
+                fixed,
+                points,
+                g3,
+                g4,
+                d,
+            }) => {
+                // Circle 2 could be placed; circle 4, between 3 and 1, cannot.
+                assert_eq!((moved, fixed), (4, [3, 1]));
+                assert!(g3 + g4 < d || (g3 - g4).abs() > d);
+                assert_eq!(points, vec![pts[4], pts[5], pts[6], pts[7], pts[0]]);
+            }
+            other => panic!("expected no tangent solution, got {other:?}"),
         }
     }
 }
