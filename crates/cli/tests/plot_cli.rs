@@ -197,3 +197,33 @@ fn the_seed_check_prints_five_places() {
     }
     assert!(out.contains("ramp theta"), "{out}");
 }
+
+#[test]
+fn images_hatch_text_draws_and_a_broken_image_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let nc = dir.path().join("h.nc");
+    let out = ok(&oficina(&[
+        "plot",
+        "samples/relief/dome.png",
+        "--pixel",
+        "0.5",
+        "--pitch",
+        "1.5",
+        "--at",
+        "10,10",
+        "-o",
+        nc.to_str().unwrap(),
+    ]));
+    assert!(number_after(&out, "pen-down ") > 100.0, "{out}");
+    let out = ok(&oficina(&["plot", "--text", "Oficina", "--at", "10,10"]));
+    assert!(out.contains("G1 X"), "{out}");
+    let empty = dir.path().join("empty.png");
+    std::fs::write(&empty, b"").unwrap();
+    let o = oficina(&["plot", empty.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("empty.png") && e.contains("not a readable image"),
+        "{e}"
+    );
+}
