@@ -347,15 +347,15 @@ impl Path {
                     )));
                 }
                 Segment::Arc(a) => {
-                    let k = kurbo::Arc::new(
-                        a.center,
-                        (a.radius, a.radius),
-                        a.start_angle,
-                        a.sweep,
-                        0.0,
-                    );
+                    // The cubic count grows as (radius / tolerance)^(1/6) and with the sweep:
+                    // a tolerance relative to the radius and at most one turn keep it to a few
+                    // dozen whatever the numbers (a fuzzed DXF asked for 2.4 GB of cubics).
+                    let sweep = a.sweep.clamp(-std::f64::consts::TAU, std::f64::consts::TAU);
+                    let tolerance = (a.radius.abs() * 1e-9).max(1e-6);
+                    let k =
+                        kurbo::Arc::new(a.center, (a.radius, a.radius), a.start_angle, sweep, 0.0);
                     let mut from = a.start();
-                    k.to_cubic_beziers(1e-6, |p1, p2, p3| {
+                    k.to_cubic_beziers(tolerance, |p1, p2, p3| {
                         segments.push(Segment::Cubic(CubicBez::new(
                             m * from,
                             m * p1,

@@ -11,8 +11,9 @@ use std::collections::HashMap;
 
 /// Deepest nesting of block inserts followed (a block that inserts itself stops here).
 const MAX_DEPTH: usize = 16;
-/// Most entities one file may expand to through inserts and arrays.
-const MAX_EXPANDED: usize = 5_000_000;
+/// Most entities one file may expand to through inserts and arrays (a bound on the
+/// drawing's size however the arrays nest).
+const MAX_EXPANDED: usize = 1_000_000;
 
 /// Millimetres per drawing unit of `$INSUNITS`; unitless drawings are taken as mm.
 fn mm_per_unit(u: Units) -> Option<f64> {
