@@ -7,7 +7,7 @@
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use oficina_cam::ops::{pocket, Cut, Entry, PocketParams, Strategy};
-use oficina_geom::{offset_regions, Join, Region};
+use oficina_geom::{offset_steps, Region};
 use std::f64::consts::TAU;
 use std::io::Write;
 use std::process::Command;
@@ -197,19 +197,21 @@ pub fn run(args: Args) -> Result<()> {
     };
     let (c0, _) = cpu_and_rss();
     let t0 = Instant::now();
-    let mut ours = Vec::with_capacity(args.offsets);
-    let mut regions_total = 0;
-    for k in 1..=args.offsets {
-        let r = offset_regions(
-            std::slice::from_ref(&region),
-            -(k as f64) * args.step,
-            Join::Round {
-                tolerance: args.tolerance,
-            },
-        )?;
-        regions_total += r.len();
-        ours.push(r.iter().map(Region::area).sum::<f64>());
-    }
+    // Each inset made from the one before (`offset_steps`), as the peers do below.
+    let steps = offset_steps(
+        std::slice::from_ref(&region),
+        -args.step,
+        -args.step,
+        args.offsets,
+        args.tolerance,
+    )?;
+    let regions_total: usize = steps.iter().map(Vec::len).sum();
+    let mut ours: Vec<f64> = steps
+        .iter()
+        .map(|r| r.iter().map(Region::area).sum::<f64>())
+        .collect();
+    // Offsets past the last non-empty one have no area (the peers report 0 there too).
+    ours.resize(args.offsets, 0.0);
     let wall = t0.elapsed().as_secs_f64();
     let (c1, rss) = cpu_and_rss();
     println!(

@@ -312,9 +312,10 @@ pub fn max_profile(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// Even–odd point-in-polygon over several rings.
-pub fn inside(rings: &[Vec<P>], p: P) -> bool {
+pub fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
     let mut inside = false;
     for r in rings {
+        let r = r.as_ref();
         let n = r.len();
         for i in 0..n {
             let (a, b) = (r[i], r[(i + 1) % n]);
@@ -329,9 +330,60 @@ pub fn inside(rings: &[Vec<P>], p: P) -> bool {
     inside
 }
 
+/// Rings with their bounding boxes, for many inside tests against a drawing of many shapes:
+/// a ring whose box does not hold a point crosses the point's ray an even number of times
+/// (it is closed and the point is outside it), so skipping it leaves the even–odd count as
+/// it was; only the few rings near a segment are walked.
+pub struct Rings {
+    rings: Vec<Vec<P>>,
+    boxes: Vec<[f64; 4]>,
+}
+
+impl Rings {
+    pub fn new(rings: Vec<Vec<P>>) -> Rings {
+        let boxes = rings
+            .iter()
+            .map(|r| {
+                r.iter().fold(
+                    [
+                        f64::INFINITY,
+                        f64::INFINITY,
+                        f64::NEG_INFINITY,
+                        f64::NEG_INFINITY,
+                    ],
+                    |b, p| {
+                        [
+                            b[0].min(p[0]),
+                            b[1].min(p[1]),
+                            b[2].max(p[0]),
+                            b[3].max(p[1]),
+                        ]
+                    },
+                )
+            })
+            .collect();
+        Rings { rings, boxes }
+    }
+
+    /// Whether the segment a→b stays inside the rings (sampled every 0.05 mm), so a feed
+    /// link along it cuts only where the pass is allowed to cut.
+    pub fn segment_inside(&self, a: P, b: P) -> bool {
+        let (x0, x1) = (a[0].min(b[0]), a[0].max(b[0]));
+        let (y0, y1) = (a[1].min(b[1]), a[1].max(b[1]));
+        let near: Vec<&Vec<P>> = self
+            .rings
+            .iter()
+            .zip(&self.boxes)
+            .filter(|(_, bx)| bx[0] <= x1 && bx[2] >= x0 && bx[1] <= y1 && bx[3] >= y0)
+            .map(|(r, _)| r)
+            .collect();
+        segment_inside(&near, a, b)
+    }
+}
+
 /// Whether the segment a→b stays inside `rings` (sampled every 0.05 mm), so a feed link
 /// along it cuts only where the pass is allowed to cut.
-pub fn segment_inside(rings: &[Vec<P>], a: P, b: P) -> bool {
+pub fn segment_inside<R: AsRef<[P]>>(rings: &[R], a: P, b: P) -> bool {
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
     let n = (len / 0.05).ceil().max(1.0) as usize;
     (0..=n).all(|k| {

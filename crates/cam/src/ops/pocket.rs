@@ -3,7 +3,7 @@
 //! pre-finish allowance on the walls for one finishing pass at the tool radius at full
 //! depth. Pockets that split into several regions are handled by the offsets themselves.
 
-use super::chain::{segment_inside, Chain, P};
+use super::chain::{Chain, Rings, P};
 use super::entry::{enter_loop, enter_open, helix, Entry};
 use super::profile::OFFSET_TOL;
 use super::{Builder, Cut, OpError, RAPID_GAP};
@@ -73,15 +73,17 @@ pub fn pocket(
     }
     // Where a feed link may go: the tool-centre space, 10 µm generous so links that end
     // on the finishing contour count as inside.
-    let link_rings: Vec<Vec<P>> = offset_areas(&areas, -(r - 0.01), OFFSET_TOL)
-        .map_err(geo)?
-        .iter()
-        .flat_map(|a| {
-            a.paths()
-                .map(|p| Chain::from_path(p).polygon(0.005))
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let link_rings = Rings::new(
+        offset_areas(&areas, -(r - 0.01), OFFSET_TOL)
+            .map_err(geo)?
+            .iter()
+            .flat_map(|a| {
+                a.paths()
+                    .map(|p| Chain::from_path(p).polygon(0.005))
+                    .collect::<Vec<_>>()
+            })
+            .collect(),
+    );
     let rough = if p.allowance > 0.0 {
         offset_areas(&finish, -p.allowance, OFFSET_TOL).map_err(geo)?
     } else {
@@ -187,7 +189,7 @@ fn cut_rings(
     b: &mut Builder,
     rings: &[Ring],
     cut: &Cut,
-    link: &[Vec<P>],
+    link: &Rings,
     z_prev: f64,
     level: f64,
     r: f64,
@@ -199,7 +201,7 @@ fn cut_rings(
         let chain = ring.chain.rotated(s);
         let linked = at_level(b) && dist < 2.0 * cut.tool.diameter + 1e-9 && {
             let to = chain.start();
-            segment_inside(link, here, to)
+            link.segment_inside(here, to)
         };
         if linked {
             let to = chain.start();
@@ -331,7 +333,7 @@ fn cut_rows(
     b: &mut Builder,
     rows: &[Vec<(P, P)>],
     cut: &Cut,
-    link: &[Vec<P>],
+    link: &Rings,
     z_prev: f64,
     level: f64,
 ) -> Result<(), OpError> {
@@ -341,7 +343,7 @@ fn cut_rows(
             pieces: vec![super::chain::Piece::Line { a, b: e }],
             closed: false,
         };
-        let linked = (b.at[2] - level).abs() < 1e-9 && segment_inside(link, here, a);
+        let linked = (b.at[2] - level).abs() < 1e-9 && link.segment_inside(here, a);
         if linked {
             b.line([a[0], a[1], level], cut.feed);
         } else {
