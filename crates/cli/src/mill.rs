@@ -263,7 +263,7 @@ pub fn judge(
     let feed_only_s = feed_only_estimate(&canon, [0.0, 0.0, tp.safe_z], 6000.0);
     let (planner_s, planner_error) = match oficina_motion::Profile::load(profile) {
         Ok(p) => {
-            match oficina_motion::estimate(to_machine(&canon, tp.safe_z + 1.0).into_iter(), &p) {
+            match oficina_motion::estimate(oficina_sim::to_machine(&canon, tp.safe_z + 1.0), &p) {
                 Ok(e) => (Some(e.seconds), None),
                 Err(e) => (None, Some(e.to_string())),
             }
@@ -281,42 +281,8 @@ pub fn judge(
     })
 }
 
-/// The program with Z dropped by `drop` so it sits below the top of Z travel (the usual
-/// Z-zero-at-top machine), rapids and feeds only; the feed reset before any F is dropped.
-fn to_machine(canon: &[oficina_canon::Canon], drop: f64) -> Vec<oficina_canon::Canon> {
-    use oficina_canon::CanonOp;
-    let shift = |mut p: oficina_canon::Pos| {
-        p.z -= drop;
-        p
-    };
-    canon
-        .iter()
-        .filter(|c| !matches!(c.op, CanonOp::SetFeedRate(f) if f <= 0.0))
-        .map(|c| {
-            let op = match &c.op {
-                CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
-                CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
-                CanonOp::ArcFeed {
-                    plane,
-                    end,
-                    center,
-                    turns,
-                } => CanonOp::ArcFeed {
-                    plane: *plane,
-                    end: shift(*end),
-                    center: *center,
-                    turns: *turns,
-                },
-                other => other.clone(),
-            };
-            oficina_canon::Canon { line: c.line, op }
-        })
-        .collect()
-}
-
 pub fn hms(s: f64) -> String {
-    let s = s.round() as u64;
-    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    oficina_motion::format_hms(s, 0)
 }
 
 pub fn print_judged(j: &Judged) {

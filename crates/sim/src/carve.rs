@@ -409,7 +409,7 @@ pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<Canon>, CarveE
 /// top of Z travel (the usual Z-zero-at-top router), so the planner's travel check passes;
 /// times do not depend on where the work zero is. (The planner takes the F0 that G94 sets
 /// before any F word as legal, as it is; feed moves check their own feed.)
-fn to_machine(canon: &[Canon], drop: f64) -> impl Iterator<Item = Canon> + '_ {
+pub fn to_machine(canon: &[Canon], drop: f64) -> impl Iterator<Item = Canon> + '_ {
     let shift = move |mut p: oficina_canon::Pos| {
         p.z -= drop;
         p

@@ -9,6 +9,7 @@ pub mod render;
 pub mod replay;
 pub mod report;
 
+pub use carve::to_machine;
 pub use estimate::feed_only_estimate;
 pub use mill::{check_mill, Design, MillCheck};
 pub use render::{render_png, shade};
