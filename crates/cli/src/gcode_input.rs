@@ -25,6 +25,10 @@ pub struct ProgramArgs {
     /// Skip blocks that start with `/`.
     #[arg(long)]
     pub block_delete: bool,
+    /// Refuse Fanuc-style subprograms (`O100` … `M99`, `M98 P100`), as LinuxCNC's
+    /// `DISABLE_FANUC_STYLE_SUB` does.
+    #[arg(long)]
+    pub disable_fanuc_subs: bool,
     /// Machine units: the unit of the tool table and of the offset parameters (#5161…,
     /// #5211…, #5221…). `gcode canon` defaults to inch like LinuxCNC's standalone `rs274`;
     /// `check` to mm.
@@ -85,6 +89,7 @@ impl ProgramArgs {
             }
         };
         opts.block_delete = self.block_delete;
+        opts.disable_fanuc_subs = self.disable_fanuc_subs;
         opts.max_line_len = self.limits.bytes();
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
         // `gcode canon` exists to be compared with `rs274`, whose machine is in inches.

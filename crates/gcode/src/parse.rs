@@ -568,6 +568,28 @@ pub fn oword_head(c: &Compact) -> Option<(String, Keyword)> {
     Keyword::from_name(&c.bytes[start..p.pos]).map(|k| (label, k))
 }
 
+/// The label of a Fanuc-style program or subprogram number line, `O0100` or `O100 (NAME)`:
+/// an o-word with no keyword, at most a comment after it.
+pub fn bare_oword(c: &Compact) -> Option<String> {
+    let b = &c.bytes;
+    let mut i = usize::from(b.first() == Some(&b'/'));
+    if b.get(i) == Some(&b'n') {
+        i += 1;
+        while b.get(i).is_some_and(u8::is_ascii_digit) {
+            i += 1;
+        }
+    }
+    if b.get(i) != Some(&b'o') {
+        return None;
+    }
+    let start = i + 1;
+    let end = start + b[start..].iter().take_while(|d| d.is_ascii_digit()).count();
+    if end == start || !matches!(b.get(end), None | Some(b'(' | b';')) {
+        return None;
+    }
+    Some(numeric_label(&b[start..end]))
+}
+
 /// `0100` and `100` name the same o-word.
 fn numeric_label(digits: &[u8]) -> String {
     let trimmed = match digits.iter().position(|&d| d != b'0') {

@@ -29,6 +29,9 @@ pub struct RunOptions {
     /// Parameter values the machine holds before the program starts, like LinuxCNC's `.var`
     /// file or grbl's EEPROM: e.g. the stored G54 offset in #5221…#5223 (machine units).
     pub initial_params: Vec<(i64, f64)>,
+    /// Refuse Fanuc-style subprograms (`O100` … `M99`, `M98`), as LinuxCNC's
+    /// `DISABLE_FANUC_STYLE_SUB` does.
+    pub disable_fanuc_subs: bool,
 }
 
 impl RunOptions {
@@ -189,6 +192,7 @@ pub fn run(
     let named = mentions_system_params(&mut source).unwrap_or(true);
     let mut exec = Executor::new(source, opts.dialect);
     exec.set_block_delete(opts.block_delete);
+    exec.set_fanuc_subs(!opts.disable_fanuc_subs);
     if opts.max_line_len > 0 {
         exec.set_max_line_len(opts.max_line_len);
     }

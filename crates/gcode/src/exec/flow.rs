@@ -8,7 +8,8 @@ use crate::ast::Keyword;
 /// an error instead of running forever.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
-    /// Deepest nesting of subroutine calls (LinuxCNC allows 10 levels).
+    /// Deepest nesting of subroutine calls: 9, as in rs274, whose 10 call levels count the
+    /// main program as the first (a 10th nested call is "Too many subroutine levels").
     pub max_call_depth: usize,
     /// Iterations of one loop (one entry into it).
     pub max_loop_iterations: u64,
@@ -23,7 +24,7 @@ pub struct Limits {
 impl Default for Limits {
     fn default() -> Self {
         Limits {
-            max_call_depth: 10,
+            max_call_depth: 9,
             max_loop_iterations: 10_000_000,
             max_idle_iterations: 1_000_000,
             max_total_jumps: 1_000_000_000,
@@ -123,6 +124,16 @@ pub struct CallFrame {
     /// Open `if`s and loops below this index belong to the caller.
     pub ctl_base: usize,
     pub call_line: u32,
+    /// A Fanuc-style `M98 P… L…` call: where its body starts and how many runs are left
+    /// (`M99` goes back to the body until none are).
+    pub fanuc: Option<FanucRuns>,
+}
+
+/// The repetitions of an `M98 P… L…` call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FanucRuns {
+    pub body: Mark,
+    pub remaining: u64,
 }
 
 /// A known subroutine.
@@ -134,6 +145,8 @@ pub struct SubDef {
     pub line: u32,
     /// Found by looking ahead for a call, not by running through its definition.
     pub found_by_search: bool,
+    /// A Fanuc-style `O100` … `M99` subprogram (called with M98), not `o100 sub`.
+    pub fanuc: bool,
 }
 
 /// What to do with the line that ends a skip.

@@ -17,6 +17,7 @@
 //! A call to an undefined subroutine is reported at the call, not at the end of the file.
 
 mod direct;
+mod fanuc;
 mod flow;
 mod oword;
 mod plain;
@@ -31,7 +32,7 @@ use crate::diag::{Diagnostic, Span};
 use crate::expr::{eval, param_error, param_number};
 use crate::lex::Compact;
 use crate::params::Params;
-use crate::parse::parse_line;
+use crate::parse::{bare_oword, parse_line};
 use crate::Dialect;
 use flow::{CallFrame, Ctl, Mark, Skip, SubDef};
 use source::{LineSource, Read};
@@ -82,6 +83,8 @@ pub struct Executor<R> {
     plain_run: u8,
     /// Start of the line being run.
     current: Mark,
+    /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
+    fanuc_subs: bool,
 }
 
 impl Executor<Cursor<Vec<u8>>> {
@@ -115,6 +118,7 @@ impl<R: BufRead + Seek> Executor<R> {
             plain_lines: true,
             plain_run: 0,
             current: Mark { offset: 0, line: 0 },
+            fanuc_subs: true,
         }
     }
 
@@ -132,6 +136,12 @@ impl<R: BufRead + Seek> Executor<R> {
     /// are errors and are never held in memory.
     pub fn set_max_line_len(&mut self, bytes: usize) {
         self.src.set_max_len(bytes);
+    }
+
+    /// Read Fanuc-style subprograms (on by default); off, a bare `O100` line and `M98` are
+    /// errors, as with LinuxCNC's `DISABLE_FANUC_STYLE_SUB` (see `exec/fanuc.rs`).
+    pub fn set_fanuc_subs(&mut self, on: bool) {
+        self.fanuc_subs = on;
     }
 
     pub fn set_limits(&mut self, limits: Limits) {
@@ -217,6 +227,9 @@ impl<R: BufRead + Seek> Executor<R> {
                 && self.seen_content
                 && self.fast_path(number, params, block)
             {
+                if self.fanuc_block(block)? {
+                    continue;
+                }
                 self.idle_iterations = 0;
                 return Ok(true);
             }
@@ -240,6 +253,18 @@ impl<R: BufRead + Seek> Executor<R> {
                 }
             }
             if self.compact.is_empty() {
+                continue;
+            }
+            if self.dialect != Dialect::Grbl && bare_oword(&self.compact).is_some() {
+                // A program number (or a subprogram's first line, reached by running).
+                self.seen_content = true;
+                if !self.fanuc_subs {
+                    return Err(Diagnostic::error(
+                        self.compact.span(0, self.compact.bytes.len()),
+                        "DISABLE_FANUC_STYLE_SUB disabled in INI file, but found bare O-word",
+                    )
+                    .with_help("Fanuc-style program numbers are disabled; an o-word needs a keyword (sub, call, if, …)"));
+                }
                 continue;
             }
             if let Err(e) = parse_line(&self.compact, self.dialect, &mut self.line) {
@@ -278,6 +303,9 @@ impl<R: BufRead + Seek> Executor<R> {
                 continue;
             }
             self.fill_block(params, block)?;
+            if self.fanuc_block(block)? {
+                continue;
+            }
             self.idle_iterations = 0;
             return Ok(true);
         }

@@ -10,7 +10,7 @@ use crate::diag::{Diagnostic, Span};
 use crate::expr::eval;
 use crate::lex::Compact;
 use crate::params::Params;
-use crate::parse::oword_head;
+use crate::parse::{bare_oword, oword_head};
 use std::io::{BufRead, Seek};
 
 impl<R: BufRead + Seek> Executor<R> {
@@ -287,7 +287,7 @@ impl<R: BufRead + Seek> Executor<R> {
                     return Err(self.err(o, format!("more than {MAX_SUBS} subroutine definitions")));
                 }
                 let body = self.next_mark();
-                self.subs.insert(o.label.clone(), SubDef { body, line, found_by_search: false });
+                self.subs.insert(o.label.clone(), SubDef { body, line, found_by_search: false, fanuc: false });
                 Ok(())
             }
         }
@@ -309,31 +309,29 @@ impl<R: BufRead + Seek> Executor<R> {
                     ),
                 )
                 .with_help(
-                    "is the recursion missing its end condition? (LinuxCNC allows 10 levels)",
+                    "is the recursion missing its end condition? (LinuxCNC allows 9 nested calls)",
                 ));
         }
-        self.total_jumps += 1;
-        if self.total_jumps > self.limits.max_total_jumps {
-            return Err(self
-                .err(
-                    o,
-                    format!(
-                        "more than {} loop iterations and calls in this run",
-                        self.limits.max_total_jumps
-                    ),
-                )
-                .with_help("does every loop and recursion reach its end condition?"));
-        }
+        self.count_jump(o.span)?;
         let resume = self.next_mark();
         let def = match self.subs.get(&o.label) {
+            Some(def) if def.fanuc => {
+                return Err(self
+                    .err(
+                        o,
+                        format!("{name} is a Fanuc-style subprogram (O{} … M99)", o.label),
+                    )
+                    .with_help(format!("call it with M98 P{}", o.label)))
+            }
             Some(def) => *def,
-            None => self.search_sub(o)?,
+            None => self.search_sub(&o.label, o.span, false)?,
         };
         self.calls.push(CallFrame {
             label: o.label.clone(),
             resume,
             ctl_base: self.ctl.len(),
             call_line: self.line.line,
+            fanuc: None,
         });
         params.push_call(&args[..o.args.len()]);
         if let Err(e) = self.seek(def.body) {
@@ -342,9 +340,16 @@ impl<R: BufRead + Seek> Executor<R> {
         Ok(())
     }
 
-    /// Look ahead for the definition of a subroutine called before it was defined.
-    fn search_sub(&mut self, o: &OWord) -> Result<SubDef, Diagnostic> {
-        let name = OWord::display_label(&o.label);
+    /// Look ahead for the definition of a subroutine called before it was defined: an
+    /// `oN sub` line or a Fanuc-style bare `ON` line with this label (the caller checks that
+    /// the kind found is the kind it calls).
+    pub(super) fn search_sub(
+        &mut self,
+        wanted: &str,
+        span: Span,
+        fanuc_call: bool,
+    ) -> Result<SubDef, Diagnostic> {
+        let name = OWord::display_label(wanted);
         let back = self.next_mark();
         let mut scratch = Compact::new();
         let found = loop {
@@ -353,15 +358,18 @@ impl<R: BufRead + Seek> Executor<R> {
                     if scratch.load(self.src.text(), number).is_err() {
                         continue;
                     }
-                    if let Some((label, Keyword::Sub)) = oword_head(&scratch) {
-                        if label == o.label {
-                            break Some(SubDef {
-                                body: self.next_mark(),
-                                line: number,
-                                found_by_search: true,
-                            });
-                        }
-                    }
+                    let fanuc = match oword_head(&scratch) {
+                        Some((label, Keyword::Sub)) if label == wanted => false,
+                        Some(_) => continue,
+                        None if bare_oword(&scratch).as_deref() == Some(wanted) => true,
+                        None => continue,
+                    };
+                    break Some(SubDef {
+                        body: self.next_mark(),
+                        line: number,
+                        found_by_search: true,
+                        fanuc,
+                    });
                 }
                 Ok(Read::TooLong { .. }) => continue,
                 Ok(Read::Eof) | Err(_) => break None,
@@ -371,17 +379,43 @@ impl<R: BufRead + Seek> Executor<R> {
         match found {
             Some(def) => {
                 if self.subs.len() >= MAX_SUBS {
-                    return Err(self.err(o, format!("more than {MAX_SUBS} subroutine definitions")));
+                    return Err(Diagnostic::error(
+                        span,
+                        format!("more than {MAX_SUBS} subroutine definitions"),
+                    ));
                 }
-                self.subs.insert(o.label.clone(), def);
+                self.subs.insert(wanted.to_string(), def);
                 Ok(def)
             }
-            None => Err(self
-                .err(o, format!("subroutine {name} is not defined"))
-                .with_help(format!(
-                    "define it in this file: {name} sub … {name} endsub"
-                ))),
+            None if fanuc_call => Err(Diagnostic::error(
+                span,
+                format!("subprogram O{wanted} is not in this file after the call"),
+            )
+            .with_help(format!(
+                "LinuxCNC looks for a line O{wanted} below the M98 (put subprograms after M2/M30)"
+            ))),
+            None => Err(
+                Diagnostic::error(span, format!("subroutine {name} is not defined")).with_help(
+                    format!("define it in this file: {name} sub … {name} endsub"),
+                ),
+            ),
         }
+    }
+
+    /// Count a call (or a repetition of one) against the limit on jumps in the run.
+    pub(super) fn count_jump(&mut self, span: Span) -> Result<(), Diagnostic> {
+        self.total_jumps += 1;
+        if self.total_jumps > self.limits.max_total_jumps {
+            return Err(Diagnostic::error(
+                span,
+                format!(
+                    "more than {} loop iterations and calls in this run",
+                    self.limits.max_total_jumps
+                ),
+            )
+            .with_help("does every loop and recursion reach its end condition?"));
+        }
+        Ok(())
     }
 
     fn return_from(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
