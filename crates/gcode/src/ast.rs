@@ -106,8 +106,12 @@ pub enum CommentKind {
     Plain,
     /// `(MSG,…)`
     Message,
-    /// `(DEBUG,…)` or `(PRINT,…)`: parameters are substituted when the line runs.
+    /// `(DEBUG,…)`: parameters are substituted when the line runs.
     Debug,
+    /// `(PRINT,…)`: like DEBUG, but rs274 writes it to its output, not as a canonical call.
+    Print,
+    /// `(ABORT,…)`: the program stops with this text (parameters substituted) as its error.
+    Abort,
 }
 
 /// One element of a line, in source order (order matters: LinuxCNC evaluates left to right
@@ -199,6 +203,9 @@ pub struct OWord {
     /// The label as LinuxCNC matches it: `o0100` and `o100` are both "100", `o<My Sub>` is
     /// "mysub".
     pub label: String,
+    /// `o[expression]`: the label is the value of this expression, found when the line runs
+    /// (`label` is empty until then).
+    pub label_expr: Option<Expr>,
     pub keyword: Keyword,
     /// Bracketed arguments: the condition, the repeat count, call arguments, return value.
     pub args: Vec<Expr>,

@@ -239,8 +239,13 @@ impl<'a> Parser<'a> {
     fn oword(&mut self) -> Result<OWord, Diagnostic> {
         let start = self.pos;
         self.pos += 1;
+        let mut label_expr = None;
         let label = match self.peek() {
             Some(b'<') => self.angle_name()?,
+            Some(b'[') => {
+                label_expr = Some(self.real_value()?);
+                String::new()
+            }
             Some(b'0'..=b'9') => {
                 let digits_start = self.pos;
                 while matches!(self.peek(), Some(b'0'..=b'9')) {
@@ -309,6 +314,7 @@ impl<'a> Parser<'a> {
         }
         Ok(OWord {
             label,
+            label_expr,
             keyword,
             args,
             span: self.span(start),
@@ -608,7 +614,8 @@ fn classify_comment(text: String) -> (CommentKind, String) {
     for (key, kind) in [
         ("msg,", CommentKind::Message),
         ("debug,", CommentKind::Debug),
-        ("print,", CommentKind::Debug),
+        ("print,", CommentKind::Print),
+        ("abort,", CommentKind::Abort),
     ] {
         if trimmed.len() >= key.len()
             && trimmed.as_bytes()[..key.len()].eq_ignore_ascii_case(key.as_bytes())

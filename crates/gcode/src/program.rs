@@ -127,6 +127,12 @@ impl Driver {
             if block.line > 0 {
                 self.last_line = block.line;
             }
+            for text in exec.take_printed() {
+                self.report(Diagnostic::warning(
+                    Span::line(block.line),
+                    format!("(print) {text}"),
+                ));
+            }
             if self.named_params {
                 self.interp.update_named_params(&mut self.params);
             }

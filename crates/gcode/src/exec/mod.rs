@@ -85,6 +85,8 @@ pub struct Executor<R> {
     current: Mark,
     /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
     fanuc_subs: bool,
+    /// Texts of `(print, …)` comments of the last block read (see `take_printed`).
+    printed: Vec<String>,
 }
 
 impl Executor<Cursor<Vec<u8>>> {
@@ -119,6 +121,7 @@ impl<R: BufRead + Seek> Executor<R> {
             plain_run: 0,
             current: Mark { offset: 0, line: 0 },
             fanuc_subs: true,
+            printed: Vec::new(),
         }
     }
 
@@ -161,6 +164,12 @@ impl<R: BufRead + Seek> Executor<R> {
         self.end
     }
 
+    /// The `(print, …)` texts of the block just read, parameters substituted (rs274 writes
+    /// them to its output). Emptied by the next read.
+    pub fn take_printed(&mut self) -> std::vec::Drain<'_, String> {
+        self.printed.drain(..)
+    }
+
     /// Depth of subroutine calls in progress.
     pub fn call_depth(&self) -> usize {
         self.calls.len()
@@ -183,6 +192,7 @@ impl<R: BufRead + Seek> Executor<R> {
         params: &mut Params,
         block: &mut Block,
     ) -> Result<bool, Diagnostic> {
+        self.printed.clear();
         if !self.started {
             self.started = true;
             params.set_system("_value", 0.0);
@@ -293,8 +303,8 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.line.block_delete && self.block_delete {
                 continue;
             }
-            if let Some(o) = self.line.oword.take() {
-                let result = self.run_oword(&o, params);
+            if let Some(mut o) = self.line.oword.take() {
+                let result = resolve_label(&mut o, params).and_then(|_| self.run_oword(&o, params));
                 self.line.oword = Some(o);
                 result?;
                 continue;
@@ -464,6 +474,16 @@ impl<R: BufRead + Seek> Executor<R> {
                         debug_at.push(block.notes.len());
                         block.notes.push(Note::Debug(text.clone()));
                     }
+                    // rs274 writes it out (not a canonical call): the caller takes it from
+                    // `take_printed` after this block.
+                    CommentKind::Print => self.printed.push(substitute_params(text, params)),
+                    CommentKind::Abort => {
+                        return Err(Diagnostic::error(
+                            Span::line(self.line.line),
+                            substitute_params(text, params),
+                        )
+                        .with_help("the program stopped itself with (abort, …)"));
+                    }
                 },
             }
         }
@@ -488,6 +508,24 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         Ok(())
     }
+}
+
+/// The label of an `o[expression]` line: the expression's value, an integer.
+fn resolve_label(o: &mut OWord, params: &Params) -> Result<(), Diagnostic> {
+    let Some(e) = &o.label_expr else {
+        return Ok(());
+    };
+    let v = eval(e, params)?;
+    let n = v.round();
+    if (v - n).abs() > 1e-4 || !(0.0..=99_999_999.0).contains(&n) {
+        return Err(Diagnostic::error(
+            o.span,
+            format!("o[…] evaluates to {v}, not an o-word number"),
+        )
+        .with_help("the expression must give a whole number such as 100"));
+    }
+    o.label = format!("{}", n as i64);
+    Ok(())
 }
 
 /// `#n` and `#<name>` in a DEBUG/PRINT text replaced by their values (`%lf` style, six
