@@ -29,6 +29,10 @@ pub struct ProgramArgs {
     /// `DISABLE_FANUC_STYLE_SUB` does.
     #[arg(long)]
     pub disable_fanuc_subs: bool,
+    /// A directory where `o<name> call` finds `name.ngc` (LinuxCNC's SUBROUTINE_PATH);
+    /// repeat for several, searched in order.
+    #[arg(long, value_name = "DIR")]
+    pub subroutine_path: Vec<PathBuf>,
     /// Machine units: the unit of the tool table and of the offset parameters (#5161…,
     /// #5211…, #5221…). `gcode canon` defaults to inch like LinuxCNC's standalone `rs274`;
     /// `check` to mm.
@@ -90,6 +94,7 @@ impl ProgramArgs {
         };
         opts.block_delete = self.block_delete;
         opts.disable_fanuc_subs = self.disable_fanuc_subs;
+        opts.subroutine_path = self.subroutine_path.clone();
         opts.max_line_len = self.limits.bytes();
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
         // `gcode canon` exists to be compared with `rs274`, whose machine is in inches.

@@ -222,6 +222,9 @@ fn run_rs274(file: &Path) -> Run {
 
 fn run_rs274_once(file: &Path) -> Run {
     let mut cmd = Command::new("rs274");
+    if uses_subroutine_path(file) {
+        cmd.arg("-i").arg(SUBROUTINE_INI);
+    }
     cmd.current_dir(corpus_dir())
         .arg("-g")
         .arg("-t")
@@ -244,7 +247,23 @@ fn run_oficina(file: &Path) -> Run {
         .arg(file)
         .arg("--tool-table")
         .arg("tool.tbl");
+    if uses_subroutine_path(file) {
+        cmd.arg("--subroutine-path").arg(SUBROUTINE_DIR);
+    }
     run_command(cmd)
+}
+
+/// Programs named `oword_lib_*.ngc` call subroutines kept in their own files in
+/// [`SUBROUTINE_DIR`]: rs274 finds them through the INI file's SUBROUTINE_PATH, Oficina
+/// through `--subroutine-path`. (The directory's own .ngc files are not corpus programs: the
+/// corpus is read one level deep.)
+const SUBROUTINE_DIR: &str = "oword_lib";
+const SUBROUTINE_INI: &str = "oword_lib/paths.ini";
+
+fn uses_subroutine_path(file: &Path) -> bool {
+    file.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("oword_lib_"))
 }
 
 /// rs274's stderr without its "executing" banner, or None when nothing else was said.

@@ -32,6 +32,8 @@ pub struct RunOptions {
     /// Refuse Fanuc-style subprograms (`O100` … `M99`, `M98`), as LinuxCNC's
     /// `DISABLE_FANUC_STYLE_SUB` does.
     pub disable_fanuc_subs: bool,
+    /// Directories searched for `name.ngc` by `o<name> call` (LinuxCNC's SUBROUTINE_PATH).
+    pub subroutine_path: Vec<std::path::PathBuf>,
 }
 
 impl RunOptions {
@@ -199,6 +201,7 @@ pub fn run(
     let mut exec = Executor::new(source, opts.dialect);
     exec.set_block_delete(opts.block_delete);
     exec.set_fanuc_subs(!opts.disable_fanuc_subs);
+    exec.set_subroutine_path(opts.subroutine_path.clone());
     if opts.max_line_len > 0 {
         exec.set_max_line_len(opts.max_line_len);
     }

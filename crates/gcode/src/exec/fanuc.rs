@@ -99,6 +99,7 @@ impl<R: BufRead + Seek> Executor<R> {
             resume,
             ctl_base: self.ctl.len(),
             call_line: block.line,
+            file_depth: self.src.depth(),
             fanuc: Some(FanucRuns {
                 body: def.body,
                 remaining: l.min(u64::MAX as f64) as u64,
@@ -135,6 +136,7 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         if let Some(frame) = self.calls.pop() {
             self.ctl.truncate(frame.ctl_base);
+            self.src.close_to(frame.file_depth);
             self.seek(frame.resume)?;
         }
         Ok(true)

@@ -127,6 +127,8 @@ pub struct CallFrame {
     /// A Fanuc-style `M98 P… L…` call: where its body starts and how many runs are left
     /// (`M99` goes back to the body until none are).
     pub fanuc: Option<FanucRuns>,
+    /// Subroutine files open in the caller: the return closes the ones above.
+    pub file_depth: usize,
 }
 
 /// The repetitions of an `M98 P… L…` call.

@@ -35,7 +35,7 @@ use crate::params::Params;
 use crate::parse::{bare_oword, parse_line};
 use crate::Dialect;
 use flow::{CallFrame, Ctl, Mark, Skip, SubDef};
-use source::{LineSource, Read};
+use source::{Read, Sources};
 use std::collections::HashMap;
 use std::io::{BufRead, Cursor, Seek};
 
@@ -55,7 +55,7 @@ const MAX_SUBS: usize = 100_000;
 const MAX_OPEN_BLOCKS: usize = 1_000;
 
 pub struct Executor<R> {
-    src: LineSource<R>,
+    src: Sources<R>,
     dialect: Dialect,
     block_delete: bool,
     limits: Limits,
@@ -87,6 +87,8 @@ pub struct Executor<R> {
     fanuc_subs: bool,
     /// Texts of `(print, …)` comments of the last block read (see `take_printed`).
     printed: Vec<String>,
+    /// Directories where `o<name> call` looks for `name.ngc` (LinuxCNC's SUBROUTINE_PATH).
+    subroutine_path: Vec<std::path::PathBuf>,
 }
 
 impl Executor<Cursor<Vec<u8>>> {
@@ -99,7 +101,7 @@ impl Executor<Cursor<Vec<u8>>> {
 impl<R: BufRead + Seek> Executor<R> {
     pub fn new(reader: R, dialect: Dialect) -> Self {
         Executor {
-            src: LineSource::new(reader),
+            src: Sources::new(reader),
             dialect,
             block_delete: false,
             limits: Limits::default(),
@@ -122,6 +124,7 @@ impl<R: BufRead + Seek> Executor<R> {
             current: Mark { offset: 0, line: 0 },
             fanuc_subs: true,
             printed: Vec::new(),
+            subroutine_path: Vec::new(),
         }
     }
 
@@ -145,6 +148,12 @@ impl<R: BufRead + Seek> Executor<R> {
     /// errors, as with LinuxCNC's `DISABLE_FANUC_STYLE_SUB` (see `exec/fanuc.rs`).
     pub fn set_fanuc_subs(&mut self, on: bool) {
         self.fanuc_subs = on;
+    }
+
+    /// Directories where `o<name> call` of a subroutine that this file does not define looks
+    /// for `name.ngc`, in order, as LinuxCNC's `SUBROUTINE_PATH`.
+    pub fn set_subroutine_path(&mut self, dirs: Vec<std::path::PathBuf>) {
+        self.subroutine_path = dirs;
     }
 
     pub fn set_limits(&mut self, limits: Limits) {

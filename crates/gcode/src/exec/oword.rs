@@ -314,24 +314,38 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         self.count_jump(o.span)?;
         let resume = self.next_mark();
-        let def = match self.subs.get(&o.label) {
-            Some(def) if def.fanuc => {
-                return Err(self
-                    .err(
-                        o,
-                        format!("{name} is a Fanuc-style subprogram (O{} … M99)", o.label),
-                    )
-                    .with_help(format!("call it with M98 P{}", o.label)))
-            }
-            Some(def) => *def,
-            None => self.search_sub(&o.label, o.span, false)?,
+        let file_depth = self.src.depth();
+        // Definitions are remembered for the main file only (their marks are offsets in it).
+        let known = match file_depth {
+            0 => self.subs.get(&o.label).copied(),
+            _ => None,
         };
+        let def = match known {
+            Some(def) => def,
+            None => match self.search_sub(&o.label, o.span, false) {
+                Ok(def) => def,
+                Err(e) => match self.open_sub_file(&o.label, o.span)? {
+                    Some(def) => def,
+                    None => return Err(e),
+                },
+            },
+        };
+        if def.fanuc {
+            self.src.close_to(file_depth);
+            return Err(self
+                .err(
+                    o,
+                    format!("{name} is a Fanuc-style subprogram (O{} … M99)", o.label),
+                )
+                .with_help(format!("call it with M98 P{}", o.label)));
+        }
         self.calls.push(CallFrame {
             label: o.label.clone(),
             resume,
             ctl_base: self.ctl.len(),
             call_line: self.line.line,
             fanuc: None,
+            file_depth,
         });
         params.push_call(&args[..o.args.len()]);
         if let Err(e) = self.seek(def.body) {
@@ -377,6 +391,7 @@ impl<R: BufRead + Seek> Executor<R> {
         };
         self.seek(back)?;
         match found {
+            Some(def) if self.src.depth() > 0 => Ok(def),
             Some(def) => {
                 if self.subs.len() >= MAX_SUBS {
                     return Err(Diagnostic::error(
@@ -418,6 +433,35 @@ impl<R: BufRead + Seek> Executor<R> {
         Ok(())
     }
 
+    /// `name.ngc` from the subroutine path, opened and positioned at its `o<name> sub`, for
+    /// a call of a subroutine this file does not define; `None` when no directory has it.
+    fn open_sub_file(&mut self, label: &str, span: Span) -> Result<Option<SubDef>, Diagnostic> {
+        if label.bytes().all(|b| b.is_ascii_digit()) {
+            return Ok(None);
+        }
+        let name = OWord::display_label(label);
+        let depth = self.src.depth();
+        for dir in &self.subroutine_path {
+            let path = dir.join(format!("{label}.ngc"));
+            let Ok(file) = std::fs::File::open(&path) else {
+                continue;
+            };
+            self.src.open(file);
+            return match self.search_sub(label, span, false) {
+                Ok(def) => Ok(Some(def)),
+                Err(_) => {
+                    self.src.close_to(depth);
+                    Err(Diagnostic::error(
+                        span,
+                        format!("{} does not define {name} sub", path.display()),
+                    )
+                    .with_help(format!("the file must hold {name} sub … {name} endsub")))
+                }
+            };
+        }
+        Ok(None)
+    }
+
     fn return_from(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
         let Some(frame) = self.calls.last() else {
@@ -452,6 +496,7 @@ impl<R: BufRead + Seek> Executor<R> {
         params.pop_call();
         params.set_system("_value", value.unwrap_or(0.0));
         params.set_system("_value_returned", if value.is_some() { 1.0 } else { 0.0 });
+        self.src.close_to(frame.file_depth);
         self.seek(frame.resume)
     }
 

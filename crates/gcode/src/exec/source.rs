@@ -119,6 +119,76 @@ impl<R: BufRead + Seek> LineSource<R> {
     }
 }
 
+/// The program and, above it, the subroutine files being run (`o<name> call` of a
+/// subroutine found on the search path opens `name.ngc`): every read and seek goes to the
+/// innermost. At most one file per call level is open.
+pub struct Sources<R> {
+    main: LineSource<R>,
+    files: Vec<LineSource<io::BufReader<std::fs::File>>>,
+}
+
+impl<R: BufRead + Seek> Sources<R> {
+    pub fn new(reader: R) -> Sources<R> {
+        Sources {
+            main: LineSource::new(reader),
+            files: Vec::new(),
+        }
+    }
+
+    pub fn set_max_len(&mut self, max: usize) {
+        self.main.set_max_len(max);
+    }
+
+    pub fn max_len(&self) -> usize {
+        self.main.max_len()
+    }
+
+    pub fn text(&self) -> &[u8] {
+        match self.files.last() {
+            Some(f) => f.text(),
+            None => self.main.text(),
+        }
+    }
+
+    pub fn position(&self) -> (u64, u32) {
+        match self.files.last() {
+            Some(f) => f.position(),
+            None => self.main.position(),
+        }
+    }
+
+    pub fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
+        match self.files.last_mut() {
+            Some(f) => f.seek(offset, line),
+            None => self.main.seek(offset, line),
+        }
+    }
+
+    pub fn read(&mut self) -> io::Result<Read> {
+        match self.files.last_mut() {
+            Some(f) => f.read(),
+            None => self.main.read(),
+        }
+    }
+
+    /// Run lines of `file` from its start until it is closed by [`Sources::close_to`].
+    pub fn open(&mut self, file: std::fs::File) {
+        let mut source = LineSource::new(io::BufReader::new(file));
+        source.set_max_len(self.main.max_len());
+        self.files.push(source);
+    }
+
+    /// How many subroutine files are open.
+    pub fn depth(&self) -> usize {
+        self.files.len()
+    }
+
+    /// Close the files opened above `depth`.
+    pub fn close_to(&mut self, depth: usize) {
+        self.files.truncate(depth);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
