@@ -22,14 +22,22 @@ use std::io::{BufRead, Seek};
 impl<R: BufRead + Seek> Executor<R> {
     /// Run the M98 or M99 of `block`, if it has one: `Ok(true)` when the block was a call
     /// or a return and is used up. `M99` in the main program becomes `M2`.
+    #[inline(always)]
     pub(super) fn fanuc_block(&mut self, block: &mut Block) -> Result<bool, Diagnostic> {
-        let Some(m) = block
+        // Every block passes here: the test is one pass over its few words, the work is
+        // out of line.
+        match block
             .words
             .iter()
             .position(|w| w.letter == 'M' && (w.value == 98.0 || w.value == 99.0))
-        else {
-            return Ok(false);
-        };
+        {
+            None => Ok(false),
+            Some(m) => self.m98_or_m99(block, m),
+        }
+    }
+
+    #[inline(never)]
+    fn m98_or_m99(&mut self, block: &mut Block, m: usize) -> Result<bool, Diagnostic> {
         if block.words[m].value == 98.0 {
             self.m98(block, block.words[m].span)?;
             Ok(true)
@@ -83,11 +91,18 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         self.count_jump(span)?;
         let resume = self.next_mark();
+        let file_depth = self.src.depth();
         let def = match self.subs.get(&label) {
-            Some(def) => *def,
+            Some(def) => {
+                if !self.src.in_main() {
+                    self.src.enter_main();
+                }
+                *def
+            }
             None => self.search_sub(&label, span, true)?,
         };
         if !def.fanuc {
+            self.src.close_to(file_depth);
             return Err(Diagnostic::error(
                 span,
                 "'O.... sub' subroutine must be called with 'O.... call'",
@@ -99,7 +114,7 @@ impl<R: BufRead + Seek> Executor<R> {
             resume,
             ctl_base: self.ctl.len(),
             call_line: block.line,
-            file_depth: self.src.depth(),
+            file_depth,
             fanuc: Some(FanucRuns {
                 body: def.body,
                 remaining: l.min(u64::MAX as f64) as u64,

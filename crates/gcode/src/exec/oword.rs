@@ -315,13 +315,15 @@ impl<R: BufRead + Seek> Executor<R> {
         self.count_jump(o.span)?;
         let resume = self.next_mark();
         let file_depth = self.src.depth();
-        // Definitions are remembered for the main file only (their marks are offsets in it).
-        let known = match file_depth {
-            0 => self.subs.get(&o.label).copied(),
-            _ => None,
-        };
-        let def = match known {
-            Some(def) => def,
+        // Definitions are remembered for the main program only (their marks are offsets in
+        // it): a subroutine file calls them by going back to the main program.
+        let def = match self.subs.get(&o.label).copied() {
+            Some(def) => {
+                if !self.src.in_main() {
+                    self.src.enter_main();
+                }
+                def
+            }
             None => match self.search_sub(&o.label, o.span, false) {
                 Ok(def) => def,
                 Err(e) => match self.open_sub_file(&o.label, o.span)? {
@@ -391,7 +393,7 @@ impl<R: BufRead + Seek> Executor<R> {
         };
         self.seek(back)?;
         match found {
-            Some(def) if self.src.depth() > 0 => Ok(def),
+            Some(def) if !self.src.in_main() => Ok(def),
             Some(def) => {
                 if self.subs.len() >= MAX_SUBS {
                     return Err(Diagnostic::error(

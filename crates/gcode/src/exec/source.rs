@@ -124,7 +124,9 @@ impl<R: BufRead + Seek> LineSource<R> {
 /// innermost. At most one file per call level is open.
 pub struct Sources<R> {
     main: LineSource<R>,
-    files: Vec<LineSource<io::BufReader<std::fs::File>>>,
+    /// One entry per subroutine call that changed file: a subroutine file, or `None` for a
+    /// call from such a file back into a subroutine of the main program.
+    files: Vec<Option<LineSource<io::BufReader<std::fs::File>>>>,
 }
 
 impl<R: BufRead + Seek> Sources<R> {
@@ -143,29 +145,42 @@ impl<R: BufRead + Seek> Sources<R> {
         self.main.max_len()
     }
 
+    fn file(&self) -> Option<&LineSource<io::BufReader<std::fs::File>>> {
+        self.files.last().and_then(Option::as_ref)
+    }
+
+    fn file_mut(&mut self) -> Option<&mut LineSource<io::BufReader<std::fs::File>>> {
+        self.files.last_mut().and_then(Option::as_mut)
+    }
+
+    /// Lines come from the main program (not a subroutine file).
+    pub fn in_main(&self) -> bool {
+        self.file().is_none()
+    }
+
     pub fn text(&self) -> &[u8] {
-        match self.files.last() {
+        match self.file() {
             Some(f) => f.text(),
             None => self.main.text(),
         }
     }
 
     pub fn position(&self) -> (u64, u32) {
-        match self.files.last() {
+        match self.file() {
             Some(f) => f.position(),
             None => self.main.position(),
         }
     }
 
     pub fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
-        match self.files.last_mut() {
+        match self.file_mut() {
             Some(f) => f.seek(offset, line),
             None => self.main.seek(offset, line),
         }
     }
 
     pub fn read(&mut self) -> io::Result<Read> {
-        match self.files.last_mut() {
+        match self.file_mut() {
             Some(f) => f.read(),
             None => self.main.read(),
         }
@@ -175,15 +190,21 @@ impl<R: BufRead + Seek> Sources<R> {
     pub fn open(&mut self, file: std::fs::File) {
         let mut source = LineSource::new(io::BufReader::new(file));
         source.set_max_len(self.main.max_len());
-        self.files.push(source);
+        self.files.push(Some(source));
     }
 
-    /// How many subroutine files are open.
+    /// Run lines of the main program again (a call from a subroutine file of a subroutine
+    /// the main program defines), until closed by [`Sources::close_to`].
+    pub fn enter_main(&mut self) {
+        self.files.push(None);
+    }
+
+    /// How many file changes the calls in progress made.
     pub fn depth(&self) -> usize {
         self.files.len()
     }
 
-    /// Close the files opened above `depth`.
+    /// Undo the file changes above `depth`.
     pub fn close_to(&mut self, depth: usize) {
         self.files.truncate(depth);
     }
