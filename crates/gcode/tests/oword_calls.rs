@@ -71,6 +71,14 @@ fn a_file_without_its_sub_is_named_in_the_error() {
 }
 
 #[test]
+fn a_name_with_a_path_never_leaves_the_search_path() {
+    // oword_lib/../oword_lib/peck.ngc exists, but a name is a file name, not a path.
+    let (_, diags) = run_with_path("G21\no<../oword_lib/peck> call\nM2\n", vec![lib_dir()]);
+    let e = diags.first().expect("an error");
+    assert!(e.message.contains("is not defined"), "{}", e.message);
+}
+
+#[test]
 fn o_bracket_labels_must_be_whole_numbers() {
     let (_, diags) = run_with_path(
         "G21\no100 sub\nG0 X1\no100 endsub\no[100.5] call\nM2\n",

@@ -438,7 +438,12 @@ impl<R: BufRead + Seek> Executor<R> {
     /// `name.ngc` from the subroutine path, opened and positioned at its `o<name> sub`, for
     /// a call of a subroutine this file does not define; `None` when no directory has it.
     fn open_sub_file(&mut self, label: &str, span: Span) -> Result<Option<SubDef>, Diagnostic> {
-        if label.bytes().all(|b| b.is_ascii_digit()) {
+        // A number is not a file name; a name with a path in it must not reach outside the
+        // search path.
+        if label.bytes().all(|b| b.is_ascii_digit())
+            || label.contains(['/', '\\'])
+            || label.starts_with('.')
+        {
             return Ok(None);
         }
         let name = OWord::display_label(label);
