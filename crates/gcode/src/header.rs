@@ -16,10 +16,12 @@ pub struct MachineHint {
 /// The `(machine: NAME)` (or `; machine: NAME`) comment among the lines before the first
 /// line with code; the key is read in any case, the name is trimmed.
 pub fn machine_hint(source: impl BufRead) -> Option<MachineHint> {
-    let mut number = 0u32;
-    for line in std::io::Read::take(source, HEADER_BYTES).split(b'\n') {
+    for (index, line) in std::io::Read::take(source, HEADER_BYTES)
+        .split(b'\n')
+        .enumerate()
+    {
         let line = line.ok()?;
-        number += 1;
+        let number = u32::try_from(index + 1).ok()?;
         let text = crate::text::decode(&line);
         let text = text.trim();
         if text.is_empty() || text == "%" {
