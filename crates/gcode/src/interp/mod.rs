@@ -269,6 +269,17 @@ impl Interpreter {
                     .with_help("G53 moves in machine coordinates with G0 or G1 only"));
             }
         }
+        if d.has('@') || d.has('^') {
+            for l in ['X', 'Y'] {
+                if d.has(l) {
+                    return Err(self.fail(
+                        d.span_of(l),
+                        format!("Cannot specify both polar coordinate and {l} word"),
+                        0,
+                    ));
+                }
+            }
+        }
         let axis_users = matches!(non_modal, Some(100 | 280 | 300 | 520 | 920))
             || d.g_in(G::TOOL_LENGTH) == Some(431);
         if d.any_axis() && !axis_users {
@@ -325,7 +336,7 @@ impl Interpreter {
             || matches!(non_modal, Some(40 | 100))
             || d.g_in(G::CONTROL) == Some(640)
             || matches!(d.m_in(M::OVERRIDE), Some(50..=53))
-            || (cycle && matches!(motion, Motion::Cycle(820 | 860 | 880 | 890)));
+            || (cycle && matches!(motion, Motion::Cycle(740 | 820 | 840 | 860 | 880 | 890)));
         if !p_users {
             unused(
                 'P',
@@ -497,6 +508,10 @@ impl Interpreter {
             }
             self.modal.plane = plane;
             self.emit(sink, CanonOp::SelectPlane(plane));
+        }
+        // 11b. Lathe diameter (G7) or radius (G8) mode.
+        if let Some(t) = d.g_in(G::LATHE_DIAMETER) {
+            self.modal.diameter_mode = t == 70;
         }
         // 12. Units.
         if let Some(t) = d.g_in(G::UNITS) {

@@ -17,6 +17,12 @@ impl Interpreter {
         for (i, &l) in AXES.iter().enumerate() {
             if let Some(v) = d.get(l) {
                 let v = if i < 3 { v * k } else { v };
+                // G7: an X word is a diameter (incremental ones too); I and K are not.
+                let v = if i == 0 && self.modal.diameter_mode {
+                    v / 2.0
+                } else {
+                    v
+                };
                 end[i] = if self.modal.incremental {
                     self.pos[i] + v
                 } else {
@@ -24,7 +30,29 @@ impl Interpreter {
                 };
             }
         }
+        if d.has('@') || d.has('^') {
+            [end[0], end[1]] = self.polar_target(d);
+        }
         end
+    }
+
+    /// The XY end point of polar words (`@` radius, `^` angle in degrees, about the program
+    /// origin): a word left out keeps the current point's radius or angle; under G91 both
+    /// add to the current point's. X and Y words are refused beside them ([`check_words`]).
+    ///
+    /// [`check_words`]: Interpreter::check_words
+    pub(super) fn polar_target(&self, d: &Decoded) -> [f64; 2] {
+        let [x, y] = [self.pos[0], self.pos[1]];
+        let (r0, a0) = (x.hypot(y), y.atan2(x).to_degrees());
+        let r = d.get('@').map(|v| v * self.k());
+        let a = d.get('^');
+        let (r, a) = if self.modal.incremental {
+            (r0 + r.unwrap_or(0.0), a0 + a.unwrap_or(0.0))
+        } else {
+            (r.unwrap_or(r0), a.unwrap_or(a0))
+        };
+        let (s, c) = a.to_radians().sin_cos();
+        [r * c, r * s]
     }
 
     pub(crate) fn emit_straight(&self, sink: Sink, feed: bool, to: [f64; 6]) {
@@ -172,7 +200,8 @@ impl Interpreter {
             if d.has(o0) || d.has(o1) {
                 return Err(self.fail(r.span, "Mixed radius ijk format for arc", 0));
             }
-            if !d.has(l0) && !d.has(l1) {
+            let polar = d.has('@') || d.has('^');
+            if !d.has(l0) && !d.has(l1) && !polar {
                 let (n0, n1) = (l0.to_ascii_uppercase(), l1.to_ascii_lowercase());
                 let (n0, n1) = if plane == Plane::XZ {
                     ('X', 'z')

@@ -281,7 +281,7 @@ impl Interpreter {
                 }
                 Ok(())
             }
-            1 | 10 if l.v.fract() == 0.0 => {
+            1 | 10 | 11 if l.v.fract() == 0.0 => {
                 let pv = p.unwrap_or(-1.0);
                 if pv < 1.0 || pv.fract() != 0.0 || pv > u32::MAX as f64 {
                     return Err(self.fail(
@@ -297,19 +297,29 @@ impl Interpreter {
                     pocket: n,
                     ..Default::default()
                 });
+                // L10 and L11: the offset that makes the current point read as the value,
+                // L10 through the active offsets, L11 through G59.3's alone (no G92).
+                let reading = if l.v == 11.0 {
+                    self.g59_3_frame(params)
+                } else {
+                    Frame {
+                        tool: [0.0; 6],
+                        ..self.frame
+                    }
+                };
+                let mut m = self.frame.to_machine(self.pos);
+                for (v, t) in m.iter_mut().zip(self.frame.tool) {
+                    *v -= t;
+                }
                 for (i, &axis) in AXES.iter().enumerate() {
                     if let Some(v) = d.get(axis) {
                         let s = if i < 3 { k } else { 1.0 };
                         tool.offset[i] = if l.v == 1.0 {
                             v * s
                         } else {
-                            // L10: the offset that makes the current point read as the value.
-                            let m = self.frame.to_machine(self.pos)[i] - self.frame.tool[i];
-                            let mut f = self.frame;
-                            f.tool = [0.0; 6];
-                            let mut want = self.pos;
+                            let mut want = reading.to_program(m);
                             want[i] = v * s;
-                            m - f.to_machine(want)[i]
+                            m[i] - reading.to_machine(want)[i]
                         };
                     }
                 }
@@ -325,5 +335,19 @@ impl Interpreter {
                 28,
             )),
         }
+    }
+
+    /// The offsets of G59.3 alone (work offset and rotation, no G92, no tool): what G10 L11
+    /// reads the current point through.
+    fn g59_3_frame(&self, params: &Params) -> Frame {
+        let base = param::G5X_BASE + 20 * 8;
+        let k = self.mk();
+        let mut f = Frame::default();
+        for i in 0..6 {
+            let v = params.get(base + i as i64).unwrap_or(0.0);
+            f.g5x[i] = if i < 3 { v * k } else { v };
+        }
+        f.rotation = params.get(base + 9).unwrap_or(0.0);
+        f
     }
 }
