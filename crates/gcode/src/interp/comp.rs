@@ -210,9 +210,8 @@ impl Interpreter {
         let radius = if t == 411 || t == 421 {
             let dv = d.values[slot('D')]
                 .ok_or_else(|| self.fail(span, "G41.1/G42.1 needs a D word (diameter)", 0))?;
-            if dv.v < 0.0 {
-                return Err(self.fail(dv.span, "Negative D value used with G41.1/G42.1", 0));
-            }
+            // A negative diameter compensates on the other side (measured on rs274:
+            // G41.1 D-4 cuts as G42.1 D4; corpus comp_g41_1_negative_d).
             dv.v * k / 2.0
         } else {
             let n = match d.values[slot('D')] {
@@ -240,12 +239,9 @@ impl Interpreter {
                 }
             }
         };
-        self.modal.comp = Some(if t == 410 || t == 411 {
-            Side::Left
-        } else {
-            Side::Right
-        });
-        self.modal.comp_radius = radius;
+        let left = (t == 410 || t == 411) == (radius >= 0.0);
+        self.modal.comp = Some(if left { Side::Left } else { Side::Right });
+        self.modal.comp_radius = radius.abs();
         self.comp = CompState {
             point: [self.pos[0], self.pos[1]],
             entry: true,
