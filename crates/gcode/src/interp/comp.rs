@@ -3,7 +3,7 @@
 //! held back until the next one is known, so that a concave corner can shorten it to the
 //! intersection and a convex corner can get an arc about the programmed corner. A concave
 //! corner whose intersection falls outside the held segment would gouge: that is an error.
-//! Only the XY plane is compensated.
+//! Only the XY plane is compensated. An arc may be the entry move ([`Interpreter::comp_entry_arc`]).
 
 use super::state::Side;
 use super::words::{g_group as G, slot, Decoded};
@@ -461,15 +461,6 @@ impl Interpreter {
         let r = self.modal.comp_radius;
         let prog = [self.pos[0], self.pos[1]];
         let target = [end[0], end[1]];
-        if self.comp.entry {
-            return Err(self
-                .fail(
-                    d.g_span(G::MOTION),
-                    "Cannot make an arc the entry move of cutter compensation",
-                    0,
-                )
-                .with_help("enter cutter compensation with a straight move (G0 or G1)"));
-        }
         let center = self.arc_center(d, prog, target)?;
         let turns = self.arc_turns(d)?;
         let ccw = turns > 0;
@@ -491,11 +482,14 @@ impl Interpreter {
                 )));
         }
         let on = |p: P2| add(center, scale(unit(sub(p, center)), new_r));
-        let start = on(prog);
         let e = on(target);
         let mut out = end;
         out[0] = e[0];
         out[1] = e[1];
+        if self.comp.entry {
+            return self.comp_entry_arc(d, sink, end, out, center, turns);
+        }
+        let start = on(prog);
         self.comp_push(
             sink,
             d,
@@ -507,6 +501,49 @@ impl Interpreter {
                 turns,
             },
         )?;
+        self.pos = end;
+        Ok(())
+    }
+
+    /// An arc as the entry move (as rs274): it runs from where the tool stands to the
+    /// compensated end point, about a centre on the programmed arc's radius through that end
+    /// point (unit u from the programmed centre c), at the same distance from both ends.
+    /// With the tool at s and the end at c + ρ·u, the centre c + t·u is equidistant when
+    /// |c − s|² + 2t·u·(c − s) + t² = (ρ − t)², so t = (ρ² − |c − s|²) / (2·(u·(c − s) + ρ)).
+    fn comp_entry_arc(
+        &mut self,
+        d: &Decoded,
+        sink: Sink,
+        end: [f64; 6],
+        out: [f64; 6],
+        center: P2,
+        turns: i32,
+    ) -> Result<(), Diagnostic> {
+        let s = self.comp.point;
+        let e = [out[0], out[1]];
+        let u = unit(sub(e, center));
+        let rho = len(sub(e, center));
+        let cs = sub(center, s);
+        let den = 2.0 * (dot(u, cs) + rho);
+        let t = (rho * rho - dot(cs, cs)) / den;
+        if !t.is_finite() || rho - t <= 0.0 {
+            return Err(self
+                .fail(
+                    d.g_span(G::MOTION),
+                    "Cannot make this arc the entry move of cutter compensation",
+                    0,
+                )
+                .with_help("start the tool farther from the arc, or enter with a straight move"));
+        }
+        self.comp.entry = false;
+        self.comp_flush(sink);
+        self.comp.pending = Some(Seg::Arc {
+            start: s,
+            end: out,
+            center: add(center, scale(u, t)),
+            turns,
+        });
+        self.comp.point = e;
         self.pos = end;
         Ok(())
     }
