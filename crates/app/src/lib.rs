@@ -13,7 +13,7 @@ mod text;
 
 pub use check::{check_program, CheckOptions, CheckReport, Diag, ExtentsBox, TimeEstimate};
 pub use error::Error;
-pub use machine_uri::{is_firmware, open_machine, open_machine_with};
+pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine_with_tools};
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot};

@@ -2,6 +2,7 @@
 //! profile of the built-in virtual machine.
 
 use crate::{profile, Error};
+use oficina_gcode::interp::tool_table::ToolTable;
 use oficina_machine::{Machine, VirtualMachine};
 
 /// Real firmware is named by a link address; anything else is a virtual machine profile.
@@ -29,10 +30,29 @@ pub fn open_machine_with(
             .map_err(|e| Error(format!("--machine {spec}: {e}")))?;
         return Ok(Box::new(device));
     }
+    open_machine_with_tools(spec, work_offset, max_line_len, None)
+}
+
+/// [`open_machine_with`] and a tool table for the virtual machine's interpreter (G43, M6).
+/// Real firmware interprets the program itself and has no tool table: refused there.
+pub fn open_machine_with_tools(
+    spec: &str,
+    work_offset: Option<[f64; 3]>,
+    max_line_len: usize,
+    tools: Option<ToolTable>,
+) -> Result<Box<dyn Machine>, Error> {
+    if is_firmware(spec) {
+        if tools.is_some() {
+            return Err(Error("--tool-table is for the virtual machine; real firmware has no tool table (grbl ignores G43 H)".into()));
+        }
+        return open_machine_with(spec, work_offset, max_line_len);
+    }
     let profile = profile::resolve_with_offset(virtual_name(spec), work_offset)?;
-    Ok(Box::new(
-        VirtualMachine::new(profile).with_max_line_len(max_line_len),
-    ))
+    let vm = VirtualMachine::new(profile).with_max_line_len(max_line_len);
+    Ok(Box::new(match tools {
+        Some(t) => vm.with_tool_table(t),
+        None => vm,
+    }))
 }
 
 /// `virtual` (and `virtual:NAME`) name the bundled profiles.

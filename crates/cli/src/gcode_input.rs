@@ -106,22 +106,29 @@ impl ProgramArgs {
         let machine_units: Units = self.machine_units.unwrap_or(default_units).into();
         opts.start.machine_units = machine_units;
         if let Some(path) = &self.tool_table {
-            let bytes = std::fs::read(path)
-                .with_context(|| format!("cannot read tool table {}", path.display()))?;
-            let text = oficina_gcode::text::decode(&bytes);
-            opts.tool_table = ToolTable::parse(&text, machine_units).map_err(|d| {
-                eprint!(
-                    "{}",
-                    d.render(
-                        &path.display().to_string(),
-                        text.lines().nth(d.span.line.saturating_sub(1) as usize)
-                    )
-                );
-                crate::Reported
-            })?;
+            opts.tool_table = load_tool_table(path, machine_units)?;
         }
         Ok(opts)
     }
+}
+
+/// Read a LinuxCNC tool table (`--tool-table`) whose lengths are in `machine_units`; a bad
+/// line is printed like a program diagnostic.
+pub fn load_tool_table(path: &Path, machine_units: Units) -> anyhow::Result<ToolTable> {
+    let bytes = std::fs::read(path)
+        .with_context(|| format!("cannot read tool table {}", path.display()))?;
+    let text = oficina_gcode::text::decode(&bytes);
+    let table = ToolTable::parse(&text, machine_units).map_err(|d| {
+        eprint!(
+            "{}",
+            d.render(
+                &path.display().to_string(),
+                text.lines().nth(d.span.line.saturating_sub(1) as usize)
+            )
+        );
+        crate::Reported
+    })?;
+    Ok(table)
 }
 
 /// Open a program to stream it through the interpreter (`check`, `gcode canon`).

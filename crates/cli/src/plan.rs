@@ -1,9 +1,12 @@
 //! `oficina plan FILE --trace OUT.csv`: the planned motion sampled every millisecond of machine
 //! time (docs/trace-format.md), and the total time.
 
-use crate::gcode_input::{machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB};
+use crate::gcode_input::{
+    load_tool_table, machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB,
+};
 use crate::machine_profile;
 use anyhow::{bail, Context};
+use oficina_canon::Units;
 use oficina_gcode::interp::StartState;
 use oficina_gcode::program::RunOptions;
 use oficina_gcode::Dialect;
@@ -59,6 +62,10 @@ pub struct Args {
     /// the program once before anything is written, and a larger output is refused.
     #[arg(long, default_value_t = 2048)]
     max_output_mb: u64,
+    /// A LinuxCNC tool table (.tbl) for G43 and M6, lengths in mm: tool length offsets move
+    /// the planned motion as they move the machine.
+    #[arg(long)]
+    tool_table: Option<PathBuf>,
     #[command(flatten)]
     line_limit: LineLimit,
     /// Largest program held in memory, MB.
@@ -172,7 +179,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         start_line: None,
         pace: Pace::Instant,
     };
-    let interp_opts = run_options(&profile, args.dialect, args.line_limit);
+    let mut interp_opts = run_options(&profile, args.dialect, args.line_limit);
+    if let Some(path) = &args.tool_table {
+        interp_opts.tool_table = load_tool_table(path, Units::Mm)?;
+    }
     if args.interpolator == Interpolator::Dda {
         let ops = canon_stream_with(&job, interp_opts);
         return run_dda(&args, ops, &profile, &job.name);

@@ -1,12 +1,16 @@
 //! `oficina run FILE`: execute a program on the virtual machine with a progress bar, and
 //! keyboard hold / resume / stop when stdin is a terminal.
 
-use crate::gcode_input::{machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB};
+use crate::gcode_input::{
+    load_tool_table, machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB,
+};
 use crate::machine_profile;
 use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
+use oficina_canon::Units;
+use oficina_gcode::interp::tool_table::ToolTable;
 use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -42,6 +46,9 @@ pub struct Args {
     /// this stops the run there instead.
     #[arg(long)]
     stop_at_pauses: bool,
+    /// A LinuxCNC tool table (.tbl) for G43 and M6, lengths in mm (virtual machine only).
+    #[arg(long)]
+    tool_table: Option<PathBuf>,
     #[command(flatten)]
     line_limit: LineLimit,
     /// Largest program held in memory, MB.
@@ -54,11 +61,13 @@ fn open_machine(
     spec: &str,
     work_offset: Option<[f64; 3]>,
     max_line_len: usize,
+    tools: Option<ToolTable>,
 ) -> anyhow::Result<Box<dyn Machine>> {
-    Ok(oficina_app::open_machine_with(
+    Ok(oficina_app::open_machine_with_tools(
         spec,
         work_offset,
         max_line_len,
+        tools,
     )?)
 }
 
@@ -85,7 +94,11 @@ fn parse_speed(s: &str) -> anyhow::Result<f64> {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.file);
-    let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes())?;
+    let tools = match &args.tool_table {
+        Some(path) => Some(load_tool_table(path, Units::Mm)?),
+        None => None,
+    };
+    let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes(), tools)?;
     let text = match read_program(&args.file, args.max_program_mb)? {
         Ok(text) => text,
         Err(code) => return Ok(code),

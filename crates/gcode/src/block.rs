@@ -29,7 +29,7 @@ pub struct Block {
     pub line: u32,
     /// The `N` word, if any (not in `words`).
     pub n: Option<f64>,
-    /// Words in source order, letters upper-cased; never `N` or `O`.
+    /// Words in source order, letters upper-cased (and the polar `@`, `^`); never `N` or `O`.
     pub words: Vec<Word>,
     pub notes: Vec<Note>,
     /// Parameter assignments `#n=…` / `#<name>=…` on this line: evaluated with the values

@@ -35,9 +35,10 @@ struct Parser<'a> {
 }
 
 /// Words LinuxCNC reads (it rejects nothing else as a letter; `n` and `o` have places of
-/// their own). `u`, `v`, `w` are accepted as axes here (LinuxCNC builds with nine axes).
+/// their own). `u`, `v`, `w` are accepted as axes here (LinuxCNC builds with nine axes);
+/// `@` and `^` are the polar radius and angle of an XY end point.
 fn is_word_letter(b: u8) -> bool {
-    b.is_ascii_lowercase() && b != b'n' && b != b'o'
+    (b.is_ascii_lowercase() && b != b'n' && b != b'o') || b == b'@' || b == b'^'
 }
 
 /// A function name: the unary ones, and the two with their own syntax.

@@ -102,7 +102,9 @@ fn run_program(text: &[u8], dialect: Dialect) {
             Ok(block) => {
                 for w in &block.words {
                     assert_span_inside(w.span, &lines, "word");
-                    assert!(w.letter.is_ascii_uppercase() && w.letter != 'N' && w.letter != 'O');
+                    // A letter, or the polar radius `@` and angle `^`.
+                    let letter = w.letter.is_ascii_uppercase() || matches!(w.letter, '@' | '^');
+                    assert!(letter && w.letter != 'N' && w.letter != 'O');
                 }
             }
             Err(e) => assert_span_inside(e.span, &lines, &e.message),

@@ -5,6 +5,7 @@
 use crate::job::{canon_stream_with, check_start_line, Job, Pace, ResumeFrom};
 use crate::{Command, Event, Machine, MachineError, MachineInfo, State, Status};
 use oficina_canon::{Canon, CanonOp};
+use oficina_gcode::interp::tool_table::ToolTable;
 use oficina_motion::moves::Overrides;
 use oficina_motion::planner::Cut;
 use oficina_motion::profile::Shape;
@@ -27,6 +28,8 @@ pub struct VirtualMachine {
     connected: bool,
     /// Longest program line accepted, bytes (0: the interpreter's default).
     max_line_len: usize,
+    /// Tool table for G43 and M6 (empty: every tool has no offset).
+    tools: ToolTable,
 }
 
 impl VirtualMachine {
@@ -42,7 +45,14 @@ impl VirtualMachine {
             ev_rx_own: Some(ev_rx),
             connected: false,
             max_line_len: 0,
+            tools: ToolTable::default(),
         }
+    }
+
+    /// Run programs with this tool table: G43's tool length offsets reach the motion.
+    pub fn with_tool_table(mut self, tools: ToolTable) -> VirtualMachine {
+        self.tools = tools;
+        self
     }
 
     /// Accept program lines up to `bytes` long (the interpreter's own default otherwise).
@@ -87,11 +97,12 @@ impl Machine for VirtualMachine {
         }
         let (tx, rx) = channel();
         self.cmd_tx = Some(tx);
-        let (profile, status, events, max_line_len) = (
+        let (profile, status, events, max_line_len, tools) = (
             self.profile.clone(),
             self.status.clone(),
             self.ev_tx.clone(),
             self.max_line_len,
+            self.tools.clone(),
         );
         lock(&status).state = State::Run;
         thread::spawn(move || {
@@ -102,6 +113,7 @@ impl Machine for VirtualMachine {
                 cmds: rx,
                 override_: 1.0,
                 max_line_len,
+                tools,
             }
             .run_job(job)
         });
@@ -165,6 +177,7 @@ struct Runner {
     cmds: Receiver<Command>,
     override_: f64,
     max_line_len: usize,
+    tools: ToolTable,
 }
 
 /// Live commands waiting for the instant they can be applied, and the hold in progress.
@@ -195,6 +208,7 @@ impl Runner {
         let opts = oficina_gcode::program::RunOptions {
             initial_params: self.profile.initial_params(),
             max_line_len: self.max_line_len,
+            tool_table: self.tools.clone(),
             ..Default::default()
         };
         let s = canon_stream_with(job, opts);

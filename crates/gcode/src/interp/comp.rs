@@ -3,7 +3,7 @@
 //! held back until the next one is known, so that a concave corner can shorten it to the
 //! intersection and a convex corner can get an arc about the programmed corner. A concave
 //! corner whose intersection falls outside the held segment would gouge: that is an error.
-//! Only the XY plane is compensated.
+//! The XY plane (G17) and the lathe's XZ plane (G18, in Z X order) are compensated. An arc may be the entry move ([`Interpreter::comp_entry_arc`]).
 
 use super::state::Side;
 use super::words::{g_group as G, slot, Decoded};
@@ -39,29 +39,26 @@ impl Seg {
         }
     }
 
-    fn set_end(&mut self, p: P2) {
+    fn set_end(&mut self, p: P2, ax: Axes) {
         match self {
-            Seg::Line { end, .. } | Seg::Arc { end, .. } => {
-                end[0] = p[0];
-                end[1] = p[1];
-            }
+            Seg::Line { end, .. } | Seg::Arc { end, .. } => put2(end, ax, p),
         }
     }
 
     /// Unit tangent (direction of travel) at the end. A line's is its programmed direction:
     /// a concave corner may have pulled its start past its end, and the corner after it
     /// must still be judged (and found gouging) by the programmed path, as rs274 does.
-    fn end_tangent(&self) -> P2 {
+    fn end_tangent(&self, ax: Axes) -> P2 {
         match self {
             Seg::Line { dir, .. } => *dir,
             Seg::Arc {
                 end, center, turns, ..
-            } => arc_tangent([end[0], end[1]], *center, *turns > 0),
+            } => arc_tangent(get2(end, ax), *center, *turns > 0),
         }
     }
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct CompState {
     /// The compensated position of the tool centre, XY.
     point: P2,
@@ -70,6 +67,33 @@ pub struct CompState {
     pending: Option<Seg>,
     /// Moves without XY motion that came after `pending`: they run at its (final) XY end.
     tail: Vec<([f64; 6], bool)>,
+    /// The plane's two axes (indices into positions): X Y under G17, Z X under G18.
+    axes: Axes,
+}
+
+impl Default for CompState {
+    fn default() -> Self {
+        CompState {
+            point: [0.0; 2],
+            entry: false,
+            pending: None,
+            tail: Vec::new(),
+            axes: (0, 1),
+        }
+    }
+}
+
+/// Indices of the compensated plane's first and second axis.
+type Axes = (usize, usize);
+
+/// The in-plane coordinates of a position ("XY" below means these two).
+fn get2(p: &[f64; 6], ax: Axes) -> P2 {
+    [p[ax.0], p[ax.1]]
+}
+
+fn put2(p: &mut [f64; 6], ax: Axes, q: P2) {
+    p[ax.0] = q[0];
+    p[ax.1] = q[1];
 }
 
 /// Most XY-less moves held behind a segment; more are flushed (bounded memory).
@@ -197,22 +221,23 @@ impl Interpreter {
                 .fail(span, "Cannot turn cutter radius comp on when already on", 0)
                 .with_help("turn it off with G40 first"));
         }
-        if self.modal.plane != Plane::XY {
+        if self.modal.plane == Plane::YZ {
             return Err(self
                 .fail(
                     span,
-                    "Cutter radius compensation is done in the XY plane only",
+                    "Cutter radius compensation allowed only in XY, XZ planes",
                     0,
                 )
-                .with_help("select G17 before G41/G42"));
+                .with_help("select G17 (mill) or G18 (lathe) before G41/G42"));
         }
+        let (a0, a1, _) = self.modal.plane.axes();
+        let axes = (a0, a1);
         let k = self.modal.units.mm();
         let radius = if t == 411 || t == 421 {
             let dv = d.values[slot('D')]
                 .ok_or_else(|| self.fail(span, "G41.1/G42.1 needs a D word (diameter)", 0))?;
-            if dv.v < 0.0 {
-                return Err(self.fail(dv.span, "Negative D value used with G41.1/G42.1", 0));
-            }
+            // A negative diameter compensates on the other side (measured on rs274:
+            // G41.1 D-4 cuts as G42.1 D4; corpus comp_g41_1_negative_d).
             dv.v * k / 2.0
         } else {
             let n = match d.values[slot('D')] {
@@ -240,14 +265,12 @@ impl Interpreter {
                 }
             }
         };
-        self.modal.comp = Some(if t == 410 || t == 411 {
-            Side::Left
-        } else {
-            Side::Right
-        });
-        self.modal.comp_radius = radius;
+        let left = (t == 410 || t == 411) == (radius >= 0.0);
+        self.modal.comp = Some(if left { Side::Left } else { Side::Right });
+        self.modal.comp_radius = radius.abs();
         self.comp = CompState {
-            point: [self.pos[0], self.pos[1]],
+            point: get2(&self.pos, axes),
+            axes,
             entry: true,
             pending: None,
             tail: Vec::new(),
@@ -267,8 +290,7 @@ impl Interpreter {
     fn emit_tail(&mut self, sink: Sink, at: [f64; 6]) -> [f64; 6] {
         let mut last = at;
         for (mut p, feed) in std::mem::take(&mut self.comp.tail) {
-            p[0] = at[0];
-            p[1] = at[1];
+            put2(&mut p, self.comp.axes, get2(&at, self.comp.axes));
             self.emit_straight(sink, feed, p);
             last = p;
         }
@@ -293,8 +315,9 @@ impl Interpreter {
         next: Seg,
     ) -> Result<(), Diagnostic> {
         let mut next = next;
+        let ax = self.comp.axes;
         if let Some(mut prev) = self.comp.pending.take() {
-            let t1 = prev.end_tangent();
+            let t1 = prev.end_tangent(ax);
             let t2 = match next {
                 Seg::Line { dir, .. } => dir,
                 Seg::Arc {
@@ -311,7 +334,7 @@ impl Interpreter {
             let next_start = match next {
                 Seg::Line { start, .. } | Seg::Arc { start, .. } => start,
             };
-            if len(sub(next_start, [prev_end[0], prev_end[1]])) < 1e-9 {
+            if len(sub(next_start, get2(&prev_end, ax))) < 1e-9 {
                 self.emit_seg(sink, prev);
                 self.emit_tail(sink, prev_end);
             } else if convex {
@@ -319,8 +342,7 @@ impl Interpreter {
                 let here = self.emit_tail(sink, prev_end);
                 // Round the outside of the corner about the programmed corner point.
                 let mut end = here;
-                end[0] = next_start[0];
-                end[1] = next_start[1];
+                put2(&mut end, ax, next_start);
                 let turns = if self.modal.comp == Some(Side::Left) {
                     -1
                 } else {
@@ -363,7 +385,7 @@ impl Interpreter {
                         )));
                 }
                 let x = best.unwrap_or(corner);
-                prev.set_end(x);
+                prev.set_end(x, ax);
                 self.emit_seg(sink, prev);
                 self.emit_tail(sink, prev.end());
                 match &mut next {
@@ -372,7 +394,7 @@ impl Interpreter {
             }
         }
         let e = next.end();
-        self.comp.point = [e[0], e[1]];
+        self.comp.point = get2(&e, self.comp.axes);
         self.comp.pending = Some(next);
         Ok(())
     }
@@ -385,8 +407,9 @@ impl Interpreter {
         end: [f64; 6],
     ) -> Result<(), Diagnostic> {
         let r = self.modal.comp_radius;
-        let prog = [self.pos[0], self.pos[1]];
-        let target = [end[0], end[1]];
+        let ax = self.comp.axes;
+        let prog = get2(&self.pos, ax);
+        let target = get2(&end, ax);
         let mut out = end;
         if self.comp.entry {
             // Entry (as rs274): the held segment lies on the programmed line shifted by r,
@@ -409,8 +432,7 @@ impl Interpreter {
             // angles to the programmed line, and corners use that shifted line.
             let dir = unit(sub(target, prog));
             let n = scale(left(dir), r * self.comp_side_sign());
-            out[0] = target[0] + n[0];
-            out[1] = target[1] + n[1];
+            put2(&mut out, ax, add(target, n));
             self.comp_flush(sink);
             let start = add(prog, n);
             self.comp.pending = Some(Seg::Line {
@@ -419,15 +441,14 @@ impl Interpreter {
                 feed,
                 dir,
             });
-            self.comp.point = [out[0], out[1]];
+            self.comp.point = get2(&out, ax);
             self.pos = end;
             return Ok(());
         }
         let dir = unit(sub(target, prog));
         if len(sub(target, prog)) < 1e-12 {
             // No XY motion: keep the tool centre where it is, move the other axes.
-            out[0] = self.comp.point[0];
-            out[1] = self.comp.point[1];
+            put2(&mut out, ax, self.comp.point);
             if self.comp.pending.is_some() && self.comp.tail.len() < MAX_TAIL {
                 self.comp.tail.push((out, feed));
             } else {
@@ -439,8 +460,7 @@ impl Interpreter {
         }
         let n = scale(left(dir), r * self.comp_side_sign());
         let start = add(prog, n);
-        out[0] = target[0] + n[0];
-        out[1] = target[1] + n[1];
+        put2(&mut out, ax, add(target, n));
         self.comp_push(
             sink,
             d,
@@ -463,17 +483,9 @@ impl Interpreter {
         end: [f64; 6],
     ) -> Result<(), Diagnostic> {
         let r = self.modal.comp_radius;
-        let prog = [self.pos[0], self.pos[1]];
-        let target = [end[0], end[1]];
-        if self.comp.entry {
-            return Err(self
-                .fail(
-                    d.g_span(G::MOTION),
-                    "Cannot make an arc the entry move of cutter compensation",
-                    0,
-                )
-                .with_help("enter cutter compensation with a straight move (G0 or G1)"));
-        }
+        let ax = self.comp.axes;
+        let prog = get2(&self.pos, ax);
+        let target = get2(&end, ax);
         let center = self.arc_center(d, prog, target)?;
         let turns = self.arc_turns(d)?;
         let ccw = turns > 0;
@@ -495,11 +507,13 @@ impl Interpreter {
                 )));
         }
         let on = |p: P2| add(center, scale(unit(sub(p, center)), new_r));
-        let start = on(prog);
         let e = on(target);
         let mut out = end;
-        out[0] = e[0];
-        out[1] = e[1];
+        put2(&mut out, ax, e);
+        if self.comp.entry {
+            return self.comp_entry_arc(d, sink, end, out, center, turns);
+        }
+        let start = on(prog);
         self.comp_push(
             sink,
             d,
@@ -511,6 +525,49 @@ impl Interpreter {
                 turns,
             },
         )?;
+        self.pos = end;
+        Ok(())
+    }
+
+    /// An arc as the entry move (as rs274): it runs from where the tool stands to the
+    /// compensated end point, about a centre on the programmed arc's radius through that end
+    /// point (unit u from the programmed centre c), at the same distance from both ends.
+    /// With the tool at s and the end at c + ρ·u, the centre c + t·u is equidistant when
+    /// |c − s|² + 2t·u·(c − s) + t² = (ρ − t)², so t = (ρ² − |c − s|²) / (2·(u·(c − s) + ρ)).
+    fn comp_entry_arc(
+        &mut self,
+        d: &Decoded,
+        sink: Sink,
+        end: [f64; 6],
+        out: [f64; 6],
+        center: P2,
+        turns: i32,
+    ) -> Result<(), Diagnostic> {
+        let s = self.comp.point;
+        let e = get2(&out, self.comp.axes);
+        let u = unit(sub(e, center));
+        let rho = len(sub(e, center));
+        let cs = sub(center, s);
+        let den = 2.0 * (dot(u, cs) + rho);
+        let t = (rho * rho - dot(cs, cs)) / den;
+        if !t.is_finite() || rho - t <= 0.0 {
+            return Err(self
+                .fail(
+                    d.g_span(G::MOTION),
+                    "Cannot make this arc the entry move of cutter compensation",
+                    0,
+                )
+                .with_help("start the tool farther from the arc, or enter with a straight move"));
+        }
+        self.comp.entry = false;
+        self.comp_flush(sink);
+        self.comp.pending = Some(Seg::Arc {
+            start: s,
+            end: out,
+            center: add(center, scale(u, t)),
+            turns,
+        });
+        self.comp.point = e;
         self.pos = end;
         Ok(())
     }

@@ -134,25 +134,28 @@ impl Interpreter {
         };
         let current_cc = self.pos[a2];
         let mut old_cc = *self.cycle.initial_level.get_or_insert(current_cc);
+        // Hole positions from the axis words, or from polar words (an XY point, mm).
+        let polar = (d.has('@') || d.has('^')).then(|| self.polar_target(d));
+        let inc_word = |ax: usize| match polar {
+            Some(p) if ax < 2 => p[ax] - self.pos[ax],
+            _ => d.get(axes[ax]).unwrap_or(0.0) * k,
+        };
+        let abs_word = |ax: usize| match polar {
+            Some(p) if ax < 2 => p[ax],
+            _ => d.get(axes[ax]).map(|v| v * k).unwrap_or(self.pos[ax]),
+        };
         let (mut aa, mut bb, inc_a, inc_b, r, bottom) = if self.modal.incremental {
             let r = r_in + old_cc;
             (
                 self.pos[a0],
                 self.pos[a1],
-                d.get(axes[a0]).unwrap_or(0.0) * k,
-                d.get(axes[a1]).unwrap_or(0.0) * k,
+                inc_word(a0),
+                inc_word(a1),
                 r,
                 r + z_in,
             )
         } else {
-            (
-                d.get(axes[a0]).map(|v| v * k).unwrap_or(self.pos[a0]),
-                d.get(axes[a1]).map(|v| v * k).unwrap_or(self.pos[a1]),
-                0.0,
-                0.0,
-                r_in,
-                z_in,
-            )
+            (abs_word(a0), abs_word(a1), 0.0, 0.0, r_in, z_in)
         };
         if r < bottom {
             return Err(self
@@ -166,11 +169,14 @@ impl Interpreter {
         let p = self.cycle_dwell(d, code, same)?;
         let q = self.cycle_peck(d, code, same)?;
         let ijk = self.cycle_back_bore(d, code, same)?;
-        if matches!(code, 840 | 860 | 870 | 880) && self.modal.spindle.is_none() {
+        if matches!(code, 740 | 840 | 860 | 870 | 880) && self.modal.spindle.is_none() {
             return Err(self.fail(span, format!("Spindle not turning in G{}", code / 10), 0));
         }
         if code == 840 && self.modal.spindle != Some(SpindleDir::Clockwise) {
             return Err(self.fail(span, "Spindle not turning clockwise in G84", 0));
+        }
+        if code == 740 && self.modal.spindle != Some(SpindleDir::CounterClockwise) {
+            return Err(self.fail(span, "Spindle turning clockwise in G74", 0));
         }
 
         // The first move of a run of cycles: up to R when below it.
@@ -253,13 +259,13 @@ impl Interpreter {
     }
 
     fn cycle_dwell(&self, d: &Decoded, code: u16, same: bool) -> Result<f64, Diagnostic> {
-        if !matches!(code, 820 | 860 | 880 | 890 | 840) {
+        if !matches!(code, 820 | 860 | 880 | 890 | 740 | 840) {
             return Ok(0.0);
         }
         match d.values[slot('P')] {
             Some(p) if p.v < 0.0 => Err(self.fail(p.span, "Negative p word used", 0)),
             Some(p) => Ok(p.v),
-            None if same || code == 840 => Ok(if same { self.cycle.p } else { 0.0 }),
+            None if same || code == 840 || code == 740 => Ok(if same { self.cycle.p } else { 0.0 }),
             None => Err(self.fail(
                 d.g_span(G::MOTION),
                 format!("Dwell time P word missing with g{}", code / 10),
@@ -339,18 +345,25 @@ impl Interpreter {
                 }
                 self.cycle_move(sink, false, aa, bb, h.clear);
             }
-            840 => {
-                // Tapping: overrides off, feed in, reverse, dwell, feed out to the clear
-                // height, spindle forward again.
+            740 | 840 => {
+                // Tapping (G84 right hand, G74 left hand): overrides off, feed in, reverse,
+                // dwell, feed out to the clear height, spindle forward again. The moves are
+                // on the plane's own axes in G18/G19 too (rs274 2.9 permutes them twice
+                // there: docs/linuxcnc-differences.md).
+                let (forward, reverse) = if code == 840 {
+                    (SpindleDir::Clockwise, SpindleDir::CounterClockwise)
+                } else {
+                    (SpindleDir::CounterClockwise, SpindleDir::Clockwise)
+                };
                 self.emit(sink, CanonOp::EnableFeedOverride(false));
                 self.emit(sink, CanonOp::EnableSpeedOverride(false));
                 self.cycle_move(sink, true, aa, bb, h.bottom);
                 self.emit(sink, CanonOp::StopSpindle);
-                self.emit(sink, CanonOp::StartSpindle(SpindleDir::CounterClockwise));
+                self.emit(sink, CanonOp::StartSpindle(reverse));
                 self.emit(sink, CanonOp::Dwell(p));
                 self.cycle_move(sink, true, aa, bb, h.clear);
                 self.emit(sink, CanonOp::StopSpindle);
-                self.emit(sink, CanonOp::StartSpindle(SpindleDir::Clockwise));
+                self.emit(sink, CanonOp::StartSpindle(forward));
                 self.emit(sink, CanonOp::EnableFeedOverride(true));
                 self.emit(sink, CanonOp::EnableSpeedOverride(true));
             }

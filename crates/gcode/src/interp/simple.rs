@@ -27,6 +27,7 @@ impl Interpreter {
             || !block.notes.is_empty()
             || self.modal.comp.is_some()
             || self.modal.feed_mode != FeedMode::UnitsPerMinute
+            || self.modal.diameter_mode
         {
             return None;
         }

@@ -65,6 +65,8 @@ pub struct Modal {
     pub comp: Option<Side>,
     /// Radius of compensation, mm.
     pub comp_radius: f64,
+    /// G7 (lathe diameter mode): X words are diameters, the X axis moves half of them.
+    pub diameter_mode: bool,
 }
 
 impl Modal {
@@ -93,6 +95,7 @@ impl Modal {
             feed_override: true,
             comp: None,
             comp_radius: 0.0,
+            diameter_mode: false,
         }
     }
 }

@@ -31,6 +31,8 @@ pub mod g_group {
     pub const CUTTER_COMP: usize = 7;
     pub const TOOL_LENGTH: usize = 8;
     pub const RETRACT: usize = 10;
+    /// G7 / G8: lathe diameter or radius mode (LinuxCNC's group 15).
+    pub const LATHE_DIAMETER: usize = 11;
     pub const COORD_SYSTEM: usize = 12;
     pub const CONTROL: usize = 13;
     pub const COUNT: usize = 14;
@@ -51,9 +53,8 @@ pub fn group_of_g(tenths: u16) -> Option<usize> {
     use g_group::*;
     Some(match tenths {
         40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920 | 921 | 922 | 923 => NON_MODAL,
-        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880 | 890 => {
-            MOTION
-        }
+        0 | 10 | 20 | 30 | 730 | 740 | 800 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880
+        | 890 => MOTION,
         // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
         // refuse them after decoding (dialect::refuse_probe).
         382..=385 => MOTION,
@@ -65,6 +66,7 @@ pub fn group_of_g(tenths: u16) -> Option<usize> {
         400 | 410 | 411 | 420 | 421 => CUTTER_COMP,
         430 | 431 | 490 => TOOL_LENGTH,
         980 | 990 => RETRACT,
+        70 | 80 => LATHE_DIAMETER,
         540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => COORD_SYSTEM,
         610 | 611 | 640 => CONTROL,
         _ => return None,
@@ -84,20 +86,31 @@ pub fn group_of_m(code: u16) -> Option<usize> {
     })
 }
 
-/// The bits of `letters` (upper case) for [`Decoded::has_any_of`].
+/// The bits of `letters` (upper case, `@`, `^`) for [`Decoded::has_any_of`].
 pub const fn letter_mask(letters: &[u8]) -> u32 {
     let mut mask = 0;
     let mut i = 0;
     while i < letters.len() {
-        mask |= 1 << (letters[i] - b'A');
+        mask |= 1 << byte_slot(letters[i]);
         i += 1;
     }
     mask
 }
 
+/// Value slots: A…Z, then the polar radius `@` and angle `^`.
+pub const SLOTS: usize = 28;
+
+const fn byte_slot(b: u8) -> usize {
+    match b {
+        b'@' => 26,
+        b'^' => 27,
+        _ => (b - b'A') as usize,
+    }
+}
+
 /// Index of a value letter in [`Decoded::values`].
 pub fn slot(letter: char) -> usize {
-    (letter as u8 - b'A') as usize
+    byte_slot(letter as u8)
 }
 
 /// One block, sorted. Letters G and M live in `g`/`m`; all other letters in `values`.
@@ -106,7 +119,7 @@ pub struct Decoded {
     pub line: u32,
     pub g: [Option<Code>; g_group::COUNT],
     pub m: [Option<Code>; m_group::COUNT],
-    pub values: [Option<Value>; 26],
+    pub values: [Option<Value>; SLOTS],
     /// Bit `slot` is set for each letter in `values`: clearing touches only those.
     present: u32,
 }
@@ -158,13 +171,20 @@ impl Decoded {
         const fn bit(letter: u8) -> u32 {
             1 << (letter - b'A')
         }
-        const AXES: u32 = bit(b'X') | bit(b'Y') | bit(b'Z') | bit(b'A') | bit(b'B') | bit(b'C');
+        const AXES: u32 = bit(b'X')
+            | bit(b'Y')
+            | bit(b'Z')
+            | bit(b'A')
+            | bit(b'B')
+            | bit(b'C')
+            | 1 << 26
+            | 1 << 27;
         self.present & AXES != 0
     }
 
     /// The span of the first axis word, for errors about axis words as a whole.
     pub fn axis_span(&self) -> Span {
-        "XYZABC"
+        "XYZABC@^"
             .chars()
             .find(|&c| self.has(c))
             .map(|c| self.span_of(c))
@@ -183,7 +203,7 @@ impl Decoded {
             line: 0,
             g: [None; g_group::COUNT],
             m: [None; m_group::COUNT],
-            values: [None; 26],
+            values: [None; SLOTS],
             present: 0,
         }
     }
@@ -247,7 +267,7 @@ impl Decoded {
                         span: w.span,
                     });
                 }
-                'A'..='Z' => {
+                'A'..='Z' | '@' | '^' => {
                     if matches!(w.letter, 'E' | 'U' | 'V' | 'W' | 'N' | 'O') {
                         return Err(Diagnostic::error(
                             w.span,

@@ -1,0 +1,135 @@
+//! `oficina plan` and `oficina run` take `--tool-table` as `check` and `gcode canon` do: a
+//! G43 tool length offset moves the planned motion and the virtual machine by the tool's
+//! length (grbl-router: travel Z −100…0 mm, stored G54 Z −40 mm).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("oficina-tool-table-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn oficina(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Lowest and highest Z of a `--trace` CSV.
+fn z_range(trace: &Path) -> (f64, f64) {
+    let text = std::fs::read_to_string(trace).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let z = header.iter().position(|&h| h == "z").unwrap();
+    lines
+        .map(|l| l.split(',').nth(z).unwrap().parse::<f64>().unwrap())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        })
+}
+
+/// Tool 1 is 10 mm long (tables given to plan and run are in mm).
+const TABLE: &str = "T1 P1 D6 Z10 ;10 mm end mill\n";
+
+#[test]
+fn plan_moves_the_motion_by_the_tool_length() {
+    let dir = scratch("plan");
+    let table = dir.join("tools.tbl");
+    let program = dir.join("p.ngc");
+    std::fs::write(&table, TABLE).unwrap();
+    std::fs::write(
+        &program,
+        "G21 G90\nT1 M6\nG43 H1\nG0 X10 Y10 Z5\nG1 Z-1 F300\nG0 Z5\nM2\n",
+    )
+    .unwrap();
+    let (without, with) = (dir.join("a.csv"), dir.join("b.csv"));
+    let p = program.to_str().unwrap();
+    let out = oficina(&["plan", p, "--trace", without.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = oficina(&[
+        "plan",
+        p,
+        "--trace",
+        with.to_str().unwrap(),
+        "--tool-table",
+        table.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Program Z −1 is machine Z −41 (G54 Z −40) with no table, −31 with the 10 mm tool.
+    let (lo_a, _) = z_range(&without);
+    let (lo_b, _) = z_range(&with);
+    assert!(
+        (lo_a + 41.0).abs() < 1e-3,
+        "without a table: lowest Z {lo_a}"
+    );
+    assert!(
+        (lo_b + 31.0).abs() < 1e-3,
+        "with the table: lowest Z {lo_b}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn run_applies_the_tool_length_on_the_virtual_machine() {
+    let dir = scratch("run");
+    let table = dir.join("tools.tbl");
+    let program = dir.join("q.ngc");
+    std::fs::write(&table, TABLE).unwrap();
+    // Program Z 35 is machine Z −5 bare, +5 with the tool: above the top of travel.
+    std::fs::write(
+        &program,
+        "G21 G90\nT1 M6\nG43 H1\nG0 X10 Y10 Z35\nG1 Z30 F300\nM2\n",
+    )
+    .unwrap();
+    let p = program.to_str().unwrap();
+    let out = oficina(&["run", p, "--instant"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let t = table.to_str().unwrap();
+    let out = oficina(&["run", p, "--instant", "--tool-table", t]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("line 4") && err.contains("Z = 5.0000 mm") && err.contains("travel limits"),
+        "{err}"
+    );
+    // Real firmware has no tool table: refused before anything is sent.
+    let out = oficina(&[
+        "run",
+        p,
+        "--instant",
+        "--tool-table",
+        t,
+        "--machine",
+        "grbl:/dev/null",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("--tool-table is for the virtual machine"),
+        "{err}"
+    );
+    // A table that cannot be read names itself.
+    let missing = dir.join("missing.tbl");
+    let out = oficina(&["plan", p, "--tool-table", missing.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("missing.tbl"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
