@@ -155,7 +155,7 @@ fn grbl_rejects_what_grbl_rejects_with_its_numbers() {
         .help
         .as_deref()
         .unwrap()
-        .contains("six work coordinate systems"));
+        .contains("G59.x work coordinate systems are not supported."));
 }
 
 fn grbl(text: &str) -> Run {
