@@ -91,6 +91,66 @@ fn each_flavor_speaks_like_its_firmware() {
     }
 }
 
+/// FluidNC's own commands over its network port, as its wiki shows them: named settings
+/// (`$Name` shows `$Name=value`, any case; `$Name=value` sets), `$S` lists them, `$CD`
+/// dumps the YAML configuration, whose items are settings by path and are grbl's `$1xx`;
+/// an unknown name is error 3; feedback messages carry FluidNC's level (`[MSG:INFO: …]`).
+#[test]
+fn fluidnc_settings_config_dump_and_messages() {
+    let (_emu, ep) = start(Flavor::FluidNc);
+    let mut s = scenarios::connect(&ep);
+    let mut ask = |line: &str| {
+        let r = s.command(line).expect(line);
+        (r.lines, r.error)
+    };
+    let (lines, err) = ask("$S");
+    assert_eq!(err, None);
+    assert!(
+        lines.contains(&"$Config/Filename=config.yaml".to_string()),
+        "{lines:?}"
+    );
+    assert!(
+        lines.iter().any(|l| l.starts_with("$Message/Level=")),
+        "{lines:?}"
+    );
+    assert_eq!(ask("$Config/Filename=mill.yaml"), (vec![], None));
+    assert_eq!(
+        ask("$config/filename"),
+        (vec!["$Config/Filename=mill.yaml".to_string()], None)
+    );
+    assert_eq!(ask("$Settings/List").0[0], "$Config/Filename=mill.yaml");
+    // A YAML item by its path is the grbl setting it stands for, both ways.
+    assert_eq!(ask("$/axes/x/max_rate_mm_per_min=4321"), (vec![], None));
+    let (grbl, _) = ask("$$");
+    assert!(grbl.contains(&"$110=4321.000".to_string()), "{grbl:?}");
+    assert_eq!(ask("$120=250").1, None);
+    assert_eq!(
+        ask("$/axes/x/acceleration_mm_per_sec2").0,
+        vec!["$/axes/x/acceleration_mm_per_sec2=250.000".to_string()]
+    );
+    let (yaml, err) = ask("$CD");
+    assert_eq!(err, None);
+    let x = yaml.iter().position(|l| l == "  x:").expect("axis x");
+    assert!(yaml.contains(&"axes:".to_string()), "{yaml:?}");
+    assert!(
+        yaml[x..].contains(&"    max_rate_mm_per_min: 4321.000".to_string()),
+        "{yaml:?}"
+    );
+    assert_eq!(ask("$Config/Dump").0, yaml);
+    assert_eq!(ask("$Nope/Setting=1").1, Some(3));
+    assert_eq!(ask("$/axes/q/steps_per_mm").1, Some(3));
+    assert_eq!(ask("$Message/Level=shout").1, Some(3));
+    // A negative rate is refused as grbl refuses `$110=-1`.
+    assert_eq!(ask("$/axes/x/max_rate_mm_per_min=-1").1, Some(4));
+    // Check mode on and off: `[MSG:INFO: Enabled]`, `[MSG:INFO: Disabled]`.
+    assert_eq!(ask("$C").1, None);
+    let (after, _) = ask("$C");
+    assert!(
+        after.iter().any(|l| l == "[MSG:INFO: Disabled]"),
+        "{after:?}"
+    );
+}
+
 #[test]
 fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
     use oficina_grbl::emulator::Core;

@@ -13,6 +13,7 @@
 //! same planner; overrides re-plan at once.
 
 use super::flavor::Flavor;
+use super::fluidnc;
 use crate::gline;
 use crate::interp::{self, Flow, Interp, Rate, Segment};
 use crate::messages::{self, SETTINGS};
@@ -148,6 +149,8 @@ pub struct Core {
     clock: f64,
     report_counter: u32,
     startup_lines: [String; 2],
+    /// FluidNC's named settings (`$Config/Filename`, …).
+    fluid: fluidnc::Named,
     jogging: bool,
     /// Where each block in the planner ends (front first), for grblHAL's `Bf:`.
     block_ends: VecDeque<[f64; 3]>,
@@ -194,6 +197,7 @@ impl Core {
             clock: 0.0,
             report_counter: 0,
             startup_lines: [String::new(), String::new()],
+            fluid: fluidnc::Named::default(),
             jogging: false,
             block_ends: VecDeque::new(),
             status_queries: 0,
@@ -214,6 +218,12 @@ impl Core {
         self.out.extend(b"\r\n");
     }
 
+    /// A `[MSG:…]` line in the flavor's words.
+    fn msg(&mut self, text: &str) {
+        let m = self.config.flavor.message(text);
+        self.say(&m);
+    }
+
     fn banner(&mut self) {
         let banner = format!("\r\n{}", self.config.flavor.banner(&self.config.version));
         self.say(&banner);
@@ -226,7 +236,7 @@ impl Core {
         self.banner();
         if self.setting(22) != 0.0 {
             self.state = State::Alarm;
-            self.say("[MSG:'$H'|'$X' to unlock]");
+            self.msg("'$H'|'$X' to unlock");
         }
     }
 
@@ -454,7 +464,7 @@ impl Core {
         self.starving = None;
         self.banner();
         if self.state == State::Alarm {
-            self.say("[MSG:'$H'|'$X' to unlock]");
+            self.msg("'$H'|'$X' to unlock");
         }
     }
 
@@ -570,7 +580,7 @@ impl Core {
         self.state = State::Alarm;
         self.interp.pos = self.mpos;
         self.say("ALARM:2");
-        self.say("[MSG:Reset to continue]");
+        self.msg("Reset to continue");
         self.blocked = true;
     }
 
@@ -717,6 +727,24 @@ impl Core {
         // `$G`, `$C`, `$X`, `$J=` have their own rules; everything else needs IDLE or ALARM.
         let idle_like = matches!(self.state, State::Idle | State::Alarm);
         let in_cycle = matches!(self.state, State::Run | State::Hold(_) | State::Door(_));
+        if self.config.flavor == Flavor::FluidNc {
+            // FluidNC reads a `$` line as typed (case, `/` and all), not cleaned like G-code.
+            let typed = raw.trim().strip_prefix('$').unwrap_or(cmd);
+            match fluidnc::command(typed, &mut self.fluid, &self.settings, idle_like, in_cycle) {
+                fluidnc::Outcome::Say(lines) => {
+                    for l in lines {
+                        self.say(&l);
+                    }
+                    return self.say("ok");
+                }
+                fluidnc::Outcome::Error(e) => return self.reply_error(e),
+                fluidnc::Outcome::SetNumbered(n, v) => {
+                    let numbered = format!("{n}={}", v.trim());
+                    return self.system_command(&numbered, &format!("${numbered}"));
+                }
+                fluidnc::Outcome::NotFluid => {}
+            }
+        }
         let own_rules = matches!(cmd, "" | "$" | "G" | "C" | "X") || cmd.starts_with("J=");
         if !own_rules && !idle_like {
             return self.reply_error(8);
@@ -781,7 +809,7 @@ impl Core {
             }
             "C" => {
                 if self.check_mode {
-                    self.say("[MSG:Disabled]");
+                    self.msg("Disabled");
                     self.say("ok");
                     self.soft_reset();
                     return;
@@ -791,12 +819,12 @@ impl Core {
                 }
                 self.check_mode = true;
                 self.state = State::Check;
-                self.say("[MSG:Enabled]");
+                self.msg("Enabled");
             }
             "X" => {
                 if self.state == State::Alarm {
                     self.state = State::Idle;
-                    self.say("[MSG:Caution: Unlocked]");
+                    self.msg("Caution: Unlocked");
                 }
             }
             "H" => {
@@ -814,7 +842,7 @@ impl Core {
             }
             "SLP" => {
                 self.state = State::Sleep;
-                self.say("[MSG:Sleeping]");
+                self.msg("Sleeping");
             }
             "RST=$" | "RST=#" | "RST=*" => {
                 if cmd != "RST=#" {
