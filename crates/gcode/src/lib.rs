@@ -16,6 +16,7 @@ mod decimal;
 pub mod diag;
 pub mod exec;
 pub mod expr;
+pub mod grbl_errors;
 pub mod header;
 pub mod interp;
 pub mod lex;

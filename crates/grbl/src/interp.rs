@@ -255,6 +255,14 @@ impl Interp {
                     let need_int = |m: i32| if m != 0 { Err(E_NOT_INTEGER) } else { Ok(()) };
                     match code {
                         4 | 10 | 28 | 30 | 53 | 92 => {
+                            // gcode.c: a second axis command (G10 G28 G30 G92, not their .1
+                            // forms) fails before the modal group is checked.
+                            if matches!(code, 10 | 28 | 30 | 92) && mantissa == 0 {
+                                if axis_word_command {
+                                    return Err(E_TWO_AXIS_COMMANDS);
+                                }
+                                axis_word_command = true;
+                            }
                             group(0, &mut groups_seen)?;
                             non_modal = match (code, mantissa) {
                                 (4, 0) => NonModal::Dwell,
@@ -268,25 +276,16 @@ impl Interp {
                                 (92, 10) => NonModal::ResetG92,
                                 _ => return Err(E_UNSUPPORTED),
                             };
-                            if matches!(
-                                non_modal,
-                                NonModal::SetCoord
-                                    | NonModal::Home28
-                                    | NonModal::Home30
-                                    | NonModal::SetG92
-                            ) {
+                        }
+                        0 | 1 | 2 | 3 | 38 | 80 => {
+                            // Likewise a second motion axis command (G80 is none).
+                            if code != 80 {
                                 if axis_word_command {
                                     return Err(E_TWO_AXIS_COMMANDS);
                                 }
                                 axis_word_command = true;
                             }
-                        }
-                        0 | 1 | 2 | 3 | 38 | 80 => {
                             group(1, &mut groups_seen)?;
-                            if axis_word_command {
-                                return Err(E_TWO_AXIS_COMMANDS);
-                            }
-                            axis_word_command = true;
                             motion = Some(match (code, mantissa) {
                                 (0, 0) => MotionMode::Rapid,
                                 (1, 0) => MotionMode::Linear,
@@ -871,7 +870,8 @@ mod tests {
     fn grbl_error_numbers() {
         let mut i = Interp::default();
         assert_eq!(run(&mut i, "G1 X10"), Err(E_UNDEFINED_FEED));
-        assert_eq!(run(&mut i, "G0 G1 X1"), Err(E_MODAL_GROUP));
+        assert_eq!(run(&mut i, "G0 G1 X1"), Err(E_TWO_AXIS_COMMANDS));
+        assert_eq!(run(&mut i, "G17 G18"), Err(E_MODAL_GROUP));
         assert_eq!(run(&mut i, "X1 X2"), Err(E_REPEATED_WORD));
         assert_eq!(run(&mut i, "G5 X1"), Err(E_UNSUPPORTED));
         assert_eq!(run(&mut i, "G1.5 X1"), Err(E_NOT_INTEGER));

@@ -41,6 +41,9 @@ pub struct StreamReport {
     pub work_pos: Option<[f64; 3]>,
     /// Where to continue, when the end allows it.
     pub resume: Option<Located>,
+    /// Why the machine's rest position could not be read, or the reset after a stop was not
+    /// answered (then no resume point is offered: the machine's state is not known).
+    pub recovery_error: Option<String>,
     pub bytes_sent: u64,
     pub elapsed: Duration,
     /// Largest number of bytes in flight (never above the RX capacity).
@@ -72,6 +75,9 @@ impl StreamReport {
                 actual[0], actual[1], actual[2], expected[0], expected[1], expected[2]
             ),
         };
+        if let Some(why) = &self.recovery_error {
+            s += &format!(". Where the machine is could not be learned ({why}): check it, home it ($H) and set the work origin again before resuming");
+        }
         if let Some(r) = &self.resume {
             if r.index < job.len() {
                 s += &format!(". Resume from {} ({}).", line(r.index), r.reason);

@@ -314,7 +314,13 @@ impl Sender {
                 Ok(st) => st,
                 Err(e) if e.kind() == io::ErrorKind::TimedOut => {
                     if Instant::now() > deadline {
-                        return Err(e);
+                        return Err(err(
+                            io::ErrorKind::TimedOut,
+                            format!(
+                                "{}: no status report for {:?}",
+                                self.link.description, self.options.reply_timeout
+                            ),
+                        ));
                     }
                     continue;
                 }
@@ -346,8 +352,8 @@ impl Sender {
                 return Err(err(
                     io::ErrorKind::TimedOut,
                     format!(
-                        "{}: machine did not come to rest within {:?}",
-                        self.link.description, self.options.reply_timeout
+                        "{}: the machine did not come to rest within {:?} of its last move; last report: {:?} at {:?}",
+                        self.link.description, self.options.reply_timeout, st.state, st.mpos.as_deref().or(st.wpos.as_deref()).unwrap_or(&[])
                     ),
                 ));
             }
@@ -355,24 +361,43 @@ impl Sender {
         }
     }
 
-    /// Soft reset and wait for the banner. Safe at rest: grbl keeps its position.
+    /// Soft reset, wait for the banner, then for a status report: the firmware has finished
+    /// its restart and answers again. Safe at rest: grbl keeps its position. The wait is
+    /// `reply_timeout`, not a few seconds: a banner arriving after the wait gave up would
+    /// end the next stream as a firmware reset.
     pub fn reset(&mut self) -> io::Result<()> {
         self.link.send_realtime(Realtime::SoftReset)?;
-        let deadline = Instant::now() + Duration::from_secs(5);
-        while Instant::now() < deadline {
+        let deadline = Instant::now() + self.options.reply_timeout;
+        loop {
+            if Instant::now() > deadline {
+                return Err(err(
+                    io::ErrorKind::TimedOut,
+                    format!(
+                        "{}: no banner within {:?} of a soft reset",
+                        self.link.description, self.options.reply_timeout
+                    ),
+                ));
+            }
             match self.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Welcome { .. }, _)) => {
-                    // Let any alarm message that follows the banner arrive.
-                    while let Some(Event::Line(..)) = self.link.recv(Duration::from_millis(30)) {}
-                    return Ok(());
-                }
+                Some(Event::Line(Response::Welcome { .. }, _)) => break,
                 Some(Event::Closed(why)) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
                 _ => {}
             }
         }
+        // The alarm message that may follow the banner is read on the way.
+        while Instant::now() < deadline {
+            match self.status() {
+                Ok(_) => return Ok(()),
+                Err(e) if e.kind() == io::ErrorKind::TimedOut => continue,
+                Err(e) => return Err(e),
+            }
+        }
         Err(err(
             io::ErrorKind::TimedOut,
-            format!("{}: no banner after soft reset", self.link.description),
+            format!(
+                "{}: no status report within {:?} of the reset banner",
+                self.link.description, self.options.reply_timeout
+            ),
         ))
     }
 
@@ -591,6 +616,7 @@ impl Sender {
             certain,
             work_pos: None,
             resume: None,
+            recovery_error: None,
             bytes_sent,
             elapsed: start.elapsed(),
             max_in_flight,
@@ -602,6 +628,9 @@ impl Sender {
                     Some(p) => Ok(p),
                     None => self.wait_at_rest(),
                 };
+                if let Err(e) = &rest {
+                    report.recovery_error = Some(e.to_string());
+                }
                 if let Ok(pos) = rest {
                     report.work_pos = Some(pos);
                     report.certain = job.len();
@@ -617,16 +646,27 @@ impl Sender {
             }
             StreamEnd::Rejected { .. } | StreamEnd::Stopped | StreamEnd::Stalled => {
                 let _ = self.link.send_realtime(Realtime::FeedHold);
-                report.work_pos = self.wait_at_rest().ok();
-                if let Some(p) = report.work_pos {
-                    tracker.observe(p);
-                    report.certain = report.certain.max(tracker.done_before.min(acked_end));
+                match self.wait_at_rest() {
+                    Ok(p) => {
+                        report.work_pos = Some(p);
+                        tracker.observe(p);
+                        report.certain = report.certain.max(tracker.done_before.min(acked_end));
+                    }
+                    Err(e) => report.recovery_error = Some(e.to_string()),
                 }
-                let _ = self.reset();
+                // Queued blocks are flushed only once the reset is answered: without that,
+                // a resume would run behind whatever the firmware still holds.
+                if let Err(e) = self.reset() {
+                    report.work_pos = None;
+                    report.recovery_error = Some(format!("reset after the stop: {e}"));
+                }
             }
             StreamEnd::Alarm(_) | StreamEnd::FirmwareReset => {
                 // Let the banner/alarm messages arrive, then read where the machine is.
-                report.work_pos = self.wait_at_rest().ok();
+                match self.wait_at_rest() {
+                    Ok(p) => report.work_pos = Some(p),
+                    Err(e) => report.recovery_error = Some(e.to_string()),
+                }
             }
             StreamEnd::Disconnected(_) | StreamEnd::PositionMismatch { .. } => {}
         }

@@ -190,19 +190,22 @@ fn fault_dropped_newline_merges_two_lines_and_is_resumed() {
     }]);
     let (reports, pre) = run_with_resumes(&ep, &job, None);
     assert!(proxy.fired()[0]);
-    // Two G1 words in one block: grbl's modal group violation, reported on the first line.
+    // Two G1 words in one block: two axis commands, grbl's error 24 (gcode.c checks that
+    // before the modal group), reported on the first line.
     assert!(
         matches!(
             reports[0].end,
             StreamEnd::Rejected {
                 index: 120,
-                code: 21
+                code: 24
             }
         ),
         "{:?}",
         reports[0].end
     );
-    assert!(reports[0].describe(&job).contains("Modal group violation"));
+    assert!(reports[0]
+        .describe(&job)
+        .contains("More than one g-code command that requires axis words"));
     assert_no_overflow(&emu, &reports);
     // The merged line 120+121 was rejected as one: both run after the resume.
     assert_lines_ran(&emu, &job, &pre, Some(121));

@@ -91,6 +91,66 @@ fn each_flavor_speaks_like_its_firmware() {
     }
 }
 
+/// FluidNC's own commands over its network port, as its wiki shows them: named settings
+/// (`$Name` shows `$Name=value`, any case; `$Name=value` sets), `$S` lists them, `$CD`
+/// dumps the YAML configuration, whose items are settings by path and are grbl's `$1xx`;
+/// an unknown name is error 3; feedback messages carry FluidNC's level (`[MSG:INFO: …]`).
+#[test]
+fn fluidnc_settings_config_dump_and_messages() {
+    let (_emu, ep) = start(Flavor::FluidNc);
+    let mut s = scenarios::connect(&ep);
+    let mut ask = |line: &str| {
+        let r = s.command(line).expect(line);
+        (r.lines, r.error)
+    };
+    let (lines, err) = ask("$S");
+    assert_eq!(err, None);
+    assert!(
+        lines.contains(&"$Config/Filename=config.yaml".to_string()),
+        "{lines:?}"
+    );
+    assert!(
+        lines.iter().any(|l| l.starts_with("$Message/Level=")),
+        "{lines:?}"
+    );
+    assert_eq!(ask("$Config/Filename=mill.yaml"), (vec![], None));
+    assert_eq!(
+        ask("$config/filename"),
+        (vec!["$Config/Filename=mill.yaml".to_string()], None)
+    );
+    assert_eq!(ask("$Settings/List").0[0], "$Config/Filename=mill.yaml");
+    // A YAML item by its path is the grbl setting it stands for, both ways.
+    assert_eq!(ask("$/axes/x/max_rate_mm_per_min=4321"), (vec![], None));
+    let (grbl, _) = ask("$$");
+    assert!(grbl.contains(&"$110=4321.000".to_string()), "{grbl:?}");
+    assert_eq!(ask("$120=250").1, None);
+    assert_eq!(
+        ask("$/axes/x/acceleration_mm_per_sec2").0,
+        vec!["$/axes/x/acceleration_mm_per_sec2=250.000".to_string()]
+    );
+    let (yaml, err) = ask("$CD");
+    assert_eq!(err, None);
+    let x = yaml.iter().position(|l| l == "  x:").expect("axis x");
+    assert!(yaml.contains(&"axes:".to_string()), "{yaml:?}");
+    assert!(
+        yaml[x..].contains(&"    max_rate_mm_per_min: 4321.000".to_string()),
+        "{yaml:?}"
+    );
+    assert_eq!(ask("$Config/Dump").0, yaml);
+    assert_eq!(ask("$Nope/Setting=1").1, Some(3));
+    assert_eq!(ask("$/axes/q/steps_per_mm").1, Some(3));
+    assert_eq!(ask("$Message/Level=shout").1, Some(3));
+    // A negative rate is refused as grbl refuses `$110=-1`.
+    assert_eq!(ask("$/axes/x/max_rate_mm_per_min=-1").1, Some(4));
+    // Check mode on and off: `[MSG:INFO: Enabled]`, `[MSG:INFO: Disabled]`.
+    assert_eq!(ask("$C").1, None);
+    let (after, _) = ask("$C");
+    assert!(
+        after.iter().any(|l| l == "[MSG:INFO: Disabled]"),
+        "{after:?}"
+    );
+}
+
 #[test]
 fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
     use oficina_grbl::emulator::Core;
@@ -147,15 +207,63 @@ fn resume_comes_from_the_reported_position_not_from_bf() {
     );
 }
 
-/// Random stops on a relief raster: after each stop and resume, the motion made covers the
-/// whole program path, with no gap and no double cut over 0.01 mm.
-///
-/// Ignored in the default run: under heavy load (2 cores, the whole workspace testing at
-/// once) about one run in three ends a stop as `Stopped` with no position, because the
-/// sender's wait for rest gives up; the cause is not found yet (issue 9 stays open for it).
-/// Run it with `cargo test -p oficina-grbl --test firmware_flavors -- --ignored`.
+/// A feed hold always completes: `Hold:1` turns `Hold:0` once the machine stands. Found
+/// behind the random-stop failures: a braking ramp ends a few ulps above zero speed, the
+/// planner never called that "held", and the emulator reported `Hold:1` at a standstill
+/// forever (86 of 1200 holds on the relief). Ticks of 1 ms (an idle host) to 51 ms (a loaded
+/// one); the hold falls anywhere in the first 4.6 s of the job.
 #[test]
-#[ignore = "a stop under heavy load sometimes ends without a position (issue 9, open)"]
+fn every_feed_hold_on_a_relief_completes() {
+    use oficina_grbl::emulator::Core;
+    use oficina_grbl::realtime::Realtime;
+    use oficina_grbl::status::State;
+    let program = coverage::relief_program(6, 30, 0.5, 1500.0).into_bytes();
+    let mut stuck = Vec::new();
+    for tick_ms in [1.0f64, 7.0, 29.0, 51.0] {
+        for k in 0..200 {
+            let mut c = Core::new(Config {
+                baud: None,
+                settings: vec![(120, 400.0), (121, 400.0), (122, 200.0)],
+                ..Config::flavored(Flavor::GrblHal)
+            });
+            let hold_at = 0.05 + k as f64 * 0.023;
+            let (mut sent, mut t) = (0, 0.0);
+            let mut held = false;
+            // Two seconds after the hold is plenty to brake from 25 mm/s at 400 mm/s².
+            while t < hold_at + 2.0 {
+                while sent < program.len() && c.rx_used() < 1000 {
+                    c.receive(program[sent]);
+                    sent += 1;
+                }
+                t += tick_ms / 1000.0;
+                c.tick(t);
+                c.out.clear();
+                if !held && t >= hold_at {
+                    c.realtime(Realtime::FeedHold);
+                    held = true;
+                }
+                if held && c.state != State::Hold(1) {
+                    break;
+                }
+            }
+            assert!(held);
+            if c.state == State::Hold(1) {
+                stuck.push((tick_ms, hold_at, c.mpos));
+            }
+        }
+    }
+    assert!(
+        stuck.is_empty(),
+        "{} holds never completed: {stuck:?}",
+        stuck.len()
+    );
+}
+
+/// Random stops on a relief raster: after each stop and resume, the motion made covers the
+/// whole program path, with no gap and no double cut over 0.01 mm. (It was ignored while a
+/// stop under load sometimes ended without a position: the emulator's hold never completed,
+/// see `every_feed_hold_on_a_relief_completes`.) `OFICINA_RANDOM_STOPS=n` sets the count.
+#[test]
 fn random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
     let (emu, ep) = start(Flavor::GrblHal);
     let mut s = scenarios::connect(&ep);

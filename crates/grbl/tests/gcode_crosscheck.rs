@@ -55,6 +55,16 @@ const GRBL_SOURCE_RULINGS: &[(&str, Option<u16>)] = &[
     ("G93 G38.2 Z-5 F50", None),
     ("G38.1 Z-5", Some(20)),
     ("G10 L2 P1 R5 X1", Some(20)),
+    // Two axis commands are error 24 before any modal-group check (grblHAL's Simulator
+    // answers the same; `sim_error_texts_are_the_firmwares`).
+    ("G0 G1 X1", Some(24)),
+    ("G2 G38.2 X1", Some(24)),
+    ("G28 G30 X1", Some(24)),
+    ("G28 G1 X1", Some(24)),
+    ("G4 G28 P1", Some(21)),
+    ("G17 G18", Some(21)),
+    ("M3 M4", Some(21)),
+    ("G1 X1 X2", Some(25)),
 ];
 
 #[test]

@@ -26,6 +26,61 @@ fn sim_reset_banner_is_recognised() {
     assert!(s.firmware.starts_with("1.1f"), "{}", s.firmware);
 }
 
+/// The error table ([`oficina_gcode::grbl_errors`]) against the firmware's own words: grblHAL
+/// lists its errors with `$EE`; codes 20 to 37 (the G-code errors) read exactly as grbl's.
+#[test]
+fn sim_error_texts_are_the_firmwares() {
+    let Some(sim) = grblhal_sim::start("errors", None) else {
+        return;
+    };
+    let mut s = scenarios::connect(&sim.endpoint);
+    let reply = s.command("$EE").expect("$EE");
+    assert_eq!(reply.error, None);
+    // `[ERRORCODE:24||More than one g-code command that requires axis words found in block.]`
+    let listed: std::collections::BTreeMap<u16, String> = reply
+        .lines
+        .iter()
+        .filter_map(|l| {
+            let (code, text) = l
+                .strip_prefix("[ERRORCODE:")?
+                .strip_suffix(']')?
+                .split_once("||")?;
+            Some((code.parse().ok()?, text.to_string()))
+        })
+        .collect();
+    for code in 20..=37u16 {
+        let ours = oficina_gcode::grbl_errors::error_text(code).map(|t| t.1);
+        assert_eq!(ours, listed.get(&code).map(|t| t.as_str()), "error:{code}");
+    }
+    // The decoder's conflicts, numbered by their kind, as the firmware numbers them. gcode.c
+    // meets a second axis command before it checks modal groups (`G0 G1` is 24, `G17 G18`
+    // 21). A reset before each line: the Simulator answered every line after its first
+    // error with that same error.
+    for line in [
+        "G0 G1 X1",
+        "G2 G38.2 X1",
+        "G28 G30 X1",
+        "G28 G1 X1",
+        "G4 G28 P1",
+        "G17 G18",
+        "M3 M4",
+        "G1 X1 X2",
+        "G1 X1 F100 F200",
+        "G15 X1",
+    ] {
+        s.reset().expect("reset");
+        let firmware = s.command(line).expect("reply").error.map(u16::from);
+        assert!(firmware.is_some(), "`{line}` accepted by the firmware");
+        let diags = oficina_gcode::program::run_text(
+            &format!("{line}\n"),
+            &oficina_gcode::program::RunOptions::check(oficina_gcode::Dialect::Grbl),
+            &mut |_| {},
+        );
+        let ours = diags.first().and_then(|d| d.code);
+        assert_eq!(ours, firmware, "`{line}`: {diags:?}");
+    }
+}
+
 #[test]
 fn sim_done_means_at_rest_when_status_queries_are_lost() {
     let Some(sim) = grblhal_sim::start("done", None) else {

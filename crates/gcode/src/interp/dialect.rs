@@ -10,34 +10,14 @@
 //! Legacy 2006 (seed 002, §3): G90/G91 are themselves linear feed moves (absolute /
 //! incremental), I J are absolute arc centres, motion codes are modal, G0 is a rapid.
 
-use super::words::{g_group as G, m_group as M, unknown_g, Decoded};
+use super::words::{g_group as G, m_group as M, unknown_g, DecodeError, DecodeFault, Decoded};
 use super::Interpreter;
 use crate::diag::Diagnostic;
 use oficina_canon::FeedMode;
 
-/// grbl's text for an error number (report.c / the grbl wiki's error table).
+/// grbl's text for an error number (the one table, [`crate::grbl_errors`]).
 pub fn grbl_text(code: u16) -> &'static str {
-    match code {
-        20 => "Unsupported or invalid g-code command found in block.",
-        21 => "More than one g-code command from same modal group found in block.",
-        22 => "Feed rate has not yet been set or is undefined.",
-        23 => "G-code command in block requires an integer value.",
-        24 => "Two G-code commands that both require the use of the XYZ axis words were detected in the block.",
-        25 => "A G-code word was repeated in the block.",
-        26 => "A G-code command implicitly or explicitly requires XYZ axis words in the block, but none were detected.",
-        28 => "A G-code command was sent, but is missing some required P or L value words in the line.",
-        29 => "Grbl supports six work coordinate systems G54-G59. G59.1, G59.2, and G59.3 are not supported.",
-        30 => "The G53 G-code command requires either a G0 seek or G1 feed motion mode to be active. A different motion was active.",
-        31 => "There are unused axis words in the block and G80 motion mode cancel is active.",
-        32 => "A G2 or G3 arc was commanded but there are no XYZ axis words in the selected plane to trace the arc.",
-        33 => "The motion command has an invalid target. G2, G3, and G38.2 generates this error, if the arc is impossible to generate or if the probe target is the current position.",
-        34 => "A G2 or G3 arc, traced with the radius definition, had a mathematical error when computing the arc geometry. Try either breaking up the arc into semi-circles or quadrants, or redefine them with the arc offset definition.",
-        35 => "A G2 or G3 arc, traced with the offset definition, is missing the IJK offset word in the selected plane to trace the arc.",
-        36 => "There are unused, leftover G-code words that aren't used by any command in the block.",
-        37 => "The G43.1 dynamic tool length offset command cannot apply an offset to an axis other than its configured axis. The Grbl default axis is the Z-axis.",
-        38 => "Tool number greater than max supported value.",
-        _ => "",
-    }
+    crate::grbl_errors::error_text(code).map_or("", |(_, text)| text)
 }
 
 /// Attach grbl's number and text to a diagnostic.
@@ -51,16 +31,26 @@ pub fn grbl_error(d: Diagnostic, code: u16) -> Diagnostic {
     d
 }
 
-/// Decoding errors in grbl's numbering.
-pub fn grbl_code_for_decode(d: Diagnostic) -> Diagnostic {
-    let code = if d.message.starts_with("Two ") {
-        21
-    } else if d.message.starts_with("Multiple") {
-        25
-    } else {
-        20
+/// G codes grbl calls axis commands (gcode.c's `axis_command`): motion G0 G1 G2 G3 G38.x and
+/// the non-modal G10 G28 G30 G92, in tenths.
+fn grbl_axis_command(tenths: u16) -> bool {
+    matches!(tenths, 0 | 10 | 20 | 30 | 100 | 280 | 300 | 920 | 382..=385)
+}
+
+/// A decoding error in grbl's numbering, chosen by what the decoder found. gcode.c meets a
+/// second axis command before it checks modal groups: `G0 G1` is error 24, not 21.
+pub fn grbl_code_for_decode(e: DecodeError) -> Diagnostic {
+    let code = match e.fault {
+        DecodeFault::SameModalGroup {
+            letter: 'G',
+            first,
+            second,
+        } if grbl_axis_command(first) && grbl_axis_command(second) => 24,
+        DecodeFault::SameModalGroup { .. } => 21,
+        DecodeFault::RepeatedWord => 25,
+        DecodeFault::Unsupported => 20,
     };
-    grbl_error(d, code)
+    grbl_error(e.diag, code)
 }
 
 fn unsupported(d: &Decoded, span: crate::diag::Span, what: String) -> Diagnostic {

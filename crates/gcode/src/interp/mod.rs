@@ -227,7 +227,7 @@ impl Interpreter {
     ) -> Result<Flow, Diagnostic> {
         d.fill(block).map_err(|e| match self.dialect {
             Dialect::Grbl => dialect::grbl_code_for_decode(e),
-            _ => e,
+            _ => e.diag,
         })?;
         match self.dialect {
             Dialect::Grbl => dialect::check_grbl(self, d)?,

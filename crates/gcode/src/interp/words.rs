@@ -194,7 +194,7 @@ impl Decoded {
     /// Sort the words of `block`; errors name the offending word.
     pub fn from_block(block: &Block) -> Result<Decoded, Diagnostic> {
         let mut d = Decoded::empty();
-        d.fill(block)?;
+        d.fill(block).map_err(|e| e.diag)?;
         Ok(d)
     }
 
@@ -210,7 +210,7 @@ impl Decoded {
 
     /// Decode `block` in place: the interpreter reuses one `Decoded` (over a kilobyte)
     /// rather than moving a fresh one around for every block.
-    pub fn fill(&mut self, block: &Block) -> Result<(), Diagnostic> {
+    pub fn fill(&mut self, block: &Block) -> Result<(), DecodeError> {
         self.line = block.line;
         self.g = [None; g_group::COUNT];
         self.m = [None; m_group::COUNT];
@@ -223,8 +223,10 @@ impl Decoded {
         for w in &block.words {
             match w.letter {
                 'G' => {
-                    let tenths = to_tenths(w.value).ok_or_else(|| unknown_g(w.span, w.value))?;
-                    let group = group_of_g(tenths).ok_or_else(|| unknown_g(w.span, w.value))?;
+                    let tenths = to_tenths(w.value)
+                        .ok_or_else(|| DecodeError::unsupported(unknown_g(w.span, w.value)))?;
+                    let group = group_of_g(tenths)
+                        .ok_or_else(|| DecodeError::unsupported(unknown_g(w.span, w.value)))?;
                     // rs274 accepts G80 beside another motion code: the other one wins.
                     // G80 alone is kept (it cancels the motion mode).
                     if group == g_group::MOTION && (tenths == 800 || d.g_in(group) == Some(800)) {
@@ -236,12 +238,19 @@ impl Decoded {
                         }
                         continue;
                     }
-                    if d.g[group].is_some() {
-                        return Err(Diagnostic::error(
-                            w.span,
-                            "Two g codes used from same modal group",
-                        )
-                        .with_help("a block may hold at most one G code of each modal group"));
+                    if let Some(first) = d.g[group] {
+                        return Err(DecodeError {
+                            fault: DecodeFault::SameModalGroup {
+                                letter: 'G',
+                                first: first.tenths,
+                                second: tenths,
+                            },
+                            diag: Diagnostic::error(
+                                w.span,
+                                "Two g codes used from same modal group",
+                            )
+                            .with_help("a block may hold at most one G code of each modal group"),
+                        });
                     }
                     d.g[group] = Some(Code {
                         tenths,
@@ -252,15 +261,26 @@ impl Decoded {
                     let code = (w.value.fract() == 0.0 && (0.0..1000.0).contains(&w.value))
                         .then_some(w.value as u16);
                     let group = code.and_then(group_of_m).ok_or_else(|| {
-                        Diagnostic::error(w.span, format!("Unknown m code used: M{}", w.value))
-                            .with_help("supported: M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M48-M53 M60")
-                    })?;
-                    if d.m[group].is_some() {
-                        return Err(Diagnostic::error(
-                            w.span,
-                            "Two m codes used from same modal group",
+                        DecodeError::unsupported(
+                            Diagnostic::error(w.span, format!("Unknown m code used: M{}", w.value))
+                                .with_help(
+                                    "supported: M0 M1 M2 M3 M4 M5 M6 M7 M8 M9 M30 M48-M53 M60",
+                                ),
                         )
-                        .with_help("a block may hold at most one M code of each modal group"));
+                    })?;
+                    if let Some(first) = d.m[group] {
+                        return Err(DecodeError {
+                            fault: DecodeFault::SameModalGroup {
+                                letter: 'M',
+                                first: first.tenths,
+                                second: code.unwrap_or(0),
+                            },
+                            diag: Diagnostic::error(
+                                w.span,
+                                "Two m codes used from same modal group",
+                            )
+                            .with_help("a block may hold at most one M code of each modal group"),
+                        });
                     }
                     d.m[group] = Some(Code {
                         tenths: code.unwrap_or(0),
@@ -269,21 +289,26 @@ impl Decoded {
                 }
                 'A'..='Z' | '@' | '^' => {
                     if matches!(w.letter, 'E' | 'U' | 'V' | 'W' | 'N' | 'O') {
-                        return Err(Diagnostic::error(
-                            w.span,
-                            format!("Bad character '{}' used", w.letter.to_ascii_lowercase()),
-                        )
-                        .with_help("Oficina machines have the axes X Y Z A B C"));
+                        return Err(DecodeError::unsupported(
+                            Diagnostic::error(
+                                w.span,
+                                format!("Bad character '{}' used", w.letter.to_ascii_lowercase()),
+                            )
+                            .with_help("Oficina machines have the axes X Y Z A B C"),
+                        ));
                     }
                     let s = slot(w.letter);
                     if d.values[s].is_some() {
-                        return Err(Diagnostic::error(
-                            w.span,
-                            format!(
-                                "Multiple {} words on one line",
-                                w.letter.to_ascii_lowercase()
+                        return Err(DecodeError {
+                            fault: DecodeFault::RepeatedWord,
+                            diag: Diagnostic::error(
+                                w.span,
+                                format!(
+                                    "Multiple {} words on one line",
+                                    w.letter.to_ascii_lowercase()
+                                ),
                             ),
-                        ));
+                        });
                     }
                     d.values[s] = Some(Value {
                         v: w.value,
@@ -292,14 +317,44 @@ impl Decoded {
                     d.present |= 1 << s;
                 }
                 other => {
-                    return Err(Diagnostic::error(
+                    return Err(DecodeError::unsupported(Diagnostic::error(
                         w.span,
                         format!("Bad character '{other}' used"),
-                    ))
+                    )))
                 }
             }
         }
         Ok(())
+    }
+}
+
+/// What kind of conflict stopped decoding: a firmware dialect numbers its error by it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecodeFault {
+    /// Two codes of one modal group: the letter and both codes in tenths (G38.2 is 382).
+    SameModalGroup {
+        letter: char,
+        first: u16,
+        second: u16,
+    },
+    /// A letter given twice.
+    RepeatedWord,
+    /// A code or letter that does not exist.
+    Unsupported,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct DecodeError {
+    pub fault: DecodeFault,
+    pub diag: Diagnostic,
+}
+
+impl DecodeError {
+    fn unsupported(diag: Diagnostic) -> DecodeError {
+        DecodeError {
+            fault: DecodeFault::Unsupported,
+            diag,
+        }
     }
 }
 

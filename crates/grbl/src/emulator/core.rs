@@ -13,6 +13,7 @@
 //! same planner; overrides re-plan at once.
 
 use super::flavor::Flavor;
+use super::fluidnc;
 use crate::gline;
 use crate::interp::{self, Flow, Interp, Rate, Segment};
 use crate::messages::{self, SETTINGS};
@@ -21,6 +22,8 @@ use crate::status::State;
 use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
+
+mod system;
 
 /// Knobs of the emulated board.
 #[derive(Clone, Debug)]
@@ -148,6 +151,8 @@ pub struct Core {
     clock: f64,
     report_counter: u32,
     startup_lines: [String; 2],
+    /// FluidNC's named settings (`$Config/Filename`, …).
+    fluid: fluidnc::Named,
     jogging: bool,
     /// Where each block in the planner ends (front first), for grblHAL's `Bf:`.
     block_ends: VecDeque<[f64; 3]>,
@@ -194,6 +199,7 @@ impl Core {
             clock: 0.0,
             report_counter: 0,
             startup_lines: [String::new(), String::new()],
+            fluid: fluidnc::Named::default(),
             jogging: false,
             block_ends: VecDeque::new(),
             status_queries: 0,
@@ -214,6 +220,12 @@ impl Core {
         self.out.extend(b"\r\n");
     }
 
+    /// A `[MSG:…]` line in the flavor's words.
+    fn msg(&mut self, text: &str) {
+        let m = self.config.flavor.message(text);
+        self.say(&m);
+    }
+
     fn banner(&mut self) {
         let banner = format!("\r\n{}", self.config.flavor.banner(&self.config.version));
         self.say(&banner);
@@ -226,7 +238,7 @@ impl Core {
         self.banner();
         if self.setting(22) != 0.0 {
             self.state = State::Alarm;
-            self.say("[MSG:'$H'|'$X' to unlock]");
+            self.msg("'$H'|'$X' to unlock");
         }
     }
 
@@ -454,7 +466,7 @@ impl Core {
         self.starving = None;
         self.banner();
         if self.state == State::Alarm {
-            self.say("[MSG:'$H'|'$X' to unlock]");
+            self.msg("'$H'|'$X' to unlock");
         }
     }
 
@@ -570,7 +582,7 @@ impl Core {
         self.state = State::Alarm;
         self.interp.pos = self.mpos;
         self.say("ALARM:2");
-        self.say("[MSG:Reset to continue]");
+        self.msg("Reset to continue");
         self.blocked = true;
     }
 
@@ -709,211 +721,6 @@ impl Core {
         } else if self.state == State::Jog && !more {
             self.state = State::Idle;
             self.jogging = false;
-        }
-    }
-
-    fn system_command(&mut self, cmd: &str, raw: &str) {
-        // system.c: `$$` is refused only in a cycle or hold (it takes too long to print);
-        // `$G`, `$C`, `$X`, `$J=` have their own rules; everything else needs IDLE or ALARM.
-        let idle_like = matches!(self.state, State::Idle | State::Alarm);
-        let in_cycle = matches!(self.state, State::Run | State::Hold(_) | State::Door(_));
-        let own_rules = matches!(cmd, "" | "$" | "G" | "C" | "X") || cmd.starts_with("J=");
-        if !own_rules && !idle_like {
-            return self.reply_error(8);
-        }
-        match cmd {
-            "" => {
-                self.say("[HLP:$$ $# $G $I $N $x=val $Nx=line $J=line $SLP $C $X $H ~ ! ? ctrl-x]")
-            }
-            "$" => {
-                if in_cycle {
-                    return self.reply_error(8);
-                }
-                let lines: Vec<String> = self
-                    .settings
-                    .iter()
-                    .map(|(n, v)| format!("${n}={}", format_setting(*n, *v)))
-                    .collect();
-                for l in lines {
-                    self.say(&l);
-                }
-            }
-            "#" => {
-                let f = |p: [f64; 3]| format!("{:.3},{:.3},{:.3}", p[0], p[1], p[2]);
-                for i in 0..6 {
-                    let l = format!("[G{}:{}]", 54 + i, f(self.interp.wcs_offsets[i]));
-                    self.say(&l);
-                }
-                let lines = [
-                    format!("[G28:{}]", f(self.interp.g28)),
-                    format!("[G30:{}]", f(self.interp.g30)),
-                    format!("[G92:{}]", f(self.interp.g92)),
-                    format!("[TLO:{:.3}]", self.interp.tool_length),
-                    "[PRB:0.000,0.000,0.000:0]".to_string(),
-                ];
-                for l in lines {
-                    self.say(&l);
-                }
-            }
-            "G" => {
-                let l = format!("[GC:{}]", self.interp.parser_state());
-                self.say(&l);
-            }
-            "I" => {
-                let c = &self.config;
-                for l in c
-                    .flavor
-                    .build_info(&c.version, c.planner_blocks, c.rx_buffer)
-                {
-                    self.say(&l);
-                }
-            }
-            "N" => {
-                let lines: Vec<String> = self
-                    .startup_lines
-                    .iter()
-                    .enumerate()
-                    .map(|(i, l)| format!("$N{i}={l}"))
-                    .collect();
-                for l in lines {
-                    self.say(&l);
-                }
-            }
-            "C" => {
-                if self.check_mode {
-                    self.say("[MSG:Disabled]");
-                    self.say("ok");
-                    self.soft_reset();
-                    return;
-                }
-                if self.state != State::Idle {
-                    return self.reply_error(8);
-                }
-                self.check_mode = true;
-                self.state = State::Check;
-                self.say("[MSG:Enabled]");
-            }
-            "X" => {
-                if self.state == State::Alarm {
-                    self.state = State::Idle;
-                    self.say("[MSG:Caution: Unlocked]");
-                }
-            }
-            "H" => {
-                if self.setting(22) == 0.0 {
-                    return self.reply_error(5);
-                }
-                if !idle_like {
-                    return self.reply_error(8);
-                }
-                // Homing ends at machine zero; the seek takes travel / seek rate.
-                self.mpos = [0.0; 3];
-                self.motion = new_motion(&self.settings, self.mpos);
-                self.interp.pos = self.mpos;
-                self.state = State::Idle;
-            }
-            "SLP" => {
-                self.state = State::Sleep;
-                self.say("[MSG:Sleeping]");
-            }
-            "RST=$" | "RST=#" | "RST=*" => {
-                if cmd != "RST=#" {
-                    self.settings = SETTINGS.iter().map(|s| (s.number, s.default)).collect();
-                    self.motion = new_motion(&self.settings, self.mpos);
-                }
-                if cmd != "RST=$" {
-                    self.interp.wcs_offsets = [[0.0; 3]; 6];
-                    self.interp.g28 = [0.0; 3];
-                    self.interp.g30 = [0.0; 3];
-                }
-            }
-            _ => {
-                if let Some(body) = cmd.strip_prefix("J=") {
-                    return self.jog(body);
-                }
-                if let Some(rest) = cmd.strip_prefix('N') {
-                    return self.store_startup_line(rest, raw);
-                }
-                let Some((n, v)) = cmd.split_once('=') else {
-                    return self.reply_error(3);
-                };
-                let (Ok(n), Ok(v)) = (n.parse::<u16>(), v.parse::<f64>()) else {
-                    return self.reply_error(3);
-                };
-                if messages::setting_info(n).is_none() {
-                    return self.reply_error(3);
-                }
-                if !idle_like {
-                    return self.reply_error(8);
-                }
-                if v < 0.0 {
-                    return self.reply_error(4);
-                }
-                if n == 0 && v < 3.0 {
-                    return self.reply_error(6);
-                }
-                if n == 20 && v != 0.0 && self.setting(22) == 0.0 {
-                    return self.reply_error(10);
-                }
-                self.settings.insert(n, v);
-                // Idle, so the buffer is empty: the machine changes under no block.
-                self.motion = new_motion(&self.settings, self.mpos);
-                if n == 12 {
-                    self.interp.arc_tolerance = v;
-                }
-            }
-        }
-        self.say("ok");
-    }
-
-    fn store_startup_line(&mut self, rest: &str, raw: &str) {
-        let Some((i, _)) = rest.split_once('=') else {
-            return self.reply_error(3);
-        };
-        let Ok(i) = i.parse::<usize>() else {
-            return self.reply_error(3);
-        };
-        if i > 1 {
-            return self.reply_error(3);
-        }
-        // Keep the user's text after '=' (cleaned), validated on a scratch parser.
-        let text = raw.split_once('=').map(|x| x.1).unwrap_or("");
-        let Ok(clean) = gline::clean(text) else {
-            return self.reply_error(14);
-        };
-        let mut scratch = self.interp.clone();
-        if !clean.is_empty() {
-            if let Err(e) = scratch.execute(&clean) {
-                return self.reply_error(e);
-            }
-        }
-        self.startup_lines[i] = clean;
-        self.say("ok");
-    }
-
-    fn jog(&mut self, body: &str) {
-        if !matches!(self.state, State::Idle | State::Jog) {
-            return self.reply_error(8);
-        }
-        match self.interp.jog(body) {
-            Err(e) => self.reply_error(e),
-            Ok(effect) => {
-                if self.beyond_soft_limits(&effect.segments) {
-                    self.interp.pos = self.motion.tail();
-                    return self.reply_error(15);
-                }
-                self.jogging = true;
-                self.pending = Some(Pending {
-                    sync: false,
-                    dwell: 0.0,
-                    segments: effect.segments.into(),
-                    flow: Flow::Continue,
-                    probe: false,
-                    reply: "ok".into(),
-                    line: None,
-                });
-                self.advance_pending();
-            }
         }
     }
 

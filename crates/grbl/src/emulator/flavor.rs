@@ -86,6 +86,15 @@ impl Flavor {
         }
     }
 
+    /// A feedback message as the firmware words it: grbl's `[MSG:Caution: Unlocked]`,
+    /// FluidNC's `[MSG:INFO: Caution: Unlocked]` (every message of its log carries a level).
+    pub fn message(self, text: &str) -> String {
+        match self {
+            Flavor::FluidNc => format!("[MSG:INFO: {text}]"),
+            _ => format!("[MSG:{text}]"),
+        }
+    }
+
     /// A network client is greeted with the banner only by classic grbl emulations; grblHAL
     /// and FluidNC say nothing until spoken to.
     pub fn greets_tcp_clients(self) -> bool {

@@ -4,6 +4,7 @@
 
 pub mod core;
 pub mod flavor;
+pub mod fluidnc;
 pub mod profile;
 mod serve;
 

@@ -264,9 +264,11 @@ impl Incremental {
         self.replan();
     }
 
-    /// True while a hold is in force and the machine has come to rest.
+    /// True while a hold is in force and the machine has come to rest. A braking ramp ends
+    /// at `v0 − a·(v0/a)`, a few ulps off zero (1e-15 mm/s seen): rest is "below a nanometre
+    /// a second", not exactly 0, or the hold never completes.
     pub fn held(&self) -> bool {
-        self.hold.is_some() && self.speed() <= 0.0 && self.t >= self.motion.duration
+        self.hold.is_some() && self.speed() <= 1e-9 && self.t >= self.motion.duration
     }
 
     /// Ends a hold: the rest of the buffer is re-planned from rest.
