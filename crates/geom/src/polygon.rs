@@ -217,15 +217,33 @@ pub fn offset_regions(
     // Vertices closer together than the result's own tolerance only add crossings to the
     // raw offset (its cost grows with them): thin them first, within half the tolerance.
     let thin = match join {
-        Join::Round { tolerance } => tolerance / 2.0,
+        Join::Round { tolerance } => tolerance / 4.0,
         _ => 1e-4,
     };
     let shapes: Vec<Vec<Ring>> = regions
         .iter()
+        .filter(|r| distance > 0.0 || can_hold_disc(r, -distance))
         .map(|r| r.rings().iter().map(|ring| thin_ring(ring, thin)).collect())
         .collect();
     let style = OutlineStyle::new(distance).line_join(line_join(join, distance));
     Ok(regions_from(shapes.outline(&style)))
+}
+
+/// Whether a disc of `radius` might fit in the region, the condition for its inset by
+/// `radius` to leave anything: the disc needs area π·radius² and a bounding box 2·radius
+/// wide both ways. A region that fails is dropped before the polygon library sees it: there
+/// every edge's offset band crosses nearly every other (quadratic work: 0.5 s for the last,
+/// vanishing inset of a 1 mm circle flattened to 150 chords, against 1 ms for the others).
+fn can_hold_disc(r: &Region, radius: f64) -> bool {
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    for p in &r.outer {
+        x0 = x0.min(p[0]);
+        y0 = y0.min(p[1]);
+        x1 = x1.max(p[0]);
+        y1 = y1.max(p[1]);
+    }
+    let d = 2.0 * radius;
+    x1 - x0 > d && y1 - y0 > d && r.area() > std::f64::consts::PI * radius * radius
 }
 
 /// `count` successive offsets: the first at `first`, each next `step` further (the same sign
@@ -259,7 +277,14 @@ pub fn offset_steps(
     Ok(out)
 }
 
-/// Douglas–Peucker on a closed ring: drops vertices within `tol` of the chord that skips them.
+/// Douglas–Peucker on a closed ring: drops vertices within `tol` of the chord that skips
+/// them, then moves each chord sideways so the ring keeps its area. Plain Douglas–Peucker
+/// keeps vertices on the curve, so every chord of a bend lies on its inner side: on the
+/// concave round joins of an inset that adds area, and chained insets (each made from the
+/// last) pile that up step after step (59 insets of 1.5 mm: +0.8 % at the 50th, +16 % at the
+/// 59th against GEOS and Clipper). The chord i→j that replaced vertices i..j moves along its
+/// right normal by h = A/|j − i|, where A is the shoelace area of i, i+1, …, j (> 0 when the
+/// dropped vertices bulged to its right), which gives back exactly the area it cut.
 fn thin_ring(ring: &[[f64; 2]], tol: f64) -> Ring {
     if ring.len() < 8 || tol <= 0.0 {
         return ring.to_vec();
@@ -269,7 +294,52 @@ fn thin_ring(ring: &[[f64; 2]], tol: f64) -> Ring {
     if kept.len() < 3 {
         return ring.to_vec();
     }
-    kept.iter().map(|p| [p.x, p.y]).collect()
+    // The kept points are a subsequence of the ring starting at its first vertex.
+    let mut idx = Vec::with_capacity(kept.len());
+    let mut k = 0;
+    for (i, p) in pts.iter().enumerate() {
+        if k < kept.len() && *p == kept[k] {
+            idx.push(i);
+            k += 1;
+        }
+    }
+    if k != kept.len() {
+        return kept.iter().map(|p| [p.x, p.y]).collect();
+    }
+    let n = pts.len();
+    let m = idx.len();
+    // Right normal and shift of each chord c (from idx[c] to idx[c + 1]).
+    let chords: Vec<(kurbo::Vec2, f64)> = (0..m)
+        .map(|c| {
+            let (i, j) = (idx[c], idx[(c + 1) % m]);
+            let (a, b) = (pts[i], pts[j]);
+            let d = b - a;
+            let len = d.hypot();
+            if len < 1e-12 {
+                return (kurbo::Vec2::ZERO, 0.0);
+            }
+            let mut area2 = 0.0;
+            let mut u = i;
+            while u != j {
+                let v = (u + 1) % n;
+                area2 += (pts[u] - a).cross(pts[v] - a);
+                u = v;
+            }
+            let h = (0.5 * area2 / len).clamp(-tol, tol);
+            (kurbo::Vec2::new(d.y, -d.x) / len, h)
+        })
+        .collect();
+    (0..m)
+        .map(|c| {
+            // The vertex between chords c − 1 and c moves to (nearly) where both shifted
+            // chords meet: δ = (n₁h₁ + n₂h₂)/(1 + n₁·n₂), exact when h₁ = h₂.
+            let (n1, h1) = chords[(c + m - 1) % m];
+            let (n2, h2) = chords[c];
+            let den = (1.0 + n1.dot(n2)).max(0.5);
+            let p = pts[idx[c]] + (n1 * h1 + n2 * h2) / den;
+            [p.x, p.y]
+        })
+        .collect()
 }
 
 /// Offsets the area that `rings` enclose under `fill`.
@@ -391,6 +461,37 @@ mod tests {
             let (a, b) = (total_area(&steps[k]), total_area(&direct));
             assert!((a - b).abs() <= 1e-3 * b, "inset {}: {a} vs {b}", k + 1);
         }
+    }
+
+    #[test]
+    fn a_region_too_small_for_the_inset_vanishes_like_the_direct_offset_says() {
+        // A 1.1 mm circle in 150 chords: its inset by 1.8 is empty, by 1.0 it is a 0.1 mm one.
+        let circle = |r: f64| Region {
+            outer: (0..150)
+                .map(|k| {
+                    let t = std::f64::consts::TAU * k as f64 / 150.0;
+                    [r * t.cos(), r * t.sin()]
+                })
+                .collect(),
+            holes: vec![],
+        };
+        let join = Join::Round { tolerance: 0.001 };
+        assert!(offset_regions(&[circle(1.1)], -1.8, join)
+            .unwrap()
+            .is_empty());
+        assert!(offset_regions(&[circle(1.1)], -1.1, join)
+            .unwrap()
+            .is_empty());
+        let left = offset_regions(&[circle(1.1)], -1.0, join).unwrap();
+        let want = std::f64::consts::PI * 0.01;
+        assert!(
+            (total_area(&left) - want).abs() < 0.01 * want + 1e-4,
+            "{}",
+            total_area(&left)
+        );
+        // A region that is skipped must not take the others with it.
+        let both = offset_regions(&[circle(1.1), circle(5.0)], -1.8, join).unwrap();
+        assert_eq!(both.len(), 1);
     }
 
     #[test]
