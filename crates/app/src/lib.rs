@@ -1,6 +1,26 @@
 //! The application layer that the `oficina` CLI and the workbench server share: machines
 //! opened from a URI, a session that drives one with its job, check summaries of a program,
 //! preview segments, relief carving. It returns data and progress events and prints nothing.
+//!
+//! ```
+//! use oficina_app::{check_program, CheckOptions};
+//! use std::sync::Arc;
+//!
+//! // Line 4 names two motion codes at once; check mode reports it and reads on.
+//! let text = Arc::new("G21 G90 G17\nG0 X0 Y0 Z5\nG1 X30 Y40 F600\nG0 G1 X5\nM2\n".to_string());
+//! let opts = CheckOptions {
+//!     profile: oficina_motion::profile::resolve("grbl-router").unwrap(),
+//!     dialect: oficina_gcode::Dialect::LinuxCnc,
+//! };
+//! let report = check_program(&text, &opts);
+//! assert_eq!(report.errors, 1);
+//! assert_eq!(report.diagnostics[0].line, 4);
+//! assert!((report.feed_length - 50.0).abs() < 1e-9);
+//! // 5 s at the programmed feed plus the rapid: a lower bound the planner's time respects.
+//! assert!(report.feed_rate_seconds > 5.0, "{}", report.feed_rate_seconds);
+//! let time = report.time.unwrap();
+//! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
+//! ```
 
 mod check;
 mod error;

@@ -1,5 +1,23 @@
 //! RS274/NGC front end: text → blocks → canonical operations.
 //!
+//! ```
+//! use oficina_canon::{CanonOp, Pos};
+//! use oficina_gcode::program::{canon_of, RunOptions};
+//!
+//! // A feed move and a clockwise half circle, read as LinuxCNC reads them.
+//! let program = "G21 G90 G17\nG1 X10 F600\nG2 X20 I5 J0\nM2\n";
+//! let (ops, diagnostics) = canon_of(program, &RunOptions::default());
+//! assert!(diagnostics.is_empty(), "{diagnostics:?}");
+//! let moves: Vec<_> = ops
+//!     .iter()
+//!     .filter(|c| matches!(c.op, CanonOp::StraightFeed { .. } | CanonOp::ArcFeed { .. }))
+//!     .collect();
+//! assert_eq!(moves[0].line, 2);
+//! assert_eq!(moves[0].op, CanonOp::StraightFeed { to: Pos::xyz(10.0, 0.0, 0.0) });
+//! let CanonOp::ArcFeed { end, center, turns, .. } = moves[1].op else { panic!() };
+//! assert_eq!((end.x, center, turns), (20.0, [15.0, 0.0], -1));
+//! ```
+//!
 //! The stages, each in its own module:
 //! - [`lex`]: characters → tokens with spans (words, numbers, expressions, comments, O-words);
 //! - [`parse`]: tokens → one syntax tree per line ([`ast`]);

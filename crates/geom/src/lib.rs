@@ -1,5 +1,22 @@
 //! Geometry: `Drawing` (layers of lines, arcs and cubic Béziers), the one arc module, offsets
 //! and booleans, curve fitting of digitised contours, grading of sizes and mirroring.
+//!
+//! ```
+//! use oficina_geom::{offset_regions, Arc, Join, Point, Region};
+//! use std::f64::consts::FRAC_PI_2;
+//!
+//! // A quarter circle of radius 10 mm: 5π mm long, ending on the Y axis.
+//! let arc = Arc::new(Point::ZERO, 10.0, 0.0, FRAC_PI_2);
+//! assert!((arc.length() - 5.0 * std::f64::consts::PI).abs() < 1e-12);
+//! assert!(arc.end().distance(Point::new(0.0, 10.0)) < 1e-12);
+//!
+//! // A 10 mm square grown by 1 mm with sharp corners is the 12 mm square.
+//! let square = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
+//! let region = Region { outer: square, holes: vec![] };
+//! let grown = offset_regions(&[region], 1.0, Join::Miter { min_angle: 0.1 }).unwrap();
+//! assert_eq!(grown.len(), 1);
+//! assert!((grown[0].area() - 144.0).abs() < 1e-6, "{}", grown[0].area());
+//! ```
 
 mod arc;
 mod drawing;

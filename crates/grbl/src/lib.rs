@@ -1,5 +1,24 @@
 //! The grbl-family machine link.
 //!
+//! ```
+//! use oficina_grbl::gline;
+//! use oficina_grbl::status::{State, Status};
+//!
+//! // A status report with work coordinate offsets: the work position is MPos − WCO.
+//! let st = Status::parse("<Run|MPos:12.000,5.000,-1.000|FS:500,0|WCO:10.000,0.000,-2.000>");
+//! let st = st.unwrap();
+//! assert_eq!(st.state, State::Run);
+//! assert_eq!(st.feed, Some(500.0));
+//! assert_eq!(st.work_position(None), Some(vec![2.0, 5.0, 1.0]));
+//!
+//! // An input line as grbl reads it: comments and spaces dropped, letters upper-cased.
+//! let line = gline::clean("g1 x10 (to the edge) f300 ; finish").unwrap();
+//! assert_eq!(line, "G1X10F300");
+//! assert_eq!(gline::words(&line).unwrap(), [('G', 1.0), ('X', 10.0), ('F', 300.0)]);
+//! // A line longer than grbl's 80-byte buffer is error 11.
+//! assert_eq!(gline::clean(&"G1X1".repeat(21)), Err(gline::E_LINE_OVERFLOW));
+//! ```
+//!
 //! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
 //! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
 //! - [`transport`], [`link`]: serial, TCP and pty byte pipes and the line reader;

@@ -1,5 +1,21 @@
 //! Importers: pictures and raw height fields become a [`Heightmap`], the one representation
 //! of relief that the CAM consumes.
+//!
+//! ```
+//! use oficina_io::svg::svg_from_bytes;
+//!
+//! // A 20 × 10 mm rectangle and a text element, which must be converted to paths first.
+//! let svg = br#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="50mm"
+//!     viewBox="0 0 100 50">
+//!   <rect x="10" y="10" width="20" height="10"/>
+//!   <text x="5" y="40">hi</text>
+//! </svg>"#;
+//! let imported = svg_from_bytes(svg, "box.svg").unwrap();
+//! let rect = imported.drawing.paths().next().unwrap();
+//! assert!(rect.closed);
+//! assert!((rect.area().abs() - 200.0).abs() < 1e-3, "{}", rect.area()); // usvg works in f32
+//! assert_eq!(imported.unsupported.total(), 1); // the text
+//! ```
 
 pub mod heightmap;
 pub mod image_in;

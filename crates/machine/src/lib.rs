@@ -1,6 +1,31 @@
 //! Machines: one trait for every machine (the built-in virtual machine now, grbl-family
 //! firmware over serial or TCP later): connect, stream a job, real-time commands and status
 //! events.
+//!
+//! ```
+//! use oficina_machine::{Event, Job, Machine, Pace, State, VirtualMachine};
+//! use std::{sync::Arc, time::Duration};
+//!
+//! let mut profile = oficina_motion::profile::resolve("grbl-router").unwrap();
+//! profile.work_offset = [0.0; 3]; // the program is in machine coordinates
+//! let mut vm = VirtualMachine::new(profile);
+//! vm.connect().unwrap();
+//! let text = "G21 G90\nG0 X10 Y10\nG1 X40 Y50 F3000\nM2\n";
+//! let text = Arc::new(text.to_string());
+//! let job = Job { name: "move.nc".into(), text, start_line: None, pace: Pace::Instant };
+//! vm.start(job).unwrap();
+//! // Status events stream in until the job ends.
+//! let completed = loop {
+//!     match vm.next_event(Duration::from_secs(30)).expect("an event") {
+//!         Event::JobEnd { completed, .. } => break completed,
+//!         _ => {}
+//!     }
+//! };
+//! assert!(completed);
+//! assert_eq!(vm.status().state, State::Idle);
+//! let [x, y, _] = vm.status().machine_pos;
+//! assert!((x - 40.0).abs() < 1e-6 && (y - 50.0).abs() < 1e-6, "{x} {y}");
+//! ```
 
 pub mod job;
 pub mod virtual_machine;

@@ -2,6 +2,25 @@
 //! pen-down strokes, the strokes are merged, simplified, de-duplicated and ordered for the
 //! least pen-up travel, checked against the machine, and written as G-code (Cartesian or
 //! joint space), HPGL or an SVG preview.
+//!
+//! ```
+//! use oficina_geom::Point;
+//! use oficina_plot::{prepare, Pen, PenMachine, Plot, Settings};
+//!
+//! // Three strokes drawn in a wasteful order: the third continues the first.
+//! let line = |x0: f64, x1: f64| vec![Point::new(x0, 10.0), Point::new(x1, 10.0)];
+//! let strokes = vec![line(10.0, 20.0), line(100.0, 110.0), line(20.0, 30.0)];
+//! let plot = Plot { pens: vec![Pen { name: "#000000".into(), strokes }] };
+//! assert_eq!(plot.lengths().pen_up, 80.0 + 90.0);
+//!
+//! let profile = oficina_motion::profile::resolve("pen-plotter").unwrap();
+//! let machine = PenMachine::for_profile(&profile);
+//! let prepared = prepare(plot, &profile, &machine, &Settings::default()).unwrap();
+//! let report = prepared.report.unwrap();
+//! assert!(report.after.pen_up < report.before.pen_up, "{report:?}");
+//! assert!(prepared.program.lines().any(|l| l == "G1 X110 Y10"), "{}", prepared.program);
+//! assert_eq!(prepared.bounds, [10.0, 10.0, 110.0, 10.0]);
+//! ```
 
 mod canon;
 mod clean;

@@ -1,5 +1,32 @@
 //! Post-processors: a [`Toolpath`] becomes G-code text for a named control.
 //!
+//! ```
+//! use oficina_cam::{Move, Operation, Toolpath};
+//! use oficina_canon::{CanonOp, Pos};
+//! use oficina_post::{program_text, read_back, Dialect, PostOptions};
+//!
+//! let moves = vec![
+//!     Move::Rapid { to: [10.0, 2.0, 5.0] },
+//!     Move::Line { to: [10.0, 2.0, -1.0], feed: 5.0 },
+//!     Move::Arc { to: [12.0, 4.0, -1.0], center: [10.0, 4.0], ccw: true, feed: 20.0 },
+//! ];
+//! let tool = "flat:6".parse().unwrap();
+//! let op = Operation { name: "arc".into(), tool_number: 1, tool, spindle_rpm: 12e3, moves };
+//! let path = Toolpath { safe_z: 5.0, operations: vec![op] };
+//! let title = "demo".into();
+//! let opts = PostOptions { dialect: Dialect::LinuxCnc, allow_m6: true, title, settings: vec![] };
+//! let text = program_text(&path, &opts);
+//! assert!(text.lines().any(|l| l == "T1 M6"), "{text}");
+//! assert!(text.contains("G3 X12 Y4 I0 J2 F1200"), "{text}");
+//! // Read back as the interpreter reads it: the arc ends where the toolpath says.
+//! let ops = read_back(&text, &opts).unwrap();
+//! let arc_end = ops.iter().find_map(|c| match c.op {
+//!     CanonOp::ArcFeed { end, .. } => Some(end),
+//!     _ => None,
+//! });
+//! assert_eq!(arc_end, Some(Pos::xyz(12.0, 4.0, -1.0)));
+//! ```
+//!
 //! One [`Post`] per dialect, each in its own file ([`linuxcnc`], [`grbl`], [`sinumerik`],
 //! [`legacy`]); they share the text writer ([`emit`]) and the number format ([`format`]).
 //! Every setting that shaped the program is written into the header as comments, so the

@@ -1,6 +1,30 @@
 //! The workbench server: HTTP and a WebSocket over `oficina-app`, and the page from `web/`.
 //! No domain logic here: requests are parsed, the application layer is called, its data is
 //! sent back as JSON (or, for previews, packed binary).
+//!
+//! ```
+//! use axum::{body::Body, http::Request};
+//! use oficina_server::{check_listen, router, AppState, Config};
+//! use tower::ServiceExt; // oneshot: one request through the router, no socket
+//!
+//! // A network address needs a token; this computer alone does not.
+//! assert!(check_listen(&"0.0.0.0:8080".parse().unwrap(), None).is_err());
+//! assert!(check_listen(&"127.0.0.1:8080".parse().unwrap(), None).is_ok());
+//!
+//! let dir = tempfile::tempdir().unwrap();
+//! let state = AppState::new(Config {
+//!     addr: "127.0.0.1:0".parse().unwrap(), token: None, job_dir: dir.path().join("jobs"),
+//!     web_dir: None, machine: "virtual".into(), upload_limit: 1 << 20, open: None,
+//! }).unwrap();
+//! let program = "G21 G90\nG0 X0 Y0\nG1 X10 F600\nM2\n";
+//! let check = Request::post("/api/check").body(Body::from(program)).unwrap();
+//! let rt = tokio::runtime::Builder::new_current_thread().enable_all().build().unwrap();
+//! let response = rt.block_on(router(state).oneshot(check)).unwrap();
+//! assert_eq!(response.status(), 200);
+//! let body = rt.block_on(http_body_util::BodyExt::collect(response.into_body())).unwrap();
+//! let report: serde_json::Value = serde_json::from_slice(&body.to_bytes()).unwrap();
+//! assert_eq!((report["errors"].as_u64(), report["feed_length"].as_f64()), (Some(0), Some(10.0)));
+//! ```
 
 mod api;
 mod auth;
