@@ -7,9 +7,14 @@
 //! rate; feeds never exceed the programmed feed; and every junction respects the
 //! virtual-arc model of the junction deviation (derived here from the corner geometry, not
 //! grbl's formula), the centripetal cap, G61 exact stops and reversals.
+//!
+//! On purpose, the checker does not use the arc module (`oficina_geom`) that the planner
+//! cuts arcs with: it reads the arc's sweep, radii and axial travel with its own few lines
+//! below ([`travel_angle`]), so a mistake in the shared geometry cannot hide itself by
+//! agreeing with its own output.
 
 use crate::kinematics::{self, Kinematics};
-use crate::moves::{arc_sweep, dist3, dist_to_segment, lerp3};
+use crate::moves::{dist3, dist_to_segment, lerp3};
 use crate::planner::{Segment, SegmentKind};
 use crate::profile::{Profile, Shape};
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode};
@@ -397,6 +402,19 @@ fn chord_sag(g: &Geometry, a: [f64; 3], b: [f64; 3]) -> f64 {
     }
 }
 
+/// Angle travelled from `a0` to `a1` (radians, unsigned) by an arc of G-code `turns`: the
+/// partial turn in the direction of travel (a whole one when the ends coincide) plus
+/// |turns| − 1 full turns. Written here apart from the arc module (see the module note).
+fn travel_angle(a0: f64, a1: f64, turns: i32) -> f64 {
+    use std::f64::consts::TAU;
+    let delta = if turns > 0 { a1 - a0 } else { a0 - a1 };
+    let mut partial = delta - TAU * (delta / TAU).floor();
+    if partial <= 1e-12 {
+        partial += TAU;
+    }
+    partial + TAU * (turns.unsigned_abs().max(1) - 1) as f64
+}
+
 fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo> {
     let mut out = Vec::new();
     let mut pos = profile.start;
@@ -454,7 +472,7 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 let r1 = (b[axes.0] - center[0]).hypot(b[axes.1] - center[1]);
                 let a0 = (pos[axes.1] - center[1]).atan2(pos[axes.0] - center[0]);
                 let a1 = (b[axes.1] - center[1]).atan2(b[axes.0] - center[0]);
-                let sweep = arc_sweep(a0, a1, *turns);
+                let sweep = travel_angle(a0, a1, *turns);
                 let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pos[axes.2]);
                 let cap = if inverse {
                     len * feed / 60.0 * factor

@@ -7,7 +7,7 @@ use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
-use std::f64::consts::{FRAC_PI_2, TAU};
+use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
@@ -82,15 +82,10 @@ enum Shape {
         a: [f64; 3],
         b: [f64; 3],
     },
+    /// An arc or helix of the arc module, its radius running to `r1` at the end.
     Arc {
-        axes: (usize, usize, usize),
-        c: [f64; 2],
-        r0: f64,
+        helix: Helix,
         r1: f64,
-        a0: f64,
-        sweep: f64,
-        n0: f64,
-        n1: f64,
     },
 }
 
@@ -98,21 +93,13 @@ impl Shape {
     fn point(&self, f: f64) -> [f64; 3] {
         match *self {
             Shape::Line { a, b } => lerp3(a, b, f),
-            Shape::Arc {
-                axes,
-                c,
-                r0,
-                r1,
-                a0,
-                sweep,
-                n0,
-                n1,
-            } => arc_point(axes, c, r0, r1, a0, sweep, n0, n1, f),
+            Shape::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
         }
     }
 }
 
-/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle.
+/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle
+/// (the arc module's spiral, for callers that hold the arc as numbers).
 #[allow(clippy::too_many_arguments)]
 pub fn arc_point(
     axes: (usize, usize, usize),
@@ -125,31 +112,22 @@ pub fn arc_point(
     n1: f64,
     f: f64,
 ) -> [f64; 3] {
-    let ang = a0 + sweep * f;
-    let r = r0 + (r1 - r0) * f;
-    let mut p = [0.0; 3];
-    p[axes.0] = c[0] + r * ang.cos();
-    p[axes.1] = c[1] + r * ang.sin();
-    p[axes.2] = n0 + (n1 - n0) * f;
-    p
+    let plane = [Plane::XY, Plane::YZ, Plane::XZ]
+        .into_iter()
+        .find(|p| p.axes() == axes)
+        .unwrap_or_default();
+    let helix = Helix {
+        plane,
+        arc: Arc::new(Point::new(c[0], c[1]), r0, a0, sweep),
+        axial: (n0, n1),
+    };
+    helix.spiral_point_at(f, r1)
 }
 
-/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise.
+/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise (the arc
+/// module's [`sweep_between`]).
 pub fn arc_sweep(a0: f64, a1: f64, turns: i32) -> f64 {
-    let extra = (turns.unsigned_abs().saturating_sub(1)) as f64 * TAU;
-    if turns > 0 {
-        let mut d = (a1 - a0).rem_euclid(TAU);
-        if d <= 1e-12 {
-            d += TAU;
-        }
-        d + extra
-    } else {
-        let mut d = (a0 - a1).rem_euclid(TAU);
-        if d <= 1e-12 {
-            d += TAU;
-        }
-        -(d + extra)
-    }
+    sweep_between(a0, a1, turns)
 }
 
 pub fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
@@ -273,16 +251,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
         let chords = match shape {
             Shape::Line { .. } => 1,
-            Shape::Arc { r0, r1, sweep, .. } => {
-                let r = r0.max(r1);
-                let tol = self.profile.arc_tolerance;
-                // Sagitta r(1 − cos(Δ/2)) ≤ tol; never more than a quarter turn per chord.
-                let max_step = if r > tol {
-                    2.0 * (1.0 - tol / r).acos()
-                } else {
-                    FRAC_PI_2
-                };
-                (sweep.abs() / max_step.min(FRAC_PI_2)).ceil().max(1.0) as u64
+            Shape::Arc { helix, r1 } => {
+                let r = helix.arc.radius.max(r1);
+                chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
         };
         self.current = Some(Current {
@@ -379,31 +350,17 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                             self.bad(line, "arc with zero turns or a non-finite centre")
                         ));
                     }
-                    let axes = plane_axes(plane);
-                    let (p0, p1) = ([self.pos[axes.0], self.pos[axes.1]], [b[axes.0], b[axes.1]]);
-                    let r0 = (p0[0] - center[0]).hypot(p0[1] - center[1]);
-                    let r1 = (p1[0] - center[0]).hypot(p1[1] - center[1]);
+                    let helix = Helix::new(plane, self.pos, b, center, turns);
+                    let r0 = helix.arc.radius;
+                    let r1 = plane.project(b).distance(helix.arc.center);
                     if r0 < 1e-9 || r1 < 1e-9 {
                         return Some(Err(
                             self.bad(line, "arc centre coincides with its start or end point")
                         ));
                     }
-                    let a0 = (p0[1] - center[1]).atan2(p0[0] - center[0]);
-                    let a1 = (p1[1] - center[1]).atan2(p1[0] - center[0]);
-                    let sweep = arc_sweep(a0, a1, turns);
-                    let (n0, n1) = (self.pos[axes.2], b[axes.2]);
-                    let planar = sweep.abs() * 0.5 * (r0 + r1);
-                    let length = planar.hypot(n1 - n0);
-                    let shape = Shape::Arc {
-                        axes,
-                        c: center,
-                        r0,
-                        r1,
-                        a0,
-                        sweep,
-                        n0,
-                        n1,
-                    };
+                    let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
+                    let length = planar.hypot(helix.axial.1 - helix.axial.0);
+                    let shape = Shape::Arc { helix, r1 };
                     self.start_op(line, MoveKind::Arc, shape, length);
                     return None;
                 }
