@@ -27,6 +27,12 @@ pub struct Move {
     pub end: [f64; 3],
     pub q0: [f64; 3],
     pub q1: [f64; 3],
+    /// Rotary joints A, B, C at the ends, degrees (0 where the machine has none); they move
+    /// linearly along the piece, like every joint of a Cartesian machine.
+    pub rot0: [f64; 3],
+    pub rot1: [f64; 3],
+    /// Path length, the distance the feed rate applies to ([`path_length`]): mm, or degrees
+    /// for a move of the rotary axes alone.
     pub length: f64,
     /// Length of the whole piece this is part of: a live command may cut a piece, which
     /// shortens `length` but not the corner the piece makes with the next one.
@@ -130,6 +136,22 @@ pub fn arc_sweep(a0: f64, a1: f64, turns: i32) -> f64 {
     sweep_between(a0, a1, turns)
 }
 
+/// The distance the feed rate applies to, as LinuxCNC reads F (G-code overview, "Feed
+/// Rate"): when any of X, Y, Z moves, F is mm/min along the XYZ path and the rotary axes
+/// start and stop with it, so the length is the XYZ distance alone; otherwise the move is
+/// pure rotary and F is in degrees per minute in the ABC "pseudo-Cartesian" space, so the
+/// length is √(ΔA² + ΔB² + ΔC²) in degrees. A mixed G1 X10 A90 F600 thus takes
+/// 10 mm / 600 mm/min = 1 s whatever A does (unless A's own rate limit slows it), and
+/// G1 A90 F600 takes 90° / 600 °/min = 9 s.
+pub fn path_length(a: [f64; 3], b: [f64; 3], ra: [f64; 3], rb: [f64; 3]) -> f64 {
+    let linear = dist3(a, b);
+    if linear >= 1e-9 {
+        linear
+    } else {
+        dist3(ra, rb)
+    }
+}
+
 pub fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
     [
         a[0] + (b[0] - a[0]) * f,
@@ -165,6 +187,9 @@ struct Current {
     /// Programmed speed before overrides.
     speed: f64,
     feed_scaled: bool,
+    /// Rotary joints at the op's start and end, degrees.
+    rot_a: [f64; 3],
+    rot_b: [f64; 3],
     /// Sub-piece cursor inside the current chord (non-linear kinematics only).
     sub_from: f64,
     sub_step: f64,
@@ -178,6 +203,8 @@ pub struct MoveStream<'p, I> {
     kin: AnyKinematics,
     pos: [f64; 3],
     q: [f64; 3],
+    /// Rotary joints, degrees (counting whole turns: a wrapping axis never unwinds).
+    rot: [f64; 3],
     feed: f64,
     inverse_time: bool,
     mode: MotionMode,
@@ -207,6 +234,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             kin,
             pos: profile.start,
             q,
+            rot: [0.0; 3],
             feed: profile.default_feed,
             inverse_time: false,
             mode: MotionMode::Continuous,
@@ -242,7 +270,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, length: f64) {
+    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, rot_b: [f64; 3], length: f64) {
         let speed = match kind {
             MoveKind::Rapid => f64::INFINITY,
             _ if self.inverse_time => length * self.feed / 60.0,
@@ -265,6 +293,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             chord: 0,
             speed,
             feed_scaled,
+            rot_a: self.rot,
+            rot_b,
             sub_from: 0.0,
             sub_step: 1.0,
             first: true,
@@ -317,11 +347,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     } else {
                         MoveKind::Feed
                     };
-                    let b = match self.target(line, &to) {
+                    let (b, rb) = match self.target(line, &to) {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
-                    let length = dist3(self.pos, b);
+                    let length = path_length(self.pos, b, self.rot, rb);
                     if kind == MoveKind::Feed && self.feed <= 0.0 && length >= 1e-9 {
                         return Some(Err(self.bad(line, "feed move with a zero feed rate; set F")));
                     }
@@ -329,7 +359,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         self.op_count += 1; // keep op indices aligned with the canon stream
                         continue;
                     }
-                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, length);
+                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, rb, length);
                     return None;
                 }
                 CanonOp::ArcFeed {
@@ -338,7 +368,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     center,
                     turns,
                 } => {
-                    let b = match self.target(line, &end) {
+                    let (b, rb) = match self.target(line, &end) {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
@@ -361,7 +391,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
                     let length = planar.hypot(helix.axial.1 - helix.axial.0);
                     let shape = Shape::Arc { helix, r1 };
-                    self.start_op(line, MoveKind::Arc, shape, length);
+                    self.start_op(line, MoveKind::Arc, shape, rb, length);
                     return None;
                 }
                 CanonOp::Dwell(s) => {
@@ -388,20 +418,34 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn target(&self, line: u32, to: &Pos) -> Result<[f64; 3], MotionError> {
+    /// The XYZ end point and the rotary joints' end values of a move to `to`. A rotary axis
+    /// the machine does not have must stay where it is.
+    fn target(&self, line: u32, to: &Pos) -> Result<([f64; 3], [f64; 3]), MotionError> {
         let v = to.to_array();
         if !v.iter().all(|x| x.is_finite()) {
             return Err(self.bad(line, "non-finite coordinate"));
         }
+        let rot = [v[3], v[4], v[5]];
         for (i, axis) in ["A", "B", "C"].iter().enumerate() {
-            if v[3 + i].abs() > 1e-9 {
-                return Err(MotionError::MissingJoint {
-                    line,
-                    axis: format!("rotary axis {axis}"),
-                });
+            let Some(r) = &self.profile.rotary[i] else {
+                if (rot[i] - self.rot[i]).abs() > 1e-9 {
+                    return Err(MotionError::MissingJoint {
+                        line,
+                        axis: format!("rotary axis {axis}"),
+                    });
+                }
+                continue;
+            };
+            if let (false, Some([lo, hi])) = (r.wrap, r.joint.limits) {
+                if rot[i] < lo - 1e-9 || rot[i] > hi + 1e-9 {
+                    return Err(self.bad(
+                        line,
+                        format!("rotary axis {axis} would reach {:.4}°, outside its limits [{lo:.4}, {hi:.4}]", rot[i]),
+                    ));
+                }
             }
         }
-        Ok([v[0], v[1], v[2]])
+        Ok(([v[0], v[1], v[2]], rot))
     }
 
     /// Validates one piece end: travel, reachability, joint existence and joint limits.
@@ -485,11 +529,13 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         };
         let (line, op, kind, speed, first) =
             (cur.line, cur.op, cur.kind, cur.speed * factor, cur.first);
+        let (rot_a, rot_b) = (cur.rot_a, cur.rot_b);
         let feed_scaled = cur.feed_scaled;
         cur.first = false;
-        let (a, b) = if linear {
+        // Fraction of the op where this piece ends: the rotary joints follow it linearly.
+        let (a, b, f_end) = if linear {
             cur.chord += 1;
-            (ca, cb)
+            (ca, cb, f1)
         } else {
             // Cut the chord so joint-linear motion stays within half the path tolerance
             // (the checker verifies the full tolerance with denser sampling).
@@ -541,7 +587,12 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                 cur.sub_from = to;
             }
             cur.sub_step = step;
-            (pa, pb)
+            (pa, pb, f0 + (f1 - f0) * to.min(1.0))
+        };
+        let rot1 = if f_end >= 1.0 - 1e-12 {
+            rot_b
+        } else {
+            lerp3(rot_a, rot_b, f_end)
         };
         let a = if first { self.pos } else { a };
         let q1 = match self.admit(line, b, self.q) {
@@ -559,8 +610,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             end: b,
             q0: self.q,
             q1,
-            length: dist3(a, b),
-            whole: dist3(a, b),
+            rot0: self.rot,
+            rot1,
+            length: path_length(a, b, self.rot, rot1),
+            whole: path_length(a, b, self.rot, rot1),
             speed,
             feed_scaled,
             // G61 stops at the ends of programmed moves, not between an arc's chords.
@@ -570,6 +623,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         };
         self.pos = b;
         self.q = q1;
+        self.rot = rot1;
         Some(Ok(m))
     }
 }
