@@ -500,7 +500,7 @@ fn read_joint(
 }
 
 fn kinematics_allows_rotary(k: KinematicsKind) -> bool {
-    matches!(k, KinematicsKind::Cartesian | KinematicsKind::CoreXy)
+    matches!(k, KinematicsKind::Cartesian)
 }
 
 fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
@@ -562,6 +562,10 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
     // joint is the axis, so nothing converts.
     let mut rotary = [None, None, None];
     for (i, name) in ROTARY_NAMES.iter().enumerate() {
+        // CoreXY names its two motors a and b: those tables are its joints, read above.
+        if names.contains(name) {
+            continue;
+        }
         let Some(j) = raw.joints.get(*name) else {
             continue;
         };
@@ -569,7 +573,7 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
             return Err(err(
                 file,
                 &format!("joints.{name}"),
-                "rotary joints need cartesian or corexy kinematics".into(),
+                "rotary joints need cartesian kinematics".into(),
             ));
         }
         let joint = read_joint(file, name, j, 1.0, shape, max_step_rate)?;
@@ -665,6 +669,46 @@ mod bundled_tests {
             assert!(bundled(&format!("profiles/{name}.toml")).is_some());
         }
         assert!(BUNDLED.iter().any(|(n, _)| *n == DEFAULT));
+    }
+
+    #[test]
+    fn rotary_joints_are_read_in_degrees_and_checked() {
+        let p = resolve("router-4axis").unwrap();
+        let a = p.rotary[0].expect("router-4axis has an A axis");
+        // Degrees stay degrees: 10800 °/min is 180 °/s; 20 steps per degree.
+        assert_eq!(a.joint.max_rate, 180.0);
+        assert_eq!(a.joint.steps_per_unit, 20.0);
+        assert!(a.wrap && p.rotary[1].is_none() && p.rotary[2].is_none());
+        assert_eq!(a.shown(725.0), 5.0);
+        let text = BUNDLED
+            .iter()
+            .find(|(n, _)| *n == "router-4axis")
+            .unwrap()
+            .1;
+        // A wrapping joint has no limits.
+        let both = text.replace("wrap = true", "wrap = true\nlimits = [0.0, 90.0]");
+        let e = Profile::parse(&both, "t.toml").unwrap_err();
+        assert_eq!(e.key, "joints.a.limits", "{e}");
+        // Only rotary joints wrap.
+        let e = Profile::parse(
+            &text.replace(
+                "backlash = 0.05\n\n[joints.y]",
+                "backlash = 0.05\nwrap = true\n\n[joints.y]",
+            ),
+            "t.toml",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "joints.x.wrap", "{e}");
+        // A CoreXY machine's joints a and b are its motors, not rotary axes.
+        let corexy = text
+            .replace("type = \"cartesian\"", "type = \"corexy\"")
+            .replace("[joints.x]", "[joints.x_]")
+            .replace("[joints.y]", "[joints.b]")
+            .replace("[joints.a]", "[joints.c]")
+            .replace("[joints.x_]", "[joints.a]");
+        let e = Profile::parse(&corexy, "t.toml").unwrap_err();
+        assert_eq!(e.key, "joints.c", "{e}");
+        assert!(e.message.contains("cartesian"), "{e}");
     }
 
     #[test]
