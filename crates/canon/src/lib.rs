@@ -75,26 +75,9 @@ impl Pos {
     }
 }
 
-/// The plane of circular motion; `first`/`second` name the in-plane axes, `axis` the normal.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Plane {
-    #[default]
-    XY,
-    YZ,
-    XZ,
-}
-
-impl Plane {
-    /// Indices into [`Pos::to_array`] of (first in-plane axis, second in-plane axis, normal axis),
-    /// in LinuxCNC's order: XY → (X, Y, Z), YZ → (Y, Z, X), XZ → (Z, X, Y).
-    pub fn axes(self) -> (usize, usize, usize) {
-        match self {
-            Plane::XY => (0, 1, 2),
-            Plane::YZ => (1, 2, 0),
-            Plane::XZ => (2, 0, 1),
-        }
-    }
-}
+/// The plane of circular motion (G17 / G18 / G19): the one definition, in the arc module.
+/// `Plane::axes()` indexes [`Pos::to_array`] as (first in-plane, second in-plane, normal).
+pub use oficina_geom::Plane;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Units {

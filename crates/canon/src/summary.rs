@@ -3,7 +3,7 @@
 //! on programs of any length in constant memory.
 
 use crate::{CanonOp, FeedMode, Plane, Pos};
-use std::f64::consts::TAU;
+use oficina_geom::Helix;
 
 /// Axis-aligned box of the linear axes; empty until the first point is added.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,6 +181,9 @@ fn xyz(p: &Pos) -> [f64; 3] {
 }
 
 /// Length of an arc or helix and the box it sweeps (including the quadrant points it passes).
+/// The geometry is the arc module's; an arc whose end radius differs a little from its start
+/// radius (within the interpreter's tolerance) counts at the mean radius in length and at the
+/// larger one in the box, a safe box.
 pub fn arc_length_and_extents(
     start: &Pos,
     plane: Plane,
@@ -188,50 +191,17 @@ pub fn arc_length_and_extents(
     center: [f64; 2],
     turns: i32,
 ) -> (f64, Extents) {
-    let (a0, a1, n) = plane.axes();
-    let s = start.to_array();
-    let e = end.to_array();
-    let (sx, sy) = (s[a0] - center[0], s[a1] - center[1]);
-    let (ex, ey) = (e[a0] - center[0], e[a1] - center[1]);
-    let r0 = sx.hypot(sy);
-    let r1 = ex.hypot(ey);
-    let th0 = sy.atan2(sx);
-    let th1 = ey.atan2(ex);
-    let ccw = turns > 0;
-    // Sweep in the direction of travel, 0 < sweep ≤ 2π for the partial turn.
-    let mut sweep = if ccw { th1 - th0 } else { th0 - th1 };
-    while sweep <= 1e-12 {
-        sweep += TAU;
-    }
-    sweep += TAU * (turns.unsigned_abs().max(1) - 1) as f64;
-    let r_mean = 0.5 * (r0 + r1);
-    let planar = r_mean * sweep;
-    let axial = e[n] - s[n];
-    let len = planar.hypot(axial);
-
+    let (s, e) = (xyz(start), xyz(end));
+    let mut helix = Helix::new(plane, s, e, center, turns);
+    let r0 = helix.arc.radius;
+    let r1 = plane.project(e).distance(helix.arc.center);
+    let planar = 0.5 * (r0 + r1) * helix.arc.sweep.abs();
+    let len = planar.hypot(helix.axial.1 - helix.axial.0);
+    helix.arc.radius = r0.max(r1);
+    let (lo, hi) = helix.extents();
     let mut ext = Extents::default();
-    let mut put = |u: f64, v: f64, w: f64| {
-        let mut p = [0.0; 6];
-        p[a0] = u;
-        p[a1] = v;
-        p[n] = w;
-        ext.add([p[0], p[1], p[2]]);
-    };
-    put(s[a0], s[a1], s[n]);
-    put(e[a0], e[a1], e[n]);
-    // Quadrant points crossed by the sweep (radius taken as the larger one: a safe box).
-    let r = r0.max(r1);
-    for k in 0..4 {
-        let q = k as f64 * TAU / 4.0;
-        let from_start = if ccw {
-            (q - th0).rem_euclid(TAU)
-        } else {
-            (th0 - q).rem_euclid(TAU)
-        };
-        if from_start <= sweep + 1e-12 {
-            let w = s[n] + axial * (from_start / sweep).min(1.0);
-            put(center[0] + r * q.cos(), center[1] + r * q.sin(), w);
-        }
+    for p in [s, e, lo, hi] {
+        ext.add(p);
     }
     (len, ext)
 }
@@ -239,6 +209,7 @@ pub fn arc_length_and_extents(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     #[test]
     fn quarter_arc_length_and_box() {

@@ -16,7 +16,7 @@ use oficina_motion::dda_steps::dda_steps;
 use oficina_motion::kinematics::Kinematics;
 use oficina_motion::profile::Shape;
 use oficina_motion::stepcompress::Compressor;
-use oficina_motion::steps::{StepCount, StepGenerator, StepSink};
+use oficina_motion::steps::{motor_names, StepCount, StepGenerator, StepSink, MOTORS};
 use oficina_motion::trace::TraceWriter;
 use oficina_motion::{plan, PlanOptions, Profile};
 use std::fs::File;
@@ -71,6 +71,11 @@ pub struct Args {
     /// Largest program held in memory, MB.
     #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
     max_program_mb: u64,
+    /// Run the motion invariant checker over the whole plan (every joint's speed,
+    /// acceleration and step rate, the path, the feeds, every junction) and fail on any
+    /// violation. Holds the program's canon and segments in memory.
+    #[arg(long)]
+    check: bool,
 }
 
 /// Bytes of one `--steps` row: a joint name, a time with 9 decimals, a direction.
@@ -88,9 +93,9 @@ const MAX_STEP_ERROR: f64 = 25e-6;
 
 /// Writes steps as they are generated: one CSV row each, and/or compressed runs per motor.
 struct StepFiles {
-    names: [&'static str; 3],
+    names: [&'static str; MOTORS],
     csv: Option<BufWriter<File>>,
-    runs: Option<(BufWriter<File>, [Compressor; 3])>,
+    runs: Option<(BufWriter<File>, [Compressor; MOTORS])>,
     steps: u64,
     error: Option<std::io::Error>,
 }
@@ -120,7 +125,7 @@ impl StepFiles {
     }
 
     fn finish(mut self) -> anyhow::Result<u64> {
-        for m in 0..3 {
+        for m in 0..MOTORS {
             if let Some((_, c)) = self.runs.as_mut() {
                 c[m].flush();
             }
@@ -199,6 +204,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             check_output_size(&args, &e)?;
         }
     }
+    let check_ops: Option<Vec<_>> = args
+        .check
+        .then(|| canon_stream_with(&job, interp_opts.clone()).collect());
+    let mut checked = Vec::new();
     let ops = canon_stream_with(&job, interp_opts);
     let interp_error = ops.error.clone();
     let planner = plan(ops, &profile, opts).map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
@@ -214,7 +223,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let names = profile.kinematics.joint_names();
+    let names = motor_names(&profile);
     let mut steps = match step_files(&args, names)? {
         None => None,
         Some(files) => {
@@ -237,6 +246,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             g.segment(&seg, files)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", job.name))?;
         }
+        if args.check {
+            checked.push(seg);
+        }
     }
     if let Some(code) = interp_failed(&interp_error) {
         return Ok(code);
@@ -252,6 +264,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     println!("segments: {segments}  path: {distance:.3} mm");
     println!("total time: {total:.3} s ({})", hms(total));
+    if let Some(ops) = &check_ops {
+        let shape = opts.shape.unwrap_or(profile.shape);
+        match oficina_motion::check::check(ops, &checked, &profile, shape, 1.0) {
+            Ok(r) => println!(
+                "check: ok, {} segments; peak joint speed {:.1} %, acceleration {:.1} % of \
+                 the limits; path within {:.4} mm",
+                r.segments,
+                r.max_speed_ratio * 100.0,
+                r.max_accel_ratio * 100.0,
+                r.max_path_deviation
+            ),
+            Err(bad) => {
+                for b in &bad {
+                    eprintln!("check: {b}");
+                }
+                eprintln!("check: {} violation(s) in {}", bad.len(), job.name);
+                return Ok(ExitCode::FAILURE);
+            }
+        }
+    }
     if let Some(p) = &args.trace {
         println!(
             "trace: {rows} rows every {} ms → {}",
@@ -327,7 +359,7 @@ fn run_options(profile: &Profile, dialect: Dialect, line_limit: LineLimit) -> Ru
 }
 
 /// The step outputs asked for (`--steps`, `--steps-compressed`), created with their headers.
-fn step_files(args: &Args, names: [&'static str; 3]) -> anyhow::Result<Option<StepFiles>> {
+fn step_files(args: &Args, names: [&'static str; MOTORS]) -> anyhow::Result<Option<StepFiles>> {
     if args.steps.is_none() && args.steps_compressed.is_none() {
         return Ok(None);
     }
@@ -344,7 +376,7 @@ fn step_files(args: &Args, names: [&'static str; 3]) -> anyhow::Result<Option<St
             .map(|p| {
                 create(p, &format!("motor,interval,count,add,dir # {CLOCK_HZ} Hz")).map(|w| {
                     let c = || Compressor::new(CLOCK_HZ, MAX_STEP_ERROR);
-                    (w, [c(), c(), c()])
+                    (w, std::array::from_fn(|_| c()))
                 })
             })
             .transpose()?,
@@ -364,7 +396,7 @@ fn run_dda(
         bail!("--interpolator dda makes steps only: --trace and --scurve belong to the planned motion (drop them or use --interpolator exact)");
     }
     let interp_error = ops.error.clone();
-    let mut files = step_files(args, profile.kinematics.joint_names())?;
+    let mut files = step_files(args, motor_names(profile))?;
     let summary = match files.as_mut() {
         Some(f) => dda_steps(ops, profile, f),
         None => dda_steps(ops, profile, &mut StepCount::default()),

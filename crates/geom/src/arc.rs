@@ -177,16 +177,17 @@ pub fn sweep_between(a0: f64, a1: f64, turns: i32) -> f64 {
 }
 
 /// Chords needed so that none strays more than `tol` from an arc of `radius` and `sweep`:
-/// a chord of angle φ has sagitta r·(1 − cos φ/2) ≤ tol, so φ ≤ 2·acos(1 − tol/r).
+/// a chord of angle φ has sagitta r·(1 − cos φ/2) ≤ tol, so φ ≤ 2·acos(1 − tol/r). No chord
+/// spans more than a quarter turn, however coarse the tolerance (a chord past a quadrant
+/// point would cut the corner of the arc's box).
 pub fn chord_count(radius: f64, sweep: f64, tol: f64) -> usize {
     let r = radius.abs();
     let tol = tol.max(1e-9);
+    let quarter = FRAC_PI_2;
     if !(r.is_finite() && sweep.is_finite()) || r <= tol {
-        return (sweep.abs() / (PI / 2.0))
-            .ceil()
-            .clamp(1.0, MAX_CHORDS as f64) as usize;
+        return (sweep.abs() / quarter).ceil().clamp(1.0, MAX_CHORDS as f64) as usize;
     }
-    let step = 2.0 * (1.0 - tol / r).clamp(-1.0, 1.0).acos();
+    let step = (2.0 * (1.0 - tol / r).clamp(-1.0, 1.0).acos()).min(quarter);
     (sweep.abs() / step).ceil().clamp(1.0, MAX_CHORDS as f64) as usize
 }
 
@@ -452,6 +453,20 @@ impl Helix {
         out
     }
 
+    /// The 3-D point at fraction `t` of the spiral that starts like this helix and whose
+    /// radius runs linearly to `end_radius`: a G-code arc whose end radius differs from its
+    /// start one within the interpreter's tolerance still ends exactly at its end point.
+    pub fn spiral_point_at(&self, t: f64, end_radius: f64) -> [f64; 3] {
+        let (a, b, n) = self.plane.axes();
+        let r = self.arc.radius + (end_radius - self.arc.radius) * t;
+        let p = self.arc.center + Vec2::from_angle(self.arc.start_angle + self.arc.sweep * t) * r;
+        let mut out = [0.0; 3];
+        out[a] = p.x;
+        out[b] = p.y;
+        out[n] = self.axial.0 + (self.axial.1 - self.axial.0) * t;
+        out
+    }
+
     /// Length of the helix: √(planar² + axial²).
     pub fn length(&self) -> f64 {
         self.arc.length().hypot(self.axial.1 - self.axial.0)
@@ -607,5 +622,15 @@ mod tests {
         assert!((last[1] - 4.0).abs() < 1e-12 && (last[0] - 10.0).abs() < 1e-9);
         let (lo, hi) = h.extents();
         assert!((lo[2] + 10.0).abs() < 1e-9 && (hi[0] - 10.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn spiral_ends_on_its_end_radius_and_chords_stay_under_a_quarter_turn() {
+        let h = Helix::new(Plane::XY, [10.0, 0.0, 0.0], [0.0, 10.5, 2.0], [0.0, 0.0], 1);
+        let end = h.spiral_point_at(1.0, 10.5);
+        assert!(end[0].abs() < 1e-9 && (end[1] - 10.5).abs() < 1e-9 && end[2] == 2.0);
+        assert_eq!(h.spiral_point_at(0.5, 10.0), h.point_at(0.5));
+        // A tolerance as coarse as the radius still gives a chord per quadrant.
+        assert_eq!(chord_count(1.0, TAU, 0.99), 4);
     }
 }

@@ -65,6 +65,8 @@ pub struct Status {
     pub elapsed: f64,
     pub total: f64,
     pub feed_override: f64,
+    /// Rotary axes A, B, C, degrees, counting whole turns (0 on a machine without them).
+    pub rotary_pos: [f64; 3],
 }
 
 impl Status {
@@ -79,6 +81,7 @@ impl Status {
             elapsed: 0.0,
             total: 0.0,
             feed_override: 1.0,
+            rotary_pos: [0.0; 3],
         }
     }
 }

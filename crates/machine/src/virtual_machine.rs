@@ -443,10 +443,12 @@ impl Runner {
             1.0
         };
         let p = oficina_motion::moves::lerp3(seg.start, seg.end, f);
+        let rotary = oficina_motion::moves::lerp3(seg.rot0, seg.rot1, f);
         let (g5x, g92) = *offsets.lock().unwrap_or_else(|e| e.into_inner());
         let mut st = lock(&self.status);
         st.state = state;
         st.machine_pos = p;
+        st.rotary_pos = rotary;
         st.work_pos = std::array::from_fn(|i| p[i] - g5x[i] - g92[i]);
         st.feed = v * 60.0;
         st.line = seg.line;

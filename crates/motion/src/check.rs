@@ -7,9 +7,14 @@
 //! rate; feeds never exceed the programmed feed; and every junction respects the
 //! virtual-arc model of the junction deviation (derived here from the corner geometry, not
 //! grbl's formula), the centripetal cap, G61 exact stops and reversals.
+//!
+//! On purpose, the checker does not use the arc module (`oficina_geom`) that the planner
+//! cuts arcs with: it reads the arc's sweep, radii and axial travel with its own few lines
+//! below ([`travel_angle`]), so a mistake in the shared geometry cannot hide itself by
+//! agreeing with its own output.
 
 use crate::kinematics::{self, Kinematics};
-use crate::moves::{arc_sweep, dist3, dist_to_segment, lerp3};
+use crate::moves::{dist3, dist_to_segment, lerp3};
 use crate::planner::{Segment, SegmentKind};
 use crate::profile::{Profile, Shape};
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode};
@@ -39,6 +44,9 @@ enum Geometry {
 #[derive(Clone, Copy, Debug)]
 struct OpInfo {
     geom: Geometry,
+    /// Rotary axes A, B, C at the op's start and end, degrees.
+    rot_a: [f64; 3],
+    rot_b: [f64; 3],
     /// Highest path speed allowed by the program, mm/s (∞ for rapids).
     feed_cap: f64,
     stop_before: bool,
@@ -76,6 +84,7 @@ pub fn check(
     };
     let mut prev: Option<&Segment> = None;
     let mut pos = profile.start;
+    let mut rot = [0.0; 3];
     let mut v_prev_end = 0.0;
     let whole = whole_pieces(segments);
     let mut fail = |msg: String| {
@@ -93,6 +102,13 @@ pub fn check(
             ));
         }
         pos = s.end;
+        if dist3(s.rot0, rot) > ABS {
+            fail(format!(
+                "{tag}: rotary axes start at {:?}, not where they are, {rot:?}",
+                s.rot0
+            ));
+        }
+        rot = s.rot1;
         let ps = s.motion.pieces();
         let v_start = s.motion.v_start();
         if (v_start - v_prev_end).abs() > 1e-6 * v_start.max(1.0) {
@@ -100,7 +116,7 @@ pub fn check(
         }
         v_prev_end = s.motion.v_end();
         let SegmentKind::Move(_) = s.kind else {
-            if v_start != 0.0 || s.start != s.end {
+            if v_start != 0.0 || s.start != s.end || s.rot0 != s.rot1 {
                 fail(format!("{tag}: a dwell or sync while moving"));
             }
             prev = None;
@@ -113,7 +129,7 @@ pub fn check(
             ));
             continue;
         };
-        let len = dist3(s.start, s.end);
+        let len = feed_length(s);
         let (s_end, _, a_end) = s.motion.at(s.motion.duration);
         if (s.motion.length - len).abs() > 1e-9 * len.max(1.0)
             || (s_end - len).abs() > 1e-6 * len.max(1.0)
@@ -132,6 +148,13 @@ pub fn check(
             joint_dev = joint_dev.max(dist_to_segment(p, s.start, s.end));
         }
         rep.max_path_deviation = rep.max_path_deviation.max(dev + chord_dev + joint_dev);
+        // The rotary axes: between the op's start and end values, and in step with the
+        // tool along a line (they start and stop together, so the fraction done agrees).
+        for (r, at_end) in [(s.rot0, false), (s.rot1, true)] {
+            if let Some(msg) = rotary_off(op, r, if at_end { s.end } else { s.start }) {
+                fail(format!("{tag}: {msg}"));
+            }
+        }
         // Arc pieces may end inside a chord (a live command cut it there): within the arc
         // tolerance of the arc, like the chord itself.
         let end_tol = match op.geom {
@@ -160,14 +183,20 @@ pub fn check(
                 fail(format!("{tag}: joints {q:?} do not reach {p:?}"));
             }
         }
-        // Joint limits through dq/ds of this segment.
-        let dqds: [f64; 3] = std::array::from_fn(|i| {
+        // Joint limits through dq/ds of this segment: X, Y, Z joints, then A, B, C.
+        let dqds: [f64; 6] = std::array::from_fn(|i| {
+            let d = if i < 3 {
+                s.q1[i] - s.q0[i]
+            } else {
+                s.rot1[i - 3] - s.rot0[i - 3]
+            };
             if len > 0.0 {
-                (s.q1[i] - s.q0[i]) / len
+                d / len
             } else {
                 0.0
             }
         });
+        let joints = profile.all_joints();
         let mut v_max: f64 = 0.0;
         for p in ps {
             let (_, v1, a1) = p.at(p.dur);
@@ -185,7 +214,7 @@ pub fn check(
                 v_max = v_max.max(v);
             }
             let a_max = p.a0.abs().max(a1.abs());
-            for (i, j) in profile.joints.iter().enumerate() {
+            for (i, j) in joints.iter().enumerate() {
                 let d = dqds[i].abs();
                 let Some(j) = j else {
                     if d > 0.0 {
@@ -282,13 +311,15 @@ fn junction_bound(
     deviation: f64,
     profile: &Profile,
 ) -> f64 {
-    let (lp, ls) = (dist3(p.start, p.end), dist3(s.start, s.end));
-    let up: [f64; 3] = std::array::from_fn(|i| (p.end[i] - p.start[i]) / lp);
-    let us: [f64; 3] = std::array::from_fn(|i| (s.end[i] - s.start[i]) / ls);
-    let dot = (up[0] * us[0] + up[1] * us[1] + up[2] * us[2]).clamp(-1.0, 1.0);
+    let (lp, ls) = (feed_length(p), feed_length(s));
+    let up = direction(p);
+    let us = direction(s);
+    let dot = (0..6).map(|i| up[i] * us[i]).sum::<f64>().clamp(-1.0, 1.0);
     let turn = dot.acos(); // 0 = straight on, π = reversal
-    let dq: [f64; 3] = std::array::from_fn(|i| (s.q1[i] - s.q0[i]) / ls - (p.q1[i] - p.q0[i]) / lp);
-    let du = ((us[0] - up[0]).powi(2) + (us[1] - up[1]).powi(2) + (us[2] - up[2]).powi(2)).sqrt();
+    let (rp, rs) = (joint_travel(p), joint_travel(s));
+    let dq: [f64; 6] = std::array::from_fn(|i| rs[i] / ls - rp[i] / lp);
+    let du = (0..6).map(|i| (us[i] - up[i]).powi(2)).sum::<f64>().sqrt();
+    let joints = profile.all_joints();
     let mut v2 = f64::INFINITY;
     if turn > 1e-3 {
         if turn > std::f64::consts::PI - 1.5e-3 {
@@ -297,7 +328,7 @@ fn junction_bound(
         // The arc tangent to both pieces that passes `deviation` from the corner.
         let c = (turn * 0.5).cos();
         let radius = deviation * c / (1.0 - c);
-        for (i, j) in profile.joints.iter().enumerate() {
+        for (i, j) in joints.iter().enumerate() {
             if let (Some(j), true) = (j, dq[i] != 0.0) {
                 // Centripetal acceleration v²/R points along Δu; its share on joint i.
                 v2 = v2.min(j.acceleration * radius * du / dq[i].abs());
@@ -305,7 +336,7 @@ fn junction_bound(
         }
     }
     let lmin = p_whole.max(lp).min(s_whole.max(ls));
-    for (i, j) in profile.joints.iter().enumerate() {
+    for (i, j) in joints.iter().enumerate() {
         if let (Some(j), true) = (j, dq[i] != 0.0) {
             v2 = v2.min(j.acceleration * lmin / dq[i].abs());
         }
@@ -351,11 +382,75 @@ fn whole_pieces(segments: &[Segment]) -> Vec<f64> {
 
 /// `s` goes on exactly where `p` was heading, joints included (a cut, not a corner).
 fn same_direction(p: &Segment, s: &Segment) -> bool {
-    let (lp, ls) = (dist3(p.start, p.end), dist3(s.start, s.end));
-    (0..3).all(|i| {
-        ((p.end[i] - p.start[i]) / lp - (s.end[i] - s.start[i]) / ls).abs() < 1e-9
-            && ((p.q1[i] - p.q0[i]) / lp - (s.q1[i] - s.q0[i]) / ls).abs() < 1e-9
+    let (lp, ls) = (feed_length(p), feed_length(s));
+    let (up, us) = (direction(p), direction(s));
+    let (rp, rs) = (joint_travel(p), joint_travel(s));
+    (0..6).all(|i| (up[i] - us[i]).abs() < 1e-9 && (rp[i] / lp - rs[i] / ls).abs() < 1e-9)
+}
+
+/// The length the feed rate applies to, read from the segment's own ends (LinuxCNC's rule,
+/// restated here: the XYZ distance when the tool moves, else the ABC distance in degrees).
+fn feed_length(s: &Segment) -> f64 {
+    let xyz = dist3(s.start, s.end);
+    if xyz >= 1e-9 {
+        xyz
+    } else {
+        dist3(s.rot0, s.rot1)
+    }
+}
+
+/// Unit direction in (X, Y, Z, A, B, C): the tool's when it moves, else the rotary axes'.
+fn direction(s: &Segment) -> [f64; 6] {
+    let l = feed_length(s);
+    let xyz = dist3(s.start, s.end) >= 1e-9;
+    std::array::from_fn(|i| match (i < 3, xyz) {
+        (true, true) => (s.end[i] - s.start[i]) / l,
+        (false, false) => (s.rot1[i - 3] - s.rot0[i - 3]) / l,
+        _ => 0.0,
     })
+}
+
+/// How far each joint travels over the segment: X, Y, Z joints, then A, B, C.
+fn joint_travel(s: &Segment) -> [f64; 6] {
+    std::array::from_fn(|i| {
+        if i < 3 {
+            s.q1[i] - s.q0[i]
+        } else {
+            s.rot1[i - 3] - s.rot0[i - 3]
+        }
+    })
+}
+
+/// Why rotary values `r` at tool point `p` do not belong to `op`, if they do not: outside
+/// the op's A/B/C range, or (on a line that moves the tool) not at the fraction of the
+/// rotary travel that the tool has done of the line.
+fn rotary_off(op: &OpInfo, r: [f64; 3], p: [f64; 3]) -> Option<String> {
+    let (ra, rb) = (op.rot_a, op.rot_b);
+    for i in 0..3 {
+        let (lo, hi) = (ra[i].min(rb[i]), ra[i].max(rb[i]));
+        if r[i] < lo - 1e-6 || r[i] > hi + 1e-6 {
+            return Some(format!(
+                "rotary axis {} at {:.6}° lies outside the move's [{lo:.6}, {hi:.6}]",
+                ["A", "B", "C"][i],
+                r[i]
+            ));
+        }
+    }
+    if let Geometry::Line { a, b } = op.geom {
+        let l = dist3(a, b);
+        if l >= 1e-9 && dist3(ra, rb) > 0.0 {
+            let f = dist3(a, p) / l;
+            let want = lerp3(ra, rb, f);
+            // 1e-6 of the rotary travel per mm of line: rounding, not drift.
+            if dist3(want, r) > 1e-6 * dist3(ra, rb).max(1.0) {
+                return Some(format!(
+                    "rotary axes at {r:?}, but {:.6} of the line is done, where they are {want:?}",
+                    f
+                ));
+            }
+        }
+    }
+    None
 }
 
 fn path_deviation(g: &Geometry, p: [f64; 3]) -> f64 {
@@ -397,9 +492,23 @@ fn chord_sag(g: &Geometry, a: [f64; 3], b: [f64; 3]) -> f64 {
     }
 }
 
+/// Angle travelled from `a0` to `a1` (radians, unsigned) by an arc of G-code `turns`: the
+/// partial turn in the direction of travel (a whole one when the ends coincide) plus
+/// |turns| − 1 full turns. Written here apart from the arc module (see the module note).
+fn travel_angle(a0: f64, a1: f64, turns: i32) -> f64 {
+    use std::f64::consts::TAU;
+    let delta = if turns > 0 { a1 - a0 } else { a0 - a1 };
+    let mut partial = delta - TAU * (delta / TAU).floor();
+    if partial <= 1e-12 {
+        partial += TAU;
+    }
+    partial + TAU * (turns.unsigned_abs().max(1) - 1) as f64
+}
+
 fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo> {
     let mut out = Vec::new();
     let mut pos = profile.start;
+    let mut rot = [0.0; 3];
     let (mut feed, mut inverse, mut mode, mut tol) =
         (profile.default_feed, false, MotionMode::Continuous, 0.0_f64);
     let mut stop = true;
@@ -421,8 +530,13 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
             CanonOp::EnableFeedOverride(on) => override_on = *on,
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
                 let b = [to.x, to.y, to.z];
+                let rb = [to.a, to.b, to.c];
                 let rapid = matches!(c.op, CanonOp::StraightTraverse { .. });
-                let len = dist3(pos, b);
+                let len = if dist3(pos, b) >= 1e-9 {
+                    dist3(pos, b)
+                } else {
+                    dist3(rot, rb)
+                };
                 let cap = if rapid {
                     f64::INFINITY
                 } else if inverse {
@@ -433,6 +547,8 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 let moving = len >= 1e-9;
                 out.push(OpInfo {
                     geom: Geometry::Line { a: pos, b },
+                    rot_a: rot,
+                    rot_b: rb,
                     feed_cap: cap,
                     stop_before: moving && (stop || mode == MotionMode::ExactStop),
                     deviation,
@@ -441,6 +557,7 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     stop = false;
                 }
                 pos = b;
+                rot = rb;
             }
             CanonOp::ArcFeed {
                 plane,
@@ -450,11 +567,12 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
             } => {
                 let axes = plane.axes();
                 let b = [end.x, end.y, end.z];
+                let rb = [end.a, end.b, end.c];
                 let r0 = (pos[axes.0] - center[0]).hypot(pos[axes.1] - center[1]);
                 let r1 = (b[axes.0] - center[0]).hypot(b[axes.1] - center[1]);
                 let a0 = (pos[axes.1] - center[1]).atan2(pos[axes.0] - center[0]);
                 let a1 = (b[axes.1] - center[1]).atan2(b[axes.0] - center[0]);
-                let sweep = arc_sweep(a0, a1, *turns);
+                let sweep = travel_angle(a0, a1, *turns);
                 let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pos[axes.2]);
                 let cap = if inverse {
                     len * feed / 60.0 * factor
@@ -472,12 +590,15 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                         a: pos,
                         b,
                     },
+                    rot_a: rot,
+                    rot_b: rb,
                     feed_cap: cap,
                     stop_before: stop || mode == MotionMode::ExactStop,
                     deviation,
                 });
                 stop = false;
                 pos = b;
+                rot = rb;
             }
             CanonOp::Dwell(_)
             | CanonOp::ProgramStop

@@ -6,11 +6,11 @@
 //! seed's "amount added to the move".
 
 use crate::dda::{CircularDda, LinearDda};
-use crate::moves::arc_sweep;
 use crate::profile::{KinematicsKind, Profile, ProfileError};
 use crate::steps::StepSink;
 use crate::MotionError;
 use oficina_canon::{Canon, CanonOp, FeedMode, Plane, Pos};
+use oficina_geom::sweep_between;
 
 /// What a DDA run produced.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -272,7 +272,7 @@ impl<S: StepSink> Dda<'_, S> {
             ));
         }
         let angle = |p: (i64, i64)| (p.1 as f64).atan2(p.0 as f64);
-        let sweep = arc_sweep(angle(from), angle(to), turns);
+        let sweep = sweep_between(angle(from), angle(to), turns);
         let radius = res * ((from.0 * from.0 + from.1 * from.1) as f64).sqrt();
         let slot = self.slot(line, res, radius * sweep.abs(), None)?;
         let circle = CircularDda::new(from, to, turns < 0, sweep);

@@ -7,7 +7,7 @@ use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
-use std::f64::consts::{FRAC_PI_2, TAU};
+use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
@@ -27,6 +27,12 @@ pub struct Move {
     pub end: [f64; 3],
     pub q0: [f64; 3],
     pub q1: [f64; 3],
+    /// Rotary joints A, B, C at the ends, degrees (0 where the machine has none); they move
+    /// linearly along the piece, like every joint of a Cartesian machine.
+    pub rot0: [f64; 3],
+    pub rot1: [f64; 3],
+    /// Path length, the distance the feed rate applies to ([`path_length`]): mm, or degrees
+    /// for a move of the rotary axes alone.
     pub length: f64,
     /// Length of the whole piece this is part of: a live command may cut a piece, which
     /// shortens `length` but not the corner the piece makes with the next one.
@@ -82,15 +88,10 @@ enum Shape {
         a: [f64; 3],
         b: [f64; 3],
     },
+    /// An arc or helix of the arc module, its radius running to `r1` at the end.
     Arc {
-        axes: (usize, usize, usize),
-        c: [f64; 2],
-        r0: f64,
+        helix: Helix,
         r1: f64,
-        a0: f64,
-        sweep: f64,
-        n0: f64,
-        n1: f64,
     },
 }
 
@@ -98,21 +99,13 @@ impl Shape {
     fn point(&self, f: f64) -> [f64; 3] {
         match *self {
             Shape::Line { a, b } => lerp3(a, b, f),
-            Shape::Arc {
-                axes,
-                c,
-                r0,
-                r1,
-                a0,
-                sweep,
-                n0,
-                n1,
-            } => arc_point(axes, c, r0, r1, a0, sweep, n0, n1, f),
+            Shape::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
         }
     }
 }
 
-/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle.
+/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle
+/// (the arc module's spiral, for callers that hold the arc as numbers).
 #[allow(clippy::too_many_arguments)]
 pub fn arc_point(
     axes: (usize, usize, usize),
@@ -125,30 +118,37 @@ pub fn arc_point(
     n1: f64,
     f: f64,
 ) -> [f64; 3] {
-    let ang = a0 + sweep * f;
-    let r = r0 + (r1 - r0) * f;
-    let mut p = [0.0; 3];
-    p[axes.0] = c[0] + r * ang.cos();
-    p[axes.1] = c[1] + r * ang.sin();
-    p[axes.2] = n0 + (n1 - n0) * f;
-    p
+    let plane = [Plane::XY, Plane::YZ, Plane::XZ]
+        .into_iter()
+        .find(|p| p.axes() == axes)
+        .unwrap_or_default();
+    let helix = Helix {
+        plane,
+        arc: Arc::new(Point::new(c[0], c[1]), r0, a0, sweep),
+        axial: (n0, n1),
+    };
+    helix.spiral_point_at(f, r1)
 }
 
-/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise.
+/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise (the arc
+/// module's [`sweep_between`]).
 pub fn arc_sweep(a0: f64, a1: f64, turns: i32) -> f64 {
-    let extra = (turns.unsigned_abs().saturating_sub(1)) as f64 * TAU;
-    if turns > 0 {
-        let mut d = (a1 - a0).rem_euclid(TAU);
-        if d <= 1e-12 {
-            d += TAU;
-        }
-        d + extra
+    sweep_between(a0, a1, turns)
+}
+
+/// The distance the feed rate applies to, as LinuxCNC reads F (G-code overview, "Feed
+/// Rate"): when any of X, Y, Z moves, F is mm/min along the XYZ path and the rotary axes
+/// start and stop with it, so the length is the XYZ distance alone; otherwise the move is
+/// pure rotary and F is in degrees per minute in the ABC "pseudo-Cartesian" space, so the
+/// length is √(ΔA² + ΔB² + ΔC²) in degrees. A mixed G1 X10 A90 F600 thus takes
+/// 10 mm / 600 mm/min = 1 s whatever A does (unless A's own rate limit slows it), and
+/// G1 A90 F600 takes 90° / 600 °/min = 9 s.
+pub fn path_length(a: [f64; 3], b: [f64; 3], ra: [f64; 3], rb: [f64; 3]) -> f64 {
+    let linear = dist3(a, b);
+    if linear >= 1e-9 {
+        linear
     } else {
-        let mut d = (a0 - a1).rem_euclid(TAU);
-        if d <= 1e-12 {
-            d += TAU;
-        }
-        -(d + extra)
+        dist3(ra, rb)
     }
 }
 
@@ -187,6 +187,9 @@ struct Current {
     /// Programmed speed before overrides.
     speed: f64,
     feed_scaled: bool,
+    /// Rotary joints at the op's start and end, degrees.
+    rot_a: [f64; 3],
+    rot_b: [f64; 3],
     /// Sub-piece cursor inside the current chord (non-linear kinematics only).
     sub_from: f64,
     sub_step: f64,
@@ -200,6 +203,8 @@ pub struct MoveStream<'p, I> {
     kin: AnyKinematics,
     pos: [f64; 3],
     q: [f64; 3],
+    /// Rotary joints, degrees (counting whole turns: a wrapping axis never unwinds).
+    rot: [f64; 3],
     feed: f64,
     inverse_time: bool,
     mode: MotionMode,
@@ -229,6 +234,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             kin,
             pos: profile.start,
             q,
+            rot: [0.0; 3],
             feed: profile.default_feed,
             inverse_time: false,
             mode: MotionMode::Continuous,
@@ -264,7 +270,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, length: f64) {
+    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, rot_b: [f64; 3], length: f64) {
         let speed = match kind {
             MoveKind::Rapid => f64::INFINITY,
             _ if self.inverse_time => length * self.feed / 60.0,
@@ -273,16 +279,9 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
         let chords = match shape {
             Shape::Line { .. } => 1,
-            Shape::Arc { r0, r1, sweep, .. } => {
-                let r = r0.max(r1);
-                let tol = self.profile.arc_tolerance;
-                // Sagitta r(1 − cos(Δ/2)) ≤ tol; never more than a quarter turn per chord.
-                let max_step = if r > tol {
-                    2.0 * (1.0 - tol / r).acos()
-                } else {
-                    FRAC_PI_2
-                };
-                (sweep.abs() / max_step.min(FRAC_PI_2)).ceil().max(1.0) as u64
+            Shape::Arc { helix, r1 } => {
+                let r = helix.arc.radius.max(r1);
+                chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
         };
         self.current = Some(Current {
@@ -294,6 +293,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             chord: 0,
             speed,
             feed_scaled,
+            rot_a: self.rot,
+            rot_b,
             sub_from: 0.0,
             sub_step: 1.0,
             first: true,
@@ -346,11 +347,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     } else {
                         MoveKind::Feed
                     };
-                    let b = match self.target(line, &to) {
+                    let (b, rb) = match self.target(line, &to) {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
-                    let length = dist3(self.pos, b);
+                    let length = path_length(self.pos, b, self.rot, rb);
                     if kind == MoveKind::Feed && self.feed <= 0.0 && length >= 1e-9 {
                         return Some(Err(self.bad(line, "feed move with a zero feed rate; set F")));
                     }
@@ -358,7 +359,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         self.op_count += 1; // keep op indices aligned with the canon stream
                         continue;
                     }
-                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, length);
+                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, rb, length);
                     return None;
                 }
                 CanonOp::ArcFeed {
@@ -367,7 +368,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     center,
                     turns,
                 } => {
-                    let b = match self.target(line, &end) {
+                    let (b, rb) = match self.target(line, &end) {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
@@ -379,32 +380,18 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                             self.bad(line, "arc with zero turns or a non-finite centre")
                         ));
                     }
-                    let axes = plane_axes(plane);
-                    let (p0, p1) = ([self.pos[axes.0], self.pos[axes.1]], [b[axes.0], b[axes.1]]);
-                    let r0 = (p0[0] - center[0]).hypot(p0[1] - center[1]);
-                    let r1 = (p1[0] - center[0]).hypot(p1[1] - center[1]);
+                    let helix = Helix::new(plane, self.pos, b, center, turns);
+                    let r0 = helix.arc.radius;
+                    let r1 = plane.project(b).distance(helix.arc.center);
                     if r0 < 1e-9 || r1 < 1e-9 {
                         return Some(Err(
                             self.bad(line, "arc centre coincides with its start or end point")
                         ));
                     }
-                    let a0 = (p0[1] - center[1]).atan2(p0[0] - center[0]);
-                    let a1 = (p1[1] - center[1]).atan2(p1[0] - center[0]);
-                    let sweep = arc_sweep(a0, a1, turns);
-                    let (n0, n1) = (self.pos[axes.2], b[axes.2]);
-                    let planar = sweep.abs() * 0.5 * (r0 + r1);
-                    let length = planar.hypot(n1 - n0);
-                    let shape = Shape::Arc {
-                        axes,
-                        c: center,
-                        r0,
-                        r1,
-                        a0,
-                        sweep,
-                        n0,
-                        n1,
-                    };
-                    self.start_op(line, MoveKind::Arc, shape, length);
+                    let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
+                    let length = planar.hypot(helix.axial.1 - helix.axial.0);
+                    let shape = Shape::Arc { helix, r1 };
+                    self.start_op(line, MoveKind::Arc, shape, rb, length);
                     return None;
                 }
                 CanonOp::Dwell(s) => {
@@ -431,20 +418,34 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn target(&self, line: u32, to: &Pos) -> Result<[f64; 3], MotionError> {
+    /// The XYZ end point and the rotary joints' end values of a move to `to`. A rotary axis
+    /// the machine does not have must stay where it is.
+    fn target(&self, line: u32, to: &Pos) -> Result<([f64; 3], [f64; 3]), MotionError> {
         let v = to.to_array();
         if !v.iter().all(|x| x.is_finite()) {
             return Err(self.bad(line, "non-finite coordinate"));
         }
+        let rot = [v[3], v[4], v[5]];
         for (i, axis) in ["A", "B", "C"].iter().enumerate() {
-            if v[3 + i].abs() > 1e-9 {
-                return Err(MotionError::MissingJoint {
-                    line,
-                    axis: format!("rotary axis {axis}"),
-                });
+            let Some(r) = &self.profile.rotary[i] else {
+                if (rot[i] - self.rot[i]).abs() > 1e-9 {
+                    return Err(MotionError::MissingJoint {
+                        line,
+                        axis: format!("rotary axis {axis}"),
+                    });
+                }
+                continue;
+            };
+            if let (false, Some([lo, hi])) = (r.wrap, r.joint.limits) {
+                if rot[i] < lo - 1e-9 || rot[i] > hi + 1e-9 {
+                    return Err(self.bad(
+                        line,
+                        format!("rotary axis {axis} would reach {:.4}°, outside its limits [{lo:.4}, {hi:.4}]", rot[i]),
+                    ));
+                }
             }
         }
-        Ok([v[0], v[1], v[2]])
+        Ok(([v[0], v[1], v[2]], rot))
     }
 
     /// Validates one piece end: travel, reachability, joint existence and joint limits.
@@ -528,11 +529,13 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         };
         let (line, op, kind, speed, first) =
             (cur.line, cur.op, cur.kind, cur.speed * factor, cur.first);
+        let (rot_a, rot_b) = (cur.rot_a, cur.rot_b);
         let feed_scaled = cur.feed_scaled;
         cur.first = false;
-        let (a, b) = if linear {
+        // Fraction of the op where this piece ends: the rotary joints follow it linearly.
+        let (a, b, f_end) = if linear {
             cur.chord += 1;
-            (ca, cb)
+            (ca, cb, f1)
         } else {
             // Cut the chord so joint-linear motion stays within half the path tolerance
             // (the checker verifies the full tolerance with denser sampling).
@@ -584,7 +587,12 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                 cur.sub_from = to;
             }
             cur.sub_step = step;
-            (pa, pb)
+            (pa, pb, f0 + (f1 - f0) * to.min(1.0))
+        };
+        let rot1 = if f_end >= 1.0 - 1e-12 {
+            rot_b
+        } else {
+            lerp3(rot_a, rot_b, f_end)
         };
         let a = if first { self.pos } else { a };
         let q1 = match self.admit(line, b, self.q) {
@@ -602,8 +610,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             end: b,
             q0: self.q,
             q1,
-            length: dist3(a, b),
-            whole: dist3(a, b),
+            rot0: self.rot,
+            rot1,
+            length: path_length(a, b, self.rot, rot1),
+            whole: path_length(a, b, self.rot, rot1),
             speed,
             feed_scaled,
             // G61 stops at the ends of programmed moves, not between an arc's chords.
@@ -613,6 +623,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         };
         self.pos = b;
         self.q = q1;
+        self.rot = rot1;
         Some(Ok(m))
     }
 }

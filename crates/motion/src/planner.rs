@@ -66,12 +66,26 @@ pub struct Segment {
     /// Joint positions at the ends; joints move linearly in between.
     pub q0: [f64; 3],
     pub q1: [f64; 3],
+    /// Rotary joints A, B, C at the ends, degrees; they move linearly in between too.
+    pub rot0: [f64; 3],
+    pub rot1: [f64; 3],
     pub motion: Motion,
 }
 
 impl Segment {
     pub fn duration(&self) -> f64 {
         self.motion.duration
+    }
+
+    /// Rotary joints (A, B, C, degrees) at time `t` into the segment.
+    pub fn rotary_at(&self, t: f64) -> [f64; 3] {
+        let (s, _, _) = self.motion.at(t);
+        let f = if self.motion.length > 0.0 {
+            (s / self.motion.length).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        crate::moves::lerp3(self.rot0, self.rot1, f)
     }
 
     /// Cartesian and joint position at time `t` into the segment, and path speed.
@@ -113,6 +127,8 @@ pub struct BlockLimits {
     pub lim: Limits,
     /// Joint displacement per mm of path.
     pub dqds: [f64; 3],
+    /// Rotary joint displacement (degrees) per unit of path.
+    pub drds: [f64; 3],
 }
 
 /// Limits of a piece: every joint's speed, step rate, acceleration and jerk, seen through
@@ -134,10 +150,28 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
             }
         }
     }
+    // Rotary joints the same way: a mixed move is slowed so A, B, C keep within their
+    // °/s, °/s² and steps/s (LinuxCNC: "all axes are slowed to maintain the desired path").
+    let mut drds = [0.0; 3];
+    for (i, r) in profile.rotary.iter().enumerate() {
+        drds[i] = (m.rot1[i] - m.rot0[i]) / l;
+        let d = drds[i].abs();
+        if let (Some(r), true) = (r, d > 0.0) {
+            let jt = &r.joint;
+            v = v
+                .min(jt.max_rate / d)
+                .min(profile.max_step_rate / jt.steps_per_unit / d);
+            a = a.min(jt.acceleration / d);
+            if shape == Shape::SCurve {
+                j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
+            }
+        }
+    }
     BlockLimits {
         v_nominal: v,
         lim: Limits { accel: a, jerk: j },
         dqds,
+        drds,
     }
 }
 
@@ -173,22 +207,27 @@ pub fn junction_limit(
     }
     let up = unit(p);
     let ub = unit(b);
-    let cos = -(up[0] * ub[0] + up[1] * ub[1] + up[2] * ub[2]);
+    let dot: f64 = (0..6).map(|i| up[i] * ub[i]).sum();
+    let cos = -dot;
     let mut v2 = f64::INFINITY;
     if cos > 0.999_999 {
         return 0.0; // a reversal
     }
-    let dq = [
-        bl.dqds[0] - pl.dqds[0],
-        bl.dqds[1] - pl.dqds[1],
-        bl.dqds[2] - pl.dqds[2],
-    ];
+    // Change of every joint's rate per unit of path across the corner: X, Y, Z joints, then
+    // the rotary ones.
+    let dq: [f64; 6] = std::array::from_fn(|i| {
+        if i < 3 {
+            bl.dqds[i] - pl.dqds[i]
+        } else {
+            bl.drds[i - 3] - pl.drds[i - 3]
+        }
+    });
+    let joints = profile.all_joints();
     if cos > -0.999_999 {
         // grbl: the junction vector's acceleration limit and the virtual arc through δ.
-        let du =
-            ((ub[0] - up[0]).powi(2) + (ub[1] - up[1]).powi(2) + (ub[2] - up[2]).powi(2)).sqrt();
+        let du = (0..6).map(|i| (ub[i] - up[i]).powi(2)).sum::<f64>().sqrt();
         let mut acc = f64::INFINITY;
-        for (i, jt) in profile.joints.iter().enumerate() {
+        for (i, jt) in joints.iter().enumerate() {
             if let (Some(jt), true) = (jt, dq[i] != 0.0) {
                 acc = acc.min(jt.acceleration * du / dq[i].abs());
             }
@@ -198,7 +237,7 @@ pub fn junction_limit(
     }
     // Centripetal cap: the joint velocity change spread over the shorter piece.
     let lmin = p.whole.min(b.whole);
-    for (i, jt) in profile.joints.iter().enumerate() {
+    for (i, jt) in joints.iter().enumerate() {
         if let (Some(jt), true) = (jt, dq[i] != 0.0) {
             v2 = v2.min(jt.acceleration * lmin / dq[i].abs());
         }
@@ -206,13 +245,20 @@ pub fn junction_limit(
     v2.sqrt().min(pl.v_nominal).min(bl.v_nominal)
 }
 
-fn unit(m: &Move) -> [f64; 3] {
+/// Direction of a piece in the path space the feed rate is measured in ([`path_length`]):
+/// X, Y, Z when the tool moves (the rotary axes ride along), else A, B, C of a pure rotary
+/// move. A unit vector of six components, so a corner between a cut and a pure turn of the
+/// 4th axis is a right angle.
+///
+/// [`path_length`]: crate::moves::path_length
+fn unit(m: &Move) -> [f64; 6] {
     let l = m.length;
-    [
-        (m.end[0] - m.start[0]) / l,
-        (m.end[1] - m.start[1]) / l,
-        (m.end[2] - m.start[2]) / l,
-    ]
+    let linear = crate::moves::dist3(m.start, m.end) > 0.5 * l;
+    std::array::from_fn(|i| match (i < 3, linear) {
+        (true, true) => (m.end[i] - m.start[i]) / l,
+        (false, false) => (m.rot1[i - 3] - m.rot0[i - 3]) / l,
+        _ => 0.0,
+    })
 }
 
 #[derive(Clone, Copy)]
@@ -247,7 +293,7 @@ pub struct Planner<'p, I: Iterator<Item = Canon>> {
     /// Absolute block index before which a hold stop is due.
     hold_before: Option<u64>,
     /// Where the last buffered piece ends (Cartesian, joints): dwells happen there.
-    tail: ([f64; 3], [f64; 3]),
+    tail: ([f64; 3], [f64; 3], [f64; 3]),
     flushing: bool,
     done: bool,
 }
@@ -272,7 +318,7 @@ pub fn plan<'p, I: Iterator<Item = Canon>>(
         }
     }
     let moves = MoveStream::new(ops, profile, opts.overrides)?;
-    let tail = (profile.start, moves.start_joints());
+    let tail = (profile.start, moves.start_joints(), [0.0; 3]);
     Ok(Planner {
         moves,
         tail,
@@ -307,7 +353,7 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
     /// ([`Planner::replan`]), so a long run of blocks is walked about once, not once per push.
     fn push(&mut self, m: Move) {
         let bl = block_limits(&m, self.profile, self.shape);
-        self.tail = (m.end, m.q1);
+        self.tail = (m.end, m.q1, m.rot1);
         let after_hold = self.hold_before == Some(self.base + self.buf.len() as u64);
         let max_entry = match self.buf.back() {
             Some(p) if !m.stop_before && !after_hold => {
@@ -395,13 +441,15 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
             end: b.m.end,
             q0: b.m.q0,
             q1: b.m.q1,
+            rot0: b.m.rot0,
+            rot1: b.m.rot1,
             motion: Motion::plan(b.m.length, v0, b.bl.v_nominal, v1, b.bl.lim),
         }
     }
 
     fn at_rest(&self, line: u32, kind: SegmentKind, seconds: f64) -> Segment {
-        let (p, q) = match self.buf.front() {
-            Some(b) if kind == SegmentKind::Hold => (b.m.start, b.m.q0),
+        let (p, q, r) = match self.buf.front() {
+            Some(b) if kind == SegmentKind::Hold => (b.m.start, b.m.q0, b.m.rot0),
             _ => self.tail,
         };
         let line = match (kind, self.buf.front(), &self.last) {
@@ -417,6 +465,8 @@ impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
             end: p,
             q0: q,
             q1: q,
+            rot0: r,
+            rot1: r,
             motion: Motion::dwell(seconds),
         }
     }

@@ -69,6 +69,30 @@ pub struct Joint {
     pub homing: Option<Homing>,
 }
 
+/// A rotary joint: its motor and limits in degrees, and whether it turns without end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rotary {
+    pub joint: Joint,
+    /// Turns without end (a 4th axis chuck): no travel limits, and the position shown to
+    /// the operator is taken modulo 360° ([`Rotary::shown`]); the planner keeps counting
+    /// whole turns so the motor never unwinds. Not wrapping: `joint.limits` (if any) hold.
+    pub wrap: bool,
+}
+
+impl Rotary {
+    /// The position shown for a joint at `deg`: in [0, 360) when it wraps.
+    pub fn shown(&self, deg: f64) -> f64 {
+        if self.wrap {
+            deg.rem_euclid(360.0)
+        } else {
+            deg
+        }
+    }
+}
+
+/// Names of the rotary joints in a profile's `[joints.*]` tables, in A, B, C order.
+pub const ROTARY_NAMES: [&str; 3] = ["a", "b", "c"];
+
 /// A validated machine profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Profile {
@@ -77,6 +101,10 @@ pub struct Profile {
     /// Joint i drives `kinematics.joint_names()[i]`; `None` = that joint does not exist and
     /// must never move.
     pub joints: [Option<Joint>; 3],
+    /// Rotary joints A, B, C (a router's 4th axis, a trunnion): each drives its axis one to
+    /// one, in **degrees** as canon gives them (rates °/s, accelerations °/s² inside);
+    /// `None` = no such axis, and a program that turns it is refused.
+    pub rotary: [Option<Rotary>; 3],
     /// Cartesian soft limits [min, max] for X, Y, Z in mm.
     pub travel: [[f64; 2]; 3],
     /// Cartesian position at power-up (after homing), mm.
@@ -152,6 +180,8 @@ struct RawJoint {
     invert_direction: bool,
     limits: Option<[f64; 2]>,
     homing: Option<RawHoming>,
+    /// Rotary joints only: turns without end.
+    wrap: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -228,6 +258,18 @@ impl Profile {
         validate(raw, file)
     }
 
+    /// Every joint in one list: the three of the kinematics (X, Y, Z on a Cartesian
+    /// machine), then the rotary A, B, C.
+    pub fn all_joints(&self) -> [Option<&Joint>; 6] {
+        std::array::from_fn(|i| {
+            if i < 3 {
+                self.joints[i].as_ref()
+            } else {
+                self.rotary[i - 3].as_ref().map(|r| &r.joint)
+            }
+        })
+    }
+
     /// Number of joints that exist.
     pub fn joint(&self, i: usize) -> Option<&Joint> {
         self.joints[i].as_ref()
@@ -260,6 +302,10 @@ pub const BUNDLED: &[(&str, &str)] = &[
     (
         "pen-plotter",
         include_str!("../../../profiles/pen-plotter.toml"),
+    ),
+    (
+        "router-4axis",
+        include_str!("../../../profiles/router-4axis.toml"),
     ),
 ];
 
@@ -377,6 +423,86 @@ impl AsRef<KinematicsKind> for Profile {
     }
 }
 
+/// One `[joints.<name>]` table in internal units: lengths × `unit` (1 for mm and degrees,
+/// π/180 for an angular joint kept in radians).
+fn read_joint(
+    file: &str,
+    name: &'static str,
+    j: &RawJoint,
+    unit: f64,
+    shape: Shape,
+    max_step_rate: f64,
+) -> Result<Joint, ProfileError> {
+    let key = |f: &str| format!("joints.{name}.{f}");
+    let steps_per_unit = positive(file, &key("steps_per_unit"), j.steps_per_unit)? / unit;
+    let max_rate = positive(file, &key("max_rate"), j.max_rate)? / 60.0 * unit;
+    let acceleration = positive(file, &key("acceleration"), j.acceleration)? * unit;
+    let jerk = match j.jerk {
+        Some(v) => Some(positive(file, &key("jerk"), v)? * unit),
+        None if shape == Shape::SCurve => {
+            return Err(err(
+                file,
+                &key("jerk"),
+                "required when planner.velocity_profile = \"scurve\"".into(),
+            ))
+        }
+        None => None,
+    };
+    let rate_hz = max_rate * steps_per_unit;
+    if rate_hz > max_step_rate * (1.0 + 1e-9) {
+        return Err(err(
+            file,
+            &key("max_rate"),
+            format!(
+                "{} per minute at {} steps per unit needs {:.0} steps/s, above \
+                 planner.max_step_rate = {max_step_rate}",
+                j.max_rate, j.steps_per_unit, rate_hz
+            ),
+        ));
+    }
+    let homing = match &j.homing {
+        None => None,
+        Some(h) => Some(Homing {
+            direction: match h.direction.as_str() {
+                "negative" => HomingDirection::Negative,
+                "positive" => HomingDirection::Positive,
+                other => {
+                    return Err(err(
+                        file,
+                        &key("homing.direction"),
+                        format!("{other:?}: use \"negative\" or \"positive\""),
+                    ))
+                }
+            },
+            seek_rate: positive(file, &key("homing.seek_rate"), h.seek_rate)? / 60.0 * unit,
+            feed_rate: positive(file, &key("homing.feed_rate"), h.feed_rate)? / 60.0 * unit,
+            pull_off: non_negative(file, &key("homing.pull_off"), h.pull_off)? * unit,
+        }),
+    };
+    let limits = match j.limits {
+        Some(r) => {
+            let r = range(file, &key("limits"), r)?;
+            Some([r[0] * unit, r[1] * unit])
+        }
+        None => None,
+    };
+    Ok(Joint {
+        name,
+        steps_per_unit,
+        max_rate,
+        acceleration,
+        jerk,
+        backlash: non_negative(file, &key("backlash"), j.backlash)? * unit,
+        invert_direction: j.invert_direction,
+        limits,
+        homing,
+    })
+}
+
+fn kinematics_allows_rotary(k: KinematicsKind) -> bool {
+    matches!(k, KinematicsKind::Cartesian)
+}
+
 fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
     let kinematics = KinematicsKind::from_settings(&raw.kinematics, &FileCheck(file))?;
     let p = &raw.planner;
@@ -394,12 +520,12 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
     let max_step_rate = positive(file, "planner.max_step_rate", p.max_step_rate)?;
     let names = kinematics.joint_names();
     for key in raw.joints.keys() {
-        if !names.contains(&key.as_str()) {
+        if !names.contains(&key.as_str()) && !ROTARY_NAMES.contains(&key.as_str()) {
             return Err(err(
                 file,
                 &format!("joints.{key}"),
                 format!(
-                    "no such joint for this kinematics; expected {}",
+                    "no such joint for this kinematics; expected {} (and rotary a, b, c)",
                     names.join(", ")
                 ),
             ));
@@ -417,76 +543,49 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
             }
             continue;
         };
-        let key = |f: &str| format!("joints.{name}.{f}");
+        if j.wrap.is_some() {
+            return Err(err(
+                file,
+                &format!("joints.{name}.wrap"),
+                "only rotary joints (a, b, c) wrap".into(),
+            ));
+        }
         // Angular joints are written in degrees; convert to radians once, here.
         let unit = if kinematics.is_angular(i) {
             std::f64::consts::PI / 180.0
         } else {
             1.0
         };
-        let steps_per_unit = positive(file, &key("steps_per_unit"), j.steps_per_unit)? / unit;
-        let max_rate = positive(file, &key("max_rate"), j.max_rate)? / 60.0 * unit;
-        let acceleration = positive(file, &key("acceleration"), j.acceleration)? * unit;
-        let jerk = match j.jerk {
-            Some(v) => Some(positive(file, &key("jerk"), v)? * unit),
-            None if shape == Shape::SCurve => {
-                return Err(err(
-                    file,
-                    &key("jerk"),
-                    "required when planner.velocity_profile = \"scurve\"".into(),
-                ))
-            }
-            None => None,
+        joints[i] = Some(read_joint(file, name, j, unit, shape, max_step_rate)?);
+    }
+    // Rotary joints stay in degrees (unit 1): canon and the program speak degrees, and the
+    // joint is the axis, so nothing converts.
+    let mut rotary = [None, None, None];
+    for (i, name) in ROTARY_NAMES.iter().enumerate() {
+        // CoreXY names its two motors a and b: those tables are its joints, read above.
+        if names.contains(name) {
+            continue;
+        }
+        let Some(j) = raw.joints.get(*name) else {
+            continue;
         };
-        let rate_hz = max_rate * steps_per_unit;
-        if rate_hz > max_step_rate * (1.0 + 1e-9) {
+        if !kinematics_allows_rotary(kinematics) {
             return Err(err(
                 file,
-                &key("max_rate"),
-                format!(
-                    "{} per minute at {} steps per unit needs {:.0} steps/s, above \
-                     planner.max_step_rate = {max_step_rate}",
-                    j.max_rate, j.steps_per_unit, rate_hz
-                ),
+                &format!("joints.{name}"),
+                "rotary joints need cartesian kinematics".into(),
             ));
         }
-        let homing = match &j.homing {
-            None => None,
-            Some(h) => Some(Homing {
-                direction: match h.direction.as_str() {
-                    "negative" => HomingDirection::Negative,
-                    "positive" => HomingDirection::Positive,
-                    other => {
-                        return Err(err(
-                            file,
-                            &key("homing.direction"),
-                            format!("{other:?}: use \"negative\" or \"positive\""),
-                        ))
-                    }
-                },
-                seek_rate: positive(file, &key("homing.seek_rate"), h.seek_rate)? / 60.0 * unit,
-                feed_rate: positive(file, &key("homing.feed_rate"), h.feed_rate)? / 60.0 * unit,
-                pull_off: non_negative(file, &key("homing.pull_off"), h.pull_off)? * unit,
-            }),
-        };
-        let limits = match j.limits {
-            Some(r) => {
-                let r = range(file, &key("limits"), r)?;
-                Some([r[0] * unit, r[1] * unit])
-            }
-            None => None,
-        };
-        joints[i] = Some(Joint {
-            name,
-            steps_per_unit,
-            max_rate,
-            acceleration,
-            jerk,
-            backlash: non_negative(file, &key("backlash"), j.backlash)? * unit,
-            invert_direction: j.invert_direction,
-            limits,
-            homing,
-        });
+        let joint = read_joint(file, name, j, 1.0, shape, max_step_rate)?;
+        let wrap = j.wrap.unwrap_or(false);
+        if wrap && joint.limits.is_some() {
+            return Err(err(
+                file,
+                &format!("joints.{name}.limits"),
+                "a wrapping rotary joint has no limits; drop one of them".into(),
+            ));
+        }
+        rotary[i] = Some(Rotary { joint, wrap });
     }
     let t = &raw.travel;
     let z = match (t.z, joints[2].is_some()) {
@@ -531,6 +630,7 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
         name: raw.name,
         kinematics,
         joints,
+        rotary,
         travel,
         start,
         junction_deviation: non_negative(file, "planner.junction_deviation", p.junction_deviation)?,
@@ -569,6 +669,46 @@ mod bundled_tests {
             assert!(bundled(&format!("profiles/{name}.toml")).is_some());
         }
         assert!(BUNDLED.iter().any(|(n, _)| *n == DEFAULT));
+    }
+
+    #[test]
+    fn rotary_joints_are_read_in_degrees_and_checked() {
+        let p = resolve("router-4axis").unwrap();
+        let a = p.rotary[0].expect("router-4axis has an A axis");
+        // Degrees stay degrees: 10800 °/min is 180 °/s; 20 steps per degree.
+        assert_eq!(a.joint.max_rate, 180.0);
+        assert_eq!(a.joint.steps_per_unit, 20.0);
+        assert!(a.wrap && p.rotary[1].is_none() && p.rotary[2].is_none());
+        assert_eq!(a.shown(725.0), 5.0);
+        let text = BUNDLED
+            .iter()
+            .find(|(n, _)| *n == "router-4axis")
+            .unwrap()
+            .1;
+        // A wrapping joint has no limits.
+        let both = text.replace("wrap = true", "wrap = true\nlimits = [0.0, 90.0]");
+        let e = Profile::parse(&both, "t.toml").unwrap_err();
+        assert_eq!(e.key, "joints.a.limits", "{e}");
+        // Only rotary joints wrap.
+        let e = Profile::parse(
+            &text.replace(
+                "backlash = 0.05\n\n[joints.y]",
+                "backlash = 0.05\nwrap = true\n\n[joints.y]",
+            ),
+            "t.toml",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "joints.x.wrap", "{e}");
+        // A CoreXY machine's joints a and b are its motors, not rotary axes.
+        let corexy = text
+            .replace("type = \"cartesian\"", "type = \"corexy\"")
+            .replace("[joints.x]", "[joints.x_]")
+            .replace("[joints.y]", "[joints.b]")
+            .replace("[joints.a]", "[joints.c]")
+            .replace("[joints.x_]", "[joints.a]");
+        let e = Profile::parse(&corexy, "t.toml").unwrap_err();
+        assert_eq!(e.key, "joints.c", "{e}");
+        assert!(e.message.contains("cartesian"), "{e}");
     }
 
     #[test]

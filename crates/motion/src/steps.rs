@@ -18,10 +18,13 @@ pub trait StepSink {
     fn step(&mut self, motor: usize, time: f64, forward: bool);
 }
 
+/// Motors in step order: the kinematics' three joints, then the rotary A, B, C.
+pub const MOTORS: usize = 6;
+
 /// Collects steps per motor (for tests and exports of small programs).
 #[derive(Default, Debug, Clone)]
 pub struct StepLog {
-    pub motors: [Vec<(f64, bool)>; 3],
+    pub motors: [Vec<(f64, bool)>; MOTORS],
 }
 
 impl StepSink for StepLog {
@@ -57,8 +60,8 @@ struct MotorState {
 
 /// Turns planned segments into steps for every motor, keeping time across segments.
 pub struct StepGenerator {
-    motors: [Option<MotorState>; 3],
-    names: [&'static str; 3],
+    motors: [Option<MotorState>; MOTORS],
+    names: [&'static str; MOTORS],
     min_interval: f64,
     max_step_rate: f64,
     time: f64,
@@ -67,13 +70,16 @@ pub struct StepGenerator {
 }
 
 impl StepGenerator {
-    /// Starts with the motors at joint position `q` (usually the profile's start).
+    /// Starts with the motors at joint position `q` (usually the profile's start) and the
+    /// rotary joints at 0°.
     pub fn new(profile: &Profile, q: [f64; 3]) -> StepGenerator {
+        let joints = profile.all_joints();
         let motors = std::array::from_fn(|i| {
-            profile.joints[i].map(|j| MotorState {
+            let at = if i < 3 { q[i] } else { 0.0 };
+            joints[i].map(|j| MotorState {
                 spu: j.steps_per_unit,
                 backlash_steps: (j.backlash * j.steps_per_unit).round() as i64,
-                count: (q[i] * j.steps_per_unit).round() as i64,
+                count: (at * j.steps_per_unit).round() as i64,
                 last_dir: None,
                 last_time: f64::NEG_INFINITY,
                 catching_up: false,
@@ -81,7 +87,7 @@ impl StepGenerator {
         });
         StepGenerator {
             motors,
-            names: profile.kinematics.joint_names(),
+            names: motor_names(profile),
             min_interval: 1.0 / profile.max_step_rate,
             max_step_rate: profile.max_step_rate,
             time: 0.0,
@@ -92,6 +98,11 @@ impl StepGenerator {
     /// Machine time at the end of the segments seen so far.
     pub fn time(&self) -> f64 {
         self.time
+    }
+
+    /// Step count of each rotary motor A, B, C (commanded position, backlash excluded).
+    pub fn rotary_counts(&self) -> [i64; 3] {
+        std::array::from_fn(|i| self.motors[3 + i].map_or(0, |m| m.count))
     }
 
     /// Step count of each motor (commanded position, backlash excluded).
@@ -107,11 +118,16 @@ impl StepGenerator {
         }
         let len = seg.motion.length;
         let pieces = seg.motion.pieces();
-        for i in 0..3 {
+        for i in 0..MOTORS {
             let Some(mut m) = self.motors[i] else {
                 continue;
             };
-            let (x0, x1) = (seg.q0[i] * m.spu, seg.q1[i] * m.spu);
+            let (j0, j1) = if i < 3 {
+                (seg.q0[i], seg.q1[i])
+            } else {
+                (seg.rot0[i - 3], seg.rot1[i - 3])
+            };
+            let (x0, x1) = (j0 * m.spu, j1 * m.spu);
             let dx = x1 - x0;
             if dx == 0.0 {
                 continue;
@@ -177,6 +193,13 @@ impl StepGenerator {
         }
         Ok(())
     }
+}
+
+/// Names of the motors in step order: the kinematics' joints, then "a", "b", "c".
+pub fn motor_names(profile: &Profile) -> [&'static str; MOTORS] {
+    let k = profile.kinematics.joint_names();
+    let r = crate::profile::ROTARY_NAMES;
+    [k[0], k[1], k[2], r[0], r[1], r[2]]
 }
 
 /// Inverse of the profile for increasing `s`, walking the pieces with a cursor.

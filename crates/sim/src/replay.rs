@@ -3,6 +3,7 @@
 use oficina_cam::stock::{sweep_arc, sweep_line};
 use oficina_cam::Tool;
 use oficina_canon::{Canon, CanonOp, Plane};
+use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;
 use std::collections::HashMap;
 
@@ -88,36 +89,17 @@ pub fn arc_chords(
     turns: i32,
     tol: f64,
 ) -> Vec<[f64; 3]> {
-    let (a, b, n) = plane.axes();
-    let a0 = (from[b] - center[1]).atan2(from[a] - center[0]);
-    let a1 = (to[b] - center[1]).atan2(to[a] - center[0]);
-    let r = (from[a] - center[0]).hypot(from[b] - center[1]);
-    let full = std::f64::consts::TAU * (turns.unsigned_abs().max(1) - 1) as f64;
-    let sweep = if turns > 0 {
-        (a1 - a0).rem_euclid(std::f64::consts::TAU) + full
-    } else {
-        -((a0 - a1).rem_euclid(std::f64::consts::TAU) + full)
-    };
-    let step = if r > tol {
-        2.0 * (1.0 - tol / r).acos()
-    } else {
-        std::f64::consts::PI
-    };
+    let helix = Helix::new(plane, from, to, center, turns);
     // Bounded: at most one chord per 0.01° whatever the radius.
-    let count = ((sweep.abs() / step).ceil() as usize)
-        .clamp(1, 36_000 * (turns.unsigned_abs() as usize).max(1));
+    let count = chord_count(helix.arc.radius, helix.arc.sweep, tol)
+        .min(36_000 * (turns.unsigned_abs() as usize).max(1));
     (1..=count)
         .map(|k| {
             if k == count {
-                return to;
+                to
+            } else {
+                helix.point_at(k as f64 / count as f64)
             }
-            let t = k as f64 / count as f64;
-            let ang = a0 + sweep * t;
-            let mut p = [0.0; 3];
-            p[a] = center[0] + r * ang.cos();
-            p[b] = center[1] + r * ang.sin();
-            p[n] = from[n] + (to[n] - from[n]) * t;
-            p
         })
         .collect()
 }

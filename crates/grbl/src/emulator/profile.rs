@@ -64,6 +64,7 @@ pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
         name: "grbl $ settings".into(),
         kinematics: KinematicsKind::Cartesian,
         joints: [Some(joint(0)), Some(joint(1)), Some(joint(2))],
+        rotary: [None; 3],
         // grbl's machine space with soft limits: [-$13x, 0].
         travel: [0, 1, 2].map(|i| [-get(130 + i), 0.0]),
         start: [0.0; 3],

@@ -168,6 +168,9 @@ impl Incremental {
             end: p.end,
             q0: self.q_tail,
             q1,
+            // Firmware blocks here are X, Y, Z only.
+            rot0: [0.0; 3],
+            rot1: [0.0; 3],
             length,
             whole: length,
             speed: p.speed,

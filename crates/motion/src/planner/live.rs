@@ -83,13 +83,16 @@ impl<I: Iterator<Item = Canon>> Planner<'_, I> {
             .kinematics()
             .joints_near(p, b.m.q0)
             .unwrap_or_else(|_| lerp3(b.m.q0, b.m.q1, f));
+        let r = lerp3(b.m.rot0, b.m.rot1, f);
         let mut rest = *b;
         rest.m.start = p;
         rest.m.q0 = q;
+        rest.m.rot0 = r;
         rest.m.length = b.m.length - d;
         rest.m.stop_before = true;
         b.m.end = p;
         b.m.q1 = q;
+        b.m.rot1 = r;
         b.m.length = d;
         rest
     }
