@@ -5,6 +5,7 @@
 mod api;
 mod auth;
 mod files;
+mod jobs;
 mod samples;
 mod state;
 mod ws;
