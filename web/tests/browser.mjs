@@ -3,7 +3,7 @@
 // each main view go to web/test-output/.
 
 import { chromium } from 'playwright-core';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 
@@ -216,6 +216,124 @@ await test('a file dropped on the page opens', async () => {
   await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
   await page.waitForFunction(() => document.getElementById('program-name').textContent === 'dropped.nc', null, { timeout: 10000 });
   await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 30, null, { timeout: 20000 });
+});
+
+await test('SVG → mill: a server-side error beside its field, then preview and run to the end', async () => {
+  const svg = readFileSync(path.join(here, '..', '..', 'samples', 'mill', 'plate.svg'), 'utf8');
+  await page.selectOption('#process', 'mill');
+  await page.waitForFunction(() => !document.getElementById('process-form').hidden, null, { timeout: 10000 });
+  // Dropped like a user would: uploaded into the job folder.
+  const dt = await page.evaluateHandle((t) => {
+    const d = new DataTransfer();
+    d.items.add(new File([t], 'part.svg', { type: 'image/svg+xml' }));
+    return d;
+  }, svg);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'part.svg', null, { timeout: 10000 });
+  await page.selectOption('#process-fields select[name="op"]', 'profile-out');
+  await page.fill('#process-fields input[name="depth"]', '1');
+  await page.fill('#process-fields input[name="safe_z"]', '2');
+  await page.click('#make');
+  await page.waitForFunction(() => document.querySelector('#process-fields .field-error[data-for="safe_z"]').textContent.includes('clear-z'), null, { timeout: 30000 });
+  await shot('mill-field-error');
+  await page.fill('#process-fields input[name="safe_z"]', '20');
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('program-name').textContent === 'part.profile-outside.ngc', null, { timeout: 60000 });
+  assert((await page.textContent('#process-field-error, .field-error[data-for="safe_z"]')) === '', 'the error is gone');
+  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 0 && document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 60000 });
+  const report = await page.textContent('#process-report');
+  assert(report.includes('gouge:    none') && report.includes('time:'), report);
+  // The preview holds rapids, feeds and plunges, each coloured by kind.
+  const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
+  assert(kinds.rapid > 0 && kinds.feed > 0 && kinds.plunge > 0, JSON.stringify(kinds));
+  await page.click('#views button[data-view="iso"]');
+  await page.waitForTimeout(300);
+  await shot('mill');
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'completed' && document.getElementById('console').textContent.includes('started part.profile-outside.ngc'), null, { timeout: 120000 });
+  await waitState('idle');
+});
+
+await test('point list → sole mold → preview', async () => {
+  await page.selectOption('#process', 'sole');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'size34.csv', null, { timeout: 20000 });
+  await page.fill('#process-fields input[name="shrink"]', '2.5');
+  await page.click('#make');
+  await page.waitForFunction(() => /size34\.left-insert\.ngc|size34\.\w+-\w+\.ngc/.test(document.getElementById('program-name').textContent), null, { timeout: 180000 });
+  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 100, null, { timeout: 60000 });
+  const report = await page.textContent('#process-report');
+  assert(report.includes('α = ') && (report.match(/gouge:/g) || []).length === 4, report);
+  // A value the browser accepts but the job refuses is named beside its field.
+  await page.fill('#process-fields input[name="to_size"]', '60');
+  await page.fill('#process-fields input[name="from_size"]', '10');
+  await page.click('#make');
+  await page.waitForFunction(() => document.querySelector('#process-fields .field-error:not(:empty)') || document.getElementById('process-status').textContent.length > 0 && !document.getElementById('process-status').textContent.includes('…') && !/%$/.test(document.getElementById('process-status').textContent), null, { timeout: 60000 });
+  await page.fill('#process-fields input[name="from_size"]', '34');
+  await page.fill('#process-fields input[name="to_size"]', '37');
+  await page.click('#views button[data-view="xy"]');
+  await page.waitForTimeout(300);
+  await shot('sole');
+});
+
+await test('SVG → plot → preview with pen up and down', async () => {
+  await page.selectOption('#process', 'plot');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'design.svg', null, { timeout: 20000 });
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('program-name').textContent === 'design.plot.ngc', null, { timeout: 60000 });
+  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 0, null, { timeout: 60000 });
+  assert((await page.textContent('#legend-rapid')) === 'pen up' && (await page.textContent('#legend-feed')) === 'pen down', 'the legend speaks of the pen');
+  const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
+  assert(kinds.rapid > 0 && kinds.feed > 0, JSON.stringify(kinds));
+  assert((await page.textContent('#process-report')).includes('strokes'), 'pens are reported');
+  await page.click('#views button[data-view="xy"]');
+  await page.waitForTimeout(300);
+  await shot('plot');
+});
+
+await test('a long carve shows progress and is cancelled', async () => {
+  await page.selectOption('#process', 'relief');
+  await page.waitForFunction(() => !document.getElementById('relief-form').hidden, null, { timeout: 10000 });
+  const nameBefore = await page.textContent('#program-name');
+  await page.fill('#relief-form input[name="width"]', '400');
+  await page.fill('#relief-form input[name="tool"]', 'ball:1');
+  await page.fill('#relief-form input[name="rough_tool"]', 'flat:3');
+  await page.fill('#relief-form input[name="stepover"]', '0.05');
+  await page.fill('#relief-form input[name="stepdown"]', '1');
+  await page.click('#carve');
+  await page.waitForFunction(() => document.getElementById('carve-status').textContent.includes('%'), null, { timeout: 60000 });
+  assert(await page.isVisible('#relief-form .cancel-job'), 'Cancel shows while it works');
+  await shot('carving');
+  await page.click('#relief-form .cancel-job');
+  await page.waitForFunction(() => document.getElementById('carve-status').textContent === 'cancelled', null, { timeout: 20000 });
+  assert(!(await page.isVisible('#relief-form .cancel-job')), 'Cancel hides');
+  assert((await page.textContent('#program-name')) === nameBefore, 'no program was loaded');
+  assert(!(await page.isDisabled('#carve')), 'another carve can start');
+});
+
+await test('continuous jog moves while held and stops on release; spindle override', async () => {
+  await waitState('idle');
+  await page.selectOption('#jog-step', 'continuous');
+  await page.fill('#jog-feed', '600');
+  const x0 = Number(await page.textContent('#mx'));
+  const b = await page.$('#jog button[data-jog="0,1,0"]');
+  const box = await b.boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  const y0 = Number(await page.textContent('#my'));
+  await page.mouse.down();
+  await page.waitForFunction((y) => Number(document.getElementById('my').textContent) > y + 2, y0, { timeout: 20000 });
+  await shot('jog');
+  await page.mouse.up();
+  await waitState('idle', 20000);
+  const y1 = Number(await page.textContent('#my'));
+  await page.waitForTimeout(500);
+  assert(Number(await page.textContent('#my')) === y1, 'it stays where it stopped');
+  assert(Number(await page.textContent('#mx')) === x0, 'only Y moved');
+  // 600 mm/min is 10 mm/s: a press of a second or two, far from the end of travel.
+  assert(y1 - y0 > 2 && y1 - y0 < 100, `moved ${y1 - y0} mm`);
+  await page.$eval('#so', (s) => { s.value = '120'; s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change')); });
+  await page.waitForFunction(() => document.getElementById('console').textContent.includes('spindle override 120 %'), null, { timeout: 10000 });
+  await page.selectOption('#jog-step', '1');
 });
 
 await test('no script errors in the page', async () => {

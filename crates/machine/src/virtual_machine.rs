@@ -27,6 +27,11 @@ pub struct VirtualMachine {
     connected: bool,
     /// Longest program line accepted, bytes (0: the interpreter's default).
     max_line_len: usize,
+    /// The motion running is a jog (what `JogCancel` may stop).
+    jogging: bool,
+    /// The spindle override asked for; the virtual machine has no spindle to slow, so it
+    /// is only kept and confirmed.
+    spindle_override: f64,
 }
 
 impl VirtualMachine {
@@ -42,6 +47,8 @@ impl VirtualMachine {
             ev_rx_own: Some(ev_rx),
             connected: false,
             max_line_len: 0,
+            jogging: false,
+            spindle_override: 1.0,
         }
     }
 
@@ -85,6 +92,7 @@ impl Machine for VirtualMachine {
         if let Some(line) = job.start_line {
             check_start_line(&job.text, line).map_err(MachineError::Refused)?;
         }
+        self.jogging = false;
         let (tx, rx) = channel();
         self.cmd_tx = Some(tx);
         let (profile, status, events, max_line_len) = (
@@ -128,9 +136,33 @@ impl Machine for VirtualMachine {
                     text: Arc::new(text),
                     start_line: None,
                     pace: Pace::Speed(1.0),
-                })
+                })?;
+                self.jogging = true;
+                Ok(())
             }
             (Command::Jog { .. }, s) => Err(MachineError::Busy(format!("cannot jog while {s:?}"))),
+            (Command::JogCancel, State::Run | State::Holding) if self.jogging => {
+                match &self.cmd_tx {
+                    Some(tx) => tx
+                        .send(Command::Stop)
+                        .map_err(|_| MachineError::NotConnected),
+                    None => Ok(()),
+                }
+            }
+            (Command::JogCancel, _) => Ok(()),
+            (Command::SpindleOverride(f), _) => {
+                if !(0.1..=2.0).contains(f) {
+                    return Err(MachineError::Refused(format!(
+                        "spindle override {f} is outside 0.1 … 2.0"
+                    )));
+                }
+                self.spindle_override = *f;
+                let _ = self.ev_tx.send(Event::Message(format!(
+                    "spindle override {:.0} % (the virtual machine has no spindle to slow)",
+                    f * 100.0
+                )));
+                Ok(())
+            }
             _ => match &self.cmd_tx {
                 Some(tx) if tx.send(cmd.clone()).is_ok() => Ok(()),
                 _ => Err(MachineError::Refused(format!("{cmd:?}: no job is running"))),
