@@ -410,3 +410,31 @@ mod tests {
         assert!(feed_override_bytes(3.0).is_err());
     }
 }
+
+#[cfg(test)]
+mod override_tests {
+    use super::*;
+
+    fn bytes(v: Vec<Realtime>) -> Vec<u8> {
+        v.into_iter().map(Realtime::byte).collect()
+    }
+
+    #[test]
+    fn spindle_override_is_reset_then_tens_then_ones_in_grbls_bytes() {
+        // grbl 1.1 doc: 0x99 reset to 100 %, 0x9A +10 %, 0x9B -10 %, 0x9C +1 %, 0x9D -1 %.
+        assert_eq!(
+            bytes(spindle_override_bytes(1.23).unwrap()),
+            [0x99, 0x9A, 0x9A, 0x9C, 0x9C, 0x9C]
+        );
+        assert_eq!(
+            bytes(spindle_override_bytes(0.78).unwrap()),
+            [0x99, 0x9B, 0x9B, 0x9D, 0x9D]
+        );
+        assert_eq!(bytes(spindle_override_bytes(1.0).unwrap()), [0x99]);
+        assert!(spindle_override_bytes(2.5).is_err());
+        assert!(spindle_override_bytes(f64::NAN).is_err());
+        // The feed override keeps its own bytes.
+        assert_eq!(bytes(feed_override_bytes(1.1).unwrap()), [0x90, 0x91]);
+        assert_eq!(Realtime::JogCancel.byte(), 0x85);
+    }
+}

@@ -40,6 +40,9 @@ pub fn routes(state: Arc<AppState>) -> Router {
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
         .route("/api/cancel", post(jobs::cancel))
+        .route("/api/profiles/check", post(crate::profiles::check))
+        .route("/api/profiles/use", post(crate::profiles::use_profile))
+        .route("/api/profiles/{name}", get(crate::profiles::text))
         .layer(DefaultBodyLimit::max(limit))
         .route_layer(axum::middleware::from_fn_with_state(
             state.clone(),

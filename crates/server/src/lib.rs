@@ -6,6 +6,7 @@ mod api;
 mod auth;
 mod files;
 mod jobs;
+mod profiles;
 mod samples;
 mod state;
 mod ws;
