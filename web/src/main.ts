@@ -6,7 +6,7 @@ import { Editor } from './editor';
 import { Preview, View } from './preview';
 import type { WorkerOut } from './worker';
 import { MachinePanel } from './machine';
-import { setupProfileEditor } from './profile';
+import { setupProfileEditor, setupToolEditor } from './profile';
 import { PROCESSES, ProcessKind, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -397,6 +397,7 @@ async function init() {
   sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images, ...info.designs].map((n) => `<option>${n}</option>`).join('');
   panel.setMachines(info.machine, info.profiles);
   setupProfileEditor(info.profiles);
+  setupToolEditor();
 }
 init().catch((e) => error(String(e.message || e)));
 

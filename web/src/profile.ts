@@ -32,3 +32,24 @@ export function setupProfileEditor(profiles: string[]) {
   $('profile-use').onclick = async () => show(await send('/api/profiles/use', $<HTMLTextAreaElement>('profile-text').value), 'on the virtual machine');
   load();
 }
+
+interface ToolRow { number: number; pocket: number; diameter: number; length: number; comment: string }
+
+/// The tool table: checked by the interpreter's own parser (line and column of an error),
+/// saved in the job folder when good, shown as a table.
+export async function setupToolEditor() {
+  const text = $<HTMLTextAreaElement>('tools-text');
+  text.value = await (await fetch(withToken('/api/tools'))).text();
+  const showRows = (rows: ToolRow[]) => {
+    $('tools-table').innerHTML = '<tr><th>T</th><th>pocket</th><th>Ø mm</th><th>length mm</th><th></th></tr>' +
+      rows.map((t) => `<tr><td>${t.number}</td><td>${t.pocket}</td><td>${t.diameter}</td><td>${t.length}</td><td style="text-align:left">${t.comment.replace(/[<&]/g, '')}</td></tr>`).join('');
+  };
+  $('tools-save').onclick = async () => {
+    const r = await fetch(withToken('/api/tools'), { method: 'PUT', body: text.value });
+    const a = await r.json().catch(() => ({ ok: false, error: `${r.status} ${r.statusText}` }));
+    const m = $('tools-message');
+    m.className = a.ok ? 'muted' : 'error';
+    if (a.ok) { showRows(a.tools); m.textContent = `saved ${a.tools.length} tools`; }
+    else m.textContent = a.line ? `line ${a.line}, column ${a.col}: ${a.error}` : a.error;
+  };
+}

@@ -345,6 +345,18 @@ await test('the profile editor shows the profile\'s own validation and uses a go
   await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('edited router'), null, { timeout: 20000 });
 });
 
+await test('the tool table editor places a bad line and saves a good table', async () => {
+  await page.click('#tool-editor summary');
+  await page.fill('#tools-text', 'T1 P1 D6 Z12.5 ;flat 6\nT2 P2 Dx\n');
+  await page.click('#tools-save');
+  await page.waitForFunction(() => document.getElementById('tools-message').textContent.startsWith('line 2'), null, { timeout: 10000 });
+  await page.fill('#tools-text', 'T1 P1 D6 Z12.5 ;flat 6\nT2 P2 D3.175 Z20 ;ball\n');
+  await page.click('#tools-save');
+  await page.waitForFunction(() => document.getElementById('tools-message').textContent === 'saved 2 tools', null, { timeout: 10000 });
+  assert((await page.textContent('#tools-table')).includes('3.175'), 'the table shows the tools');
+  await shot('tool-table');
+});
+
 await test('no script errors in the page', async () => {
   assert(consoleErrors.length === 0, consoleErrors.join('\n'));
 });

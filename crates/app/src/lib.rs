@@ -18,6 +18,7 @@ mod relief;
 mod session;
 pub mod sole;
 mod text;
+pub mod tools;
 
 pub use check::{check_program, CheckOptions, CheckReport, Diag, ExtentsBox, TimeEstimate};
 pub use error::{Error, CANCELLED};

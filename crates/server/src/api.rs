@@ -43,6 +43,10 @@ pub fn routes(state: Arc<AppState>) -> Router {
         .route("/api/profiles/check", post(crate::profiles::check))
         .route("/api/profiles/use", post(crate::profiles::use_profile))
         .route("/api/profiles/{name}", get(crate::profiles::text))
+        .route(
+            "/api/tools",
+            get(crate::profiles::tools_text).put(crate::profiles::save_tools),
+        )
         .layer(DefaultBodyLimit::max(limit))
         .route_layer(axum::middleware::from_fn_with_state(
             state.clone(),

@@ -1,6 +1,7 @@
 //! The profile editor's endpoints: a machine profile's TOML text, checked by the motion
 //! crate's own validation (its key and message go back to the page), and a checked profile
-//! put on the virtual machine. Profiles the page saves live in the job folder.
+//! put on the virtual machine; the tool table, read by the interpreter's parser. Both are
+//! saved in the job folder.
 
 use crate::files::path_in;
 use crate::AppState;
@@ -10,6 +11,7 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use oficina_app::profile::{Profile, BUNDLED};
+use oficina_app::tools::{check_tool_table, TOOL_TABLE_FILE};
 use serde_json::json;
 use std::sync::Arc;
 
@@ -95,5 +97,51 @@ pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Respon
         }
         Ok(Err(e)) => refused(StatusCode::CONFLICT, "", e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, "", e.to_string()),
+    }
+}
+
+/// The saved tool table (`GET /api/tools`), empty when none was saved.
+pub async fn tools_text(State(st): State<Arc<AppState>>) -> Response {
+    let path = match path_in(&st.config.job_dir, TOOL_TABLE_FILE) {
+        Ok(p) => p,
+        Err(e) => return refused(StatusCode::BAD_REQUEST, "", e),
+    };
+    tokio::fs::read_to_string(&path)
+        .await
+        .unwrap_or_default()
+        .into_response()
+}
+
+/// Checks a tool table with the interpreter's parser and, when good, saves it into the job
+/// folder (`PUT /api/tools`); errors name line and column.
+pub async fn save_tools(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
+    let Ok(text) = std::str::from_utf8(&body) else {
+        return refused(
+            StatusCode::BAD_REQUEST,
+            "",
+            "the tool table is not UTF-8 text".into(),
+        );
+    };
+    match check_tool_table(text) {
+        Ok(rows) => {
+            let path = match path_in(&st.config.job_dir, TOOL_TABLE_FILE) {
+                Ok(p) => p,
+                Err(e) => return refused(StatusCode::BAD_REQUEST, "", e),
+            };
+            if let Err(e) = tokio::fs::write(&path, text).await {
+                return refused(
+                    StatusCode::BAD_REQUEST,
+                    "",
+                    format!("{TOOL_TABLE_FILE}: {e}"),
+                );
+            }
+            st.say(&format!("saved the tool table ({} tools)", rows.len()));
+            Json(json!({"ok": true, "tools": rows})).into_response()
+        }
+        Err(e) => (
+            StatusCode::BAD_REQUEST,
+            Json(json!({"ok": false, "line": e.line, "col": e.col, "error": e.message})),
+        )
+            .into_response(),
     }
 }

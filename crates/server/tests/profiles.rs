@@ -92,3 +92,36 @@ async fn profiles_are_checked_by_their_own_validation_and_used() {
             .to_string_lossy()
             .starts_with("profile-my-router")));
 }
+
+#[tokio::test]
+async fn the_tool_table_is_read_by_the_interpreter_and_saved_only_when_good() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = AppState::new(Config {
+        addr: "127.0.0.1:0".parse().unwrap(),
+        token: None,
+        job_dir: dir.path().join("jobs"),
+        web_dir: None,
+        machine: "virtual".into(),
+        upload_limit: 1 << 20,
+        open: None,
+    })
+    .unwrap();
+    let put = |body: &str| {
+        Request::put("/api/tools")
+            .body(Body::from(body.to_string()))
+            .unwrap()
+    };
+    let (s, v) = call(&st, put("T1 P1 D6 Z12.5 ;flat 6\nT2 P2 D3 Z20\n")).await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let v: Value = serde_json::from_str(&v).unwrap();
+    assert_eq!(v["tools"][0]["diameter"], 6.0);
+    assert_eq!(v["tools"][1]["length"], 20.0);
+    let (s, v) = call(&st, put("T1 P1 D6\nT2 P2 Dbad\n")).await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
+    let v: Value = serde_json::from_str(&v).unwrap();
+    assert_eq!(v["line"], 2, "{v}");
+    // The bad table did not replace the good one.
+    let (s, text) = call(&st, Request::get("/api/tools").body(Body::empty()).unwrap()).await;
+    assert_eq!(s, StatusCode::OK);
+    assert!(text.starts_with("T1 P1 D6 Z12.5"), "{text}");
+}
