@@ -292,10 +292,13 @@ async function make() {
 $('make').onclick = make;
 
 /// While a job is computed: its buttons off, Cancel on.
+let computing = false;
 function busy(on: boolean) {
+  computing = on;
   $<HTMLButtonElement>('make').disabled = on;
   $<HTMLButtonElement>('carve').disabled = on;
-  document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = !on; });
+  // Cancel appears with the job's first progress message: the server is then working on it.
+  if (!on) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = true; });
   $('job-progress').hidden = !on;
 }
 document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => {
@@ -373,6 +376,7 @@ let joined = false;
 async function onLive(m: LiveMessage) {
   panel.handle(m);
   if (m.type === 'progress') {
+    if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;
     if (!$('process-form').hidden) $('process-status').textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
   }
