@@ -23,11 +23,14 @@ pub fn continuous_delta(
         )));
     }
     const MARGIN: f64 = 1e-3;
-    Ok(std::array::from_fn(|i| match (dir[i], travel) {
-        (d, _) if d == 0.0 => 0.0,
-        (d, Some(t)) if d > 0.0 => (t[i][1] - MARGIN - pos[i]).max(0.0),
-        (_, Some(t)) => -(pos[i] - t[i][0] - MARGIN).max(0.0),
-        (d, None) => d * UNKNOWN_TRAVEL,
+    Ok(std::array::from_fn(|i| {
+        let d = dir[i];
+        match travel {
+            _ if d == 0.0 => 0.0,
+            Some(t) if d > 0.0 => (t[i][1] - MARGIN - pos[i]).max(0.0),
+            Some(t) => -(pos[i] - t[i][0] - MARGIN).max(0.0),
+            None => d * UNKNOWN_TRAVEL,
+        }
     }))
 }
 

@@ -35,16 +35,16 @@ pub async fn text(Path(name): Path<String>) -> Response {
     }
 }
 
-fn parse(body: &Bytes) -> Result<Profile, Response> {
+fn parse(body: &Bytes) -> Result<Profile, Box<Response>> {
     let text = std::str::from_utf8(body).map_err(|_| {
-        refused(
+        Box::new(refused(
             StatusCode::BAD_REQUEST,
             "",
             "the profile is not UTF-8 text".into(),
-        )
+        ))
     })?;
     Profile::parse(text, "profile")
-        .map_err(|e| refused(StatusCode::BAD_REQUEST, &e.key, e.message.clone()))
+        .map_err(|e| Box::new(refused(StatusCode::BAD_REQUEST, &e.key, e.message.clone())))
 }
 
 fn summary(p: &Profile) -> serde_json::Value {
@@ -55,7 +55,7 @@ fn summary(p: &Profile) -> serde_json::Value {
 pub async fn check(body: Bytes) -> Response {
     match parse(&body) {
         Ok(p) => Json(summary(&p)).into_response(),
-        Err(r) => r,
+        Err(r) => *r,
     }
 }
 
@@ -64,7 +64,7 @@ pub async fn check(body: Bytes) -> Response {
 pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
     let p = match parse(&body) {
         Ok(p) => p,
-        Err(r) => return r,
+        Err(r) => return *r,
     };
     let stem: String = p
         .name
