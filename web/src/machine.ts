@@ -22,6 +22,7 @@ export class MachinePanel {
   private controls = false;
   private client = 0;
   private last: Snapshot | null = null;
+  private jogging = false;
 
   constructor(private hooks: Hooks) {
     const send = (cmd: Record<string, unknown>) => {
@@ -45,13 +46,36 @@ export class MachinePanel {
         hooks.error((e as Error).message);
       }
     };
+    const continuous = () => $<HTMLSelectElement>('jog-step').value === 'continuous';
+    const feed = () => Number($<HTMLInputElement>('jog-feed').value);
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) {
+      const dir = b.dataset.jog!.split(',').map(Number);
       b.onclick = () => {
+        if (continuous()) return;
         const step = Number($<HTMLSelectElement>('jog-step').value);
-        const delta = b.dataset.jog!.split(',').map((v) => Number(v) * step);
-        send({ cmd: 'jog', delta, feed: Number($<HTMLInputElement>('jog-feed').value) });
+        send({ cmd: 'jog', delta: dir.map((v) => v * step), feed: feed() });
+      };
+      // Continuous: moves while held. The release is watched on the window (the button is
+      // disabled while the machine moves), and a page that goes away stops it on the server.
+      b.onpointerdown = (e) => {
+        if (!continuous() || b.disabled) return;
+        e.preventDefault();
+        this.jogging = true;
+        send({ cmd: 'jog_start', direction: dir, feed: feed() });
       };
     }
+    const release = () => {
+      if (!this.jogging) return;
+      this.jogging = false;
+      try { send({ cmd: 'jog_stop' }); } catch { /* the server stops it when the socket drops */ }
+    };
+    window.addEventListener('pointerup', release);
+    window.addEventListener('pointercancel', release);
+    window.addEventListener('blur', release);
+    document.addEventListener('visibilitychange', () => { if (document.hidden) release(); });
+    const so = $<HTMLInputElement>('so');
+    so.oninput = () => { $('so-value').textContent = `${so.value} %`; };
+    so.onchange = () => send({ cmd: 'spindle_override', value: Number(so.value) / 100 });
     const fo = $<HTMLInputElement>('fo');
     fo.oninput = () => { $('fo-value').textContent = `${fo.value} %`; };
     fo.onchange = () => send({ cmd: 'feed_override', value: Number(fo.value) / 100 });

@@ -6,6 +6,8 @@ import { Editor } from './editor';
 import { Preview, View } from './preview';
 import type { WorkerOut } from './worker';
 import { MachinePanel } from './machine';
+import { setupProfileEditor, setupToolEditor } from './profile';
+import { PROCESSES, ProcessKind, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 
@@ -22,6 +24,9 @@ const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs
 let program: Program = { name: 'untitled.nc', text: '', saved: false };
 let worker: Worker | null = null;
 let image: { name: string; bytes: ArrayBuffer } | null = null;
+/// The design the mill, sole and plot processes read: its name in the job folder.
+let design: { name: string; kind: ProcessKind } | null = null;
+let uploadLimit = 64 * 1024 * 1024;
 let editTimer = 0;
 
 function error(msg: string) {
@@ -143,10 +148,36 @@ editor.onChange = (text) => {
 
 // Opening files: picker, drag and drop, samples.
 const IMAGE = /\.(png|jpe?g|tiff?)$/i;
+/// The process a design file goes to: the one chosen when it takes the file, else the first.
+function processFor(name: string): ProcessKind | null {
+  const current = $<HTMLSelectElement>('process').value as ProcessKind;
+  if (PROCESSES[current]?.accept.test(name)) return current;
+  for (const k of Object.keys(PROCESSES) as ProcessKind[]) if (PROCESSES[k].accept.test(name)) return k;
+  return null;
+}
+
+/// Uploads a design into the job folder (refused here first when over the server's limit).
+async function openDesign(name: string, body: Blob | string, kind: ProcessKind) {
+  const size = typeof body === 'string' ? body.length : body.size;
+  if (size > uploadLimit) return error(`${name}: ${size} bytes is over the upload limit of ${uploadLimit}`);
+  const saved = safeName(name);
+  try {
+    await putFile(saved, body);
+  } catch (e) {
+    return error(`upload ${name}: ${(e as Error).message}`);
+  }
+  design = { name: saved, kind };
+  error('');
+  setProcess(kind);
+}
+
 async function openFile(f: File) {
+  const kind = processFor(f.name);
   if (IMAGE.test(f.name)) {
     image = { name: safeName(f.name), bytes: await f.arrayBuffer() };
     setProcess('relief');
+  } else if (kind) {
+    await openDesign(f.name, f, kind);
   } else {
     setProcess('gcode');
     loadProgram(f.name, await f.text());
@@ -171,9 +202,12 @@ window.addEventListener('drop', (e) => {
 async function openSample(name: string) {
   const r = await fetch(withToken('/api/samples/' + encodeURIComponent(name)));
   if (!r.ok) return error(await r.text());
+  const kind = processFor(name);
   if (IMAGE.test(name)) {
     image = { name, bytes: await r.arrayBuffer() };
     setProcess('relief');
+  } else if (kind) {
+    await openDesign(name, await r.text(), kind);
   } else {
     setProcess('gcode');
     loadProgram(name, await r.text());
@@ -184,17 +218,92 @@ $<HTMLSelectElement>('sample').onchange = (e) => {
   if (v) openSample(v);
 };
 
-// Processes: a G-code program as it is, or a relief carved from an image.
-function setProcess(p: 'gcode' | 'relief') {
+// Processes: a G-code program as it is, a relief carved from an image, or a design milled,
+// made into sole molds or plotted.
+type Process = 'gcode' | 'relief' | ProcessKind;
+let shownForm: ProcessKind | null = null;
+function setProcess(p: Process) {
   $<HTMLSelectElement>('process').value = p;
   $('relief-form').hidden = p !== 'relief';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
+  const isDesign = p === 'mill' || p === 'sole' || p === 'plot';
+  $('process-form').hidden = !isDesign;
+  if (isDesign && shownForm !== p) {
+    renderForm(p);
+    shownForm = p;
+    $('process-report').textContent = '';
+    $('process-status').textContent = '';
+  }
+  if (isDesign) $('process-input').textContent = design && design.kind === p ? design.name : 'a file (open one)';
+  // Plots: rapid moves are the pen up, feeds the pen down.
+  $('legend-rapid').textContent = p === 'plot' ? 'pen up' : 'rapid';
+  $('legend-feed').textContent = p === 'plot' ? 'pen down' : 'feed';
 }
 $<HTMLSelectElement>('process').onchange = (e) => {
-  const p = (e.target as HTMLSelectElement).value as 'gcode' | 'relief';
+  const p = (e.target as HTMLSelectElement).value as Process;
   if (p === 'relief' && !image) openSample('dome.png');
+  else if ((p === 'mill' || p === 'sole' || p === 'plot') && (!design || design.kind !== p)) openSample(PROCESSES[p].sample).then(() => setProcess(p));
   else setProcess(p);
 };
+
+/// Runs the chosen process on the design: the server's pipeline, its errors beside their
+/// fields, its program loaded into the editor, the preview and the machine.
+async function make() {
+  const kind = $<HTMLSelectElement>('process').value as ProcessKind;
+  if (!design || design.kind !== kind) return showFieldError(null, `open a file for ${PROCESSES[kind].title} first`);
+  clearFieldErrors();
+  const form = readForm(kind);
+  if ('field' in form) return showFieldError(form.field, form.message);
+  busy(true);
+  $('process-status').textContent = 'working…';
+  try {
+    const r = await fetch(withToken('/api/' + kind), {
+      method: 'POST', headers: { 'content-type': 'application/json' },
+      body: JSON.stringify({ file: design.name, params: form.params }),
+    });
+    const text = await r.text();
+    let body: { error?: string; field?: string | null; cancelled?: boolean; name?: string; text?: string; [k: string]: unknown };
+    try { body = JSON.parse(text); } catch { body = { error: text || `${r.status} ${r.statusText}` }; }
+    if (!r.ok) {
+      $('process-status').textContent = body.cancelled ? 'cancelled' : '';
+      if (!body.cancelled) showFieldError(body.field ?? null, body.error ?? text);
+      return;
+    }
+    const lines: string[] = [];
+    if (kind === 'mill') lines.push(...(body.report as string[]), ...(body.warning ? [String(body.warning)] : []));
+    if (kind === 'sole') {
+      lines.push(...(body.summary as string[]));
+      for (const p of body.programs as { name: string; report: string[] }[]) lines.push(p.name, ...p.report.map((l) => '  ' + l));
+    }
+    if (kind === 'plot') {
+      for (const p of body.pens as { name: string; strokes: number }[]) lines.push(`pen ${p.name}: ${p.strokes} strokes`);
+      lines.push(`planned time: ${hms(body.seconds as number)}`, ...(body.notes as string[]));
+    }
+    $('process-report').textContent = lines.join('\n');
+    $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
+    loadProgram(body.name!, body.text!, true);
+  } catch (e) {
+    $('process-status').textContent = '';
+    error(`${kind}: ${(e as Error).message}`);
+  } finally {
+    busy(false);
+  }
+}
+$('make').onclick = make;
+
+/// While a job is computed: its buttons off, Cancel on.
+let computing = false;
+function busy(on: boolean) {
+  computing = on;
+  $<HTMLButtonElement>('make').disabled = on;
+  $<HTMLButtonElement>('carve').disabled = on;
+  // Cancel appears with the job's first progress message: the server is then working on it.
+  if (!on) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = true; });
+  $('job-progress').hidden = !on;
+}
+document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => {
+  b.onclick = () => postJson('/api/cancel', '').catch((e) => error(`cancel: ${e.message}`));
+});
 
 async function carve() {
   if (!image) return error('open an image first');
@@ -207,17 +316,23 @@ async function carve() {
     }
     if (input.value !== '') params.set(input.name, input.value);
   }
-  $<HTMLButtonElement>('carve').disabled = true;
+  busy(true);
   $('carve-status').textContent = 'carving…';
   try {
-    const r = await postJson<{ name: string; text: string }>('/api/carve?' + params, image.bytes);
-    $('carve-status').textContent = `${r.name}: ${r.text.split('\n').length} lines`;
-    loadProgram(r.name, r.text, true);
+    const r = await fetch(withToken('/api/carve?' + params), { method: 'POST', body: image.bytes });
+    const body = await r.json().catch(() => ({ error: `${r.status} ${r.statusText}` }));
+    if (!r.ok) {
+      $('carve-status').textContent = body.cancelled ? 'cancelled' : '';
+      if (!body.cancelled) error(`carve: ${body.error}`);
+      return;
+    }
+    $('carve-status').textContent = `${body.name}: ${body.text.split('\n').length} lines`;
+    loadProgram(body.name, body.text, true);
   } catch (e) {
     $('carve-status').textContent = '';
     error(`carve: ${(e as Error).message}`);
   } finally {
-    $<HTMLButtonElement>('carve').disabled = false;
+    busy(false);
   }
 }
 $('carve').onclick = carve;
@@ -260,6 +375,11 @@ function followJob(s: Snapshot) {
 let joined = false;
 async function onLive(m: LiveMessage) {
   panel.handle(m);
+  if (m.type === 'progress') {
+    if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
+    $<HTMLProgressElement>('job-progress').value = m.fraction;
+    if (!$('process-form').hidden) $('process-status').textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
+  }
   if (m.type === 'status' && m.status && !joined) {
     joined = true;
     const job = m.status.job;
@@ -275,10 +395,13 @@ async function onLive(m: LiveMessage) {
 const live = new Live(onLive, () => panel.connected());
 
 async function init() {
-  const info = await getJson<{ machine: string; profiles: string[]; samples: string[]; images: string[] }>('/api/info');
+  const info = await getJson<{ machine: string; profiles: string[]; samples: string[]; images: string[]; designs: string[]; upload_limit: number }>('/api/info');
+  uploadLimit = info.upload_limit;
   const sample = $<HTMLSelectElement>('sample');
-  sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images].map((n) => `<option>${n}</option>`).join('');
+  sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images, ...info.designs].map((n) => `<option>${n}</option>`).join('');
   panel.setMachines(info.machine, info.profiles);
+  setupProfileEditor(info.profiles);
+  setupToolEditor();
 }
 init().catch((e) => error(String(e.message || e)));
 

@@ -201,6 +201,13 @@ export class Preview {
     return { min: this.min.toArray(), max: this.max.toArray() };
   }
 
+  /// Segments of each kind drawn: what the legend's colours count.
+  kindCounts() {
+    const n = [0, 0, 0];
+    for (const c of this.chunks) for (const k of c.kinds) n[k] = (n[k] ?? 0) + 1;
+    return { rapid: n[0], feed: n[1], plunge: n[2] };
+  }
+
   setView(v: View) {
     const recolour = (v === 'depth') !== (this.view === 'depth');
     this.view = v;

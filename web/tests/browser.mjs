@@ -3,7 +3,7 @@
 // each main view go to web/test-output/.
 
 import { chromium } from 'playwright-core';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, readFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 
@@ -216,6 +216,151 @@ await test('a file dropped on the page opens', async () => {
   await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
   await page.waitForFunction(() => document.getElementById('program-name').textContent === 'dropped.nc', null, { timeout: 10000 });
   await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 30, null, { timeout: 20000 });
+});
+
+await test('SVG → mill: a server-side error beside its field, then preview and run to the end', async () => {
+  const svg = readFileSync(path.join(here, '..', '..', 'samples', 'mill', 'plate.svg'), 'utf8');
+  await page.selectOption('#process', 'mill');
+  await page.waitForFunction(() => !document.getElementById('process-form').hidden, null, { timeout: 10000 });
+  // Dropped like a user would: uploaded into the job folder.
+  const dt = await page.evaluateHandle((t) => {
+    const d = new DataTransfer();
+    d.items.add(new File([t], 'part.svg', { type: 'image/svg+xml' }));
+    return d;
+  }, svg);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'part.svg', null, { timeout: 10000 });
+  await page.selectOption('#process-fields select[name="op"]', 'profile-out');
+  await page.selectOption('#process-fields select[name="entry"]', 'plunge');
+  await page.fill('#process-fields input[name="depth"]', '1');
+  await page.fill('#process-fields input[name="safe_z"]', '2');
+  await page.click('#make');
+  await page.waitForFunction(() => document.querySelector('#process-fields .field-error[data-for="safe_z"]').textContent.includes('clear-z'), null, { timeout: 30000 });
+  await shot('mill-field-error');
+  await page.fill('#process-fields input[name="safe_z"]', '20');
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('program-name').textContent === 'part.profile-outside.ngc', null, { timeout: 60000 });
+  assert((await page.textContent('.field-error[data-for="safe_z"]')) === '', 'the error is gone');
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews && window.__oficina.preview.total > 0 && document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 60000 });
+  const report = await page.textContent('#process-report');
+  assert(report.includes('gouge:    none') && report.includes('time:'), report);
+  // The preview holds rapids, feeds and plunges, each coloured by kind.
+  const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
+  assert(kinds.rapid > 0 && kinds.feed > 0 && kinds.plunge > 0, JSON.stringify(kinds));
+  await page.click('#views button[data-view="iso"]');
+  await page.waitForTimeout(300);
+  await shot('mill');
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  // Finished after it started (the console keeps the earlier job's lines too).
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started part.profile-outside.ngc');
+    return started >= 0 && c.lastIndexOf('job finished') > started;
+  }, null, { timeout: 120000 });
+  await waitState('idle');
+});
+
+await test('point list → sole mold → preview', async () => {
+  await page.selectOption('#process', 'sole');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'size34.csv', null, { timeout: 20000 });
+  await page.fill('#process-fields input[name="shrink"]', '2.5');
+  await page.click('#make');
+  await page.waitForFunction(() => /size34\.left-insert\.ngc|size34\.\w+-\w+\.ngc/.test(document.getElementById('program-name').textContent), null, { timeout: 180000 });
+  await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 100, null, { timeout: 60000 });
+  const report = await page.textContent('#process-report');
+  assert(report.includes('α = ') && (report.match(/gouge:/g) || []).length === 4, report);
+  await page.click('#views button[data-view="xy"]');
+  await page.waitForTimeout(300);
+  await shot('sole');
+});
+
+await test('SVG → plot → preview with pen up and down', async () => {
+  await page.selectOption('#process', 'plot');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'design.svg', null, { timeout: 20000 });
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('program-name').textContent === 'design.plot.ngc', null, { timeout: 60000 });
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews && window.__oficina.preview.total > 0, null, { timeout: 60000 });
+  assert((await page.textContent('#legend-rapid')) === 'pen up' && (await page.textContent('#legend-feed')) === 'pen down', 'the legend speaks of the pen');
+  const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
+  assert(kinds.rapid > 0 && kinds.feed > 0, JSON.stringify(kinds));
+  assert((await page.textContent('#process-report')).includes('strokes'), 'pens are reported');
+  await page.click('#views button[data-view="xy"]');
+  await page.waitForTimeout(300);
+  await shot('plot');
+});
+
+await test('a long carve shows progress and is cancelled', async () => {
+  await page.selectOption('#process', 'relief');
+  await page.waitForFunction(() => !document.getElementById('relief-form').hidden, null, { timeout: 10000 });
+  const nameBefore = await page.textContent('#program-name');
+  await page.fill('#relief-form input[name="width"]', '400');
+  await page.fill('#relief-form input[name="tool"]', 'ball:1');
+  await page.fill('#relief-form input[name="rough_tool"]', 'flat:3');
+  await page.fill('#relief-form input[name="stepover"]', '0.02');
+  await page.fill('#relief-form input[name="stepdown"]', '1');
+  await page.click('#carve');
+  // Cancel shows with the first progress message; clicked at once (the sample image is
+  // small: this carve takes seconds).
+  await page.click('#relief-form .cancel-job', { timeout: 20000 });
+  await page.waitForFunction(() => document.getElementById('carve-status').textContent === 'cancelled', null, { timeout: 20000 });
+  await shot('carve-cancelled');
+  assert(!(await page.isVisible('#relief-form .cancel-job')), 'Cancel hides');
+  assert((await page.textContent('#console')).includes('cancelled the job being computed'), 'the console says so');
+  assert((await page.textContent('#program-name')) === nameBefore, 'no program was loaded');
+  assert(!(await page.isDisabled('#carve')), 'another carve can start');
+});
+
+await test('continuous jog moves while held and stops on release; spindle override', async () => {
+  await waitState('idle');
+  await page.selectOption('#jog-step', 'continuous');
+  await page.fill('#jog-feed', '600');
+  const x0 = Number(await page.textContent('#mx'));
+  const b = await page.$('#jog button[data-jog="0,1,0"]');
+  const box = await b.boundingBox();
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  const y0 = Number(await page.textContent('#my'));
+  await page.mouse.down();
+  await page.waitForFunction((y) => Number(document.getElementById('my').textContent) > y + 2, y0, { timeout: 20000 });
+  await shot('jog');
+  await page.mouse.up();
+  await waitState('idle', 20000);
+  const y1 = Number(await page.textContent('#my'));
+  await page.waitForTimeout(500);
+  assert(Number(await page.textContent('#my')) === y1, 'it stays where it stopped');
+  assert(Number(await page.textContent('#mx')) === x0, 'only Y moved');
+  // 600 mm/min is 10 mm/s: a press of a second or two, far from the end of travel.
+  assert(y1 - y0 > 2 && y1 - y0 < 100, `moved ${y1 - y0} mm`);
+  await page.$eval('#so', (s) => { s.value = '120'; s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change')); });
+  await page.waitForFunction(() => document.getElementById('console').textContent.includes('spindle override 120 %'), null, { timeout: 10000 });
+  await page.selectOption('#jog-step', '1');
+});
+
+await test('the profile editor shows the profile\'s own validation and uses a good one', async () => {
+  await waitState('idle');
+  await page.click('#profile-editor summary');
+  await page.waitForFunction(() => document.getElementById('profile-text').value.includes('[travel]'), null, { timeout: 10000 });
+  const good = await page.inputValue('#profile-text');
+  await page.fill('#profile-text', good.replace(/\nx = \[[^\]]*\]/, '\nx = [9999.0, 0.0]'));
+  await page.click('#profile-check');
+  await page.waitForFunction(() => document.getElementById('profile-message').textContent.includes('travel'), null, { timeout: 10000 });
+  assert((await page.getAttribute('#profile-message', 'class')) === 'error', 'shown as an error');
+  await shot('profile-editor');
+  await page.fill('#profile-text', good.replace(/name = "[^"]*"/, 'name = "edited router"'));
+  await page.click('#profile-use');
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('edited router'), null, { timeout: 20000 });
+});
+
+await test('the tool table editor places a bad line and saves a good table', async () => {
+  await page.click('#tool-editor summary');
+  await page.fill('#tools-text', 'T1 P1 D6 Z12.5 ;flat 6\nT2 P2 Dx\n');
+  await page.click('#tools-save');
+  await page.waitForFunction(() => document.getElementById('tools-message').textContent.startsWith('line 2'), null, { timeout: 10000 });
+  await page.fill('#tools-text', 'T1 P1 D6 Z12.5 ;flat 6\nT2 P2 D3.175 Z20 ;ball\n');
+  await page.click('#tools-save');
+  await page.waitForFunction(() => document.getElementById('tools-message').textContent === 'saved 2 tools', null, { timeout: 10000 });
+  assert((await page.textContent('#tools-table')).includes('3.175'), 'the table shows the tools');
+  await shot('tool-table');
 });
 
 await test('no script errors in the page', async () => {

@@ -1,8 +1,9 @@
 //! A relief job from an uploaded image: heightmap, finishing raster (with optional roughing
-//! and rest machining) and the grbl program, reporting progress as it goes. The evaluation
-//! (stock simulation, gouge report) is `oficina carve`'s until it moves into the library.
+//! and rest machining) and the grbl program, reporting progress as it goes and stopping at
+//! the next stage when cancelled. The evaluation (stock simulation, gouge report) is
+//! `oficina carve`'s until it moves into the library.
 
-use crate::Error;
+use crate::{Error, Feedback};
 use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
 use oficina_cam::Tool;
@@ -47,12 +48,38 @@ fn positive(name: &str, v: f64, max: f64) -> Result<(), Error> {
     }
 }
 
-/// Carve `image` (PNG, JPEG or TIFF bytes named `name`); `progress(stage, fraction)`.
+/// What unwinds the planner out of a cancelled job (see [`plan_cancellable`]).
+struct Cancelled;
+
+/// The relief planner reports progress at each stage but takes no cancel flag: a cancelled
+/// job unwinds out of its progress callback with `resume_unwind` (no panic message, no
+/// hook) and is caught here; any other panic goes on unwinding.
+fn plan_cancellable(
+    design: &oficina_io::Heightmap,
+    job: &Job,
+    fb: Feedback,
+) -> Result<oficina_cam::relief::Planned, Error> {
+    let progress = |stage: &str, f: f64| {
+        if fb.is_cancelled() {
+            std::panic::resume_unwind(Box::new(Cancelled));
+        }
+        (fb.progress)(stage, f)
+    };
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        plan(design, job, &progress)
+    })) {
+        Ok(r) => r.map_err(Error::from_display),
+        Err(payload) if payload.is::<Cancelled>() => Err(Error::cancelled()),
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
+/// Carve `image` (PNG, JPEG or TIFF bytes named `name`).
 pub fn carve_relief(
     name: &str,
     image: &[u8],
     p: &ReliefParams,
-    progress: &(dyn Fn(&str, f64) + Sync),
+    fb: Feedback,
 ) -> Result<ReliefResult, Error> {
     positive("width", p.width, 10_000.0)?;
     positive("depth", p.depth, 1_000.0)?;
@@ -63,7 +90,7 @@ pub fn carve_relief(
     if !(p.safe_z.is_finite() && (0.0..=1000.0).contains(&p.safe_z)) {
         return Err(Error(format!("safe Z {}: between 0 and 1000 mm", p.safe_z)));
     }
-    progress("reading the image", 0.0);
+    fb.stage("reading the image")?;
     let design = oficina_io::load_image_bytes(
         name,
         image,
@@ -121,8 +148,8 @@ pub fn carve_relief(
         passes,
         simulate_last: false,
     };
-    let planned = plan(&design, &job, progress).map_err(Error::from_display)?;
-    progress("writing G-code", 1.0);
+    let planned = plan_cancellable(&design, &job, fb)?;
+    fb.stage("writing G-code")?;
     let program = program_text(
         &planned.toolpath,
         &PostOptions {

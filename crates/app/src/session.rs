@@ -153,6 +153,11 @@ impl Session {
                 FEED_OVERRIDE.end()
             ))),
             Command::Jog { delta, feed } => self.jog(delta, feed),
+            Command::SpindleOverride(f) if !FEED_OVERRIDE.contains(&f) => Err(Error(format!(
+                "spindle override {f}: between {} and {}",
+                FEED_OVERRIDE.start(),
+                FEED_OVERRIDE.end()
+            ))),
             cmd => self.machine.command(cmd).map_err(Error::from_display),
         }
     }

@@ -3,15 +3,10 @@
 //! `oficina plot --seed-check --machine polar-plotter` prints seed 003's timing table.
 
 use crate::machine_profile;
-use anyhow::{bail, Context};
-use oficina_geom::Point;
-use oficina_motion::estimate::estimate_with;
-use oficina_motion::PlanOptions;
-use oficina_plot::{
-    prepare, text_strokes, Format, Gray, Hatching, Optimise, PenBy, PenLift, PenMachine, Plot,
-    Settings,
-};
-use std::path::{Path, PathBuf};
+use anyhow::Context;
+use oficina_app::plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams};
+use oficina_app::Feedback;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -132,88 +127,47 @@ fn parse_xy(s: &str) -> Result<[f64; 2], String> {
     }
 }
 
-/// Reads the design into pens of strokes.
-fn load(path: &Path, a: &Args) -> anyhow::Result<Plot> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    let by = match a.pens {
-        PenByArg::Color => PenBy::Color,
-        PenByArg::Layer => PenBy::Layer,
-    };
-    match ext.as_str() {
-        "hpgl" | "plt" | "hpg" | "hgl" => {
-            let h = oficina_io::hpgl::load_hpgl(path)?;
-            if !h.imported.unsupported.is_empty() {
-                eprintln!("note: {}", h.imported.unsupported);
-            }
-            // HPGL pens are layers whatever --pens says.
-            let mut plot = Plot::from_drawing(&h.imported.drawing, PenBy::Layer, a.tolerance);
-            for l in &h.labels {
-                let strokes = text_strokes(&l.text, l.at, l.height, l.angle);
-                plot.pen_mut(&l.layer).strokes.extend(strokes);
-            }
-            Ok(plot)
-        }
-        "png" | "jpg" | "jpeg" => {
-            let (w, h, px) = oficina_plot::load_gray(path)?;
-            let strokes = oficina_plot::hatch(
-                &Gray {
-                    width: w,
-                    height: h,
-                    pixels: &px,
-                },
-                &Hatching {
-                    pixel: a.pixel,
-                    pitch: a.pitch,
-                    layers: a.hatch_layers,
-                },
-            )?;
-            let mut plot = Plot::default();
-            plot.pen_mut("#000000").strokes = strokes;
-            Ok(plot)
-        }
-        _ => {
-            let imported = oficina_io::load_drawing(path)?;
-            if !imported.unsupported.is_empty() {
-                eprintln!("note: {}", imported.unsupported);
-            }
-            Ok(Plot::from_drawing(&imported.drawing, by, a.tolerance))
-        }
-    }
-}
-
-fn machine(a: &Args, profile: &oficina_motion::Profile) -> anyhow::Result<PenMachine> {
-    let mut m = PenMachine::for_profile(profile);
-    m.lift = match a.pen {
-        LiftArg::Z => m.lift,
-        LiftArg::Servo => PenLift::Servo { down: a.servo_down },
-        LiftArg::Command => PenLift::Command {
-            down: a
-                .pen_down_cmd
-                .clone()
-                .context("--pen command needs --pen-down-cmd")?,
-            up: a
-                .pen_up_cmd
-                .clone()
-                .context("--pen command needs --pen-up-cmd")?,
+/// The form the application layer takes.
+fn params(a: &Args) -> PlotParams {
+    PlotParams {
+        format: match a.format {
+            FormatArg::Gcode => PlotFormat::Gcode,
+            FormatArg::Joint => PlotFormat::Joint,
+            FormatArg::Hpgl => PlotFormat::Hpgl,
         },
-    };
-    if let Some(f) = a.feed {
-        if !(f.is_finite() && f > 0.0) {
-            bail!("--feed {f}: must be > 0 mm/min");
-        }
-        m.draw_feed = f;
+        text: a.text.clone(),
+        text_height: a.text_height,
+        pens: match a.pens {
+            PenByArg::Color => PensBy::Color,
+            PenByArg::Layer => PensBy::Layer,
+        },
+        pen: match a.pen {
+            LiftArg::Z => Lift::Z,
+            LiftArg::Servo => Lift::Servo,
+            LiftArg::Command => Lift::Command,
+        },
+        servo_down: a.servo_down,
+        pen_down_cmd: a.pen_down_cmd.clone(),
+        pen_up_cmd: a.pen_up_cmd.clone(),
+        pen_dwell: a.pen_dwell,
+        feed: a.feed,
+        scale: a.scale,
+        at: a.at,
+        paper: a.paper,
+        pixel: a.pixel,
+        pitch: a.pitch,
+        hatch_layers: a.hatch_layers,
+        merge_tol: a.merge_tol,
+        simplify_tol: a.simplify_tol,
+        no_optimise: a.no_optimise,
+        min_ramp_steps: a.min_ramp_steps,
+        tolerance: a.tolerance,
     }
-    m.lift_dwell = a.pen_dwell;
-    Ok(m)
 }
 
 fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
     let profile = machine_profile::resolve(&a.machine)?;
-    let m = machine(a, &profile)?;
+    let m = pen_machine(&params(a), &profile)?;
     let rows = oficina_plot::seed_check(&profile, &m)?;
     println!(
         "seed 003 check on '{}' (pivot at the lower-left corner of the board; drawing feed {} mm/min)",
@@ -272,37 +226,11 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         return seed_check(&a);
     }
     let profile = machine_profile::resolve(&a.machine)?;
-    let m = machine(&a, &profile)?;
-    let mut plot = match &a.input {
-        Some(p) => load(p, &a)?,
-        None => Plot::default(),
-    };
-    if let Some(t) = &a.text {
-        let below = plot.bounds().map_or(0.0, |b| b[1] - 2.0 * a.text_height);
-        let strokes = text_strokes(t, Point::new(0.0, below), a.text_height, 0.0);
-        plot.pen_mut("#000000").strokes.extend(strokes);
+    let r = plot(a.input.as_deref(), &params(&a), &profile, Feedback::none())?;
+    for n in &r.notes {
+        eprintln!("note: {n}");
     }
-    if a.input.is_none() && a.text.is_none() {
-        bail!("nothing to plot: give a design file or --text");
-    }
-    let settings = Settings {
-        scale: a.scale,
-        at: a.at.map(|[x, y]| Point::new(x, y)),
-        paper: a.paper.map(|[w, h]| (w, h)),
-        optimise: (!a.no_optimise).then(|| Optimise {
-            merge_tol: a.merge_tol,
-            simplify_tol: a.simplify_tol,
-            ..Optimise::default()
-        }),
-        min_ramp_steps: a.min_ramp_steps,
-        format: match a.format {
-            FormatArg::Gcode => Format::Gcode,
-            FormatArg::Joint => Format::Joint,
-            FormatArg::Hpgl => Format::Hpgl,
-        },
-        joint_piece: 1.0,
-    };
-    let p = prepare(plot, &profile, &m, &settings)?;
+    let p = &r.prepared;
     println!("machine: {}", profile.name);
     for (i, pen) in p.plot.pens.iter().enumerate() {
         println!(
@@ -330,14 +258,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
             r.before.pen_down, r.after.pen_down, r.before.pen_up, r.after.pen_up
         );
     }
-    let e = estimate_with(
-        oficina_plot::to_canon(&p.plot, &m, &profile).into_iter(),
-        &profile,
-        PlanOptions::default(),
-        false,
-    )
-    .map_err(|e| anyhow::anyhow!("{e}"))?;
-    println!("planned time: {:.1} s", e.seconds);
+    println!("planned time: {:.1} s", r.seconds);
     if let Some(out) = &a.output {
         std::fs::write(out, &p.program).with_context(|| format!("writing {}", out.display()))?;
         println!("wrote {}", out.display());

@@ -1,12 +1,11 @@
 //! `oficina sole`: seed 001's mold job in one command: digitised size-N contour → graded,
 //! fitted, mirrored insert and cavity programs for both feet, each checked and timed.
 
-use crate::mill::{judge, print_judged, progress_bar, PostArgs};
-use anyhow::{bail, Context, Result};
+use crate::mill::{estimate_profile, print_judged, with_bar, PostArgs};
+use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
-use oficina_cam::ops::{preview_svg, sole_job, Part, SoleJob, GOUGE_TOL};
-use oficina_geom::{offset_areas, to_ring, Area, SizeSystem};
-use oficina_sim::Design;
+use oficina_app::sole::{sole, SoleParams};
+use oficina_app::GOUGE_REPORTED;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -40,134 +39,46 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<std::process::ExitCode> {
-    let points = oficina_io::load_points(&args.points)?;
-    let Some(system) = SizeSystem::parse(&args.system) else {
-        bail!(
-            "--system {}: use br (Brazilian/French) or us (English/American)",
-            args.system
-        );
-    };
-    if !(0.0..=20.0).contains(&args.shrink) {
-        bail!("--shrink {} %: use 0 to 20", args.shrink);
-    }
-    let job = SoleJob {
-        system,
-        shrink: args.shrink / 100.0,
+    let params = SoleParams {
+        from_size: args.from_size,
+        to_size: args.to_size,
+        system: args.system.clone(),
+        shrink: args.shrink,
         fit_tolerance: args.fit_tolerance,
-        ..SoleJob::seed(args.from_size, args.to_size)
+        check_pixel: args.check_pixel,
+        post: args.out.params(),
     };
-    let bar = progress_bar();
-    bar.set_message("grading, fitting, mirroring, toolpaths");
-    let result = sole_job(&points, &job)?;
+    let profile = estimate_profile(&args.profile);
+    let (result, bar) = with_bar(|fb| sole(&args.points, &params, &profile, fb));
+    let result = result?;
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("{}: cannot create the directory", args.output.display()))?;
-    let (a, b) = result.factors;
-    let ext = match args.out.post.to_ascii_lowercase().as_str() {
-        "sinumerik" | "sinumerik-7m" => "mpf",
-        _ => "ngc",
-    };
-    let mut lines = vec![format!(
-        "size {} → {} ({}), shrinkage {} %: α = {a:.4} (width), β = {b:.4} (length), about the heel point ({:.2}, {:.2})",
-        args.from_size, args.to_size, system.name, args.shrink, result.grading.reference.x, result.grading.reference.y
-    )];
-    lines.push(format!(
-        "contour: {} with {} blocks, max deviation {:.3} mm from the graded points{}",
-        result.fit.method,
-        result.fit.blocks,
-        result.fit.max_deviation,
-        result
-            .fallback
-            .as_ref()
-            .map(|w| format!(" (tangent circles: {w})"))
-            .unwrap_or_default()
-    ));
-    let mut worst = 0.0f64;
+    let ext = params.post.extension();
     for prog in &result.programs {
-        bar.set_message(format!("{}: post, read back, simulate, time", prog.name()));
-        let settings = vec![
-            ("points".into(), args.points.display().to_string()),
-            (
-                "job".into(),
-                format!(
-                    "{} size {} from {} ({}), shrink {} %",
-                    prog.name(),
-                    args.to_size,
-                    args.from_size,
-                    system.name,
-                    args.shrink
-                ),
-            ),
-            (
-                "block".into(),
-                format!(
-                    "{:.1} x {:.1} x {:.1} mm, part zero at its lower-left top corner",
-                    prog.block[0], prog.block[1], prog.block[2]
-                ),
-            ),
-        ];
-        let (post, format) = args
-            .out
-            .options(&format!("Oficina sole mold: {}", prog.name()), settings)?;
-        // Insert: everything outside the (clearance-reduced) outline may go; cavity: inside.
-        let area = Area::from_paths(std::slice::from_ref(&prog.contour));
-        let (dist, cut_inside) = match prog.part {
-            Part::Insert => (-GOUGE_TOL, false),
-            Part::Cavity => (GOUGE_TOL, true),
-        };
-        let rings: Vec<Vec<[f64; 2]>> = offset_areas(&area, dist, 0.001)?
-            .iter()
-            .flat_map(|a| {
-                a.paths()
-                    .map(|p| to_ring(&p.flatten(1e-4)))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-        let design = Design {
-            rings,
-            cut_inside,
-            top: 0.0,
-            floor: -prog.depth,
-        };
-        let judged = judge(
-            &prog.toolpath,
-            &post,
-            &format,
-            Some(design),
-            args.check_pixel,
-            &args.profile,
-            &bar,
-        )?;
-        let file = args.output.join(format!("{}.{ext}", prog.name()));
-        std::fs::write(&file, &judged.program)
+        let file = args.output.join(format!("{}.{ext}", prog.name));
+        std::fs::write(&file, &prog.judged.program)
             .with_context(|| format!("{}: cannot write", file.display()))?;
-        let svg = args.output.join(format!("{}.svg", prog.name()));
-        std::fs::write(
-            &svg,
-            preview_svg(std::slice::from_ref(&prog.contour), &prog.toolpath),
-        )?;
-        if let Some(stock) = &judged.stock_png {
-            oficina_sim::render_png(
-                stock,
-                &args.output.join(format!("{}.stock.png", prog.name())),
-            )
-            .map_err(anyhow::Error::msg)?;
+        let svg = args.output.join(format!("{}.svg", prog.name));
+        std::fs::write(&svg, &prog.preview_svg)?;
+        if let Some(stock) = &prog.judged.stock {
+            oficina_sim::render_png(stock, &args.output.join(format!("{}.stock.png", prog.name)))
+                .map_err(anyhow::Error::msg)?;
         }
-        worst = worst.max(judged.gouge.map_or(0.0, |g| g.0));
         bar.suspend(|| {
             println!(
                 "{} ({} operations, {} moves)",
                 file.display(),
-                prog.toolpath.operations.len(),
-                prog.toolpath.move_count()
+                prog.operations,
+                prog.moves
             );
-            print_judged(&judged);
+            print_judged(&prog.judged);
         });
     }
     bar.finish_and_clear();
-    for l in &lines {
+    for l in &result.summary {
         println!("{l}");
     }
-    Ok(if worst > 1e-3 {
+    Ok(if result.worst_gouge() > GOUGE_REPORTED {
         std::process::ExitCode::from(2)
     } else {
         std::process::ExitCode::SUCCESS

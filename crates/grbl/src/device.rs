@@ -103,19 +103,51 @@ pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
 /// The real-time bytes that take grbl's feed override from 100 % to `factor` (10–200 %,
 /// in grbl's 10 % and 1 % steps).
 pub fn feed_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
+    override_bytes(
+        "feed",
+        factor,
+        [
+            Realtime::FeedOverrideReset,
+            Realtime::FeedOverridePlus10,
+            Realtime::FeedOverrideMinus10,
+            Realtime::FeedOverridePlus1,
+            Realtime::FeedOverrideMinus1,
+        ],
+    )
+}
+
+/// The real-time bytes (0x99 reset, then 0x9A/0x9B ±10 %, 0x9C/0x9D ±1 %) that take grbl's
+/// spindle override from 100 % to `factor` (10–200 %).
+pub fn spindle_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
+    override_bytes(
+        "spindle",
+        factor,
+        [
+            Realtime::SpindleOverrideReset,
+            Realtime::SpindleOverridePlus10,
+            Realtime::SpindleOverrideMinus10,
+            Realtime::SpindleOverridePlus1,
+            Realtime::SpindleOverrideMinus1,
+        ],
+    )
+}
+
+/// Reset to 100 %, then tens and ones towards the target: `[reset, +10, -10, +1, -1]`.
+fn override_bytes(what: &str, factor: f64, keys: [Realtime; 5]) -> Result<Vec<Realtime>, String> {
     if !(0.1..=2.0).contains(&factor) {
         return Err(format!(
-            "feed override {factor} is outside grbl's 0.1 … 2.0"
+            "{what} override {factor} is outside grbl's 0.1 … 2.0"
         ));
     }
+    let [reset, plus10, minus10, plus1, minus1] = keys;
     let target = (factor * 100.0).round() as i32;
-    let mut out = vec![Realtime::FeedOverrideReset];
+    let mut out = vec![reset];
     let diff = target - 100;
     let (tens, ones) = (diff / 10, diff % 10);
     let (ten, one) = if diff >= 0 {
-        (Realtime::FeedOverridePlus10, Realtime::FeedOverridePlus1)
+        (plus10, plus1)
     } else {
-        (Realtime::FeedOverrideMinus10, Realtime::FeedOverrideMinus1)
+        (minus10, minus1)
     };
     out.extend(std::iter::repeat_n(ten, tens.unsigned_abs() as usize));
     out.extend(std::iter::repeat_n(one, ones.unsigned_abs() as usize));
@@ -257,6 +289,14 @@ impl Machine for GrblDevice {
                 Command::Jog { .. } => {
                     Err(MachineError::Busy("jogging needs an idle machine".into()))
                 }
+                // A program moves, not a jog: nothing to cancel.
+                Command::JogCancel => Ok(()),
+                Command::SpindleOverride(f) => {
+                    for r in spindle_override_bytes(f).map_err(MachineError::Refused)? {
+                        send(Control::Realtime(r))?;
+                    }
+                    Ok(())
+                }
                 Command::Unlock => Err(MachineError::Busy("a job is running".into())),
             };
         }
@@ -284,6 +324,14 @@ impl Machine for GrblDevice {
                         }
                         None => Ok(()),
                     }
+                }
+                // 0x85: grbl drops the jog motion planned and decelerates to a stop.
+                Command::JogCancel => s.realtime(Realtime::JogCancel).map_err(io),
+                Command::SpindleOverride(f) => {
+                    for r in spindle_override_bytes(f)? {
+                        s.realtime(r).map_err(io)?;
+                    }
+                    Ok(())
                 }
                 Command::Unlock => match s.command("$X").map_err(io)?.error {
                     Some(code) => Err(format!(
@@ -360,5 +408,33 @@ mod tests {
             vec![FeedOverrideReset, FeedOverrideMinus10, FeedOverrideMinus10]
         );
         assert!(feed_override_bytes(3.0).is_err());
+    }
+}
+
+#[cfg(test)]
+mod override_tests {
+    use super::*;
+
+    fn bytes(v: Vec<Realtime>) -> Vec<u8> {
+        v.into_iter().map(Realtime::byte).collect()
+    }
+
+    #[test]
+    fn spindle_override_is_reset_then_tens_then_ones_in_grbls_bytes() {
+        // grbl 1.1 doc: 0x99 reset to 100 %, 0x9A +10 %, 0x9B -10 %, 0x9C +1 %, 0x9D -1 %.
+        assert_eq!(
+            bytes(spindle_override_bytes(1.23).unwrap()),
+            [0x99, 0x9A, 0x9A, 0x9C, 0x9C, 0x9C]
+        );
+        assert_eq!(
+            bytes(spindle_override_bytes(0.78).unwrap()),
+            [0x99, 0x9B, 0x9B, 0x9D, 0x9D]
+        );
+        assert_eq!(bytes(spindle_override_bytes(1.0).unwrap()), [0x99]);
+        assert!(spindle_override_bytes(2.5).is_err());
+        assert!(spindle_override_bytes(f64::NAN).is_err());
+        // The feed override keeps its own bytes.
+        assert_eq!(bytes(feed_override_bytes(1.1).unwrap()), [0x90, 0x91]);
+        assert_eq!(Realtime::JogCancel.byte(), 0x85);
     }
 }

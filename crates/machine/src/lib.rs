@@ -99,6 +99,11 @@ pub enum Command {
     Jog { delta: [f64; 3], feed: f64 },
     /// Feed override factor for motion not yet started (0.1 … 2.0).
     FeedOverride(f64),
+    /// End a jog now, decelerating (a continuous jog's button released, or its page gone);
+    /// nothing when no jog moves, and never a program's motion.
+    JogCancel,
+    /// Spindle speed override factor (0.1 … 2.0, grbl's 10–200 %).
+    SpindleOverride(f64),
     /// Leave the alarm state.
     Unlock,
 }

@@ -30,6 +30,11 @@ pub struct VirtualMachine {
     max_line_len: usize,
     /// Tool table for G43 and M6 (empty: every tool has no offset).
     tools: ToolTable,
+    /// The motion running is a jog (what `JogCancel` may stop).
+    jogging: bool,
+    /// The spindle override asked for; the virtual machine has no spindle to slow, so it
+    /// is only kept and confirmed.
+    spindle_override: f64,
 }
 
 impl VirtualMachine {
@@ -46,6 +51,8 @@ impl VirtualMachine {
             connected: false,
             max_line_len: 0,
             tools: ToolTable::default(),
+            jogging: false,
+            spindle_override: 1.0,
         }
     }
 
@@ -95,6 +102,7 @@ impl Machine for VirtualMachine {
         if let Some(line) = job.start_line {
             check_start_line(&job.text, line).map_err(MachineError::Refused)?;
         }
+        self.jogging = false;
         let (tx, rx) = channel();
         self.cmd_tx = Some(tx);
         let (profile, status, events, max_line_len, tools) = (
@@ -140,9 +148,33 @@ impl Machine for VirtualMachine {
                     text: Arc::new(text),
                     start_line: None,
                     pace: Pace::Speed(1.0),
-                })
+                })?;
+                self.jogging = true;
+                Ok(())
             }
             (Command::Jog { .. }, s) => Err(MachineError::Busy(format!("cannot jog while {s:?}"))),
+            (Command::JogCancel, State::Run | State::Holding) if self.jogging => {
+                match &self.cmd_tx {
+                    Some(tx) => tx
+                        .send(Command::Stop)
+                        .map_err(|_| MachineError::NotConnected),
+                    None => Ok(()),
+                }
+            }
+            (Command::JogCancel, _) => Ok(()),
+            (Command::SpindleOverride(f), _) => {
+                if !(0.1..=2.0).contains(f) {
+                    return Err(MachineError::Refused(format!(
+                        "spindle override {f} is outside 0.1 … 2.0"
+                    )));
+                }
+                self.spindle_override = *f;
+                let _ = self.ev_tx.send(Event::Message(format!(
+                    "spindle override {:.0} % (the virtual machine has no spindle to slow)",
+                    f * 100.0
+                )));
+                Ok(())
+            }
             _ => match &self.cmd_tx {
                 Some(tx) if tx.send(cmd.clone()).is_ok() => Ok(()),
                 _ => Err(MachineError::Refused(format!("{cmd:?}: no job is running"))),

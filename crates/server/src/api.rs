@@ -2,6 +2,7 @@
 //! and the page itself.
 
 use crate::files::path_in;
+use crate::jobs;
 use crate::samples;
 use crate::state::lock;
 use crate::{auth, AppState};
@@ -11,9 +12,7 @@ use axum::http::{header, StatusCode};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
-use oficina_app::{
-    carve_relief, check_program, for_each_segment, profile, CheckOptions, ReliefParams,
-};
+use oficina_app::{check_program, for_each_segment, profile, CheckOptions};
 use oficina_gcode::Dialect;
 use serde::Deserialize;
 use serde_json::json;
@@ -36,7 +35,18 @@ pub fn routes(state: Arc<AppState>) -> Router {
         .route("/api/files/{name}", get(read_file).put(write_file))
         .route("/api/check", post(check))
         .route("/api/preview", post(preview))
-        .route("/api/carve", post(carve))
+        .route("/api/carve", post(jobs::carve))
+        .route("/api/mill", post(jobs::mill_job))
+        .route("/api/sole", post(jobs::sole_job))
+        .route("/api/plot", post(jobs::plot_job))
+        .route("/api/cancel", post(jobs::cancel))
+        .route("/api/profiles/check", post(crate::profiles::check))
+        .route("/api/profiles/use", post(crate::profiles::use_profile))
+        .route("/api/profiles/{name}", get(crate::profiles::text))
+        .route(
+            "/api/tools",
+            get(crate::profiles::tools_text).put(crate::profiles::save_tools),
+        )
         .layer(DefaultBodyLimit::max(limit))
         .route_layer(axum::middleware::from_fn_with_state(
             state.clone(),
@@ -49,11 +59,13 @@ async fn info(State(st): State<Arc<AppState>>) -> Json<serde_json::Value> {
     let profiles: Vec<&str> = profile::BUNDLED.iter().map(|(n, _)| *n).collect();
     let programs: Vec<&str> = samples::PROGRAMS.iter().map(|(n, _)| *n).collect();
     let images: Vec<&str> = samples::IMAGES.iter().map(|(n, _)| *n).collect();
+    let designs: Vec<&str> = samples::DESIGNS.iter().map(|(n, _)| *n).collect();
     Json(json!({
         "machine": st.config.machine,
         "profiles": profiles,
         "samples": programs,
         "images": images,
+        "designs": designs,
         "upload_limit": st.config.upload_limit,
     }))
 }
@@ -91,6 +103,9 @@ async fn running_job(State(st): State<Arc<AppState>>) -> ApiResult {
 
 async fn sample(Path(name): Path<String>) -> ApiResult {
     if let Some((_, t)) = samples::PROGRAMS.iter().find(|(n, _)| *n == name) {
+        return Ok(t.to_string().into_response());
+    }
+    if let Some((_, t)) = samples::DESIGNS.iter().find(|(n, _)| *n == name) {
         return Ok(t.to_string().into_response());
     }
     if let Some((_, b)) = samples::IMAGES.iter().find(|(n, _)| *n == name) {
@@ -234,51 +249,6 @@ async fn preview(
         Body::from_stream(stream),
     )
         .into_response())
-}
-
-/// The image's name (for messages and the program's name), beside the relief parameters in
-/// the same query (serde's `flatten` would read every number as a string).
-#[derive(Deserialize)]
-struct ImageName {
-    name: String,
-}
-
-async fn carve(
-    State(st): State<Arc<AppState>>,
-    Query(q): Query<ImageName>,
-    Query(params): Query<ReliefParams>,
-    body: Bytes,
-) -> ApiResult {
-    let stem = q.name.rsplit_once('.').map_or(q.name.as_str(), |(s, _)| s);
-    let out_name = format!("{}.nc", crate::files::safe_name(stem).map_err(bad)?);
-    let out = path_in(&st.config.job_dir, &out_name).map_err(bad)?;
-    let live = st.clone();
-    let name = q.name.clone();
-    let result = tokio::task::spawn_blocking(move || {
-        let last = std::sync::Mutex::new(-1i64);
-        carve_relief(&name, &body, &params, &|stage: &str, f: f64| {
-            // At most a hundred progress messages per stage.
-            let pct = (f * 100.0) as i64;
-            let mut l = lock(&last);
-            if pct != *l {
-                *l = pct;
-                let _ = live
-                    .live
-                    .send(json!({"type": "progress", "stage": stage, "fraction": f}).to_string());
-            }
-        })
-    })
-    .await
-    .map_err(|e| bad(e.to_string()))?
-    .map_err(|e| bad(e.to_string()))?;
-    tokio::fs::write(&out, &result.program)
-        .await
-        .map_err(|e| bad(format!("{out_name}: {e}")))?;
-    st.say(&format!(
-        "carved {} ({} x {} pixels of {:.3} mm) into {out_name}",
-        q.name, result.pixels[0], result.pixels[1], result.pixel_size
-    ));
-    Ok(Json(json!({"name": out_name, "text": result.program})).into_response())
 }
 
 /// The built page, or a page that says how to build it.

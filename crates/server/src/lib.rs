@@ -29,6 +29,8 @@
 mod api;
 mod auth;
 mod files;
+mod jobs;
+mod profiles;
 mod samples;
 mod state;
 mod ws;

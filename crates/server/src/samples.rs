@@ -22,3 +22,18 @@ pub const IMAGES: &[(&str, &[u8])] = &[(
 
 /// The program the page opens with when none is given.
 pub const DEFAULT: &str = "plate.nc";
+
+/// Designs for the processes: a drawing to mill, a contour for sole molds, a drawing to plot.
+pub const DESIGNS: &[(&str, &str)] = &[
+    ("plate.svg", include_str!("../../../samples/mill/plate.svg")),
+    ("holes.svg", include_str!("../../../samples/mill/holes.svg")),
+    (
+        "size34.csv",
+        include_str!("../../../samples/sole/size34.csv"),
+    ),
+    (
+        "design.svg",
+        include_str!("../../../samples/plot/design.svg"),
+    ),
+    ("house.plt", include_str!("../../../samples/plot/house.plt")),
+];

@@ -42,6 +42,8 @@ pub struct AppState {
     pub controller: Mutex<Option<u64>>,
     next_client: AtomicU64,
     pub live: broadcast::Sender<String>,
+    /// The CAM job being computed, if any (cancelled through `/api/cancel`).
+    pub computing: crate::jobs::Computing,
 }
 
 /// Lines of console history a new page receives.
@@ -71,6 +73,7 @@ impl AppState {
             controller: Mutex::new(None),
             next_client: AtomicU64::new(1),
             live,
+            computing: Default::default(),
         }))
     }
 

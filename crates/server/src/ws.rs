@@ -58,6 +58,15 @@ enum Request {
         delta: [f64; 3],
         feed: f64,
     },
+    /// Continuous jog: moves along `direction` until `jog_stop` (or this page is lost).
+    JogStart {
+        direction: [f64; 3],
+        feed: f64,
+    },
+    JogStop,
+    SpindleOverride {
+        value: f64,
+    },
     Home,
     Zero {
         axes: [bool; 3],
@@ -121,6 +130,8 @@ fn release(st: &AppState, me: u64) {
     if *c == Some(me) {
         *c = None;
         drop(c);
+        // A held jog button whose page is gone must not run on; a job does.
+        let _ = st.with_session(|s| s.jog_stop().map_err(|e| e.to_string()));
         announce_control(st);
     }
 }
@@ -182,6 +193,13 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
             cmd(Command::FeedOverride(value)).map(|()| "feed_override")
         }
         Request::Jog { delta, feed } => cmd(Command::Jog { delta, feed }).map(|()| "jog"),
+        Request::JogStart { direction, feed } => st
+            .with_session(|s| s.jog_start(direction, feed).map_err(|e| e.to_string()))
+            .map(|()| "jog_start"),
+        Request::JogStop => cmd(Command::JogCancel).map(|()| "jog_stop"),
+        Request::SpindleOverride { value } => {
+            cmd(Command::SpindleOverride(value)).map(|()| "spindle_override")
+        }
         Request::Home => st
             .with_session(|s| s.home().map_err(|e| e.to_string()))
             .map(|()| "home"),

@@ -1,0 +1,48 @@
+//! What every job pipeline is handed besides its parameters: where to report progress and
+//! the flag that cancels it. Pipelines look at the flag between stages and inside long
+//! loops that report progress.
+
+use crate::Error;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+pub type ProgressFn<'a> = &'a (dyn Fn(&str, f64) + Sync);
+
+#[derive(Clone, Copy)]
+pub struct Feedback<'a> {
+    /// `progress(stage, fraction)`, fraction in 0…1 within the stage.
+    pub progress: ProgressFn<'a>,
+    pub cancel: &'a AtomicBool,
+}
+
+static NEVER: AtomicBool = AtomicBool::new(false);
+
+impl Feedback<'static> {
+    /// Nobody listens and nobody cancels.
+    pub fn none() -> Feedback<'static> {
+        Feedback {
+            progress: &|_, _| {},
+            cancel: &NEVER,
+        }
+    }
+}
+
+impl Feedback<'_> {
+    /// A new stage begins: reported, unless the job was cancelled.
+    pub fn stage(&self, name: &str) -> Result<(), Error> {
+        self.check()?;
+        (self.progress)(name, 0.0);
+        Ok(())
+    }
+
+    pub fn check(&self) -> Result<(), Error> {
+        if self.cancel.load(Ordering::Relaxed) {
+            Err(Error::cancelled())
+        } else {
+            Ok(())
+        }
+    }
+
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}

@@ -1,0 +1,146 @@
+//! Judging a milling program the way the control will see it: post it, read it back with
+//! the interpreter, simulate the stock against the design, and time it.
+
+use crate::{Error, Feedback};
+use oficina_cam::{Tool, Toolpath};
+use oficina_post::{post_for, read_back, write_program_with, Format, PostOptions};
+use oficina_sim::{check_mill, feed_only_estimate, Design};
+use serde::Serialize;
+use std::collections::HashMap;
+
+/// Rapid rate for the feed-only estimate, mm/min (the planner's estimate uses the profile).
+const FEED_ONLY_RAPID: f64 = 6000.0;
+/// Gouges deeper than this are reported as cuts outside the drawing, mm.
+pub const GOUGE_REPORTED: f64 = 1e-3;
+
+/// What a milling program was judged to be.
+#[derive(Serialize)]
+pub struct Judged {
+    #[serde(skip)]
+    pub program: String,
+    /// Deepest cut outside the design and where, when the design was checked.
+    pub gouge: Option<(f64, [f64; 2])>,
+    pub leftover_mean: Option<f64>,
+    pub feed_only_s: f64,
+    pub planner_s: Option<f64>,
+    pub planner_error: Option<String>,
+    #[serde(skip)]
+    pub stock: Option<oficina_io::Heightmap>,
+}
+
+impl Judged {
+    pub fn gouged(&self) -> bool {
+        self.gouge.is_some_and(|(g, _)| g > GOUGE_REPORTED)
+    }
+
+    /// The report, a line each: gouge, leftover, time.
+    pub fn summary_lines(&self) -> Vec<String> {
+        let hms = |s| oficina_motion::format_hms(s, 0);
+        let mut lines = vec![match self.gouge {
+            Some((g, at)) if g > GOUGE_REPORTED => format!(
+                "gouge:    {g:.3} mm at ({:.2}, {:.2})  ← cut outside the drawing",
+                at[0], at[1]
+            ),
+            Some(_) => "gouge:    none (within 0.001 mm)".into(),
+            None => "gouge:    not checked (a cut on the line is its own design)".into(),
+        }];
+        if let Some(l) = self.leftover_mean {
+            lines.push(format!(
+                "leftover: {l:.4} mm mean over the checked area, above what the last tool can reach"
+            ));
+        }
+        lines.push(match (self.planner_s, &self.planner_error) {
+            (Some(s), _) => format!(
+                "time:     {} (planner), {} at programmed feeds",
+                hms(s),
+                hms(self.feed_only_s)
+            ),
+            (None, Some(e)) => format!(
+                "time:     {} at programmed feeds (planner: {e})",
+                hms(self.feed_only_s)
+            ),
+            _ => format!("time:     {} at programmed feeds", hms(self.feed_only_s)),
+        });
+        lines
+    }
+}
+
+/// Posts, reads back as the interpreter does, simulates against `design`, times on
+/// `profile` (its load error is reported, not fatal: the program is still good).
+pub fn judge(
+    tp: &Toolpath,
+    post: &PostOptions,
+    format: &Format,
+    design: Option<Design>,
+    check_pixel: f64,
+    profile: &Result<oficina_motion::Profile, String>,
+    fb: Feedback,
+) -> Result<Judged, Error> {
+    fb.stage("writing the program")?;
+    let mut buf = Vec::new();
+    write_program_with(tp, post, format, post_for(post.dialect).as_ref(), &mut buf)
+        .map_err(|e| Error::chain(&e))?;
+    let program = String::from_utf8(buf).map_err(|e| Error::chain(&e))?;
+    fb.stage("reading it back as the control will")?;
+    let canon = read_back(&program, post)
+        .map_err(|e| Error(format!("internal error, please report: {e}")))?;
+    let tools: HashMap<u32, Tool> = tp
+        .operations
+        .iter()
+        .map(|o| (o.tool_number, o.tool.clone()))
+        .collect();
+    let (mut gouge, mut leftover_mean, mut stock) = (None, None, None);
+    if let Some(design) = design {
+        fb.stage("simulating the stock")?;
+        // The tool in the spindle when the program starts: the legacy control has no tool
+        // words, and the Sinumerik program moves to its change position before T01 M06.
+        // Nothing after the last motion cuts (the Sinumerik end loads the empty T99).
+        let end = canon
+            .iter()
+            .rposition(|c| c.op.is_motion())
+            .map_or(0, |k| k + 1);
+        let mut ops = canon[..end].to_vec();
+        if let Some(first) = tp.operations.first() {
+            ops.insert(
+                0,
+                oficina_canon::Canon {
+                    line: 0,
+                    op: oficina_canon::CanonOp::SelectTool(first.tool_number),
+                },
+            );
+            let check = check_mill(
+                &ops,
+                &tools,
+                &design,
+                check_pixel,
+                2.0 * first.tool.diameter + 2.0,
+                tp.safe_z,
+                &tp.operations.last().expect("one").tool,
+            )
+            .map_err(|e| Error::chain(&e))?;
+            gouge = Some((check.report.max_gouge, check.report.gouge_at));
+            leftover_mean = Some(check.report.scallop_mean);
+            stock = Some(check.stock);
+        }
+    }
+    fb.stage("estimating time")?;
+    let feed_only_s = feed_only_estimate(&canon, [0.0, 0.0, tp.safe_z], FEED_ONLY_RAPID);
+    let (planner_s, planner_error) = match profile {
+        Ok(p) => {
+            match oficina_motion::estimate(oficina_sim::to_machine(&canon, tp.safe_z + 1.0), p) {
+                Ok(e) => (Some(e.seconds), None),
+                Err(e) => (None, Some(e.to_string())),
+            }
+        }
+        Err(e) => (None, Some(e.clone())),
+    };
+    Ok(Judged {
+        program,
+        gouge,
+        leftover_mean,
+        feed_only_s,
+        planner_s,
+        planner_error,
+        stock,
+    })
+}

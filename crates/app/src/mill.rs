@@ -1,0 +1,253 @@
+//! A 2.5D milling job: one operation (pocket, profile, drill) on an SVG/DXF drawing →
+//! program, SVG preview, stock check, time. `oficina mill` and the workbench both run it.
+
+use crate::judge::{judge, Judged};
+use crate::{Error, Feedback, PostParams};
+use oficina_cam::ops::{
+    allowed_region, preview_svg, toolpath, Cut, DrillParams, Entry, MillOp, PocketParams,
+    ProfileParams, Side, Strategy, Tabs,
+};
+use oficina_cam::Tool;
+use oficina_sim::Design;
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum MillOpKind {
+    Pocket,
+    ProfileIn,
+    ProfileOut,
+    ProfileOn,
+    Drill,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum EntryKind {
+    Ramp,
+    Helix,
+    Plunge,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PocketStrategy {
+    Offset,
+    Zigzag,
+}
+
+/// The form of a milling job; lengths in mm, feeds in mm/min, angles in degrees. The
+/// defaults are the CLI's.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default)]
+pub struct MillParams {
+    pub op: MillOpKind,
+    /// flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
+    pub tool: String,
+    pub tool_number: u32,
+    /// Depth below the stock top.
+    pub depth: f64,
+    /// Largest depth per pass (default: half the tool diameter).
+    pub stepdown: Option<f64>,
+    /// Pocket step-over (default 0.6 × tool diameter).
+    pub stepover: Option<f64>,
+    pub strategy: PocketStrategy,
+    /// Stock left by the depth passes for one finishing pass at full depth.
+    pub allowance: f64,
+    pub feed: f64,
+    /// Ramp, helix and plunge feed (default: a third of the feed).
+    pub plunge_feed: Option<f64>,
+    pub rpm: f64,
+    pub entry: EntryKind,
+    pub ramp_angle: f64,
+    /// Helix radius (default: a third of the tool diameter).
+    pub helix_radius: Option<f64>,
+    /// Tabs per contour for profiles (0 = none).
+    pub tabs: usize,
+    pub tab_width: f64,
+    pub tab_height: f64,
+    /// Tangent lead-out arc radius after a profile.
+    pub lead_out: f64,
+    /// Drill peck depth (G83).
+    pub peck: Option<f64>,
+    /// Drill dwell at the bottom, s (G82).
+    pub dwell: f64,
+    /// Retraction plane above the stock top.
+    pub clear_z: f64,
+    /// Safe Z for tool changes and the end.
+    pub safe_z: f64,
+    /// Grid of the stock simulation.
+    pub check_pixel: f64,
+    #[serde(flatten)]
+    pub post: PostParams,
+}
+
+impl Default for MillParams {
+    fn default() -> Self {
+        MillParams {
+            op: MillOpKind::Pocket,
+            tool: "flat:6".into(),
+            tool_number: 1,
+            depth: 3.0,
+            stepdown: None,
+            stepover: None,
+            strategy: PocketStrategy::Offset,
+            allowance: 0.2,
+            feed: 800.0,
+            plunge_feed: None,
+            rpm: 12000.0,
+            entry: EntryKind::Ramp,
+            ramp_angle: 3.0,
+            helix_radius: None,
+            tabs: 0,
+            tab_width: 5.0,
+            tab_height: 1.0,
+            lead_out: 0.0,
+            peck: None,
+            dwell: 0.0,
+            clear_z: 5.0,
+            safe_z: 20.0,
+            check_pixel: 0.2,
+            post: PostParams::default(),
+        }
+    }
+}
+
+pub struct MillResult {
+    /// What the drawing held that was left out, if anything.
+    pub warning: Option<String>,
+    pub op_name: &'static str,
+    pub moves: usize,
+    pub preview_svg: String,
+    pub judged: Judged,
+}
+
+/// A number in a form: finite and within `lo..=hi`.
+fn within(flag: &str, v: f64, lo: f64, hi: f64) -> Result<(), Error> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(Error(format!("--{flag} {v}: use {lo} to {hi}")))
+    }
+}
+
+/// Mills `input` (SVG or DXF) as `p` says; `profile` times it (its load error is reported).
+pub fn mill(
+    input: &Path,
+    p: &MillParams,
+    profile: &Result<oficina_motion::Profile, String>,
+    fb: Feedback,
+) -> Result<MillResult, Error> {
+    within("feed", p.feed, 1e-3, 1e6)?;
+    within("rpm", p.rpm, 0.0, 1e6)?;
+    within("check-pixel", p.check_pixel, 0.01, 10.0)?;
+    fb.stage("reading the drawing")?;
+    let imported = oficina_io::load_drawing(input).map_err(|e| Error::chain(&e))?;
+    let warning = (!imported.unsupported.is_empty())
+        .then(|| format!("{}: {}", input.display(), imported.unsupported));
+    let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
+    if paths.is_empty() {
+        return Err(Error(format!(
+            "{}: the drawing has no paths",
+            input.display()
+        )));
+    }
+    let tool: Tool = p
+        .tool
+        .parse()
+        .map_err(|e| Error(format!("--tool {}: {e}", p.tool)))?;
+    let d = tool.diameter;
+    let entry = match p.entry {
+        EntryKind::Plunge => Entry::Plunge,
+        EntryKind::Ramp => Entry::Ramp {
+            angle: p.ramp_angle,
+        },
+        EntryKind::Helix => Entry::Helix {
+            radius: p.helix_radius.unwrap_or(d / 3.0),
+            angle: p.ramp_angle,
+        },
+    };
+    let cut = Cut {
+        tool_number: p.tool_number,
+        tool,
+        spindle_rpm: p.rpm,
+        feed: p.feed / 60.0,
+        plunge_feed: p.plunge_feed.unwrap_or(p.feed / 3.0) / 60.0,
+        top: 0.0,
+        depth: p.depth,
+        stepdown: p.stepdown.unwrap_or((d / 2.0).min(p.depth)),
+        clear_z: p.clear_z,
+        entry,
+    };
+    let profile_op = |side| {
+        MillOp::Profile(ProfileParams {
+            side,
+            allowance: if matches!(side, Side::On) {
+                0.0
+            } else {
+                p.allowance
+            },
+            tabs: (p.tabs > 0).then_some(Tabs {
+                count: p.tabs,
+                width: p.tab_width,
+                height: p.tab_height,
+            }),
+            lead_out: p.lead_out,
+        })
+    };
+    let op = match p.op {
+        MillOpKind::Pocket => MillOp::Pocket(PocketParams {
+            strategy: match p.strategy {
+                PocketStrategy::Zigzag => Strategy::ZigZag,
+                PocketStrategy::Offset => Strategy::Offset,
+            },
+            stepover: p.stepover.unwrap_or(0.6 * d),
+            allowance: p.allowance,
+        }),
+        MillOpKind::ProfileIn => profile_op(Side::Inside),
+        MillOpKind::ProfileOut => profile_op(Side::Outside),
+        MillOpKind::ProfileOn => profile_op(Side::On),
+        MillOpKind::Drill => MillOp::Drill(DrillParams {
+            peck: p.peck,
+            dwell: p.dwell,
+        }),
+    };
+    if p.safe_z < p.clear_z {
+        return Err(Error(format!(
+            "--safe-z {} must be at or above --clear-z {}",
+            p.safe_z, p.clear_z
+        )));
+    }
+    fb.stage(&format!("{} with {}", op.name(), cut.tool.spec()))?;
+    let tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| Error::chain(&e))?;
+    let settings = vec![
+        ("input".into(), input.display().to_string()),
+        ("operation".into(), op.name().into()),
+        (
+            "tool".into(),
+            format!("T{} {}", cut.tool_number, cut.tool.spec()),
+        ),
+        (
+            "depth".into(),
+            format!("{} mm in passes of at most {} mm", cut.depth, cut.stepdown),
+        ),
+    ];
+    let (post, format) = p.post.options("Oficina 2.5D milling", settings)?;
+    let design = allowed_region(&paths, &op)
+        .map_err(|e| Error::chain(&e))?
+        .map(|(rings, cut_inside)| Design {
+            rings,
+            cut_inside,
+            top: cut.top,
+            floor: cut.bottom(),
+        });
+    let judged = judge(&tp, &post, &format, design, p.check_pixel, profile, fb)?;
+    Ok(MillResult {
+        warning,
+        op_name: op.name(),
+        moves: tp.move_count(),
+        preview_svg: preview_svg(&paths, &tp),
+        judged,
+    })
+}

@@ -1,0 +1,255 @@
+//! A pen-plotting job: a drawing (SVG, DXF, HPGL, an image to hatch, or text) → an
+//! optimised program for a plotter profile, its SVG preview, the optimiser's report and the
+//! planned time. `oficina plot` and the workbench both run it.
+
+use crate::{Error, Feedback};
+use oficina_geom::Point;
+use oficina_motion::estimate::estimate_with;
+use oficina_motion::{PlanOptions, Profile};
+use oficina_plot::{
+    prepare, text_strokes, Format, Gray, Hatching, Optimise, PenBy, PenLift, PenMachine, Plot,
+    Prepared, Settings,
+};
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlotFormat {
+    Gcode,
+    Joint,
+    Hpgl,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum PensBy {
+    Color,
+    Layer,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub enum Lift {
+    Z,
+    Servo,
+    Command,
+}
+
+/// The form of a plot; lengths in mm, feeds in mm/min. The defaults are the CLI's.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(default)]
+pub struct PlotParams {
+    pub format: PlotFormat,
+    /// Text to draw in a single-stroke Hershey font (besides or instead of the input).
+    pub text: Option<String>,
+    pub text_height: f64,
+    pub pens: PensBy,
+    pub pen: Lift,
+    /// Servo value for pen down (S word).
+    pub servo_down: f64,
+    pub pen_down_cmd: Option<String>,
+    pub pen_up_cmd: Option<String>,
+    /// Seconds to wait after each pen move.
+    pub pen_dwell: f64,
+    /// Drawing feed (default: the profile's default feed).
+    pub feed: Option<f64>,
+    pub scale: f64,
+    /// Lower-left corner of the drawing, work coordinates.
+    pub at: Option<[f64; 2]>,
+    /// Paper W, H; the drawing must fit on it.
+    pub paper: Option<[f64; 2]>,
+    /// Image hatching: pixel size on paper.
+    pub pixel: f64,
+    /// Image hatching: distance between hatch lines.
+    pub pitch: f64,
+    /// Image hatching: layers, 1…4.
+    pub hatch_layers: usize,
+    pub merge_tol: f64,
+    pub simplify_tol: f64,
+    /// Draw strokes as given: no merging, ordering, simplifying or de-duplicating.
+    pub no_optimise: bool,
+    /// Refuse a profile whose joint acceleration ramps are shorter than this many steps.
+    pub min_ramp_steps: f64,
+    /// Chord tolerance for curves.
+    pub tolerance: f64,
+}
+
+impl Default for PlotParams {
+    fn default() -> Self {
+        PlotParams {
+            format: PlotFormat::Gcode,
+            text: None,
+            text_height: 10.0,
+            pens: PensBy::Color,
+            pen: Lift::Z,
+            servo_down: 30.0,
+            pen_down_cmd: None,
+            pen_up_cmd: None,
+            pen_dwell: 0.0,
+            feed: None,
+            scale: 1.0,
+            at: None,
+            paper: None,
+            pixel: 0.5,
+            pitch: 1.0,
+            hatch_layers: 3,
+            merge_tol: 0.05,
+            simplify_tol: 0.01,
+            no_optimise: false,
+            min_ramp_steps: 100.0,
+            tolerance: 0.02,
+        }
+    }
+}
+
+pub struct PlotResult {
+    /// What the input held that was left out.
+    pub notes: Vec<String>,
+    pub prepared: Prepared,
+    /// Planned time on the profile, s.
+    pub seconds: f64,
+}
+
+/// The pen machine `p` describes on `profile`.
+pub fn pen_machine(p: &PlotParams, profile: &Profile) -> Result<PenMachine, Error> {
+    let mut m = PenMachine::for_profile(profile);
+    let need = |v: &Option<String>, flag: &str| {
+        v.clone()
+            .ok_or_else(|| Error(format!("--pen command needs --{flag}")))
+    };
+    m.lift = match p.pen {
+        Lift::Z => m.lift,
+        Lift::Servo => PenLift::Servo { down: p.servo_down },
+        Lift::Command => PenLift::Command {
+            down: need(&p.pen_down_cmd, "pen-down-cmd")?,
+            up: need(&p.pen_up_cmd, "pen-up-cmd")?,
+        },
+    };
+    if let Some(f) = p.feed {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error(format!("--feed {f}: must be > 0 mm/min")));
+        }
+        m.draw_feed = f;
+    }
+    m.lift_dwell = p.pen_dwell;
+    Ok(m)
+}
+
+/// Reads the design into pens of strokes; notes what was left out.
+fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Error> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let by = match p.pens {
+        PensBy::Color => PenBy::Color,
+        PensBy::Layer => PenBy::Layer,
+    };
+    match ext.as_str() {
+        "hpgl" | "plt" | "hpg" | "hgl" => {
+            let h = oficina_io::hpgl::load_hpgl(path).map_err(|e| Error::chain(&e))?;
+            if !h.imported.unsupported.is_empty() {
+                notes.push(h.imported.unsupported.to_string());
+            }
+            // HPGL pens are layers whatever `pens` says.
+            let mut plot = Plot::from_drawing(&h.imported.drawing, PenBy::Layer, p.tolerance);
+            for l in &h.labels {
+                let strokes = text_strokes(&l.text, l.at, l.height, l.angle);
+                plot.pen_mut(&l.layer).strokes.extend(strokes);
+            }
+            Ok(plot)
+        }
+        "png" | "jpg" | "jpeg" => {
+            let (w, h, px) = oficina_plot::load_gray(path).map_err(|e| Error::chain(&e))?;
+            let strokes = oficina_plot::hatch(
+                &Gray {
+                    width: w,
+                    height: h,
+                    pixels: &px,
+                },
+                &Hatching {
+                    pixel: p.pixel,
+                    pitch: p.pitch,
+                    layers: p.hatch_layers,
+                },
+            )
+            .map_err(|e| Error::chain(&e))?;
+            let mut plot = Plot::default();
+            plot.pen_mut("#000000").strokes = strokes;
+            Ok(plot)
+        }
+        _ => {
+            let imported = oficina_io::load_drawing(path).map_err(|e| Error::chain(&e))?;
+            if !imported.unsupported.is_empty() {
+                notes.push(imported.unsupported.to_string());
+            }
+            Ok(Plot::from_drawing(&imported.drawing, by, p.tolerance))
+        }
+    }
+}
+
+/// Plots `input` (and/or `p.text`) on `profile`.
+pub fn plot(
+    input: Option<&Path>,
+    p: &PlotParams,
+    profile: &Profile,
+    fb: Feedback,
+) -> Result<PlotResult, Error> {
+    let m = pen_machine(p, profile)?;
+    if !(p.scale.is_finite() && p.scale > 0.0 && p.scale <= 1e4) {
+        return Err(Error(format!(
+            "--scale {}: use more than 0, at most 10000",
+            p.scale
+        )));
+    }
+    fb.stage("reading the design")?;
+    let mut notes = Vec::new();
+    let mut plot = match input {
+        Some(path) => load(path, p, &mut notes)?,
+        None => Plot::default(),
+    };
+    if let Some(t) = &p.text {
+        let below = plot.bounds().map_or(0.0, |b| b[1] - 2.0 * p.text_height);
+        let strokes = text_strokes(t, Point::new(0.0, below), p.text_height, 0.0);
+        plot.pen_mut("#000000").strokes.extend(strokes);
+    }
+    if input.is_none() && p.text.is_none() {
+        return Err(Error(
+            "nothing to plot: give a design file or --text".into(),
+        ));
+    }
+    let settings = Settings {
+        scale: p.scale,
+        at: p.at.map(|[x, y]| Point::new(x, y)),
+        paper: p.paper.map(|[w, h]| (w, h)),
+        optimise: (!p.no_optimise).then(|| Optimise {
+            merge_tol: p.merge_tol,
+            simplify_tol: p.simplify_tol,
+            ..Optimise::default()
+        }),
+        min_ramp_steps: p.min_ramp_steps,
+        format: match p.format {
+            PlotFormat::Gcode => Format::Gcode,
+            PlotFormat::Joint => Format::Joint,
+            PlotFormat::Hpgl => Format::Hpgl,
+        },
+        joint_piece: 1.0,
+    };
+    fb.stage("placing, optimising, writing the program")?;
+    let prepared = prepare(plot, profile, &m, &settings).map_err(|e| Error::chain(&e))?;
+    fb.stage("planning the time")?;
+    let e = estimate_with(
+        oficina_plot::to_canon(&prepared.plot, &m, profile).into_iter(),
+        profile,
+        PlanOptions::default(),
+        false,
+    )
+    .map_err(Error::from_display)?;
+    Ok(PlotResult {
+        notes,
+        prepared,
+        seconds: e.seconds,
+    })
+}

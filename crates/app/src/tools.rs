@@ -1,0 +1,62 @@
+//! The tool table the page edits: LinuxCNC's format (`T1 P1 D6 Z12.5 ;flat end mill`),
+//! read by the interpreter's own parser, whose line, column and message come back.
+
+use oficina_canon::Units;
+use oficina_gcode::interp::tool_table::ToolTable;
+use serde::Serialize;
+
+/// Name of the table in the job folder.
+pub const TOOL_TABLE_FILE: &str = "tool.tbl";
+
+#[derive(Serialize, Debug, PartialEq)]
+pub struct ToolRow {
+    pub number: u32,
+    pub pocket: u32,
+    pub diameter: f64,
+    /// Length offset (Z), mm.
+    pub length: f64,
+    pub comment: String,
+}
+
+#[derive(Serialize, Debug, PartialEq)]
+pub struct ToolTableError {
+    pub line: u32,
+    pub col: u32,
+    pub message: String,
+}
+
+/// The tools of `text` (lengths in mm), or where and why it cannot be read.
+pub fn check_tool_table(text: &str) -> Result<Vec<ToolRow>, ToolTableError> {
+    let table = ToolTable::parse(text, Units::Mm).map_err(|d| ToolTableError {
+        line: d.span.line,
+        col: d.span.col,
+        message: d.message,
+    })?;
+    Ok(table
+        .iter()
+        .map(|t| ToolRow {
+            number: t.number,
+            pocket: t.pocket,
+            diameter: t.diameter,
+            length: t.offset[2],
+            comment: t.comment.clone(),
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tools_are_read_and_errors_placed() {
+        let rows = check_tool_table("T1 P1 D6 Z12.5 ;flat\nT2 P2 D3.175 Z20\n").unwrap();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].diameter, 6.0);
+        assert_eq!(rows[0].length, 12.5);
+        assert_eq!(rows[1].number, 2);
+        let e = check_tool_table("T1 P1 D6\nT2 P2 Dx\n").unwrap_err();
+        assert_eq!(e.line, 2, "{e:?}");
+        assert!(!e.message.is_empty());
+    }
+}

@@ -1,0 +1,147 @@
+//! The profile editor's endpoints: a machine profile's TOML text, checked by the motion
+//! crate's own validation (its key and message go back to the page), and a checked profile
+//! put on the virtual machine; the tool table, read by the interpreter's parser. Both are
+//! saved in the job folder.
+
+use crate::files::path_in;
+use crate::AppState;
+use axum::body::Bytes;
+use axum::extract::{Path, State};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use oficina_app::profile::{Profile, BUNDLED};
+use oficina_app::tools::{check_tool_table, TOOL_TABLE_FILE};
+use serde_json::json;
+use std::sync::Arc;
+
+fn refused(status: StatusCode, key: &str, message: String) -> Response {
+    (
+        status,
+        Json(json!({"ok": false, "key": key, "error": message})),
+    )
+        .into_response()
+}
+
+/// A bundled profile's text (`GET /api/profiles/grbl-router`).
+pub async fn text(Path(name): Path<String>) -> Response {
+    match BUNDLED.iter().find(|(n, _)| *n == name) {
+        Some((_, t)) => t.to_string().into_response(),
+        None => refused(
+            StatusCode::NOT_FOUND,
+            "",
+            format!("no bundled profile named {name}"),
+        ),
+    }
+}
+
+fn parse(body: &Bytes) -> Result<Profile, Box<Response>> {
+    let text = std::str::from_utf8(body).map_err(|_| {
+        Box::new(refused(
+            StatusCode::BAD_REQUEST,
+            "",
+            "the profile is not UTF-8 text".into(),
+        ))
+    })?;
+    Profile::parse(text, "profile")
+        .map_err(|e| Box::new(refused(StatusCode::BAD_REQUEST, &e.key, e.message.clone())))
+}
+
+fn summary(p: &Profile) -> serde_json::Value {
+    json!({"ok": true, "name": p.name, "travel": p.travel})
+}
+
+/// Validates without using (`POST /api/profiles/check`).
+pub async fn check(body: Bytes) -> Response {
+    match parse(&body) {
+        Ok(p) => Json(summary(&p)).into_response(),
+        Err(r) => *r,
+    }
+}
+
+/// Validates, saves as `profile-NAME.toml` in the job folder and connects the virtual
+/// machine to it (refused while the machine is busy).
+pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
+    let p = match parse(&body) {
+        Ok(p) => p,
+        Err(r) => return *r,
+    };
+    let stem: String = p
+        .name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
+        .take(80)
+        .collect();
+    let file = format!("profile-{stem}.toml");
+    let path = match path_in(&st.config.job_dir, &file) {
+        Ok(p) => p,
+        Err(e) => return refused(StatusCode::BAD_REQUEST, "name", e),
+    };
+    if let Err(e) = tokio::fs::write(&path, &body).await {
+        return refused(StatusCode::BAD_REQUEST, "", format!("{file}: {e}"));
+    }
+    let uri = format!("virtual:{}", path.display());
+    let st2 = st.clone();
+    let u = uri.clone();
+    match tokio::task::spawn_blocking(move || st2.connect(&u)).await {
+        Ok(Ok(())) => {
+            let mut v = summary(&p);
+            v["uri"] = json!(uri);
+            Json(v).into_response()
+        }
+        Ok(Err(e)) => refused(StatusCode::CONFLICT, "", e),
+        Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, "", e.to_string()),
+    }
+}
+
+/// The saved tool table (`GET /api/tools`), empty when none was saved.
+pub async fn tools_text(State(st): State<Arc<AppState>>) -> Response {
+    let path = match path_in(&st.config.job_dir, TOOL_TABLE_FILE) {
+        Ok(p) => p,
+        Err(e) => return refused(StatusCode::BAD_REQUEST, "", e),
+    };
+    tokio::fs::read_to_string(&path)
+        .await
+        .unwrap_or_default()
+        .into_response()
+}
+
+/// Checks a tool table with the interpreter's parser and, when good, saves it into the job
+/// folder (`PUT /api/tools`); errors name line and column.
+pub async fn save_tools(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
+    let Ok(text) = std::str::from_utf8(&body) else {
+        return refused(
+            StatusCode::BAD_REQUEST,
+            "",
+            "the tool table is not UTF-8 text".into(),
+        );
+    };
+    match check_tool_table(text) {
+        Ok(rows) => {
+            let path = match path_in(&st.config.job_dir, TOOL_TABLE_FILE) {
+                Ok(p) => p,
+                Err(e) => return refused(StatusCode::BAD_REQUEST, "", e),
+            };
+            if let Err(e) = tokio::fs::write(&path, text).await {
+                return refused(
+                    StatusCode::BAD_REQUEST,
+                    "",
+                    format!("{TOOL_TABLE_FILE}: {e}"),
+                );
+            }
+            st.say(&format!("saved the tool table ({} tools)", rows.len()));
+            Json(json!({"ok": true, "tools": rows})).into_response()
+        }
+        Err(e) => (
+            StatusCode::BAD_REQUEST,
+            Json(json!({"ok": false, "line": e.line, "col": e.col, "error": e.message})),
+        )
+            .into_response(),
+    }
+}

@@ -1,0 +1,287 @@
+//! The job endpoints (mill, sole, plot, carve, cancel) and their bad inputs, through the
+//! router (no socket). Inputs are the repository's samples, uploaded into the job folder.
+
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use http_body_util::BodyExt;
+use oficina_server::{router, AppState, Config};
+use serde_json::{json, Value};
+use std::sync::Arc;
+use tower::ServiceExt;
+
+fn state(dir: &std::path::Path) -> Arc<AppState> {
+    AppState::new(Config {
+        addr: "127.0.0.1:0".parse().unwrap(),
+        token: None,
+        job_dir: dir.join("jobs"),
+        web_dir: None,
+        machine: "virtual".into(),
+        upload_limit: 1 << 20,
+        open: None,
+    })
+    .unwrap()
+}
+
+async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
+    let r = router(st.clone()).oneshot(req).await.unwrap();
+    let status = r.status();
+    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
+    let v = serde_json::from_slice(&body)
+        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
+    (status, v)
+}
+
+async fn upload(st: &Arc<AppState>, name: &str, sample: &str) {
+    let text = std::fs::read(format!(
+        "{}/../../samples/{sample}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let req = Request::put(format!("/api/files/{name}"))
+        .body(Body::from(text))
+        .unwrap();
+    let (s, v) = call(st, req).await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+}
+
+fn post_json(uri: &str, body: Value) -> Request<Body> {
+    Request::post(uri)
+        .header("content-type", "application/json")
+        .body(Body::from(body.to_string()))
+        .unwrap()
+}
+
+#[tokio::test]
+async fn mill_makes_a_checked_program_in_the_job_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    upload(&st, "plate.svg", "mill/plate.svg").await;
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/mill",
+            json!({"file": "plate.svg", "params": {"op": "profile-out", "tool": "flat:3", "depth": 2, "tabs": 2}}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert_eq!(v["name"], "plate.profile-outside.ngc", "{v}");
+    let text = v["text"].as_str().unwrap();
+    assert!(text.contains("G1") && text.contains("M30"), "{text}");
+    let report: Vec<&str> = v["report"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap())
+        .collect();
+    assert!(report[0].contains("gouge:    none"), "{report:?}");
+    assert!(report.iter().any(|l| l.contains("(planner)")), "{report:?}");
+    let saved = std::fs::read_to_string(dir.path().join("jobs/plate.profile-outside.ngc")).unwrap();
+    assert_eq!(saved, text);
+    assert!(v["preview_svg"].as_str().unwrap().starts_with("<svg"));
+}
+
+#[tokio::test]
+async fn mill_errors_name_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    upload(&st, "plate.svg", "mill/plate.svg").await;
+    let cases = [
+        (json!({"op": "pocket", "depth": 2, "safe_z": 1}), "safe_z"),
+        (json!({"op": "pocket", "depth": 2, "feed": -5}), "feed"),
+        (
+            json!({"op": "pocket", "depth": 2, "tool": "spoon:3"}),
+            "tool",
+        ),
+        (
+            json!({"op": "pocket", "depth": 2, "post": "fanuc-9"}),
+            "post",
+        ),
+    ];
+    for (params, field) in cases {
+        let (s, v) = call(
+            &st,
+            post_json("/api/mill", json!({"file": "plate.svg", "params": params})),
+        )
+        .await;
+        assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+        assert_eq!(v["field"], field, "{v}");
+        assert!(!v["error"].as_str().unwrap().is_empty());
+    }
+    // A parameter of the wrong kind, an unknown operation: refused by the form's reader.
+    let (s, _) = call(
+        &st,
+        post_json(
+            "/api/mill",
+            json!({"file": "plate.svg", "params": {"op": "engrave"}}),
+        ),
+    )
+    .await;
+    assert!(s.is_client_error(), "{s}");
+    // Files outside the job folder, or missing.
+    for file in ["../plate.svg", "/etc/passwd", "missing.svg"] {
+        let (s, v) = call(
+            &st,
+            post_json("/api/mill", json!({"file": file, "params": {"depth": 1}})),
+        )
+        .await;
+        assert!(s.is_client_error(), "{file}: {s} {v}");
+    }
+    // A broken drawing is named.
+    let req = Request::put("/api/files/broken.svg")
+        .body(Body::from("<svg><path d='M 0 0 L"))
+        .unwrap();
+    call(&st, req).await;
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/mill",
+            json!({"file": "broken.svg", "params": {"depth": 1}}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+    assert!(v["error"].as_str().unwrap().contains("broken.svg"), "{v}");
+}
+
+#[tokio::test]
+async fn sole_makes_four_programs_and_refuses_bad_sizes() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    upload(&st, "size34.csv", "sole/size34.csv").await;
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/sole",
+            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37}}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let programs = v["programs"].as_array().unwrap();
+    assert_eq!(programs.len(), 4, "{v}");
+    for p in programs {
+        let name = p["name"].as_str().unwrap();
+        assert!(dir.path().join("jobs").join(name).is_file(), "{name}");
+    }
+    assert!(v["summary"][0].as_str().unwrap().contains("α = "), "{v}");
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/sole",
+            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37, "shrink": 40}}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
+    assert_eq!(v["field"], "shrink", "{v}");
+}
+
+#[tokio::test]
+async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    upload(&st, "design.svg", "plot/design.svg").await;
+    let (s, v) = call(
+        &st,
+        post_json("/api/plot", json!({"file": "design.svg", "params": {}})),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert_eq!(v["name"], "design.plot.ngc");
+    assert!(!v["pens"].as_array().unwrap().is_empty(), "{v}");
+    assert!(v["seconds"].as_f64().unwrap() > 0.0);
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/plot",
+            json!({"file": "design.svg", "params": {"paper": [5, 5]}}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+    assert!(v["error"].as_str().unwrap().contains("paper"), "{v}");
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/plot",
+            json!({"params": {"scale": 0}, "file": "design.svg"}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
+    assert_eq!(v["field"], "scale", "{v}");
+    let (s, _) = call(
+        &st,
+        post_json(
+            "/api/plot",
+            json!({"file": "design.svg", "profile": "no-such-plotter"}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
+}
+
+#[tokio::test]
+async fn cancel_stops_a_long_carve_and_the_next_job_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    let image = std::fs::read(format!(
+        "{}/../../samples/relief/dome.png",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    // Nothing to cancel: says so.
+    let (s, v) = call(
+        &st,
+        Request::post("/api/cancel").body(Body::empty()).unwrap(),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK);
+    assert_eq!(v["cancelled"], false);
+    // A fine step-over on a wide carving with roughing: seconds of work, cancelled at once.
+    let q = "name=dome.png&width=400&depth=5&tool=ball:1&rough_tool=flat:3&stepover=0.05&stepdown=1&feed=2000&plunge_feed=500&safe_z=5";
+    let carve = {
+        let st = st.clone();
+        let image = image.clone();
+        tokio::spawn(async move {
+            call(
+                &st,
+                Request::post(format!("/api/carve?{q}"))
+                    .body(Body::from(image))
+                    .unwrap(),
+            )
+            .await
+        })
+    };
+    let mut rx = st.live.subscribe();
+    // Wait until it is under way (its first progress message), then cancel.
+    loop {
+        let m = rx.recv().await.unwrap();
+        if m.contains("\"progress\"") {
+            break;
+        }
+    }
+    let (s, v) = call(
+        &st,
+        Request::post("/api/cancel").body(Body::empty()).unwrap(),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK);
+    assert_eq!(v["cancelled"], true);
+    let (s, v) = carve.await.unwrap();
+    assert_eq!(s, StatusCode::CONFLICT, "{v}");
+    assert_eq!(v["cancelled"], true, "{v}");
+    assert!(!dir.path().join("jobs/dome.nc").exists());
+    // The next job is not refused as "another job is being computed".
+    let q = "name=dome.png&width=20&depth=2&tool=ball:3&stepover=1&stepdown=5&feed=2000&plunge_feed=500&safe_z=5";
+    let (s, v) = call(
+        &st,
+        Request::post(format!("/api/carve?{q}"))
+            .body(Body::from(image))
+            .unwrap(),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert!(v["text"].as_str().unwrap().contains("G1"));
+}

@@ -1,0 +1,127 @@
+// The design processes: milling, sole molds and plots. Each has a form (fields with units
+// and limits, checked by the browser first and by the server's own validation after), takes
+// a file uploaded into the job folder, and gives back a program the page loads like any
+// other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
+// `oficina sole` and `oficina plot`, whose pipelines the server runs.
+
+export type ProcessKind = 'mill' | 'sole' | 'plot';
+
+interface Field {
+  name: string; label: string; unit?: string;
+  kind?: 'number' | 'text' | 'select' | 'check';
+  value: string; min?: number; max?: number; options?: string[]; optional?: boolean;
+}
+
+export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sample: string; fields: Field[] }> = {
+  mill: {
+    title: 'Mill (profile/pocket/drill)', accept: /\.(svg|dxf)$/i, sample: 'plate.svg',
+    fields: [
+      { name: 'op', label: 'Operation', kind: 'select', value: 'pocket', options: ['pocket', 'profile-out', 'profile-in', 'profile-on', 'drill'] },
+      { name: 'tool', label: 'Tool', kind: 'text', value: 'flat:3' },
+      { name: 'depth', label: 'Depth', unit: 'mm', value: '2', min: 0.01, max: 500 },
+      { name: 'stepdown', label: 'Step-down', unit: 'mm', value: '', min: 0.01, max: 100, optional: true },
+      { name: 'stepover', label: 'Step-over', unit: 'mm', value: '', min: 0.01, max: 100, optional: true },
+      { name: 'strategy', label: 'Pocket strategy', kind: 'select', value: 'offset', options: ['offset', 'zigzag'] },
+      { name: 'feed', label: 'Feed', unit: 'mm/min', value: '800', min: 1, max: 100000 },
+      { name: 'plunge_feed', label: 'Plunge feed', unit: 'mm/min', value: '', min: 1, max: 100000, optional: true },
+      { name: 'rpm', label: 'Spindle', unit: 'rpm', value: '12000', min: 0, max: 100000 },
+      { name: 'entry', label: 'Entry', kind: 'select', value: 'ramp', options: ['ramp', 'helix', 'plunge'] },
+      { name: 'tabs', label: 'Tabs per contour', value: '0', min: 0, max: 100 },
+      { name: 'clear_z', label: 'Clearance Z', unit: 'mm', value: '5', min: 0, max: 1000 },
+      { name: 'safe_z', label: 'Safe Z', unit: 'mm', value: '20', min: 0, max: 1000 },
+      { name: 'post', label: 'Post', kind: 'select', value: 'linuxcnc', options: ['linuxcnc', 'grbl', 'sinumerik', 'legacy-2006'] },
+    ],
+  },
+  sole: {
+    title: 'Sole mold', accept: /\.(csv|txt|xy|pts)$/i, sample: 'size34.csv',
+    fields: [
+      { name: 'from_size', label: 'Pattern size', value: '34', min: 10, max: 60 },
+      { name: 'to_size', label: 'Size to make', value: '37', min: 10, max: 60 },
+      { name: 'system', label: 'Size system', kind: 'select', value: 'br', options: ['br', 'us'] },
+      { name: 'shrink', label: 'Shrinkage', unit: '%', value: '2', min: 0, max: 20 },
+      { name: 'fit_tolerance', label: 'Fit tolerance', unit: 'mm', value: '0.3', min: 0.001, max: 5 },
+      { name: 'post', label: 'Post', kind: 'select', value: 'linuxcnc', options: ['linuxcnc', 'grbl', 'sinumerik', 'legacy-2006'] },
+    ],
+  },
+  plot: {
+    title: 'Plot', accept: /\.(svg|dxf|hpgl|plt|hpg)$/i, sample: 'design.svg',
+    fields: [
+      { name: 'scale', label: 'Scale', unit: '×', value: '1', min: 0.001, max: 10000 },
+      { name: 'feed', label: 'Drawing feed', unit: 'mm/min', value: '', min: 1, max: 100000, optional: true },
+      { name: 'pen', label: 'Pen lift', kind: 'select', value: 'z', options: ['z', 'servo'] },
+      { name: 'pens', label: 'Pens by', kind: 'select', value: 'color', options: ['color', 'layer'] },
+      { name: 'merge_tol', label: 'Join ends within', unit: 'mm', value: '0.05', min: 0, max: 10 },
+      { name: 'text', label: 'Text', kind: 'text', value: '', optional: true },
+      { name: 'no_optimise', label: 'Draw as given', kind: 'check', value: '' },
+    ],
+  },
+};
+
+const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
+
+/// Builds the form of `kind` into #process-form.
+export function renderForm(kind: ProcessKind) {
+  const p = PROCESSES[kind];
+  $('process-title').textContent = p.title;
+  const form = $('process-fields');
+  form.innerHTML = '';
+  for (const f of p.fields) {
+    const label = document.createElement('label');
+    label.textContent = f.label + ' ';
+    let input: HTMLInputElement | HTMLSelectElement;
+    if (f.kind === 'select') {
+      input = document.createElement('select');
+      for (const o of f.options!) input.add(new Option(o, o, o === f.value, o === f.value));
+    } else {
+      const i = document.createElement('input');
+      i.type = f.kind === 'text' ? 'text' : f.kind === 'check' ? 'checkbox' : 'number';
+      if (i.type === 'number') {
+        i.step = 'any';
+        if (f.min !== undefined) i.min = String(f.min);
+        if (f.max !== undefined) i.max = String(f.max);
+        if (!f.optional) i.required = true;
+        if (f.optional) i.placeholder = 'auto';
+      }
+      i.value = f.value;
+      input = i;
+    }
+    input.name = f.name;
+    label.appendChild(input);
+    if (f.unit) label.append(' ' + f.unit);
+    const err = document.createElement('span');
+    err.className = 'field-error';
+    err.dataset.for = f.name;
+    label.appendChild(err);
+    form.appendChild(label);
+  }
+}
+
+/// The form's values as the server's parameters, or the first field the browser refuses.
+export function readForm(kind: ProcessKind): { params: Record<string, unknown> } | { field: string; message: string } {
+  const params: Record<string, unknown> = {};
+  for (const f of PROCESSES[kind].fields) {
+    const el = document.querySelector(`#process-fields [name="${f.name}"]`) as HTMLInputElement | HTMLSelectElement;
+    if (el instanceof HTMLInputElement && !el.checkValidity()) return { field: f.name, message: el.validationMessage };
+    if (f.kind === 'check') { params[f.name] = (el as HTMLInputElement).checked; continue; }
+    if (el.value === '') continue;
+    params[f.name] = f.kind === 'select' || f.kind === 'text' ? el.value : Number(el.value);
+  }
+  return { params };
+}
+
+/// A message shown beside its field (or under the form when it names none).
+export function showFieldError(field: string | null, message: string) {
+  clearFieldErrors();
+  const span = field ? document.querySelector(`#process-fields .field-error[data-for="${field}"]`) : null;
+  if (span) {
+    span.textContent = message;
+    span.closest('label')?.classList.add('invalid');
+  } else {
+    $('process-status').textContent = message;
+  }
+}
+
+export function clearFieldErrors() {
+  document.querySelectorAll('#process-fields .field-error').forEach((s) => { s.textContent = ''; });
+  document.querySelectorAll('#process-fields label.invalid').forEach((l) => l.classList.remove('invalid'));
+}
