@@ -293,6 +293,26 @@ await test('SVG → plot → preview with pen up and down', async () => {
 await test('a long carve shows progress and is cancelled', async () => {
   await page.selectOption('#process', 'relief');
   await page.waitForFunction(() => !document.getElementById('relief-form').hidden, null, { timeout: 10000 });
+  // A picture large enough that the carve is still being computed when Cancel is clicked
+  // (the 120 × 80 sample finishes within a second on an idle machine): drawn in the page,
+  // dropped like a user's file.
+  const dt = await page.evaluateHandle(async () => {
+    const c = document.createElement('canvas');
+    c.width = 600;
+    c.height = 600;
+    const g = c.getContext('2d');
+    const grad = g.createRadialGradient(300, 300, 10, 300, 300, 300);
+    grad.addColorStop(0, '#fff');
+    grad.addColorStop(1, '#000');
+    g.fillStyle = grad;
+    g.fillRect(0, 0, 600, 600);
+    const blob = await new Promise((r) => c.toBlob(r, 'image/png'));
+    const d = new DataTransfer();
+    d.items.add(new File([blob], 'big.png', { type: 'image/png' }));
+    return d;
+  });
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('relief-image').textContent === 'big.png', null, { timeout: 10000 });
   const nameBefore = await page.textContent('#program-name');
   await page.fill('#relief-form input[name="width"]', '400');
   await page.fill('#relief-form input[name="tool"]', 'ball:1');
@@ -300,8 +320,7 @@ await test('a long carve shows progress and is cancelled', async () => {
   await page.fill('#relief-form input[name="stepover"]', '0.02');
   await page.fill('#relief-form input[name="stepdown"]', '1');
   await page.click('#carve');
-  // Cancel shows with the first progress message; clicked at once (the sample image is
-  // small: this carve takes seconds).
+  // Cancel shows with the first progress message; clicked at once.
   await page.click('#relief-form .cancel-job', { timeout: 20000 });
   await page.waitForFunction(() => document.getElementById('carve-status').textContent === 'cancelled', null, { timeout: 20000 });
   await shot('carve-cancelled');
