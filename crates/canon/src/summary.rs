@@ -143,10 +143,8 @@ impl Summarizer {
                 self.pos = *end;
             }
             // T selects, M6 changes; grbl programs change by hand at an M0, so both count.
-            CanonOp::SelectTool(t) | CanonOp::ChangeTool(t) => {
-                if !s.tools.contains(t) {
-                    s.tools.push(*t);
-                }
+            CanonOp::SelectTool(t) | CanonOp::ChangeTool(t) if !s.tools.contains(t) => {
+                s.tools.push(*t);
             }
             CanonOp::Dwell(secs) => {
                 s.dwell_seconds += secs;

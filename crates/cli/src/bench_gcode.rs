@@ -94,7 +94,7 @@ pub fn write_mixed_program(out: &mut impl Write, blocks: u64) -> std::io::Result
                 let (i, j) = (r4(cx - x), r4(cy - y));
                 let (cx, cy) = (x + i, y + j);
                 let r = (i * i + j * j).sqrt();
-                let clockwise = kind % 2 == 0;
+                let clockwise = kind.is_multiple_of(2);
                 let end_angle = start_angle + if clockwise { -sweep } else { sweep };
                 let (ex, ey) = (r4(cx + r * end_angle.cos()), r4(cy + r * end_angle.sin()));
                 let code = if clockwise { "G2" } else { "G3" };

@@ -31,7 +31,11 @@ fn relief(n: u64) -> impl Iterator<Item = Canon> {
         .chain((0..n).map(move |i| {
             let row = i / per_row;
             let k = i % per_row;
-            let k = if row % 2 == 0 { k } else { per_row - 1 - k };
+            let k = if row.is_multiple_of(2) {
+                k
+            } else {
+                per_row - 1 - k
+            };
             let x = 100.0 + k as f64 * 0.1;
             let y = 100.0 + (row % 1500) as f64 * 0.2;
             let z = -3.0 + 1.5 * (x * 0.13).sin() * (y * 0.07).cos();

@@ -323,7 +323,7 @@ fn seed_comparison(args: &Args) -> Result<()> {
         "pixel", "strategy", "planner", "feed-only", "gouge", "left max", "left mean", "saving"
     );
     for &pixel in &args.seed_pixels {
-        if !(pixel.is_finite() && pixel >= 0.1 && pixel <= 5.0) {
+        if !(pixel.is_finite() && (0.1..=5.0).contains(&pixel)) {
             bail!("--seed-pixels: {pixel} mm is outside 0.1 ..= 5");
         }
         let design = seed004::hemisphere(150.0, 25.0, pixel);

@@ -402,6 +402,11 @@ pub fn to_rs274_text<'a>(ops: impl IntoIterator<Item = &'a Canon>) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
+/// `ENABLE_…` or `DISABLE_…`: rs274's pair of calls for each override switch.
+fn switch_call(out: &mut impl Write, on: bool, call: &str) -> io::Result<()> {
+    write!(out, "{}_{call}", if on { "ENABLE" } else { "DISABLE" })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -429,9 +434,4 @@ mod tests {
             "SET_G5X_OFFSET(1, 1.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"
         );
     }
-}
-
-/// `ENABLE_…` or `DISABLE_…`: rs274's pair of calls for each override switch.
-fn switch_call(out: &mut impl Write, on: bool, call: &str) -> io::Result<()> {
-    write!(out, "{}_{call}", if on { "ENABLE" } else { "DISABLE" })
 }

@@ -33,7 +33,7 @@ impl Area {
             .map(|i| (0..closed.len()).filter(|&j| inside(i, j)).count())
             .collect();
         let mut areas: Vec<(usize, Area)> = Vec::new();
-        for i in (0..closed.len()).filter(|&i| depth[i] % 2 == 0) {
+        for i in (0..closed.len()).filter(|&i| depth[i].is_multiple_of(2)) {
             areas.push((
                 i,
                 Area {
@@ -687,7 +687,7 @@ mod tests {
             true,
         );
         // Growing: the concave arc's radius 2 − 3 < 0, it is gone.
-        let out = offset_areas(&Area::from_paths(&[p.clone()]), 3.0, 0.001).unwrap();
+        let out = offset_areas(&Area::from_paths(std::slice::from_ref(&p)), 3.0, 0.001).unwrap();
         assert!(arcs(&out[0].outer)
             .iter()
             .all(|a| (a.radius - 3.0).abs() < 1e-9));

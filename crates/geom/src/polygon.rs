@@ -364,12 +364,18 @@ mod tests {
     fn union_difference_and_orientation() {
         let a = square(0.0, 0.0, 10.0);
         let b = square(5.0, 5.0, 10.0);
-        let u = boolean(&[a.clone()], &[b.clone()], BoolOp::Union, Fill::NonZero).unwrap();
+        let u = boolean(
+            std::slice::from_ref(&a),
+            std::slice::from_ref(&b),
+            BoolOp::Union,
+            Fill::NonZero,
+        )
+        .unwrap();
         assert_eq!(u.len(), 1);
         assert!((total_area(&u) - 175.0).abs() < 1e-6);
         assert!(ring_area(&u[0].outer) > 0.0, "outer counter-clockwise");
         let d = boolean(
-            &[a.clone()],
+            std::slice::from_ref(&a),
             &[square(2.0, 2.0, 2.0)],
             BoolOp::Difference,
             Fill::NonZero,
@@ -497,7 +503,13 @@ mod tests {
     #[test]
     fn bad_numbers_are_errors_not_panics() {
         let bad = vec![[0.0, 0.0], [f64::NAN, 1.0], [1.0, 1.0]];
-        assert!(boolean(&[bad.clone()], &[], BoolOp::Union, Fill::NonZero).is_err());
+        assert!(boolean(
+            std::slice::from_ref(&bad),
+            &[],
+            BoolOp::Union,
+            Fill::NonZero
+        )
+        .is_err());
         assert!(offset_rings(&[bad], Fill::NonZero, 1.0, Join::Bevel).is_err());
     }
 }

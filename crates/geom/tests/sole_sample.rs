@@ -96,7 +96,7 @@ fn fitted_arcs_offset_as_arcs_and_grade_and_mirror() {
         .unwrap()
         .path;
     // Finishing offset of the cavity for a 16 mm cutter: 8 mm in. Arcs keep their centres.
-    let inset = offset_areas(&Area::from_paths(&[tc.clone()]), -8.0, 0.001).unwrap();
+    let inset = offset_areas(&Area::from_paths(std::slice::from_ref(tc)), -8.0, 0.001).unwrap();
     assert_eq!(inset.len(), 1);
     let centres: Vec<Point> = tc
         .segments

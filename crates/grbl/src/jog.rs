@@ -12,7 +12,7 @@ pub fn step_line(axis: char, distance: f64, feed: f64) -> Result<String, String>
     if !matches!(axis, 'X' | 'Y' | 'Z') {
         return Err(format!("jog axis '{axis}': grbl jogs X, Y or Z"));
     }
-    if !distance.is_finite() || !(feed.is_finite() && feed > 0.0) {
+    if !(distance.is_finite() && feed.is_finite() && feed > 0.0) {
         return Err(format!(
             "jog {axis}{distance} F{feed}: distance must be a number and feed positive"
         ));

@@ -283,7 +283,7 @@ impl Sender {
         let deadline = Instant::now() + Duration::from_secs(2);
         let mut last_query: Option<Instant> = None;
         while Instant::now() < deadline {
-            if last_query.map_or(true, |t| t.elapsed() >= Duration::from_millis(250)) {
+            if last_query.is_none_or(|t| t.elapsed() >= Duration::from_millis(250)) {
                 self.link.send_realtime(Realtime::StatusQuery)?;
                 last_query = Some(Instant::now());
             }

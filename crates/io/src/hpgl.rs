@@ -178,7 +178,7 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 flush(&mut st, &mut out.imported, file);
                 st.pen = match params.first() {
                     None => 0,
-                    Some(&p) if p >= 0.0 && p <= 255.0 => p as u32,
+                    Some(&p) if (0.0..=255.0).contains(&p) => p as u32,
                     Some(p) => return Err(here(line, format!("pen {p} is not 0…255"))),
                 };
             }

@@ -90,7 +90,7 @@ pub fn raw_f32_from_bytes(
     if data.is_empty() {
         return Err(RawError::Empty { path: name.into() });
     }
-    if data.len() as u64 % row != 0 {
+    if !(data.len() as u64).is_multiple_of(row) {
         return Err(RawError::Shape {
             path: name.into(),
             bytes: data.len() as u64,

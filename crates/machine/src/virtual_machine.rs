@@ -409,8 +409,7 @@ impl Runner {
                     _ => {}
                 }
             }
-            let wants_cut = run.live.feed.is_some() && !run.live.holding
-                || run.live.hold_asked && !run.live.holding;
+            let wants_cut = !run.live.holding && (run.live.feed.is_some() || run.live.hold_asked);
             let (s, v, a) = m.at(t);
             // S-curve motion is re-planned only where the acceleration is zero, so the jerk
             // limit holds across the cut (at most one ramp of delay); a trapezoid anywhere.

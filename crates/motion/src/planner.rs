@@ -104,20 +104,11 @@ impl Segment {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct PlanOptions {
     pub overrides: Overrides,
     /// Overrides the profile's velocity shape.
     pub shape: Option<Shape>,
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        PlanOptions {
-            overrides: Overrides::default(),
-            shape: None,
-        }
-    }
 }
 
 /// Per-block limits along the path, derived from the joints.

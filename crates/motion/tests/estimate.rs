@@ -56,9 +56,9 @@ fn exact_stop_moves_sum_independently() {
         (20.5, 10.0),
     ];
     let mut want = 0.0;
-    let mut at = (0.0, 0.0);
+    let mut at: (f64, f64) = (0.0, 0.0);
     for (x, y) in pts {
-        want += trapezoid(((x - at.0) as f64).hypot(y - at.1), 20.0, 300.0);
+        want += trapezoid((x - at.0).hypot(y - at.1), 20.0, 300.0);
         at = (x, y);
         prog.g1(x, y, 0.0);
     }

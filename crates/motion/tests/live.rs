@@ -39,7 +39,7 @@ where
         shape: Some(shape),
         ..PlanOptions::default()
     };
-    let mut planner = plan(ops.to_vec().into_iter(), p, opts).unwrap();
+    let mut planner = plan(Vec::from(ops).into_iter(), p, opts).unwrap();
     let mut out = Vec::new();
     let mut command = Some(command);
     let mut cut_at = None;

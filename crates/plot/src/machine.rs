@@ -107,7 +107,7 @@ pub fn check_reach(plot: &crate::Plot, profile: &Profile, step: f64) -> Result<(
             Some(n) => k.joints_near(m, *n),
             None => k.joints(m),
         }
-        .map_err(|e| bad(e))?;
+        .map_err(&bad)?;
         for (i, j) in profile.joints.iter().enumerate().take(2) {
             if let Some(lim) = j.as_ref().and_then(|j| j.limits) {
                 if q[i] < lim[0] - 1e-9 || q[i] > lim[1] + 1e-9 {

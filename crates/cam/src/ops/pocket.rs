@@ -377,7 +377,10 @@ mod tests {
         assert_eq!(rows.len(), 5);
         let ring = vec![[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]];
         for (a, b) in rows.iter().flatten() {
-            assert!(inside(&[ring.clone()], [(a[0] + b[0]) / 2.0, a[1]]));
+            assert!(inside(
+                std::slice::from_ref(&ring),
+                [(a[0] + b[0]) / 2.0, a[1]]
+            ));
         }
     }
 }

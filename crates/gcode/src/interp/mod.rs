@@ -282,19 +282,17 @@ impl Interpreter {
         }
         let axis_users = matches!(non_modal, Some(100 | 280 | 300 | 520 | 920))
             || d.g_in(G::TOOL_LENGTH) == Some(431);
-        if d.any_axis() && !axis_users {
-            if motion == Motion::Off {
-                let msg = if d.g_in(G::MOTION) == Some(800)
-                    || self.modal.motion == Motion::Off && d.g[G::MOTION].is_some()
-                {
-                    "Cannot use axis values with g80"
-                } else {
-                    "Cannot use axis values without a g code that uses them"
-                };
-                return Err(self
-                    .fail(d.axis_span(), msg, 31)
-                    .with_help("give a motion code (G0, G1, G2, G3, or a canned cycle) first"));
-            }
+        if d.any_axis() && !axis_users && motion == Motion::Off {
+            let msg = if d.g_in(G::MOTION) == Some(800)
+                || self.modal.motion == Motion::Off && d.g[G::MOTION].is_some()
+            {
+                "Cannot use axis values with g80"
+            } else {
+                "Cannot use axis values without a g code that uses them"
+            };
+            return Err(self
+                .fail(d.axis_span(), msg, 31)
+                .with_help("give a motion code (G0, G1, G2, G3, or a canned cycle) first"));
         }
         // The checks below are all about these letters, absent from nearly every block.
         const CHECKED: u32 = words::letter_mask(b"IJKRLPQDH");

@@ -68,15 +68,13 @@ impl Interpreter {
     /// Feed checks common to every feed move of the block.
     pub(crate) fn check_feed(&self, d: &Decoded, what: &str, arc: bool) -> Result<(), Diagnostic> {
         match self.modal.feed_mode {
-            FeedMode::InverseTime => {
-                if !d.has('F') {
-                    let msg = if arc {
-                        "F word missing with inverse time arc move".to_string()
-                    } else {
-                        format!("F word missing with inverse time {what} move")
-                    };
-                    return Err(self.fail(d.g_span(G::MOTION), msg, 22));
-                }
+            FeedMode::InverseTime if !d.has('F') => {
+                let msg = if arc {
+                    "F word missing with inverse time arc move".to_string()
+                } else {
+                    format!("F word missing with inverse time {what} move")
+                };
+                return Err(self.fail(d.g_span(G::MOTION), msg, 22));
             }
             FeedMode::UnitsPerRev if self.modal.speed <= 0.0 => {
                 return Err(self

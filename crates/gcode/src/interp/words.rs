@@ -79,8 +79,8 @@ pub fn group_of_m(code: u16) -> Option<usize> {
     Some(match code {
         0 | 1 | 2 | 30 | 60 => STOP,
         6 => TOOL_CHANGE,
-        3 | 4 | 5 => SPINDLE,
-        7 | 8 | 9 => COOLANT,
+        3..=5 => SPINDLE,
+        7..=9 => COOLANT,
         48..=53 => OVERRIDE,
         _ => return None,
     })

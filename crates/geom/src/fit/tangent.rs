@@ -14,6 +14,9 @@
 //!    No real root (G3 + G4 < d or |G3 − G4| > d) is the seed's tangency failure.
 //! 3. The junctions are the contact points, on the lines of centres.
 
+// The numbered steps carry the seed's equations indented under them.
+#![allow(clippy::doc_overindented_list_items)]
+
 use crate::arc::{sweep_between, Arc};
 use crate::drawing::{Path, Segment};
 use kurbo::{Point, Vec2};
@@ -110,7 +113,7 @@ pub fn circle_through(p1: Point, p2: Point, p3: Point) -> Option<(Point, f64)> {
 /// The circles through the point triples (step 1), before any is moved.
 pub fn initial_circles(pts: &[Point]) -> Result<Vec<TangentCircle>, TangentError> {
     let n = pts.len();
-    if n < 8 || n % 4 != 0 {
+    if n < 8 || !n.is_multiple_of(4) {
         return Err(TangentError::PointCount(n));
     }
     (0..n / 2)

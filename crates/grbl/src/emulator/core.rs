@@ -296,7 +296,7 @@ impl Core {
             Realtime::StatusQuery => {
                 self.status_queries = self.status_queries.wrapping_add(1);
                 let n = self.config.lose_status_every;
-                if n > 0 && self.status_queries % n == 0 {
+                if n > 0 && self.status_queries.is_multiple_of(n) {
                     return;
                 }
                 let s = self.status_report();

@@ -105,8 +105,7 @@ pub fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
             let drop3 = drop2.clone();
             thread::spawn(move || {
                 let mut buf = [0u8; 1024];
-                loop {
-                    let Ok(n) = conn.read(&mut buf) else { break };
+                while let Ok(n) = conn.read(&mut buf) {
                     if n == 0 {
                         break;
                     }
