@@ -221,6 +221,7 @@ fn profiles_inside_and_outside_with_tabs_and_lead_out() {
                 height: 1.5,
             }),
             lead_out: 2.0,
+            lead_in: 0.0,
         });
         let (gouge, _, tp) = verify(&dumbbell(), &c, &op);
         assert!(gouge < NO_GOUGE, "{side:?}: gouge {gouge}");
@@ -231,6 +232,42 @@ fn profiles_inside_and_outside_with_tabs_and_lead_out() {
             .iter()
             .filter_map(Move::end)
             .any(|e| (e[2] - tab_top).abs() < 1e-9));
+    }
+}
+
+#[test]
+fn profiles_with_lead_in_arcs_do_not_gouge() {
+    // Lead-in on (tool radius), rough passes plus a finishing pass, tabs and a lead-out:
+    // posted, accepted by rs274, read back and simulated.
+    for entry in [Entry::Ramp { angle: 3.0 }, Entry::Plunge] {
+        let c = cut("flat:6", 6.0, 2.0, entry);
+        for (paths, side) in [
+            (dumbbell(), Side::Outside),
+            (dumbbell(), Side::Inside),
+            (plate_with_islands(), Side::Outside),
+        ] {
+            let op = MillOp::Profile(ProfileParams {
+                side,
+                allowance: 0.3,
+                tabs: Some(Tabs {
+                    count: 2,
+                    width: 4.0,
+                    height: 1.5,
+                }),
+                lead_out: 2.0,
+                lead_in: 3.0,
+            });
+            let (gouge, _, tp) = verify(&paths, &c, &op);
+            assert!(gouge < NO_GOUGE, "{side:?} {entry:?}: gouge {gouge}");
+            let arcs = tp.operations[0]
+                .moves
+                .windows(2)
+                .filter(|w| matches!(w[0], Move::Rapid { .. }) && matches!(w[1], Move::Arc { .. }))
+                .count();
+            if entry != Entry::Plunge {
+                assert!(arcs >= 2, "{side:?}: {arcs} lead-in arcs");
+            }
+        }
     }
 }
 

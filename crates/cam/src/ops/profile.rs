@@ -3,7 +3,7 @@
 //! radius (arcs stay arcs); climb milling with a clockwise spindle: outside contours run
 //! clockwise, inside ones counter-clockwise.
 
-use super::chain::{max_profile, Chain, Piece};
+use super::chain::{inside, max_profile, Chain, Piece, P};
 use super::entry::enter_open;
 use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::{Move, Operation};
@@ -36,7 +36,15 @@ pub struct ProfileParams {
     pub tabs: Option<Tabs>,
     /// Radius of a tangent arc off the wall after the last pass (0: none).
     pub lead_out: f64,
+    /// Radius of a tangent quarter arc from the waste side onto each closed loop (0: none);
+    /// [`DEFAULT_LEAD_IN`] × the tool radius is a good start. Where it does not fit it is
+    /// halved, and left out if even an eighth does not.
+    pub lead_in: f64,
 }
+
+/// A lead-in radius of about the tool radius keeps the arc short and its tangent join
+/// gentle.
+pub const DEFAULT_LEAD_IN: f64 = 1.0;
 
 /// Offsets are exact to this (mm).
 pub const OFFSET_TOL: f64 = 0.001;
@@ -102,9 +110,15 @@ pub fn profile(
     p: &ProfileParams,
 ) -> Result<Operation, OpError> {
     cut.validate()?;
-    if !(p.allowance.is_finite() && p.allowance >= 0.0 && p.lead_out >= 0.0) {
+    if !(p.allowance.is_finite()
+        && p.allowance >= 0.0
+        && p.lead_out >= 0.0
+        && p.lead_in.is_finite()
+        && p.lead_in >= 0.0
+        && p.lead_in <= 1000.0)
+    {
         return Err(OpError::Invalid(
-            "allowance and lead-out must be 0 or more".into(),
+            "allowance, lead-in and lead-out must be 0 or more (lead-in up to 1000 mm)".into(),
         ));
     }
     if let Some(t) = p.tabs {
@@ -125,15 +139,19 @@ pub fn profile(
         )));
     }
     let mut b = Builder::new(cut.clear_z);
+    let rings = loop_rings(&rough);
     for chain in order_nearest(rough, [0.0, 0.0]) {
-        passes(&mut b, &chain, cut, p, &cut.levels())?;
+        let (chain, lead) = lead_in(chain, p, &rings);
+        passes(&mut b, &chain, lead, cut, p, &cut.levels())?;
     }
     if finishing {
         let finish = contour_loops(paths, p.side, r)?;
+        let rings = loop_rings(&finish);
         for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
             // One pass at full depth, ramping down along the wall: only the allowance
             // is left there.
-            passes(&mut b, &chain, cut, p, &[cut.bottom()])?;
+            let (chain, lead) = lead_in(chain, p, &rings);
+            passes(&mut b, &chain, lead, cut, p, &[cut.bottom()])?;
         }
     }
     Ok(Operation {
@@ -145,17 +163,98 @@ pub fn profile(
     })
 }
 
-/// Cuts `chain` at each of `levels` without leaving it, then the lead-out.
+/// The tool-centre loops as polygons, for the waste-side test.
+fn loop_rings(loops: &[Chain]) -> Vec<Vec<P>> {
+    loops.iter().map(|c| c.polygon(OFFSET_TOL / 10.0)).collect()
+}
+
+/// The loop started where a lead-in fits (the middle of its longest piece first: a corner
+/// start would have the arc cross the wall before it), and that arc.
+pub fn lead_in(chain: Chain, p: &ProfileParams, rings: &[Vec<P>]) -> (Chain, Option<Piece>) {
+    if p.lead_in <= 0.0 || !chain.closed || p.side == Side::On {
+        return (chain, None);
+    }
+    let mut s = 0.0;
+    let mut best = (0.0, 0.0);
+    for piece in &chain.pieces {
+        let l = piece.length();
+        if l > best.1 {
+            best = (s + l / 2.0, l);
+        }
+        s += l;
+    }
+    let middle = chain.rotated(best.0);
+    if let Some(arc) = lead_in_arc(&middle, p, rings) {
+        return (middle, Some(arc));
+    }
+    let arc = lead_in_arc(&chain, p, rings);
+    (chain, arc)
+}
+
+/// The quarter arc that ends tangent to the start of closed `chain`, turning left (the
+/// waste side when climb milling: outside loops run clockwise, holes counter-clockwise).
+/// With the start P, unit direction t and left normal n = (−t_y, t_x), the centre is
+/// C = P + R·n and the arc runs counter-clockwise from C − R·t to P, whose tangent there
+/// is +t. Every sampled point must lie on the waste side of all `rings` (outside them for
+/// outside profiles, inside for holes): then the tool centre stays at least the offset
+/// distance from the part. Too big an arc is halved, up to three times.
+pub fn lead_in_arc(chain: &Chain, p: &ProfileParams, rings: &[Vec<P>]) -> Option<Piece> {
+    if p.lead_in <= 0.0 || !chain.closed || p.side == Side::On {
+        return None;
+    }
+    let first = chain.pieces.first()?;
+    let s = first.start();
+    let t = first.direction(0.0);
+    if t == [0.0, 0.0] {
+        return None;
+    }
+    let waste_inside = p.side == Side::Inside;
+    let mut radius = p.lead_in;
+    for _ in 0..4 {
+        let c = [s[0] - t[1] * radius, s[1] + t[0] * radius];
+        // Angle of C − R·t seen from C is atan2(−t); a quarter turn counter-clockwise.
+        let arc = Piece::Arc {
+            c,
+            r: radius,
+            a0: (-t[1]).atan2(-t[0]),
+            sweep: std::f64::consts::FRAC_PI_2,
+        };
+        let n = 32;
+        let fits = (0..n).all(|k| inside(rings, arc.at(k as f64 / n as f64)) == waste_inside);
+        if fits {
+            return Some(arc);
+        }
+        radius /= 2.0;
+    }
+    None
+}
+
+/// Cuts `chain` at each of `levels` without leaving it, entering along `lead` (an arc
+/// ending at the chain's start) if given, then the lead-out.
 fn passes(
     b: &mut Builder,
     chain: &Chain,
+    lead: Option<Piece>,
     cut: &Cut,
     p: &ProfileParams,
     levels: &[f64],
 ) -> Result<(), OpError> {
-    let start = chain.start();
+    let start = lead.map_or(chain.start(), |a| a.start());
     b.travel(cut.clear_z, start, cut.top + RAPID_GAP);
     let mut z = cut.top + RAPID_GAP;
+    if let (Some(arc), Some(&first)) = (lead, levels.first()) {
+        // Down along the arc as far as the ramp angle allows (or plunged in the waste
+        // where the tool may), so the wall is met moving along it.
+        let z_end = match cut.entry.angle() {
+            Some(angle) => (z - arc.length() * angle.tan()).max(first),
+            None => {
+                b.line([start[0], start[1], first], cut.plunge_feed);
+                first
+            }
+        };
+        b.push(arc.to_move(z_end, cut.feed));
+        z = z_end;
+    }
     if !chain.closed {
         // Open grooves: back and forth, each level entered where the last ended.
         let mut c = chain.clone();
@@ -179,7 +278,9 @@ fn passes(
             }
             None => {
                 let here = b.at;
-                b.line([here[0], here[1], level], cut.plunge_feed);
+                if here[2] > level {
+                    b.line([here[0], here[1], level], cut.plunge_feed);
+                }
                 vec![(s, level), (s + len, level)]
             }
         };
@@ -261,22 +362,10 @@ fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
         return;
     };
     let end = last.end();
-    let tangent = match *last {
-        Piece::Line { a, b } => [b[0] - a[0], b[1] - a[1]],
-        Piece::Arc { c, sweep, .. } => {
-            let rv = [end[0] - c[0], end[1] - c[1]];
-            if sweep > 0.0 {
-                [-rv[1], rv[0]]
-            } else {
-                [rv[1], -rv[0]]
-            }
-        }
-    };
-    let n = tangent[0].hypot(tangent[1]);
-    if n <= 0.0 {
+    let [tx, ty] = last.direction(1.0);
+    if tx == 0.0 && ty == 0.0 {
         return;
     }
-    let (tx, ty) = (tangent[0] / n, tangent[1] / n);
     // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
     let centre = [end[0] - ty * radius, end[1] + tx * radius];
     let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];

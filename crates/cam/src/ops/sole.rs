@@ -263,6 +263,7 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         allowance: 0.0,
         tabs: None,
         lead_out: 0.0,
+        lead_in: 0.0,
     };
     let mut ops = Vec::new();
     for (k, ring) in outer.iter().enumerate().rev() {
@@ -280,6 +281,7 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         &finish,
         &ProfileParams {
             lead_out: 4.0,
+            lead_in: 0.0,
             ..side(Side::Outside)
         },
     )?);
@@ -319,6 +321,7 @@ fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         allowance: 0.0,
         tabs: None,
         lead_out: 0.0,
+        lead_in: 0.0,
     };
     ops.push(profile(
         "cavity finishing offset",
