@@ -201,6 +201,7 @@ pub fn mill(
             lead_in: p
                 .lead_in
                 .unwrap_or(d / 2.0 * oficina_cam::ops::profile::DEFAULT_LEAD_IN),
+            comp: oficina_cam::ops::Comp::Computer,
         })
     };
     let op = match p.op {

@@ -2,7 +2,7 @@
 //! (outside a part, inside a hole) and never comes nearer the drawn wall than the tool
 //! radius.
 
-use oficina_cam::ops::{profile, Cut, Entry, ProfileParams, Side};
+use oficina_cam::ops::{profile, Comp, Cut, Entry, ProfileParams, Side};
 use oficina_cam::{Move, Tool};
 use oficina_geom::{Arc, Path, Point, Segment};
 
@@ -96,6 +96,7 @@ fn check(paths: &[Path], side: Side, entry: Entry, allowance: f64) -> usize {
         tabs: None,
         lead_out: 0.0,
         lead_in: r,
+        comp: Comp::Computer,
     };
     let op = profile("t", paths, &c, &p).unwrap();
     let ring = ring_of(paths);
@@ -195,6 +196,7 @@ fn lead_in_too_big_for_a_hole_shrinks_or_is_left_out() {
         tabs: None,
         lead_out: 0.0,
         lead_in: 20.0,
+        comp: Comp::Computer,
     };
     let op = profile("t", &paths, &c, &p).unwrap();
     for m in &op.moves {

@@ -4,8 +4,8 @@
 //! material left where the tool can reach.
 
 use oficina_cam::ops::{
-    allowed_region, toolpath, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side,
-    Strategy, Tabs,
+    allowed_region, toolpath, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams,
+    Side, Strategy, Tabs,
 };
 use oficina_cam::{Move, Tool, Toolpath};
 use oficina_geom::{Arc, Path, Point, Segment};
@@ -222,6 +222,7 @@ fn profiles_inside_and_outside_with_tabs_and_lead_out() {
             }),
             lead_out: 2.0,
             lead_in: 0.0,
+            comp: Comp::Computer,
         });
         let (gouge, _, tp) = verify(&dumbbell(), &c, &op);
         assert!(gouge < NO_GOUGE, "{side:?}: gouge {gouge}");
@@ -256,6 +257,7 @@ fn profiles_with_lead_in_arcs_do_not_gouge() {
                 }),
                 lead_out: 2.0,
                 lead_in: 3.0,
+                comp: Comp::Computer,
             });
             let (gouge, _, tp) = verify(&paths, &c, &op);
             assert!(gouge < NO_GOUGE, "{side:?} {entry:?}: gouge {gouge}");

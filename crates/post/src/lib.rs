@@ -43,9 +43,9 @@ pub mod sinumerik;
 
 pub use emit::{Emitter, MotionWords};
 pub use format::{Format, LineNumbers, Numbers, Units};
-pub use readback::read_back;
+pub use readback::{read_back, read_back_with_tools};
 
-use oficina_cam::{Drill, Move, Operation, PathMode, Toolpath};
+use oficina_cam::{CompSide, Drill, Move, Operation, PathMode, Toolpath};
 use std::io::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -130,6 +130,13 @@ pub trait Post {
         e.block(&s)
     }
     fn path_mode(&self, e: &mut Emitter, mode: PathMode) -> io::Result<()>;
+    /// G41/G42 with the D register, or G40; controls without it refuse the program.
+    fn comp(&self, _e: &mut Emitter, _comp: Option<(CompSide, u32)>) -> io::Result<()> {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "this control has no cutter radius compensation: post without --comp",
+        ))
+    }
     /// Retract, spindle off, end of program.
     fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()>;
 
@@ -139,6 +146,7 @@ pub trait Post {
             Move::Drill(d) => self.drill(e, d),
             Move::Dwell(s) => self.dwell(e, *s),
             Move::PathMode(p) => self.path_mode(e, *p),
+            Move::Comp(c) => self.comp(e, *c),
             m => e.motion(m),
         }
     }

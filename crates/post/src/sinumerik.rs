@@ -11,7 +11,7 @@
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{Format, Numbers, Units};
 use crate::{Post, PostOptions};
-use oficina_cam::{Operation, PathMode, Toolpath};
+use oficina_cam::{CompSide, Operation, PathMode, Toolpath};
 use std::io;
 
 /// The machine set-up the seed's dialog asks for once per program.
@@ -187,6 +187,15 @@ impl Post for Sinumerik {
         e.block(match mode {
             PathMode::ExactStop => "G60",
             PathMode::Continuous => "G64",
+        })
+    }
+
+    /// G41/G42 use the D register the tool change selected; G40 cancels.
+    fn comp(&self, e: &mut Emitter, comp: Option<(CompSide, u32)>) -> io::Result<()> {
+        e.block(match comp {
+            Some((CompSide::Left, _)) => "G41",
+            Some((CompSide::Right, _)) => "G42",
+            None => "G40",
         })
     }
 

@@ -170,6 +170,19 @@ impl Chain {
         }
     }
 
+    /// The point at arc length `s` (clamped to the chain).
+    pub fn point_at(&self, s: f64) -> P {
+        let mut at = 0.0;
+        for p in &self.pieces {
+            let l = p.length();
+            if s <= at + l && l > 0.0 {
+                return p.at(((s - at) / l).clamp(0.0, 1.0));
+            }
+            at += l;
+        }
+        self.end()
+    }
+
     /// The same closed chain starting at arc length `s`.
     pub fn rotated(&self, s: f64) -> Chain {
         if !self.closed || self.pieces.is_empty() {

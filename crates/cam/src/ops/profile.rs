@@ -6,7 +6,7 @@
 use super::chain::{inside, max_profile, Chain, Piece, P};
 use super::entry::enter_open;
 use super::{Builder, Cut, OpError, RAPID_GAP};
-use crate::{Move, Operation};
+use crate::{CompSide, Move, Operation};
 use oficina_geom::{offset_areas, Area, Path};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -40,7 +40,23 @@ pub struct ProfileParams {
     /// [`DEFAULT_LEAD_IN`] × the tool radius is a good start. Where it does not fit it is
     /// halved, and left out if even an eighth does not.
     pub lead_in: f64,
+    /// Who offsets by the tool radius: Oficina (the moves are the tool centre) or the
+    /// control (G41 + D: the moves are the part outline, so wear is corrected at the
+    /// machine).
+    pub comp: Comp,
 }
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Comp {
+    #[default]
+    Computer,
+    /// G41 on a straight entry move of [`COMP_ENTRY`] × the radius, G40 after a straight
+    /// exit move as long.
+    Control,
+}
+
+/// LinuxCNC refuses an entry move not longer than the tool radius; twice it leaves room.
+pub const COMP_ENTRY: f64 = 2.0;
 
 /// A lead-in radius of about the tool radius keeps the arc short and its tangent join
 /// gentle.
@@ -130,28 +146,40 @@ pub fn profile(
         }
     }
     let r = cut.radius();
+    let control = p.comp == Comp::Control;
+    if control && p.side == Side::On {
+        return Err(OpError::Invalid(
+            "cutter compensation needs a side: profile inside or outside".into(),
+        ));
+    }
     let finishing = p.allowance > 0.0 && p.side != Side::On;
-    let rough = contour_loops(paths, p.side, r + p.allowance)?;
-    if rough.is_empty() {
+    // With compensation the moves are the outline (plus allowance) and the control adds r.
+    let shift = if control { 0.0 } else { r };
+    if contour_loops(paths, p.side, r + p.allowance)?.is_empty() {
         return Err(OpError::Empty(format!(
             "every contour is too small for a {} mm tool",
             cut.tool.diameter
         )));
     }
+    let rough = contour_loops(paths, p.side, shift + p.allowance)?;
     let mut b = Builder::new(cut.clear_z);
     let rings = loop_rings(&rough);
+    let hints = comp_hints(paths, p, r + p.allowance)?;
     for chain in order_nearest(rough, [0.0, 0.0]) {
-        let (chain, lead) = lead_in(chain, p, &rings);
-        passes(&mut b, &chain, lead, cut, p, &cut.levels())?;
+        let centre = hint_for(&chain, &hints);
+        let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
+        passes(&mut b, &chain, centre, lead, cut, p, &cut.levels())?;
     }
     if finishing {
-        let finish = contour_loops(paths, p.side, r)?;
+        let finish = contour_loops(paths, p.side, shift)?;
         let rings = loop_rings(&finish);
+        let hints = comp_hints(paths, p, r)?;
         for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
             // One pass at full depth, ramping down along the wall: only the allowance
             // is left there.
-            let (chain, lead) = lead_in(chain, p, &rings);
-            passes(&mut b, &chain, lead, cut, p, &[cut.bottom()])?;
+            let centre = hint_for(&chain, &hints);
+            let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
+            passes(&mut b, &chain, centre, lead, cut, p, &[cut.bottom()])?;
         }
     }
     Ok(Operation {
@@ -170,10 +198,32 @@ fn loop_rings(loops: &[Chain]) -> Vec<Vec<P>> {
 
 /// The loop started where a lead-in fits (the middle of its longest piece first: a corner
 /// start would have the arc cross the wall before it), and that arc.
-pub fn lead_in(chain: Chain, p: &ProfileParams, rings: &[Vec<P>]) -> (Chain, Option<Piece>) {
-    if p.lead_in <= 0.0 || !chain.closed || p.side == Side::On {
+/// `extra`: added to the arc radius (the tool radius under compensation, where the
+/// programmed arc is the outline's and the tool runs inside it).
+pub fn lead_in(
+    chain: Chain,
+    p: &ProfileParams,
+    rings: &[Vec<P>],
+    extra: f64,
+    hint: Option<P>,
+) -> (Chain, Option<Piece>) {
+    if p.lead_in <= 0.0 && p.comp == Comp::Computer || !chain.closed || p.side == Side::On {
         return (chain, None);
     }
+    let s = match hint {
+        Some(h) => chain.nearest(h).0,
+        None => preferred_start(&chain),
+    };
+    let middle = chain.rotated(s);
+    if let Some(arc) = lead_in_arc(&middle, p, rings, extra) {
+        return (middle, Some(arc));
+    }
+    let arc = lead_in_arc(&chain, p, rings, extra);
+    (chain, arc)
+}
+
+/// Arc length of the middle of the longest piece.
+fn preferred_start(chain: &Chain) -> f64 {
     let mut s = 0.0;
     let mut best = (0.0, 0.0);
     for piece in &chain.pieces {
@@ -183,12 +233,30 @@ pub fn lead_in(chain: Chain, p: &ProfileParams, rings: &[Vec<P>]) -> (Chain, Opt
         }
         s += l;
     }
-    let middle = chain.rotated(best.0);
-    if let Some(arc) = lead_in_arc(&middle, p, rings) {
-        return (middle, Some(arc));
+    best.0
+}
+
+/// Under compensation the outline loops start across from where the tool-centre loops
+/// would (the nearest of their preferred starts), so the control cuts the path Oficina
+/// would have: the tool-centre loops at wall distance `d`.
+fn comp_hints(paths: &[Path], p: &ProfileParams, d: f64) -> Result<Vec<Chain>, OpError> {
+    if p.comp == Comp::Computer {
+        return Ok(vec![]);
     }
-    let arc = lead_in_arc(&chain, p, rings);
-    (chain, arc)
+    Ok(contour_loops(paths, p.side, d)?
+        .iter()
+        .map(|c| c.rotated(preferred_start(c)))
+        .collect())
+}
+
+/// The tool-centre loop (of `hints`) that runs along outline `chain`.
+fn hint_for<'a>(chain: &Chain, hints: &'a [Chain]) -> Option<&'a Chain> {
+    hints.iter().min_by(|a, b| {
+        chain
+            .nearest(a.start())
+            .1
+            .total_cmp(&chain.nearest(b.start()).1)
+    })
 }
 
 /// The quarter arc that ends tangent to the start of closed `chain`, turning left (the
@@ -198,7 +266,12 @@ pub fn lead_in(chain: Chain, p: &ProfileParams, rings: &[Vec<P>]) -> (Chain, Opt
 /// is +t. Every sampled point must lie on the waste side of all `rings` (outside them for
 /// outside profiles, inside for holes): then the tool centre stays at least the offset
 /// distance from the part. Too big an arc is halved, up to three times.
-pub fn lead_in_arc(chain: &Chain, p: &ProfileParams, rings: &[Vec<P>]) -> Option<Piece> {
+pub fn lead_in_arc(
+    chain: &Chain,
+    p: &ProfileParams,
+    rings: &[Vec<P>],
+    extra: f64,
+) -> Option<Piece> {
     if p.lead_in <= 0.0 || !chain.closed || p.side == Side::On {
         return None;
     }
@@ -209,7 +282,7 @@ pub fn lead_in_arc(chain: &Chain, p: &ProfileParams, rings: &[Vec<P>]) -> Option
         return None;
     }
     let waste_inside = p.side == Side::Inside;
-    let mut radius = p.lead_in;
+    let mut radius = p.lead_in + extra;
     for _ in 0..4 {
         let c = [s[0] - t[1] * radius, s[1] + t[0] * radius];
         // Angle of C − R·t seen from C is atan2(−t); a quarter turn counter-clockwise.
@@ -230,23 +303,49 @@ pub fn lead_in_arc(chain: &Chain, p: &ProfileParams, rings: &[Vec<P>]) -> Option
 }
 
 /// Cuts `chain` at each of `levels` without leaving it, entering along `lead` (an arc
-/// ending at the chain's start) if given, then the lead-out.
+/// ending at the chain's start) if given, then the lead-out. Under compensation `centre`
+/// is the tool-centre loop the control will make of outline `chain` (starting across from
+/// it): ramps and tabs are laid out by its lengths, then carried to the outline point
+/// across, so the control cuts the same path Oficina would.
 fn passes(
     b: &mut Builder,
     chain: &Chain,
+    centre: Option<&Chain>,
     lead: Option<Piece>,
     cut: &Cut,
     p: &ProfileParams,
     levels: &[f64],
 ) -> Result<(), OpError> {
     let start = lead.map_or(chain.start(), |a| a.start());
-    b.travel(cut.clear_z, start, cut.top + RAPID_GAP);
     let mut z = cut.top + RAPID_GAP;
+    let comp = p.comp == Comp::Control && chain.closed;
+    if comp {
+        // A straight entry from the waste side onto the arc start (or the loop start),
+        // along the direction the arc starts in: towards the wall, i.e. −(left normal).
+        let t = chain
+            .pieces
+            .first()
+            .map_or([1.0, 0.0], |q| q.direction(0.0));
+        let len = COMP_ENTRY * cut.radius();
+        let from = [start[0] - t[1] * len, start[1] + t[0] * len];
+        b.travel(cut.clear_z, from, z);
+        b.push(Move::Comp(Some((CompSide::Left, cut.tool_number))));
+        b.line([start[0], start[1], z], cut.feed);
+    } else {
+        b.travel(cut.clear_z, start, z);
+    }
     if let (Some(arc), Some(&first)) = (lead, levels.first()) {
         // Down along the arc as far as the ramp angle allows (or plunged in the waste
         // where the tool may), so the wall is met moving along it.
         let z_end = match cut.entry.angle() {
-            Some(angle) => (z - arc.length() * angle.tan()).max(first),
+            Some(angle) => {
+                // Under compensation the tool runs inside the programmed arc, r nearer C.
+                let tool_len = match (arc, comp) {
+                    (Piece::Arc { r, sweep, .. }, true) => (r - cut.radius()) * sweep.abs(),
+                    _ => arc.length(),
+                };
+                (z - tool_len * angle.tan()).max(first)
+            }
             None => {
                 b.line([start[0], start[1], first], cut.plunge_feed);
                 first
@@ -268,7 +367,25 @@ fn passes(
         }
         return Ok(());
     }
-    let len = chain.length();
+    let len = centre.unwrap_or(chain).length();
+    // Tool-centre arc length → outline arc length, through the outline point nearest the
+    // tool-centre point, in the same turn round the loop.
+    let to_outline = |s: f64| -> f64 {
+        let Some(c) = centre else {
+            return s;
+        };
+        let lp = chain.length();
+        let turns = (s / len).floor();
+        let along = s - turns * len;
+        let want = along / len * lp;
+        let mut f = chain.nearest(c.point_at(along)).0;
+        if f - want > lp / 2.0 {
+            f -= lp;
+        } else if want - f > lp / 2.0 {
+            f += lp;
+        }
+        turns * lp + f
+    };
     let mut s = 0.0;
     for &level in levels {
         let mut profile = match cut.entry.angle() {
@@ -289,14 +406,25 @@ fn passes(
             profile = max_profile(&profile, &tab_profile(t, cut, len, &profile, angle));
         }
         let mut moves = Vec::new();
-        chain.walk(&profile, cut.feed, &mut moves);
+        let walked: Vec<(f64, f64)> = profile.iter().map(|&(s, z)| (to_outline(s), z)).collect();
+        chain.walk(&walked, cut.feed, &mut moves);
         b.extend(moves);
         s = profile.last().map_or(s, |q| q.0);
         z = level;
     }
+    let ended = chain.rotated(to_outline(s));
     if p.lead_out > 0.0 {
-        let ended = chain.rotated(s);
-        lead_out(b, &ended, p.lead_out, cut.feed);
+        let extra = if comp { cut.radius() } else { 0.0 };
+        lead_out(b, &ended, p.lead_out + extra, cut.feed);
+    }
+    if comp {
+        // Straight off along the left normal at the loop's end (where a lead-out arc ends
+        // heading), then G40 before the retract.
+        let [tx, ty] = ended.pieces.last().map_or([1.0, 0.0], |q| q.direction(1.0));
+        let len = COMP_ENTRY * cut.radius();
+        let at = b.at;
+        b.line([at[0] - ty * len, at[1] + tx * len, at[2]], cut.feed);
+        b.push(Move::Comp(None));
     }
     Ok(())
 }
