@@ -81,6 +81,10 @@ pub struct Args {
     /// Tangent lead-in arc radius onto a profile, mm (default: the tool radius; 0: none).
     #[arg(long)]
     pub lead_in: Option<f64>,
+    /// Profiles: post the part outline with G41 + D (LinuxCNC, Sinumerik) and let the
+    /// control offset by the tool radius from its tool table.
+    #[arg(long)]
+    pub comp: bool,
     /// Drill peck depth, mm (G83).
     #[arg(long)]
     pub peck: Option<f64>,
@@ -213,6 +217,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         tab_height: args.tab_height,
         lead_out: args.lead_out,
         lead_in: args.lead_in,
+        comp: args.comp,
         peck: args.peck,
         dwell: args.dwell,
         clear_z: args.clear_z,

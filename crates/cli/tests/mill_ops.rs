@@ -297,3 +297,32 @@ fn drilling_canned_cycles_at_circle_centres() {
         "a drill wider than the hole must gouge: {gouge}"
     );
 }
+
+#[test]
+fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
+    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("p.ngc");
+    let run = |post: &str| {
+        Command::new(env!("CARGO_BIN_EXE_oficina"))
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .args(["mill", "samples/mill/plate.svg", "--op", "profile-out"])
+            .args([
+                "--tool", "flat:6", "--depth", "3", "--comp", "--post", post, "-o",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let ok = run("linuxcnc");
+    let said =
+        String::from_utf8_lossy(&ok.stdout).to_string() + &String::from_utf8_lossy(&ok.stderr);
+    assert!(ok.status.success(), "{said}");
+    assert!(said.contains("gouge:    none"), "{said}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("G41 D1") && text.contains("G40"), "{text}");
+    let refused = run("grbl");
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("no cutter radius compensation"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -20,7 +20,15 @@ pub fn read_back_with_tools(
     tools: &[(u32, f64)],
 ) -> Result<Vec<Canon>, String> {
     let mut tbl = String::new();
-    for (t, d) in tools {
+    let mut tools = tools.to_vec();
+    if opts.dialect == Dialect::Sinumerik
+        && !tools.is_empty()
+        && !tools.iter().any(|t| t.0 == crate::sinumerik::EMPTY_TOOL)
+    {
+        // Its programs end by loading the empty spindle.
+        tools.push((crate::sinumerik::EMPTY_TOOL, 0.0));
+    }
+    for (t, d) in &tools {
         tbl.push_str(&format!("T{t} P{t} D{d} Z0\n"));
     }
     let tool_table = ToolTable::parse(&tbl, Units::Mm)

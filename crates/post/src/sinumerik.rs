@@ -14,6 +14,9 @@ use crate::{Post, PostOptions};
 use oficina_cam::{CompSide, Operation, PathMode, Toolpath};
 use std::io;
 
+/// The tool number the program ends by loading: an empty spindle.
+pub const EMPTY_TOOL: u32 = 99;
+
 /// The machine set-up the seed's dialog asks for once per program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sinumerik {
@@ -209,7 +212,7 @@ impl Post for Sinumerik {
             at.push_str(&Self::rotation_word(e, 0.0));
         }
         e.block(&format!("{at} M05"))?;
-        e.block("T99 M06")?;
+        e.block(&format!("T{EMPTY_TOOL} M06"))?;
         if self.pallet {
             e.block("M22")?;
         }

@@ -169,7 +169,7 @@ fn own_feeds(tp: &Toolpath) -> Vec<Feed> {
 
 /// Feed moves as Oficina's interpreter reads the program with T1 = 6 mm.
 fn interp_feeds(text: &str, o: &PostOptions) -> Vec<Feed> {
-    let canon = read_back_with_tools(text, o, &[(1, 6.0), (99, 0.0)]).unwrap();
+    let canon = read_back_with_tools(text, o, &[(1, 6.0)]).unwrap();
     let mut at = [0.0; 3];
     let mut out = vec![];
     for c in canon {
