@@ -3,7 +3,7 @@
 
 use crate::{Error, Feedback};
 use oficina_cam::{Tool, Toolpath};
-use oficina_post::{post_for, read_back, write_program_with, Format, PostOptions};
+use oficina_post::{post_for, read_back_with_tools, write_program_with, Format, PostOptions};
 use oficina_sim::{check_mill, feed_only_estimate, Design};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -82,7 +82,13 @@ pub fn judge(
         .map_err(|e| Error::chain(&e))?;
     let program = String::from_utf8(buf).map_err(|e| Error::chain(&e))?;
     fb.stage("reading it back as the control will")?;
-    let canon = read_back(&program, post)
+    // The tool table the control holds: G41/G42 take the radius from it.
+    let table: Vec<(u32, f64)> = tp
+        .operations
+        .iter()
+        .map(|o| (o.tool_number, o.tool.diameter))
+        .collect();
+    let canon = read_back_with_tools(&program, post, &table)
         .map_err(|e| Error(format!("internal error, please report: {e}")))?;
     let tools: HashMap<u32, Tool> = tp
         .operations

@@ -69,6 +69,12 @@ pub struct MillParams {
     pub tab_height: f64,
     /// Tangent lead-out arc radius after a profile.
     pub lead_out: f64,
+    /// Tangent lead-in arc radius onto a profile (default: the tool radius; 0: none).
+    #[serde(default)]
+    pub lead_in: Option<f64>,
+    /// Profiles on the outline with G41 + D: the control offsets by the tool radius.
+    #[serde(default)]
+    pub comp: bool,
     /// Drill peck depth (G83).
     pub peck: Option<f64>,
     /// Drill dwell at the bottom, s (G82).
@@ -104,6 +110,8 @@ impl Default for MillParams {
             tab_width: 5.0,
             tab_height: 1.0,
             lead_out: 0.0,
+            lead_in: None,
+            comp: false,
             peck: None,
             dwell: 0.0,
             clear_z: 5.0,
@@ -194,6 +202,14 @@ pub fn mill(
                 height: p.tab_height,
             }),
             lead_out: p.lead_out,
+            lead_in: p
+                .lead_in
+                .unwrap_or(d / 2.0 * oficina_cam::ops::profile::DEFAULT_LEAD_IN),
+            comp: if p.comp {
+                oficina_cam::ops::Comp::Control
+            } else {
+                oficina_cam::ops::Comp::Computer
+            },
         })
     };
     let op = match p.op {

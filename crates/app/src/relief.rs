@@ -158,7 +158,8 @@ pub fn carve_relief(
             title: "Oficina relief carving (workbench)".into(),
             settings: vec![("settings".into(), format!("{p:?}"))],
         },
-    );
+    )
+    .map_err(Error::from_display)?;
     Ok(ReliefResult {
         program,
         pixels: [design.width, design.height],

@@ -39,4 +39,4 @@ pub mod toolpath;
 
 pub use library::Library;
 pub use tool::{Shape, Tool, ToolError};
-pub use toolpath::{Drill, Move, Operation, PathMode, Toolpath};
+pub use toolpath::{CompSide, Drill, Move, Operation, PathMode, Toolpath};

@@ -115,7 +115,7 @@ pub fn apply_moves(
                 pos = to;
             }
             Move::Drill(d) => pos = apply_moves(stock, tool, pos, &d.moves(pos)),
-            Move::Dwell(_) | Move::PathMode(_) => {}
+            Move::Dwell(_) | Move::PathMode(_) | Move::Comp(_) => {}
         }
     }
     pos

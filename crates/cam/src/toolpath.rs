@@ -29,6 +29,19 @@ pub enum Move {
     Drill(Drill),
     /// Corner behaviour from here on (G61/G64, Sinumerik G60/G64).
     PathMode(PathMode),
+    /// Cutter radius compensation from here on: the control keeps the tool on `side` of
+    /// the programmed path (G41 left, G42 right) by the radius in tool register D, or off
+    /// (G40). Moves in between are the part outline, not the tool centre.
+    Comp(Option<(CompSide, u32)>),
+}
+
+/// Side of the programmed path the tool is kept on, looking along the travel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompSide {
+    /// G41.
+    Left,
+    /// G42.
+    Right,
 }
 
 /// A drilling cycle at one point, retracting to the R plane after the hole (LinuxCNC G99).
@@ -130,7 +143,7 @@ impl Move {
     pub fn end(&self) -> Option<[f64; 3]> {
         match *self {
             Move::Rapid { to } | Move::Line { to, .. } | Move::Arc { to, .. } => Some(to),
-            Move::Dwell(_) | Move::PathMode(_) => None,
+            Move::Dwell(_) | Move::PathMode(_) | Move::Comp(_) => None,
             Move::Drill(d) => Some([d.at[0], d.at[1], d.r]),
         }
     }
@@ -186,6 +199,9 @@ impl Toolpath {
                     }),
                     // Expanded into plain moves above.
                     Move::Drill(_) => {}
+                    // The moves stay the programmed ones: only a control (or the
+                    // interpreter reading the posted text) knows the radius in D.
+                    Move::Comp(_) => {}
                 }
             }
         }

@@ -189,6 +189,7 @@ fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
         settings: vec![],
     };
     let (program, post_cost) = measure(|| program_text(&planned.toolpath, &post));
+    let program = program?;
     Ok(Ours {
         plan: plan_cost,
         post: post_cost,

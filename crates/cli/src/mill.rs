@@ -78,6 +78,13 @@ pub struct Args {
     /// Tangent lead-out arc radius after a profile, mm.
     #[arg(long, default_value_t = 0.0)]
     pub lead_out: f64,
+    /// Tangent lead-in arc radius onto a profile, mm (default: the tool radius; 0: none).
+    #[arg(long)]
+    pub lead_in: Option<f64>,
+    /// Profiles: post the part outline with G41 + D (LinuxCNC, Sinumerik) and let the
+    /// control offset by the tool radius from its tool table.
+    #[arg(long)]
+    pub comp: bool,
     /// Drill peck depth, mm (G83).
     #[arg(long)]
     pub peck: Option<f64>,
@@ -209,6 +216,8 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         tab_width: args.tab_width,
         tab_height: args.tab_height,
         lead_out: args.lead_out,
+        lead_in: args.lead_in,
+        comp: args.comp,
         peck: args.peck,
         dwell: args.dwell,
         clear_z: args.clear_z,

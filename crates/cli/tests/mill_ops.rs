@@ -4,8 +4,8 @@
 //! material left where the tool can reach.
 
 use oficina_cam::ops::{
-    allowed_region, toolpath, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side,
-    Strategy, Tabs,
+    allowed_region, toolpath, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams,
+    Side, Strategy, Tabs,
 };
 use oficina_cam::{Move, Tool, Toolpath};
 use oficina_geom::{Arc, Path, Point, Segment};
@@ -136,7 +136,7 @@ fn verify(paths: &[Path], c: &Cut, op: &MillOp) -> (f64, f64, Toolpath) {
             }
         }
     }
-    let text = program_text(&tp, &post());
+    let text = program_text(&tp, &post()).unwrap();
     rs274_accepts(&text);
     let canon = read_back(&text, &post()).unwrap();
     let (rings, cut_inside) = allowed_region(paths, op).unwrap().unwrap();
@@ -221,6 +221,8 @@ fn profiles_inside_and_outside_with_tabs_and_lead_out() {
                 height: 1.5,
             }),
             lead_out: 2.0,
+            lead_in: 0.0,
+            comp: Comp::Computer,
         });
         let (gouge, _, tp) = verify(&dumbbell(), &c, &op);
         assert!(gouge < NO_GOUGE, "{side:?}: gouge {gouge}");
@@ -231,6 +233,43 @@ fn profiles_inside_and_outside_with_tabs_and_lead_out() {
             .iter()
             .filter_map(Move::end)
             .any(|e| (e[2] - tab_top).abs() < 1e-9));
+    }
+}
+
+#[test]
+fn profiles_with_lead_in_arcs_do_not_gouge() {
+    // Lead-in on (tool radius), rough passes plus a finishing pass, tabs and a lead-out:
+    // posted, accepted by rs274, read back and simulated.
+    for entry in [Entry::Ramp { angle: 3.0 }, Entry::Plunge] {
+        let c = cut("flat:6", 6.0, 2.0, entry);
+        for (paths, side) in [
+            (dumbbell(), Side::Outside),
+            (dumbbell(), Side::Inside),
+            (plate_with_islands(), Side::Outside),
+        ] {
+            let op = MillOp::Profile(ProfileParams {
+                side,
+                allowance: 0.3,
+                tabs: Some(Tabs {
+                    count: 2,
+                    width: 4.0,
+                    height: 1.5,
+                }),
+                lead_out: 2.0,
+                lead_in: 3.0,
+                comp: Comp::Computer,
+            });
+            let (gouge, _, tp) = verify(&paths, &c, &op);
+            assert!(gouge < NO_GOUGE, "{side:?} {entry:?}: gouge {gouge}");
+            let arcs = tp.operations[0]
+                .moves
+                .windows(2)
+                .filter(|w| matches!(w[0], Move::Rapid { .. }) && matches!(w[1], Move::Arc { .. }))
+                .count();
+            if entry != Entry::Plunge {
+                assert!(arcs >= 2, "{side:?}: {arcs} lead-in arcs");
+            }
+        }
     }
 }
 
@@ -248,7 +287,7 @@ fn drilling_canned_cycles_at_circle_centres() {
     });
     let (gouge, _, tp) = verify(&paths, &c, &op);
     assert!(gouge < NO_GOUGE, "gouge {gouge}");
-    let text = program_text(&tp, &post());
+    let text = program_text(&tp, &post()).unwrap();
     assert_eq!(text.matches("G83").count(), 3, "{text}");
     // A 5 mm drill does not fit the 3.2 mm holes: the check sees the gouge.
     let big = cut("flat:5", 8.0, 8.0, Entry::Plunge);
@@ -257,4 +296,33 @@ fn drilling_canned_cycles_at_circle_centres() {
         gouge > 1.0,
         "a drill wider than the hole must gouge: {gouge}"
     );
+}
+
+#[test]
+fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
+    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("p.ngc");
+    let run = |post: &str| {
+        Command::new(env!("CARGO_BIN_EXE_oficina"))
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .args(["mill", "samples/mill/plate.svg", "--op", "profile-out"])
+            .args([
+                "--tool", "flat:6", "--depth", "3", "--comp", "--post", post, "-o",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    let ok = run("linuxcnc");
+    let said =
+        String::from_utf8_lossy(&ok.stdout).to_string() + &String::from_utf8_lossy(&ok.stderr);
+    assert!(ok.status.success(), "{said}");
+    assert!(said.contains("gouge:    none"), "{said}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("G41 D1") && text.contains("G40"), "{text}");
+    let refused = run("grbl");
+    assert!(!refused.status.success());
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("no cutter radius compensation"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

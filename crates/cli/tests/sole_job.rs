@@ -43,7 +43,7 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
         settings: vec![],
     };
     for p in &r.programs {
-        let text = program_text(&p.toolpath, &opts);
+        let text = program_text(&p.toolpath, &opts).unwrap();
         let canon = read_back(&text, &opts).unwrap();
         let area = Area::from_paths(std::slice::from_ref(&p.contour));
         let (d, inside) = match p.part {

@@ -144,7 +144,7 @@ impl<'a> Emitter<'a> {
                 f.push_word(&mut self.line, 'J', f.length(j));
                 self.feed_word(feed);
             }
-            Move::Dwell(_) | Move::Drill(_) | Move::PathMode(_) => {
+            Move::Dwell(_) | Move::Drill(_) | Move::PathMode(_) | Move::Comp(_) => {
                 return Err(io::Error::other(
                     "internal: the dialect writes dwells, drills and path modes",
                 ))

@@ -15,7 +15,7 @@
 //! let path = Toolpath { safe_z: 5.0, operations: vec![op] };
 //! let title = "demo".into();
 //! let opts = PostOptions { dialect: Dialect::LinuxCnc, allow_m6: true, title, settings: vec![] };
-//! let text = program_text(&path, &opts);
+//! let text = program_text(&path, &opts).unwrap();
 //! assert!(text.lines().any(|l| l == "T1 M6"), "{text}");
 //! assert!(text.contains("G3 X12 Y4 I0 J2 F1200"), "{text}");
 //! // Read back as the interpreter reads it: the arc ends where the toolpath says.
@@ -43,9 +43,9 @@ pub mod sinumerik;
 
 pub use emit::{Emitter, MotionWords};
 pub use format::{Format, LineNumbers, Numbers, Units};
-pub use readback::read_back;
+pub use readback::{read_back, read_back_with_tools};
 
-use oficina_cam::{Drill, Move, Operation, PathMode, Toolpath};
+use oficina_cam::{CompSide, Drill, Move, Operation, PathMode, Toolpath};
 use std::io::{self, Write};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -130,6 +130,13 @@ pub trait Post {
         e.block(&s)
     }
     fn path_mode(&self, e: &mut Emitter, mode: PathMode) -> io::Result<()>;
+    /// G41/G42 with the D register, or G40; controls without it refuse the program.
+    fn comp(&self, _e: &mut Emitter, _comp: Option<(CompSide, u32)>) -> io::Result<()> {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "this control has no cutter radius compensation: post without --comp",
+        ))
+    }
     /// Retract, spindle off, end of program.
     fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()>;
 
@@ -139,6 +146,7 @@ pub trait Post {
             Move::Drill(d) => self.drill(e, d),
             Move::Dwell(s) => self.dwell(e, *s),
             Move::PathMode(p) => self.path_mode(e, *p),
+            Move::Comp(c) => self.comp(e, *c),
             m => e.motion(m),
         }
     }
@@ -198,11 +206,13 @@ pub fn write_program_with(
     post.epilogue(&mut e, tp, opts)
 }
 
-/// The program as a string, in the dialect's default format.
-pub fn program_text(tp: &Toolpath, opts: &PostOptions) -> String {
+/// The program as a string, in the dialect's default format. Writing to memory cannot fail,
+/// so an error is the post refusing the toolpath (e.g. cutter compensation on grbl).
+pub fn program_text(tp: &Toolpath, opts: &PostOptions) -> io::Result<String> {
     let mut buf = Vec::new();
-    write_program(tp, opts, &mut buf).expect("writing to memory cannot fail");
-    String::from_utf8(buf).expect("the post writes ASCII")
+    write_program(tp, opts, &mut buf)?;
+    // The writers emit only ASCII; a lossy conversion keeps that promise without a panic.
+    Ok(String::from_utf8_lossy(&buf).into_owned())
 }
 
 /// The program as a string in `format`; an error names the format option the dialect

@@ -3,7 +3,7 @@
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{push_decimal, Units};
 use crate::{header_comments, Post, PostOptions};
-use oficina_cam::{Drill, Operation, PathMode, Toolpath};
+use oficina_cam::{CompSide, Drill, Operation, PathMode, Toolpath};
 use std::io;
 
 pub struct LinuxCnc;
@@ -120,6 +120,15 @@ impl Post for LinuxCnc {
         e.block(match mode {
             PathMode::ExactStop => "G61",
             PathMode::Continuous => "G64",
+        })
+    }
+
+    /// G41/G42 D n on a block of its own: the next move is the entry move.
+    fn comp(&self, e: &mut Emitter, comp: Option<(CompSide, u32)>) -> io::Result<()> {
+        e.block(&match comp {
+            Some((CompSide::Left, d)) => format!("G41 D{d}"),
+            Some((CompSide::Right, d)) => format!("G42 D{d}"),
+            None => "G40".into(),
         })
     }
 

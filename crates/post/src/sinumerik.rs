@@ -11,8 +11,11 @@
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{Format, Numbers, Units};
 use crate::{Post, PostOptions};
-use oficina_cam::{Operation, PathMode, Toolpath};
+use oficina_cam::{CompSide, Operation, PathMode, Toolpath};
 use std::io;
+
+/// The tool number the program ends by loading: an empty spindle.
+pub const EMPTY_TOOL: u32 = 99;
 
 /// The machine set-up the seed's dialog asks for once per program.
 #[derive(Clone, Debug, PartialEq)]
@@ -190,6 +193,15 @@ impl Post for Sinumerik {
         })
     }
 
+    /// G41/G42 use the D register the tool change selected; G40 cancels.
+    fn comp(&self, e: &mut Emitter, comp: Option<(CompSide, u32)>) -> io::Result<()> {
+        e.block(match comp {
+            Some((CompSide::Left, _)) => "G41",
+            Some((CompSide::Right, _)) => "G42",
+            None => "G40",
+        })
+    }
+
     fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
         e.rapid_z(tp.safe_z)?;
         if self.coolant {
@@ -200,7 +212,7 @@ impl Post for Sinumerik {
             at.push_str(&Self::rotation_word(e, 0.0));
         }
         e.block(&format!("{at} M05"))?;
-        e.block("T99 M06")?;
+        e.block(&format!("T{EMPTY_TOOL} M06"))?;
         if self.pallet {
             e.block("M22")?;
         }

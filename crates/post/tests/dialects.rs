@@ -132,7 +132,7 @@ fn every_dialect_reads_back_as_the_toolpath() {
         Dialect::Sinumerik,
         Dialect::Legacy2006,
     ] {
-        let text = program_text(&tp, &options(dialect));
+        let text = program_text(&tp, &options(dialect)).unwrap();
         let canon = read_back(&text, &options(dialect))
             .unwrap_or_else(|e| panic!("{dialect:?}: {e}\n{text}"));
         // Sinumerik words are 0.001 mm; the others print 3 or 4 decimals.
@@ -226,14 +226,14 @@ fn rs274_feed_ends(out: &str) -> Vec<[f64; 3]> {
 fn rs274_accepts_the_linuxcnc_program_and_cuts_the_same_path() {
     let tp = sample();
     let want = feed_ends(&tp.canon());
-    let text = program_text(&tp, &options(Dialect::LinuxCnc));
+    let text = program_text(&tp, &options(Dialect::LinuxCnc)).unwrap();
     assert!(text.contains("G99 G81 X20 Y30 Z-4 R2 F170"), "{text}");
     assert!(text.contains("G99 G83 X40 Y30 Z-7.5 R2 Q3 F170"), "{text}");
     let out = rs274(&text);
     // rs274 runs canned cycles itself: its peck moves must be Drill::moves'.
     assert_same_path(&rs274_feed_ends(&out), &want, 1e-4, "rs274");
     // The Sinumerik program, rewritten word for word in NGC, passes rs274 too.
-    let sin = program_text(&tp, &options(Dialect::Sinumerik));
+    let sin = program_text(&tp, &options(Dialect::Sinumerik)).unwrap();
     let ngc = sinumerik::to_ngc(&sin).unwrap();
     assert_same_path(
         &rs274_feed_ends(&rs274(&ngc)),
@@ -245,7 +245,7 @@ fn rs274_accepts_the_linuxcnc_program_and_cuts_the_same_path() {
 
 #[test]
 fn sinumerik_writes_the_seeds_blocks() {
-    let text = program_text(&sample(), &options(Dialect::Sinumerik));
+    let text = program_text(&sample(), &options(Dialect::Sinumerik)).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "%", "{text}");
     for want in [
@@ -293,7 +293,7 @@ fn sinumerik_writes_the_seeds_blocks() {
 
 #[test]
 fn legacy_uses_g90_feeds_absolute_centres_and_no_f() {
-    let text = program_text(&sample(), &options(Dialect::Legacy2006));
+    let text = program_text(&sample(), &options(Dialect::Legacy2006)).unwrap();
     assert!(text.contains("G90 Z-5\n"), "{text}");
     // I J are the centre itself.
     assert!(text.contains("G2 X200 Y100 I150 J100\n"), "{text}");
@@ -448,7 +448,7 @@ fn sinumerik_reader_names_a_bad_word() {
 
 #[test]
 fn sinumerik_end_puts_the_tool_away_after_the_last_motion() {
-    let text = program_text(&sample(), &options(Dialect::Sinumerik));
+    let text = program_text(&sample(), &options(Dialect::Sinumerik)).unwrap();
     let ngc = sinumerik::to_ngc(&text).unwrap();
     let canon = read_back(&text, &options(Dialect::Sinumerik)).unwrap();
     let last_motion = canon.iter().rposition(|c| c.op.is_motion()).unwrap();

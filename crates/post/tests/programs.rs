@@ -106,7 +106,7 @@ fn endpoints(text: &str) -> Vec<(char, [f64; 3])> {
 
 #[test]
 fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
-    let text = program_text(&two_tool_path(), &options(Dialect::Grbl));
+    let text = program_text(&two_tool_path(), &options(Dialect::Grbl)).unwrap();
     assert!(text.contains("(image = x.png)"));
     assert!(text.contains("(test [relief])"));
     assert!(text.contains("G21 G90 G94 G17"));
@@ -131,14 +131,15 @@ fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
             allow_m6: false,
             ..options(Dialect::LinuxCnc)
         },
-    );
+    )
+    .unwrap();
     assert!(linuxcnc.contains("T1 M6") && linuxcnc.contains("T2 M6"));
 }
 
 #[test]
 fn printed_moves_are_the_toolpaths_moves() {
     let tp = two_tool_path();
-    let text = program_text(&tp, &options(Dialect::Grbl));
+    let text = program_text(&tp, &options(Dialect::Grbl)).unwrap();
     let printed = endpoints(&text);
     let mut wanted = vec![('r', [f64::NAN, f64::NAN, 5.0])];
     let mut pos = [f64::NAN, f64::NAN, 5.0];
@@ -212,7 +213,7 @@ fn interpreter_reads_back_the_toolpath() {
         (Dialect::Grbl, oficina_gcode::Dialect::Grbl),
         (Dialect::LinuxCnc, oficina_gcode::Dialect::LinuxCnc),
     ] {
-        let text = program_text(&tp, &options(dialect));
+        let text = program_text(&tp, &options(dialect)).unwrap();
         let (ops, diags) = canon_of(
             &text,
             &RunOptions {

@@ -278,6 +278,8 @@ pub enum CarveError {
     Interpreter { count: usize, first: String },
     #[error("the job has no passes")]
     NoPasses,
+    #[error("the post-processor refused the toolpath: {0}")]
+    Post(#[from] std::io::Error),
 }
 
 impl CarveError {
@@ -346,7 +348,7 @@ pub fn evaluate(
     };
     let planned = plan_within(design, job, budget, progress)?;
     progress("writing G-code", 0.0);
-    let program = program_text(&planned.toolpath, post);
+    let program = program_text(&planned.toolpath, post)?;
     // Everything downstream judges the program as a machine would read it: the written
     // text through the interpreter, never the CAM's own idea of the moves.
     progress("interpreting the program", 0.0);

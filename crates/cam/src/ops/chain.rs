@@ -45,6 +45,23 @@ impl Piece {
             }
         }
     }
+    /// Unit direction of travel at fraction `t` (a zero vector for a point).
+    pub fn direction(&self, t: f64) -> P {
+        let d = match *self {
+            Piece::Line { a, b } => [b[0] - a[0], b[1] - a[1]],
+            Piece::Arc { a0, sweep, .. } => {
+                // d/dt (cos, sin)(a0 + sweep·t) = sweep·(−sin, cos).
+                let ang = a0 + sweep * t;
+                [-sweep * ang.sin(), sweep * ang.cos()]
+            }
+        };
+        let n = d[0].hypot(d[1]);
+        if n > 0.0 {
+            [d[0] / n, d[1] / n]
+        } else {
+            [0.0, 0.0]
+        }
+    }
     /// The part between fractions `t0` < `t1`.
     pub fn sub(&self, t0: f64, t1: f64) -> Piece {
         match *self {
@@ -153,6 +170,19 @@ impl Chain {
         }
     }
 
+    /// The point at arc length `s` (clamped to the chain).
+    pub fn point_at(&self, s: f64) -> P {
+        let mut at = 0.0;
+        for p in &self.pieces {
+            let l = p.length();
+            if s <= at + l && l > 0.0 {
+                return p.at(((s - at) / l).clamp(0.0, 1.0));
+            }
+            at += l;
+        }
+        self.end()
+    }
+
     /// The same closed chain starting at arc length `s`.
     pub fn rotated(&self, s: f64) -> Chain {
         if !self.closed || self.pieces.is_empty() {
@@ -225,7 +255,9 @@ impl Chain {
                 }
                 let t0 = ((s0 - a) / l).max(0.0);
                 let t1 = ((s1 - a) / l).min(1.0);
-                if t1 > t0 {
+                // A sliver from rounding at a piece end would post as an arc from a point
+                // to itself, which controls read as a full circle.
+                if (t1 - t0) * l > 1e-9 {
                     out.push(piece.sub(t0, t1));
                 }
             }

@@ -25,7 +25,7 @@ pub use entry::Entry;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::preview_svg;
-pub use profile::{profile, ProfileParams, Side, Tabs};
+pub use profile::{profile, Comp, ProfileParams, Side, Tabs};
 pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
 
 use crate::{Move, Tool};

@@ -3,10 +3,10 @@
 //! radius (arcs stay arcs); climb milling with a clockwise spindle: outside contours run
 //! clockwise, inside ones counter-clockwise.
 
-use super::chain::{max_profile, Chain, Piece};
+use super::chain::{inside, max_profile, Chain, Piece, P};
 use super::entry::enter_open;
 use super::{Builder, Cut, OpError, RAPID_GAP};
-use crate::{Move, Operation};
+use crate::{CompSide, Move, Operation};
 use oficina_geom::{offset_areas, Area, Path};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,7 +36,31 @@ pub struct ProfileParams {
     pub tabs: Option<Tabs>,
     /// Radius of a tangent arc off the wall after the last pass (0: none).
     pub lead_out: f64,
+    /// Radius of a tangent quarter arc from the waste side onto each closed loop (0: none);
+    /// [`DEFAULT_LEAD_IN`] × the tool radius is a good start. Where it does not fit it is
+    /// halved, and left out if even an eighth does not.
+    pub lead_in: f64,
+    /// Who offsets by the tool radius: Oficina (the moves are the tool centre) or the
+    /// control (G41 + D: the moves are the part outline, so wear is corrected at the
+    /// machine).
+    pub comp: Comp,
 }
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Comp {
+    #[default]
+    Computer,
+    /// G41 on a straight entry move of [`COMP_ENTRY`] × the radius, G40 after a straight
+    /// exit move as long.
+    Control,
+}
+
+/// LinuxCNC refuses an entry move not longer than the tool radius; twice it leaves room.
+pub const COMP_ENTRY: f64 = 2.0;
+
+/// A lead-in radius of about the tool radius keeps the arc short and its tangent join
+/// gentle.
+pub const DEFAULT_LEAD_IN: f64 = 1.0;
 
 /// Offsets are exact to this (mm).
 pub const OFFSET_TOL: f64 = 0.001;
@@ -102,9 +126,15 @@ pub fn profile(
     p: &ProfileParams,
 ) -> Result<Operation, OpError> {
     cut.validate()?;
-    if !(p.allowance.is_finite() && p.allowance >= 0.0 && p.lead_out >= 0.0) {
+    if !(p.allowance.is_finite()
+        && p.allowance >= 0.0
+        && p.lead_out >= 0.0
+        && p.lead_in.is_finite()
+        && p.lead_in >= 0.0
+        && p.lead_in <= 1000.0)
+    {
         return Err(OpError::Invalid(
-            "allowance and lead-out must be 0 or more".into(),
+            "allowance, lead-in and lead-out must be 0 or more (lead-in up to 1000 mm)".into(),
         ));
     }
     if let Some(t) = p.tabs {
@@ -116,24 +146,40 @@ pub fn profile(
         }
     }
     let r = cut.radius();
+    let control = p.comp == Comp::Control;
+    if control && p.side == Side::On {
+        return Err(OpError::Invalid(
+            "cutter compensation needs a side: profile inside or outside".into(),
+        ));
+    }
     let finishing = p.allowance > 0.0 && p.side != Side::On;
-    let rough = contour_loops(paths, p.side, r + p.allowance)?;
-    if rough.is_empty() {
+    // With compensation the moves are the outline (plus allowance) and the control adds r.
+    let shift = if control { 0.0 } else { r };
+    if contour_loops(paths, p.side, r + p.allowance)?.is_empty() {
         return Err(OpError::Empty(format!(
             "every contour is too small for a {} mm tool",
             cut.tool.diameter
         )));
     }
+    let rough = contour_loops(paths, p.side, shift + p.allowance)?;
     let mut b = Builder::new(cut.clear_z);
+    let rings = loop_rings(&rough);
+    let hints = comp_hints(paths, p, r + p.allowance)?;
     for chain in order_nearest(rough, [0.0, 0.0]) {
-        passes(&mut b, &chain, cut, p, &cut.levels())?;
+        let centre = hint_for(&chain, &hints);
+        let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
+        passes(&mut b, &chain, centre, lead, cut, p, &cut.levels())?;
     }
     if finishing {
-        let finish = contour_loops(paths, p.side, r)?;
+        let finish = contour_loops(paths, p.side, shift)?;
+        let rings = loop_rings(&finish);
+        let hints = comp_hints(paths, p, r)?;
         for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
             // One pass at full depth, ramping down along the wall: only the allowance
             // is left there.
-            passes(&mut b, &chain, cut, p, &[cut.bottom()])?;
+            let centre = hint_for(&chain, &hints);
+            let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
+            passes(&mut b, &chain, centre, lead, cut, p, &[cut.bottom()])?;
         }
     }
     Ok(Operation {
@@ -145,17 +191,169 @@ pub fn profile(
     })
 }
 
-/// Cuts `chain` at each of `levels` without leaving it, then the lead-out.
+/// The tool-centre loops as polygons, for the waste-side test.
+fn loop_rings(loops: &[Chain]) -> Vec<Vec<P>> {
+    loops.iter().map(|c| c.polygon(OFFSET_TOL / 10.0)).collect()
+}
+
+/// The loop started where a lead-in fits (the middle of its longest piece first: a corner
+/// start would have the arc cross the wall before it), and that arc.
+/// `extra`: added to the arc radius (the tool radius under compensation, where the
+/// programmed arc is the outline's and the tool runs inside it).
+pub fn lead_in(
+    chain: Chain,
+    p: &ProfileParams,
+    rings: &[Vec<P>],
+    extra: f64,
+    hint: Option<P>,
+) -> (Chain, Option<Piece>) {
+    if p.lead_in <= 0.0 && p.comp == Comp::Computer || !chain.closed || p.side == Side::On {
+        return (chain, None);
+    }
+    let s = match hint {
+        Some(h) => chain.nearest(h).0,
+        None => preferred_start(&chain),
+    };
+    let middle = chain.rotated(s);
+    if let Some(arc) = lead_in_arc(&middle, p, rings, extra) {
+        return (middle, Some(arc));
+    }
+    let arc = lead_in_arc(&chain, p, rings, extra);
+    (chain, arc)
+}
+
+/// Arc length of the middle of the longest piece.
+fn preferred_start(chain: &Chain) -> f64 {
+    let mut s = 0.0;
+    let mut best = (0.0, 0.0);
+    for piece in &chain.pieces {
+        let l = piece.length();
+        if l > best.1 {
+            best = (s + l / 2.0, l);
+        }
+        s += l;
+    }
+    best.0
+}
+
+/// Under compensation the outline loops start across from where the tool-centre loops
+/// would (the nearest of their preferred starts), so the control cuts the path Oficina
+/// would have: the tool-centre loops at wall distance `d`.
+fn comp_hints(paths: &[Path], p: &ProfileParams, d: f64) -> Result<Vec<Chain>, OpError> {
+    if p.comp == Comp::Computer {
+        return Ok(vec![]);
+    }
+    Ok(contour_loops(paths, p.side, d)?
+        .iter()
+        .map(|c| c.rotated(preferred_start(c)))
+        .collect())
+}
+
+/// The tool-centre loop (of `hints`) that runs along outline `chain`.
+fn hint_for<'a>(chain: &Chain, hints: &'a [Chain]) -> Option<&'a Chain> {
+    hints.iter().min_by(|a, b| {
+        chain
+            .nearest(a.start())
+            .1
+            .total_cmp(&chain.nearest(b.start()).1)
+    })
+}
+
+/// The quarter arc that ends tangent to the start of closed `chain`, turning left (the
+/// waste side when climb milling: outside loops run clockwise, holes counter-clockwise).
+/// With the start P, unit direction t and left normal n = (−t_y, t_x), the centre is
+/// C = P + R·n and the arc runs counter-clockwise from C − R·t to P, whose tangent there
+/// is +t. Every sampled point must lie on the waste side of all `rings` (outside them for
+/// outside profiles, inside for holes): then the tool centre stays at least the offset
+/// distance from the part. Too big an arc is halved, up to three times.
+pub fn lead_in_arc(
+    chain: &Chain,
+    p: &ProfileParams,
+    rings: &[Vec<P>],
+    extra: f64,
+) -> Option<Piece> {
+    if p.lead_in <= 0.0 || !chain.closed || p.side == Side::On {
+        return None;
+    }
+    let first = chain.pieces.first()?;
+    let s = first.start();
+    let t = first.direction(0.0);
+    if t == [0.0, 0.0] {
+        return None;
+    }
+    let waste_inside = p.side == Side::Inside;
+    let mut radius = p.lead_in + extra;
+    for _ in 0..4 {
+        let c = [s[0] - t[1] * radius, s[1] + t[0] * radius];
+        // Angle of C − R·t seen from C is atan2(−t); a quarter turn counter-clockwise.
+        let arc = Piece::Arc {
+            c,
+            r: radius,
+            a0: (-t[1]).atan2(-t[0]),
+            sweep: std::f64::consts::FRAC_PI_2,
+        };
+        let n = 32;
+        let fits = (0..n).all(|k| inside(rings, arc.at(k as f64 / n as f64)) == waste_inside);
+        if fits {
+            return Some(arc);
+        }
+        radius /= 2.0;
+    }
+    None
+}
+
+/// Cuts `chain` at each of `levels` without leaving it, entering along `lead` (an arc
+/// ending at the chain's start) if given, then the lead-out. Under compensation `centre`
+/// is the tool-centre loop the control will make of outline `chain` (starting across from
+/// it): ramps and tabs are laid out by its lengths, then carried to the outline point
+/// across, so the control cuts the same path Oficina would.
 fn passes(
     b: &mut Builder,
     chain: &Chain,
+    centre: Option<&Chain>,
+    lead: Option<Piece>,
     cut: &Cut,
     p: &ProfileParams,
     levels: &[f64],
 ) -> Result<(), OpError> {
-    let start = chain.start();
-    b.travel(cut.clear_z, start, cut.top + RAPID_GAP);
+    let start = lead.map_or(chain.start(), |a| a.start());
     let mut z = cut.top + RAPID_GAP;
+    let comp = p.comp == Comp::Control && chain.closed;
+    if comp {
+        // A straight entry from the waste side onto the arc start (or the loop start),
+        // along the direction the arc starts in: towards the wall, i.e. −(left normal).
+        let t = chain
+            .pieces
+            .first()
+            .map_or([1.0, 0.0], |q| q.direction(0.0));
+        let len = COMP_ENTRY * cut.radius();
+        let from = [start[0] - t[1] * len, start[1] + t[0] * len];
+        b.travel(cut.clear_z, from, z);
+        b.push(Move::Comp(Some((CompSide::Left, cut.tool_number))));
+        b.line([start[0], start[1], z], cut.feed);
+    } else {
+        b.travel(cut.clear_z, start, z);
+    }
+    if let (Some(arc), Some(&first)) = (lead, levels.first()) {
+        // Down along the arc as far as the ramp angle allows (or plunged in the waste
+        // where the tool may), so the wall is met moving along it.
+        let z_end = match cut.entry.angle() {
+            Some(angle) => {
+                // Under compensation the tool runs inside the programmed arc, r nearer C.
+                let tool_len = match (arc, comp) {
+                    (Piece::Arc { r, sweep, .. }, true) => (r - cut.radius()) * sweep.abs(),
+                    _ => arc.length(),
+                };
+                (z - tool_len * angle.tan()).max(first)
+            }
+            None => {
+                b.line([start[0], start[1], first], cut.plunge_feed);
+                first
+            }
+        };
+        b.push(arc.to_move(z_end, cut.feed));
+        z = z_end;
+    }
     if !chain.closed {
         // Open grooves: back and forth, each level entered where the last ended.
         let mut c = chain.clone();
@@ -169,7 +367,25 @@ fn passes(
         }
         return Ok(());
     }
-    let len = chain.length();
+    let len = centre.unwrap_or(chain).length();
+    // Tool-centre arc length → outline arc length, through the outline point nearest the
+    // tool-centre point, in the same turn round the loop.
+    let to_outline = |s: f64| -> f64 {
+        let Some(c) = centre else {
+            return s;
+        };
+        let lp = chain.length();
+        let turns = (s / len).floor();
+        let along = s - turns * len;
+        let want = along / len * lp;
+        let mut f = chain.nearest(c.point_at(along)).0;
+        if f - want > lp / 2.0 {
+            f -= lp;
+        } else if want - f > lp / 2.0 {
+            f += lp;
+        }
+        turns * lp + f
+    };
     let mut s = 0.0;
     for &level in levels {
         let mut profile = match cut.entry.angle() {
@@ -179,7 +395,9 @@ fn passes(
             }
             None => {
                 let here = b.at;
-                b.line([here[0], here[1], level], cut.plunge_feed);
+                if here[2] > level {
+                    b.line([here[0], here[1], level], cut.plunge_feed);
+                }
                 vec![(s, level), (s + len, level)]
             }
         };
@@ -188,14 +406,25 @@ fn passes(
             profile = max_profile(&profile, &tab_profile(t, cut, len, &profile, angle));
         }
         let mut moves = Vec::new();
-        chain.walk(&profile, cut.feed, &mut moves);
+        let walked: Vec<(f64, f64)> = profile.iter().map(|&(s, z)| (to_outline(s), z)).collect();
+        chain.walk(&walked, cut.feed, &mut moves);
         b.extend(moves);
         s = profile.last().map_or(s, |q| q.0);
         z = level;
     }
+    let ended = chain.rotated(to_outline(s));
     if p.lead_out > 0.0 {
-        let ended = chain.rotated(s);
-        lead_out(b, &ended, p.lead_out, cut.feed);
+        let extra = if comp { cut.radius() } else { 0.0 };
+        lead_out(b, &ended, p.lead_out + extra, cut.feed);
+    }
+    if comp {
+        // Straight off along the left normal at the loop's end (where a lead-out arc ends
+        // heading), then G40 before the retract.
+        let [tx, ty] = ended.pieces.last().map_or([1.0, 0.0], |q| q.direction(1.0));
+        let len = COMP_ENTRY * cut.radius();
+        let at = b.at;
+        b.line([at[0] - ty * len, at[1] + tx * len, at[2]], cut.feed);
+        b.push(Move::Comp(None));
     }
     Ok(())
 }
@@ -261,22 +490,10 @@ fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
         return;
     };
     let end = last.end();
-    let tangent = match *last {
-        Piece::Line { a, b } => [b[0] - a[0], b[1] - a[1]],
-        Piece::Arc { c, sweep, .. } => {
-            let rv = [end[0] - c[0], end[1] - c[1]];
-            if sweep > 0.0 {
-                [-rv[1], rv[0]]
-            } else {
-                [rv[1], -rv[0]]
-            }
-        }
-    };
-    let n = tangent[0].hypot(tangent[1]);
-    if n <= 0.0 {
+    let [tx, ty] = last.direction(1.0);
+    if tx == 0.0 && ty == 0.0 {
         return;
     }
-    let (tx, ty) = (tangent[0] / n, tangent[1] / n);
     // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
     let centre = [end[0] - ty * radius, end[1] + tx * radius];
     let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];

@@ -5,7 +5,7 @@
 //! outline as a pocket) for each foot, with the seed's tools and feeds.
 
 use super::pocket::{pocket, PocketParams, Strategy};
-use super::profile::{profile, ProfileParams, Side, OFFSET_TOL};
+use super::profile::{profile, Comp, ProfileParams, Side, OFFSET_TOL};
 use super::{Cut, Entry, OpError};
 use crate::{Tool, Toolpath};
 use oficina_geom::fit::{fit_method, Fit, Method};
@@ -263,6 +263,8 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         allowance: 0.0,
         tabs: None,
         lead_out: 0.0,
+        lead_in: 0.0,
+        comp: Comp::Computer,
     };
     let mut ops = Vec::new();
     for (k, ring) in outer.iter().enumerate().rev() {
@@ -280,6 +282,8 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         &finish,
         &ProfileParams {
             lead_out: 4.0,
+            lead_in: 0.0,
+            comp: Comp::Computer,
             ..side(Side::Outside)
         },
     )?);
@@ -319,6 +323,8 @@ fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         allowance: 0.0,
         tabs: None,
         lead_out: 0.0,
+        lead_in: 0.0,
+        comp: Comp::Computer,
     };
     ops.push(profile(
         "cavity finishing offset",
