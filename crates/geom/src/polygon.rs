@@ -124,6 +124,16 @@ fn regions_from(shapes: Vec<Vec<Vec<[f64; 2]>>>) -> Vec<Region> {
         .collect()
 }
 
+/// i_overlay's name for a boolean operation.
+fn overlay_rule(op: BoolOp) -> OverlayRule {
+    match op {
+        BoolOp::Union => OverlayRule::Union,
+        BoolOp::Intersection => OverlayRule::Intersect,
+        BoolOp::Difference => OverlayRule::Difference,
+        BoolOp::Xor => OverlayRule::Xor,
+    }
+}
+
 /// Subject `op` clip, each side's rings read with `fill`.
 pub fn boolean(
     subject: &[Ring],
@@ -133,12 +143,7 @@ pub fn boolean(
 ) -> Result<Vec<Region>, PolygonError> {
     check_finite(subject)?;
     check_finite(clip)?;
-    let rule = match op {
-        BoolOp::Union => OverlayRule::Union,
-        BoolOp::Intersection => OverlayRule::Intersect,
-        BoolOp::Difference => OverlayRule::Difference,
-        BoolOp::Xor => OverlayRule::Xor,
-    };
+    let rule = overlay_rule(op);
     let subj: Vec<Ring> = subject.to_vec();
     let clip: Vec<Ring> = clip.to_vec();
     Ok(regions_from(subj.overlay(&clip, rule, fill_rule(fill))))
@@ -167,12 +172,7 @@ pub fn boolean_fixed(
 ) -> Result<Vec<Region>, PolygonError> {
     check_finite(subject)?;
     check_finite(clip)?;
-    let rule = match op {
-        BoolOp::Union => OverlayRule::Union,
-        BoolOp::Intersection => OverlayRule::Intersect,
-        BoolOp::Difference => OverlayRule::Difference,
-        BoolOp::Xor => OverlayRule::Xor,
-    };
+    let rule = overlay_rule(op);
     let subj: Vec<Ring> = subject.to_vec();
     let clip: Vec<Ring> = clip.to_vec();
     subj.overlay_with_fixed_scale(&clip, rule, fill_rule(fill), scale)
