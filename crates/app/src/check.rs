@@ -5,8 +5,8 @@
 use crate::text::reader;
 use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
-use oficina_gcode::program::RunOptions;
-use oficina_gcode::stream::CanonStream;
+use oficina_gcode::CanonStream;
+use oficina_gcode::RunOptions;
 use oficina_gcode::{Diagnostic, Dialect, Severity};
 use oficina_motion::Profile;
 use serde::Serialize;

@@ -2,7 +2,7 @@
 //! profile of the built-in virtual machine.
 
 use crate::{profile, Error};
-use oficina_gcode::interp::tool_table::ToolTable;
+use oficina_gcode::ToolTable;
 use oficina_machine::{Machine, VirtualMachine};
 
 /// Real firmware is named by a link address; anything else is a virtual machine profile.
@@ -13,7 +13,7 @@ pub fn is_firmware(machine: &str) -> bool {
 /// Open the machine `spec` names (`virtual` is the default profile); the work offset applies
 /// to the virtual machine only (real firmware keeps its own).
 pub fn open_machine(spec: &str, work_offset: Option<[f64; 3]>) -> Result<Box<dyn Machine>, Error> {
-    open_machine_with(spec, work_offset, oficina_gcode::exec::DEFAULT_MAX_LINE_LEN)
+    open_machine_with(spec, work_offset, oficina_gcode::DEFAULT_MAX_LINE_LEN)
 }
 
 /// [`open_machine`] with the longest program line the virtual machine accepts, in bytes.

@@ -5,9 +5,9 @@
 use crate::check::Diag;
 use crate::text::reader;
 use oficina_canon::{CanonOp, Pos};
-use oficina_gcode::program::RunOptions;
-use oficina_gcode::stream::CanonStream;
+use oficina_gcode::CanonStream;
 use oficina_gcode::Dialect;
+use oficina_gcode::RunOptions;
 use oficina_motion::moves::{arc_point, arc_sweep};
 use oficina_motion::Profile;
 use std::sync::Arc;

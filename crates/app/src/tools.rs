@@ -2,7 +2,7 @@
 //! read by the interpreter's own parser, whose line, column and message come back.
 
 use oficina_canon::Units;
-use oficina_gcode::interp::tool_table::ToolTable;
+use oficina_gcode::ToolTable;
 use serde::Serialize;
 
 /// Name of the table in the job folder.

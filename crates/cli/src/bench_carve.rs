@@ -286,12 +286,12 @@ fn run_peer(args: &Args, gray: &[u8], c: usize, dir: &std::path::Path) -> Result
     let cpu = field("CPU")?[0];
     let offset = field("OFFSET")?;
     let text = std::fs::read_to_string(&out)?;
-    let opts = oficina_gcode::program::RunOptions::default();
+    let opts = oficina_gcode::RunOptions::default();
     let mut canon = vec![Canon {
         line: 0,
         op: CanonOp::ChangeTool(1),
     }];
-    let diags = oficina_gcode::program::run_text(&text, &opts, &mut |mut c| {
+    let diags = oficina_gcode::run_text(&text, &opts, &mut |mut c| {
         // Into the image grid's frame (see the script).
         match &mut c.op {
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {

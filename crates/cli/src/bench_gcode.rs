@@ -6,8 +6,8 @@
 //! reading speed in MB/s). Both are deterministic, so figures from different runs compare.
 
 use anyhow::{bail, Context};
-use oficina_gcode::print::Rs274Printer;
-use oficina_gcode::program::{self, RunOptions};
+use oficina_gcode::Rs274Printer;
+use oficina_gcode::RunOptions;
 use oficina_gcode::{Diagnostic, Severity};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
@@ -232,7 +232,7 @@ fn time_oficina_counting(program: &Path) -> anyhow::Result<(Timing, u64)> {
     let mut ops = 0u64;
     let (started, cpu) = (Instant::now(), own_cpu());
     let input = BufReader::with_capacity(IO_BUFFER, file);
-    let diagnostics = program::run(input, &RunOptions::default(), &mut |_| ops += 1);
+    let diagnostics = oficina_gcode::run(input, &RunOptions::default(), &mut |_| ops += 1);
     Ok((finish_timing(started, cpu, &diagnostics), ops))
 }
 
@@ -247,7 +247,7 @@ fn time_oficina_printing(program: &Path, output: &Path) -> anyhow::Result<Timing
     let mut write_error = None;
     let (started, cpu) = (Instant::now(), own_cpu());
     let input = BufReader::with_capacity(IO_BUFFER, file);
-    let diagnostics = program::run(input, &RunOptions::default(), &mut |c| {
+    let diagnostics = oficina_gcode::run(input, &RunOptions::default(), &mut |c| {
         if write_error.is_none() {
             write_error = printer.print(&c, &mut out).err();
         }

@@ -2,7 +2,7 @@
 //! interpreter, for line-by-line comparison with `rs274 -g`.
 
 use crate::gcode_input::{print_diagnostics, ProgramArgs};
-use oficina_gcode::print::Rs274Printer;
+use oficina_gcode::Rs274Printer;
 use oficina_gcode::Severity;
 use std::io::{BufWriter, Write};
 use std::process::ExitCode;
@@ -30,7 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Rs274Printer::new()
     };
     let mut write_error = None;
-    let diags = oficina_gcode::program::run(source, &opts, &mut |c| {
+    let diags = oficina_gcode::run(source, &opts, &mut |c| {
         if write_error.is_none() {
             if let Err(e) = printer.print(&c, &mut out) {
                 write_error = Some(e);

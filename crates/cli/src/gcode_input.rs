@@ -3,8 +3,8 @@
 
 use anyhow::Context;
 use oficina_canon::Units;
-use oficina_gcode::interp::tool_table::ToolTable;
-use oficina_gcode::program::RunOptions;
+use oficina_gcode::RunOptions;
+use oficina_gcode::ToolTable;
 use oficina_gcode::{Diagnostic, Dialect};
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -178,7 +178,7 @@ pub fn machine_for(given: Option<&str>, program: &Path) -> String {
     }
     let hint = File::open(program)
         .ok()
-        .and_then(|f| oficina_gcode::header::machine_hint(BufReader::new(f)));
+        .and_then(|f| oficina_gcode::machine_hint(BufReader::new(f)));
     match hint {
         Some(h) => {
             eprintln!(

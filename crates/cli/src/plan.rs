@@ -7,9 +7,9 @@ use crate::gcode_input::{
 use crate::machine_profile;
 use anyhow::{bail, Context};
 use oficina_canon::Units;
-use oficina_gcode::interp::StartState;
-use oficina_gcode::program::RunOptions;
 use oficina_gcode::Dialect;
+use oficina_gcode::RunOptions;
+use oficina_gcode::StartState;
 use oficina_machine::job::{canon_stream_with, CanonStream};
 use oficina_machine::{Job, Pace};
 use oficina_motion::dda_steps::dda_steps;

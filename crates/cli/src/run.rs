@@ -10,7 +10,7 @@ use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
 use oficina_canon::Units;
-use oficina_gcode::interp::tool_table::ToolTable;
+use oficina_gcode::ToolTable;
 use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status};
 use std::io::IsTerminal;
 use std::path::PathBuf;

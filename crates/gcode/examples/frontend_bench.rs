@@ -3,10 +3,10 @@
 //!
 //! `cargo run --release -p oficina-gcode --example frontend_bench -- [blocks] [file]`
 
-use oficina_gcode::block::Block;
-use oficina_gcode::exec::Executor;
-use oficina_gcode::params::Params;
+use oficina_gcode::Block;
 use oficina_gcode::Dialect;
+use oficina_gcode::Executor;
+use oficina_gcode::Params;
 use std::io::{BufReader, BufWriter, Write};
 use std::time::Instant;
 

@@ -3,8 +3,8 @@
 //! `count` (the default) only counts the canonical operations; `print` writes rs274's text
 //! to stdout.
 
-use oficina_gcode::print::Rs274Printer;
-use oficina_gcode::program::{self, RunOptions};
+use oficina_gcode::Rs274Printer;
+use oficina_gcode::RunOptions;
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
 
@@ -25,12 +25,12 @@ fn main() {
     let opts = RunOptions::default();
     let mut ops = 0u64;
     let diagnostics = match mode.as_str() {
-        "count" => program::run(BufReader::new(file), &opts, &mut |_| ops += 1),
+        "count" => oficina_gcode::run(BufReader::new(file), &opts, &mut |_| ops += 1),
         "print" => {
             let stdout = std::io::stdout();
             let mut out = BufWriter::new(stdout.lock());
             let mut printer = Rs274Printer::new().numbered();
-            let d = program::run(BufReader::new(file), &opts, &mut |c| {
+            let d = oficina_gcode::run(BufReader::new(file), &opts, &mut |c| {
                 ops += 1;
                 // A closed pipe is not this example's concern: stop quietly on error.
                 let _ = printer.print(&c, &mut out);

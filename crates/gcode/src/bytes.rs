@@ -6,7 +6,7 @@ const LOW: u64 = 0x0101_0101_0101_0101;
 const HIGH: u64 = 0x8080_8080_8080_8080;
 
 /// Position of the first `needle` in `hay`.
-pub fn find_byte(needle: u8, hay: &[u8]) -> Option<usize> {
+pub(crate) fn find_byte(needle: u8, hay: &[u8]) -> Option<usize> {
     let pattern = LOW * u64::from(needle);
     let mut chunks = hay.chunks_exact(8);
     let mut base = 0;

@@ -6,17 +6,17 @@
 const FAST_LIMIT: f64 = 4_503_599_627_370_496.0; // 2^52
 
 /// Whether [`Line::push_fixed4`] can write `v` (finite and below about 4.5·10¹¹).
-pub fn fixed4_fits(v: f64) -> bool {
+pub(crate) fn fixed4_fits(v: f64) -> bool {
     v.abs() * 1e4 < FAST_LIMIT
 }
 
 /// Longest line [`Line`] holds: far above any call the printer builds with it.
-pub const LINE_MAX: usize = 512;
+pub(crate) const LINE_MAX: usize = 512;
 
 /// One output line built in place: digits are written straight into a fixed buffer, with
 /// no capacity checks or copies per number.
 #[derive(Clone, Debug)]
-pub struct Line {
+pub(crate) struct Line {
     buf: [u8; LINE_MAX],
     len: usize,
 }
@@ -31,22 +31,22 @@ impl Default for Line {
 }
 
 impl Line {
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.len = 0;
     }
 
-    pub fn as_bytes(&self) -> &[u8] {
+    pub(crate) fn as_bytes(&self) -> &[u8] {
         &self.buf[..self.len]
     }
 
-    pub fn push_bytes(&mut self, bytes: &[u8]) {
+    pub(crate) fn push_bytes(&mut self, bytes: &[u8]) {
         self.buf[self.len..self.len + bytes.len()].copy_from_slice(bytes);
         self.len += bytes.len();
     }
 
     /// Append `v` with four decimals, exactly as `format!("{v:.4}")` (and C's `%.4f`)
     /// writes it, `-0.0000` included. `v` must pass [`fixed4_fits`].
-    pub fn push_fixed4(&mut self, v: f64) {
+    pub(crate) fn push_fixed4(&mut self, v: f64) {
         debug_assert!(fixed4_fits(v));
         let a = v.abs();
         let p = a * 1e4;
@@ -75,7 +75,7 @@ impl Line {
     }
 
     /// Append `n` in decimal.
-    pub fn push_u64(&mut self, mut n: u64) {
+    pub(crate) fn push_u64(&mut self, mut n: u64) {
         let mut digits = [0u8; 20];
         let mut i = digits.len();
         loop {
@@ -90,7 +90,7 @@ impl Line {
     }
 
     /// Append `n` right-aligned in `width` (at most 20) columns, as `format!("{n:width$}")`.
-    pub fn push_u64_padded(&mut self, n: u64, width: usize) {
+    pub(crate) fn push_u64_padded(&mut self, n: u64, width: usize) {
         let digits = n.checked_ilog10().unwrap_or(0) as usize + 1;
         for _ in digits..width.min(20) {
             self.push_bytes(b" ");

@@ -13,9 +13,9 @@ const EQUAL_TOLERANCE: f64 = 0.0001;
 /// How far from an integer a parameter number may be (LinuxCNC's read_integer_value).
 const INTEGER_TOLERANCE: f64 = 0.0001;
 /// LinuxCNC rejects #0 and everything from #5602 on (RS274NGC_MAX_PARAMETERS is 5602).
-pub const LAST_NUMBERED: i64 = 5601;
+pub(crate) const LAST_NUMBERED: i64 = 5601;
 
-pub fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
+pub(crate) fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
     match e {
         Expr::Num(v) => Ok(*v),
         Expr::Param(index, span) => {
@@ -40,7 +40,7 @@ pub fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
 }
 
 /// Evaluate the number of a numbered parameter (`#expr`): an integer within 1e-4.
-pub fn param_number(index: &Expr, span: Span, p: &Params) -> Result<i64, Diagnostic> {
+pub(crate) fn param_number(index: &Expr, span: Span, p: &Params) -> Result<i64, Diagnostic> {
     let v = eval(index, p)?;
     let r = v.round();
     if (v - r).abs() > INTEGER_TOLERANCE || !r.is_finite() {
@@ -57,7 +57,7 @@ pub fn param_number(index: &Expr, span: Span, p: &Params) -> Result<i64, Diagnos
     Ok(n)
 }
 
-pub fn param_error(err: ParamError, span: Span) -> Diagnostic {
+pub(crate) fn param_error(err: ParamError, span: Span) -> Diagnostic {
     let help = match &err {
         ParamError::OutOfRange(n) => {
             format!("numbered parameters are #1 to #{LAST_NUMBERED}, not #{n}")

@@ -186,7 +186,7 @@ fn starts_char(raw: &[u8], i: usize) -> bool {
 // Inlined into the readers: the nested Option/Result then stays in registers instead of
 // going through memory on every number.
 #[inline]
-pub fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
+pub(crate) fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
     // A single digit (G1, #1, M2) is the most common number of all.
     if let [d @ b'0'..=b'9', rest @ ..] = s {
         if !matches!(rest.first(), Some(b'0'..=b'9' | b'.')) {
@@ -271,7 +271,7 @@ fn parse_long(s: &[u8]) -> f64 {
 
 /// The text of a comment body with the comment marker removed: `(text)` → `text`,
 /// `;text` → `text`.
-pub fn comment_text(raw: &[u8]) -> String {
+pub(crate) fn comment_text(raw: &[u8]) -> String {
     let inner = match raw.first() {
         Some(b'(') => raw[1..].strip_suffix(b")").unwrap_or(&raw[1..]),
         Some(b';') => &raw[1..],

@@ -2,7 +2,7 @@
 //!
 //! ```
 //! use oficina_canon::{CanonOp, Pos};
-//! use oficina_gcode::program::{canon_of, RunOptions};
+//! use oficina_gcode::{canon_of, RunOptions};
 //!
 //! // A feed move and a clockwise half circle, read as LinuxCNC reads them.
 //! let program = "G21 G90 G17\nG1 X10 F600\nG2 X20 I5 J0\nM2\n";
@@ -18,34 +18,51 @@
 //! assert_eq!((end.x, center, turns), (20.0, [15.0, 0.0], -1));
 //! ```
 //!
-//! The stages, each in its own module:
-//! - [`lex`]: characters → tokens with spans (words, numbers, expressions, comments, O-words);
-//! - [`parse`]: tokens → one syntax tree per line ([`ast`]);
-//! - [`expr`] and [`params`]: expression evaluation against numbered/named parameters;
-//! - [`exec`]: streams lines from a reader, runs O-word control flow (sub/call/if/while/do/
-//!   repeat), evaluates every expression and yields [`block::Block`]s with plain values;
-//! - [`interp`]: the modal interpreter: blocks → [`oficina_canon::Canon`] records;
-//! - [`print`]: canonical operations in the text format of LinuxCNC's standalone `rs274`.
+//! The stages, each in its own (private) module:
+//! - `lex`: characters → tokens with spans (words, numbers, expressions, comments, O-words);
+//! - `parse`: tokens → one syntax tree per line ([`Line`]);
+//! - `expr` and `params`: expression evaluation against numbered/named parameters;
+//! - `exec`: streams lines from a reader, runs O-word control flow (sub/call/if/while/do/
+//!   repeat), evaluates every expression and yields [`Block`]s with plain values;
+//! - `interp`: the modal interpreter: blocks → [`oficina_canon::Canon`] records;
+//! - `print`: canonical operations in the text format of LinuxCNC's standalone `rs274`.
+//!
+//! What other crates use is the flat list below. `text` stays a public module because its
+//! names (`decode`, `escape`, `quote`) read well only behind it; `program`, `stream`,
+//! `grbl_errors` and `interp` stay public until the crates that import them by path
+//! (grbl, machine) use the flat names.
 
-pub mod ast;
-pub mod block;
+mod ast;
+mod block;
 mod bytes;
 mod decimal;
-pub mod diag;
-pub mod exec;
-pub mod expr;
+mod diag;
+mod exec;
+mod expr;
 pub mod grbl_errors;
-pub mod header;
+mod header;
 pub mod interp;
-pub mod lex;
-pub mod params;
-pub mod parse;
-pub mod print;
+mod lex;
+mod params;
+mod parse;
+mod print;
 pub mod program;
 pub mod stream;
 pub mod text;
 
+pub use ast::Line;
+pub use block::{Block, Note, Word};
 pub use diag::{Diagnostic, Severity, Span};
+pub use exec::{Executor, Limits, ProgramEnd, DEFAULT_MAX_LINE_LEN};
+pub use header::{machine_hint, MachineHint};
+pub use interp::tool_table::{Tool, ToolTable};
+pub use interp::{Flow, Interpreter, StartState};
+pub use lex::Compact;
+pub use params::Params;
+pub use parse::parse_line;
+pub use print::{to_rs274_text, Rs274Printer};
+pub use program::{canon_of, run, run_text, Driver, RunOptions};
+pub use stream::CanonStream;
 
 /// The G-code dialect a program is read in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

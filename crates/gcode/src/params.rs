@@ -42,9 +42,9 @@ impl Hasher for NameHasher {
 type NameMap = HashMap<String, f64, BuildHasherDefault<NameHasher>>;
 
 /// Highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS − 1).
-pub const MAX_NUMBERED: u32 = 5602;
+pub(crate) const MAX_NUMBERED: u32 = 5602;
 /// `#1`…`#30` are the arguments of a subroutine call and are local to it.
-pub const CALL_ARGS: usize = 30;
+pub(crate) const CALL_ARGS: usize = 30;
 
 #[derive(Clone, Debug)]
 struct Frame {

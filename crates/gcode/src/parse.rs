@@ -12,7 +12,7 @@ use crate::Dialect;
 
 /// Brackets, unary signs and `#` may nest this deep: deeper is an error, never a stack
 /// overflow.
-pub const MAX_NESTING: usize = 64;
+pub(crate) const MAX_NESTING: usize = 64;
 
 /// Parse one compacted line into `out` (cleared first; its buffers are reused).
 pub fn parse_line(c: &Compact, dialect: Dialect, out: &mut Line) -> Result<(), Diagnostic> {
@@ -540,7 +540,7 @@ impl<'a> Parser<'a> {
 /// The label and keyword of an o-word line, if the line is one: all that matters while
 /// skipping lines (a false `if`, a subroutine body, a loop being left). Arguments are not
 /// parsed, so a broken skipped line cannot stop the search.
-pub fn oword_head(c: &Compact) -> Option<(String, Keyword)> {
+pub(crate) fn oword_head(c: &Compact) -> Option<(String, Keyword)> {
     let mut p = Parser {
         c,
         pos: 0,
@@ -577,7 +577,7 @@ pub fn oword_head(c: &Compact) -> Option<(String, Keyword)> {
 
 /// The label of a Fanuc-style program or subprogram number line, `O0100` or `O100 (NAME)`:
 /// an o-word with no keyword, at most a comment after it.
-pub fn bare_oword(c: &Compact) -> Option<String> {
+pub(crate) fn bare_oword(c: &Compact) -> Option<String> {
     let b = &c.bytes;
     let mut i = usize::from(b.first() == Some(&b'/'));
     if b.get(i) == Some(&b'n') {

@@ -7,7 +7,7 @@
 #[path = "interp_support.rs"]
 mod support;
 
-use oficina_gcode::program::canon_of;
+use oficina_gcode::canon_of;
 use std::process::Command;
 
 const BARE_O: &str = "O0001 (MAIN)\nG21\nG0 X1\nM2\n";
@@ -75,7 +75,7 @@ fn m99_ends_the_main_program_even_when_disabled() {
     opts.disable_fanuc_subs = true;
     let (ops, diags) = canon_of(M99_MAIN, &opts);
     assert!(diags.is_empty(), "{diags:?}");
-    let text = oficina_gcode::print::to_rs274_text(&ops);
+    let text = oficina_gcode::to_rs274_text(&ops);
     assert!(text.contains("PROGRAM_END()"), "{text}");
     if let Some(stderr) = rs274_disabled(M99_MAIN) {
         assert!(!stderr.contains("DISABLE"), "rs274 said: {stderr}");

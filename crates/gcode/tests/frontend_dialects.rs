@@ -3,9 +3,9 @@
 //! number format, 4 negative value, 11 line overflow, 20 unsupported command, 25 repeated
 //! word, 27 invalid line number), and the 2006 legacy dialect read as LinuxCNC reads it.
 
-use oficina_gcode::block::Block;
-use oficina_gcode::exec::Executor;
-use oficina_gcode::params::Params;
+use oficina_gcode::Block;
+use oficina_gcode::Executor;
+use oficina_gcode::Params;
 use oficina_gcode::{Diagnostic, Dialect};
 
 fn run(text: &str, dialect: Dialect) -> Vec<Result<Block, Diagnostic>> {

@@ -1,10 +1,10 @@
 //! Control flow and parameter semantics of the executor, each case checked against the
 //! output of LinuxCNC's `rs274 -g` on the same program (figures noted per case).
 
-use oficina_gcode::block::{Block, Note};
-use oficina_gcode::exec::{Executor, Limits, ProgramEnd};
-use oficina_gcode::params::Params;
+use oficina_gcode::Params;
+use oficina_gcode::{Block, Note};
 use oficina_gcode::{Diagnostic, Dialect};
+use oficina_gcode::{Executor, Limits, ProgramEnd};
 
 /// Every block and every error, in order, with a bound on the number of steps; stops after
 /// M2/M30 as the interpreter does.

@@ -14,10 +14,10 @@
 // The expected values are rs274's printed results, not constants.
 #![allow(clippy::approx_constant)]
 
-use oficina_gcode::block::Note;
-use oficina_gcode::exec::Executor;
-use oficina_gcode::params::Params;
 use oficina_gcode::Dialect;
+use oficina_gcode::Executor;
+use oficina_gcode::Note;
+use oficina_gcode::Params;
 
 /// What our executor makes of the same program: the value, or `None` on an error.
 fn ours(expression: &str) -> Option<f64> {

@@ -9,9 +9,9 @@
 //! later (a break/continue of a repeat loop is reported when first read; rs274 reports it
 //! whenever its skipping happens to pass over the line).
 
-use oficina_gcode::exec::Executor;
-use oficina_gcode::params::Params;
 use oficina_gcode::Dialect;
+use oficina_gcode::Executor;
+use oficina_gcode::Params;
 
 /// X of each executed block with G0 and X, up to the first error or M2; and whether an error
 /// came.

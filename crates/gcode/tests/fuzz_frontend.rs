@@ -7,12 +7,12 @@
 //! The number of cases per property is proptest's `PROPTEST_CASES` (default 256), e.g. a
 //! long run: `PROPTEST_CASES=200000 cargo test --release -p oficina-gcode --test fuzz_frontend`.
 
-use oficina_gcode::ast::Line;
-use oficina_gcode::exec::{Executor, Limits};
-use oficina_gcode::lex::Compact;
-use oficina_gcode::params::Params;
-use oficina_gcode::parse::parse_line;
+use oficina_gcode::parse_line;
+use oficina_gcode::Compact;
+use oficina_gcode::Line;
+use oficina_gcode::Params;
 use oficina_gcode::{Dialect, Span};
+use oficina_gcode::{Executor, Limits};
 use proptest::prelude::*;
 use std::io::Cursor;
 use std::sync::OnceLock;

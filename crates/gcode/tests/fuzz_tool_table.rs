@@ -9,8 +9,8 @@
 //! `PROPTEST_CASES=100000 cargo test --release -p oficina-gcode --test fuzz_tool_table`.
 
 use oficina_canon::Units;
-use oficina_gcode::interp::tool_table::ToolTable;
-use oficina_gcode::program::{canon_of, RunOptions};
+use oficina_gcode::ToolTable;
+use oficina_gcode::{canon_of, RunOptions};
 use proptest::prelude::*;
 
 const WORDS: &[&str] = &[

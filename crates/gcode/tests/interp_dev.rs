@@ -22,7 +22,7 @@ fn print_file_as_rs274() {
         tools,
         Default::default(),
     );
-    let mut p = oficina_gcode::print::Rs274Printer::new();
+    let mut p = oficina_gcode::Rs274Printer::new();
     let mut out = std::io::stdout();
     for c in &r.ops {
         p.print(c, &mut out).unwrap();

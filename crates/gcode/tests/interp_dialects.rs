@@ -4,8 +4,8 @@
 mod support;
 
 use oficina_canon::{CanonOp, Pos};
-use oficina_gcode::interp::StartState;
 use oficina_gcode::Dialect;
+use oficina_gcode::StartState;
 use support::{run_with, Run};
 
 fn legacy(text: &str) -> Run {

@@ -5,8 +5,8 @@
 #[path = "interp_support.rs"]
 mod support;
 
-use oficina_gcode::interp::StartState;
 use oficina_gcode::Dialect;
+use oficina_gcode::StartState;
 
 fn check(program: &str, rs274: &str) {
     let r = support::run_with(

@@ -5,13 +5,13 @@
 #![allow(dead_code)]
 
 use oficina_canon::{Canon, Units};
-use oficina_gcode::block::{Block, Note, Word};
-use oficina_gcode::interp::tool_table::ToolTable;
-use oficina_gcode::interp::{Flow, Interpreter, StartState};
-use oficina_gcode::params::Params;
-use oficina_gcode::print::{to_rs274_text, Rs274Printer};
-use oficina_gcode::program::{canon_of, RunOptions};
+use oficina_gcode::Params;
+use oficina_gcode::ToolTable;
+use oficina_gcode::{canon_of, RunOptions};
+use oficina_gcode::{to_rs274_text, Rs274Printer};
+use oficina_gcode::{Block, Note, Word};
 use oficina_gcode::{Diagnostic, Dialect, Severity, Span};
+use oficina_gcode::{Flow, Interpreter, StartState};
 
 /// Plain lines → blocks: `G1 X1.5 (comment)`, `(MSG, text)`, `;` comments.
 pub fn blocks(text: &str) -> Vec<Block> {

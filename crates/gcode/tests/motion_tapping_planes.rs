@@ -14,8 +14,8 @@
 #[path = "interp_support.rs"]
 mod support;
 
-use oficina_gcode::interp::StartState;
 use oficina_gcode::Dialect;
+use oficina_gcode::StartState;
 
 /// `rs274 -g` on the program below (motion lines, pasted verbatim). `F` marks the feeds.
 const RS274: &str = "\

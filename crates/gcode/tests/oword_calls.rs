@@ -6,8 +6,8 @@
 #[path = "interp_support.rs"]
 mod support;
 
-use oficina_gcode::diag::Severity;
-use oficina_gcode::program::canon_of;
+use oficina_gcode::canon_of;
+use oficina_gcode::Severity;
 use std::path::PathBuf;
 
 fn lib_dir() -> PathBuf {
@@ -18,7 +18,7 @@ fn run_with_path(program: &str, path: Vec<PathBuf>) -> (String, Vec<oficina_gcod
     let mut opts = support::rs274_options();
     opts.subroutine_path = path;
     let (ops, diags) = canon_of(program, &opts);
-    (oficina_gcode::print::to_rs274_text(&ops), diags)
+    (oficina_gcode::to_rs274_text(&ops), diags)
 }
 
 /// `rs274 -i oword_lib/paths.ini` printed these feeds for the same program (pasted).

@@ -3,8 +3,8 @@
 use crate::{Dialect, PostOptions};
 use oficina_canon::Canon;
 use oficina_canon::Units;
-use oficina_gcode::interp::tool_table::ToolTable;
-use oficina_gcode::program::{run_text, RunOptions};
+use oficina_gcode::ToolTable;
+use oficina_gcode::{run_text, RunOptions};
 
 /// The canonical operations of a program this crate wrote. Any diagnostic means the post
 /// wrote something the control would reject or misread: the error quotes it with its line.

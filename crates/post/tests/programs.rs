@@ -181,7 +181,7 @@ fn printed_moves_are_the_toolpaths_moves() {
 /// dialects, without a single diagnostic.
 #[test]
 fn interpreter_reads_back_the_toolpath() {
-    use oficina_gcode::program::{canon_of, RunOptions};
+    use oficina_gcode::{canon_of, RunOptions};
     let tp = two_tool_path();
     let motions = |ops: Vec<oficina_canon::Canon>| -> Vec<(char, [f64; 3])> {
         let mut out = Vec::new();

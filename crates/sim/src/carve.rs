@@ -385,7 +385,7 @@ pub fn evaluate(
 /// The canonical operations of our own program. Any diagnostic means the post wrote
 /// something the control would reject or misread: a bug, reported with its line.
 pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<Canon>, CarveError> {
-    use oficina_gcode::program::{run_text, RunOptions};
+    use oficina_gcode::{run_text, RunOptions};
     // M6-capable grbl forks read tool changes as LinuxCNC does.
     let dialect = match post.dialect {
         Dialect::Grbl if !post.allow_m6 => oficina_gcode::Dialect::Grbl,

@@ -20,7 +20,7 @@ const INTEGER_TOLERANCE: f64 = 0.0001;
 
 /// Scratch space kept between lines (the name being read), and what the last line held.
 #[derive(Default)]
-pub struct Scratch {
+pub(super) struct Scratch {
     name: String,
     /// The last line taken had only letters and plain numbers (no brackets, parameters,
     /// functions or assignments): one the plain path would have taken.
@@ -29,7 +29,7 @@ pub struct Scratch {
 
 /// Fill `block` from `raw` and apply its assignments to `params` if the line is ordinary;
 /// `false` leaves the line (and `params`) to the full path, `block` possibly half-filled.
-pub fn direct_line(
+pub(super) fn direct_line(
     raw: &[u8],
     line: u32,
     params: &mut Params,

@@ -34,13 +34,13 @@ impl Default for Limits {
 
 /// Where a loop body starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Mark {
+pub(super) struct Mark {
     pub offset: u64,
     pub line: u32,
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub enum LoopKind {
+pub(super) enum LoopKind {
     /// `while` … `endwhile`: the mark is the `while` line itself (re-evaluated each time).
     While,
     /// `do` … `while`: the mark is the first body line.
@@ -51,7 +51,7 @@ pub enum LoopKind {
 
 /// An open `if` or loop.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Ctl {
+pub(super) enum Ctl {
     If {
         label: String,
         taken: bool,
@@ -67,19 +67,19 @@ pub enum Ctl {
 }
 
 impl Ctl {
-    pub fn label(&self) -> &str {
+    pub(super) fn label(&self) -> &str {
         match self {
             Ctl::If { label, .. } | Ctl::Loop { label, .. } => label,
         }
     }
 
-    pub fn line(&self) -> u32 {
+    pub(super) fn line(&self) -> u32 {
         match self {
             Ctl::If { line, .. } | Ctl::Loop { line, .. } => *line,
         }
     }
 
-    pub fn opener(&self) -> &'static str {
+    pub(super) fn opener(&self) -> &'static str {
         match self {
             Ctl::If { .. } => "if",
             Ctl::Loop {
@@ -97,7 +97,7 @@ impl Ctl {
     }
 
     /// The keyword that closes this construct.
-    pub fn closer(&self) -> Keyword {
+    pub(super) fn closer(&self) -> Keyword {
         match self {
             Ctl::If { .. } => Keyword::EndIf,
             Ctl::Loop {
@@ -117,7 +117,7 @@ impl Ctl {
 
 /// A subroutine call in progress.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CallFrame {
+pub(super) struct CallFrame {
     pub label: String,
     /// Where execution resumes after the return: the line after the call.
     pub resume: Mark,
@@ -133,14 +133,14 @@ pub struct CallFrame {
 
 /// The repetitions of an `M98 P… L…` call.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FanucRuns {
+pub(super) struct FanucRuns {
     pub body: Mark,
     pub remaining: u64,
 }
 
 /// A known subroutine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SubDef {
+pub(super) struct SubDef {
     /// First line of the body.
     pub body: Mark,
     /// Line of `oN sub`.
@@ -153,7 +153,7 @@ pub struct SubDef {
 
 /// What to do with the line that ends a skip.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Arrival {
+pub(super) enum Arrival {
     /// Run it as usual (an `elseif`, `else` or `endif` after a false branch).
     Run,
     /// It only closes what was skipped (`endsub` of a definition, the end of a loop left).
@@ -162,7 +162,7 @@ pub enum Arrival {
 
 /// Lines are being skipped until an o-word with this label and one of these keywords.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Skip {
+pub(super) struct Skip {
     pub label: String,
     pub until: &'static [Keyword],
     pub arrival: Arrival,

@@ -539,7 +539,7 @@ fn resolve_label(o: &mut OWord, params: &Params) -> Result<(), Diagnostic> {
 
 /// `#n` and `#<name>` in a DEBUG/PRINT text replaced by their values (`%lf` style, six
 /// decimals), `######` for a parameter that cannot be read.
-pub fn substitute_params(text: &str, params: &Params) -> String {
+pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     while let Some(i) = rest.find('#') {

@@ -10,7 +10,7 @@ use crate::lex::scan_number;
 
 /// Fill `block` from `raw` if the line is plain; `false` leaves the line to the full path
 /// (`block` may then hold partial content: the caller refills it).
-pub fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
+pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
     let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
     block.line = line;
     block.n = None;

@@ -9,7 +9,7 @@ pub const DEFAULT_MAX_LINE_LEN: usize = 256 * 1024;
 
 /// What one read produced.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Read {
+pub(super) enum Read {
     /// The line is in [`LineSource::text`].
     Line {
         offset: u64,
@@ -23,7 +23,7 @@ pub enum Read {
     Eof,
 }
 
-pub struct LineSource<R> {
+pub(super) struct LineSource<R> {
     reader: R,
     /// Byte offset of the next line.
     pos: u64,
@@ -34,7 +34,7 @@ pub struct LineSource<R> {
 }
 
 impl<R: BufRead + Seek> LineSource<R> {
-    pub fn new(mut reader: R) -> LineSource<R> {
+    pub(super) fn new(mut reader: R) -> LineSource<R> {
         let pos = reader.stream_position().unwrap_or(0);
         LineSource {
             reader,
@@ -45,32 +45,32 @@ impl<R: BufRead + Seek> LineSource<R> {
         }
     }
 
-    pub fn set_max_len(&mut self, max: usize) {
+    pub(super) fn set_max_len(&mut self, max: usize) {
         self.max_len = max.max(1);
     }
 
-    pub fn max_len(&self) -> usize {
+    pub(super) fn max_len(&self) -> usize {
         self.max_len
     }
 
     /// The text of the last line read (without its newline).
-    pub fn text(&self) -> &[u8] {
+    pub(super) fn text(&self) -> &[u8] {
         &self.buf
     }
 
     /// Where the next line starts, and its number.
-    pub fn position(&self) -> (u64, u32) {
+    pub(super) fn position(&self) -> (u64, u32) {
         (self.pos, self.next_line)
     }
 
-    pub fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
+    pub(super) fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
         self.reader.seek(SeekFrom::Start(offset))?;
         self.pos = offset;
         self.next_line = line;
         Ok(())
     }
 
-    pub fn read(&mut self) -> io::Result<Read> {
+    pub(super) fn read(&mut self) -> io::Result<Read> {
         self.buf.clear();
         let offset = self.pos;
         let mut len: u64 = 0;
@@ -122,7 +122,7 @@ impl<R: BufRead + Seek> LineSource<R> {
 /// The program and, above it, the subroutine files being run (`o<name> call` of a
 /// subroutine found on the search path opens `name.ngc`): every read and seek goes to the
 /// innermost. At most one file per call level is open.
-pub struct Sources<R> {
+pub(super) struct Sources<R> {
     main: LineSource<R>,
     /// One entry per subroutine call that changed file: a subroutine file, or `None` for a
     /// call from such a file back into a subroutine of the main program.
@@ -130,18 +130,18 @@ pub struct Sources<R> {
 }
 
 impl<R: BufRead + Seek> Sources<R> {
-    pub fn new(reader: R) -> Sources<R> {
+    pub(super) fn new(reader: R) -> Sources<R> {
         Sources {
             main: LineSource::new(reader),
             files: Vec::new(),
         }
     }
 
-    pub fn set_max_len(&mut self, max: usize) {
+    pub(super) fn set_max_len(&mut self, max: usize) {
         self.main.set_max_len(max);
     }
 
-    pub fn max_len(&self) -> usize {
+    pub(super) fn max_len(&self) -> usize {
         self.main.max_len()
     }
 
@@ -154,32 +154,32 @@ impl<R: BufRead + Seek> Sources<R> {
     }
 
     /// Lines come from the main program (not a subroutine file).
-    pub fn in_main(&self) -> bool {
+    pub(super) fn in_main(&self) -> bool {
         self.file().is_none()
     }
 
-    pub fn text(&self) -> &[u8] {
+    pub(super) fn text(&self) -> &[u8] {
         match self.file() {
             Some(f) => f.text(),
             None => self.main.text(),
         }
     }
 
-    pub fn position(&self) -> (u64, u32) {
+    pub(super) fn position(&self) -> (u64, u32) {
         match self.file() {
             Some(f) => f.position(),
             None => self.main.position(),
         }
     }
 
-    pub fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
+    pub(super) fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
         match self.file_mut() {
             Some(f) => f.seek(offset, line),
             None => self.main.seek(offset, line),
         }
     }
 
-    pub fn read(&mut self) -> io::Result<Read> {
+    pub(super) fn read(&mut self) -> io::Result<Read> {
         match self.file_mut() {
             Some(f) => f.read(),
             None => self.main.read(),
@@ -187,7 +187,7 @@ impl<R: BufRead + Seek> Sources<R> {
     }
 
     /// Run lines of `file` from its start until it is closed by [`Sources::close_to`].
-    pub fn open(&mut self, file: std::fs::File) {
+    pub(super) fn open(&mut self, file: std::fs::File) {
         let mut source = LineSource::new(io::BufReader::new(file));
         source.set_max_len(self.main.max_len());
         self.files.push(Some(source));
@@ -195,17 +195,17 @@ impl<R: BufRead + Seek> Sources<R> {
 
     /// Run lines of the main program again (a call from a subroutine file of a subroutine
     /// the main program defines), until closed by [`Sources::close_to`].
-    pub fn enter_main(&mut self) {
+    pub(super) fn enter_main(&mut self) {
         self.files.push(None);
     }
 
     /// How many file changes the calls in progress made.
-    pub fn depth(&self) -> usize {
+    pub(super) fn depth(&self) -> usize {
         self.files.len()
     }
 
     /// Undo the file changes above `depth`.
-    pub fn close_to(&mut self, depth: usize) {
+    pub(super) fn close_to(&mut self, depth: usize) {
         self.files.truncate(depth);
     }
 }

@@ -335,7 +335,7 @@ fn whole_degrees(x: f64) -> Option<usize> {
     None
 }
 
-pub fn sin_deg(x: f64) -> f64 {
+pub(super) fn sin_deg(x: f64) -> f64 {
     match whole_degrees(x) {
         // sin(-x) = -sin(x) holds bit for bit in the series too (negation is exact).
         Some(d) if x < 0.0 => -SIN_WHOLE_DEGREES[d],
@@ -360,7 +360,7 @@ fn sin_deg_series(x: f64) -> f64 {
     v.hi + v.lo
 }
 
-pub fn cos_deg(x: f64) -> f64 {
+pub(super) fn cos_deg(x: f64) -> f64 {
     match whole_degrees(x) {
         // cos d° = sin (d + 90)°: the same reduced angle and series, quadrant shifted by one.
         Some(d) => SIN_WHOLE_DEGREES[(d + 90) % 360],
@@ -384,7 +384,7 @@ fn cos_deg_series(x: f64) -> f64 {
 
 /// Infinite (an error for the caller) at odd multiples of 90°, where LinuxCNC returns a
 /// huge number that depends on its rounding of π.
-pub fn tan_deg(x: f64) -> f64 {
+pub(super) fn tan_deg(x: f64) -> f64 {
     if !x.is_finite() {
         return f64::NAN;
     }

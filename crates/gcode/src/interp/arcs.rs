@@ -4,11 +4,11 @@
 
 use oficina_canon::Units;
 use oficina_geom::Point;
-pub use oficina_geom::{ArcError, ArcTolerance};
+pub(crate) use oficina_geom::{ArcError, ArcTolerance};
 
 /// LinuxCNC's tolerances for programs in `units`, in mm. The √2 and the "both exceeded"
 /// rule were measured against `rs274` (see tests).
-pub fn tolerance(units: Units) -> ArcTolerance {
+pub(crate) fn tolerance(units: Units) -> ArcTolerance {
     match units {
         Units::Inch => ArcTolerance::LINUXCNC_INCH,
         Units::Mm => ArcTolerance::LINUXCNC_MM,
@@ -20,7 +20,7 @@ fn pt(p: [f64; 2]) -> Point {
 }
 
 /// Centre from the start point and a centre given absolutely (G90.1) or as an offset.
-pub fn center_from_offsets(
+pub(crate) fn center_from_offsets(
     start: [f64; 2],
     end: [f64; 2],
     center: [f64; 2],
@@ -31,7 +31,7 @@ pub fn center_from_offsets(
 
 /// Centre from a radius: positive R gives the arc of at most a half circle, negative R the
 /// longer one (NCMS p. 21). `clockwise` is G2.
-pub fn center_from_radius(
+pub(crate) fn center_from_radius(
     start: [f64; 2],
     end: [f64; 2],
     radius: f64,

@@ -59,7 +59,7 @@ impl Seg {
 }
 
 #[derive(Clone, Debug)]
-pub struct CompState {
+pub(crate) struct CompState {
     /// The compensated position of the tool centre, XY.
     point: P2,
     /// The next move is the entry move.

@@ -9,7 +9,7 @@ use oficina_canon::{CanonOp, MotionMode, SpindleDir, Units};
 
 /// What a cycle remembers between blocks of the same cycle.
 #[derive(Clone, Debug, Default)]
-pub struct CycleMemory {
+pub(crate) struct CycleMemory {
     /// The cycle that ran last (tenths), while cycles keep running.
     pub last: Option<u16>,
     /// The drilling-axis height when this run of cycles began ("initial level", G98).
@@ -22,7 +22,7 @@ pub struct CycleMemory {
 }
 
 impl CycleMemory {
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.last = None;
         self.initial_level = None;
     }

@@ -16,12 +16,12 @@ use crate::diag::Diagnostic;
 use oficina_canon::FeedMode;
 
 /// grbl's text for an error number (the one table, [`crate::grbl_errors`]).
-pub fn grbl_text(code: u16) -> &'static str {
+pub(crate) fn grbl_text(code: u16) -> &'static str {
     crate::grbl_errors::error_text(code).map_or("", |(_, text)| text)
 }
 
 /// Attach grbl's number and text to a diagnostic.
-pub fn grbl_error(d: Diagnostic, code: u16) -> Diagnostic {
+pub(crate) fn grbl_error(d: Diagnostic, code: u16) -> Diagnostic {
     let help = match &d.help {
         Some(h) => format!("grbl error:{code}: {} ({h})", grbl_text(code)),
         None => format!("grbl error:{code}: {}", grbl_text(code)),
@@ -39,7 +39,7 @@ fn grbl_axis_command(tenths: u16) -> bool {
 
 /// A decoding error in grbl's numbering, chosen by what the decoder found. gcode.c meets a
 /// second axis command before it checks modal groups: `G0 G1` is error 24, not 21.
-pub fn grbl_code_for_decode(e: DecodeError) -> Diagnostic {
+pub(crate) fn grbl_code_for_decode(e: DecodeError) -> Diagnostic {
     let code = match e.fault {
         DecodeFault::SameModalGroup {
             letter: 'G',
@@ -59,7 +59,7 @@ fn unsupported(d: &Decoded, span: crate::diag::Span, what: String) -> Diagnostic
 }
 
 /// Reject what grbl 1.1 rejects before the common interpreter sees the block.
-pub fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Diagnostic> {
+pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Diagnostic> {
     for (group, code) in d.g.iter().enumerate() {
         let Some(c) = code else { continue };
         let ok = match group {
@@ -266,7 +266,7 @@ fn check_grbl_probe(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic>
 
 /// LinuxCNC and the legacy dialect: probing is not supported (the machines have no probe),
 /// with the message an unknown code gets.
-pub fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
+pub(crate) fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
     match d.g[G::MOTION] {
         Some(c) if (382..=385).contains(&c.tenths) => {
             Err(unknown_g(c.span, f64::from(c.tenths) / 10.0))
@@ -278,7 +278,7 @@ pub fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
 /// Rewrite a seed-002 block into its LinuxCNC meaning: `G90`/`G91` become `G1` plus the
 /// distance mode (unless the block names another motion), so lines with coordinates only
 /// repeat the last motion.
-pub fn translate_legacy(d: &mut Decoded) {
+pub(crate) fn translate_legacy(d: &mut Decoded) {
     if let Some(dist) = d.g[G::DISTANCE] {
         if d.g[G::MOTION].is_none() {
             d.g[G::MOTION] = Some(super::words::Code {

@@ -12,7 +12,7 @@ pub struct Frame {
 }
 
 impl Frame {
-    pub fn to_machine(&self, p: [f64; 6]) -> [f64; 6] {
+    pub fn to_machine(self, p: [f64; 6]) -> [f64; 6] {
         let mut q = [0.0; 6];
         for i in 0..6 {
             q[i] = p[i] + self.g92[i];
@@ -29,7 +29,7 @@ impl Frame {
         q
     }
 
-    pub fn to_program(&self, m: [f64; 6]) -> [f64; 6] {
+    pub fn to_program(self, m: [f64; 6]) -> [f64; 6] {
         let mut q = [0.0; 6];
         for i in 0..6 {
             q[i] = m[i] - self.g5x[i] - self.tool[i];

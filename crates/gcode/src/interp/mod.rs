@@ -5,17 +5,17 @@
 //! in machine coordinates through the [`frame::Frame`] chain, and every change of an offset is
 //! emitted too, so a printer can go back to program coordinates.
 
-pub mod arcs;
-pub mod comp;
-pub mod cycles;
-pub mod dialect;
-pub mod frame;
+pub(crate) mod arcs;
+pub(crate) mod comp;
+pub(crate) mod cycles;
+pub(crate) mod dialect;
+pub(crate) mod frame;
 mod motion;
 mod offsets;
 mod simple;
-pub mod state;
+pub(crate) mod state;
 pub mod tool_table;
-pub mod words;
+pub(crate) mod words;
 
 use crate::block::{Block, Note};
 use crate::diag::{Diagnostic, Span};

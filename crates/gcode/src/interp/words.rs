@@ -7,49 +7,49 @@ use crate::diag::{Diagnostic, Span};
 
 /// A G or M code in tenths (G38.2 → 382, G1 → 10), with the span of its word.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Code {
+pub(crate) struct Code {
     pub tenths: u16,
     pub span: Span,
 }
 
 /// A value word (X, F, P …) with its span.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Value {
+pub(crate) struct Value {
     pub v: f64,
     pub span: Span,
 }
 
 /// The G modal groups of LinuxCNC (`overview.adoc`, "Modal Groups"), as array indices.
-pub mod g_group {
-    pub const NON_MODAL: usize = 0;
-    pub const MOTION: usize = 1;
-    pub const PLANE: usize = 2;
-    pub const DISTANCE: usize = 3;
-    pub const ARC_DISTANCE: usize = 4;
-    pub const FEED_MODE: usize = 5;
-    pub const UNITS: usize = 6;
-    pub const CUTTER_COMP: usize = 7;
-    pub const TOOL_LENGTH: usize = 8;
-    pub const RETRACT: usize = 10;
+pub(crate) mod g_group {
+    pub(crate) const NON_MODAL: usize = 0;
+    pub(crate) const MOTION: usize = 1;
+    pub(crate) const PLANE: usize = 2;
+    pub(crate) const DISTANCE: usize = 3;
+    pub(crate) const ARC_DISTANCE: usize = 4;
+    pub(crate) const FEED_MODE: usize = 5;
+    pub(crate) const UNITS: usize = 6;
+    pub(crate) const CUTTER_COMP: usize = 7;
+    pub(crate) const TOOL_LENGTH: usize = 8;
+    pub(crate) const RETRACT: usize = 10;
     /// G7 / G8: lathe diameter or radius mode (LinuxCNC's group 15).
-    pub const LATHE_DIAMETER: usize = 11;
-    pub const COORD_SYSTEM: usize = 12;
-    pub const CONTROL: usize = 13;
-    pub const COUNT: usize = 14;
+    pub(crate) const LATHE_DIAMETER: usize = 11;
+    pub(crate) const COORD_SYSTEM: usize = 12;
+    pub(crate) const CONTROL: usize = 13;
+    pub(crate) const COUNT: usize = 14;
 }
 
 /// The M modal groups.
-pub mod m_group {
-    pub const STOP: usize = 4;
-    pub const TOOL_CHANGE: usize = 6;
-    pub const SPINDLE: usize = 7;
-    pub const COOLANT: usize = 8;
-    pub const OVERRIDE: usize = 9;
-    pub const COUNT: usize = 10;
+pub(crate) mod m_group {
+    pub(crate) const STOP: usize = 4;
+    pub(crate) const TOOL_CHANGE: usize = 6;
+    pub(crate) const SPINDLE: usize = 7;
+    pub(crate) const COOLANT: usize = 8;
+    pub(crate) const OVERRIDE: usize = 9;
+    pub(crate) const COUNT: usize = 10;
 }
 
 /// The modal group of a G code in tenths; `None` for codes Oficina does not know.
-pub fn group_of_g(tenths: u16) -> Option<usize> {
+pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
     use g_group::*;
     Some(match tenths {
         40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920 | 921 | 922 | 923 => NON_MODAL,
@@ -74,7 +74,7 @@ pub fn group_of_g(tenths: u16) -> Option<usize> {
 }
 
 /// The modal group of an M code; `None` for codes Oficina does not know.
-pub fn group_of_m(code: u16) -> Option<usize> {
+pub(crate) fn group_of_m(code: u16) -> Option<usize> {
     use m_group::*;
     Some(match code {
         0 | 1 | 2 | 30 | 60 => STOP,
@@ -87,7 +87,7 @@ pub fn group_of_m(code: u16) -> Option<usize> {
 }
 
 /// The bits of `letters` (upper case, `@`, `^`) for [`Decoded::has_any_of`].
-pub const fn letter_mask(letters: &[u8]) -> u32 {
+pub(crate) const fn letter_mask(letters: &[u8]) -> u32 {
     let mut mask = 0;
     let mut i = 0;
     while i < letters.len() {
@@ -98,7 +98,7 @@ pub const fn letter_mask(letters: &[u8]) -> u32 {
 }
 
 /// Value slots: A…Z, then the polar radius `@` and angle `^`.
-pub const SLOTS: usize = 28;
+pub(crate) const SLOTS: usize = 28;
 
 const fn byte_slot(b: u8) -> usize {
     match b {
@@ -109,13 +109,13 @@ const fn byte_slot(b: u8) -> usize {
 }
 
 /// Index of a value letter in [`Decoded::values`].
-pub fn slot(letter: char) -> usize {
+pub(crate) fn slot(letter: char) -> usize {
     byte_slot(letter as u8)
 }
 
 /// One block, sorted. Letters G and M live in `g`/`m`; all other letters in `values`.
 #[derive(Clone, Debug)]
-pub struct Decoded {
+pub(crate) struct Decoded {
     pub line: u32,
     pub g: [Option<Code>; g_group::COUNT],
     pub m: [Option<Code>; m_group::COUNT],
@@ -125,49 +125,49 @@ pub struct Decoded {
 }
 
 impl Decoded {
-    pub fn get(&self, letter: char) -> Option<f64> {
+    pub(crate) fn get(&self, letter: char) -> Option<f64> {
         self.values[slot(letter)].map(|w| w.v)
     }
 
-    pub fn has(&self, letter: char) -> bool {
+    pub(crate) fn has(&self, letter: char) -> bool {
         self.values[slot(letter)].is_some()
     }
 
     /// The span of a value word, or of the whole line if it is absent.
-    pub fn span_of(&self, letter: char) -> Span {
+    pub(crate) fn span_of(&self, letter: char) -> Span {
         self.values[slot(letter)]
             .map(|w| w.span)
             .unwrap_or(Span::line(self.line))
     }
 
-    pub fn g_in(&self, group: usize) -> Option<u16> {
+    pub(crate) fn g_in(&self, group: usize) -> Option<u16> {
         self.g[group].map(|c| c.tenths)
     }
 
-    pub fn m_in(&self, group: usize) -> Option<u16> {
+    pub(crate) fn m_in(&self, group: usize) -> Option<u16> {
         self.m[group].map(|c| c.tenths)
     }
 
     /// The span of the G code of `group`, or of the whole line.
-    pub fn g_span(&self, group: usize) -> Span {
+    pub(crate) fn g_span(&self, group: usize) -> Span {
         self.g[group]
             .map(|c| c.span)
             .unwrap_or(Span::line(self.line))
     }
 
     /// The span of the M code of `group`, or of the whole line.
-    pub fn m_span(&self, group: usize) -> Span {
+    pub(crate) fn m_span(&self, group: usize) -> Span {
         self.m[group]
             .map(|c| c.span)
             .unwrap_or(Span::line(self.line))
     }
 
     /// Whether any letter of `mask` (see [`letter_mask`]) has a value word.
-    pub fn has_any_of(&self, mask: u32) -> bool {
+    pub(crate) fn has_any_of(&self, mask: u32) -> bool {
         self.present & mask != 0
     }
 
-    pub fn any_axis(&self) -> bool {
+    pub(crate) fn any_axis(&self) -> bool {
         const fn bit(letter: u8) -> u32 {
             1 << (letter - b'A')
         }
@@ -183,7 +183,7 @@ impl Decoded {
     }
 
     /// The span of the first axis word, for errors about axis words as a whole.
-    pub fn axis_span(&self) -> Span {
+    pub(crate) fn axis_span(&self) -> Span {
         "XYZABC@^"
             .chars()
             .find(|&c| self.has(c))
@@ -191,14 +191,15 @@ impl Decoded {
             .unwrap_or(Span::line(self.line))
     }
 
-    /// Sort the words of `block`; errors name the offending word.
-    pub fn from_block(block: &Block) -> Result<Decoded, Diagnostic> {
+    /// Sort the words of `block`; errors name the offending word (the unit tests' entry).
+    #[cfg(test)]
+    pub(crate) fn from_block(block: &Block) -> Result<Decoded, Diagnostic> {
         let mut d = Decoded::empty();
         d.fill(block).map_err(|e| e.diag)?;
         Ok(d)
     }
 
-    pub fn empty() -> Decoded {
+    pub(crate) fn empty() -> Decoded {
         Decoded {
             line: 0,
             g: [None; g_group::COUNT],
@@ -210,7 +211,7 @@ impl Decoded {
 
     /// Decode `block` in place: the interpreter reuses one `Decoded` (over a kilobyte)
     /// rather than moving a fresh one around for every block.
-    pub fn fill(&mut self, block: &Block) -> Result<(), DecodeError> {
+    pub(crate) fn fill(&mut self, block: &Block) -> Result<(), DecodeError> {
         self.line = block.line;
         self.g = [None; g_group::COUNT];
         self.m = [None; m_group::COUNT];
@@ -330,7 +331,7 @@ impl Decoded {
 
 /// What kind of conflict stopped decoding: a firmware dialect numbers its error by it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DecodeFault {
+pub(crate) enum DecodeFault {
     /// Two codes of one modal group: the letter and both codes in tenths (G38.2 is 382).
     SameModalGroup {
         letter: char,
@@ -344,7 +345,7 @@ pub enum DecodeFault {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct DecodeError {
+pub(crate) struct DecodeError {
     pub fault: DecodeFault,
     pub diag: Diagnostic,
 }
