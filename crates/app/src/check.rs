@@ -148,8 +148,8 @@ fn report(
 /// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
 /// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
 pub fn axis_rapid_rates(profile: &Profile) -> [f64; 3] {
-    use oficina_motion::profile::KinematicsKind;
-    let rate = |j: &Option<oficina_motion::profile::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
+    use oficina_motion::KinematicsKind;
+    let rate = |j: &Option<oficina_motion::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
     if profile.kinematics == KinematicsKind::Cartesian {
         return [0, 1, 2].map(|i| rate(&profile.joints[i]).unwrap_or(0.0));
     }

@@ -10,7 +10,7 @@
 //! // Line 4 names two motion codes at once; check mode reports it and reads on.
 //! let text = Arc::new("G21 G90 G17\nG0 X0 Y0 Z5\nG1 X30 Y40 F600\nG0 G1 X5\nM2\n".to_string());
 //! let opts = CheckOptions {
-//!     profile: oficina_motion::profile::resolve("grbl-router").unwrap(),
+//!     profile: oficina_motion::resolve("grbl-router").unwrap(),
 //!     dialect: oficina_gcode::Dialect::LinuxCnc,
 //! };
 //! let report = check_program(&text, &opts);

@@ -4,7 +4,7 @@
 
 use crate::{Error, Feedback};
 use oficina_geom::Point;
-use oficina_motion::estimate::estimate_with;
+use oficina_motion::estimate_with;
 use oficina_motion::{PlanOptions, Profile};
 use oficina_plot::{
     prepare, text_strokes, Format, Gray, Hatching, Optimise, PenBy, PenLift, PenMachine, Plot,

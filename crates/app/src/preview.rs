@@ -8,7 +8,7 @@ use oficina_canon::{CanonOp, Pos};
 use oficina_gcode::CanonStream;
 use oficina_gcode::Dialect;
 use oficina_gcode::RunOptions;
-use oficina_motion::moves::{arc_point, arc_sweep};
+use oficina_geom::{sweep_between, Helix, Point};
 use oficina_motion::Profile;
 use std::sync::Arc;
 
@@ -69,7 +69,12 @@ pub fn for_each_segment(
                 let (ex, ey) = (e[axes.0] - center[0], e[axes.1] - center[1]);
                 let (r0, r1) = (sx.hypot(sy), ex.hypot(ey));
                 let (a0, a1) = (sy.atan2(sx), ey.atan2(ex));
-                let sweep = arc_sweep(a0, a1, turns);
+                let sweep = sweep_between(a0, a1, turns);
+                let helix = Helix {
+                    plane,
+                    arc: oficina_geom::Arc::new(Point::new(center[0], center[1]), r0, a0, sweep),
+                    axial: (s[axes.2], e[axes.2]),
+                };
                 let n = chords(r0.max(r1), sweep);
                 let mut prev = xyz(&at);
                 for k in 1..=n {
@@ -77,7 +82,7 @@ pub fn for_each_segment(
                         xyz(&end)
                     } else {
                         let f = k as f64 / n as f64;
-                        arc_point(axes, center, r0, r1, a0, sweep, s[axes.2], e[axes.2], f)
+                        helix.spiral_point_at(f, r1)
                     };
                     emit(PreviewSegment {
                         kind: PathKind::Feed,

@@ -6,11 +6,11 @@ pub use oficina_motion::Profile;
 
 /// The bundled profiles and the default live in `oficina_motion::profile`: one list for
 /// every command and the server.
-pub use oficina_motion::profile::{BUNDLED, DEFAULT};
+pub use oficina_motion::{BUNDLED, DEFAULT};
 
 /// Load `spec`: an existing file path, or a bundled name (with or without `.toml`).
 pub fn resolve(spec: &str) -> Result<Profile, Error> {
-    oficina_motion::profile::resolve(spec).map_err(Error::from_display)
+    oficina_motion::resolve(spec).map_err(Error::from_display)
 }
 
 /// `X,Y,Z` in mm, for `--work-offset`.

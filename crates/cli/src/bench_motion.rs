@@ -3,9 +3,9 @@
 
 use crate::machine_profile;
 use oficina_canon::{Canon, CanonOp, Pos};
-use oficina_motion::kinematics::Kinematics;
-use oficina_motion::steps::{StepCount, StepGenerator};
+use oficina_motion::Kinematics;
 use oficina_motion::{plan, PlanOptions};
+use oficina_motion::{StepCount, StepGenerator};
 use std::time::Instant;
 
 #[derive(clap::Args)]
@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("{e}"))?
         .collect::<Result<_, _>>()
         .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let q = oficina_motion::kinematics::for_profile(&profile)
+    let q = oficina_motion::for_profile(&profile)
         .joints(profile.start)
         .map_err(|e| anyhow::anyhow!(e))?;
     let mut gen = StepGenerator::new(&profile, q);

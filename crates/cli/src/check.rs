@@ -31,7 +31,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let [x, y, z] = profile.start;
     let mut summarizer = Summarizer::with_bound(
         Pos::xyz(x, y, z),
-        Box::new(oficina_motion::bound::JointBound::new(&profile)),
+        Box::new(oficina_motion::JointBound::new(&profile)),
     );
     let mut ops = 0u64;
     let mut stream = CanonStream::spawn(source, opts);

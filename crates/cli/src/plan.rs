@@ -12,12 +12,12 @@ use oficina_gcode::RunOptions;
 use oficina_gcode::StartState;
 use oficina_machine::job::{canon_stream_with, CanonStream};
 use oficina_machine::{Job, Pace};
-use oficina_motion::dda_steps::dda_steps;
-use oficina_motion::kinematics::Kinematics;
-use oficina_motion::profile::Shape;
-use oficina_motion::stepcompress::Compressor;
-use oficina_motion::steps::{motor_names, StepCount, StepGenerator, StepSink, MOTORS};
-use oficina_motion::trace::TraceWriter;
+use oficina_motion::dda_steps;
+use oficina_motion::Compressor;
+use oficina_motion::Kinematics;
+use oficina_motion::Shape;
+use oficina_motion::TraceWriter;
+use oficina_motion::{motor_names, StepCount, StepGenerator, StepSink, MOTORS};
 use oficina_motion::{plan, PlanOptions, Profile};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -200,7 +200,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         // Planned once to size the output; the interpreter's error, if any, is reported by
         // the run that follows.
         let sizing = canon_stream_with(&job, interp_opts.clone());
-        if let Ok(e) = oficina_motion::estimate::estimate_with(sizing, &profile, opts, false) {
+        if let Ok(e) = oficina_motion::estimate_with(sizing, &profile, opts, false) {
             check_output_size(&args, &e)?;
         }
     }
@@ -227,7 +227,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut steps = match step_files(&args, names)? {
         None => None,
         Some(files) => {
-            let q = oficina_motion::kinematics::for_profile(&profile)
+            let q = oficina_motion::for_profile(&profile)
                 .joints(profile.start)
                 .map_err(|e| anyhow::anyhow!("{}: start position: {e}", profile.name))?;
             Some((StepGenerator::new(&profile, q), files))
@@ -266,7 +266,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     println!("total time: {total:.3} s ({})", hms(total));
     if let Some(ops) = &check_ops {
         let shape = opts.shape.unwrap_or(profile.shape);
-        match oficina_motion::check::check(ops, &checked, &profile, shape, 1.0) {
+        match oficina_motion::check(ops, &checked, &profile, shape, 1.0) {
             Ok(r) => println!(
                 "check: ok, {} segments; peak joint speed {:.1} %, acceleration {:.1} % of \
                  the limits; path within {:.4} mm",

@@ -3,11 +3,11 @@
 //! one iteration per slot (linear) or per emitted step (circular, see the digest §10.3).
 
 /// Steps of one linear-DDA iteration: per axis −1, 0 or +1.
-pub type Tick = [i8; 3];
+pub(crate) type Tick = [i8; 3];
 
 /// Linear DDA over up to three axes. `faithful` reproduces the seed exactly (accumulators start
 /// at n, strict "greater than"); otherwise accumulators start at L/2 (smaller deviation).
-pub struct LinearDda {
+pub(crate) struct LinearDda {
     n: [i64; 3],
     sign: [i8; 3],
     acc: [i64; 3],
@@ -17,7 +17,7 @@ pub struct LinearDda {
 }
 
 impl LinearDda {
-    pub fn new(delta: [i64; 3], faithful: bool) -> LinearDda {
+    pub(crate) fn new(delta: [i64; 3], faithful: bool) -> LinearDda {
         let n = delta.map(|d| d.abs());
         let limit = ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) as f64)
             .sqrt()
@@ -34,7 +34,8 @@ impl LinearDda {
     }
 
     /// `Limite` of the seed: ⌊√(Σn²)⌋, the number of iterations.
-    pub fn limit(&self) -> i64 {
+    #[cfg(test)]
+    pub(crate) fn limit(&self) -> i64 {
         self.limit
     }
 }
@@ -68,8 +69,9 @@ impl Iterator for LinearDda {
 
 /// One iteration of the seed's worked circular example (Table 11), in its own terms:
 /// absolute coordinates, ΔX = K·CoordY, ΔY = K·CoordX, step when the sum reaches the limit.
+#[cfg(test)]
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TableRow {
+pub(crate) struct TableRow {
     pub iteration: u32,
     pub sum_x: f64,
     pub sum_y: f64,
@@ -81,7 +83,8 @@ pub struct TableRow {
 /// Replays Table 11: a clockwise arc from `start` (absolute, first quadrant) with radius `r`,
 /// for `iterations` iterations. Kept only to prove the reading of the seed; use
 /// [`CircularDda`] for real arcs.
-pub fn seed_table_11(start: (i64, i64), r: f64, iterations: u32) -> Vec<TableRow> {
+#[cfg(test)]
+pub(crate) fn seed_table_11(start: (i64, i64), r: f64, iterations: u32) -> Vec<TableRow> {
     let k = 1.0 / r;
     let limit = (2.0 * r * r).sqrt();
     let (mut x, mut y) = start;
@@ -121,7 +124,7 @@ pub fn seed_table_11(start: (i64, i64), r: f64, iterations: u32) -> Vec<TableRow
 /// 002 §4.3): clockwise, X integrates K·Y and steps by the sign of its overflow; Y integrates
 /// K·X and steps against it; counter-clockwise reverses both. It ends on the end point, or
 /// snaps to it when the step budget runs out.
-pub struct CircularDda {
+pub(crate) struct CircularDda {
     pos: (i64, i64),
     end: (i64, i64),
     k: f64,
@@ -138,7 +141,7 @@ pub struct CircularDda {
 
 impl CircularDda {
     /// `start` and `end` relative to the centre, in steps.
-    pub fn new(start: (i64, i64), end: (i64, i64), cw: bool, sweep: f64) -> CircularDda {
+    pub(crate) fn new(start: (i64, i64), end: (i64, i64), cw: bool, sweep: f64) -> CircularDda {
         let r = ((start.0 * start.0 + start.1 * start.1) as f64)
             .sqrt()
             .max(1.0);
@@ -160,7 +163,8 @@ impl CircularDda {
         }
     }
 
-    pub fn position(&self) -> (i64, i64) {
+    #[cfg(test)]
+    pub(crate) fn position(&self) -> (i64, i64) {
         self.pos
     }
 

@@ -7,7 +7,7 @@ use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
 use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
-use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
+use oficina_geom::{chord_count, Helix};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
@@ -102,38 +102,6 @@ impl Shape {
             Shape::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
         }
     }
-}
-
-/// Point at fraction `f` of an arc whose radius and normal coordinate vary linearly with angle
-/// (the arc module's spiral, for callers that hold the arc as numbers).
-#[allow(clippy::too_many_arguments)]
-pub fn arc_point(
-    axes: (usize, usize, usize),
-    c: [f64; 2],
-    r0: f64,
-    r1: f64,
-    a0: f64,
-    sweep: f64,
-    n0: f64,
-    n1: f64,
-    f: f64,
-) -> [f64; 3] {
-    let plane = [Plane::XY, Plane::YZ, Plane::XZ]
-        .into_iter()
-        .find(|p| p.axes() == axes)
-        .unwrap_or_default();
-    let helix = Helix {
-        plane,
-        arc: Arc::new(Point::new(c[0], c[1]), r0, a0, sweep),
-        axial: (n0, n1),
-    };
-    helix.spiral_point_at(f, r1)
-}
-
-/// Sweep angle of an arc from angle `a0` to `a1`; `turns` > 0 counter-clockwise (the arc
-/// module's [`sweep_between`]).
-pub fn arc_sweep(a0: f64, a1: f64, turns: i32) -> f64 {
-    sweep_between(a0, a1, turns)
 }
 
 /// The distance the feed rate applies to, as LinuxCNC reads F (G-code overview, "Feed

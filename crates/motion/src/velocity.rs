@@ -42,7 +42,7 @@ pub struct Motion {
 
 /// Time to change speed by `dv` ≥ 0 under `lim`.
 #[inline]
-pub fn ramp_time(dv: f64, lim: Limits) -> f64 {
+pub(crate) fn ramp_time(dv: f64, lim: Limits) -> f64 {
     if !lim.jerk.is_finite() {
         return dv / lim.accel;
     }
@@ -57,14 +57,14 @@ pub fn ramp_time(dv: f64, lim: Limits) -> f64 {
 /// Distance covered while changing speed from `v0` to `v1`: both shapes are symmetric in
 /// time, so the mean speed is (v0 + v1)/2.
 #[inline]
-pub fn ramp_distance(v0: f64, v1: f64, lim: Limits) -> f64 {
+pub(crate) fn ramp_distance(v0: f64, v1: f64, lim: Limits) -> f64 {
     0.5 * (v0 + v1) * ramp_time((v1 - v0).abs(), lim)
 }
 
 /// The highest speed reachable from `v0` within `dist` (by symmetry also the highest speed
 /// from which `v0` is reachable).
 #[inline]
-pub fn reachable(v0: f64, dist: f64, lim: Limits) -> f64 {
+pub(crate) fn reachable(v0: f64, dist: f64, lim: Limits) -> f64 {
     if !lim.jerk.is_finite() {
         return (v0 * v0 + 2.0 * lim.accel * dist).sqrt();
     }
@@ -93,7 +93,7 @@ pub fn reachable(v0: f64, dist: f64, lim: Limits) -> f64 {
 }
 
 /// The lowest speed reachable by braking from `v0` within `dist` (0 when it can stop).
-pub fn brake_floor(v0: f64, dist: f64, lim: Limits) -> f64 {
+pub(crate) fn brake_floor(v0: f64, dist: f64, lim: Limits) -> f64 {
     if ramp_distance(0.0, v0, lim) <= dist {
         return 0.0;
     }

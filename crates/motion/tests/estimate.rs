@@ -3,9 +3,9 @@
 mod common;
 use common::{profile, Prog};
 use oficina_canon::{CanonOp, MotionMode};
-use oficina_motion::check::check;
+use oficina_motion::check;
 use oficina_motion::estimate;
-use oficina_motion::profile::Shape;
+use oficina_motion::Shape;
 use oficina_motion::{plan, PlanOptions, Segment};
 
 /// Trapezoid time for distance d from rest to rest: cruise v, acceleration a.
@@ -92,11 +92,11 @@ fn the_checker_catches_broken_plans() {
     let mut fast = segs.clone();
     let k = fast.iter().position(|s| s.motion.v_start() > 1.0).unwrap();
     let m = fast[k].motion;
-    let lim = oficina_motion::velocity::Limits {
+    let lim = oficina_motion::Limits {
         accel: 1e9,
         jerk: f64::INFINITY,
     };
-    fast[k].motion = oficina_motion::velocity::Motion::plan(
+    fast[k].motion = oficina_motion::Motion::plan(
         m.length,
         m.v_start() * 3.0,
         m.v_start() * 3.0,

@@ -9,7 +9,7 @@
 //! `PROPTEST_CASES=100000 cargo test --release -p oficina-motion --test fuzz_profile`.
 
 use oficina_canon::{Canon, CanonOp, Plane, Pos};
-use oficina_motion::kinematics::{for_profile, Kinematics};
+use oficina_motion::{for_profile, Kinematics};
 use oficina_motion::{plan, PlanOptions, Profile};
 use proptest::prelude::*;
 

@@ -4,8 +4,8 @@
 
 mod common;
 use common::{profile, Lcg, Prog};
-use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::{estimate, MoveKind, Profile};
+use oficina_motion::{Incremental, Push};
 
 const DT: f64 = 1e-4;
 

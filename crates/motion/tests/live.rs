@@ -5,10 +5,10 @@
 mod common;
 use common::{profile, program, Prog, KINDS};
 use oficina_canon::{Canon, CanonOp};
-use oficina_motion::check::check;
-use oficina_motion::moves::lerp3;
-use oficina_motion::planner::Cut;
-use oficina_motion::profile::Shape;
+use oficina_motion::check;
+use oficina_motion::lerp3;
+use oficina_motion::Cut;
+use oficina_motion::Shape;
 use oficina_motion::{plan, PlanOptions, Planner, Profile, Segment, SegmentKind};
 
 /// Time to change speed by `dv` with acceleration `a` and jerk `j` (∞ for a trapezoid).

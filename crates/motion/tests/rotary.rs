@@ -3,10 +3,10 @@
 //! programmed move.
 
 use oficina_canon::{Canon, CanonOp, Pos};
-use oficina_motion::check::check;
-use oficina_motion::profile::{resolve, Shape};
-use oficina_motion::steps::{StepGenerator, StepLog};
+use oficina_motion::check;
 use oficina_motion::{plan, PlanOptions, Segment, SegmentKind};
+use oficina_motion::{resolve, Shape};
+use oficina_motion::{StepGenerator, StepLog};
 
 fn ops(moves: &[(f64, f64, f64)]) -> Vec<Canon> {
     let mut v = vec![Canon {

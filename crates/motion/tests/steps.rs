@@ -3,10 +3,10 @@
 
 mod common;
 use common::{profile, program};
-use oficina_motion::kinematics::{self, Kinematics};
-use oficina_motion::stepcompress::{decompress, Compressor};
-use oficina_motion::steps::{StepGenerator, StepLog};
+use oficina_motion::{self, Kinematics};
+use oficina_motion::{decompress, Compressor};
 use oficina_motion::{plan, PlanOptions, Profile, Segment};
+use oficina_motion::{StepGenerator, StepLog};
 
 fn planned(p: &Profile, kind: &str, c: [f64; 3], size: f64) -> Vec<Segment> {
     let prog = program(kind, 3, c, size);
@@ -19,7 +19,7 @@ fn planned(p: &Profile, kind: &str, c: [f64; 3], size: f64) -> Vec<Segment> {
 /// Replays the steps with a backlash dead band and returns the worst distance between the
 /// replayed Cartesian point and the planned one at each step, beyond the quantisation bound.
 fn replay(p: &Profile, segs: &[Segment]) -> (f64, usize) {
-    let kin = kinematics::for_profile(p);
+    let kin = oficina_motion::for_profile(p);
     let q_start = kin.joints(p.start).unwrap();
     let mut gen = StepGenerator::new(p, q_start);
     let mut log = StepLog::default();
@@ -121,7 +121,7 @@ fn replay_stays_on_the_planned_path_on_every_kinematics() {
 fn compressed_steps_are_within_25_microseconds() {
     let p = profile("grbl-router.toml");
     let segs = planned(&p, "spiral", [400.0, 225.0, -10.0], 40.0);
-    let kin = kinematics::for_profile(&p);
+    let kin = oficina_motion::for_profile(&p);
     let mut gen = StepGenerator::new(&p, kin.joints(p.start).unwrap());
     let mut log = StepLog::default();
     for s in &segs {

@@ -3,8 +3,8 @@
 
 mod common;
 use common::{profile, program, KINDS};
-use oficina_motion::check::check;
-use oficina_motion::profile::Shape;
+use oficina_motion::check;
+use oficina_motion::Shape;
 use oficina_motion::{plan, PlanOptions, Profile, Segment};
 
 fn run(p: &Profile, shape: Shape, centre: [f64; 3], size: f64, seeds: u64) -> usize {
@@ -62,7 +62,7 @@ fn polargraph_and_corexy_over_the_corpus() {
     p.travel[2] = [-10.0, 5.0];
     run(&p, Shape::Trapezoid, [500.0, -500.0, 0.0], 300.0, 2);
     let mut c = profile("grbl-router.toml");
-    c.kinematics = oficina_motion::profile::KinematicsKind::CoreXy;
+    c.kinematics = oficina_motion::KinematicsKind::CoreXy;
     c.joints[0].as_mut().unwrap().name = "a";
     c.joints[1].as_mut().unwrap().name = "b";
     run(&c, Shape::SCurve, [400.0, 225.0, -10.0], 300.0, 1);

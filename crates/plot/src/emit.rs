@@ -2,8 +2,8 @@
 //! and hanging plotters driven by a plain Cartesian controller, and HPGL for vintage plotters.
 
 use oficina_geom::Point;
-use oficina_motion::kinematics::{for_profile, Kinematics};
 use oficina_motion::Profile;
+use oficina_motion::{for_profile, Kinematics};
 use std::fmt::Write;
 
 use crate::machine::{arm_limited_feed, PenLift, PenMachine, PlotError};

@@ -1,8 +1,8 @@
 //! The plot job: place the drawing, check it, optimise it and write the program and preview.
 
 use oficina_geom::Point;
-use oficina_motion::kinematics::{for_profile, Kinematics};
 use oficina_motion::Profile;
+use oficina_motion::{for_profile, Kinematics};
 
 use crate::machine::{check_paper, check_ramps, check_reach, PenMachine, PlotError, Ramp};
 use crate::optimise::{optimise, Optimise, Report};

@@ -13,7 +13,7 @@
 //! let plot = Plot { pens: vec![Pen { name: "#000000".into(), strokes }] };
 //! assert_eq!(plot.lengths().pen_up, 80.0 + 90.0);
 //!
-//! let profile = oficina_motion::profile::resolve("pen-plotter").unwrap();
+//! let profile = oficina_motion::resolve("pen-plotter").unwrap();
 //! let machine = PenMachine::for_profile(&profile);
 //! let prepared = prepare(plot, &profile, &machine, &Settings::default()).unwrap();
 //! let report = prepared.report.unwrap();

@@ -2,9 +2,9 @@
 //! (workspace and joint limits, paper, acceleration ramps).
 
 use oficina_geom::Point;
-use oficina_motion::kinematics::{for_profile, Kinematics};
-use oficina_motion::profile::KinematicsKind;
+use oficina_motion::KinematicsKind;
 use oficina_motion::Profile;
+use oficina_motion::{for_profile, Kinematics};
 use std::fmt;
 
 /// How the pen goes down and up.

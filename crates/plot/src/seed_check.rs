@@ -11,7 +11,7 @@
 //! (look-ahead over the joint limits, no stops), that stop-at-every-piece model.
 
 use oficina_geom::Point;
-use oficina_motion::estimate::estimate_with;
+use oficina_motion::estimate_with;
 use oficina_motion::{PlanOptions, Profile};
 
 use crate::canon::to_canon;
@@ -103,7 +103,7 @@ fn rest_to_rest(d: f64, v: f64, a: f64) -> f64 {
 /// The seed's host: each line cut into `piece` mm sub-segments, each one a rest-to-rest move
 /// of both joints (the slower sets the time), no faster than `feed` mm/min.
 pub fn stop_start_seconds(plot: &Plot, profile: &Profile, feed: f64, piece: f64) -> f64 {
-    use oficina_motion::kinematics::{for_profile, Kinematics};
+    use oficina_motion::{for_profile, Kinematics};
     let k = for_profile(profile);
     let mut t = 0.0;
     for s in plot.strokes() {

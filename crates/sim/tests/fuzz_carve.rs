@@ -114,7 +114,7 @@ proptest! {
             title: "fuzz".into(),
             settings: settings.describe(),
         };
-        let profile = oficina_motion::profile::bundled("grbl-router").unwrap().unwrap();
+        let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
         let t = std::time::Instant::now();
         let result = evaluate(&design, &job, Some(&profile), &post, budget, &|_, _| {});
         if t.elapsed().as_secs_f64() > 1.0 {

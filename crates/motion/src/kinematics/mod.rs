@@ -9,13 +9,12 @@ mod corexy;
 mod polar;
 mod polargraph;
 
-pub use cartesian::Cartesian;
-pub use corexy::CoreXy;
-pub use polar::Polar;
-pub use polargraph::Polargraph;
+pub(crate) use cartesian::Cartesian;
+pub(crate) use corexy::CoreXy;
+pub(crate) use polar::Polar;
+pub(crate) use polargraph::Polargraph;
 
 use serde::Deserialize;
-use std::f64::consts::{PI, TAU};
 
 pub trait Kinematics {
     /// Inverse kinematics; `Err` says why the point cannot be reached.
@@ -120,7 +119,7 @@ pub fn for_profile(profile: &impl AsRef<KinematicsKind>) -> AnyKinematics {
     from_kind(*profile.as_ref())
 }
 
-pub fn from_kind(kind: KinematicsKind) -> AnyKinematics {
+pub(crate) fn from_kind(kind: KinematicsKind) -> AnyKinematics {
     match kind {
         KinematicsKind::Cartesian => AnyKinematics::Cartesian(Cartesian),
         KinematicsKind::CoreXy => AnyKinematics::CoreXy(CoreXy),
@@ -162,11 +161,6 @@ impl Kinematics for AnyKinematics {
     fn check_line(&self, a: [f64; 3], b: [f64; 3]) -> Result<(), String> {
         dispatch!(self, k => k.check_line(a, b))
     }
-}
-
-/// Wraps an angle difference into (−π, π].
-pub fn wrap_angle(a: f64) -> f64 {
-    a - ((a + PI) / TAU).floor() * TAU
 }
 
 #[cfg(test)]
