@@ -4,8 +4,8 @@
 //! `oficina carve`'s until it moves into the library.
 
 use crate::{Error, Feedback};
-use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_io::{DepthMapping, Scale};
 use oficina_post::{program_text, Dialect, PostOptions};

@@ -4,11 +4,16 @@
 //! unaligned load, a subtract and a max per vector. AVX2 is used when the CPU has it.
 
 /// Output samples handled together: four AVX2 vectors.
-pub const LANES: usize = 32;
+pub(crate) const LANES: usize = 32;
 
 /// `acc[l] = max(acc[l], src[base + dx + l] − lift)` over every `(dx, lift)` in `offsets`.
 /// `base + dx` must stay in `0..=src.len() − LANES` (the caller pads the rows).
-pub fn fold_offsets(acc: &mut [f32; LANES], src: &[f32], base: usize, offsets: &[(i32, f32)]) {
+pub(crate) fn fold_offsets(
+    acc: &mut [f32; LANES],
+    src: &[f32],
+    base: usize,
+    offsets: &[(i32, f32)],
+) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx2") {

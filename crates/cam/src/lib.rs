@@ -23,20 +23,26 @@
 //! assert!(canon.contains(&CanonOp::StraightFeed { to: Pos::xyz(50.0, 0.0, -1.0) }));
 //! ```
 
-pub mod lane_max;
-pub mod library;
+// `memory`, `ops`, `relief` and `seed004` stay public namespaces: their names (`check`,
+// `plan`, `Job`, `profile`, `pocket`) read well only behind the module, and new operations
+// are being added under `ops`. The rest is the flat list below.
+mod lane_max;
+mod library;
 pub mod memory;
 pub mod ops;
-pub mod raster;
-pub mod regions;
+mod raster;
+mod regions;
 pub mod relief;
 pub mod seed004;
-pub mod sliding_max;
-pub mod stock;
-pub mod surface;
-pub mod tool;
-pub mod toolpath;
+mod sliding_max;
+mod stock;
+mod surface;
+mod tool;
+mod toolpath;
 
 pub use library::Library;
+pub use raster::Feeds;
+pub use stock::{apply_moves, sweep_arc, sweep_line};
+pub use surface::{surface_grid, surface_rows, Kernel};
 pub use tool::{Shape, Tool, ToolError};
 pub use toolpath::{CompSide, Drill, Move, Operation, PathMode, Toolpath};

@@ -5,7 +5,7 @@
 use crate::toolpath::Move;
 
 /// Known-free tip heights: the tool at or above this height touches no stock.
-pub enum Clear<'a> {
+pub(crate) enum Clear<'a> {
     /// Fresh stock with its top at this height.
     Top(f32),
     /// A grid (same size as the raster grid) from the simulated stock.
@@ -13,7 +13,7 @@ pub enum Clear<'a> {
 }
 
 impl Clear<'_> {
-    pub fn at(&self, ix: usize, iy: usize) -> f32 {
+    pub(crate) fn at(&self, ix: usize, iy: usize) -> f32 {
         match self {
             Clear::Top(z) => *z,
             Clear::Grid { width, z } => z[iy * width + ix],
@@ -33,7 +33,7 @@ pub struct Feeds {
 }
 
 /// One raster row: the samples' tip heights to reach and the known-free heights.
-pub struct Row {
+pub(crate) struct Row {
     /// Grid row index (in the raster's own, possibly transposed, grid).
     pub index: usize,
     pub target: Vec<f32>,
@@ -43,7 +43,7 @@ pub struct Row {
 }
 
 /// Rows spaced at most `stepover` mm apart, first and last rows included.
-pub fn raster_rows(count: usize, pixel: f64, stepover: f64) -> Vec<usize> {
+pub(crate) fn raster_rows(count: usize, pixel: f64, stepover: f64) -> Vec<usize> {
     if count == 0 {
         return Vec::new();
     }
@@ -61,7 +61,7 @@ pub fn raster_rows(count: usize, pixel: f64, stepover: f64) -> Vec<usize> {
 
 /// Inclusive sample ranges where `target < clear − min_cut`, each grown by one sample so
 /// the tool enters and leaves on already-free ground.
-pub fn cut_runs(row: &Row, min_cut: f32) -> Vec<(usize, usize)> {
+pub(crate) fn cut_runs(row: &Row, min_cut: f32) -> Vec<(usize, usize)> {
     let n = row.target.len();
     let allowed = |i: usize| row.allowed.as_ref().is_none_or(|a| a[i]);
     let mut runs: Vec<(usize, usize)> = Vec::new();
@@ -91,7 +91,7 @@ pub fn cut_runs(row: &Row, min_cut: f32) -> Vec<(usize, usize)> {
 /// one of them there. Greedy: each segment runs as far as a slope exists that keeps every
 /// sample so far inside its band (a shrinking window of slopes, linear per segment), and
 /// takes the lowest such slope. The first vertex is on the first sample.
-pub fn simplify(z: &[f32], tol: f64, out: &mut Vec<(usize, f64)>) {
+pub(crate) fn simplify(z: &[f32], tol: f64, out: &mut Vec<(usize, f64)>) {
     out.clear();
     let Some(&first) = z.first() else { return };
     let (mut a, mut za) = (0usize, first as f64);
@@ -119,7 +119,7 @@ pub fn simplify(z: &[f32], tol: f64, out: &mut Vec<(usize, f64)>) {
 
 /// Builds moves for a sequence of strokes, choosing for each gap between them whether to
 /// stay down or to lift.
-pub struct Emitter {
+pub(crate) struct Emitter {
     pub moves: Vec<Move>,
     pub pos: Option<[f64; 3]>,
     pub feeds: Feeds,
@@ -129,7 +129,7 @@ pub struct Emitter {
 }
 
 impl Emitter {
-    pub fn new(feeds: Feeds, safe_z: f64, clearance: f64) -> Emitter {
+    pub(crate) fn new(feeds: Feeds, safe_z: f64, clearance: f64) -> Emitter {
         Emitter {
             moves: Vec::new(),
             pos: None,
@@ -141,7 +141,7 @@ impl Emitter {
 
     /// Lifts to `travel_z`, crosses to above `to`, comes down fast to `free_z + clearance`
     /// and plunges at the plunge feed.
-    pub fn travel(&mut self, to: [f64; 3], travel_z: f64, free_z: f64) {
+    pub(crate) fn travel(&mut self, to: [f64; 3], travel_z: f64, free_z: f64) {
         let Some(from) = self.pos else {
             self.moves.push(Move::Rapid {
                 to: [to[0], to[1], self.safe_z],
@@ -179,7 +179,7 @@ impl Emitter {
     }
 
     /// Straight feeds through `points`; steep descents go at the plunge feed.
-    pub fn feed_through(&mut self, points: &[[f64; 3]]) {
+    pub(crate) fn feed_through(&mut self, points: &[[f64; 3]]) {
         for &p in points {
             let from = self.pos.unwrap_or(p);
             let run = ((p[0] - from[0]).powi(2) + (p[1] - from[1]).powi(2)).sqrt();
@@ -197,7 +197,7 @@ impl Emitter {
     }
 
     /// Retract to safe Z.
-    pub fn retract(&mut self) {
+    pub(crate) fn retract(&mut self) {
         if let Some(p) = self.pos {
             if p[2] < self.safe_z {
                 self.moves.push(Move::Rapid {
@@ -212,7 +212,7 @@ impl Emitter {
 /// Geometry of the raster grid: spacing, whether rows run along Y (transposed grid) and how
 /// many samples a row has per pixel.
 #[derive(Clone, Copy, Debug)]
-pub struct Frame {
+pub(crate) struct Frame {
     pub pixel: f64,
     pub along_y: bool,
     pub sub: usize,
@@ -220,11 +220,11 @@ pub struct Frame {
 
 impl Frame {
     /// Distance between samples along a row, mm.
-    pub fn step(&self) -> f64 {
+    pub(crate) fn step(&self) -> f64 {
         self.pixel / self.sub as f64
     }
 
-    pub fn point(&self, row: usize, sample: usize, z: f64) -> [f64; 3] {
+    pub(crate) fn point(&self, row: usize, sample: usize, z: f64) -> [f64; 3] {
         let a = sample as f64 * self.pixel / self.sub as f64;
         let b = row as f64 * self.pixel;
         if self.along_y {
@@ -237,7 +237,7 @@ impl Frame {
 
 /// Cuts the rows (already in visiting order) at the given tip heights: per row the cut
 /// runs, gaps bridged at feed when that is quicker than lifting, zig-zag or one-way.
-pub fn cut_rows(
+pub(crate) fn cut_rows(
     em: &mut Emitter,
     frame: Frame,
     rows: &[Row],

@@ -3,7 +3,7 @@
 
 /// A labelled region: its pixels' bounding box and size.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Region {
+pub(crate) struct Region {
     pub label: u32,
     pub x0: usize,
     pub y0: usize,
@@ -14,7 +14,7 @@ pub struct Region {
 
 /// Grows the mask by `radius` pixels (a disk), so a region includes the ground the tool
 /// needs to enter and leave it.
-pub fn grow(mask: &[bool], width: usize, radius: f64) -> Vec<bool> {
+pub(crate) fn grow(mask: &[bool], width: usize, radius: f64) -> Vec<bool> {
     let height = mask.len() / width.max(1);
     let r = radius.max(0.0).floor() as i64;
     let spans: Vec<i64> = (-r..=r)
@@ -59,7 +59,7 @@ pub fn grow(mask: &[bool], width: usize, radius: f64) -> Vec<bool> {
 }
 
 /// Labels 8-connected regions; returns the label grid (0 = outside) and the regions.
-pub fn label(mask: &[bool], width: usize) -> (Vec<u32>, Vec<Region>) {
+pub(crate) fn label(mask: &[bool], width: usize) -> (Vec<u32>, Vec<Region>) {
     let height = mask.len() / width.max(1);
     let mut labels = vec![0u32; mask.len()];
     let mut regions = Vec::new();

@@ -4,7 +4,7 @@
 
 /// `out[s] = max(src[s .. s + len])` for every start `s` with the window inside `src`
 /// (`out` has `src.len() + 1 − len` entries; none when `len` is 0 or too long).
-pub fn window_max(src: &[f32], len: usize, out: &mut Vec<f32>) {
+pub(crate) fn window_max(src: &[f32], len: usize, out: &mut Vec<f32>) {
     out.clear();
     let n = src.len();
     if len == 0 || len > n {

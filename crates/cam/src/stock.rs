@@ -7,10 +7,10 @@ use crate::toolpath::Move;
 use oficina_io::Heightmap;
 
 /// Positions per pixel of travel where the tool is stamped.
-pub const STAMPS_PER_PIXEL: f64 = 4.0;
+pub(crate) const STAMPS_PER_PIXEL: f64 = 4.0;
 
 /// Lowers `stock` to the tool tip at `(x, y, z)` (mm).
-pub fn stamp(stock: &mut Heightmap, tool: &Tool, x: f64, y: f64, z: f64) {
+pub(crate) fn stamp(stock: &mut Heightmap, tool: &Tool, x: f64, y: f64, z: f64) {
     let px = stock.pixel;
     let reach = tool.reach_radius();
     let (x0, x1) = (

@@ -141,7 +141,7 @@ impl Kernel {
 
 /// The design padded with −∞ columns so every offset (and a block of [`LANES`] past the
 /// right edge) reads inside the buffer.
-pub struct Padded<'a> {
+pub(crate) struct Padded<'a> {
     map: &'a Heightmap,
     pad: usize,
     stride: usize,
@@ -149,7 +149,7 @@ pub struct Padded<'a> {
 }
 
 impl<'a> Padded<'a> {
-    pub fn new(map: &'a Heightmap, pad: usize) -> Padded<'a> {
+    pub(crate) fn new(map: &'a Heightmap, pad: usize) -> Padded<'a> {
         let stride = map.width + 2 * pad + LANES;
         let mut data = vec![f32::NEG_INFINITY; stride * map.height];
         for iy in 0..map.height {
@@ -170,13 +170,13 @@ impl<'a> Padded<'a> {
 
 /// Reusable buffers of one worker.
 #[derive(Default)]
-pub struct Scratch {
+pub(crate) struct Scratch {
     acc: Vec<f32>,
     window: Vec<f32>,
 }
 
 /// Tool-tip heights along row `iy` of `padded` (padded by at least `kernel.reach`).
-pub fn surface_row(
+pub(crate) fn surface_row(
     padded: &Padded,
     kernel: &Kernel,
     iy: usize,
@@ -302,13 +302,13 @@ pub fn surface_rows(design: &Heightmap, kernel: &Kernel, rows: &[usize]) -> Vec<
 }
 
 /// Kernels for `count` evenly spaced points per pixel along X.
-pub struct SubKernels {
+pub(crate) struct SubKernels {
     pub count: usize,
     kernels: Vec<Kernel>,
 }
 
 impl SubKernels {
-    pub fn new(tool: &Tool, pixel: f64, radial: f64, count: usize) -> SubKernels {
+    pub(crate) fn new(tool: &Tool, pixel: f64, radial: f64, count: usize) -> SubKernels {
         let count = count.max(1);
         let shift = |k: usize| k as f64 / count as f64;
         // One reach for all, so they can share the rows they read.
@@ -324,19 +324,23 @@ impl SubKernels {
         }
     }
 
-    pub fn reach(&self) -> usize {
+    pub(crate) fn reach(&self) -> usize {
         self.kernels[0].reach
     }
 }
 
 /// Number of sub-samples along a row of `width` grid points at `count` per pixel.
-pub fn sub_len(width: usize, count: usize) -> usize {
+pub(crate) fn sub_len(width: usize, count: usize) -> usize {
     width.saturating_sub(1) * count + 1
 }
 
 /// Tool-tip heights along the listed rows at `kernels.count` points per pixel: entry
 /// `j` is the height at X = j / count pixels.
-pub fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]) -> Vec<Vec<f32>> {
+pub(crate) fn surface_rows_sub(
+    design: &Heightmap,
+    kernels: &SubKernels,
+    rows: &[usize],
+) -> Vec<Vec<f32>> {
     let padded = Padded::new(design, kernels.reach());
     let (w, n) = (design.width, kernels.count);
     rows.par_iter()
@@ -369,7 +373,7 @@ pub fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]
 /// each sample to the max of itself and its two neighbours states that for every
 /// sub-interval a move may cross. Requires sample positions that include every grid column
 /// (an integer number of samples per pixel).
-pub fn segment_bound(tips: &mut [f32]) {
+pub(crate) fn segment_bound(tips: &mut [f32]) {
     let n = tips.len();
     if n < 2 {
         return;
@@ -384,8 +388,10 @@ pub fn segment_bound(tips: &mut [f32]) {
     }
 }
 
-/// The tool-tip height over one grid point (brute force over the footprint).
-pub fn surface_at(design: &Heightmap, kernel: &Kernel, ix: usize, iy: usize) -> f32 {
+/// The tool-tip height over one grid point (brute force over the footprint): the unit
+/// tests' oracle for the fast sweeps.
+#[cfg(test)]
+pub(crate) fn surface_at(design: &Heightmap, kernel: &Kernel, ix: usize, iy: usize) -> f32 {
     let mut best = f32::NEG_INFINITY;
     for &(dx, dy, lift) in &kernel.all {
         let (x, y) = (ix as i64 + dx as i64, iy as i64 + dy as i64);
@@ -397,7 +403,7 @@ pub fn surface_at(design: &Heightmap, kernel: &Kernel, ix: usize, iy: usize) -> 
 }
 
 /// Swaps X and Y, so raster-along-Y reuses the along-X code.
-pub fn transpose(map: &Heightmap) -> Heightmap {
+pub(crate) fn transpose(map: &Heightmap) -> Heightmap {
     let mut z = Vec::with_capacity(map.z.len());
     for ix in 0..map.width {
         for iy in 0..map.height {

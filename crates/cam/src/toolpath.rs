@@ -71,7 +71,7 @@ pub enum PathMode {
 }
 
 /// LinuxCNC's G83 rapids back down to this far (0.010 inch) above the last peck's bottom.
-pub const PECK_CLEARANCE: f64 = 0.254;
+pub(crate) const PECK_CLEARANCE: f64 = 0.254;
 
 impl Drill {
     /// The cycle as plain moves from `from`, as LinuxCNC executes it under G99: up to R if
@@ -221,7 +221,7 @@ impl Toolpath {
 
 /// `moves` with every [`Move::Drill`] written out as the moves it makes, starting at
 /// `from`; also returns where they end.
-pub fn plain_moves(moves: &[Move], from: [f64; 3]) -> (Vec<Move>, [f64; 3]) {
+pub(crate) fn plain_moves(moves: &[Move], from: [f64; 3]) -> (Vec<Move>, [f64; 3]) {
     let mut at = from;
     let mut out = Vec::with_capacity(moves.len());
     for m in moves {

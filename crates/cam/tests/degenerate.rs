@@ -8,8 +8,8 @@
 //! `PROPTEST_CASES=20000 cargo test --release -p oficina-cam --test degenerate`.
 
 use oficina_cam::memory::{Budget, Lever};
-use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan, plan_within, Cutter, Direction, Job, Pass, ReliefError};
+use oficina_cam::Feeds;
 use oficina_cam::Toolpath;
 use oficina_io::Heightmap;
 use proptest::prelude::*;

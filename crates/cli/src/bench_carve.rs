@@ -5,8 +5,8 @@
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use oficina_cam::memory::{self, Budget, Lever};
-use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, ReliefError};
+use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::image_in::luminance_to_heights;

@@ -8,8 +8,8 @@
 
 use crate::{compare, feed_only_estimate, ideal_surface, replay, Report, SimError};
 use oficina_cam::memory::{self, Budget, Lever, OverBudget};
-use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, Planned, ReliefError};
+use oficina_cam::Feeds;
 use oficina_cam::{Move, Tool, ToolError};
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::Heightmap;

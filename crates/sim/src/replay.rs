@@ -1,7 +1,7 @@
 //! Canonical operations → material removal.
 
-use oficina_cam::stock::{sweep_arc, sweep_line};
 use oficina_cam::Tool;
+use oficina_cam::{sweep_arc, sweep_line};
 use oficina_canon::{Canon, CanonOp, Plane};
 use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;

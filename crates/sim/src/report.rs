@@ -1,7 +1,7 @@
 //! How the simulated stock compares with the design.
 
-use oficina_cam::surface::{surface_grid, Kernel};
 use oficina_cam::Tool;
+use oficina_cam::{surface_grid, Kernel};
 use oficina_io::Heightmap;
 
 #[derive(Clone, Debug, PartialEq)]

@@ -1,8 +1,8 @@
 //! Plans real jobs on analytic surfaces and checks the simulated result: never a gouge,
 //! and scallops as the closed forms predict.
 
-use oficina_cam::raster::Feeds;
 use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_io::Heightmap;
 use oficina_sim::{compare, feed_only_estimate, ideal_surface, replay};

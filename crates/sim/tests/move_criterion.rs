@@ -4,10 +4,10 @@
 //! replaced (`samples_per_pixel = 1` is that widening: the max of a sample and its two
 //! neighbours is the exact sup of the tip surface over the pixel either side).
 
-use oficina_cam::raster::Feeds;
+use oficina_cam::apply_moves;
 use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
-use oficina_cam::stock::apply_moves;
-use oficina_cam::surface::{surface_rows, Kernel};
+use oficina_cam::Feeds;
+use oficina_cam::{surface_rows, Kernel};
 use oficina_cam::{Move, Tool};
 use oficina_io::Heightmap;
 use oficina_sim::{compare, ideal_surface, replay, Report};

@@ -128,28 +128,28 @@ pub(crate) struct Builder {
 }
 
 impl Builder {
-    pub fn new(clear_z: f64) -> Builder {
+    pub(crate) fn new(clear_z: f64) -> Builder {
         Builder {
             moves: vec![],
             at: [f64::NAN, f64::NAN, clear_z],
         }
     }
 
-    pub fn push(&mut self, m: Move) {
+    pub(crate) fn push(&mut self, m: Move) {
         if let Some(to) = m.end() {
             self.at = to;
         }
         self.moves.push(m);
     }
 
-    pub fn extend(&mut self, ms: Vec<Move>) {
+    pub(crate) fn extend(&mut self, ms: Vec<Move>) {
         for m in ms {
             self.push(m);
         }
     }
 
     /// Up to the retraction plane, across, and down to `z` (all rapids).
-    pub fn travel(&mut self, clear_z: f64, to: [f64; 2], z: f64) {
+    pub(crate) fn travel(&mut self, clear_z: f64, to: [f64; 2], z: f64) {
         if self.at[2] < clear_z {
             self.push(Move::Rapid {
                 to: [self.at[0], self.at[1], clear_z],
@@ -165,11 +165,11 @@ impl Builder {
         }
     }
 
-    pub fn line(&mut self, to: [f64; 3], feed: f64) {
+    pub(crate) fn line(&mut self, to: [f64; 3], feed: f64) {
         self.push(Move::Line { to, feed });
     }
 
-    pub fn finish(mut self, clear_z: f64) -> Vec<Move> {
+    pub(crate) fn finish(mut self, clear_z: f64) -> Vec<Move> {
         if self.at[2] < clear_z {
             self.push(Move::Rapid {
                 to: [self.at[0], self.at[1], clear_z],
