@@ -3,8 +3,8 @@
 //! workbench's editor shows).
 
 use crate::text::reader;
-use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
+use oficina_canon::{Extents, Summarizer, Summary};
 use oficina_gcode::CanonStream;
 use oficina_gcode::RunOptions;
 use oficina_gcode::{Diagnostic, Dialect, Severity};

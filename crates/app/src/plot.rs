@@ -149,7 +149,7 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
     };
     match ext.as_str() {
         "hpgl" | "plt" | "hpg" | "hgl" => {
-            let h = oficina_io::hpgl::load_hpgl(path).map_err(|e| Error::chain(&e))?;
+            let h = oficina_io::load_hpgl(path).map_err(|e| Error::chain(&e))?;
             if !h.imported.unsupported.is_empty() {
                 notes.push(h.imported.unsupported.to_string());
             }

@@ -1,7 +1,7 @@
 //! Canonical machining operations.
 //!
 //! ```
-//! use oficina_canon::summary::Summarizer;
+//! use oficina_canon::Summarizer;
 //! use oficina_canon::{CanonOp, Pos};
 //!
 //! // A 3-4-5 feed move at 600 mm/min, summarised without a machine model.
@@ -22,7 +22,9 @@
 //! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
 //! records are still emitted so that a printer can reconstruct program coordinates.
 
-pub mod summary;
+mod summary;
+
+pub use summary::{Extents, MoveBound, Summarizer, Summary};
 
 /// A point in the six-axis machine space: X Y Z in mm, A B C in degrees.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -182,7 +182,7 @@ fn xyz(p: &Pos) -> [f64; 3] {
 /// The geometry is the arc module's; an arc whose end radius differs a little from its start
 /// radius (within the interpreter's tolerance) counts at the mean radius in length and at the
 /// larger one in the box, a safe box.
-pub fn arc_length_and_extents(
+pub(crate) fn arc_length_and_extents(
     start: &Pos,
     plane: Plane,
     end: &Pos,

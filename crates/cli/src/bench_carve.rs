@@ -9,7 +9,7 @@ use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, ReliefError
 use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_canon::{Canon, CanonOp};
-use oficina_io::image_in::luminance_to_heights;
+use oficina_io::luminance_to_heights;
 use oficina_io::{DepthMapping, Heightmap};
 use oficina_post::{program_text, Dialect, PostOptions};
 use oficina_sim::carve::interpret;

@@ -3,8 +3,8 @@
 
 use crate::gcode_input::{machine_for, print_diagnostics, ProgramArgs};
 use crate::machine_profile;
-use oficina_canon::summary::{Extents, Summarizer, Summary};
 use oficina_canon::Pos;
+use oficina_canon::{Extents, Summarizer, Summary};
 use oficina_gcode::CanonStream;
 use oficina_gcode::Severity;
 use std::process::ExitCode;

@@ -11,7 +11,7 @@ use crate::import::{ImportError, Imported};
 use oficina_geom::{Arc, Path, Point, Segment, SourceRef, Vec2};
 
 /// Plotter units per millimetre.
-pub const UNITS_PER_MM: f64 = 40.0;
+pub(crate) const UNITS_PER_MM: f64 = 40.0;
 /// Coordinates beyond this (plotter units, ≈ 25 km) are refused as absurd.
 const MAX_COORD: f64 = 1e9;
 

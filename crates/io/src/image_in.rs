@@ -84,10 +84,11 @@ pub enum ImageError {
 
 /// Deepest black level accepted, mm: a kilometre, far beyond any machine and well inside
 /// what f32 heights hold.
-pub const MAX_DEPTH_MM: f64 = 1.0e6;
+pub(crate) const MAX_DEPTH_MM: f64 = 1.0e6;
 
 /// Default memory budget for one import: 2 GiB.
-pub const DEFAULT_BUDGET: u64 = 2 << 30;
+#[cfg(test)]
+pub(crate) const DEFAULT_BUDGET: u64 = 2 << 30;
 
 /// Bytes needed per pixel: the decoder's buffer (up to 4 × 16-bit channels, or 32-bit float
 /// RGBA), the luminance copy and the f32 height grid.

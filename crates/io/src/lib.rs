@@ -2,7 +2,7 @@
 //! of relief that the CAM consumes.
 //!
 //! ```
-//! use oficina_io::svg::svg_from_bytes;
+//! use oficina_io::svg_from_bytes;
 //!
 //! // A 20 × 10 mm rectangle and a text element, which must be converted to paths first.
 //! let svg = br#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="50mm"
@@ -17,23 +17,26 @@
 //! assert_eq!(imported.unsupported.total(), 1); // the text
 //! ```
 
-pub mod heightmap;
-pub mod image_in;
-pub mod raw;
+mod dxf;
+mod heightmap;
+mod hpgl;
+mod image_in;
+mod import;
+mod points;
+mod raw;
+mod seed001;
+mod svg;
 
+pub use dxf::dxf_from_bytes;
 pub use heightmap::Heightmap;
-pub use image_in::{load_image, load_image_bytes, DepthMapping, ImageError, Scale};
-pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
-
-pub mod dxf;
-pub mod import;
-pub mod points;
-pub mod seed001;
-pub mod svg;
-
+pub use hpgl::{hpgl_from_bytes, load_hpgl, Hpgl};
+pub use image_in::{
+    load_image, load_image_bytes, luminance_to_heights, DepthMapping, ImageError, Scale,
+};
 pub use import::{load_drawing, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES};
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
+pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
-pub mod hpgl;
+pub use svg::svg_from_bytes;

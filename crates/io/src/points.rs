@@ -7,7 +7,7 @@ use crate::import::ImportError;
 use oficina_geom::Point;
 
 /// Most points one list may hold.
-pub const MAX_POINTS: usize = 10_000_000;
+pub(crate) const MAX_POINTS: usize = 10_000_000;
 
 /// Coordinates beyond this (mm) are taken as a mistake.
 const ABSURD: f64 = 1e9;

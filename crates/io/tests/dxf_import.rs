@@ -2,7 +2,7 @@
 //! with the dxf crate's writer, checked against geometry computed by hand.
 
 use oficina_geom::{Path, Segment};
-use oficina_io::dxf::dxf_from_bytes;
+use oficina_io::dxf_from_bytes;
 
 fn pairs(p: &[(&str, &str)]) -> String {
     p.iter().map(|(c, v)| format!("{c}\n{v}\n")).collect()

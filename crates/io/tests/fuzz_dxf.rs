@@ -131,7 +131,7 @@ fn dxf_never_panics() {
     let started = std::time::Instant::now();
     let ok = AtomicUsize::new(0);
     let result = runner.run(&strategy, |s| {
-        if oficina_io::dxf::dxf_from_bytes(s.as_bytes(), "f.dxf").is_ok() {
+        if oficina_io::dxf_from_bytes(s.as_bytes(), "f.dxf").is_ok() {
             ok.fetch_add(1, Ordering::SeqCst);
         }
         Ok(())

@@ -1,7 +1,7 @@
 //! Proptest fuzzing of the HPGL reader: arbitrary bytes and HPGL-shaped noise never panic,
 //! and every path it returns has finite coordinates.
 
-use oficina_io::hpgl::hpgl_from_bytes;
+use oficina_io::hpgl_from_bytes;
 use proptest::prelude::*;
 
 fn check(bytes: &[u8]) {

@@ -95,6 +95,6 @@ fn seed001_never_panics() {
 #[test]
 fn svg_never_panics() {
     run("svg mutated", 10000, mutated(SVG), |s| {
-        let _ = oficina_io::svg::svg_from_bytes(s.as_bytes(), "f.svg");
+        let _ = oficina_io::svg_from_bytes(s.as_bytes(), "f.svg");
     });
 }

@@ -1,8 +1,8 @@
 //! HPGL import: instructions as HP's HP-GL reference describes them (40 units per mm).
 
-use oficina_io::hpgl::hpgl_from_bytes;
+use oficina_io::hpgl_from_bytes;
 
-fn parse(s: &str) -> oficina_io::hpgl::Hpgl {
+fn parse(s: &str) -> oficina_io::Hpgl {
     hpgl_from_bytes(s.as_bytes(), "t.plt").unwrap_or_else(|e| panic!("{e}"))
 }
 

@@ -5,7 +5,7 @@
 
 use crate::kinematics::{for_profile, AnyKinematics, Kinematics};
 use crate::Profile;
-use oficina_canon::summary::MoveBound;
+use oficina_canon::MoveBound;
 use std::f64::consts::TAU;
 
 pub struct JointBound {

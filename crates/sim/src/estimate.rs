@@ -1,7 +1,7 @@
 //! Time estimate from programmed feeds alone. The motion planner's estimate (with
 //! acceleration and junction speeds) replaces it where available; this is a lower bound.
 
-use oficina_canon::summary::Summarizer;
+use oficina_canon::Summarizer;
 use oficina_canon::{Canon, Pos};
 
 /// Seconds for `ops`: feed moves at their programmed feed, rapids with every axis at

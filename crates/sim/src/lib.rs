@@ -26,12 +26,13 @@
 //! assert_eq!(stock.range(), (-1.0, 0.0));
 //! ```
 
+// `carve` stays a namespace: `carve::evaluate`, `carve::Settings` read well only behind it.
 pub mod carve;
-pub mod estimate;
-pub mod mill;
-pub mod render;
-pub mod replay;
-pub mod report;
+mod estimate;
+mod mill;
+mod render;
+mod replay;
+mod report;
 
 pub use carve::to_machine;
 pub use estimate::feed_only_estimate;

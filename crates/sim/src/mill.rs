@@ -30,7 +30,7 @@ pub struct MillCheck {
 
 /// Largest grid the check builds (about 64 MB of f32 per map): a bigger drawing gets a
 /// coarser pixel rather than an allocation without bound.
-pub const MAX_PIXELS: usize = 16_000_000;
+pub(crate) const MAX_PIXELS: usize = 16_000_000;
 
 /// Replays `canon` over the drawing's extent plus `margin` mm at `pixel` mm (coarsened if
 /// the grid would pass [`MAX_PIXELS`]) and compares with `design`. `last_tool` judges the
@@ -113,7 +113,7 @@ pub fn check_mill(
 }
 
 /// The operations moved by `by` in X and Y (the grid starts at 0, the drawing need not).
-pub fn shift(canon: &[Canon], by: [f64; 2]) -> Vec<Canon> {
+pub(crate) fn shift(canon: &[Canon], by: [f64; 2]) -> Vec<Canon> {
     let mv = |p: &Pos| Pos {
         x: p.x + by[0],
         y: p.y + by[1],

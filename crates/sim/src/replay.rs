@@ -81,7 +81,7 @@ const CHORD_TOLERANCE: f64 = 1e-4;
 
 /// End points of chords along an arc in `plane` (G18/G19 arcs, such as image-to-gcode's
 /// entry and fitted moves), none further than `tol` from the arc.
-pub fn arc_chords(
+pub(crate) fn arc_chords(
     plane: Plane,
     from: [f64; 3],
     to: [f64; 3],
