@@ -7,7 +7,7 @@ use crate::{header_comments, Post, PostOptions};
 use oficina_cam::{Operation, PathMode, Toolpath};
 use std::io;
 
-pub struct Grbl;
+pub(crate) struct Grbl;
 
 impl Post for Grbl {
     fn words(&self) -> MotionWords {

@@ -9,7 +9,7 @@ use crate::{Post, PostOptions};
 use oficina_cam::{Move, Operation, PathMode, Toolpath};
 use std::io;
 
-pub struct Legacy;
+pub(crate) struct Legacy;
 
 const WORDS: MotionWords = MotionWords {
     rapid: "G0",

@@ -27,23 +27,24 @@
 //! assert_eq!(arc_end, Some(Pos::xyz(12.0, 4.0, -1.0)));
 //! ```
 //!
-//! One [`Post`] per dialect, each in its own file ([`linuxcnc`], [`grbl`], [`sinumerik`],
-//! [`legacy`]); they share the text writer ([`emit`]) and the number format ([`format`]).
+//! One [`Post`] per dialect, each in its own file (`linuxcnc`, `grbl`, `sinumerik`,
+//! `legacy`); they share the text writer ([`Emitter`]) and the number format ([`Format`]).
 //! Every setting that shaped the program is written into the header as comments, so the
 //! file says how to regenerate it. [`read_back`] reads a program as Oficina's interpreter
 //! does, so callers judge the text a machine would get, never the CAM's own idea of it.
 
-pub mod emit;
-pub mod format;
-pub mod grbl;
-pub mod legacy;
-pub mod linuxcnc;
+mod emit;
+mod format;
+mod grbl;
+mod legacy;
+mod linuxcnc;
 mod readback;
-pub mod sinumerik;
+mod sinumerik;
 
 pub use emit::{Emitter, MotionWords};
 pub use format::{Format, LineNumbers, Numbers, Units};
 pub use readback::{read_back, read_back_with_tools};
+pub use sinumerik::sinumerik_to_ngc;
 
 use oficina_cam::{CompSide, Drill, Move, Operation, PathMode, Toolpath};
 use std::io::{self, Write};

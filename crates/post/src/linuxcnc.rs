@@ -6,10 +6,10 @@ use crate::{header_comments, Post, PostOptions};
 use oficina_cam::{CompSide, Drill, Operation, PathMode, Toolpath};
 use std::io;
 
-pub struct LinuxCnc;
+pub(crate) struct LinuxCnc;
 
 /// G0 G1 G2 G3, I J from the start, F words.
-pub const RS274_WORDS: MotionWords = MotionWords {
+pub(crate) const RS274_WORDS: MotionWords = MotionWords {
     rapid: "G0",
     line: "G1",
     cw: "G2",

@@ -40,7 +40,7 @@ pub fn read_back_with_tools(
         Dialect::Grbl | Dialect::LinuxCnc => (program, oficina_gcode::Dialect::LinuxCnc),
         Dialect::Legacy2006 => (program, oficina_gcode::Dialect::Legacy2006),
         Dialect::Sinumerik => {
-            translated = crate::sinumerik::to_ngc(program)?;
+            translated = crate::sinumerik_to_ngc(program)?;
             (translated.as_str(), oficina_gcode::Dialect::LinuxCnc)
         }
     };

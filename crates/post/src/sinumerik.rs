@@ -4,7 +4,7 @@
 //! D register on the first positioning after a change, `T nn M06`, B table rotation in
 //! 0.001°, G60 exact stop / G64 continuous path, safety plane for changes and the end.
 //!
-//! Oficina's interpreter has no Sinumerik dialect, so [`to_ngc`] rewrites such a program in
+//! Oficina's interpreter has no Sinumerik dialect, so [`sinumerik_to_ngc`] rewrites such a program in
 //! RS274/NGC word for word (scaling the integer words, G60 → G61, `G43 Dn` → `G43 Hn`,
 //! pallet M21/M22 dropped) for the read-back; nothing else changes.
 
@@ -15,11 +15,11 @@ use oficina_cam::{CompSide, Operation, PathMode, Toolpath};
 use std::io;
 
 /// The tool number the program ends by loading: an empty spindle.
-pub const EMPTY_TOOL: u32 = 99;
+pub(crate) const EMPTY_TOOL: u32 = 99;
 
 /// The machine set-up the seed's dialog asks for once per program.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sinumerik {
+pub(crate) struct Sinumerik {
     /// Tool-change position in machine coordinates, mm (seed: X450 Y150 Z600).
     pub change_at: [f64; 3],
     /// Table (B) rotation for the job, degrees; `None` writes no B word.
@@ -224,7 +224,7 @@ impl Post for Sinumerik {
 /// scaled back to mm (degrees for B), `G60` becomes `G61`, `G04 F` a `G4 P` dwell, `G43 Dn`
 /// becomes `G43 Hn`, a lone `Dn` (radius register) is dropped, `%` and the pallet codes are
 /// left out. An error names the line and word it cannot read.
-pub fn to_ngc(text: &str) -> Result<String, String> {
+pub fn sinumerik_to_ngc(text: &str) -> Result<String, String> {
     let mut out = String::with_capacity(text.len());
     for (i, raw) in text.lines().enumerate() {
         let line = raw.trim();

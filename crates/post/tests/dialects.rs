@@ -4,8 +4,8 @@
 use oficina_cam::{Drill, Move, Operation, PathMode, Tool, Toolpath};
 use oficina_canon::CanonOp;
 use oficina_post::{
-    program_text, program_text_with, read_back, sinumerik, Dialect, Format, LineNumbers, Numbers,
-    PostOptions, Units,
+    program_text, program_text_with, read_back, sinumerik_to_ngc, Dialect, Format, LineNumbers,
+    Numbers, PostOptions, Units,
 };
 use std::process::Command;
 
@@ -234,7 +234,7 @@ fn rs274_accepts_the_linuxcnc_program_and_cuts_the_same_path() {
     assert_same_path(&rs274_feed_ends(&out), &want, 1e-4, "rs274");
     // The Sinumerik program, rewritten word for word in NGC, passes rs274 too.
     let sin = program_text(&tp, &options(Dialect::Sinumerik)).unwrap();
-    let ngc = sinumerik::to_ngc(&sin).unwrap();
+    let ngc = sinumerik_to_ngc(&sin).unwrap();
     assert_same_path(
         &rs274_feed_ends(&rs274(&ngc)),
         &want,
@@ -442,14 +442,14 @@ fn formats_a_dialect_cannot_write_are_refused_with_the_reason() {
 
 #[test]
 fn sinumerik_reader_names_a_bad_word() {
-    let e = sinumerik::to_ngc("N10 G01 X12.5\n").unwrap_err();
+    let e = sinumerik_to_ngc("N10 G01 X12.5\n").unwrap_err();
     assert_eq!(e, "line 1: cannot read word 'X12.5'");
 }
 
 #[test]
 fn sinumerik_end_puts_the_tool_away_after_the_last_motion() {
     let text = program_text(&sample(), &options(Dialect::Sinumerik)).unwrap();
-    let ngc = sinumerik::to_ngc(&text).unwrap();
+    let ngc = sinumerik_to_ngc(&text).unwrap();
     let canon = read_back(&text, &options(Dialect::Sinumerik)).unwrap();
     let last_motion = canon.iter().rposition(|c| c.op.is_motion()).unwrap();
     let put_away = canon
