@@ -147,7 +147,7 @@ fn report(
 
 /// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
 /// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
-pub fn axis_rapid_rates(profile: &Profile) -> [f64; 3] {
+pub(crate) fn axis_rapid_rates(profile: &Profile) -> [f64; 3] {
     use oficina_motion::KinematicsKind;
     let rate = |j: &Option<oficina_motion::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
     if profile.kinematics == KinematicsKind::Cartesian {

@@ -12,7 +12,7 @@ const UNKNOWN_TRAVEL: f64 = 1000.0;
 /// The jog from `pos` along the unit axis direction `dir` (each -1, 0 or 1) to the edge of
 /// `travel` (a little inside it, so the soft-limit check passes), or `UNKNOWN_TRAVEL` when
 /// there is no profile.
-pub fn continuous_delta(
+pub(crate) fn continuous_delta(
     pos: [f64; 3],
     dir: [f64; 3],
     travel: Option<[[f64; 2]; 3]>,

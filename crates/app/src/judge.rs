@@ -67,7 +67,7 @@ impl Judged {
 
 /// Posts, reads back as the interpreter does, simulates against `design`, times on
 /// `profile` (its load error is reported, not fatal: the program is still good).
-pub fn judge(
+pub(crate) fn judge(
     tp: &Toolpath,
     post: &PostOptions,
     format: &Format,

@@ -26,7 +26,7 @@
 mod check;
 mod error;
 mod job;
-pub mod jog;
+mod jog;
 mod judge;
 mod machine_uri;
 pub mod mill;

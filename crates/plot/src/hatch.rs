@@ -6,7 +6,7 @@ use oficina_geom::{Point, Vec2};
 use crate::strokes::Stroke;
 
 /// Images larger than this many pixels are refused (bounded memory).
-pub const MAX_PIXELS: u64 = 64_000_000;
+pub(crate) const MAX_PIXELS: u64 = 64_000_000;
 /// At most this many hatch lines per layer.
 const MAX_LINES: f64 = 200_000.0;
 

@@ -105,7 +105,7 @@ pub fn two_opt(
 }
 
 /// Applies a tour: strokes in tour order, reversed where it says.
-pub fn apply(strokes: Vec<Stroke>, tour: &[(usize, bool)]) -> Vec<Stroke> {
+pub(crate) fn apply(strokes: Vec<Stroke>, tour: &[(usize, bool)]) -> Vec<Stroke> {
     let mut slots: Vec<Option<Stroke>> = strokes.into_iter().map(Some).collect();
     tour.iter()
         .map(|&(i, rev)| {

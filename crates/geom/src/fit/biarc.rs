@@ -8,7 +8,7 @@ use kurbo::{Point, Vec2};
 
 /// The arc that leaves `p` along unit tangent `t` and ends at `q` (a line if `q` lies ahead).
 /// Its centre is on the normal at p: c = p + s·n with |c − q| = |s|, so s = |w|² / (2 n·w).
-pub fn arc_from_tangent(p: Point, t: Vec2, q: Point) -> Segment {
+pub(super) fn arc_from_tangent(p: Point, t: Vec2, q: Point) -> Segment {
     let n = Vec2::new(-t.y, t.x);
     let w = q - p;
     let den = 2.0 * n.dot(w);
