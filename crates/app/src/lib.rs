@@ -23,6 +23,7 @@
 //! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
 //! ```
 
+pub mod bench;
 mod check;
 mod error;
 mod job;

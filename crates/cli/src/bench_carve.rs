@@ -2,21 +2,16 @@
 //! LinuxCNC's image-to-gcode on a crop of the same image with the same tool and step, and
 //! both programs replayed through the interpreter and the stock simulator for gouge.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
-use oficina_cam::memory::{self, Budget, Lever};
-use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, ReliefError};
-use oficina_cam::Feeds;
-use oficina_cam::Tool;
-use oficina_canon::{Canon, CanonOp};
-use oficina_io::luminance_to_heights;
-use oficina_io::{DepthMapping, Heightmap};
-use oficina_post::{program_text, Dialect, PostOptions};
-use oficina_sim::carve::interpret;
-use oficina_sim::{compare, ideal_surface, replay, Report};
-use std::collections::HashMap;
+use oficina_app::bench::carve::{
+    best_possible, check_size, crop, design, job, judge, peer_script, peer_window,
+    peer_worked_pixels, plan_and_post, read_back, relief_image, Ours, Peer, BALL_DIAMETER, DEPTH,
+    MAX_SIZE, PIXEL, STEP_PX,
+};
+use oficina_app::bench::{self, BenchError, Cost};
+use oficina_io::Heightmap;
 use std::path::PathBuf;
-use std::time::Instant;
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
@@ -47,277 +42,34 @@ pub struct Args {
     pub memory_mb: u64,
 }
 
-const PIXEL: f64 = 0.1;
-const DEPTH: f64 = 10.0;
-const BALL_DIAMETER: f64 = 6.0;
-/// Rows 5 pixels (0.5 mm) apart for both programs: image-to-gcode steps in whole pixels.
-const STEP_PX: usize = 5;
-const MAX_SIZE: usize = 20_000;
-
-/// A deterministic relief: gentle waves, domes and a steep-walled ring, 8-bit gray.
-fn relief_image(n: usize) -> Vec<u8> {
-    let mut out = Vec::with_capacity(n * n);
-    let s = 4000.0 / n.max(1) as f64;
-    for row in 0..n {
-        for col in 0..n {
-            let (x, y) = (col as f64 * s * PIXEL, row as f64 * s * PIXEL);
-            let waves = 0.25 * (1.0 + (x * 0.07).sin() * (y * 0.05).cos());
-            let dome = |cx: f64, cy: f64, r: f64| {
-                let d2 = ((x - cx).powi(2) + (y - cy).powi(2)) / (r * r);
-                (1.0 - d2).max(0.0).sqrt()
-            };
-            let domes = 0.4 * dome(120.0, 130.0, 60.0) + 0.3 * dome(290.0, 260.0, 80.0);
-            let rd = ((x - 200.0).powi(2) + (y - 200.0).powi(2)).sqrt();
-            let ring = if (150.0..170.0).contains(&rd) {
-                0.3
-            } else {
-                0.0
-            };
-            let v = 1.0 - (waves + domes + ring).min(1.0);
-            out.push((v * 255.0).round() as u8);
-        }
-    }
-    out
-}
-
-fn crop(img: &[u8], n: usize, c: usize) -> Vec<u8> {
-    (0..c)
-        .flat_map(|r| img[r * n..r * n + c].iter().copied())
-        .collect()
-}
-
-fn design(gray: &[u8], n: usize) -> Heightmap {
-    let luma: Vec<f32> = gray.iter().map(|&v| v as f32 / 255.0).collect();
-    luminance_to_heights(n, n, &luma, PIXEL, DepthMapping::new(DEPTH))
-}
-
-fn tool() -> Tool {
-    Tool::new(oficina_cam::Shape::Ball, BALL_DIAMETER).expect("valid built-in tool")
-}
-
-/// One finishing pass, as image-to-gcode does: rows along X, zig-zag, one level.
-fn job(args: &Args) -> Job {
-    Job {
-        safe_z: 5.0,
-        clearance: 1.0,
-        tolerance: args.tolerance,
-        samples_per_pixel: args.samples_per_pixel,
-        passes: vec![Pass {
-            name: "finish".into(),
-            cutter: Cutter {
-                number: 1,
-                tool: tool(),
-                feeds: Feeds {
-                    cut: 2000.0 / 60.0,
-                    plunge: 500.0 / 60.0,
-                    rapid: 5000.0 / 60.0,
-                },
-                spindle_rpm: 18000.0,
-            },
-            stepover: STEP_PX as f64 * PIXEL,
-            stepdown: 1000.0,
-            allowance: 0.0,
-            direction: Direction::X,
-            zigzag: true,
-            rest_only: false,
-            min_cut: 0.001,
-        }],
-        simulate_last: false,
+/// A memory refusal names the options that change it.
+fn explain(e: BenchError) -> anyhow::Error {
+    match e {
+        BenchError::OverMemory(s) => anyhow::anyhow!("{s} (options: --size, --memory-mb)"),
+        e => e.into(),
     }
 }
 
-/// Wall and CPU seconds (CPU: every thread of this process, from getrusage).
-#[derive(Clone, Copy, Debug, Default)]
-struct Cost {
-    wall: f64,
-    cpu: f64,
-}
-
-impl Cost {
-    fn plus(self, o: Cost) -> Cost {
-        Cost {
-            wall: self.wall + o.wall,
-            cpu: self.cpu + o.cpu,
-        }
-    }
-}
-
-/// User + system CPU seconds used so far by this process.
-fn cpu_now() -> f64 {
-    use nix::sys::resource::{getrusage, UsageWho};
-    getrusage(UsageWho::RUSAGE_SELF).map_or(0.0, |u| {
-        let t = |v: nix::sys::time::TimeVal| v.tv_sec() as f64 + v.tv_usec() as f64 * 1e-6;
-        t(u.user_time()) + t(u.system_time())
-    })
-}
-
-fn measure<T>(f: impl FnOnce() -> T) -> (T, Cost) {
-    let (wall, cpu) = (Instant::now(), cpu_now());
-    let out = f();
-    let cost = Cost {
-        wall: wall.elapsed().as_secs_f64(),
-        cpu: cpu_now() - cpu,
-    };
-    (out, cost)
-}
-
-struct Ours {
-    /// Tool surface + toolpath.
-    plan: Cost,
-    /// Writing the G-code text (image-to-gcode's time includes writing its program too).
-    post: Cost,
-    program: String,
-    moves: usize,
+fn budget(args: &Args) -> u64 {
+    args.memory_mb.saturating_mul(1 << 20)
 }
 
 fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
-    // Each move is kept as a move and as a line of text.
-    let budget = Budget {
-        bytes: args.memory_mb.saturating_mul(1 << 20),
-        reserved: 0,
-        per_move: oficina_sim::carve::bytes_per_move(),
-    };
-    let (planned, plan_cost) = measure(|| plan_within(map, &job(args), budget, &|_, _| {}));
-    let planned = planned.map_err(|e| match e {
-        ReliefError::Memory(_) => anyhow::anyhow!("{e} (options: --size, --memory-mb)"),
-        e => e.into(),
-    })?;
-    let post = PostOptions {
-        dialect: Dialect::LinuxCnc,
-        allow_m6: false,
-        title: "bench carve".into(),
-        settings: vec![],
-    };
-    let (program, post_cost) = measure(|| program_text(&planned.toolpath, &post));
-    let program = program?;
-    Ok(Ours {
-        plan: plan_cost,
-        post: post_cost,
-        program,
-        moves: planned.toolpath.move_count(),
-    })
-}
-
-/// The part both programs machine: image-to-gcode's tool centres stop a tool radius inside
-/// the picture, so a margin of one tool diameter is left out.
-fn inner(h: &Heightmap) -> Heightmap {
-    let m = (BALL_DIAMETER / PIXEL).ceil() as usize;
-    {
-        let (w, hh) = (h.width - 2 * m, h.height - 2 * m);
-        let z = (m..m + hh)
-            .flat_map(|iy| h.row(iy)[m..m + w].iter().copied())
-            .collect();
-        Heightmap {
-            width: w,
-            height: hh,
-            pixel: h.pixel,
-            z,
-        }
-    }
-}
-
-/// The simulator's report of a program over the inner part, and the share of it gouged.
-fn judge(canon: &[Canon], map: &Heightmap) -> Result<(Report, f64)> {
-    let tools = HashMap::from([(1, tool())]);
-    let mut stock = Heightmap::flat(map.width, map.height, map.pixel, 0.0);
-    replay(canon, &tools, &mut stock, [0.0, 0.0, 5.0])?;
-    let ideal = ideal_surface(map, &tool());
-    let (stock, design) = (inner(&stock), inner(map));
-    let gouged = stock
-        .z
-        .iter()
-        .zip(&design.z)
-        .filter(|(s, d)| **s < **d - GOUGE_LIMIT as f32)
-        .count() as f64
-        / design.z.len() as f64;
-    Ok((compare(&stock, &design, &inner(&ideal)), gouged))
-}
-
-/// Depth below the design that counts as a gouge, mm.
-const GOUGE_LIMIT: f64 = 0.001;
-
-struct Peer {
-    seconds: f64,
-    cpu: f64,
-    canon: Vec<Canon>,
-    diagnostics: usize,
-    lines: usize,
+    plan_and_post(
+        map,
+        &job(args.tolerance, args.samples_per_pixel),
+        budget(args),
+    )
+    .map_err(explain)
 }
 
 fn run_peer(args: &Args, gray: &[u8], c: usize, dir: &std::path::Path) -> Result<Peer> {
-    let script = args.peer_script.clone().unwrap_or_else(|| {
-        let local = PathBuf::from("scripts/image_to_gcode_peer.py");
-        if local.exists() {
-            local
-        } else {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scripts/image_to_gcode_peer.py")
-        }
-    });
-    let raw = dir.join("crop.gray");
-    let out = dir.join("peer.ngc");
-    std::fs::write(&raw, gray)?;
-    let run = std::process::Command::new(&args.python)
-        .arg(&script)
-        .arg(&raw)
-        .args([c.to_string(), c.to_string()])
-        .args([PIXEL, DEPTH, BALL_DIAMETER].map(|v| v.to_string()))
-        .arg(STEP_PX.to_string())
-        .arg(&out)
-        .output()
-        .with_context(|| format!("cannot run {} {}", args.python.display(), script.display()))?;
-    if !run.status.success() {
-        bail!(
-            "image-to-gcode failed: {}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-    }
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    let field = |key: &str| -> Result<Vec<f64>> {
-        let line = stdout
-            .lines()
-            .find(|l| l.starts_with(key))
-            .with_context(|| format!("peer printed no {key}: {stdout}"))?;
-        line.split_whitespace()
-            .skip(1)
-            .map(|v| v.parse().with_context(|| format!("bad {key} line: {line}")))
-            .collect()
-    };
-    let seconds = field("SECONDS")?[0];
-    let cpu = field("CPU")?[0];
-    let offset = field("OFFSET")?;
-    let text = std::fs::read_to_string(&out)?;
-    let opts = oficina_gcode::RunOptions::default();
-    let mut canon = vec![Canon {
-        line: 0,
-        op: CanonOp::ChangeTool(1),
-    }];
-    let diags = oficina_gcode::run_text(&text, &opts, &mut |mut c| {
-        // Into the image grid's frame (see the script).
-        match &mut c.op {
-            CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
-                to.x += offset[0];
-                to.y += offset[1];
-            }
-            CanonOp::ArcFeed { end, center, .. } => {
-                end.x += offset[0];
-                end.y += offset[1];
-                center[0] += offset[0];
-                center[1] += offset[1];
-            }
-            _ => {}
-        }
-        canon.push(c)
-    });
-    for d in diags.iter().take(3) {
+    let script = peer_script(args.peer_script.as_deref());
+    let peer = bench::carve::run_peer(&args.python, &script, gray, c, dir)?;
+    for d in peer.diagnostics.iter().take(3) {
         eprintln!("image-to-gcode output: {d}");
     }
-    Ok(Peer {
-        seconds,
-        cpu,
-        canon,
-        diagnostics: diags.len(),
-        lines: text.lines().count(),
-    })
+    Ok(peer)
 }
 
 pub fn run(args: Args) -> Result<()> {
@@ -341,13 +93,7 @@ pub fn run(args: Args) -> Result<()> {
         STEP_PX as f64 * PIXEL
     );
     // The gray picture (1 byte a pixel), its luminance and the height grid (4 bytes each).
-    memory::check(
-        || format!("the generated {n} x {n} relief"),
-        memory::grid_bytes(n, n).saturating_mul(2) + (n * n) as u64,
-        args.memory_mb.saturating_mul(1 << 20),
-        Lever::PixelSize,
-    )
-    .map_err(|e| anyhow::anyhow!("{e} (options: --size, --memory-mb)"))?;
+    check_size(n, budget(&args)).map_err(explain)?;
     let gray = relief_image(n);
     let full = design(&gray, n);
     let ours = time_ours(&full, &args)?;
@@ -376,17 +122,11 @@ pub fn run(args: Args) -> Result<()> {
     let peer = run_peer(&args, &small, c, dir.path())?;
     // image-to-gcode places tool centres only where the whole tool window fits: it works on
     // (side − window)² pixels, so that is what its cost is per.
-    let window = (BALL_DIAMETER / PIXEL + 0.5) as usize;
-    let worked = |side: usize| (side.saturating_sub(window).max(1) as f64).powi(2);
+    let window = peer_window();
+    let worked = peer_worked_pixels;
     let peer_rate = peer.seconds / worked(c);
     let peer_cpu_rate = peer.cpu / worked(c);
-    let post = PostOptions {
-        dialect: Dialect::LinuxCnc,
-        allow_m6: false,
-        title: String::new(),
-        settings: vec![],
-    };
-    let ours_canon = interpret(&ours_crop.program, &post)?;
+    let ours_canon = read_back(&ours_crop.program)?;
     let ours_q = judge(&ours_canon, &crop_map)?;
     let peer_q = judge(&peer.canon, &crop_map)?;
 
@@ -473,8 +213,7 @@ pub fn run(args: Args) -> Result<()> {
         "{:<16} {:>10} {:>16} {:>10} {:>10} {:>12} {:>12}",
         "", "gouge mm", "area > 1 um", "left max", "left mean", "scallop max", "scallop mean"
     );
-    let ideal = inner(&ideal_surface(&crop_map, &tool()));
-    let best = compare(&ideal, &inner(&crop_map), &ideal);
+    let best = best_possible(&crop_map);
     for (name, (q, gouged)) in [
         ("oficina", &ours_q),
         ("image-to-gcode", &peer_q),
@@ -501,22 +240,15 @@ pub fn run(args: Args) -> Result<()> {
         "programs: oficina {} lines, image-to-gcode {} lines ({} interpreter diagnostics)",
         ours_crop.program.lines().count(),
         peer.lines,
-        peer.diagnostics
+        peer.diagnostics.len()
     );
     print_peak_memory();
     Ok(())
 }
 
-/// The process's peak resident memory (VmHWM): the whole benchmark's, since the kernel
-/// keeps the high-water mark.
+/// The process's peak resident memory (VmHWM): the whole benchmark's.
 fn print_peak_memory() {
-    let peak = std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            let line = s.lines().find(|l| l.starts_with("VmHWM:"))?.to_owned();
-            line.split_whitespace().nth(1)?.parse::<u64>().ok()
-        });
-    match peak {
+    match bench::peak_memory_kb() {
         Some(kb) => println!("peak memory (VmHWM): {:.0} MB", kb as f64 / 1024.0),
         None => println!("peak memory: unavailable (no /proc/self/status)"),
     }

@@ -1,11 +1,9 @@
-//! The peak resident memory of this process (Linux's VmHWM), printed by every benchmark so
-//! its memory claims can be read beside its speed.
+//! The closing line of every benchmark: the peak resident memory, so its memory claims can be
+//! read beside its speed.
 
-/// VmHWM in kB, from /proc/self/status; `None` where there is no such file.
+/// VmHWM in kB (`oficina_app::bench::peak_memory_kb`).
 pub fn vm_hwm_kb() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let l = s.lines().find(|l| l.starts_with("VmHWM:"))?;
-    l.split_whitespace().nth(1)?.parse().ok()
+    oficina_app::bench::peak_memory_kb()
 }
 
 /// The closing line of a benchmark: `peak memory (VmHWM): 12345 kB`.
