@@ -36,6 +36,7 @@ mod post_params;
 mod preview;
 pub mod profile;
 mod relief;
+mod run_options;
 mod session;
 pub mod sole;
 mod text;
@@ -49,4 +50,6 @@ pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
+pub use run_options::run_options_for;
 pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot};
+pub use text::source_lines;

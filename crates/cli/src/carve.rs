@@ -9,6 +9,7 @@ use oficina_cam::memory::Lever;
 use oficina_cam::relief::{Job, ReliefError};
 use oficina_cam::seed004;
 use oficina_io::{DepthMapping, Heightmap, Scale};
+use oficina_motion::format_hms;
 use oficina_post::{Dialect, PostOptions};
 use oficina_sim::carve::{evaluate, CarveError, Evaluation, Settings};
 use oficina_sim::render_png;
@@ -281,10 +282,6 @@ fn progress_bar() -> ProgressBar {
     bar
 }
 
-fn hms(s: f64) -> String {
-    oficina_motion::format_hms(s, 0)
-}
-
 fn print_evaluation(e: &Evaluation) {
     let r = &e.report;
     println!("moves: {}", e.planned.toolpath.move_count());
@@ -301,12 +298,12 @@ fn print_evaluation(e: &Evaluation) {
     match &e.planner {
         Ok(p) => println!(
             "time: planner {}   feed-only {}",
-            hms(*p),
-            hms(e.feed_only_s)
+            format_hms(*p, 0),
+            format_hms(e.feed_only_s, 0)
         ),
         Err(err) => println!(
             "time: feed-only {} (planner unavailable: {err})",
-            hms(e.feed_only_s)
+            format_hms(e.feed_only_s, 0)
         ),
     }
 }
@@ -369,9 +366,9 @@ fn seed_comparison(args: &Args) -> Result<()> {
                 name,
                 e.planner
                     .as_ref()
-                    .map(|p| hms(*p))
+                    .map(|p| format_hms(*p, 0))
                     .unwrap_or_else(|_| "-".into()),
-                hms(e.feed_only_s),
+                format_hms(e.feed_only_s, 0),
                 e.report.max_gouge,
                 e.report.leftover_max,
                 e.report.leftover_mean,

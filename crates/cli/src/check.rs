@@ -7,6 +7,7 @@ use oficina_canon::Pos;
 use oficina_canon::{Extents, Summarizer, Summary};
 use oficina_gcode::CanonStream;
 use oficina_gcode::Severity;
+use oficina_motion::format_hms;
 use std::process::ExitCode;
 
 #[derive(clap::Args, Debug)]
@@ -68,7 +69,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     match planned {
         Ok(e) => println!(
             "  time estimate           {} on {} (look-ahead planner, {} segments)",
-            hms(e.seconds),
+            format_hms(e.seconds, 1),
             machine,
             e.segments
         ),
@@ -114,7 +115,7 @@ fn print_summary(s: &Summary) {
     );
     print!(
         "  feed-rate time          {} (a lower bound: programmed feeds and joint top speeds, no acceleration",
-        hms(s.feed_rate_seconds)
+        format_hms(s.feed_rate_seconds, 1)
     );
     if s.untimed_moves > 0 {
         print!(
@@ -137,9 +138,4 @@ fn print_extents(name: &str, e: &Extents) {
         cell(1),
         cell(2)
     );
-}
-
-/// Seconds as h:mm:ss.s
-pub fn hms(seconds: f64) -> String {
-    oficina_motion::format_hms(seconds, 1)
 }

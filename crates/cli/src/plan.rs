@@ -8,19 +8,18 @@ use crate::machine_profile;
 use anyhow::{bail, Context};
 use oficina_canon::Units;
 use oficina_gcode::Dialect;
-use oficina_gcode::RunOptions;
-use oficina_gcode::StartState;
 use oficina_machine::job::{canon_stream_with, CanonStream};
 use oficina_machine::{Job, Pace};
 use oficina_motion::dda_steps;
-use oficina_motion::Compressor;
+use oficina_motion::format_hms;
 use oficina_motion::Kinematics;
 use oficina_motion::Shape;
+use oficina_motion::StepFiles;
 use oficina_motion::TraceWriter;
-use oficina_motion::{motor_names, StepCount, StepGenerator, StepSink, MOTORS};
+use oficina_motion::{motor_names, StepCount, StepGenerator, MOTORS};
 use oficina_motion::{plan, PlanOptions, Profile};
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -78,94 +77,18 @@ pub struct Args {
     check: bool,
 }
 
-/// Bytes of one `--steps` row: a joint name, a time with 9 decimals, a direction.
-const STEP_ROW_BYTES: u64 = 24;
-
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Interpolator {
     Exact,
     Dda,
 }
 
-/// Klipper's MCU clock for the compressed intervals, and its step time tolerance.
-const CLOCK_HZ: f64 = 16e6;
-const MAX_STEP_ERROR: f64 = 25e-6;
+/// The step outputs' files.
+type StepOutput = StepFiles<BufWriter<File>>;
 
-/// Writes steps as they are generated: one CSV row each, and/or compressed runs per motor.
-struct StepFiles {
-    names: [&'static str; MOTORS],
-    csv: Option<BufWriter<File>>,
-    runs: Option<(BufWriter<File>, [Compressor; MOTORS])>,
-    steps: u64,
-    error: Option<std::io::Error>,
-}
-
-impl StepFiles {
-    fn keep(&mut self, r: std::io::Result<()>) {
-        if let (Err(e), None) = (r, &self.error) {
-            self.error = Some(e);
-        }
-    }
-
-    fn drain(&mut self, motor: usize) {
-        if let Some((w, c)) = self.runs.as_mut() {
-            let name = self.names[motor];
-            let r = c[motor].out.drain(..).try_for_each(|q| {
-                writeln!(
-                    w,
-                    "{name},{},{},{},{}",
-                    q.interval,
-                    q.count,
-                    q.add,
-                    if q.forward { '+' } else { '-' }
-                )
-            });
-            self.keep(r);
-        }
-    }
-
-    fn finish(mut self) -> anyhow::Result<u64> {
-        for m in 0..MOTORS {
-            if let Some((_, c)) = self.runs.as_mut() {
-                c[m].flush();
-            }
-            self.drain(m);
-        }
-        if let Some(w) = self.csv.as_mut() {
-            let r = w.flush();
-            self.keep(r);
-        }
-        if let Some((w, _)) = self.runs.as_mut() {
-            let r = w.flush();
-            self.keep(r);
-        }
-        match self.error {
-            Some(e) => Err(e.into()),
-            None => Ok(self.steps),
-        }
-    }
-}
-
-impl StepSink for StepFiles {
-    fn step(&mut self, motor: usize, time: f64, forward: bool) {
-        self.steps += 1;
-        if let Some(w) = self.csv.as_mut() {
-            let dir = if forward { '+' } else { '-' };
-            let r = writeln!(w, "{},{time:.9},{dir}", self.names[motor]);
-            self.keep(r);
-        }
-        if let Some((_, c)) = self.runs.as_mut() {
-            c[motor].push(time, forward);
-            self.drain(motor);
-        }
-    }
-}
-
-fn create(p: &Path, header: &str) -> anyhow::Result<BufWriter<File>> {
+fn create(p: &Path) -> anyhow::Result<BufWriter<File>> {
     let f = File::create(p).with_context(|| format!("creating {}", p.display()))?;
-    let mut w = BufWriter::new(f);
-    writeln!(w, "{header}")?;
-    Ok(w)
+    Ok(BufWriter::new(f))
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -184,7 +107,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         start_line: None,
         pace: Pace::Instant,
     };
-    let mut interp_opts = run_options(&profile, args.dialect, args.line_limit);
+    let mut interp_opts =
+        oficina_app::run_options_for(&profile, args.dialect, args.line_limit.bytes());
     if let Some(path) = &args.tool_table {
         interp_opts.tool_table = load_tool_table(path, Units::Mm)?;
     }
@@ -263,7 +187,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         println!("steps: {n}");
     }
     println!("segments: {segments}  path: {distance:.3} mm");
-    println!("total time: {total:.3} s ({})", hms(total));
+    println!("total time: {total:.3} s ({})", format_hms(total, 0));
     if let Some(ops) = &check_ops {
         let shape = opts.shape.unwrap_or(profile.shape);
         match oficina_motion::check(ops, &checked, &profile, shape, 1.0) {
@@ -315,7 +239,7 @@ fn check_output_size(args: &Args, e: &oficina_motion::Estimate) -> anyhow::Resul
                 p.display(),
                 rows,
                 args.period_ms,
-                hms(e.seconds),
+                format_hms(e.seconds, 0),
                 mb(bytes),
                 args.max_output_mb
             );
@@ -323,7 +247,7 @@ fn check_output_size(args: &Args, e: &oficina_motion::Estimate) -> anyhow::Resul
     }
     if let Some(p) = args.steps.as_ref().or(args.steps_compressed.as_ref()) {
         // A compressed run holds at least one step: its file is never larger than the CSV.
-        let bytes = e.steps * STEP_ROW_BYTES as f64;
+        let bytes = e.steps * StepOutput::ROW_BYTES as f64;
         if bytes > limit as f64 {
             bail!(
                 "{}: about {:.0} motor steps make up to {:.0} MB, more than --max-output-mb {} \
@@ -338,51 +262,14 @@ fn check_output_size(args: &Args, e: &oficina_motion::Estimate) -> anyhow::Resul
     Ok(())
 }
 
-/// The interpreter's options: the machine's stored offsets, and for seed 002's dialect, whose
-/// feed comes from the machine configuration, the profile's default feed.
-fn run_options(profile: &Profile, dialect: Dialect, line_limit: LineLimit) -> RunOptions {
-    let feed = if dialect == Dialect::Legacy2006 {
-        profile.default_feed * 60.0
-    } else {
-        0.0
-    };
-    RunOptions {
-        dialect,
-        max_line_len: line_limit.bytes(),
-        initial_params: profile.initial_params(),
-        start: StartState {
-            feed,
-            ..StartState::default()
-        },
-        ..RunOptions::default()
-    }
-}
-
 /// The step outputs asked for (`--steps`, `--steps-compressed`), created with their headers.
-fn step_files(args: &Args, names: [&'static str; MOTORS]) -> anyhow::Result<Option<StepFiles>> {
+fn step_files(args: &Args, names: [&'static str; MOTORS]) -> anyhow::Result<Option<StepOutput>> {
     if args.steps.is_none() && args.steps_compressed.is_none() {
         return Ok(None);
     }
-    Ok(Some(StepFiles {
-        names,
-        csv: args
-            .steps
-            .as_deref()
-            .map(|p| create(p, "motor,time_s,dir"))
-            .transpose()?,
-        runs: args
-            .steps_compressed
-            .as_deref()
-            .map(|p| {
-                create(p, &format!("motor,interval,count,add,dir # {CLOCK_HZ} Hz")).map(|w| {
-                    let c = || Compressor::new(CLOCK_HZ, MAX_STEP_ERROR);
-                    (w, std::array::from_fn(|_| c()))
-                })
-            })
-            .transpose()?,
-        steps: 0,
-        error: None,
-    }))
+    let csv = args.steps.as_deref().map(create).transpose()?;
+    let runs = args.steps_compressed.as_deref().map(create).transpose()?;
+    Ok(Some(StepFiles::new(names, csv, runs)?))
 }
 
 /// `--interpolator dda`: the program stepped by seed 002's interpolators, no planner.
@@ -415,11 +302,7 @@ fn run_dda(
     println!(
         "total time: {:.3} s ({})",
         summary.seconds,
-        hms(summary.seconds)
+        format_hms(summary.seconds, 0)
     );
     Ok(ExitCode::SUCCESS)
-}
-
-fn hms(s: f64) -> String {
-    oficina_motion::format_hms(s, 0)
 }

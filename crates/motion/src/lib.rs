@@ -44,6 +44,7 @@ mod kinematics;
 pub mod moves;
 pub mod planner;
 pub mod profile;
+mod step_files;
 mod stepcompress;
 mod steps;
 mod trace;
@@ -62,6 +63,7 @@ pub use planner::{plan, Cut, PlanOptions, Planner, Segment, SegmentKind};
 pub use profile::{
     bundled, resolve, Joint, Profile, ProfileError, Rotary, Shape, BUNDLED, DEFAULT,
 };
+pub use step_files::StepFiles;
 pub use stepcompress::{decompress, Compressor};
 pub use steps::{motor_names, StepCount, StepGenerator, StepLog, StepSink, MOTORS};
 pub use trace::TraceWriter;
