@@ -1,7 +1,7 @@
 //! The post-processor choice and format options that `mill` and `sole` share.
 
 use crate::Error;
-use oficina_post::{post_for, Dialect, Format, LineNumbers, Numbers, PostOptions, Units};
+use oficina_post::{post_for, Format, LineNumbers, Numbers, PostDialect, PostOptions, Units};
 use serde::Deserialize;
 
 #[derive(Clone, Debug, Deserialize)]
@@ -48,7 +48,7 @@ impl PostParams {
         title: &str,
         settings: Vec<(String, String)>,
     ) -> Result<(PostOptions, Format), Error> {
-        let dialect: Dialect = self
+        let dialect: PostDialect = self
             .post
             .parse()
             .map_err(|e| Error(format!("--post {}: {e}", self.post)))?;

@@ -4,11 +4,11 @@
 //! `oficina carve`'s until it moves into the library.
 
 use crate::{Error, Feedback};
-use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_io::{DepthMapping, Scale};
-use oficina_post::{program_text, Dialect, PostOptions};
+use oficina_post::{program_text, PostDialect, PostOptions};
 use serde::Deserialize;
 
 /// The form of a relief job; lengths in mm, feeds in mm/min.
@@ -56,7 +56,7 @@ struct Cancelled;
 /// hook) and is caught here; any other panic goes on unwinding.
 fn plan_cancellable(
     design: &oficina_io::Heightmap,
-    job: &Job,
+    job: &ReliefJob,
     fb: Feedback,
 ) -> Result<oficina_cam::relief::Planned, Error> {
     let progress = |stage: &str, f: f64| {
@@ -140,7 +140,7 @@ pub fn carve_relief(
         });
     }
     passes.push(pass("finishing", finish, p.stepover));
-    let job = Job {
+    let job = ReliefJob {
         safe_z: p.safe_z,
         clearance: 1.0,
         tolerance: 0.005,
@@ -153,7 +153,7 @@ pub fn carve_relief(
     let program = program_text(
         &planned.toolpath,
         &PostOptions {
-            dialect: Dialect::Grbl,
+            dialect: PostDialect::Grbl,
             allow_m6: false,
             title: "Oficina relief carving (workbench)".into(),
             settings: vec![("settings".into(), format!("{p:?}"))],

@@ -1,11 +1,11 @@
 //! Machine-neutral CAM: cutting tools, toolpaths and the relief (heightmap) strategies.
 //!
 //! ```
-//! use oficina_cam::{Move, Operation, Shape, Tool, Toolpath};
+//! use oficina_cam::{Move, Operation, CutterShape, Tool, Toolpath};
 //! use oficina_canon::{CanonOp, Pos};
 //!
 //! // A 6 mm ball nose: passes 2·√(2·3·0.1 − 0.1²) ≈ 1.54 mm apart leave 0.1 mm scallops.
-//! let ball = Tool::new(Shape::Ball, 6.0).unwrap();
+//! let ball = Tool::new(CutterShape::Ball, 6.0).unwrap();
 //! assert!((ball.stepover_for_scallop(0.1) - 2.0 * 0.59f64.sqrt()).abs() < 1e-9);
 //!
 //! // One operation: down into the stock and a cut along X at 10 mm/s.
@@ -24,7 +24,7 @@
 //! ```
 
 // `memory`, `ops`, `relief` and `seed004` stay public namespaces: their names (`check`,
-// `plan`, `Job`, `profile`, `pocket`) read well only behind the module, and new operations
+// `plan`, `check`, `profile`, `pocket`) read well only behind the module, and new operations
 // are being added under `ops`. The rest is the flat list below.
 mod lane_max;
 mod library;
@@ -44,5 +44,5 @@ pub use library::Library;
 pub use raster::Feeds;
 pub use stock::{apply_moves, sweep_arc, sweep_line};
 pub use surface::{surface_grid, surface_rows, Kernel};
-pub use tool::{Shape, Tool, ToolError};
+pub use tool::{CutterShape, Tool, ToolError};
 pub use toolpath::{CompSide, Drill, Move, Operation, PathMode, Toolpath};

@@ -13,7 +13,7 @@
 //! spindle_rpm = 18000.0
 //! ```
 
-use crate::tool::{Shape, Tool};
+use crate::tool::{CutterShape, Tool};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -22,7 +22,7 @@ pub struct LibraryTool {
     #[serde(default)]
     pub name: String,
     #[serde(flatten)]
-    pub shape: Shape,
+    pub shape: CutterShape,
     pub diameter: f64,
     pub flute_length: Option<f64>,
     pub shank_diameter: Option<f64>,
@@ -161,7 +161,7 @@ flute_length = 15.0
         assert_eq!(lib.tools.len(), 3);
         assert_eq!(
             lib.get(2).unwrap().tool().unwrap().shape,
-            Shape::V { angle: 60.0 }
+            CutterShape::V { angle: 60.0 }
         );
         assert_eq!(lib.get(3).unwrap().tool().unwrap().flute_length, 15.0);
         let again = Library::parse("again", &lib.to_toml()).unwrap();

@@ -70,7 +70,7 @@ pub struct Pass {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct Job {
+pub struct ReliefJob {
     pub safe_z: f64,
     /// Height above free stock for short travels, mm.
     pub clearance: f64,
@@ -109,13 +109,13 @@ pub enum ReliefError {
     #[error("the part would be {size:.0} mm {what}, more than any machine's {MAX_EXTENT_MM} mm; use a smaller pixel size or depth")]
     TooLarge { what: &'static str, size: f64 },
     #[error("the height map claims {width} x {height} samples but holds {len}")]
-    Shape {
+    CutterShape {
         width: usize,
         height: usize,
         len: usize,
     },
     #[error("{0} must be finite and at least 0")]
-    Job(&'static str),
+    ReliefJob(&'static str),
     #[error("samples per pixel must be between 1 and {max}, got {got}")]
     Samples { got: usize, max: usize },
     #[error(transparent)]
@@ -153,7 +153,11 @@ pub struct Planned {
 }
 
 /// Plans `job` on `design` with no memory limit; see [`plan_within`].
-pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned, ReliefError> {
+pub fn plan(
+    design: &Heightmap,
+    job: &ReliefJob,
+    progress: Progress,
+) -> Result<Planned, ReliefError> {
     plan_within(design, job, Budget::UNLIMITED, progress)
 }
 
@@ -162,7 +166,7 @@ pub fn plan(design: &Heightmap, job: &Job, progress: Progress) -> Result<Planned
 /// ([`ReliefError::Memory`]) instead of allocated.
 pub fn plan_within(
     design: &Heightmap,
-    job: &Job,
+    job: &ReliefJob,
     budget: Budget,
     progress: Progress,
 ) -> Result<Planned, ReliefError> {
@@ -181,13 +185,13 @@ pub fn plan_within(
         });
     }
     if !(job.safe_z.is_finite() && job.safe_z >= 0.0) {
-        return Err(ReliefError::Job("safe Z"));
+        return Err(ReliefError::ReliefJob("safe Z"));
     }
     if !(job.clearance.is_finite() && job.clearance >= 0.0) {
-        return Err(ReliefError::Job("clearance"));
+        return Err(ReliefError::ReliefJob("clearance"));
     }
     if !(job.tolerance.is_finite() && job.tolerance >= 0.0) {
-        return Err(ReliefError::Job("tolerance"));
+        return Err(ReliefError::ReliefJob("tolerance"));
     }
     if !(1..=MAX_SAMPLES_PER_PIXEL).contains(&job.samples_per_pixel) {
         return Err(ReliefError::Samples {
@@ -215,7 +219,7 @@ pub fn plan_within(
         }
     }
     if design.width.checked_mul(design.height) != Some(design.z.len()) {
-        return Err(ReliefError::Shape {
+        return Err(ReliefError::CutterShape {
             width: design.width,
             height: design.height,
             len: design.z.len(),

@@ -4,7 +4,7 @@
 //! the 3 mm tool alone, and a better plan of ours.
 
 use crate::raster::Feeds;
-use crate::relief::{Cutter, Direction, Job, Pass};
+use crate::relief::{Cutter, Direction, Pass, ReliefJob};
 use oficina_io::Heightmap;
 
 /// The seed's hard-coded feed, F2000 mm/min; its plunge is the same diagonal G1.
@@ -55,8 +55,8 @@ fn pass(
     }
 }
 
-fn job(passes: Vec<Pass>) -> Job {
-    Job {
+fn job(passes: Vec<Pass>) -> ReliefJob {
+    ReliefJob {
         safe_z: 2.0,
         clearance: 1.0,
         tolerance: 0.01,
@@ -67,7 +67,7 @@ fn job(passes: Vec<Pass>) -> Job {
 }
 
 /// The seed's two-tool method.
-pub fn seed_two_tools() -> Job {
+pub fn seed_two_tools() -> ReliefJob {
     let f = SEED_FEED_MM_MIN;
     job(vec![
         pass(
@@ -98,7 +98,7 @@ pub fn seed_two_tools() -> Job {
 }
 
 /// The 3 mm tool alone, as the seed's single-tool program: levels, then the final pass.
-pub fn seed_one_tool() -> Job {
+pub fn seed_one_tool() -> ReliefJob {
     let f = SEED_FEED_MM_MIN;
     job(vec![
         pass(
@@ -127,7 +127,7 @@ pub fn seed_one_tool() -> Job {
 /// 1 mm and then, by rows, only where the columns left more than 0.02 mm (rest machining for
 /// the finishing tool: steep walls across the columns). The seed's leftover comes mostly
 /// from its flat finisher's steps on the slopes; the ball follows them.
-pub fn improved() -> Job {
+pub fn improved() -> ReliefJob {
     let f = SEED_FEED_MM_MIN;
     let ball = || cutter(2, "ball:3", f, f / 2.0);
     job(vec![

@@ -10,7 +10,7 @@ use std::fmt;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "lowercase")]
-pub enum Shape {
+pub enum CutterShape {
     /// Flat end mill.
     Flat,
     /// Ball nose: radius = diameter / 2.
@@ -26,7 +26,7 @@ pub enum Shape {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tool {
-    pub shape: Shape,
+    pub shape: CutterShape,
     /// Cutting diameter in mm (the tip ball's for a tapered ball).
     pub diameter: f64,
     /// Length of the cutting part, mm: above it the shank begins.
@@ -44,7 +44,7 @@ pub enum ToolError {
 }
 
 impl Tool {
-    pub fn new(shape: Shape, diameter: f64) -> Result<Tool, ToolError> {
+    pub fn new(shape: CutterShape, diameter: f64) -> Result<Tool, ToolError> {
         let mut tool = Tool {
             shape,
             diameter,
@@ -54,7 +54,9 @@ impl Tool {
         // Defaults: flutes long enough for the cone/taper to reach its full width, at least
         // 25 mm (seed 004's default) and the shank no wider than the cutter.
         tool.flute_length = match shape {
-            Shape::V { angle } => (diameter / 2.0 / (angle.to_radians() / 2.0).tan()).max(25.0),
+            CutterShape::V { angle } => {
+                (diameter / 2.0 / (angle.to_radians() / 2.0).tan()).max(25.0)
+            }
             _ => 25.0,
         };
         tool.shank_diameter = tool.cutting_radius() * 2.0;
@@ -84,13 +86,13 @@ impl Tool {
             )));
         }
         match self.shape {
-            Shape::V { angle } if !(angle > 0.0 && angle < 180.0) => {
+            CutterShape::V { angle } if !(angle > 0.0 && angle < 180.0) => {
                 Err(ToolError::Invalid(format!("V angle must be between 0 and 180 degrees, got {angle}")))
             }
-            Shape::Taper { angle } if !(angle > 0.0 && angle < 60.0) => {
+            CutterShape::Taper { angle } if !(angle > 0.0 && angle < 60.0) => {
                 Err(ToolError::Invalid(format!("taper angle per side must be between 0 and 60 degrees, got {angle}")))
             }
-            Shape::Bull { corner_radius } if !(corner_radius > 0.0 && corner_radius <= self.diameter / 2.0) => Err(
+            CutterShape::Bull { corner_radius } if !(corner_radius > 0.0 && corner_radius <= self.diameter / 2.0) => Err(
                 ToolError::Invalid(format!("corner radius must be above 0 and at most half the diameter, got {corner_radius}")),
             ),
             _ => {
@@ -110,7 +112,7 @@ impl Tool {
     /// Widest radius of the cutting part.
     pub fn cutting_radius(&self) -> f64 {
         match self.shape {
-            Shape::Taper { angle } => {
+            CutterShape::Taper { angle } => {
                 let (r, a) = (self.radius(), angle.to_radians());
                 let (rho_t, z_t) = (r * a.cos(), r - r * a.sin());
                 (rho_t + (self.flute_length - z_t).max(0.0) * a.tan()).max(rho_t)
@@ -143,10 +145,10 @@ impl Tool {
     fn cutter_profile(&self, rho: f64) -> f64 {
         let r = self.radius();
         match self.shape {
-            Shape::Flat => 0.0,
-            Shape::Ball => r - (r * r - rho * rho).max(0.0).sqrt(),
-            Shape::V { angle } => rho / (angle.to_radians() / 2.0).tan(),
-            Shape::Bull { corner_radius: rc } => {
+            CutterShape::Flat => 0.0,
+            CutterShape::Ball => r - (r * r - rho * rho).max(0.0).sqrt(),
+            CutterShape::V { angle } => rho / (angle.to_radians() / 2.0).tan(),
+            CutterShape::Bull { corner_radius: rc } => {
                 let flat = r - rc;
                 if rho <= flat {
                     0.0
@@ -155,7 +157,7 @@ impl Tool {
                     rc - (rc * rc - u * u).max(0.0).sqrt()
                 }
             }
-            Shape::Taper { angle } => {
+            CutterShape::Taper { angle } => {
                 let a = angle.to_radians();
                 let rho_t = r * a.cos();
                 if rho <= rho_t {
@@ -170,8 +172,8 @@ impl Tool {
     /// Radius of the flat bottom (0 for pointed or round tips).
     pub fn flat_radius(&self) -> f64 {
         match self.shape {
-            Shape::Flat => self.radius(),
-            Shape::Bull { corner_radius } => self.radius() - corner_radius,
+            CutterShape::Flat => self.radius(),
+            CutterShape::Bull { corner_radius } => self.radius() - corner_radius,
             _ => 0.0,
         }
     }
@@ -202,11 +204,13 @@ impl Tool {
     /// The `shape:diameter[:param]` text this tool parses from.
     pub fn spec(&self) -> String {
         match self.shape {
-            Shape::Flat => format!("flat:{}", self.diameter),
-            Shape::Ball => format!("ball:{}", self.diameter),
-            Shape::V { angle } => format!("v:{}:{}", self.diameter, angle),
-            Shape::Bull { corner_radius } => format!("bull:{}:{}", self.diameter, corner_radius),
-            Shape::Taper { angle } => format!("taper:{}:{}", self.diameter, angle),
+            CutterShape::Flat => format!("flat:{}", self.diameter),
+            CutterShape::Ball => format!("ball:{}", self.diameter),
+            CutterShape::V { angle } => format!("v:{}:{}", self.diameter, angle),
+            CutterShape::Bull { corner_radius } => {
+                format!("bull:{}:{}", self.diameter, corner_radius)
+            }
+            CutterShape::Taper { angle } => format!("taper:{}:{}", self.diameter, angle),
         }
     }
 }
@@ -257,27 +261,27 @@ impl std::str::FromStr for Tool {
         let shape = match fields[0].to_ascii_lowercase().as_str() {
             "flat" | "end" => {
                 arity(2)?;
-                Shape::Flat
+                CutterShape::Flat
             }
             "ball" => {
                 arity(2)?;
-                Shape::Ball
+                CutterShape::Ball
             }
             "v" | "vee" => {
                 arity(3)?;
-                Shape::V {
+                CutterShape::V {
                     angle: number(2, "angle")?,
                 }
             }
             "bull" => {
                 arity(3)?;
-                Shape::Bull {
+                CutterShape::Bull {
                     corner_radius: number(2, "corner radius")?,
                 }
             }
             "taper" => {
                 arity(3)?;
-                Shape::Taper {
+                CutterShape::Taper {
                     angle: number(2, "angle per side")?,
                 }
             }
@@ -317,10 +321,10 @@ mod tests {
     #[test]
     fn parses_the_issue_syntax() {
         let t: Tool = "ball:6".parse().unwrap();
-        assert_eq!(t.shape, Shape::Ball);
+        assert_eq!(t.shape, CutterShape::Ball);
         assert_eq!(t.diameter, 6.0);
         let v: Tool = "v:12:60".parse().unwrap();
-        assert_eq!(v.shape, Shape::V { angle: 60.0 });
+        assert_eq!(v.shape, CutterShape::V { angle: 60.0 });
         let b: Tool = "bull:10:2,flute=30,shank=12".parse().unwrap();
         assert_eq!((b.flute_length, b.shank_diameter), (30.0, 12.0));
         assert!("ball".parse::<Tool>().is_err());

@@ -3,7 +3,7 @@
 //! post-processors turn it into a dialect, and [`Toolpath::canon`] into canonical operations.
 
 use crate::tool::Tool;
-use oficina_canon::{Canon, CanonOp, MotionMode, Plane, Pos, SpindleDir};
+use oficina_canon::{Canon, CanonOp, PathControlMode, Plane, Pos, SpindleDir};
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Move {
@@ -192,8 +192,8 @@ impl Toolpath {
                     Move::Dwell(s) => push(CanonOp::Dwell(s)),
                     Move::PathMode(mode) => push(CanonOp::SetMotionControlMode {
                         mode: match mode {
-                            PathMode::ExactStop => MotionMode::ExactPath,
-                            PathMode::Continuous => MotionMode::Continuous,
+                            PathMode::ExactStop => PathControlMode::ExactPath,
+                            PathMode::Continuous => PathControlMode::Continuous,
                         },
                         tolerance: 0.0,
                     }),

@@ -8,7 +8,7 @@
 //! `PROPTEST_CASES=20000 cargo test --release -p oficina-cam --test degenerate`.
 
 use oficina_cam::memory::{Budget, Lever};
-use oficina_cam::relief::{plan, plan_within, Cutter, Direction, Job, Pass, ReliefError};
+use oficina_cam::relief::{plan, plan_within, Cutter, Direction, Pass, ReliefError, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::Toolpath;
 use oficina_io::Heightmap;
@@ -42,7 +42,7 @@ fn pass(name: &str, c: Cutter, stepover: f64, stepdown: f64, direction: Directio
 }
 
 /// Roughing, rest machining and finishing in both directions: every code path of `plan`.
-fn full_job(rough: &str, finish: &str, stepover: f64, stepdown: f64) -> Job {
+fn full_job(rough: &str, finish: &str, stepover: f64, stepdown: f64) -> ReliefJob {
     let mut rough = pass(
         "roughing",
         cutter(1, rough),
@@ -55,7 +55,7 @@ fn full_job(rough: &str, finish: &str, stepover: f64, stepdown: f64) -> Job {
     rest.rest_only = true;
     rest.allowance = 0.2;
     rest.min_cut = 0.8;
-    Job {
+    ReliefJob {
         safe_z: 5.0,
         clearance: 1.0,
         tolerance: 0.005,

@@ -109,8 +109,10 @@ pub enum FeedMode {
     UnitsPerRev,
 }
 
+/// LinuxCNC's path control mode (G61, G61.1, G64), carried by `SetMotionControlMode`; the
+/// motion modes G0–G3 are the interpreter's modal state, not this.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub enum MotionMode {
+pub enum PathControlMode {
     /// G61.1: stop exactly at every corner.
     ExactStop,
     /// G61: follow the path exactly, may slow at corners.
@@ -142,7 +144,7 @@ pub enum CanonOp {
     SetFeedRate(f64),
     SetFeedMode(FeedMode),
     SetMotionControlMode {
-        mode: MotionMode,
+        mode: PathControlMode,
         tolerance: f64,
     },
     SetNaivecamTolerance(f64),

@@ -6,11 +6,11 @@ use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 use oficina_cam::memory::Lever;
-use oficina_cam::relief::{Job, ReliefError};
+use oficina_cam::relief::{ReliefError, ReliefJob};
 use oficina_cam::seed004;
 use oficina_io::{DepthMapping, Heightmap, Scale};
 use oficina_motion::format_hms;
-use oficina_post::{Dialect, PostOptions};
+use oficina_post::{PostDialect, PostOptions};
 use oficina_sim::carve::{evaluate, CarveError, Evaluation, Settings};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
@@ -263,7 +263,7 @@ fn header(
 }
 
 fn post_options(args: &Args, settings: Vec<(String, String)>) -> Result<PostOptions> {
-    let dialect: Dialect = args.post.parse().map_err(anyhow::Error::msg)?;
+    let dialect: PostDialect = args.post.parse().map_err(anyhow::Error::msg)?;
     Ok(PostOptions {
         dialect,
         allow_m6: args.allow_m6,
@@ -325,13 +325,13 @@ fn seed_comparison(args: &Args) -> Result<()> {
         }
         let design = seed004::hemisphere(150.0, 25.0, pixel);
         let post = PostOptions {
-            dialect: Dialect::Grbl,
+            dialect: PostDialect::Grbl,
             allow_m6: false,
             title: "seed 004 comparison".into(),
             settings: vec![],
         };
         let bar = progress_bar();
-        let run = |job: &Job| {
+        let run = |job: &ReliefJob| {
             evaluate(
                 &design,
                 job,

@@ -13,9 +13,9 @@ use oficina_machine::{Job, Pace};
 use oficina_motion::dda_steps;
 use oficina_motion::format_hms;
 use oficina_motion::Kinematics;
-use oficina_motion::Shape;
 use oficina_motion::StepFiles;
 use oficina_motion::TraceWriter;
+use oficina_motion::VelocityProfile;
 use oficina_motion::{motor_names, StepCount, StepGenerator, MOTORS};
 use oficina_motion::{plan, PlanOptions, Profile};
 use std::fs::File;
@@ -117,7 +117,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         return run_dda(&args, ops, &profile, &job.name);
     }
     let opts = PlanOptions {
-        shape: args.scurve.then_some(Shape::SCurve),
+        shape: args.scurve.then_some(VelocityProfile::SCurve),
         ..PlanOptions::default()
     };
     if args.trace.is_some() || args.steps.is_some() || args.steps_compressed.is_some() {

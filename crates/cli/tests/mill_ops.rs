@@ -9,7 +9,7 @@ use oficina_cam::ops::{
 };
 use oficina_cam::{Move, Tool, Toolpath};
 use oficina_geom::{Arc, Path, Point, Segment};
-use oficina_post::{program_text, read_back, Dialect, PostOptions};
+use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design};
 use std::collections::HashMap;
 use std::process::Command;
@@ -81,7 +81,7 @@ fn cut(tool: &str, depth: f64, stepdown: f64, entry: Entry) -> Cut {
 
 fn post() -> PostOptions {
     PostOptions {
-        dialect: Dialect::LinuxCnc,
+        dialect: PostDialect::LinuxCnc,
         allow_m6: false,
         title: "mill test".into(),
         settings: vec![],

@@ -5,7 +5,7 @@
 use oficina_cam::ops::{sole_job, Part, SoleJob, GOUGE_TOL};
 use oficina_cam::Tool;
 use oficina_geom::{offset_areas, to_ring, Area, Point};
-use oficina_post::{program_text, read_back, Dialect, PostOptions};
+use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design};
 use std::collections::HashMap;
 
@@ -37,7 +37,7 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
     );
     assert_eq!(r.programs.len(), 4);
     let opts = PostOptions {
-        dialect: Dialect::LinuxCnc,
+        dialect: PostDialect::LinuxCnc,
         allow_m6: false,
         title: "sole".into(),
         settings: vec![],

@@ -4,7 +4,7 @@
 
 use crate::decimal;
 use crate::interp::frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
 use std::io::{self, Write};
 
 /// Follows the offset and unit records of a stream and prints every operation.
@@ -282,13 +282,17 @@ impl Rs274Printer {
                 write!(out, "SET_FEED_MODE(0, {n})")
             }
             CanonOp::SetMotionControlMode { mode, tolerance } => match mode {
-                MotionMode::Continuous => write!(
+                PathControlMode::Continuous => write!(
                     out,
                     "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, {:.6})",
                     tolerance / self.k()
                 ),
-                MotionMode::ExactPath => write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"),
-                MotionMode::ExactStop => write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)"),
+                PathControlMode::ExactPath => {
+                    write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)")
+                }
+                PathControlMode::ExactStop => {
+                    write!(out, "SET_MOTION_CONTROL_MODE(CANON_EXACT_STOP)")
+                }
             },
             CanonOp::SetNaivecamTolerance(t) => {
                 write!(out, "SET_NAIVECAM_TOLERANCE({:.4})", t / self.k())

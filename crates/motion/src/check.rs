@@ -16,8 +16,8 @@
 use crate::kinematics::{self, Kinematics};
 use crate::moves::{dist3, dist_to_segment, lerp3};
 use crate::planner::{Segment, SegmentKind};
-use crate::profile::{Profile, Shape};
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode};
+use crate::profile::{Profile, VelocityProfile};
+use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode};
 
 /// Relative slack for floating-point comparisons of limits.
 const REL: f64 = 1e-6;
@@ -72,7 +72,7 @@ pub fn check(
     ops: &[Canon],
     segments: &[Segment],
     profile: &Profile,
-    shape: Shape,
+    shape: VelocityProfile,
     feed_override: f64,
 ) -> Result<CheckReport, Vec<String>> {
     let kin = kinematics::for_profile(profile);
@@ -243,7 +243,7 @@ pub fn check(
                         j.acceleration
                     ));
                 }
-                if shape == Shape::SCurve {
+                if shape == VelocityProfile::SCurve {
                     let jr = p.jerk.abs() * d / j.jerk.unwrap_or(f64::INFINITY);
                     rep.max_jerk_ratio = rep.max_jerk_ratio.max(jr);
                     if jr > 1.0 + REL {
@@ -263,7 +263,9 @@ pub fn check(
                 op.feed_cap
             ));
         }
-        if shape == Shape::SCurve && (s.motion.at(0.0).2.abs() > 1e-6 || a_end.abs() > 1e-6) {
+        if shape == VelocityProfile::SCurve
+            && (s.motion.at(0.0).2.abs() > 1e-6 || a_end.abs() > 1e-6)
+        {
             fail(format!(
                 "{tag}: S-curve segment starts or ends while accelerating"
             ));
@@ -509,13 +511,17 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
     let mut out = Vec::new();
     let mut pos = profile.start;
     let mut rot = [0.0; 3];
-    let (mut feed, mut inverse, mut mode, mut tol) =
-        (profile.default_feed, false, MotionMode::Continuous, 0.0_f64);
+    let (mut feed, mut inverse, mut mode, mut tol) = (
+        profile.default_feed,
+        false,
+        PathControlMode::Continuous,
+        0.0_f64,
+    );
     let mut stop = true;
     let mut override_on = true;
     for c in ops {
         let deviation = match mode {
-            MotionMode::ExactPath => 0.0,
+            PathControlMode::ExactPath => 0.0,
             _ if tol > 0.0 => tol.min(profile.junction_deviation),
             _ => profile.junction_deviation,
         };
@@ -550,7 +556,7 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     rot_a: rot,
                     rot_b: rb,
                     feed_cap: cap,
-                    stop_before: moving && (stop || mode == MotionMode::ExactStop),
+                    stop_before: moving && (stop || mode == PathControlMode::ExactStop),
                     deviation,
                 });
                 if moving {
@@ -593,7 +599,7 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     rot_a: rot,
                     rot_b: rb,
                     feed_cap: cap,
-                    stop_before: stop || mode == MotionMode::ExactStop,
+                    stop_before: stop || mode == PathControlMode::ExactStop,
                     deviation,
                 });
                 stop = false;

@@ -61,7 +61,7 @@ pub use moves::{lerp3, MoveKind, Overrides};
 pub use planner::incremental::{Incremental, Push};
 pub use planner::{plan, Cut, PlanOptions, Planner, Segment, SegmentKind};
 pub use profile::{
-    bundled, resolve, Joint, Profile, ProfileError, Rotary, Shape, BUNDLED, DEFAULT,
+    bundled, resolve, Joint, Profile, ProfileError, Rotary, VelocityProfile, BUNDLED, DEFAULT,
 };
 pub use step_files::StepFiles;
 pub use stepcompress::{decompress, Compressor};

@@ -6,7 +6,7 @@
 use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
+use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos};
 use oficina_geom::{chord_count, Helix};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,7 +83,7 @@ impl Default for Overrides {
 
 /// The parametric geometry of the canon op being cut into pieces.
 #[derive(Clone, Copy, Debug)]
-enum Shape {
+enum MovePath {
     Line {
         a: [f64; 3],
         b: [f64; 3],
@@ -95,11 +95,11 @@ enum Shape {
     },
 }
 
-impl Shape {
+impl MovePath {
     fn point(&self, f: f64) -> [f64; 3] {
         match *self {
-            Shape::Line { a, b } => lerp3(a, b, f),
-            Shape::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
+            MovePath::Line { a, b } => lerp3(a, b, f),
+            MovePath::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
         }
     }
 }
@@ -149,7 +149,7 @@ struct Current {
     line: u32,
     op: u64,
     kind: MoveKind,
-    shape: Shape,
+    shape: MovePath,
     chords: u64,
     chord: u64,
     /// Programmed speed before overrides.
@@ -175,7 +175,7 @@ pub struct MoveStream<'p, I> {
     rot: [f64; 3],
     feed: f64,
     inverse_time: bool,
-    mode: MotionMode,
+    mode: PathControlMode,
     tolerance: f64,
     overrides: Overrides,
     override_enabled: bool,
@@ -205,7 +205,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             rot: [0.0; 3],
             feed: profile.default_feed,
             inverse_time: false,
-            mode: MotionMode::Continuous,
+            mode: PathControlMode::Continuous,
             tolerance: 0.0,
             overrides,
             override_enabled: true,
@@ -232,13 +232,20 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
 
     fn deviation(&self) -> f64 {
         match self.mode {
-            MotionMode::ExactPath => 0.0,
+            PathControlMode::ExactPath => 0.0,
             _ if self.tolerance > 0.0 => self.tolerance.min(self.profile.junction_deviation),
             _ => self.profile.junction_deviation,
         }
     }
 
-    fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, rot_b: [f64; 3], length: f64) {
+    fn start_op(
+        &mut self,
+        line: u32,
+        kind: MoveKind,
+        shape: MovePath,
+        rot_b: [f64; 3],
+        length: f64,
+    ) {
         let speed = match kind {
             MoveKind::Rapid => f64::INFINITY,
             _ if self.inverse_time => length * self.feed / 60.0,
@@ -246,8 +253,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         };
         let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
         let chords = match shape {
-            Shape::Line { .. } => 1,
-            Shape::Arc { helix, r1 } => {
+            MovePath::Line { .. } => 1,
+            MovePath::Arc { helix, r1 } => {
                 let r = helix.arc.radius.max(r1);
                 chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
@@ -327,7 +334,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         self.op_count += 1; // keep op indices aligned with the canon stream
                         continue;
                     }
-                    self.start_op(line, kind, Shape::Line { a: self.pos, b }, rb, length);
+                    self.start_op(line, kind, MovePath::Line { a: self.pos, b }, rb, length);
                     return None;
                 }
                 CanonOp::ArcFeed {
@@ -358,7 +365,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     }
                     let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
                     let length = planar.hypot(helix.axial.1 - helix.axial.0);
-                    let shape = Shape::Arc { helix, r1 };
+                    let shape = MovePath::Arc { helix, r1 };
                     self.start_op(line, MoveKind::Arc, shape, rb, length);
                     return None;
                 }
@@ -586,7 +593,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             feed_scaled,
             // G61 stops at the ends of programmed moves, not between an arc's chords.
             stop_before: std::mem::take(&mut self.stop_next)
-                || (first && self.mode == MotionMode::ExactStop),
+                || (first && self.mode == PathControlMode::ExactStop),
             deviation: self.deviation(),
         };
         self.pos = b;

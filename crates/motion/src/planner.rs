@@ -18,7 +18,7 @@ mod live;
 
 pub use crate::moves::MoveKind;
 use crate::moves::{Item, Move, MoveStream, Overrides};
-use crate::profile::{Profile, Shape};
+use crate::profile::{Profile, VelocityProfile};
 use crate::velocity::{reachable, Limits, Motion};
 use crate::MotionError;
 use oficina_canon::Canon;
@@ -108,7 +108,7 @@ impl Segment {
 pub struct PlanOptions {
     pub overrides: Overrides,
     /// Overrides the profile's velocity shape.
-    pub shape: Option<Shape>,
+    pub shape: Option<VelocityProfile>,
 }
 
 /// Per-block limits along the path, derived from the joints.
@@ -124,7 +124,7 @@ pub struct BlockLimits {
 
 /// Limits of a piece: every joint's speed, step rate, acceleration and jerk, seen through
 /// dq/ds. Shared with the checker only as the definition of the limits, not of the plan.
-pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
+pub fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> BlockLimits {
     let l = m.length;
     let mut dqds = [0.0; 3];
     let (mut v, mut a, mut j) = (m.speed, f64::INFINITY, f64::INFINITY);
@@ -136,7 +136,7 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
                 .min(jt.max_rate / d)
                 .min(profile.max_step_rate / jt.steps_per_unit / d);
             a = a.min(jt.acceleration / d);
-            if shape == Shape::SCurve {
+            if shape == VelocityProfile::SCurve {
                 j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
             }
         }
@@ -153,7 +153,7 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: Shape) -> BlockLimits {
                 .min(jt.max_rate / d)
                 .min(profile.max_step_rate / jt.steps_per_unit / d);
             a = a.min(jt.acceleration / d);
-            if shape == Shape::SCurve {
+            if shape == VelocityProfile::SCurve {
                 j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
             }
         }
@@ -265,7 +265,7 @@ struct Block {
 pub struct Planner<'p, I: Iterator<Item = Canon>> {
     moves: MoveStream<'p, I>,
     profile: &'p Profile,
-    shape: Shape,
+    shape: VelocityProfile,
     buf: VecDeque<Block>,
     /// Absolute index of `buf[0]`.
     base: u64,
@@ -295,7 +295,7 @@ pub fn plan<'p, I: Iterator<Item = Canon>>(
     opts: PlanOptions,
 ) -> Result<Planner<'p, I>, MotionError> {
     let shape = opts.shape.unwrap_or(profile.shape);
-    if shape == Shape::SCurve {
+    if shape == VelocityProfile::SCurve {
         for j in profile.joints.iter().flatten() {
             if j.jerk.is_none() {
                 return Err(MotionError::BadMove {

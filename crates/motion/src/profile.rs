@@ -28,14 +28,18 @@ impl fmt::Display for ProfileError {
     }
 }
 
-/// The velocity profile shape of every block.
+/// The velocity profile of every block: how speed changes between two feeds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Shape {
+pub enum VelocityProfile {
     #[default]
     Trapezoid,
     /// Jerk-limited: acceleration ramps linearly, so it is continuous.
     SCurve,
 }
+
+/// The old name of [`VelocityProfile`], kept only until grbl's emulator and the virtual
+/// machine (which import `profile::Shape`) use the new one; then delete it.
+pub type Shape = VelocityProfile;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HomingDirection {
@@ -112,7 +116,7 @@ pub struct Profile {
     pub junction_deviation: f64,
     pub arc_tolerance: f64,
     pub path_tolerance: f64,
-    pub shape: Shape,
+    pub shape: VelocityProfile,
     /// Look-ahead horizon, seconds of motion.
     pub horizon: f64,
     pub max_step_rate: f64,
@@ -430,7 +434,7 @@ fn read_joint(
     name: &'static str,
     j: &RawJoint,
     unit: f64,
-    shape: Shape,
+    shape: VelocityProfile,
     max_step_rate: f64,
 ) -> Result<Joint, ProfileError> {
     let key = |f: &str| format!("joints.{name}.{f}");
@@ -439,7 +443,7 @@ fn read_joint(
     let acceleration = positive(file, &key("acceleration"), j.acceleration)? * unit;
     let jerk = match j.jerk {
         Some(v) => Some(positive(file, &key("jerk"), v)? * unit),
-        None if shape == Shape::SCurve => {
+        None if shape == VelocityProfile::SCurve => {
             return Err(err(
                 file,
                 &key("jerk"),
@@ -507,8 +511,8 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
     let kinematics = KinematicsKind::from_settings(&raw.kinematics, &FileCheck(file))?;
     let p = &raw.planner;
     let shape = match p.velocity_profile.as_deref().unwrap_or("trapezoid") {
-        "trapezoid" => Shape::Trapezoid,
-        "scurve" => Shape::SCurve,
+        "trapezoid" => VelocityProfile::Trapezoid,
+        "scurve" => VelocityProfile::SCurve,
         other => {
             return Err(err(
                 file,

@@ -2,10 +2,10 @@
 
 mod common;
 use common::{profile, Prog};
-use oficina_canon::{CanonOp, MotionMode};
+use oficina_canon::{CanonOp, PathControlMode};
 use oficina_motion::check;
 use oficina_motion::estimate;
-use oficina_motion::Shape;
+use oficina_motion::VelocityProfile;
 use oficina_motion::{plan, PlanOptions, Segment};
 
 /// Trapezoid time for distance d from rest to rest: cruise v, acceleration a.
@@ -45,7 +45,7 @@ fn exact_stop_moves_sum_independently() {
     let p = profile("grbl-router.toml");
     let mut prog = Prog::new(1200.0);
     prog.op(CanonOp::SetMotionControlMode {
-        mode: MotionMode::ExactStop,
+        mode: PathControlMode::ExactStop,
         tolerance: 0.0,
     });
     let pts = [
@@ -76,14 +76,14 @@ fn the_checker_catches_broken_plans() {
         .unwrap()
         .collect::<Result<_, _>>()
         .unwrap();
-    assert!(check(&prog.ops, &segs, &p, Shape::Trapezoid, 1.0).is_ok());
+    assert!(check(&prog.ops, &segs, &p, VelocityProfile::Trapezoid, 1.0).is_ok());
     // Too fast: the same plan checked against half the programmed feed.
-    assert!(check(&prog.ops, &segs, &p, Shape::Trapezoid, 0.5).is_err());
+    assert!(check(&prog.ops, &segs, &p, VelocityProfile::Trapezoid, 0.5).is_err());
     // Off the path: one endpoint moved by 0.01 mm.
     let mut moved = segs.clone();
     moved[5].end[1] += 0.01;
     moved[6].start[1] += 0.01;
-    let v = check(&prog.ops, &moved, &p, Shape::Trapezoid, 1.0).unwrap_err();
+    let v = check(&prog.ops, &moved, &p, VelocityProfile::Trapezoid, 1.0).unwrap_err();
     assert!(
         v.iter().any(|m| m.contains("off the programmed path")),
         "{v:?}"
@@ -103,5 +103,5 @@ fn the_checker_catches_broken_plans() {
         m.v_end(),
         lim,
     );
-    assert!(check(&prog.ops, &fast, &p, Shape::Trapezoid, 1.0).is_err());
+    assert!(check(&prog.ops, &fast, &p, VelocityProfile::Trapezoid, 1.0).is_err());
 }

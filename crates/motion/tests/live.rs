@@ -8,7 +8,7 @@ use oficina_canon::{Canon, CanonOp};
 use oficina_motion::check;
 use oficina_motion::lerp3;
 use oficina_motion::Cut;
-use oficina_motion::Shape;
+use oficina_motion::VelocityProfile;
 use oficina_motion::{plan, PlanOptions, Planner, Profile, Segment, SegmentKind};
 
 /// Time to change speed by `dv` with acceleration `a` and jerk `j` (∞ for a trapezoid).
@@ -28,7 +28,7 @@ fn ramp(dv: f64, a: f64, j: f64) -> f64 {
 fn run_with<F>(
     ops: &[Canon],
     p: &Profile,
-    shape: Shape,
+    shape: VelocityProfile,
     from: usize,
     command: F,
 ) -> (Vec<Segment>, Cut)
@@ -68,10 +68,10 @@ where
 }
 
 /// Middle of a cruise piece (zero acceleration), or halfway for a trapezoid.
-fn cut_time(seg: &Segment, shape: Shape) -> Option<f64> {
+fn cut_time(seg: &Segment, shape: VelocityProfile) -> Option<f64> {
     match shape {
-        Shape::Trapezoid => Some(seg.duration() * 0.5).filter(|&t| t > 0.0),
-        Shape::SCurve => seg
+        VelocityProfile::Trapezoid => Some(seg.duration() * 0.5).filter(|&t| t > 0.0),
+        VelocityProfile::SCurve => seg
             .motion
             .pieces()
             .iter()
@@ -87,10 +87,10 @@ fn total(segs: &[Segment]) -> f64 {
 #[test]
 fn override_to_half_doubles_the_remaining_time_of_a_long_move() {
     let mut p = profile("grbl-router.toml");
-    for shape in [Shape::Trapezoid, Shape::SCurve] {
+    for shape in [VelocityProfile::Trapezoid, VelocityProfile::SCurve] {
         let jerk = match shape {
-            Shape::Trapezoid => f64::INFINITY,
-            Shape::SCurve => 6000.0,
+            VelocityProfile::Trapezoid => f64::INFINITY,
+            VelocityProfile::SCurve => 6000.0,
         };
         p.shape = shape;
         let mut prog = Prog::new(3000.0);
@@ -126,11 +126,11 @@ fn override_to_half_doubles_the_remaining_time_of_a_long_move() {
 #[test]
 fn scurve_hold_stops_at_the_closed_form_distance_and_resumes() {
     let mut p = profile("grbl-router.toml");
-    p.shape = Shape::SCurve;
+    p.shape = VelocityProfile::SCurve;
     let mut prog = Prog::new(3000.0);
     prog.g1(700.0, 0.0, 0.0);
     prog.op(CanonOp::ProgramEnd);
-    let (segs, cut) = run_with(&prog.ops, &p, Shape::SCurve, 0, |pl, cut| {
+    let (segs, cut) = run_with(&prog.ops, &p, VelocityProfile::SCurve, 0, |pl, cut| {
         pl.hold(Some(cut))
     });
     let holds: Vec<&Segment> = segs
@@ -145,7 +145,7 @@ fn scurve_hold_stops_at_the_closed_form_distance_and_resumes() {
         "{:?}",
         holds[0].start
     );
-    let rep = check(&prog.ops, &segs, &p, Shape::SCurve, 1.0)
+    let rep = check(&prog.ops, &segs, &p, VelocityProfile::SCurve, 1.0)
         .unwrap_or_else(|v| panic!("{}", v.join("\n")));
     assert!(rep.max_jerk_ratio <= 1.0 + 1e-6, "{}", rep.max_jerk_ratio);
     assert!((segs.last().unwrap().end[0] - 700.0).abs() < 1e-9);
@@ -154,7 +154,7 @@ fn scurve_hold_stops_at_the_closed_form_distance_and_resumes() {
 #[test]
 fn override_and_hold_over_the_corpus_pass_the_checker() {
     let p = profile("grbl-router.toml");
-    for shape in [Shape::Trapezoid, Shape::SCurve] {
+    for shape in [VelocityProfile::Trapezoid, VelocityProfile::SCurve] {
         for kind in KINDS {
             for seed in 0..2 {
                 let prog = program(kind, seed, [400.0, 225.0, -10.0], 300.0);

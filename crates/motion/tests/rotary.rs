@@ -5,7 +5,7 @@
 use oficina_canon::{Canon, CanonOp, Pos};
 use oficina_motion::check;
 use oficina_motion::{plan, PlanOptions, Segment, SegmentKind};
-use oficina_motion::{resolve, Shape};
+use oficina_motion::{resolve, VelocityProfile};
 use oficina_motion::{StepGenerator, StepLog};
 
 fn ops(moves: &[(f64, f64, f64)]) -> Vec<Canon> {
@@ -46,7 +46,7 @@ fn mixed_and_pure_rotary_moves_pass_the_checker_and_step_the_a_motor() {
         (20.0, 450.0, 900.0),
     ]);
     let segs = planned(&prog);
-    let r = check(&prog, &segs, &p, Shape::Trapezoid, 1.0).unwrap();
+    let r = check(&prog, &segs, &p, VelocityProfile::Trapezoid, 1.0).unwrap();
     assert!(
         r.max_accel_ratio > 0.99 && r.max_accel_ratio <= 1.0 + 1e-6,
         "{r:?}"
@@ -82,7 +82,7 @@ fn checker_catches_rotary_motion_beyond_the_limits_or_off_the_move() {
         s.rot0[0] *= 4.0;
         s.rot1[0] *= 4.0;
     }
-    let bad = check(&prog, &fast, &p, Shape::Trapezoid, 1.0).unwrap_err();
+    let bad = check(&prog, &fast, &p, VelocityProfile::Trapezoid, 1.0).unwrap_err();
     assert!(
         bad.iter().any(|m| m.contains("joint a accelerates")),
         "{bad:?}"

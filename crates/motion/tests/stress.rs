@@ -4,10 +4,10 @@
 mod common;
 use common::{profile, program, KINDS};
 use oficina_motion::check;
-use oficina_motion::Shape;
+use oficina_motion::VelocityProfile;
 use oficina_motion::{plan, PlanOptions, Profile, Segment};
 
-fn run(p: &Profile, shape: Shape, centre: [f64; 3], size: f64, seeds: u64) -> usize {
+fn run(p: &Profile, shape: VelocityProfile, centre: [f64; 3], size: f64, seeds: u64) -> usize {
     let mut n = 0;
     let mut worst: f64 = 0.0;
     for kind in KINDS {
@@ -43,27 +43,45 @@ fn run(p: &Profile, shape: Shape, centre: [f64; 3], size: f64, seeds: u64) -> us
 #[test]
 fn router_trapezoid_and_scurve_over_the_corpus() {
     let p = profile("grbl-router.toml");
-    let n = run(&p, Shape::Trapezoid, [400.0, 225.0, -10.0], 300.0, 6);
+    let n = run(
+        &p,
+        VelocityProfile::Trapezoid,
+        [400.0, 225.0, -10.0],
+        300.0,
+        6,
+    );
     assert!(n >= 50);
-    run(&p, Shape::SCurve, [400.0, 225.0, -10.0], 300.0, 6);
+    run(&p, VelocityProfile::SCurve, [400.0, 225.0, -10.0], 300.0, 6);
 }
 
 #[test]
 fn polar_plotter_over_the_corpus() {
     let mut p = profile("polar-plotter.toml");
     p.travel[2] = [-10.0, 5.0];
-    run(&p, Shape::Trapezoid, [600.0, 300.0, 0.0], 200.0, 2);
-    run(&p, Shape::SCurve, [-500.0, -200.0, 0.0], 200.0, 1);
+    run(
+        &p,
+        VelocityProfile::Trapezoid,
+        [600.0, 300.0, 0.0],
+        200.0,
+        2,
+    );
+    run(&p, VelocityProfile::SCurve, [-500.0, -200.0, 0.0], 200.0, 1);
 }
 
 #[test]
 fn polargraph_and_corexy_over_the_corpus() {
     let mut p = profile("polargraph-wall.toml");
     p.travel[2] = [-10.0, 5.0];
-    run(&p, Shape::Trapezoid, [500.0, -500.0, 0.0], 300.0, 2);
+    run(
+        &p,
+        VelocityProfile::Trapezoid,
+        [500.0, -500.0, 0.0],
+        300.0,
+        2,
+    );
     let mut c = profile("grbl-router.toml");
     c.kinematics = oficina_motion::KinematicsKind::CoreXy;
     c.joints[0].as_mut().unwrap().name = "a";
     c.joints[1].as_mut().unwrap().name = "b";
-    run(&c, Shape::SCurve, [400.0, 225.0, -10.0], 300.0, 1);
+    run(&c, VelocityProfile::SCurve, [400.0, 225.0, -10.0], 300.0, 1);
 }

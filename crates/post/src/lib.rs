@@ -3,7 +3,7 @@
 //! ```
 //! use oficina_cam::{Move, Operation, Toolpath};
 //! use oficina_canon::{CanonOp, Pos};
-//! use oficina_post::{program_text, read_back, Dialect, PostOptions};
+//! use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 //!
 //! let moves = vec![
 //!     Move::Rapid { to: [10.0, 2.0, 5.0] },
@@ -14,7 +14,7 @@
 //! let op = Operation { name: "arc".into(), tool_number: 1, tool, spindle_rpm: 12e3, moves };
 //! let path = Toolpath { safe_z: 5.0, operations: vec![op] };
 //! let title = "demo".into();
-//! let opts = PostOptions { dialect: Dialect::LinuxCnc, allow_m6: true, title, settings: vec![] };
+//! let opts = PostOptions { dialect: PostDialect::LinuxCnc, allow_m6: true, title, settings: vec![] };
 //! let text = program_text(&path, &opts).unwrap();
 //! assert!(text.lines().any(|l| l == "T1 M6"), "{text}");
 //! assert!(text.contains("G3 X12 Y4 I0 J2 F1200"), "{text}");
@@ -49,8 +49,10 @@ pub use sinumerik::sinumerik_to_ngc;
 use oficina_cam::{CompSide, Drill, Move, Operation, PathMode, Toolpath};
 use std::io::{self, Write};
 
+/// The control a program is written for (the interpreter's own reading dialect is
+/// `oficina_gcode::Dialect`; Sinumerik is written but read back through a translation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dialect {
+pub enum PostDialect {
     /// grbl 1.1: no M6 unless the machine allows it; tool changes are an M0 pause.
     Grbl,
     /// LinuxCNC: `T n M6`.
@@ -61,14 +63,14 @@ pub enum Dialect {
     Legacy2006,
 }
 
-impl std::str::FromStr for Dialect {
+impl std::str::FromStr for PostDialect {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         match s.to_ascii_lowercase().as_str() {
-            "grbl" => Ok(Dialect::Grbl),
-            "linuxcnc" | "rs274" => Ok(Dialect::LinuxCnc),
-            "sinumerik" | "sinumerik-7m" => Ok(Dialect::Sinumerik),
-            "legacy-2006" | "legacy" | "legacy2006" => Ok(Dialect::Legacy2006),
+            "grbl" => Ok(PostDialect::Grbl),
+            "linuxcnc" | "rs274" => Ok(PostDialect::LinuxCnc),
+            "sinumerik" | "sinumerik-7m" => Ok(PostDialect::Sinumerik),
+            "legacy-2006" | "legacy" | "legacy2006" => Ok(PostDialect::Legacy2006),
             other => Err(format!(
                 "unknown post-processor '{other}': use grbl, linuxcnc, sinumerik or legacy-2006"
             )),
@@ -78,7 +80,7 @@ impl std::str::FromStr for Dialect {
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct PostOptions {
-    pub dialect: Dialect,
+    pub dialect: PostDialect,
     /// The machine has a tool changer (or a sender that handles M6).
     pub allow_m6: bool,
     pub title: String,
@@ -154,17 +156,17 @@ pub trait Post {
 }
 
 /// The post for a dialect with its default set-up.
-pub fn post_for(dialect: Dialect) -> Box<dyn Post> {
+pub fn post_for(dialect: PostDialect) -> Box<dyn Post> {
     match dialect {
-        Dialect::Grbl => Box::new(grbl::Grbl),
-        Dialect::LinuxCnc => Box::new(linuxcnc::LinuxCnc),
-        Dialect::Sinumerik => Box::new(sinumerik::Sinumerik::default()),
-        Dialect::Legacy2006 => Box::new(legacy::Legacy),
+        PostDialect::Grbl => Box::new(grbl::Grbl),
+        PostDialect::LinuxCnc => Box::new(linuxcnc::LinuxCnc),
+        PostDialect::Sinumerik => Box::new(sinumerik::Sinumerik::default()),
+        PostDialect::Legacy2006 => Box::new(legacy::Legacy),
     }
 }
 
 /// The format a dialect writes with when nothing else is asked for.
-pub fn default_format(dialect: Dialect) -> Format {
+pub fn default_format(dialect: PostDialect) -> Format {
     post_for(dialect).default_format()
 }
 

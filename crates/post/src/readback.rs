@@ -1,6 +1,6 @@
 //! A program read as Oficina's interpreter reads it, in the dialect its post wrote.
 
-use crate::{Dialect, PostOptions};
+use crate::{PostDialect, PostOptions};
 use oficina_canon::Canon;
 use oficina_canon::Units;
 use oficina_gcode::ToolTable;
@@ -21,7 +21,7 @@ pub fn read_back_with_tools(
 ) -> Result<Vec<Canon>, String> {
     let mut tbl = String::new();
     let mut tools = tools.to_vec();
-    if opts.dialect == Dialect::Sinumerik
+    if opts.dialect == PostDialect::Sinumerik
         && !tools.is_empty()
         && !tools.iter().any(|t| t.0 == crate::sinumerik::EMPTY_TOOL)
     {
@@ -36,10 +36,10 @@ pub fn read_back_with_tools(
     let translated;
     let (text, dialect) = match opts.dialect {
         // M6-capable grbl forks read tool changes as LinuxCNC does.
-        Dialect::Grbl if !opts.allow_m6 => (program, oficina_gcode::Dialect::Grbl),
-        Dialect::Grbl | Dialect::LinuxCnc => (program, oficina_gcode::Dialect::LinuxCnc),
-        Dialect::Legacy2006 => (program, oficina_gcode::Dialect::Legacy2006),
-        Dialect::Sinumerik => {
+        PostDialect::Grbl if !opts.allow_m6 => (program, oficina_gcode::Dialect::Grbl),
+        PostDialect::Grbl | PostDialect::LinuxCnc => (program, oficina_gcode::Dialect::LinuxCnc),
+        PostDialect::Legacy2006 => (program, oficina_gcode::Dialect::Legacy2006),
+        PostDialect::Sinumerik => {
             translated = crate::sinumerik_to_ngc(program)?;
             (translated.as_str(), oficina_gcode::Dialect::LinuxCnc)
         }

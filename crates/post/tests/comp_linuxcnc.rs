@@ -6,7 +6,7 @@ use oficina_cam::ops::{profile, Comp, Cut, Entry, ProfileParams, Side};
 use oficina_cam::{Move, Operation, Tool, Toolpath};
 use oficina_canon::CanonOp;
 use oficina_geom::{Arc, Path, Point, Segment};
-use oficina_post::{program_text, read_back_with_tools, Dialect, PostOptions};
+use oficina_post::{program_text, read_back_with_tools, PostDialect, PostOptions};
 use std::f64::consts::TAU;
 use std::process::Command;
 
@@ -123,7 +123,7 @@ fn cut() -> Cut {
     }
 }
 
-fn opts(dialect: Dialect) -> PostOptions {
+fn opts(dialect: PostDialect) -> PostOptions {
     PostOptions {
         dialect,
         allow_m6: true,
@@ -289,7 +289,7 @@ fn linuxcnc_comp_cuts_oficinas_offset_path() {
         (dumbbell(), Side::Outside),
         (dumbbell(), Side::Inside),
     ] {
-        let o = opts(Dialect::LinuxCnc);
+        let o = opts(PostDialect::LinuxCnc);
         let ctrl = op(&paths, side, Comp::Control);
         let text = program_text(&ctrl, &o).unwrap();
         assert!(text.contains("G41 D1") && text.contains("G40"), "{text}");
@@ -323,7 +323,7 @@ fn linuxcnc_comp_cuts_oficinas_offset_path() {
 #[test]
 fn sinumerik_comp_reads_back_and_grbl_refuses() {
     let ctrl = op(&plate(), Side::Outside, Comp::Control);
-    let o = opts(Dialect::Sinumerik);
+    let o = opts(PostDialect::Sinumerik);
     let text = program_text(&ctrl, &o).unwrap();
     assert!(text.lines().any(|l| l.contains("G41")), "{text}");
     let read = interp_feeds(&text, &o);
@@ -331,6 +331,6 @@ fn sinumerik_comp_reads_back_and_grbl_refuses() {
     let there = deviation(&read[..read.len() - 1], &own);
     assert!(there < 2e-3, "sinumerik comp path off by {there}");
     let mut buf = Vec::new();
-    let err = oficina_post::write_program(&ctrl, &opts(Dialect::Grbl), &mut buf).unwrap_err();
+    let err = oficina_post::write_program(&ctrl, &opts(PostDialect::Grbl), &mut buf).unwrap_err();
     assert!(err.to_string().contains("compensation"), "{err}");
 }

@@ -4,8 +4,8 @@
 use oficina_cam::{Drill, Move, Operation, PathMode, Tool, Toolpath};
 use oficina_canon::CanonOp;
 use oficina_post::{
-    program_text, program_text_with, read_back, sinumerik_to_ngc, Dialect, Format, LineNumbers,
-    Numbers, PostOptions, Units,
+    program_text, program_text_with, read_back, sinumerik_to_ngc, Format, LineNumbers, Numbers,
+    PostDialect, PostOptions, Units,
 };
 use std::process::Command;
 
@@ -90,7 +90,7 @@ fn sample() -> Toolpath {
     }
 }
 
-fn options(dialect: Dialect) -> PostOptions {
+fn options(dialect: PostDialect) -> PostOptions {
     PostOptions {
         dialect,
         allow_m6: false,
@@ -127,10 +127,10 @@ fn every_dialect_reads_back_as_the_toolpath() {
     let want = feed_ends(&tp.canon());
     assert!(want.len() >= 8, "{want:?}");
     for dialect in [
-        Dialect::LinuxCnc,
-        Dialect::Grbl,
-        Dialect::Sinumerik,
-        Dialect::Legacy2006,
+        PostDialect::LinuxCnc,
+        PostDialect::Grbl,
+        PostDialect::Sinumerik,
+        PostDialect::Legacy2006,
     ] {
         let text = program_text(&tp, &options(dialect)).unwrap();
         let canon = read_back(&text, &options(dialect))
@@ -226,14 +226,14 @@ fn rs274_feed_ends(out: &str) -> Vec<[f64; 3]> {
 fn rs274_accepts_the_linuxcnc_program_and_cuts_the_same_path() {
     let tp = sample();
     let want = feed_ends(&tp.canon());
-    let text = program_text(&tp, &options(Dialect::LinuxCnc)).unwrap();
+    let text = program_text(&tp, &options(PostDialect::LinuxCnc)).unwrap();
     assert!(text.contains("G99 G81 X20 Y30 Z-4 R2 F170"), "{text}");
     assert!(text.contains("G99 G83 X40 Y30 Z-7.5 R2 Q3 F170"), "{text}");
     let out = rs274(&text);
     // rs274 runs canned cycles itself: its peck moves must be Drill::moves'.
     assert_same_path(&rs274_feed_ends(&out), &want, 1e-4, "rs274");
     // The Sinumerik program, rewritten word for word in NGC, passes rs274 too.
-    let sin = program_text(&tp, &options(Dialect::Sinumerik)).unwrap();
+    let sin = program_text(&tp, &options(PostDialect::Sinumerik)).unwrap();
     let ngc = sinumerik_to_ngc(&sin).unwrap();
     assert_same_path(
         &rs274_feed_ends(&rs274(&ngc)),
@@ -245,7 +245,7 @@ fn rs274_accepts_the_linuxcnc_program_and_cuts_the_same_path() {
 
 #[test]
 fn sinumerik_writes_the_seeds_blocks() {
-    let text = program_text(&sample(), &options(Dialect::Sinumerik)).unwrap();
+    let text = program_text(&sample(), &options(PostDialect::Sinumerik)).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines[0], "%", "{text}");
     for want in [
@@ -293,7 +293,7 @@ fn sinumerik_writes_the_seeds_blocks() {
 
 #[test]
 fn legacy_uses_g90_feeds_absolute_centres_and_no_f() {
-    let text = program_text(&sample(), &options(Dialect::Legacy2006)).unwrap();
+    let text = program_text(&sample(), &options(PostDialect::Legacy2006)).unwrap();
     assert!(text.contains("G90 Z-5\n"), "{text}");
     // I J are the centre itself.
     assert!(text.contains("G2 X200 Y100 I150 J100\n"), "{text}");
@@ -349,7 +349,7 @@ fn body(text: &str) -> String {
 }
 
 fn golden(format: Format) -> String {
-    let opts = options(Dialect::LinuxCnc);
+    let opts = options(PostDialect::LinuxCnc);
     let text = program_text_with(&tiny(), &opts, &format).unwrap();
     read_back(&text, &opts).unwrap_or_else(|e| panic!("{e}\n{text}"));
     rs274(&text);
@@ -428,15 +428,15 @@ fn formats_a_dialect_cannot_write_are_refused_with_the_reason() {
         units: Units::Inch,
         ..Format::DEFAULT
     };
-    let e = program_text_with(&tiny(), &options(Dialect::Sinumerik), &inch).unwrap_err();
+    let e = program_text_with(&tiny(), &options(PostDialect::Sinumerik), &inch).unwrap_err();
     assert!(e.contains("millimetres only"), "{e}");
-    let e = program_text_with(&tiny(), &options(Dialect::Legacy2006), &inch).unwrap_err();
+    let e = program_text_with(&tiny(), &options(PostDialect::Legacy2006), &inch).unwrap_err();
     assert!(e.contains("no unit word"), "{e}");
     let wild = Format {
         numbers: Numbers::Decimal { places: 9 },
         ..Format::DEFAULT
     };
-    let e = program_text_with(&tiny(), &options(Dialect::LinuxCnc), &wild).unwrap_err();
+    let e = program_text_with(&tiny(), &options(PostDialect::LinuxCnc), &wild).unwrap_err();
     assert!(e.contains("precision 9"), "{e}");
 }
 
@@ -448,9 +448,9 @@ fn sinumerik_reader_names_a_bad_word() {
 
 #[test]
 fn sinumerik_end_puts_the_tool_away_after_the_last_motion() {
-    let text = program_text(&sample(), &options(Dialect::Sinumerik)).unwrap();
+    let text = program_text(&sample(), &options(PostDialect::Sinumerik)).unwrap();
     let ngc = sinumerik_to_ngc(&text).unwrap();
-    let canon = read_back(&text, &options(Dialect::Sinumerik)).unwrap();
+    let canon = read_back(&text, &options(PostDialect::Sinumerik)).unwrap();
     let last_motion = canon.iter().rposition(|c| c.op.is_motion()).unwrap();
     let put_away = canon
         .iter()

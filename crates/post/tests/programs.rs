@@ -1,6 +1,6 @@
 use oficina_cam::{Move, Operation, Tool, Toolpath};
 use oficina_canon::CanonOp;
-use oficina_post::{program_text, Dialect, PostOptions};
+use oficina_post::{program_text, PostDialect, PostOptions};
 
 fn two_tool_path() -> Toolpath {
     let op = |n: u32, spec: &str, moves: Vec<Move>| Operation {
@@ -61,7 +61,7 @@ fn two_tool_path() -> Toolpath {
     }
 }
 
-fn options(dialect: Dialect) -> PostOptions {
+fn options(dialect: PostDialect) -> PostOptions {
     PostOptions {
         dialect,
         allow_m6: false,
@@ -106,7 +106,7 @@ fn endpoints(text: &str) -> Vec<(char, [f64; 3])> {
 
 #[test]
 fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
-    let text = program_text(&two_tool_path(), &options(Dialect::Grbl)).unwrap();
+    let text = program_text(&two_tool_path(), &options(PostDialect::Grbl)).unwrap();
     assert!(text.contains("(image = x.png)"));
     assert!(text.contains("(test [relief])"));
     assert!(text.contains("G21 G90 G94 G17"));
@@ -129,7 +129,7 @@ fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
         &two_tool_path(),
         &PostOptions {
             allow_m6: false,
-            ..options(Dialect::LinuxCnc)
+            ..options(PostDialect::LinuxCnc)
         },
     )
     .unwrap();
@@ -139,7 +139,7 @@ fn grbl_program_pauses_for_tool_changes_and_documents_settings() {
 #[test]
 fn printed_moves_are_the_toolpaths_moves() {
     let tp = two_tool_path();
-    let text = program_text(&tp, &options(Dialect::Grbl)).unwrap();
+    let text = program_text(&tp, &options(PostDialect::Grbl)).unwrap();
     let printed = endpoints(&text);
     let mut wanted = vec![('r', [f64::NAN, f64::NAN, 5.0])];
     let mut pos = [f64::NAN, f64::NAN, 5.0];
@@ -210,8 +210,8 @@ fn interpreter_reads_back_the_toolpath() {
     };
     let want = motions(tp.canon());
     for (dialect, gdialect) in [
-        (Dialect::Grbl, oficina_gcode::Dialect::Grbl),
-        (Dialect::LinuxCnc, oficina_gcode::Dialect::LinuxCnc),
+        (PostDialect::Grbl, oficina_gcode::Dialect::Grbl),
+        (PostDialect::LinuxCnc, oficina_gcode::Dialect::LinuxCnc),
     ] {
         let text = program_text(&tp, &options(dialect)).unwrap();
         let (ops, diags) = canon_of(

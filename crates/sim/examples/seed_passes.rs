@@ -2,14 +2,14 @@
 //! stock: shows where each plan's time goes and what each pass leaves.
 //! `cargo run --release -p oficina-sim --example seed_passes -- [PIXEL_MM]`
 
-use oficina_cam::relief::{plan, Job};
+use oficina_cam::relief::{plan, ReliefJob};
 use oficina_cam::seed004;
 use oficina_sim::{compare, feed_only_estimate, ideal_surface};
 
-fn show(name: &str, job: &Job, pixel: f64) {
+fn show(name: &str, job: &ReliefJob, pixel: f64) {
     let design = seed004::hemisphere(150.0, 25.0, pixel);
     for k in 1..=job.passes.len() {
-        let partial = Job {
+        let partial = ReliefJob {
             passes: job.passes[..k].to_vec(),
             simulate_last: true,
             ..job.clone()

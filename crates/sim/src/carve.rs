@@ -8,12 +8,12 @@
 
 use crate::{compare, feed_only_estimate, ideal_surface, replay, Report, SimError};
 use oficina_cam::memory::{self, Budget, Lever, OverBudget};
-use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, Planned, ReliefError};
+use oficina_cam::relief::{plan_within, Cutter, Direction, Pass, Planned, ReliefError, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::{Move, Tool, ToolError};
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::Heightmap;
-use oficina_post::{program_text, Dialect, PostOptions};
+use oficina_post::{program_text, PostDialect, PostOptions};
 use std::collections::HashMap;
 
 /// The carving settings a user chooses (feeds in mm/min, lengths in mm).
@@ -161,7 +161,7 @@ impl Settings {
 
     /// The CAM job: roughing and rest machining when a roughing tool is given, then the
     /// finish.
-    pub fn job(&self) -> Result<Job, SettingsError> {
+    pub fn job(&self) -> Result<ReliefJob, SettingsError> {
         self.check()?;
         let finish = self.cutter(2, &self.tool)?;
         let stepover = self
@@ -201,7 +201,7 @@ impl Settings {
             direction: self.direction,
             ..base("finishing", finish, stepover)
         });
-        Ok(Job {
+        Ok(ReliefJob {
             safe_z: self.safe_z,
             clearance: 1.0,
             tolerance: 0.005,
@@ -314,7 +314,7 @@ pub type Progress<'a> = oficina_cam::relief::Progress<'a>;
 /// `profile` gives the planner's time estimate (`None`: feed-only time only).
 pub fn evaluate(
     design: &Heightmap,
-    job: &Job,
+    job: &ReliefJob,
     profile: Option<&oficina_motion::Profile>,
     post: &PostOptions,
     budget_bytes: u64,
@@ -388,7 +388,7 @@ pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<Canon>, CarveE
     use oficina_gcode::{run_text, RunOptions};
     // M6-capable grbl forks read tool changes as LinuxCNC does.
     let dialect = match post.dialect {
-        Dialect::Grbl if !post.allow_m6 => oficina_gcode::Dialect::Grbl,
+        PostDialect::Grbl if !post.allow_m6 => oficina_gcode::Dialect::Grbl,
         _ => oficina_gcode::Dialect::LinuxCnc,
     };
     let opts = RunOptions {

@@ -3,14 +3,14 @@
 //! renders a preview and gives a time estimate.
 //!
 //! ```
-//! use oficina_cam::{Shape, Tool};
+//! use oficina_cam::{CutterShape, Tool};
 //! use oficina_canon::{Canon, CanonOp, Pos};
 //! use oficina_io::Heightmap;
 //! use std::collections::HashMap;
 //!
 //! // A 20 × 10 mm stock, top at Z 0, sampled every 0.5 mm; a 4 mm flat end mill as T1.
 //! let mut stock = Heightmap::flat(41, 21, 0.5, 0.0);
-//! let tools = HashMap::from([(1, Tool::new(Shape::Flat, 4.0).unwrap())]);
+//! let tools = HashMap::from([(1, Tool::new(CutterShape::Flat, 4.0).unwrap())]);
 //! let ops = [
 //!     CanonOp::ChangeTool(1),
 //!     CanonOp::StraightTraverse { to: Pos::xyz(2.0, 5.0, 1.0) },

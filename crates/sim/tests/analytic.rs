@@ -1,7 +1,7 @@
 //! Plans real jobs on analytic surfaces and checks the simulated result: never a gouge,
 //! and scallops as the closed forms predict.
 
-use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_io::Heightmap;
@@ -45,8 +45,8 @@ fn pass(
     }
 }
 
-fn job(passes: Vec<Pass>) -> Job {
-    Job {
+fn job(passes: Vec<Pass>) -> ReliefJob {
+    ReliefJob {
         safe_z: 5.0,
         clearance: 1.0,
         tolerance: 0.005,

@@ -13,7 +13,7 @@
 use image::{ImageBuffer, Luma};
 use oficina_cam::relief::Direction;
 use oficina_io::{load_image_bytes, DepthMapping, Scale};
-use oficina_post::{Dialect, PostOptions};
+use oficina_post::{PostDialect, PostOptions};
 use oficina_sim::carve::{evaluate, CarveError, Settings};
 use proptest::prelude::*;
 use std::io::Cursor;
@@ -109,7 +109,7 @@ proptest! {
         };
         let Ok(job) = settings.job() else { return Ok(()) };
         let post = PostOptions {
-            dialect: if linuxcnc { Dialect::LinuxCnc } else { Dialect::Grbl },
+            dialect: if linuxcnc { PostDialect::LinuxCnc } else { PostDialect::Grbl },
             allow_m6,
             title: "fuzz".into(),
             settings: settings.describe(),

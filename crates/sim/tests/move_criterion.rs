@@ -5,7 +5,7 @@
 //! neighbours is the exact sup of the tip surface over the pixel either side).
 
 use oficina_cam::apply_moves;
-use oficina_cam::relief::{plan, Cutter, Direction, Job, Pass};
+use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::{surface_rows, Kernel};
 use oficina_cam::{Move, Tool};
@@ -38,8 +38,8 @@ fn ramp() -> Heightmap {
     })
 }
 
-fn job(samples_per_pixel: usize) -> Job {
-    Job {
+fn job(samples_per_pixel: usize) -> ReliefJob {
+    ReliefJob {
         safe_z: 5.0,
         clearance: 1.0,
         tolerance: 0.002,

@@ -4,11 +4,11 @@
 
 use super::{failed, measure, BenchError, Cost};
 use oficina_cam::memory::{self, Budget, Lever};
-use oficina_cam::relief::{plan_within, Cutter, Direction, Job, Pass, ReliefError};
+use oficina_cam::relief::{plan_within, Cutter, Direction, Pass, ReliefError, ReliefJob};
 use oficina_cam::{Feeds, Tool};
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::{luminance_to_heights, DepthMapping, Heightmap};
-use oficina_post::{program_text, Dialect, PostOptions};
+use oficina_post::{program_text, PostDialect, PostOptions};
 use oficina_sim::{compare, ideal_surface, replay, Report};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -74,12 +74,12 @@ pub fn design(gray: &[u8], n: usize) -> Heightmap {
 }
 
 pub fn tool() -> Tool {
-    Tool::new(oficina_cam::Shape::Ball, BALL_DIAMETER).expect("valid built-in tool")
+    Tool::new(oficina_cam::CutterShape::Ball, BALL_DIAMETER).expect("valid built-in tool")
 }
 
 /// One finishing pass, as image-to-gcode does: rows along X, zig-zag, one level.
-pub fn job(tolerance: f64, samples_per_pixel: usize) -> Job {
-    Job {
+pub fn job(tolerance: f64, samples_per_pixel: usize) -> ReliefJob {
+    ReliefJob {
         safe_z: 5.0,
         clearance: 1.0,
         tolerance,
@@ -119,7 +119,7 @@ pub struct Ours {
 }
 
 /// Plans `job` over `map` within `budget` bytes and posts it for LinuxCNC, timing both.
-pub fn plan_and_post(map: &Heightmap, job: &Job, budget: u64) -> Result<Ours, BenchError> {
+pub fn plan_and_post(map: &Heightmap, job: &ReliefJob, budget: u64) -> Result<Ours, BenchError> {
     // Each move is kept as a move and as a line of text.
     let budget = Budget {
         bytes: budget,
@@ -132,7 +132,7 @@ pub fn plan_and_post(map: &Heightmap, job: &Job, budget: u64) -> Result<Ours, Be
         e => failed(e),
     })?;
     let post = PostOptions {
-        dialect: Dialect::LinuxCnc,
+        dialect: PostDialect::LinuxCnc,
         allow_m6: false,
         title: "bench carve".into(),
         settings: vec![],
@@ -188,7 +188,7 @@ pub fn best_possible(map: &Heightmap) -> Report {
 /// Oficina's program read back by the interpreter (for [`judge`]).
 pub fn read_back(program: &str) -> Result<Vec<Canon>, BenchError> {
     let post = PostOptions {
-        dialect: Dialect::LinuxCnc,
+        dialect: PostDialect::LinuxCnc,
         allow_m6: false,
         title: String::new(),
         settings: vec![],

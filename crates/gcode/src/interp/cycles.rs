@@ -5,7 +5,7 @@
 use super::words::{g_group as G, slot, Decoded};
 use super::{Interpreter, Sink};
 use crate::diag::Diagnostic;
-use oficina_canon::{CanonOp, MotionMode, SpindleDir, Units};
+use oficina_canon::{CanonOp, PathControlMode, SpindleDir, Units};
 
 /// What a cycle remembers between blocks of the same cycle.
 #[derive(Clone, Debug, Default)]
@@ -192,12 +192,12 @@ impl Interpreter {
         } else {
             r
         };
-        let exact = self.modal.control == MotionMode::ExactPath;
+        let exact = self.modal.control == PathControlMode::ExactPath;
         if !exact {
             self.emit(
                 sink,
                 CanonOp::SetMotionControlMode {
-                    mode: MotionMode::ExactPath,
+                    mode: PathControlMode::ExactPath,
                     tolerance: 0.0,
                 },
             );
@@ -231,7 +231,7 @@ impl Interpreter {
         if !exact {
             // rs274 restores the mode and, whatever the mode, the naive-CAM tolerance.
             self.emit_control_mode(sink);
-            if self.modal.control != MotionMode::Continuous {
+            if self.modal.control != PathControlMode::Continuous {
                 self.emit(
                     sink,
                     CanonOp::SetNaivecamTolerance(self.modal.naive_tolerance),

@@ -22,7 +22,7 @@ use crate::diag::{Diagnostic, Span};
 use crate::params::Params;
 use crate::Dialect;
 use frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
 use state::{Modal, Motion};
 use tool_table::ToolTable;
 use words::{g_group as G, m_group as M, Decoded};
@@ -556,9 +556,9 @@ impl Interpreter {
         // 16. Path control.
         if let Some(t) = d.g_in(G::CONTROL) {
             self.modal.control = match t {
-                610 => MotionMode::ExactPath,
-                611 => MotionMode::ExactStop,
-                _ => MotionMode::Continuous,
+                610 => PathControlMode::ExactPath,
+                611 => PathControlMode::ExactStop,
+                _ => PathControlMode::Continuous,
             };
             if t == 640 {
                 let p = d.get('P').unwrap_or(0.0).max(0.0) * self.k();
@@ -646,7 +646,7 @@ impl Interpreter {
     }
 
     pub(crate) fn emit_control_mode(&self, sink: Sink) {
-        let tol = if self.modal.control == MotionMode::Continuous {
+        let tol = if self.modal.control == PathControlMode::Continuous {
             self.modal.blend_tolerance
         } else {
             0.0
@@ -658,7 +658,7 @@ impl Interpreter {
                 tolerance: tol,
             },
         );
-        if self.modal.control == MotionMode::Continuous {
+        if self.modal.control == PathControlMode::Continuous {
             self.emit(
                 sink,
                 CanonOp::SetNaivecamTolerance(self.modal.naive_tolerance),

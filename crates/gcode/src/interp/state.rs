@@ -1,6 +1,6 @@
 //! The modal state the interpreter carries from block to block.
 
-use oficina_canon::{FeedMode, MotionMode, Plane, SpindleDir, Units};
+use oficina_canon::{FeedMode, PathControlMode, Plane, SpindleDir, Units};
 
 /// The active motion of group 1 (G0 G1 G2 G3 G73 G80–G89).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,7 +52,7 @@ pub struct Modal {
     pub flood: bool,
     /// 1 = G54 … 9 = G59.3.
     pub coord_system: u8,
-    pub control: MotionMode,
+    pub control: PathControlMode,
     pub blend_tolerance: f64,
     pub naive_tolerance: f64,
     /// G98: retract to the old Z; G99: to R.
@@ -84,7 +84,7 @@ impl Modal {
             mist: false,
             flood: false,
             coord_system: 1,
-            control: MotionMode::Continuous,
+            control: PathControlMode::Continuous,
             blend_tolerance: 0.0,
             naive_tolerance: 0.0,
             // rs274 starts in G99 (retract to R).

@@ -13,7 +13,7 @@
 use super::{block_limits, junction_limit, BlockLimits};
 use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::moves::{lerp3, Move, MoveKind};
-use crate::profile::{Profile, Shape};
+use crate::profile::{Profile, VelocityProfile};
 use crate::velocity::{brake_floor, ramp_distance, reachable, Motion};
 use crate::MotionError;
 use std::collections::VecDeque;
@@ -91,7 +91,7 @@ impl Incremental {
                 ),
             });
         }
-        profile.shape = Shape::Trapezoid;
+        profile.shape = VelocityProfile::Trapezoid;
         let q = joints(&kin, start, 0)?;
         Ok(Incremental {
             profile,
@@ -180,7 +180,7 @@ impl Incremental {
         };
         let mut q = Queued {
             m,
-            bl: block_limits(&m, &self.profile, Shape::Trapezoid),
+            bl: block_limits(&m, &self.profile, VelocityProfile::Trapezoid),
             requested: p.speed,
             max_entry: 0.0,
             entry: 0.0,
@@ -227,7 +227,7 @@ impl Incremental {
         } else {
             q.requested * self.feed
         };
-        q.bl = block_limits(&q.m, &self.profile, Shape::Trapezoid);
+        q.bl = block_limits(&q.m, &self.profile, VelocityProfile::Trapezoid);
         if rapid {
             // Rapids run at the joints' limits; the rapid override scales that.
             q.bl.v_nominal *= self.rapid;

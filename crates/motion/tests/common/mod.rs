@@ -1,7 +1,7 @@
 //! The stress corpus: generated programs that push the planner where it is weakest.
 #![allow(dead_code)]
 
-use oficina_canon::{Canon, CanonOp, MotionMode, Plane, Pos};
+use oficina_canon::{Canon, CanonOp, PathControlMode, Plane, Pos};
 use oficina_motion::Profile;
 
 pub fn profile(name: &str) -> Profile {
@@ -154,9 +154,9 @@ pub fn program(kind: &str, seed: u64, c: [f64; 3], size: f64) -> Prog {
         "modes" => {
             for i in 0..40 {
                 let mode = match i % 3 {
-                    0 => MotionMode::ExactStop,
-                    1 => MotionMode::Continuous,
-                    _ => MotionMode::ExactPath,
+                    0 => PathControlMode::ExactStop,
+                    1 => PathControlMode::Continuous,
+                    _ => PathControlMode::ExactPath,
                 };
                 p.op(CanonOp::SetMotionControlMode {
                     mode,
