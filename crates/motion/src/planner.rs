@@ -18,7 +18,7 @@ mod live;
 
 pub use crate::moves::MoveKind;
 use crate::moves::{Item, Move, MoveStream, Overrides};
-use crate::profile::{Profile, VelocityProfile};
+use crate::profile::{Joint, Profile, VelocityProfile};
 use crate::velocity::{reachable, Limits, Motion};
 use crate::MotionError;
 use oficina_canon::Canon;
@@ -126,19 +126,28 @@ pub struct BlockLimits {
 /// dq/ds. Shared with the checker only as the definition of the limits, not of the plan.
 pub fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> BlockLimits {
     let l = m.length;
+    let mut v = m.speed;
+    let mut lim = Limits {
+        accel: f64::INFINITY,
+        jerk: f64::INFINITY,
+    };
+    // Each joint moving d units per mm of path caps the path speed at its rate / d, its
+    // step rate / d, and the path acceleration and jerk at its own / d.
+    let mut cap = |joint: &Joint, d: f64| {
+        v = v
+            .min(joint.max_rate / d)
+            .min(profile.max_step_rate / joint.steps_per_unit / d);
+        lim.accel = lim.accel.min(joint.acceleration / d);
+        if shape == VelocityProfile::SCurve {
+            lim.jerk = lim.jerk.min(joint.jerk.unwrap_or(f64::INFINITY) / d);
+        }
+    };
     let mut dqds = [0.0; 3];
-    let (mut v, mut a, mut j) = (m.speed, f64::INFINITY, f64::INFINITY);
     for (i, jt) in profile.joints.iter().enumerate() {
         dqds[i] = (m.q1[i] - m.q0[i]) / l;
         let d = dqds[i].abs();
         if let (Some(jt), true) = (jt, d > 0.0) {
-            v = v
-                .min(jt.max_rate / d)
-                .min(profile.max_step_rate / jt.steps_per_unit / d);
-            a = a.min(jt.acceleration / d);
-            if shape == VelocityProfile::SCurve {
-                j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
-            }
+            cap(jt, d);
         }
     }
     // Rotary joints the same way: a mixed move is slowed so A, B, C keep within their
@@ -148,19 +157,12 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> Bloc
         drds[i] = (m.rot1[i] - m.rot0[i]) / l;
         let d = drds[i].abs();
         if let (Some(r), true) = (r, d > 0.0) {
-            let jt = &r.joint;
-            v = v
-                .min(jt.max_rate / d)
-                .min(profile.max_step_rate / jt.steps_per_unit / d);
-            a = a.min(jt.acceleration / d);
-            if shape == VelocityProfile::SCurve {
-                j = j.min(jt.jerk.unwrap_or(f64::INFINITY) / d);
-            }
+            cap(&r.joint, d);
         }
     }
     BlockLimits {
         v_nominal: v,
-        lim: Limits { accel: a, jerk: j },
+        lim,
         dqds,
         drds,
     }

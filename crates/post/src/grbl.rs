@@ -1,25 +1,16 @@
-//! grbl 1.1: no canned cycles and no G64 (cycles are written out as moves); tool changes
-//! are an M0 pause unless the machine handles M6.
+//! grbl 1.1: the [`Post`] defaults (the RS274 skeleton) except: no canned cycles and no G64
+//! (cycles are written out as moves); tool changes are an M0 pause unless the machine handles
+//! M6.
 
-use crate::emit::{Emitter, MotionWords};
-use crate::linuxcnc::{end, m6_change, modal_setup, spindle_on, RS274_WORDS};
-use crate::{header_comments, Post, PostOptions};
+use crate::emit::Emitter;
+use crate::linuxcnc::m6_change;
+use crate::{Post, PostOptions};
 use oficina_cam::{Operation, PathMode, Toolpath};
 use std::io;
 
 pub(crate) struct Grbl;
 
 impl Post for Grbl {
-    fn words(&self) -> MotionWords {
-        RS274_WORDS
-    }
-
-    fn prologue(&self, e: &mut Emitter, _tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
-        let format = e.format;
-        header_comments(e, opts, &format)?;
-        modal_setup(e)
-    }
-
     fn tool_change(
         &self,
         e: &mut Emitter,
@@ -54,18 +45,10 @@ impl Post for Grbl {
         Ok(())
     }
 
-    fn spindle(&self, e: &mut Emitter, _tp: &Toolpath, op: &Operation, _: bool) -> io::Result<()> {
-        spindle_on(e, op)
-    }
-
     /// grbl has G61 only (and it is the default): the mode is noted, not written.
     fn path_mode(&self, e: &mut Emitter, mode: PathMode) -> io::Result<()> {
         e.comment(&format!(
             "path mode {mode:?}: grbl always blends by junction deviation"
         ))
-    }
-
-    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
-        end(e, tp)
     }
 }

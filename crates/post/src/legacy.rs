@@ -46,10 +46,7 @@ impl Post for Legacy {
     }
 
     fn prologue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
-        e.comment(&opts.title)?;
-        for (k, v) in &opts.settings {
-            e.comment(&format!("{k} = {v}"))?;
-        }
+        crate::title_and_settings(e, opts)?;
         let feeds: Vec<f64> = tp
             .operations
             .iter()

@@ -39,6 +39,7 @@ mod grbl;
 mod legacy;
 mod linuxcnc;
 mod readback;
+mod rs274;
 mod sinumerik;
 
 pub use emit::{Emitter, MotionWords};
@@ -92,7 +93,9 @@ pub struct PostOptions {
 /// operations; the post writes what differs between controls.
 pub trait Post {
     /// The motion words and centre convention of this control.
-    fn words(&self) -> MotionWords;
+    fn words(&self) -> MotionWords {
+        rs274::RS274_WORDS
+    }
     /// The number format used when the caller asks for none.
     fn default_format(&self) -> Format {
         Format::DEFAULT
@@ -102,7 +105,11 @@ pub trait Post {
         format.validate()
     }
     /// Header comments and the modal set-up before the first tool.
-    fn prologue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()>;
+    fn prologue(&self, e: &mut Emitter, _tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
+        let format = e.format;
+        header_comments(e, opts, &format)?;
+        rs274::modal_setup(e)
+    }
     /// Loads `op`'s tool; `previous` is the tool in the spindle, if any.
     fn tool_change(
         &self,
@@ -116,10 +123,12 @@ pub trait Post {
     fn spindle(
         &self,
         e: &mut Emitter,
-        tp: &Toolpath,
+        _tp: &Toolpath,
         op: &Operation,
-        new_tool: bool,
-    ) -> io::Result<()>;
+        _new_tool: bool,
+    ) -> io::Result<()> {
+        rs274::spindle_on(e, op)
+    }
     /// A drilled hole; by default the plain moves of the cycle.
     fn drill(&self, e: &mut Emitter, d: &Drill) -> io::Result<()> {
         for m in d.moves(e.pos) {
@@ -141,7 +150,9 @@ pub trait Post {
         ))
     }
     /// Retract, spindle off, end of program.
-    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()>;
+    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
+        rs274::end(e, tp)
+    }
 
     /// One move of any kind.
     fn write_move(&self, e: &mut Emitter, m: &Move) -> io::Result<()> {
@@ -232,15 +243,21 @@ pub fn program_text_with(
 }
 
 /// The header every rs274-family dialect (LinuxCNC, grbl) writes.
+/// The title and every setting as comments: how the program was made.
+pub(crate) fn title_and_settings(e: &mut Emitter, opts: &PostOptions) -> io::Result<()> {
+    e.comment(&opts.title)?;
+    for (k, v) in &opts.settings {
+        e.comment(&format!("{k} = {v}"))?;
+    }
+    Ok(())
+}
+
 pub(crate) fn header_comments(
     e: &mut Emitter,
     opts: &PostOptions,
     format: &Format,
 ) -> io::Result<()> {
-    e.comment(&opts.title)?;
-    for (k, v) in &opts.settings {
-        e.comment(&format!("{k} = {v}"))?;
-    }
+    title_and_settings(e, opts)?;
     e.comment(&format!(
         "post = {:?}, M6 allowed = {}",
         opts.dialect, opts.allow_m6

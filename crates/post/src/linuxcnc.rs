@@ -1,40 +1,13 @@
-//! LinuxCNC (RS274/NGC): `T n M6` tool changes, G81/G82/G83 drilling, G61/G64.
+//! LinuxCNC (RS274/NGC): the [`Post`] defaults (the RS274 skeleton in `rs274.rs`) plus
+//! `T n M6` tool changes, G81/G82/G83 drilling, G61/G64 and G41/G42 compensation.
 
-use crate::emit::{Emitter, MotionWords};
-use crate::format::{push_decimal, Units};
-use crate::{header_comments, Post, PostOptions};
+use crate::emit::Emitter;
+use crate::format::push_decimal;
+use crate::{Post, PostOptions};
 use oficina_cam::{CompSide, Drill, Operation, PathMode, Toolpath};
 use std::io;
 
 pub(crate) struct LinuxCnc;
-
-/// G0 G1 G2 G3, I J from the start, F words.
-pub(crate) const RS274_WORDS: MotionWords = MotionWords {
-    rapid: "G0",
-    line: "G1",
-    cw: "G2",
-    ccw: "G3",
-    absolute_centres: false,
-    feed_words: true,
-    integer_feed: false,
-};
-
-/// "G21 G90 G94 G17" (G20 in inches): the modal state every rs274 program sets first.
-pub(crate) fn modal_setup(e: &mut Emitter) -> io::Result<()> {
-    let units = match e.format.units {
-        Units::Mm => "G21",
-        Units::Inch => "G20",
-    };
-    e.block(&format!("{units} G90 G94 G17"))
-}
-
-/// Spindle on; the same block in LinuxCNC and grbl.
-pub(crate) fn spindle_on(e: &mut Emitter, op: &Operation) -> io::Result<()> {
-    let mut s = String::from("S");
-    push_decimal(&mut s, op.spindle_rpm, 4);
-    s.push_str(" M3");
-    e.block(&s)
-}
 
 /// `T n M6`, from safe Z when a tool is already in; the first one then goes to safe Z.
 pub(crate) fn m6_change(
@@ -54,24 +27,7 @@ pub(crate) fn m6_change(
     Ok(())
 }
 
-/// Safe Z, spindle off, M30.
-pub(crate) fn end(e: &mut Emitter, tp: &Toolpath) -> io::Result<()> {
-    e.rapid_z(tp.safe_z)?;
-    e.block("M5")?;
-    e.block("M30")
-}
-
 impl Post for LinuxCnc {
-    fn words(&self) -> MotionWords {
-        RS274_WORDS
-    }
-
-    fn prologue(&self, e: &mut Emitter, _tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
-        let format = e.format;
-        header_comments(e, opts, &format)?;
-        modal_setup(e)
-    }
-
     fn tool_change(
         &self,
         e: &mut Emitter,
@@ -81,10 +37,6 @@ impl Post for LinuxCnc {
         previous: Option<u32>,
     ) -> io::Result<()> {
         m6_change(e, tp, op, previous)
-    }
-
-    fn spindle(&self, e: &mut Emitter, _tp: &Toolpath, op: &Operation, _: bool) -> io::Result<()> {
-        spindle_on(e, op)
     }
 
     /// G99 (back to R) G81, G82 with P seconds, or G83 with Q pecks.
@@ -130,9 +82,5 @@ impl Post for LinuxCnc {
             Some((CompSide::Right, d)) => format!("G42 D{d}"),
             None => "G40".into(),
         })
-    }
-
-    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
-        end(e, tp)
     }
 }

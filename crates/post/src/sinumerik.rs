@@ -99,10 +99,7 @@ impl Post for Sinumerik {
 
     fn prologue(&self, e: &mut Emitter, tp: &Toolpath, opts: &PostOptions) -> io::Result<()> {
         e.raw("%")?;
-        e.comment(&opts.title)?;
-        for (k, v) in &opts.settings {
-            e.comment(&format!("{k} = {v}"))?;
-        }
+        crate::title_and_settings(e, opts)?;
         e.comment(&format!(
             "post = Sinumerik, safety plane Z{} mm, tool change at G53 X{} Y{} Z{}",
             tp.safe_z, self.change_at[0], self.change_at[1], self.change_at[2]
