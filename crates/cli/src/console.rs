@@ -4,7 +4,6 @@
 //! after a stop, an error, a crash or a pulled cable.
 
 use anyhow::{bail, Context};
-use oficina_grbl::emulator::{Config, Emulator};
 use oficina_grbl::eta;
 use oficina_grbl::job::Job;
 use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
@@ -18,6 +17,7 @@ use oficina_grbl::resume::ResumeOptions;
 use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
 use oficina_grbl::status::Status;
 use oficina_grbl::transport::{self, Endpoint};
+use oficina_grbl_emu::emulator::{Config, Emulator};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

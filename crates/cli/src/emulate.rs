@@ -2,7 +2,7 @@
 //! dry-run jobs and senders (ours or any other) against the exact protocol.
 
 use anyhow::{bail, Context};
-use oficina_grbl::emulator::{Config, Emulator};
+use oficina_grbl_emu::emulator::{Config, Emulator};
 use std::io::Write;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -31,7 +31,7 @@ pub struct Args {
     /// 1024 bytes, `Bf:` freed as soon as a block is prepared, silent TCP port) or fluidnc
     /// (FluidNC's banner and `[MSG:INFO:…]` lines).
     #[arg(long, default_value = "grbl", value_name = "grbl|grblhal|fluidnc")]
-    pub flavor: oficina_grbl::emulator::Flavor,
+    pub flavor: oficina_grbl_emu::emulator::Flavor,
     /// Take $100-$132, $11 and $12 from an Oficina machine profile: a TOML file or a bundled
     /// name (e.g. grbl-router).
     #[arg(long, value_name = "PROFILE")]
@@ -69,7 +69,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut settings = match &args.profile {
         Some(spec) => {
             let profile = crate::machine_profile::resolve(spec)?;
-            oficina_grbl::emulator::profile::grbl_settings(&profile).map_err(anyhow::Error::msg)?
+            oficina_grbl_emu::emulator::profile::grbl_settings(&profile)
+                .map_err(anyhow::Error::msg)?
         }
         None => Vec::new(),
     };

@@ -25,12 +25,12 @@
 //! - [`job`], [`journal`], [`sender`], [`report`], [`track`], [`resume`]: streaming, its record,
 //!   how it ended and resume; [`check`]: a job through grbl's check mode;
 //! - [`settings`], [`jog`], [`device`] (the `Machine` trait): the rest of the machine panel;
-//! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle;
-//! - [`emulator`]: grbl 1.1 in software over a pty or TCP; [`proxy`]: fault injection.
+//! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle.
+//!
+//! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
 pub mod check;
 pub mod device;
-pub mod emulator;
 pub mod eta;
 pub mod gline;
 pub mod interp;
@@ -40,7 +40,6 @@ pub mod journal;
 pub mod link;
 pub mod machine;
 pub mod messages;
-pub mod proxy;
 pub mod realtime;
 pub mod reconnect;
 pub mod report;

@@ -28,10 +28,12 @@
 //! ```
 
 pub mod job;
+#[cfg(feature = "virtual")]
 pub mod virtual_machine;
 
 pub use job::{Job, Pace};
 use std::time::Duration;
+#[cfg(feature = "virtual")]
 pub use virtual_machine::VirtualMachine;
 
 #[derive(Clone, Debug, PartialEq)]

@@ -7,11 +7,11 @@ mod common;
 
 use common::coverage;
 use common::scenarios;
-use oficina_grbl::emulator::{Config, Emulator, Flavor};
 use oficina_grbl::job::Job;
 use oficina_grbl::link::{Event, Link};
 use oficina_grbl::response::Response;
 use oficina_grbl::transport::Endpoint;
+use oficina_grbl_emu::emulator::{Config, Emulator, Flavor};
 use std::time::Duration;
 
 fn start(flavor: Flavor) -> (Emulator, Endpoint) {
@@ -153,7 +153,7 @@ fn fluidnc_settings_config_dump_and_messages() {
 
 #[test]
 fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
-    use oficina_grbl::emulator::Core;
+    use oficina_grbl_emu::emulator::Core;
     let mut c = Core::new(Config {
         baud: None,
         settings: vec![(10, 3.0), (120, 100.0)],
@@ -214,9 +214,9 @@ fn resume_comes_from_the_reported_position_not_from_bf() {
 /// one); the hold falls anywhere in the first 4.6 s of the job.
 #[test]
 fn every_feed_hold_on_a_relief_completes() {
-    use oficina_grbl::emulator::Core;
     use oficina_grbl::realtime::Realtime;
     use oficina_grbl::status::State;
+    use oficina_grbl_emu::emulator::Core;
     let program = coverage::relief_program(6, 30, 0.5, 1500.0).into_bytes();
     let mut stuck = Vec::new();
     for tick_ms in [1.0f64, 7.0, 29.0, 51.0] {

@@ -105,10 +105,10 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
 /// With `$10=3` the sender reads `Bf:` and knows which one the machine was executing.
 #[test]
 fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
-    use oficina_grbl::emulator::Emulator;
     use oficina_grbl::resume::ResumeOptions;
     use oficina_grbl::sender::{Control, Notice};
     use oficina_grbl::transport::Endpoint;
+    use oficina_grbl_emu::emulator::Emulator;
     let mut cfg = config(Some(115_200));
     cfg.settings.push((10, 3.0));
     let emu = Emulator::start(cfg);
@@ -270,8 +270,8 @@ fn settings_overrides_and_safety_door() {
 
 #[test]
 fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
-    use oficina_grbl::emulator::Emulator;
     use oficina_grbl::transport::Endpoint;
+    use oficina_grbl_emu::emulator::Emulator;
     let mut cfg = config(None);
     cfg.settings.extend([(22, 1.0), (20, 1.0)]);
     let emu = Emulator::start(cfg);

@@ -5,12 +5,12 @@
 
 mod common;
 use common::*;
-use oficina_grbl::emulator::Emulator;
 use oficina_grbl::job::Job;
-use oficina_grbl::proxy::{Fault, FaultProxy};
 use oficina_grbl::resume::{self, ResumeOptions};
 use oficina_grbl::sender::{Notice, Sender, StreamEnd, StreamReport};
 use oficina_grbl::transport::Endpoint;
+use oficina_grbl_emu::emulator::Emulator;
+use oficina_grbl_emu::proxy::{Fault, FaultProxy};
 use std::time::Duration;
 
 const JOB_LINES: usize = 300;

@@ -14,11 +14,11 @@
 
 use super::flavor::Flavor;
 use super::fluidnc;
-use crate::gline;
-use crate::interp::{self, Flow, Interp, Rate, Segment};
-use crate::messages::{self, SETTINGS};
-use crate::realtime::Realtime;
-use crate::status::State;
+use oficina_grbl::gline;
+use oficina_grbl::interp::{self, Flow, Interp, Rate, Segment};
+use oficina_grbl::messages::{self, SETTINGS};
+use oficina_grbl::realtime::Realtime;
+use oficina_grbl::status::State;
 use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};

@@ -189,7 +189,7 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
 #[test]
 fn sim_time_estimates_match_the_firmware() {
     use oficina_gcode::program::{run as gcode_run, RunOptions};
-    use oficina_grbl::emulator::profile::motion_profile;
+    use oficina_grbl_emu::emulator::profile::motion_profile;
     let mut zigzag = String::from("G21G90G94\nG0X0Y0\nG1F3000\n");
     for i in 0..20 {
         zigzag += &format!("X{}Y{}\n", if i % 2 == 0 { 30 } else { 0 }, i + 1);
