@@ -86,7 +86,12 @@ pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
         GrblState::Other(s) => State::Alarm(format!("unknown grbl state {s}")),
     };
     let pick = |v: Option<Vec<f64>>| v.filter(|v| v.len() >= 3).map(|v| [v[0], v[1], v[2]]);
-    if let Some(m) = pick(st.machine_position(Some(wco))) {
+    let machine = st.machine_position(Some(wco));
+    // grblHAL prints as many axes as it drives (N_AXIS): a 4th is A, in degrees.
+    if let Some(a) = machine.as_ref().and_then(|v| v.get(3)) {
+        into.rotary_pos[0] = *a;
+    }
+    if let Some(m) = pick(machine) {
         into.machine_pos = m;
     }
     if let Some(w) = pick(st.work_position(Some(wco))) {

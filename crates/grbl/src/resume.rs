@@ -14,7 +14,11 @@ pub const POSITION_TOLERANCE: f64 = 0.005;
 
 /// The interpreter state after running lines `0..index` of `job`.
 pub fn replay(job: &Job, index: usize) -> Interp {
-    let mut i = Interp::default();
+    // The host follows any firmware: A words are read (a 3-axis board refuses them itself).
+    let mut i = Interp {
+        a_axis: true,
+        ..Interp::default()
+    };
     for l in job.lines.iter().take(index) {
         if l.text.starts_with('$') {
             continue;

@@ -171,6 +171,22 @@ mod tests {
     use super::*;
 
     #[test]
+    fn parses_four_axis_reports_as_grblhal_prints_them() {
+        // grblHAL built with N_AXIS = 4 prints X, Y, Z, A in MPos/WPos and WCO.
+        let s = Status::parse(
+            "<Run|MPos:10.000,0.000,19.500,370.000|FS:600,12000|WCO:10.000,225.000,-80.000,0.000>",
+        )
+        .unwrap();
+        assert_eq!(s.mpos, Some(vec![10.0, 0.0, 19.5, 370.0]));
+        assert_eq!(s.work_position(None), Some(vec![0.0, -225.0, 99.5, 370.0]));
+        let w = Status::parse("<Idle|WPos:1.000,2.000,3.000,-45.500|FS:0,0>").unwrap();
+        assert_eq!(
+            w.machine_position(Some(&[1.0, 1.0, 1.0, 0.0])),
+            Some(vec![2.0, 3.0, 4.0, -45.5])
+        );
+    }
+
+    #[test]
     fn parses_every_field() {
         let s = Status::parse(
             "<Hold:1|MPos:1.000,-2.500,3.250|Bf:12,77|Ln:99|FS:500,12000|WCO:1.000,1.000,0.000|Pn:XZP|Ov:120,50,100|A:SFM|Foo:1>",

@@ -23,7 +23,10 @@ use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
 
+mod rotary;
 mod system;
+
+use rotary::{Lane, Spin};
 
 /// Knobs of the emulated board.
 #[derive(Clone, Debug)]
@@ -122,6 +125,14 @@ pub struct Core {
     pub state: State,
     /// Machine position (mm).
     pub mpos: [f64; 3],
+    /// Machine position of the 4th axis A (degrees), on a board with `$103`.
+    pub mpos_a: f64,
+    /// A at the end of the last block queued.
+    a_tail: f64,
+    /// How A turns along each block in the planner (front first).
+    lanes: VecDeque<Lane>,
+    /// A move of A alone, running (no other block moves meanwhile).
+    spin: Option<Spin>,
     rx: VecDeque<u8>,
     line: Vec<u8>,
     line_overflow: bool,
@@ -177,6 +188,10 @@ impl Core {
             interp: Interp::default(),
             state: State::Idle,
             mpos: [0.0; 3],
+            mpos_a: 0.0,
+            a_tail: 0.0,
+            lanes: VecDeque::new(),
+            spin: None,
             rx: VecDeque::new(),
             line: Vec::new(),
             line_overflow: false,
@@ -207,8 +222,14 @@ impl Core {
             piece_start: [0.0; 3],
         };
         core.interp.arc_tolerance = core.setting(12);
+        core.interp.a_axis = core.has_a();
         core.boot();
         core
+    }
+
+    /// The board drives a 4th axis A (its `$103` is set).
+    pub fn has_a(&self) -> bool {
+        rotary::limits(&self.settings).is_some()
     }
 
     fn setting(&self, n: u16) -> f64 {
@@ -283,7 +304,7 @@ impl Core {
     }
 
     fn moving(&self) -> bool {
-        !self.motion.is_empty()
+        (!self.motion.is_empty() || self.spin.is_some())
             && matches!(
                 self.state,
                 State::Run | State::Jog | State::Hold(1) | State::Door(2)
@@ -401,6 +422,9 @@ impl Core {
         self.record_piece(self.motion.position());
         self.motion.clear();
         self.block_ends.clear();
+        self.lanes.clear();
+        self.spin = None;
+        self.a_tail = self.mpos_a;
         self.mpos = self.motion.position();
         self.blocks_pushed = self.blocks_done;
         self.awaiting.clear();
@@ -426,6 +450,7 @@ impl Core {
         self.jogging = false;
         self.state = State::Idle;
         self.interp.pos = self.mpos;
+        self.interp.a = self.mpos_a;
     }
 
     fn begin_decel(&mut self, into: State) {
@@ -461,6 +486,8 @@ impl Core {
             g30: keep.2,
             pos: self.mpos,
             arc_tolerance: self.setting(12),
+            a_axis: self.has_a(),
+            a: self.mpos_a,
             ..Interp::default()
         };
         self.starving = None;
@@ -581,6 +608,7 @@ impl Core {
         self.pending = None;
         self.state = State::Alarm;
         self.interp.pos = self.mpos;
+        self.interp.a = self.mpos_a;
         self.say("ALARM:2");
         self.msg("Reset to continue");
         self.blocked = true;
@@ -590,22 +618,46 @@ impl Core {
         let Some(p) = self.pending.as_mut() else {
             return;
         };
-        if p.sync && !self.motion.is_empty() {
+        if p.sync && (!self.motion.is_empty() || self.spin.is_some()) {
             return;
         }
         if p.sync && p.dwell > 0.0 {
             // A dwell holds the line until it has elapsed; time passes in run_motion.
             return;
         }
-        while !p.segments.is_empty() && self.motion.len() < self.config.planner_blocks {
-            let s = p.segments.pop_front().unwrap_or(Segment {
-                to: self.mpos,
-                rate: Rate::Rapid,
-            });
+        let a_limits = rotary::limits(&self.settings);
+        while !p.segments.is_empty()
+            && self.motion.len() < self.config.planner_blocks
+            && self.spin.is_none()
+        {
+            let Some(&s) = p.segments.front() else { break };
+            let tail = self.motion.tail();
+            let length = interp::dist(&tail, &s.to);
+            let turn = s.a - self.a_tail;
+            if let (Some(lim), true) = (a_limits, length < 1e-6 && turn.abs() > 1e-9) {
+                // A alone: it waits for the blocks before it, then turns by itself.
+                if !self.motion.is_empty() {
+                    return;
+                }
+                p.segments.pop_front();
+                self.spin = Some(Spin::new(self.a_tail, s.a, s.rate, lim));
+                self.a_tail = s.a;
+                self.blocks_pushed += 1;
+                self.block_ends.push_back(s.to);
+                if self.state == State::Idle {
+                    self.state = if self.jogging { State::Jog } else { State::Run };
+                }
+                break;
+            }
+            p.segments.pop_front();
             let (speed, kind) = match s.rate {
                 Rate::Rapid => (f64::INFINITY, MoveKind::Rapid),
                 // grbl's feeds are mm/min; the planner's mm/s.
                 Rate::Feed(f) => (f / 60.0, MoveKind::Feed),
+            };
+            let speed = match a_limits {
+                Some((rate, _)) => rotary::mixed_speed(speed, length, turn, rate),
+                None => speed,
             };
             let push = Push {
                 line: 0,
@@ -618,6 +670,13 @@ impl Core {
             if !self.motion.push(push).unwrap_or(false) {
                 continue;
             }
+            self.lanes.push_back(Lane {
+                start: tail,
+                length,
+                a0: self.a_tail,
+                a1: s.a,
+            });
+            self.a_tail = s.a;
             self.blocks_pushed += 1;
             self.block_ends.push_back(s.to);
             if self.state == State::Idle {
@@ -661,6 +720,7 @@ impl Core {
             if p.sync
                 && p.dwell > 0.0
                 && self.motion.is_empty()
+                && self.spin.is_none()
                 && !matches!(self.state, State::Hold(_) | State::Door(_))
             {
                 let used = p.dwell.min(dt);
@@ -669,6 +729,29 @@ impl Core {
                     p.dwell = 0.0;
                 }
             }
+        }
+        if let Some(spin) = self.spin.as_mut() {
+            // A turn of A alone is short and runs to its end, a hold included; the hold
+            // completes when it does.
+            if !matches!(
+                self.state,
+                State::Run | State::Jog | State::Hold(1) | State::Door(2)
+            ) {
+                return;
+            }
+            let (a, done) = spin.advance(dt);
+            self.mpos_a = a;
+            self.stats.busy_seconds += dt - done.unwrap_or(0.0);
+            let Some(rest) = done else { return };
+            self.spin = None;
+            self.blocks_done += 1;
+            if let Some(end) = self.block_ends.pop_front() {
+                self.record_piece(end);
+            }
+            self.record_done();
+            // The time left after the turn goes to what follows.
+            self.advance_pending();
+            return self.run_motion(rest);
         }
         if self.motion.is_empty() {
             match self.state {
@@ -696,6 +779,12 @@ impl Core {
             if let Some(end) = self.block_ends.pop_front() {
                 self.record_piece(end);
             }
+            if let Some(l) = self.lanes.pop_front() {
+                self.mpos_a = l.a1;
+            }
+        }
+        if let Some(l) = self.lanes.front() {
+            self.mpos_a = l.a_at(self.mpos);
         }
         self.record_done();
         let at_rest = self.motion.held() || self.motion.is_empty();
@@ -729,18 +818,29 @@ impl Core {
         let mask = self.setting(10) as u32;
         let wco = self.interp.wco();
         let inch = if self.setting(13) != 0.0 { 25.4 } else { 1.0 };
-        let f = |p: [f64; 3]| format!("{:.3},{:.3},{:.3}", p[0] / inch, p[1] / inch, p[2] / inch);
+        // grblHAL prints as many axes as it drives: A (degrees, never scaled by $13) last.
+        let a = self.has_a().then_some(self.mpos_a);
+        let f = |p: [f64; 3], a: Option<f64>| {
+            let xyz = format!("{:.3},{:.3},{:.3}", p[0] / inch, p[1] / inch, p[2] / inch);
+            match a {
+                Some(a) => format!("{xyz},{a:.3}"),
+                None => xyz,
+            }
+        };
         let mut s = format!("<{}", self.state.name());
         if mask & 1 != 0 {
-            s += &format!("|MPos:{}", f(self.mpos));
+            s += &format!("|MPos:{}", f(self.mpos, a));
         } else {
             s += &format!(
                 "|WPos:{}",
-                f([
-                    self.mpos[0] - wco[0],
-                    self.mpos[1] - wco[1],
-                    self.mpos[2] - wco[2]
-                ])
+                f(
+                    [
+                        self.mpos[0] - wco[0],
+                        self.mpos[1] - wco[1],
+                        self.mpos[2] - wco[2]
+                    ],
+                    a
+                )
             );
         }
         if mask & 2 != 0 {
@@ -758,13 +858,9 @@ impl Core {
         } else {
             self.interp.spindle_speed
         };
-        s += &format!(
-            "|FS:{:.0},{:.0}",
-            self.motion.speed() * 60.0 / inch,
-            spindle
-        );
+        s += &format!("|FS:{:.0},{:.0}", self.speed() * 60.0 / inch, spindle);
         if self.report_counter == 0 {
-            s += &format!("|WCO:{}", f(wco));
+            s += &format!("|WCO:{}", f(wco, a.map(|_| 0.0)));
             self.report_counter = if self.state == State::Idle { 10 } else { 30 };
         } else {
             self.report_counter -= 1;
@@ -790,6 +886,14 @@ impl Core {
         }
         s.push('>');
         s
+    }
+
+    /// Current path speed, mm/s (°/s while A turns alone).
+    fn speed(&self) -> f64 {
+        match &self.spin {
+            Some(s) => s.speed(),
+            None => self.motion.speed(),
+        }
     }
 
     /// Used RX bytes (what the sender's character count must never exceed).

@@ -31,7 +31,7 @@ pub(super) fn check(s: &Interp, b: &Block) -> Result<Plan, u8> {
         }
     }
     let scale = if b.inches { 25.4 } else { 1.0 };
-    let any_axis = b.axes().iter().any(|a| a.is_some());
+    let any_axis = b.axes().iter().any(|a| a.is_some()) || b.a().is_some();
 
     // Axis words with no explicit command fall to the modal motion mode.
     let motion_mode = b.motion.unwrap_or(s.modal.motion);

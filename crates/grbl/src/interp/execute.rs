@@ -98,6 +98,15 @@ fn target(s: &Interp, b: &Block, p: &Plan, machine: bool) -> [f64; 3] {
     t
 }
 
+/// Target of A, degrees: G53 and G90 absolute, G91 incremental (no work offset on A).
+fn target_a(s: &Interp, b: &Block) -> f64 {
+    match b.a() {
+        Some(a) if b.absolute || b.non_modal == NonModal::AbsOverride => a,
+        Some(a) => s.a + a,
+        None => s.a,
+    }
+}
+
 fn non_modal(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Result<(), u8> {
     match b.non_modal {
         NonModal::Dwell => {
@@ -131,11 +140,14 @@ fn non_modal(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Re
             // Optional intermediate point, then the stored position, both at rapid rate.
             if p.any_axis {
                 let mid = target(s, b, p, false);
+                let a = target_a(s, b);
                 effect.segments.push(Segment {
                     to: mid,
+                    a,
                     rate: Rate::Rapid,
                 });
                 s.pos = mid;
+                s.a = a;
             }
             let home = if b.non_modal == NonModal::Home28 {
                 s.g28
@@ -144,6 +156,7 @@ fn non_modal(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Re
             };
             effect.segments.push(Segment {
                 to: home,
+                a: s.a,
                 rate: Rate::Rapid,
             });
             s.pos = home;
@@ -212,20 +225,25 @@ fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Resul
                 };
             }
             let to = target(s, b, p, b.non_modal == NonModal::AbsOverride);
+            let a = target_a(s, b);
             let len = dist(&s.pos, &to);
+            // A move of A alone: its feed is degrees per minute (LinuxCNC's rule; the
+            // emulator times it so), and in inverse time its "length" is the turn.
+            let turn = if len == 0.0 { (a - s.a).abs() } else { 0.0 };
             if mode == MotionMode::Probe && len == 0.0 {
                 return Err(E_INVALID_TARGET);
             }
             let rate = if mode == MotionMode::Rapid {
                 Rate::Rapid
             } else {
-                feed_rate(p, b.inverse_time, len)
+                feed_rate(p, b.inverse_time, len + turn)
             };
-            if len > 0.0 {
-                effect.segments.push(Segment { to, rate });
+            if len > 0.0 || turn > 0.0 {
+                effect.segments.push(Segment { to, a, rate });
             }
             effect.probe = mode == MotionMode::Probe;
             s.pos = to;
+            s.a = a;
         }
         MotionMode::ArcCw | MotionMode::ArcCcw => {
             let plane = arc::plane(b.plane);
@@ -247,6 +265,9 @@ fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Resul
                 ijk.map(|o| o.map(|o| o * p.scale)),
             )?;
             let pts = arc::chords(s.pos, to, center, plane, cw, s.arc_tolerance);
+            // A turns with the arc, in step with its chords.
+            let (a0, a1) = (s.a, target_a(s, b));
+            let n = pts.len() as f64;
             let mut at = s.pos;
             let len: f64 = pts
                 .iter()
@@ -256,13 +277,15 @@ fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Resul
                     d
                 })
                 .sum();
-            for q in pts {
+            for (k, q) in pts.into_iter().enumerate() {
                 // In inverse time the whole arc takes 1/F minutes, shared by its chords.
                 let rate = feed_rate(p, b.inverse_time, if b.inverse_time { len } else { 0.0 });
-                effect.segments.push(Segment { to: q, rate });
+                let a = a0 + (a1 - a0) * (k + 1) as f64 / n;
+                effect.segments.push(Segment { to: q, a, rate });
                 s.pos = q;
             }
             s.pos = to;
+            s.a = a1;
         }
         MotionMode::None => {}
     }

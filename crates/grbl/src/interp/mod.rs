@@ -94,6 +94,8 @@ pub enum Rate {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
     pub to: [f64; 3],
+    /// The 4th axis A at the end, degrees (unchanged on a 3-axis machine).
+    pub a: f64,
     pub rate: Rate,
 }
 
@@ -136,6 +138,11 @@ pub struct Interp {
     pub g30: [f64; 3],
     /// $12 arc tolerance, mm.
     pub arc_tolerance: f64,
+    /// The machine has a 4th axis A (grblHAL built with N_AXIS = 4): A words are read,
+    /// otherwise they are error 20 as in grbl 1.1.
+    pub a_axis: bool,
+    /// Machine position of A, degrees. A has no work offset here: work A = machine A.
+    pub a: f64,
 }
 
 impl Default for Interp {
@@ -152,6 +159,8 @@ impl Default for Interp {
             g28: [0.0; 3],
             g30: [0.0; 3],
             arc_tolerance: 0.002,
+            a_axis: false,
+            a: 0.0,
         }
     }
 }
@@ -213,7 +222,7 @@ impl Interp {
     /// One line through gc_execute_line's steps: import the words (STEP 1–2), check them
     /// (STEP 3), execute (STEP 4).
     fn execute_words(&mut self, words: &[(char, f64)], jog: bool) -> Result<Effect, u8> {
-        let block = parse::import_words(words, &self.modal)?;
+        let block = parse::import_words(words, &self.modal, self.a_axis)?;
         let plan = check::check(self, &block)?;
         execute::execute(self, block, plan, jog)
     }
@@ -318,6 +327,7 @@ mod tests {
             e.segments,
             vec![Segment {
                 to: [11.0, 22.0, 0.0],
+                a: 0.0,
                 rate: Rate::Feed(600.0)
             }]
         );

@@ -92,6 +92,11 @@ impl Block {
         [self.value('X'), self.value('Y'), self.value('Z')]
     }
 
+    /// The A word (degrees), if given.
+    pub fn a(&self) -> Option<f64> {
+        self.value('A')
+    }
+
     /// A second axis command (G10 G28 G30 G92 without .1, G0–G3, G38) fails before its modal
     /// group is checked, as in gcode.c.
     fn claim_axes(&mut self) -> Result<(), u8> {
@@ -117,14 +122,20 @@ impl Groups {
 }
 
 /// STEP 1 and 2: the line's words into a block.
-pub(super) fn import_words(words: &[(char, f64)], modal: &Modal) -> Result<Block, u8> {
+/// `a_axis`: the machine has a 4th axis A, so A is an axis word.
+pub(super) fn import_words(
+    words: &[(char, f64)],
+    modal: &Modal,
+    a_axis: bool,
+) -> Result<Block, u8> {
     let mut b = Block::new(modal);
     let mut groups = Groups([false; 16]);
     for &(letter, value) in words {
         match letter {
             'G' => g_word(&mut b, &mut groups, value)?,
             'M' => m_word(&mut b, &mut groups, value)?,
-            'F' | 'I' | 'J' | 'K' | 'L' | 'N' | 'P' | 'R' | 'S' | 'T' | 'X' | 'Y' | 'Z' => {
+            'A' if !a_axis => return Err(E_UNSUPPORTED),
+            'A' | 'F' | 'I' | 'J' | 'K' | 'L' | 'N' | 'P' | 'R' | 'S' | 'T' | 'X' | 'Y' | 'Z' => {
                 let idx = index(letter);
                 if b.values[idx].is_some() {
                     return Err(E_REPEATED_WORD);
@@ -137,7 +148,7 @@ pub(super) fn import_words(words: &[(char, f64)], modal: &Modal) -> Result<Block
             _ => return Err(E_UNSUPPORTED),
         }
     }
-    for c in ['N', 'F', 'S', 'T', 'X', 'Y', 'Z'] {
+    for c in ['N', 'F', 'S', 'T', 'X', 'Y', 'Z', 'A'] {
         b.take(c);
     }
     Ok(b)

@@ -151,7 +151,8 @@ impl Core {
                 let (Ok(n), Ok(v)) = (n.parse::<u16>(), v.parse::<f64>()) else {
                     return self.reply_error(3);
                 };
-                if messages::setting_info(n).is_none() {
+                let a_setting = self.has_a() && matches!(n, 103 | 113 | 123 | 133);
+                if messages::setting_info(n).is_none() && !a_setting {
                     return self.reply_error(3);
                 }
                 if !idle_like {
