@@ -7,7 +7,7 @@ use anyhow::{bail, Context};
 use oficina_grbl::eta;
 use oficina_grbl::job::Job;
 use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
-use oficina_grbl::link::Event;
+use oficina_grbl::link::LinkEvent;
 use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use oficina_grbl::messages;
 use oficina_grbl::realtime::{self, Realtime};
@@ -15,7 +15,7 @@ use oficina_grbl::reconnect::RetryPolicy;
 use oficina_grbl::response::Response;
 use oficina_grbl::resume::ResumeOptions;
 use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
-use oficina_grbl::status::Status;
+use oficina_grbl::status::StatusReport;
 use oficina_grbl::transport::{self, Endpoint};
 use oficina_grbl_emu::emulator::{Config, Emulator};
 use std::io::BufRead;
@@ -154,8 +154,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// Status line shared by the terminal and the job runner.
-fn status_line(st: &Status) -> String {
+/// StatusReport line shared by the terminal and the job runner.
+fn status_line(st: &StatusReport) -> String {
     let pos = st
         .mpos
         .as_ref()
@@ -332,12 +332,12 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             last_query = Instant::now();
         }
         match sender.link().recv(Duration::from_millis(20)) {
-            Some(Event::Line(Response::Status(st), _)) => {
+            Some(LinkEvent::Line(Response::Status(st), _)) => {
                 eprint!("\r\x1b[K{}", status_line(&st));
             }
             // The increments of a continuous jog are acknowledged silently.
-            Some(Event::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
-            Some(Event::Line(resp, raw)) => {
+            Some(LinkEvent::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
+            Some(LinkEvent::Line(resp, raw)) => {
                 if resp.is_ack() {
                     unanswered = unanswered.saturating_sub(1);
                     last_reply = Instant::now();
@@ -350,7 +350,7 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                 eprint!("\r\x1b[K");
                 say!("{}", explain(&resp, &raw));
             }
-            Some(Event::Closed(why)) => bail!("connection closed: {why}"),
+            Some(LinkEvent::Closed(why)) => bail!("connection closed: {why}"),
             None => {}
         }
     }

@@ -8,7 +8,7 @@
 
 use oficina_grbl::realtime::Realtime;
 use oficina_grbl::response::Response;
-use oficina_grbl::status::Status;
+use oficina_grbl::status::StatusReport;
 use oficina_grbl_emu::emulator::{Config, Core, Flavor};
 use proptest::prelude::*;
 
@@ -103,7 +103,7 @@ proptest! {
         if r.is_ack() {
             prop_assert!(t == "ok" || t.starts_with("error:"), "{line:?} → {r:?}");
         }
-        let _ = Status::parse(&line);
+        let _ = StatusReport::parse(&line);
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::{Dialect, Severity};
-use oficina_grbl::status::{State, Status};
+use oficina_grbl::status::{GrblState, StatusReport};
 use oficina_grbl_emu::emulator::profile::grbl_settings;
 use oficina_grbl_emu::emulator::{Config, Core, Flavor};
 use oficina_motion::{estimate, Profile};
@@ -75,7 +75,7 @@ fn stream(c: &mut Core, lines: &[String]) -> f64 {
                 inflight.pop_front();
             }
         }
-        if next == lines.len() && inflight.is_empty() && c.state == State::Idle {
+        if next == lines.len() && inflight.is_empty() && c.state == GrblState::Idle {
             return t;
         }
     }
@@ -113,7 +113,7 @@ fn rotary_engraving_ends_at_its_a_and_takes_the_planned_time() {
         "A {} vs {last_a}",
         c.mpos_a
     );
-    let report = Status::parse(&c.status_report()).unwrap();
+    let report = StatusReport::parse(&c.status_report()).unwrap();
     let mpos = report.mpos.expect("grblHAL reports MPos");
     assert_eq!(mpos.len(), 4, "{mpos:?}");
     assert!((mpos[3] - last_a).abs() < 1e-3);

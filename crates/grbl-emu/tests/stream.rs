@@ -51,7 +51,7 @@ fn send_response_mode_also_completes() {
 fn operator_hold_resume_stop_then_resume_from_the_located_line() {
     use oficina_grbl::resume::ResumeOptions;
     use oficina_grbl::sender::{Control, Notice};
-    use oficina_grbl::status::State;
+    use oficina_grbl::status::GrblState;
     let (emu, ep) = emulator(Some(115_200));
     let mut s = connect(&ep);
     let job = job(300);
@@ -68,7 +68,7 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
             }
         }
         Notice::Status(st) => {
-            if step == 1 && st.state == State::Hold(0) {
+            if step == 1 && st.state == GrblState::Hold(0) {
                 held_seen = true;
                 tx.send(Control::Resume).unwrap();
                 step = 2;
@@ -87,7 +87,7 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
         .expect("a stop at rest names the resume line");
     assert!(at.index >= 100 && at.index <= report.acked_end, "{at:?}");
     // The machine was reset at rest: idle, not in alarm, position kept.
-    assert_eq!(s.status().unwrap().state, State::Idle);
+    assert_eq!(s.status().unwrap().state, GrblState::Idle);
     let opts = ResumeOptions {
         safe_z: 2.0,
         plunge_feed: 3000.0,
@@ -171,9 +171,9 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
 #[test]
 fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
     use oficina_grbl::jog::{step_line, ContinuousJog};
-    use oficina_grbl::link::Event;
+    use oficina_grbl::link::LinkEvent;
     use oficina_grbl::response::Response;
-    use oficina_grbl::status::State;
+    use oficina_grbl::status::GrblState;
     use std::time::{Duration, Instant};
     let (_emu, ep) = emulator(None);
     let mut s = connect(&ep);
@@ -188,8 +188,8 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
         acks = 0;
         while let Some(ev) = s.link().recv(Duration::from_millis(5)) {
             match ev {
-                Event::Line(Response::Ok, _) => acks += 1,
-                Event::Line(Response::Error(e), _) => panic!("jog rejected: error:{e}"),
+                LinkEvent::Line(Response::Ok, _) => acks += 1,
+                LinkEvent::Line(Response::Error(e), _) => panic!("jog rejected: error:{e}"),
                 _ => {}
             }
         }
@@ -198,7 +198,7 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
     jog.stop(&mut s).unwrap();
     let st = loop {
         let st = s.status().unwrap();
-        if st.state == State::Idle {
+        if st.state == GrblState::Idle {
             break st;
         }
     };
@@ -237,7 +237,7 @@ fn check_mode_reports_every_bad_line_without_moving() {
 fn settings_overrides_and_safety_door() {
     use oficina_grbl::realtime::Realtime;
     use oficina_grbl::settings;
-    use oficina_grbl::status::State;
+    use oficina_grbl::status::GrblState;
     let (_emu, ep) = emulator(None);
     let mut s = connect(&ep);
     let all = settings::read(&mut s).unwrap();
@@ -263,9 +263,9 @@ fn settings_overrides_and_safety_door() {
     assert_eq!(ov, (120, 25, 100));
     // Safety door while idle, then cycle start closes it.
     s.realtime(Realtime::SafetyDoor).unwrap();
-    assert_eq!(s.status().unwrap().state, State::Door(0));
+    assert_eq!(s.status().unwrap().state, GrblState::Door(0));
     s.realtime(Realtime::CycleStart).unwrap();
-    assert_eq!(s.status().unwrap().state, State::Idle);
+    assert_eq!(s.status().unwrap().state, GrblState::Idle);
 }
 
 #[test]
@@ -303,7 +303,7 @@ fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
         .unwrap();
     assert!(at.index <= 3, "{at:?}");
     let st = s.status().unwrap();
-    assert_eq!(st.state, oficina_grbl::status::State::Idle);
+    assert_eq!(st.state, oficina_grbl::status::GrblState::Idle);
     assert!(st.mpos.unwrap().iter().all(|v| *v <= 0.0 && *v >= -200.0));
 }
 

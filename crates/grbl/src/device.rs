@@ -9,7 +9,7 @@ use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use crate::messages;
 use crate::realtime::Realtime;
 use crate::sender::{Control, Notice, SenderOptions, StreamEnd};
-use crate::status::{State as GrblState, Status as GrblStatus};
+use crate::status::{GrblState, StatusReport};
 use crate::transport::Endpoint;
 use oficina_machine::{Command, Event, Job, Machine, MachineError, MachineInfo, State, Status};
 use std::sync::mpsc::{self, Receiver, Sender};
@@ -75,7 +75,7 @@ impl GrblDevice {
 }
 
 /// grbl's status in the trait's terms. `wco` is the last work offset grbl reported.
-pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
+pub fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status) {
     into.state = match &st.state {
         GrblState::Idle | GrblState::Check | GrblState::Sleep => State::Idle,
         GrblState::Run | GrblState::Home => State::Run,

@@ -2,12 +2,12 @@
 //!
 //! ```
 //! use oficina_grbl::gline;
-//! use oficina_grbl::status::{State, Status};
+//! use oficina_grbl::status::{GrblState, StatusReport};
 //!
 //! // A status report with work coordinate offsets: the work position is MPos − WCO.
-//! let st = Status::parse("<Run|MPos:12.000,5.000,-1.000|FS:500,0|WCO:10.000,0.000,-2.000>");
+//! let st = StatusReport::parse("<Run|MPos:12.000,5.000,-1.000|FS:500,0|WCO:10.000,0.000,-2.000>");
 //! let st = st.unwrap();
-//! assert_eq!(st.state, State::Run);
+//! assert_eq!(st.state, GrblState::Run);
 //! assert_eq!(st.feed, Some(500.0));
 //! assert_eq!(st.work_position(None), Some(vec![2.0, 5.0, 1.0]));
 //!

@@ -43,7 +43,7 @@ pub const SETTINGS: &[SettingInfo] = &[
     s(4, "Invert step enable pin", "boolean", 0.0),
     s(5, "Invert limit pins", "boolean", 0.0),
     s(6, "Invert probe pin", "boolean", 0.0),
-    s(10, "Status report options", "mask", 1.0),
+    s(10, "StatusReport report options", "mask", 1.0),
     s(11, "Junction deviation", "millimeters", 0.010),
     s(12, "Arc tolerance", "millimeters", 0.002),
     s(13, "Report in inches", "boolean", 0.0),

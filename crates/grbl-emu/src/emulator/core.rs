@@ -18,7 +18,7 @@ use oficina_grbl::gline;
 use oficina_grbl::interp::{self, Flow, Interp, Rate, Segment};
 use oficina_grbl::messages::{self, SETTINGS};
 use oficina_grbl::realtime::Realtime;
-use oficina_grbl::status::State;
+use oficina_grbl::status::GrblState;
 use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
@@ -122,7 +122,7 @@ pub struct Core {
     pub config: Config,
     pub settings: BTreeMap<u16, f64>,
     pub interp: Interp,
-    pub state: State,
+    pub state: GrblState,
     /// Machine position (mm).
     pub mpos: [f64; 3],
     /// Machine position of the 4th axis A (degrees), on a board with `$103`.
@@ -157,7 +157,7 @@ pub struct Core {
     check_mode: bool,
     /// A jog cancel is braking; the jog blocks go once the machine is at rest.
     jog_cancelling: bool,
-    resume_state: State,
+    resume_state: GrblState,
     starving: Option<f64>,
     clock: f64,
     report_counter: u32,
@@ -186,7 +186,7 @@ impl Core {
             config,
             settings,
             interp: Interp::default(),
-            state: State::Idle,
+            state: GrblState::Idle,
             mpos: [0.0; 3],
             mpos_a: 0.0,
             a_tail: 0.0,
@@ -209,7 +209,7 @@ impl Core {
             overrides: (100, 100, 100),
             check_mode: false,
             jog_cancelling: false,
-            resume_state: State::Idle,
+            resume_state: GrblState::Idle,
             starving: None,
             clock: 0.0,
             report_counter: 0,
@@ -258,7 +258,7 @@ impl Core {
     fn boot(&mut self) {
         self.banner();
         if self.setting(22) != 0.0 {
-            self.state = State::Alarm;
+            self.state = GrblState::Alarm;
             self.msg("'$H'|'$X' to unlock");
         }
     }
@@ -307,7 +307,7 @@ impl Core {
         (!self.motion.is_empty() || self.spin.is_some())
             && matches!(
                 self.state,
-                State::Run | State::Jog | State::Hold(1) | State::Door(2)
+                GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
             )
     }
 
@@ -324,42 +324,42 @@ impl Core {
                 self.say(&s);
             }
             Realtime::FeedHold => {
-                if matches!(self.state, State::Run) {
-                    self.begin_decel(State::Hold(1));
-                } else if self.state == State::Jog {
+                if matches!(self.state, GrblState::Run) {
+                    self.begin_decel(GrblState::Hold(1));
+                } else if self.state == GrblState::Jog {
                     self.cancel_jog();
                 }
             }
             Realtime::SafetyDoor => {
                 if self.moving() {
-                    self.begin_decel(State::Door(2));
-                } else if !matches!(self.state, State::Alarm | State::Sleep) {
+                    self.begin_decel(GrblState::Door(2));
+                } else if !matches!(self.state, GrblState::Alarm | GrblState::Sleep) {
                     self.resume_state = if self.motion.is_empty() {
-                        State::Idle
+                        GrblState::Idle
                     } else {
-                        State::Run
+                        GrblState::Run
                     };
-                    self.state = State::Door(0);
+                    self.state = GrblState::Door(0);
                 }
             }
             Realtime::CycleStart => match self.state {
-                State::Hold(0) | State::Door(0) => {
+                GrblState::Hold(0) | GrblState::Door(0) => {
                     self.motion.resume();
                     self.state = if self.motion.is_empty() && self.pending.is_none() {
-                        State::Idle
+                        GrblState::Idle
                     } else {
-                        State::Run
+                        GrblState::Run
                     };
                 }
-                State::Idle if !self.motion.is_empty() => {
+                GrblState::Idle if !self.motion.is_empty() => {
                     self.motion.resume();
-                    self.state = State::Run;
+                    self.state = GrblState::Run;
                 }
                 _ => {}
             },
             Realtime::SoftReset => self.soft_reset(),
             Realtime::JogCancel => {
-                if self.state == State::Jog {
+                if self.state == GrblState::Jog {
                     self.cancel_jog();
                 }
             }
@@ -448,12 +448,12 @@ impl Core {
         self.flush_planner();
         self.jog_cancelling = false;
         self.jogging = false;
-        self.state = State::Idle;
+        self.state = GrblState::Idle;
         self.interp.pos = self.mpos;
         self.interp.a = self.mpos_a;
     }
 
-    fn begin_decel(&mut self, into: State) {
+    fn begin_decel(&mut self, into: GrblState) {
         self.motion.hold();
         self.state = into;
     }
@@ -463,10 +463,10 @@ impl Core {
         // with blocks still queued is grbl's safe way to cancel a job.
         if self.moving() {
             // Stopping without deceleration loses steps on a real machine: grbl says so.
-            self.state = State::Alarm;
+            self.state = GrblState::Alarm;
             self.say("ALARM:3");
-        } else if self.state != State::Alarm {
-            self.state = State::Idle;
+        } else if self.state != GrblState::Alarm {
+            self.state = GrblState::Idle;
         }
         self.flush_planner();
         self.pending = None;
@@ -492,7 +492,7 @@ impl Core {
         };
         self.starving = None;
         self.banner();
-        if self.state == State::Alarm {
+        if self.state == GrblState::Alarm {
             self.msg("'$H'|'$X' to unlock");
         }
     }
@@ -567,7 +567,10 @@ impl Core {
         if let Some(cmd) = clean.strip_prefix('$') {
             return self.system_command(cmd, raw);
         }
-        if matches!(self.state, State::Alarm | State::Jog | State::Sleep) {
+        if matches!(
+            self.state,
+            GrblState::Alarm | GrblState::Jog | GrblState::Sleep
+        ) {
             return self.reply_error(9);
         }
         match self.interp.execute(&clean) {
@@ -606,7 +609,7 @@ impl Core {
     fn alarm_soft_limit(&mut self) {
         self.flush_planner();
         self.pending = None;
-        self.state = State::Alarm;
+        self.state = GrblState::Alarm;
         self.interp.pos = self.mpos;
         self.interp.a = self.mpos_a;
         self.say("ALARM:2");
@@ -644,8 +647,12 @@ impl Core {
                 self.a_tail = s.a;
                 self.blocks_pushed += 1;
                 self.block_ends.push_back(s.to);
-                if self.state == State::Idle {
-                    self.state = if self.jogging { State::Jog } else { State::Run };
+                if self.state == GrblState::Idle {
+                    self.state = if self.jogging {
+                        GrblState::Jog
+                    } else {
+                        GrblState::Run
+                    };
                 }
                 break;
             }
@@ -679,8 +686,12 @@ impl Core {
             self.a_tail = s.a;
             self.blocks_pushed += 1;
             self.block_ends.push_back(s.to);
-            if self.state == State::Idle {
-                self.state = if self.jogging { State::Jog } else { State::Run };
+            if self.state == GrblState::Idle {
+                self.state = if self.jogging {
+                    GrblState::Jog
+                } else {
+                    GrblState::Run
+                };
             }
             if let Some(since) = self.starving.take() {
                 self.stats.starvations += 1;
@@ -699,8 +710,8 @@ impl Core {
             self.record_done();
         }
         match p.flow {
-            Flow::Pause => self.state = State::Hold(0),
-            Flow::End => self.state = State::Idle,
+            Flow::Pause => self.state = GrblState::Hold(0),
+            Flow::End => self.state = GrblState::Idle,
             Flow::Continue => {}
         }
         if p.probe {
@@ -721,7 +732,7 @@ impl Core {
                 && p.dwell > 0.0
                 && self.motion.is_empty()
                 && self.spin.is_none()
-                && !matches!(self.state, State::Hold(_) | State::Door(_))
+                && !matches!(self.state, GrblState::Hold(_) | GrblState::Door(_))
             {
                 let used = p.dwell.min(dt);
                 p.dwell -= used;
@@ -735,7 +746,7 @@ impl Core {
             // completes when it does.
             if !matches!(
                 self.state,
-                State::Run | State::Jog | State::Hold(1) | State::Door(2)
+                GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
             ) {
                 return;
             }
@@ -755,19 +766,19 @@ impl Core {
         }
         if self.motion.is_empty() {
             match self.state {
-                State::Run | State::Jog if self.pending.is_none() => {
-                    self.state = State::Idle;
+                GrblState::Run | GrblState::Jog if self.pending.is_none() => {
+                    self.state = GrblState::Idle;
                     self.jogging = false;
                 }
-                State::Hold(1) => self.state = State::Hold(0),
-                State::Door(2) => self.state = State::Door(0),
+                GrblState::Hold(1) => self.state = GrblState::Hold(0),
+                GrblState::Door(2) => self.state = GrblState::Door(0),
                 _ => {}
             }
             return;
         }
         if !matches!(
             self.state,
-            State::Run | State::Jog | State::Hold(1) | State::Door(2)
+            GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
         ) {
             return;
         }
@@ -792,8 +803,8 @@ impl Core {
             return self.end_jog_cancel();
         }
         match self.state {
-            State::Hold(1) if at_rest => self.state = State::Hold(0),
-            State::Door(2) if at_rest => self.state = State::Door(0),
+            GrblState::Hold(1) if at_rest => self.state = GrblState::Hold(0),
+            GrblState::Door(2) if at_rest => self.state = GrblState::Door(0),
             _ => {}
         }
         if !self.motion.is_empty() {
@@ -801,14 +812,14 @@ impl Core {
         }
         // The buffer ran dry: the machine stopped at the end of the last block.
         let more = !self.rx.is_empty() || self.pending.is_some();
-        if self.state == State::Run {
+        if self.state == GrblState::Run {
             self.starving = Some(self.clock - step.rest);
             self.starving_host_late = self.host_late;
             if !more {
-                self.state = State::Idle;
+                self.state = GrblState::Idle;
             }
-        } else if self.state == State::Jog && !more {
-            self.state = State::Idle;
+        } else if self.state == GrblState::Jog && !more {
+            self.state = GrblState::Idle;
             self.jogging = false;
         }
     }
@@ -861,7 +872,11 @@ impl Core {
         s += &format!("|FS:{:.0},{:.0}", self.speed() * 60.0 / inch, spindle);
         if self.report_counter == 0 {
             s += &format!("|WCO:{}", f(wco, a.map(|_| 0.0)));
-            self.report_counter = if self.state == State::Idle { 10 } else { 30 };
+            self.report_counter = if self.state == GrblState::Idle {
+                10
+            } else {
+                30
+            };
         } else {
             self.report_counter -= 1;
             if self.report_counter == 5 {
@@ -947,7 +962,7 @@ mod tests {
         feed(&mut c, "G1 X10 F600\n");
         c.tick(0.0);
         assert_eq!(take_out(&mut c), "ok\r\n");
-        assert_eq!(c.state, State::Run);
+        assert_eq!(c.state, GrblState::Run);
         // 10 mm/s at grbl's default $120 = 10 mm/s²: 1 s and 5 mm up, 1 s and 5 mm down.
         c.tick(0.5);
         assert!((c.mpos[0] - 1.25).abs() < 1e-9, "{:?}", c.mpos);
@@ -956,7 +971,7 @@ mod tests {
         assert!(c.status_report().contains("|FS:600,0"));
         c.tick(2.0001);
         assert_eq!(c.mpos, [10.0, 0.0, 0.0]);
-        assert_eq!(c.state, State::Idle);
+        assert_eq!(c.state, GrblState::Idle);
         feed(&mut c, "G1 X10 Y\n$99=1\n$I\n");
         c.tick(1.1);
         assert_eq!(
@@ -1002,15 +1017,15 @@ mod tests {
         c.tick(0.0);
         c.tick(1.0);
         c.realtime(Realtime::FeedHold);
-        assert_eq!(c.state, State::Hold(1));
+        assert_eq!(c.state, GrblState::Hold(1));
         // 0.1 s and 0.5 mm up to 10 mm/s, then 0.9 s cruising: at 9.5 mm. Braking at
         // 100 mm/s² takes 0.1 s over 0.5 mm.
         assert!((c.mpos[0] - 9.5).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(1.05);
-        assert_eq!(c.state, State::Hold(1));
+        assert_eq!(c.state, GrblState::Hold(1));
         assert!((c.mpos[0] - 9.875).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(1.2);
-        assert_eq!(c.state, State::Hold(0));
+        assert_eq!(c.state, GrblState::Hold(0));
         assert!((c.mpos[0] - 10.0).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(5.0);
         assert!((c.mpos[0] - 10.0).abs() < 1e-9);
@@ -1019,7 +1034,7 @@ mod tests {
         assert!((c.mpos[0] - 19.5).abs() < 1e-9, "{:?}", c.mpos);
         take_out(&mut c);
         c.realtime(Realtime::SoftReset);
-        assert_eq!(c.state, State::Alarm);
+        assert_eq!(c.state, GrblState::Alarm);
         let out = take_out(&mut c);
         assert!(out.starts_with("ALARM:3\r\n"), "{out}");
         feed(&mut c, "G0X0\n$X\n");
@@ -1062,7 +1077,7 @@ mod tests {
                 fed = true;
             }
             c.tick(t);
-            if t > 0.0 && c.state == State::Idle && c.rx_used() == 0 && c.planner_free() == 15 {
+            if t > 0.0 && c.state == GrblState::Idle && c.rx_used() == 0 && c.planner_free() == 15 {
                 break;
             }
             t += 0.001;
@@ -1089,7 +1104,7 @@ mod tests {
         c.tick(1.0);
         assert_eq!(take_out(&mut c), "", "no reply to anything before a reset");
         c.realtime(Realtime::SoftReset);
-        assert_eq!(c.state, State::Alarm);
+        assert_eq!(c.state, GrblState::Alarm);
         assert!(take_out(&mut c).contains("'$H'|'$X' to unlock"));
     }
 
@@ -1104,6 +1119,6 @@ mod tests {
             "{out}"
         );
         assert_eq!(c.mpos, [0.0; 3]);
-        assert_eq!(c.state, State::Idle);
+        assert_eq!(c.state, GrblState::Idle);
     }
 }
