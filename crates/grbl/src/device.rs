@@ -11,7 +11,9 @@ use crate::realtime::Realtime;
 use crate::sender::{Control, Notice, SenderOptions, StreamEnd};
 use crate::status::{GrblState, StatusReport};
 use crate::transport::Endpoint;
-use oficina_machine::{Command, Event, Job, Machine, MachineError, MachineInfo, State, Status};
+use oficina_machine::{
+    Command, Event, Job, Machine, MachineError, MachineInfo, RawReply, State, Status,
+};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -370,6 +372,27 @@ impl Machine for GrblDevice {
 
     fn status(&self) -> Status {
         lock(&self.status).clone()
+    }
+
+    fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
+        self.with_idle(|m| {
+            let reply = m.sender.command(line).map_err(|e| e.to_string())?;
+            Ok(RawReply {
+                lines: reply.lines,
+                error: reply.error.map(messages::describe_error),
+            })
+        })
+    }
+
+    fn firmware_settings(&mut self) -> Result<Vec<(u16, f64)>, MachineError> {
+        self.with_idle(|m| {
+            let all = crate::settings::read(&mut m.sender)?;
+            Ok(all.into_iter().map(|s| (s.number, s.value)).collect())
+        })
+    }
+
+    fn write_firmware_setting(&mut self, number: u16, value: f64) -> Result<(), MachineError> {
+        self.with_idle(|m| crate::settings::write(&mut m.sender, number, value).map(|_| ()))
     }
 
     fn disconnect(&mut self) {
