@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use oficina_grbl::device::GrblDevice;
+use oficina_grbl::GrblDevice;
 use oficina_machine::{Command, Event, Job, Machine, Pace, State};
 use std::sync::Arc;
 use std::time::Duration;
@@ -90,7 +90,7 @@ fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
         ),
         "{end:?}"
     );
-    let expected = oficina_grbl::resume::replay(&job_of(&text), usize::MAX).work_pos();
+    let expected = oficina_grbl::replay(&job_of(&text), usize::MAX).work_pos();
     let st = dev.status();
     for a in 0..3 {
         assert!(
@@ -109,8 +109,8 @@ fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
     dev.disconnect();
 }
 
-fn job_of(text: &str) -> oficina_grbl::job::Job {
-    oficina_grbl::job::Job::from_text("dev.nc", text).unwrap()
+fn job_of(text: &str) -> oficina_grbl::Job {
+    oficina_grbl::Job::from_text("dev.nc", text).unwrap()
 }
 
 #[test]

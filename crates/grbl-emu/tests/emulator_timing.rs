@@ -5,9 +5,9 @@
 
 use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::Dialect;
-use oficina_grbl::status::GrblState;
-use oficina_grbl_emu::emulator::profile::grbl_settings;
-use oficina_grbl_emu::emulator::{Config, Core};
+use oficina_grbl::GrblState;
+use oficina_grbl_emu::grbl_settings;
+use oficina_grbl_emu::{Config, Core};
 use oficina_motion::{estimate, Profile};
 use std::collections::VecDeque;
 use std::io::Cursor;

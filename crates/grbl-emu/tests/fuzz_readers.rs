@@ -6,10 +6,10 @@
 //! Case counts: `PROPTEST_CASES` (default 256 here, a brief run for CI); the long run in
 //! docs/grbl-link.md used `PROPTEST_CASES=…` on the release profile.
 
-use oficina_grbl::realtime::Realtime;
-use oficina_grbl::response::Response;
-use oficina_grbl::status::StatusReport;
-use oficina_grbl_emu::emulator::{Config, Core, Flavor};
+use oficina_grbl::Realtime;
+use oficina_grbl::Response;
+use oficina_grbl::StatusReport;
+use oficina_grbl_emu::{Config, Core, Flavor};
 use proptest::prelude::*;
 
 fn cases() -> u32 {

@@ -1,10 +1,10 @@
 //! The link life cycle against the emulator: retries until the firmware appears, then gives
 //! up on a port where none ever answers.
 
-use oficina_grbl::reconnect::{connect_with_retry, LinkState, RetryPolicy};
-use oficina_grbl::sender::SenderOptions;
-use oficina_grbl::transport::Endpoint;
-use oficina_grbl_emu::emulator::{Config, Emulator};
+use oficina_grbl::Endpoint;
+use oficina_grbl::SenderOptions;
+use oficina_grbl::{connect_with_retry, LinkState, RetryPolicy};
+use oficina_grbl_emu::{Config, Emulator};
 use std::time::Duration;
 
 #[test]

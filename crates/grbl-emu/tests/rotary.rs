@@ -7,9 +7,9 @@
 
 use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::{Dialect, Severity};
-use oficina_grbl::status::{GrblState, StatusReport};
-use oficina_grbl_emu::emulator::profile::grbl_settings;
-use oficina_grbl_emu::emulator::{Config, Core, Flavor};
+use oficina_grbl::{GrblState, StatusReport};
+use oficina_grbl_emu::grbl_settings;
+use oficina_grbl_emu::{Config, Core, Flavor};
 use oficina_motion::{estimate, Profile};
 use std::collections::VecDeque;
 use std::io::Cursor;
@@ -95,7 +95,7 @@ fn rotary_engraving_ends_at_its_a_and_takes_the_planned_time() {
     assert!(stream(&mut c, &[setup]) < 0.01);
     let lines: Vec<String> = text
         .lines()
-        .map(|l| oficina_grbl::gline::clean(l).unwrap())
+        .map(|l| oficina_grbl::clean_line(l).unwrap())
         .filter(|l| !l.is_empty() && l != "%")
         .collect();
     let t0 = c.stats.busy_seconds;

@@ -93,12 +93,14 @@ pub fn alarm_text(code: u8) -> Option<(&'static str, &'static str)> {
 }
 
 /// Every defined error code, in order (for documentation and tests).
-pub fn error_codes() -> impl Iterator<Item = u8> {
+#[cfg(test)]
+fn error_codes() -> impl Iterator<Item = u8> {
     oficina_gcode::grbl_errors::error_codes()
 }
 
 /// Every defined alarm code, in order.
-pub fn alarm_codes() -> impl Iterator<Item = u8> {
+#[cfg(test)]
+fn alarm_codes() -> impl Iterator<Item = u8> {
     ALARMS.iter().map(|a| a.0)
 }
 

@@ -14,11 +14,10 @@
 
 use super::flavor::Flavor;
 use super::fluidnc;
-use oficina_grbl::gline;
-use oficina_grbl::interp::{self, Flow, Interp, Rate, Segment};
-use oficina_grbl::messages::{self, SETTINGS};
-use oficina_grbl::realtime::Realtime;
-use oficina_grbl::status::GrblState;
+use oficina_grbl::GrblState;
+use oficina_grbl::Realtime;
+use oficina_grbl::SETTINGS;
+use oficina_grbl::{Flow, Interp, Rate, Segment};
 use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
@@ -274,7 +273,7 @@ impl Core {
         let ahead = self.config.flavor.prepared_ahead();
         let prepared = match self.block_ends.front() {
             Some(end) if ahead > 0.0 && self.moving() => {
-                let left = interp::dist(&self.mpos, end);
+                let left = oficina_grbl::dist(&self.mpos, end);
                 usize::from(left <= self.motion.speed() * ahead)
             }
             _ => 0,
@@ -399,7 +398,7 @@ impl Core {
 
     /// The running block's motion so far ends at `to`.
     fn record_piece(&mut self, to: [f64; 3]) {
-        if self.config.record_motion && interp::dist(&self.piece_start, &to) > 1e-9 {
+        if self.config.record_motion && oficina_grbl::dist(&self.piece_start, &to) > 1e-9 {
             self.motion_record.push((self.piece_start, to));
         }
         self.piece_start = to;
@@ -554,9 +553,9 @@ impl Core {
 
     fn execute_line(&mut self, raw: &str) {
         if raw == "\u{1}overflow" {
-            return self.reply_error(gline::E_LINE_OVERFLOW);
+            return self.reply_error(oficina_grbl::E_LINE_OVERFLOW);
         }
-        let clean = match gline::clean(raw) {
+        let clean = match oficina_grbl::clean_line(raw) {
             Ok(c) => c,
             Err(e) => return self.reply_error(e),
         };
@@ -635,7 +634,7 @@ impl Core {
         {
             let Some(&s) = p.segments.front() else { break };
             let tail = self.motion.tail();
-            let length = interp::dist(&tail, &s.to);
+            let length = oficina_grbl::dist(&tail, &s.to);
             let turn = s.a - self.a_tail;
             if let (Some(lim), true) = (a_limits, length < 1e-6 && turn.abs() > 1e-9) {
                 // A alone: it waits for the blocks before it, then turns by itself.
@@ -864,7 +863,7 @@ impl Core {
             };
             s += &format!("|Bf:{},{}", self.reported_planner_free(), rx_free);
         }
-        let spindle = if self.interp.modal.spindle == interp::Spindle::Off {
+        let spindle = if self.interp.modal.spindle == oficina_grbl::Spindle::Off {
             0.0
         } else {
             self.interp.spindle_speed
@@ -884,9 +883,9 @@ impl Core {
                 s += &format!("|Ov:{a},{b},{c}");
                 let mut acc = String::new();
                 match self.interp.modal.spindle {
-                    interp::Spindle::Cw => acc.push('S'),
-                    interp::Spindle::Ccw => acc.push('C'),
-                    interp::Spindle::Off => {}
+                    oficina_grbl::Spindle::Cw => acc.push('S'),
+                    oficina_grbl::Spindle::Ccw => acc.push('C'),
+                    oficina_grbl::Spindle::Off => {}
                 }
                 if self.interp.modal.flood {
                     acc.push('F');
@@ -924,7 +923,7 @@ fn new_motion(settings: &BTreeMap<u16, f64>, at: [f64; 3]) -> Incremental {
 }
 
 fn format_setting(n: u16, v: f64) -> String {
-    let unit = messages::setting_info(n).map(|s| s.unit).unwrap_or("");
+    let unit = oficina_grbl::setting_info(n).map(|s| s.unit).unwrap_or("");
     if matches!(unit, "mask" | "boolean" | "microseconds" | "milliseconds") {
         format!("{}", v as i64)
     } else {

@@ -2,12 +2,12 @@
 //! against the emulator (CI) and against grblHAL's Simulator (when it is available).
 
 use super::coverage::{self, Piece};
-use oficina_grbl::job::Job;
-use oficina_grbl::realtime::Realtime;
-use oficina_grbl::resume::ResumeOptions;
-use oficina_grbl::sender::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
-use oficina_grbl::status::GrblState;
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::GrblState;
+use oficina_grbl::Job;
+use oficina_grbl::Realtime;
+use oficina_grbl::ResumeOptions;
+use oficina_grbl::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
 use std::sync::mpsc;
 use std::time::Duration;
 

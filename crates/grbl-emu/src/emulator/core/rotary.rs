@@ -30,7 +30,7 @@ pub(super) struct Lane {
 impl Lane {
     /// A where the tool is at `at` on this block.
     pub fn a_at(&self, at: [f64; 3]) -> f64 {
-        let f = (interp::dist(&self.start, &at) / self.length).clamp(0.0, 1.0);
+        let f = (oficina_grbl::dist(&self.start, &at) / self.length).clamp(0.0, 1.0);
         self.a0 + (self.a1 - self.a0) * f
     }
 }

@@ -155,7 +155,7 @@ impl Core {
                     return self.reply_error(3);
                 };
                 let a_setting = self.has_a() && matches!(n, 103 | 113 | 123 | 133);
-                if messages::setting_info(n).is_none() && !a_setting {
+                if oficina_grbl::setting_info(n).is_none() && !a_setting {
                     return self.reply_error(3);
                 }
                 if !idle_like {
@@ -193,7 +193,7 @@ impl Core {
         }
         // Keep the user's text after '=' (cleaned), validated on a scratch parser.
         let text = raw.split_once('=').map(|x| x.1).unwrap_or("");
-        let Ok(clean) = gline::clean(text) else {
+        let Ok(clean) = oficina_grbl::clean_line(text) else {
             return self.reply_error(14);
         };
         let mut scratch = self.interp.clone();
