@@ -177,7 +177,9 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
     let (_emu, ep) = emulator(None);
     let mut s = connect(&ep);
     // A step first: exactly 2 mm.
-    let r = s.command(&jog_step_line('Y', 2.0, 6000.0).unwrap()).unwrap();
+    let r = s
+        .command(&jog_step_line('Y', 2.0, 6000.0).unwrap())
+        .unwrap();
     assert_eq!(r.error, None);
     let mut jog = ContinuousJog::start(&s, 'X', 1.0, 600.0).unwrap();
     let t0 = Instant::now();

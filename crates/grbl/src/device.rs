@@ -77,7 +77,7 @@ impl GrblDevice {
 }
 
 /// grbl's status in the trait's terms. `wco` is the last work offset grbl reported.
-pub fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status) {
+pub(crate) fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status) {
     into.state = match &st.state {
         GrblState::Idle | GrblState::Check | GrblState::Sleep => State::Idle,
         GrblState::Run | GrblState::Home => State::Run,

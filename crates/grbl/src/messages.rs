@@ -83,12 +83,12 @@ fn lookup(
 }
 
 /// Name and description of `error:code`, if grbl 1.1 defines it.
-pub fn error_text(code: u8) -> Option<(&'static str, &'static str)> {
+pub(crate) fn error_text(code: u8) -> Option<(&'static str, &'static str)> {
     oficina_gcode::grbl_errors::error_text(u16::from(code))
 }
 
 /// Name and description of `ALARM:code`, if grbl 1.1 defines it.
-pub fn alarm_text(code: u8) -> Option<(&'static str, &'static str)> {
+pub(crate) fn alarm_text(code: u8) -> Option<(&'static str, &'static str)> {
     lookup(ALARMS, code)
 }
 

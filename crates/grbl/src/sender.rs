@@ -13,7 +13,7 @@ use crate::link::{Link, LinkEvent};
 use crate::messages;
 use crate::realtime::Realtime;
 use crate::report::after_rejection;
-pub use crate::report::{StreamEnd, StreamReport};
+pub(crate) use crate::report::{StreamEnd, StreamReport};
 use crate::response::Response;
 use crate::resume::{self, Located};
 use crate::status::{GrblState, StatusReport};

@@ -27,7 +27,7 @@ const LEVELS: [&str; 6] = ["None", "Error", "Warning", "Info", "Debug", "Verbose
 
 /// The named settings that are not grbl's numbers.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Named {
+pub(super) struct Named {
     pub config_filename: String,
     pub message_level: &'static str,
 }
@@ -43,7 +43,7 @@ impl Default for Named {
 
 /// What a `$…` line comes to on FluidNC.
 #[derive(Debug, PartialEq)]
-pub enum Outcome {
+pub(super) enum Outcome {
     /// Lines to print before `ok`.
     Say(Vec<String>),
     Error(u8),
@@ -55,7 +55,7 @@ pub enum Outcome {
 
 /// `cmd` is the line after its `$`. `idle`: the machine may change settings; `in_cycle`:
 /// a job runs or holds (FluidNC refuses long listings then).
-pub fn command(
+pub(super) fn command(
     cmd: &str,
     named: &mut Named,
     settings: &BTreeMap<u16, f64>,

@@ -13,24 +13,24 @@ mod check;
 mod execute;
 mod parse;
 
-pub const E_UNSUPPORTED: u8 = 20;
-pub const E_MODAL_GROUP: u8 = 21;
-pub const E_UNDEFINED_FEED: u8 = 22;
-pub const E_NOT_INTEGER: u8 = 23;
-pub const E_TWO_AXIS_COMMANDS: u8 = 24;
-pub const E_REPEATED_WORD: u8 = 25;
-pub const E_NO_AXIS_WORDS: u8 = 26;
-pub const E_INVALID_LINE_NUMBER: u8 = 27;
-pub const E_VALUE_MISSING: u8 = 28;
-pub const E_UNSUPPORTED_WCS: u8 = 29;
-pub const E_G53_MODE: u8 = 30;
-pub const E_AXIS_UNUSED: u8 = 31;
-pub const E_NO_AXIS_IN_PLANE: u8 = 32;
-pub const E_INVALID_TARGET: u8 = 33;
-pub const E_ARC_RADIUS: u8 = 34;
-pub const E_NO_OFFSETS_IN_PLANE: u8 = 35;
-pub const E_UNUSED_WORDS: u8 = 36;
-pub const E_TOOL_NUMBER: u8 = 38;
+pub(crate) const E_UNSUPPORTED: u8 = 20;
+pub(crate) const E_MODAL_GROUP: u8 = 21;
+pub(crate) const E_UNDEFINED_FEED: u8 = 22;
+pub(crate) const E_NOT_INTEGER: u8 = 23;
+pub(crate) const E_TWO_AXIS_COMMANDS: u8 = 24;
+pub(crate) const E_REPEATED_WORD: u8 = 25;
+pub(crate) const E_NO_AXIS_WORDS: u8 = 26;
+pub(crate) const E_INVALID_LINE_NUMBER: u8 = 27;
+pub(crate) const E_VALUE_MISSING: u8 = 28;
+pub(crate) const E_UNSUPPORTED_WCS: u8 = 29;
+pub(crate) const E_G53_MODE: u8 = 30;
+pub(crate) const E_AXIS_UNUSED: u8 = 31;
+pub(crate) const E_NO_AXIS_IN_PLANE: u8 = 32;
+pub(crate) const E_INVALID_TARGET: u8 = 33;
+pub(crate) const E_ARC_RADIUS: u8 = 34;
+pub(crate) const E_NO_OFFSETS_IN_PLANE: u8 = 35;
+pub(crate) const E_UNUSED_WORDS: u8 = 36;
+pub(crate) const E_TOOL_NUMBER: u8 = 38;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionMode {

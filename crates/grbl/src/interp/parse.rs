@@ -72,28 +72,28 @@ impl Block {
     }
 
     /// The value of a word, if the line has it.
-    pub fn value(&self, letter: char) -> Option<f64> {
+    pub(super) fn value(&self, letter: char) -> Option<f64> {
         self.values[index(letter)]
     }
 
     /// The value of a word, marking it used (grbl's error 36 catches the unused ones).
-    pub fn take(&mut self, letter: char) -> Option<f64> {
+    pub(super) fn take(&mut self, letter: char) -> Option<f64> {
         self.used[index(letter)] = true;
         self.value(letter)
     }
 
     /// A value word given on the line that no command used.
-    pub fn unused(&self, letter: char) -> bool {
+    pub(super) fn unused(&self, letter: char) -> bool {
         self.value(letter).is_some() && !self.used[index(letter)]
     }
 
     /// The X, Y, Z words given.
-    pub fn axes(&self) -> [Option<f64>; 3] {
+    pub(super) fn axes(&self) -> [Option<f64>; 3] {
         [self.value('X'), self.value('Y'), self.value('Z')]
     }
 
     /// The A word (degrees), if given.
-    pub fn a(&self) -> Option<f64> {
+    pub(super) fn a(&self) -> Option<f64> {
         self.value('A')
     }
 

@@ -29,7 +29,7 @@ pub(super) struct Lane {
 
 impl Lane {
     /// A where the tool is at `at` on this block.
-    pub fn a_at(&self, at: [f64; 3]) -> f64 {
+    pub(super) fn a_at(&self, at: [f64; 3]) -> f64 {
         let f = (oficina_grbl::dist(&self.start, &at) / self.length).clamp(0.0, 1.0);
         self.a0 + (self.a1 - self.a0) * f
     }
@@ -46,7 +46,7 @@ pub(super) struct Spin {
 
 impl Spin {
     /// From `a0` to `a1` at `rate` (feed in °/min, or rapid), from rest to rest.
-    pub fn new(a0: f64, a1: f64, rate: Rate, (max_rate, accel): (f64, f64)) -> Spin {
+    pub(super) fn new(a0: f64, a1: f64, rate: Rate, (max_rate, accel): (f64, f64)) -> Spin {
         let v = match rate {
             Rate::Rapid => max_rate,
             Rate::Feed(f) => (f / 60.0).min(max_rate),
@@ -64,7 +64,7 @@ impl Spin {
     }
 
     /// Runs `dt` seconds; returns A and the seconds left over once the turn is done.
-    pub fn advance(&mut self, dt: f64) -> (f64, Option<f64>) {
+    pub(super) fn advance(&mut self, dt: f64) -> (f64, Option<f64>) {
         self.t += dt;
         if self.t >= self.motion.duration {
             return (self.a1, Some(self.t - self.motion.duration));
@@ -73,7 +73,7 @@ impl Spin {
         (self.a0 + (self.a1 - self.a0).signum() * s, None)
     }
 
-    pub fn speed(&self) -> f64 {
+    pub(super) fn speed(&self) -> f64 {
         self.motion.at(self.t).1
     }
 }
