@@ -105,9 +105,9 @@ fn rotary_engraving_ends_at_its_a_and_takes_the_planned_time() {
     // The last A word of the program, and the report grblHAL prints with four axes.
     let last_a = text
         .lines()
+        .rev()
         .filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix('A')))
-        .filter_map(|a| a.parse::<f64>().ok())
-        .last()
+        .find_map(|a| a.parse::<f64>().ok())
         .unwrap();
     assert!(
         (c.mpos_a - last_a).abs() < 1e-9,
