@@ -26,7 +26,7 @@ pub fn open_machine_with(
         if work_offset.is_some() {
             return Err(Error("--work-offset is for the virtual machine; real firmware keeps its own G54 (set it with G10 L20 in the console)".into()));
         }
-        let device = oficina_grbl::device::GrblDevice::new(spec)
+        let device = oficina_grbl::GrblDevice::new(spec)
             .map_err(|e| Error(format!("--machine {spec}: {e}")))?;
         return Ok(Box::new(device));
     }

@@ -306,7 +306,7 @@ pub fn alarm_meaning(message: &str) -> String {
     {
         return format!(
             "{}. Unlock, then re-home or check the machine before running again.",
-            oficina_grbl::messages::describe_alarm(code)
+            oficina_grbl::describe_alarm(code)
         );
     }
     if message.contains("limit") {

@@ -7,10 +7,10 @@
 //! feed the wire can feed (the firmware keeps up: goal zero planner starvation).
 
 use anyhow::Context;
-use oficina_grbl::emulator::{Config, Emulator};
-use oficina_grbl::job::Job;
-use oficina_grbl::sender::{Mode, Notice, Sender, SenderOptions, StreamEnd};
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::Job;
+use oficina_grbl::{Mode, Notice, Sender, SenderOptions, StreamEnd};
+use oficina_grbl_emu::{Config, Emulator};
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]

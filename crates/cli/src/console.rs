@@ -4,20 +4,18 @@
 //! after a stop, an error, a crash or a pulled cable.
 
 use anyhow::{bail, Context};
-use oficina_grbl::emulator::{Config, Emulator};
-use oficina_grbl::eta;
-use oficina_grbl::job::Job;
-use oficina_grbl::jog::{self, ContinuousJog, JogRequest};
-use oficina_grbl::link::Event;
-use oficina_grbl::machine::{GrblMachine, RunOutcome, RunSettings, Start};
-use oficina_grbl::messages;
-use oficina_grbl::realtime::{self, Realtime};
-use oficina_grbl::reconnect::RetryPolicy;
-use oficina_grbl::response::Response;
-use oficina_grbl::resume::ResumeOptions;
-use oficina_grbl::sender::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
-use oficina_grbl::status::Status;
-use oficina_grbl::transport::{self, Endpoint};
+use oficina_grbl::Endpoint;
+use oficina_grbl::Job;
+use oficina_grbl::LinkEvent;
+use oficina_grbl::Realtime;
+use oficina_grbl::Response;
+use oficina_grbl::ResumeOptions;
+use oficina_grbl::RetryPolicy;
+use oficina_grbl::StatusReport;
+use oficina_grbl::{ContinuousJog, JogRequest};
+use oficina_grbl::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
+use oficina_grbl::{GrblMachine, RunOutcome, RunSettings, Start};
+use oficina_grbl_emu::{Config, Emulator};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -88,7 +86,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if args.list_ports {
-        let ports = transport::list_ports().context("cannot list serial ports")?;
+        let ports = oficina_grbl::list_ports().context("cannot list serial ports")?;
         if ports.is_empty() {
             say!("no serial ports found");
         }
@@ -154,8 +152,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// Status line shared by the terminal and the job runner.
-fn status_line(st: &Status) -> String {
+/// StatusReport line shared by the terminal and the job runner.
+fn status_line(st: &StatusReport) -> String {
     let pos = st
         .mpos
         .as_ref()
@@ -200,9 +198,9 @@ fn stdin_lines() -> mpsc::Receiver<String> {
 
 fn explain(resp: &Response, raw: &str) -> String {
     match resp {
-        Response::Error(c) => messages::describe_error(*c),
-        Response::Alarm(c) => messages::describe_alarm(*c),
-        Response::Setting { number, .. } => match messages::setting_info(*number) {
+        Response::Error(c) => oficina_grbl::describe_error(*c),
+        Response::Alarm(c) => oficina_grbl::describe_alarm(*c),
+        Response::Setting { number, .. } => match oficina_grbl::setting_info(*number) {
             Some(i) => format!("{raw:<18} ({}, {})", i.name, i.unit),
             None => raw.to_string(),
         },
@@ -259,19 +257,21 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                     "/door" => sender.realtime(Realtime::SafetyDoor),
                     "/jogcancel" => sender.realtime(Realtime::JogCancel),
                     "" => Ok(()),
-                    _ if t.starts_with("/ov ") => match realtime::override_by_name(t[4..].trim()) {
-                        Some(r) => sender.realtime(r),
-                        None => {
-                            eprintln!("\r\x1b[Koverrides: f+10 f-10 f+1 f-1 f100 r100 r50 r25 s+10 s-10 s+1 s-1 s100 sstop flood mist");
-                            Ok(())
+                    _ if t.starts_with("/ov ") => {
+                        match oficina_grbl::override_by_name(t[4..].trim()) {
+                            Some(r) => sender.realtime(r),
+                            None => {
+                                eprintln!("\r\x1b[Koverrides: f+10 f-10 f+1 f-1 f100 r100 r50 r25 s+10 s-10 s+1 s-1 s100 sstop flood mist");
+                                Ok(())
+                            }
                         }
-                    },
-                    _ if t.starts_with("/jog") => match jog::parse_request(&t[4..], 500.0) {
+                    }
+                    _ if t.starts_with("/jog") => match oficina_grbl::parse_jog(&t[4..], 500.0) {
                         Ok(JogRequest::Step {
                             axis,
                             distance,
                             feed,
-                        }) => match jog::step_line(axis, distance, feed) {
+                        }) => match oficina_grbl::jog_step_line(axis, distance, feed) {
                             Ok(l) => {
                                 unanswered += 1;
                                 sender.link().send_line(&l)
@@ -332,12 +332,12 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             last_query = Instant::now();
         }
         match sender.link().recv(Duration::from_millis(20)) {
-            Some(Event::Line(Response::Status(st), _)) => {
+            Some(LinkEvent::Line(Response::Status(st), _)) => {
                 eprint!("\r\x1b[K{}", status_line(&st));
             }
             // The increments of a continuous jog are acknowledged silently.
-            Some(Event::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
-            Some(Event::Line(resp, raw)) => {
+            Some(LinkEvent::Line(Response::Ok, _)) if jogging.is_some() => jog_acks += 1,
+            Some(LinkEvent::Line(resp, raw)) => {
                 if resp.is_ack() {
                     unanswered = unanswered.saturating_sub(1);
                     last_reply = Instant::now();
@@ -350,7 +350,7 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                 eprint!("\r\x1b[K");
                 say!("{}", explain(&resp, &raw));
             }
-            Some(Event::Closed(why)) => bail!("connection closed: {why}"),
+            Some(LinkEvent::Closed(why)) => bail!("connection closed: {why}"),
             None => {}
         }
     }
@@ -387,7 +387,7 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
                 "h" | "!" | "" => Control::Hold,
                 "r" | "~" => Control::Resume,
                 "s" | "q" => Control::Stop,
-                other => match realtime::override_by_name(other) {
+                other => match oficina_grbl::override_by_name(other) {
                     Some(r) => Control::Realtime(r),
                     None => continue,
                 },
@@ -403,7 +403,7 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
     // Machine time per line from grbl's timing model and the board's own $110… rates.
-    let cumulative = eta::cumulative_seconds(&job, &machine.sender.settings);
+    let cumulative = oficina_grbl::cumulative_seconds(&job, &machine.sender.settings);
     let mut progress: Option<(usize, usize, usize)> = None;
     let mut observer = |n: Notice| {
         match n {
@@ -419,7 +419,8 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
             eprint!("\r\x1b[K{last}");
             return;
         };
-        let left = eta::remaining(&cumulative, started, acked, start.elapsed().as_secs_f64());
+        let left =
+            oficina_grbl::eta_remaining(&cumulative, started, acked, start.elapsed().as_secs_f64());
         eprint!(
             "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {}:{:02}",
             100.0 * acked as f64 / total.max(1) as f64,

@@ -2,7 +2,7 @@
 //! dry-run jobs and senders (ours or any other) against the exact protocol.
 
 use anyhow::{bail, Context};
-use oficina_grbl::emulator::{Config, Emulator};
+use oficina_grbl_emu::{Config, Emulator};
 use std::io::Write;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -31,10 +31,11 @@ pub struct Args {
     /// 1024 bytes, `Bf:` freed as soon as a block is prepared, silent TCP port) or fluidnc
     /// (FluidNC's banner and `[MSG:INFO:…]` lines).
     #[arg(long, default_value = "grbl", value_name = "grbl|grblhal|fluidnc")]
-    pub flavor: oficina_grbl::emulator::Flavor,
+    pub flavor: oficina_grbl_emu::Flavor,
     /// Take $100-$132, $11 and $12 from an Oficina machine profile: a TOML file or a bundled
-    /// name (e.g. grbl-router).
-    #[arg(long, value_name = "PROFILE")]
+    /// name (e.g. grbl-router); a profile with `[joints.a]` adds grblHAL's 4th axis A
+    /// ($103-$133, e.g. router-4axis).
+    #[arg(long, alias = "machine", value_name = "PROFILE")]
     pub profile: Option<String>,
     /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable; applied after --profile).
     #[arg(long = "set", value_name = "N=VALUE")]
@@ -52,7 +53,9 @@ fn parse_setting(s: &str) -> anyhow::Result<(u16, f64)> {
         .trim_start_matches('$')
         .parse()
         .with_context(|| format!("--set {s}: '{n}' is not a setting number"))?;
-    if oficina_grbl::messages::setting_info(n).is_none() {
+    // grblHAL's 4th axis A ($103 steps/°, $113 °/min, $123 °/s², $133 travel).
+    let a_axis = matches!(n, 103 | 113 | 123 | 133);
+    if oficina_grbl::setting_info(n).is_none() && !a_axis {
         bail!("--set {s}: grbl 1.1 has no setting ${n}");
     }
     let v: f64 = v
@@ -69,7 +72,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut settings = match &args.profile {
         Some(spec) => {
             let profile = crate::machine_profile::resolve(spec)?;
-            oficina_grbl::emulator::profile::grbl_settings(&profile).map_err(anyhow::Error::msg)?
+            oficina_grbl_emu::grbl_settings(&profile).map_err(anyhow::Error::msg)?
         }
         None => Vec::new(),
     };

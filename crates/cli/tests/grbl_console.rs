@@ -248,7 +248,7 @@ fn console_resumes_from_the_journal_after_the_sender_is_killed() {
 
 #[test]
 fn console_reconnects_after_a_cut_cable_and_finishes_the_job() {
-    use oficina_grbl::proxy::{Fault, FaultProxy};
+    use oficina_grbl_emu::{Fault, FaultProxy};
     let (_emu, addr) = start_emulator();
     let job = write_job("cable", 300);
     // Cut the line about a third of the way through the job's bytes.

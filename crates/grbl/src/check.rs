@@ -3,7 +3,7 @@
 //! before any cut.
 
 use crate::job::Job;
-use crate::link::Event;
+use crate::link::LinkEvent;
 use crate::messages;
 use crate::response::Response;
 use crate::sender::{Mode, Sender};
@@ -45,7 +45,7 @@ impl Sender {
                 next += 1;
             }
             match self.link.recv(Duration::from_millis(20)) {
-                Some(Event::Line(r @ (Response::Ok | Response::Error(_)), _)) => {
+                Some(LinkEvent::Line(r @ (Response::Ok | Response::Error(_)), _)) => {
                     last_reply = Instant::now();
                     if let Some((i, len)) = inflight.pop_front() {
                         used -= len;
@@ -54,7 +54,7 @@ impl Sender {
                         }
                     }
                 }
-                Some(Event::Closed(why)) => return Err(why),
+                Some(LinkEvent::Closed(why)) => return Err(why),
                 _ => {
                     if last_reply.elapsed() > self.options.reply_timeout {
                         return Err(format!(

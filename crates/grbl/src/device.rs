@@ -9,9 +9,11 @@ use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use crate::messages;
 use crate::realtime::Realtime;
 use crate::sender::{Control, Notice, SenderOptions, StreamEnd};
-use crate::status::{State as GrblState, Status as GrblStatus};
+use crate::status::{GrblState, StatusReport};
 use crate::transport::Endpoint;
-use oficina_machine::{Command, Event, Job, Machine, MachineError, MachineInfo, State, Status};
+use oficina_machine::{
+    Command, Event, Job, Machine, MachineError, MachineInfo, RawReply, State, Status,
+};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -75,7 +77,7 @@ impl GrblDevice {
 }
 
 /// grbl's status in the trait's terms. `wco` is the last work offset grbl reported.
-pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
+pub(crate) fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status) {
     into.state = match &st.state {
         GrblState::Idle | GrblState::Check | GrblState::Sleep => State::Idle,
         GrblState::Run | GrblState::Home => State::Run,
@@ -86,7 +88,12 @@ pub fn translate_status(st: &GrblStatus, wco: &[f64], into: &mut Status) {
         GrblState::Other(s) => State::Alarm(format!("unknown grbl state {s}")),
     };
     let pick = |v: Option<Vec<f64>>| v.filter(|v| v.len() >= 3).map(|v| [v[0], v[1], v[2]]);
-    if let Some(m) = pick(st.machine_position(Some(wco))) {
+    let machine = st.machine_position(Some(wco));
+    // grblHAL prints as many axes as it drives (N_AXIS): a 4th is A, in degrees.
+    if let Some(a) = machine.as_ref().and_then(|v| v.get(3)) {
+        into.rotary_pos[0] = *a;
+    }
+    if let Some(m) = pick(machine) {
         into.machine_pos = m;
     }
     if let Some(w) = pick(st.work_position(Some(wco))) {
@@ -365,6 +372,27 @@ impl Machine for GrblDevice {
 
     fn status(&self) -> Status {
         lock(&self.status).clone()
+    }
+
+    fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
+        self.with_idle(|m| {
+            let reply = m.sender.command(line).map_err(|e| e.to_string())?;
+            Ok(RawReply {
+                lines: reply.lines,
+                error: reply.error.map(messages::describe_error),
+            })
+        })
+    }
+
+    fn firmware_settings(&mut self) -> Result<Vec<(u16, f64)>, MachineError> {
+        self.with_idle(|m| {
+            let all = crate::settings::read(&mut m.sender)?;
+            Ok(all.into_iter().map(|s| (s.number, s.value)).collect())
+        })
+    }
+
+    fn write_firmware_setting(&mut self, number: u16, value: f64) -> Result<(), MachineError> {
+        self.with_idle(|m| crate::settings::write(&mut m.sender, number, value).map(|_| ()))
     }
 
     fn disconnect(&mut self) {

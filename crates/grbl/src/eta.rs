@@ -21,6 +21,7 @@ pub fn cumulative_seconds(job: &Job, settings: &BTreeMap<u16, f64>) -> Vec<f64> 
     let caps = [max_rate(0), max_rate(1), max_rate(2)];
     let mut interp = Interp {
         arc_tolerance: settings.get(&12).copied().unwrap_or(0.002),
+        a_axis: true,
         ..Interp::default()
     };
     let mut out = Vec::with_capacity(job.len() + 1);

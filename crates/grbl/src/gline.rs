@@ -6,8 +6,8 @@
 /// grbl's LINE_BUFFER_SIZE less the terminating zero.
 pub const MAX_LINE: usize = 79;
 
-pub const E_EXPECTED_LETTER: u8 = 1;
-pub const E_BAD_NUMBER: u8 = 2;
+pub(crate) const E_EXPECTED_LETTER: u8 = 1;
+pub(crate) const E_BAD_NUMBER: u8 = 2;
 pub const E_NEGATIVE: u8 = 4;
 pub const E_LINE_OVERFLOW: u8 = 11;
 

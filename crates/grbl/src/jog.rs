@@ -86,7 +86,7 @@ pub fn parse_request(text: &str, default_feed: f64) -> Result<JogRequest, String
 
 /// Seconds of motion per continuous-jog increment for `feed` mm/min, acceleration `accel`
 /// mm/s² and `blocks` planner blocks; never below 25 ms so the serial line keeps up.
-pub fn increment_seconds(feed: f64, accel: f64, blocks: usize) -> f64 {
+pub(crate) fn increment_seconds(feed: f64, accel: f64, blocks: usize) -> f64 {
     let v = feed / 60.0;
     let n = blocks.saturating_sub(1).max(1) as f64;
     (v * v / (2.0 * accel.max(1e-3) * n)).max(0.025)

@@ -1,53 +1,77 @@
 //! The grbl-family machine link.
 //!
 //! ```
-//! use oficina_grbl::gline;
-//! use oficina_grbl::status::{State, Status};
+//! use oficina_grbl::{clean_line, line_words, GrblState, StatusReport, E_LINE_OVERFLOW};
 //!
 //! // A status report with work coordinate offsets: the work position is MPos − WCO.
-//! let st = Status::parse("<Run|MPos:12.000,5.000,-1.000|FS:500,0|WCO:10.000,0.000,-2.000>");
+//! let st = StatusReport::parse("<Run|MPos:12.000,5.000,-1.000|FS:500,0|WCO:10.000,0.000,-2.000>");
 //! let st = st.unwrap();
-//! assert_eq!(st.state, State::Run);
+//! assert_eq!(st.state, GrblState::Run);
 //! assert_eq!(st.feed, Some(500.0));
 //! assert_eq!(st.work_position(None), Some(vec![2.0, 5.0, 1.0]));
 //!
 //! // An input line as grbl reads it: comments and spaces dropped, letters upper-cased.
-//! let line = gline::clean("g1 x10 (to the edge) f300 ; finish").unwrap();
+//! let line = clean_line("g1 x10 (to the edge) f300 ; finish").unwrap();
 //! assert_eq!(line, "G1X10F300");
-//! assert_eq!(gline::words(&line).unwrap(), [('G', 1.0), ('X', 10.0), ('F', 300.0)]);
+//! assert_eq!(line_words(&line).unwrap(), [('G', 1.0), ('X', 10.0), ('F', 300.0)]);
 //! // A line longer than grbl's 80-byte buffer is error 11.
-//! assert_eq!(gline::clean(&"G1X1".repeat(21)), Err(gline::E_LINE_OVERFLOW));
+//! assert_eq!(clean_line(&"G1X1".repeat(21)), Err(E_LINE_OVERFLOW));
 //! ```
 //!
-//! - [`messages`], [`realtime`], [`status`], [`response`]: the grbl 1.1 protocol vocabulary;
-//! - [`gline`], [`interp`]: grbl's G-code dialect (shared by the emulator and resume);
-//! - [`transport`], [`link`]: serial, TCP and pty byte pipes and the line reader;
-//! - [`job`], [`journal`], [`sender`], [`report`], [`track`], [`resume`]: streaming, its record,
-//!   how it ended and resume; [`check`]: a job through grbl's check mode;
-//! - [`settings`], [`jog`], [`device`] (the `Machine` trait): the rest of the machine panel;
-//! - [`machine`]: `GrblMachine`, the one-call job runner; [`reconnect`]: the link life cycle;
-//! - [`emulator`]: grbl 1.1 in software over a pty or TCP; [`proxy`]: fault injection.
+//! The API is the flat list below (modules are private):
+//! - the grbl 1.1 protocol vocabulary: [`Realtime`], [`StatusReport`] / [`GrblState`],
+//!   [`Response`], the error/alarm/setting texts ([`describe_error`], [`setting_info`]);
+//! - grbl's G-code dialect (shared by the emulator and resume): [`clean_line`],
+//!   [`line_words`], the modal [`Interp`] and the [`Segment`]s a line moves;
+//! - byte pipes and the line reader: [`Endpoint`], [`Pty`], [`Link`] / [`LinkEvent`];
+//! - streaming, its record, how it ended and resume: [`Job`], [`Sender`], [`StreamReport`],
+//!   [`ResumeOptions`], [`replay`], [`resume_preamble`];
+//! - the machine panel: [`read_settings`], [`write_setting`], [`ContinuousJog`],
+//!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
+//!   [`connect_with_retry`] (the link life cycle), [`cumulative_seconds`] (ETA).
+//!
+//! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
-pub mod check;
-pub mod device;
-pub mod emulator;
-pub mod eta;
-pub mod gline;
-pub mod interp;
-pub mod job;
-pub mod jog;
-pub mod journal;
-pub mod link;
-pub mod machine;
-pub mod messages;
-pub mod proxy;
-pub mod realtime;
-pub mod reconnect;
-pub mod report;
-pub mod response;
-pub mod resume;
-pub mod sender;
-pub mod settings;
-pub mod status;
-pub mod track;
-pub mod transport;
+// What other crates do not use is `pub(crate)`: the API is the list below.
+#![warn(unreachable_pub)]
+
+mod check;
+mod device;
+mod eta;
+mod gline;
+mod interp;
+mod job;
+mod jog;
+mod journal;
+mod link;
+mod machine;
+mod messages;
+mod realtime;
+mod reconnect;
+mod report;
+mod response;
+mod resume;
+mod sender;
+mod settings;
+mod status;
+mod track;
+mod transport;
+
+pub use device::{feed_override_bytes, spindle_override_bytes, GrblDevice};
+pub use eta::{cumulative_seconds, remaining as eta_remaining};
+pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, E_NEGATIVE, MAX_LINE};
+pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
+pub use job::{Job, JobLine};
+pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
+pub use link::{Link, LinkEvent};
+pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};
+pub use messages::{describe_alarm, describe_error, setting_info, SettingInfo, SETTINGS};
+pub use realtime::{override_by_name, Realtime};
+pub use reconnect::{connect_with_retry, LinkState, RetryPolicy};
+pub use report::{StreamEnd, StreamReport};
+pub use response::Response;
+pub use resume::{preamble as resume_preamble, replay, ResumeOptions};
+pub use sender::{Control, Mode, Notice, Reply, Sender, SenderOptions};
+pub use settings::{read as read_settings, write as write_setting, Setting};
+pub use status::{GrblState, StatusReport};
+pub use transport::{is_timeout, list_ports, Endpoint, PortInfo, Pty};

@@ -16,7 +16,7 @@ use std::time::Duration;
 const MAX_INCOMING_LINE: usize = 512;
 
 #[derive(Debug, Clone, PartialEq)]
-pub enum Event {
+pub enum LinkEvent {
     /// A line from the firmware, classified, with its raw text.
     Line(Response, String),
     /// The connection ended; the reason says how.
@@ -25,7 +25,7 @@ pub enum Event {
 
 pub struct Link {
     writer: Box<dyn Write + Send>,
-    events: Receiver<Event>,
+    events: Receiver<LinkEvent>,
     stop: Arc<AtomicBool>,
     reader: Option<JoinHandle<()>>,
     pub description: String,
@@ -48,7 +48,9 @@ impl Link {
             while !stop_r.load(Ordering::Relaxed) {
                 match reader.read(&mut buf) {
                     Ok(0) => {
-                        let _ = tx.send(Event::Closed("the firmware closed the connection".into()));
+                        let _ = tx.send(LinkEvent::Closed(
+                            "the firmware closed the connection".into(),
+                        ));
                         return;
                     }
                     Ok(n) => {
@@ -61,7 +63,10 @@ impl Link {
                                 if text.trim().is_empty() {
                                     continue;
                                 }
-                                if tx.send(Event::Line(Response::parse(&text), text)).is_err() {
+                                if tx
+                                    .send(LinkEvent::Line(Response::parse(&text), text))
+                                    .is_err()
+                                {
                                     return;
                                 }
                             } else {
@@ -71,7 +76,7 @@ impl Link {
                     }
                     Err(e) if transport::is_timeout(&e) => {}
                     Err(e) => {
-                        let _ = tx.send(Event::Closed(format!("read failed: {e}")));
+                        let _ = tx.send(LinkEvent::Closed(format!("read failed: {e}")));
                         return;
                     }
                 }
@@ -104,11 +109,11 @@ impl Link {
     }
 
     /// The next event, or `None` after `timeout`.
-    pub fn recv(&self, timeout: Duration) -> Option<Event> {
+    pub fn recv(&self, timeout: Duration) -> Option<LinkEvent> {
         match self.events.recv_timeout(timeout) {
             Ok(e) => Some(e),
             Err(RecvTimeoutError::Timeout) => None,
-            Err(RecvTimeoutError::Disconnected) => Some(Event::Closed("reader stopped".into())),
+            Err(RecvTimeoutError::Disconnected) => Some(LinkEvent::Closed("reader stopped".into())),
         }
     }
 }

@@ -43,7 +43,7 @@ pub const SETTINGS: &[SettingInfo] = &[
     s(4, "Invert step enable pin", "boolean", 0.0),
     s(5, "Invert limit pins", "boolean", 0.0),
     s(6, "Invert probe pin", "boolean", 0.0),
-    s(10, "Status report options", "mask", 1.0),
+    s(10, "StatusReport report options", "mask", 1.0),
     s(11, "Junction deviation", "millimeters", 0.010),
     s(12, "Arc tolerance", "millimeters", 0.002),
     s(13, "Report in inches", "boolean", 0.0),
@@ -83,22 +83,24 @@ fn lookup(
 }
 
 /// Name and description of `error:code`, if grbl 1.1 defines it.
-pub fn error_text(code: u8) -> Option<(&'static str, &'static str)> {
+pub(crate) fn error_text(code: u8) -> Option<(&'static str, &'static str)> {
     oficina_gcode::grbl_errors::error_text(u16::from(code))
 }
 
 /// Name and description of `ALARM:code`, if grbl 1.1 defines it.
-pub fn alarm_text(code: u8) -> Option<(&'static str, &'static str)> {
+pub(crate) fn alarm_text(code: u8) -> Option<(&'static str, &'static str)> {
     lookup(ALARMS, code)
 }
 
 /// Every defined error code, in order (for documentation and tests).
-pub fn error_codes() -> impl Iterator<Item = u8> {
+#[cfg(test)]
+fn error_codes() -> impl Iterator<Item = u8> {
     oficina_gcode::grbl_errors::error_codes()
 }
 
 /// Every defined alarm code, in order.
-pub fn alarm_codes() -> impl Iterator<Item = u8> {
+#[cfg(test)]
+fn alarm_codes() -> impl Iterator<Item = u8> {
     ALARMS.iter().map(|a| a.0)
 }
 

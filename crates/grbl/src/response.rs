@@ -2,14 +2,14 @@
 //! one `ok` or `error:N`; everything else (status, feedback, alarms, the welcome banner) is
 //! unsolicited or a reply to a `$` query and must never be counted as an acknowledgement.
 
-use crate::status::Status;
+use crate::status::StatusReport;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Response {
     Ok,
     Error(u8),
     Alarm(u8),
-    Status(Status),
+    Status(StatusReport),
     /// The firmware (re)started; everything in flight is gone. grbl: `Grbl 1.1h ['$' for
     /// help]`; grblHAL: `GrblHAL 1.1f ['$' or '$HELP' for help]`; FluidNC: `Grbl 3.7.12
     /// [FluidNC v3.7.12 (wifi) '$' for help]`.
@@ -69,7 +69,7 @@ impl Response {
             }
         }
         if line.starts_with('<') && line.ends_with('>') {
-            return match Status::parse(line) {
+            return match StatusReport::parse(line) {
                 Ok(s) => Response::Status(s),
                 Err(_) => Response::Unknown(line.to_string()),
             };

@@ -10,11 +10,15 @@ use crate::interp::{self, Interp, MotionMode, Spindle};
 use crate::job::Job;
 
 /// Reported positions carry 3 decimals; a little more for rounding of MPos − WCO.
-pub const POSITION_TOLERANCE: f64 = 0.005;
+pub(crate) const POSITION_TOLERANCE: f64 = 0.005;
 
 /// The interpreter state after running lines `0..index` of `job`.
 pub fn replay(job: &Job, index: usize) -> Interp {
-    let mut i = Interp::default();
+    // The host follows any firmware: A words are read (a 3-axis board refuses them itself).
+    let mut i = Interp {
+        a_axis: true,
+        ..Interp::default()
+    };
     for l in job.lines.iter().take(index) {
         if l.text.starts_with('$') {
             continue;
@@ -39,7 +43,7 @@ pub struct Located {
 /// sending the line itself: a single straight move to an absolute end point, at a feed
 /// that does not depend on the move's length. Arcs, incremental moves, inverse-time feeds
 /// and moves in other coordinates are run again from their start instead.
-pub fn enterable_midway(after: &Interp, text: &str, effect: &interp::Effect) -> bool {
+pub(crate) fn enterable_midway(after: &Interp, text: &str, effect: &interp::Effect) -> bool {
     effect.segments.len() == 1
         && after.modal.absolute
         && !after.modal.inverse_time
@@ -54,7 +58,7 @@ pub fn enterable_midway(after: &Interp, text: &str, effect: &interp::Effect) -> 
 ///
 /// When the machine rests exactly at the end of a line, the modal-only lines after it that
 /// were acknowledged (`acked_end`) already took effect and are not sent again.
-pub fn locate(
+pub(crate) fn locate(
     job: &Job,
     certain: usize,
     sent_end: usize,
@@ -165,7 +169,7 @@ pub fn preamble(job: &Job, index: usize, opts: &ResumeOptions) -> Result<Vec<Str
 
 /// [`preamble`], approaching `entry` (work mm, a point on line `index` where the machine
 /// stopped, see [`Located::entry`]) instead of the line's start point.
-pub fn preamble_at(
+pub(crate) fn preamble_at(
     job: &Job,
     index: usize,
     entry: Option<[f64; 3]>,

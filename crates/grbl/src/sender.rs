@@ -9,14 +9,14 @@
 
 use crate::job::Job;
 use crate::journal::Journal;
-use crate::link::{Event, Link};
+use crate::link::{Link, LinkEvent};
 use crate::messages;
 use crate::realtime::Realtime;
 use crate::report::after_rejection;
-pub use crate::report::{StreamEnd, StreamReport};
+pub(crate) use crate::report::{StreamEnd, StreamReport};
 use crate::response::Response;
 use crate::resume::{self, Located};
-use crate::status::{State, Status};
+use crate::status::{GrblState, StatusReport};
 use crate::track::PathTracker;
 use crate::transport::Endpoint;
 use std::collections::VecDeque;
@@ -74,7 +74,7 @@ pub enum Notice {
         bytes_acked: u64,
         bytes_total: u64,
     },
-    Status(Status),
+    Status(StatusReport),
     /// A firmware line that is not part of the protocol (line noise, a fork's extra).
     Unexpected(String),
     Message(String),
@@ -86,7 +86,7 @@ pub struct Sender {
     pub mode: Mode,
     pub firmware: String,
     pub planner_blocks: usize,
-    pub last_status: Option<Status>,
+    pub last_status: Option<StatusReport>,
     last_wco: Option<Vec<f64>>,
     /// `$12` arc tolerance, to count the planner blocks an arc makes as grbl does.
     pub arc_tolerance: f64,
@@ -133,9 +133,9 @@ impl Sender {
                 last_query = Instant::now();
             }
             match s.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Welcome { version, .. }, _)) => s.firmware = version,
-                Some(Event::Line(Response::Status(st), _)) => s.note_status(st),
-                Some(Event::Closed(why)) => {
+                Some(LinkEvent::Line(Response::Welcome { version, .. }, _)) => s.firmware = version,
+                Some(LinkEvent::Line(Response::Status(st), _)) => s.note_status(st),
+                Some(LinkEvent::Closed(why)) => {
                     return Err(err(
                         io::ErrorKind::ConnectionAborted,
                         format!("{}: {why}", s.link.description),
@@ -203,7 +203,7 @@ impl Sender {
     }
 
     /// Whether a report says the planner holds no blocks (`true` when it does not say).
-    fn planner_drained(&self, st: &Status) -> bool {
+    fn planner_drained(&self, st: &StatusReport) -> bool {
         st.buffer
             .is_none_or(|(free, _)| free as usize >= self.planner_blocks)
     }
@@ -214,7 +214,7 @@ impl Sender {
             .is_some_and(|s| s.state.is_moving())
     }
 
-    fn note_status(&mut self, st: Status) {
+    fn note_status(&mut self, st: StatusReport) {
         if let Some(w) = &st.wco {
             self.last_wco = Some(w.clone());
         }
@@ -245,20 +245,20 @@ impl Sender {
                 ));
             }
             match self.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Ok, _)) => return Ok(Reply { lines, error: None }),
-                Some(Event::Line(Response::Error(c), _)) => {
+                Some(LinkEvent::Line(Response::Ok, _)) => return Ok(Reply { lines, error: None }),
+                Some(LinkEvent::Line(Response::Error(c), _)) => {
                     return Ok(Reply {
                         lines,
                         error: Some(c),
                     })
                 }
-                Some(Event::Line(Response::Status(st), _)) => self.note_status(st),
-                Some(Event::Line(Response::Welcome { .. }, raw)) => {
+                Some(LinkEvent::Line(Response::Status(st), _)) => self.note_status(st),
+                Some(LinkEvent::Line(Response::Welcome { .. }, raw)) => {
                     // A reset answers nothing more: `$C` leaving check mode ends like this.
                     lines.push(raw);
                 }
-                Some(Event::Line(_, raw)) => lines.push(raw),
-                Some(Event::Closed(why)) => {
+                Some(LinkEvent::Line(_, raw)) => lines.push(raw),
+                Some(LinkEvent::Closed(why)) => {
                     return Err(err(
                         io::ErrorKind::ConnectionAborted,
                         format!("{}: {why}", self.link.description),
@@ -270,11 +270,11 @@ impl Sender {
     }
 
     /// A fresh status report. Replies to earlier queries still in the channel are skipped.
-    pub fn status(&mut self) -> io::Result<Status> {
+    pub fn status(&mut self) -> io::Result<StatusReport> {
         while let Some(ev) = self.link.recv(Duration::ZERO) {
             match ev {
-                Event::Line(Response::Status(st), _) => self.note_status(st),
-                Event::Closed(why) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                LinkEvent::Line(Response::Status(st), _) => self.note_status(st),
+                LinkEvent::Closed(why) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
                 _ => {}
             }
         }
@@ -288,11 +288,13 @@ impl Sender {
                 last_query = Some(Instant::now());
             }
             match self.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Status(st), _)) => {
+                Some(LinkEvent::Line(Response::Status(st), _)) => {
                     self.note_status(st.clone());
                     return Ok(st);
                 }
-                Some(Event::Closed(why)) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                Some(LinkEvent::Closed(why)) => {
+                    return Err(err(io::ErrorKind::ConnectionAborted, why))
+                }
                 _ => {}
             }
         }
@@ -336,8 +338,8 @@ impl Sender {
             // still on the wire cannot pass for the final position.
             // Idle with blocks still planned is the moment before a cycle starts; a hold at
             // rest keeps its blocks.
-            let settled = st.state != State::Idle || self.planner_drained(&st);
-            if !st.state.is_moving() && st.state != State::Run && settled {
+            let settled = st.state != GrblState::Idle || self.planner_drained(&st);
+            if !st.state.is_moving() && st.state != GrblState::Run && settled {
                 if let Some(w) = st.work_position(self.last_wco.as_deref()) {
                     if w.len() >= 3 && rest.as_ref() == Some(&w) {
                         let k = if self.reports_inches { 25.4 } else { 1.0 };
@@ -379,8 +381,10 @@ impl Sender {
                 ));
             }
             match self.link.recv(Duration::from_millis(50)) {
-                Some(Event::Line(Response::Welcome { .. }, _)) => break,
-                Some(Event::Closed(why)) => return Err(err(io::ErrorKind::ConnectionAborted, why)),
+                Some(LinkEvent::Line(Response::Welcome { .. }, _)) => break,
+                Some(LinkEvent::Closed(why)) => {
+                    return Err(err(io::ErrorKind::ConnectionAborted, why))
+                }
                 _ => {}
             }
         }
@@ -521,7 +525,7 @@ impl Sender {
             };
             last_heard = Instant::now();
             match ev {
-                Event::Line(Response::Ok, raw) => match inflight.pop_front() {
+                LinkEvent::Line(Response::Ok, raw) => match inflight.pop_front() {
                     Some((i, len)) => {
                         used -= len;
                         bytes_acked += len as u64;
@@ -538,7 +542,7 @@ impl Sender {
                     }
                     None => observer(Notice::Unexpected(raw)),
                 },
-                Event::Line(Response::Error(code), raw) => match inflight.pop_front() {
+                LinkEvent::Line(Response::Error(code), raw) => match inflight.pop_front() {
                     Some((i, _)) => {
                         acked_end = i + 1;
                         jrec(&mut journal, &|j| j.error(i, code), observer);
@@ -546,10 +550,12 @@ impl Sender {
                     }
                     None => observer(Notice::Unexpected(raw)),
                 },
-                Event::Line(Response::Alarm(code), _) => break 'outer StreamEnd::Alarm(code),
-                Event::Line(Response::Welcome { .. }, _) => break 'outer StreamEnd::FirmwareReset,
-                Event::Line(Response::Status(st), _) => {
-                    let at_rest = st.state == State::Idle;
+                LinkEvent::Line(Response::Alarm(code), _) => break 'outer StreamEnd::Alarm(code),
+                LinkEvent::Line(Response::Welcome { .. }, _) => {
+                    break 'outer StreamEnd::FirmwareReset
+                }
+                LinkEvent::Line(Response::Status(st), _) => {
+                    let at_rest = st.state == GrblState::Idle;
                     let work = st.work_position(self.last_wco.as_deref());
                     if at_rest && inflight.is_empty() && self.planner_drained(&st) {
                         certain = acked_end;
@@ -602,10 +608,10 @@ impl Sender {
                         break 'outer StreamEnd::Completed;
                     }
                 }
-                Event::Line(Response::Message(m), _) => observer(Notice::Message(m)),
-                Event::Line(Response::Unknown(u), _) => observer(Notice::Unexpected(u)),
-                Event::Line(_, raw) => observer(Notice::Message(raw)),
-                Event::Closed(why) => break 'outer StreamEnd::Disconnected(why),
+                LinkEvent::Line(Response::Message(m), _) => observer(Notice::Message(m)),
+                LinkEvent::Line(Response::Unknown(u), _) => observer(Notice::Unexpected(u)),
+                LinkEvent::Line(_, raw) => observer(Notice::Message(raw)),
+                LinkEvent::Closed(why) => break 'outer StreamEnd::Disconnected(why),
             }
         };
         let sent_end = next;
@@ -729,7 +735,7 @@ impl Sender {
             // Connected while the machine was busy: size the window now that it rests.
             self.learn_firmware();
         }
-        if st.state == State::Alarm {
+        if st.state == GrblState::Alarm {
             if !unlock_alarm {
                 return Err("the machine is in alarm: check it, home it ($H) or unlock it ($X), then resume".into());
             }

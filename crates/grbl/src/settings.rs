@@ -44,7 +44,7 @@ pub fn read(sender: &mut Sender) -> Result<Vec<Setting>, String> {
 }
 
 /// Checks a value against the setting's kind before it is sent.
-pub fn validate(number: u16, value: f64) -> Result<&'static SettingInfo, String> {
+pub(crate) fn validate(number: u16, value: f64) -> Result<&'static SettingInfo, String> {
     let info = messages::setting_info(number)
         .ok_or_else(|| format!("${number}: grbl 1.1 has no such setting"))?;
     if !value.is_finite() || value < 0.0 {

@@ -3,7 +3,7 @@
 //! grbl forks (grblHAL, FluidNC) add their own.
 
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum State {
+pub enum GrblState {
     Idle,
     Run,
     /// `Hold:0` hold complete, `Hold:1` still decelerating.
@@ -20,31 +20,31 @@ pub enum State {
     Other(String),
 }
 
-impl State {
-    pub fn parse(s: &str) -> State {
+impl GrblState {
+    pub fn parse(s: &str) -> GrblState {
         let (name, sub) = match s.split_once(':') {
             Some((n, x)) => (n, x.parse::<u8>().ok()),
             None => (s, None),
         };
         match name {
-            "Idle" => State::Idle,
-            "Run" => State::Run,
-            "Hold" => State::Hold(sub.unwrap_or(0)),
-            "Jog" => State::Jog,
-            "Alarm" => State::Alarm,
-            "Door" => State::Door(sub.unwrap_or(0)),
-            "Check" => State::Check,
-            "Home" => State::Home,
-            "Sleep" => State::Sleep,
-            _ => State::Other(s.to_string()),
+            "Idle" => GrblState::Idle,
+            "Run" => GrblState::Run,
+            "Hold" => GrblState::Hold(sub.unwrap_or(0)),
+            "Jog" => GrblState::Jog,
+            "Alarm" => GrblState::Alarm,
+            "Door" => GrblState::Door(sub.unwrap_or(0)),
+            "Check" => GrblState::Check,
+            "Home" => GrblState::Home,
+            "Sleep" => GrblState::Sleep,
+            _ => GrblState::Other(s.to_string()),
         }
     }
 
     pub fn name(&self) -> String {
         match self {
-            State::Hold(n) => format!("Hold:{n}"),
-            State::Door(n) => format!("Door:{n}"),
-            State::Other(s) => s.clone(),
+            GrblState::Hold(n) => format!("Hold:{n}"),
+            GrblState::Door(n) => format!("Door:{n}"),
+            GrblState::Other(s) => s.clone(),
             other => format!("{other:?}"),
         }
     }
@@ -53,20 +53,20 @@ impl State {
     pub fn is_moving(&self) -> bool {
         matches!(
             self,
-            State::Run
-                | State::Jog
-                | State::Home
-                | State::Hold(1)
-                | State::Door(2)
-                | State::Door(3)
+            GrblState::Run
+                | GrblState::Jog
+                | GrblState::Home
+                | GrblState::Hold(1)
+                | GrblState::Door(2)
+                | GrblState::Door(3)
         )
     }
 }
 
 /// One parsed status report. Positions are in the report units (mm unless `$13=1`).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Status {
-    pub state: State,
+pub struct StatusReport {
+    pub state: GrblState,
     pub mpos: Option<Vec<f64>>,
     pub wpos: Option<Vec<f64>>,
     pub wco: Option<Vec<f64>>,
@@ -85,17 +85,17 @@ pub struct Status {
     pub extra: Vec<String>,
 }
 
-impl Status {
+impl StatusReport {
     /// Parses the text between (and including) `<` and `>`.
-    pub fn parse(line: &str) -> Result<Status, String> {
+    pub fn parse(line: &str) -> Result<StatusReport, String> {
         let inner = line
             .trim()
             .strip_prefix('<')
             .and_then(|l| l.strip_suffix('>'))
             .ok_or_else(|| format!("status report not enclosed in <>: {line:?}"))?;
         let mut fields = inner.split('|');
-        let state = State::parse(fields.next().unwrap_or(""));
-        let mut st = Status {
+        let state = GrblState::parse(fields.next().unwrap_or(""));
+        let mut st = StatusReport {
             state,
             mpos: None,
             wpos: None,
@@ -171,12 +171,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn parses_four_axis_reports_as_grblhal_prints_them() {
+        // grblHAL built with N_AXIS = 4 prints X, Y, Z, A in MPos/WPos and WCO.
+        let s = StatusReport::parse(
+            "<Run|MPos:10.000,0.000,19.500,370.000|FS:600,12000|WCO:10.000,225.000,-80.000,0.000>",
+        )
+        .unwrap();
+        assert_eq!(s.mpos, Some(vec![10.0, 0.0, 19.5, 370.0]));
+        assert_eq!(s.work_position(None), Some(vec![0.0, -225.0, 99.5, 370.0]));
+        let w = StatusReport::parse("<Idle|WPos:1.000,2.000,3.000,-45.500|FS:0,0>").unwrap();
+        assert_eq!(
+            w.machine_position(Some(&[1.0, 1.0, 1.0, 0.0])),
+            Some(vec![2.0, 3.0, 4.0, -45.5])
+        );
+    }
+
+    #[test]
     fn parses_every_field() {
-        let s = Status::parse(
+        let s = StatusReport::parse(
             "<Hold:1|MPos:1.000,-2.500,3.250|Bf:12,77|Ln:99|FS:500,12000|WCO:1.000,1.000,0.000|Pn:XZP|Ov:120,50,100|A:SFM|Foo:1>",
         )
         .unwrap();
-        assert_eq!(s.state, State::Hold(1));
+        assert_eq!(s.state, GrblState::Hold(1));
         assert_eq!(s.mpos, Some(vec![1.0, -2.5, 3.25]));
         assert_eq!(s.buffer, Some((12, 77)));
         assert_eq!(s.line, Some(99));
@@ -191,24 +207,24 @@ mod tests {
 
     #[test]
     fn substates_and_wpos() {
-        let s = Status::parse("<Door:2|WPos:0.000,0.000,1.000|F:300>").unwrap();
-        assert_eq!(s.state, State::Door(2));
+        let s = StatusReport::parse("<Door:2|WPos:0.000,0.000,1.000|F:300>").unwrap();
+        assert_eq!(s.state, GrblState::Door(2));
         assert_eq!(s.feed, Some(300.0));
         assert_eq!(
             s.machine_position(Some(&[1.0, 2.0, 3.0])),
             Some(vec![1.0, 2.0, 4.0])
         );
         assert_eq!(
-            Status::parse("<Tool|MPos:0,0,0>").unwrap().state,
-            State::Other("Tool".into())
+            StatusReport::parse("<Tool|MPos:0,0,0>").unwrap().state,
+            GrblState::Other("Tool".into())
         );
     }
 
     #[test]
     fn garbage_is_an_error_not_a_panic() {
-        assert!(Status::parse("<Idle|MPos:1,x,3>").is_err());
-        assert!(Status::parse("Idle|MPos:1,2,3").is_err());
-        assert!(Status::parse("<Idle|Bf:15>").is_err());
-        assert!(Status::parse("<Idle|MPos:nan,1,2>").is_err());
+        assert!(StatusReport::parse("<Idle|MPos:1,x,3>").is_err());
+        assert!(StatusReport::parse("Idle|MPos:1,2,3").is_err());
+        assert!(StatusReport::parse("<Idle|Bf:15>").is_err());
+        assert!(StatusReport::parse("<Idle|MPos:nan,1,2>").is_err());
     }
 }

@@ -18,14 +18,14 @@ struct Traced {
 
 /// Where a reported position was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Seen {
+pub(crate) struct Seen {
     /// The job line holding the position.
     pub index: usize,
     /// The position is the line's end point (the line is done).
     pub at_end: bool,
 }
 
-pub struct PathTracker {
+pub(crate) struct PathTracker {
     interp: Interp,
     lines: VecDeque<Traced>,
     /// Lines before this index are done (the machine was seen past them).
@@ -34,7 +34,7 @@ pub struct PathTracker {
 
 impl PathTracker {
     /// A tracker for streaming `job` from line `from`, with the firmware's `$12`.
-    pub fn new(job: &Job, from: usize, arc_tolerance: f64) -> PathTracker {
+    pub(crate) fn new(job: &Job, from: usize, arc_tolerance: f64) -> PathTracker {
         let mut interp = resume::replay(job, from);
         interp.arc_tolerance = arc_tolerance;
         PathTracker {
@@ -45,7 +45,7 @@ impl PathTracker {
     }
 
     /// Line `index` (text `text`) went to the firmware.
-    pub fn sent(&mut self, index: usize, text: &str) {
+    pub(crate) fn sent(&mut self, index: usize, text: &str) {
         if text.starts_with('$') {
             return;
         }
@@ -66,7 +66,7 @@ impl PathTracker {
     /// The machine reports it is at `work_pos` (mm): the first sent line, from the one it
     /// was last seen on, whose path holds the position. `None`: not on the path sent
     /// (a jog, a position read mid-reset); nothing changes.
-    pub fn observe(&mut self, work_pos: [f64; 3]) -> Option<Seen> {
+    pub(crate) fn observe(&mut self, work_pos: [f64; 3]) -> Option<Seen> {
         let (k, seen) = self.lines.iter().enumerate().find_map(|(k, t)| {
             let last = t.points.len() - 1;
             t.points.windows(2).enumerate().find_map(|(s, w)| {

@@ -11,7 +11,7 @@ use std::str::FromStr;
 use std::time::Duration;
 
 /// How long a blocked read waits before the reader loop looks around (closing, etc.).
-pub const READ_POLL: Duration = Duration::from_millis(50);
+pub(crate) const READ_POLL: Duration = Duration::from_millis(50);
 
 /// Where the firmware is.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,7 +87,7 @@ pub struct Connection {
 }
 
 /// Opens the endpoint. The error names the endpoint and the cause.
-pub fn open(endpoint: &Endpoint) -> io::Result<Connection> {
+pub(crate) fn open(endpoint: &Endpoint) -> io::Result<Connection> {
     let named = |e: io::Error| io::Error::new(e.kind(), format!("cannot open {endpoint}: {e}"));
     match endpoint {
         Endpoint::Serial { path, baud } => {

@@ -4,16 +4,16 @@
 
 use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::Dialect;
-use oficina_grbl::gline;
-use oficina_grbl::interp::Interp;
+use oficina_grbl::Interp;
 use std::io::Cursor;
 
 const SETUP: &str = "G21 G90 G94 G17 F100";
 
 fn ours(line: &str) -> Option<u16> {
     let mut i = Interp::default();
-    i.execute(&gline::clean(SETUP).unwrap()).unwrap();
-    let clean = match gline::clean(line) {
+    i.execute(&oficina_grbl::clean_line(SETUP).unwrap())
+        .unwrap();
+    let clean = match oficina_grbl::clean_line(line) {
         Ok(c) => c,
         Err(e) => return Some(e as u16),
     };

@@ -1,10 +1,15 @@
 //! A job: G-code text plus how to run it. The interpreter runs in its own thread and hands
 //! canon ops over a bounded channel, so memory stays flat however long the program is.
 
+#[cfg(feature = "virtual")]
 use oficina_canon::{Canon, CanonOp, Pos};
+#[cfg(feature = "virtual")]
 use oficina_gcode::program::RunOptions;
+#[cfg(feature = "virtual")]
 use oficina_gcode::Severity;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
+#[cfg(feature = "virtual")]
+use std::sync::Mutex;
 
 /// How fast the virtual machine runs relative to the clock.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,6 +30,7 @@ pub struct Job {
     pub pace: Pace,
 }
 
+#[cfg(feature = "virtual")]
 /// Canon ops of a job, in a bounded stream; the first interpreter error ends the stream and
 /// is left in `error`.
 pub struct CanonStream {
@@ -34,6 +40,7 @@ pub struct CanonStream {
     pub error: Arc<Mutex<Option<String>>>,
 }
 
+#[cfg(feature = "virtual")]
 impl Iterator for CanonStream {
     type Item = Canon;
     fn next(&mut self) -> Option<Canon> {
@@ -69,6 +76,7 @@ pub fn check_start_line(text: &str, line: u32) -> Result<(), String> {
     Ok(())
 }
 
+#[cfg(feature = "virtual")]
 /// `initial_params`: what the machine holds before the program (e.g. its stored G54 offset,
 /// [`oficina_motion::Profile::initial_params`]).
 pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
@@ -81,6 +89,7 @@ pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
     )
 }
 
+#[cfg(feature = "virtual")]
 /// [`canon_stream`] with every interpreter option (dialect, start feed, …).
 pub fn canon_stream_with(job: &Job, opts: RunOptions) -> CanonStream {
     let source = std::io::Cursor::new(ArcText(job.text.clone()));
@@ -92,15 +101,18 @@ pub fn canon_stream_with(job: &Job, opts: RunOptions) -> CanonStream {
     }
 }
 
+#[cfg(feature = "virtual")]
 /// The job's text, shared with the interpreter thread without a copy.
 struct ArcText(Arc<String>);
 
+#[cfg(feature = "virtual")]
 impl AsRef<[u8]> for ArcText {
     fn as_ref(&self) -> &[u8] {
         self.0.as_bytes()
     }
 }
 
+#[cfg(feature = "virtual")]
 /// Skips the motion before `line` and replaces it by rapids: up to a safe height, across,
 /// down to the point where `line` starts. State ops (feed, modes, offsets, the tool in the
 /// spindle) still pass; what waits for or talks to the operator before `line` (M0/M1 pauses,
@@ -114,6 +126,7 @@ pub struct ResumeFrom<I> {
     resumed: bool,
 }
 
+#[cfg(feature = "virtual")]
 impl<I: Iterator<Item = Canon>> ResumeFrom<I> {
     pub fn new(ops: I, line: u32, start: [f64; 3]) -> Self {
         ResumeFrom {
@@ -127,6 +140,7 @@ impl<I: Iterator<Item = Canon>> ResumeFrom<I> {
     }
 }
 
+#[cfg(feature = "virtual")]
 impl<I: Iterator<Item = Canon>> Iterator for ResumeFrom<I> {
     type Item = Canon;
     fn next(&mut self) -> Option<Canon> {
@@ -172,6 +186,7 @@ impl<I: Iterator<Item = Canon>> Iterator for ResumeFrom<I> {
     }
 }
 
+#[cfg(feature = "virtual")]
 /// Operations that only wait for the operator or tell them something: nothing of the machine's
 /// state changes with them.
 fn is_operator_step(op: &CanonOp) -> bool {

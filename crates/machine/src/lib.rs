@@ -28,10 +28,12 @@
 //! ```
 
 pub mod job;
+#[cfg(feature = "virtual")]
 pub mod virtual_machine;
 
 pub use job::{Job, Pace};
 use std::time::Duration;
+#[cfg(feature = "virtual")]
 pub use virtual_machine::VirtualMachine;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -148,4 +150,36 @@ pub trait Machine: Send {
     fn next_event(&mut self, timeout: Duration) -> Option<Event>;
     fn status(&self) -> Status;
     fn disconnect(&mut self);
+
+    /// Sends one line in the firmware's own language (a `$` command, or G-code typed at a
+    /// console) while no job runs, and waits for its acknowledgement. Machines without such a
+    /// language (the virtual machine) refuse.
+    fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
+        Err(MachineError::Refused(format!(
+            "`{line}`: this machine takes no firmware lines"
+        )))
+    }
+
+    /// The firmware's settings as (number, value), in its own numbering (grbl's `$$`).
+    fn firmware_settings(&mut self) -> Result<Vec<(u16, f64)>, MachineError> {
+        Err(MachineError::Refused(
+            "this machine has no firmware settings; its profile says how it moves".into(),
+        ))
+    }
+
+    /// Changes one firmware setting (grbl's `$N=V`), checked against the firmware's table
+    /// first; the machine must be idle.
+    fn write_firmware_setting(&mut self, number: u16, value: f64) -> Result<(), MachineError> {
+        Err(MachineError::Refused(format!(
+            "${number}={value}: this machine has no firmware settings"
+        )))
+    }
+}
+
+/// What the firmware answered to a [`Machine::raw_line`]: the lines before its
+/// acknowledgement, and the error it gave instead of `ok`, explained.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RawReply {
+    pub lines: Vec<String>,
+    pub error: Option<String>,
 }

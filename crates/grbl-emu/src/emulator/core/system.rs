@@ -8,8 +8,11 @@ impl Core {
     pub(super) fn system_command(&mut self, cmd: &str, raw: &str) {
         // system.c: `$$` is refused only in a cycle or hold (it takes too long to print);
         // `$G`, `$C`, `$X`, `$J=` have their own rules; everything else needs IDLE or ALARM.
-        let idle_like = matches!(self.state, State::Idle | State::Alarm);
-        let in_cycle = matches!(self.state, State::Run | State::Hold(_) | State::Door(_));
+        let idle_like = matches!(self.state, GrblState::Idle | GrblState::Alarm);
+        let in_cycle = matches!(
+            self.state,
+            GrblState::Run | GrblState::Hold(_) | GrblState::Door(_)
+        );
         if self.config.flavor == Flavor::FluidNc {
             // FluidNC reads a `$` line as typed (case, `/` and all), not cleaned like G-code.
             let typed = raw.trim().strip_prefix('$').unwrap_or(cmd);
@@ -97,16 +100,16 @@ impl Core {
                     self.soft_reset();
                     return;
                 }
-                if self.state != State::Idle {
+                if self.state != GrblState::Idle {
                     return self.reply_error(8);
                 }
                 self.check_mode = true;
-                self.state = State::Check;
+                self.state = GrblState::Check;
                 self.msg("Enabled");
             }
             "X" => {
-                if self.state == State::Alarm {
-                    self.state = State::Idle;
+                if self.state == GrblState::Alarm {
+                    self.state = GrblState::Idle;
                     self.msg("Caution: Unlocked");
                 }
             }
@@ -121,10 +124,10 @@ impl Core {
                 self.mpos = [0.0; 3];
                 self.motion = new_motion(&self.settings, self.mpos);
                 self.interp.pos = self.mpos;
-                self.state = State::Idle;
+                self.state = GrblState::Idle;
             }
             "SLP" => {
-                self.state = State::Sleep;
+                self.state = GrblState::Sleep;
                 self.msg("Sleeping");
             }
             "RST=$" | "RST=#" | "RST=*" => {
@@ -151,7 +154,8 @@ impl Core {
                 let (Ok(n), Ok(v)) = (n.parse::<u16>(), v.parse::<f64>()) else {
                     return self.reply_error(3);
                 };
-                if messages::setting_info(n).is_none() {
+                let a_setting = self.has_a() && matches!(n, 103 | 113 | 123 | 133);
+                if oficina_grbl::setting_info(n).is_none() && !a_setting {
                     return self.reply_error(3);
                 }
                 if !idle_like {
@@ -189,7 +193,7 @@ impl Core {
         }
         // Keep the user's text after '=' (cleaned), validated on a scratch parser.
         let text = raw.split_once('=').map(|x| x.1).unwrap_or("");
-        let Ok(clean) = gline::clean(text) else {
+        let Ok(clean) = oficina_grbl::clean_line(text) else {
             return self.reply_error(14);
         };
         let mut scratch = self.interp.clone();
@@ -203,7 +207,7 @@ impl Core {
     }
 
     fn jog(&mut self, body: &str) {
-        if !matches!(self.state, State::Idle | State::Jog) {
+        if !matches!(self.state, GrblState::Idle | GrblState::Jog) {
             return self.reply_error(8);
         }
         match self.interp.jog(body) {

@@ -31,7 +31,7 @@ struct Shared {
 pub struct Emulator {
     shared: Arc<Shared>,
     ticker: Option<thread::JoinHandle<()>>,
-    pty_keep: Mutex<Vec<crate::transport::Pty>>,
+    pty_keep: Mutex<Vec<oficina_grbl::Pty>>,
 }
 
 struct Pacer {
@@ -125,7 +125,7 @@ impl Emulator {
 
     /// Opens a pseudo-terminal and serves it; returns the path a sender opens.
     pub fn serve_pty(&self) -> io::Result<String> {
-        let pty = crate::transport::Pty::open()?;
+        let pty = oficina_grbl::Pty::open()?;
         let path = pty.slave_path.clone();
         let reader = pty.master.try_clone()?;
         let writer = pty.master.try_clone()?;
@@ -239,7 +239,7 @@ impl EmuHandle {
                             }
                         }
                     }
-                    Err(e) if crate::transport::is_timeout(&e) => {}
+                    Err(e) if oficina_grbl::is_timeout(&e) => {}
                     Err(_) => break,
                 }
             }

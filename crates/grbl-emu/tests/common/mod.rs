@@ -5,10 +5,10 @@ pub mod coverage;
 pub mod grblhal_sim;
 pub mod scenarios;
 
-use oficina_grbl::emulator::{Config, Emulator};
-use oficina_grbl::job::Job;
-use oficina_grbl::sender::{Notice, Sender, SenderOptions};
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::Job;
+use oficina_grbl::{Notice, Sender, SenderOptions};
+use oficina_grbl_emu::{Config, Emulator};
 use std::time::Duration;
 
 /// Fast axes so tests finish quickly; the line rate stays grbl's 115200 baud unless asked.

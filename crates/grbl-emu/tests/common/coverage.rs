@@ -3,8 +3,8 @@
 //! motion that lies on it (both ends within `tol`) covers its projection. Uncovered stretches
 //! are gaps; length covered more than once is double cut.
 
-use oficina_grbl::interp::{Interp, Rate};
-use oficina_grbl::job::Job;
+use oficina_grbl::Job;
+use oficina_grbl::{Interp, Rate};
 
 pub type Piece = ([f64; 3], [f64; 3]);
 

@@ -14,16 +14,18 @@
 
 use super::flavor::Flavor;
 use super::fluidnc;
-use crate::gline;
-use crate::interp::{self, Flow, Interp, Rate, Segment};
-use crate::messages::{self, SETTINGS};
-use crate::realtime::Realtime;
-use crate::status::State;
+use oficina_grbl::GrblState;
+use oficina_grbl::Realtime;
+use oficina_grbl::SETTINGS;
+use oficina_grbl::{Flow, Interp, Rate, Segment};
 use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
 use std::collections::{BTreeMap, VecDeque};
 
+mod rotary;
 mod system;
+
+use rotary::{Lane, Spin};
 
 /// Knobs of the emulated board.
 #[derive(Clone, Debug)]
@@ -119,9 +121,17 @@ pub struct Core {
     pub config: Config,
     pub settings: BTreeMap<u16, f64>,
     pub interp: Interp,
-    pub state: State,
+    pub state: GrblState,
     /// Machine position (mm).
     pub mpos: [f64; 3],
+    /// Machine position of the 4th axis A (degrees), on a board with `$103`.
+    pub mpos_a: f64,
+    /// A at the end of the last block queued.
+    a_tail: f64,
+    /// How A turns along each block in the planner (front first).
+    lanes: VecDeque<Lane>,
+    /// A move of A alone, running (no other block moves meanwhile).
+    spin: Option<Spin>,
     rx: VecDeque<u8>,
     line: Vec<u8>,
     line_overflow: bool,
@@ -146,7 +156,7 @@ pub struct Core {
     check_mode: bool,
     /// A jog cancel is braking; the jog blocks go once the machine is at rest.
     jog_cancelling: bool,
-    resume_state: State,
+    resume_state: GrblState,
     starving: Option<f64>,
     clock: f64,
     report_counter: u32,
@@ -175,8 +185,12 @@ impl Core {
             config,
             settings,
             interp: Interp::default(),
-            state: State::Idle,
+            state: GrblState::Idle,
             mpos: [0.0; 3],
+            mpos_a: 0.0,
+            a_tail: 0.0,
+            lanes: VecDeque::new(),
+            spin: None,
             rx: VecDeque::new(),
             line: Vec::new(),
             line_overflow: false,
@@ -194,7 +208,7 @@ impl Core {
             overrides: (100, 100, 100),
             check_mode: false,
             jog_cancelling: false,
-            resume_state: State::Idle,
+            resume_state: GrblState::Idle,
             starving: None,
             clock: 0.0,
             report_counter: 0,
@@ -207,8 +221,14 @@ impl Core {
             piece_start: [0.0; 3],
         };
         core.interp.arc_tolerance = core.setting(12);
+        core.interp.a_axis = core.has_a();
         core.boot();
         core
+    }
+
+    /// The board drives a 4th axis A (its `$103` is set).
+    pub fn has_a(&self) -> bool {
+        rotary::limits(&self.settings).is_some()
     }
 
     fn setting(&self, n: u16) -> f64 {
@@ -237,7 +257,7 @@ impl Core {
     fn boot(&mut self) {
         self.banner();
         if self.setting(22) != 0.0 {
-            self.state = State::Alarm;
+            self.state = GrblState::Alarm;
             self.msg("'$H'|'$X' to unlock");
         }
     }
@@ -253,7 +273,7 @@ impl Core {
         let ahead = self.config.flavor.prepared_ahead();
         let prepared = match self.block_ends.front() {
             Some(end) if ahead > 0.0 && self.moving() => {
-                let left = interp::dist(&self.mpos, end);
+                let left = oficina_grbl::dist(&self.mpos, end);
                 usize::from(left <= self.motion.speed() * ahead)
             }
             _ => 0,
@@ -283,10 +303,10 @@ impl Core {
     }
 
     fn moving(&self) -> bool {
-        !self.motion.is_empty()
+        (!self.motion.is_empty() || self.spin.is_some())
             && matches!(
                 self.state,
-                State::Run | State::Jog | State::Hold(1) | State::Door(2)
+                GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
             )
     }
 
@@ -303,42 +323,42 @@ impl Core {
                 self.say(&s);
             }
             Realtime::FeedHold => {
-                if matches!(self.state, State::Run) {
-                    self.begin_decel(State::Hold(1));
-                } else if self.state == State::Jog {
+                if matches!(self.state, GrblState::Run) {
+                    self.begin_decel(GrblState::Hold(1));
+                } else if self.state == GrblState::Jog {
                     self.cancel_jog();
                 }
             }
             Realtime::SafetyDoor => {
                 if self.moving() {
-                    self.begin_decel(State::Door(2));
-                } else if !matches!(self.state, State::Alarm | State::Sleep) {
+                    self.begin_decel(GrblState::Door(2));
+                } else if !matches!(self.state, GrblState::Alarm | GrblState::Sleep) {
                     self.resume_state = if self.motion.is_empty() {
-                        State::Idle
+                        GrblState::Idle
                     } else {
-                        State::Run
+                        GrblState::Run
                     };
-                    self.state = State::Door(0);
+                    self.state = GrblState::Door(0);
                 }
             }
             Realtime::CycleStart => match self.state {
-                State::Hold(0) | State::Door(0) => {
+                GrblState::Hold(0) | GrblState::Door(0) => {
                     self.motion.resume();
                     self.state = if self.motion.is_empty() && self.pending.is_none() {
-                        State::Idle
+                        GrblState::Idle
                     } else {
-                        State::Run
+                        GrblState::Run
                     };
                 }
-                State::Idle if !self.motion.is_empty() => {
+                GrblState::Idle if !self.motion.is_empty() => {
                     self.motion.resume();
-                    self.state = State::Run;
+                    self.state = GrblState::Run;
                 }
                 _ => {}
             },
             Realtime::SoftReset => self.soft_reset(),
             Realtime::JogCancel => {
-                if self.state == State::Jog {
+                if self.state == GrblState::Jog {
                     self.cancel_jog();
                 }
             }
@@ -378,7 +398,7 @@ impl Core {
 
     /// The running block's motion so far ends at `to`.
     fn record_piece(&mut self, to: [f64; 3]) {
-        if self.config.record_motion && interp::dist(&self.piece_start, &to) > 1e-9 {
+        if self.config.record_motion && oficina_grbl::dist(&self.piece_start, &to) > 1e-9 {
             self.motion_record.push((self.piece_start, to));
         }
         self.piece_start = to;
@@ -401,6 +421,9 @@ impl Core {
         self.record_piece(self.motion.position());
         self.motion.clear();
         self.block_ends.clear();
+        self.lanes.clear();
+        self.spin = None;
+        self.a_tail = self.mpos_a;
         self.mpos = self.motion.position();
         self.blocks_pushed = self.blocks_done;
         self.awaiting.clear();
@@ -424,11 +447,12 @@ impl Core {
         self.flush_planner();
         self.jog_cancelling = false;
         self.jogging = false;
-        self.state = State::Idle;
+        self.state = GrblState::Idle;
         self.interp.pos = self.mpos;
+        self.interp.a = self.mpos_a;
     }
 
-    fn begin_decel(&mut self, into: State) {
+    fn begin_decel(&mut self, into: GrblState) {
         self.motion.hold();
         self.state = into;
     }
@@ -438,10 +462,10 @@ impl Core {
         // with blocks still queued is grbl's safe way to cancel a job.
         if self.moving() {
             // Stopping without deceleration loses steps on a real machine: grbl says so.
-            self.state = State::Alarm;
+            self.state = GrblState::Alarm;
             self.say("ALARM:3");
-        } else if self.state != State::Alarm {
-            self.state = State::Idle;
+        } else if self.state != GrblState::Alarm {
+            self.state = GrblState::Idle;
         }
         self.flush_planner();
         self.pending = None;
@@ -461,11 +485,13 @@ impl Core {
             g30: keep.2,
             pos: self.mpos,
             arc_tolerance: self.setting(12),
+            a_axis: self.has_a(),
+            a: self.mpos_a,
             ..Interp::default()
         };
         self.starving = None;
         self.banner();
-        if self.state == State::Alarm {
+        if self.state == GrblState::Alarm {
             self.msg("'$H'|'$X' to unlock");
         }
     }
@@ -527,9 +553,9 @@ impl Core {
 
     fn execute_line(&mut self, raw: &str) {
         if raw == "\u{1}overflow" {
-            return self.reply_error(gline::E_LINE_OVERFLOW);
+            return self.reply_error(oficina_grbl::E_LINE_OVERFLOW);
         }
-        let clean = match gline::clean(raw) {
+        let clean = match oficina_grbl::clean_line(raw) {
             Ok(c) => c,
             Err(e) => return self.reply_error(e),
         };
@@ -540,7 +566,10 @@ impl Core {
         if let Some(cmd) = clean.strip_prefix('$') {
             return self.system_command(cmd, raw);
         }
-        if matches!(self.state, State::Alarm | State::Jog | State::Sleep) {
+        if matches!(
+            self.state,
+            GrblState::Alarm | GrblState::Jog | GrblState::Sleep
+        ) {
             return self.reply_error(9);
         }
         match self.interp.execute(&clean) {
@@ -579,8 +608,9 @@ impl Core {
     fn alarm_soft_limit(&mut self) {
         self.flush_planner();
         self.pending = None;
-        self.state = State::Alarm;
+        self.state = GrblState::Alarm;
         self.interp.pos = self.mpos;
+        self.interp.a = self.mpos_a;
         self.say("ALARM:2");
         self.msg("Reset to continue");
         self.blocked = true;
@@ -590,22 +620,50 @@ impl Core {
         let Some(p) = self.pending.as_mut() else {
             return;
         };
-        if p.sync && !self.motion.is_empty() {
+        if p.sync && (!self.motion.is_empty() || self.spin.is_some()) {
             return;
         }
         if p.sync && p.dwell > 0.0 {
             // A dwell holds the line until it has elapsed; time passes in run_motion.
             return;
         }
-        while !p.segments.is_empty() && self.motion.len() < self.config.planner_blocks {
-            let s = p.segments.pop_front().unwrap_or(Segment {
-                to: self.mpos,
-                rate: Rate::Rapid,
-            });
+        let a_limits = rotary::limits(&self.settings);
+        while !p.segments.is_empty()
+            && self.motion.len() < self.config.planner_blocks
+            && self.spin.is_none()
+        {
+            let Some(&s) = p.segments.front() else { break };
+            let tail = self.motion.tail();
+            let length = oficina_grbl::dist(&tail, &s.to);
+            let turn = s.a - self.a_tail;
+            if let (Some(lim), true) = (a_limits, length < 1e-6 && turn.abs() > 1e-9) {
+                // A alone: it waits for the blocks before it, then turns by itself.
+                if !self.motion.is_empty() {
+                    return;
+                }
+                p.segments.pop_front();
+                self.spin = Some(Spin::new(self.a_tail, s.a, s.rate, lim));
+                self.a_tail = s.a;
+                self.blocks_pushed += 1;
+                self.block_ends.push_back(s.to);
+                if self.state == GrblState::Idle {
+                    self.state = if self.jogging {
+                        GrblState::Jog
+                    } else {
+                        GrblState::Run
+                    };
+                }
+                break;
+            }
+            p.segments.pop_front();
             let (speed, kind) = match s.rate {
                 Rate::Rapid => (f64::INFINITY, MoveKind::Rapid),
                 // grbl's feeds are mm/min; the planner's mm/s.
                 Rate::Feed(f) => (f / 60.0, MoveKind::Feed),
+            };
+            let speed = match a_limits {
+                Some((rate, _)) => rotary::mixed_speed(speed, length, turn, rate),
+                None => speed,
             };
             let push = Push {
                 line: 0,
@@ -618,10 +676,21 @@ impl Core {
             if !self.motion.push(push).unwrap_or(false) {
                 continue;
             }
+            self.lanes.push_back(Lane {
+                start: tail,
+                length,
+                a0: self.a_tail,
+                a1: s.a,
+            });
+            self.a_tail = s.a;
             self.blocks_pushed += 1;
             self.block_ends.push_back(s.to);
-            if self.state == State::Idle {
-                self.state = if self.jogging { State::Jog } else { State::Run };
+            if self.state == GrblState::Idle {
+                self.state = if self.jogging {
+                    GrblState::Jog
+                } else {
+                    GrblState::Run
+                };
             }
             if let Some(since) = self.starving.take() {
                 self.stats.starvations += 1;
@@ -640,8 +709,8 @@ impl Core {
             self.record_done();
         }
         match p.flow {
-            Flow::Pause => self.state = State::Hold(0),
-            Flow::End => self.state = State::Idle,
+            Flow::Pause => self.state = GrblState::Hold(0),
+            Flow::End => self.state = GrblState::Idle,
             Flow::Continue => {}
         }
         if p.probe {
@@ -661,7 +730,8 @@ impl Core {
             if p.sync
                 && p.dwell > 0.0
                 && self.motion.is_empty()
-                && !matches!(self.state, State::Hold(_) | State::Door(_))
+                && self.spin.is_none()
+                && !matches!(self.state, GrblState::Hold(_) | GrblState::Door(_))
             {
                 let used = p.dwell.min(dt);
                 p.dwell -= used;
@@ -670,21 +740,44 @@ impl Core {
                 }
             }
         }
+        if let Some(spin) = self.spin.as_mut() {
+            // A turn of A alone is short and runs to its end, a hold included; the hold
+            // completes when it does.
+            if !matches!(
+                self.state,
+                GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
+            ) {
+                return;
+            }
+            let (a, done) = spin.advance(dt);
+            self.mpos_a = a;
+            self.stats.busy_seconds += dt - done.unwrap_or(0.0);
+            let Some(rest) = done else { return };
+            self.spin = None;
+            self.blocks_done += 1;
+            if let Some(end) = self.block_ends.pop_front() {
+                self.record_piece(end);
+            }
+            self.record_done();
+            // The time left after the turn goes to what follows.
+            self.advance_pending();
+            return self.run_motion(rest);
+        }
         if self.motion.is_empty() {
             match self.state {
-                State::Run | State::Jog if self.pending.is_none() => {
-                    self.state = State::Idle;
+                GrblState::Run | GrblState::Jog if self.pending.is_none() => {
+                    self.state = GrblState::Idle;
                     self.jogging = false;
                 }
-                State::Hold(1) => self.state = State::Hold(0),
-                State::Door(2) => self.state = State::Door(0),
+                GrblState::Hold(1) => self.state = GrblState::Hold(0),
+                GrblState::Door(2) => self.state = GrblState::Door(0),
                 _ => {}
             }
             return;
         }
         if !matches!(
             self.state,
-            State::Run | State::Jog | State::Hold(1) | State::Door(2)
+            GrblState::Run | GrblState::Jog | GrblState::Hold(1) | GrblState::Door(2)
         ) {
             return;
         }
@@ -696,6 +789,12 @@ impl Core {
             if let Some(end) = self.block_ends.pop_front() {
                 self.record_piece(end);
             }
+            if let Some(l) = self.lanes.pop_front() {
+                self.mpos_a = l.a1;
+            }
+        }
+        if let Some(l) = self.lanes.front() {
+            self.mpos_a = l.a_at(self.mpos);
         }
         self.record_done();
         let at_rest = self.motion.held() || self.motion.is_empty();
@@ -703,8 +802,8 @@ impl Core {
             return self.end_jog_cancel();
         }
         match self.state {
-            State::Hold(1) if at_rest => self.state = State::Hold(0),
-            State::Door(2) if at_rest => self.state = State::Door(0),
+            GrblState::Hold(1) if at_rest => self.state = GrblState::Hold(0),
+            GrblState::Door(2) if at_rest => self.state = GrblState::Door(0),
             _ => {}
         }
         if !self.motion.is_empty() {
@@ -712,14 +811,14 @@ impl Core {
         }
         // The buffer ran dry: the machine stopped at the end of the last block.
         let more = !self.rx.is_empty() || self.pending.is_some();
-        if self.state == State::Run {
+        if self.state == GrblState::Run {
             self.starving = Some(self.clock - step.rest);
             self.starving_host_late = self.host_late;
             if !more {
-                self.state = State::Idle;
+                self.state = GrblState::Idle;
             }
-        } else if self.state == State::Jog && !more {
-            self.state = State::Idle;
+        } else if self.state == GrblState::Jog && !more {
+            self.state = GrblState::Idle;
             self.jogging = false;
         }
     }
@@ -729,18 +828,29 @@ impl Core {
         let mask = self.setting(10) as u32;
         let wco = self.interp.wco();
         let inch = if self.setting(13) != 0.0 { 25.4 } else { 1.0 };
-        let f = |p: [f64; 3]| format!("{:.3},{:.3},{:.3}", p[0] / inch, p[1] / inch, p[2] / inch);
+        // grblHAL prints as many axes as it drives: A (degrees, never scaled by $13) last.
+        let a = self.has_a().then_some(self.mpos_a);
+        let f = |p: [f64; 3], a: Option<f64>| {
+            let xyz = format!("{:.3},{:.3},{:.3}", p[0] / inch, p[1] / inch, p[2] / inch);
+            match a {
+                Some(a) => format!("{xyz},{a:.3}"),
+                None => xyz,
+            }
+        };
         let mut s = format!("<{}", self.state.name());
         if mask & 1 != 0 {
-            s += &format!("|MPos:{}", f(self.mpos));
+            s += &format!("|MPos:{}", f(self.mpos, a));
         } else {
             s += &format!(
                 "|WPos:{}",
-                f([
-                    self.mpos[0] - wco[0],
-                    self.mpos[1] - wco[1],
-                    self.mpos[2] - wco[2]
-                ])
+                f(
+                    [
+                        self.mpos[0] - wco[0],
+                        self.mpos[1] - wco[1],
+                        self.mpos[2] - wco[2]
+                    ],
+                    a
+                )
             );
         }
         if mask & 2 != 0 {
@@ -753,19 +863,19 @@ impl Core {
             };
             s += &format!("|Bf:{},{}", self.reported_planner_free(), rx_free);
         }
-        let spindle = if self.interp.modal.spindle == interp::Spindle::Off {
+        let spindle = if self.interp.modal.spindle == oficina_grbl::Spindle::Off {
             0.0
         } else {
             self.interp.spindle_speed
         };
-        s += &format!(
-            "|FS:{:.0},{:.0}",
-            self.motion.speed() * 60.0 / inch,
-            spindle
-        );
+        s += &format!("|FS:{:.0},{:.0}", self.speed() * 60.0 / inch, spindle);
         if self.report_counter == 0 {
-            s += &format!("|WCO:{}", f(wco));
-            self.report_counter = if self.state == State::Idle { 10 } else { 30 };
+            s += &format!("|WCO:{}", f(wco, a.map(|_| 0.0)));
+            self.report_counter = if self.state == GrblState::Idle {
+                10
+            } else {
+                30
+            };
         } else {
             self.report_counter -= 1;
             if self.report_counter == 5 {
@@ -773,9 +883,9 @@ impl Core {
                 s += &format!("|Ov:{a},{b},{c}");
                 let mut acc = String::new();
                 match self.interp.modal.spindle {
-                    interp::Spindle::Cw => acc.push('S'),
-                    interp::Spindle::Ccw => acc.push('C'),
-                    interp::Spindle::Off => {}
+                    oficina_grbl::Spindle::Cw => acc.push('S'),
+                    oficina_grbl::Spindle::Ccw => acc.push('C'),
+                    oficina_grbl::Spindle::Off => {}
                 }
                 if self.interp.modal.flood {
                     acc.push('F');
@@ -792,6 +902,14 @@ impl Core {
         s
     }
 
+    /// Current path speed, mm/s (°/s while A turns alone).
+    fn speed(&self) -> f64 {
+        match &self.spin {
+            Some(s) => s.speed(),
+            None => self.motion.speed(),
+        }
+    }
+
     /// Used RX bytes (what the sender's character count must never exceed).
     pub fn rx_used(&self) -> usize {
         self.rx.len()
@@ -805,7 +923,7 @@ fn new_motion(settings: &BTreeMap<u16, f64>, at: [f64; 3]) -> Incremental {
 }
 
 fn format_setting(n: u16, v: f64) -> String {
-    let unit = messages::setting_info(n).map(|s| s.unit).unwrap_or("");
+    let unit = oficina_grbl::setting_info(n).map(|s| s.unit).unwrap_or("");
     if matches!(unit, "mask" | "boolean" | "microseconds" | "milliseconds") {
         format!("{}", v as i64)
     } else {
@@ -843,7 +961,7 @@ mod tests {
         feed(&mut c, "G1 X10 F600\n");
         c.tick(0.0);
         assert_eq!(take_out(&mut c), "ok\r\n");
-        assert_eq!(c.state, State::Run);
+        assert_eq!(c.state, GrblState::Run);
         // 10 mm/s at grbl's default $120 = 10 mm/s²: 1 s and 5 mm up, 1 s and 5 mm down.
         c.tick(0.5);
         assert!((c.mpos[0] - 1.25).abs() < 1e-9, "{:?}", c.mpos);
@@ -852,7 +970,7 @@ mod tests {
         assert!(c.status_report().contains("|FS:600,0"));
         c.tick(2.0001);
         assert_eq!(c.mpos, [10.0, 0.0, 0.0]);
-        assert_eq!(c.state, State::Idle);
+        assert_eq!(c.state, GrblState::Idle);
         feed(&mut c, "G1 X10 Y\n$99=1\n$I\n");
         c.tick(1.1);
         assert_eq!(
@@ -898,15 +1016,15 @@ mod tests {
         c.tick(0.0);
         c.tick(1.0);
         c.realtime(Realtime::FeedHold);
-        assert_eq!(c.state, State::Hold(1));
+        assert_eq!(c.state, GrblState::Hold(1));
         // 0.1 s and 0.5 mm up to 10 mm/s, then 0.9 s cruising: at 9.5 mm. Braking at
         // 100 mm/s² takes 0.1 s over 0.5 mm.
         assert!((c.mpos[0] - 9.5).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(1.05);
-        assert_eq!(c.state, State::Hold(1));
+        assert_eq!(c.state, GrblState::Hold(1));
         assert!((c.mpos[0] - 9.875).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(1.2);
-        assert_eq!(c.state, State::Hold(0));
+        assert_eq!(c.state, GrblState::Hold(0));
         assert!((c.mpos[0] - 10.0).abs() < 1e-9, "{:?}", c.mpos);
         c.tick(5.0);
         assert!((c.mpos[0] - 10.0).abs() < 1e-9);
@@ -915,7 +1033,7 @@ mod tests {
         assert!((c.mpos[0] - 19.5).abs() < 1e-9, "{:?}", c.mpos);
         take_out(&mut c);
         c.realtime(Realtime::SoftReset);
-        assert_eq!(c.state, State::Alarm);
+        assert_eq!(c.state, GrblState::Alarm);
         let out = take_out(&mut c);
         assert!(out.starts_with("ALARM:3\r\n"), "{out}");
         feed(&mut c, "G0X0\n$X\n");
@@ -958,7 +1076,7 @@ mod tests {
                 fed = true;
             }
             c.tick(t);
-            if t > 0.0 && c.state == State::Idle && c.rx_used() == 0 && c.planner_free() == 15 {
+            if t > 0.0 && c.state == GrblState::Idle && c.rx_used() == 0 && c.planner_free() == 15 {
                 break;
             }
             t += 0.001;
@@ -985,7 +1103,7 @@ mod tests {
         c.tick(1.0);
         assert_eq!(take_out(&mut c), "", "no reply to anything before a reset");
         c.realtime(Realtime::SoftReset);
-        assert_eq!(c.state, State::Alarm);
+        assert_eq!(c.state, GrblState::Alarm);
         assert!(take_out(&mut c).contains("'$H'|'$X' to unlock"));
     }
 
@@ -1000,6 +1118,6 @@ mod tests {
             "{out}"
         );
         assert_eq!(c.mpos, [0.0; 3]);
-        assert_eq!(c.state, State::Idle);
+        assert_eq!(c.state, GrblState::Idle);
     }
 }

@@ -5,9 +5,9 @@
 
 use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::Dialect;
-use oficina_grbl::emulator::profile::grbl_settings;
-use oficina_grbl::emulator::{Config, Core};
-use oficina_grbl::status::State;
+use oficina_grbl::GrblState;
+use oficina_grbl_emu::grbl_settings;
+use oficina_grbl_emu::{Config, Core};
 use oficina_motion::{estimate, Profile};
 use std::collections::VecDeque;
 use std::io::Cursor;
@@ -110,7 +110,7 @@ fn stream(c: &mut Core, lines: &[String], pause: impl Fn(usize) -> f64) -> Run {
                 inflight.pop_front();
             }
         }
-        if next == lines.len() && inflight.is_empty() && c.state == State::Idle {
+        if next == lines.len() && inflight.is_empty() && c.state == GrblState::Idle {
             assert_eq!(c.planner_free(), 15);
             return Run {
                 seconds: t,
@@ -169,7 +169,7 @@ fn a_starved_stream_takes_longer_and_is_reported() {
     );
 }
 
-/// Status positions during a long G1 follow the trapezoid: ¼ a t² at ramp start, and `Bf:`
+/// StatusReport positions during a long G1 follow the trapezoid: ¼ a t² at ramp start, and `Bf:`
 /// counts the block being executed.
 #[test]
 fn status_positions_follow_the_trapezoid() {

@@ -10,7 +10,7 @@ mod common;
 use common::coverage;
 use common::grblhal_sim::{self, Sim};
 use common::scenarios;
-use oficina_grbl::job::Job;
+use oficina_grbl::Job;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -189,7 +189,7 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
 #[test]
 fn sim_time_estimates_match_the_firmware() {
     use oficina_gcode::program::{run as gcode_run, RunOptions};
-    use oficina_grbl::emulator::profile::motion_profile;
+    use oficina_grbl_emu::motion_profile;
     let mut zigzag = String::from("G21G90G94\nG0X0Y0\nG1F3000\n");
     for i in 0..20 {
         zigzag += &format!("X{}Y{}\n", if i % 2 == 0 { 30 } else { 0 }, i + 1);
@@ -213,7 +213,7 @@ fn sim_time_estimates_match_the_firmware() {
         scenarios::configure(&mut s);
         let job = Job::from_text(name, &text).unwrap();
         let report = s.stream(&job, 0, None, None, &mut |_| {});
-        assert_eq!(report.end, oficina_grbl::report::StreamEnd::Completed);
+        assert_eq!(report.end, oficina_grbl::StreamEnd::Completed);
         sim.finish();
         let samples = sim.samples();
         let firmware = samples.last().unwrap().0 - samples.first().unwrap().0;

@@ -2,10 +2,10 @@
 //! against the exact protocol. [`core`] is the firmware model; this module runs it in real
 //! time and paces the wire at the emulated baud rate.
 
-pub mod core;
-pub mod flavor;
-pub mod fluidnc;
-pub mod profile;
+pub(crate) mod core;
+mod flavor;
+mod fluidnc;
+pub(crate) mod profile;
 mod serve;
 
 pub use self::core::{Config, Core, Stats};

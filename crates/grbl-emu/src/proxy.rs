@@ -3,7 +3,7 @@
 //! cuts the connection, slows replies and mixes in line noise, each fault once, at a byte
 //! count that makes a test repeatable.
 
-use crate::realtime::Realtime;
+use oficina_grbl::Realtime;
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -144,7 +144,7 @@ fn pump_pair(
                 let n = match c_read.read(&mut buf) {
                     Ok(0) => break,
                     Ok(n) => n,
-                    Err(e) if crate::transport::is_timeout(&e) => continue,
+                    Err(e) if oficina_grbl::is_timeout(&e) => continue,
                     Err(_) => break,
                 };
                 let mut out = Vec::with_capacity(n + 1);
@@ -204,7 +204,7 @@ fn pump_pair(
             let n = match s_read.read(&mut buf) {
                 Ok(0) => break,
                 Ok(n) => n,
-                Err(e) if crate::transport::is_timeout(&e) => continue,
+                Err(e) if oficina_grbl::is_timeout(&e) => continue,
                 Err(_) => break,
             };
             for &b in &buf[..n] {

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use oficina_grbl::device::GrblDevice;
+use oficina_grbl::GrblDevice;
 use oficina_machine::{Command, Event, Job, Machine, Pace, State};
 use std::sync::Arc;
 use std::time::Duration;
@@ -90,7 +90,7 @@ fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
         ),
         "{end:?}"
     );
-    let expected = oficina_grbl::resume::replay(&job_of(&text), usize::MAX).work_pos();
+    let expected = oficina_grbl::replay(&job_of(&text), usize::MAX).work_pos();
     let st = dev.status();
     for a in 0..3 {
         assert!(
@@ -109,6 +109,39 @@ fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
     dev.disconnect();
 }
 
-fn job_of(text: &str) -> oficina_grbl::job::Job {
-    oficina_grbl::job::Job::from_text("dev.nc", text).unwrap()
+fn job_of(text: &str) -> oficina_grbl::Job {
+    oficina_grbl::Job::from_text("dev.nc", text).unwrap()
+}
+
+#[test]
+fn machine_trait_raw_lines_and_firmware_settings() {
+    let (_emu, ep) = emulator(None);
+    let mut dev = GrblDevice::new(&ep.to_string()).unwrap();
+    // Nothing is open before connect.
+    assert!(matches!(
+        dev.raw_line("$I"),
+        Err(oficina_machine::MachineError::NotConnected)
+    ));
+    dev.connect().unwrap();
+    let info = dev.raw_line("$I").unwrap();
+    assert!(
+        info.lines.iter().any(|l| l.starts_with("[VER:1.1h")),
+        "{info:?}"
+    );
+    assert_eq!(info.error, None);
+    // A line the firmware refuses comes back with grbl's explanation.
+    let bad = dev.raw_line("G5 X1").unwrap();
+    assert!(bad.error.as_deref().unwrap_or("").contains("20"), "{bad:?}");
+    dev.write_firmware_setting(110, 4321.0).unwrap();
+    let all = dev.firmware_settings().unwrap();
+    assert!(all.contains(&(110, 4321.0)), "{all:?}");
+    // Checked before it reaches the firmware: $20 is a boolean.
+    assert!(dev.write_firmware_setting(20, 2.0).is_err());
+    // The virtual machine has no firmware language and says so.
+    let profile = oficina_motion::profile::resolve("grbl-router").unwrap();
+    let mut vm = oficina_machine::VirtualMachine::new(profile);
+    assert!(matches!(
+        vm.raw_line("$$"),
+        Err(oficina_machine::MachineError::Refused(_))
+    ));
 }

@@ -6,10 +6,10 @@
 //! Case counts: `PROPTEST_CASES` (default 256 here, a brief run for CI); the long run in
 //! docs/grbl-link.md used `PROPTEST_CASES=…` on the release profile.
 
-use oficina_grbl::emulator::{Config, Core, Flavor};
-use oficina_grbl::realtime::Realtime;
-use oficina_grbl::response::Response;
-use oficina_grbl::status::Status;
+use oficina_grbl::Realtime;
+use oficina_grbl::Response;
+use oficina_grbl::StatusReport;
+use oficina_grbl_emu::{Config, Core, Flavor};
 use proptest::prelude::*;
 
 fn cases() -> u32 {
@@ -103,7 +103,7 @@ proptest! {
         if r.is_ack() {
             prop_assert!(t == "ok" || t.starts_with("error:"), "{line:?} → {r:?}");
         }
-        let _ = Status::parse(&line);
+        let _ = StatusReport::parse(&line);
     }
 
     #[test]

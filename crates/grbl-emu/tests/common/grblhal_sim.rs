@@ -9,7 +9,7 @@
 //! position record (`-r`: steps every few ms of simulated time, and at every block change)
 //! is the witness of the motion made.
 
-use oficina_grbl::transport::{Endpoint, Pty};
+use oficina_grbl::{Endpoint, Pty};
 use std::io::{Read, Write};
 use std::net::TcpListener;
 use std::path::PathBuf;

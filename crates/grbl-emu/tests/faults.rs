@@ -5,12 +5,12 @@
 
 mod common;
 use common::*;
-use oficina_grbl::emulator::Emulator;
-use oficina_grbl::job::Job;
-use oficina_grbl::proxy::{Fault, FaultProxy};
-use oficina_grbl::resume::{self, ResumeOptions};
-use oficina_grbl::sender::{Notice, Sender, StreamEnd, StreamReport};
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::Job;
+use oficina_grbl::ResumeOptions;
+use oficina_grbl::{Notice, Sender, StreamEnd, StreamReport};
+use oficina_grbl_emu::Emulator;
+use oficina_grbl_emu::{Fault, FaultProxy};
 use std::time::Duration;
 
 const JOB_LINES: usize = 300;
@@ -84,7 +84,7 @@ fn run_with_resumes(
             s = connect_retry(ep);
         }
         let at = s.recover_rejected(current, &last, true).unwrap();
-        let pre = resume::preamble(current, at.index, &resume_opts()).unwrap();
+        let pre = oficina_grbl::resume_preamble(current, at.index, &resume_opts()).unwrap();
         s.run_preamble(current, at.index, &resume_opts()).unwrap();
         preambles.push(pre);
         reports.push(s.stream(current, at.index, None, None, &mut quiet()));
@@ -115,7 +115,7 @@ fn assert_lines_ran(emu: &Emulator, job: &Job, preambles: &[Vec<String>], reject
     let mut done = emu.with_core(|c| c.executed.clone());
     if let Some(k) = rejected {
         // Lines k+1.. that ran before the hold: remove that run, checking it is in order.
-        let pre0 = oficina_grbl::gline::clean(&preambles[0][0]).unwrap();
+        let pre0 = oficina_grbl::clean_line(&preambles[0][0]).unwrap();
         let p = done
             .iter()
             .position(|l| *l == pre0)
@@ -141,7 +141,7 @@ fn assert_lines_ran(emu: &Emulator, job: &Job, preambles: &[Vec<String>], reject
             .expect("preamble ran");
         let cleaned: Vec<String> = pre
             .iter()
-            .map(|l| oficina_grbl::gline::clean(l).unwrap())
+            .map(|l| oficina_grbl::clean_line(l).unwrap())
             .collect();
         assert_eq!(done[start..start + pre.len()], cleaned[..]);
         done.drain(start..start + pre.len());
@@ -164,7 +164,7 @@ fn assert_lines_ran(emu: &Emulator, job: &Job, preambles: &[Vec<String>], reject
 }
 
 fn assert_final_position(emu: &Emulator, job: &Job) {
-    let expected = resume::replay(job, job.len()).work_pos();
+    let expected = oficina_grbl::replay(job, job.len()).work_pos();
     let wpos = emu.with_core(|c| {
         let w = c.interp.wco();
         [c.mpos[0] - w[0], c.mpos[1] - w[1], c.mpos[2] - w[2]]
@@ -352,7 +352,7 @@ fn fault_firmware_goes_silent_is_detected_and_resumed() {
     }]);
     let mut s = Sender::connect(
         &ep,
-        oficina_grbl::sender::SenderOptions {
+        oficina_grbl::SenderOptions {
             silence_timeout: Duration::from_secs(2),
             ..options()
         },
@@ -370,7 +370,7 @@ fn fault_firmware_goes_silent_is_detected_and_resumed() {
     let at = s
         .recover(&job, first.certain, first.sent_end, first.acked_end, true)
         .unwrap();
-    let pre = resume::preamble(&job, at.index, &resume_opts()).unwrap();
+    let pre = oficina_grbl::resume_preamble(&job, at.index, &resume_opts()).unwrap();
     s.run_preamble(&job, at.index, &resume_opts()).unwrap();
     let last = s.stream(&job, at.index, None, None, &mut quiet());
     assert_eq!(last.end, StreamEnd::Completed, "{}", last.describe(&job));

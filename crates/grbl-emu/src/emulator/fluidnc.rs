@@ -1,6 +1,6 @@
 //! FluidNC's own `$` commands beside the grbl-compatible ones, as its wiki ("Commands and
 //! Settings") and its command table document them: settings have names (`$Config/Filename`,
-//! `$Message/Level`, `$Report/Status`, the last also grbl's `$10`), matched without regard to
+//! `$Message/Level`, `$Report/StatusReport`, the last also grbl's `$10`), matched without regard to
 //! case; `$Name` shows one as `$Name=value`, `$Name=value` sets it; `$S` (`$Settings/List`)
 //! lists them; the machine's YAML configuration is dumped by `$CD` (`$Config/Dump`) and each
 //! item of it is a setting too, named by its path (`$/axes/x/max_rate_mm_per_min=5000`). An
@@ -27,7 +27,7 @@ const LEVELS: [&str; 6] = ["None", "Error", "Warning", "Info", "Debug", "Verbose
 
 /// The named settings that are not grbl's numbers.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Named {
+pub(super) struct Named {
     pub config_filename: String,
     pub message_level: &'static str,
 }
@@ -43,7 +43,7 @@ impl Default for Named {
 
 /// What a `$…` line comes to on FluidNC.
 #[derive(Debug, PartialEq)]
-pub enum Outcome {
+pub(super) enum Outcome {
     /// Lines to print before `ok`.
     Say(Vec<String>),
     Error(u8),
@@ -55,7 +55,7 @@ pub enum Outcome {
 
 /// `cmd` is the line after its `$`. `idle`: the machine may change settings; `in_cycle`:
 /// a job runs or holds (FluidNC refuses long listings then).
-pub fn command(
+pub(super) fn command(
     cmd: &str,
     named: &mut Named,
     settings: &BTreeMap<u16, f64>,
@@ -85,10 +85,10 @@ pub fn command(
             Some(v) => Outcome::SetNumbered(n, v.to_string()),
         };
     }
-    if is("Report/Status") {
+    if is("Report/StatusReport") {
         return match value {
             None => Outcome::Say(vec![format!(
-                "$Report/Status={}",
+                "$Report/StatusReport={}",
                 setting(settings, 10) as i64
             )]),
             Some(v) => Outcome::SetNumbered(10, v.to_string()),
@@ -151,7 +151,7 @@ fn list(named: &Named, settings: &BTreeMap<u16, f64>) -> Vec<String> {
     vec![
         format!("$Config/Filename={}", named.config_filename),
         format!("$Message/Level={}", named.message_level),
-        format!("$Report/Status={}", setting(settings, 10) as i64),
+        format!("$Report/StatusReport={}", setting(settings, 10) as i64),
     ]
 }
 
@@ -219,7 +219,7 @@ mod tests {
             Outcome::Say(vec![
                 "$Config/Filename=mill.yaml".into(),
                 "$Message/Level=Debug".into(),
-                "$Report/Status=1".into(),
+                "$Report/StatusReport=1".into(),
             ])
         );
     }

@@ -7,11 +7,11 @@ mod common;
 
 use common::coverage;
 use common::scenarios;
-use oficina_grbl::emulator::{Config, Emulator, Flavor};
-use oficina_grbl::job::Job;
-use oficina_grbl::link::{Event, Link};
-use oficina_grbl::response::Response;
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::Job;
+use oficina_grbl::Response;
+use oficina_grbl::{Link, LinkEvent};
+use oficina_grbl_emu::{Config, Emulator, Flavor};
 use std::time::Duration;
 
 fn start(flavor: Flavor) -> (Emulator, Endpoint) {
@@ -51,7 +51,7 @@ fn each_flavor_speaks_like_its_firmware() {
         let mut link = Link::open(&ep).unwrap();
         // Only classic grbl greets a network client.
         let mut first = Vec::new();
-        while let Some(Event::Line(_, raw)) = link.recv(Duration::from_millis(300)) {
+        while let Some(LinkEvent::Line(_, raw)) = link.recv(Duration::from_millis(300)) {
             first.push(raw);
         }
         assert_eq!(
@@ -61,17 +61,17 @@ fn each_flavor_speaks_like_its_firmware() {
         );
         link.send_line("$I").unwrap();
         let mut info = Vec::new();
-        while let Some(Event::Line(r, raw)) = link.recv(Duration::from_millis(500)) {
+        while let Some(LinkEvent::Line(r, raw)) = link.recv(Duration::from_millis(500)) {
             if r == Response::Ok {
                 break;
             }
             info.push(raw);
         }
         assert!(info.iter().any(|l| l == opt), "{flavor}: {info:?}");
-        link.send_realtime(oficina_grbl::realtime::Realtime::SoftReset)
+        link.send_realtime(oficina_grbl::Realtime::SoftReset)
             .unwrap();
         let mut after = Vec::new();
-        while let Some(Event::Line(r, raw)) = link.recv(Duration::from_millis(300)) {
+        while let Some(LinkEvent::Line(r, raw)) = link.recv(Duration::from_millis(300)) {
             after.push((r, raw));
         }
         assert!(
@@ -153,7 +153,7 @@ fn fluidnc_settings_config_dump_and_messages() {
 
 #[test]
 fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
-    use oficina_grbl::emulator::Core;
+    use oficina_grbl_emu::Core;
     let mut c = Core::new(Config {
         baud: None,
         settings: vec![(10, 3.0), (120, 100.0)],
@@ -167,7 +167,7 @@ fn grblhal_counts_a_block_out_of_bf_before_it_has_run() {
     while t < 3.0 {
         t += 0.001;
         c.tick(t);
-        if c.state == oficina_grbl::status::State::Run && c.reported_planner_free() == 100 {
+        if c.state == oficina_grbl::GrblState::Run && c.reported_planner_free() == 100 {
             seen_free_while_moving = true;
             // Within the last 100 ms of the move (10 mm/s → 1 mm).
             assert!(c.mpos[0] > 8.9, "{:?}", c.mpos);
@@ -214,9 +214,9 @@ fn resume_comes_from_the_reported_position_not_from_bf() {
 /// one); the hold falls anywhere in the first 4.6 s of the job.
 #[test]
 fn every_feed_hold_on_a_relief_completes() {
-    use oficina_grbl::emulator::Core;
-    use oficina_grbl::realtime::Realtime;
-    use oficina_grbl::status::State;
+    use oficina_grbl::GrblState;
+    use oficina_grbl::Realtime;
+    use oficina_grbl_emu::Core;
     let program = coverage::relief_program(6, 30, 0.5, 1500.0).into_bytes();
     let mut stuck = Vec::new();
     for tick_ms in [1.0f64, 7.0, 29.0, 51.0] {
@@ -242,12 +242,12 @@ fn every_feed_hold_on_a_relief_completes() {
                     c.realtime(Realtime::FeedHold);
                     held = true;
                 }
-                if held && c.state != State::Hold(1) {
+                if held && c.state != GrblState::Hold(1) {
                     break;
                 }
             }
             assert!(held);
-            if c.state == State::Hold(1) {
+            if c.state == GrblState::Hold(1) {
                 stuck.push((tick_ms, hold_at, c.mpos));
             }
         }

@@ -3,7 +3,7 @@
 //! accelerations ($120…), travel ($130…), junction deviation ($11) and arc tolerance ($12);
 //! and back: the motion profile the emulator plans with, from its `$` settings.
 
-use oficina_motion::profile::{Joint, KinematicsKind, Shape};
+use oficina_motion::profile::{Joint, KinematicsKind, Rotary, Shape};
 use oficina_motion::Profile;
 use std::collections::BTreeMap;
 
@@ -39,6 +39,21 @@ pub fn grbl_settings(profile: &Profile) -> Result<Vec<(u16, f64)>, String> {
         let t = profile.travel[i as usize];
         out.push((130 + i, t[1] - t[0]));
     }
+    // A 4th axis A as grblHAL numbers it (N_AXIS = 4): $103 steps/°, $113 °/min, $123 °/s²,
+    // $133 travel (°; 0 for a chuck that turns without end).
+    if let Some(a) = &profile.rotary[0] {
+        let j = &a.joint;
+        let travel = match (a.wrap, j.limits) {
+            (false, Some([lo, hi])) => hi - lo,
+            _ => 0.0,
+        };
+        out.extend([
+            (103, j.steps_per_unit),
+            (113, j.max_rate * 60.0),
+            (123, j.acceleration),
+            (133, travel),
+        ]);
+    }
     Ok(out)
 }
 
@@ -49,7 +64,7 @@ pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
     let get = |n: u16| settings.get(&n).copied().unwrap_or(0.0);
     let names = KinematicsKind::Cartesian.joint_names();
     let joint = |i: u16| Joint {
-        name: names[i as usize],
+        name: names.get(i as usize).copied().unwrap_or("a"),
         steps_per_unit: get(100 + i).max(1e-3),
         // $110 is mm/min; the profile keeps mm/s.
         max_rate: get(110 + i).max(1.0) / 60.0,
@@ -64,7 +79,15 @@ pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
         name: "grbl $ settings".into(),
         kinematics: KinematicsKind::Cartesian,
         joints: [Some(joint(0)), Some(joint(1)), Some(joint(2))],
-        rotary: [None; 3],
+        // $103…$133 set: a 4th axis A that turns without end unless $133 bounds it.
+        rotary: [
+            settings.contains_key(&103).then(|| Rotary {
+                joint: joint(3),
+                wrap: get(133) <= 0.0,
+            }),
+            None,
+            None,
+        ],
         // grbl's machine space with soft limits: [-$13x, 0].
         travel: [0, 1, 2].map(|i| [-get(130 + i), 0.0]),
         start: [0.0; 3],

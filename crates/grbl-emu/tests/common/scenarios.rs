@@ -2,12 +2,12 @@
 //! against the emulator (CI) and against grblHAL's Simulator (when it is available).
 
 use super::coverage::{self, Piece};
-use oficina_grbl::job::Job;
-use oficina_grbl::realtime::Realtime;
-use oficina_grbl::resume::ResumeOptions;
-use oficina_grbl::sender::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
-use oficina_grbl::status::State;
-use oficina_grbl::transport::Endpoint;
+use oficina_grbl::Endpoint;
+use oficina_grbl::GrblState;
+use oficina_grbl::Job;
+use oficina_grbl::Realtime;
+use oficina_grbl::ResumeOptions;
+use oficina_grbl::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
 use std::sync::mpsc;
 use std::time::Duration;
 
@@ -55,7 +55,7 @@ pub fn reset_is_recognised(ep: &Endpoint) -> Sender {
         .expect("the firmware's reset banner is recognised");
     // And a stop (hold, rest, reset) ends with the machine answering, not a timeout.
     let st = s.status().expect("status after reset");
-    assert_eq!(st.state, State::Idle);
+    assert_eq!(st.state, GrblState::Idle);
     s
 }
 
@@ -93,7 +93,7 @@ pub fn done_means_at_rest(ep: &Endpoint, drop_queries: &(dyn Fn(bool) + Sync)) -
         );
         drop_queries(false);
         let st = s.status().unwrap();
-        assert_eq!(st.state, State::Idle, "{st:?}");
+        assert_eq!(st.state, GrblState::Idle, "{st:?}");
         report
     })
 }
@@ -124,12 +124,12 @@ pub fn controls_work_until_idle(ep: &Endpoint) -> StreamReport {
                 saw_override = true;
             }
             match (phase, &st.state) {
-                (1, State::Hold(0)) => {
+                (1, GrblState::Hold(0)) => {
                     held_at = st.mpos.clone();
                     phase = 2;
                     tx.send(Control::Resume).unwrap();
                 }
-                (2, State::Run) if st.mpos != held_at => {
+                (2, GrblState::Run) if st.mpos != held_at => {
                     phase = 3;
                     tx.send(Control::Stop).unwrap();
                 }

@@ -3,8 +3,7 @@
 
 mod common;
 use common::*;
-use oficina_grbl::resume;
-use oficina_grbl::sender::{Mode, StreamEnd};
+use oficina_grbl::{Mode, StreamEnd};
 
 #[test]
 fn character_counting_stream_completes_exactly() {
@@ -25,16 +24,16 @@ fn character_counting_stream_completes_exactly() {
     let executed = emu.with_core(|c| c.executed.clone());
     let sent: Vec<String> = job.lines.iter().map(|l| l.text.clone()).collect();
     assert_eq!(executed, sent);
-    let expected = resume::replay(&job, job.len()).work_pos();
+    let expected = oficina_grbl::replay(&job, job.len()).work_pos();
     assert_eq!(report.work_pos, Some(expected));
 }
 
 #[test]
 fn send_response_mode_also_completes() {
     let (emu, ep) = emulator(None);
-    let mut s = oficina_grbl::sender::Sender::connect(
+    let mut s = oficina_grbl::Sender::connect(
         &ep,
-        oficina_grbl::sender::SenderOptions {
+        oficina_grbl::SenderOptions {
             mode: Some(Mode::SendResponse),
             ..options()
         },
@@ -49,9 +48,9 @@ fn send_response_mode_also_completes() {
 
 #[test]
 fn operator_hold_resume_stop_then_resume_from_the_located_line() {
-    use oficina_grbl::resume::ResumeOptions;
-    use oficina_grbl::sender::{Control, Notice};
-    use oficina_grbl::status::State;
+    use oficina_grbl::GrblState;
+    use oficina_grbl::ResumeOptions;
+    use oficina_grbl::{Control, Notice};
     let (emu, ep) = emulator(Some(115_200));
     let mut s = connect(&ep);
     let job = job(300);
@@ -68,7 +67,7 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
             }
         }
         Notice::Status(st) => {
-            if step == 1 && st.state == State::Hold(0) {
+            if step == 1 && st.state == GrblState::Hold(0) {
                 held_seen = true;
                 tx.send(Control::Resume).unwrap();
                 step = 2;
@@ -87,7 +86,7 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
         .expect("a stop at rest names the resume line");
     assert!(at.index >= 100 && at.index <= report.acked_end, "{at:?}");
     // The machine was reset at rest: idle, not in alarm, position kept.
-    assert_eq!(s.status().unwrap().state, State::Idle);
+    assert_eq!(s.status().unwrap().state, GrblState::Idle);
     let opts = ResumeOptions {
         safe_z: 2.0,
         plunge_feed: 3000.0,
@@ -97,7 +96,7 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
     let done = s.stream(&job, at.index, None, None, &mut quiet());
     assert_eq!(done.end, StreamEnd::Completed, "{}", done.describe(&job));
     assert_eq!(emu.stats().rx_overflows, 0);
-    let expected = resume::replay(&job, job.len()).work_pos();
+    let expected = oficina_grbl::replay(&job, job.len()).work_pos();
     assert_eq!(done.work_pos, Some(expected));
 }
 
@@ -105,10 +104,10 @@ fn operator_hold_resume_stop_then_resume_from_the_located_line() {
 /// With `$10=3` the sender reads `Bf:` and knows which one the machine was executing.
 #[test]
 fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
-    use oficina_grbl::emulator::Emulator;
-    use oficina_grbl::resume::ResumeOptions;
-    use oficina_grbl::sender::{Control, Notice};
-    use oficina_grbl::transport::Endpoint;
+    use oficina_grbl::Endpoint;
+    use oficina_grbl::ResumeOptions;
+    use oficina_grbl::{Control, Notice};
+    use oficina_grbl_emu::Emulator;
     let mut cfg = config(Some(115_200));
     cfg.settings.push((10, 3.0));
     let emu = Emulator::start(cfg);
@@ -128,7 +127,7 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
         }
     }
     text += "G0Z1\n";
-    let job = oficina_grbl::job::Job::from_text("laps.nc", &text).unwrap();
+    let job = oficina_grbl::Job::from_text("laps.nc", &text).unwrap();
     let mut s = connect(&ep);
     let (tx, rx) = std::sync::mpsc::channel();
     let mut sent_stop = false;
@@ -152,7 +151,7 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
         plunge_feed: 2000.0,
         spindle_delay: 0.0,
     };
-    let pre = oficina_grbl::resume::preamble(&job, at.index, &opts).unwrap();
+    let pre = oficina_grbl::resume_preamble(&job, at.index, &opts).unwrap();
     s.run_preamble(&job, at.index, &opts).unwrap();
     let done = s.stream(&job, at.index, None, None, &mut quiet());
     assert_eq!(done.end, StreamEnd::Completed, "{}", done.describe(&job));
@@ -170,15 +169,17 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
 
 #[test]
 fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
-    use oficina_grbl::jog::{step_line, ContinuousJog};
-    use oficina_grbl::link::Event;
-    use oficina_grbl::response::Response;
-    use oficina_grbl::status::State;
+    use oficina_grbl::GrblState;
+    use oficina_grbl::LinkEvent;
+    use oficina_grbl::Response;
+    use oficina_grbl::{jog_step_line, ContinuousJog};
     use std::time::{Duration, Instant};
     let (_emu, ep) = emulator(None);
     let mut s = connect(&ep);
     // A step first: exactly 2 mm.
-    let r = s.command(&step_line('Y', 2.0, 6000.0).unwrap()).unwrap();
+    let r = s
+        .command(&jog_step_line('Y', 2.0, 6000.0).unwrap())
+        .unwrap();
     assert_eq!(r.error, None);
     let mut jog = ContinuousJog::start(&s, 'X', 1.0, 600.0).unwrap();
     let t0 = Instant::now();
@@ -188,8 +189,8 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
         acks = 0;
         while let Some(ev) = s.link().recv(Duration::from_millis(5)) {
             match ev {
-                Event::Line(Response::Ok, _) => acks += 1,
-                Event::Line(Response::Error(e), _) => panic!("jog rejected: error:{e}"),
+                LinkEvent::Line(Response::Ok, _) => acks += 1,
+                LinkEvent::Line(Response::Error(e), _) => panic!("jog rejected: error:{e}"),
                 _ => {}
             }
         }
@@ -198,7 +199,7 @@ fn continuous_jog_moves_at_the_feed_and_cancel_stops_it() {
     jog.stop(&mut s).unwrap();
     let st = loop {
         let st = s.status().unwrap();
-        if st.state == State::Idle {
+        if st.state == GrblState::Idle {
             break st;
         }
     };
@@ -222,7 +223,7 @@ fn check_mode_reports_every_bad_line_without_moving() {
     let mut text = common::program(100);
     text = text.replacen("G1 X", "G1 Q1 X", 1); // error:20 on the first move
     text.push_str("G2 X1\n"); // error:35 near the end
-    let job = oficina_grbl::job::Job::from_text("c.nc", &text).unwrap();
+    let job = oficina_grbl::Job::from_text("c.nc", &text).unwrap();
     let bad = s.check_job(&job).unwrap();
     let codes: Vec<u8> = bad.iter().map(|(_, c)| *c).collect();
     assert_eq!(codes, vec![20, 35], "{bad:?}");
@@ -235,18 +236,22 @@ fn check_mode_reports_every_bad_line_without_moving() {
 
 #[test]
 fn settings_overrides_and_safety_door() {
-    use oficina_grbl::realtime::Realtime;
-    use oficina_grbl::settings;
-    use oficina_grbl::status::State;
+    use oficina_grbl::GrblState;
+    use oficina_grbl::Realtime;
     let (_emu, ep) = emulator(None);
     let mut s = connect(&ep);
-    let all = settings::read(&mut s).unwrap();
+    let all = oficina_grbl::read_settings(&mut s).unwrap();
     assert_eq!(all.len(), 34);
     let x = all.iter().find(|st| st.number == 110).unwrap();
     assert_eq!(x.describe(), "$110=60000 (X-axis maximum rate, mm/min)");
-    assert_eq!(settings::write(&mut s, 111, 4321.5).unwrap().value, 4321.5);
+    assert_eq!(
+        oficina_grbl::write_setting(&mut s, 111, 4321.5)
+            .unwrap()
+            .value,
+        4321.5
+    );
     // grbl's own rule: soft limits need homing enabled (error:10).
-    assert!(settings::write(&mut s, 20, 1.0)
+    assert!(oficina_grbl::write_setting(&mut s, 20, 1.0)
         .unwrap_err()
         .contains("error:10"));
     // Overrides: +10 % twice on feed, rapid to 25 %.
@@ -263,15 +268,15 @@ fn settings_overrides_and_safety_door() {
     assert_eq!(ov, (120, 25, 100));
     // Safety door while idle, then cycle start closes it.
     s.realtime(Realtime::SafetyDoor).unwrap();
-    assert_eq!(s.status().unwrap().state, State::Door(0));
+    assert_eq!(s.status().unwrap().state, GrblState::Door(0));
     s.realtime(Realtime::CycleStart).unwrap();
-    assert_eq!(s.status().unwrap().state, State::Idle);
+    assert_eq!(s.status().unwrap().state, GrblState::Idle);
 }
 
 #[test]
 fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
-    use oficina_grbl::emulator::Emulator;
-    use oficina_grbl::transport::Endpoint;
+    use oficina_grbl::Endpoint;
+    use oficina_grbl_emu::Emulator;
     let mut cfg = config(None);
     cfg.settings.extend([(22, 1.0), (20, 1.0)]);
     let emu = Emulator::start(cfg);
@@ -281,7 +286,7 @@ fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
     let mut s = connect(&ep);
     assert_eq!(s.command("$H").unwrap().error, None);
     let text = "G21G90\nG0X-5Y-5\nG1X-10F3000\nG1X-10Y-250\nG1X-20\n";
-    let job = oficina_grbl::job::Job::from_text("limits.nc", text).unwrap();
+    let job = oficina_grbl::Job::from_text("limits.nc", text).unwrap();
     let report = s.stream(&job, 0, None, None, &mut quiet());
     assert_eq!(report.end, StreamEnd::Alarm(2));
     assert!(
@@ -303,7 +308,7 @@ fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
         .unwrap();
     assert!(at.index <= 3, "{at:?}");
     let st = s.status().unwrap();
-    assert_eq!(st.state, oficina_grbl::status::State::Idle);
+    assert_eq!(st.state, oficina_grbl::GrblState::Idle);
     assert!(st.mpos.unwrap().iter().all(|v| *v <= 0.0 && *v >= -200.0));
 }
 
@@ -316,7 +321,7 @@ fn streaming_from_past_the_end_finishes_at_once() {
     assert_eq!(
         r.end,
         StreamEnd::PositionMismatch {
-            expected: resume::replay(&job, job.len()).work_pos(),
+            expected: oficina_grbl::replay(&job, job.len()).work_pos(),
             actual: [0.0; 3]
         }
     );
@@ -335,7 +340,7 @@ fn connecting_to_a_busy_machine_sizes_the_window_once_it_rests() {
         Mode::SendResponse,
         "$I is refused while running (error:8)"
     );
-    let job = oficina_grbl::job::Job::from_text("busy.nc", "G1X50F1000\n").unwrap();
+    let job = oficina_grbl::Job::from_text("busy.nc", "G1X50F1000\n").unwrap();
     let at = s.recover(&job, 0, 1, 1, false).unwrap();
     assert_eq!(s.mode, Mode::CharCounting(127));
     assert_eq!(at.index, 1, "{at:?}");
