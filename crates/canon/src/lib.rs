@@ -124,6 +124,18 @@ pub enum SpindleDir {
     CounterClockwise,
 }
 
+/// How M19 turns the spindle to its orientation angle (its P word).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum OrientDir {
+    /// P0: the smaller angular movement.
+    #[default]
+    Shortest,
+    /// P1: always clockwise (M3's direction).
+    Clockwise,
+    /// P2: always counter-clockwise (M4's direction).
+    CounterClockwise,
+}
+
 /// One canonical operation. Lengths in mm, machine coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CanonOp {
@@ -163,6 +175,26 @@ pub enum CanonOp {
     SetSpindleSpeed(f64),
     StartSpindle(SpindleDir),
     StopSpindle,
+    /// M19 R P: turn the spindle to `angle` degrees and hold it there; the spindle no
+    /// longer turns (M3/M4 start it again).
+    OrientSpindle {
+        angle: f64,
+        dir: OrientDir,
+    },
+    /// M19 Q: wait up to this many seconds for the orientation to complete.
+    WaitOrientComplete(f64),
+    /// G33 / G33.1 / G76: from here until [`CanonOp::StopSpeedFeedSync`], every feed move
+    /// advances `pitch` mm along its own path per spindle revolution, so its speed is
+    /// pitch × spindle speed (mm/min) and no feed rate applies.
+    StartSpeedFeedSync {
+        pitch: f64,
+    },
+    StopSpeedFeedSync,
+    /// G33.1 rigid tapping: a synchronised feed from the current point to `to`, the spindle
+    /// reversed there, and the same path back; the move ends where it started.
+    RigidTap {
+        to: Pos,
+    },
     MistOn,
     MistOff,
     FloodOn,
@@ -201,6 +233,7 @@ impl CanonOp {
             CanonOp::StraightTraverse { .. }
                 | CanonOp::StraightFeed { .. }
                 | CanonOp::ArcFeed { .. }
+                | CanonOp::RigidTap { .. }
         )
     }
 }

@@ -4,7 +4,9 @@
 
 use crate::decimal;
 use crate::interp::frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{
+    Canon, CanonOp, FeedMode, MotionMode, OrientDir, Plane, Pos, SpindleDir, Units,
+};
 use std::io::{self, Write};
 
 /// Follows the offset and unit records of a stream and prints every operation.
@@ -221,6 +223,7 @@ impl Rs274Printer {
                 self.last = to.to_array()
             }
             CanonOp::ArcFeed { end, .. } => self.last = end.to_array(),
+            // A rigid tap comes back to where it started: `last` stays.
             _ => {}
         }
         match op {
@@ -332,6 +335,24 @@ impl Rs274Printer {
                 write!(out, "START_SPINDLE_COUNTERCLOCKWISE(0)")
             }
             CanonOp::StopSpindle => write!(out, "STOP_SPINDLE_TURNING(0)"),
+            CanonOp::OrientSpindle { angle, dir } => {
+                let p = match dir {
+                    OrientDir::Shortest => 0,
+                    OrientDir::Clockwise => 1,
+                    OrientDir::CounterClockwise => 2,
+                };
+                write!(out, "ORIENT_SPINDLE(0, {angle:.4}, {p})")
+            }
+            CanonOp::WaitOrientComplete(s) => write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({s:.4})"),
+            // rs274 prints the pitch in program units with six decimals and no space.
+            CanonOp::StartSpeedFeedSync { pitch } => {
+                write!(out, "START_SPEED_FEED_SYNC({:.6},0)", pitch / self.k())
+            }
+            CanonOp::StopSpeedFeedSync => write!(out, "STOP_SPEED_FEED_SYNCH()"),
+            CanonOp::RigidTap { to } => {
+                let p = self.program(to);
+                write!(out, "RIGID_TAP({:.4}, {:.4}, {:.4})", p[0], p[1], p[2])
+            }
             CanonOp::MistOn => write!(out, "MIST_ON()"),
             CanonOp::MistOff => write!(out, "MIST_OFF()"),
             CanonOp::FloodOn => write!(out, "FLOOD_ON()"),

@@ -149,6 +149,9 @@ impl Interpreter {
                 self.arc(d, sink, end)
             }
             Motion::Cycle(code) => self.canned_cycle(d, code, sink),
+            Motion::SpindleSync => self.spindle_sync(d, sink, end),
+            Motion::RigidTap => self.rigid_tap(d, sink, end),
+            Motion::Threading => self.threading_cycle(d, sink),
             Motion::Off => Ok(()),
         }
     }
