@@ -80,6 +80,9 @@ pub struct Summarizer {
     pos: Pos,
     feed: f64,
     feed_mode: FeedMode,
+    /// Spindle speed, rev/min, and inside G33/G33.1/G76 the pitch, mm/rev.
+    spindle_rpm: f64,
+    sync_pitch: Option<f64>,
     bound: Box<dyn MoveBound + Send>,
     summary: Summary,
 }
@@ -98,6 +101,8 @@ impl Summarizer {
             pos: start,
             feed: 0.0,
             feed_mode: FeedMode::UnitsPerMinute,
+            spindle_rpm: 0.0,
+            sync_pitch: None,
             bound,
             summary: Summary::default(),
         }
@@ -142,6 +147,20 @@ impl Summarizer {
                 self.time_feed(len, end);
                 self.pos = *end;
             }
+            // In and back out along the same line: twice its length, ending where it began.
+            CanonOp::RigidTap { to } => {
+                let len = 2.0 * self.pos.dist_xyz(to);
+                s.feed_extents.add(xyz(&self.pos));
+                s.feed_extents.add(xyz(to));
+                s.feed_moves += 1;
+                s.feed_length += len;
+                let back = self.pos;
+                self.time_feed(len, to);
+                self.pos = back;
+            }
+            CanonOp::SetSpindleSpeed(rpm) => self.spindle_rpm = *rpm,
+            CanonOp::StartSpeedFeedSync { pitch } => self.sync_pitch = Some(*pitch),
+            CanonOp::StopSpeedFeedSync => self.sync_pitch = None,
             // T selects, M6 changes; grbl programs change by hand at an M0, so both count.
             CanonOp::SelectTool(t) | CanonOp::ChangeTool(t) if !s.tools.contains(t) => {
                 s.tools.push(*t);
@@ -157,7 +176,16 @@ impl Summarizer {
     /// A feed move of `len` mm from the current point to `to`: at its programmed feed, and
     /// never faster than the machine allows.
     fn time_feed(&mut self, len: f64, to: &Pos) {
+        let sync_rate = self.sync_pitch.map(|p| p * self.spindle_rpm);
         let at_feed = match self.feed_mode {
+            // Synchronised: pitch (mm/rev) × spindle speed (rev/min) is the feed in mm/min.
+            _ if sync_rate.is_some() => match sync_rate {
+                Some(rate) if rate > 0.0 => len / rate * 60.0,
+                _ => {
+                    self.summary.untimed_moves += 1;
+                    return;
+                }
+            },
             FeedMode::InverseTime if self.feed > 0.0 => 60.0 / self.feed,
             FeedMode::UnitsPerMinute if self.feed > 0.0 => len / self.feed * 60.0,
             _ => {
@@ -273,5 +301,31 @@ mod tests {
         assert_eq!(r.rapid_extents.max[0], 100.0);
         assert_eq!(r.feed_extents.min[0], 100.0);
         assert_eq!(r.feed_length, 50.0);
+    }
+
+    #[test]
+    fn synchronised_moves_are_timed_at_pitch_times_spindle_speed() {
+        let mut s = Summarizer::new(Pos::ZERO, [0.0; 3]);
+        s.add(&CanonOp::SetFeedRate(100.0));
+        s.add(&CanonOp::SetSpindleSpeed(400.0));
+        s.add(&CanonOp::StartSpeedFeedSync { pitch: 1.5 });
+        // 30 mm at 1.5 mm/rev × 400 rev/min = 600 mm/min: 3 s (F100 would give 18 s).
+        s.add(&CanonOp::StraightFeed {
+            to: Pos::xyz(0.0, 0.0, -30.0),
+        });
+        s.add(&CanonOp::StopSpeedFeedSync);
+        s.add(&CanonOp::StartSpeedFeedSync { pitch: 1.0 });
+        // A tap 10 mm deep: 20 mm in and out at 400 mm/min, 3 s, ending where it began.
+        s.add(&CanonOp::RigidTap {
+            to: Pos::xyz(0.0, 0.0, -40.0),
+        });
+        s.add(&CanonOp::StopSpeedFeedSync);
+        s.add(&CanonOp::StraightFeed {
+            to: Pos::xyz(0.0, 0.0, -35.0),
+        }); // 5 mm at F100: 3 s
+        let r = s.finish();
+        assert!((r.feed_rate_seconds - 9.0).abs() < 1e-9, "{r:?}");
+        assert_eq!(r.feed_length, 55.0);
+        assert_eq!(r.feed_extents.min[2], -40.0);
     }
 }

@@ -513,6 +513,9 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
         (profile.default_feed, false, MotionMode::Continuous, 0.0_f64);
     let mut stop = true;
     let mut override_on = true;
+    // Spindle speed (rev/min) and, inside G33/G33.1/G76, the pitch (mm/rev): a synchronised
+    // move's cap is pitch × rpm, no override.
+    let (mut rpm, mut sync) = (0.0_f64, None::<f64>);
     for c in ops {
         let deviation = match mode {
             MotionMode::ExactPath => 0.0,
@@ -539,6 +542,8 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 };
                 let cap = if rapid {
                     f64::INFINITY
+                } else if let Some(pitch) = sync {
+                    pitch * rpm / 60.0
                 } else if inverse {
                     len * feed / 60.0 * factor
                 } else {
@@ -600,12 +605,37 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 pos = b;
                 rot = rb;
             }
+            CanonOp::StartSpeedFeedSync { pitch } => {
+                if sync.is_none() {
+                    stop = true;
+                }
+                sync = Some(*pitch);
+            }
+            CanonOp::StopSpeedFeedSync => sync = None,
+            // In along a line and back out of it: one op whose two legs lie on that line.
+            CanonOp::RigidTap { to } => {
+                let b = [to.x, to.y, to.z];
+                out.push(OpInfo {
+                    geom: Geometry::Line { a: pos, b },
+                    rot_a: rot,
+                    rot_b: rot,
+                    feed_cap: sync.unwrap_or(0.0) * rpm / 60.0,
+                    stop_before: dist3(pos, b) >= 1e-9,
+                    deviation,
+                });
+                stop = true;
+            }
+            CanonOp::SetSpindleSpeed(s) => {
+                rpm = *s;
+                stop = true;
+            }
             CanonOp::Dwell(_)
             | CanonOp::ProgramStop
             | CanonOp::OptionalProgramStop
             | CanonOp::StartSpindle(_)
             | CanonOp::StopSpindle
-            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::OrientSpindle { .. }
+            | CanonOp::WaitOrientComplete(_)
             | CanonOp::ChangeTool(_)
             | CanonOp::ProgramEnd => stop = true,
             _ => {}

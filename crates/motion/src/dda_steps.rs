@@ -128,6 +128,13 @@ impl<S: StepSink> Dda<'_, S> {
                 }
                 self.time += s;
             }
+            CanonOp::StartSpeedFeedSync { .. } | CanonOp::RigidTap { .. } => {
+                return Err(bad(
+                    line,
+                    "the DDA interpolator has no spindle encoder: spindle-synchronised motion \
+                     (G33, G33.1, G76) needs the exact step generator",
+                ));
+            }
             _ => {}
         }
         Ok(())

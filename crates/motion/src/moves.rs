@@ -215,6 +215,14 @@ pub struct MoveStream<'p, I> {
     op_count: u64,
     current: Option<Current>,
     failed: bool,
+    /// Spindle speed (rev/min) of the last S word.
+    spindle_rpm: f64,
+    /// Inside G33 / G33.1 / G76: mm per spindle revolution along the path.
+    sync_pitch: Option<f64>,
+    /// The way back out of a rigid tap (G33.1): its line and the point it returns to.
+    tap_return: Option<(u32, [f64; 3])>,
+    /// The way back out of a tap is under way: the move after it starts from rest.
+    after_tap: bool,
 }
 
 impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
@@ -245,6 +253,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             op_count: 0,
             current: None,
             failed: false,
+            spindle_rpm: 0.0,
+            sync_pitch: None,
+            tap_return: None,
+            after_tap: false,
         })
     }
 
@@ -271,12 +283,16 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
     }
 
     fn start_op(&mut self, line: u32, kind: MoveKind, shape: Shape, rot_b: [f64; 3], length: f64) {
-        let speed = match kind {
-            MoveKind::Rapid => f64::INFINITY,
+        let speed = match (kind, self.sync_pitch) {
+            (MoveKind::Rapid, _) => f64::INFINITY,
+            // Synchronised: `pitch` mm per revolution at `spindle_rpm` rev/min, in mm/s.
+            (_, Some(pitch)) => pitch * self.spindle_rpm / 60.0,
             _ if self.inverse_time => length * self.feed / 60.0,
             _ => self.feed,
         };
-        let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
+        // The feed override does not apply to spindle-synchronised motion.
+        let feed_scaled =
+            kind != MoveKind::Rapid && self.override_enabled && self.sync_pitch.is_none();
         let chords = match shape {
             Shape::Line { .. } => 1,
             Shape::Arc { helix, r1 } => {
@@ -309,8 +325,42 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
+    /// A synchronised move needs a turning spindle: its speed is pitch × rpm.
+    fn check_sync(&self, line: u32) -> Result<(), MotionError> {
+        if self.sync_pitch.is_some() && !(self.spindle_rpm > 0.0 && self.spindle_rpm.is_finite()) {
+            return Err(self.bad(
+                line,
+                "spindle-synchronised move (G33, G33.1 or G76) with no spindle speed: its feed is pitch × spindle speed; set S before it",
+            ));
+        }
+        Ok(())
+    }
+
     /// Reads canon ops until one produces motion or a planner item.
     fn read_op(&mut self) -> Option<Result<Item, MotionError>> {
+        if let Some((line, back)) = self.tap_return.take() {
+            // Out of a rigid tap the way it went in, from rest (the spindle reverses at the
+            // bottom). It is the same canon op: the op index does not advance.
+            let length = path_length(self.pos, back, self.rot, self.rot);
+            self.stop_next = true;
+            self.after_tap = true;
+            self.op_count -= 1;
+            self.start_op(
+                line,
+                MoveKind::Feed,
+                Shape::Line {
+                    a: self.pos,
+                    b: back,
+                },
+                self.rot,
+                length,
+            );
+            return None;
+        }
+        // At the top the spindle reverses once more and the tap ends at rest.
+        if std::mem::take(&mut self.after_tap) {
+            self.stop_next = true;
+        }
         loop {
             let c = self.ops.next()?;
             let line = c.line;
@@ -352,8 +402,15 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         Err(e) => return Some(Err(e)),
                     };
                     let length = path_length(self.pos, b, self.rot, rb);
-                    if kind == MoveKind::Feed && self.feed <= 0.0 && length >= 1e-9 {
-                        return Some(Err(self.bad(line, "feed move with a zero feed rate; set F")));
+                    if kind == MoveKind::Feed && length >= 1e-9 {
+                        if let Err(e) = self.check_sync(line) {
+                            return Some(Err(e));
+                        }
+                        if self.sync_pitch.is_none() && self.feed <= 0.0 {
+                            return Some(Err(
+                                self.bad(line, "feed move with a zero feed rate; set F")
+                            ));
+                        }
                     }
                     if length < 1e-9 {
                         self.op_count += 1; // keep op indices aligned with the canon stream
@@ -372,7 +429,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
-                    if self.feed <= 0.0 {
+                    if let Err(e) = self.check_sync(line) {
+                        return Some(Err(e));
+                    }
+                    if self.sync_pitch.is_none() && self.feed <= 0.0 {
                         return Some(Err(self.bad(line, "arc with a zero feed rate; set F")));
                     }
                     if turns == 0 || !center.iter().all(|v| v.is_finite()) {
@@ -405,9 +465,58 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     self.stop_next = true;
                     return Some(Ok(Item::Sync { line, pause: true }));
                 }
+                CanonOp::StartSpeedFeedSync { pitch } => {
+                    if !(pitch > 0.0 && pitch.is_finite()) {
+                        return Some(Err(self.bad(
+                            line,
+                            format!("spindle-synchronised pitch {pitch} mm/rev must be > 0"),
+                        )));
+                    }
+                    // Synchronised motion waits for the spindle's index pulse: from rest.
+                    if self.sync_pitch.is_none() {
+                        self.stop_next = true;
+                    }
+                    self.sync_pitch = Some(pitch);
+                }
+                CanonOp::StopSpeedFeedSync => self.sync_pitch = None,
+                CanonOp::RigidTap { to } => {
+                    let (b, _) = match self.target(line, &to) {
+                        Ok(b) => b,
+                        Err(e) => return Some(Err(e)),
+                    };
+                    if self.sync_pitch.is_none() {
+                        return Some(Err(
+                            self.bad(line, "rigid tap outside spindle synchronisation")
+                        ));
+                    }
+                    if let Err(e) = self.check_sync(line) {
+                        return Some(Err(e));
+                    }
+                    // Rotary axes do not take part in a tap.
+                    let length = path_length(self.pos, b, self.rot, self.rot);
+                    if length < 1e-9 {
+                        self.op_count += 1;
+                        continue;
+                    }
+                    self.tap_return = Some((line, self.pos));
+                    self.start_op(
+                        line,
+                        MoveKind::Feed,
+                        Shape::Line { a: self.pos, b },
+                        self.rot,
+                        length,
+                    );
+                    return None;
+                }
+                CanonOp::SetSpindleSpeed(s) => {
+                    self.spindle_rpm = s;
+                    self.stop_next = true;
+                    return Some(Ok(Item::Sync { line, pause: false }));
+                }
                 CanonOp::StartSpindle(_)
                 | CanonOp::StopSpindle
-                | CanonOp::SetSpindleSpeed(_)
+                | CanonOp::OrientSpindle { .. }
+                | CanonOp::WaitOrientComplete(_)
                 | CanonOp::ChangeTool(_)
                 | CanonOp::ProgramEnd => {
                     self.stop_next = true;

@@ -69,6 +69,13 @@ pub fn replay<'a>(
                 }
                 pos = to;
             }
+            // A rigid tap cuts in to its end and back out along the same line.
+            CanonOp::RigidTap { to } => {
+                let t = tool.ok_or(SimError::NoTool { line: c.line })?;
+                let to = [to.x, to.y, to.z];
+                sweep_line(stock, t, pos, to);
+                sweep_line(stock, t, to, pos);
+            }
             _ => {}
         }
     }
@@ -107,6 +114,37 @@ pub fn arc_chords(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_rigid_tap_cuts_to_its_depth_and_ends_where_it_started() {
+        use oficina_canon::{Canon, Pos};
+        let tool = oficina_cam::Tool::new(oficina_cam::tool::Shape::Flat, 4.0).unwrap();
+        let tools = HashMap::from([(1, tool)]);
+        let mut stock = Heightmap::flat(41, 41, 0.5, 0.0);
+        let ops: Vec<Canon> = [
+            CanonOp::ChangeTool(1),
+            CanonOp::StraightTraverse {
+                to: Pos::xyz(10.0, 10.0, 2.0),
+            },
+            CanonOp::StartSpeedFeedSync { pitch: 1.0 },
+            CanonOp::RigidTap {
+                to: Pos::xyz(10.0, 10.0, -8.0),
+            },
+            CanonOp::StopSpeedFeedSync,
+        ]
+        .into_iter()
+        .map(|op| Canon { line: 1, op })
+        .collect();
+        let end = replay(&ops, &tools, &mut stock, [0.0, 0.0, 5.0]).unwrap();
+        assert_eq!(end, [10.0, 10.0, 2.0]);
+        assert!(
+            (stock.at(20, 20) + 8.0).abs() < 1e-6,
+            "{}",
+            stock.at(20, 20)
+        );
+        // 4 mm from the axis, outside the 2 mm radius: untouched.
+        assert_eq!(stock.at(28, 20), 0.0);
+    }
 
     #[test]
     fn xz_arc_chords_stay_on_the_circle() {
