@@ -165,11 +165,17 @@ pub enum CanonOp {
     /// Arc (or helix) in `plane` ending at `end`, about `center` given as the two in-plane
     /// coordinates (first, second); `turns` > 0 is counter-clockwise, < 0 clockwise, and its
     /// magnitude counts full turns plus the partial one (1 = less than one full turn).
+    ///
+    /// `rotation` (degrees) turns the arc's plane about the machine Z axis: an XZ or YZ arc
+    /// programmed under `G10 L2 … R` lies in a vertical plane that is not a machine plane.
+    /// Then `plane` and `center` hold in the arc's own frame, the machine frame turned by
+    /// `rotation` about Z ([`to_arc_frame`] / [`from_arc_frame`]). 0 for every other arc.
     ArcFeed {
         plane: Plane,
         end: Pos,
         center: [f64; 2],
         turns: i32,
+        rotation: f64,
     },
     Dwell(f64),
     SetSpindleSpeed(f64),
@@ -216,6 +222,25 @@ pub enum CanonOp {
     /// `(MSG,…)`: shown to the operator.
     Message(String),
     Comment(String),
+}
+
+/// A machine point (X, Y, Z) in the frame of an arc turned by `rotation` degrees about the
+/// machine Z axis: the point turned by −rotation. Identity for 0.
+pub fn to_arc_frame(p: [f64; 3], rotation: f64) -> [f64; 3] {
+    turn_about_z(p, -rotation)
+}
+
+/// The inverse of [`to_arc_frame`]: a point of the arc's frame in machine coordinates.
+pub fn from_arc_frame(p: [f64; 3], rotation: f64) -> [f64; 3] {
+    turn_about_z(p, rotation)
+}
+
+fn turn_about_z(p: [f64; 3], degrees: f64) -> [f64; 3] {
+    if degrees == 0.0 {
+        return p;
+    }
+    let (s, c) = degrees.to_radians().sin_cos();
+    [p[0] * c - p[1] * s, p[0] * s + p[1] * c, p[2]]
 }
 
 /// A canonical operation tagged with the 1-based source line it came from.

@@ -136,8 +136,10 @@ impl Summarizer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
-                let (len, ext) = arc_length_and_extents(&self.pos, *plane, end, *center, *turns);
+                let (len, ext) =
+                    arc_length_and_extents(&self.pos, *plane, end, *center, *turns, *rotation);
                 let s = &mut self.summary;
                 s.feed_extents.add(ext.min);
                 s.feed_extents.add(ext.max);
@@ -209,15 +211,18 @@ fn xyz(p: &Pos) -> [f64; 3] {
 /// Length of an arc or helix and the box it sweeps (including the quadrant points it passes).
 /// The geometry is the arc module's; an arc whose end radius differs a little from its start
 /// radius (within the interpreter's tolerance) counts at the mean radius in length and at the
-/// larger one in the box, a safe box.
+/// larger one in the box, a safe box. An arc turned about Z (`rotation`, degrees) is measured
+/// in its own frame; its box is the box of that frame's box turned back (safe, not tight).
 pub fn arc_length_and_extents(
     start: &Pos,
     plane: Plane,
     end: &Pos,
     center: [f64; 2],
     turns: i32,
+    rotation: f64,
 ) -> (f64, Extents) {
-    let (s, e) = (xyz(start), xyz(end));
+    let s = crate::to_arc_frame(xyz(start), rotation);
+    let e = crate::to_arc_frame(xyz(end), rotation);
     let mut helix = Helix::new(plane, s, e, center, turns);
     let r0 = helix.arc.radius;
     let r1 = plane.project(e).distance(helix.arc.center);
@@ -228,6 +233,20 @@ pub fn arc_length_and_extents(
     let mut ext = Extents::default();
     for p in [s, e, lo, hi] {
         ext.add(p);
+    }
+    if rotation != 0.0 {
+        let local = ext;
+        ext = Extents::default();
+        for k in 0..8 {
+            let pick = |i: usize| {
+                if k >> i & 1 == 0 {
+                    local.min[i]
+                } else {
+                    local.max[i]
+                }
+            };
+            ext.add(crate::from_arc_frame([pick(0), pick(1), pick(2)], rotation));
+        }
     }
     (len, ext)
 }
@@ -246,6 +265,7 @@ mod tests {
             &Pos::xyz(0.0, 10.0, 0.0),
             [0.0, 0.0],
             1,
+            0.0,
         );
         assert!((len - 10.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-9);
         assert_eq!(ext.max[0], 10.0);
@@ -262,6 +282,7 @@ mod tests {
             &Pos::xyz(0.0, 10.0, 0.0),
             [0.0, 0.0],
             -1,
+            0.0,
         );
         assert!((len - 10.0 * 1.5 * std::f64::consts::PI).abs() < 1e-9);
         assert!((ext.min[0] + 10.0).abs() < 1e-9 && (ext.min[1] + 10.0).abs() < 1e-9);
@@ -275,6 +296,7 @@ mod tests {
             &Pos::xyz(5.0, 0.0, -3.0),
             [0.0, 0.0],
             2,
+            0.0,
         );
         let planar = 2.0 * TAU * 5.0;
         assert!((len - planar.hypot(3.0)).abs() < 1e-9);

@@ -51,14 +51,24 @@ impl Rs274Printer {
         q
     }
 
-    /// An arc's end and centre in program coordinates. The centre is a machine point that
-    /// shares the end's off-plane coordinates, so a rotated frame maps it like any point.
-    fn arc_in_program(&self, plane: Plane, end: &Pos, center: &[f64; 2]) -> ([f64; 6], [f64; 6]) {
+    /// An arc's end and centre in program coordinates. In the arc's own frame the centre
+    /// shares the end's off-plane coordinate; taken back to the machine frame, the printer's
+    /// chain maps it like any point.
+    fn arc_in_program(
+        &self,
+        plane: Plane,
+        end: &Pos,
+        center: &[f64; 2],
+        rotation: f64,
+    ) -> ([f64; 6], [f64; 6]) {
         let (a0, a1, _) = plane.axes();
-        let mut c = end.to_array();
+        let e = end.to_array();
+        let mut c = oficina_canon::to_arc_frame([e[0], e[1], e[2]], rotation);
         c[a0] = center[0];
         c[a1] = center[1];
-        (self.program(end), self.program(&Pos::from_array(c)))
+        let [x, y, z] = oficina_canon::from_arc_frame(c, rotation);
+        let c = Pos { x, y, z, ..*end };
+        (self.program(end), self.program(&c))
     }
 
     fn lengths(&self, p: &Pos) -> [f64; 6] {
@@ -118,9 +128,10 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let (e, c) = self.arc_in_program(*plane, end, center);
+                let (e, c) = self.arc_in_program(*plane, end, center, *rotation);
                 let first = [e[a0], e[a1], c[a0], c[a1]];
                 let second = [e[a2], e[3], e[4], e[5]];
                 let fits = first
@@ -200,10 +211,13 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
                 let e = end.to_array();
+                let e = oficina_canon::to_arc_frame([e[0], e[1], e[2]], *rotation);
                 let s = self.last;
+                let s = oficina_canon::to_arc_frame([s[0], s[1], s[2]], *rotation);
                 let radius = (s[a0] - center[0]).hypot(s[a1] - center[1]);
                 let theta = turn_angle(
                     [s[a0] - center[0], s[a1] - center[1]],
@@ -317,9 +331,10 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let (e, c) = self.arc_in_program(*plane, end, center);
+                let (e, c) = self.arc_in_program(*plane, end, center, *rotation);
                 write!(
                     out,
                     "ARC_FEED({:.4}, {:.4}, {:.4}, {:.4}, {turns}, {:.4}, {:.4}, {:.4}, {:.4})",

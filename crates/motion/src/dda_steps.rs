@@ -121,6 +121,8 @@ impl<S: StepSink> Dda<'_, S> {
                 end,
                 center,
                 turns,
+                // The DDA takes XY arcs only, and those are never turned.
+                rotation: _,
             } => self.arc(line, plane, &end, center, turns)?,
             CanonOp::Dwell(s) => {
                 if !(s.is_finite() && s >= 0.0) {

@@ -6,7 +6,9 @@
 use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
-use oficina_canon::{Canon, CanonOp, FeedMode, MotionMode, Plane, Pos};
+use oficina_canon::{
+    from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, MotionMode, Plane, Pos,
+};
 use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,10 +90,12 @@ enum Shape {
         a: [f64; 3],
         b: [f64; 3],
     },
-    /// An arc or helix of the arc module, its radius running to `r1` at the end.
+    /// An arc or helix of the arc module, its radius running to `r1` at the end; the helix
+    /// lies in the arc's own frame, turned by `rotation` degrees about Z from the machine's.
     Arc {
         helix: Helix,
         r1: f64,
+        rotation: f64,
     },
 }
 
@@ -99,7 +103,11 @@ impl Shape {
     fn point(&self, f: f64) -> [f64; 3] {
         match *self {
             Shape::Line { a, b } => lerp3(a, b, f),
-            Shape::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
+            Shape::Arc {
+                helix,
+                r1,
+                rotation,
+            } => from_arc_frame(helix.spiral_point_at(f, r1), rotation),
         }
     }
 }
@@ -295,7 +303,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             kind != MoveKind::Rapid && self.override_enabled && self.sync_pitch.is_none();
         let chords = match shape {
             Shape::Line { .. } => 1,
-            Shape::Arc { helix, r1 } => {
+            Shape::Arc { helix, r1, .. } => {
                 let r = helix.arc.radius.max(r1);
                 chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
@@ -424,6 +432,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     end,
                     center,
                     turns,
+                    rotation,
                 } => {
                     let (b, rb) = match self.target(line, &end) {
                         Ok(b) => b,
@@ -440,9 +449,12 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                             self.bad(line, "arc with zero turns or a non-finite centre")
                         ));
                     }
-                    let helix = Helix::new(plane, self.pos, b, center, turns);
+                    // In the arc's own frame, where its plane is `plane`.
+                    let (a_local, b_local) =
+                        (to_arc_frame(self.pos, rotation), to_arc_frame(b, rotation));
+                    let helix = Helix::new(plane, a_local, b_local, center, turns);
                     let r0 = helix.arc.radius;
-                    let r1 = plane.project(b).distance(helix.arc.center);
+                    let r1 = plane.project(b_local).distance(helix.arc.center);
                     if r0 < 1e-9 || r1 < 1e-9 {
                         return Some(Err(
                             self.bad(line, "arc centre coincides with its start or end point")
@@ -450,7 +462,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     }
                     let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
                     let length = planar.hypot(helix.axial.1 - helix.axial.0);
-                    let shape = Shape::Arc { helix, r1 };
+                    let shape = Shape::Arc {
+                        helix,
+                        r1,
+                        rotation,
+                    };
                     self.start_op(line, MoveKind::Arc, shape, rb, length);
                     return None;
                 }

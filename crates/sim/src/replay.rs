@@ -2,7 +2,7 @@
 
 use oficina_cam::stock::{sweep_arc, sweep_line};
 use oficina_cam::Tool;
-use oficina_canon::{Canon, CanonOp, Plane};
+use oficina_canon::{from_arc_frame, to_arc_frame, Canon, CanonOp, Plane};
 use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;
 use std::collections::HashMap;
@@ -55,14 +55,18 @@ pub fn replay<'a>(
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
                 let to = [end.x, end.y, end.z];
                 if *plane == Plane::XY {
                     sweep_arc(stock, t, pos, to, *center, *turns > 0);
                 } else {
+                    // Chords in the arc's own frame, swept in the machine's.
+                    let (a, b) = (to_arc_frame(pos, *rotation), to_arc_frame(to, *rotation));
                     let mut from = pos;
-                    for p in arc_chords(*plane, pos, to, *center, *turns, CHORD_TOLERANCE) {
+                    for p in arc_chords(*plane, a, b, *center, *turns, CHORD_TOLERANCE) {
+                        let p = from_arc_frame(p, *rotation);
                         sweep_line(stock, t, from, p);
                         from = p;
                     }
