@@ -4,7 +4,7 @@
 
 use crate::check::Diag;
 use crate::text::reader;
-use oficina_canon::{CanonOp, Pos};
+use oficina_canon::{from_arc_frame, to_arc_frame, CanonOp, Pos};
 use oficina_gcode::CanonStream;
 use oficina_gcode::Dialect;
 use oficina_gcode::RunOptions;
@@ -62,9 +62,14 @@ pub fn for_each_segment(
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let axes = plane.axes();
-                let (s, e) = (at.to_array(), end.to_array());
+                // In the arc's own frame (turned about Z under G10 L2 R), drawn in the machine's.
+                let (s, e) = (
+                    to_arc_frame(xyz(&at), rotation),
+                    to_arc_frame(xyz(&end), rotation),
+                );
                 let (sx, sy) = (s[axes.0] - center[0], s[axes.1] - center[1]);
                 let (ex, ey) = (e[axes.0] - center[0], e[axes.1] - center[1]);
                 let (r0, r1) = (sx.hypot(sy), ex.hypot(ey));
@@ -82,7 +87,7 @@ pub fn for_each_segment(
                         xyz(&end)
                     } else {
                         let f = k as f64 / n as f64;
-                        helix.spiral_point_at(f, r1)
+                        from_arc_frame(helix.spiral_point_at(f, r1), rotation)
                     };
                     emit(PreviewSegment {
                         kind: PathKind::Feed,

@@ -187,6 +187,7 @@ impl Toolpath {
                             end: pos(to),
                             center,
                             turns: if ccw { 1 } else { -1 },
+                            rotation: 0.0,
                         });
                     }
                     Move::Dwell(s) => push(CanonOp::Dwell(s)),

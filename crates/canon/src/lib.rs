@@ -128,6 +128,18 @@ pub enum SpindleDir {
     CounterClockwise,
 }
 
+/// How M19 turns the spindle to its orientation angle (its P word).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum OrientDir {
+    /// P0: the smaller angular movement.
+    #[default]
+    Shortest,
+    /// P1: always clockwise (M3's direction).
+    Clockwise,
+    /// P2: always counter-clockwise (M4's direction).
+    CounterClockwise,
+}
+
 /// One canonical operation. Lengths in mm, machine coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CanonOp {
@@ -157,16 +169,42 @@ pub enum CanonOp {
     /// Arc (or helix) in `plane` ending at `end`, about `center` given as the two in-plane
     /// coordinates (first, second); `turns` > 0 is counter-clockwise, < 0 clockwise, and its
     /// magnitude counts full turns plus the partial one (1 = less than one full turn).
+    ///
+    /// `rotation` (degrees) turns the arc's plane about the machine Z axis: an XZ or YZ arc
+    /// programmed under `G10 L2 … R` lies in a vertical plane that is not a machine plane.
+    /// Then `plane` and `center` hold in the arc's own frame, the machine frame turned by
+    /// `rotation` about Z ([`to_arc_frame`] / [`from_arc_frame`]). 0 for every other arc.
     ArcFeed {
         plane: Plane,
         end: Pos,
         center: [f64; 2],
         turns: i32,
+        rotation: f64,
     },
     Dwell(f64),
     SetSpindleSpeed(f64),
     StartSpindle(SpindleDir),
     StopSpindle,
+    /// M19 R P: turn the spindle to `angle` degrees and hold it there; the spindle no
+    /// longer turns (M3/M4 start it again).
+    OrientSpindle {
+        angle: f64,
+        dir: OrientDir,
+    },
+    /// M19 Q: wait up to this many seconds for the orientation to complete.
+    WaitOrientComplete(f64),
+    /// G33 / G33.1 / G76: from here until [`CanonOp::StopSpeedFeedSync`], every feed move
+    /// advances `pitch` mm along its own path per spindle revolution, so its speed is
+    /// pitch × spindle speed (mm/min) and no feed rate applies.
+    StartSpeedFeedSync {
+        pitch: f64,
+    },
+    StopSpeedFeedSync,
+    /// G33.1 rigid tapping: a synchronised feed from the current point to `to`, the spindle
+    /// reversed there, and the same path back; the move ends where it started.
+    RigidTap {
+        to: Pos,
+    },
     MistOn,
     MistOff,
     FloodOn,
@@ -190,6 +228,25 @@ pub enum CanonOp {
     Comment(String),
 }
 
+/// A machine point (X, Y, Z) in the frame of an arc turned by `rotation` degrees about the
+/// machine Z axis: the point turned by −rotation. Identity for 0.
+pub fn to_arc_frame(p: [f64; 3], rotation: f64) -> [f64; 3] {
+    turn_about_z(p, -rotation)
+}
+
+/// The inverse of [`to_arc_frame`]: a point of the arc's frame in machine coordinates.
+pub fn from_arc_frame(p: [f64; 3], rotation: f64) -> [f64; 3] {
+    turn_about_z(p, rotation)
+}
+
+fn turn_about_z(p: [f64; 3], degrees: f64) -> [f64; 3] {
+    if degrees == 0.0 {
+        return p;
+    }
+    let (s, c) = degrees.to_radians().sin_cos();
+    [p[0] * c - p[1] * s, p[0] * s + p[1] * c, p[2]]
+}
+
 /// A canonical operation tagged with the 1-based source line it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Canon {
@@ -205,6 +262,7 @@ impl CanonOp {
             CanonOp::StraightTraverse { .. }
                 | CanonOp::StraightFeed { .. }
                 | CanonOp::ArcFeed { .. }
+                | CanonOp::RigidTap { .. }
         )
     }
 }

@@ -80,6 +80,9 @@ pub struct Summarizer {
     pos: Pos,
     feed: f64,
     feed_mode: FeedMode,
+    /// Spindle speed, rev/min, and inside G33/G33.1/G76 the pitch, mm/rev.
+    spindle_rpm: f64,
+    sync_pitch: Option<f64>,
     bound: Box<dyn MoveBound + Send>,
     summary: Summary,
 }
@@ -98,6 +101,8 @@ impl Summarizer {
             pos: start,
             feed: 0.0,
             feed_mode: FeedMode::UnitsPerMinute,
+            spindle_rpm: 0.0,
+            sync_pitch: None,
             bound,
             summary: Summary::default(),
         }
@@ -131,8 +136,10 @@ impl Summarizer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
-                let (len, ext) = arc_length_and_extents(&self.pos, *plane, end, *center, *turns);
+                let (len, ext) =
+                    arc_length_and_extents(&self.pos, *plane, end, *center, *turns, *rotation);
                 let s = &mut self.summary;
                 s.feed_extents.add(ext.min);
                 s.feed_extents.add(ext.max);
@@ -142,6 +149,20 @@ impl Summarizer {
                 self.time_feed(len, end);
                 self.pos = *end;
             }
+            // In and back out along the same line: twice its length, ending where it began.
+            CanonOp::RigidTap { to } => {
+                let len = 2.0 * self.pos.dist_xyz(to);
+                s.feed_extents.add(xyz(&self.pos));
+                s.feed_extents.add(xyz(to));
+                s.feed_moves += 1;
+                s.feed_length += len;
+                let back = self.pos;
+                self.time_feed(len, to);
+                self.pos = back;
+            }
+            CanonOp::SetSpindleSpeed(rpm) => self.spindle_rpm = *rpm,
+            CanonOp::StartSpeedFeedSync { pitch } => self.sync_pitch = Some(*pitch),
+            CanonOp::StopSpeedFeedSync => self.sync_pitch = None,
             // T selects, M6 changes; grbl programs change by hand at an M0, so both count.
             CanonOp::SelectTool(t) | CanonOp::ChangeTool(t) if !s.tools.contains(t) => {
                 s.tools.push(*t);
@@ -157,7 +178,16 @@ impl Summarizer {
     /// A feed move of `len` mm from the current point to `to`: at its programmed feed, and
     /// never faster than the machine allows.
     fn time_feed(&mut self, len: f64, to: &Pos) {
+        let sync_rate = self.sync_pitch.map(|p| p * self.spindle_rpm);
         let at_feed = match self.feed_mode {
+            // Synchronised: pitch (mm/rev) × spindle speed (rev/min) is the feed in mm/min.
+            _ if sync_rate.is_some() => match sync_rate {
+                Some(rate) if rate > 0.0 => len / rate * 60.0,
+                _ => {
+                    self.summary.untimed_moves += 1;
+                    return;
+                }
+            },
             FeedMode::InverseTime if self.feed > 0.0 => 60.0 / self.feed,
             FeedMode::UnitsPerMinute if self.feed > 0.0 => len / self.feed * 60.0,
             _ => {
@@ -181,15 +211,18 @@ fn xyz(p: &Pos) -> [f64; 3] {
 /// Length of an arc or helix and the box it sweeps (including the quadrant points it passes).
 /// The geometry is the arc module's; an arc whose end radius differs a little from its start
 /// radius (within the interpreter's tolerance) counts at the mean radius in length and at the
-/// larger one in the box, a safe box.
+/// larger one in the box, a safe box. An arc turned about Z (`rotation`, degrees) is measured
+/// in its own frame; its box is the box of that frame's box turned back (safe, not tight).
 pub(crate) fn arc_length_and_extents(
     start: &Pos,
     plane: Plane,
     end: &Pos,
     center: [f64; 2],
     turns: i32,
+    rotation: f64,
 ) -> (f64, Extents) {
-    let (s, e) = (xyz(start), xyz(end));
+    let s = crate::to_arc_frame(xyz(start), rotation);
+    let e = crate::to_arc_frame(xyz(end), rotation);
     let mut helix = Helix::new(plane, s, e, center, turns);
     let r0 = helix.arc.radius;
     let r1 = plane.project(e).distance(helix.arc.center);
@@ -200,6 +233,20 @@ pub(crate) fn arc_length_and_extents(
     let mut ext = Extents::default();
     for p in [s, e, lo, hi] {
         ext.add(p);
+    }
+    if rotation != 0.0 {
+        let local = ext;
+        ext = Extents::default();
+        for k in 0..8 {
+            let pick = |i: usize| {
+                if k >> i & 1 == 0 {
+                    local.min[i]
+                } else {
+                    local.max[i]
+                }
+            };
+            ext.add(crate::from_arc_frame([pick(0), pick(1), pick(2)], rotation));
+        }
     }
     (len, ext)
 }
@@ -218,6 +265,7 @@ mod tests {
             &Pos::xyz(0.0, 10.0, 0.0),
             [0.0, 0.0],
             1,
+            0.0,
         );
         assert!((len - 10.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-9);
         assert_eq!(ext.max[0], 10.0);
@@ -234,6 +282,7 @@ mod tests {
             &Pos::xyz(0.0, 10.0, 0.0),
             [0.0, 0.0],
             -1,
+            0.0,
         );
         assert!((len - 10.0 * 1.5 * std::f64::consts::PI).abs() < 1e-9);
         assert!((ext.min[0] + 10.0).abs() < 1e-9 && (ext.min[1] + 10.0).abs() < 1e-9);
@@ -247,6 +296,7 @@ mod tests {
             &Pos::xyz(5.0, 0.0, -3.0),
             [0.0, 0.0],
             2,
+            0.0,
         );
         let planar = 2.0 * TAU * 5.0;
         assert!((len - planar.hypot(3.0)).abs() < 1e-9);
@@ -273,5 +323,31 @@ mod tests {
         assert_eq!(r.rapid_extents.max[0], 100.0);
         assert_eq!(r.feed_extents.min[0], 100.0);
         assert_eq!(r.feed_length, 50.0);
+    }
+
+    #[test]
+    fn synchronised_moves_are_timed_at_pitch_times_spindle_speed() {
+        let mut s = Summarizer::new(Pos::ZERO, [0.0; 3]);
+        s.add(&CanonOp::SetFeedRate(100.0));
+        s.add(&CanonOp::SetSpindleSpeed(400.0));
+        s.add(&CanonOp::StartSpeedFeedSync { pitch: 1.5 });
+        // 30 mm at 1.5 mm/rev × 400 rev/min = 600 mm/min: 3 s (F100 would give 18 s).
+        s.add(&CanonOp::StraightFeed {
+            to: Pos::xyz(0.0, 0.0, -30.0),
+        });
+        s.add(&CanonOp::StopSpeedFeedSync);
+        s.add(&CanonOp::StartSpeedFeedSync { pitch: 1.0 });
+        // A tap 10 mm deep: 20 mm in and out at 400 mm/min, 3 s, ending where it began.
+        s.add(&CanonOp::RigidTap {
+            to: Pos::xyz(0.0, 0.0, -40.0),
+        });
+        s.add(&CanonOp::StopSpeedFeedSync);
+        s.add(&CanonOp::StraightFeed {
+            to: Pos::xyz(0.0, 0.0, -35.0),
+        }); // 5 mm at F100: 3 s
+        let r = s.finish();
+        assert!((r.feed_rate_seconds - 9.0).abs() < 1e-9, "{r:?}");
+        assert_eq!(r.feed_length, 55.0);
+        assert_eq!(r.feed_extents.min[2], -40.0);
     }
 }

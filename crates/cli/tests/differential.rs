@@ -54,6 +54,11 @@ const COMPARED: &[&str] = &[
     "START_SPINDLE_CLOCKWISE",
     "START_SPINDLE_COUNTERCLOCKWISE",
     "STOP_SPINDLE_TURNING",
+    "ORIENT_SPINDLE",
+    "SPINDLE.0.WAIT_ORIENT_COMPLETE",
+    "START_SPEED_FEED_SYNC",
+    "STOP_SPEED_FEED_SYNCH",
+    "RIGID_TAP",
     "MIST_ON",
     "MIST_OFF",
     "FLOOD_ON",
@@ -84,7 +89,13 @@ const COMPARED: &[&str] = &[
 ];
 
 /// The calls that move the machine or pass time: compared first and reported on their own.
-const MOTION: &[&str] = &["STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "ARC_FEED", "DWELL"];
+const MOTION: &[&str] = &[
+    "STRAIGHT_TRAVERSE",
+    "STRAIGHT_FEED",
+    "ARC_FEED",
+    "RIGID_TAP",
+    "DWELL",
+];
 
 /// One canonical call as printed, with the 1-based line of the output it came from.
 #[derive(Clone, Debug)]
@@ -300,7 +311,7 @@ fn parse_call(out_line: usize, raw: &str) -> Option<Call> {
     if name.is_empty()
         || !name
             .chars()
-            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_' || c == '.')
     {
         return None;
     }
@@ -370,9 +381,11 @@ fn state_key(name: &str) -> Option<&'static str> {
         "SET_MOTION_CONTROL_MODE" => "motion control mode",
         "SET_NAIVECAM_TOLERANCE" => "naivecam tolerance",
         "SET_SPINDLE_SPEED" => "spindle speed",
-        "START_SPINDLE_CLOCKWISE" | "START_SPINDLE_COUNTERCLOCKWISE" | "STOP_SPINDLE_TURNING" => {
-            "spindle"
-        }
+        // M19 stops the spindle (rs274 starts it again on the next M3/M4).
+        "START_SPINDLE_CLOCKWISE"
+        | "START_SPINDLE_COUNTERCLOCKWISE"
+        | "STOP_SPINDLE_TURNING"
+        | "ORIENT_SPINDLE" => "spindle",
         "MIST_ON" | "MIST_OFF" => "mist",
         "FLOOD_ON" | "FLOOD_OFF" => "flood",
         "ENABLE_FEED_OVERRIDE" | "DISABLE_FEED_OVERRIDE" => "feed override",

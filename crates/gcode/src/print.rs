@@ -4,7 +4,9 @@
 
 use crate::decimal;
 use crate::interp::frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{
+    Canon, CanonOp, FeedMode, OrientDir, PathControlMode, Plane, Pos, SpindleDir, Units,
+};
 use std::io::{self, Write};
 
 /// Follows the offset and unit records of a stream and prints every operation.
@@ -49,14 +51,24 @@ impl Rs274Printer {
         q
     }
 
-    /// An arc's end and centre in program coordinates. The centre is a machine point that
-    /// shares the end's off-plane coordinates, so a rotated frame maps it like any point.
-    fn arc_in_program(&self, plane: Plane, end: &Pos, center: &[f64; 2]) -> ([f64; 6], [f64; 6]) {
+    /// An arc's end and centre in program coordinates. In the arc's own frame the centre
+    /// shares the end's off-plane coordinate; taken back to the machine frame, the printer's
+    /// chain maps it like any point.
+    fn arc_in_program(
+        &self,
+        plane: Plane,
+        end: &Pos,
+        center: &[f64; 2],
+        rotation: f64,
+    ) -> ([f64; 6], [f64; 6]) {
         let (a0, a1, _) = plane.axes();
-        let mut c = end.to_array();
+        let e = end.to_array();
+        let mut c = oficina_canon::to_arc_frame([e[0], e[1], e[2]], rotation);
         c[a0] = center[0];
         c[a1] = center[1];
-        (self.program(end), self.program(&Pos::from_array(c)))
+        let [x, y, z] = oficina_canon::from_arc_frame(c, rotation);
+        let c = Pos { x, y, z, ..*end };
+        (self.program(end), self.program(&c))
     }
 
     fn lengths(&self, p: &Pos) -> [f64; 6] {
@@ -116,9 +128,10 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let (e, c) = self.arc_in_program(*plane, end, center);
+                let (e, c) = self.arc_in_program(*plane, end, center, *rotation);
                 let first = [e[a0], e[a1], c[a0], c[a1]];
                 let second = [e[a2], e[3], e[4], e[5]];
                 let fits = first
@@ -198,10 +211,13 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
                 let e = end.to_array();
+                let e = oficina_canon::to_arc_frame([e[0], e[1], e[2]], *rotation);
                 let s = self.last;
+                let s = oficina_canon::to_arc_frame([s[0], s[1], s[2]], *rotation);
                 let radius = (s[a0] - center[0]).hypot(s[a1] - center[1]);
                 let theta = turn_angle(
                     [s[a0] - center[0], s[a1] - center[1]],
@@ -221,6 +237,7 @@ impl Rs274Printer {
                 self.last = to.to_array()
             }
             CanonOp::ArcFeed { end, .. } => self.last = end.to_array(),
+            // A rigid tap comes back to where it started: `last` stays.
             _ => {}
         }
         match op {
@@ -318,9 +335,10 @@ impl Rs274Printer {
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let (a0, a1, a2) = plane.axes();
-                let (e, c) = self.arc_in_program(*plane, end, center);
+                let (e, c) = self.arc_in_program(*plane, end, center, *rotation);
                 write!(
                     out,
                     "ARC_FEED({:.4}, {:.4}, {:.4}, {:.4}, {turns}, {:.4}, {:.4}, {:.4}, {:.4})",
@@ -336,6 +354,24 @@ impl Rs274Printer {
                 write!(out, "START_SPINDLE_COUNTERCLOCKWISE(0)")
             }
             CanonOp::StopSpindle => write!(out, "STOP_SPINDLE_TURNING(0)"),
+            CanonOp::OrientSpindle { angle, dir } => {
+                let p = match dir {
+                    OrientDir::Shortest => 0,
+                    OrientDir::Clockwise => 1,
+                    OrientDir::CounterClockwise => 2,
+                };
+                write!(out, "ORIENT_SPINDLE(0, {angle:.4}, {p})")
+            }
+            CanonOp::WaitOrientComplete(s) => write!(out, "SPINDLE.0.WAIT_ORIENT_COMPLETE({s:.4})"),
+            // rs274 prints the pitch in program units with six decimals and no space.
+            CanonOp::StartSpeedFeedSync { pitch } => {
+                write!(out, "START_SPEED_FEED_SYNC({:.6},0)", pitch / self.k())
+            }
+            CanonOp::StopSpeedFeedSync => write!(out, "STOP_SPEED_FEED_SYNCH()"),
+            CanonOp::RigidTap { to } => {
+                let p = self.program(to);
+                write!(out, "RIGID_TAP({:.4}, {:.4}, {:.4})", p[0], p[1], p[2])
+            }
             CanonOp::MistOn => write!(out, "MIST_ON()"),
             CanonOp::MistOff => write!(out, "MIST_OFF()"),
             CanonOp::FloodOn => write!(out, "FLOOD_ON()"),

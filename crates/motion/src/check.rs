@@ -17,7 +17,7 @@ use crate::kinematics::{self, Kinematics};
 use crate::moves::{dist3, dist_to_segment, lerp3};
 use crate::planner::{Segment, SegmentKind};
 use crate::profile::{Profile, VelocityProfile};
-use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode};
+use oficina_canon::{to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode};
 
 /// Relative slack for floating-point comparisons of limits.
 const REL: f64 = 1e-6;
@@ -36,8 +36,11 @@ enum Geometry {
         r1: f64,
         n0: f64,
         n1: f64,
+        /// Everything above holds in the arc's own frame: the machine frame turned by
+        /// `rotation` degrees about Z (an XZ/YZ arc under G10 L2 R).
         a: [f64; 3],
         b: [f64; 3],
+        rotation: f64,
     },
 }
 
@@ -467,8 +470,9 @@ fn path_deviation(g: &Geometry, p: [f64; 3]) -> f64 {
             n1,
             a,
             b,
-            ..
+            rotation,
         } => {
+            let p = to_arc_frame(p, rotation);
             if dist3(p, a) < 1e-9 || dist3(p, b) < 1e-9 {
                 return 0.0;
             }
@@ -484,7 +488,10 @@ fn path_deviation(g: &Geometry, p: [f64; 3]) -> f64 {
 fn chord_sag(g: &Geometry, a: [f64; 3], b: [f64; 3]) -> f64 {
     match *g {
         Geometry::Line { .. } => 0.0,
-        Geometry::Arc { axes, c, .. } => {
+        Geometry::Arc {
+            axes, c, rotation, ..
+        } => {
+            let (a, b) = (to_arc_frame(a, rotation), to_arc_frame(b, rotation));
             let m = lerp3(a, b, 0.5);
             let r_mid = (m[axes.0] - c[0]).hypot(m[axes.1] - c[1]);
             let ra = (a[axes.0] - c[0]).hypot(a[axes.1] - c[1]);
@@ -519,6 +526,9 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
     );
     let mut stop = true;
     let mut override_on = true;
+    // Spindle speed (rev/min) and, inside G33/G33.1/G76, the pitch (mm/rev): a synchronised
+    // move's cap is pitch × rpm, no override.
+    let (mut rpm, mut sync) = (0.0_f64, None::<f64>);
     for c in ops {
         let deviation = match mode {
             PathControlMode::ExactPath => 0.0,
@@ -545,6 +555,8 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 };
                 let cap = if rapid {
                     f64::INFINITY
+                } else if let Some(pitch) = sync {
+                    pitch * rpm / 60.0
                 } else if inverse {
                     len * feed / 60.0 * factor
                 } else {
@@ -570,16 +582,22 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let axes = plane.axes();
-                let b = [end.x, end.y, end.z];
+                let b_machine = [end.x, end.y, end.z];
                 let rb = [end.a, end.b, end.c];
-                let r0 = (pos[axes.0] - center[0]).hypot(pos[axes.1] - center[1]);
+                // Measured in the arc's own frame (identity unless turned about Z).
+                let (pa, b) = (
+                    to_arc_frame(pos, *rotation),
+                    to_arc_frame(b_machine, *rotation),
+                );
+                let r0 = (pa[axes.0] - center[0]).hypot(pa[axes.1] - center[1]);
                 let r1 = (b[axes.0] - center[0]).hypot(b[axes.1] - center[1]);
-                let a0 = (pos[axes.1] - center[1]).atan2(pos[axes.0] - center[0]);
+                let a0 = (pa[axes.1] - center[1]).atan2(pa[axes.0] - center[0]);
                 let a1 = (b[axes.1] - center[1]).atan2(b[axes.0] - center[0]);
                 let sweep = travel_angle(a0, a1, *turns);
-                let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pos[axes.2]);
+                let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pa[axes.2]);
                 let cap = if inverse {
                     len * feed / 60.0 * factor
                 } else {
@@ -591,10 +609,11 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                         c: *center,
                         r0,
                         r1,
-                        n0: pos[axes.2],
+                        n0: pa[axes.2],
                         n1: b[axes.2],
-                        a: pos,
+                        a: pa,
                         b,
+                        rotation: *rotation,
                     },
                     rot_a: rot,
                     rot_b: rb,
@@ -603,15 +622,40 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     deviation,
                 });
                 stop = false;
-                pos = b;
+                pos = b_machine;
                 rot = rb;
+            }
+            CanonOp::StartSpeedFeedSync { pitch } => {
+                if sync.is_none() {
+                    stop = true;
+                }
+                sync = Some(*pitch);
+            }
+            CanonOp::StopSpeedFeedSync => sync = None,
+            // In along a line and back out of it: one op whose two legs lie on that line.
+            CanonOp::RigidTap { to } => {
+                let b = [to.x, to.y, to.z];
+                out.push(OpInfo {
+                    geom: Geometry::Line { a: pos, b },
+                    rot_a: rot,
+                    rot_b: rot,
+                    feed_cap: sync.unwrap_or(0.0) * rpm / 60.0,
+                    stop_before: dist3(pos, b) >= 1e-9,
+                    deviation,
+                });
+                stop = true;
+            }
+            CanonOp::SetSpindleSpeed(s) => {
+                rpm = *s;
+                stop = true;
             }
             CanonOp::Dwell(_)
             | CanonOp::ProgramStop
             | CanonOp::OptionalProgramStop
             | CanonOp::StartSpindle(_)
             | CanonOp::StopSpindle
-            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::OrientSpindle { .. }
+            | CanonOp::WaitOrientComplete(_)
             | CanonOp::ChangeTool(_)
             | CanonOp::ProgramEnd => stop = true,
             _ => {}

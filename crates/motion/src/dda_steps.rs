@@ -121,12 +121,21 @@ impl<S: StepSink> Dda<'_, S> {
                 end,
                 center,
                 turns,
+                // The DDA takes XY arcs only, and those are never turned.
+                rotation: _,
             } => self.arc(line, plane, &end, center, turns)?,
             CanonOp::Dwell(s) => {
                 if !(s.is_finite() && s >= 0.0) {
                     return Err(bad(line, format!("dwell of {s} s")));
                 }
                 self.time += s;
+            }
+            CanonOp::StartSpeedFeedSync { .. } | CanonOp::RigidTap { .. } => {
+                return Err(bad(
+                    line,
+                    "the DDA interpolator has no spindle encoder: spindle-synchronised motion \
+                     (G33, G33.1, G76) needs the exact step generator",
+                ));
             }
             _ => {}
         }

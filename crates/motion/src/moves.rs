@@ -6,8 +6,10 @@
 use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
-use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos};
-use oficina_geom::{chord_count, Helix};
+use oficina_canon::{
+    from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos,
+};
+use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
@@ -88,10 +90,12 @@ enum MovePath {
         a: [f64; 3],
         b: [f64; 3],
     },
-    /// An arc or helix of the arc module, its radius running to `r1` at the end.
+    /// An arc or helix of the arc module, its radius running to `r1` at the end; the helix
+    /// lies in the arc's own frame, turned by `rotation` degrees about Z from the machine's.
     Arc {
         helix: Helix,
         r1: f64,
+        rotation: f64,
     },
 }
 
@@ -99,7 +103,11 @@ impl MovePath {
     fn point(&self, f: f64) -> [f64; 3] {
         match *self {
             MovePath::Line { a, b } => lerp3(a, b, f),
-            MovePath::Arc { helix, r1 } => helix.spiral_point_at(f, r1),
+            MovePath::Arc {
+                helix,
+                r1,
+                rotation,
+            } => from_arc_frame(helix.spiral_point_at(f, r1), rotation),
         }
     }
 }
@@ -183,6 +191,14 @@ pub struct MoveStream<'p, I> {
     op_count: u64,
     current: Option<Current>,
     failed: bool,
+    /// Spindle speed (rev/min) of the last S word.
+    spindle_rpm: f64,
+    /// Inside G33 / G33.1 / G76: mm per spindle revolution along the path.
+    sync_pitch: Option<f64>,
+    /// The way back out of a rigid tap (G33.1): its line and the point it returns to.
+    tap_return: Option<(u32, [f64; 3])>,
+    /// The way back out of a tap is under way: the move after it starts from rest.
+    after_tap: bool,
 }
 
 impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
@@ -213,6 +229,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             op_count: 0,
             current: None,
             failed: false,
+            spindle_rpm: 0.0,
+            sync_pitch: None,
+            tap_return: None,
+            after_tap: false,
         })
     }
 
@@ -238,23 +258,20 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn start_op(
-        &mut self,
-        line: u32,
-        kind: MoveKind,
-        shape: MovePath,
-        rot_b: [f64; 3],
-        length: f64,
-    ) {
-        let speed = match kind {
-            MoveKind::Rapid => f64::INFINITY,
+    fn start_op(&mut self, line: u32, kind: MoveKind, shape: MovePath, rot_b: [f64; 3], length: f64) {
+        let speed = match (kind, self.sync_pitch) {
+            (MoveKind::Rapid, _) => f64::INFINITY,
+            // Synchronised: `pitch` mm per revolution at `spindle_rpm` rev/min, in mm/s.
+            (_, Some(pitch)) => pitch * self.spindle_rpm / 60.0,
             _ if self.inverse_time => length * self.feed / 60.0,
             _ => self.feed,
         };
-        let feed_scaled = kind != MoveKind::Rapid && self.override_enabled;
+        // The feed override does not apply to spindle-synchronised motion.
+        let feed_scaled =
+            kind != MoveKind::Rapid && self.override_enabled && self.sync_pitch.is_none();
         let chords = match shape {
             MovePath::Line { .. } => 1,
-            MovePath::Arc { helix, r1 } => {
+            MovePath::Arc { helix, r1, .. } => {
                 let r = helix.arc.radius.max(r1);
                 chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
@@ -284,8 +301,42 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
+    /// A synchronised move needs a turning spindle: its speed is pitch × rpm.
+    fn check_sync(&self, line: u32) -> Result<(), MotionError> {
+        if self.sync_pitch.is_some() && !(self.spindle_rpm > 0.0 && self.spindle_rpm.is_finite()) {
+            return Err(self.bad(
+                line,
+                "spindle-synchronised move (G33, G33.1 or G76) with no spindle speed: its feed is pitch × spindle speed; set S before it",
+            ));
+        }
+        Ok(())
+    }
+
     /// Reads canon ops until one produces motion or a planner item.
     fn read_op(&mut self) -> Option<Result<Item, MotionError>> {
+        if let Some((line, back)) = self.tap_return.take() {
+            // Out of a rigid tap the way it went in, from rest (the spindle reverses at the
+            // bottom). It is the same canon op: the op index does not advance.
+            let length = path_length(self.pos, back, self.rot, self.rot);
+            self.stop_next = true;
+            self.after_tap = true;
+            self.op_count -= 1;
+            self.start_op(
+                line,
+                MoveKind::Feed,
+                MovePath::Line {
+                    a: self.pos,
+                    b: back,
+                },
+                self.rot,
+                length,
+            );
+            return None;
+        }
+        // At the top the spindle reverses once more and the tap ends at rest.
+        if std::mem::take(&mut self.after_tap) {
+            self.stop_next = true;
+        }
         loop {
             let c = self.ops.next()?;
             let line = c.line;
@@ -327,8 +378,15 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                         Err(e) => return Some(Err(e)),
                     };
                     let length = path_length(self.pos, b, self.rot, rb);
-                    if kind == MoveKind::Feed && self.feed <= 0.0 && length >= 1e-9 {
-                        return Some(Err(self.bad(line, "feed move with a zero feed rate; set F")));
+                    if kind == MoveKind::Feed && length >= 1e-9 {
+                        if let Err(e) = self.check_sync(line) {
+                            return Some(Err(e));
+                        }
+                        if self.sync_pitch.is_none() && self.feed <= 0.0 {
+                            return Some(Err(
+                                self.bad(line, "feed move with a zero feed rate; set F")
+                            ));
+                        }
                     }
                     if length < 1e-9 {
                         self.op_count += 1; // keep op indices aligned with the canon stream
@@ -342,12 +400,16 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     end,
                     center,
                     turns,
+                    rotation,
                 } => {
                     let (b, rb) = match self.target(line, &end) {
                         Ok(b) => b,
                         Err(e) => return Some(Err(e)),
                     };
-                    if self.feed <= 0.0 {
+                    if let Err(e) = self.check_sync(line) {
+                        return Some(Err(e));
+                    }
+                    if self.sync_pitch.is_none() && self.feed <= 0.0 {
                         return Some(Err(self.bad(line, "arc with a zero feed rate; set F")));
                     }
                     if turns == 0 || !center.iter().all(|v| v.is_finite()) {
@@ -355,9 +417,12 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                             self.bad(line, "arc with zero turns or a non-finite centre")
                         ));
                     }
-                    let helix = Helix::new(plane, self.pos, b, center, turns);
+                    // In the arc's own frame, where its plane is `plane`.
+                    let (a_local, b_local) =
+                        (to_arc_frame(self.pos, rotation), to_arc_frame(b, rotation));
+                    let helix = Helix::new(plane, a_local, b_local, center, turns);
                     let r0 = helix.arc.radius;
-                    let r1 = plane.project(b).distance(helix.arc.center);
+                    let r1 = plane.project(b_local).distance(helix.arc.center);
                     if r0 < 1e-9 || r1 < 1e-9 {
                         return Some(Err(
                             self.bad(line, "arc centre coincides with its start or end point")
@@ -365,7 +430,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     }
                     let planar = helix.arc.sweep.abs() * 0.5 * (r0 + r1);
                     let length = planar.hypot(helix.axial.1 - helix.axial.0);
-                    let shape = MovePath::Arc { helix, r1 };
+                    let shape = MovePath::Arc {
+                        helix,
+                        r1,
+                        rotation,
+                    };
                     self.start_op(line, MoveKind::Arc, shape, rb, length);
                     return None;
                 }
@@ -380,9 +449,58 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     self.stop_next = true;
                     return Some(Ok(Item::Sync { line, pause: true }));
                 }
+                CanonOp::StartSpeedFeedSync { pitch } => {
+                    if !(pitch > 0.0 && pitch.is_finite()) {
+                        return Some(Err(self.bad(
+                            line,
+                            format!("spindle-synchronised pitch {pitch} mm/rev must be > 0"),
+                        )));
+                    }
+                    // Synchronised motion waits for the spindle's index pulse: from rest.
+                    if self.sync_pitch.is_none() {
+                        self.stop_next = true;
+                    }
+                    self.sync_pitch = Some(pitch);
+                }
+                CanonOp::StopSpeedFeedSync => self.sync_pitch = None,
+                CanonOp::RigidTap { to } => {
+                    let (b, _) = match self.target(line, &to) {
+                        Ok(b) => b,
+                        Err(e) => return Some(Err(e)),
+                    };
+                    if self.sync_pitch.is_none() {
+                        return Some(Err(
+                            self.bad(line, "rigid tap outside spindle synchronisation")
+                        ));
+                    }
+                    if let Err(e) = self.check_sync(line) {
+                        return Some(Err(e));
+                    }
+                    // Rotary axes do not take part in a tap.
+                    let length = path_length(self.pos, b, self.rot, self.rot);
+                    if length < 1e-9 {
+                        self.op_count += 1;
+                        continue;
+                    }
+                    self.tap_return = Some((line, self.pos));
+                    self.start_op(
+                        line,
+                        MoveKind::Feed,
+                        MovePath::Line { a: self.pos, b },
+                        self.rot,
+                        length,
+                    );
+                    return None;
+                }
+                CanonOp::SetSpindleSpeed(s) => {
+                    self.spindle_rpm = s;
+                    self.stop_next = true;
+                    return Some(Ok(Item::Sync { line, pause: false }));
+                }
                 CanonOp::StartSpindle(_)
                 | CanonOp::StopSpindle
-                | CanonOp::SetSpindleSpeed(_)
+                | CanonOp::OrientSpindle { .. }
+                | CanonOp::WaitOrientComplete(_)
                 | CanonOp::ChangeTool(_)
                 | CanonOp::ProgramEnd => {
                     self.stop_next = true;

@@ -115,6 +115,7 @@ fn program(p: &Profile) -> Vec<Canon> {
             end: Pos::xyz(x - r, y, z),
             center: [x, y],
             turns: 1,
+            rotation: 0.0,
         },
         CanonOp::StraightTraverse {
             to: Pos::xyz(p.start[0], p.start[1], p.start[2]),

@@ -425,12 +425,25 @@ pub fn to_machine(canon: &[Canon], drop: f64) -> impl Iterator<Item = Canon> + '
                 end,
                 center,
                 turns,
-            } => CanonOp::ArcFeed {
-                plane: *plane,
-                end: shift(*end),
-                center: *center,
-                turns: *turns,
-            },
+                rotation,
+            } => {
+                // A centre coordinate along Z (XZ and YZ arcs) drops with the program; a
+                // turn about Z leaves Z alone, so this holds in the arc's frame too.
+                let (a0, a1, _) = plane.axes();
+                let mut center = *center;
+                for (i, axis) in [a0, a1].into_iter().enumerate() {
+                    if axis == 2 {
+                        center[i] -= drop;
+                    }
+                }
+                CanonOp::ArcFeed {
+                    plane: *plane,
+                    end: shift(*end),
+                    center,
+                    turns: *turns,
+                    rotation: *rotation,
+                }
+            }
             other => other.clone(),
         };
         Canon { line: c.line, op }

@@ -130,11 +130,13 @@ pub(crate) fn shift(canon: &[Canon], by: [f64; 2]) -> Vec<Canon> {
                     end,
                     center,
                     turns,
+                    rotation,
                 } => CanonOp::ArcFeed {
                     plane: oficina_canon::Plane::XY,
                     end: mv(end),
                     center: [center[0] + by[0], center[1] + by[1]],
                     turns: *turns,
+                    rotation: *rotation,
                 },
                 op => op.clone(),
             };

@@ -2,7 +2,7 @@
 
 use oficina_cam::Tool;
 use oficina_cam::{sweep_arc, sweep_line};
-use oficina_canon::{Canon, CanonOp, Plane};
+use oficina_canon::{from_arc_frame, to_arc_frame, Canon, CanonOp, Plane};
 use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;
 use std::collections::HashMap;
@@ -55,19 +55,30 @@ pub fn replay<'a>(
                 end,
                 center,
                 turns,
+                rotation,
             } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
                 let to = [end.x, end.y, end.z];
                 if *plane == Plane::XY {
                     sweep_arc(stock, t, pos, to, *center, *turns > 0);
                 } else {
+                    // Chords in the arc's own frame, swept in the machine's.
+                    let (a, b) = (to_arc_frame(pos, *rotation), to_arc_frame(to, *rotation));
                     let mut from = pos;
-                    for p in arc_chords(*plane, pos, to, *center, *turns, CHORD_TOLERANCE) {
+                    for p in arc_chords(*plane, a, b, *center, *turns, CHORD_TOLERANCE) {
+                        let p = from_arc_frame(p, *rotation);
                         sweep_line(stock, t, from, p);
                         from = p;
                     }
                 }
                 pos = to;
+            }
+            // A rigid tap cuts in to its end and back out along the same line.
+            CanonOp::RigidTap { to } => {
+                let t = tool.ok_or(SimError::NoTool { line: c.line })?;
+                let to = [to.x, to.y, to.z];
+                sweep_line(stock, t, pos, to);
+                sweep_line(stock, t, to, pos);
             }
             _ => {}
         }
@@ -107,6 +118,37 @@ pub(crate) fn arc_chords(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_rigid_tap_cuts_to_its_depth_and_ends_where_it_started() {
+        use oficina_canon::{Canon, Pos};
+        let tool = oficina_cam::Tool::new(oficina_cam::CutterShape::Flat, 4.0).unwrap();
+        let tools = HashMap::from([(1, tool)]);
+        let mut stock = Heightmap::flat(41, 41, 0.5, 0.0);
+        let ops: Vec<Canon> = [
+            CanonOp::ChangeTool(1),
+            CanonOp::StraightTraverse {
+                to: Pos::xyz(10.0, 10.0, 2.0),
+            },
+            CanonOp::StartSpeedFeedSync { pitch: 1.0 },
+            CanonOp::RigidTap {
+                to: Pos::xyz(10.0, 10.0, -8.0),
+            },
+            CanonOp::StopSpeedFeedSync,
+        ]
+        .into_iter()
+        .map(|op| Canon { line: 1, op })
+        .collect();
+        let end = replay(&ops, &tools, &mut stock, [0.0, 0.0, 5.0]).unwrap();
+        assert_eq!(end, [10.0, 10.0, 2.0]);
+        assert!(
+            (stock.at(20, 20) + 8.0).abs() < 1e-6,
+            "{}",
+            stock.at(20, 20)
+        );
+        // 4 mm from the axis, outside the 2 mm radius: untouched.
+        assert_eq!(stock.at(28, 20), 0.0);
+    }
 
     #[test]
     fn xz_arc_chords_stay_on_the_circle() {

@@ -390,7 +390,7 @@ impl Interpreter {
                     ijk[2]
                 };
                 self.cycle_move(sink, false, oa, ob, h.r);
-                self.emit(sink, CanonOp::StopSpindle);
+                self.stop_and_orient(sink);
                 self.cycle_move(sink, false, oa, ob, h.bottom);
                 self.cycle_move(sink, false, aa, bb, h.bottom);
                 if let Some(dir) = spindle {
@@ -398,7 +398,7 @@ impl Interpreter {
                 }
                 self.cycle_move(sink, true, aa, bb, top);
                 self.cycle_move(sink, true, aa, bb, h.bottom);
-                self.emit(sink, CanonOp::StopSpindle);
+                self.stop_and_orient(sink);
                 self.cycle_move(sink, false, oa, ob, h.bottom);
                 self.cycle_move(sink, false, oa, ob, h.clear);
                 self.cycle_move(sink, false, aa, bb, h.clear);
@@ -423,5 +423,20 @@ impl Interpreter {
                 self.cycle_move(sink, true, aa, bb, h.clear);
             }
         }
+    }
+}
+
+impl Interpreter {
+    /// G87 passes the tool through the bore off-centre: rs274 stops the spindle and orients
+    /// it to 0° turning counter-clockwise, so the cutter's edge faces the offset.
+    fn stop_and_orient(&self, sink: Sink) {
+        self.emit(sink, CanonOp::StopSpindle);
+        self.emit(
+            sink,
+            CanonOp::OrientSpindle {
+                angle: 0.0,
+                dir: oficina_canon::OrientDir::CounterClockwise,
+            },
+        );
     }
 }

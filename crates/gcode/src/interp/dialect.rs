@@ -97,7 +97,8 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
         let Some(c) = code else { continue };
         let ok = match group {
             M::STOP => matches!(c.tenths, 0 | 1 | 2 | 30),
-            M::SPINDLE | M::COOLANT => true,
+            M::SPINDLE => c.tenths != 19,
+            M::COOLANT => true,
             _ => false,
         };
         if !ok {
@@ -153,11 +154,11 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
             ));
         }
     }
-    for l in ['A', 'B', 'C', 'D', 'H', 'Q'] {
+    for l in ['A', 'B', 'C', 'D', 'E', 'H', 'Q'] {
         if d.has(l) {
             return Err(grbl_error(
                 Diagnostic::error(d.span_of(l), format!("{l} word is not used by grbl")),
-                if "ABC".contains(l) { 20 } else { 36 },
+                if "ABCE".contains(l) { 20 } else { 36 },
             ));
         }
     }

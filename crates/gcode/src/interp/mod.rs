@@ -14,6 +14,7 @@ mod motion;
 mod offsets;
 mod simple;
 pub(crate) mod state;
+mod threading;
 pub mod tool_table;
 pub(crate) mod words;
 
@@ -295,7 +296,7 @@ impl Interpreter {
                 .with_help("give a motion code (G0, G1, G2, G3, or a canned cycle) first"));
         }
         // The checks below are all about these letters, absent from nearly every block.
-        const CHECKED: u32 = words::letter_mask(b"IJKRLPQDH");
+        const CHECKED: u32 = words::letter_mask(b"IJKRLPQDHE");
         if !d.has_any_of(CHECKED) {
             return Ok(());
         }
@@ -306,31 +307,45 @@ impl Interpreter {
                 Ok(())
             }
         };
-        if !(arc || g10 || (cycle && motion == Motion::Cycle(870))) {
-            // Static messages: this check runs on every block and must not allocate.
+        let sync = moving && motion == Motion::SpindleSync;
+        let tap = moving && motion == Motion::RigidTap;
+        let thread = moving && motion == Motion::Threading;
+        let orient = d.m_in(M::SPINDLE) == Some(19);
+        let arcs_and_g10 = arc || g10 || (cycle && motion == Motion::Cycle(870));
+        // Static messages: this check runs on every block and must not allocate.
+        if !(arcs_and_g10 || tap || thread) {
             unused(
                 'I',
                 "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
             )?;
+        }
+        if !(arcs_and_g10 || thread) {
             unused(
                 'J',
-                "J word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
+                "J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it",
             )?;
-            if !cycle {
-                unused(
-                    'K',
-                    "K word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
-                )?;
-            }
         }
-        if !(arc || g10 || cycle) {
+        if !(arcs_and_g10 || cycle || sync || tap || thread) {
+            unused(
+                'K',
+                "K word with no G2, G3, G5, G5.1, G10, G33, G33.1, G76, or G87 to use it",
+            )?;
+        }
+        if !(arc || g10 || cycle || thread || orient) {
             unused('R', "R word with no g code that uses it")?;
+        }
+        if !(arc || g10 || cycle || thread) {
             unused(
                 'L',
                 "L word with no G10, cutter compensation, canned cycle, digital/analog input, M98 or NURBS code",
             )?;
         }
+        if !thread {
+            unused('E', "E word with no G70, G76, M66, M67 or M68 to use it")?;
+        }
         let p_users = arc
+            || thread
+            || orient
             || matches!(non_modal, Some(40 | 100))
             || d.g_in(G::CONTROL) == Some(640)
             || matches!(d.m_in(M::OVERRIDE), Some(50..=53))
@@ -342,6 +357,8 @@ impl Interpreter {
             )?;
         }
         let q_users = g10
+            || thread
+            || orient
             || d.g_in(G::CONTROL) == Some(640)
             || (cycle && matches!(motion, Motion::Cycle(730 | 830 | 870)));
         if !q_users {
@@ -356,7 +373,7 @@ impl Interpreter {
                 "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it",
             )?;
         }
-        if d.g_in(G::TOOL_LENGTH) != Some(430) {
+        if d.g_in(G::TOOL_LENGTH) != Some(430) && !thread {
             unused('H', "H word with no G43 or G76 to use it")?;
         }
         Ok(())
@@ -442,6 +459,7 @@ impl Interpreter {
             Some(3) => self.spindle(sink, Some(SpindleDir::Clockwise)),
             Some(4) => self.spindle(sink, Some(SpindleDir::CounterClockwise)),
             Some(5) => self.spindle(sink, None),
+            Some(19) => self.orient_spindle(d, sink)?,
             _ => {}
         }
         // 8. Coolant.
@@ -758,6 +776,9 @@ impl Interpreter {
             Motion::CounterClockwise => 30.0,
             Motion::Cycle(c) => c as f64,
             Motion::Off => 800.0,
+            Motion::SpindleSync => 330.0,
+            Motion::RigidTap => 331.0,
+            Motion::Threading => 760.0,
         };
         params.set_system("_motion_mode", motion);
         params.set_system("_line", self.line as f64);

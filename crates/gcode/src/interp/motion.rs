@@ -149,6 +149,9 @@ impl Interpreter {
                 self.arc(d, sink, end)
             }
             Motion::Cycle(code) => self.canned_cycle(d, code, sink),
+            Motion::SpindleSync => self.spindle_sync(d, sink, end),
+            Motion::RigidTap => self.rigid_tap(d, sink, end),
+            Motion::Threading => self.threading_cycle(d, sink),
             Motion::Off => Ok(()),
         }
     }
@@ -351,6 +354,11 @@ impl Interpreter {
     }
 
     /// Emit an arc to `end` about `center` (program coordinates) in the current plane.
+    ///
+    /// The frame maps the program's circle rigidly into machine space. Under an XY rotation
+    /// an XZ or YZ circle lands in a vertical plane turned about Z, so its centre is given
+    /// in the arc's own frame (the machine frame turned by the same rotation), where that
+    /// plane is the program's plane again.
     pub(crate) fn emit_arc(&self, sink: Sink, end: [f64; 6], center: [f64; 2], turns: i32) {
         let plane = self.modal.plane;
         let (a0, a1, _) = plane.axes();
@@ -358,13 +366,20 @@ impl Interpreter {
         c[a0] = center[0];
         c[a1] = center[1];
         let cm = self.frame.to_machine(c);
+        let rotation = if plane == Plane::XY {
+            0.0
+        } else {
+            self.frame.rotation
+        };
+        let cl = oficina_canon::to_arc_frame([cm[0], cm[1], cm[2]], rotation);
         self.emit(
             sink,
             CanonOp::ArcFeed {
                 plane,
                 end: self.machine(end),
-                center: [cm[a0], cm[a1]],
+                center: [cl[a0], cl[a1]],
                 turns,
+                rotation,
             },
         );
     }

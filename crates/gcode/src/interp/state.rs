@@ -13,6 +13,12 @@ pub enum Motion {
     Cycle(u16),
     /// G80: no motion mode; axis words alone are an error.
     Off,
+    /// G33: spindle-synchronised straight feed.
+    SpindleSync,
+    /// G33.1: rigid tapping.
+    RigidTap,
+    /// G76: the multi-pass threading cycle (lathe).
+    Threading,
 }
 
 impl Motion {
@@ -23,6 +29,9 @@ impl Motion {
             20 => Motion::Clockwise,
             30 => Motion::CounterClockwise,
             800 => Motion::Off,
+            330 => Motion::SpindleSync,
+            331 => Motion::RigidTap,
+            760 => Motion::Threading,
             other => Motion::Cycle(other),
         }
     }
@@ -47,6 +56,7 @@ pub struct Modal {
     pub units: Units,
     pub feed: f64,
     pub speed: f64,
+    /// M3/M4 turning, or `None`: stopped (M5) or held at an orientation (M19).
     pub spindle: Option<SpindleDir>,
     pub mist: bool,
     pub flood: bool,

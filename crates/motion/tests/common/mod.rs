@@ -68,6 +68,7 @@ impl Prog {
             end: Pos::xyz(x, y, z),
             center: [cx, cy],
             turns,
+            rotation: 0.0,
         });
     }
 }
