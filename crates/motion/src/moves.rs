@@ -9,7 +9,7 @@ use crate::MotionError;
 use oficina_canon::{
     from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos,
 };
-use oficina_geom::{chord_count, sweep_between, Arc, Helix, Point};
+use oficina_geom::{chord_count, Helix};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
@@ -258,7 +258,14 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    fn start_op(&mut self, line: u32, kind: MoveKind, shape: MovePath, rot_b: [f64; 3], length: f64) {
+    fn start_op(
+        &mut self,
+        line: u32,
+        kind: MoveKind,
+        shape: MovePath,
+        rot_b: [f64; 3],
+        length: f64,
+    ) {
         let speed = match (kind, self.sync_pitch) {
             (MoveKind::Rapid, _) => f64::INFINITY,
             // Synchronised: `pitch` mm per revolution at `spindle_rpm` rev/min, in mm/s.

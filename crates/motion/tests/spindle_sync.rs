@@ -3,9 +3,9 @@
 //! same line, and a synchronised move without a spindle speed is refused.
 
 use oficina_canon::{Canon, CanonOp, Pos};
-use oficina_motion::check::check;
-use oficina_motion::profile::{resolve, Shape};
-use oficina_motion::{plan, MotionError, PlanOptions, Segment, SegmentKind};
+use oficina_motion::{
+    check, plan, resolve, MotionError, PlanOptions, Segment, SegmentKind, VelocityProfile,
+};
 
 fn canon(ops: Vec<CanonOp>) -> Vec<Canon> {
     ops.into_iter()
@@ -75,7 +75,7 @@ fn synchronised_feed_runs_at_pitch_times_spindle_speed() {
     );
     let after = m.iter().find(|s| s.line == 8).unwrap();
     assert!((peak(after) - slower).abs() < 1e-6);
-    let r = check(&ops, &segs, &p, Shape::Trapezoid, 1.0).unwrap();
+    let r = check(&ops, &segs, &p, VelocityProfile::Trapezoid, 1.0).unwrap();
     assert!(r.max_speed_ratio <= 1.0 + 1e-6, "{r:?}");
 }
 
@@ -108,7 +108,7 @@ fn rigid_tap_goes_in_and_back_out_on_the_same_line() {
         assert_eq!(s.motion.v_start(), 0.0);
         assert_eq!(s.motion.v_end(), 0.0);
     }
-    check(&ops, &segs, &p, Shape::Trapezoid, 1.0).unwrap();
+    check(&ops, &segs, &p, VelocityProfile::Trapezoid, 1.0).unwrap();
 }
 
 #[test]

@@ -3,14 +3,11 @@
 //! about Z and shifted). The planner's pieces and the simulator's cut must stay on it; the
 //! circle here is computed by hand from the program's numbers, not taken from canon.
 
-use oficina_cam::tool::Shape;
-use oficina_cam::Tool;
+use oficina_cam::{CutterShape, Tool};
 use oficina_canon::{Canon, CanonOp};
-use oficina_gcode::program::{canon_of, RunOptions};
+use oficina_gcode::{canon_of, RunOptions};
 use oficina_io::Heightmap;
-use oficina_motion::profile::resolve;
-use oficina_motion::steps::{StepGenerator, StepLog};
-use oficina_motion::{plan, PlanOptions, SegmentKind};
+use oficina_motion::{plan, resolve, PlanOptions, SegmentKind, StepGenerator, StepLog};
 use std::collections::HashMap;
 
 /// A program point in machine coordinates: turned by `deg` about Z, then shifted by `off`.
@@ -154,7 +151,7 @@ fn the_simulator_cuts_a_rotated_xz_arc_along_the_rotated_direction() {
         c.op,
         CanonOp::ArcFeed { rotation, .. } if rotation == 30.0
     )));
-    let tools = HashMap::from([(1, Tool::new(Shape::Flat, 1.0).unwrap())]);
+    let tools = HashMap::from([(1, Tool::new(CutterShape::Flat, 1.0).unwrap())]);
     let pixel = 0.1;
     let mut stock = Heightmap::flat(500, 500, pixel, 0.0);
     let end = oficina_sim::replay(&ops, &tools, &mut stock, [20.0, 20.0, 0.0]).unwrap();

@@ -8,7 +8,7 @@
 //! and A's share of the junction speeds (it plans X, Y, Z blocks only).
 
 use super::*;
-use oficina_motion::velocity::{Limits, Motion};
+use oficina_motion::{Limits, Motion};
 
 /// A's rate (°/s) and acceleration (°/s²) from `$113` and `$123`, if the board has A.
 pub(super) fn limits(settings: &BTreeMap<u16, f64>) -> Option<(f64, f64)> {
