@@ -1,0 +1,9 @@
+//! Embroidery (seed 000): a `Drawing` becomes a [`StitchPlan`] of running, satin and tatami
+//! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
+//! sewn on the needle-synchronised table, and written as Tajima DST or Melco EXP.
+
+mod format;
+mod plan;
+
+pub use format::{Format, FormatError, Op, Rec};
+pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
