@@ -3,7 +3,9 @@
 //! sewn on the needle-synchronised table, and written as Tajima DST or Melco EXP.
 
 mod format;
+mod generate;
 mod plan;
 
 pub use format::{Format, FormatError, Op, Rec};
+pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
