@@ -4,8 +4,18 @@
 
 mod format;
 mod generate;
+mod hoop;
 mod plan;
+mod preview;
+mod sheet;
+mod speed;
+mod table;
 
 pub use format::{Format, FormatError, Op, Rec};
 pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind};
+pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
+pub use preview::preview_svg;
+pub use sheet::{duration, sheet, Sheet, ThreadLine};
+pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
+pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};
