@@ -1,8 +1,9 @@
 //! The head-speed table of the seed (§8, Fig 3.14): the EFKA positioner's 12 levels and the
 //! stitch lengths each may sew. The seed picks, per figure, the fastest code whose range
-//! holds the figure's longest stitch. Lengths are read on the table's 0.1 mm grid; 6.6 mm,
-//! which the table misses, falls to the next slower code (8). Over 12.4 mm the needle stops:
-//! a long point (jump).
+//! holds the figure's longest stitch. The ranges are written on a 0.1 mm grid with gaps
+//! (2.5 | 2.6, and 6.6 mm is missing): a length in a gap takes the next slower code, so a
+//! stitch never runs faster than the table allows for its length (2.52 mm → code 11, 6.6 →
+//! code 8). Over 12.4 mm the needle stops: a long point (jump).
 
 /// One speed level: code, head speed in stitches per minute, longest stitch (mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,11 +68,10 @@ pub const MAX_SEWN: f64 = 12.4;
 
 /// The fastest code for a figure whose longest stitch is `len` mm; None above 12.4 mm.
 pub fn speed_code(len: f64) -> Option<SpeedCode> {
-    let on_grid = (len * 10.0).round() / 10.0;
     SPEED_CODES
         .iter()
         .copied()
-        .find(|c| on_grid <= c.max_stitch + 1e-9)
+        .find(|c| len <= c.max_stitch + 1e-9)
 }
 
 #[cfg(test)]
@@ -84,8 +84,8 @@ mod tests {
         assert_eq!(speed_code(8.0).unwrap().code, 6);
         assert_eq!(speed_code(5.0).unwrap().code, 11);
         assert_eq!(speed_code(2.5).unwrap().code, 12);
-        assert_eq!(speed_code(2.54).unwrap().code, 12);
-        assert_eq!(speed_code(2.56).unwrap().code, 11);
+        assert_eq!(speed_code(2.52).unwrap().code, 11);
+        assert_eq!(speed_code(2.6).unwrap().code, 11);
         assert_eq!(speed_code(6.6).unwrap().code, 8);
         assert_eq!(speed_code(12.4).unwrap().code, 4);
         assert!(speed_code(12.5).is_none());
