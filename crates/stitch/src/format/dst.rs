@@ -174,7 +174,7 @@ pub fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatError> {
         }
     }
     let body = &bytes[HEADER..];
-    if body.len() % 3 != 0 {
+    if !body.len().is_multiple_of(3) {
         let at = HEADER + body.len() / 3 * 3;
         return Err(err(
             at,

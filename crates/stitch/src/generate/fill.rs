@@ -77,12 +77,10 @@ pub fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
     let mut used: Vec<Vec<bool>> = rows.iter().map(|r| vec![false; r.len()]).collect();
     let mut runs: Vec<Run> = Vec::new();
     let mut last_end: Option<Point> = None;
-    loop {
-        let Some((k0, i0)) =
-            (0..rows.len()).find_map(|k| used[k].iter().position(|u| !u).map(|i| (k, i)))
-        else {
-            break;
-        };
+    let first_free = |used: &Vec<Vec<bool>>| {
+        (0..used.len()).find_map(|k| used[k].iter().position(|u| !u).map(|i| (k, i)))
+    };
+    while let Some((k0, i0)) = first_free(&used) {
         // A section: follow the unique overlapping segment row by row.
         let mut section = vec![(k0, i0)];
         used[k0][i0] = true;

@@ -266,7 +266,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
             let mut underlay = Vec::new();
             if p.underlay {
                 // Inset so the underlay never peeks out; rows across the top's.
-                let inset = offset_regions(&[region.clone()], -0.6, Join::Miter { min_angle: 0.5 })
+                let inset = offset_regions(std::slice::from_ref(&region), -0.6, Join::Miter { min_angle: 0.5 })
                     .map_err(|e| {
                         GenerateError(format!("{}: underlay inset: {e}", paths[0].source))
                     })?;
