@@ -45,6 +45,9 @@ pub struct Args {
     /// No underlay under satins and fills.
     #[arg(long)]
     no_underlay: bool,
+    /// No lock stitches (tie-in / tie-off) where the thread is cut.
+    #[arg(long)]
+    no_ties: bool,
     /// Trim before jumps longer than this, mm.
     #[arg(long, default_value_t = 3.0)]
     trim_length: f64,
@@ -104,6 +107,7 @@ fn params(a: &Args) -> EmbroiderParams {
             pull_compensation: a.pull_compensation,
             underlay: !a.no_underlay,
             trim_length: a.trim_length,
+            ties: !a.no_ties,
             ..Params::default()
         },
         format,

@@ -12,7 +12,7 @@ mod speed;
 mod table;
 
 pub use format::{Format, FormatError, Op, Rec};
-pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind};
+pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind, TIE};
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;

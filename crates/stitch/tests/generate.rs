@@ -92,3 +92,53 @@ fn the_sample_has_fill_satin_and_running_in_three_threads() {
         assert_eq!(back.counts().stitches, c.stitches, "{f}");
     }
 }
+
+#[test]
+fn the_thread_is_locked_wherever_it_is_cut() {
+    let plan = sample();
+    let near =
+        |a: &oficina_stitch::Stitch, b: &oficina_stitch::Stitch| (a.x - b.x).hypot(a.y - b.y);
+    let mut trims = 0;
+    for block in &plan.blocks {
+        let s = &block.stitches;
+        // Tie-in: jump, anchor, 0.5 mm out, back.
+        assert_eq!(s[0].kind, Kind::Jump);
+        assert!(
+            (near(&s[1], &s[2]) - oficina_stitch::TIE).abs() < 1e-9 && near(&s[1], &s[3]) < 1e-9
+        );
+        // Tie-off before every trim and at the block's end.
+        let n = s.len();
+        assert!(
+            near(&s[n - 1], &s[n - 3]) < 1e-9
+                && near(&s[n - 1], &s[n - 2]) <= oficina_stitch::TIE + 1e-9
+        );
+        for i in 3..n {
+            if s[i].kind == Kind::Trim {
+                trims += 1;
+                assert!(
+                    near(&s[i - 1], &s[i - 3]) < 1e-9 && near(&s[i - 1], &s[i]) < 1e-9,
+                    "{:?}",
+                    &s[i - 3..=i]
+                );
+            }
+        }
+    }
+    assert!(trims > 0);
+    let loose = generate(
+        &oficina_io::load_drawing(&root().join("samples/embroidery/sunflower.svg"))
+            .unwrap()
+            .drawing,
+        "s",
+        &Params {
+            ties: false,
+            ..Params::default()
+        },
+        &mut |_, _| {},
+    )
+    .unwrap()
+    .plan;
+    assert_eq!(
+        plan.counts().stitches,
+        loose.counts().stitches + 4 * trims + 4 * plan.blocks.len()
+    );
+}

@@ -47,7 +47,13 @@ pub struct Params {
     pub tolerance: f64,
     /// Move the design's centre to the hoop centre (the files' origin).
     pub center: bool,
+    /// Lock stitches where the thread is cut: a tie-in after each trim or colour change, a
+    /// tie-off before it, each two stitches of `TIE` mm back and forth.
+    pub ties: bool,
 }
+
+/// Length of a lock stitch, mm.
+pub const TIE: f64 = 0.5;
 
 impl Default for Params {
     fn default() -> Params {
@@ -65,6 +71,7 @@ impl Default for Params {
             max_stitch: 12.1,
             tolerance: 0.02,
             center: true,
+            ties: true,
         }
     }
 }
@@ -266,10 +273,12 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
             let mut underlay = Vec::new();
             if p.underlay {
                 // Inset so the underlay never peeks out; rows across the top's.
-                let inset = offset_regions(std::slice::from_ref(&region), -0.6, Join::Miter { min_angle: 0.5 })
-                    .map_err(|e| {
-                        GenerateError(format!("{}: underlay inset: {e}", paths[0].source))
-                    })?;
+                let inset = offset_regions(
+                    std::slice::from_ref(&region),
+                    -0.6,
+                    Join::Miter { min_angle: 0.5 },
+                )
+                .map_err(|e| GenerateError(format!("{}: underlay inset: {e}", paths[0].source)))?;
                 for r in &inset {
                     underlay.extend(fill::tatami(
                         r,
@@ -387,6 +396,22 @@ fn thread(c: Color) -> Thread {
     }
 }
 
+/// A tie-off at `at`: back along the last stitch by `TIE` and forward again.
+fn tie(stitches: &mut Vec<Stitch>, at: Point) {
+    let prev = stitches
+        .iter()
+        .rev()
+        .filter(|s| s.kind == Kind::Stitch)
+        .map(|s| Point::new(s.x, s.y))
+        .find(|q| q.distance(at) > 1e-6);
+    if let Some(prev) = prev {
+        let v = (at - prev).normalize();
+        let q = at - v * TIE.min(prev.distance(at));
+        stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+        stitches.push(Stitch::new(at.x, at.y, Kind::Stitch));
+    }
+}
+
 /// Orders the shapes and joins them with jumps and trims into colour blocks.
 fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
     let mut colors: Vec<Color> = Vec::new();
@@ -432,15 +457,30 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
                             stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
                         }
                     } else if first_in_plan || start.distance(at) > 1e-9 {
-                        if !first_in_plan
-                            && start.distance(at) > p.trim_length
-                            && !stitches.is_empty()
-                        {
+                        let cut = if stitches.is_empty() {
+                            true // a new thread: the colour change cut the last one
+                        } else if start.distance(at) > p.trim_length {
+                            if p.ties {
+                                tie(&mut stitches, at);
+                            }
                             stitches.push(Stitch::new(at.x, at.y, Kind::Trim));
-                        }
+                            true
+                        } else {
+                            false
+                        };
                         stitches.push(Stitch::new(start.x, start.y, Kind::Jump));
                         // The needle goes down where the jump ends: the run's anchor.
                         stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
+                        if cut && p.ties {
+                            if let Some(&next) = r.points.get(1) {
+                                let u = (next - start).normalize();
+                                if u.is_finite() {
+                                    let q = start + u * TIE;
+                                    stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                                    stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
+                                }
+                            }
+                        }
                     }
                     first_in_plan = false;
                     for q in &r.points[1..] {
@@ -449,6 +489,9 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
                     at = *r.points.last().unwrap();
                 }
             }
+        }
+        if p.ties {
+            tie(&mut stitches, at);
         }
         blocks.push(ColorBlock {
             thread: thread(color),
