@@ -161,11 +161,11 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
     })
 }
 
-/// Reads a DST/EXP file (by extension), refusing what is too large to be one.
+/// Reads a DST/EXP/seed RAM file (by extension), refusing what is too large to be one.
 pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
         Error(format!(
-            "{}: unknown stitch file extension (read: .dst, .exp)",
+            "{}: unknown stitch file extension (read: .dst, .exp, .ram)",
             path.display()
         ))
     })?;

@@ -15,7 +15,7 @@ pub struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
     /// strokes → running stitch).
     input: Option<PathBuf>,
-    /// Where to write the embroidery file (.dst or .exp).
+    /// Where to write the embroidery file (.dst, .exp, or .ram: the seed's program).
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// File format (default: from the output's extension, else dst).
@@ -61,7 +61,7 @@ pub struct Args {
     /// Write an SVG preview in the thread colours (jumps dashed, hoop drawn).
     #[arg(long)]
     preview: Option<PathBuf>,
-    /// Print the sheet of an existing .dst/.exp file instead.
+    /// Print the sheet of an existing .dst/.exp/.ram file instead.
     #[arg(long, conflicts_with = "input")]
     info: Option<PathBuf>,
     /// Sew it on the virtual needle-synchronised table: report the time and every stitch the
@@ -84,12 +84,15 @@ pub struct Args {
 enum FormatArg {
     Dst,
     Exp,
+    /// The seed's machine program (0.2 mm steps, speed codes, colour stops), `.ram`.
+    SeedRam,
 }
 
 fn params(a: &Args) -> EmbroiderParams {
     let format = match a.format {
         Some(FormatArg::Dst) => Format::Dst,
         Some(FormatArg::Exp) => Format::Exp,
+        Some(FormatArg::SeedRam) => Format::SeedRam,
         None => a
             .output
             .as_deref()

@@ -190,3 +190,25 @@ fn bad_files_and_parameters_get_clear_errors() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn the_seeds_machine_program_is_written_and_read() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let out = scratch("sunflower.ram");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    let bytes = std::fs::read(&out).unwrap();
+    // Start code, program 1, start (0, 0) in excess 0x8000, hoop C01; ends FF FF.
+    assert_eq!(&bytes[..9], &[0, 0, 1, 0, 0, 0x80, 0, 0x80, 1]);
+    assert_eq!(&bytes[bytes.len() - 2..], &[0xFF, 0xFF]);
+    let info = oficina(&["embroider", "--info", out.to_str().unwrap()]);
+    let (info_out, _) = text(&info);
+    assert_eq!(field(&info_out, "Stitches"), field(&stdout, "Stitches"));
+    assert_eq!(field(&info_out, "Trims"), "0"); // the seed's machine has no trimmer
+}

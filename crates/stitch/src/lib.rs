@@ -11,6 +11,7 @@ mod sheet;
 mod speed;
 mod table;
 
+pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
 pub use format::{Format, FormatError, Op, Rec};
 pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind, TIE};
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};

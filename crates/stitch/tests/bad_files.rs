@@ -19,7 +19,7 @@ fn small_plan() -> StitchPlan {
 
 #[test]
 fn empty_files_are_refused() {
-    for f in Format::ALL {
+    for f in Format::EVERY {
         let e = f.read(&[], "x").unwrap_err();
         assert!(e.to_string().contains("empty"), "{e}");
     }
@@ -94,6 +94,10 @@ proptest! {
         }
         let _ = Format::Dst.read(&dst, "fuzz");
         let _ = Format::Exp.read(&body, "fuzz");
+        let _ = Format::SeedRam.read(&body, "fuzz");
+        let mut ram = vec![0u8, 0, 1, 0, 0, 0x80, 0, 0x80, 7];
+        ram.extend_from_slice(&body);
+        let _ = Format::SeedRam.read(&ram, "fuzz");
     }
 
     #[test]

@@ -91,6 +91,26 @@ fn the_sample_has_fill_satin_and_running_in_three_threads() {
         let back = f.read(&f.write(&plan).unwrap(), "s").unwrap();
         assert_eq!(back.counts().stitches, c.stitches, "{f}");
     }
+    // The seed's program: every sewn point on the 0.2 mm step grid, within 0.1 mm per axis
+    // (no stitch of the sample is over 12.4 mm, so none becomes a long point).
+    let ram = Format::SeedRam
+        .read(&Format::SeedRam.write(&plan).unwrap(), "s")
+        .unwrap();
+    let sewn = |p: &StitchPlan| -> Vec<(f64, f64)> {
+        p.entries()
+            .filter(|e| e.1.kind == Kind::Stitch)
+            .map(|e| (e.1.x, e.1.y))
+            .collect()
+    };
+    let (a, b) = (sewn(&plan), sewn(&ram));
+    assert_eq!(a.len(), b.len());
+    for (p, q) in a.iter().zip(&b) {
+        assert!(
+            (p.0 - q.0).abs() <= 0.1 + 1e-9 && (p.1 - q.1).abs() <= 0.1 + 1e-9,
+            "{p:?} {q:?}"
+        );
+    }
+    assert_eq!(ram.blocks.len(), plan.blocks.len());
 }
 
 #[test]

@@ -6,6 +6,7 @@
 mod dst;
 mod exp;
 mod records;
+pub mod seed_ram;
 
 use crate::plan::StitchPlan;
 use std::fmt;
@@ -19,15 +20,22 @@ pub enum Format {
     Dst,
     /// Melco EXP: 2-byte signed records of ±127 units, 0x80 escapes for commands.
     Exp,
+    /// The seed's machine program (§5.3): 0.2 mm steps, short and long points, colour stops,
+    /// head-speed codes. Extension `.ram`.
+    SeedRam,
 }
 
 impl Format {
+    /// The industry formats (pyembroidery reads and writes both).
     pub const ALL: [Format; 2] = [Format::Dst, Format::Exp];
+    /// Every format Oficina writes and reads.
+    pub const EVERY: [Format; 3] = [Format::Dst, Format::Exp, Format::SeedRam];
 
     pub fn name(self) -> &'static str {
         match self {
             Format::Dst => "DST",
             Format::Exp => "EXP",
+            Format::SeedRam => "seed RAM program",
         }
     }
 
@@ -35,13 +43,14 @@ impl Format {
         match self {
             Format::Dst => "dst",
             Format::Exp => "exp",
+            Format::SeedRam => "ram",
         }
     }
 
     /// The format a file name's extension names (case-insensitive).
     pub fn from_path(path: &std::path::Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        Format::ALL.into_iter().find(|f| f.extension() == ext)
+        Format::EVERY.into_iter().find(|f| f.extension() == ext)
     }
 
     /// The largest increment per axis of one record, in 0.1 mm.
@@ -49,14 +58,24 @@ impl Format {
         match self {
             Format::Dst => dst::MAX_STEP,
             Format::Exp => exp::MAX_STEP,
+            // 62 steps of 0.2 mm.
+            Format::SeedRam => 124,
         }
     }
 
     pub fn write(self, plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
-        let recs = records::to_records(plan, self.max_step(), self)?;
         Ok(match self {
-            Format::Dst => dst::write(&plan.name, &recs),
-            Format::Exp => exp::write(&recs),
+            Format::Dst => dst::write(&plan.name, &records::to_records(plan, dst::MAX_STEP, self)?),
+            Format::Exp => exp::write(&records::to_records(plan, exp::MAX_STEP, self)?),
+            Format::SeedRam => {
+                // Program 1, started where the design's origin is, in its smallest hoop.
+                let header = seed_ram::SeedHeader {
+                    program: 1,
+                    start: [0.0, 0.0],
+                    hoop: crate::hoop::smallest_hoop(plan).ok(),
+                };
+                seed_ram::write(plan, &header)?
+            }
         })
     }
 
@@ -65,6 +84,11 @@ impl Format {
         let (file_name, recs) = match self {
             Format::Dst => dst::read(bytes)?,
             Format::Exp => (None, exp::read(bytes)?),
+            Format::SeedRam => {
+                let (mut plan, _) = seed_ram::read(bytes)?;
+                plan.name = name.to_string();
+                return Ok(plan);
+            }
         };
         let mut plan = records::to_plan(&recs, self == Format::Dst);
         plan.name = file_name.unwrap_or_else(|| name.to_string());
