@@ -75,8 +75,7 @@ pub fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
     }
     let overlaps = |a: (f64, f64), b: (f64, f64)| a.0 < b.1 && b.0 < a.1;
     let mut used: Vec<Vec<bool>> = rows.iter().map(|r| vec![false; r.len()]).collect();
-    let mut runs: Vec<Run> = Vec::new();
-    let mut last_end: Option<Point> = None;
+    let mut sections: Vec<Vec<Point>> = Vec::new();
     let first_free = |used: &Vec<Vec<bool>>| {
         (0..used.len()).find_map(|k| used[k].iter().position(|u| !u).map(|i| (k, i)))
     };
@@ -115,20 +114,44 @@ pub fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
             }
             pts.extend(row[1..].iter().map(|&x| Point::new(x, y)));
         }
-        let pts: Vec<Point> = pts.into_iter().map(from_row).collect();
-        let sew_into = last_end.is_some_and(|e| inside_line(e, pts[0], region));
-        if sew_into {
-            let prev = runs.last_mut().unwrap();
-            let e = *prev.points.last().unwrap();
-            prev.points.extend(straight(e, pts[0], p.length));
-            prev.points.extend(pts[1..].iter().copied());
-        } else {
-            runs.push(Run {
+        sections.push(pts.into_iter().map(from_row).collect());
+    }
+    join_sections(sections, region, p.length)
+}
+
+/// Sews the sections nearest-first from the first one's start, each forwards or backwards
+/// (a serpentine reads the same both ways); the line to the next section is stitched where it
+/// stays inside (the fill covers it), else the next section starts a new run.
+fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    let mut at: Option<Point> = None;
+    while !sections.is_empty() {
+        let (mut best, mut rev, mut best_d) = (0, false, f64::INFINITY);
+        if let Some(a) = at {
+            for (i, sec) in sections.iter().enumerate() {
+                for (end, r) in [(sec[0], false), (sec[sec.len() - 1], true)] {
+                    let d = a.distance(end);
+                    if d < best_d {
+                        (best, rev, best_d) = (i, r, d);
+                    }
+                }
+            }
+        }
+        let mut pts = sections.swap_remove(best);
+        if rev {
+            pts.reverse();
+        }
+        match (at, runs.last_mut()) {
+            (Some(e), Some(prev)) if inside_line(e, pts[0], region) => {
+                prev.points.extend(straight(e, pts[0], length));
+                prev.points.extend(pts[1..].iter().copied());
+            }
+            _ => runs.push(Run {
                 points: pts,
                 sew_into: false,
-            });
+            }),
         }
-        last_end = runs.last().and_then(|r| r.points.last().copied());
+        at = runs.last().and_then(|r| r.points.last().copied());
     }
     runs
 }
