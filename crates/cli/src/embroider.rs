@@ -45,6 +45,9 @@ pub struct Args {
     /// No underlay under satins and fills.
     #[arg(long)]
     no_underlay: bool,
+    /// Fill closed paths that have no fill colour (DXF outlines) instead of outlining them.
+    #[arg(long)]
+    fill_closed: bool,
     /// No lock stitches (tie-in / tie-off) where the thread is cut.
     #[arg(long)]
     no_ties: bool,
@@ -111,6 +114,7 @@ fn params(a: &Args) -> EmbroiderParams {
             underlay: !a.no_underlay,
             trim_length: a.trim_length,
             ties: !a.no_ties,
+            fill_closed: a.fill_closed,
             ..Params::default()
         },
         format,

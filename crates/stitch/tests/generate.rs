@@ -162,3 +162,72 @@ fn the_thread_is_locked_wherever_it_is_cut() {
         loose.counts().stitches + 4 * trims + 4 * plan.blocks.len()
     );
 }
+
+fn from_svg(svg: &str, params: &Params) -> oficina_stitch::Generated {
+    let imported = oficina_io::svg::svg_from_bytes(svg.as_bytes(), "t.svg").unwrap();
+    generate(&imported.drawing, "t", params, &mut |_, _| {}).unwrap()
+}
+
+#[test]
+fn two_open_subpaths_are_the_rails_of_a_satin() {
+    // Rails 6 mm apart at the left, 2 mm at the right, drawn in opposite directions.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="20mm" viewBox="0 0 40 20">
+      <path d="M 5 7 L 35 9 M 35 11 L 5 13" fill="none" stroke="#123456" stroke-width="1"/></svg>"##;
+    let p = Params {
+        underlay: false,
+        pull_compensation: 0.0,
+        ties: false,
+        center: false,
+        ..Params::default()
+    };
+    let g = from_svg(svg, &p);
+    assert_eq!((g.fills, g.satins, g.runnings), (0, 1, 0));
+    let pts: Vec<(f64, f64)> = g
+        .plan
+        .entries()
+        .filter(|e| e.1.kind == Kind::Stitch)
+        .map(|e| (e.1.x, e.1.y))
+        .collect();
+    // y up: the rails are y = 13 − ... in mm; every needle point lies on one of the two rails.
+    let on_rail = |x: f64, y: f64| {
+        let t = (x - 5.0) / 30.0;
+        let (r1, r2) = (20.0 - (7.0 + 2.0 * t), 20.0 - (13.0 - 2.0 * t));
+        (y - r1).abs() < 1e-6 || (y - r2).abs() < 1e-6
+    };
+    assert!(
+        pts.iter().all(|&(x, y)| on_rail(x, y)),
+        "{:?}",
+        pts.iter().find(|&&(x, y)| !on_rail(x, y))
+    );
+    // Zigs alternate rails and advance 0.4 mm at most along X.
+    assert!(pts.len() > 2 * 70, "{}", pts.len());
+    assert_eq!(g.plan.blocks[0].thread.hex(), "#123456");
+}
+
+#[test]
+fn closed_dxf_outlines_fill_when_asked() {
+    // A DXF square (no fill colour in DXF): running stitch by default, tatami with fill_closed.
+    let dxf = "0\nSECTION\n2\nENTITIES\n0\nLWPOLYLINE\n8\n0\n90\n4\n70\n1\n10\n0\n20\n0\n10\n20\n20\n0\n10\n20\n20\n20\n10\n0\n20\n20\n0\nENDSEC\n0\nEOF\n";
+    let path = std::env::temp_dir().join(format!("oficina-stitch-sq-{}.dxf", std::process::id()));
+    std::fs::write(&path, dxf).unwrap();
+    let drawing = oficina_io::load_drawing(&path).unwrap().drawing;
+    let run = generate(&drawing, "sq", &Params::default(), &mut |_, _| {}).unwrap();
+    assert_eq!((run.fills, run.runnings), (0, 1));
+    let filled = generate(
+        &drawing,
+        "sq",
+        &Params {
+            fill_closed: true,
+            ..Params::default()
+        },
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert_eq!((filled.fills, filled.runnings), (1, 0));
+    // 20 × 20 mm at 0.4 mm rows and 3 mm stitches: ≥ 50 rows × 7 stitches.
+    assert!(
+        filled.plan.counts().stitches > 350,
+        "{}",
+        filled.plan.counts().stitches
+    );
+}

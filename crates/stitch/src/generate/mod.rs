@@ -47,6 +47,9 @@ pub struct Params {
     pub tolerance: f64,
     /// Move the design's centre to the hoop centre (the files' origin).
     pub center: bool,
+    /// Closed paths without a fill colour (DXF outlines) are filled too, in their stroke
+    /// colour, instead of outlined.
+    pub fill_closed: bool,
     /// Lock stitches where the thread is cut: a tie-in after each trim or colour change, a
     /// tie-off before it, each two stitches of `TIE` mm back and forth.
     pub ties: bool,
@@ -72,6 +75,7 @@ impl Default for Params {
             tolerance: 0.02,
             center: true,
             ties: true,
+            fill_closed: false,
         }
     }
 }
@@ -249,7 +253,11 @@ fn run(points: Vec<Point>) -> fill::Run {
 }
 
 fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateError> {
-    let style = paths[0].style;
+    let mut style = paths[0].style;
+    if p.fill_closed && style.fill.is_none() && paths.iter().any(|q| q.closed) {
+        style.fill = Some(style.stroke.unwrap_or(Color::BLACK));
+        style.stroke = None;
+    }
     let mut out = Vec::new();
     if let Some(color) = style.fill {
         let closed: Vec<Path> = paths
