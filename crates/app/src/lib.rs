@@ -25,6 +25,7 @@
 
 pub mod bench;
 mod check;
+pub mod embroider;
 mod error;
 mod job;
 mod jog;
