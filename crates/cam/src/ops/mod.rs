@@ -5,6 +5,7 @@
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
 //! - [`drill`]: canned cycles at circle centres;
+//! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`entry`]: how a cut goes down into material: ramp along the path, helix, or a plunge
 //!   only where the user says the tool can.
 //!
@@ -17,6 +18,7 @@ pub mod mill;
 pub mod pocket;
 pub mod preview;
 pub mod profile;
+pub mod rest;
 pub mod sole;
 
 pub use chain::{Chain, Piece};
@@ -26,6 +28,7 @@ pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::preview_svg;
 pub use profile::{profile, Comp, ProfileParams, Side, Tabs};
+pub use rest::{rest, rest_machining, rest_pocket};
 pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
 
 use crate::{Move, Tool};

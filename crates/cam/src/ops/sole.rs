@@ -6,6 +6,7 @@
 
 use super::pocket::{pocket, PocketParams, Strategy};
 use super::profile::{profile, Comp, ProfileParams, Side, OFFSET_TOL};
+use super::rest::rest_machining;
 use super::{Cut, Entry, OpError};
 use crate::{Tool, Toolpath};
 use oficina_geom::fit::{fit_method, Fit, Method};
@@ -106,6 +107,11 @@ pub struct SoleResult {
 pub const ROUGH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1600.0, 190.0);
 pub const FINISH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1800.0, 100.0);
 pub const DETAIL_6: (u32, &str, f64, f64) = (2, "flat:6,flute=30", 2000.0, 170.0);
+/// The seed's 1 mm carbide bit (a truncated cone with a 1 mm tip, cutting 2 mm per pass),
+/// modelled as a 1 mm end mill whose flutes reach the mold's depth.
+pub const DETAIL_1: (u32, &str, f64, f64) = (3, "flat:1,flute=30", 2500.0, 140.0);
+/// Depth of one pass of the 1 mm bit (seed §7: 2 mm in one pass).
+pub const DETAIL_1_STEP: f64 = 2.0;
 
 /// Safety plane Z (seed Fig. 7.3) and retraction plane.
 pub const SAFE_Z: f64 = 40.0;
@@ -249,9 +255,40 @@ fn shrunk(p: &Path, d: f64) -> Result<Path, OpError> {
 /// Stock the roughing passes leave on the wall for the finishing pass, mm.
 pub const ALLOWANCE: f64 = 0.5;
 
+/// Seed §7's detail tools as rest machining of `region` (what the 16 mm tool was to cut):
+/// the 6 mm mill pockets what the 16 mm one could not reach, then the 1 mm bit what the
+/// 6 mm one could not, each only where something is left ([`rest_machining`]).
+fn detail_passes(
+    part: &str,
+    region: &[Area],
+    depth: f64,
+    ops: &mut Vec<crate::Operation>,
+) -> Result<(), OpError> {
+    let six = cut(DETAIL_6, depth, 2)?;
+    if let Some(op) = rest_machining(
+        &format!("{part} rest (6 mm after 16 mm)"),
+        region,
+        8.0,
+        &six,
+    )? {
+        ops.push(op);
+    }
+    let passes = (depth / DETAIL_1_STEP).ceil().max(1.0) as usize;
+    let one = cut(DETAIL_1, depth, passes)?;
+    if let Some(op) = rest_machining(
+        &format!("{part} rest (1 mm after 6 mm)"),
+        region,
+        six.radius(),
+        &one,
+    )? {
+        ops.push(op);
+    }
+    Ok(())
+}
+
 /// Insert: two roughing offsets (the second 0.75·D further out clears the block edge) in 3
-/// passes, the finishing offset in one pass at full depth, then the 6 mm tool round the
-/// outline at full depth for what the 16 mm one could not reach (concave waist).
+/// passes, the finishing offset in one pass at full depth, then the detail tools where the
+/// 16 mm one could not reach.
 fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
     let rough = cut(ROUGH_16, depth, 3)?;
     let outer = [
@@ -287,12 +324,13 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
             ..side(Side::Outside)
         },
     )?);
-    ops.push(profile(
-        "insert detail (6 mm, rest)",
-        std::slice::from_ref(contour),
-        &cut(DETAIL_6, depth, 2)?,
-        &side(Side::Outside),
-    )?);
+    // What the 16 mm tool swept: the band from the outline out past the second roughing
+    // offset (whose own outer edge is convex, so it leaves no rest there).
+    let band = Area::from_paths(&[
+        offset_outer(contour, ALLOWANCE + 0.75 * 16.0 + 8.0)?,
+        contour.clone(),
+    ]);
+    detail_passes("insert", &band, depth, &mut ops)?;
     Ok(Toolpath {
         safe_z: SAFE_Z,
         operations: ops,
@@ -300,7 +338,7 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
 }
 
 /// Cavity: contour-parallel pocket from the centre out in 3 passes, the finishing offset at
-/// full depth in one pass, the 6 mm tool round the wall for the corners.
+/// full depth in one pass, the detail tools in what the 16 mm one could not reach.
 fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
     let mut rough = cut(ROUGH_16, depth, 3)?;
     rough.entry = Entry::Helix {
@@ -332,12 +370,12 @@ fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         &cut(FINISH_16, depth, 1)?,
         &side,
     )?);
-    ops.push(profile(
-        "cavity detail (6 mm, rest)",
-        std::slice::from_ref(contour),
-        &cut(DETAIL_6, depth, 2)?,
-        &side,
-    )?);
+    detail_passes(
+        "cavity",
+        &Area::from_paths(std::slice::from_ref(contour)),
+        depth,
+        &mut ops,
+    )?;
     Ok(Toolpath {
         safe_z: SAFE_Z,
         operations: ops,
