@@ -23,6 +23,9 @@ pub struct Judged {
     pub leftover_mean: Option<f64>,
     pub feed_only_s: f64,
     pub planner_s: Option<f64>,
+    /// The planner's time for each tool in the order the program loads them: (tool number,
+    /// tool, seconds), from the same planning run as `planner_s`.
+    pub per_tool: Vec<(u32, String, f64)>,
     pub planner_error: Option<String>,
     #[serde(skip)]
     pub stock: Option<oficina_io::Heightmap>,
@@ -61,6 +64,9 @@ impl Judged {
             ),
             _ => format!("time:     {} at programmed feeds", hms(self.feed_only_s)),
         });
+        for (n, spec, s) in &self.per_tool {
+            lines.push(format!("  T{n} {spec}: {} (planner)", hms(*s)));
+        }
         lines
     }
 }
@@ -71,7 +77,7 @@ pub(crate) fn judge(
     tp: &Toolpath,
     post: &PostOptions,
     format: &Format,
-    design: Option<Design>,
+    designs: Option<Vec<Design>>,
     check_pixel: f64,
     profile: &Result<oficina_motion::Profile, String>,
     fb: Feedback,
@@ -96,7 +102,7 @@ pub(crate) fn judge(
         .map(|o| (o.tool_number, o.tool.clone()))
         .collect();
     let (mut gouge, mut leftover_mean, mut stock) = (None, None, None);
-    if let Some(design) = design {
+    if let Some(designs) = designs {
         fb.stage("simulating the stock")?;
         // The tool in the spindle when the program starts: the legacy control has no tool
         // words, and the Sinumerik program moves to its change position before T01 M06.
@@ -117,7 +123,7 @@ pub(crate) fn judge(
             let check = check_mill(
                 &ops,
                 &tools,
-                &design,
+                &designs,
                 check_pixel,
                 2.0 * first.tool.diameter + 2.0,
                 tp.safe_z,
@@ -131,14 +137,20 @@ pub(crate) fn judge(
     }
     fb.stage("estimating time")?;
     let feed_only_s = feed_only_estimate(&canon, [0.0, 0.0, tp.safe_z], FEED_ONLY_RAPID);
-    let (planner_s, planner_error) = match profile {
-        Ok(p) => {
-            match oficina_motion::estimate(oficina_sim::to_machine(&canon, tp.safe_z + 1.0), p) {
-                Ok(e) => (Some(e.seconds), None),
-                Err(e) => (None, Some(e.to_string())),
+    let (planner_s, per_tool, planner_error) = match profile {
+        Ok(p) => match oficina_motion::estimate::estimate_with(
+            oficina_sim::to_machine(&canon, tp.safe_z + 1.0),
+            p,
+            oficina_motion::PlanOptions::default(),
+            true,
+        ) {
+            Ok(e) => {
+                let per_tool = per_tool_times(&canon, &e.per_line, &tools);
+                (Some(e.seconds), per_tool, None)
             }
-        }
-        Err(e) => (None, Some(e.clone())),
+            Err(e) => (None, vec![], Some(e.to_string())),
+        },
+        Err(e) => (None, vec![], Some(e.clone())),
     };
     Ok(Judged {
         program,
@@ -146,7 +158,45 @@ pub(crate) fn judge(
         leftover_mean,
         feed_only_s,
         planner_s,
+        per_tool,
         planner_error,
         stock,
     })
+}
+
+/// The planner's per-line seconds summed by the tool loaded at each line (a tool change,
+/// or the first tool selected before any change).
+fn per_tool_times(
+    canon: &[oficina_canon::Canon],
+    per_line: &[(u32, f64)],
+    tools: &HashMap<u32, Tool>,
+) -> Vec<(u32, String, f64)> {
+    use oficina_canon::CanonOp;
+    // Line where each tool takes over, in program order.
+    let mut starts: Vec<(u32, u32)> = Vec::new();
+    for c in canon {
+        match c.op {
+            CanonOp::ChangeTool(n) => starts.push((c.line, n)),
+            CanonOp::SelectTool(n) if starts.is_empty() => starts.push((c.line, n)),
+            _ => {}
+        }
+    }
+    let mut out: Vec<(u32, String, f64)> = Vec::new();
+    for &(line, s) in per_line {
+        let Some(&(_, n)) = starts
+            .iter()
+            .rev()
+            .find(|(l, _)| *l <= line)
+            .or(starts.first())
+        else {
+            continue;
+        };
+        // Unknown numbers (Sinumerik's empty T99) take no time worth a line.
+        let Some(tool) = tools.get(&n) else { continue };
+        match out.iter_mut().find(|(m, _, _)| *m == n) {
+            Some(t) => t.2 += s,
+            None => out.push((n, tool.spec(), s)),
+        }
+    }
+    out
 }

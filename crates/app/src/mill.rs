@@ -4,8 +4,8 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    allowed_region, preview_svg, toolpath, Cut, DrillParams, Entry, MillOp, PocketParams,
-    ProfileParams, Side, Strategy, Tabs,
+    allowed_region, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams, Entry, MillOp,
+    PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;
@@ -20,6 +20,7 @@ pub enum MillOpKind {
     ProfileOut,
     ProfileOn,
     Drill,
+    Vcarve,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -85,6 +86,12 @@ pub struct MillParams {
     pub safe_z: f64,
     /// Grid of the stock simulation.
     pub check_pixel: f64,
+    /// V-carving: largest height of material left at the medial axis and on capped floors.
+    pub leftover: f64,
+    /// Carve this text (Hershey Roman Simplex, single strokes) instead of a drawing.
+    pub text: Option<String>,
+    /// Capital height of `text`, mm.
+    pub text_height: f64,
     #[serde(flatten)]
     pub post: PostParams,
 }
@@ -117,6 +124,9 @@ impl Default for MillParams {
             clear_z: 5.0,
             safe_z: 20.0,
             check_pixel: 0.2,
+            leftover: 0.05,
+            text: None,
+            text_height: 10.0,
             post: PostParams::default(),
         }
     }
@@ -151,10 +161,16 @@ pub fn mill(
     within("rpm", p.rpm, 0.0, 1e6)?;
     within("check-pixel", p.check_pixel, 0.01, 10.0)?;
     fb.stage("reading the drawing")?;
-    let imported = oficina_io::load_drawing(input).map_err(|e| Error::chain(&e))?;
-    let warning = (!imported.unsupported.is_empty())
-        .then(|| format!("{}: {}", input.display(), imported.unsupported));
-    let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
+    let (paths, warning) = match &p.text {
+        Some(text) => (text_paths(text, p.text_height)?, None),
+        None => {
+            let imported = oficina_io::load_drawing(input).map_err(|e| Error::chain(&e))?;
+            let warning = (!imported.unsupported.is_empty())
+                .then(|| format!("{}: {}", input.display(), imported.unsupported));
+            let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
+            (paths, warning)
+        }
+    };
     if paths.is_empty() {
         return Err(Error(format!(
             "{}: the drawing has no paths",
@@ -228,6 +244,9 @@ pub fn mill(
             peck: p.peck,
             dwell: p.dwell,
         }),
+        MillOpKind::Vcarve => MillOp::VCarve(VCarveParams {
+            leftover: p.leftover,
+        }),
     };
     if p.safe_z < p.clear_z {
         return Err(Error(format!(
@@ -250,13 +269,21 @@ pub fn mill(
         ),
     ];
     let (post, format) = p.post.options("Oficina 2.5D milling", settings)?;
+    // A V-carving's walls slope at the bit's flank: 1 / tan(half angle) mm down per mm in.
+    let slope = match op {
+        MillOp::VCarve(_) => 1.0 / half_tan(&cut).map_err(|e| Error::chain(&e))?,
+        _ => 0.0,
+    };
     let design = allowed_region(&paths, &op)
         .map_err(|e| Error::chain(&e))?
-        .map(|(rings, cut_inside)| Design {
-            rings,
-            cut_inside,
-            top: cut.top,
-            floor: cut.bottom(),
+        .map(|(rings, cut_inside)| {
+            vec![Design {
+                rings,
+                cut_inside,
+                top: cut.top,
+                floor: cut.bottom(),
+                slope,
+            }]
         });
     let judged = judge(&tp, &post, &format, design, p.check_pixel, profile, fb)?;
     Ok(MillResult {
@@ -266,4 +293,21 @@ pub fn mill(
         preview_svg: preview_svg(&paths, &tp),
         judged,
     })
+}
+
+/// Single-stroke paths of `text` (Hershey Roman Simplex), capitals `height` mm tall, the
+/// first baseline on y = 0.
+fn text_paths(text: &str, height: f64) -> Result<Vec<oficina_geom::Path>, Error> {
+    within("text-height", height, 0.1, 10_000.0)?;
+    if text.chars().count() > 100_000 {
+        return Err(Error("--text: at most 100,000 characters".into()));
+    }
+    let strokes = oficina_plot::text_strokes(text, oficina_geom::Point::ZERO, height, 0.0);
+    if strokes.is_empty() {
+        return Err(Error(format!("--text {text:?}: no strokes to carve")));
+    }
+    Ok(strokes
+        .iter()
+        .map(|s| oficina_geom::Path::polyline(s, false))
+        .collect())
 }

@@ -3,6 +3,7 @@
 
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
+use oficina_cam::ops::sole::TREAD_DEPTH;
 use oficina_cam::ops::{preview_svg, sole_job, Part, SoleJob, GOUGE_TOL};
 use oficina_geom::{offset_areas, to_ring, Area, SizeSystem};
 use oficina_sim::Design;
@@ -23,6 +24,8 @@ pub struct SoleParams {
     pub fit_tolerance: f64,
     /// Grid of the stock simulation, mm.
     pub check_pixel: f64,
+    /// A drawing (SVG/DXF) of the insert's tread details, closed shapes in the points' frame.
+    pub tread: Option<std::path::PathBuf>,
     #[serde(flatten)]
     pub post: PostParams,
 }
@@ -36,6 +39,7 @@ impl Default for SoleParams {
             shrink: 2.0,
             fit_tolerance: 0.3,
             check_pixel: 0.5,
+            tread: None,
             post: PostParams::default(),
         }
     }
@@ -91,8 +95,20 @@ pub fn sole(
             p.check_pixel
         )));
     }
+    let tread = match &p.tread {
+        Some(file) => {
+            let imported = oficina_io::load_drawing(file).map_err(|e| Error::chain(&e))?;
+            let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
+            if paths.is_empty() {
+                return Err(Error(format!("{}: the tread has no paths", file.display())));
+            }
+            paths
+        }
+        None => vec![],
+    };
     let job = SoleJob {
         system,
+        tread,
         shrink: p.shrink / 100.0,
         fit_tolerance: p.fit_tolerance,
         ..SoleJob::seed(p.from_size, p.to_size)
@@ -157,17 +173,37 @@ pub fn sole(
                     .collect::<Vec<_>>()
             })
             .collect();
-        let design = Design {
+        let mut designs = vec![Design {
             rings,
             cut_inside,
             top: 0.0,
             floor: -prog.depth,
-        };
+            slope: 0.0,
+        }];
+        if !prog.tread.is_empty() {
+            // The tread pockets, TREAD_DEPTH deep inside the insert's top.
+            let grown = offset_areas(&Area::from_paths(&prog.tread), GOUGE_TOL, 0.001)
+                .map_err(|e| Error::chain(&e))?;
+            designs.push(Design {
+                rings: grown
+                    .iter()
+                    .flat_map(|a| {
+                        a.paths()
+                            .map(|p| to_ring(&p.flatten(1e-4)))
+                            .collect::<Vec<_>>()
+                    })
+                    .collect(),
+                cut_inside: true,
+                top: 0.0,
+                floor: -TREAD_DEPTH,
+                slope: 0.0,
+            });
+        }
         let judged = judge(
             &prog.toolpath,
             &post,
             &format,
-            Some(design),
+            Some(designs),
             p.check_pixel,
             profile,
             fb,
@@ -176,7 +212,10 @@ pub fn sole(
             name: prog.name(),
             operations: prog.toolpath.operations.len(),
             moves: prog.toolpath.move_count(),
-            preview_svg: preview_svg(std::slice::from_ref(&prog.contour), &prog.toolpath),
+            preview_svg: preview_svg(
+                &[std::slice::from_ref(&prog.contour), &prog.tread[..]].concat(),
+                &prog.toolpath,
+            ),
             judged,
         });
     }

@@ -16,6 +16,9 @@ pub enum Op {
     ProfileOut,
     ProfileOn,
     Drill,
+    /// V-carve with a V bit: closed shapes to the depth their width allows (capped at
+    /// --depth), open strokes along the line.
+    Vcarve,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -28,7 +31,18 @@ pub enum EntryKind {
 #[derive(ClapArgs, Debug)]
 pub struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
-    pub input: PathBuf,
+    #[arg(required_unless_present = "text")]
+    pub input: Option<PathBuf>,
+    /// Carve this text in Hershey Roman Simplex single strokes instead of a drawing.
+    #[arg(long, conflicts_with = "input")]
+    pub text: Option<String>,
+    /// Capital height of --text, mm.
+    #[arg(long, default_value_t = 10.0)]
+    pub text_height: f64,
+    /// V-carving: largest height of material left at the medial axis and on capped
+    /// floors, mm (sets the spacing of the passes).
+    #[arg(long, default_value_t = 0.05)]
+    pub leftover: f64,
     #[arg(long, value_enum)]
     pub op: Op,
     /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
@@ -190,6 +204,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
             Op::ProfileOut => MillOpKind::ProfileOut,
             Op::ProfileOn => MillOpKind::ProfileOn,
             Op::Drill => MillOpKind::Drill,
+            Op::Vcarve => MillOpKind::Vcarve,
         },
         tool: args.tool.clone(),
         tool_number: args.tool_number,
@@ -223,10 +238,17 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         clear_z: args.clear_z,
         safe_z: args.safe_z,
         check_pixel: args.check_pixel,
+        leftover: args.leftover,
+        text: args.text.clone(),
+        text_height: args.text_height,
         post: args.out.params(),
     };
     let profile = estimate_profile(&args.profile);
-    let (result, bar) = with_bar(|fb| mill(&args.input, &params, &profile, fb));
+    let input = args
+        .input
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("--text"));
+    let (result, bar) = with_bar(|fb| mill(&input, &params, &profile, fb));
     let r = result?;
     if let Some(w) = &r.warning {
         bar.suspend(|| eprintln!("oficina: warning: {w}"));

@@ -25,6 +25,11 @@ pub struct Args {
     /// Fitting tolerance, mm.
     #[arg(long, default_value_t = 0.3)]
     pub fit_tolerance: f64,
+    /// The insert's tread details (slots, letters): an SVG/DXF of closed shapes in the
+    /// points' frame, graded and mirrored with the contour, cut 2 mm deep by the 6 mm mill
+    /// and the 1 mm bit (seed 001 §7).
+    #[arg(long)]
+    pub tread: Option<PathBuf>,
     /// Output directory.
     #[arg(short, long)]
     pub output: PathBuf,
@@ -46,6 +51,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         shrink: args.shrink,
         fit_tolerance: args.fit_tolerance,
         check_pixel: args.check_pixel,
+        tread: args.tread.clone(),
         post: args.out.params(),
     };
     let profile = estimate_profile(&args.profile);

@@ -109,6 +109,8 @@ fn sole_34_to_40_writes_four_programs_rs274_accepts() {
         "br",
         "--shrink",
         "2",
+        "--tread",
+        "samples/sole/tread.svg",
         "-o",
         dir.to_str().unwrap(),
     ]);
@@ -124,11 +126,18 @@ fn sole_34_to_40_writes_four_programs_rs274_accepts() {
         "{stdout}"
     );
     assert_eq!(stdout.matches("gouge:    none").count(), 4, "{stdout}");
+    // The planner's time for each tool: three on each insert, one on each cavity.
+    assert_eq!(stdout.matches("T1 flat:16: ").count(), 4, "{stdout}");
+    assert_eq!(stdout.matches("T2 flat:6: ").count(), 2, "{stdout}");
+    assert_eq!(stdout.matches("T3 flat:1: ").count(), 2, "{stdout}");
     for name in ["insert-left", "insert-right", "cavity-left", "cavity-right"] {
         let f = dir.join(format!("{name}.ngc"));
         let text = std::fs::read_to_string(&f).unwrap();
-        // The seed's tools and feeds.
-        assert!(text.contains("T1 M6") && text.contains("T2 M6"), "{name}");
+        // The seed's tools and feeds: the 16 mm mill everywhere, the 6 mm mill and the
+        // 1 mm bit in the insert's tread.
+        assert!(text.contains("T1 M6"), "{name}");
+        let detail = text.contains("T2 M6") && text.contains("T3 M6");
+        assert_eq!(detail, name.starts_with("insert"), "{name}");
         assert!(
             text.contains("S1600 M3") && text.contains("S1800 M3"),
             "{name}"

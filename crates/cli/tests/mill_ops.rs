@@ -145,9 +145,19 @@ fn verify(paths: &[Path], c: &Cut, op: &MillOp) -> (f64, f64, Toolpath) {
         cut_inside,
         top: c.top,
         floor: c.top - c.depth,
+        slope: 0.0,
     };
     let tools: HashMap<u32, Tool> = [(1, c.tool.clone())].into();
-    let check = check_mill(&canon, &tools, &design, 0.1, 8.0, 20.0, &c.tool).unwrap();
+    let check = check_mill(
+        &canon,
+        &tools,
+        std::slice::from_ref(&design),
+        0.1,
+        8.0,
+        20.0,
+        &c.tool,
+    )
+    .unwrap();
     eprintln!(
         "{}: gouge {:.4} at {:?}, leftover max {:.3} mean {:.4}, scallop max {:.3} mean {:.5}",
         op.name(),

@@ -30,7 +30,21 @@ fn sample_points() -> Vec<Point> {
 fn size_34_to_40_insert_and_cavity_for_both_feet() {
     let pts = sample_points();
     assert!(pts.len() > 20);
-    let r = sole_job(&pts, &SoleJob::seed(34.0, 40.0)).unwrap();
+    let tread: Vec<oficina_geom::Path> = oficina_io::load_drawing(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../samples/sole/tread.svg"
+    )))
+    .unwrap()
+    .drawing
+    .paths()
+    .cloned()
+    .collect();
+    assert_eq!(tread.len(), 4);
+    let job = SoleJob {
+        tread,
+        ..SoleJob::seed(34.0, 40.0)
+    };
+    let r = sole_job(&pts, &job).unwrap();
     eprintln!(
         "factors {:?}, fit {} blocks {} dev {:.3}, fallback {:?}",
         r.factors, r.fit.method, r.fit.blocks, r.fit.max_deviation, r.fallback
@@ -43,6 +57,9 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
         settings: vec![],
     };
     for p in &r.programs {
+        for o in &p.toolpath.operations {
+            eprintln!("  {}: {} {} moves", o.name, o.tool.spec(), o.moves.len());
+        }
         let text = program_text(&p.toolpath, &opts).unwrap();
         let canon = read_back(&text, &opts).unwrap();
         let area = Area::from_paths(std::slice::from_ref(&p.contour));
@@ -65,14 +82,42 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
             .iter()
             .map(|o| (o.tool_number, o.tool.clone()))
             .collect();
-        let design = Design {
+        let mut designs = vec![Design {
             rings,
             cut_inside: inside,
             top: 0.0,
             floor: -p.depth,
-        };
+            slope: 0.0,
+        }];
+        // The seed's tools: 16 mm everywhere; on the insert the 6 mm mill and the 1 mm bit
+        // in the tread (the slots are narrower than 6 mm: only the 1 mm bit fits them).
+        let specs: Vec<String> = p
+            .toolpath
+            .operations
+            .iter()
+            .map(|o| o.tool.spec())
+            .collect();
+        if p.part == Part::Insert {
+            assert!(specs.contains(&"flat:6".to_string()), "{specs:?}");
+            assert!(specs.contains(&"flat:1".to_string()), "{specs:?}");
+            let slots = offset_areas(&Area::from_paths(&p.tread), GOUGE_TOL, 0.001).unwrap();
+            designs.push(Design {
+                rings: slots
+                    .iter()
+                    .flat_map(|a| {
+                        a.paths()
+                            .map(|q| to_ring(&q.flatten(1e-4)))
+                            .collect::<Vec<_>>()
+                    })
+                    .collect(),
+                cut_inside: true,
+                top: 0.0,
+                floor: -oficina_cam::ops::sole::TREAD_DEPTH,
+                slope: 0.0,
+            });
+        }
         let last = &p.toolpath.operations.last().unwrap().tool;
-        let check = check_mill(&canon, &tools, &design, 0.5, 20.0, 40.0, last).unwrap();
+        let check = check_mill(&canon, &tools, &designs, 0.5, 20.0, 40.0, last).unwrap();
         eprintln!(
             "{}: {} lines, gouge {:.4} at {:?}, scallop mean {:.4}",
             p.name(),
@@ -103,6 +148,35 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
             .unwrap();
         }
         assert!(check.report.max_gouge < 1e-3, "{}", p.name());
+        if p.part == Part::Insert {
+            // Each slot (3 mm wide before grading) is cut to its floor along its middle by
+            // the 1 mm bit: check the stock there.
+            for t in &p.tread {
+                let bb = t.bounding_box().unwrap();
+                if bb.height() > 6.0 {
+                    continue;
+                }
+                let y = bb.center().y;
+                let row = ((y - check.origin[1]) / check.stock.pixel).round() as usize;
+                let mut deep = 0;
+                let mut n = 0;
+                let mut x = bb.x0 + 1.0;
+                while x < bb.x1 - 1.0 {
+                    let col = ((x - check.origin[0]) / check.stock.pixel).round() as usize;
+                    let z = check.stock.z[row * check.stock.width + col];
+                    n += 1;
+                    if (z + 2.0).abs() < 0.01 {
+                        deep += 1;
+                    }
+                    x += check.stock.pixel;
+                }
+                assert!(
+                    n > 20 && deep == n,
+                    "{}: {deep} of {n} at the floor",
+                    p.name()
+                );
+            }
+        }
         if p.part == Part::Cavity {
             // Only wall pixels (the grid against exact arcs) may stand above the floor.
             assert!(

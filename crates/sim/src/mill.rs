@@ -17,6 +17,9 @@ pub struct Design {
     pub cut_inside: bool,
     pub top: f64,
     pub floor: f64,
+    /// Walls that slope down from the rings by this many mm per mm inwards (a V-carving:
+    /// 1 / tan(half angle)), down to `floor`; 0: vertical walls.
+    pub slope: f64,
 }
 
 /// Result of a check, with the grids for previews.
@@ -38,14 +41,14 @@ pub(crate) const MAX_PIXELS: usize = 16_000_000;
 pub fn check_mill(
     canon: &[Canon],
     tools: &HashMap<u32, Tool>,
-    design: &Design,
+    designs: &[Design],
     mut pixel: f64,
     margin: f64,
     start_z: f64,
     last_tool: &Tool,
 ) -> Result<MillCheck, SimError> {
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in design.rings.iter().flatten() {
+    for p in designs.iter().flat_map(|d| d.rings.iter().flatten()) {
         x0 = x0.min(p[0]);
         y0 = y0.min(p[1]);
         x1 = x1.max(p[0]);
@@ -61,6 +64,33 @@ pub fn check_mill(
     }
     let width = (w_mm / pixel).ceil() as usize + 1;
     let height = (h_mm / pixel).ceil() as usize + 1;
+    let top = designs.first().map_or(0.0, |d| d.top);
+    let mut d = Heightmap::flat(width, height, pixel, top as f32);
+    // The cuts each design allows, together: the lowest of them at every point.
+    for design in designs {
+        let one = design_map(design, [x0, y0], [w_mm, width as f64, height as f64], pixel);
+        for (v, o) in d.z.iter_mut().zip(one) {
+            *v = v.min(o);
+        }
+    }
+    let shifted = shift(canon, [-x0, -y0]);
+    let mut stock = Heightmap::flat(width, height, pixel, top as f32);
+    replay(&shifted, tools, &mut stock, [-x0, -y0, start_z])?;
+    let ideal = ideal_surface(&d, last_tool);
+    let mut report = compare(&stock, &d, &ideal);
+    report.gouge_at = [report.gouge_at[0] + x0, report.gouge_at[1] + y0];
+    Ok(MillCheck {
+        report,
+        stock,
+        design: d,
+        origin: [x0, y0],
+    })
+}
+
+/// One design on the grid at `origin`, `pixel` mm, `[width mm, columns, rows]`.
+fn design_map(design: &Design, origin: [f64; 2], size: [f64; 3], pixel: f64) -> Vec<f32> {
+    let [x0, y0] = origin;
+    let (w_mm, width, height) = (size[0], size[1] as usize, size[2] as usize);
     let mut d = Heightmap::flat(width, height, pixel, design.top as f32);
     // Scanline fill: per row, the crossings of every ring edge.
     let low = design.floor as f32;
@@ -98,18 +128,57 @@ pub fn check_mill(
             fill(from, x0 + w_mm + 1.0);
         }
     }
-    let shifted = shift(canon, [-x0, -y0]);
-    let mut stock = Heightmap::flat(width, height, pixel, design.top as f32);
-    replay(&shifted, tools, &mut stock, [-x0, -y0, start_z])?;
-    let ideal = ideal_surface(&d, last_tool);
-    let mut report = compare(&stock, &d, &ideal);
-    report.gouge_at = [report.gouge_at[0] + x0, report.gouge_at[1] + y0];
-    Ok(MillCheck {
-        report,
-        stock,
-        design: d,
-        origin: [x0, y0],
-    })
+    if design.slope > 0.0 && design.top > design.floor {
+        slope_walls(design, &mut d, origin);
+    }
+    d.z
+}
+
+/// Raises the lowered points of `d` to `top − slope · distance to the nearest ring edge`
+/// where that is above the floor: each edge visits only the points within the distance
+/// `(top − floor) / slope` at which the wall meets the floor.
+fn slope_walls(design: &Design, d: &mut Heightmap, origin: [f64; 2]) {
+    let reach = (design.top - design.floor) / design.slope;
+    let low = design.floor as f32;
+    let px = d.pixel;
+    let mut dist = vec![reach; d.z.len()];
+    for r in &design.rings {
+        let n = r.len();
+        for i in 0..n {
+            let (a, b) = (r[i], r[(i + 1) % n]);
+            let gx0 = (((a[0].min(b[0]) - reach - origin[0]) / px).floor().max(0.0)) as usize;
+            let gy0 = (((a[1].min(b[1]) - reach - origin[1]) / px).floor().max(0.0)) as usize;
+            let gx1 = (((a[0].max(b[0]) + reach - origin[0]) / px).ceil().max(0.0) as usize)
+                .min(d.width.saturating_sub(1));
+            let gy1 = (((a[1].max(b[1]) + reach - origin[1]) / px).ceil().max(0.0) as usize)
+                .min(d.height.saturating_sub(1));
+            let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+            let len2 = ex * ex + ey * ey;
+            for iy in gy0..=gy1 {
+                for ix in gx0..=gx1 {
+                    let k = iy * d.width + ix;
+                    if d.z[k] != low {
+                        continue;
+                    }
+                    let (px_, py_) = (origin[0] + ix as f64 * px, origin[1] + iy as f64 * px);
+                    let t = if len2 > 0.0 {
+                        (((px_ - a[0]) * ex + (py_ - a[1]) * ey) / len2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    let dd = (px_ - a[0] - t * ex).hypot(py_ - a[1] - t * ey);
+                    if dd < dist[k] {
+                        dist[k] = dd;
+                    }
+                }
+            }
+        }
+    }
+    for (v, dd) in d.z.iter_mut().zip(dist) {
+        if *v == low {
+            *v = (design.top - design.slope * dd) as f32;
+        }
+    }
 }
 
 /// The operations moved by `by` in X and Y (the grid starts at 0, the drawing need not).

@@ -28,6 +28,8 @@ pub fn replay<'a>(
     start: [f64; 3],
 ) -> Result<[f64; 3], SimError> {
     let mut pos = start;
+    // Stock only goes down: its highest point now bounds it for the whole replay.
+    let ceiling = stock.z.iter().copied().fold(f32::MIN, f32::max) as f64;
     let mut tool: Option<&Tool> = None;
     let mut selected: Option<u32> = None;
     let lookup = |n: u32, line: u32| tools.get(&n).ok_or(SimError::UnknownTool { line, tool: n });
@@ -47,7 +49,9 @@ pub fn replay<'a>(
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
                 let to = [to.x, to.y, to.z];
-                sweep_line(stock, t, pos, to);
+                if let Some(t) = touching(t, ceiling - pos[2].min(to[2]), stock.pixel) {
+                    sweep_line(stock, &t, pos, to);
+                }
                 pos = to;
             }
             CanonOp::ArcFeed {
@@ -59,6 +63,16 @@ pub fn replay<'a>(
             } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
                 let to = [end.x, end.y, end.z];
+                // An XZ/YZ arc may dip below both ends: no narrowing for those.
+                let below = match plane {
+                    Plane::XY => ceiling - pos[2].min(to[2]),
+                    _ => f64::INFINITY,
+                };
+                let Some(t) = touching(t, below, stock.pixel) else {
+                    pos = to;
+                    continue;
+                };
+                let t = &t;
                 if *plane == Plane::XY {
                     sweep_arc(stock, t, pos, to, *center, *turns > 0);
                 } else {
@@ -84,6 +98,31 @@ pub fn replay<'a>(
         }
     }
     Ok(pos)
+}
+
+/// The part of `tool` that can touch stock when its tip is at most `below` mm under the
+/// stock's highest point: `None` when the tip stays above it (nothing is cut, every profile
+/// being ≥ 0); for a V bit only the cone out to ρ = below·tan(θ/2) (plus a pixel), which
+/// stamps the same stock as the whole bit in far fewer cells; otherwise the tool itself.
+fn touching(tool: &Tool, below: f64, pixel: f64) -> Option<std::borrow::Cow<'_, Tool>> {
+    use std::borrow::Cow;
+    if below <= 0.0 {
+        return None;
+    }
+    match tool.shape {
+        oficina_cam::Shape::V { angle } if below < tool.flute_length => {
+            let r = below * (angle.to_radians() / 2.0).tan() + pixel;
+            if r >= tool.reach_radius() {
+                return Some(Cow::Borrowed(tool));
+            }
+            Some(Cow::Owned(Tool {
+                diameter: 2.0 * r,
+                shank_diameter: 2.0 * r,
+                ..tool.clone()
+            }))
+        }
+        _ => Some(Cow::Borrowed(tool)),
+    }
 }
 
 /// Chord height (mm) allowed when arcs in the XZ and YZ planes are cut into straight pieces:

@@ -2,7 +2,10 @@
 
 use super::drill::hole_centres;
 use super::profile::OFFSET_TOL;
-use super::{drill, pocket, profile, Cut, DrillParams, OpError, PocketParams, ProfileParams, Side};
+use super::{
+    drill, pocket, profile, vcarve, Cut, DrillParams, OpError, PocketParams, ProfileParams, Side,
+    VCarveParams,
+};
 use crate::{Operation, Toolpath};
 use oficina_geom::{offset_areas, to_ring, Area, Path};
 
@@ -11,6 +14,7 @@ pub enum MillOp {
     Pocket(PocketParams),
     Profile(ProfileParams),
     Drill(DrillParams),
+    VCarve(VCarveParams),
 }
 
 impl MillOp {
@@ -23,6 +27,7 @@ impl MillOp {
                 Side::On => "engrave on the line",
             },
             MillOp::Drill(_) => "drill",
+            MillOp::VCarve(_) => "V-carve",
         }
     }
 }
@@ -34,6 +39,7 @@ pub fn operation(paths: &[Path], cut: &Cut, op: &MillOp) -> Result<Operation, Op
         MillOp::Pocket(p) => pocket(name, paths, cut, p),
         MillOp::Profile(p) => profile(name, paths, cut, p),
         MillOp::Drill(p) => drill(name, paths, cut, p),
+        MillOp::VCarve(p) => vcarve(name, paths, cut, p),
     }
 }
 
@@ -84,6 +90,14 @@ pub fn allowed_region(
             Ok(Some((rings_of(&shrunk), false)))
         }
         MillOp::Profile(_) => Ok(None),
+        // The closed shapes, carved with sloping walls (the caller knows the slope); a
+        // drawing with open strokes is its own design, like a cut on the line.
+        MillOp::VCarve(_) => {
+            if paths.iter().any(|p| !p.closed) {
+                return Ok(None);
+            }
+            Ok(Some((rings_of(&areas), true)))
+        }
         MillOp::Drill(_) => {
             let holes: Vec<Path> = paths
                 .iter()

@@ -5,6 +5,9 @@
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
 //! - [`drill`]: canned cycles at circle centres;
+//! - [`rest`]: a smaller tool pockets what a larger one could not reach;
+//! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
+//!   single-line strokes;
 //! - [`entry`]: how a cut goes down into material: ramp along the path, helix, or a plunge
 //!   only where the user says the tool can.
 //!
@@ -17,7 +20,9 @@ pub mod mill;
 pub mod pocket;
 pub mod preview;
 pub mod profile;
+pub mod rest;
 pub mod sole;
+pub mod vcarve;
 
 pub use chain::{Chain, Piece};
 pub use drill::{drill, DrillParams};
@@ -26,7 +31,9 @@ pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::preview_svg;
 pub use profile::{profile, Comp, ProfileParams, Side, Tabs};
+pub use rest::{rest, rest_machining, rest_pocket};
 pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
+pub use vcarve::{vcarve, VCarveParams};
 
 use crate::{Move, Tool};
 

@@ -6,6 +6,7 @@
 
 use super::pocket::{pocket, PocketParams, Strategy};
 use super::profile::{profile, Comp, ProfileParams, Side, OFFSET_TOL};
+use super::rest::rest_machining;
 use super::{Cut, Entry, OpError};
 use crate::{Tool, Toolpath};
 use oficina_geom::fit::{fit_method, Fit, Method};
@@ -32,7 +33,14 @@ pub struct SoleJob {
     pub cavity_depth: f64,
     /// Block margin round the contour, mm (the part zero is the block's lower-left corner).
     pub margin: f64,
+    /// The insert's tread details (seed §7: slots and letters), closed shapes in the
+    /// pattern's own frame (the digitised points'): graded, mirrored and placed with the
+    /// contour, pocketed [`TREAD_DEPTH`] deep by the 6 mm mill and the 1 mm bit after it.
+    pub tread: Vec<Path>,
 }
+
+/// Depth of the tread details in the insert (seed §7: 2 mm, one pass of each tool).
+pub const TREAD_DEPTH: f64 = 2.0;
 
 impl SoleJob {
     /// The seed's prototype: size 34 → 40, Brazilian sizes, 2 % shrinkage.
@@ -47,6 +55,7 @@ impl SoleJob {
             insert_depth: 22.0,
             cavity_depth: 26.0,
             margin: 30.0,
+            tread: vec![],
         }
     }
 }
@@ -74,6 +83,8 @@ pub struct SoleProgram {
     pub block: [f64; 3],
     /// Depth cut below the block top, mm.
     pub depth: f64,
+    /// The tread details as placed (insert only), cut [`TREAD_DEPTH`] deep.
+    pub tread: Vec<Path>,
     pub toolpath: Toolpath,
 }
 
@@ -106,6 +117,11 @@ pub struct SoleResult {
 pub const ROUGH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1600.0, 190.0);
 pub const FINISH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1800.0, 100.0);
 pub const DETAIL_6: (u32, &str, f64, f64) = (2, "flat:6,flute=30", 2000.0, 170.0);
+/// The seed's 1 mm carbide bit (a truncated cone with a 1 mm tip, cutting 2 mm per pass),
+/// modelled as a 1 mm end mill whose flutes reach the mold's depth.
+pub const DETAIL_1: (u32, &str, f64, f64) = (3, "flat:1,flute=30", 2500.0, 140.0);
+/// Depth of one pass of the 1 mm bit (seed §7: 2 mm in one pass).
+pub const DETAIL_1_STEP: f64 = 2.0;
 
 /// Safety plane Z (seed Fig. 7.3) and retraction plane.
 pub const SAFE_Z: f64 = 40.0;
@@ -182,20 +198,30 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
     let bbox = left
         .bounding_box()
         .ok_or_else(|| OpError::Geometry("the fitted contour is empty".into()))?;
-    let right = oriented(&mirror_path(&left, MirrorAxis::X(bbox.center().x)), true);
+    let axis = MirrorAxis::X(bbox.center().x);
+    let right = oriented(&mirror_path(&left, axis), true);
+    let tread_left = graded_tread(&job.tread, &grading, job.to_size)?;
+    let tread_right: Vec<Path> = tread_left.iter().map(|p| mirror_path(p, axis)).collect();
     let mut programs = Vec::new();
-    for (foot, contour) in [(Foot::Left, &left), (Foot::Right, &right)] {
+    for (foot, contour, tread) in [
+        (Foot::Left, &left, &tread_left),
+        (Foot::Right, &right, &tread_right),
+    ] {
         let b = contour.bounding_box().expect("not empty");
-        let placed = translate(contour, Vec2::new(job.margin - b.x0, job.margin - b.y0));
+        let shift = Vec2::new(job.margin - b.x0, job.margin - b.y0);
+        let placed = translate(contour, shift);
+        let tread: Vec<Path> = tread.iter().map(|p| translate(p, shift)).collect();
         let block_xy = [b.width() + 2.0 * job.margin, b.height() + 2.0 * job.margin];
         let insert = shrunk(&placed, job.insert_clearance)?;
+        check_tread_inside(&tread, &insert)?;
         programs.push(SoleProgram {
             foot,
             part: Part::Insert,
-            toolpath: insert_toolpath(&insert, job.insert_depth)?,
+            toolpath: insert_toolpath(&insert, &tread, job.insert_depth)?,
             contour: insert,
             block: [block_xy[0], block_xy[1], job.insert_depth],
             depth: job.insert_depth,
+            tread,
         });
         programs.push(SoleProgram {
             foot,
@@ -204,6 +230,7 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
             contour: placed,
             block: [block_xy[0], block_xy[1], job.cavity_depth + 10.0],
             depth: job.cavity_depth,
+            tread: vec![],
         });
     }
     Ok(SoleResult {
@@ -213,6 +240,44 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
         fallback,
         programs,
     })
+}
+
+/// The tread graded to `size` with the contour's own factors, each shape flattened to
+/// 0.01 mm first (grading scales X and Y apart: an arc would not stay an arc).
+fn graded_tread(tread: &[Path], grading: &Grading, size: f64) -> Result<Vec<Path>, OpError> {
+    tread
+        .iter()
+        .map(|p| {
+            if !p.closed {
+                return Err(OpError::Invalid(format!(
+                    "tread {}: open strokes are not machined yet; draw slots and letters as closed outlines",
+                    p.source
+                )));
+            }
+            let pts = grading
+                .points(&p.flatten(0.01), size)
+                .map_err(|e| OpError::Invalid(e.to_string()))?;
+            Ok(Path::polyline(&pts, true).with_source(p.source.clone()))
+        })
+        .collect()
+}
+
+/// Every tread shape lies inside the insert outline (a shape across it would cut the wall).
+fn check_tread_inside(tread: &[Path], insert: &Path) -> Result<(), OpError> {
+    let ring = super::chain::Chain::from_path(insert).polygon(0.01);
+    for p in tread {
+        if let Some(q) = p
+            .flatten(0.01)
+            .into_iter()
+            .find(|q| !super::chain::inside(std::slice::from_ref(&ring), [q.x, q.y]))
+        {
+            return Err(OpError::Invalid(format!(
+                "tread {}: the point ({:.2}, {:.2}) of the graded tread lies outside the insert",
+                p.source, q.x, q.y
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn translate(p: &Path, v: Vec2) -> Path {
@@ -249,10 +314,71 @@ fn shrunk(p: &Path, d: f64) -> Result<Path, OpError> {
 /// Stock the roughing passes leave on the wall for the finishing pass, mm.
 pub const ALLOWANCE: f64 = 0.5;
 
+/// Seed §7's detail tools as rest machining of `region` (what the 16 mm tool was to cut):
+/// the 6 mm mill pockets what the 16 mm one could not reach, then the 1 mm bit what the
+/// 6 mm one could not, each only where something is left ([`rest_machining`]).
+fn detail_passes(
+    part: &str,
+    region: &[Area],
+    depth: f64,
+    ops: &mut Vec<crate::Operation>,
+) -> Result<(), OpError> {
+    let six = cut(DETAIL_6, depth, 2)?;
+    if let Some(op) = rest_machining(
+        &format!("{part} rest (6 mm after 16 mm)"),
+        region,
+        8.0,
+        &six,
+    )? {
+        ops.push(op);
+    }
+    let passes = (depth / DETAIL_1_STEP).ceil().max(1.0) as usize;
+    let one = cut(DETAIL_1, depth, passes)?;
+    if let Some(op) = rest_machining(
+        &format!("{part} rest (1 mm after 6 mm)"),
+        region,
+        six.radius(),
+        &one,
+    )? {
+        ops.push(op);
+    }
+    Ok(())
+}
+
+/// The tread pockets, [`TREAD_DEPTH`] deep in one pass each: the 6 mm mill where it fits
+/// ("all offsets except the last", seed §7), the 1 mm bit for the rest.
+fn tread_passes(tread: &[Path], ops: &mut Vec<crate::Operation>) -> Result<(), OpError> {
+    let six = cut(DETAIL_6, TREAD_DEPTH, 1)?;
+    match pocket(
+        "tread pockets (6 mm)",
+        tread,
+        &six,
+        &PocketParams {
+            strategy: Strategy::Offset,
+            stepover: 0.6 * 6.0,
+            allowance: 0.0,
+        },
+    ) {
+        Ok(op) => ops.push(op),
+        Err(OpError::Empty(_)) => {}
+        Err(e) => return Err(e),
+    }
+    let one = cut(DETAIL_1, TREAD_DEPTH, 1)?;
+    if let Some(op) = rest_machining(
+        "tread rest (1 mm after 6 mm)",
+        &Area::from_paths(tread),
+        six.radius(),
+        &one,
+    )? {
+        ops.push(op);
+    }
+    Ok(())
+}
+
 /// Insert: two roughing offsets (the second 0.75·D further out clears the block edge) in 3
-/// passes, the finishing offset in one pass at full depth, then the 6 mm tool round the
-/// outline at full depth for what the 16 mm one could not reach (concave waist).
-fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
+/// passes, the finishing offset in one pass at full depth, then the detail tools where the
+/// 16 mm one could not reach.
+fn insert_toolpath(contour: &Path, tread: &[Path], depth: f64) -> Result<Toolpath, OpError> {
     let rough = cut(ROUGH_16, depth, 3)?;
     let outer = [
         offset_outer(contour, ALLOWANCE)?,
@@ -287,12 +413,16 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
             ..side(Side::Outside)
         },
     )?);
-    ops.push(profile(
-        "insert detail (6 mm, rest)",
-        std::slice::from_ref(contour),
-        &cut(DETAIL_6, depth, 2)?,
-        &side(Side::Outside),
-    )?);
+    // What the 16 mm tool swept: the band from the outline out past the second roughing
+    // offset (whose own outer edge is convex, so it leaves no rest there).
+    let band = Area::from_paths(&[
+        offset_outer(contour, ALLOWANCE + 0.75 * 16.0 + 8.0)?,
+        contour.clone(),
+    ]);
+    detail_passes("insert", &band, depth, &mut ops)?;
+    if !tread.is_empty() {
+        tread_passes(tread, &mut ops)?;
+    }
     Ok(Toolpath {
         safe_z: SAFE_Z,
         operations: ops,
@@ -300,7 +430,7 @@ fn insert_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
 }
 
 /// Cavity: contour-parallel pocket from the centre out in 3 passes, the finishing offset at
-/// full depth in one pass, the 6 mm tool round the wall for the corners.
+/// full depth in one pass, the detail tools in what the 16 mm one could not reach.
 fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
     let mut rough = cut(ROUGH_16, depth, 3)?;
     rough.entry = Entry::Helix {
@@ -332,12 +462,12 @@ fn cavity_toolpath(contour: &Path, depth: f64) -> Result<Toolpath, OpError> {
         &cut(FINISH_16, depth, 1)?,
         &side,
     )?);
-    ops.push(profile(
-        "cavity detail (6 mm, rest)",
-        std::slice::from_ref(contour),
-        &cut(DETAIL_6, depth, 2)?,
-        &side,
-    )?);
+    detail_passes(
+        "cavity",
+        &Area::from_paths(std::slice::from_ref(contour)),
+        depth,
+        &mut ops,
+    )?;
     Ok(Toolpath {
         safe_z: SAFE_Z,
         operations: ops,
