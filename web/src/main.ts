@@ -254,12 +254,14 @@ async function make() {
   clearFieldErrors();
   const form = readForm(kind);
   if ('field' in form) return showFieldError(form.field, form.message);
+  // The plotter is the job's machine profile, not one of its parameters.
+  const { machine: profile, ...params } = form.params as Record<string, unknown> & { machine?: string };
   busy(true);
   $('process-status').textContent = 'working…';
   try {
     const r = await fetch(withToken('/api/' + kind), {
       method: 'POST', headers: { 'content-type': 'application/json' },
-      body: JSON.stringify({ file: design.name, params: form.params }),
+      body: JSON.stringify({ file: design.name, params, profile }),
     });
     const text = await r.text();
     let body: { error?: string; field?: string | null; cancelled?: boolean; name?: string; text?: string; [k: string]: unknown };
@@ -282,6 +284,8 @@ async function make() {
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
     loadProgram(body.name!, body.text!, true);
+    // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
+    if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {
     $('process-status').textContent = '';
     error(`${kind}: ${(e as Error).message}`);
@@ -360,7 +364,16 @@ const panel = new MachinePanel({
 });
 
 /// While the loaded program runs, the editor and the preview follow the machine.
+let shownEnd = '';
 function followJob(s: Snapshot) {
+  // A finished job shows its whole path again (once: the user may scrub after).
+  const ended = s.job && s.job.completed === true && s.job.name === program.name;
+  if (ended && shownEnd !== program.name) {
+    shownEnd = program.name;
+    preview.scrubTo(preview.total);
+    $<HTMLInputElement>('scrub').value = String(preview.total);
+  }
+  if (s.job && s.job.completed === null) shownEnd = '';
   const running = s.job && s.job.completed === null && s.job.name === program.name;
   if (!running || s.line <= 0) return;
   editor.setCurrentLine(s.line);

@@ -275,7 +275,8 @@ await test('point list → sole mold → preview', async () => {
   await shot('sole');
 });
 
-await test('SVG → plot → preview with pen up and down', async () => {
+await test('SVG → plot → preview with pen up and down → run on the virtual plotter to the end', async () => {
+  await waitState('idle');
   await page.selectOption('#process', 'plot');
   await page.waitForFunction(() => document.getElementById('process-input').textContent === 'design.svg', null, { timeout: 20000 });
   await page.click('#make');
@@ -288,6 +289,28 @@ await test('SVG → plot → preview with pen up and down', async () => {
   await page.click('#views button[data-view="xy"]');
   await page.waitForTimeout(300);
   await shot('plot');
+  // The page puts the virtual machine on the plotter the plot was made for, and shows it.
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('pen plotter'), null, { timeout: 20000 });
+  assert((await page.inputValue('#machine-uri')) === 'virtual:pen-plotter', 'the machine list shows the plotter');
+  assert((await page.textContent('#console')).includes('connected to virtual:pen-plotter'), 'the console says so');
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  // Two pens: the program pauses (M0) for the pen change; Resume goes on to the end.
+  await waitState('paused', 60000);
+  assert((await page.textContent('#console')).includes('pen'), 'the pause names the pen');
+  await page.click('#resume');
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started design.plot.ngc');
+    return started >= 0 && c.lastIndexOf('job finished') > started;
+  }, null, { timeout: 120000 });
+  await waitState('idle');
+  assert((await page.evaluate(() => document.body.dataset.jobDone)) === 'completed', 'the plot ran to its end');
+  await shot('plot-run');
+  // Back on the default router for the tests that follow.
+  await page.selectOption('#machine-uri', 'virtual');
+  await page.click('#connect');
+  await page.waitForFunction(() => !document.getElementById('machine-name').textContent.includes('pen plotter'), null, { timeout: 20000 });
 });
 
 await test('a long carve shows progress and is cancelled', async () => {
