@@ -88,7 +88,8 @@ function showCheck(r: CheckReport) {
   const e = r.feed_extents;
   const size = e ? `${(e.max[0] - e.min[0]).toFixed(1)} × ${(e.max[1] - e.min[1]).toFixed(1)} × ${(e.max[2] - e.min[2]).toFixed(1)} mm` : 'no cutting moves';
   const time = r.time.Ok ? hms(r.time.Ok.seconds) : `no estimate (${r.time.Err})`;
-  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}`;
+  const tools = r.tool_table.map(([n, t]) => t ? `T${n} Ø${t.diameter} L${t.length}` : `T${n} not in the tool table`).join(', ');
+  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
 }
 
@@ -414,7 +415,7 @@ async function init() {
   sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images, ...info.designs].map((n) => `<option>${n}</option>`).join('');
   panel.setMachines(info.machine, info.profiles);
   setupProfileEditor(info.profiles);
-  setupToolEditor();
+  setupToolEditor(() => { if (program.text) runCheck(); });
 }
 init().catch((e) => error(String(e.message || e)));
 

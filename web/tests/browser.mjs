@@ -405,6 +405,42 @@ await test('the tool table editor places a bad line and saves a good table', asy
   await shot('tool-table');
 });
 
+await test('the saved tool table reaches the check and the run (G43 H, tool diameters)', async () => {
+  await waitState('idle');
+  const save = async (table, saved) => {
+    await page.fill('#tools-text', table);
+    await page.click('#tools-save');
+    await page.waitForFunction((m) => document.getElementById('tools-message').textContent === m, saved, { timeout: 10000 });
+  };
+  await save('T1 P1 D6 Z0 ;flat 6\n', 'saved 1 tools');
+  const text = 'G21 G90 G54\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX10\nG0 Z5\nM2\n';
+  const dt = await page.evaluateHandle((t) => {
+    const d = new DataTransfer();
+    d.items.add(new File([t], 'tooled.nc', { type: 'text/plain' }));
+    return d;
+  }, text);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('T1 Ø6 L0'), null, { timeout: 20000 });
+  const e0 = await extents();
+  // A longer tool: the page checks again, the checked path rises by its length.
+  await save('T1 P1 D6 Z12.5 ;flat 6\n', 'saved 1 tools');
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('T1 Ø6 L12.5'), null, { timeout: 20000 });
+  const e1 = await extents();
+  assert(Math.abs(e1.min[2] - e0.min[2] - 12.5) < 1e-6, `${JSON.stringify(e0)} → ${JSON.stringify(e1)}`);
+  await shot('tool-table-check');
+  // The run uses it too: the job ends at Z5 plus the tool's length, where the check put it.
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started tooled.nc');
+    return started >= 0 && c.lastIndexOf('job finished') > started;
+  }, null, { timeout: 60000 });
+  await waitState('idle');
+  const mz = Number(await page.textContent('#mz'));
+  assert(Math.abs(mz - e1.max[2]) < 1e-3, `machine Z ${mz}, checked ${e1.max[2]}`);
+});
+
 await test('no script errors in the page', async () => {
   assert(consoleErrors.length === 0, consoleErrors.join('\n'));
 });

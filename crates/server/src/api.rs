@@ -12,7 +12,7 @@ use axum::http::{header, StatusCode};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
-use oficina_app::{check_program, for_each_segment, profile, CheckOptions};
+use oficina_app::{check_program_with_tools, for_each_segment, profile, CheckOptions};
 use oficina_gcode::Dialect;
 use serde::Deserialize;
 use serde_json::json;
@@ -195,9 +195,12 @@ async fn check(
         profile: current_profile(&st)?,
         dialect: q.dialect()?,
     };
-    let report = tokio::task::spawn_blocking(move || check_program(&text, &opts))
-        .await
-        .map_err(|e| bad(e.to_string()))?;
+    // The page's saved tool table: G43 H and G41 D as the virtual machine will run them.
+    let tools = crate::profiles::saved_tools(&st).map_err(bad)?;
+    let report =
+        tokio::task::spawn_blocking(move || check_program_with_tools(&text, &opts, &tools))
+            .await
+            .map_err(|e| bad(e.to_string()))?;
     Ok(Json(report).into_response())
 }
 

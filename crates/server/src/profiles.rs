@@ -11,7 +11,8 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use oficina_app::profile::{Profile, BUNDLED};
-use oficina_app::tools::{check_tool_table, TOOL_TABLE_FILE};
+use oficina_app::tools::{check_tool_table, parse_tool_table, TOOL_TABLE_FILE};
+use oficina_gcode::interp::tool_table::ToolTable;
 use serde_json::json;
 use std::sync::Arc;
 
@@ -98,6 +99,26 @@ pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Respon
         Ok(Err(e)) => refused(StatusCode::CONFLICT, "", e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, "", e.to_string()),
     }
+}
+
+/// The tool table saved in the job folder, as the check and the virtual machine take it
+/// (empty when none was saved). A table put there by other means and unreadable is named.
+pub fn saved_tools(st: &AppState) -> Result<ToolTable, String> {
+    let path = path_in(&st.config.job_dir, TOOL_TABLE_FILE)?;
+    let text = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(ToolTable::default()),
+        Err(e) => return Err(format!("{TOOL_TABLE_FILE}: {e}")),
+    };
+    let text = std::str::from_utf8(&text).map_err(|_| {
+        format!("{TOOL_TABLE_FILE}: not UTF-8 text (save it again in the tool table editor)")
+    })?;
+    parse_tool_table(text).map_err(|e| {
+        format!(
+            "{TOOL_TABLE_FILE} line {} column {}: {} (fix it in the tool table editor)",
+            e.line, e.col, e.message
+        )
+    })
 }
 
 /// The saved tool table (`GET /api/tools`), empty when none was saved.

@@ -177,6 +177,13 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
             speed,
         } => {
             let text = crate::api::program_text(st, &file).map_err(|(_, m)| m)?;
+            // The virtual machine runs with the page's saved tool table (real firmware keeps
+            // its own).
+            let tools = crate::profiles::saved_tools(st)?;
+            st.with_session(|s| match s.profile() {
+                Some(_) => s.set_tools(tools).map_err(|e| e.to_string()),
+                None => Ok(()),
+            })?;
             st.start(JobRequest {
                 name: file,
                 text,
