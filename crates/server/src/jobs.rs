@@ -157,8 +157,12 @@ async fn save(st: &AppState, name: &str, text: &str) -> Result<(), JobError> {
         .map_err(|e| bad(format!("{name}: {e}")))
 }
 
-fn estimate_profile(spec: Option<&str>) -> Result<oficina_app::profile::Profile, String> {
-    profile::resolve(spec.unwrap_or(profile::DEFAULT)).map_err(|e| e.to_string())
+fn estimate_profile(
+    st: &AppState,
+    spec: Option<&str>,
+) -> Result<oficina_app::profile::Profile, String> {
+    let spec = crate::profiles::profile_spec(st, spec.unwrap_or(profile::DEFAULT))?;
+    profile::resolve(&spec).map_err(|e| e.to_string())
 }
 
 pub async fn mill_job(
@@ -166,7 +170,7 @@ pub async fn mill_job(
     Json(req): Json<JobRequest<MillParams>>,
 ) -> Result<Response, JobError> {
     let path = input(&st, &req.file)?;
-    let profile = estimate_profile(req.profile.as_deref());
+    let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
     let r = compute(&st, move |fb| mill(&path, &params, &profile, fb)).await?;
     let file = req.file.as_deref().unwrap_or_default();
@@ -192,7 +196,7 @@ pub async fn sole_job(
     Json(req): Json<JobRequest<SoleParams>>,
 ) -> Result<Response, JobError> {
     let path = input(&st, &req.file)?;
-    let profile = estimate_profile(req.profile.as_deref());
+    let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
     let ext = params.post.extension();
     let r = compute(&st, move |fb| sole(&path, &params, &profile, fb)).await?;
@@ -233,7 +237,8 @@ pub async fn plot_job(
         None => None,
     };
     let spec = req.profile.as_deref().unwrap_or("pen-plotter");
-    let machine = profile::resolve(spec).map_err(|e| bad(format!("profile {spec}: {e}")))?;
+    let resolved = crate::profiles::profile_spec(&st, spec).map_err(bad)?;
+    let machine = profile::resolve(&resolved).map_err(|e| bad(format!("profile {spec}: {e}")))?;
     let params = req.params;
     let ext = match params.format {
         PlotFormat::Hpgl => "plt",
@@ -263,7 +268,7 @@ pub async fn plot_job(
         "seconds": r.seconds,
         "preview_svg": r.prepared.preview,
         // The virtual machine to run it on: the plotter it was made for.
-        "machine": format!("virtual:{spec}"),
+        "machine": format!("virtual:{resolved}"),
     }))
     .into_response())
 }

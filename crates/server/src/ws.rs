@@ -170,7 +170,9 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
     let cmd = |c: Command| st.with_session(|s| s.command(c).map_err(|e| e.to_string()));
     match req {
         Request::TakeControl => Ok("take_control"),
-        Request::Connect { uri } => st.connect(&uri).map(|()| "connect"),
+        Request::Connect { uri } => st
+            .connect(&crate::profiles::machine_uri(st, &uri)?)
+            .map(|()| "connect"),
         Request::Start {
             file,
             from_line,

@@ -220,6 +220,35 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
+    // The plot names the virtual plotter to run it on: the profile it was made for.
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/plot",
+            json!({"file": "design.svg", "profile": "pen-plotter"}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert_eq!(v["machine"], "virtual:pen-plotter");
+    // A profile path outside the job folder is never read.
+    let outside = dir.path().join("outside.toml");
+    std::fs::write(&outside, "secret = 1\n").unwrap();
+    for spec in [
+        outside.display().to_string(),
+        "../outside.toml".into(),
+        "/etc/passwd".into(),
+    ] {
+        let (s, v) = call(
+            &st,
+            post_json("/api/plot", json!({"file": "design.svg", "profile": spec})),
+        )
+        .await;
+        assert_eq!(s, StatusCode::BAD_REQUEST, "{spec}: {v}");
+        let msg = v["error"].as_str().unwrap();
+        assert!(msg.contains("neither a bundled profile"), "{msg}");
+        assert!(!msg.contains("secret") && !msg.contains("root:"), "{msg}");
+    }
 }
 
 /// The stage and fraction of a live progress message.
