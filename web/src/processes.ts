@@ -4,6 +4,9 @@
 // other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
 // `oficina sole` and `oficina plot`, whose pipelines the server runs.
 
+// Embroidery joins here as 'embroider' once crates/stitch lands: an entry in PROCESSES
+// (accept .svg/.dst/.pes…, fields of its app pipeline), the server route /api/embroider, and
+// the preview colouring stitches by thread (the option is shown disabled in index.html).
 export type ProcessKind = 'mill' | 'sole' | 'plot';
 
 interface Field {
