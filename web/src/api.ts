@@ -36,6 +36,8 @@ export interface CheckReport {
   feed_extents: Box3 | null; rapid_extents: Box3 | null;
   feed_length: number; rapid_length: number; feed_moves: number; rapid_moves: number; arcs: number;
   tools: number[]; feed_rate_seconds: number;
+  /// Each used tool as the saved tool table gives it (null: not in the table).
+  tool_table: [number, { diameter: number; length: number } | null][];
   time: { Ok?: { seconds: number; segments: number }; Err?: string };
   machine: string;
 }

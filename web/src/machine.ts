@@ -98,6 +98,17 @@ export class MachinePanel {
     };
   }
 
+  /// Puts the virtual machine on `uri` (the plotter a plot was made for) unless it is there
+  /// already or the machine is real firmware (whose kind the page cannot change).
+  useVirtual(uri: string) {
+    const s = this.last;
+    if (!s || !s.can_home_and_zero || s.uri === uri) return;
+    const sel = $<HTMLSelectElement>('machine-uri');
+    if (!Array.from(sel.options).some((o) => o.value === uri)) sel.insertBefore(new Option(uri, uri), sel.options[0]);
+    sel.value = uri;
+    try { this.hooks.send({ cmd: 'connect', uri }); } catch (e) { this.hooks.error((e as Error).message); }
+  }
+
   connected() {
     this.log('(connected to the server)');
   }

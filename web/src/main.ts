@@ -88,7 +88,8 @@ function showCheck(r: CheckReport) {
   const e = r.feed_extents;
   const size = e ? `${(e.max[0] - e.min[0]).toFixed(1)} × ${(e.max[1] - e.min[1]).toFixed(1)} × ${(e.max[2] - e.min[2]).toFixed(1)} mm` : 'no cutting moves';
   const time = r.time.Ok ? hms(r.time.Ok.seconds) : `no estimate (${r.time.Err})`;
-  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}`;
+  const tools = r.tool_table.map(([n, t]) => t ? `T${n} Ø${t.diameter} L${t.length}` : `T${n} not in the tool table`).join(', ');
+  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
 }
 
@@ -254,12 +255,14 @@ async function make() {
   clearFieldErrors();
   const form = readForm(kind);
   if ('field' in form) return showFieldError(form.field, form.message);
+  // The plotter is the job's machine profile, not one of its parameters.
+  const { machine: profile, ...params } = form.params as Record<string, unknown> & { machine?: string };
   busy(true);
   $('process-status').textContent = 'working…';
   try {
     const r = await fetch(withToken('/api/' + kind), {
       method: 'POST', headers: { 'content-type': 'application/json' },
-      body: JSON.stringify({ file: design.name, params: form.params }),
+      body: JSON.stringify({ file: design.name, params, profile }),
     });
     const text = await r.text();
     let body: { error?: string; field?: string | null; cancelled?: boolean; name?: string; text?: string; [k: string]: unknown };
@@ -282,6 +285,8 @@ async function make() {
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
     loadProgram(body.name!, body.text!, true);
+    // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
+    if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {
     $('process-status').textContent = '';
     error(`${kind}: ${(e as Error).message}`);
@@ -360,7 +365,16 @@ const panel = new MachinePanel({
 });
 
 /// While the loaded program runs, the editor and the preview follow the machine.
+let shownEnd = '';
 function followJob(s: Snapshot) {
+  // A finished job shows its whole path again (once: the user may scrub after).
+  const ended = s.job && s.job.completed === true && s.job.name === program.name;
+  if (ended && shownEnd !== program.name) {
+    shownEnd = program.name;
+    preview.scrubTo(preview.total);
+    $<HTMLInputElement>('scrub').value = String(preview.total);
+  }
+  if (s.job && s.job.completed === null) shownEnd = '';
   const running = s.job && s.job.completed === null && s.job.name === program.name;
   if (!running || s.line <= 0) return;
   editor.setCurrentLine(s.line);
@@ -401,7 +415,7 @@ async function init() {
   sample.innerHTML = '<option value="">Samples…</option>' + [...info.samples, ...info.images, ...info.designs].map((n) => `<option>${n}</option>`).join('');
   panel.setMachines(info.machine, info.profiles);
   setupProfileEditor(info.profiles);
-  setupToolEditor();
+  setupToolEditor(() => { if (program.text) runCheck(); });
 }
 init().catch((e) => error(String(e.message || e)));
 

@@ -7,35 +7,104 @@ import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import type { Batch } from './worker';
 
 const COLOURS: [number, number, number][] = [
-  [0.82, 0.28, 0.28], // rapid
-  [0.29, 0.66, 1.0], // feed
-  [0.94, 0.82, 0.31], // plunge
+  [209, 71, 71], // rapid
+  [74, 168, 255], // feed
+  [240, 209, 79], // plunge
 ];
 /// Above this many segments, a decimated copy is drawn while the camera moves.
 const LOD_THRESHOLD = 200_000;
-/// The coarse copy keeps about this many segments.
-const LOD_TARGET = 60_000;
+/// The coarse copy keeps about this many segments (a 1,000,000-segment raster keeps every
+/// 50th point: 20 per 1,000-point row, the shape still plain while it turns).
+const LOD_TARGET = 20_000;
 /// Full detail comes back this long after the last camera move, ms.
 const LOD_SETTLE_MS = 200;
+/// While the camera moves on a big program, the frame is drawn at this fraction of the
+/// resolution (a quarter of the pixels): fill is most of a software renderer's frame.
+const MOVING_PIXEL_RATIO = 0.5;
 
 export type View = 'iso' | 'xy' | 'zy' | 'depth';
 
-interface Chunk {
-  start: number; // index of its first segment in the program
-  count: number;
-  positions: Float32Array;
-  kinds: Uint8Array;
-  lines: Uint32Array;
-  full: THREE.LineSegments;
-  coarse: THREE.LineSegments | null;
+/// One merged line geometry that grows as segments arrive: positions (2 points of xyz per
+/// segment) and colours (normalised bytes per point) as attributes, one draw call, the new
+/// part uploaded alone.
+class Layer {
+  positions = new Float32Array(0);
+  colours = new Uint8Array(0);
+  count = 0;
+  readonly object: THREE.LineSegments;
+
+  constructor() {
+    this.object = new THREE.LineSegments(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ vertexColors: true }));
+    // The bounds change as segments stream in: never culled (the view frames the path).
+    this.object.frustumCulled = false;
+    this.reserve(0);
+  }
+
+  /// Room for `segments` in all; a bigger buffer (doubling) replaces the attributes.
+  reserve(segments: number) {
+    if (segments <= this.positions.length / 6 && this.positions.length > 0) return;
+    const cap = Math.max(1024, segments, (this.positions.length / 6) * 2);
+    const p = new Float32Array(cap * 6), c = new Uint8Array(cap * 6);
+    p.set(this.positions.subarray(0, this.count * 6));
+    c.set(this.colours.subarray(0, this.count * 6));
+    this.positions = p;
+    this.colours = c;
+    const g = this.object.geometry;
+    g.setAttribute('position', new THREE.BufferAttribute(p, 3));
+    g.setAttribute('color', new THREE.BufferAttribute(c, 3, true));
+    g.setDrawRange(0, this.count * 2);
+  }
+
+  append(p: Float32Array, c: Uint8Array) {
+    const n = p.length / 6;
+    this.reserve(this.count + n);
+    this.positions.set(p, this.count * 6);
+    this.colours.set(c, this.count * 6);
+    const g = this.object.geometry;
+    for (const [name, len] of [['position', 6], ['color', 6]] as const) {
+      const a = g.getAttribute(name) as THREE.BufferAttribute;
+      a.addUpdateRange(this.count * len, n * len);
+      a.needsUpdate = true;
+    }
+    this.count += n;
+    g.setDrawRange(0, this.count * 2);
+  }
+
+  /// Colours replaced as a whole (the depth view).
+  recolour(c: Uint8Array) {
+    this.colours.set(c);
+    const a = this.object.geometry.getAttribute('color') as THREE.BufferAttribute;
+    a.clearUpdateRanges();
+    a.needsUpdate = true;
+  }
+
+  show(segments: number) {
+    this.object.geometry.setDrawRange(0, Math.min(segments, this.count) * 2);
+  }
+
+  clear() {
+    this.count = 0;
+    this.object.geometry.dispose();
+    this.object.geometry = new THREE.BufferGeometry();
+    this.positions = new Float32Array(0);
+    this.colours = new Uint8Array(0);
+    this.reserve(0);
+  }
 }
+
+/// Where each streamed batch landed in the full and the coarse layers (for the timeline).
+interface BatchPlace { start: number; count: number; coarseStart: number; coarseCount: number }
 
 export class Preview {
   readonly renderer: THREE.WebGLRenderer;
   readonly scene = new THREE.Scene();
   readonly camera: THREE.PerspectiveCamera;
   readonly controls: OrbitControls;
-  private chunks: Chunk[] = [];
+  private full = new Layer();
+  private coarse = new Layer();
+  private kinds = new Uint8Array(0);
+  private lines = new Uint32Array(0);
+  private batches: BatchPlace[] = [];
   private group = new THREE.Group();
   private marker: THREE.Mesh;
   private grid: THREE.GridHelper | null = null;
@@ -43,6 +112,9 @@ export class Preview {
   private max = new THREE.Vector3(-Infinity, -Infinity, -Infinity);
   private dirty = true;
   private moving = false;
+  /// Segments are still arriving: a big program is drawn coarse until the last one (a full
+  /// frame of a million segments takes the page's thread for ~0.4 s in software GL).
+  private streaming = false;
   private settleTimer = 0;
   private stride = 1;
   view: View = 'iso';
@@ -50,6 +122,8 @@ export class Preview {
   /// Segments drawn: the timeline's position (= total when not scrubbing).
   shown = 0;
   frames = 0;
+  /// Time spent in the last frame's render call and GPU wait, ms (for the benchmark).
+  lastFrameMs = 0;
 
   constructor(private host: HTMLElement) {
     this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
@@ -60,6 +134,8 @@ export class Preview {
     this.camera.up.set(0, 0, 1);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.cameraMoved());
+    this.group.add(this.full.object, this.coarse.object);
+    this.coarse.object.visible = false;
     this.scene.add(this.group);
     this.marker = new THREE.Mesh(
       new THREE.SphereGeometry(1, 12, 8),
@@ -94,10 +170,14 @@ export class Preview {
   }
 
   render() {
-    const coarse = this.moving && this.total >= LOD_THRESHOLD;
-    for (const c of this.chunks) {
-      c.full.visible = !coarse;
-      if (c.coarse) c.coarse.visible = coarse;
+    const coarse = (this.moving || this.streaming) && this.total >= LOD_THRESHOLD;
+    this.full.object.visible = !coarse;
+    this.coarse.object.visible = coarse;
+    const ratio = coarse ? MOVING_PIXEL_RATIO : 1;
+    if (this.renderer.getPixelRatio() !== ratio) {
+      // Same size on the page, fewer pixels drawn while moving.
+      this.renderer.setPixelRatio(ratio);
+      this.renderer.setSize(Math.max(1, this.host.clientWidth), Math.max(1, this.host.clientHeight));
     }
     this.renderer.render(this.scene, this.camera);
     this.frames++;
@@ -105,12 +185,11 @@ export class Preview {
   }
 
   clear() {
-    for (const c of this.chunks) {
-      c.full.geometry.dispose();
-      c.coarse?.geometry.dispose();
-    }
-    this.group.clear();
-    this.chunks = [];
+    this.full.clear();
+    this.coarse.clear();
+    this.kinds = new Uint8Array(0);
+    this.lines = new Uint32Array(0);
+    this.batches = [];
     this.total = 0;
     this.shown = 0;
     this.min.set(Infinity, Infinity, Infinity);
@@ -119,10 +198,17 @@ export class Preview {
     this.dirty = true;
   }
 
-  /// Expected size of the whole program (bytes of text): sets the level-of-detail stride
-  /// before the segments arrive, so the coarse copy is built as they come.
+  /// Expected number of segments (guessed from the text's size): sets the level-of-detail
+  /// stride before the segments arrive, so the coarse copy is built as they come, and
+  /// reserves the merged buffers once.
   expect(segmentsGuess: number) {
     this.stride = segmentsGuess >= LOD_THRESHOLD ? Math.max(2, Math.round(segmentsGuess / LOD_TARGET)) : 1;
+    this.streaming = true;
+    const n = Math.ceil(segmentsGuess * 1.1);
+    this.full.reserve(n);
+    if (this.stride > 1) this.coarse.reserve(Math.ceil(n / this.stride));
+    this.kinds = grow(this.kinds, n, 0);
+    this.lines = grow(this.lines, n, 0);
   }
 
   add(b: Batch) {
@@ -133,8 +219,12 @@ export class Preview {
       this.min.y = Math.min(this.min.y, p[i + 1]); this.max.y = Math.max(this.max.y, p[i + 1]);
       this.min.z = Math.min(this.min.z, p[i + 2]); this.max.z = Math.max(this.max.z, p[i + 2]);
     }
-    const full = this.lines(p, this.colours(b.kinds, p));
-    let coarse: THREE.LineSegments | null = null;
+    this.full.append(p, this.colours(b.kinds, p));
+    this.kinds = grow(this.kinds, this.total + n, this.total);
+    this.lines = grow(this.lines, this.total + n, this.total);
+    this.kinds.set(b.kinds, this.total);
+    this.lines.set(b.lines, this.total);
+    const place = { start: this.total, count: n, coarseStart: this.coarse.count, coarseCount: 0 };
     if (this.stride > 1) {
       // Every stride-th point of the path joined in order: the shape stays, the count drops.
       const m = Math.floor(n / this.stride);
@@ -145,28 +235,18 @@ export class Preview {
         cp.set(p.subarray(e * 6 + 3, e * 6 + 6), j * 6 + 3);
         ck[j] = b.kinds[a];
       }
-      coarse = this.lines(cp, this.colours(ck, cp));
-      coarse.visible = false;
-      this.group.add(coarse);
+      this.coarse.append(cp, this.colours(ck, cp));
+      place.coarseCount = m;
     }
-    this.group.add(full);
-    const chunk = { start: this.total, count: n, positions: p, kinds: b.kinds, lines: b.lines, full, coarse };
-    this.chunks.push(chunk);
+    this.batches.push(place);
     this.total += n;
     this.shown = this.total;
-    if (this.chunks.length === 1) this.fit();
+    if (this.batches.length === 1) this.fit();
     this.dirty = true;
   }
 
-  private lines(positions: Float32Array, colours: Float32Array): THREE.LineSegments {
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    g.setAttribute('color', new THREE.BufferAttribute(colours, 3));
-    return new THREE.LineSegments(g, new THREE.LineBasicMaterial({ vertexColors: true }));
-  }
-
-  private colours(kinds: Uint8Array, p: Float32Array): Float32Array {
-    const out = new Float32Array(kinds.length * 6);
+  private colours(kinds: Uint8Array, p: Float32Array): Uint8Array {
+    const out = new Uint8Array(kinds.length * 6);
     const depth = this.view === 'depth';
     const z0 = this.min.z, z1 = this.max.z, span = Math.max(1e-9, z1 - z0);
     for (let i = 0; i < kinds.length; i++) {
@@ -175,7 +255,7 @@ export class Preview {
         if (depth) {
           // Deep is dark, high is light: the picture reads as a depth map.
           const t = (p[i * 6 + v * 3 + 2] - z0) / span;
-          c = kinds[i] === 0 ? [0.25, 0.25, 0.28] : [0.15 + 0.85 * t, 0.15 + 0.75 * t, 0.3 + 0.6 * t];
+          c = kinds[i] === 0 ? [64, 64, 71] : [38 + 217 * t, 38 + 191 * t, 77 + 153 * t];
         }
         out.set(c, i * 6 + v * 3);
       }
@@ -184,6 +264,7 @@ export class Preview {
   }
 
   finished() {
+    this.streaming = false;
     this.fit();
     const size = new THREE.Vector3().subVectors(this.max, this.min);
     const span = Math.max(size.x, size.y, 1);
@@ -204,7 +285,7 @@ export class Preview {
   /// Segments of each kind drawn: what the legend's colours count.
   kindCounts() {
     const n = [0, 0, 0];
-    for (const c of this.chunks) for (const k of c.kinds) n[k] = (n[k] ?? 0) + 1;
+    for (const k of this.kinds.subarray(0, this.total)) n[k] = (n[k] ?? 0) + 1;
     return { rapid: n[0], feed: n[1], plunge: n[2] };
   }
 
@@ -216,8 +297,16 @@ export class Preview {
   }
 
   private recolour() {
-    for (const c of this.chunks) {
-      c.full.geometry.setAttribute('color', new THREE.BufferAttribute(this.colours(c.kinds, c.positions), 3));
+    const n = this.total;
+    this.full.recolour(this.colours(this.kinds.subarray(0, n), this.full.positions.subarray(0, n * 6)));
+    // The coarse copy keeps the first kind of each run of `stride` segments.
+    const m = this.coarse.count;
+    if (m > 0) {
+      const ck = new Uint8Array(m);
+      for (const b of this.batches) {
+        for (let j = 0; j < b.coarseCount; j++) ck[b.coarseStart + j] = this.kinds[b.start + j * this.stride];
+      }
+      this.coarse.recolour(this.colours(ck, this.coarse.positions.subarray(0, m * 6)));
     }
     this.dirty = true;
   }
@@ -247,35 +336,33 @@ export class Preview {
   /// Draw the path up to segment `s` and put the tool there; returns the segment's line.
   scrubTo(s: number): number {
     this.shown = Math.max(0, Math.min(s, this.total));
-    let line = 0;
-    for (const c of this.chunks) {
-      const k = Math.max(0, Math.min(c.count, this.shown - c.start));
-      c.full.geometry.setDrawRange(0, k * 2);
-      c.coarse?.geometry.setDrawRange(0, Math.floor(k / this.stride) * 2);
-      if (k > 0) {
-        line = c.lines[k - 1];
-        const p = c.positions;
-        this.placeMarker(p[(k - 1) * 6 + 3], p[(k - 1) * 6 + 4], p[(k - 1) * 6 + 5]);
-      }
+    this.full.show(this.shown);
+    // The coarse copy up to the same point: its batch's share of the decimated segments.
+    let coarse = 0;
+    for (const b of this.batches) {
+      if (b.start >= this.shown) break;
+      coarse = b.coarseStart + Math.min(b.coarseCount, Math.floor((this.shown - b.start) / this.stride));
+    }
+    this.coarse.show(coarse);
+    const k = this.shown;
+    if (k > 0) {
+      const p = this.full.positions;
+      this.placeMarker(p[(k - 1) * 6 + 3], p[(k - 1) * 6 + 4], p[(k - 1) * 6 + 5]);
     }
     this.dirty = true;
-    return line;
+    return k > 0 ? this.lines[k - 1] : 0;
   }
 
   /// The last segment of `line` (or the last one before it), for following a running job.
   segmentOfLine(line: number): number {
-    let best = 0;
-    for (const c of this.chunks) {
-      if (c.count === 0 || c.lines[0] > line) break;
-      // Lines rise through a program (loops aside): binary search within the chunk.
-      let lo = 0, hi = c.count - 1;
-      while (lo < hi) {
-        const mid = (lo + hi + 1) >> 1;
-        if (c.lines[mid] <= line) lo = mid; else hi = mid - 1;
-      }
-      best = c.start + lo + 1;
+    if (this.total === 0 || this.lines[0] > line) return 0;
+    // Lines rise through a program (loops aside): binary search.
+    let lo = 0, hi = this.total - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (this.lines[mid] <= line) lo = mid; else hi = mid - 1;
     }
-    return best;
+    return lo + 1;
   }
 
   placeMarker(x: number, y: number, z: number) {
@@ -284,11 +371,41 @@ export class Preview {
     this.dirty = true;
   }
 
+  /// Where a frame's time goes (for the benchmark): median ms of `n` frames drawn with
+  /// nothing, the coarse copy and the full path, each at full and at the moving resolution.
+  frameCost(n = 5): Record<string, number> {
+    const gl = this.renderer.getContext();
+    const time = (full: boolean, coarse: boolean, ratio: number) => {
+      this.renderer.setPixelRatio(ratio);
+      this.renderer.setSize(Math.max(1, this.host.clientWidth), Math.max(1, this.host.clientHeight));
+      this.full.object.visible = full;
+      this.coarse.object.visible = coarse;
+      const t: number[] = [];
+      for (let i = 0; i < n; i++) {
+        const t0 = performance.now();
+        this.renderer.render(this.scene, this.camera);
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+        t.push(performance.now() - t0);
+      }
+      return t.sort((a, b) => a - b)[n >> 1];
+    };
+    const out: Record<string, number> = {};
+    for (const r of [1, MOVING_PIXEL_RATIO]) {
+      out[`empty@${r}`] = time(false, false, r);
+      out[`coarse@${r}`] = time(false, true, r);
+      out[`full@${r}`] = time(true, false, r);
+    }
+    this.moving = false;
+    this.render();
+    return out;
+  }
+
   /// Orbit the camera by `frames` steps, rendering each: for the frame-time benchmark
   /// (`lod` false keeps full detail while moving).
   orbitFrames(frames: number, lod = true): Promise<number[]> {
     return new Promise((resolve) => {
       const times: number[] = [];
+      if (!lod) { clearTimeout(this.settleTimer); this.moving = false; }
       let last = performance.now();
       const step = () => {
         const offset = new THREE.Vector3().subVectors(this.camera.position, this.controls.target);
@@ -296,11 +413,13 @@ export class Preview {
         this.camera.position.copy(this.controls.target).add(offset);
         this.camera.lookAt(this.controls.target);
         if (lod) this.cameraMoved();
+        const t = performance.now();
         this.render();
         // Reading a pixel waits for the GPU (or the software rasteriser) to finish the frame.
         const gl = this.renderer.getContext();
         gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
         const now = performance.now();
+        this.lastFrameMs = now - t;
         times.push(now - last);
         last = now;
         if (times.length < frames) requestAnimationFrame(step); else resolve(times);
@@ -308,4 +427,12 @@ export class Preview {
       requestAnimationFrame(step);
     });
   }
+}
+
+/// `a` with room for `n` entries (doubling), its first `keep` kept.
+function grow<T extends Uint8Array | Uint32Array>(a: T, n: number, keep: number): T {
+  if (n <= a.length) return a;
+  const b = new (a.constructor as { new(n: number): T })(Math.max(n, a.length * 2));
+  b.set(a.subarray(0, keep));
+  return b;
 }

@@ -4,6 +4,9 @@
 // other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
 // `oficina sole` and `oficina plot`, whose pipelines the server runs.
 
+// Embroidery joins here as 'embroider' once crates/stitch lands: an entry in PROCESSES
+// (accept .svg/.dst/.pes…, fields of its app pipeline), the server route /api/embroider, and
+// the preview colouring stitches by thread (the option is shown disabled in index.html).
 export type ProcessKind = 'mill' | 'sole' | 'plot';
 
 interface Field {
@@ -46,6 +49,8 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
   plot: {
     title: 'Plot', accept: /\.(svg|dxf|hpgl|plt|hpg)$/i, sample: 'design.svg',
     fields: [
+      // Not a plot parameter: the plotter profile the job is made for (and run on).
+      { name: 'machine', label: 'Plotter', kind: 'select', value: 'pen-plotter', options: ['pen-plotter', 'polar-plotter', 'polargraph-wall'] },
       { name: 'scale', label: 'Scale', unit: '×', value: '1', min: 0.001, max: 10000 },
       { name: 'feed', label: 'Drawing feed', unit: 'mm/min', value: '', min: 1, max: 100000, optional: true },
       { name: 'pen', label: 'Pen lift', kind: 'select', value: 'z', options: ['z', 'servo'] },

@@ -33,11 +33,11 @@ export function setupProfileEditor(profiles: string[]) {
   load();
 }
 
-interface ToolRow { number: number; pocket: number; diameter: number; length: number; comment: string }
+export interface ToolRow { number: number; pocket: number; diameter: number; length: number; comment: string }
 
 /// The tool table: checked by the interpreter's own parser (line and column of an error),
 /// saved in the job folder when good, shown as a table.
-export async function setupToolEditor() {
+export async function setupToolEditor(onSaved: () => void) {
   const text = $<HTMLTextAreaElement>('tools-text');
   text.value = await (await fetch(withToken('/api/tools'))).text();
   const showRows = (rows: ToolRow[]) => {
@@ -49,7 +49,8 @@ export async function setupToolEditor() {
     const a = await r.json().catch(() => ({ ok: false, error: `${r.status} ${r.statusText}` }));
     const m = $('tools-message');
     m.className = a.ok ? 'muted' : 'error';
-    if (a.ok) { showRows(a.tools); m.textContent = `saved ${a.tools.length} tools`; }
+    // The check and the next run use the saved table: the program is checked again.
+    if (a.ok) { showRows(a.tools); m.textContent = `saved ${a.tools.length} tools`; onSaved(); }
     else m.textContent = a.line ? `line ${a.line}, column ${a.col}: ${a.error}` : a.error;
   };
 }

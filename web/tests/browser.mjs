@@ -275,7 +275,8 @@ await test('point list → sole mold → preview', async () => {
   await shot('sole');
 });
 
-await test('SVG → plot → preview with pen up and down', async () => {
+await test('SVG → plot → preview with pen up and down → run on the virtual plotter to the end', async () => {
+  await waitState('idle');
   await page.selectOption('#process', 'plot');
   await page.waitForFunction(() => document.getElementById('process-input').textContent === 'design.svg', null, { timeout: 20000 });
   await page.click('#make');
@@ -288,6 +289,28 @@ await test('SVG → plot → preview with pen up and down', async () => {
   await page.click('#views button[data-view="xy"]');
   await page.waitForTimeout(300);
   await shot('plot');
+  // The page puts the virtual machine on the plotter the plot was made for, and shows it.
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('pen plotter'), null, { timeout: 20000 });
+  assert((await page.inputValue('#machine-uri')) === 'virtual:pen-plotter', 'the machine list shows the plotter');
+  assert((await page.textContent('#console')).includes('connected to virtual:pen-plotter'), 'the console says so');
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  // Two pens: the program pauses (M0) for the pen change; Resume goes on to the end.
+  await waitState('paused', 60000);
+  assert((await page.textContent('#console')).includes('pen'), 'the pause names the pen');
+  await page.click('#resume');
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started design.plot.ngc');
+    return started >= 0 && c.lastIndexOf('job finished') > started;
+  }, null, { timeout: 120000 });
+  await waitState('idle');
+  assert((await page.evaluate(() => document.body.dataset.jobDone)) === 'completed', 'the plot ran to its end');
+  await shot('plot-run');
+  // Back on the default router for the tests that follow.
+  await page.selectOption('#machine-uri', 'virtual');
+  await page.click('#connect');
+  await page.waitForFunction(() => !document.getElementById('machine-name').textContent.includes('pen plotter'), null, { timeout: 20000 });
 });
 
 await test('a long carve shows progress and is cancelled', async () => {
@@ -380,6 +403,42 @@ await test('the tool table editor places a bad line and saves a good table', asy
   await page.waitForFunction(() => document.getElementById('tools-message').textContent === 'saved 2 tools', null, { timeout: 10000 });
   assert((await page.textContent('#tools-table')).includes('3.175'), 'the table shows the tools');
   await shot('tool-table');
+});
+
+await test('the saved tool table reaches the check and the run (G43 H, tool diameters)', async () => {
+  await waitState('idle');
+  const save = async (table, saved) => {
+    await page.fill('#tools-text', table);
+    await page.click('#tools-save');
+    await page.waitForFunction((m) => document.getElementById('tools-message').textContent === m, saved, { timeout: 10000 });
+  };
+  await save('T1 P1 D6 Z0 ;flat 6\n', 'saved 1 tools');
+  const text = 'G21 G90 G54\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F300\nX10\nG0 Z5\nM2\n';
+  const dt = await page.evaluateHandle((t) => {
+    const d = new DataTransfer();
+    d.items.add(new File([t], 'tooled.nc', { type: 'text/plain' }));
+    return d;
+  }, text);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('T1 Ø6 L0'), null, { timeout: 20000 });
+  const e0 = await extents();
+  // A longer tool: the page checks again, the checked path rises by its length.
+  await save('T1 P1 D6 Z12.5 ;flat 6\n', 'saved 1 tools');
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('T1 Ø6 L12.5'), null, { timeout: 20000 });
+  const e1 = await extents();
+  assert(Math.abs(e1.min[2] - e0.min[2] - 12.5) < 1e-6, `${JSON.stringify(e0)} → ${JSON.stringify(e1)}`);
+  await shot('tool-table-check');
+  // The run uses it too: the job ends at Z5 plus the tool's length, where the check put it.
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started tooled.nc');
+    return started >= 0 && c.lastIndexOf('job finished') > started;
+  }, null, { timeout: 60000 });
+  await waitState('idle');
+  const mz = Number(await page.textContent('#mz'));
+  assert(Math.abs(mz - e1.max[2]) < 1e-3, `machine Z ${mz}, checked ${e1.max[2]}`);
 });
 
 await test('no script errors in the page', async () => {

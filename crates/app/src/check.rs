@@ -3,10 +3,12 @@
 //! workbench's editor shows).
 
 use crate::text::reader;
+use crate::tools::{tool_rows, ToolRow};
 use oficina_canon::Pos;
 use oficina_canon::{Extents, Summarizer, Summary};
 use oficina_gcode::CanonStream;
 use oficina_gcode::RunOptions;
+use oficina_gcode::ToolTable;
 use oficina_gcode::{Diagnostic, Dialect, Severity};
 use oficina_motion::Profile;
 use serde::Serialize;
@@ -78,6 +80,9 @@ pub struct CheckReport {
     pub rapid_moves: u64,
     pub arcs: u64,
     pub tools: Vec<u32>,
+    /// The tools the program uses as the tool table gives them (diameter, length offset);
+    /// `None` for a tool the table lacks. Empty when the check had no table.
+    pub tool_table: Vec<(u32, Option<ToolRow>)>,
     /// Programmed feeds only, no acceleration: a lower bound.
     pub feed_rate_seconds: f64,
     /// The look-ahead planner's time on the profile, or why there is none.
@@ -88,9 +93,20 @@ pub struct CheckReport {
 /// Interpret `text` in check mode on `opts.profile`: the summary covers the whole program even
 /// where the planner stops early (an unreachable point).
 pub fn check_program(text: &Arc<String>, opts: &CheckOptions) -> CheckReport {
+    check_program_with_tools(text, opts, &ToolTable::default())
+}
+
+/// [`check_program`] with a tool table: G43 H length offsets move the checked and planned
+/// path, G41/G42 D take the tool's radius, and the report lists each used tool's data.
+pub fn check_program_with_tools(
+    text: &Arc<String>,
+    opts: &CheckOptions,
+    tools: &ToolTable,
+) -> CheckReport {
     let profile = &opts.profile;
     let mut run = RunOptions::check(opts.dialect);
     run.initial_params = profile.initial_params();
+    run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
     let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), axis_rapid_rates(profile));
     let mut ops = 0u64;
@@ -107,7 +123,16 @@ pub fn check_program(text: &Arc<String>, opts: &CheckOptions) -> CheckReport {
         summarizer.add(&c.op);
     }
     let diags = stream.finish();
-    report(&diags, summarizer.finish(), ops, planned, &profile.name)
+    let mut r = report(&diags, summarizer.finish(), ops, planned, &profile.name);
+    if !tools.is_empty() {
+        let rows = tool_rows(tools);
+        r.tool_table = r
+            .tools
+            .iter()
+            .map(|&n| (n, rows.iter().find(|t| t.number == n).cloned()))
+            .collect();
+    }
+    r
 }
 
 fn report(
@@ -134,6 +159,7 @@ fn report(
         rapid_moves: s.rapid_moves,
         arcs: s.arcs,
         tools: s.tools,
+        tool_table: Vec::new(),
         feed_rate_seconds: s.feed_rate_seconds,
         time: planned
             .map(|e| TimeEstimate {
@@ -190,6 +216,37 @@ mod tests {
         let t = r.time.unwrap();
         // 40 mm at 600 mm/min is 4 s and the plunge 3.6 s: acceleration only adds to it.
         assert!(t.seconds > 7.6 && t.seconds < 12.0, "{}", t.seconds);
+    }
+
+    #[test]
+    fn the_tool_table_moves_g43_and_g41_paths_and_names_each_tools_data() {
+        let text = Arc::new(
+            "G21 G90 G17\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG41 D1\nG1 X10 Y0 F600\nX10 Y10\nG40\nG0 Z5\nT2 M6\nM2\n".to_string(),
+        );
+        let opts = CheckOptions {
+            profile: crate::profile::resolve("grbl-router").unwrap(),
+            dialect: Dialect::LinuxCnc,
+        };
+        let bare = check_program(&text, &opts);
+        let table = crate::tools::parse_tool_table("T1 P1 D6 Z12.5 ;flat 6\n").unwrap();
+        let with = check_program_with_tools(&text, &opts, &table);
+        // The interpreter refuses T2, which the table lacks (LinuxCNC's message), and only it.
+        assert_eq!(with.errors, 1, "{:?}", with.diagnostics);
+        assert_eq!(with.diagnostics[0].line, 11, "{:?}", with.diagnostics);
+        assert!(with.diagnostics[0].message.contains("tool 2"));
+        let (b, w) = (bare.feed_extents.unwrap(), with.feed_extents.unwrap());
+        // G43 H1 lifts every programmed Z by the tool's 12.5 mm length.
+        assert!((w.min[2] - b.min[2] - 12.5).abs() < 1e-9, "{b:?} {w:?}");
+        // G41 D1 keeps the tool's 3 mm radius left of the path: the leg up X10 is cut with
+        // the centre at X7 (without the table's diameter it would be on X10).
+        assert!((w.max[0] - b.max[0] + 3.0).abs() < 1e-6, "{b:?} {w:?}");
+        assert_eq!(with.tool_table.len(), 1, "{:?}", with.tool_table);
+        let t1 = with.tool_table[0].1.as_ref().unwrap();
+        assert_eq!(
+            (with.tool_table[0].0, t1.diameter, t1.length),
+            (1, 6.0, 12.5)
+        );
+        assert!(bare.tool_table.is_empty());
     }
 
     #[test]

@@ -43,7 +43,10 @@ pub mod sole;
 mod text;
 pub mod tools;
 
-pub use check::{check_program, CheckOptions, CheckReport, Diag, ExtentsBox, TimeEstimate};
+pub use check::{
+    check_program, check_program_with_tools, CheckOptions, CheckReport, Diag, ExtentsBox,
+    TimeEstimate,
+};
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};

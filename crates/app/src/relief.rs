@@ -1,10 +1,13 @@
 //! A relief job from an uploaded image: heightmap, finishing raster (with optional roughing
-//! and rest machining) and the grbl program, reporting progress as it goes and stopping at
-//! the next stage when cancelled. The evaluation (stock simulation, gouge report) is
+//! and rest machining) and the grbl program, reporting progress as it goes and stopping
+//! within the pass when cancelled. The evaluation (stock simulation, gouge report) is
 //! `oficina carve`'s until it moves into the library.
 
 use crate::{Error, Feedback};
-use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
+use oficina_cam::memory::Budget;
+use oficina_cam::relief::{
+    plan_cancellable as plan_cancellable_within, Cutter, Direction, Pass, ReliefError, ReliefJob,
+};
 use oficina_cam::Feeds;
 use oficina_cam::Tool;
 use oficina_io::{DepthMapping, Scale};
@@ -48,29 +51,17 @@ fn positive(name: &str, v: f64, max: f64) -> Result<(), Error> {
     }
 }
 
-/// What unwinds the planner out of a cancelled job (see [`plan_cancellable`]).
-struct Cancelled;
-
-/// The relief planner reports progress at each stage but takes no cancel flag: a cancelled
-/// job unwinds out of its progress callback with `resume_unwind` (no panic message, no
-/// hook) and is caught here; any other panic goes on unwinding.
+/// The relief planner with the job's progress and its cancel flag, which the planner reads
+/// inside every pass (per surface row, per depth level), not only between passes.
 fn plan_cancellable(
     design: &oficina_io::Heightmap,
     job: &ReliefJob,
     fb: Feedback,
 ) -> Result<oficina_cam::relief::Planned, Error> {
-    let progress = |stage: &str, f: f64| {
-        if fb.is_cancelled() {
-            std::panic::resume_unwind(Box::new(Cancelled));
-        }
-        (fb.progress)(stage, f)
-    };
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        plan(design, job, &progress)
-    })) {
-        Ok(r) => r.map_err(Error::from_display),
-        Err(payload) if payload.is::<Cancelled>() => Err(Error::cancelled()),
-        Err(payload) => std::panic::resume_unwind(payload),
+    match plan_cancellable_within(design, job, Budget::UNLIMITED, fb.progress, fb.cancel) {
+        Ok(p) => Ok(p),
+        Err(ReliefError::Cancelled) => Err(Error::cancelled()),
+        Err(e) => Err(Error::from_display(e)),
     }
 }
 

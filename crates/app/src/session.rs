@@ -3,6 +3,7 @@
 //! machine runs its job on its own thread, so whoever watches may come and go.
 
 use crate::{machine_uri, profile, Error};
+use oficina_gcode::interp::tool_table::ToolTable;
 use oficina_machine::{Command, Event, Job, Machine, MachineInfo, Pace, State};
 use oficina_motion::Profile;
 use serde::Serialize;
@@ -73,6 +74,8 @@ pub struct Session {
     /// No job has run since the virtual machine was made: its idle status still shows the
     /// machine position as the work position, so the snapshot applies the offset itself.
     fresh: bool,
+    /// The virtual machine's tool table (G43 H, G41 D, M6).
+    tools: ToolTable,
 }
 
 /// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
@@ -99,7 +102,44 @@ impl Session {
             home,
             job: None,
             fresh: true,
+            tools: ToolTable::default(),
         })
+    }
+
+    /// Gives the virtual machine a tool table (idle only; it stays where it is). Real
+    /// firmware keeps its own tool data: refused.
+    pub fn set_tools(&mut self, tools: ToolTable) -> Result<(), Error> {
+        if self.tools == tools {
+            return Ok(());
+        }
+        let Some(mut profile) = self.profile.clone() else {
+            return Err(Error(
+                "real firmware has no tool table (grbl ignores G43 H)".into(),
+            ));
+        };
+        let status = self.machine.status();
+        if status.state != State::Idle {
+            return Err(Error(format!(
+                "the tool table changes when idle, not while {}",
+                state_name(&status.state)
+            )));
+        }
+        profile.start = status.machine_pos;
+        self.tools = tools;
+        self.rebuild(profile)
+    }
+
+    /// A new virtual machine on `profile` (its start = where the old one stood), with the
+    /// session's tool table.
+    fn rebuild(&mut self, profile: Profile) -> Result<(), Error> {
+        let vm = oficina_machine::VirtualMachine::new(profile.clone());
+        let mut machine: Box<dyn Machine> = Box::new(vm.with_tool_table(self.tools.clone()));
+        self.info = machine.connect().map_err(Error::from_display)?;
+        self.machine.disconnect();
+        self.machine = machine;
+        self.profile = Some(profile);
+        self.fresh = true;
+        Ok(())
     }
 
     pub fn profile(&self) -> Option<&Profile> {
@@ -208,14 +248,7 @@ impl Session {
             profile.work_offset[i] = status.machine_pos[i];
         }
         profile.start = status.machine_pos;
-        let mut machine: Box<dyn Machine> =
-            Box::new(oficina_machine::VirtualMachine::new(profile.clone()));
-        self.info = machine.connect().map_err(Error::from_display)?;
-        self.machine.disconnect();
-        self.machine = machine;
-        self.profile = Some(profile);
-        self.fresh = true;
-        Ok(())
+        self.rebuild(profile)
     }
 
     /// Every event waiting now (waits up to `timeout` for the first).

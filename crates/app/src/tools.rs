@@ -8,7 +8,7 @@ use serde::Serialize;
 /// Name of the table in the job folder.
 pub const TOOL_TABLE_FILE: &str = "tool.tbl";
 
-#[derive(Serialize, Debug, PartialEq)]
+#[derive(Clone, Serialize, Debug, PartialEq)]
 pub struct ToolRow {
     pub number: u32,
     pub pocket: u32,
@@ -25,14 +25,19 @@ pub struct ToolTableError {
     pub message: String,
 }
 
-/// The tools of `text` (lengths in mm), or where and why it cannot be read.
-pub fn check_tool_table(text: &str) -> Result<Vec<ToolRow>, ToolTableError> {
-    let table = ToolTable::parse(text, Units::Mm).map_err(|d| ToolTableError {
+/// The table of `text` (lengths in mm) as the interpreter takes it (G43 H, G41 D, M6), or
+/// where and why it cannot be read.
+pub fn parse_tool_table(text: &str) -> Result<ToolTable, ToolTableError> {
+    ToolTable::parse(text, Units::Mm).map_err(|d| ToolTableError {
         line: d.span.line,
         col: d.span.col,
         message: d.message,
-    })?;
-    Ok(table
+    })
+}
+
+/// The tools of a table as the page lists them.
+pub fn tool_rows(table: &ToolTable) -> Vec<ToolRow> {
+    table
         .iter()
         .map(|t| ToolRow {
             number: t.number,
@@ -41,7 +46,12 @@ pub fn check_tool_table(text: &str) -> Result<Vec<ToolRow>, ToolTableError> {
             length: t.offset[2],
             comment: t.comment.clone(),
         })
-        .collect())
+        .collect()
+}
+
+/// The tools of `text` (lengths in mm), or where and why it cannot be read.
+pub fn check_tool_table(text: &str) -> Result<Vec<ToolRow>, ToolTableError> {
+    parse_tool_table(text).map(|t| tool_rows(&t))
 }
 
 #[cfg(test)]

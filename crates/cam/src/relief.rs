@@ -13,11 +13,13 @@ use crate::raster::{cut_rows, raster_rows, Clear, Emitter, Feeds, Frame, Row};
 use crate::regions::{grow, label, Region};
 use crate::stock::apply_moves;
 use crate::surface::{
-    segment_bound, sub_len, surface_grid, surface_rows_sub, transpose, Kernel, SubKernels,
+    segment_bound, sub_len, surface_grid_until, surface_rows_sub_until, transpose, Kernel,
+    SubKernels,
 };
 use crate::tool::Tool;
 use crate::toolpath::{Operation, Toolpath};
 use oficina_io::Heightmap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A tool with its cutting data.
 #[derive(Clone, Debug, PartialEq)]
@@ -120,6 +122,8 @@ pub enum ReliefError {
     Samples { got: usize, max: usize },
     #[error(transparent)]
     Memory(#[from] OverBudget),
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// Largest size of a part in X, Y or Z, mm (100 m: beyond any router's travel, and far
@@ -170,6 +174,30 @@ pub fn plan_within(
     budget: Budget,
     progress: Progress,
 ) -> Result<Planned, ReliefError> {
+    plan_cancellable(design, job, budget, progress, &AtomicBool::new(false))
+}
+
+/// Simulated moves applied to the stock between two looks at the cancel flag.
+const MOVES_PER_CANCEL_CHECK: usize = 4096;
+
+/// [`plan_within`] that stops with [`ReliefError::Cancelled`] soon after `cancel` is set:
+/// the flag is read per row of every tool-shape surface, per depth level (when progress
+/// within the pass is reported too) and per few thousand simulated moves, so a cancel
+/// waits for at most one of those, never for a whole pass.
+pub fn plan_cancellable(
+    design: &Heightmap,
+    job: &Job,
+    budget: Budget,
+    progress: Progress,
+    cancel: &AtomicBool,
+) -> Result<Planned, ReliefError> {
+    let cancelled = || {
+        if cancel.load(Ordering::Relaxed) {
+            Err(ReliefError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
     if design.width == 0 || design.height == 0 {
         return Err(ReliefError::EmptyDesign);
     }
@@ -263,6 +291,11 @@ pub fn plan_within(
                 fixed: shape.bytes().saturating_add(budget.reserved),
                 pass: &pass.name,
             };
+            cancelled()?;
+            let within = Within {
+                progress: &|f| progress(&stage, f),
+                cancel,
+            };
             cut_pass(
                 &mut em,
                 design,
@@ -272,6 +305,7 @@ pub fn plan_within(
                 job.tolerance,
                 job.samples_per_pixel,
                 &moves,
+                &within,
             )?;
             let last = i + 1 == job.passes.len() && d + 1 == directions.len();
             if !last || job.simulate_last {
@@ -284,7 +318,11 @@ pub fn plan_within(
                 } else {
                     em_pos_before(&em, before)
                 };
-                apply_moves(s, &pass.cutter.tool, start, &em.moves[before..]);
+                let mut at = start;
+                for chunk in em.moves[before..].chunks(MOVES_PER_CANCEL_CHECK) {
+                    cancelled()?;
+                    at = apply_moves(s, &pass.cutter.tool, at, chunk);
+                }
             }
             progress(&stage, 1.0);
         }
@@ -482,6 +520,25 @@ fn cut_ceiling(rows: &[Row], targets: &[&[f32]], min_cut: f32) -> f32 {
 }
 
 #[allow(clippy::too_many_arguments)]
+/// A pass's view of the job's feedback: its progress (fraction of the pass) and the cancel
+/// flag.
+struct Within<'a> {
+    progress: &'a dyn Fn(f64),
+    cancel: &'a AtomicBool,
+}
+
+impl Within<'_> {
+    /// Reports `fraction` of the pass done, or stops a cancelled job.
+    fn tick(&self, fraction: f64) -> Result<(), ReliefError> {
+        if self.cancel.load(Ordering::Relaxed) {
+            return Err(ReliefError::Cancelled);
+        }
+        (self.progress)(fraction.clamp(0.0, 1.0));
+        Ok(())
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn cut_pass(
     em: &mut Emitter,
     design: &Heightmap,
@@ -491,7 +548,9 @@ fn cut_pass(
     tol: f64,
     sub: usize,
     moves: &Moves,
-) -> Result<(), OverBudget> {
+    within: &Within,
+) -> Result<(), ReliefError> {
+    let cancelled = || ReliefError::Cancelled;
     let tool = &pass.cutter.tool;
     let grid = if along_y {
         transpose(design)
@@ -503,10 +562,14 @@ fn cut_pass(
         along_y,
         sub,
     };
-    let clear_grid = stock.map(|s| {
-        let s = if along_y { transpose(s) } else { s.clone() };
-        surface_grid(&s, &Kernel::new(tool, s.pixel, 0.0, 0.0))
-    });
+    let clear_grid = match stock {
+        Some(s) => {
+            let s = if along_y { transpose(s) } else { s.clone() };
+            let k = Kernel::new(tool, s.pixel, 0.0, 0.0);
+            Some(surface_grid_until(&s, &k, within.cancel).ok_or_else(cancelled)?)
+        }
+        None => None,
+    };
     let clear = match &clear_grid {
         Some(c) => Clear::Grid {
             width: c.width,
@@ -519,7 +582,8 @@ fn cut_pass(
 
     // The blocks to machine: the whole grid, or the regions with material left.
     let (blocks, labels): (Vec<Region>, Option<Vec<u32>>) = if pass.rest_only {
-        let full = surface_grid(&grid, &Kernel::new(tool, grid.pixel, 0.0, pass.allowance));
+        let k = Kernel::new(tool, grid.pixel, 0.0, pass.allowance);
+        let full = surface_grid_until(&grid, &k, within.cancel).ok_or_else(cancelled)?;
         let mask: Vec<bool> = full
             .z
             .iter()
@@ -550,7 +614,8 @@ fn cut_pass(
     // V bit by metres, a tool narrower than a pixel to −∞ with no sample under it): no
     // target goes beneath the design's lowest point, which touches no sample either.
     let lowest = grid.range().0;
-    let targets: Vec<Vec<f32>> = surface_rows_sub(&grid, &kernels, &rows)
+    let targets: Vec<Vec<f32>> = surface_rows_sub_until(&grid, &kernels, &rows, within.cancel)
+        .ok_or_else(cancelled)?
         .into_iter()
         .map(|mut r| {
             r.iter_mut().for_each(|t| *t = t.max(lowest) + allowance);
@@ -563,7 +628,11 @@ fn cut_pass(
     let columns = |j: usize| (j / sub, j.div_ceil(sub));
 
     let mut todo: Vec<&Region> = blocks.iter().collect();
+    let block_count = blocks.len().max(1) as f64;
+    let mut blocks_begun = 0usize;
     while !todo.is_empty() {
+        within.tick(blocks_begun as f64 / block_count)?;
+        blocks_begun += 1;
         // Nearest block next: less air time than scanning in label order.
         let here = em.pos.unwrap_or([0.0, 0.0, em.safe_z]);
         let (k, _) = todo
@@ -673,6 +742,9 @@ fn cut_pass(
                 k = next;
                 continue;
             }
+            // This block's share of the pass, by levels begun.
+            let in_block = (k - 1) as f64 / levels.max(1) as f64;
+            within.tick(((blocks_begun - 1) as f64 + in_block.min(1.0)) / block_count)?;
             let floor = floor_at(k);
             let done = k as usize;
             let level_rows: Vec<Row> = block_rows

@@ -24,6 +24,7 @@ use crate::sliding_max::window_max;
 use crate::tool::Tool;
 use oficina_io::Heightmap;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A disk lifted by a constant: per kernel row the inclusive range of dx it covers.
 #[derive(Clone, Debug)]
@@ -289,16 +290,46 @@ pub fn surface_grid(design: &Heightmap, kernel: &Kernel) -> Heightmap {
     }
 }
 
+/// [`surface_grid`] that gives up (`None`) once `cancel` is set, at the next row.
+pub fn surface_grid_until(
+    design: &Heightmap,
+    kernel: &Kernel,
+    cancel: &AtomicBool,
+) -> Option<Heightmap> {
+    let rows: Vec<usize> = (0..design.height).collect();
+    let z = surface_rows_until(design, kernel, &rows, cancel)?.concat();
+    Some(Heightmap {
+        z,
+        ..design.clone()
+    })
+}
+
 /// The tool-tip surface along the listed rows only (in that order).
 pub fn surface_rows(design: &Heightmap, kernel: &Kernel, rows: &[usize]) -> Vec<Vec<f32>> {
+    surface_rows_until(design, kernel, rows, &AtomicBool::new(false)).expect("never cancelled")
+}
+
+/// [`surface_rows`] that gives up (`None`) once `cancel` is set: rows not yet begun are
+/// skipped, so a cancel costs at most one row per thread.
+pub fn surface_rows_until(
+    design: &Heightmap,
+    kernel: &Kernel,
+    rows: &[usize],
+    cancel: &AtomicBool,
+) -> Option<Vec<Vec<f32>>> {
     let padded = Padded::new(design, kernel.reach);
-    rows.par_iter()
+    let out: Vec<Vec<f32>> = rows
+        .par_iter()
         .map_init(Scratch::default, |scratch, &iy| {
+            if cancel.load(Ordering::Relaxed) {
+                return Vec::new();
+            }
             let mut out = vec![0.0f32; design.width];
             surface_row(&padded, kernel, iy, &mut out, scratch);
             out
         })
-        .collect()
+        .collect();
+    (!cancel.load(Ordering::Relaxed)).then_some(out)
 }
 
 /// Kernels for `count` evenly spaced points per pixel along X.
@@ -336,17 +367,27 @@ pub(crate) fn sub_len(width: usize, count: usize) -> usize {
 
 /// Tool-tip heights along the listed rows at `kernels.count` points per pixel: entry
 /// `j` is the height at X = j / count pixels.
-pub(crate) fn surface_rows_sub(
+pub(crate) fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]) -> Vec<Vec<f32>> {
+    surface_rows_sub_until(design, kernels, rows, &AtomicBool::new(false)).expect("never cancelled")
+}
+
+/// [`surface_rows_sub`] that gives up (`None`) once `cancel` is set, at the next row.
+pub(crate) fn surface_rows_sub_until(
     design: &Heightmap,
     kernels: &SubKernels,
     rows: &[usize],
-) -> Vec<Vec<f32>> {
+    cancel: &AtomicBool,
+) -> Option<Vec<Vec<f32>>> {
     let padded = Padded::new(design, kernels.reach());
     let (w, n) = (design.width, kernels.count);
-    rows.par_iter()
+    let out: Vec<Vec<f32>> = rows
+        .par_iter()
         .map_init(
             || (Scratch::default(), vec![vec![0.0f32; w]; n]),
             |(scratch, shifts), &iy| {
+                if cancel.load(Ordering::Relaxed) {
+                    return Vec::new();
+                }
                 let mut views: Vec<&mut [f32]> = shifts.iter_mut().map(|v| &mut v[..]).collect();
                 surface_row_multi(&padded, &kernels.kernels, iy, &mut views, scratch);
                 let mut out = vec![0.0f32; sub_len(w, n)];
@@ -358,7 +399,8 @@ pub(crate) fn surface_rows_sub(
                 out
             },
         )
-        .collect()
+        .collect();
+    (!cancel.load(Ordering::Relaxed)).then_some(out)
 }
 
 /// Turns tip heights sampled along a row (X = j·h) into heights that straight moves may

@@ -12,7 +12,7 @@ use axum::http::{header, StatusCode};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
-use oficina_app::{check_program, for_each_segment, profile, CheckOptions};
+use oficina_app::{check_program_with_tools, for_each_segment, profile, CheckOptions};
 use oficina_gcode::Dialect;
 use serde::Deserialize;
 use serde_json::json;
@@ -39,6 +39,7 @@ pub fn routes(state: Arc<AppState>) -> Router {
         .route("/api/mill", post(jobs::mill_job))
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
+        // Embroidery: `/api/embroider` beside these, calling app's stitch pipeline (next).
         .route("/api/cancel", post(jobs::cancel))
         .route("/api/profiles/check", post(crate::profiles::check))
         .route("/api/profiles/use", post(crate::profiles::use_profile))
@@ -195,9 +196,12 @@ async fn check(
         profile: current_profile(&st)?,
         dialect: q.dialect()?,
     };
-    let report = tokio::task::spawn_blocking(move || check_program(&text, &opts))
-        .await
-        .map_err(|e| bad(e.to_string()))?;
+    // The page's saved tool table: G43 H and G41 D as the virtual machine will run them.
+    let tools = crate::profiles::saved_tools(&st).map_err(bad)?;
+    let report =
+        tokio::task::spawn_blocking(move || check_program_with_tools(&text, &opts, &tools))
+            .await
+            .map_err(|e| bad(e.to_string()))?;
     Ok(Json(report).into_response())
 }
 

@@ -19,7 +19,6 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
 
 /// A job's failure as the page shows it: the message, and the form field it is about.
 pub struct JobError(StatusCode, Error);
@@ -54,8 +53,9 @@ impl From<Error> for JobError {
 #[derive(Default)]
 pub struct Computing(Mutex<Option<Arc<AtomicBool>>>);
 
-/// Runs `work` on a blocking thread with progress on the live channel. A cancel answers at
-/// once; the thread stops at its next stage and its result is dropped.
+/// Runs `work` on a blocking thread with progress on the live channel. A cancel sets the
+/// job's flag, which the pipelines read inside their long loops; the answer comes once the
+/// thread has stopped, so a cancelled job never computes on beside the next one.
 async fn compute<T: Send + 'static>(
     st: &Arc<AppState>,
     work: impl FnOnce(Feedback) -> Result<T, Error> + Send + 'static,
@@ -63,17 +63,19 @@ async fn compute<T: Send + 'static>(
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let mut c = lock(&st.computing.0);
-        if c.as_ref().is_some_and(|f| !f.load(Ordering::Relaxed)) {
-            return Err(JobError(
-                StatusCode::CONFLICT,
-                Error("another job is being computed: wait for it or cancel it".into()),
-            ));
+        if let Some(f) = c.as_ref() {
+            let msg = if f.load(Ordering::Relaxed) {
+                "the cancelled job is still stopping: try again in a moment"
+            } else {
+                "another job is being computed: wait for it or cancel it"
+            };
+            return Err(JobError(StatusCode::CONFLICT, Error(msg.into())));
         }
         *c = Some(cancel.clone());
     }
     let live = st.clone();
     let flag = cancel.clone();
-    let mut task = tokio::task::spawn_blocking(move || {
+    let task = tokio::task::spawn_blocking(move || {
         let last = Mutex::new((String::new(), -1i64));
         let progress = |stage: &str, f: f64| {
             // At most a hundred progress messages per stage.
@@ -91,14 +93,11 @@ async fn compute<T: Send + 'static>(
             cancel: &flag,
         })
     });
-    let mut tick = tokio::time::interval(Duration::from_millis(50));
-    let result = loop {
-        tokio::select! {
-            r = &mut task => break r.map_err(|e| bad(e.to_string()))?.map_err(JobError::from),
-            _ = tick.tick() => if cancel.load(Ordering::Relaxed) {
-                break Err(JobError::from(Error::cancelled()));
-            }
-        }
+    let result = match task.await {
+        // Finished as the cancel came: its result is dropped all the same.
+        Ok(Ok(_)) if cancel.load(Ordering::Relaxed) => Err(JobError::from(Error::cancelled())),
+        Ok(r) => r.map_err(JobError::from),
+        Err(e) => Err(bad(e.to_string())),
     };
     let mut c = lock(&st.computing.0);
     if c.as_ref().is_some_and(|f| Arc::ptr_eq(f, &cancel)) {
@@ -158,8 +157,12 @@ async fn save(st: &AppState, name: &str, text: &str) -> Result<(), JobError> {
         .map_err(|e| bad(format!("{name}: {e}")))
 }
 
-fn estimate_profile(spec: Option<&str>) -> Result<oficina_app::profile::Profile, String> {
-    profile::resolve(spec.unwrap_or(profile::DEFAULT)).map_err(|e| e.to_string())
+fn estimate_profile(
+    st: &AppState,
+    spec: Option<&str>,
+) -> Result<oficina_app::profile::Profile, String> {
+    let spec = crate::profiles::profile_spec(st, spec.unwrap_or(profile::DEFAULT))?;
+    profile::resolve(&spec).map_err(|e| e.to_string())
 }
 
 pub async fn mill_job(
@@ -167,7 +170,7 @@ pub async fn mill_job(
     Json(req): Json<JobRequest<MillParams>>,
 ) -> Result<Response, JobError> {
     let path = input(&st, &req.file)?;
-    let profile = estimate_profile(req.profile.as_deref());
+    let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
     let r = compute(&st, move |fb| mill(&path, &params, &profile, fb)).await?;
     let file = req.file.as_deref().unwrap_or_default();
@@ -193,7 +196,7 @@ pub async fn sole_job(
     Json(req): Json<JobRequest<SoleParams>>,
 ) -> Result<Response, JobError> {
     let path = input(&st, &req.file)?;
-    let profile = estimate_profile(req.profile.as_deref());
+    let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
     let ext = params.post.extension();
     let r = compute(&st, move |fb| sole(&path, &params, &profile, fb)).await?;
@@ -234,7 +237,8 @@ pub async fn plot_job(
         None => None,
     };
     let spec = req.profile.as_deref().unwrap_or("pen-plotter");
-    let machine = profile::resolve(spec).map_err(|e| bad(format!("profile {spec}: {e}")))?;
+    let resolved = crate::profiles::profile_spec(&st, spec).map_err(bad)?;
+    let machine = profile::resolve(&resolved).map_err(|e| bad(format!("profile {spec}: {e}")))?;
     let params = req.params;
     let ext = match params.format {
         PlotFormat::Hpgl => "plt",
@@ -247,7 +251,7 @@ pub async fn plot_job(
     )?;
     save(&st, &name, &r.prepared.program).await?;
     let b = r.prepared.bounds;
-    st.say(&format!("plotted into {name}"));
+    st.say(&format!("plotted into {name} for {spec}"));
     let pens: Vec<Value> = r
         .prepared
         .plot
@@ -263,6 +267,8 @@ pub async fn plot_job(
         "bounds": b,
         "seconds": r.seconds,
         "preview_svg": r.prepared.preview,
+        // The virtual machine to run it on: the plotter it was made for.
+        "machine": format!("virtual:{resolved}"),
     }))
     .into_response())
 }

@@ -11,7 +11,8 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use oficina_app::profile::{Profile, BUNDLED};
-use oficina_app::tools::{check_tool_table, TOOL_TABLE_FILE};
+use oficina_app::tools::{check_tool_table, parse_tool_table, TOOL_TABLE_FILE};
+use oficina_gcode::interp::tool_table::ToolTable;
 use serde_json::json;
 use std::sync::Arc;
 
@@ -98,6 +99,69 @@ pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Respon
         Ok(Err(e)) => refused(StatusCode::CONFLICT, "", e),
         Err(e) => refused(StatusCode::INTERNAL_SERVER_ERROR, "", e.to_string()),
     }
+}
+
+/// A machine profile a request names: a bundled profile, or a profile file in the job folder
+/// (the editor saves them there). Anything else, a path elsewhere on this computer above
+/// all, is refused: a request never reads files outside the job folder. Gives the spec to
+/// resolve (the bundled name, or the file's full path).
+pub fn profile_spec(st: &AppState, spec: &str) -> Result<String, String> {
+    if BUNDLED.iter().any(|(n, _)| *n == spec) {
+        return Ok(spec.to_string());
+    }
+    let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
+    let refused = || {
+        format!(
+            "profile {spec:?}: neither a bundled profile ({}) nor a profile file in the job folder",
+            names.join(", ")
+        )
+    };
+    match path_in(&st.config.job_dir, spec) {
+        Ok(p) if p.is_file() => Ok(p.display().to_string()),
+        _ => Err(refused()),
+    }
+}
+
+/// A machine URI a page asks to connect to: firmware addresses as they are; a virtual
+/// machine's profile only as [`profile_spec`] allows.
+pub fn machine_uri(st: &AppState, uri: &str) -> Result<String, String> {
+    if oficina_app::is_firmware(uri) {
+        return Ok(uri.to_string());
+    }
+    let name = match uri.strip_prefix("virtual") {
+        Some("") => return Ok(uri.to_string()),
+        Some(rest) => rest.strip_prefix(':').ok_or_else(|| {
+            format!("machine {uri:?}: virtual, virtual:PROFILE, grbl:PORT or tcp://HOST:PORT")
+        })?,
+        None => uri,
+    };
+    // A path the editor saved is in the job folder already: named by its file name there.
+    let in_jobs = std::path::Path::new(name)
+        .strip_prefix(&st.config.job_dir)
+        .ok()
+        .and_then(|p| p.to_str())
+        .unwrap_or(name);
+    profile_spec(st, in_jobs).map(|s| format!("virtual:{s}"))
+}
+
+/// The tool table saved in the job folder, as the check and the virtual machine take it
+/// (empty when none was saved). A table put there by other means and unreadable is named.
+pub fn saved_tools(st: &AppState) -> Result<ToolTable, String> {
+    let path = path_in(&st.config.job_dir, TOOL_TABLE_FILE)?;
+    let text = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(ToolTable::default()),
+        Err(e) => return Err(format!("{TOOL_TABLE_FILE}: {e}")),
+    };
+    let text = std::str::from_utf8(&text).map_err(|_| {
+        format!("{TOOL_TABLE_FILE}: not UTF-8 text (save it again in the tool table editor)")
+    })?;
+    parse_tool_table(text).map_err(|e| {
+        format!(
+            "{TOOL_TABLE_FILE} line {} column {}: {} (fix it in the tool table editor)",
+            e.line, e.col, e.message
+        )
+    })
 }
 
 /// The saved tool table (`GET /api/tools`), empty when none was saved.

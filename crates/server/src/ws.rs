@@ -170,13 +170,22 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
     let cmd = |c: Command| st.with_session(|s| s.command(c).map_err(|e| e.to_string()));
     match req {
         Request::TakeControl => Ok("take_control"),
-        Request::Connect { uri } => st.connect(&uri).map(|()| "connect"),
+        Request::Connect { uri } => st
+            .connect(&crate::profiles::machine_uri(st, &uri)?)
+            .map(|()| "connect"),
         Request::Start {
             file,
             from_line,
             speed,
         } => {
             let text = crate::api::program_text(st, &file).map_err(|(_, m)| m)?;
+            // The virtual machine runs with the page's saved tool table (real firmware keeps
+            // its own).
+            let tools = crate::profiles::saved_tools(st)?;
+            st.with_session(|s| match s.profile() {
+                Some(_) => s.set_tools(tools).map_err(|e| e.to_string()),
+                None => Ok(()),
+            })?;
             st.start(JobRequest {
                 name: file,
                 text,

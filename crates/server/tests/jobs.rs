@@ -220,10 +220,50 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
+    // The plot names the virtual plotter to run it on: the profile it was made for.
+    let (s, v) = call(
+        &st,
+        post_json(
+            "/api/plot",
+            json!({"file": "design.svg", "profile": "pen-plotter"}),
+        ),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert_eq!(v["machine"], "virtual:pen-plotter");
+    // A profile path outside the job folder is never read.
+    let outside = dir.path().join("outside.toml");
+    std::fs::write(&outside, "secret = 1\n").unwrap();
+    for spec in [
+        outside.display().to_string(),
+        "../outside.toml".into(),
+        "/etc/passwd".into(),
+    ] {
+        let (s, v) = call(
+            &st,
+            post_json("/api/plot", json!({"file": "design.svg", "profile": spec})),
+        )
+        .await;
+        assert_eq!(s, StatusCode::BAD_REQUEST, "{spec}: {v}");
+        let msg = v["error"].as_str().unwrap();
+        assert!(msg.contains("neither a bundled profile"), "{msg}");
+        assert!(!msg.contains("secret") && !msg.contains("root:"), "{msg}");
+    }
+}
+
+/// The stage and fraction of a live progress message.
+fn progress_of(m: &str) -> Option<(String, f64)> {
+    let v: Value = serde_json::from_str(m).ok()?;
+    (v["type"] == "progress").then(|| {
+        (
+            v["stage"].as_str().unwrap_or_default().to_string(),
+            v["fraction"].as_f64().unwrap_or(-1.0),
+        )
+    })
 }
 
 #[tokio::test]
-async fn cancel_stops_a_long_carve_and_the_next_job_runs() {
+async fn cancel_stops_a_long_carve_inside_its_pass_and_the_next_job_runs() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
     let image = std::fs::read(format!(
@@ -239,8 +279,9 @@ async fn cancel_stops_a_long_carve_and_the_next_job_runs() {
     .await;
     assert_eq!(s, StatusCode::OK);
     assert_eq!(v["cancelled"], false);
-    // A fine step-over on a wide carving with roughing: seconds of work, cancelled at once.
-    let q = "name=dome.png&width=400&depth=5&tool=ball:1&rough_tool=flat:3&stepover=0.05&stepdown=1&feed=2000&plunge_feed=500&safe_z=5";
+    // A large job: a wide carving with roughing, a fine step-over and fifty depth levels.
+    let q = "name=dome.png&width=400&depth=5&tool=ball:1&rough_tool=flat:3&stepover=0.05&stepdown=0.1&feed=2000&plunge_feed=500&safe_z=5";
+    let mut rx = st.live.subscribe();
     let carve = {
         let st = st.clone();
         let image = image.clone();
@@ -254,14 +295,15 @@ async fn cancel_stops_a_long_carve_and_the_next_job_runs() {
             .await
         })
     };
-    let mut rx = st.live.subscribe();
-    // Wait until it is under way (its first progress message), then cancel.
-    loop {
+    // Wait until a pass is partly done (progress within it), then cancel.
+    let (stage, at_cancel) = loop {
         let m = rx.recv().await.unwrap();
-        if m.contains("\"progress\"") {
-            break;
+        if let Some((stage, f)) = progress_of(&m) {
+            if f > 0.0 && f < 1.0 {
+                break (stage, f);
+            }
         }
-    }
+    };
     let (s, v) = call(
         &st,
         Request::post("/api/cancel").body(Body::empty()).unwrap(),
@@ -273,6 +315,35 @@ async fn cancel_stops_a_long_carve_and_the_next_job_runs() {
     assert_eq!(s, StatusCode::CONFLICT, "{v}");
     assert_eq!(v["cancelled"], true, "{v}");
     assert!(!dir.path().join("jobs/dome.nc").exists());
+    // The answer came once the planner had stopped: nothing is being computed any more,
+    // and the work done ends inside the pass that was cancelled (it never reached its
+    // end, and no later pass began).
+    let (s, v) = call(
+        &st,
+        Request::post("/api/cancel").body(Body::empty()).unwrap(),
+    )
+    .await;
+    assert_eq!((s, v["cancelled"].as_bool()), (StatusCode::OK, Some(false)));
+    let mut last = (stage.clone(), at_cancel);
+    loop {
+        match rx.try_recv() {
+            Ok(m) => {
+                if let Some(p) = progress_of(&m) {
+                    last = p;
+                }
+            }
+            Err(tokio::sync::broadcast::error::TryRecvError::Lagged(_)) => continue,
+            Err(_) => break,
+        }
+    }
+    assert_eq!(
+        last.0, stage,
+        "the job went on to another stage after the cancel"
+    );
+    assert!(
+        last.1 < 1.0,
+        "the cancelled pass ran to its end: {last:?} (cancelled at {at_cancel})"
+    );
     // The next job is not refused as "another job is being computed".
     let q = "name=dome.png&width=20&depth=2&tool=ball:3&stepover=1&stepdown=5&feed=2000&plunge_feed=500&safe_z=5";
     let (s, v) = call(

@@ -167,3 +167,44 @@ fn http_get(addr: std::net::SocketAddr, path: &str) -> String {
     let (a, b) = (body.find('{').unwrap(), body.rfind('}').unwrap());
     body[a..=b].to_string()
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_page_connects_only_to_bundled_or_job_folder_profiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let addr = server(dir.path()).await;
+    let mut a = connect(addr).await;
+    until(&mut a, |m| m["type"] == "hello").await;
+    // A file elsewhere on this computer is never read as a profile.
+    let outside = dir.path().join("elsewhere.toml");
+    std::fs::write(&outside, "secret = 1\n").unwrap();
+    for uri in [
+        format!("virtual:{}", outside.display()),
+        "virtual:../elsewhere.toml".to_string(),
+        "virtual:/etc/passwd".to_string(),
+        "virtualpen-plotter".to_string(),
+    ] {
+        let r = send(&mut a, json!({"cmd": "connect", "uri": uri})).await;
+        assert_eq!(r["type"], "error", "{uri}: {r}");
+        let msg = r["message"].as_str().unwrap();
+        assert!(!msg.contains("secret") && !msg.contains("root:"), "{msg}");
+    }
+    // A bundled plotter, and a profile file saved in the job folder, connect.
+    let r = send(
+        &mut a,
+        json!({"cmd": "connect", "uri": "virtual:pen-plotter"}),
+    )
+    .await;
+    assert_eq!(r["type"], "ok", "{r}");
+    let text = oficina_app::profile::BUNDLED
+        .iter()
+        .find(|(n, _)| *n == "grbl-router")
+        .unwrap()
+        .1;
+    std::fs::write(dir.path().join("jobs/mine.toml"), text).unwrap();
+    let r = send(
+        &mut a,
+        json!({"cmd": "connect", "uri": "virtual:mine.toml"}),
+    )
+    .await;
+    assert_eq!(r["type"], "ok", "{r}");
+}
