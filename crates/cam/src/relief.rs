@@ -186,7 +186,7 @@ const MOVES_PER_CANCEL_CHECK: usize = 4096;
 /// waits for at most one of those, never for a whole pass.
 pub fn plan_cancellable(
     design: &Heightmap,
-    job: &Job,
+    job: &ReliefJob,
     budget: Budget,
     progress: Progress,
     cancel: &AtomicBool,

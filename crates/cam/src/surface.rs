@@ -367,7 +367,12 @@ pub(crate) fn sub_len(width: usize, count: usize) -> usize {
 
 /// Tool-tip heights along the listed rows at `kernels.count` points per pixel: entry
 /// `j` is the height at X = j / count pixels.
-pub(crate) fn surface_rows_sub(design: &Heightmap, kernels: &SubKernels, rows: &[usize]) -> Vec<Vec<f32>> {
+#[cfg(test)]
+pub(crate) fn surface_rows_sub(
+    design: &Heightmap,
+    kernels: &SubKernels,
+    rows: &[usize],
+) -> Vec<Vec<f32>> {
     surface_rows_sub_until(design, kernels, rows, &AtomicBool::new(false)).expect("never cancelled")
 }
 

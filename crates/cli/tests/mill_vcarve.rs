@@ -7,7 +7,7 @@
 use oficina_cam::ops::{vcarve, Cut, Entry, VCarveParams};
 use oficina_cam::{Tool, Toolpath};
 use oficina_geom::{to_ring, Arc, Path, Point, Segment};
-use oficina_post::{program_text, read_back, Dialect, PostOptions};
+use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design, MillCheck};
 use std::collections::HashMap;
 use std::process::Command;
@@ -41,7 +41,7 @@ fn cut(tool: &str, depth: f64) -> Cut {
 
 fn post() -> PostOptions {
     PostOptions {
-        dialect: Dialect::LinuxCnc,
+        dialect: PostDialect::LinuxCnc,
         allow_m6: false,
         title: "vcarve test".into(),
         settings: vec![],
@@ -85,7 +85,7 @@ fn carve(shape: Path, c: &Cut, name: &str) -> (Toolpath, MillCheck, f64) {
     let canon = read_back(&text, &post()).unwrap();
     let Tool { shape: s, .. } = c.tool;
     let angle = match s {
-        oficina_cam::Shape::V { angle } => angle,
+        oficina_cam::CutterShape::V { angle } => angle,
         _ => unreachable!(),
     };
     let t = (angle.to_radians() / 2.0).tan();

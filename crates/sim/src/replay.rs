@@ -110,7 +110,7 @@ fn touching(tool: &Tool, below: f64, pixel: f64) -> Option<std::borrow::Cow<'_, 
         return None;
     }
     match tool.shape {
-        oficina_cam::Shape::V { angle } if below < tool.flute_length => {
+        oficina_cam::CutterShape::V { angle } if below < tool.flute_length => {
             let r = below * (angle.to_radians() / 2.0).tan() + pixel;
             if r >= tool.reach_radius() {
                 return Some(Cow::Borrowed(tool));

@@ -164,7 +164,7 @@ fn the_thread_is_locked_wherever_it_is_cut() {
 }
 
 fn from_svg(svg: &str, params: &Params) -> oficina_stitch::Generated {
-    let imported = oficina_io::svg::svg_from_bytes(svg.as_bytes(), "t.svg").unwrap();
+    let imported = oficina_io::svg_from_bytes(svg.as_bytes(), "t.svg").unwrap();
     generate(&imported.drawing, "t", params, &mut |_, _| {}).unwrap()
 }
 

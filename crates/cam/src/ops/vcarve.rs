@@ -31,7 +31,7 @@
 use super::chain::{inside, Chain, P};
 use super::profile::OFFSET_TOL;
 use super::{Builder, Cut, OpError, RAPID_GAP};
-use crate::{Operation, Shape};
+use crate::{CutterShape, Operation};
 use oficina_geom::{offset_areas, Area, Path};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,7 +53,7 @@ const MAX_INSETS: usize = 200_000;
 /// tan(θ/2) of a V tool, or an error for other shapes.
 pub fn half_tan(cut: &Cut) -> Result<f64, OpError> {
     match cut.tool.shape {
-        Shape::V { angle } => Ok((angle.to_radians() / 2.0).tan()),
+        CutterShape::V { angle } => Ok((angle.to_radians() / 2.0).tan()),
         _ => Err(OpError::Invalid(format!(
             "V-carving needs a V bit (v:DIAMETER:ANGLE), not {}",
             cut.tool.spec()
