@@ -1,0 +1,57 @@
+//! `oficina emulate --machine router-4axis` is grblHAL with a 4th axis A, and `oficina run`
+//! drives a 4-axis program on it through the `Machine` trait to the end. (The emulator's A
+//! and its timing against the planner are checked in simulated time by
+//! crates/grbl-emu/tests/rotary.rs; this runs in real time, so the program is short.)
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+fn oficina() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+}
+
+#[test]
+fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
+    let mut emulator = oficina()
+        .args(["emulate", "grbl", "--machine", "router-4axis"])
+        .args(["--tcp", "127.0.0.1:0", "--baud", "0", "--for-seconds", "60"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(emulator.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let addr = first
+        .split_whitespace()
+        .find(|w| w.starts_with("tcp://"))
+        .expect(&first)
+        .to_string();
+    let dir = std::env::temp_dir().join(format!("oficina-grbl-rotary-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("turn.ngc");
+    // A alone (F in °/min), then X with A (F in mm/min along X): about 1.5 s of motion.
+    std::fs::write(
+        &path,
+        "G21 G90 G94\nG0 X5 A0\nG1 A90 F5400\nG1 X10 A120 F600\nG0 A0\nM2\n",
+    )
+    .unwrap();
+    let out = oficina()
+        .arg("run")
+        .arg(&path)
+        .args(["--machine", &addr])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let _ = emulator.kill();
+    let _ = emulator.wait();
+    let _ = std::fs::remove_dir_all(&dir);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("done:"), "{stdout}");
+}
