@@ -108,7 +108,7 @@ pub fn check_program_with_tools(
     run.initial_params = profile.initial_params();
     run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), axis_rapid_rates(profile));
+    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
     let mut ops = 0u64;
     let mut stream = CanonStream::spawn(reader(text), run);
     let planned = oficina_motion::estimate(
@@ -169,22 +169,6 @@ fn report(
             .map_err(|e| e.to_string()),
         machine: machine.to_string(),
     }
-}
-
-/// Top speed of X, Y and Z in mm/min for the feed-rate figure; on machines whose joints are
-/// not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands in.
-pub(crate) fn axis_rapid_rates(profile: &Profile) -> [f64; 3] {
-    use oficina_motion::KinematicsKind;
-    let rate = |j: &Option<oficina_motion::Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
-    if profile.kinematics == KinematicsKind::Cartesian {
-        return [0, 1, 2].map(|i| rate(&profile.joints[i]).unwrap_or(0.0));
-    }
-    let slowest = (0..3)
-        .filter(|&i| !profile.kinematics.is_angular(i))
-        .filter_map(|i| rate(&profile.joints[i]))
-        .fold(f64::INFINITY, f64::min);
-    let slowest = if slowest.is_finite() { slowest } else { 0.0 };
-    [slowest; 3]
 }
 
 #[cfg(test)]

@@ -222,6 +222,25 @@ fn work_offset(
 }
 
 impl Profile {
+    /// Top speed of X, Y and Z in mm/min for a feed-rate figure; on machines whose joints
+    /// are not the Cartesian axes (polar, polargraph, CoreXY) the slowest linear joint stands
+    /// in. (`JointBound` gives the tighter joint-space bound.)
+    pub fn axis_rapid_rates(&self) -> [f64; 3] {
+        let rate = |j: &Option<Joint>| j.as_ref().map(|j| j.max_rate * 60.0);
+        if self.kinematics == KinematicsKind::Cartesian {
+            return [0, 1, 2].map(|i| rate(&self.joints[i]).unwrap_or(0.0));
+        }
+        let slowest = (0..3)
+            .filter(|&i| !self.kinematics.is_angular(i))
+            .filter_map(|i| rate(&self.joints[i]))
+            .fold(f64::INFINITY, f64::min);
+        if slowest.is_finite() {
+            [slowest; 3]
+        } else {
+            [0.0; 3]
+        }
+    }
+
     /// The parameter values the machine holds at power-up, for the interpreter: the stored
     /// G54 offset in #5221…#5223 (LinuxCNC's numbering), in mm.
     pub fn initial_params(&self) -> Vec<(i64, f64)> {
