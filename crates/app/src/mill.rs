@@ -4,8 +4,8 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    allowed_region, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams, Entry, MillOp,
-    PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
+    allowed_region, preview_canon_svg, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams,
+    Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;
@@ -290,7 +290,13 @@ pub fn mill(
         warning,
         op_name: op.name(),
         moves: tp.move_count(),
-        preview_svg: preview_svg(&paths, &tp),
+        // Under G41/G42 the moves are the outline: show the compensated path the
+        // interpreter read back instead, the tool centre as the control will move it.
+        preview_svg: if p.comp {
+            preview_canon_svg(&paths, &judged.canon, p.safe_z)
+        } else {
+            preview_svg(&paths, &tp)
+        },
         judged,
     })
 }

@@ -336,3 +336,73 @@ fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
     assert!(String::from_utf8_lossy(&refused.stderr).contains("no cutter radius compensation"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Distance from `p` to the boundary of the axis-aligned square [0, s]², negative inside.
+fn square_distance(p: [f64; 2], s: f64) -> f64 {
+    let h = s / 2.0;
+    let (dx, dy) = ((p[0] - h).abs() - h, (p[1] - h).abs() - h);
+    if dx > 0.0 || dy > 0.0 {
+        dx.max(0.0).hypot(dy.max(0.0))
+    } else {
+        dx.max(dy)
+    }
+}
+
+#[test]
+fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
+    // A 40 mm square cut outside with a 6 mm mill under G41: the program holds the
+    // outline, the preview must show where the control moves the tool: 3 mm outside it.
+    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-svg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("square.svg");
+    std::fs::write(
+        &svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="40mm" viewBox="0 0 40 40"><rect x="0" y="0" width="40" height="40"/></svg>"#,
+    )
+    .unwrap();
+    let out = dir.join("p.ngc");
+    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .arg("mill")
+        .arg(&svg)
+        .args(["--op", "profile-out", "--tool", "flat:6", "--depth", "2"])
+        .args(["--lead-in", "0", "--allowance", "0", "--comp", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let preview = std::fs::read_to_string(out.with_extension("svg")).unwrap();
+    // The cutting moves: blue polylines, "x,y x,y …".
+    let pts: Vec<[f64; 2]> = preview
+        .lines()
+        .filter(|l| l.contains(r#"stroke="blue""#))
+        .flat_map(|l| {
+            let inner = l
+                .split("points=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap();
+            inner
+                .split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    [x.parse().unwrap(), y.parse().unwrap()]
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(pts.len() > 10, "{preview}");
+    // Nothing the tool centre does is nearer the outline than the radius (the entry and
+    // exit moves come from farther out), and the wall pass is the radius away.
+    let d: Vec<f64> = pts.iter().map(|&p| square_distance(p, 40.0)).collect();
+    let nearest = d.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest > 3.0 - 2e-3,
+        "a point {nearest} mm from the outline"
+    );
+    let on_wall = d.iter().filter(|&&v| (v - 3.0).abs() < 2e-3).count();
+    assert!(on_wall * 10 >= pts.len() * 8, "{on_wall} of {}", pts.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
