@@ -96,7 +96,7 @@ fn rs274_accepts(text: &str) {
     let file = dir.join("p.ngc");
     std::fs::write(&file, text).unwrap();
     let tbl = dir.join("t.tbl");
-    std::fs::write(&tbl, "T1 P1 D6 Z0\n").unwrap();
+    std::fs::write(&tbl, "T1 P1 D6 Z0\nT2 P2 D2 Z0\n").unwrap();
     let out = Command::new("rs274")
         .arg("-g")
         .arg("-t")
@@ -404,5 +404,46 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
     );
     let on_wall = d.iter().filter(|&&v| (v - 3.0).abs() < 2e-3).count();
     assert!(on_wall * 10 >= pts.len() * 8, "{on_wall} of {}", pts.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
+    // A 30 × 20 pocket with a 3 mm slot off its side: the 6 mm mill cannot enter the slot
+    // nor its corners; `--rest-tool flat:2` must leave nothing the 2 mm one can reach.
+    let dir = std::env::temp_dir().join(format!("oficina-mill-rest-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("slot.svg");
+    std::fs::write(
+        &svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm" viewBox="0 0 50 20"><path d="M0 0 H30 V8 H45 V11 H30 V20 H0 Z"/></svg>"#,
+    )
+    .unwrap();
+    let out = dir.join("p.ngc");
+    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .arg("mill")
+        .arg(&svg)
+        .args(["--op", "pocket", "--tool", "flat:6", "--depth", "3"])
+        .args(["--rest-tool", "flat:2", "--check-pixel", "0.1", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{said}");
+    assert!(said.contains("gouge:    none"), "{said}");
+    assert!(said.contains("T2 flat:2: "), "{said}");
+    let leftover: f64 = said
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("leftover: "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap();
+    // Judged against what the last tool (2 mm) can reach: the slot left standing alone
+    // (15 × 3 × 3 mm over the checked area) would be about 0.03 mm.
+    assert!(leftover < 0.005, "{said}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("T2 M6") || text.contains("T2"), "{text}");
+    rs274_accepts(&text);
     let _ = std::fs::remove_dir_all(&dir);
 }
