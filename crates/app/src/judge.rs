@@ -18,6 +18,9 @@ pub const GOUGE_REPORTED: f64 = 1e-3;
 pub struct Judged {
     #[serde(skip)]
     pub program: String,
+    /// The program as the interpreter read it back (what the control will do).
+    #[serde(skip)]
+    pub canon: Vec<oficina_canon::Canon>,
     /// Deepest cut outside the design and where, when the design was checked.
     pub gouge: Option<(f64, [f64; 2])>,
     pub leftover_mean: Option<f64>,
@@ -154,6 +157,7 @@ pub(crate) fn judge(
     };
     Ok(Judged {
         program,
+        canon,
         gouge,
         leftover_mean,
         feed_only_s,

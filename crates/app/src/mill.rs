@@ -4,8 +4,8 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    allowed_region, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams, Entry, MillOp,
-    PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
+    allowed_region, preview_canon_svg, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams,
+    Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;
@@ -88,6 +88,9 @@ pub struct MillParams {
     pub check_pixel: f64,
     /// V-carving: largest height of material left at the medial axis and on capped floors.
     pub leftover: f64,
+    /// A smaller tool (tool number + 1) for what the tool could not reach (pocket,
+    /// profile-in): corners tighter than its radius, features narrower than it.
+    pub rest_tool: Option<String>,
     /// Carve this text (Hershey Roman Simplex, single strokes) instead of a drawing.
     pub text: Option<String>,
     /// Capital height of `text`, mm.
@@ -125,6 +128,7 @@ impl Default for MillParams {
             safe_z: 20.0,
             check_pixel: 0.2,
             leftover: 0.05,
+            rest_tool: None,
             text: None,
             text_height: 10.0,
             post: PostParams::default(),
@@ -255,7 +259,18 @@ pub fn mill(
         )));
     }
     fb.stage(&format!("{} with {}", op.name(), cut.tool.spec()))?;
-    let tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| Error::chain(&e))?;
+    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| Error::chain(&e))?;
+    let mut warning = warning;
+    if let Some(spec) = &p.rest_tool {
+        match rest_operation(&paths, &cut, &op, spec)? {
+            Some(rest) => tp.operations.push(rest),
+            None => {
+                warning = Some(format!(
+                    "--rest-tool {spec}: nothing left that it can reach, no rest pass"
+                ))
+            }
+        }
+    }
     let settings = vec![
         ("input".into(), input.display().to_string()),
         ("operation".into(), op.name().into()),
@@ -290,9 +305,55 @@ pub fn mill(
         warning,
         op_name: op.name(),
         moves: tp.move_count(),
-        preview_svg: preview_svg(&paths, &tp),
+        // Under G41/G42 the moves are the outline: show the compensated path the
+        // interpreter read back instead, the tool centre as the control will move it.
+        preview_svg: if p.comp {
+            preview_canon_svg(&paths, &judged.canon, p.safe_z)
+        } else {
+            preview_svg(&paths, &tp)
+        },
         judged,
     })
+}
+
+/// The rest pass of `spec` (tool number + 1) after `op` with `cut`'s tool.
+fn rest_operation(
+    paths: &[oficina_geom::Path],
+    cut: &Cut,
+    op: &MillOp,
+    spec: &str,
+) -> Result<Option<oficina_cam::Operation>, Error> {
+    let tool: Tool = spec
+        .parse()
+        .map_err(|e| Error(format!("--rest-tool {spec}: {e}")))?;
+    let inside = matches!(
+        op,
+        MillOp::Pocket(_)
+            | MillOp::Profile(ProfileParams {
+                side: Side::Inside,
+                ..
+            })
+    );
+    if !inside {
+        return Err(Error(
+            "--rest-tool works after --op pocket or profile-in".into(),
+        ));
+    }
+    let d = tool.diameter;
+    let rest_cut = Cut {
+        tool_number: cut.tool_number + 1,
+        stepdown: (d / 2.0).min(cut.depth),
+        tool,
+        ..cut.clone()
+    };
+    let region = oficina_geom::Area::from_paths(paths);
+    oficina_cam::ops::rest_machining(
+        &format!("rest ({spec} after {})", cut.tool.spec()),
+        &region,
+        cut.radius(),
+        &rest_cut,
+    )
+    .map_err(|e| Error(format!("--rest-tool {spec}: {e}")))
 }
 
 /// Single-stroke paths of `text` (Hershey Roman Simplex), capitals `height` mm tall, the

@@ -33,6 +33,10 @@ pub struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
     #[arg(required_unless_present = "text")]
     pub input: Option<PathBuf>,
+    /// Rest machining after a pocket or profile-in: this smaller tool (number
+    /// --tool-number + 1) cuts what the first could not reach (flat:1, …).
+    #[arg(long)]
+    pub rest_tool: Option<String>,
     /// Carve this text in Hershey Roman Simplex single strokes instead of a drawing.
     #[arg(long, conflicts_with = "input")]
     pub text: Option<String>,
@@ -239,6 +243,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         safe_z: args.safe_z,
         check_pixel: args.check_pixel,
         leftover: args.leftover,
+        rest_tool: args.rest_tool.clone(),
         text: args.text.clone(),
         text_height: args.text_height,
         post: args.out.params(),

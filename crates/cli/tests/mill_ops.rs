@@ -96,7 +96,7 @@ fn rs274_accepts(text: &str) {
     let file = dir.join("p.ngc");
     std::fs::write(&file, text).unwrap();
     let tbl = dir.join("t.tbl");
-    std::fs::write(&tbl, "T1 P1 D6 Z0\n").unwrap();
+    std::fs::write(&tbl, "T1 P1 D6 Z0\nT2 P2 D2 Z0\n").unwrap();
     let out = Command::new("rs274")
         .arg("-g")
         .arg("-t")
@@ -334,5 +334,116 @@ fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
     let refused = run("grbl");
     assert!(!refused.status.success());
     assert!(String::from_utf8_lossy(&refused.stderr).contains("no cutter radius compensation"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Distance from `p` to the boundary of the axis-aligned square [0, s]², negative inside.
+fn square_distance(p: [f64; 2], s: f64) -> f64 {
+    let h = s / 2.0;
+    let (dx, dy) = ((p[0] - h).abs() - h, (p[1] - h).abs() - h);
+    if dx > 0.0 || dy > 0.0 {
+        dx.max(0.0).hypot(dy.max(0.0))
+    } else {
+        dx.max(dy)
+    }
+}
+
+#[test]
+fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
+    // A 40 mm square cut outside with a 6 mm mill under G41: the program holds the
+    // outline, the preview must show where the control moves the tool: 3 mm outside it.
+    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-svg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("square.svg");
+    std::fs::write(
+        &svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="40mm" height="40mm" viewBox="0 0 40 40"><rect x="0" y="0" width="40" height="40"/></svg>"#,
+    )
+    .unwrap();
+    let out = dir.join("p.ngc");
+    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .arg("mill")
+        .arg(&svg)
+        .args(["--op", "profile-out", "--tool", "flat:6", "--depth", "2"])
+        .args(["--lead-in", "0", "--allowance", "0", "--comp", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let preview = std::fs::read_to_string(out.with_extension("svg")).unwrap();
+    // The cutting moves: blue polylines, "x,y x,y …".
+    let pts: Vec<[f64; 2]> = preview
+        .lines()
+        .filter(|l| l.contains(r#"stroke="blue""#))
+        .flat_map(|l| {
+            let inner = l
+                .split("points=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap();
+            inner
+                .split_whitespace()
+                .map(|xy| {
+                    let (x, y) = xy.split_once(',').unwrap();
+                    [x.parse().unwrap(), y.parse().unwrap()]
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(pts.len() > 10, "{preview}");
+    // Nothing the tool centre does is nearer the outline than the radius (the entry and
+    // exit moves come from farther out), and the wall pass is the radius away.
+    let d: Vec<f64> = pts.iter().map(|&p| square_distance(p, 40.0)).collect();
+    let nearest = d.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(
+        nearest > 3.0 - 2e-3,
+        "a point {nearest} mm from the outline"
+    );
+    let on_wall = d.iter().filter(|&&v| (v - 3.0).abs() < 2e-3).count();
+    assert!(on_wall * 10 >= pts.len() * 8, "{on_wall} of {}", pts.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
+    // A 30 × 20 pocket with a 3 mm slot off its side: the 6 mm mill cannot enter the slot
+    // nor its corners; `--rest-tool flat:2` must leave nothing the 2 mm one can reach.
+    let dir = std::env::temp_dir().join(format!("oficina-mill-rest-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("slot.svg");
+    std::fs::write(
+        &svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="50mm" height="20mm" viewBox="0 0 50 20"><path d="M0 0 H30 V8 H45 V11 H30 V20 H0 Z"/></svg>"#,
+    )
+    .unwrap();
+    let out = dir.join("p.ngc");
+    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .arg("mill")
+        .arg(&svg)
+        .args(["--op", "pocket", "--tool", "flat:6", "--depth", "3"])
+        .args(["--rest-tool", "flat:2", "--check-pixel", "0.1", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{said}");
+    assert!(said.contains("gouge:    none"), "{said}");
+    assert!(said.contains("T2 flat:2: "), "{said}");
+    let leftover: f64 = said
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("leftover: "))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap();
+    // Judged against what the last tool (2 mm) can reach: the slot left standing alone
+    // (15 × 3 × 3 mm over the checked area) would be about 0.03 mm.
+    assert!(leftover < 0.005, "{said}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("T2 M6") || text.contains("T2"), "{text}");
+    rs274_accepts(&text);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -29,7 +29,7 @@ pub use drill::{drill, DrillParams};
 pub use entry::Entry;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
-pub use preview::preview_svg;
+pub use preview::{preview_canon_svg, preview_svg};
 pub use profile::{profile, Comp, ProfileParams, Side, Tabs};
 pub use rest::{rest, rest_machining, rest_pocket};
 pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};

@@ -2,16 +2,13 @@
 //! blue, rapids in dashed red, Y up as on the machine.
 
 use crate::{Move, Toolpath};
+use oficina_canon::{Canon, CanonOp};
 use oficina_geom::Path;
 use std::fmt::Write;
 
-/// The SVG text (mm units).
+/// The SVG text (mm units) of the toolpath's own moves: the tool centre, except under
+/// cutter compensation, where they are the outline (see [`preview_canon_svg`]).
 pub fn preview_svg(drawing: &[Path], tp: &Toolpath) -> String {
-    let mut pts: Vec<[f64; 2]> = drawing
-        .iter()
-        .flat_map(|p| p.flatten(0.05))
-        .map(|p| [p.x, p.y])
-        .collect();
     let (plain, _) = crate::toolpath::plain_moves(
         &tp.operations
             .iter()
@@ -19,6 +16,44 @@ pub fn preview_svg(drawing: &[Path], tp: &Toolpath) -> String {
             .collect::<Vec<_>>(),
         [0.0, 0.0, tp.safe_z],
     );
+    preview_moves(drawing, &plain, tp.safe_z)
+}
+
+/// The SVG text of a program as the interpreter read it back: for G41/G42 programs this is
+/// the compensated tool-centre path the control will cut, not the programmed outline.
+pub fn preview_canon_svg(drawing: &[Path], canon: &[Canon], safe_z: f64) -> String {
+    let pos = |p: &oficina_canon::Pos| [p.x, p.y, p.z];
+    let plain: Vec<Move> = canon
+        .iter()
+        .filter_map(|c| match &c.op {
+            CanonOp::StraightTraverse { to } => Some(Move::Rapid { to: pos(to) }),
+            CanonOp::StraightFeed { to } => Some(Move::Line {
+                to: pos(to),
+                feed: 0.0,
+            }),
+            CanonOp::ArcFeed {
+                plane: oficina_canon::Plane::XY,
+                end,
+                center,
+                turns,
+            } => Some(Move::Arc {
+                to: pos(end),
+                center: *center,
+                ccw: *turns > 0,
+                feed: 0.0,
+            }),
+            _ => None,
+        })
+        .collect();
+    preview_moves(drawing, &plain, safe_z)
+}
+
+fn preview_moves(drawing: &[Path], plain: &[Move], safe_z: f64) -> String {
+    let mut pts: Vec<[f64; 2]> = drawing
+        .iter()
+        .flat_map(|p| p.flatten(0.05))
+        .map(|p| [p.x, p.y])
+        .collect();
     pts.extend(
         plain
             .iter()
@@ -60,7 +95,7 @@ pub fn preview_svg(drawing: &[Path], tp: &Toolpath) -> String {
         let _ = writeln!(s, r#""/>"#);
     }
     // Runs of cutting moves become one polyline; arcs are drawn as chords.
-    let mut at = [f64::NAN, f64::NAN, tp.safe_z];
+    let mut at = [f64::NAN, f64::NAN, safe_z];
     let mut run: Vec<[f64; 2]> = Vec::new();
     let flush = |s: &mut String, run: &mut Vec<[f64; 2]>| {
         if run.len() > 1 {
@@ -72,7 +107,7 @@ pub fn preview_svg(drawing: &[Path], tp: &Toolpath) -> String {
         }
         run.clear();
     };
-    for m in &plain {
+    for m in plain {
         match *m {
             Move::Rapid { to } => {
                 flush(&mut s, &mut run);
