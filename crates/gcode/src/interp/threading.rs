@@ -39,9 +39,9 @@ impl Interpreter {
         }
         let dir = match d.get('P') {
             None => None,
-            Some(p) if p == 0.0 => Some(OrientDir::Shortest),
-            Some(p) if p == 1.0 => Some(OrientDir::Clockwise),
-            Some(p) if p == 2.0 => Some(OrientDir::CounterClockwise),
+            Some(0.0) => Some(OrientDir::Shortest),
+            Some(1.0) => Some(OrientDir::Clockwise),
+            Some(2.0) => Some(OrientDir::CounterClockwise),
             Some(_) => {
                 return Err(self.fail(d.span_of('P'), "P value must be 0,1,or 2 with M19", 0))
             }
