@@ -231,3 +231,26 @@ fn closed_dxf_outlines_fill_when_asked() {
         filled.plan.counts().stitches
     );
 }
+
+#[test]
+fn the_seeds_speed_example_in_its_program() {
+    // §8: two filled polylines of width 8.0 and 5.0 mm → speed level 6 at the start of the
+    // program and level 11 at the start of the second polyline.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="80mm" height="40mm" viewBox="0 0 80 40">
+      <path d="M 10 10 L 70 10" fill="none" stroke="#000" stroke-width="8"/>
+      <path d="M 10 30 L 70 30" fill="none" stroke="#000" stroke-width="5"/></svg>"##;
+    let p = Params {
+        pull_compensation: 0.0,
+        underlay: false,
+        ties: false,
+        ..Params::default()
+    };
+    let plan = from_svg(svg, &p).plan;
+    let ram = Format::SeedRam.write(&plan).unwrap();
+    let speeds: Vec<u8> = ram[9..]
+        .windows(2)
+        .filter(|w| w[0] == 0xFE)
+        .map(|w| w[1])
+        .collect();
+    assert_eq!(speeds, [6, 11]);
+}

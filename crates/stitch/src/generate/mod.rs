@@ -149,6 +149,17 @@ impl Shape {
         self.runs().find_map(|r| r.points.first().copied())
     }
 
+    /// Where [`Shape::reversed`] starts, without building it: the underlay's last point, or
+    /// the top's if there is no underlay.
+    fn reversed_start(&self) -> Option<Point> {
+        let part = if self.underlay.iter().any(|r| !r.points.is_empty()) {
+            &self.underlay
+        } else {
+            &self.top
+        };
+        part.iter().rev().find_map(|r| r.points.last().copied())
+    }
+
     /// The same stitches sewn backwards, underlay still first.
     fn reversed(&self) -> Shape {
         let rev = |runs: &[fill::Run]| {
@@ -429,7 +440,9 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
         }
     }
     let mut blocks = Vec::new();
-    let mut at = Point::ZERO;
+    // The design starts where its first shape does (the seed sews in digitising order; the
+    // first object drawn is where the operator expects the needle to begin).
+    let mut at = shapes.first().and_then(Shape::start).unwrap_or(Point::ZERO);
     let mut first_in_plan = true;
     let mut pool: Vec<Option<Shape>> = shapes.into_iter().map(Some).collect();
     for color in colors {
@@ -443,10 +456,7 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
                         continue;
                     };
                     let fwd = s.start().map_or(f64::INFINITY, |q| q.distance(at));
-                    let bwd = s
-                        .reversed()
-                        .start()
-                        .map_or(f64::INFINITY, |q| q.distance(at));
+                    let bwd = s.reversed_start().map_or(f64::INFINITY, |q| q.distance(at));
                     for (d, rev) in [(fwd, false), (bwd, true)] {
                         if best.is_none_or(|b| d < b.0) {
                             best = Some((d, i, rev));
