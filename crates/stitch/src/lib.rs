@@ -13,7 +13,9 @@ mod table;
 
 pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
 pub use format::{Format, FormatError, Op, Rec};
-pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind, TIE};
+pub use generate::{
+    generate, running, GenerateError, Generated, Params, ShapeKind, MAX_STITCHES, TIE,
+};
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;

@@ -231,3 +231,41 @@ fn closed_dxf_outlines_fill_when_asked() {
         filled.plan.counts().stitches
     );
 }
+
+#[test]
+fn the_seeds_speed_example_in_its_program() {
+    // §8: two filled polylines of width 8.0 and 5.0 mm → speed level 6 at the start of the
+    // program and level 11 at the start of the second polyline.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="80mm" height="40mm" viewBox="0 0 80 40">
+      <path d="M 10 10 L 70 10" fill="none" stroke="#000" stroke-width="8"/>
+      <path d="M 10 30 L 70 30" fill="none" stroke="#000" stroke-width="5"/></svg>"##;
+    let p = Params {
+        pull_compensation: 0.0,
+        underlay: false,
+        ties: false,
+        ..Params::default()
+    };
+    let plan = from_svg(svg, &p).plan;
+    let ram = Format::SeedRam.write(&plan).unwrap();
+    let speeds: Vec<u8> = ram[9..]
+        .windows(2)
+        .filter(|w| w[0] == 0xFE)
+        .map(|w| w[1])
+        .collect();
+    assert_eq!(speeds, [6, 11]);
+}
+
+#[test]
+fn an_absurd_design_is_refused_before_any_stitch_is_made() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="20000mm" height="20000mm" viewBox="0 0 20000 20000">
+      <rect x="0" y="0" width="20000" height="20000" fill="#000"/></svg>"##;
+    let imported = oficina_io::svg::svg_from_bytes(svg.as_bytes(), "huge.svg").unwrap();
+    let e = generate(
+        &imported.drawing,
+        "huge",
+        &Params::default(),
+        &mut |_, _| {},
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("more than the 2000000"), "{e}");
+}

@@ -214,5 +214,11 @@ fn we_read_every_stitch_pyembroidery_writes() {
         let peer = theirs(&peer_read(&py, &path));
         assert!(peer.0.len() > 400, "{format}: {}", peer.0.len());
         assert_eq!(mine, peer, "{format}: every stitch, trims, colour changes");
+        println!(
+            "{format}: pyembroidery wrote {} stitches, {} trims, {} colour changes; we read the same",
+            peer.0.len(),
+            peer.1,
+            peer.2
+        );
     }
 }

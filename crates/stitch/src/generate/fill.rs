@@ -141,9 +141,16 @@ fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) ->
         if rev {
             pts.reverse();
         }
-        match (at, runs.last_mut()) {
-            (Some(e), Some(prev)) if inside_line(e, pts[0], region) => {
-                prev.points.extend(straight(e, pts[0], length));
+        let link = at.and_then(|e| {
+            if inside_line(e, pts[0], region) {
+                Some(straight(e, pts[0], length))
+            } else {
+                edge_travel(e, pts[0], region, length)
+            }
+        });
+        match (link, runs.last_mut()) {
+            (Some(travel), Some(prev)) => {
+                prev.points.extend(travel);
                 prev.points.extend(pts[1..].iter().copied());
             }
             _ => runs.push(Run {
@@ -154,6 +161,79 @@ fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) ->
         at = runs.last().and_then(|r| r.points.last().copied());
     }
     runs
+}
+
+/// Section ends lie on the boundary (within the pull compensation); farther than this from a
+/// ring, a point is not on it.
+const ON_RING: f64 = 0.6;
+
+/// Travel from `a` to `b` along the boundary ring both lie on, the shorter way round, as
+/// running stitches of at most `length` (the fill's rows cover them, as Ink/Stitch's travel
+/// along the outline): no trim, no jump. None when they are not on one ring or the way round
+/// is more than four times the straight line and 20 mm (a jump is better then).
+fn edge_travel(a: Point, b: Point, region: &Region, length: f64) -> Option<Vec<Point>> {
+    let rings = std::iter::once(&region.outer).chain(region.holes.iter());
+    for ring in rings {
+        let r: Vec<Point> = ring.iter().map(|q| Point::new(q[0], q[1])).collect();
+        let n = r.len();
+        if n < 3 {
+            continue;
+        }
+        // Arc position along the ring of the nearest point to p, and its distance.
+        let project = |p: Point| {
+            let mut best = (f64::INFINITY, 0.0, Point::ZERO);
+            let mut s0 = 0.0;
+            for i in 0..n {
+                let (u, v) = (r[i], r[(i + 1) % n]);
+                let l = u.distance(v);
+                let t = if l > 0.0 {
+                    ((p - u).dot(v - u) / (l * l)).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let q = u.lerp(v, t);
+                if q.distance(p) < best.0 {
+                    best = (q.distance(p), s0 + t * l, q);
+                }
+                s0 += l;
+            }
+            (best, s0)
+        };
+        let (((da, sa, qa), total), ((db, sb, qb), _)) = (project(a), project(b));
+        if da > ON_RING || db > ON_RING {
+            continue;
+        }
+        let fwd = (sb - sa).rem_euclid(total);
+        let forward = fwd <= total - fwd;
+        let way = fwd.min(total - fwd);
+        if way > (4.0 * a.distance(b)).max(20.0) {
+            return None;
+        }
+        // The ring's vertices strictly between the two arc positions, in travel order.
+        let mut cum = Vec::with_capacity(n);
+        let mut s0 = 0.0;
+        for i in 0..n {
+            cum.push(s0);
+            s0 += r[i].distance(r[(i + 1) % n]);
+        }
+        let mut path = vec![a, qa];
+        let mut between: Vec<(f64, Point)> = (0..n)
+            .filter_map(|i| {
+                let off = if forward {
+                    (cum[i] - sa).rem_euclid(total)
+                } else {
+                    (sa - cum[i]).rem_euclid(total)
+                };
+                (off > 1e-9 && off < way - 1e-9).then_some((off, r[i]))
+            })
+            .collect();
+        between.sort_by(|x, y| x.0.total_cmp(&y.0));
+        path.extend(between.into_iter().map(|(_, q)| q));
+        path.extend([qb, b]);
+        let pts = super::running::running(&path, length);
+        return Some(pts[1..].to_vec());
+    }
+    None
 }
 
 /// The x of the needle points of one row segment, from its start end to its other end.
@@ -279,5 +359,21 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn sections_around_a_hole_travel_along_its_edge_instead_of_jumping() {
+        let r = Region {
+            outer: vec![[0.0, 0.0], [30.0, 0.0], [30.0, 30.0], [0.0, 30.0]],
+            holes: vec![vec![[10.0, 10.0], [10.0, 20.0], [20.0, 20.0], [20.0, 10.0]]],
+        };
+        let runs = tatami(&r, &params());
+        assert_eq!(runs.len(), 1, "one continuous run, no jump");
+        let pts = all(&runs);
+        // No needle point inside the hole (its edge allowed), every stitch ≤ 3 mm.
+        assert!(!pts
+            .iter()
+            .any(|q| q.x > 10.01 && q.x < 19.99 && q.y > 10.01 && q.y < 19.99));
+        assert!(pts.windows(2).all(|w| w[0].distance(w[1]) <= 3.0 + 1e-9));
     }
 }

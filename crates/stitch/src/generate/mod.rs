@@ -7,7 +7,9 @@
 //! Shapes are grouped by thread colour in order of first appearance (the seed: "group all
 //! primitives of one colour" to save thread changes), within a colour fills first, then
 //! satins, then running lines (details on top), each group ordered nearest-neighbour from
-//! where the needle is, each shape sewn forwards or backwards, whichever starts nearer.
+//! where the needle is, each shape sewn forwards or backwards, whichever starts nearer (plot's
+//! `nearest_neighbour` assumes a stroke reversed starts at its end; a shape with underlay
+//! does not, so the order is chosen here on each shape's two real starts).
 //! Travel: a jump; longer than `trim_length` a trim first. The design is centred on the
 //! hoop centre.
 
@@ -120,6 +122,32 @@ impl Params {
     }
 }
 
+/// The most stitches a design may have (commercial designs rarely pass 200,000).
+pub const MAX_STITCHES: usize = 2_000_000;
+
+/// An upper estimate of the stitches, before any is made: fills by their bounding boxes'
+/// area over (row spacing × stitch length), satins by length over spacing, doubled, running
+/// stitch by length over stitch length.
+fn estimate_stitches(drawing: &Drawing, p: &Params) -> f64 {
+    drawing
+        .paths()
+        .map(|path| {
+            let len = path.length();
+            let st = path.style;
+            let area = path.bounding_box().map_or(0.0, |b| b.area());
+            let mut n = len / p.stitch_length.min(p.satin_spacing) * 2.0;
+            if st.fill.is_some() || p.fill_closed {
+                n += area / (p.fill_spacing * p.fill_stitch_length.min(1.0)) * 2.0;
+            }
+            if n.is_finite() {
+                n
+            } else {
+                f64::INFINITY
+            }
+        })
+        .sum()
+}
+
 /// Stitch type of a shape, in the order they are sewn within a colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum ShapeKind {
@@ -147,6 +175,17 @@ impl Shape {
 
     fn start(&self) -> Option<Point> {
         self.runs().find_map(|r| r.points.first().copied())
+    }
+
+    /// Where [`Shape::reversed`] starts, without building it: the underlay's last point, or
+    /// the top's if there is no underlay.
+    fn reversed_start(&self) -> Option<Point> {
+        let part = if self.underlay.iter().any(|r| !r.points.is_empty()) {
+            &self.underlay
+        } else {
+            &self.top
+        };
+        part.iter().rev().find_map(|r| r.points.last().copied())
     }
 
     /// The same stitches sewn backwards, underlay still first.
@@ -194,6 +233,13 @@ pub fn generate(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Generated, GenerateError> {
     p.check()?;
+    let estimate = estimate_stitches(drawing, p);
+    if estimate > MAX_STITCHES as f64 {
+        return Err(GenerateError(format!(
+            "{name}: about {estimate:.0} stitches at these settings, more than the {MAX_STITCHES} \
+             a design may have: scale the design down or use longer stitches / wider spacing"
+        )));
+    }
     let groups = elements(drawing);
     let total = groups.len();
     let mut shapes: Vec<Shape> = Vec::new();
@@ -429,7 +475,9 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
         }
     }
     let mut blocks = Vec::new();
-    let mut at = Point::ZERO;
+    // The design starts where its first shape does (the seed sews in digitising order; the
+    // first object drawn is where the operator expects the needle to begin).
+    let mut at = shapes.first().and_then(Shape::start).unwrap_or(Point::ZERO);
     let mut first_in_plan = true;
     let mut pool: Vec<Option<Shape>> = shapes.into_iter().map(Some).collect();
     for color in colors {
@@ -443,10 +491,7 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
                         continue;
                     };
                     let fwd = s.start().map_or(f64::INFINITY, |q| q.distance(at));
-                    let bwd = s
-                        .reversed()
-                        .start()
-                        .map_or(f64::INFINITY, |q| q.distance(at));
+                    let bwd = s.reversed_start().map_or(f64::INFINITY, |q| q.distance(at));
                     for (d, rev) in [(fwd, false), (bwd, true)] {
                         if best.is_none_or(|b| d < b.0) {
                             best = Some((d, i, rev));

@@ -14,6 +14,14 @@ const MITRE_LIMIT: f64 = 3.0;
 
 /// Left and right rails of a centreline at half-width `h`.
 pub fn rails(center: &[Point], h: f64) -> (Vec<Point>, Vec<Point>) {
+    // Repeated points have no direction.
+    let mut pts: Vec<Point> = Vec::with_capacity(center.len());
+    for &p in center {
+        if pts.last().is_none_or(|q: &Point| q.distance(p) > 1e-6) {
+            pts.push(p);
+        }
+    }
+    let center = &pts[..];
     let n = center.len();
     let normal = |a: Point, b: Point| {
         let d = (b - a).normalize();
@@ -28,8 +36,13 @@ pub fn rails(center: &[Point], h: f64) -> (Vec<Point>, Vec<Point>) {
             (Some(a), Some(b)) => {
                 // The mitre: the bisector scaled by 1 / cos(half the turn).
                 let m = a + b;
-                let cos_half = (m.hypot() / 2.0).max(1.0 / MITRE_LIMIT);
-                m.normalize() * (h / cos_half)
+                if m.hypot() < 1e-9 {
+                    // A hairpin: the column turns back on itself.
+                    a * h
+                } else {
+                    let cos_half = (m.hypot() / 2.0).max(1.0 / MITRE_LIMIT);
+                    m.normalize() * (h / cos_half)
+                }
             }
             (Some(a), None) | (None, Some(a)) => a * h,
             (None, None) => Vec2::ZERO,
