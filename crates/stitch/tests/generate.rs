@@ -259,7 +259,7 @@ fn the_seeds_speed_example_in_its_program() {
 fn an_absurd_design_is_refused_before_any_stitch_is_made() {
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="20000mm" height="20000mm" viewBox="0 0 20000 20000">
       <rect x="0" y="0" width="20000" height="20000" fill="#000"/></svg>"##;
-    let imported = oficina_io::svg::svg_from_bytes(svg.as_bytes(), "huge.svg").unwrap();
+    let imported = oficina_io::svg_from_bytes(svg.as_bytes(), "huge.svg").unwrap();
     let e = generate(
         &imported.drawing,
         "huge",

@@ -36,6 +36,7 @@ pub fn preview_canon_svg(drawing: &[Path], canon: &[Canon], safe_z: f64) -> Stri
                 end,
                 center,
                 turns,
+                ..
             } => Some(Move::Arc {
                 to: pos(end),
                 center: *center,
