@@ -80,9 +80,11 @@ pub fn run(args: Args) -> Result<()> {
         );
     }
     let c = args.peer_crop;
-    if !args.no_peer && !(64..=args.size).contains(&c) {
+    // The quality comparison leaves out a tool-diameter margin on each side of the crop.
+    let least = 2 * (BALL_DIAMETER / PIXEL).ceil() as usize + 8;
+    if !args.no_peer && !(least..=args.size).contains(&c) {
         bail!(
-            "--peer-crop must be between 64 and --size ({}), got {c}",
+            "--peer-crop must be between {least} and --size ({}), got {c}",
             args.size
         );
     }

@@ -201,7 +201,10 @@ fn rs274_feed_ends(text: &str) -> Vec<P3> {
     std::fs::write(&file, text).unwrap();
     // Without an INI file rs274 reads the tool table in inches.
     std::fs::write(&tbl, format!("T1 P1 D{:.10} Z0\n", 6.0 / 25.4)).unwrap();
+    // rs274 keeps its tool table in `$HOME/.tool.mmap`: a private HOME keeps a concurrent
+    // rs274 (another test, another checkout) from changing T1 under this one.
     let out = Command::new("rs274")
+        .env("HOME", &dir)
         .arg("-g")
         .arg("-t")
         .arg(&tbl)
