@@ -328,7 +328,7 @@ impl Interpreter {
         if !(arcs_and_g10 || cycle || sync || tap || thread) {
             unused(
                 'K',
-                "K word with no G2, G3, G5, G5.1, G10, G33, G33.1, G76, or G87 to use it",
+                "K word with no G2, G3, G33, G33.1, G76, or G87 to use it",
             )?;
         }
         if !(arc || g10 || cycle || thread || orient) {
