@@ -25,6 +25,8 @@ pub struct SoleParams {
     /// Grid of the stock simulation, mm.
     pub check_pixel: f64,
     /// A drawing (SVG/DXF) of the insert's tread details, closed shapes in the points' frame.
+    /// Never read from a form: a path from the page could name any file on the server.
+    #[serde(skip)]
     pub tread: Option<std::path::PathBuf>,
     #[serde(flatten)]
     pub post: PostParams,
