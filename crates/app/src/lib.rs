@@ -24,6 +24,7 @@
 //! ```
 
 mod check;
+pub mod embroider;
 mod error;
 mod job;
 pub mod jog;

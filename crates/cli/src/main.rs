@@ -10,6 +10,7 @@ mod bench_stream;
 mod carve;
 mod check;
 mod console;
+mod embroider;
 mod emulate;
 mod fit;
 mod gcode_canon;
@@ -67,6 +68,8 @@ enum Command {
     Plot(plot::Args),
     /// The web workbench: editor, preview and machine panel in the browser (127.0.0.1:7878).
     Serve(serve::Args),
+    /// Embroidery: SVG/DXF → running/satin/fill stitches → hoop, sheet, DST/EXP, table run.
+    Embroider(embroider::Args),
 }
 
 #[derive(Subcommand)]
@@ -119,6 +122,7 @@ fn main() -> ExitCode {
         Command::Sole(args) => sole::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Serve(args) => serve::run(args),
+        Command::Embroider(args) => embroider::run(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),

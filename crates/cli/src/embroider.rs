@@ -1,0 +1,256 @@
+//! `oficina embroider DESIGN.svg -o out.dst`: an SVG/DXF design becomes an embroidery file,
+//! with the production sheet, a preview and a run on the needle-synchronised table.
+//! `oficina embroider --info FILE.dst` prints the sheet of any DST/EXP file.
+
+use anyhow::Context;
+use oficina_app::embroider::{embroider, read_stitch_file, sheet_of, EmbroiderParams};
+use oficina_app::Feedback;
+use oficina_stitch::{duration, preview_svg, Format, Params, RunReport, Sheet};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
+    /// strokes → running stitch).
+    input: Option<PathBuf>,
+    /// Where to write the embroidery file (.dst, .exp, or .ram: the seed's program).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// File format (default: from the output's extension, else dst).
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// Running stitch length, mm (the seed's PASSO, 0.1–12.7).
+    #[arg(long, default_value_t = 2.5)]
+    stitch_length: f64,
+    /// Fill row angle, degrees from X.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    fill_angle: f64,
+    /// Fill row spacing, mm.
+    #[arg(long, default_value_t = 0.4)]
+    fill_spacing: f64,
+    /// Fill stitch length, mm.
+    #[arg(long, default_value_t = 3.0)]
+    fill_stitch_length: f64,
+    /// Satin zig spacing on the outer edge, mm.
+    #[arg(long, default_value_t = 0.4)]
+    satin_spacing: f64,
+    /// Strokes at least this wide (mm) sew as satin columns.
+    #[arg(long, default_value_t = 1.0)]
+    satin_min_width: f64,
+    /// Pull compensation: mm added to satin widths and fill rows.
+    #[arg(long, default_value_t = 0.2)]
+    pull_compensation: f64,
+    /// No underlay under satins and fills.
+    #[arg(long)]
+    no_underlay: bool,
+    /// Fill closed paths that have no fill colour (DXF outlines) instead of outlining them.
+    #[arg(long)]
+    fill_closed: bool,
+    /// No lock stitches (tie-in / tie-off) where the thread is cut.
+    #[arg(long)]
+    no_ties: bool,
+    /// Trim before jumps longer than this, mm.
+    #[arg(long, default_value_t = 3.0)]
+    trim_length: f64,
+    /// Hoop by name (round-100 … round-325, oval-110x160 … oval-220x360) or seed code (C01,
+    /// O05); default: the smallest that fits.
+    #[arg(long)]
+    hoop: Option<String>,
+    /// Write the production sheet (.html for HTML, else text).
+    #[arg(long)]
+    sheet: Option<PathBuf>,
+    /// Write an SVG preview in the thread colours (jumps dashed, hoop drawn).
+    #[arg(long)]
+    preview: Option<PathBuf>,
+    /// Print the sheet of an existing .dst/.exp/.ram file instead.
+    #[arg(long, conflicts_with = "input")]
+    info: Option<PathBuf>,
+    /// Sew it on the virtual needle-synchronised table: report the time and every stitch the
+    /// table cannot finish while the needle is up (exit 1 if any).
+    #[arg(long)]
+    run: bool,
+    /// The table: embroidery-table (the seed's, limits from its head-speed table) or a motion
+    /// profile whose X/Y joints give speed and acceleration (e.g. embroidery-xy).
+    #[arg(long, default_value = "embroidery-table")]
+    machine: String,
+    /// Sew at this fixed head speed (stitches/min) instead of the seed's speed codes.
+    #[arg(long)]
+    ppm: Option<f64>,
+    /// Pieces for the sheet's batch time.
+    #[arg(long, default_value_t = 1)]
+    pieces: u32,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FormatArg {
+    Dst,
+    Exp,
+    /// The seed's machine program (0.2 mm steps, speed codes, colour stops), `.ram`.
+    SeedRam,
+}
+
+fn params(a: &Args) -> EmbroiderParams {
+    let format = match a.format {
+        Some(FormatArg::Dst) => Format::Dst,
+        Some(FormatArg::Exp) => Format::Exp,
+        Some(FormatArg::SeedRam) => Format::SeedRam,
+        None => a
+            .output
+            .as_deref()
+            .and_then(Format::from_path)
+            .unwrap_or(Format::Dst),
+    };
+    EmbroiderParams {
+        stitch: Params {
+            stitch_length: a.stitch_length,
+            fill_angle_deg: a.fill_angle,
+            fill_spacing: a.fill_spacing,
+            fill_stitch_length: a.fill_stitch_length,
+            satin_spacing: a.satin_spacing,
+            satin_min_width: a.satin_min_width,
+            pull_compensation: a.pull_compensation,
+            underlay: !a.no_underlay,
+            trim_length: a.trim_length,
+            ties: !a.no_ties,
+            fill_closed: a.fill_closed,
+            ..Params::default()
+        },
+        format,
+        hoop: a.hoop.clone(),
+        table: a.machine.clone(),
+        ppm: a.ppm,
+        pieces: a.pieces,
+    }
+}
+
+fn write_sheet(path: &Path, s: &Sheet) -> anyhow::Result<()> {
+    let html = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    let body = if html { s.html() } else { s.text() };
+    std::fs::write(path, body).with_context(|| format!("writing {}", path.display()))?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+fn print_run(r: &RunReport, machine: &str) -> ExitCode {
+    println!(
+        "run on {machine}: sewing {}, jumps {}, pauses {}, total {}",
+        duration(r.sewing_seconds),
+        duration(r.jump_seconds),
+        duration(r.pause_seconds),
+        duration(r.total_seconds)
+    );
+    for (i, x, y) in r.out_of_travel.iter().take(5) {
+        println!("  entry {i}: ({x:.1}, {y:.1}) mm is beyond the table's travel");
+    }
+    for f in r.faults.iter().take(10) {
+        println!(
+            "  stitch {} (colour {}): {:.2} mm at {} ppm needs {:.1} ms, the needle is up {:.1} ms",
+            f.index + 1,
+            f.block + 1,
+            f.length,
+            f.ppm,
+            f.move_seconds * 1000.0,
+            f.window_seconds * 1000.0
+        );
+    }
+    if r.faults.len() > 10 {
+        println!("  … {} more", r.faults.len() - 10);
+    }
+    if r.faults.is_empty() && r.out_of_travel.is_empty() {
+        println!("every stitch completed within its needle-up window");
+        ExitCode::SUCCESS
+    } else {
+        println!(
+            "the run would stop: {} stitch(es) too long for their window (\"ponto longo demais\"), {} point(s) beyond travel",
+            r.faults.len(),
+            r.out_of_travel.len()
+        );
+        ExitCode::FAILURE
+    }
+}
+
+pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+    let p = params(&a);
+    if let Some(file) = &a.info {
+        let plan = read_stitch_file(file)?;
+        let s = sheet_of(&plan, &p)?;
+        print!("{}", s.text());
+        if let Some(path) = &a.sheet {
+            write_sheet(path, &s)?;
+        }
+        if let Some(path) = &a.preview {
+            std::fs::write(path, preview_svg(&plan, s.hoop.as_ref().ok()))
+                .with_context(|| format!("writing {}", path.display()))?;
+            println!("wrote {}", path.display());
+        }
+        if a.run {
+            return Ok(print_run(&s.run, &a.machine));
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let Some(input) = &a.input else {
+        anyhow::bail!("give a design (SVG/DXF) to embroider, or --info FILE.dst");
+    };
+    // One line per stage, its percentage updated in place.
+    let last = std::sync::Mutex::new(String::new());
+    let progress = |stage: &str, f: f64| {
+        let mut e = std::io::stderr();
+        let mut last = last.lock().unwrap_or_else(|p| p.into_inner());
+        if *last != stage && !last.is_empty() {
+            let _ = writeln!(e);
+        }
+        *last = stage.to_string();
+        let _ = write!(e, "\r{stage} {:>3.0}%", f * 100.0);
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let r = embroider(
+        input,
+        &p,
+        Feedback {
+            progress: &progress,
+            cancel: &cancel,
+        },
+    )?;
+    eprintln!();
+    for n in &r.notes {
+        eprintln!("note: {n}");
+    }
+    let g = &r.generated;
+    println!(
+        "shapes: {} fill, {} satin, {} running",
+        g.fills, g.satins, g.runnings
+    );
+    print!("{}", r.sheet.text());
+    if let Err(e) = &r.sheet.hoop {
+        anyhow::bail!("{e}; nothing written (choose a larger --hoop or scale the design)");
+    }
+    match &a.output {
+        Some(out) => {
+            std::fs::write(out, &r.file).with_context(|| format!("writing {}", out.display()))?;
+            println!(
+                "wrote {} ({}, {} bytes)",
+                out.display(),
+                p.format,
+                r.file.len()
+            );
+        }
+        None if !a.run => eprintln!("note: no -o given, no file written"),
+        None => {}
+    }
+    if let Some(path) = &a.sheet {
+        write_sheet(path, &r.sheet)?;
+    }
+    if let Some(path) = &a.preview {
+        std::fs::write(path, &r.preview).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
+    if a.run {
+        // The sheet's run is the file's plan sewn on the table.
+        return Ok(print_run(&r.sheet.run, &a.machine));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,214 @@
+//! `oficina embroider`: the sample design end to end (file, sheet, preview, table run), the
+//! sheet of a file read back, and the refusals (bad files, hoops too small, bad parameters).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn oficina(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("oficina-embroider-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+fn field(out: &str, key: &str) -> String {
+    out.lines()
+        .find(|l| l.starts_with(key))
+        .map(|l| l[key.len()..].trim().to_string())
+        .unwrap_or_else(|| panic!("no {key} in {out}"))
+}
+
+#[test]
+fn the_sample_sews_end_to_end_and_reads_back() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    for ext in ["dst", "exp"] {
+        let out = scratch(&format!("sunflower.{ext}"));
+        let sheet = scratch(&format!("sheet-{ext}.html"));
+        let preview = scratch(&format!("preview-{ext}.svg"));
+        let o = oficina(&[
+            "embroider",
+            sample.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--sheet",
+            sheet.to_str().unwrap(),
+            "--preview",
+            preview.to_str().unwrap(),
+            "--run",
+        ]);
+        let (stdout, stderr) = text(&o);
+        assert!(o.status.success(), "{stdout}\n{stderr}");
+        assert!(
+            stdout.contains("shapes: 1 fill, 2 satin, 2 running"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("every stitch completed within its needle-up window"),
+            "{stdout}"
+        );
+        assert!(stderr.contains("generating stitches 100%"), "{stderr}");
+        let stitches = field(&stdout, "Stitches");
+        let svg = std::fs::read_to_string(&preview).unwrap();
+        for c in ["#2e8b3a", "#f2c014", "#6b3e1e"] {
+            assert!(svg.contains(c), "{c} missing from the preview");
+            assert!(stdout.contains(c), "{c} missing from the sheet");
+        }
+        assert!(std::fs::read_to_string(&sheet)
+            .unwrap()
+            .contains("<h1>Production sheet"));
+        // The file read back: same stitch count, same hoop, same sewing time.
+        let info = oficina(&["embroider", "--info", out.to_str().unwrap()]);
+        let (info_out, info_err) = text(&info);
+        assert!(info.status.success(), "{info_err}");
+        assert_eq!(field(&info_out, "Stitches"), stitches);
+        assert_eq!(field(&info_out, "Hoop"), field(&stdout, "Hoop"));
+        assert_eq!(
+            field(&info_out, "Sewing time"),
+            field(&stdout, "Sewing time")
+        );
+    }
+}
+
+#[test]
+fn a_slow_table_reports_the_stitches_it_cannot_finish() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    // The bundled embroidery-xy profile (140 mm/s, 5000 mm/s²) cannot move 3 mm fill stitches
+    // in code 11's 47.6 ms window: 2·√(3/5000) = 49 ms.
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--run",
+        "--machine",
+        "embroidery-xy",
+    ]);
+    let (stdout, _) = text(&o);
+    assert!(!o.status.success());
+    assert!(
+        stdout.contains("the needle is up 47.6 ms") && stdout.contains("ponto longo demais"),
+        "{stdout}"
+    );
+    // A fixed 350 ppm (the seed's EMC and PATO runs) gives every stitch 85.7 ms: all finish.
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--run",
+        "--machine",
+        "embroidery-xy",
+        "--ppm",
+        "350",
+    ]);
+    let (stdout, _) = text(&o);
+    assert!(o.status.success(), "{stdout}");
+    assert!(stdout.contains("fixed 350 stitches/min"), "{stdout}");
+}
+
+#[test]
+fn bad_files_and_parameters_get_clear_errors() {
+    let empty = scratch("empty.dst");
+    std::fs::write(&empty, b"").unwrap();
+    let o = oficina(&["embroider", "--info", empty.to_str().unwrap()]);
+    let (_, err) = text(&o);
+    assert!(
+        !o.status.success() && err.contains("empty.dst") && err.contains("the file is empty"),
+        "{err}"
+    );
+
+    let trunc = scratch("trunc.dst");
+    std::fs::write(&trunc, b"LA:x").unwrap();
+    let (_, err) = text(&oficina(&["embroider", "--info", trunc.to_str().unwrap()]));
+    assert!(err.contains("shorter than the 512-byte header"), "{err}");
+
+    let odd = scratch("odd.exp");
+    std::fs::write(&odd, [10u8, 10, 0x80, 0x04, 1]).unwrap();
+    let (_, err) = text(&oficina(&["embroider", "--info", odd.to_str().unwrap()]));
+    assert!(err.contains("byte 2") && err.contains("truncated"), "{err}");
+
+    let txt = scratch("design.pes");
+    std::fs::write(&txt, b"#PES0001").unwrap();
+    let (_, err) = text(&oficina(&["embroider", "--info", txt.to_str().unwrap()]));
+    assert!(err.contains("unknown stitch file extension"), "{err}");
+
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let (_, err) = text(&oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--stitch-length",
+        "0",
+    ]));
+    assert!(
+        err.contains("stitch length (mm) 0 is outside 0.1..12.7"),
+        "{err}"
+    );
+    let (_, err) = text(&oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--hoop",
+        "round-999",
+    ]));
+    assert!(err.contains("--hoop round-999: no such hoop"), "{err}");
+
+    // A design larger than the hoop asked for: refused, nothing written.
+    let big = scratch("big.svg");
+    std::fs::write(
+        &big,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="120mm" height="40mm" viewBox="0 0 120 40">
+        <path d="M 0 20 L 120 20" stroke="#000" stroke-width="0.3" fill="none"/></svg>"##,
+    )
+    .unwrap();
+    let out = scratch("big.dst");
+    let o = oficina(&[
+        "embroider",
+        big.to_str().unwrap(),
+        "--hoop",
+        "round-100",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (_, err) = text(&o);
+    assert!(
+        !o.status.success()
+            && err.contains("leaves hoop round-100")
+            && err.contains("15.0 mm beyond"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn the_seeds_machine_program_is_written_and_read() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let out = scratch("sunflower.ram");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stderr}");
+    let bytes = std::fs::read(&out).unwrap();
+    // Start code, program 1, start (0, 0) in excess 0x8000, hoop C01; ends FF FF.
+    assert_eq!(&bytes[..9], &[0, 0, 1, 0, 0, 0x80, 0, 0x80, 1]);
+    assert_eq!(&bytes[bytes.len() - 2..], &[0xFF, 0xFF]);
+    let info = oficina(&["embroider", "--info", out.to_str().unwrap()]);
+    let (info_out, _) = text(&info);
+    assert_eq!(field(&info_out, "Stitches"), field(&stdout, "Stitches"));
+    assert_eq!(field(&info_out, "Trims"), "0"); // the seed's machine has no trimmer
+}

@@ -1,0 +1,513 @@
+//! A `Drawing` becomes a `StitchPlan`. Per SVG element (its subpaths together):
+//! - a fill colour on closed subpaths → tatami fill (holes from nesting), fill colour;
+//! - a stroke at least `satin_min_width` wide → a satin column along each subpath, or between
+//!   the two rails when the element is exactly two open subpaths (Ink/Stitch's convention);
+//! - any other stroke (or a DXF line) → running stitch.
+//!
+//! Shapes are grouped by thread colour in order of first appearance (the seed: "group all
+//! primitives of one colour" to save thread changes), within a colour fills first, then
+//! satins, then running lines (details on top), each group ordered nearest-neighbour from
+//! where the needle is, each shape sewn forwards or backwards, whichever starts nearer.
+//! Travel: a jump; longer than `trim_length` a trim first. The design is centred on the
+//! hoop centre.
+
+mod fill;
+mod running;
+mod satin;
+
+use crate::plan::{ColorBlock, Kind, Stitch, StitchPlan, Thread};
+use oficina_geom::{offset_regions, Area, Color, Drawing, Join, Path, Point};
+
+pub use fill::FillParams;
+pub use running::running;
+
+/// What the generator needs; lengths in mm, the angle in degrees.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params {
+    /// Running stitch length (the seed's PASSO).
+    pub stitch_length: f64,
+    /// Satin zig spacing on the outer rail.
+    pub satin_spacing: f64,
+    /// Strokes at least this wide sew as satin (the seed's LARGURA starts at 1 mm).
+    pub satin_min_width: f64,
+    pub fill_spacing: f64,
+    pub fill_stitch_length: f64,
+    pub fill_angle_deg: f64,
+    /// Rows per stagger cycle of the tatami grid.
+    pub stagger: u32,
+    /// Underlay: a centre walk under satins, a sparse cross fill under fills.
+    pub underlay: bool,
+    /// Added to satin widths and fill rows (mm in total), against the fabric's pull-in.
+    pub pull_compensation: f64,
+    /// Jumps longer than this are trimmed first.
+    pub trim_length: f64,
+    /// The longest sewn stitch (the seed's machine: 12.4 mm; DST holds 12.1).
+    pub max_stitch: f64,
+    /// Flattening tolerance of curves before stitching.
+    pub tolerance: f64,
+    /// Move the design's centre to the hoop centre (the files' origin).
+    pub center: bool,
+    /// Closed paths without a fill colour (DXF outlines) are filled too, in their stroke
+    /// colour, instead of outlined.
+    pub fill_closed: bool,
+    /// Lock stitches where the thread is cut: a tie-in after each trim or colour change, a
+    /// tie-off before it, each two stitches of `TIE` mm back and forth.
+    pub ties: bool,
+}
+
+/// Length of a lock stitch, mm.
+pub const TIE: f64 = 0.5;
+
+impl Default for Params {
+    fn default() -> Params {
+        Params {
+            stitch_length: 2.5,
+            satin_spacing: 0.4,
+            satin_min_width: 1.0,
+            fill_spacing: 0.4,
+            fill_stitch_length: 3.0,
+            fill_angle_deg: 0.0,
+            stagger: 4,
+            underlay: true,
+            pull_compensation: 0.2,
+            trim_length: 3.0,
+            max_stitch: 12.1,
+            tolerance: 0.02,
+            center: true,
+            ties: true,
+            fill_closed: false,
+        }
+    }
+}
+
+/// Bad parameters or a design with nothing to sew.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct GenerateError(pub String);
+
+impl Params {
+    /// The seed's ranges (PASSO 0.1–12.7 mm) and what keeps the stitch count bounded.
+    pub fn check(&self) -> Result<(), GenerateError> {
+        let range = |name: &str, v: f64, lo: f64, hi: f64| {
+            if v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err(GenerateError(format!("{name} {v} is outside {lo}..{hi}")))
+            }
+        };
+        range("stitch length (mm)", self.stitch_length, 0.1, 12.7)?;
+        range(
+            "fill stitch length (mm)",
+            self.fill_stitch_length,
+            0.5,
+            12.1,
+        )?;
+        range("satin spacing (mm)", self.satin_spacing, 0.1, 5.0)?;
+        range("fill row spacing (mm)", self.fill_spacing, 0.1, 5.0)?;
+        range("satin minimum width (mm)", self.satin_min_width, 0.0, 100.0)?;
+        range("fill angle (degrees)", self.fill_angle_deg, -360.0, 360.0)?;
+        range("pull compensation (mm)", self.pull_compensation, 0.0, 5.0)?;
+        range("trim length (mm)", self.trim_length, 0.0, 1000.0)?;
+        range("maximum stitch (mm)", self.max_stitch, 1.0, 12.7)?;
+        range("tolerance (mm)", self.tolerance, 0.001, 1.0)?;
+        if self.stagger == 0 || self.stagger > 100 {
+            return Err(GenerateError(format!(
+                "stagger {} is outside 1..100",
+                self.stagger
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Stitch type of a shape, in the order they are sewn within a colour.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum ShapeKind {
+    Fill,
+    Satin,
+    Running,
+}
+
+/// One stitched object: underlay runs first, then top runs; a run is reached by a jump
+/// (or sewn into when `sew_into`).
+struct Shape {
+    color: Color,
+    kind: ShapeKind,
+    underlay: Vec<fill::Run>,
+    top: Vec<fill::Run>,
+    /// Whether the backwards shape may sew from its underlay into its top (the forwards
+    /// one says it in its first top run).
+    rev_link: bool,
+}
+
+impl Shape {
+    fn runs(&self) -> impl Iterator<Item = &fill::Run> {
+        self.underlay.iter().chain(self.top.iter())
+    }
+
+    fn start(&self) -> Option<Point> {
+        self.runs().find_map(|r| r.points.first().copied())
+    }
+
+    /// The same stitches sewn backwards, underlay still first.
+    fn reversed(&self) -> Shape {
+        let rev = |runs: &[fill::Run]| {
+            let n = runs.len();
+            (0..n)
+                .rev()
+                .map(|i| fill::Run {
+                    points: runs[i].points.iter().rev().copied().collect(),
+                    // Reaching run i backwards comes from run i + 1: the same link.
+                    sew_into: i + 1 < n && runs[i + 1].sew_into,
+                })
+                .collect()
+        };
+        let mut top: Vec<fill::Run> = rev(&self.top);
+        let fwd_link = self.top.first().is_some_and(|r| r.sew_into);
+        if let Some(t) = top.first_mut() {
+            t.sew_into = self.rev_link && !self.underlay.is_empty();
+        }
+        Shape {
+            color: self.color,
+            kind: self.kind,
+            underlay: rev(&self.underlay),
+            top,
+            rev_link: fwd_link,
+        }
+    }
+}
+
+/// How many shapes of each kind, for the report.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Generated {
+    pub plan: StitchPlan,
+    pub fills: usize,
+    pub satins: usize,
+    pub runnings: usize,
+}
+
+/// Stitches for every path of `drawing`. `progress(done, total)` is called per shape.
+pub fn generate(
+    drawing: &Drawing,
+    name: &str,
+    p: &Params,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Generated, GenerateError> {
+    p.check()?;
+    let groups = elements(drawing);
+    let total = groups.len();
+    let mut shapes: Vec<Shape> = Vec::new();
+    for (n, paths) in groups.iter().enumerate() {
+        shapes.extend(element_shapes(paths, p)?);
+        progress(n + 1, total);
+    }
+    shapes.retain(|s| s.start().is_some());
+    if shapes.is_empty() {
+        return Err(GenerateError(format!(
+            "{name}: nothing to sew (no stroked or filled path with length)"
+        )));
+    }
+    let mut g = Generated::default();
+    for s in &shapes {
+        match s.kind {
+            ShapeKind::Fill => g.fills += 1,
+            ShapeKind::Satin => g.satins += 1,
+            ShapeKind::Running => g.runnings += 1,
+        }
+    }
+    let plan = assemble(shapes, name, p);
+    // Centre the design on the hoop centre.
+    let plan = match plan.bounds().filter(|_| p.center) {
+        Some(b) => plan.translated(-(b[0] + b[2]) / 2.0, -(b[1] + b[3]) / 2.0),
+        None => plan,
+    };
+    g.plan = plan;
+    Ok(g)
+}
+
+/// Paths grouped by their source element, in drawing order (an SVG path's subpaths
+/// together, so holes stay with their outline).
+fn elements(drawing: &Drawing) -> Vec<Vec<&Path>> {
+    let mut out: Vec<Vec<&Path>> = Vec::new();
+    let mut prev: Option<(&str, &str)> = None;
+    for layer in &drawing.layers {
+        for path in &layer.paths {
+            let key = (layer.name.as_str(), path.source.element.as_str());
+            let same = prev == Some(key) && !key.1.is_empty();
+            if same {
+                out.last_mut().unwrap().push(path);
+            } else {
+                out.push(vec![path]);
+            }
+            prev = Some(key);
+        }
+    }
+    out
+}
+
+fn run(points: Vec<Point>) -> fill::Run {
+    fill::Run {
+        points,
+        sew_into: false,
+    }
+}
+
+fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateError> {
+    let mut style = paths[0].style;
+    if p.fill_closed && style.fill.is_none() && paths.iter().any(|q| q.closed) {
+        style.fill = Some(style.stroke.unwrap_or(Color::BLACK));
+        style.stroke = None;
+    }
+    let mut out = Vec::new();
+    if let Some(color) = style.fill {
+        let closed: Vec<Path> = paths
+            .iter()
+            .filter(|q| q.closed)
+            .map(|q| (*q).clone())
+            .collect();
+        for area in Area::from_paths(&closed) {
+            let region = area.to_region(p.tolerance);
+            let angle = p.fill_angle_deg.to_radians();
+            let top = fill::tatami(
+                &region,
+                &FillParams {
+                    spacing: p.fill_spacing,
+                    length: p.fill_stitch_length,
+                    angle,
+                    stagger: p.stagger,
+                    pull_compensation: p.pull_compensation,
+                },
+            );
+            let mut underlay = Vec::new();
+            if p.underlay {
+                // Inset so the underlay never peeks out; rows across the top's.
+                let inset = offset_regions(
+                    std::slice::from_ref(&region),
+                    -0.6,
+                    Join::Miter { min_angle: 0.5 },
+                )
+                .map_err(|e| GenerateError(format!("{}: underlay inset: {e}", paths[0].source)))?;
+                for r in &inset {
+                    underlay.extend(fill::tatami(
+                        r,
+                        &FillParams {
+                            spacing: (4.0 * p.fill_spacing).max(1.5),
+                            length: p.fill_stitch_length,
+                            angle: angle + std::f64::consts::FRAC_PI_2,
+                            stagger: 1,
+                            pull_compensation: 0.0,
+                        },
+                    ));
+                }
+            }
+            // The top is sewn into from the underlay's end where that line stays inside
+            // (the top covers it); the same backwards, from the underlay's start.
+            let mut top = top;
+            let ends = |runs: &[fill::Run]| {
+                Some((*runs.first()?.points.first()?, *runs.last()?.points.last()?))
+            };
+            let mut rev_link = false;
+            if let (Some((u0, u1)), Some((t0, t1))) = (ends(&underlay), ends(&top)) {
+                top[0].sew_into = fill::inside_line(u1, t0, &region);
+                rev_link = fill::inside_line(u0, t1, &region);
+            }
+            out.push(Shape {
+                color,
+                kind: ShapeKind::Fill,
+                underlay,
+                top,
+                rev_link,
+            });
+        }
+    }
+    if let Some(color) = style.stroke.or(if style.fill.is_none() {
+        Some(Color::BLACK)
+    } else {
+        None
+    }) {
+        let lines: Vec<Vec<Point>> = paths
+            .iter()
+            .map(|q| {
+                let mut pts = q.flatten(p.tolerance);
+                if q.closed && !pts.is_empty() {
+                    pts.push(pts[0]);
+                }
+                pts
+            })
+            .filter(|pts| pts.len() >= 2)
+            .collect();
+        let width = style.stroke_width + p.pull_compensation;
+        let two_rails = lines.len() == 2 && paths.iter().all(|q| !q.closed) && style.fill.is_none();
+        if style.stroke.is_some() && style.stroke_width >= p.satin_min_width && two_rails {
+            // Satin between two rails: both resampled to a common parameter.
+            let len = |l: &Vec<Point>| l.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+            let m = ((len(&lines[0]).max(len(&lines[1])) / 0.2).ceil() as usize).clamp(2, 100_000);
+            let (mut a, mut b) = (satin::resample(&lines[0], m), satin::resample(&lines[1], m));
+            // Rails drawn in opposite directions are paired end to start.
+            if a[0].distance(b[0]) > a[0].distance(b[m - 1]) {
+                b.reverse();
+            }
+            let centre: Vec<Point> = a.iter().zip(&b).map(|(x, y)| x.midpoint(*y)).collect();
+            let half = p.pull_compensation / 2.0;
+            for i in 0..m {
+                let d = (a[i] - b[i]).normalize();
+                if d.is_finite() {
+                    a[i] += d * half;
+                    b[i] -= d * half;
+                }
+            }
+            out.push(satin_shape(color, &centre, &a, &b, p));
+        } else {
+            for line in &lines {
+                if style.stroke.is_some() && style.stroke_width >= p.satin_min_width {
+                    let (l, r) = satin::rails(line, width / 2.0);
+                    out.push(satin_shape(color, line, &l, &r, p));
+                } else {
+                    out.push(Shape {
+                        color,
+                        kind: ShapeKind::Running,
+                        underlay: vec![],
+                        top: vec![run(running(line, p.stitch_length))],
+                        rev_link: false,
+                    });
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// A satin: a centre walk underlay out, the column sewn back over it.
+fn satin_shape(color: Color, centre: &[Point], l: &[Point], r: &[Point], p: &Params) -> Shape {
+    let mut top = satin::satin(l, r, p.satin_spacing, p.max_stitch);
+    let underlay = if p.underlay {
+        top.reverse();
+        vec![run(running(centre, p.stitch_length))]
+    } else {
+        vec![]
+    };
+    let mut top = vec![run(top)];
+    top[0].sew_into = p.underlay;
+    Shape {
+        color,
+        kind: ShapeKind::Satin,
+        underlay,
+        top,
+        rev_link: p.underlay,
+    }
+}
+
+fn thread(c: Color) -> Thread {
+    Thread {
+        rgb: [c.r, c.g, c.b],
+        name: String::new(),
+    }
+}
+
+/// A tie-off at `at`: back along the last stitch by `TIE` and forward again.
+fn tie(stitches: &mut Vec<Stitch>, at: Point) {
+    let prev = stitches
+        .iter()
+        .rev()
+        .filter(|s| s.kind == Kind::Stitch)
+        .map(|s| Point::new(s.x, s.y))
+        .find(|q| q.distance(at) > 1e-6);
+    if let Some(prev) = prev {
+        let v = (at - prev).normalize();
+        let q = at - v * TIE.min(prev.distance(at));
+        stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+        stitches.push(Stitch::new(at.x, at.y, Kind::Stitch));
+    }
+}
+
+/// Orders the shapes and joins them with jumps and trims into colour blocks.
+fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
+    let mut colors: Vec<Color> = Vec::new();
+    for s in &shapes {
+        if !colors.contains(&s.color) {
+            colors.push(s.color);
+        }
+    }
+    let mut blocks = Vec::new();
+    let mut at = Point::ZERO;
+    let mut first_in_plan = true;
+    let mut pool: Vec<Option<Shape>> = shapes.into_iter().map(Some).collect();
+    for color in colors {
+        let mut stitches: Vec<Stitch> = Vec::new();
+        for kind in [ShapeKind::Fill, ShapeKind::Satin, ShapeKind::Running] {
+            loop {
+                // Nearest start, forwards or backwards.
+                let mut best: Option<(f64, usize, bool)> = None;
+                for (i, s) in pool.iter().enumerate() {
+                    let Some(s) = s.as_ref().filter(|s| s.color == color && s.kind == kind) else {
+                        continue;
+                    };
+                    let fwd = s.start().map_or(f64::INFINITY, |q| q.distance(at));
+                    let bwd = s
+                        .reversed()
+                        .start()
+                        .map_or(f64::INFINITY, |q| q.distance(at));
+                    for (d, rev) in [(fwd, false), (bwd, true)] {
+                        if best.is_none_or(|b| d < b.0) {
+                            best = Some((d, i, rev));
+                        }
+                    }
+                }
+                let Some((_, i, rev)) = best else { break };
+                let shape = pool[i].take().unwrap();
+                let shape = if rev { shape.reversed() } else { shape };
+                for r in shape.runs() {
+                    let Some(&start) = r.points.first() else {
+                        continue;
+                    };
+                    if r.sew_into && !first_in_plan {
+                        for q in running::straight(at, start, p.stitch_length) {
+                            stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                        }
+                    } else if first_in_plan || start.distance(at) > 1e-9 {
+                        let cut = if stitches.is_empty() {
+                            true // a new thread: the colour change cut the last one
+                        } else if start.distance(at) > p.trim_length {
+                            if p.ties {
+                                tie(&mut stitches, at);
+                            }
+                            stitches.push(Stitch::new(at.x, at.y, Kind::Trim));
+                            true
+                        } else {
+                            false
+                        };
+                        stitches.push(Stitch::new(start.x, start.y, Kind::Jump));
+                        // The needle goes down where the jump ends: the run's anchor.
+                        stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
+                        if cut && p.ties {
+                            if let Some(&next) = r.points.get(1) {
+                                let u = (next - start).normalize();
+                                if u.is_finite() {
+                                    let q = start + u * TIE;
+                                    stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                                    stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
+                                }
+                            }
+                        }
+                    }
+                    first_in_plan = false;
+                    for q in &r.points[1..] {
+                        stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                    }
+                    at = *r.points.last().unwrap();
+                }
+            }
+        }
+        if p.ties {
+            tie(&mut stitches, at);
+        }
+        blocks.push(ColorBlock {
+            thread: thread(color),
+            stitches,
+        });
+    }
+    StitchPlan {
+        name: name.to_string(),
+        blocks,
+    }
+}

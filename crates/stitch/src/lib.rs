@@ -1,0 +1,22 @@
+//! Embroidery (seed 000): a `Drawing` becomes a [`StitchPlan`] of running, satin and tatami
+//! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
+//! sewn on the needle-synchronised table, and written as Tajima DST or Melco EXP.
+
+mod format;
+mod generate;
+mod hoop;
+mod plan;
+mod preview;
+mod sheet;
+mod speed;
+mod table;
+
+pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
+pub use format::{Format, FormatError, Op, Rec};
+pub use generate::{generate, running, GenerateError, Generated, Params, ShapeKind, TIE};
+pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
+pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
+pub use preview::preview_svg;
+pub use sheet::{duration, sheet, Sheet, ThreadLine};
+pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
+pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};

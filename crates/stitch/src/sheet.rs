@@ -1,0 +1,201 @@
+//! The production sheet (seed §4.5, "planilha de apoio à produção", which the seed left
+//! unimplemented): stitches, colour changes and threads, stitches and thread per colour,
+//! jumps, trims, design size, minimum hoop, sewing time from the head-speed model and the
+//! time for n pieces.
+
+use crate::hoop::{smallest_hoop, Hoop, HoopError};
+use crate::plan::{Counts, StitchPlan};
+use crate::table::{run, HeadSpeed, Pauses, RunReport, Table};
+use std::fmt::Write;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThreadLine {
+    pub hex: String,
+    pub stitches: usize,
+    /// Along the sewn stitches, m.
+    pub length_m: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sheet {
+    pub name: String,
+    pub counts: Counts,
+    pub threads: Vec<ThreadLine>,
+    /// Width and height of the design, mm.
+    pub size: [f64; 2],
+    pub hoop: Result<Hoop, HoopError>,
+    pub run: RunReport,
+    /// The fixed head speed the run used, if one.
+    pub fixed_ppm: Option<f64>,
+    pub table: String,
+    pub pieces: u32,
+}
+
+/// The sheet of `plan`: the hoop is `hoop` when given (checked), else the smallest that fits.
+pub fn sheet(
+    plan: &StitchPlan,
+    hoop: Option<Hoop>,
+    table: &Table,
+    speed: HeadSpeed,
+    pauses: Pauses,
+    pieces: u32,
+) -> Result<Sheet, String> {
+    let counts = plan.counts();
+    let threads = plan
+        .blocks
+        .iter()
+        .zip(&counts.per_block)
+        .map(|(b, &(n, len))| ThreadLine {
+            hex: b.thread.hex(),
+            stitches: n,
+            length_m: len / 1000.0,
+        })
+        .collect();
+    let size = plan
+        .bounds()
+        .map_or([0.0, 0.0], |b| [b[2] - b[0], b[3] - b[1]]);
+    let hoop = match hoop {
+        Some(h) => h.check(plan).map(|()| h),
+        None => smallest_hoop(plan),
+    };
+    Ok(Sheet {
+        name: plan.name.clone(),
+        counts,
+        threads,
+        size,
+        hoop,
+        run: run(plan, table, speed, pauses)?,
+        fixed_ppm: match speed {
+            HeadSpeed::Fixed(p) => Some(p),
+            HeadSpeed::Table => None,
+        },
+        table: table.name.clone(),
+        pieces,
+    })
+}
+
+/// `1 h 02 min 05 s`, `3 min 20 s`.
+pub fn duration(s: f64) -> String {
+    let s = s.max(0.0).round() as u64;
+    let (h, m, s) = (s / 3600, s / 60 % 60, s % 60);
+    if h > 0 {
+        format!("{h} h {m:02} min {s:02} s")
+    } else {
+        format!("{m} min {s:02} s")
+    }
+}
+
+impl Sheet {
+    pub fn text(&self) -> String {
+        let mut t = String::new();
+        let c = &self.counts;
+        let _ = writeln!(t, "Production sheet: {}", self.name);
+        let _ = writeln!(
+            t,
+            "Design size      {:.1} x {:.1} mm",
+            self.size[0], self.size[1]
+        );
+        let _ = match &self.hoop {
+            Ok(h) => writeln!(t, "Hoop             {h}"),
+            Err(e) => writeln!(t, "Hoop             NONE: {e}"),
+        };
+        let _ = writeln!(t, "Stitches         {}", c.stitches);
+        let _ = writeln!(
+            t,
+            "Colours          {} ({} colour changes)",
+            self.threads.len(),
+            c.color_changes
+        );
+        let _ = writeln!(
+            t,
+            "Jumps            {} ({:.1} mm of travel)",
+            c.jumps, c.jump_length
+        );
+        let _ = writeln!(t, "Trims            {}", c.trims);
+        let _ = writeln!(t, "Stops            {}", c.stops);
+        let _ = writeln!(t, "Threads:");
+        for (i, th) in self.threads.iter().enumerate() {
+            let _ = writeln!(
+                t,
+                "  {:>2}. {}  {:>7} stitches  {:>7.2} m",
+                i + 1,
+                th.hex,
+                th.stitches,
+                th.length_m
+            );
+        }
+        let r = &self.run;
+        match self.fixed_ppm {
+            Some(p) => {
+                let _ = writeln!(t, "Head speed       fixed {p} stitches/min");
+            }
+            None => {
+                let _ = writeln!(
+                    t,
+                    "Head speed       seed's table by longest stitch per section:"
+                );
+                for (code, n, ppm) in &r.by_code {
+                    let _ = writeln!(t, "  code {code:>2} ({ppm:>4} ppm) {n:>7} stitches");
+                }
+            }
+        }
+        let _ = writeln!(t, "Sewing time      {}", duration(r.sewing_seconds));
+        let _ = writeln!(t, "Jumps (needle stopped) {}", duration(r.jump_seconds));
+        let _ = writeln!(t, "Trims, changes, stops  {}", duration(r.pause_seconds));
+        let _ = writeln!(t, "Total per piece  {}", duration(r.total_seconds));
+        if self.pieces > 1 {
+            let _ = writeln!(
+                t,
+                "Total for {} pieces {}",
+                self.pieces,
+                duration(r.total_seconds * self.pieces as f64)
+            );
+        }
+        let _ = writeln!(
+            t,
+            "Table {}: {} stitch(es) the table cannot finish with the needle up",
+            self.table,
+            r.faults.len()
+        );
+        if r.too_long > 0 {
+            let _ = writeln!(t, "WARNING: {} stitch(es) longer than 12.4 mm", r.too_long);
+        }
+        t
+    }
+
+    pub fn html(&self) -> String {
+        let esc = |s: &str| {
+            s.replace('&', "&amp;")
+                .replace('<', "&lt;")
+                .replace('>', "&gt;")
+        };
+        let mut h = String::from("<!doctype html><meta charset=\"utf-8\"><title>Production sheet</title>\n<style>body{font-family:sans-serif}td{padding:2px 8px}.sw{display:inline-block;width:1em;height:1em;border:1px solid #000}</style>\n");
+        let _ = writeln!(h, "<h1>Production sheet: {}</h1>\n<table>", esc(&self.name));
+        for line in self.text().lines().skip(1) {
+            if line.starts_with("  ") {
+                continue;
+            }
+            let (k, v) = line.split_at(line.find("  ").unwrap_or(line.len()));
+            let _ = writeln!(
+                h,
+                "<tr><th align=left>{}</th><td>{}</td></tr>",
+                esc(k.trim()),
+                esc(v.trim())
+            );
+        }
+        h += "</table>\n<h2>Threads</h2>\n<table><tr><th>#</th><th>colour</th><th>stitches</th><th>thread (m)</th></tr>\n";
+        for (i, th) in self.threads.iter().enumerate() {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td><span class=sw style=\"background:{}\"></span> {}</td><td>{}</td><td>{:.2}</td></tr>",
+                i + 1,
+                th.hex,
+                th.hex,
+                th.stitches,
+                th.length_m
+            );
+        }
+        h += "</table>\n";
+        h
+    }
+}
