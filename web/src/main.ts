@@ -241,7 +241,7 @@ function setProcess(p: Process) {
   $('make').textContent = p === 'embroider' ? 'Make the stitches' : 'Make the program';
   if (isDesign) $('process-input').textContent = design && design.kind === p ? design.name : 'a file (open one)';
   // Plots: rapid moves are the pen up, feeds the pen down; embroidery: jumps and stitches.
-  $('legend-rapid').textContent = p === 'plot' ? 'pen up' : p === 'embroider' ? 'jump' : 'rapid';
+  $('legend-rapid').textContent = p === 'plot' ? 'pen up' : p === 'embroider' ? 'jump (grey)' : 'rapid';
   $('legend-feed').textContent = p === 'plot' ? 'pen down' : p === 'embroider' ? 'stitch (thread colour)' : 'feed';
 }
 $<HTMLSelectElement>('process').onchange = (e) => {
@@ -376,6 +376,7 @@ async function sew() {
   status.dataset.state = 'running';
   status.textContent = `sewing on ${machine}…`;
   $<HTMLButtonElement>('sew').disabled = true;
+  progressTo = 'sew-status';
   busy(true);
   try {
     const body = await job('/api/stitches', { file: stitchFile, params: { machine, ppm, pieces, hoop } });
@@ -397,6 +398,7 @@ async function sew() {
     error(`sew: ${(e as Error).message}`);
   } finally {
     $<HTMLButtonElement>('sew').disabled = false;
+    progressTo = 'process-status';
     busy(false);
   }
 }
@@ -422,6 +424,8 @@ function play(seconds: number): Promise<void> {
 
 /// While a job is computed: its buttons off, Cancel on.
 let computing = false;
+/// Where a job's progress is written: under the form, or beside Sew while it sews.
+let progressTo = 'process-status';
 function busy(on: boolean) {
   computing = on;
   $<HTMLButtonElement>('make').disabled = on;
@@ -516,7 +520,8 @@ async function onLive(m: LiveMessage) {
   if (m.type === 'progress') {
     if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;
-    if (!$('process-form').hidden) $('process-status').textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
+    // Only while a job is computed: a late message never overwrites its answer.
+    if (computing && !$('process-form').hidden) $(progressTo).textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
   }
   if (m.type === 'status' && m.status && !joined) {
     joined = true;
