@@ -28,6 +28,8 @@ let image: { name: string; bytes: ArrayBuffer } | null = null;
 let design: { name: string; kind: ProcessKind } | null = null;
 let uploadLimit = 64 * 1024 * 1024;
 let editTimer = 0;
+/// The preview holds an embroidery plan (not the editor's program).
+let showingStitches = false;
 
 function error(msg: string) {
   $('error').textContent = msg;
@@ -130,6 +132,7 @@ function runPreview() {
 
 function loadProgram(name: string, text: string, saved = false) {
   stats.loadStartMs = performance.now();
+  showingStitches = false;
   program = { name: safeName(name), text, saved };
   editor.value = text;
   stats.editorMs = performance.now() - stats.loadStartMs;
@@ -327,6 +330,7 @@ async function embroider(name: string, params: Record<string, unknown>) {
     if (!body) return;
     const sheet = body.sheet;
     const sewn = preview.stitches(body.plan.blocks);
+    showingStitches = true;
     preview.setView('xy');
     document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', (x as HTMLElement).dataset.view === 'xy'));
     const scrub = $<HTMLInputElement>('scrub');
@@ -480,6 +484,8 @@ for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#views 
 $<HTMLInputElement>('scrub').oninput = (e) => {
   const s = Number((e.target as HTMLInputElement).value);
   const line = preview.scrubTo(s);
+  // A stitch plan's segments are numbered by plan entry, not by the editor's lines.
+  if (showingStitches) return void ($('scrub-info').textContent = `stitch entry ${line}`);
   editor.setCurrentLine(line);
   $('scrub-info').textContent = `segment ${s.toLocaleString()} · line ${line}`;
 };
@@ -503,7 +509,7 @@ function followJob(s: Snapshot) {
     $<HTMLInputElement>('scrub').value = String(preview.total);
   }
   if (s.job && s.job.completed === null) shownEnd = '';
-  const running = s.job && s.job.completed === null && s.job.name === program.name;
+  const running = s.job && s.job.completed === null && s.job.name === program.name && !showingStitches;
   if (!running || s.line <= 0) return;
   editor.setCurrentLine(s.line);
   const seg = preview.segmentOfLine(s.line);

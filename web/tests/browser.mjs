@@ -494,6 +494,12 @@ await test('SVG → embroidery: field errors, stitches in thread colours = the s
   assert(sewn.includes(`${sheet} stitches`) && sewn.includes('sewing'), sewn);
   assert(Number(await page.inputValue('#scrub')) === (await segments()), 'the timeline played to the end');
   assert((await page.textContent('#process-status')).startsWith('flower.dst'), 'the sheet line stays after the run');
+  // Scrubbing the stitches leaves the editor's program alone.
+  const editorLine = await page.evaluate(() => window.__oficina.editor.currentLine ?? null);
+  await page.$eval('#scrub', (e) => { e.value = '10'; e.dispatchEvent(new Event('input')); });
+  assert((await page.textContent('#scrub-info')).startsWith('stitch entry'), await page.textContent('#scrub-info'));
+  assert((await page.evaluate(() => window.__oficina.editor.currentLine ?? null)) === editorLine, 'the editor line stays');
+  await page.$eval('#scrub', (e) => { e.value = e.max; e.dispatchEvent(new Event('input')); });
   await page.waitForTimeout(300);
   await shot('embroidery');
   // On the slower table of the embroidery-xy profile the run stops at the first stitch
