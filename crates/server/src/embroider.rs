@@ -134,6 +134,20 @@ pub struct EmbroiderRequest {
     params: EmbroiderForm,
 }
 
+/// Plans with more entries than this are summed up but not sent to be drawn (a 16 MB DST
+/// holds ~5.6 million records: ~100 MB of JSON).
+const MAX_DRAWN: usize = 2_000_000;
+
+fn drawable(plan: &StitchPlan, file: &str) -> Result<(), JobError> {
+    let n: usize = plan.blocks.iter().map(|b| b.stitches.len()).sum();
+    if n > MAX_DRAWN {
+        return Err(bad(format!(
+            "{file}: {n} stitch entries is more than the {MAX_DRAWN} the page draws; `oficina embroider --info {file}` gives its sheet"
+        )));
+    }
+    Ok(())
+}
+
 /// The plan in sewing order: per colour block its thread and its points as flat
 /// `[x, y, kind, …]` (kind 0 stitch, 1 jump, 2 trim, 3 stop), mm.
 fn plan_json(plan: &StitchPlan) -> Value {
@@ -228,6 +242,7 @@ pub async fn embroider_job(
     for (b, g) in plan.blocks.iter_mut().zip(&r.generated.plan.blocks) {
         b.thread = g.thread.clone();
     }
+    drawable(&plan, &name)?;
     let g = &r.generated;
     st.say(&format!(
         "embroidered {file} into {name} ({} stitches, {} colours)",
@@ -269,6 +284,7 @@ pub async fn stitch_file(
     })
     .await?;
     let file = req.file.unwrap_or_default();
+    drawable(&plan, &file)?;
     st.say(&format!(
         "read {file}: {} stitches; on {}: {}",
         sheet.counts.stitches,
