@@ -1,5 +1,5 @@
 //! The embroidery endpoints: the sample design sewn into a DST in the job folder, its plan
-//! and sheet agreeing, the file read back by `/api/stitches` with its table run, and the bad
+//! and sheet agreeing (and with pyembroidery's reading of the file, where it is installed), the file read back by `/api/stitches` with its table run, and the bad
 //! inputs (parameters out of range, a broken SVG, a design with nothing to sew, a broken
 //! DST), each a clear error naming its field where it has one.
 
@@ -70,6 +70,20 @@ fn plan_stitches(plan: &Value) -> (usize, Vec<usize>) {
     (total, per_block)
 }
 
+/// STITCH records in a file as pyembroidery reads it, or None without python3/pyembroidery.
+fn pyembroidery_stitches(path: &std::path::Path) -> Option<usize> {
+    let out = std::process::Command::new("python3")
+        .arg("-c")
+        .arg("import sys, pyembroidery as p\nprint(sum(1 for s in p.read(sys.argv[1]).stitches if s[2] & p.COMMAND_MASK == p.STITCH))")
+        .arg(path)
+        .output()
+        .ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    String::from_utf8_lossy(&out.stdout).trim().parse().ok()
+}
+
 #[tokio::test]
 async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     let dir = tempfile::tempdir().unwrap();
@@ -109,6 +123,11 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     assert_eq!(sheet["run"]["finished"], true, "{sheet}");
     let saved = std::fs::read(dir.path().join("jobs/sunflower.dst")).unwrap();
     assert_eq!(saved.len() as u64, v["bytes"].as_u64().unwrap());
+    // The peer: pyembroidery reads the saved DST and counts the same sewn stitches.
+    match pyembroidery_stitches(&dir.path().join("jobs/sunflower.dst")) {
+        Some(peer) => assert_eq!(peer, n, "pyembroidery's count"),
+        None => eprintln!("note: python3 with pyembroidery not found: the peer count is skipped"),
+    }
 
     // The file read back: the same stitches, the same sewing time on the same table.
     let (s, back) = call(
