@@ -7,7 +7,7 @@ import { Preview, View } from './preview';
 import type { WorkerOut } from './worker';
 import { MachinePanel } from './machine';
 import { setupProfileEditor, setupToolEditor } from './profile';
-import { PROCESSES, ProcessKind, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
+import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 
@@ -28,6 +28,8 @@ let image: { name: string; bytes: ArrayBuffer } | null = null;
 let design: { name: string; kind: ProcessKind } | null = null;
 let uploadLimit = 64 * 1024 * 1024;
 let editTimer = 0;
+/// The preview holds an embroidery plan (not the editor's program).
+let showingStitches = false;
 
 function error(msg: string) {
   $('error').textContent = msg;
@@ -130,6 +132,7 @@ function runPreview() {
 
 function loadProgram(name: string, text: string, saved = false) {
   stats.loadStartMs = performance.now();
+  showingStitches = false;
   program = { name: safeName(name), text, saved };
   editor.value = text;
   stats.editorMs = performance.now() - stats.loadStartMs;
@@ -170,6 +173,8 @@ async function openDesign(name: string, body: Blob | string, kind: ProcessKind) 
   design = { name: saved, kind };
   error('');
   setProcess(kind);
+  // A stitch file is shown as it is: read back, its sheet, its threads.
+  if (kind === 'embroider' && STITCH_FILE.test(saved)) await make();
 }
 
 async function openFile(f: File) {
@@ -227,23 +232,25 @@ function setProcess(p: Process) {
   $<HTMLSelectElement>('process').value = p;
   $('relief-form').hidden = p !== 'relief';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
-  const isDesign = p === 'mill' || p === 'sole' || p === 'plot';
+  const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider';
   $('process-form').hidden = !isDesign;
   if (isDesign && shownForm !== p) {
     renderForm(p);
     shownForm = p;
     $('process-report').textContent = '';
     $('process-status').textContent = '';
+    $('embroidery').hidden = true;
   }
+  $('make').textContent = p === 'embroider' ? 'Make the stitches' : 'Make the program';
   if (isDesign) $('process-input').textContent = design && design.kind === p ? design.name : 'a file (open one)';
-  // Plots: rapid moves are the pen up, feeds the pen down.
-  $('legend-rapid').textContent = p === 'plot' ? 'pen up' : 'rapid';
-  $('legend-feed').textContent = p === 'plot' ? 'pen down' : 'feed';
+  // Plots: rapid moves are the pen up, feeds the pen down; embroidery: jumps and stitches.
+  $('legend-rapid').textContent = p === 'plot' ? 'pen up' : p === 'embroider' ? 'jump (grey)' : 'rapid';
+  $('legend-feed').textContent = p === 'plot' ? 'pen down' : p === 'embroider' ? 'stitch (thread colour)' : 'feed';
 }
 $<HTMLSelectElement>('process').onchange = (e) => {
   const p = (e.target as HTMLSelectElement).value as Process;
   if (p === 'relief' && !image) openSample('dome.png');
-  else if ((p === 'mill' || p === 'sole' || p === 'plot') && (!design || design.kind !== p)) openSample(PROCESSES[p].sample).then(() => setProcess(p));
+  else if ((p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider') && (!design || design.kind !== p)) openSample(PROCESSES[p].sample).then(() => setProcess(p));
   else setProcess(p);
 };
 
@@ -255,6 +262,7 @@ async function make() {
   clearFieldErrors();
   const form = readForm(kind);
   if ('field' in form) return showFieldError(form.field, form.message);
+  if (kind === 'embroider') return embroider(design.name, form.params);
   // The plotter is the job's machine profile, not one of its parameters.
   const { machine: profile, ...params } = form.params as Record<string, unknown> & { machine?: string };
   busy(true);
@@ -296,8 +304,132 @@ async function make() {
 }
 $('make').onclick = make;
 
+/// A job's answer: the body, or the error shown beside its field (null).
+async function job(path: string, body: unknown): Promise<Record<string, any> | null> {
+  const r = await fetch(withToken(path), {
+    method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify(body),
+  });
+  const text = await r.text();
+  let v: Record<string, any>;
+  try { v = JSON.parse(text); } catch { v = { error: text || `${r.status} ${r.statusText}` }; }
+  if (r.ok) return v;
+  $('process-status').textContent = v.cancelled ? 'cancelled' : '';
+  if (!v.cancelled) showFieldError(v.field ?? null, v.error ?? text);
+  return null;
+}
+
+/// Embroidery: a design sewn into a stitch file by the server's pipeline, or a stitch file
+/// read back; either way the plan is drawn in its threads beside its production sheet.
+let stitchFile = '';
+async function embroider(name: string, params: Record<string, unknown>) {
+  const route = STITCH_FILE.test(name) ? '/api/stitches' : '/api/embroider';
+  busy(true);
+  $('process-status').textContent = 'working…';
+  try {
+    const body = await job(route, { file: name, params });
+    if (!body) return;
+    const sheet = body.sheet;
+    const sewn = preview.stitches(body.plan.blocks);
+    showingStitches = true;
+    preview.setView('xy');
+    document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', (x as HTMLElement).dataset.view === 'xy'));
+    const scrub = $<HTMLInputElement>('scrub');
+    scrub.max = String(preview.total);
+    scrub.value = String(preview.total);
+    $('viewport').dataset.stitches = String(sewn);
+    $('viewport').dataset.segments = String(preview.total);
+    $('preview-info').textContent = `${sewn.toLocaleString()} stitches, ${(preview.total - sewn).toLocaleString()} jumps drawn`;
+    stitchFile = body.name;
+    const link = $<HTMLAnchorElement>('stitch-download');
+    link.href = withToken('/api/files/' + encodeURIComponent(body.name));
+    link.download = body.name;
+    link.textContent = `Download ${body.name}`;
+    const threads = $('threads');
+    threads.innerHTML = '';
+    for (const t of sheet.threads as { hex: string; stitches: number; length_m: number }[]) {
+      const li = document.createElement('li');
+      li.innerHTML = `<i class="swatch" style="background:${t.hex}"></i> ${t.hex} · ${t.stitches} stitches · ${t.length_m.toFixed(2)} m`;
+      threads.appendChild(li);
+    }
+    $('embroidery').hidden = false;
+    $('sew-status').textContent = '';
+    delete $('sew-status').dataset.state;
+    const lines = [...(body.notes ?? []) as string[]];
+    if (body.shapes) lines.push(`shapes: ${body.shapes.fill} fill, ${body.shapes.satin} satin, ${body.shapes.running} running`);
+    $('process-report').textContent = [...lines, sheet.text].join('\n');
+    $('process-status').dataset.stitches = String(sheet.stitches);
+    $('process-status').textContent = `${body.name}: ${sheet.stitches} stitches · ${sheet.threads.length} colours · ${sheet.thread_m.toFixed(2)} m of thread · hoop ${sheet.hoop ?? 'none'} · sewing ${hms(sheet.run.sewing_seconds)}, total ${hms(sheet.run.total_seconds)}`;
+  } catch (e) {
+    $('process-status').textContent = '';
+    error(`embroider: ${(e as Error).message}`);
+  } finally {
+    busy(false);
+  }
+}
+
+/// The stitch file made, sewn on the needle-synchronised table the form names: the
+/// application's table run (needle as master, each hoop move inside its needle-up window).
+/// It is not a G-code job, so it runs in the server's embroidery pipeline, not on the
+/// machine panel's virtual machine; the timeline then plays the run to its end.
+async function sew() {
+  if (!stitchFile) return;
+  const form = readForm('embroider');
+  if ('field' in form) return showFieldError(form.field, form.message);
+  const { machine, ppm, pieces, hoop } = form.params;
+  const status = $('sew-status');
+  status.dataset.state = 'running';
+  status.textContent = `sewing on ${machine}…`;
+  $<HTMLButtonElement>('sew').disabled = true;
+  progressTo = 'sew-status';
+  busy(true);
+  try {
+    const body = await job('/api/stitches', { file: stitchFile, params: { machine, ppm, pieces, hoop } });
+    if (!body) { status.dataset.state = 'failed'; status.textContent = ''; return; }
+    const run = body.sheet.run;
+    await play(run.total_seconds);
+    if (run.finished) {
+      status.dataset.state = 'finished';
+      status.textContent = `finished on ${body.sheet.table}: ${body.sheet.stitches} stitches, sewing ${hms(run.sewing_seconds)}, jumps ${hms(run.jump_seconds)}, trims and changes ${hms(run.pause_seconds)}, total ${hms(run.total_seconds)}`;
+    } else {
+      status.dataset.state = 'stopped';
+      const f = run.first_faults[0];
+      status.textContent = `stopped on ${body.sheet.table}: ${run.faults} stitch(es) too long for the needle-up window` +
+        (f ? ` (first: stitch ${f.stitch}, ${f.length.toFixed(2)} mm at ${f.ppm} ppm needs ${f.move_ms.toFixed(1)} ms, the needle is up ${f.window_ms.toFixed(1)} ms)` : '') +
+        (run.out_of_travel ? `, ${run.out_of_travel} point(s) beyond the travel` : '');
+    }
+  } catch (e) {
+    status.dataset.state = 'failed';
+    error(`sew: ${(e as Error).message}`);
+  } finally {
+    $<HTMLButtonElement>('sew').disabled = false;
+    progressTo = 'process-status';
+    busy(false);
+  }
+}
+$('sew').onclick = sew;
+
+/// The timeline drawn from the first stitch to the last, the needle marker following (about
+/// two seconds whatever the run's length: a replay, the times are the run's report's).
+function play(seconds: number): Promise<void> {
+  const total = preview.total, scrub = $<HTMLInputElement>('scrub');
+  const t0 = performance.now(), span = 2000;
+  return new Promise((done) => {
+    const step = () => {
+      const f = Math.min(1, (performance.now() - t0) / span);
+      const s = Math.round(total * f);
+      const entry = preview.scrubTo(s);
+      scrub.value = String(s);
+      $('scrub-info').textContent = `stitch entry ${entry} · ${hms(seconds * f)} of ${hms(seconds)}`;
+      if (f < 1) requestAnimationFrame(step); else done();
+    };
+    requestAnimationFrame(step);
+  });
+}
+
 /// While a job is computed: its buttons off, Cancel on.
 let computing = false;
+/// Where a job's progress is written: under the form, or beside Sew while it sews.
+let progressTo = 'process-status';
 function busy(on: boolean) {
   computing = on;
   $<HTMLButtonElement>('make').disabled = on;
@@ -352,6 +484,8 @@ for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#views 
 $<HTMLInputElement>('scrub').oninput = (e) => {
   const s = Number((e.target as HTMLInputElement).value);
   const line = preview.scrubTo(s);
+  // A stitch plan's segments are numbered by plan entry, not by the editor's lines.
+  if (showingStitches) return void ($('scrub-info').textContent = `stitch entry ${line}`);
   editor.setCurrentLine(line);
   $('scrub-info').textContent = `segment ${s.toLocaleString()} · line ${line}`;
 };
@@ -375,7 +509,7 @@ function followJob(s: Snapshot) {
     $<HTMLInputElement>('scrub').value = String(preview.total);
   }
   if (s.job && s.job.completed === null) shownEnd = '';
-  const running = s.job && s.job.completed === null && s.job.name === program.name;
+  const running = s.job && s.job.completed === null && s.job.name === program.name && !showingStitches;
   if (!running || s.line <= 0) return;
   editor.setCurrentLine(s.line);
   const seg = preview.segmentOfLine(s.line);
@@ -392,7 +526,8 @@ async function onLive(m: LiveMessage) {
   if (m.type === 'progress') {
     if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;
-    if (!$('process-form').hidden) $('process-status').textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
+    // Only while a job is computed: a late message never overwrites its answer.
+    if (computing && !$('process-form').hidden) $(progressTo).textContent = `${m.stage} ${(m.fraction * 100).toFixed(0)} %`;
   }
   if (m.type === 'status' && m.status && !joined) {
     joined = true;

@@ -11,6 +11,8 @@ const COLOURS: [number, number, number][] = [
   [74, 168, 255], // feed
   [240, 209, 79], // plunge
 ];
+/// Jumps of an embroidery plan: the hoop moves with the needle up, no thread laid.
+const JUMP: [number, number, number] = [96, 96, 110];
 /// Above this many segments, a decimated copy is drawn while the camera moves.
 const LOD_THRESHOLD = 200_000;
 /// The coarse copy keeps about this many segments (a 1,000,000-segment raster keeps every
@@ -103,6 +105,9 @@ export class Preview {
   private full = new Layer();
   private coarse = new Layer();
   private kinds = new Uint8Array(0);
+  /// Colours given per segment (thread colours of stitches) instead of by kind: kept
+  /// through the depth view.
+  private given = false;
   private lines = new Uint32Array(0);
   private batches: BatchPlace[] = [];
   private group = new THREE.Group();
@@ -192,6 +197,7 @@ export class Preview {
     this.batches = [];
     this.total = 0;
     this.shown = 0;
+    this.given = false;
     this.min.set(Infinity, Infinity, Infinity);
     this.max.set(-Infinity, -Infinity, -Infinity);
     this.marker.visible = false;
@@ -211,15 +217,17 @@ export class Preview {
     this.lines = grow(this.lines, n, 0);
   }
 
-  add(b: Batch) {
+  /// A batch of segments; `colours` (RGB bytes per point) instead of the kinds' colours.
+  add(b: Batch, colours?: Uint8Array) {
     const n = b.kinds.length;
+    if (colours) this.given = true;
     const p = b.positions;
     for (let i = 0; i < p.length; i += 3) {
       this.min.x = Math.min(this.min.x, p[i]); this.max.x = Math.max(this.max.x, p[i]);
       this.min.y = Math.min(this.min.y, p[i + 1]); this.max.y = Math.max(this.max.y, p[i + 1]);
       this.min.z = Math.min(this.min.z, p[i + 2]); this.max.z = Math.max(this.max.z, p[i + 2]);
     }
-    this.full.append(p, this.colours(b.kinds, p));
+    this.full.append(p, colours ?? this.colours(b.kinds, p));
     this.kinds = grow(this.kinds, this.total + n, this.total);
     this.lines = grow(this.lines, this.total + n, this.total);
     this.kinds.set(b.kinds, this.total);
@@ -228,14 +236,15 @@ export class Preview {
     if (this.stride > 1) {
       // Every stride-th point of the path joined in order: the shape stays, the count drops.
       const m = Math.floor(n / this.stride);
-      const cp = new Float32Array(m * 6), ck = new Uint8Array(m);
+      const cp = new Float32Array(m * 6), ck = new Uint8Array(m), cc = new Uint8Array(m * 6);
       for (let j = 0; j < m; j++) {
         const a = j * this.stride, e = Math.min(n - 1, a + this.stride - 1);
         cp.set(p.subarray(a * 6, a * 6 + 3), j * 6);
         cp.set(p.subarray(e * 6 + 3, e * 6 + 6), j * 6 + 3);
         ck[j] = b.kinds[a];
+        if (colours) cc.set(colours.subarray(a * 6, a * 6 + 6), j * 6);
       }
-      this.coarse.append(cp, this.colours(ck, cp));
+      this.coarse.append(cp, colours ? cc : this.colours(ck, cp));
       place.coarseCount = m;
     }
     this.batches.push(place);
@@ -278,6 +287,41 @@ export class Preview {
     this.dirty = true;
   }
 
+  /// An embroidery plan in sewing order: each stitch a segment from the previous point (the
+  /// origin before the first) in its thread's colour, each jump a dim one; trims and stops
+  /// move nothing. Returns the sewn stitches drawn. Kinds: 1 stitch, 0 jump (the legend's
+  /// feed and rapid); a segment's "line" is its entry's number in the plan (from 1).
+  stitches(blocks: { thread: string; points: number[] }[]): number {
+    let n = 0;
+    for (const b of blocks) n += b.points.length / 3;
+    this.clear();
+    this.expect(n);
+    const pos = new Float32Array(n * 6), cols = new Uint8Array(n * 6), kinds = new Uint8Array(n), lines = new Uint32Array(n);
+    let k = 0, entry = 0, sewn = 0, px = 0, py = 0;
+    for (const b of blocks) {
+      const rgb = [1, 3, 5].map((i) => parseInt(b.thread.slice(i, i + 2), 16) || 0);
+      const p = b.points;
+      for (let i = 0; i < p.length; i += 3) {
+        entry++;
+        const [x, y, kind] = [p[i], p[i + 1], p[i + 2]];
+        if (kind === 0 || kind === 1) {
+          pos.set([px, py, 0, x, y, 0], k * 6);
+          const c = kind === 0 ? rgb : JUMP;
+          cols.set(c, k * 6);
+          cols.set(c, k * 6 + 3);
+          kinds[k] = kind === 0 ? 1 : 0;
+          lines[k] = entry;
+          if (kind === 0) sewn++;
+          k++;
+        }
+        [px, py] = [x, y];
+      }
+    }
+    if (k > 0) this.add({ type: 'batch', positions: pos.slice(0, k * 6), kinds: kinds.slice(0, k), lines: lines.slice(0, k) }, cols.slice(0, k * 6));
+    this.finished();
+    return sewn;
+  }
+
   bounds() {
     return { min: this.min.toArray(), max: this.max.toArray() };
   }
@@ -297,6 +341,7 @@ export class Preview {
   }
 
   private recolour() {
+    if (this.given) return;
     const n = this.total;
     this.full.recolour(this.colours(this.kinds.subarray(0, n), this.full.positions.subarray(0, n * 6)));
     // The coarse copy keeps the first kind of each run of `stride` segments.

@@ -1,18 +1,19 @@
-// The design processes: milling, sole molds and plots. Each has a form (fields with units
+// The design processes: milling, sole molds, plots and embroidery. Each has a form (fields with units
 // and limits, checked by the browser first and by the server's own validation after), takes
 // a file uploaded into the job folder, and gives back a program the page loads like any
 // other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
 // `oficina sole` and `oficina plot`, whose pipelines the server runs.
 
-// Embroidery joins here as 'embroider' once crates/stitch lands: an entry in PROCESSES
-// (accept .svg/.dst/.pes…, fields of its app pipeline), the server route /api/embroider, and
-// the preview colouring stitches by thread (the option is shown disabled in index.html).
-export type ProcessKind = 'mill' | 'sole' | 'plot';
+// Embroidery takes a design (.svg/.dxf) to /api/embroider, or a stitch file (.dst/.exp/.ram)
+// to /api/stitches; its answer is drawn in thread colours, not loaded as a program.
+export type ProcessKind = 'mill' | 'sole' | 'plot' | 'embroider';
+/// Stitch files: read back and shown as they are.
+export const STITCH_FILE = /\.(dst|exp|ram)$/i;
 
 interface Field {
   name: string; label: string; unit?: string;
   kind?: 'number' | 'text' | 'select' | 'check';
-  value: string; min?: number; max?: number; options?: string[]; optional?: boolean;
+  value: string; min?: number; max?: number; options?: string[]; optional?: boolean; placeholder?: string;
 }
 
 export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sample: string; fields: Field[] }> = {
@@ -60,6 +61,29 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'no_optimise', label: 'Draw as given', kind: 'check', value: '' },
     ],
   },
+  // Names and ranges are `oficina embroider`'s flags and the stitch crate's Params::check.
+  embroider: {
+    title: 'Embroidery', accept: /\.(svg|dxf|dst|exp|ram)$/i, sample: 'sunflower.svg',
+    fields: [
+      { name: 'stitch_length', label: 'Stitch length', unit: 'mm', value: '2.5', min: 0.1, max: 12.7 },
+      { name: 'fill_angle', label: 'Fill angle', unit: '°', value: '0', min: -360, max: 360 },
+      { name: 'fill_spacing', label: 'Fill row spacing', unit: 'mm', value: '0.4', min: 0.1, max: 5 },
+      { name: 'fill_stitch_length', label: 'Fill stitch length', unit: 'mm', value: '3', min: 0.5, max: 12.1 },
+      { name: 'satin_spacing', label: 'Satin spacing', unit: 'mm', value: '0.4', min: 0.1, max: 5 },
+      { name: 'satin_min_width', label: 'Satin from width', unit: 'mm', value: '1', min: 0, max: 100 },
+      { name: 'pull_compensation', label: 'Pull compensation', unit: 'mm', value: '0.2', min: 0, max: 5 },
+      { name: 'trim_length', label: 'Trim jumps over', unit: 'mm', value: '3', min: 0, max: 1000 },
+      { name: 'underlay', label: 'Underlay', kind: 'check', value: 'on' },
+      { name: 'ties', label: 'Lock stitches', kind: 'check', value: 'on' },
+      { name: 'fill_closed', label: 'Fill closed outlines', kind: 'check', value: '' },
+      { name: 'hoop', label: 'Hoop', kind: 'text', value: '', optional: true, placeholder: 'smallest that fits (C03, round-150…)' },
+      { name: 'format', label: 'File format', kind: 'select', value: 'dst', options: ['dst', 'exp', 'ram'] },
+      // The table the sheet's run and "Sew" use: the seed's, or a motion profile's X/Y limits.
+      { name: 'machine', label: 'Embroidery table', kind: 'select', value: 'embroidery-table', options: ['embroidery-table', 'embroidery-xy'] },
+      { name: 'ppm', label: 'Fixed head speed', unit: 'stitches/min', value: '', min: 1, max: 10000, optional: true },
+      { name: 'pieces', label: 'Pieces', value: '1', min: 1, max: 1000000 },
+    ],
+  },
 };
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -88,6 +112,8 @@ export function renderForm(kind: ProcessKind) {
         if (f.optional) i.placeholder = 'auto';
       }
       i.value = f.value;
+      if (i.type === 'checkbox') i.checked = f.value === 'on';
+      if (f.placeholder) i.placeholder = f.placeholder;
       input = i;
     }
     input.name = f.name;

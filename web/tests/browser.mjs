@@ -441,6 +441,93 @@ await test('the saved tool table reaches the check and the run (G43 H, tool diam
   assert(Math.abs(mz - e1.max[2]) < 1e-3, `machine Z ${mz}, checked ${e1.max[2]}`);
 });
 
+await test('SVG → embroidery: field errors, stitches in thread colours = the sheet\'s count, download, sew on the table to finished', async () => {
+  const svg = readFileSync(path.join(here, '..', '..', 'samples', 'embroidery', 'sunflower.svg'), 'utf8');
+  await page.selectOption('#process', 'embroider');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'sunflower.svg', null, { timeout: 20000 });
+  // The user's own design, dropped on the page.
+  const dt = await page.evaluateHandle((t) => {
+    const d = new DataTransfer();
+    d.items.add(new File([t], 'flower.svg', { type: 'image/svg+xml' }));
+    return d;
+  }, svg);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'flower.svg', null, { timeout: 10000 });
+  assert((await page.textContent('#legend-rapid')).startsWith('jump'), 'the legend speaks of jumps');
+  // Refused by the browser (the stitch crate's range), then by the server (no such hoop).
+  await page.fill('#process-fields input[name="stitch_length"]', '20');
+  await page.click('#make');
+  assert((await page.textContent('.field-error[data-for="stitch_length"]')) !== '', 'the browser names the field');
+  await page.fill('#process-fields input[name="stitch_length"]', '3');
+  await page.fill('#process-fields input[name="hoop"]', 'square-9');
+  await page.click('#make');
+  await page.waitForFunction(() => document.querySelector('#process-fields .field-error[data-for="hoop"]').textContent.includes('no such hoop'), null, { timeout: 30000 });
+  await page.fill('#process-fields input[name="hoop"]', '');
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('process-status').dataset.stitches && !document.getElementById('embroidery').hidden, null, { timeout: 60000 });
+  // The preview's sewn stitches (counted from the plan's points) are the sheet's count.
+  const sheet = Number(await page.$eval('#process-status', (e) => e.dataset.stitches));
+  const drawn = Number(await page.$eval('#viewport', (e) => e.dataset.stitches));
+  const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
+  const report = await page.textContent('#process-report');
+  const printed = Number((report.match(/Stitches\s+(\d+)/) || [])[1]);
+  assert(sheet > 500 && drawn === sheet && kinds.feed === sheet && printed === sheet, `sheet ${sheet}, drawn ${drawn}, kinds ${JSON.stringify(kinds)}, printed ${printed}`);
+  assert(kinds.rapid > 0, 'jumps are drawn');
+  assert(report.includes('Sewing time') && report.includes('Hoop'), report);
+  // Thread colours: one list entry per colour block, each a different thread.
+  const threads = await page.$$eval('#threads li', (l) => l.map((e) => e.textContent.trim().split(' ')[0]));
+  assert(threads.length === 3 && new Set(threads).size === 3, JSON.stringify(threads));
+  const status = await page.textContent('#process-status');
+  assert(status.includes('flower.dst') && status.includes('m of thread') && status.includes('sewing'), status);
+  // The file to download is a DST (its header starts with the design's label).
+  const href = await page.getAttribute('#stitch-download', 'href');
+  const head = await page.evaluate(async (h) => {
+    const b = new Uint8Array(await (await fetch(h)).arrayBuffer());
+    return { n: b.length, label: new TextDecoder().decode(b.slice(0, 3)) };
+  }, href);
+  assert(head.n > 512 && head.label === 'LA:', JSON.stringify(head));
+  // Sewn on the needle-synchronised table to its end.
+  await page.click('#sew');
+  await page.waitForFunction(() => ['finished', 'stopped', 'failed'].includes(document.getElementById('sew-status').dataset.state), null, { timeout: 60000 });
+  const sewn = await page.textContent('#sew-status');
+  assert((await page.$eval('#sew-status', (e) => e.dataset.state)) === 'finished', sewn);
+  assert(sewn.includes(`${sheet} stitches`) && sewn.includes('sewing'), sewn);
+  assert(Number(await page.inputValue('#scrub')) === (await segments()), 'the timeline played to the end');
+  assert((await page.textContent('#process-status')).startsWith('flower.dst'), 'the sheet line stays after the run');
+  // Scrubbing the stitches leaves the editor's program alone.
+  const editorLine = await page.evaluate(() => window.__oficina.editor.currentLine ?? null);
+  await page.$eval('#scrub', (e) => { e.value = '10'; e.dispatchEvent(new Event('input')); });
+  assert((await page.textContent('#scrub-info')).startsWith('stitch entry'), await page.textContent('#scrub-info'));
+  assert((await page.evaluate(() => window.__oficina.editor.currentLine ?? null)) === editorLine, 'the editor line stays');
+  await page.$eval('#scrub', (e) => { e.value = e.max; e.dispatchEvent(new Event('input')); });
+  await page.waitForTimeout(300);
+  await shot('embroidery');
+  // On the slower table of the embroidery-xy profile the run stops at the first stitch
+  // too long for its needle-up window, and says which.
+  await page.selectOption('#process-fields select[name="machine"]', 'embroidery-xy');
+  await page.click('#sew');
+  await page.waitForFunction(() => ['finished', 'stopped', 'failed'].includes(document.getElementById('sew-status').dataset.state), null, { timeout: 60000 });
+  const stopped = await page.textContent('#sew-status');
+  assert((await page.$eval('#sew-status', (e) => e.dataset.state)) === 'stopped' && stopped.includes('needle is up'), stopped);
+  await page.selectOption('#process-fields select[name="machine"]', 'embroidery-table');
+});
+
+await test('a .dst file opened shows its stitches and sheet', async () => {
+  const bytes = await page.evaluate(async () => Array.from(new Uint8Array(await (await fetch('/api/files/flower.dst')).arrayBuffer())));
+  const before = Number(await page.$eval('#process-status', (e) => e.dataset.stitches));
+  const dt = await page.evaluateHandle((b) => {
+    const d = new DataTransfer();
+    d.items.add(new File([new Uint8Array(b)], 'again.dst', { type: 'application/octet-stream' }));
+    return d;
+  }, bytes);
+  await page.dispatchEvent('body', 'drop', { dataTransfer: dt });
+  await page.waitForFunction(() => document.getElementById('process-status').textContent.startsWith('again.dst'), null, { timeout: 30000 });
+  const sheet = Number(await page.$eval('#process-status', (e) => e.dataset.stitches));
+  const drawn = Number(await page.$eval('#viewport', (e) => e.dataset.stitches));
+  assert(sheet === before && drawn === sheet, `read back ${sheet}, drawn ${drawn}, made ${before}`);
+  await page.selectOption('#process', 'gcode');
+});
+
 await test('no script errors in the page', async () => {
   assert(consoleErrors.length === 0, consoleErrors.join('\n'));
 });

@@ -39,7 +39,8 @@ pub fn routes(state: Arc<AppState>) -> Router {
         .route("/api/mill", post(jobs::mill_job))
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
-        // Embroidery: `/api/embroider` beside these, calling app's stitch pipeline (next).
+        .route("/api/embroider", post(crate::embroider::embroider_job))
+        .route("/api/stitches", post(crate::embroider::stitch_file))
         .route("/api/cancel", post(jobs::cancel))
         .route("/api/profiles/check", post(crate::profiles::check))
         .route("/api/profiles/use", post(crate::profiles::use_profile))

@@ -34,7 +34,7 @@ impl IntoResponse for JobError {
     }
 }
 
-fn bad(msg: impl Into<String>) -> JobError {
+pub(crate) fn bad(msg: impl Into<String>) -> JobError {
     JobError(StatusCode::BAD_REQUEST, Error(msg.into()))
 }
 
@@ -56,7 +56,7 @@ pub struct Computing(Mutex<Option<Arc<AtomicBool>>>);
 /// Runs `work` on a blocking thread with progress on the live channel. A cancel sets the
 /// job's flag, which the pipelines read inside their long loops; the answer comes once the
 /// thread has stopped, so a cancelled job never computes on beside the next one.
-async fn compute<T: Send + 'static>(
+pub(crate) async fn compute<T: Send + 'static>(
     st: &Arc<AppState>,
     work: impl FnOnce(Feedback) -> Result<T, Error> + Send + 'static,
 ) -> Result<T, JobError> {
@@ -128,7 +128,7 @@ pub struct JobRequest<P> {
     profile: Option<String>,
 }
 
-fn input(st: &AppState, file: &Option<String>) -> Result<std::path::PathBuf, JobError> {
+pub(crate) fn input(st: &AppState, file: &Option<String>) -> Result<std::path::PathBuf, JobError> {
     let name = file
         .as_deref()
         .ok_or_else(|| bad("no input file: upload one first"))?;
@@ -143,7 +143,7 @@ fn input(st: &AppState, file: &Option<String>) -> Result<std::path::PathBuf, Job
 }
 
 /// `plate.svg` → `plate.pocket.ngc`.
-fn output_name(input: &str, suffix: &str) -> Result<String, JobError> {
+pub(crate) fn output_name(input: &str, suffix: &str) -> Result<String, JobError> {
     let stem = input.rsplit_once('.').map_or(input, |(s, _)| s);
     let name = format!("{stem}.{suffix}");
     safe_name(&name).map_err(bad)?;

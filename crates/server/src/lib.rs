@@ -28,6 +28,7 @@
 
 mod api;
 mod auth;
+mod embroider;
 mod files;
 mod jobs;
 mod profiles;

@@ -23,7 +23,7 @@ pub const IMAGES: &[(&str, &[u8])] = &[(
 /// The program the page opens with when none is given.
 pub const DEFAULT: &str = "plate.nc";
 
-/// Designs for the processes: a drawing to mill, a contour for sole molds, a drawing to plot.
+/// Designs for the processes: a drawing to mill, a contour for sole molds, a drawing to plot, a design to embroider.
 pub const DESIGNS: &[(&str, &str)] = &[
     ("plate.svg", include_str!("../../../samples/mill/plate.svg")),
     ("holes.svg", include_str!("../../../samples/mill/holes.svg")),
@@ -36,4 +36,8 @@ pub const DESIGNS: &[(&str, &str)] = &[
         include_str!("../../../samples/plot/design.svg"),
     ),
     ("house.plt", include_str!("../../../samples/plot/house.plt")),
+    (
+        "sunflower.svg",
+        include_str!("../../../samples/embroidery/sunflower.svg"),
+    ),
 ];

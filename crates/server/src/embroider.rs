@@ -1,0 +1,307 @@
+//! The embroidery endpoints: a design of the job folder sewn by `oficina_app::embroider` (the
+//! pipeline `oficina embroider` runs) into a DST/EXP file there, and any stitch file of the job
+//! folder read back with its production sheet and its run on the needle-synchronised table.
+//! The answer carries the plan as the file holds it, in sewing order, for the page to draw in
+//! thread colours; the figures are the sheet's, computed by the application layer.
+
+use crate::files::path_in;
+use crate::jobs::{bad, compute, input, output_name, JobError};
+use crate::AppState;
+use axum::extract::State;
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use oficina_app::embroider::{embroider, read_stitch_file, sheet_of, EmbroiderParams};
+use oficina_app::Error;
+use oficina_stitch::{Format, Kind, Params, Sheet, StitchPlan};
+use serde::Deserialize;
+use serde_json::{json, Value};
+use std::sync::Arc;
+
+/// The form's fields, named as `oficina embroider`'s flags (so an error naming `--hoop`
+/// lands beside the hoop field); absent fields take the CLI's defaults.
+#[derive(Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EmbroiderForm {
+    stitch_length: f64,
+    fill_angle: f64,
+    fill_spacing: f64,
+    fill_stitch_length: f64,
+    satin_spacing: f64,
+    satin_min_width: f64,
+    pull_compensation: f64,
+    underlay: bool,
+    ties: bool,
+    fill_closed: bool,
+    trim_length: f64,
+    /// A hoop name or seed code; empty or absent = the smallest that fits.
+    hoop: Option<String>,
+    /// dst, exp or ram.
+    format: String,
+    /// The table: embroidery-table or a motion profile.
+    machine: String,
+    ppm: Option<f64>,
+    pieces: u32,
+}
+
+impl Default for EmbroiderForm {
+    fn default() -> EmbroiderForm {
+        let p = Params::default();
+        let e = EmbroiderParams::default();
+        EmbroiderForm {
+            stitch_length: p.stitch_length,
+            fill_angle: p.fill_angle_deg,
+            fill_spacing: p.fill_spacing,
+            fill_stitch_length: p.fill_stitch_length,
+            satin_spacing: p.satin_spacing,
+            satin_min_width: p.satin_min_width,
+            pull_compensation: p.pull_compensation,
+            underlay: p.underlay,
+            ties: p.ties,
+            fill_closed: p.fill_closed,
+            trim_length: p.trim_length,
+            hoop: None,
+            format: e.format.extension().into(),
+            machine: e.table,
+            ppm: None,
+            pieces: e.pieces,
+        }
+    }
+}
+
+/// The label `Params::check` starts its message with, and the field it is about.
+const CHECKED: &[(&str, &str)] = &[
+    ("stitch length", "stitch-length"),
+    ("fill stitch length", "fill-stitch-length"),
+    ("satin spacing", "satin-spacing"),
+    ("fill row spacing", "fill-spacing"),
+    ("satin minimum width", "satin-min-width"),
+    ("fill angle", "fill-angle"),
+    ("pull compensation", "pull-compensation"),
+    ("trim length", "trim-length"),
+];
+
+impl EmbroiderForm {
+    fn params(self) -> Result<EmbroiderParams, JobError> {
+        let format = match self.format.to_ascii_lowercase().as_str() {
+            "dst" => Format::Dst,
+            "exp" => Format::Exp,
+            "ram" | "seed-ram" => Format::SeedRam,
+            f => return Err(bad(format!("--format {f}: use dst, exp or ram"))),
+        };
+        if let Some(ppm) = self.ppm {
+            if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
+                return Err(bad(format!("--ppm {ppm}: use 1..10000 stitches/min")));
+            }
+        }
+        let stitch = Params {
+            stitch_length: self.stitch_length,
+            fill_angle_deg: self.fill_angle,
+            fill_spacing: self.fill_spacing,
+            fill_stitch_length: self.fill_stitch_length,
+            satin_spacing: self.satin_spacing,
+            satin_min_width: self.satin_min_width,
+            pull_compensation: self.pull_compensation,
+            underlay: self.underlay,
+            ties: self.ties,
+            fill_closed: self.fill_closed,
+            trim_length: self.trim_length,
+            ..Params::default()
+        };
+        // The library's own ranges, checked before the job starts; its message gets the
+        // flag of the field it names so the page shows it there.
+        stitch.check().map_err(|e| {
+            let flag = CHECKED
+                .iter()
+                .find(|(label, _)| e.0.starts_with(&format!("{label} (")))
+                .map_or(String::new(), |(_, f)| format!("--{f}: "));
+            bad(format!("{flag}{}", e.0))
+        })?;
+        Ok(EmbroiderParams {
+            stitch,
+            format,
+            hoop: self.hoop.filter(|h| !h.trim().is_empty()),
+            table: self.machine,
+            ppm: self.ppm,
+            pieces: self.pieces,
+        })
+    }
+}
+
+#[derive(Deserialize)]
+pub struct EmbroiderRequest {
+    file: Option<String>,
+    #[serde(default)]
+    params: EmbroiderForm,
+}
+
+/// Plans with more entries than this are summed up but not sent to be drawn (a 16 MB DST
+/// holds ~5.6 million records: ~100 MB of JSON).
+const MAX_DRAWN: usize = 2_000_000;
+
+fn drawable(plan: &StitchPlan, file: &str) -> Result<(), JobError> {
+    let n: usize = plan.blocks.iter().map(|b| b.stitches.len()).sum();
+    if n > MAX_DRAWN {
+        return Err(bad(format!(
+            "{file}: {n} stitch entries is more than the {MAX_DRAWN} the page draws; `oficina embroider --info {file}` gives its sheet"
+        )));
+    }
+    Ok(())
+}
+
+/// The plan in sewing order: per colour block its thread and its points as flat
+/// `[x, y, kind, …]` (kind 0 stitch, 1 jump, 2 trim, 3 stop), mm.
+fn plan_json(plan: &StitchPlan) -> Value {
+    let blocks: Vec<Value> = plan
+        .blocks
+        .iter()
+        .map(|b| {
+            let mut points = Vec::with_capacity(b.stitches.len() * 3);
+            for s in &b.stitches {
+                let kind = match s.kind {
+                    Kind::Stitch => 0,
+                    Kind::Jump => 1,
+                    Kind::Trim => 2,
+                    Kind::Stop => 3,
+                };
+                // 0.01 mm is finer than any format's 0.1 mm unit: a smaller answer.
+                points.push(json!((s.x * 100.0).round() / 100.0));
+                points.push(json!((s.y * 100.0).round() / 100.0));
+                points.push(json!(kind));
+            }
+            json!({"thread": b.thread.hex(), "name": b.thread.name, "points": points})
+        })
+        .collect();
+    json!({"name": plan.name, "blocks": blocks})
+}
+
+fn sheet_json(s: &Sheet) -> Value {
+    let c = &s.counts;
+    let r = &s.run;
+    let faults: Vec<Value> = r
+        .faults
+        .iter()
+        .take(20)
+        .map(|f| {
+            json!({"stitch": f.index + 1, "colour": f.block + 1, "length": f.length, "ppm": f.ppm,
+                   "move_ms": f.move_seconds * 1000.0, "window_ms": f.window_seconds * 1000.0})
+        })
+        .collect();
+    json!({
+        "stitches": c.stitches,
+        "jumps": c.jumps,
+        "trims": c.trims,
+        "stops": c.stops,
+        "color_changes": c.color_changes,
+        "jump_length": c.jump_length,
+        "threads": s.threads.iter().map(|t| json!({"hex": t.hex, "stitches": t.stitches, "length_m": t.length_m})).collect::<Vec<_>>(),
+        "thread_m": s.threads.iter().map(|t| t.length_m).sum::<f64>(),
+        "size": s.size,
+        "hoop": s.hoop.as_ref().map(|h| h.to_string()).ok(),
+        "hoop_error": s.hoop.as_ref().err().map(|e| e.to_string()),
+        "table": s.table,
+        "pieces": s.pieces,
+        "run": {
+            "sewing_seconds": r.sewing_seconds,
+            "jump_seconds": r.jump_seconds,
+            "pause_seconds": r.pause_seconds,
+            "total_seconds": r.total_seconds,
+            "faults": r.faults.len(),
+            "first_faults": faults,
+            "out_of_travel": r.out_of_travel.len(),
+            "too_long": r.too_long,
+            "finished": r.faults.is_empty() && r.out_of_travel.is_empty(),
+        },
+        "text": s.text(),
+    })
+}
+
+/// `POST /api/embroider {file, params}`: the design → stitches → the file in the job folder.
+pub async fn embroider_job(
+    State(st): State<Arc<AppState>>,
+    Json(req): Json<EmbroiderRequest>,
+) -> Result<Response, JobError> {
+    let path = input(&st, &req.file)?;
+    let params = req.params.params()?;
+    let file = req.file.clone().unwrap_or_default();
+    let name = output_name(&file, params.format.extension())?;
+    let p = params.clone();
+    let r = compute(&st, move |fb| embroider(&path, &p, fb)).await?;
+    if let Err(e) = &r.sheet.hoop {
+        // As the CLI: nothing written for a design that leaves its hoop.
+        return Err(bad(format!(
+            "--hoop: {e}; nothing written (choose a larger hoop or scale the design)"
+        )));
+    }
+    let out = path_in(&st.config.job_dir, &name).map_err(bad)?;
+    tokio::fs::write(&out, &r.file)
+        .await
+        .map_err(|e| bad(format!("{name}: {e}")))?;
+    // The plan as the file holds it (what the machine will sew), in the design's threads:
+    // the file itself carries no colours.
+    let mut plan = read_stitch_file(&out)?;
+    for (b, g) in plan.blocks.iter_mut().zip(&r.generated.plan.blocks) {
+        b.thread = g.thread.clone();
+    }
+    drawable(&plan, &name)?;
+    let g = &r.generated;
+    st.say(&format!(
+        "embroidered {file} into {name} ({} stitches, {} colours)",
+        r.sheet.counts.stitches,
+        r.sheet.threads.len()
+    ));
+    Ok(Json(json!({
+        "name": name,
+        "bytes": r.file.len(),
+        "format": params.format.name(),
+        "shapes": {"fill": g.fills, "satin": g.satins, "running": g.runnings},
+        "notes": r.notes,
+        "plan": plan_json(&plan),
+        "sheet": sheet_json(&r.sheet),
+    }))
+    .into_response())
+}
+
+/// `POST /api/stitches {file, params}`: a DST/EXP/RAM file of the job folder read back, its
+/// sheet, and its run on the table the params name (`machine`, `ppm`, `hoop`, `pieces`).
+pub async fn stitch_file(
+    State(st): State<Arc<AppState>>,
+    Json(req): Json<EmbroiderRequest>,
+) -> Result<Response, JobError> {
+    let path = input(&st, &req.file)?;
+    let params = req.params.params()?;
+    let (plan, sheet) = compute(&st, move |fb| {
+        fb.stage("reading the stitch file")?;
+        let plan = read_stitch_file(&path)?;
+        if plan.is_empty() {
+            return Err(Error(format!(
+                "{}: the file holds no stitches",
+                path.display()
+            )));
+        }
+        fb.stage("sheet and table run")?;
+        let sheet = sheet_of(&plan, &params)?;
+        Ok((plan, sheet))
+    })
+    .await?;
+    let file = req.file.unwrap_or_default();
+    drawable(&plan, &file)?;
+    st.say(&format!(
+        "read {file}: {} stitches; on {}: {}",
+        sheet.counts.stitches,
+        sheet.table,
+        if sheet.run.faults.is_empty() {
+            "every stitch within its needle-up window".to_string()
+        } else {
+            format!(
+                "{} stitch(es) too long for their window",
+                sheet.run.faults.len()
+            )
+        }
+    ));
+    Ok(Json(json!({
+        "name": file,
+        "plan": plan_json(&plan),
+        "sheet": sheet_json(&sheet),
+    }))
+    .into_response())
+}
