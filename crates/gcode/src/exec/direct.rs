@@ -324,6 +324,11 @@ impl Reader<'_> {
                     }
                     (b'0'..=b'9', j) if self.depth < MAX_NESTING => {
                         // `#1`: the number as `real_value` would read it, one level down.
+                        if let Some(n) = self.whole_number(j) {
+                            return ((1..=LAST_NUMBERED).contains(&n))
+                                .then(|| self.params.get(n).ok())
+                                .flatten();
+                        }
                         self.pos = j;
                         let n = param_number(self.number()?)?;
                         self.params.get(n).ok()
@@ -379,6 +384,24 @@ impl Reader<'_> {
         }
         self.pos = i + 1;
         binary(op, lhs, rhs, Span::default()).ok()
+    }
+
+    /// The digits at `at` as an integer, read without the float reading of
+    /// [`Reader::number`], when they are at most four (every parameter number) and end the
+    /// number: not followed by a point or by a blank (which could hide more digits).
+    /// `pos` moves past them only when they are taken.
+    fn whole_number(&mut self, at: usize) -> Option<i64> {
+        let rest = &self.raw[at..];
+        let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
+        if digits > 4 || rest.get(digits).is_some_and(|&b| b == b'.' || is_blank(b)) {
+            return None;
+        }
+        self.pos = at + digits;
+        Some(
+            rest[..digits]
+                .iter()
+                .fold(0, |n, &d| n * 10 + i64::from(d - b'0')),
+        )
     }
 
     /// An operand of [`Reader::one_operator`]: a number, `-` and a number, `#n` or
@@ -554,6 +577,7 @@ mod tests {
             "X##1 Y#[1+1]",
             "X[ 1 + 2 ] Y - [ 3 ]",
             "G1 X[ABS[SIN[12]] * 0 + 1]",
+            "X#01 Y#0002 Z[#3 + #12] A#00001 B#1. C#5601",
         ] {
             assert!(agrees_with_full_path(s), "fast path declined {s}");
         }
@@ -571,6 +595,8 @@ mod tests {
             "#<new>=1",
             "#<_x>=1",
             "#0=1",
+            "X#0",
+            "X#5603",
             "X#[1.5]",
             "X[EXISTS[#<a>]]",
             "G1 X[1] (comment)",
