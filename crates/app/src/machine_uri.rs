@@ -48,6 +48,11 @@ pub fn open_machine_with_tools(
         return open_machine_with(spec, work_offset, max_line_len);
     }
     let profile = profile::resolve_with_offset(virtual_name(spec), work_offset)?;
+    // No table given: the one the profile names, if any.
+    let tools = match tools {
+        Some(t) => Some(t),
+        None => profile::tool_table(&profile, spec, oficina_canon::Units::Mm)?,
+    };
     let vm = VirtualMachine::new(profile).with_max_line_len(max_line_len);
     Ok(Box::new(match tools {
         Some(t) => vm.with_tool_table(t),

@@ -13,6 +13,35 @@ pub fn resolve(spec: &str) -> Result<Profile, Error> {
     oficina_motion::resolve(spec).map_err(Error::from_display)
 }
 
+/// The tool table `profile` names (`tool_table = "…"`, lengths in `units`), read; `None`
+/// when it names none. `spec` is how the user named the profile: a missing or bad file is an
+/// error naming it, the table's path, and the line and column of a bad line.
+pub fn tool_table(
+    profile: &Profile,
+    spec: &str,
+    units: oficina_canon::Units,
+) -> Result<Option<oficina_gcode::interp::tool_table::ToolTable>, Error> {
+    let Some(path) = &profile.tool_table else {
+        return Ok(None);
+    };
+    let named =
+        format!("the tool table named by machine profile {spec}; --tool-table overrides it");
+    let bytes = std::fs::read(path)
+        .map_err(|e| Error(format!("cannot read {} ({named}): {e}", path.display())))?;
+    let text = oficina_gcode::text::decode(&bytes);
+    oficina_gcode::interp::tool_table::ToolTable::parse(&text, units)
+        .map(Some)
+        .map_err(|d| {
+            Error(format!(
+                "{}:{}:{}: {} ({named})",
+                path.display(),
+                d.span.line,
+                d.span.col,
+                d.message
+            ))
+        })
+}
+
 /// `X,Y,Z` in mm, for `--work-offset`.
 pub fn parse_xyz(text: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();

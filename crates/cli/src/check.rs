@@ -28,6 +28,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
     let mut opts = args.program.run_options(true)?;
     opts.initial_params = profile.initial_params();
+    if args.program.tool_table.is_none() {
+        let units = opts.start.machine_units;
+        if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, units)? {
+            opts.tool_table = t;
+        }
+    }
     let source = args.program.open()?;
     let [x, y, z] = profile.start;
     let mut summarizer = Summarizer::with_bound(

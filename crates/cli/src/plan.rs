@@ -111,6 +111,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         oficina_app::run_options_for(&profile, args.dialect, args.line_limit.bytes());
     if let Some(path) = &args.tool_table {
         interp_opts.tool_table = load_tool_table(path, Units::Mm)?;
+    } else if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, Units::Mm)? {
+        interp_opts.tool_table = t;
     }
     if args.interpolator == Interpolator::Dda {
         let ops = canon_stream_with(&job, interp_opts);

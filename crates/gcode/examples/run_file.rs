@@ -25,7 +25,11 @@ fn main() {
     let opts = RunOptions::default();
     let mut ops = 0u64;
     let diagnostics = match mode.as_str() {
-        "count" => oficina_gcode::run(BufReader::new(file), &opts, &mut |_| ops += 1),
+        "count" => oficina_gcode::run(
+            BufReader::with_capacity(256 * 1024, file),
+            &opts,
+            &mut |_| ops += 1,
+        ),
         "print" => {
             let stdout = std::io::stdout();
             let mut out = BufWriter::new(stdout.lock());

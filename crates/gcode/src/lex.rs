@@ -185,7 +185,7 @@ fn starts_char(raw: &[u8], i: usize) -> bool {
 /// back to the standard library parser.
 // Inlined into the readers: the nested Option/Result then stays in registers instead of
 // going through memory on every number.
-#[inline]
+#[inline(always)]
 pub(crate) fn scan_number(s: &[u8]) -> Option<Result<(f64, usize), usize>> {
     // A single digit (G1, #1, M2) is the most common number of all.
     if let [d @ b'0'..=b'9', rest @ ..] = s {

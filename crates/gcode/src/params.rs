@@ -71,6 +71,9 @@ pub struct Params {
     system: NameMap,
     frames: Vec<Frame>,
     top_locals: NameMap,
+    /// `system` may be out of date: a block ran since the driver last refreshed it (see
+    /// [`crate::exec::Executor::read_block_with`]).
+    system_stale: bool,
 }
 
 impl Default for Params {
@@ -87,6 +90,7 @@ impl Params {
             system: NameMap::default(),
             frames: Vec::new(),
             top_locals: NameMap::default(),
+            system_stale: false,
         }
     }
 
@@ -157,6 +161,21 @@ impl Params {
     /// Whether `#<name>=…` would be refused because the interpreter owns the name.
     pub fn is_read_only(&self, name: &str) -> bool {
         name.starts_with('_') && self.system.contains_key(&name.to_ascii_lowercase())
+    }
+
+    /// Say that the read-only `#<_…>` values may be out of date (a block ran).
+    pub fn mark_system_stale(&mut self) {
+        self.system_stale = true;
+    }
+
+    /// Whether the read-only `#<_…>` values may be out of date.
+    pub fn system_stale(&self) -> bool {
+        self.system_stale
+    }
+
+    /// Take the staleness mark: true (and now cleared) when the values must be refreshed.
+    pub fn take_system_stale(&mut self) -> bool {
+        std::mem::take(&mut self.system_stale)
     }
 
     pub fn exists_named(&self, name: &str) -> bool {

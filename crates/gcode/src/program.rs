@@ -54,8 +54,6 @@ pub struct Driver {
     continue_after_error: bool,
     limit: usize,
     ended: bool,
-    /// Refresh `#<_x>` and friends after every block (only programs that read them pay).
-    named_params: bool,
     /// Line of the last block read: where an unterminated program is reported.
     last_line: u32,
 }
@@ -82,16 +80,8 @@ impl Driver {
                 opts.max_diagnostics
             },
             ended: false,
-            named_params: true,
             last_line: 1,
         }
-    }
-
-    /// Whether the program may read system parameters such as `#<_x>`; when it cannot,
-    /// the driver skips their refresh after each block (a map update per name).
-    pub fn refresh_named_params(mut self, on: bool) -> Driver {
-        self.named_params = on;
-        self
     }
 
     fn report(&mut self, d: Diagnostic) {
@@ -121,9 +111,17 @@ impl Driver {
         // One block reused throughout: no allocation per block on the straight path.
         let mut block = Block::default();
         loop {
-            let result = match exec.read_block(&mut self.params, &mut block) {
+            // `#<_x>` and friends cost a map update each: brought up to date only before a
+            // line that reads them, which only programs that read them pay.
+            let interp = &self.interp;
+            let mut refresh = |params: &mut Params| interp.update_named_params(params);
+            let read = exec.read_block_with(&mut self.params, &mut block, &mut refresh);
+            let result = match read {
                 Ok(false) => break,
-                Ok(true) => self.interp.execute(&block, &mut self.params, sink),
+                Ok(true) => {
+                    self.params.mark_system_stale();
+                    self.interp.execute(&block, &mut self.params, sink)
+                }
                 Err(e) => Err(e),
             };
             if block.line > 0 {
@@ -134,9 +132,6 @@ impl Driver {
                     Span::line(block.line),
                     format!("(print) {text}"),
                 ));
-            }
-            if self.named_params {
-                self.interp.update_named_params(&mut self.params);
             }
             match result {
                 Ok(Flow::End) => {
@@ -195,9 +190,6 @@ pub fn run(
     opts: &RunOptions,
     sink: &mut dyn FnMut(Canon),
 ) -> Vec<Diagnostic> {
-    let mut source = source;
-    // A program that cannot be scanned is assumed to read them.
-    let named = mentions_system_params(&mut source).unwrap_or(true);
     let mut exec = Executor::new(source, opts.dialect);
     exec.set_block_delete(opts.block_delete);
     exec.set_fanuc_subs(!opts.disable_fanuc_subs);
@@ -205,43 +197,7 @@ pub fn run(
     if opts.max_line_len > 0 {
         exec.set_max_line_len(opts.max_line_len);
     }
-    Driver::new(opts, sink)
-        .refresh_named_params(named)
-        .run(&mut exec, sink)
-}
-
-/// Whether the text contains `<_` (as in `#<_x>`), scanning once and rewinding. False
-/// positives only cost speed.
-fn mentions_system_params(source: &mut (impl BufRead + Seek)) -> std::io::Result<bool> {
-    let start = source.stream_position()?;
-    let mut found = false;
-    let mut last = 0u8;
-    loop {
-        let buf = source.fill_buf()?;
-        if buf.is_empty() {
-            break;
-        }
-        let n = buf.len();
-        found = (last == b'<' && buf[0] == b'_') || contains_lt_underscore(buf);
-        last = buf[n - 1];
-        source.consume(n);
-        if found {
-            break;
-        }
-    }
-    source.seek(std::io::SeekFrom::Start(start))?;
-    Ok(found)
-}
-
-/// Whether `buf` holds `<_`: a search for each `<`, as they are rare in G-code.
-fn contains_lt_underscore(mut buf: &[u8]) -> bool {
-    while let Some(i) = crate::bytes::find_byte(b'<', buf) {
-        if buf.get(i + 1) == Some(&b'_') {
-            return true;
-        }
-        buf = &buf[i + 1..];
-    }
-    false
+    Driver::new(opts, sink).run(&mut exec, sink)
 }
 
 /// [`run`] over a string.
@@ -254,4 +210,41 @@ pub fn canon_of(text: &str, opts: &RunOptions) -> (Vec<Canon>, Vec<Diagnostic>) 
     let mut ops = Vec::new();
     let diags = run_text(text, opts, &mut |c| ops.push(c));
     (ops, diags)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use oficina_canon::CanonOp;
+
+    /// X of every straight move, in order.
+    fn xs(text: &str) -> Vec<f64> {
+        let (ops, diags) = canon_of(text, &RunOptions::default());
+        assert!(diags.is_empty(), "{diags:?}");
+        ops.iter()
+            .filter_map(|c| match &c.op {
+                CanonOp::StraightFeed { to } | CanonOp::StraightTraverse { to } => Some(to.x),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn system_parameters_are_current_wherever_they_are_read() {
+        // Refreshed lazily, before each line that names one: after the block before it,
+        // inside o-word conditions, with blanks in the name, and in a line of its own.
+        let text = "G21 G90 G1 X5 F100\n\
+                    #1 = #<_x>\n\
+                    G1 X7\n\
+                    o100 if [#< _x > GT 6]\n\
+                    #2 = 3\n\
+                    o100 endif\n\
+                    G0 X#1\n\
+                    G1 X[#2 + #<_X>]\n\
+                    G91 G1 X1\n\
+                    G90 G1 X[#<_incremental> * 100 + #<_absolute>]\n\
+                    M2\n";
+        // The last line reads the values from before it: still G91.
+        assert_eq!(xs(text), vec![5.0, 7.0, 5.0, 8.0, 9.0, 100.0]);
+    }
 }

@@ -125,6 +125,10 @@ pub struct Profile {
     /// The G54 work offset the machine keeps between jobs (grbl's EEPROM, LinuxCNC's .var),
     /// mm: where work zero sits in machine coordinates before a program sets its own.
     pub work_offset: [f64; 3],
+    /// The machine's LinuxCNC tool table (`tool_table = "tools.tbl"`), relative to the
+    /// profile file's folder once loaded by [`Profile::load`]; read by the commands that run
+    /// programs when no `--tool-table` is given.
+    pub tool_table: Option<std::path::PathBuf>,
 }
 
 #[derive(Deserialize)]
@@ -140,6 +144,8 @@ struct RawProfile {
     joints: BTreeMap<String, RawJoint>,
     #[serde(default)]
     work: Option<RawWork>,
+    #[serde(default)]
+    tool_table: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -262,7 +268,12 @@ impl Profile {
             ));
         }
         let text = std::fs::read_to_string(path).map_err(|e| err(&file, "", e.to_string()))?;
-        Profile::parse(&text, &file)
+        let mut profile = Profile::parse(&text, &file)?;
+        // A tool table named by the profile lives beside it, wherever the command runs.
+        if let (Some(table), Some(dir)) = (&profile.tool_table, path.parent()) {
+            profile.tool_table = Some(dir.join(table));
+        }
+        Ok(profile)
     }
 
     /// Parses and validates profile text; `file` names it in errors.
@@ -668,6 +679,16 @@ fn validate(raw: RawProfile, file: &str) -> Result<Profile, ProfileError> {
         max_step_rate,
         default_feed: positive(file, "planner.default_feed", p.default_feed)? / 60.0,
         work_offset: work_offset(file, raw.work.as_ref(), &travel)?,
+        tool_table: match raw.tool_table {
+            Some(t) if t.trim().is_empty() => {
+                return Err(err(
+                    file,
+                    "tool_table",
+                    "empty file name; name a LinuxCNC tool table such as \"tools.tbl\"".into(),
+                ))
+            }
+            t => t.map(std::path::PathBuf::from),
+        },
     };
     use crate::kinematics::Kinematics;
     let kin = crate::kinematics::for_profile(&profile);
@@ -692,6 +713,26 @@ mod bundled_tests {
             assert!(bundled(&format!("profiles/{name}.toml")).is_some());
         }
         assert!(BUNDLED.iter().any(|(n, _)| *n == DEFAULT));
+    }
+
+    #[test]
+    fn a_named_tool_table_is_found_beside_the_profile_file() {
+        let router = BUNDLED.iter().find(|(n, _)| *n == DEFAULT).unwrap().1;
+        let text = format!("tool_table = \"tools/mill.tbl\"\n{router}");
+        assert_eq!(
+            Profile::parse(&text, "t.toml").unwrap().tool_table,
+            Some("tools/mill.tbl".into())
+        );
+        let dir = std::env::temp_dir().join(format!("oficina-profile-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("router.toml");
+        std::fs::write(&path, &text).unwrap();
+        let loaded = Profile::load(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(loaded.tool_table, Some(dir.join("tools/mill.tbl")));
+        assert_eq!(resolve(DEFAULT).unwrap().tool_table, None);
+        let e = Profile::parse(&format!("tool_table = \" \"\n{router}"), "t.toml").unwrap_err();
+        assert_eq!(e.key, "tool_table", "{e}");
     }
 
     #[test]

@@ -220,20 +220,32 @@ impl Reader<'_> {
     /// A name after `<`, up to `>`: lower-cased and without blanks, as the compactor has it.
     fn read_name(&mut self) -> Option<()> {
         self.name.clear();
-        while let Some(&b) = self.raw.get(self.pos) {
-            self.pos += 1;
+        let rest = &self.raw[self.pos..];
+        let end = rest.iter().position(|&b| b == b'>')?;
+        let name = &rest[..end];
+        self.pos += end + 1;
+        // Usually already so (`#<scale>`): copied at once rather than byte by byte.
+        if name
+            .iter()
+            .all(|&b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
+        {
+            self.name.push_str(std::str::from_utf8(name).ok()?);
+            return Some(());
+        }
+        for &b in name {
             match b {
-                b'>' => return Some(()),
                 b'(' | b';' | 0x80.. => return None,
                 b if is_blank(b) => {}
                 b => self.name.push(b.to_ascii_lowercase() as char),
             }
         }
-        None
+        Some(())
     }
 
     /// An unsigned number at `pos`; a blank followed by more digits (a number with a blank
     /// inside) is for the full path.
+    // Inlined: a call per number cost as much as a quarter of the number's own reading.
+    #[inline(always)]
     fn number(&mut self) -> Option<f64> {
         let (v, len) = crate::lex::scan_number(&self.raw[self.pos..])?.ok()?;
         self.pos += len;
@@ -282,8 +294,15 @@ impl Reader<'_> {
             b'[' => {
                 self.pos = i + 1;
                 self.plain = false;
-                let v = self.expression(0)?;
-                self.eat(b']')?;
+                let v = match self.one_operator() {
+                    Some(v) => v,
+                    None => {
+                        self.pos = i + 1;
+                        let v = self.expression(0)?;
+                        self.eat(b']')?;
+                        v
+                    }
+                };
                 // LinuxCNC checks each bracketed value (the full path reports it).
                 v.is_finite().then_some(v)
             }
@@ -294,10 +313,22 @@ impl Reader<'_> {
                     (b'<', j) => {
                         self.pos = j + 1;
                         self.read_name()?;
+                        // A system value not yet refreshed: the full path refreshes it.
+                        if self.name.starts_with('_')
+                            && self.params.system_stale()
+                            && self.params.is_read_only(self.name)
+                        {
+                            return None;
+                        }
                         self.params.get_named(self.name).ok()
                     }
                     (b'0'..=b'9', j) if self.depth < MAX_NESTING => {
                         // `#1`: the number as `real_value` would read it, one level down.
+                        if let Some(n) = self.whole_number(j) {
+                            return ((1..=LAST_NUMBERED).contains(&n))
+                                .then(|| self.params.get(n).ok())
+                                .flatten();
+                        }
                         self.pos = j;
                         let n = param_number(self.number()?)?;
                         self.params.get(n).ok()
@@ -322,6 +353,73 @@ impl Reader<'_> {
                 self.function()
             }
             _ => None,
+        }
+    }
+
+    /// The rest of `[a]` or `[a op b]` with one of `+ - * /` and simple operands (the
+    /// brackets CAM output and hand-written programs mostly hold), `pos` after the `[`: with
+    /// a single operator precedence cannot matter, so this is [`Reader::expression`]'s
+    /// result without its recursion. `None` on anything else; the caller then reads the
+    /// bracket again in full. Operands never hold a bracket, so a failed attempt costs at
+    /// most one pass over the bracket's own text (nested brackets are not tried twice).
+    fn one_operator(&mut self) -> Option<f64> {
+        let lhs = self.operand()?;
+        let (b, i) = self.peek()?;
+        let op = match b {
+            b']' => {
+                self.pos = i + 1;
+                return Some(lhs);
+            }
+            b'+' => BinOp::Add,
+            b'-' => BinOp::Sub,
+            b'*' if self.raw.get(i + 1) != Some(&b'*') => BinOp::Mul,
+            b'/' => BinOp::Div,
+            _ => return None,
+        };
+        self.pos = i + 1;
+        let rhs = self.operand()?;
+        let (b, i) = self.peek()?;
+        if b != b']' {
+            return None;
+        }
+        self.pos = i + 1;
+        binary(op, lhs, rhs, Span::default()).ok()
+    }
+
+    /// The digits at `at` as an integer, read without the float reading of
+    /// [`Reader::number`], when they are at most four (every parameter number) and end the
+    /// number: not followed by a point or by a blank (which could hide more digits).
+    /// `pos` moves past them only when they are taken.
+    fn whole_number(&mut self, at: usize) -> Option<i64> {
+        let rest = &self.raw[at..];
+        let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
+        if digits > 4 || rest.get(digits).is_some_and(|&b| b == b'.' || is_blank(b)) {
+            return None;
+        }
+        self.pos = at + digits;
+        Some(
+            rest[..digits]
+                .iter()
+                .fold(0, |n, &d| n * 10 + i64::from(d - b'0')),
+        )
+    }
+
+    /// An operand of [`Reader::one_operator`]: a number, `-` and a number, `#n` or
+    /// `#<name>`, read by [`Reader::real_value`]; `None` (nothing read) for anything that
+    /// could hold a bracket.
+    fn operand(&mut self) -> Option<f64> {
+        let (b, i) = self.peek()?;
+        let next = self.raw.get(i + 1);
+        let simple = match b {
+            b'0'..=b'9' | b'.' => true,
+            b'-' => matches!(next, Some(b'0'..=b'9' | b'.')),
+            b'#' => matches!(next, Some(b'0'..=b'9' | b'<')),
+            _ => false,
+        };
+        if simple {
+            self.real_value()
+        } else {
+            None
         }
     }
 
@@ -479,6 +577,7 @@ mod tests {
             "X##1 Y#[1+1]",
             "X[ 1 + 2 ] Y - [ 3 ]",
             "G1 X[ABS[SIN[12]] * 0 + 1]",
+            "X#01 Y#0002 Z[#3 + #12] A#00001 B#1. C#5601",
         ] {
             assert!(agrees_with_full_path(s), "fast path declined {s}");
         }
@@ -496,6 +595,8 @@ mod tests {
             "#<new>=1",
             "#<_x>=1",
             "#0=1",
+            "X#0",
+            "X#5603",
             "X#[1.5]",
             "X[EXISTS[#<a>]]",
             "G1 X[1] (comment)",
@@ -510,6 +611,51 @@ mod tests {
         ] {
             assert!(!agrees_with_full_path(s), "{s} should take the full path");
         }
+    }
+
+    #[test]
+    fn stale_system_values_are_left_to_the_full_path() {
+        let mut p = params();
+        let mut block = Block::default();
+        let mut scratch = Scratch::default();
+        p.mark_system_stale();
+        assert!(!direct_line(
+            b"G1 X#<_x>",
+            1,
+            &mut p,
+            &mut block,
+            &mut scratch
+        ));
+        // A user global is read as usual, and so is every name once refreshed.
+        assert!(direct_line(
+            b"G1 X#<_g>",
+            1,
+            &mut p,
+            &mut block,
+            &mut scratch
+        ));
+        p.take_system_stale();
+        assert!(direct_line(
+            b"G1 X#<_x>",
+            1,
+            &mut p,
+            &mut block,
+            &mut scratch
+        ));
+        assert_eq!(block.get('X'), Some(7.0));
+    }
+
+    #[test]
+    fn deep_brackets_are_read_once() {
+        // Each level of a nesting that fails deep inside must not be read again per level
+        // above it (2^64 readings would never end).
+        let src = format!("X{}1 + [2 ** 1]{}", "[".repeat(63), "]".repeat(63));
+        agrees_with_full_path(&src);
+        let src = format!("X{}#1 ** 2{}", "[".repeat(70), "]".repeat(70));
+        assert!(!agrees_with_full_path(&src));
+        assert!(agrees_with_full_path(
+            "G1 X[1 + #<_g>] Y[-2 * #2] Z[#<a> / 4]"
+        ));
     }
 
     #[test]

@@ -201,6 +201,20 @@ impl<R: BufRead + Seek> Executor<R> {
         params: &mut Params,
         block: &mut Block,
     ) -> Result<bool, Diagnostic> {
+        self.read_block_with(params, block, &mut |_| {})
+    }
+
+    /// [`Executor::read_block`], calling `refresh` before running a line that names a
+    /// system parameter (`#<_x>`, `#< _metric >`…) while [`Params::system_stale`]: the
+    /// caller marks them stale after each block and brings them up to date only for the
+    /// lines that read them. The fast paths decline such lines (see `direct.rs`), so only
+    /// the full path looks for the names.
+    pub fn read_block_with(
+        &mut self,
+        params: &mut Params,
+        block: &mut Block,
+        refresh: &mut dyn FnMut(&mut Params),
+    ) -> Result<bool, Diagnostic> {
         self.printed.clear();
         if !self.started {
             self.started = true;
@@ -251,6 +265,10 @@ impl<R: BufRead + Seek> Executor<R> {
                 }
                 self.idle_iterations = 0;
                 return Ok(true);
+            }
+            if params.system_stale() && names_system_param(self.src.text()) {
+                params.take_system_stale();
+                refresh(params);
             }
             let loaded = if self.dialect == Dialect::Grbl {
                 self.compact.load_grbl(self.src.text(), number);
@@ -517,6 +535,22 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         Ok(())
     }
+}
+
+/// Whether `line` may read a system parameter: a `<` followed, blanks aside, by `_`. A
+/// search for each `<`, as they are rare in G-code; false positives only cost a refresh.
+fn names_system_param(mut line: &[u8]) -> bool {
+    while let Some(i) = crate::bytes::find_byte(b'<', line) {
+        line = &line[i + 1..];
+        let blanks = line
+            .iter()
+            .take_while(|&&b| b == b' ' || b == b'\t')
+            .count();
+        if line.get(blanks) == Some(&b'_') {
+            return true;
+        }
+    }
+    false
 }
 
 /// The label of an `o[expression]` line: the expression's value, an integer.

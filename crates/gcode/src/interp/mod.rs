@@ -726,8 +726,11 @@ impl Interpreter {
     fn update_params(&self, params: &mut Params) {
         let k = self.k();
         let mut here = self.pos;
-        for v in &mut here[..3] {
-            *v /= k;
+        // In mm (k = 1) the division changes nothing: skipped, as it runs after every block.
+        if k != 1.0 {
+            for v in &mut here[..3] {
+                *v /= k;
+            }
         }
         let _ = params.set_run(param::POSITION, &here);
         let _ = params.set(param::COORD_SYSTEM, self.modal.coord_system as f64);

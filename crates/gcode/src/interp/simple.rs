@@ -8,13 +8,14 @@
 //! whenever the block holds anything else or would be an error, so every other case and
 //! every message keep their single implementation in the full path.
 
+use super::arcs;
 use super::state::Motion;
 use super::words::Decoded;
 use super::{Flow, Interpreter, Sink};
 use crate::block::Block;
 use crate::params::Params;
 use crate::Dialect;
-use oficina_canon::{CanonOp, FeedMode};
+use oficina_canon::{CanonOp, FeedMode, Plane};
 
 impl Interpreter {
     pub(super) fn simple_move(
@@ -38,6 +39,11 @@ impl Interpreter {
         let mut axes = [0.0; 6];
         let mut given = 0u8;
         let mut arc_words = false;
+        // I J K values, and which were given (bit i), for the centre form read here.
+        let mut offsets = [0.0; 3];
+        let mut offsets_given = 0u8;
+        // R or P, or an arc word twice: the centre is left to the full path's code.
+        let mut other_arc_words = false;
         for w in &block.words {
             let axis = match w.letter {
                 'G' if !g_seen => {
@@ -52,8 +58,17 @@ impl Interpreter {
                     continue;
                 }
                 // Arc words: checked against the motion below, read by the arc code.
-                'I' | 'J' | 'K' | 'R' | 'P' => {
+                'I' | 'J' | 'K' => {
                     arc_words = true;
+                    let i = (w.letter as u8 - b'I') as usize;
+                    other_arc_words |= offsets_given & (1 << i) != 0;
+                    offsets_given |= 1 << i;
+                    offsets[i] = w.value;
+                    continue;
+                }
+                'R' | 'P' => {
+                    arc_words = true;
+                    other_arc_words = true;
                     continue;
                 }
                 'F' if feed.is_none() && w.value >= 0.0 => {
@@ -90,7 +105,12 @@ impl Interpreter {
         let end = self.target(&axes, given);
         // An arc's centre and turns, or the error that sends the block the full way.
         let arc = if arc {
-            Some(self.arc_geometry(block, motion, end)?)
+            Some(
+                match self.offsets_arc(motion, end, offsets, offsets_given) {
+                    Some(geometry) if !other_arc_words => geometry,
+                    _ => self.arc_geometry(block, motion, end)?,
+                },
+            )
         } else {
             None
         };
@@ -127,6 +147,40 @@ impl Interpreter {
             }
         }
         end
+    }
+
+    /// Centre and turns of an arc given by its centre offsets alone (no R, no P): what
+    /// `arc_center`'s I J K branch computes, without decoding the block again. `None` for
+    /// anything that branch would refuse (an off-plane word, no offset in the plane, a bad
+    /// arc) or that it does not handle: the caller then takes the full path's code.
+    fn offsets_arc(
+        &self,
+        motion: Motion,
+        end: [f64; 6],
+        offsets: [f64; 3],
+        given: u8,
+    ) -> Option<([f64; 2], i32)> {
+        // Offset indices (I = 0, J = 1, K = 2) of the plane's first and second axes.
+        let (o0, o1, off_axis) = match self.modal.plane {
+            Plane::XY => (0, 1, 2),
+            Plane::XZ => (2, 0, 1),
+            Plane::YZ => (1, 2, 0),
+        };
+        if given & (1 << off_axis) != 0 || given & (1 << o0 | 1 << o1) == 0 {
+            return None;
+        }
+        let (a0, a1, _) = self.modal.plane.axes();
+        let start = [self.pos[a0], self.pos[a1]];
+        let k = self.k();
+        let (i, j) = (offsets[o0] * k, offsets[o1] * k);
+        let center = if self.modal.arc_incremental {
+            [start[0] + i, start[1] + j]
+        } else {
+            [i, j]
+        };
+        let tol = arcs::tolerance(self.modal.units);
+        let center = arcs::center_from_offsets(start, [end[a0], end[a1]], center, &tol).ok()?;
+        Some((center, if motion == Motion::Clockwise { -1 } else { 1 }))
     }
 
     /// Centre and turns of the arc of `block` to `end` in the current plane, by the full
@@ -182,8 +236,13 @@ mod tests {
             Just(2.0),
             Just(3.0),
             Just(1.0000001),
+            Just(17.0),
+            Just(18.0),
+            Just(19.0),
             Just(20.0),
             Just(21.0),
+            Just(90.1),
+            Just(91.1),
             Just(90.0),
             Just(91.0),
             Just(93.0),

@@ -99,6 +99,7 @@ pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
         max_step_rate: GRBL_MAX_STEP_RATE,
         default_feed: 1.0,
         work_offset: [0.0; 3],
+        tool_table: None,
     }
 }
 
