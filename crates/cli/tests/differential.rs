@@ -236,7 +236,12 @@ fn run_rs274_once(file: &Path) -> Run {
     if uses_subroutine_path(file) {
         cmd.arg("-i").arg(SUBROUTINE_INI);
     }
+    // rs274 keeps its tool table in `$HOME/.tool.mmap`: a private HOME keeps another rs274
+    // (another test binary, another checkout) from changing the table under this one.
+    let home = std::env::temp_dir().join(format!("oficina-differential-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&home);
     cmd.current_dir(corpus_dir())
+        .env("HOME", &home)
         .arg("-g")
         .arg("-t")
         .arg("tool.tbl")

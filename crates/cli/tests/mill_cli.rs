@@ -25,7 +25,9 @@ fn oficina(args: &[&str]) -> std::process::Output {
 fn rs274_accepts(file: &Path) {
     static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _alone = ALONE.lock().unwrap_or_else(|e| e.into_inner());
+    let home = file.parent().expect("a program file in a folder");
     let out = Command::new("rs274")
+        .env("HOME", home)
         .arg("-g")
         .arg(file)
         .output()

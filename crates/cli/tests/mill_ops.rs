@@ -98,6 +98,7 @@ fn rs274_accepts(text: &str) {
     let tbl = dir.join("t.tbl");
     std::fs::write(&tbl, "T1 P1 D6 Z0\nT2 P2 D2 Z0\n").unwrap();
     let out = Command::new("rs274")
+        .env("HOME", &dir)
         .arg("-g")
         .arg("-t")
         .arg(&tbl)

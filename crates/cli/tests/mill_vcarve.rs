@@ -54,6 +54,7 @@ fn rs274_accepts(text: &str, name: &str) {
     let file = dir.join("p.ngc");
     std::fs::write(&file, text).unwrap();
     let out = Command::new("rs274")
+        .env("HOME", &dir)
         .arg("-g")
         .arg(&file)
         .output()

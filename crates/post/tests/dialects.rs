@@ -159,6 +159,7 @@ fn rs274(text: &str) -> String {
     static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
     let _alone = ALONE.lock().unwrap_or_else(|e| e.into_inner());
     let out = Command::new("rs274")
+        .env("HOME", &dir)
         .arg("-g")
         .arg("-t")
         .arg(&tbl)
