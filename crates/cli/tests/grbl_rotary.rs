@@ -55,3 +55,62 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
     );
     assert!(stdout.contains("done:"), "{stdout}");
 }
+
+/// A line the firmware refuses (`error:20`) ends the job: `oficina run` reports the error
+/// and the resume point and exits with failure instead of waiting for an end that the
+/// device never announced (it sent only the alarm before).
+#[test]
+fn a_refused_line_ends_the_run_with_its_error_and_resume_point() {
+    let mut emulator = oficina()
+        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0", "--baud", "0"])
+        .args(["--for-seconds", "60"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(emulator.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let addr = first
+        .split_whitespace()
+        .find(|w| w.starts_with("tcp://"))
+        .expect(&first)
+        .to_string();
+    let dir = std::env::temp_dir().join(format!("oficina-grbl-error20-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.ngc");
+    // A 3-axis grbl has no A axis: line 3 is refused with error:20.
+    std::fs::write(&path, "G21 G90\nG1 X1 F600\nG1 A5\nG1 X2\nM2\n").unwrap();
+    let mut run = oficina()
+        .arg("run")
+        .arg(&path)
+        .args(["--machine", &addr])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // A guard against the old hang, not a timing assertion: the job is a few blocks long.
+    let mut status = None;
+    for _ in 0..600 {
+        if let Some(s) = run.try_wait().unwrap() {
+            status = Some(s);
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    if status.is_none() {
+        let _ = run.kill();
+    }
+    let out = run.wait_with_output().unwrap();
+    let _ = emulator.kill();
+    let _ = emulator.wait();
+    let _ = std::fs::remove_dir_all(&dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let status = status.unwrap_or_else(|| panic!("run did not end after the error: {stderr}"));
+    assert!(!status.success(), "{stderr}");
+    assert!(stderr.contains("error:20"), "{stderr}");
+    assert!(stderr.contains("bad.ngc:3"), "{stderr}");
+    assert!(stderr.contains("Resume from"), "{stderr}");
+}

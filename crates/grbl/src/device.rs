@@ -259,10 +259,24 @@ impl Machine for GrblDevice {
                                 seconds,
                             }
                         }
-                        _ => Event::Alarm(text),
+                        _ => {
+                            let _ = events.send(Event::Alarm(text));
+                            Event::JobEnd {
+                                completed: false,
+                                seconds,
+                            }
+                        }
                     }
                 }
-                Err(e) => Event::Alarm(e),
+                // Every job ends with a JobEnd, an error too (after its alarm): a waiting
+                // shell (`oficina run`, the server) learns the job is over.
+                Err(e) => {
+                    let _ = events.send(Event::Alarm(e));
+                    Event::JobEnd {
+                        completed: false,
+                        seconds,
+                    }
+                }
             };
             // Where the job left the machine, before saying it ended.
             if let Ok(st) = machine.sender.status() {

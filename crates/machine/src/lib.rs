@@ -115,7 +115,8 @@ pub enum Event {
     Status(Status),
     /// `(MSG,…)` or an operator message.
     Message(String),
-    /// The job could not start or had to stop; the machine is in alarm.
+    /// The job could not start or had to stop; the machine is in alarm. A running job
+    /// then ends with [`Event::JobEnd`] (`completed` false), on every machine.
     Alarm(String),
     /// The job ended: `completed` false when stopped.
     JobEnd {
