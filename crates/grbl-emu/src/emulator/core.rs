@@ -363,26 +363,18 @@ impl Core {
                 }
             }
             Realtime::FeedOverrideReset => self.overrides.0 = 100,
-            Realtime::FeedOverridePlus10 => self.overrides.0 = (self.overrides.0 + 10).min(200),
-            Realtime::FeedOverrideMinus10 => {
-                self.overrides.0 = self.overrides.0.saturating_sub(10).max(10)
-            }
-            Realtime::FeedOverridePlus1 => self.overrides.0 = (self.overrides.0 + 1).min(200),
-            Realtime::FeedOverrideMinus1 => {
-                self.overrides.0 = self.overrides.0.saturating_sub(1).max(10)
-            }
+            Realtime::FeedOverridePlus10 => nudge(&mut self.overrides.0, 10),
+            Realtime::FeedOverrideMinus10 => nudge(&mut self.overrides.0, -10),
+            Realtime::FeedOverridePlus1 => nudge(&mut self.overrides.0, 1),
+            Realtime::FeedOverrideMinus1 => nudge(&mut self.overrides.0, -1),
             Realtime::RapidOverride100 => self.overrides.1 = 100,
             Realtime::RapidOverride50 => self.overrides.1 = 50,
             Realtime::RapidOverride25 => self.overrides.1 = 25,
             Realtime::SpindleOverrideReset => self.overrides.2 = 100,
-            Realtime::SpindleOverridePlus10 => self.overrides.2 = (self.overrides.2 + 10).min(200),
-            Realtime::SpindleOverrideMinus10 => {
-                self.overrides.2 = self.overrides.2.saturating_sub(10).max(10)
-            }
-            Realtime::SpindleOverridePlus1 => self.overrides.2 = (self.overrides.2 + 1).min(200),
-            Realtime::SpindleOverrideMinus1 => {
-                self.overrides.2 = self.overrides.2.saturating_sub(1).max(10)
-            }
+            Realtime::SpindleOverridePlus10 => nudge(&mut self.overrides.2, 10),
+            Realtime::SpindleOverrideMinus10 => nudge(&mut self.overrides.2, -10),
+            Realtime::SpindleOverridePlus1 => nudge(&mut self.overrides.2, 1),
+            Realtime::SpindleOverrideMinus1 => nudge(&mut self.overrides.2, -1),
             Realtime::SpindleStopToggle => {}
             Realtime::FloodToggle => self.interp.modal.flood = !self.interp.modal.flood,
             Realtime::MistToggle => self.interp.modal.mist = !self.interp.modal.mist,
@@ -1120,4 +1112,10 @@ mod tests {
         assert_eq!(c.mpos, [0.0; 3]);
         assert_eq!(c.state, GrblState::Idle);
     }
+}
+
+/// A feed or spindle override step, kept within grbl's 10–200 % (config.h's
+/// MIN/MAX_FEED_RATE_OVERRIDE and MIN/MAX_SPINDLE_SPEED_OVERRIDE).
+fn nudge(percent: &mut u32, delta: i32) {
+    *percent = (*percent as i32 + delta).clamp(10, 200) as u32;
 }
