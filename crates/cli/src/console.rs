@@ -8,9 +8,13 @@
 //! [`Command`]s; progress from [`Machine::next_event`]; the end summary and resume hint from
 //! [`Machine::job_report`]). Two things stay direct, because the trait cannot say them:
 //! - the interactive terminal ([`interactive`]) takes the link ([`GrblDevice::take_link`]):
-//!   it pipelines whatever is typed (G-code, `$` commands, real-time keys, jogs) and echoes
-//!   every firmware line as it arrives, while the trait's calls are request/reply (each
-//!   waits for its own `ok`, and would swallow the replies to lines still in flight);
+//!   it pipelines whatever is typed (G-code, `$$`, `$N=V`, `$X`, `$H`, real-time keys,
+//!   jogs) and echoes every firmware line as it arrives, in the firmware's own words. The
+//!   trait's calls are request/reply (each waits for its own `ok`, and would swallow the
+//!   replies to lines still in flight), its settings are parsed numbers checked against
+//!   grbl's table (a grblHAL-only `$N` would be refused, `$0=10` reprinted as `10.000`),
+//!   its unlock drops the firmware's `[MSG:…]`, and it has no home, reset or door key;
+//!   a continuous jog streams increments paced by their acknowledgements;
 //! - in job mode, the override keys other than the resets (`f+10`, `r50`, `sstop`, `flood`
 //!   …) are grbl's relative real-time bytes, sent with [`GrblDevice::realtime`]: the
 //!   trait's overrides are absolute factors, and it has no rapid, coolant or spindle-stop key.
@@ -436,8 +440,8 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
         .start(oficina_machine::Job {
             name,
             text: Arc::new(text),
-            start_line: None, // machine.settings.start says where
-            pace: Pace::Speed(1.0),
+            start_line: None,       // machine.settings.start says where
+            pace: Pace::Speed(1.0), // (firmware runs at its own pace)
         })
         .map_err(anyhow::Error::msg)?;
     // Alarms that are not the job's summary: the reason a job could not run.
