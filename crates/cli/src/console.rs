@@ -2,24 +2,34 @@
 //! emulator) with a live status line, and the job runner: stream a file with progress and
 //! ETA, hold / resume / stop from the keyboard, and resume from a line or from the journal
 //! after a stop, an error, a crash or a pulled cable.
+//!
+//! The console drives a [`GrblDevice`] through the [`Machine`] trait: connecting, and the
+//! whole job mode (start; hold / resume / stop and the feed and spindle override resets as
+//! [`Command`]s; progress from [`Machine::next_event`]; the end summary and resume hint from
+//! [`Machine::job_report`]). Two things stay direct, because the trait cannot say them:
+//! - the interactive terminal ([`interactive`]) takes the link ([`GrblDevice::take_link`]):
+//!   it pipelines whatever is typed (G-code, `$$`, `$N=V`, `$X`, `$H`, real-time keys,
+//!   jogs) and echoes every firmware line as it arrives, in the firmware's own words. The
+//!   trait's calls are request/reply (each waits for its own `ok`, and would swallow the
+//!   replies to lines still in flight), its settings are parsed numbers checked against
+//!   grbl's table (a grblHAL-only `$N` would be refused, `$0=10` reprinted as `10.000`),
+//!   its unlock drops the firmware's `[MSG:…]`, and it has no home, reset or door key;
+//!   a continuous jog streams increments paced by their acknowledgements;
+//! - in job mode, the override keys other than the resets (`f+10`, `r50`, `sstop`, `flood`
+//!   …) are grbl's relative real-time bytes, sent with [`GrblDevice::realtime`]: the
+//!   trait's overrides are absolute factors, and it has no rapid, coolant or spindle-stop key.
 
 use anyhow::{bail, Context};
-use oficina_grbl::Endpoint;
-use oficina_grbl::Job;
-use oficina_grbl::LinkEvent;
-use oficina_grbl::Realtime;
-use oficina_grbl::Response;
-use oficina_grbl::ResumeOptions;
-use oficina_grbl::RetryPolicy;
-use oficina_grbl::StatusReport;
 use oficina_grbl::{ContinuousJog, JogRequest};
-use oficina_grbl::{Control, Mode, Notice, Sender, SenderOptions, StreamEnd};
-use oficina_grbl::{GrblMachine, RunOutcome, RunSettings, Start};
+use oficina_grbl::{Endpoint, GrblDevice, GrblMachine, Job, ResumeOptions, RetryPolicy};
+use oficina_grbl::{LinkEvent, Realtime, Response, RunSettings, Start, StatusReport};
+use oficina_grbl::{Mode, Sender, SenderOptions};
 use oficina_grbl_emu::{Config, Emulator};
+use oficina_machine::{Command, Event, Machine, Pace, State, Status};
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc};
 use std::time::{Duration, Instant};
 
 /// `println!` that does not panic when whoever reads our output went away.
@@ -132,23 +142,32 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         mode: args.send_response.then_some(Mode::SendResponse),
         ..SenderOptions::default()
     };
-    let mut machine = GrblMachine::connect_to(endpoint, options).map_err(anyhow::Error::msg)?;
+    let mut machine = GrblDevice::at(endpoint, options);
+    let info = machine.connect().map_err(anyhow::Error::msg)?;
+    let firmware = info
+        .firmware
+        .strip_prefix("grbl")
+        .unwrap_or(&info.firmware)
+        .trim();
     eprintln!(
         "connected to grbl {} at {}: {}",
-        if machine.sender.firmware.is_empty() {
+        if firmware.is_empty() {
             "(version not reported)"
         } else {
-            &machine.sender.firmware
+            firmware
         },
         machine.endpoint,
-        match machine.sender.mode {
-            Mode::CharCounting(n) => format!("character counting, {n}-byte window"),
-            Mode::SendResponse => "send-response".into(),
+        match machine.link_mode() {
+            Some(Mode::CharCounting(n)) => format!("character counting, {n}-byte window"),
+            _ => "send-response".into(),
         }
     );
     match &args.job {
         Some(path) => run_job(&mut machine, path, &args),
-        None => interactive(&mut machine.sender),
+        None => {
+            let mut link = machine.take_link().context("the link closed")?;
+            interactive(&mut link.sender)
+        }
     }
 }
 
@@ -356,8 +375,40 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Result<ExitCode> {
-    let settings = RunSettings {
+/// The job's status line from the trait's [`Status`]: state, machine position, feed and
+/// feed override.
+fn job_status_line(st: &Status) -> String {
+    let state = match &st.state {
+        State::Alarm(_) => "Alarm".to_string(),
+        s => format!("{s:?}"),
+    };
+    let [x, y, z] = st.machine_pos;
+    format!(
+        "[{state}] MPos {x:.3},{y:.3},{z:.3} F{:.0} ov {:.0}%",
+        st.feed,
+        st.feed_override * 100.0
+    )
+}
+
+/// A job key (then Enter) in the trait's terms, or a grbl real-time key it cannot say.
+enum Key {
+    Command(Command),
+    Realtime(Realtime),
+}
+
+fn job_key(k: &str) -> Option<Key> {
+    Some(match k {
+        "h" | "!" | "" => Key::Command(Command::Hold),
+        "r" | "~" => Key::Command(Command::Resume),
+        "s" | "q" => Key::Command(Command::Stop),
+        "f100" => Key::Command(Command::FeedOverride(1.0)),
+        "s100" => Key::Command(Command::SpindleOverride(1.0)),
+        other => Key::Realtime(oficina_grbl::override_by_name(other)?),
+    })
+}
+
+fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result<ExitCode> {
+    machine.settings = RunSettings {
         start: match (args.from_line, args.resume) {
             (Some(n), _) => Start::FileLine(n),
             (None, true) => Start::Journal,
@@ -377,100 +428,103 @@ fn run_job(machine: &mut GrblMachine, path: &Path, args: &Args) -> anyhow::Resul
         auto_resume: args.auto_resume,
         check_first: args.check,
     };
-    let journal_path = GrblMachine::journal_path(path, &settings);
-    eprintln!("keys (then Enter): h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …");
-    let keys = stdin_lines();
-    let (ctl_tx, ctl_rx) = mpsc::channel();
-    std::thread::spawn(move || {
-        for k in keys.iter() {
-            let c = match k.trim() {
-                "h" | "!" | "" => Control::Hold,
-                "r" | "~" => Control::Resume,
-                "s" | "q" => Control::Stop,
-                other => match oficina_grbl::override_by_name(other) {
-                    Some(r) => Control::Realtime(r),
-                    None => continue,
-                },
-            };
-            if ctl_tx.send(c).is_err() {
-                break;
-            }
-        }
-    });
-    let start = Instant::now();
-    let mut last = String::new();
+    let journal_path = GrblMachine::journal_path(path, &machine.settings);
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let job = Job::from_text(&path.display().to_string(), &text).map_err(anyhow::Error::msg)?;
-    // Machine time per line from grbl's timing model and the board's own $110… rates.
-    let cumulative = oficina_grbl::cumulative_seconds(&job, &machine.sender.settings);
-    let mut progress: Option<(usize, usize, usize)> = None;
-    let mut observer = |n: Notice| {
-        match n {
-            Notice::Progress { acked, total, .. } => {
-                let started = progress.map(|p| p.2).unwrap_or(acked.saturating_sub(1));
-                progress = Some((acked, total, started));
-            }
-            Notice::Status(st) => last = status_line(&st),
-            Notice::Message(m) => eprintln!("\r\x1b[K{m}"),
-            Notice::Unexpected(u) => eprintln!("\r\x1b[Kignored unexpected firmware line: {u:?}"),
-        }
-        let Some((acked, total, started)) = progress else {
-            eprint!("\r\x1b[K{last}");
-            return;
-        };
-        let left =
-            oficina_grbl::eta_remaining(&cumulative, started, acked, start.elapsed().as_secs_f64());
-        eprint!(
-            "\r\x1b[K{last} line {acked}/{total} ({:.1}%) ETA {}:{:02}",
-            100.0 * acked as f64 / total.max(1) as f64,
-            left as u64 / 60,
-            left as u64 % 60
-        );
-    };
-    let outcome = machine
-        .run(&job, &journal_path, &settings, Some(&ctl_rx), &mut observer)
+    let name = path.display().to_string();
+    // The device's own reading of the file: line counts for the progress display.
+    let lines = Job::from_text(&name, &text).map_err(anyhow::Error::msg)?;
+    eprintln!("keys (then Enter): h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …");
+    let keys = stdin_lines();
+    machine
+        .start(oficina_machine::Job {
+            name,
+            text: Arc::new(text),
+            start_line: None,       // machine.settings.start says where
+            pace: Pace::Speed(1.0), // (firmware runs at its own pace)
+        })
         .map_err(anyhow::Error::msg)?;
-    eprintln!();
-    let report = match outcome {
-        RunOutcome::AlreadyDone => {
-            say!(
-                "{}: nothing left to run: the job already completed",
-                path.display()
-            );
-            return Ok(ExitCode::SUCCESS);
+    // Alarms that are not the job's summary: the reason a job could not run.
+    let mut alarms = Vec::new();
+    let is_summary =
+        |m: &mut GrblDevice, text: &str| m.job_report().is_some_and(|r| r.summary == text);
+    loop {
+        while let Ok(k) = keys.try_recv() {
+            let sent = match job_key(k.trim()) {
+                Some(Key::Command(c)) => machine.command(c),
+                Some(Key::Realtime(r)) => machine.realtime(r),
+                None => Ok(()),
+            };
+            if let Err(e) = sent {
+                eprintln!("\r\x1b[K{e}");
+            }
         }
-        RunOutcome::Streamed(r) => r,
+        match machine.next_event(Duration::from_millis(50)) {
+            Some(Event::Status(st)) => {
+                let last = job_status_line(&st);
+                // Lines acknowledged: those up to the source line the machine reports.
+                let acked = lines
+                    .lines
+                    .partition_point(|l| l.file_line <= st.line as usize);
+                if acked == 0 {
+                    eprint!("\r\x1b[K{last}");
+                } else {
+                    let left = (st.total - st.elapsed).max(0.0);
+                    eprint!(
+                        "\r\x1b[K{last} line {acked}/{} ({:.1}%) ETA {}:{:02}",
+                        lines.len(),
+                        100.0 * acked as f64 / lines.len().max(1) as f64,
+                        left as u64 / 60,
+                        left as u64 % 60
+                    );
+                }
+            }
+            // The summary waits for the end (on stdout).
+            Some(Event::Message(m)) if is_summary(machine, &m) => {}
+            Some(Event::Alarm(a)) if is_summary(machine, &a) => {}
+            Some(Event::Message(m)) => eprintln!("\r\x1b[K{m}"),
+            Some(Event::Alarm(a)) => alarms.push(a),
+            Some(Event::JobEnd { .. }) => break,
+            None => {}
+        }
+    }
+    eprintln!();
+    let Some(report) = machine.job_report() else {
+        // The job could not run: its alarm says why.
+        bail!("{}", alarms.join("\n"));
     };
-    say!("{}", report.describe(&job));
+    for a in alarms {
+        eprintln!("ALARM: {a}");
+    }
+    say!("{}", report.summary);
     if let Some(r) = &report.resume {
-        if r.index < job.len() && r.entry.is_some() {
+        if r.within_line {
             // Only the journal path finishes the interrupted line from the stop point;
             // --from-line restarts it from its beginning.
             say!(
                 "to continue from where the machine stopped: oficina console {} --job {} --resume   (--from-line {} would re-cut line {} from its start)",
                 endpoint_flags(args),
                 path.display(),
-                job.lines[r.index].file_line,
-                job.lines[r.index].file_line
+                r.file_line,
+                r.file_line
             );
-        } else if r.index < job.len() {
+        } else {
             say!(
                 "to continue: oficina console {} --job {} --from-line {}   (or --resume to use the journal {})",
                 endpoint_flags(args),
                 path.display(),
-                job.lines[r.index].file_line,
+                r.file_line,
                 journal_path.display()
             );
         }
-    } else if let StreamEnd::Disconnected(_) = report.end {
+    } else if report.link_lost {
         say!(
             "after reconnecting: oficina console {} --job {} --resume",
             endpoint_flags(args),
             path.display()
         );
     }
-    Ok(if report.end == StreamEnd::Completed {
+    Ok(if report.completed {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE

@@ -364,3 +364,51 @@ fn console_fed_by_a_pipe_waits_for_every_reply() {
         assert!(text.contains(want), "missing {want}: {text}");
     }
 }
+
+/// The job keys reach the firmware (hold, resume, then stop): the console reports the stop
+/// once, on stdout, with where to continue, and exits with failure.
+#[test]
+fn console_job_keys_hold_resume_and_stop_with_a_resume_hint() {
+    let (_emu, addr) = start_emulator();
+    let job = write_job("keys", 400);
+    let journal = job.with_extension("nc.journal");
+    let mut child = Command::new(BIN)
+        .args(["console", "--tcp", &addr, "--job", job.to_str().unwrap()])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let acked = || {
+        std::fs::read_to_string(&journal)
+            .map(|t| t.lines().filter(|l| l.starts_with("A ")).count())
+            .unwrap_or(0)
+    };
+    for _ in 0..600 {
+        if acked() >= 30 {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    writeln!(stdin, "h").unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    writeln!(stdin, "r").unwrap();
+    std::thread::sleep(Duration::from_millis(100));
+    writeln!(stdin, "s").unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stdout}\n{stderr}");
+    assert!(!stdout.contains("lines done"), "{stdout}");
+    assert_eq!(
+        stdout.matches("stopped by the operator").count(),
+        1,
+        "{stdout}\n{stderr}"
+    );
+    assert!(!stderr.contains("stopped by the operator"), "{stderr}");
+    assert!(
+        stdout.contains("to continue") && stdout.contains("--resume"),
+        "{stdout}"
+    );
+}

@@ -8,11 +8,12 @@ use crate::job::Job as GrblJob;
 use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use crate::messages;
 use crate::realtime::Realtime;
-use crate::sender::{Control, Notice, SenderOptions, StreamEnd};
+use crate::sender::{Control, Mode, Notice, SenderOptions, StreamEnd};
 use crate::status::{GrblState, StatusReport};
 use crate::transport::Endpoint;
 use oficina_machine::{
-    Command, Event, Job, Machine, MachineError, MachineInfo, RawReply, State, Status,
+    Command, Event, Job, JobReport, Machine, MachineError, MachineInfo, RawReply, ResumePoint,
+    State, Status,
 };
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -23,6 +24,8 @@ pub struct GrblDevice {
     pub endpoint: Endpoint,
     /// How jobs are run (resume approach, reconnect policy, journal).
     pub settings: RunSettings,
+    /// How the link streams (character counting or send-response).
+    pub options: SenderOptions,
     /// The link while no job runs; a running job's worker holds it.
     idle: Arc<Mutex<Option<GrblMachine>>>,
     status: Arc<Mutex<Status>>,
@@ -30,6 +33,8 @@ pub struct GrblDevice {
     events_rx: Receiver<Event>,
     control: Option<Sender<Control>>,
     worker: Option<JoinHandle<()>>,
+    /// How the last job ended ([`Machine::job_report`]).
+    report: Arc<Mutex<Option<JobReport>>>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -40,18 +45,50 @@ impl GrblDevice {
     /// `uri`: `grbl:/dev/ttyUSB0`, `/dev/ttyACM0@250000`, `tcp://192.168.1.5:23`. Nothing is
     /// opened until [`Machine::connect`].
     pub fn new(uri: &str) -> Result<GrblDevice, String> {
-        let endpoint: Endpoint = uri.parse()?;
+        Ok(GrblDevice::at(uri.parse()?, SenderOptions::default()))
+    }
+
+    /// A device at `endpoint` whose link streams with `options`; nothing is opened until
+    /// [`Machine::connect`].
+    pub fn at(endpoint: Endpoint, options: SenderOptions) -> GrblDevice {
         let (events_tx, events_rx) = mpsc::channel();
-        Ok(GrblDevice {
+        GrblDevice {
             endpoint,
             settings: RunSettings::default(),
+            options,
             idle: Arc::new(Mutex::new(None)),
             status: Arc::new(Mutex::new(Status::idle([0.0; 3]))),
             events_tx,
             events_rx,
             control: None,
             worker: None,
-        })
+            report: Arc::new(Mutex::new(None)),
+        }
+    }
+
+    /// How the connected link streams, `None` before [`Machine::connect`] and while a job
+    /// holds the link.
+    pub fn link_mode(&self) -> Option<Mode> {
+        lock(&self.idle).as_ref().map(|m| m.sender.mode)
+    }
+
+    /// Hands the idle link over to a caller that talks to the firmware itself (a raw
+    /// terminal); the device is then disconnected.
+    pub fn take_link(&mut self) -> Option<GrblMachine> {
+        lock(&self.idle).take()
+    }
+
+    /// One of grbl's real-time keys the trait's [`Command`]s do not name (rapid overrides,
+    /// spindle stop, coolant toggles, override steps): to the running job, or straight to
+    /// the idle firmware.
+    pub fn realtime(&mut self, key: Realtime) -> Result<(), MachineError> {
+        if self.job_running() {
+            let control = self.control.as_ref().ok_or(MachineError::NotConnected)?;
+            return control
+                .send(Control::Realtime(key))
+                .map_err(|_| MachineError::NotConnected);
+        }
+        self.with_idle(|m| m.sender.realtime(key).map_err(|e| e.to_string()))
     }
 
     /// A job holds the link: the worker took it and has not given it back.
@@ -104,6 +141,36 @@ pub(crate) fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status
     }
     if let Some((feed, _, _)) = st.overrides {
         into.feed_override = feed as f64 / 100.0;
+    }
+}
+
+/// A finished run in the trait's terms: its summary and where to continue.
+fn job_report(outcome: &RunOutcome, job: &GrblJob) -> JobReport {
+    let report = match outcome {
+        RunOutcome::AlreadyDone => {
+            return JobReport {
+                summary: format!(
+                    "{}: nothing left to run: the job already completed",
+                    job.name
+                ),
+                completed: true,
+                resume: None,
+                link_lost: false,
+            }
+        }
+        RunOutcome::Streamed(r) => r,
+    };
+    let resume = report.resume.as_ref().and_then(|r| {
+        job.lines.get(r.index).map(|l| ResumePoint {
+            file_line: l.file_line as u32,
+            within_line: r.entry.is_some(),
+        })
+    });
+    JobReport {
+        summary: report.describe(job),
+        completed: report.end == StreamEnd::Completed,
+        link_lost: report.resume.is_none() && matches!(report.end, StreamEnd::Disconnected(_)),
+        resume,
     }
 }
 
@@ -166,7 +233,7 @@ impl Machine for GrblDevice {
         if self.job_running() {
             return Err(MachineError::Busy("a job is running".into()));
         }
-        let m = GrblMachine::connect_to(self.endpoint.clone(), SenderOptions::default())
+        let m = GrblMachine::connect_to(self.endpoint.clone(), self.options.clone())
             .map_err(MachineError::Refused)?;
         let info = MachineInfo {
             name: format!("grbl at {}", self.endpoint),
@@ -198,10 +265,12 @@ impl Machine for GrblDevice {
             .unwrap_or_else(|| format!("{}.journal", job.name).into());
         let (ctl_tx, ctl_rx) = mpsc::channel();
         self.control = Some(ctl_tx);
-        let (idle, status, events) = (
+        *lock(&self.report) = None;
+        let (idle, status, events, last_report) = (
             self.idle.clone(),
             self.status.clone(),
             self.events_tx.clone(),
+            self.report.clone(),
         );
         self.worker = Some(std::thread::spawn(move || {
             let start = Instant::now();
@@ -240,6 +309,11 @@ impl Machine for GrblDevice {
             };
             let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);
             let seconds = start.elapsed().as_secs_f64();
+            // The report is in place before its summary goes out as a message or an alarm.
+            *lock(&last_report) = match &result {
+                Ok(outcome) => Some(job_report(outcome, &grbl_job)),
+                Err(_) => None,
+            };
             let end = match result {
                 Ok(RunOutcome::AlreadyDone) => Event::JobEnd {
                     completed: true,
@@ -407,6 +481,11 @@ impl Machine for GrblDevice {
 
     fn write_firmware_setting(&mut self, number: u16, value: f64) -> Result<(), MachineError> {
         self.with_idle(|m| crate::settings::write(&mut m.sender, number, value).map(|_| ()))
+    }
+
+    fn job_report(&mut self) -> Option<JobReport> {
+        // (Cleared when a job starts, set just before its summary goes out.)
+        lock(&self.report).clone()
     }
 
     fn disconnect(&mut self) {

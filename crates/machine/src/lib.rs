@@ -175,6 +175,38 @@ pub trait Machine: Send {
             "${number}={value}: this machine has no firmware settings"
         )))
     }
+
+    /// How the last job ended, for a shell to tell the operator: the machine's own summary
+    /// and, when the job did not finish, where it can be picked up again. Available once
+    /// [`Event::JobEnd`] arrived (and before, once the summary was sent as a message or an
+    /// alarm); `None` while a job runs, after a job that could not run at all, and on
+    /// machines that keep no such record.
+    fn job_report(&mut self) -> Option<JobReport> {
+        None
+    }
+}
+
+/// See [`Machine::job_report`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobReport {
+    /// One paragraph: what ran, what did not and why.
+    pub summary: String,
+    pub completed: bool,
+    /// Where an unfinished job can continue.
+    pub resume: Option<ResumePoint>,
+    /// The link to the machine was lost before a resume point could be named: after
+    /// reconnecting, resume from the job's journal.
+    pub link_lost: bool,
+}
+
+/// Where an unfinished job continues.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResumePoint {
+    /// Source line to continue from.
+    pub file_line: u32,
+    /// The machine stopped inside that line and its journal says where: resuming from the
+    /// journal finishes the line from there, restarting at `file_line` re-cuts it whole.
+    pub within_line: bool,
 }
 
 /// What the firmware answered to a [`Machine::raw_line`]: the lines before its
