@@ -71,9 +71,9 @@ fn sim_error_texts_are_the_firmwares() {
         s.reset().expect("reset");
         let firmware = s.command(line).expect("reply").error.map(u16::from);
         assert!(firmware.is_some(), "`{line}` accepted by the firmware");
-        let diags = oficina_gcode::program::run_text(
+        let diags = oficina_gcode::run_text(
             &format!("{line}\n"),
-            &oficina_gcode::program::RunOptions::check(oficina_gcode::Dialect::Grbl),
+            &oficina_gcode::RunOptions::check(oficina_gcode::Dialect::Grbl),
             &mut |_| {},
         );
         let ours = diags.first().and_then(|d| d.code);
@@ -188,7 +188,7 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
 /// raster. Printed as a table; the estimate must be within 5 % of the moving time.
 #[test]
 fn sim_time_estimates_match_the_firmware() {
-    use oficina_gcode::program::{run as gcode_run, RunOptions};
+    use oficina_gcode::{run as gcode_run, RunOptions};
     use oficina_grbl_emu::motion_profile;
     let mut zigzag = String::from("G21G90G94\nG0X0Y0\nG1F3000\n");
     for i in 0..20 {
