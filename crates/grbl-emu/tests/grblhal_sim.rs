@@ -10,7 +10,7 @@ mod common;
 use common::coverage;
 use common::grblhal_sim::{self, Sim};
 use common::scenarios;
-use oficina_grbl::Job;
+use oficina_grbl::StreamProgram;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -118,7 +118,8 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
         grblhal_sim::start("random-stops", None);
         return;
     }
-    let job = Job::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0)).unwrap();
+    let job = StreamProgram::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0))
+        .unwrap();
     let run = |stop: Duration| {
         let sim: Sim = grblhal_sim::start("random-stops", Some(0.005)).unwrap();
         let mut s = scenarios::connect(&sim.endpoint);
@@ -211,7 +212,7 @@ fn sim_time_estimates_match_the_firmware() {
         };
         let mut s = scenarios::connect(&sim.endpoint);
         scenarios::configure(&mut s);
-        let job = Job::from_text(name, &text).unwrap();
+        let job = StreamProgram::from_text(name, &text).unwrap();
         let report = s.stream(&job, 0, None, None, &mut |_| {});
         assert_eq!(report.end, oficina_grbl::StreamEnd::Completed);
         sim.finish();
