@@ -53,8 +53,7 @@ pub fn table_for(name: &str) -> Result<Table, Error> {
     if name == "embroidery-table" {
         return Ok(Table::embroidery_table());
     }
-    let p = oficina_motion::profile::resolve(name)
-        .map_err(|e| Error(format!("--machine {name}: {e}")))?;
+    let p = oficina_motion::resolve(name).map_err(|e| Error(format!("--machine {name}: {e}")))?;
     let joints: Vec<_> = p.joints.iter().take(2).flatten().collect();
     if joints.len() < 2 {
         return Err(Error(format!(

@@ -141,7 +141,7 @@ pub(crate) fn judge(
     fb.stage("estimating time")?;
     let feed_only_s = feed_only_estimate(&canon, [0.0, 0.0, tp.safe_z], FEED_ONLY_RAPID);
     let (planner_s, per_tool, planner_error) = match profile {
-        Ok(p) => match oficina_motion::estimate::estimate_with(
+        Ok(p) => match oficina_motion::estimate_with(
             oficina_sim::to_machine(&canon, tp.safe_z + 1.0),
             p,
             oficina_motion::PlanOptions::default(),

@@ -23,6 +23,8 @@
 //! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
 //! ```
 
+// `profile` stays a public module: its `resolve`, `tool_table` and `DEFAULT` read well only
+// behind it (motion has its own `resolve`).
 pub mod bench;
 mod check;
 pub mod embroider;
@@ -31,17 +33,17 @@ mod job;
 mod jog;
 mod judge;
 mod machine_uri;
-pub mod mill;
-pub mod plot;
+mod mill;
+mod plot;
 mod post_params;
 mod preview;
 pub mod profile;
 mod relief;
 mod run_options;
 mod session;
-pub mod sole;
+mod sole;
 mod text;
-pub mod tools;
+mod tools;
 
 pub use check::{
     check_program, check_program_with_tools, CheckOptions, CheckReport, Diag, ExtentsBox,
@@ -51,9 +53,15 @@ pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
 pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine_with_tools};
+pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
+pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;
 pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot};
+pub use sole::{sole, SoleOutput, SoleParams, SoleResult};
 pub use text::source_lines;
+pub use tools::{
+    check_tool_table, parse_tool_table, tool_rows, ToolRow, ToolTableError, TOOL_TABLE_FILE,
+};

@@ -20,7 +20,7 @@ pub fn tool_table(
     profile: &Profile,
     spec: &str,
     units: oficina_canon::Units,
-) -> Result<Option<oficina_gcode::interp::tool_table::ToolTable>, Error> {
+) -> Result<Option<oficina_gcode::ToolTable>, Error> {
     let Some(path) = &profile.tool_table else {
         return Ok(None);
     };
@@ -29,7 +29,7 @@ pub fn tool_table(
     let bytes = std::fs::read(path)
         .map_err(|e| Error(format!("cannot read {} ({named}): {e}", path.display())))?;
     let text = oficina_gcode::text::decode(&bytes);
-    oficina_gcode::interp::tool_table::ToolTable::parse(&text, units)
+    oficina_gcode::ToolTable::parse(&text, units)
         .map(Some)
         .map_err(|d| {
             Error(format!(

@@ -3,7 +3,7 @@
 //! machine runs its job on its own thread, so whoever watches may come and go.
 
 use crate::{machine_uri, profile, Error};
-use oficina_gcode::interp::tool_table::ToolTable;
+use oficina_gcode::ToolTable;
 use oficina_machine::{Command, Event, Job, Machine, MachineInfo, Pace, State};
 use oficina_motion::Profile;
 use serde::Serialize;

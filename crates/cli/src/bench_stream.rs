@@ -8,7 +8,7 @@
 
 use anyhow::Context;
 use oficina_grbl::Endpoint;
-use oficina_grbl::Job;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Mode, Notice, Sender, SenderOptions, StreamEnd};
 use oficina_grbl_emu::{Config, Emulator};
 use std::time::Instant;
@@ -78,7 +78,8 @@ fn one_run(lines: usize, baud: u32, feed: f64) -> anyhow::Result<Figures> {
     let Mode::CharCounting(window) = sender.mode else {
         anyhow::bail!("emulator did not report its RX buffer")
     };
-    let job = Job::from_text("bench.nc", &program(lines, feed)).map_err(anyhow::Error::msg)?;
+    let job =
+        StreamProgram::from_text("bench.nc", &program(lines, feed)).map_err(anyhow::Error::msg)?;
     let start = Instant::now();
     let mut last_ack = start;
     let mut bytes = 0u64;
@@ -129,7 +130,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.lines == 0 {
         anyhow::bail!("--lines must be at least 1");
     }
-    let sample = Job::from_text("b", &program(args.lines, 1000.0)).map_err(anyhow::Error::msg)?;
+    let sample =
+        StreamProgram::from_text("b", &program(args.lines, 1000.0)).map_err(anyhow::Error::msg)?;
     let bytes_per_line = sample.bytes_from(2) as f64 / args.lines as f64;
     // Feed at which 0.1 mm segments consume exactly what the wire delivers.
     let wire_feed = (args.baud as f64 / 10.0) / bytes_per_line * 0.1 * 60.0;

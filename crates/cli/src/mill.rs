@@ -3,7 +3,7 @@
 use anyhow::{Context, Result};
 use clap::{Args as ClapArgs, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use oficina_app::mill::{mill, EntryKind as AppEntry, MillOpKind, MillParams, PocketStrategy};
+use oficina_app::{mill, EntryKind as AppEntry, MillOpKind, MillParams, PocketStrategy};
 use oficina_app::{Feedback, Judged, PostParams};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};

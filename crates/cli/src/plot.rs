@@ -4,8 +4,8 @@
 
 use crate::machine_profile;
 use anyhow::Context;
-use oficina_app::plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams};
 use oficina_app::Feedback;
+use oficina_app::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams};
 use std::path::PathBuf;
 use std::process::ExitCode;
 

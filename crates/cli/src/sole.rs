@@ -4,8 +4,8 @@
 use crate::mill::{estimate_profile, print_judged, with_bar, PostArgs};
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
-use oficina_app::sole::{sole, SoleParams};
 use oficina_app::GOUGE_REPORTED;
+use oficina_app::{sole, SoleParams};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]

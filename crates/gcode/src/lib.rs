@@ -27,10 +27,9 @@
 //! - `interp`: the modal interpreter: blocks → [`oficina_canon::Canon`] records;
 //! - `print`: canonical operations in the text format of LinuxCNC's standalone `rs274`.
 //!
-//! What other crates use is the flat list below. `text` stays a public module because its
-//! names (`decode`, `escape`, `quote`) read well only behind it; `program`, `stream`,
-//! `grbl_errors` and `interp` stay public until the crates that import them by path
-//! (grbl, machine) use the flat names.
+//! What other crates use is the flat list below. `text` and `grbl_errors` stay public
+//! modules because their names (`decode`, `escape`, `quote`; `error_text`, `error_codes`)
+//! read well only behind them.
 
 mod ast;
 mod block;
@@ -41,13 +40,13 @@ mod exec;
 mod expr;
 pub mod grbl_errors;
 mod header;
-pub mod interp;
+mod interp;
 mod lex;
 mod params;
 mod parse;
 mod print;
-pub mod program;
-pub mod stream;
+mod program;
+mod stream;
 pub mod text;
 
 pub use ast::Line;

@@ -138,7 +138,7 @@ fn machine_trait_raw_lines_and_firmware_settings() {
     // Checked before it reaches the firmware: $20 is a boolean.
     assert!(dev.write_firmware_setting(20, 2.0).is_err());
     // The virtual machine has no firmware language and says so.
-    let profile = oficina_motion::profile::resolve("grbl-router").unwrap();
+    let profile = oficina_motion::resolve("grbl-router").unwrap();
     let mut vm = oficina_machine::VirtualMachine::new(profile);
     assert!(matches!(
         vm.raw_line("$$"),

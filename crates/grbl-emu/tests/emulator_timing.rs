@@ -3,8 +3,8 @@
 //! closed-form trapezoid, and a starved stream. The firmware model runs in simulated time
 //! (1 ms ticks), so nothing depends on the host's clock.
 
-use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::Dialect;
+use oficina_gcode::{run, RunOptions};
 use oficina_grbl::GrblState;
 use oficina_grbl_emu::grbl_settings;
 use oficina_grbl_emu::{Config, Core};

@@ -6,8 +6,8 @@
 mod common;
 use common::*;
 use oficina_grbl::Endpoint;
-use oficina_grbl::Job;
 use oficina_grbl::ResumeOptions;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Notice, Sender, StreamEnd, StreamReport};
 use oficina_grbl_emu::Emulator;
 use oficina_grbl_emu::{Fault, FaultProxy};
@@ -38,7 +38,7 @@ fn with_proxy(faults: Vec<Fault>) -> (Emulator, FaultProxy, Endpoint) {
 }
 
 /// Byte offset (1-based, as the proxy counts) of the newline that ends job line `index`.
-fn newline_of(job: &Job, index: usize) -> u64 {
+fn newline_of(job: &StreamProgram, index: usize) -> u64 {
     HANDSHAKE_BYTES
         + job.lines[..=index]
             .iter()
@@ -60,8 +60,8 @@ fn connect_retry(ep: &Endpoint) -> Sender {
 /// Returns every report and the preambles sent.
 fn run_with_resumes(
     ep: &Endpoint,
-    job: &Job,
-    fixed: Option<&Job>,
+    job: &StreamProgram,
+    fixed: Option<&StreamProgram>,
 ) -> (Vec<StreamReport>, Vec<Vec<String>>) {
     let mut s = connect_retry(ep);
     let mut reports = vec![s.stream(job, 0, None, None, &mut quiet())];
@@ -107,11 +107,16 @@ fn run_with_resumes(
 /// The emulator's record of completed lines, preambles taken out, must be the job exactly,
 /// except after a rejected line: grbl runs the lines already in its buffer past it, and the
 /// resume runs them again from the rejected line (`reran_after_rejection` counts them).
-fn assert_each_line_once(emu: &Emulator, job: &Job, preambles: &[Vec<String>]) {
+fn assert_each_line_once(emu: &Emulator, job: &StreamProgram, preambles: &[Vec<String>]) {
     assert_lines_ran(emu, job, preambles, None)
 }
 
-fn assert_lines_ran(emu: &Emulator, job: &Job, preambles: &[Vec<String>], rejected: Option<usize>) {
+fn assert_lines_ran(
+    emu: &Emulator,
+    job: &StreamProgram,
+    preambles: &[Vec<String>],
+    rejected: Option<usize>,
+) {
     let mut done = emu.with_core(|c| c.executed.clone());
     if let Some(k) = rejected {
         // Lines k+1.. that ran before the hold: remove that run, checking it is in order.
@@ -163,7 +168,7 @@ fn assert_lines_ran(emu: &Emulator, job: &Job, preambles: &[Vec<String>], reject
     }
 }
 
-fn assert_final_position(emu: &Emulator, job: &Job) {
+fn assert_final_position(emu: &Emulator, job: &StreamProgram) {
     let expected = oficina_grbl::replay(job, job.len()).work_pos();
     let wpos = emu.with_core(|c| {
         let w = c.interp.wco();
@@ -245,8 +250,8 @@ fn fault_firmware_error_mid_stream_stops_then_resumes_after_fix() {
     let fixed_line = lines[200].to_string();
     let bad_line = fixed_line.replace("G1", "G2");
     lines[200] = &bad_line;
-    let bad = Job::from_text("test.nc", &lines.join("\n")).unwrap();
-    let fixed = Job::from_text("test.nc", &good).unwrap();
+    let bad = StreamProgram::from_text("test.nc", &lines.join("\n")).unwrap();
+    let fixed = StreamProgram::from_text("test.nc", &good).unwrap();
     let (emu, _proxy, ep) = with_proxy(vec![]);
     let (reports, pre) = run_with_resumes(&ep, &bad, Some(&fixed));
     let StreamEnd::Rejected { index, code } = reports[0].end else {

@@ -8,8 +8,8 @@ mod common;
 use common::coverage;
 use common::scenarios;
 use oficina_grbl::Endpoint;
-use oficina_grbl::Job;
 use oficina_grbl::Response;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Link, LinkEvent};
 use oficina_grbl_emu::{Config, Emulator, Flavor};
 use std::time::Duration;
@@ -268,7 +268,8 @@ fn random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
     let (emu, ep) = start(Flavor::GrblHal);
     let mut s = scenarios::connect(&ep);
     scenarios::configure(&mut s);
-    let job = Job::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0)).unwrap();
+    let job = StreamProgram::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0))
+        .unwrap();
     // A full run first: how long the job takes, and that it covers itself exactly.
     emu.with_core(|c| c.motion_record.clear());
     let t0 = std::time::Instant::now();

@@ -10,7 +10,7 @@ mod common;
 use common::coverage;
 use common::grblhal_sim::{self, Sim};
 use common::scenarios;
-use oficina_grbl::Job;
+use oficina_grbl::StreamProgram;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
@@ -71,9 +71,9 @@ fn sim_error_texts_are_the_firmwares() {
         s.reset().expect("reset");
         let firmware = s.command(line).expect("reply").error.map(u16::from);
         assert!(firmware.is_some(), "`{line}` accepted by the firmware");
-        let diags = oficina_gcode::program::run_text(
+        let diags = oficina_gcode::run_text(
             &format!("{line}\n"),
-            &oficina_gcode::program::RunOptions::check(oficina_gcode::Dialect::Grbl),
+            &oficina_gcode::RunOptions::check(oficina_gcode::Dialect::Grbl),
             &mut |_| {},
         );
         let ours = diags.first().and_then(|d| d.code);
@@ -118,7 +118,8 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
         grblhal_sim::start("random-stops", None);
         return;
     }
-    let job = Job::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0)).unwrap();
+    let job = StreamProgram::from_text("relief.nc", &coverage::relief_program(6, 30, 0.5, 1500.0))
+        .unwrap();
     let run = |stop: Duration| {
         let sim: Sim = grblhal_sim::start("random-stops", Some(0.005)).unwrap();
         let mut s = scenarios::connect(&sim.endpoint);
@@ -188,7 +189,7 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
 /// raster. Printed as a table; the estimate must be within 5 % of the moving time.
 #[test]
 fn sim_time_estimates_match_the_firmware() {
-    use oficina_gcode::program::{run as gcode_run, RunOptions};
+    use oficina_gcode::{run as gcode_run, RunOptions};
     use oficina_grbl_emu::motion_profile;
     let mut zigzag = String::from("G21G90G94\nG0X0Y0\nG1F3000\n");
     for i in 0..20 {
@@ -211,7 +212,7 @@ fn sim_time_estimates_match_the_firmware() {
         };
         let mut s = scenarios::connect(&sim.endpoint);
         scenarios::configure(&mut s);
-        let job = Job::from_text(name, &text).unwrap();
+        let job = StreamProgram::from_text(name, &text).unwrap();
         let report = s.stream(&job, 0, None, None, &mut |_| {});
         assert_eq!(report.end, oficina_grbl::StreamEnd::Completed);
         sim.finish();

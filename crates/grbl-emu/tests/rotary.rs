@@ -5,7 +5,7 @@
 //! 1 %: see the note at the assertion.
 //! The time agrees within 2 %, not yet 1 %: see the note at the assertion.
 
-use oficina_gcode::program::{run, RunOptions};
+use oficina_gcode::{run, RunOptions};
 use oficina_gcode::{Dialect, Severity};
 use oficina_grbl::{GrblState, StatusReport};
 use oficina_grbl_emu::grbl_settings;

@@ -127,7 +127,7 @@ fn stop_on_a_path_that_retraces_itself_resumes_on_the_right_lap() {
         }
     }
     text += "G0Z1\n";
-    let job = oficina_grbl::Job::from_text("laps.nc", &text).unwrap();
+    let job = oficina_grbl::StreamProgram::from_text("laps.nc", &text).unwrap();
     let mut s = connect(&ep);
     let (tx, rx) = std::sync::mpsc::channel();
     let mut sent_stop = false;
@@ -223,7 +223,7 @@ fn check_mode_reports_every_bad_line_without_moving() {
     let mut text = common::program(100);
     text = text.replacen("G1 X", "G1 Q1 X", 1); // error:20 on the first move
     text.push_str("G2 X1\n"); // error:35 near the end
-    let job = oficina_grbl::Job::from_text("c.nc", &text).unwrap();
+    let job = oficina_grbl::StreamProgram::from_text("c.nc", &text).unwrap();
     let bad = s.check_job(&job).unwrap();
     let codes: Vec<u8> = bad.iter().map(|(_, c)| *c).collect();
     assert_eq!(codes, vec![20, 35], "{bad:?}");
@@ -286,7 +286,7 @@ fn soft_limit_alarm_mid_job_is_reported_and_the_machine_left_resumable() {
     let mut s = connect(&ep);
     assert_eq!(s.command("$H").unwrap().error, None);
     let text = "G21G90\nG0X-5Y-5\nG1X-10F3000\nG1X-10Y-250\nG1X-20\n";
-    let job = oficina_grbl::Job::from_text("limits.nc", text).unwrap();
+    let job = oficina_grbl::StreamProgram::from_text("limits.nc", text).unwrap();
     let report = s.stream(&job, 0, None, None, &mut quiet());
     assert_eq!(report.end, StreamEnd::Alarm(2));
     assert!(
@@ -340,7 +340,7 @@ fn connecting_to_a_busy_machine_sizes_the_window_once_it_rests() {
         Mode::SendResponse,
         "$I is refused while running (error:8)"
     );
-    let job = oficina_grbl::Job::from_text("busy.nc", "G1X50F1000\n").unwrap();
+    let job = oficina_grbl::StreamProgram::from_text("busy.nc", "G1X50F1000\n").unwrap();
     let at = s.recover(&job, 0, 1, 1, false).unwrap();
     assert_eq!(s.mode, Mode::CharCounting(127));
     assert_eq!(at.index, 1, "{at:?}");

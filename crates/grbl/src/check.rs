@@ -2,7 +2,7 @@
 //! serial speed without moving, so a program is proven against the real firmware's parser
 //! before any cut.
 
-use crate::job::Job;
+use crate::job::StreamProgram;
 use crate::link::LinkEvent;
 use crate::messages;
 use crate::response::Response;
@@ -14,7 +14,7 @@ impl Sender {
     /// Runs `job` through grbl's own check mode (`$C`): the firmware parses every line at
     /// full serial speed without moving, and every rejected line is collected as
     /// (job index, error code). Check mode is left again (grbl resets when it is).
-    pub fn check_job(&mut self, job: &Job) -> Result<Vec<(usize, u8)>, String> {
+    pub fn check_job(&mut self, job: &StreamProgram) -> Result<Vec<(usize, u8)>, String> {
         let on = self.command("$C").map_err(|e| e.to_string())?;
         if let Some(code) = on.error {
             return Err(format!(

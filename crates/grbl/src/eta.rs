@@ -4,12 +4,12 @@
 //! gone so far (acceleration, overrides and holds make it slower than the model).
 
 use crate::interp::{Interp, Rate};
-use crate::job::Job;
+use crate::job::StreamProgram;
 use std::collections::BTreeMap;
 
 /// Seconds of machine time before each line: `cumulative[i]` is the time of lines `0..i`;
 /// the last entry is the whole job.
-pub fn cumulative_seconds(job: &Job, settings: &BTreeMap<u16, f64>) -> Vec<f64> {
+pub fn cumulative_seconds(job: &StreamProgram, settings: &BTreeMap<u16, f64>) -> Vec<f64> {
     let max_rate = |axis: u16| {
         settings
             .get(&(110 + axis))
@@ -71,7 +71,8 @@ mod tests {
 
     #[test]
     fn times_by_hand() {
-        let job = Job::from_text("t", "G21G90\nG1X30F600\nG1Y40F1200\nG4P1.5\nG0X0Y0\n").unwrap();
+        let job = StreamProgram::from_text("t", "G21G90\nG1X30F600\nG1Y40F1200\nG4P1.5\nG0X0Y0\n")
+            .unwrap();
         let settings: BTreeMap<u16, f64> = [(110, 6000.0), (111, 3000.0), (112, 500.0)].into();
         let c = cumulative_seconds(&job, &settings);
         // 30 mm at 10 mm/s = 3 s; 40 mm at 20 mm/s = 2 s; dwell 1.5 s; rapid back: X 30 mm at

@@ -5,23 +5,29 @@
 use crate::gline;
 
 #[derive(Clone, Debug, PartialEq)]
-pub struct JobLine {
+pub struct StreamLine {
     /// 1-based line number in the source file.
     pub file_line: usize,
     /// What is sent (without the newline).
     pub text: String,
 }
 
+/// A program cleaned for streaming to grbl (not `oficina_machine::Job`, which is a program
+/// and its pace handed to any machine).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Job {
+pub struct StreamProgram {
     pub name: String,
-    pub lines: Vec<JobLine>,
+    pub lines: Vec<StreamLine>,
 }
 
-impl Job {
+/// The old name of [`StreamProgram`], kept only until `cli/src/console.rs` and
+/// `grbl/src/device.rs` (edited on another branch) use the new one; then delete it.
+pub type Job = StreamProgram;
+
+impl StreamProgram {
     /// Cleans every line; empty lines, comments and `%` tape marks are dropped. A line that
     /// cannot fit grbl's line buffer is an error naming the file line.
-    pub fn from_text(name: &str, text: &str) -> Result<Job, String> {
+    pub fn from_text(name: &str, text: &str) -> Result<StreamProgram, String> {
         let mut lines = Vec::new();
         for (i, raw) in text.lines().enumerate() {
             let clean = gline::clean(raw).map_err(|_| {
@@ -30,12 +36,12 @@ impl Job {
             if clean.is_empty() || clean == "%" {
                 continue;
             }
-            lines.push(JobLine {
+            lines.push(StreamLine {
                 file_line: i + 1,
                 text: clean,
             });
         }
-        Ok(Job {
+        Ok(StreamProgram {
             name: name.to_string(),
             lines,
         })
@@ -78,15 +84,16 @@ mod tests {
 
     #[test]
     fn keeps_file_lines() {
-        let j = Job::from_text("a.nc", "%\n(header)\nG21 G90\n\ng1 x1 ; cut\n%\n").unwrap();
+        let j =
+            StreamProgram::from_text("a.nc", "%\n(header)\nG21 G90\n\ng1 x1 ; cut\n%\n").unwrap();
         assert_eq!(
             j.lines,
             vec![
-                JobLine {
+                StreamLine {
                     file_line: 3,
                     text: "G21G90".into()
                 },
-                JobLine {
+                StreamLine {
                     file_line: 5,
                     text: "G1X1".into()
                 }
@@ -95,7 +102,7 @@ mod tests {
         assert_eq!(j.index_of_file_line(4), Some(1));
         assert_eq!(j.bytes_from(0), 7 + 5);
         let long = format!("G1{}", " X1".repeat(60));
-        assert!(Job::from_text("b.nc", &format!("G0\n{long}\n"))
+        assert!(StreamProgram::from_text("b.nc", &format!("G0\n{long}\n"))
             .unwrap_err()
             .starts_with("b.nc:2:"));
     }

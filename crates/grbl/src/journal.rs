@@ -6,7 +6,7 @@
 //! `S i` (line i written to the wire), `A i` (acknowledged by ok), `E i code` (error:code),
 //! `C i` (every line before i completed: the machine was seen idle), `X note` (stream end).
 
-use crate::job::Job;
+use crate::job::StreamProgram;
 use std::fs::{File, OpenOptions};
 use std::io::{self, BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -32,7 +32,7 @@ pub struct JournalState {
 impl Journal {
     /// Opens the journal for `job`, appending when it belongs to the same program (a resumed
     /// stream continues the record) and starting afresh otherwise.
-    pub fn open(path: &Path, job: &Job) -> io::Result<Journal> {
+    pub fn open(path: &Path, job: &StreamProgram) -> io::Result<Journal> {
         let header = format!(
             "oficina-grbl-journal 1 {} {:016x}",
             job.len(),
@@ -84,7 +84,7 @@ impl Journal {
 
     /// Reads a journal written for `job`. A journal for another program is an error that
     /// says so; a torn last record (crash mid-write) is ignored.
-    pub fn load(path: &Path, job: &Job) -> Result<JournalState, String> {
+    pub fn load(path: &Path, job: &StreamProgram) -> Result<JournalState, String> {
         let f = File::open(path)
             .map_err(|e| format!("{}: cannot read journal: {e}", path.display()))?;
         let mut lines = BufReader::new(f).lines();
@@ -137,7 +137,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("oficina-journal-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("j.journal");
-        let job = Job::from_text("t", "G0X1\nG0X2\nG0X3\n").unwrap();
+        let job = StreamProgram::from_text("t", "G0X1\nG0X2\nG0X3\n").unwrap();
         {
             let mut j = Journal::open(&p, &job).unwrap();
             j.sent(0).unwrap();
@@ -158,7 +158,7 @@ mod tests {
         assert_eq!(st.errors, vec![(1, 33)]);
         // The torn "A 2" without newline still parses as a whole record or not at all.
         assert!(st.acked_end == 2 || st.acked_end == 3);
-        let other = Job::from_text("t", "G0X9\n").unwrap();
+        let other = StreamProgram::from_text("t", "G0X9\n").unwrap();
         assert!(Journal::load(&p, &other)
             .unwrap_err()
             .contains("another program"));

@@ -24,7 +24,7 @@
 //! - grbl's G-code dialect (shared by the emulator and resume): [`clean_line`],
 //!   [`line_words`], the modal [`Interp`] and the [`Segment`]s a line moves;
 //! - byte pipes and the line reader: [`Endpoint`], [`Pty`], [`Link`] / [`LinkEvent`];
-//! - streaming, its record, how it ended and resume: [`Job`], [`Sender`], [`StreamReport`],
+//! - streaming, its record, how it ended and resume: [`StreamProgram`], [`Sender`], [`StreamReport`],
 //!   [`ResumeOptions`], [`replay`], [`resume_preamble`];
 //! - the machine panel: [`read_settings`], [`write_setting`], [`ContinuousJog`],
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
@@ -61,7 +61,7 @@ pub use device::{feed_override_bytes, spindle_override_bytes, GrblDevice};
 pub use eta::{cumulative_seconds, remaining as eta_remaining};
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, E_NEGATIVE, MAX_LINE};
 pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
-pub use job::{Job, JobLine};
+pub use job::{Job, StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
 pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};

@@ -3,7 +3,7 @@
 //! where the journal says the last run stopped; journals every line; survives a lost link
 //! by reconnecting, recovering and (if allowed) resuming by itself.
 
-use crate::job::Job;
+use crate::job::StreamProgram;
 use crate::journal::Journal;
 use crate::reconnect::{connect_with_retry, LinkState, RetryPolicy};
 use crate::resume::ResumeOptions;
@@ -96,10 +96,10 @@ impl GrblMachine {
         settings: &RunSettings,
         control: Option<&Receiver<Control>>,
         observer: &mut dyn FnMut(Notice),
-    ) -> Result<(Job, RunOutcome), String> {
+    ) -> Result<(StreamProgram, RunOutcome), String> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let job = Job::from_text(&path.display().to_string(), &text)?;
+        let job = StreamProgram::from_text(&path.display().to_string(), &text)?;
         let journal = GrblMachine::journal_path(path, settings);
         let outcome = self.run(&job, &journal, settings, control, observer)?;
         Ok((job, outcome))
@@ -107,7 +107,7 @@ impl GrblMachine {
 
     pub fn run(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         journal_path: &Path,
         settings: &RunSettings,
         control: Option<&Receiver<Control>>,

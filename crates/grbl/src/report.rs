@@ -1,7 +1,7 @@
 //! How a stream ended, told to the user: what happened, at which file line, what grbl said,
 //! and where to resume.
 
-use crate::job::Job;
+use crate::job::StreamProgram;
 use crate::messages;
 use crate::resume::Located;
 use std::time::Duration;
@@ -55,7 +55,7 @@ pub struct StreamReport {
 
 impl StreamReport {
     /// One paragraph for the user: what happened, where, what grbl said, what to do.
-    pub fn describe(&self, job: &Job) -> String {
+    pub fn describe(&self, job: &StreamProgram) -> String {
         let line = |i: usize| {
             job.lines
                 .get(i)
@@ -90,7 +90,7 @@ impl StreamReport {
 /// grbl goes on executing the lines already in its buffer after rejecting one, so the
 /// machine may have moved past the rejected line on a path that skipped it. Resuming at the
 /// rejected line (once fixed) re-traces those lines from the right starting point.
-pub(crate) fn after_rejection(job: &Job, rejected: usize, at: Located) -> Located {
+pub(crate) fn after_rejection(job: &StreamProgram, rejected: usize, at: Located) -> Located {
     if at.index <= rejected {
         return at;
     }

@@ -7,13 +7,13 @@
 //! the first line whose path holds the position is the interrupted one.
 
 use crate::interp::{self, Interp, MotionMode, Spindle};
-use crate::job::Job;
+use crate::job::StreamProgram;
 
 /// Reported positions carry 3 decimals; a little more for rounding of MPos − WCO.
 pub(crate) const POSITION_TOLERANCE: f64 = 0.005;
 
 /// The interpreter state after running lines `0..index` of `job`.
-pub fn replay(job: &Job, index: usize) -> Interp {
+pub fn replay(job: &StreamProgram, index: usize) -> Interp {
     // The host follows any firmware: A words are read (a 3-axis board refuses them itself).
     let mut i = Interp {
         a_axis: true,
@@ -59,7 +59,7 @@ pub(crate) fn enterable_midway(after: &Interp, text: &str, effect: &interp::Effe
 /// When the machine rests exactly at the end of a line, the modal-only lines after it that
 /// were acknowledged (`acked_end`) already took effect and are not sent again.
 pub(crate) fn locate(
-    job: &Job,
+    job: &StreamProgram,
     certain: usize,
     sent_end: usize,
     acked_end: usize,
@@ -163,14 +163,18 @@ impl Default for ResumeOptions {
 
 /// The lines to send before streaming `job` from `index`: modal state, spindle and coolant,
 /// retract, approach, then the program's own units, distance mode, feed and motion mode.
-pub fn preamble(job: &Job, index: usize, opts: &ResumeOptions) -> Result<Vec<String>, String> {
+pub fn preamble(
+    job: &StreamProgram,
+    index: usize,
+    opts: &ResumeOptions,
+) -> Result<Vec<String>, String> {
     preamble_at(job, index, None, opts)
 }
 
 /// [`preamble`], approaching `entry` (work mm, a point on line `index` where the machine
 /// stopped, see [`Located::entry`]) instead of the line's start point.
 pub(crate) fn preamble_at(
-    job: &Job,
+    job: &StreamProgram,
     index: usize,
     entry: Option<[f64; 3]>,
     opts: &ResumeOptions,
@@ -268,8 +272,8 @@ mod tests {
     use super::*;
     use crate::gline;
 
-    fn job(text: &str) -> Job {
-        Job::from_text("t.nc", text).unwrap()
+    fn job(text: &str) -> StreamProgram {
+        StreamProgram::from_text("t.nc", text).unwrap()
     }
 
     #[test]

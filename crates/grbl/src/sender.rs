@@ -7,7 +7,7 @@
 //! holds, waits for the machine to rest, reads where it is, then resets to flush whatever
 //! is still queued; the position and the journal tell exactly where to resume.
 
-use crate::job::Job;
+use crate::job::StreamProgram;
 use crate::journal::Journal;
 use crate::link::{Link, LinkEvent};
 use crate::messages;
@@ -408,7 +408,7 @@ impl Sender {
     /// Streams `job` from line `from`, keeping the RX buffer full but never over.
     pub fn stream(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         from: usize,
         mut journal: Option<&mut Journal>,
         control: Option<&Receiver<Control>>,
@@ -700,7 +700,7 @@ impl Sender {
     /// Lines before the returned index have completed: at most `planner_blocks` motion
     /// lines (each at least one block) can still be queued behind the last `ok`, plus the
     /// tails of two blocks grblHAL already took out of its planner into its step segments.
-    fn certain_bound(&self, job: &Job, acked_end: usize, floor: usize) -> usize {
+    fn certain_bound(&self, job: &StreamProgram, acked_end: usize, floor: usize) -> usize {
         let mut motion = 0;
         let mut i = acked_end;
         while i > floor {
@@ -722,7 +722,7 @@ impl Sender {
     /// and `acked_end` come from the [`StreamReport`] or, after a crash, the journal.
     pub fn recover(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         certain: usize,
         sent_end: usize,
         acked_end: usize,
@@ -753,7 +753,7 @@ impl Sender {
     /// [`Sender::recover`] after a stream that ended on a rejected line.
     pub fn recover_rejected(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         report: &StreamReport,
         unlock_alarm: bool,
     ) -> Result<Located, String> {
@@ -773,7 +773,7 @@ impl Sender {
     /// Runs the resume preamble (modal state, spindle, safe approach) line by line.
     pub fn run_preamble(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         index: usize,
         opts: &resume::ResumeOptions,
     ) -> Result<(), String> {
@@ -784,7 +784,7 @@ impl Sender {
     /// machine stopped ([`Located::entry`]), so the line is finished from there.
     pub fn run_preamble_at(
         &mut self,
-        job: &Job,
+        job: &StreamProgram,
         index: usize,
         entry: Option<[f64; 3]>,
         opts: &resume::ResumeOptions,

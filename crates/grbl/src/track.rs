@@ -6,7 +6,7 @@
 //! line finished while the machine is still on it. A position on the path can not lie.
 
 use crate::interp::{self, Interp};
-use crate::job::Job;
+use crate::job::StreamProgram;
 use crate::resume::{self, point_segment_distance, POSITION_TOLERANCE};
 use std::collections::VecDeque;
 
@@ -34,7 +34,7 @@ pub(crate) struct PathTracker {
 
 impl PathTracker {
     /// A tracker for streaming `job` from line `from`, with the firmware's `$12`.
-    pub(crate) fn new(job: &Job, from: usize, arc_tolerance: f64) -> PathTracker {
+    pub(crate) fn new(job: &StreamProgram, from: usize, arc_tolerance: f64) -> PathTracker {
         let mut interp = resume::replay(job, from);
         interp.arc_tolerance = arc_tolerance;
         PathTracker {
@@ -97,7 +97,7 @@ mod tests {
     fn follows_the_path_forward_only() {
         // Two passes over the same square at different depths, then back to the start.
         let text = "G0X0Y0Z0\nG1Z-1F100\nX10\nY10\nX0\nY0\nZ-2\nX10\nY10\nX0\nY0\nG0Z5\n";
-        let job = Job::from_text("t", text).unwrap();
+        let job = StreamProgram::from_text("t", text).unwrap();
         let mut t = PathTracker::new(&job, 0, 0.002);
         for (i, l) in job.lines.iter().enumerate() {
             t.sent(i, &l.text);
@@ -118,7 +118,8 @@ mod tests {
 
     #[test]
     fn arcs_are_followed_by_their_chords() {
-        let job = Job::from_text("t", "G0X10Y0\nG3X-10Y0I-10J0F100\nG1X-10Y-5\n").unwrap();
+        let job =
+            StreamProgram::from_text("t", "G0X10Y0\nG3X-10Y0I-10J0F100\nG1X-10Y-5\n").unwrap();
         let mut t = PathTracker::new(&job, 0, 0.002);
         for (i, l) in job.lines.iter().enumerate() {
             t.sent(i, &l.text);

@@ -2,8 +2,8 @@
 //! (an independent implementation): the same lines must be accepted or rejected with the
 //! same grbl error number.
 
-use oficina_gcode::program::{run, RunOptions};
 use oficina_gcode::Dialect;
+use oficina_gcode::{run, RunOptions};
 use oficina_grbl::Interp;
 use std::io::Cursor;
 

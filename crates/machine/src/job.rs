@@ -4,7 +4,7 @@
 #[cfg(feature = "virtual")]
 use oficina_canon::{Canon, CanonOp, Pos};
 #[cfg(feature = "virtual")]
-use oficina_gcode::program::RunOptions;
+use oficina_gcode::RunOptions;
 #[cfg(feature = "virtual")]
 use oficina_gcode::Severity;
 use std::sync::Arc;
@@ -34,7 +34,7 @@ pub struct Job {
 /// Canon ops of a job, in a bounded stream; the first interpreter error ends the stream and
 /// is left in `error`.
 pub struct CanonStream {
-    inner: oficina_gcode::stream::CanonStream,
+    inner: oficina_gcode::CanonStream,
     name: String,
     text: Arc<String>,
     pub error: Arc<Mutex<Option<String>>>,
@@ -94,7 +94,7 @@ pub fn canon_stream(job: &Job, initial_params: Vec<(i64, f64)>) -> CanonStream {
 pub fn canon_stream_with(job: &Job, opts: RunOptions) -> CanonStream {
     let source = std::io::Cursor::new(ArcText(job.text.clone()));
     CanonStream {
-        inner: oficina_gcode::stream::CanonStream::spawn(source, opts),
+        inner: oficina_gcode::CanonStream::spawn(source, opts),
         name: job.name.clone(),
         text: job.text.clone(),
         error: Arc::new(Mutex::new(None)),

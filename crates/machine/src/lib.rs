@@ -6,7 +6,7 @@
 //! use oficina_machine::{Event, Job, Machine, Pace, State, VirtualMachine};
 //! use std::{sync::Arc, time::Duration};
 //!
-//! let mut profile = oficina_motion::profile::resolve("grbl-router").unwrap();
+//! let mut profile = oficina_motion::resolve("grbl-router").unwrap();
 //! profile.work_offset = [0.0; 3]; // the program is in machine coordinates
 //! let mut vm = VirtualMachine::new(profile);
 //! vm.connect().unwrap();

@@ -5,11 +5,11 @@
 use crate::job::{canon_stream_with, check_start_line, Job, Pace, ResumeFrom};
 use crate::{Command, Event, Machine, MachineError, MachineInfo, State, Status};
 use oficina_canon::{Canon, CanonOp};
-use oficina_gcode::interp::tool_table::ToolTable;
-use oficina_motion::moves::Overrides;
-use oficina_motion::planner::Cut;
-use oficina_motion::profile::Shape;
-use oficina_motion::{estimate::estimate_with, plan, PlanOptions, Profile, Segment, SegmentKind};
+use oficina_gcode::ToolTable;
+use oficina_motion::Cut;
+use oficina_motion::Overrides;
+use oficina_motion::VelocityProfile;
+use oficina_motion::{estimate_with, plan, PlanOptions, Profile, Segment, SegmentKind};
 use std::sync::mpsc::{channel, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex};
 use std::thread;
@@ -237,7 +237,7 @@ impl Runner {
         job: &Job,
         start: [f64; 3],
     ) -> (Box<dyn Iterator<Item = Canon>>, Arc<Mutex<Option<String>>>) {
-        let opts = oficina_gcode::program::RunOptions {
+        let opts = oficina_gcode::RunOptions {
             initial_params: self.profile.initial_params(),
             max_line_len: self.max_line_len,
             tool_table: self.tools.clone(),
@@ -360,7 +360,7 @@ impl Runner {
         job: &Job,
         buffered: usize,
         offsets: &Arc<Mutex<([f64; 3], [f64; 3])>>,
-        shape: Shape,
+        shape: VelocityProfile,
     ) -> Result<Option<Cut>, bool> {
         match seg.kind {
             SegmentKind::Pause => {
@@ -413,7 +413,11 @@ impl Runner {
             let (s, v, a) = m.at(t);
             // S-curve motion is re-planned only where the acceleration is zero, so the jerk
             // limit holds across the cut (at most one ramp of delay); a trapezoid anywhere.
-            if wants_cut && moving && t < m.duration && (shape == Shape::Trapezoid || a == 0.0) {
+            if wants_cut
+                && moving
+                && t < m.duration
+                && (shape == VelocityProfile::Trapezoid || a == 0.0)
+            {
                 return Ok(Some(Cut { s, v }));
             }
             let dt = (t + TICK).min(m.duration) - t;
@@ -473,8 +477,8 @@ impl Runner {
         } else {
             1.0
         };
-        let p = oficina_motion::moves::lerp3(seg.start, seg.end, f);
-        let rotary = oficina_motion::moves::lerp3(seg.rot0, seg.rot1, f);
+        let p = oficina_motion::lerp3(seg.start, seg.end, f);
+        let rotary = oficina_motion::lerp3(seg.rot0, seg.rot1, f);
         let (g5x, g92) = *offsets.lock().unwrap_or_else(|e| e.into_inner());
         let mut st = lock(&self.status);
         st.state = state;

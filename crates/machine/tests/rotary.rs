@@ -2,7 +2,7 @@
 //! the end of the job.
 
 use oficina_machine::{Event, Job, Machine, Pace, State, VirtualMachine};
-use oficina_motion::profile::resolve;
+use oficina_motion::resolve;
 use std::sync::Arc;
 use std::time::Duration;
 

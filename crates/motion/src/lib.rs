@@ -29,21 +29,19 @@
 //!   seed 002 interpolators; `dda_steps`: a program stepped by those interpolators;
 //! - `trace`: the planned motion sampled at a fixed period.
 //!
-//! What other crates use is the flat list below. `profile`, `planner`, `moves` and
-//! `estimate` stay public modules until grbl and machine, which import them by path, use the
-//! flat names.
+//! What other crates use is the flat list below.
 
 mod bound;
 mod check;
 mod dda;
 mod dda_steps;
 mod error;
-pub mod estimate;
+mod estimate;
 mod hms;
 mod kinematics;
-pub mod moves;
-pub mod planner;
-pub mod profile;
+mod moves;
+mod planner;
+mod profile;
 mod step_files;
 mod stepcompress;
 mod steps;

@@ -6,9 +6,7 @@
 use crate::kinematics::{AnyKinematics, Kinematics};
 use crate::profile::Profile;
 use crate::MotionError;
-use oficina_canon::{
-    from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos,
-};
+use oficina_canon::{from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode, Pos};
 use oficina_geom::{chord_count, Helix};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -741,10 +739,6 @@ pub fn joint_lerp_error(
         .iter()
         .map(|&f| dist_to_segment(kin.forward(lerp3(qa, qb, f)), pa, pb))
         .fold(0.0, f64::max)
-}
-
-pub fn plane_axes(plane: Plane) -> (usize, usize, usize) {
-    plane.axes()
 }
 
 impl<I: Iterator<Item = Canon>> Iterator for MoveStream<'_, I> {

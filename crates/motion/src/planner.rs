@@ -24,8 +24,6 @@ use crate::MotionError;
 use oficina_canon::Canon;
 use std::collections::VecDeque;
 
-pub use incremental::Incremental;
-
 /// Hard cap on buffered blocks, whatever the horizon says (memory bound).
 pub const MAX_BLOCKS: usize = 1 << 16;
 

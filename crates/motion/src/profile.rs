@@ -37,10 +37,6 @@ pub enum VelocityProfile {
     SCurve,
 }
 
-/// The old name of [`VelocityProfile`], kept only until grbl's emulator and the virtual
-/// machine (which import `profile::Shape`) use the new one; then delete it.
-pub type Shape = VelocityProfile;
-
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HomingDirection {
     Negative,

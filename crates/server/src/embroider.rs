@@ -5,7 +5,7 @@
 //! thread colours; the figures are the sheet's, computed by the application layer.
 
 use crate::files::path_in;
-use crate::jobs::{bad, compute, input, output_name, JobError};
+use crate::jobs::{bad, compute, input, output_name, CamError};
 use crate::AppState;
 use axum::extract::State;
 use axum::response::{IntoResponse, Response};
@@ -81,7 +81,7 @@ const CHECKED: &[(&str, &str)] = &[
 ];
 
 impl EmbroiderForm {
-    fn params(self) -> Result<EmbroiderParams, JobError> {
+    fn params(self) -> Result<EmbroiderParams, CamError> {
         let format = match self.format.to_ascii_lowercase().as_str() {
             "dst" => Format::Dst,
             "exp" => Format::Exp,
@@ -138,7 +138,7 @@ pub struct EmbroiderRequest {
 /// holds ~5.6 million records: ~100 MB of JSON).
 const MAX_DRAWN: usize = 2_000_000;
 
-fn drawable(plan: &StitchPlan, file: &str) -> Result<(), JobError> {
+fn drawable(plan: &StitchPlan, file: &str) -> Result<(), CamError> {
     let n: usize = plan.blocks.iter().map(|b| b.stitches.len()).sum();
     if n > MAX_DRAWN {
         return Err(bad(format!(
@@ -219,7 +219,7 @@ fn sheet_json(s: &Sheet) -> Value {
 pub async fn embroider_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
-) -> Result<Response, JobError> {
+) -> Result<Response, CamError> {
     let path = input(&st, &req.file)?;
     let params = req.params.params()?;
     let file = req.file.clone().unwrap_or_default();
@@ -266,7 +266,7 @@ pub async fn embroider_job(
 pub async fn stitch_file(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
-) -> Result<Response, JobError> {
+) -> Result<Response, CamError> {
     let path = input(&st, &req.file)?;
     let params = req.params.params()?;
     let (plan, sheet) = compute(&st, move |fb| {

@@ -11,19 +11,19 @@ use axum::extract::{Query, State};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use oficina_app::mill::{mill, MillParams};
-use oficina_app::plot::{plot, PlotFormat, PlotParams};
-use oficina_app::sole::{sole, SoleParams};
 use oficina_app::{carve_relief, profile, Error, Feedback, ReliefParams};
+use oficina_app::{mill, MillParams};
+use oficina_app::{plot, PlotFormat, PlotParams};
+use oficina_app::{sole, SoleParams};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-/// A job's failure as the page shows it: the message, and the form field it is about.
-pub struct JobError(StatusCode, Error);
+/// A CAM job's failure as the page shows it: the message, and the form field it is about.
+pub struct CamError(StatusCode, Error);
 
-impl IntoResponse for JobError {
+impl IntoResponse for CamError {
     fn into_response(self) -> Response {
         let body = json!({
             "error": self.1.0,
@@ -34,18 +34,18 @@ impl IntoResponse for JobError {
     }
 }
 
-pub(crate) fn bad(msg: impl Into<String>) -> JobError {
-    JobError(StatusCode::BAD_REQUEST, Error(msg.into()))
+pub(crate) fn bad(msg: impl Into<String>) -> CamError {
+    CamError(StatusCode::BAD_REQUEST, Error(msg.into()))
 }
 
-impl From<Error> for JobError {
-    fn from(e: Error) -> JobError {
+impl From<Error> for CamError {
+    fn from(e: Error) -> CamError {
         let code = if e.is_cancelled() {
             StatusCode::CONFLICT
         } else {
             StatusCode::BAD_REQUEST
         };
-        JobError(code, e)
+        CamError(code, e)
     }
 }
 
@@ -59,7 +59,7 @@ pub struct Computing(Mutex<Option<Arc<AtomicBool>>>);
 pub(crate) async fn compute<T: Send + 'static>(
     st: &Arc<AppState>,
     work: impl FnOnce(Feedback) -> Result<T, Error> + Send + 'static,
-) -> Result<T, JobError> {
+) -> Result<T, CamError> {
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let mut c = lock(&st.computing.0);
@@ -69,7 +69,7 @@ pub(crate) async fn compute<T: Send + 'static>(
             } else {
                 "another job is being computed: wait for it or cancel it"
             };
-            return Err(JobError(StatusCode::CONFLICT, Error(msg.into())));
+            return Err(CamError(StatusCode::CONFLICT, Error(msg.into())));
         }
         *c = Some(cancel.clone());
     }
@@ -95,8 +95,8 @@ pub(crate) async fn compute<T: Send + 'static>(
     });
     let result = match task.await {
         // Finished as the cancel came: its result is dropped all the same.
-        Ok(Ok(_)) if cancel.load(Ordering::Relaxed) => Err(JobError::from(Error::cancelled())),
-        Ok(r) => r.map_err(JobError::from),
+        Ok(Ok(_)) if cancel.load(Ordering::Relaxed) => Err(CamError::from(Error::cancelled())),
+        Ok(r) => r.map_err(CamError::from),
         Err(e) => Err(bad(e.to_string())),
     };
     let mut c = lock(&st.computing.0);
@@ -117,9 +117,10 @@ pub async fn cancel(State(st): State<Arc<AppState>>) -> Response {
     }
 }
 
-/// A job on a file of the job folder.
+/// A CAM job on a file of the job folder (not `oficina_app::JobRequest`, which starts a
+/// program on the machine).
 #[derive(Deserialize)]
-pub struct JobRequest<P> {
+pub struct CamRequest<P> {
     /// The input's name in the job folder.
     file: Option<String>,
     #[serde(default)]
@@ -128,13 +129,13 @@ pub struct JobRequest<P> {
     profile: Option<String>,
 }
 
-pub(crate) fn input(st: &AppState, file: &Option<String>) -> Result<std::path::PathBuf, JobError> {
+pub(crate) fn input(st: &AppState, file: &Option<String>) -> Result<std::path::PathBuf, CamError> {
     let name = file
         .as_deref()
         .ok_or_else(|| bad("no input file: upload one first"))?;
     let path = path_in(&st.config.job_dir, name).map_err(bad)?;
     if !path.is_file() {
-        return Err(JobError(
+        return Err(CamError(
             StatusCode::NOT_FOUND,
             Error(format!("{name}: no such file in the job folder")),
         ));
@@ -143,14 +144,14 @@ pub(crate) fn input(st: &AppState, file: &Option<String>) -> Result<std::path::P
 }
 
 /// `plate.svg` → `plate.pocket.ngc`.
-pub(crate) fn output_name(input: &str, suffix: &str) -> Result<String, JobError> {
+pub(crate) fn output_name(input: &str, suffix: &str) -> Result<String, CamError> {
     let stem = input.rsplit_once('.').map_or(input, |(s, _)| s);
     let name = format!("{stem}.{suffix}");
     safe_name(&name).map_err(bad)?;
     Ok(name)
 }
 
-async fn save(st: &AppState, name: &str, text: &str) -> Result<(), JobError> {
+async fn save(st: &AppState, name: &str, text: &str) -> Result<(), CamError> {
     let path = path_in(&st.config.job_dir, name).map_err(bad)?;
     tokio::fs::write(&path, text)
         .await
@@ -167,8 +168,8 @@ fn estimate_profile(
 
 pub async fn mill_job(
     State(st): State<Arc<AppState>>,
-    Json(req): Json<JobRequest<MillParams>>,
-) -> Result<Response, JobError> {
+    Json(req): Json<CamRequest<MillParams>>,
+) -> Result<Response, CamError> {
     let path = input(&st, &req.file)?;
     let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
@@ -193,8 +194,8 @@ pub async fn mill_job(
 
 pub async fn sole_job(
     State(st): State<Arc<AppState>>,
-    Json(req): Json<JobRequest<SoleParams>>,
-) -> Result<Response, JobError> {
+    Json(req): Json<CamRequest<SoleParams>>,
+) -> Result<Response, CamError> {
     let path = input(&st, &req.file)?;
     let profile = estimate_profile(&st, req.profile.as_deref());
     let params = req.params;
@@ -230,8 +231,8 @@ pub async fn sole_job(
 
 pub async fn plot_job(
     State(st): State<Arc<AppState>>,
-    Json(req): Json<JobRequest<PlotParams>>,
-) -> Result<Response, JobError> {
+    Json(req): Json<CamRequest<PlotParams>>,
+) -> Result<Response, CamError> {
     let path = match &req.file {
         Some(_) => Some(input(&st, &req.file)?),
         None => None,
@@ -285,7 +286,7 @@ pub async fn carve(
     Query(q): Query<ImageName>,
     Query(params): Query<ReliefParams>,
     body: Bytes,
-) -> Result<Response, JobError> {
+) -> Result<Response, CamError> {
     let stem = q.name.rsplit_once('.').map_or(q.name.as_str(), |(s, _)| s);
     let out_name = format!("{}.nc", safe_name(stem).map_err(bad)?);
     let name = q.name.clone();

@@ -11,8 +11,8 @@ use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use oficina_app::profile::{Profile, BUNDLED};
-use oficina_app::tools::{check_tool_table, parse_tool_table, TOOL_TABLE_FILE};
-use oficina_gcode::interp::tool_table::ToolTable;
+use oficina_app::{check_tool_table, parse_tool_table, TOOL_TABLE_FILE};
+use oficina_gcode::ToolTable;
 use serde_json::json;
 use std::sync::Arc;
 

@@ -87,6 +87,16 @@ impl<R: BufRead + Seek> Executor<R> {
         });
     }
 
+    /// A false `if`/`elseif` condition: skip to the block's next `elseif`, `else` or `endif`.
+    fn skip_to_next_branch(&mut self, label: &str) {
+        self.start_skip(
+            label,
+            &[Keyword::ElseIf, Keyword::Else, Keyword::EndIf],
+            Arrival::Run,
+            false,
+        );
+    }
+
     pub(super) fn seek(&mut self, to: Mark) -> Result<(), Diagnostic> {
         self.src.seek(to.offset, to.line).map_err(|e| {
             self.end = Some(ProgramEnd::EndOfFile {
@@ -161,12 +171,7 @@ impl<R: BufRead + Seek> Executor<R> {
                     line: self.line.line,
                 });
                 if !cond {
-                    self.start_skip(
-                        &o.label,
-                        &[Keyword::ElseIf, Keyword::Else, Keyword::EndIf],
-                        Arrival::Run,
-                        false,
-                    );
+                    self.skip_to_next_branch(&o.label);
                 }
                 Ok(())
             }
@@ -189,12 +194,7 @@ impl<R: BufRead + Seek> Executor<R> {
                         *taken = true;
                     }
                 } else {
-                    self.start_skip(
-                        &o.label,
-                        &[Keyword::ElseIf, Keyword::Else, Keyword::EndIf],
-                        Arrival::Run,
-                        false,
-                    );
+                    self.skip_to_next_branch(&o.label);
                 }
                 Ok(())
             }

@@ -75,7 +75,6 @@ pub mod param {
     /// G54 X; system n (1-based) starts at `G5X_BASE + 20·(n−1)`, R (rotation) at +9.
     pub const G5X_BASE: i64 = 5221;
     pub const TOOL_NUMBER: i64 = 5400;
-    pub const TOOL_OFFSET: i64 = 5401;
     pub const POSITION: i64 = 5420;
 }
 

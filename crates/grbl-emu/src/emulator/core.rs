@@ -18,8 +18,8 @@ use oficina_grbl::GrblState;
 use oficina_grbl::Realtime;
 use oficina_grbl::SETTINGS;
 use oficina_grbl::{Flow, Interp, Rate, Segment};
-use oficina_motion::planner::incremental::{Incremental, Push};
 use oficina_motion::MoveKind;
+use oficina_motion::{Incremental, Push};
 use std::collections::{BTreeMap, VecDeque};
 
 mod rotary;

@@ -3,8 +3,8 @@
 //! accelerations ($120…), travel ($130…), junction deviation ($11) and arc tolerance ($12);
 //! and back: the motion profile the emulator plans with, from its `$` settings.
 
-use oficina_motion::profile::{Joint, KinematicsKind, Rotary, Shape};
 use oficina_motion::Profile;
+use oficina_motion::{Joint, KinematicsKind, Rotary, VelocityProfile};
 use std::collections::BTreeMap;
 
 /// grbl 1.1's step rate ceiling on a 16 MHz ATmega328P (its documented 30 kHz).
@@ -94,7 +94,7 @@ pub fn motion_profile(settings: &BTreeMap<u16, f64>) -> Profile {
         junction_deviation: get(11).max(0.0),
         arc_tolerance: get(12).max(1e-4),
         path_tolerance: get(12).max(1e-4),
-        shape: Shape::Trapezoid,
+        shape: VelocityProfile::Trapezoid,
         horizon: f64::INFINITY,
         max_step_rate: GRBL_MAX_STEP_RATE,
         default_feed: 1.0,

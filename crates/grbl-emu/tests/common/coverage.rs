@@ -3,13 +3,13 @@
 //! motion that lies on it (both ends within `tol`) covers its projection. Uncovered stretches
 //! are gaps; length covered more than once is double cut.
 
-use oficina_grbl::Job;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Interp, Rate};
 
 pub type Piece = ([f64; 3], [f64; 3]);
 
 /// The program's moves in machine mm, each with whether it cuts (a feed move).
-pub fn program_cuts(job: &Job) -> Vec<(Piece, bool)> {
+pub fn program_cuts(job: &StreamProgram) -> Vec<(Piece, bool)> {
     let mut it = Interp::default();
     let mut out = Vec::new();
     for l in &job.lines {

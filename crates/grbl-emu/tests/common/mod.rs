@@ -6,7 +6,7 @@ pub mod grblhal_sim;
 pub mod scenarios;
 
 use oficina_grbl::Endpoint;
-use oficina_grbl::Job;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Notice, Sender, SenderOptions};
 use oficina_grbl_emu::{Config, Emulator};
 use std::time::Duration;
@@ -72,8 +72,8 @@ pub fn program(n: usize) -> String {
     s
 }
 
-pub fn job(n: usize) -> Job {
-    Job::from_text("test.nc", &program(n)).unwrap()
+pub fn job(n: usize) -> StreamProgram {
+    StreamProgram::from_text("test.nc", &program(n)).unwrap()
 }
 
 pub fn quiet() -> impl FnMut(Notice) {

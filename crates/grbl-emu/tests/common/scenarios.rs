@@ -4,9 +4,9 @@
 use super::coverage::{self, Piece};
 use oficina_grbl::Endpoint;
 use oficina_grbl::GrblState;
-use oficina_grbl::Job;
 use oficina_grbl::Realtime;
 use oficina_grbl::ResumeOptions;
+use oficina_grbl::StreamProgram;
 use oficina_grbl::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -65,7 +65,7 @@ pub fn reset_is_recognised(ep: &Endpoint) -> Sender {
 pub fn done_means_at_rest(ep: &Endpoint, drop_queries: &(dyn Fn(bool) + Sync)) -> StreamReport {
     let mut s = connect(ep);
     configure(&mut s);
-    let job = Job::from_text("long-move.nc", "G21G90G94\nG1X110F3000\n").unwrap();
+    let job = StreamProgram::from_text("long-move.nc", "G21G90G94\nG1X110F3000\n").unwrap();
     std::thread::scope(|scope| {
         let mut dropping = false;
         let report = s.stream(&job, 0, None, None, &mut |n| {
@@ -103,7 +103,7 @@ pub fn done_means_at_rest(ep: &Endpoint, drop_queries: &(dyn Fn(bool) + Sync)) -
 pub fn controls_work_until_idle(ep: &Endpoint) -> StreamReport {
     let mut s = connect(ep);
     configure(&mut s);
-    let job = Job::from_text(
+    let job = StreamProgram::from_text(
         "square.nc",
         "G21G90G94\nG1X20F1500\nY20\nX0\nY0\nX20\nY20\nX0\nY0\n",
     )
@@ -162,7 +162,7 @@ pub fn resume_from_the_position(
     for i in 1..=40 {
         text += &format!("G1X{i}F600\n");
     }
-    let job = Job::from_text("ruler.nc", &text).unwrap();
+    let job = StreamProgram::from_text("ruler.nc", &text).unwrap();
     clear_record();
     let (tx, rx) = mpsc::channel();
     let mut stopped = false;
@@ -207,7 +207,7 @@ pub fn resume_from_the_position(
 /// coverage of the program path by the motion made.
 pub fn stop_and_resume(
     s: &mut Sender,
-    job: &Job,
+    job: &StreamProgram,
     stop_after: Duration,
     made: &dyn Fn() -> Vec<Piece>,
 ) -> (coverage::Coverage, StreamReport) {
