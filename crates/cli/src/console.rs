@@ -21,7 +21,7 @@
 
 use anyhow::{bail, Context};
 use oficina_grbl::{ContinuousJog, JogRequest};
-use oficina_grbl::{Endpoint, GrblDevice, GrblMachine, Job, ResumeOptions, RetryPolicy};
+use oficina_grbl::{Endpoint, GrblDevice, GrblMachine, ResumeOptions, RetryPolicy, StreamProgram};
 use oficina_grbl::{LinkEvent, Realtime, Response, RunSettings, Start, StatusReport};
 use oficina_grbl::{Mode, Sender, SenderOptions};
 use oficina_grbl_emu::{Config, Emulator};
@@ -433,7 +433,7 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let name = path.display().to_string();
     // The device's own reading of the file: line counts for the progress display.
-    let lines = Job::from_text(&name, &text).map_err(anyhow::Error::msg)?;
+    let lines = StreamProgram::from_text(&name, &text).map_err(anyhow::Error::msg)?;
     eprintln!("keys (then Enter): h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …");
     let keys = stdin_lines();
     machine

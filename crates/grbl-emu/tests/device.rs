@@ -109,8 +109,8 @@ fn machine_trait_hold_resume_stop_and_restart_from_a_line() {
     dev.disconnect();
 }
 
-fn job_of(text: &str) -> oficina_grbl::Job {
-    oficina_grbl::Job::from_text("dev.nc", text).unwrap()
+fn job_of(text: &str) -> oficina_grbl::StreamProgram {
+    oficina_grbl::StreamProgram::from_text("dev.nc", text).unwrap()
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! reach it over a channel and its progress comes back as the trait's events.
 
 use crate::eta;
-use crate::job::Job as GrblJob;
+use crate::job::StreamProgram;
 use crate::machine::{GrblMachine, RunOutcome, RunSettings, Start};
 use crate::messages;
 use crate::realtime::Realtime;
@@ -145,7 +145,7 @@ pub(crate) fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status
 }
 
 /// A finished run in the trait's terms: its summary and where to continue.
-fn job_report(outcome: &RunOutcome, job: &GrblJob) -> JobReport {
+fn job_report(outcome: &RunOutcome, job: &StreamProgram) -> JobReport {
     let report = match outcome {
         RunOutcome::AlreadyDone => {
             return JobReport {
@@ -251,7 +251,8 @@ impl Machine for GrblDevice {
             // The previous job gave the link back; its thread is ending.
             let _ = w.join();
         }
-        let grbl_job = GrblJob::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
+        let grbl_job =
+            StreamProgram::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
         let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
         let cumulative = eta::cumulative_seconds(&grbl_job, &machine.sender.settings);
         let mut settings = self.settings.clone();

@@ -20,10 +20,6 @@ pub struct StreamProgram {
     pub lines: Vec<StreamLine>,
 }
 
-/// The old name of [`StreamProgram`], kept only until `cli/src/console.rs` and
-/// `grbl/src/device.rs` (edited on another branch) use the new one; then delete it.
-pub type Job = StreamProgram;
-
 impl StreamProgram {
     /// Cleans every line; empty lines, comments and `%` tape marks are dropped. A line that
     /// cannot fit grbl's line buffer is an error naming the file line.

@@ -61,7 +61,7 @@ pub use device::{feed_override_bytes, spindle_override_bytes, GrblDevice};
 pub use eta::{cumulative_seconds, remaining as eta_remaining};
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, E_NEGATIVE, MAX_LINE};
 pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
-pub use job::{Job, StreamLine, StreamProgram};
+pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
 pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};
