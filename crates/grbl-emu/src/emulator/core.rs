@@ -923,6 +923,12 @@ fn format_setting(n: u16, v: f64) -> String {
     }
 }
 
+/// A feed or spindle override step, kept within grbl's 10–200 % (config.h's
+/// MIN/MAX_FEED_RATE_OVERRIDE and MIN/MAX_SPINDLE_SPEED_OVERRIDE).
+fn nudge(percent: &mut u32, delta: i32) {
+    *percent = (*percent as i32 + delta).clamp(10, 200) as u32;
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1112,10 +1118,4 @@ mod tests {
         assert_eq!(c.mpos, [0.0; 3]);
         assert_eq!(c.state, GrblState::Idle);
     }
-}
-
-/// A feed or spindle override step, kept within grbl's 10–200 % (config.h's
-/// MIN/MAX_FEED_RATE_OVERRIDE and MIN/MAX_SPINDLE_SPEED_OVERRIDE).
-fn nudge(percent: &mut u32, delta: i32) {
-    *percent = (*percent as i32 + delta).clamp(10, 200) as u32;
 }
