@@ -2,7 +2,8 @@
 //! is reached over its network port (telnet, TCP 23 on the board), which greets no one, so
 //! the sender must find the firmware by asking.
 
-use std::io::{BufRead, BufReader};
+mod common;
+
 use std::process::{Command, Stdio};
 
 fn oficina() -> Command {
@@ -11,29 +12,7 @@ fn oficina() -> Command {
 
 #[test]
 fn a_job_runs_on_fluidnc_over_its_network_port() {
-    let mut emulator = oficina()
-        .args([
-            "emulate",
-            "grbl",
-            "--flavor",
-            "fluidnc",
-            "--tcp",
-            "127.0.0.1:0",
-        ])
-        .args(["--baud", "0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut first = String::new();
-    BufReader::new(emulator.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
-    let addr = first
-        .split_whitespace()
-        .find(|w| w.starts_with("tcp://"))
-        .expect(&first)
-        .to_string();
+    let (mut emulator, addr, first) = common::emulator(&["--flavor", "fluidnc", "--baud", "0"]);
     assert!(first.contains("fluidnc"), "{first}");
     let dir = std::env::temp_dir().join(format!("oficina-fluidnc-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -3,38 +3,24 @@
 //! and its timing against the planner are checked in simulated time by
 //! crates/grbl-emu/tests/rotary.rs; this runs in real time, so the program is short.)
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+mod common;
+
+use std::process::{Command, Stdio};
 
 fn oficina() -> Command {
     Command::new(env!("CARGO_BIN_EXE_oficina"))
 }
 
-/// An emulated grbl on a free local TCP port for a minute, and its address.
-fn emulator(extra: &[&str]) -> (Child, String) {
-    let mut emulator = oficina()
-        .args(["emulate", "grbl"])
-        .args(extra)
-        .args(["--tcp", "127.0.0.1:0", "--baud", "0", "--for-seconds", "60"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut first = String::new();
-    BufReader::new(emulator.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
-    let addr = first
-        .split_whitespace()
-        .find(|w| w.starts_with("tcp://"))
-        .expect(&first)
-        .to_string();
-    (emulator, addr)
-}
-
 #[test]
 fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
-    let (mut emulator, addr) = emulator(&["--machine", "router-4axis"]);
+    let (mut emulator, addr, _) = common::emulator(&[
+        "--machine",
+        "router-4axis",
+        "--baud",
+        "0",
+        "--for-seconds",
+        "60",
+    ]);
     let dir = std::env::temp_dir().join(format!("oficina-grbl-rotary-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("turn.ngc");
@@ -68,7 +54,7 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
 /// device never announced (it sent only the alarm before).
 #[test]
 fn a_refused_line_ends_the_run_with_its_error_and_resume_point() {
-    let (mut emulator, addr) = emulator(&[]);
+    let (mut emulator, addr, _) = common::emulator(&["--baud", "0", "--for-seconds", "60"]);
     let dir = std::env::temp_dir().join(format!("oficina-grbl-error20-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.ngc");

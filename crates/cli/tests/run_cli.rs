@@ -2,7 +2,8 @@
 //! coordinates on the virtual router (its stored G54 puts it inside travel), program pauses,
 //! and the same job on grbl firmware (the emulator) over TCP.
 
-use std::io::{BufRead, BufReader};
+mod common;
+
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
@@ -85,21 +86,7 @@ fn a_work_offset_outside_travel_is_refused_before_any_motion() {
 
 #[test]
 fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
-    let mut emulator = oficina()
-        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut first = String::new();
-    BufReader::new(emulator.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
-    let addr = first
-        .split_whitespace()
-        .find(|w| w.starts_with("tcp://"))
-        .expect(&first)
-        .to_string();
+    let (mut emulator, addr, _) = common::emulator(&[]);
     let path = program("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
     let out = oficina()
         .arg("run")
