@@ -94,11 +94,5 @@ pub fn drill(name: &str, paths: &[Path], cut: &Cut, p: &DrillParams) -> Result<O
     moves.push(Move::Rapid {
         to: [at[0], at[1], cut.clear_z],
     });
-    Ok(Operation {
-        name: name.into(),
-        tool_number: cut.tool_number,
-        tool: cut.tool.clone(),
-        spindle_rpm: cut.spindle_rpm,
-        moves,
-    })
+    Ok(cut.operation(name, moves))
 }

@@ -35,7 +35,7 @@ pub use rest::{rest, rest_machining, rest_pocket};
 pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
 pub use vcarve::{vcarve, VCarveParams};
 
-use crate::{Move, Tool};
+use crate::{Move, Operation, Tool};
 
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum OpError {
@@ -72,6 +72,17 @@ pub struct Cut {
 pub const RAPID_GAP: f64 = 0.5;
 
 impl Cut {
+    /// The operation these moves make with this cut's tool and spindle.
+    pub(crate) fn operation(&self, name: &str, moves: Vec<Move>) -> Operation {
+        Operation {
+            name: name.into(),
+            tool_number: self.tool_number,
+            tool: self.tool.clone(),
+            spindle_rpm: self.spindle_rpm,
+            moves,
+        }
+    }
+
     pub fn validate(&self) -> Result<(), OpError> {
         let pos = |v: f64, what: &str| {
             if v.is_finite() && v > 0.0 {

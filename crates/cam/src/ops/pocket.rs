@@ -129,13 +129,7 @@ pub fn pocket(
         // from the top, one reached by a link at full depth only moves sideways into it.
         cut_rings(&mut b, &walls, cut, &link_rings, cut.top, cut.bottom(), r)?;
     }
-    Ok(Operation {
-        name: name.into(),
-        tool_number: cut.tool_number,
-        tool: cut.tool.clone(),
-        spindle_rpm: cut.spindle_rpm,
-        moves: b.finish(cut.clear_z),
-    })
+    Ok(cut.operation(name, b.finish(cut.clear_z)))
 }
 
 /// A loop to cut, and for the innermost loops of a region the area it encloses (where a

@@ -182,13 +182,7 @@ pub fn profile(
             passes(&mut b, &chain, centre, lead, cut, p, &[cut.bottom()])?;
         }
     }
-    Ok(Operation {
-        name: name.into(),
-        tool_number: cut.tool_number,
-        tool: cut.tool.clone(),
-        spindle_rpm: cut.spindle_rpm,
-        moves: b.finish(cut.clear_z),
-    })
+    Ok(cut.operation(name, b.finish(cut.clear_z)))
 }
 
 /// The tool-centre loops as polygons, for the waste-side test.

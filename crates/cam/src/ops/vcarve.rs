@@ -148,13 +148,7 @@ pub fn vcarve(
     if b.moves.is_empty() {
         return Err(OpError::Empty("nothing to carve".into()));
     }
-    Ok(Operation {
-        name: name.into(),
-        tool_number: cut.tool_number,
-        tool: cut.tool.clone(),
-        spindle_rpm: cut.spindle_rpm,
-        moves: b.finish(cut.clear_z),
-    })
+    Ok(cut.operation(name, b.finish(cut.clear_z)))
 }
 
 fn too_many() -> OpError {
