@@ -21,25 +21,14 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
         "--for-seconds",
         "60",
     ]);
-    let dir = std::env::temp_dir().join(format!("oficina-grbl-rotary-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("turn.ngc");
     // A alone (F in °/min), then X with A (F in mm/min along X): about 1.5 s of motion.
-    std::fs::write(
-        &path,
+    let out = common::run_program_on(
+        &addr,
+        "turn.ngc",
         "G21 G90 G94\nG0 X5 A0\nG1 A90 F5400\nG1 X10 A120 F600\nG0 A0\nM2\n",
-    )
-    .unwrap();
-    let out = oficina()
-        .arg("run")
-        .arg(&path)
-        .args(["--machine", &addr])
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
+    );
     let _ = emulator.kill();
     let _ = emulator.wait();
-    let _ = std::fs::remove_dir_all(&dir);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
