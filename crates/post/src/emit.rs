@@ -9,9 +9,13 @@ use std::io::{self, Write};
 /// The words a dialect uses for the four motions and how it gives arc centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MotionWords {
+    /// Rapid move word (G0).
     pub rapid: &'static str,
+    /// Straight feed move word (G1).
     pub line: &'static str,
+    /// Clockwise arc word (G2).
     pub cw: &'static str,
+    /// Counter-clockwise arc word (G3).
     pub ccw: &'static str,
     /// I J are the centre itself (seed 002) rather than centre − start.
     pub absolute_centres: bool,
@@ -21,9 +25,12 @@ pub struct MotionWords {
     pub integer_feed: bool,
 }
 
+/// Writes blocks to the output and remembers the modal state and tool position.
 pub struct Emitter<'a> {
     out: &'a mut dyn Write,
+    /// How numbers and lines look.
     pub format: Format,
+    /// The dialect's motion words.
     pub words: MotionWords,
     line: String,
     /// The motion word in force, "" when unknown (after a block that could change it).
@@ -36,6 +43,7 @@ pub struct Emitter<'a> {
 }
 
 impl<'a> Emitter<'a> {
+    /// A writer to `out` with nothing yet in force.
     pub fn new(out: &'a mut dyn Write, format: Format, words: MotionWords) -> Emitter<'a> {
         Emitter {
             out,
@@ -104,6 +112,7 @@ impl<'a> Emitter<'a> {
         self.last_motion = "";
     }
 
+    /// A rapid to `z` (mm) at the current X Y.
     pub fn rapid_z(&mut self, z: f64) -> io::Result<()> {
         let to = [self.pos[0], self.pos[1], z];
         self.motion(&Move::Rapid { to })
@@ -200,7 +209,8 @@ impl<'a> Emitter<'a> {
         }
     }
 
-    /// Forget the feed in force (after a block that set it outside [`Emitter::motion`]).
+    /// Records the feed in force, program units per minute (after a block that set it outside
+    /// [`Emitter::motion`]).
     pub fn set_feed_written(&mut self, f: f64) {
         self.feed = f;
     }

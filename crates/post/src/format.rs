@@ -4,7 +4,9 @@
 /// Length units of the program.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Units {
+    /// Millimetres (G21).
     Mm,
+    /// Inches (G20).
     Inch,
 }
 
@@ -12,24 +14,35 @@ pub enum Units {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Numbers {
     /// Up to `places` decimals, trailing zeros dropped, never "-0".
-    Decimal { places: u8 },
+    Decimal {
+        /// Most decimals written.
+        places: u8,
+    },
     /// An integer count of 1/`per_unit` of the unit with no decimal point (Sinumerik 7M
     /// words in 0.001 mm: `X100000` is 100 mm).
-    Integer { per_unit: u32 },
+    Integer {
+        /// Counts per unit (1000: 0.001 mm).
+        per_unit: u32,
+    },
 }
 
 /// Block numbers: `N<start>`, then every `step`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LineNumbers {
+    /// The first block number.
     pub start: u32,
+    /// The increment between block numbers.
     pub step: u32,
 }
 
 /// Everything about the text that does not change what the program does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Format {
+    /// Decimal or integer words.
     pub numbers: Numbers,
+    /// Millimetres or inches.
     pub units: Units,
+    /// Block numbers, if any.
     pub line_numbers: Option<LineNumbers>,
     /// Leave out a motion word or axis that would repeat the modal state (the usual way);
     /// off writes every word on every block, for controls or readers that want that.

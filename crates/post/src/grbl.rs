@@ -3,27 +3,21 @@
 //! M6.
 
 use crate::emit::Emitter;
-use crate::linuxcnc::m6_change;
-use crate::{Post, PostOptions};
-use oficina_cam::{Operation, PathMode, Toolpath};
+use crate::{rs274, Post, ToolChange};
+use oficina_cam::PathMode;
 use std::io;
 
 pub(crate) struct Grbl;
 
 impl Post for Grbl {
-    fn tool_change(
-        &self,
-        e: &mut Emitter,
-        tp: &Toolpath,
-        opts: &PostOptions,
-        op: &Operation,
-        previous: Option<u32>,
-    ) -> io::Result<()> {
-        if opts.allow_m6 {
-            return m6_change(e, tp, op, previous);
+    /// `T n M6` where the machine handles it; otherwise an M0 pause with a message (the
+    /// first tool is loaded before the program starts).
+    fn load_tool(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
+        let op = c.op;
+        if c.opts.allow_m6 {
+            return rs274::m6(e, op);
         }
-        if previous.is_some() {
-            e.rapid_z(tp.safe_z)?;
+        if c.previous.is_some() {
             e.block("M5")?;
             e.block(&format!(
                 "(MSG, Change to T{}: {}, set Z zero, then resume)",
@@ -32,17 +26,15 @@ impl Post for Grbl {
             ))?;
             // grbl accepts and ignores T; it names the tool for readers and simulators.
             e.block(&format!("T{}", op.tool_number))?;
-            e.block("M0")?;
+            e.block("M0")
         } else {
             e.comment(&format!(
                 "load T{} ({}) and set Z zero on the stock top before starting",
                 op.tool_number,
                 op.tool.spec()
             ))?;
-            e.block(&format!("T{}", op.tool_number))?;
-            e.rapid_z(tp.safe_z)?;
+            e.block(&format!("T{}", op.tool_number))
         }
-        Ok(())
     }
 
     /// grbl has G61 only (and it is the default): the mode is noted, not written.

@@ -5,7 +5,7 @@
 
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{Format, Numbers, Units};
-use crate::{Post, PostOptions};
+use crate::{Post, PostOptions, ToolChange};
 use oficina_cam::{Move, Operation, PathMode, Toolpath};
 use std::io;
 
@@ -67,26 +67,13 @@ impl Post for Legacy {
         Ok(())
     }
 
-    fn tool_change(
-        &self,
-        e: &mut Emitter,
-        tp: &Toolpath,
-        _opts: &PostOptions,
-        op: &Operation,
-        previous: Option<u32>,
-    ) -> io::Result<()> {
-        if previous.is_some() {
-            e.rapid_z(tp.safe_z)?;
-        }
+    /// No tool words: the operator stops the machine and changes the tool.
+    fn load_tool(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
         e.comment(&format!(
             "stop here: load T{} ({}), set Z zero, then start the next part",
-            op.tool_number,
-            op.tool.spec()
-        ))?;
-        if previous.is_none() {
-            e.rapid_z(tp.safe_z)?;
-        }
-        Ok(())
+            c.op.tool_number,
+            c.op.tool.spec()
+        ))
     }
 
     fn spindle(&self, e: &mut Emitter, _tp: &Toolpath, op: &Operation, _: bool) -> io::Result<()> {
@@ -101,7 +88,8 @@ impl Post for Legacy {
         Ok(())
     }
 
-    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
-        e.rapid_z(tp.safe_z)
+    /// The program just stops at safe Z: no spindle word, no M30.
+    fn end_program(&self, _e: &mut Emitter) -> io::Result<()> {
+        Ok(())
     }
 }

@@ -33,6 +33,8 @@
 //! file says how to regenerate it. [`read_back`] reads a program as Oficina's interpreter
 //! does, so callers judge the text a machine would get, never the CAM's own idea of it.
 
+#![warn(unreachable_pub, missing_docs)]
+
 mod emit;
 mod format;
 mod grbl;
@@ -79,14 +81,29 @@ impl std::str::FromStr for PostDialect {
     }
 }
 
+/// Who the program is for and what the header says about it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PostOptions {
+    /// The control the program is written for.
     pub dialect: PostDialect,
     /// The machine has a tool changer (or a sender that handles M6).
     pub allow_m6: bool,
+    /// The first header comment: what the program is.
     pub title: String,
     /// (name, value) pairs written as header comments.
     pub settings: Vec<(String, String)>,
+}
+
+/// What a tool change knows.
+pub struct ToolChange<'a> {
+    /// The whole toolpath (its safe Z).
+    pub tp: &'a Toolpath,
+    /// The caller's options (whether the machine takes M6).
+    pub opts: &'a PostOptions,
+    /// The operation whose tool is loaded.
+    pub op: &'a Operation,
+    /// The tool in the spindle; `None` at the program's first change.
+    pub previous: Option<u32>,
 }
 
 /// One control's way of writing a toolpath. The driver ([`write_program_with`]) walks the
@@ -110,15 +127,27 @@ pub trait Post {
         header_comments(e, opts, &format)?;
         rs274::modal_setup(e)
     }
-    /// Loads `op`'s tool; `previous` is the tool in the spindle, if any.
-    fn tool_change(
-        &self,
-        e: &mut Emitter,
-        tp: &Toolpath,
-        opts: &PostOptions,
-        op: &Operation,
-        previous: Option<u32>,
-    ) -> io::Result<()>;
+    /// Loads `c.op`'s tool: the skeleton every control follows. With a tool in, up to safe
+    /// Z first; then the control's change words ([`Post::load_tool`]); after the program's
+    /// first change, [`Post::first_tool_ready`].
+    fn tool_change(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
+        if c.previous.is_some() {
+            e.rapid_z(c.tp.safe_z)?;
+        }
+        self.load_tool(e, c)?;
+        if c.previous.is_none() {
+            self.first_tool_ready(e, c)?;
+        }
+        Ok(())
+    }
+    /// The words that change the tool, once clear of the work: `T n M6` by default.
+    fn load_tool(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
+        rs274::m6(e, c.op)
+    }
+    /// After the first tool is in: up to safe Z, now that the tool length is known.
+    fn first_tool_ready(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
+        e.rapid_z(c.tp.safe_z)
+    }
     /// Spindle on at the operation's speed (`new_tool`: right after a tool change).
     fn spindle(
         &self,
@@ -136,11 +165,13 @@ pub trait Post {
         }
         Ok(())
     }
+    /// A pause of `seconds` (s): `G4 P` by default.
     fn dwell(&self, e: &mut Emitter, seconds: f64) -> io::Result<()> {
         let mut s = String::from("G4 P");
         format::push_decimal(&mut s, seconds, 4);
         e.block(&s)
     }
+    /// G61 exact stop or G64 continuous path, as the control can say it.
     fn path_mode(&self, e: &mut Emitter, mode: PathMode) -> io::Result<()>;
     /// G41/G42 with the D register, or G40; controls without it refuse the program.
     fn comp(&self, _e: &mut Emitter, _comp: Option<(CompSide, u32)>) -> io::Result<()> {
@@ -149,9 +180,14 @@ pub trait Post {
             "this control has no cutter radius compensation: post without --comp",
         ))
     }
-    /// Retract, spindle off, end of program.
+    /// Up to safe Z, then the control's end of program ([`Post::end_program`]).
     fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
-        rs274::end(e, tp)
+        e.rapid_z(tp.safe_z)?;
+        self.end_program(e)
+    }
+    /// The words that end the program, at safe Z: `M5 M30` by default.
+    fn end_program(&self, e: &mut Emitter) -> io::Result<()> {
+        rs274::end(e)
     }
 
     /// One move of any kind.
@@ -207,7 +243,13 @@ pub fn write_program_with(
                 "operation: {} with T{} {}",
                 op.name, op.tool_number, op.tool
             ))?;
-            post.tool_change(&mut e, tp, opts, op, current)?;
+            let change = ToolChange {
+                tp,
+                opts,
+                op,
+                previous: current,
+            };
+            post.tool_change(&mut e, &change)?;
             current = Some(op.tool_number);
         } else {
             e.comment(&format!("operation: {}", op.name))?;

@@ -1,44 +1,15 @@
 //! LinuxCNC (RS274/NGC): the [`Post`] defaults (the RS274 skeleton in `rs274.rs`) plus
-//! `T n M6` tool changes, G81/G82/G83 drilling, G61/G64 and G41/G42 compensation.
+//! G81/G82/G83 drilling, G61/G64 and G41/G42 compensation.
 
 use crate::emit::Emitter;
 use crate::format::push_decimal;
-use crate::{Post, PostOptions};
-use oficina_cam::{CompSide, Drill, Operation, PathMode, Toolpath};
+use crate::Post;
+use oficina_cam::{CompSide, Drill, PathMode};
 use std::io;
 
 pub(crate) struct LinuxCnc;
 
-/// `T n M6`, from safe Z when a tool is already in; the first one then goes to safe Z.
-pub(crate) fn m6_change(
-    e: &mut Emitter,
-    tp: &Toolpath,
-    op: &Operation,
-    previous: Option<u32>,
-) -> io::Result<()> {
-    if previous.is_some() {
-        e.rapid_z(tp.safe_z)?;
-    }
-    e.block(&format!("T{} M6", op.tool_number))?;
-    if previous.is_none() {
-        // First move of the program: up to safe Z with the tool now known.
-        e.rapid_z(tp.safe_z)?;
-    }
-    Ok(())
-}
-
 impl Post for LinuxCnc {
-    fn tool_change(
-        &self,
-        e: &mut Emitter,
-        tp: &Toolpath,
-        _opts: &PostOptions,
-        op: &Operation,
-        previous: Option<u32>,
-    ) -> io::Result<()> {
-        m6_change(e, tp, op, previous)
-    }
-
     /// G99 (back to R) G81, G82 with P seconds, or G83 with Q pecks.
     fn drill(&self, e: &mut Emitter, d: &Drill) -> io::Result<()> {
         let code = match (d.peck, d.dwell > 0.0) {

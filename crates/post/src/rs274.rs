@@ -1,10 +1,10 @@
 //! The RS274 skeleton every G-code post starts from, and that [`crate::Post`]'s defaults
-//! write: G0–G3 words, the modal set-up line, spindle on, and the end of program. Dialect
+//! write: G0–G3 words, the modal set-up line, `T n M6`, spindle on, and the end of program. Dialect
 //! files override only what their control does differently.
 
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{push_decimal, Units};
-use oficina_cam::{Operation, Toolpath};
+use oficina_cam::Operation;
 use std::io;
 
 /// G0 G1 G2 G3, I J from the start, F words.
@@ -35,9 +35,13 @@ pub(crate) fn spindle_on(e: &mut Emitter, op: &Operation) -> io::Result<()> {
     e.block(&s)
 }
 
-/// Safe Z, spindle off, M30.
-pub(crate) fn end(e: &mut Emitter, tp: &Toolpath) -> io::Result<()> {
-    e.rapid_z(tp.safe_z)?;
+/// `T n M6`: the tool change of LinuxCNC (and grbl where the machine handles M6).
+pub(crate) fn m6(e: &mut Emitter, op: &Operation) -> io::Result<()> {
+    e.block(&format!("T{} M6", op.tool_number))
+}
+
+/// Spindle off, M30.
+pub(crate) fn end(e: &mut Emitter) -> io::Result<()> {
     e.block("M5")?;
     e.block("M30")
 }

@@ -10,7 +10,7 @@
 
 use crate::emit::{Emitter, MotionWords};
 use crate::format::{Format, Numbers, Units};
-use crate::{Post, PostOptions};
+use crate::{Post, PostOptions, ToolChange};
 use oficina_cam::{CompSide, Operation, PathMode, Toolpath};
 use std::io;
 
@@ -117,16 +117,10 @@ impl Post for Sinumerik {
         Ok(())
     }
 
-    fn tool_change(
-        &self,
-        e: &mut Emitter,
-        tp: &Toolpath,
-        _opts: &PostOptions,
-        op: &Operation,
-        previous: Option<u32>,
-    ) -> io::Result<()> {
-        if previous.is_some() {
-            e.rapid_z(tp.safe_z)?;
+    /// From the safety plane: coolant off, to the change position in machine coordinates,
+    /// then `T nn M06`.
+    fn load_tool(&self, e: &mut Emitter, c: &ToolChange) -> io::Result<()> {
+        if c.previous.is_some() {
             if self.coolant {
                 e.block("M09")?;
             }
@@ -134,15 +128,18 @@ impl Post for Sinumerik {
             e.block(&format!("{at} M05"))?;
             e.pos = [f64::NAN; 3];
         }
-        e.block(&format!("T{:02} M06", op.tool_number))?;
-        if previous.is_none() {
-            if self.pallet {
-                e.block("M21")?;
-            }
-            if let Some(b) = self.table_rotation {
-                let w = Self::rotation_word(e, b);
-                e.block(w.trim())?;
-            }
+        e.block(&format!("T{:02} M06", c.op.tool_number))
+    }
+
+    /// The first tool stays at the change position (G43 comes with the first positioning):
+    /// pallet in and table rotation instead of a move to safe Z.
+    fn first_tool_ready(&self, e: &mut Emitter, _c: &ToolChange) -> io::Result<()> {
+        if self.pallet {
+            e.block("M21")?;
+        }
+        if let Some(b) = self.table_rotation {
+            let w = Self::rotation_word(e, b);
+            e.block(w.trim())?;
         }
         Ok(())
     }
@@ -199,8 +196,8 @@ impl Post for Sinumerik {
         })
     }
 
-    fn epilogue(&self, e: &mut Emitter, tp: &Toolpath, _opts: &PostOptions) -> io::Result<()> {
-        e.rapid_z(tp.safe_z)?;
+    /// Coolant off, back to the change position (table at 0°), the empty tool, pallet out.
+    fn end_program(&self, e: &mut Emitter) -> io::Result<()> {
         if self.coolant {
             e.block("M09")?;
         }
