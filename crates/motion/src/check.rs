@@ -11,7 +11,9 @@
 //! On purpose, the checker does not use the arc module (`oficina_geom`) that the planner
 //! cuts arcs with: it reads the arc's sweep, radii and axial travel with its own few lines
 //! below ([`travel_angle`]), so a mistake in the shared geometry cannot hide itself by
-//! agreeing with its own output.
+//! agreeing with its own output. For the same reason its [`Geometry`] is its own, though it
+//! reads like the move stream's shapes (`moves.rs`): the second, independent reading of
+//! the program is the point of the checker, so the likeness is kept on purpose, not folded.
 
 use crate::kinematics::{self, Kinematics};
 use crate::moves::{dist3, dist_to_segment, lerp3};

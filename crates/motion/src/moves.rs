@@ -18,7 +18,7 @@ pub enum MoveKind {
 
 /// One straight piece of programmed motion.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Move {
+pub(crate) struct Move {
     pub line: u32,
     /// Index of the canon motion op this piece belongs to (0-based over motion ops).
     pub op: u64,
@@ -50,7 +50,7 @@ pub struct Move {
 
 /// What the planner receives.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Item {
+pub(crate) enum Item {
     Move(Move),
     Dwell {
         line: u32,
@@ -117,7 +117,7 @@ impl MovePath {
 /// length is √(ΔA² + ΔB² + ΔC²) in degrees. A mixed G1 X10 A90 F600 thus takes
 /// 10 mm / 600 mm/min = 1 s whatever A does (unless A's own rate limit slows it), and
 /// G1 A90 F600 takes 90° / 600 °/min = 9 s.
-pub fn path_length(a: [f64; 3], b: [f64; 3], ra: [f64; 3], rb: [f64; 3]) -> f64 {
+pub(crate) fn path_length(a: [f64; 3], b: [f64; 3], ra: [f64; 3], rb: [f64; 3]) -> f64 {
     let linear = dist3(a, b);
     if linear >= 1e-9 {
         linear
@@ -134,12 +134,12 @@ pub fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
     ]
 }
 
-pub fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dist3(a: [f64; 3], b: [f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// Distance from `p` to the segment a–b.
-pub fn dist_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dist_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     let t = if l2 > 0.0 {
@@ -171,7 +171,7 @@ struct Current {
 }
 
 /// The lazy canon → pieces stream.
-pub struct MoveStream<'p, I> {
+pub(crate) struct MoveStream<'p, I> {
     ops: I,
     profile: &'p Profile,
     kin: AnyKinematics,
@@ -200,7 +200,11 @@ pub struct MoveStream<'p, I> {
 }
 
 impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
-    pub fn new(ops: I, profile: &'p Profile, overrides: Overrides) -> Result<Self, MotionError> {
+    pub(crate) fn new(
+        ops: I,
+        profile: &'p Profile,
+        overrides: Overrides,
+    ) -> Result<Self, MotionError> {
         let kin = crate::kinematics::for_profile(profile);
         let q = kin
             .joints(profile.start)
@@ -235,16 +239,16 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
     }
 
     /// A new feed override for every piece not yet produced (live override).
-    pub fn set_feed_override(&mut self, factor: f64) {
+    pub(crate) fn set_feed_override(&mut self, factor: f64) {
         self.overrides.feed = factor;
     }
 
     /// Joint position at the profile's start point.
-    pub fn start_joints(&self) -> [f64; 3] {
+    pub(crate) fn start_joints(&self) -> [f64; 3] {
         self.q
     }
 
-    pub fn kinematics(&self) -> &AnyKinematics {
+    pub(crate) fn kinematics(&self) -> &AnyKinematics {
         &self.kin
     }
 
@@ -728,7 +732,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
 
 /// Largest distance from the Cartesian segment pa–pb of the path traced when the joints
 /// move linearly from qa to qb.
-pub fn joint_lerp_error(
+pub(crate) fn joint_lerp_error(
     kin: &AnyKinematics,
     qa: [f64; 3],
     qb: [f64; 3],

@@ -13,10 +13,10 @@
 //! backward pass met a block already at its junction ceiling), or when the buffer holds more
 //! than `horizon` seconds of motion at nominal speed (bounded memory on any program).
 
-pub mod incremental;
+pub(crate) mod incremental;
 mod live;
 
-pub use crate::moves::MoveKind;
+pub(crate) use crate::moves::MoveKind;
 use crate::moves::{Item, Move, MoveStream, Overrides};
 use crate::profile::{Joint, Profile, VelocityProfile};
 use crate::velocity::{reachable, Limits, Motion};
@@ -25,7 +25,7 @@ use oficina_canon::Canon;
 use std::collections::VecDeque;
 
 /// Hard cap on buffered blocks, whatever the horizon says (memory bound).
-pub const MAX_BLOCKS: usize = 1 << 16;
+pub(crate) const MAX_BLOCKS: usize = 1 << 16;
 
 /// Blocks read between two backward passes. Each pass walks the new blocks plus the ramp
 /// down to the planned stop behind them, so larger batches walk each block fewer times.
@@ -111,7 +111,7 @@ pub struct PlanOptions {
 
 /// Per-block limits along the path, derived from the joints.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BlockLimits {
+pub(crate) struct BlockLimits {
     pub v_nominal: f64,
     pub lim: Limits,
     /// Joint displacement per mm of path.
@@ -122,7 +122,7 @@ pub struct BlockLimits {
 
 /// Limits of a piece: every joint's speed, step rate, acceleration and jerk, seen through
 /// dq/ds. Shared with the checker only as the definition of the limits, not of the plan.
-pub fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> BlockLimits {
+pub(crate) fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> BlockLimits {
     let l = m.length;
     let mut v = m.speed;
     let mut lim = Limits {
@@ -186,7 +186,7 @@ pub fn block_limits(m: &Move, profile: &Profile, shape: VelocityProfile) -> Bloc
 /// a_i·|u_b − u_p| / |Δq_i|, with Δq_i the change of joint i's rate per mm across the corner
 /// (for Cartesian machines grbl's `junction_unit_vec` limit). A reversal (θ ≈ 0) must stop;
 /// straight on (θ ≈ π) the circle is infinite and only the caps below apply.
-pub fn junction_limit(
+pub(crate) fn junction_limit(
     p: &Move,
     pl: &BlockLimits,
     b: &Move,

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::Path;
 
-pub use crate::kinematics::KinematicsKind;
+pub(crate) use crate::kinematics::KinematicsKind;
 
 /// A bad profile: the file, the key (dotted path) and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -91,7 +91,7 @@ impl Rotary {
 }
 
 /// Names of the rotary joints in a profile's `[joints.*]` tables, in A, B, C order.
-pub const ROTARY_NAMES: [&str; 3] = ["a", "b", "c"];
+pub(crate) const ROTARY_NAMES: [&str; 3] = ["a", "b", "c"];
 
 /// A validated machine profile.
 #[derive(Clone, Debug, PartialEq)]

@@ -54,6 +54,21 @@ pub(crate) fn ramp_time(dv: f64, lim: Limits) -> f64 {
     }
 }
 
+/// The highest speed in `lo..=hi` from which both ramps (from `v0`, down to `v1`) fit in
+/// `length`, by bisection: with a jerk limit the ramp distance has no closed inverse.
+fn fastest_fitting(length: f64, v0: f64, v1: f64, lim: Limits, lo: f64, hi: f64) -> f64 {
+    let (mut a, mut b) = (lo, hi);
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if ramp_distance(v0, m, lim) + ramp_distance(m, v1, lim) > length {
+            b = m;
+        } else {
+            a = m;
+        }
+    }
+    a
+}
+
 /// Distance covered while changing speed from `v0` to `v1`: both shapes are symmetric in
 /// time, so the mean speed is (v0 + v1)/2.
 #[inline]
@@ -143,60 +158,26 @@ impl Motion {
                     .sqrt()
                     .clamp(lo, peak)
             } else {
-                let (mut a, mut b) = (lo, peak);
-                for _ in 0..60 {
-                    let m = 0.5 * (a + b);
-                    if ramp_distance(v0, m, lim) + ramp_distance(m, v1, lim) > length {
-                        b = m;
-                    } else {
-                        a = m;
-                    }
-                }
-                a
+                fastest_fitting(length, v0, v1, lim, lo, peak)
             };
         }
-        let mut m = Motion {
-            length,
-            ..Motion::default()
-        };
-        let (mut t, mut s) = (0.0, 0.0);
-        m.ramp(&mut t, &mut s, v0, peak, lim);
-        let d_down = ramp_distance(peak, v1, lim);
-        let cruise = length - s - d_down;
-        if peak > 0.0 && cruise > 0.0 {
-            m.push(
-                &mut t,
-                &mut s,
-                Piece {
-                    dur: cruise / peak,
-                    v0: peak,
-                    ..Piece::default()
-                },
-            );
-        }
-        m.ramp(&mut t, &mut s, peak, v1, lim);
-        m.duration = t;
-        m
+        Motion::ramp_cruise_ramp(length, v0, peak, v1, lim)
     }
 
     /// Entering above the cruise speed (a feed override lowered it while moving): brake to
     /// the new cruise speed first, cruise, then reach `v1`. When the block is too short for
     /// both ramps, the cruise speed is the highest one, between `v1` and `vmax`, that fits.
     fn slow_down(length: f64, v0: f64, vmax: f64, v1: f64, lim: Limits) -> Motion {
-        let fits = |c: f64| ramp_distance(v0, c, lim) + ramp_distance(c, v1, lim) <= length;
         let mut cruise = vmax.max(v1);
-        if !fits(cruise) {
-            let (mut a, mut b) = (v1.min(cruise), cruise);
-            for _ in 0..60 {
-                let m = 0.5 * (a + b);
-                if fits(m) {
-                    a = m;
-                } else {
-                    b = m;
-                }
-            }
-            cruise = a;
+        if ramp_distance(v0, cruise, lim) + ramp_distance(cruise, v1, lim) > length {
+            cruise = fastest_fitting(length, v0, v1, lim, v1.min(cruise), cruise);
         }
+        Motion::ramp_cruise_ramp(length, v0, cruise, v1, lim)
+    }
+
+    /// `length` as a ramp from `v0` to `cruise`, a cruise, and a ramp to `v1`; the caller
+    /// chose `cruise` so that both ramps fit.
+    fn ramp_cruise_ramp(length: f64, v0: f64, cruise: f64, v1: f64, lim: Limits) -> Motion {
         let mut m = Motion {
             length,
             ..Motion::default()
