@@ -620,10 +620,10 @@ impl Core {
             return;
         }
         let a_limits = rotary::limits(&self.settings);
-        while !p.segments.is_empty()
-            && self.motion.len() < self.config.planner_blocks
-            && self.spin.is_none()
-        {
+        while let Some(p) = self.pending.as_mut() {
+            if self.motion.len() >= self.config.planner_blocks || self.spin.is_some() {
+                break;
+            }
             let Some(&s) = p.segments.front() else { break };
             let tail = self.motion.tail();
             let length = oficina_grbl::dist(&tail, &s.to);
@@ -635,16 +635,7 @@ impl Core {
                 }
                 p.segments.pop_front();
                 self.spin = Some(Spin::new(self.a_tail, s.a, s.rate, lim));
-                self.a_tail = s.a;
-                self.blocks_pushed += 1;
-                self.block_ends.push_back(s.to);
-                if self.state == GrblState::Idle {
-                    self.state = if self.jogging {
-                        GrblState::Jog
-                    } else {
-                        GrblState::Run
-                    };
-                }
+                self.block_queued(s.to, s.a);
                 break;
             }
             p.segments.pop_front();
@@ -674,16 +665,7 @@ impl Core {
                 a0: self.a_tail,
                 a1: s.a,
             });
-            self.a_tail = s.a;
-            self.blocks_pushed += 1;
-            self.block_ends.push_back(s.to);
-            if self.state == GrblState::Idle {
-                self.state = if self.jogging {
-                    GrblState::Jog
-                } else {
-                    GrblState::Run
-                };
-            }
+            self.block_queued(s.to, s.a);
             if let Some(since) = self.starving.take() {
                 self.stats.starvations += 1;
                 if self.starving_host_late || self.host_late {
@@ -692,7 +674,11 @@ impl Core {
                 self.stats.starved_seconds += self.clock - since;
             }
         }
-        if !p.segments.is_empty() {
+        if self
+            .pending
+            .as_ref()
+            .is_some_and(|p| !p.segments.is_empty())
+        {
             return;
         }
         let p = self.pending.take().expect("pending checked above");
@@ -714,6 +700,21 @@ impl Core {
         }
         let reply = p.reply;
         self.say(&reply);
+    }
+
+    /// A block went to the planner (or to the rotary spin): the A tail moves on, the block
+    /// is counted with where it ends, and an idle machine starts running (or jogging).
+    fn block_queued(&mut self, to: [f64; 3], a: f64) {
+        self.a_tail = a;
+        self.blocks_pushed += 1;
+        self.block_ends.push_back(to);
+        if self.state == GrblState::Idle {
+            self.state = if self.jogging {
+                GrblState::Jog
+            } else {
+                GrblState::Run
+            };
+        }
     }
 
     fn run_motion(&mut self, dt: f64) {
