@@ -224,7 +224,7 @@ pub fn mill(
             lead_out: p.lead_out,
             lead_in: p
                 .lead_in
-                .unwrap_or(d / 2.0 * oficina_cam::ops::profile::DEFAULT_LEAD_IN),
+                .unwrap_or(d / 2.0 * oficina_cam::ops::DEFAULT_LEAD_IN),
             comp: if p.comp {
                 oficina_cam::ops::Comp::Control
             } else {

@@ -3,7 +3,7 @@
 
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
-use oficina_cam::ops::sole::TREAD_DEPTH;
+use oficina_cam::ops::TREAD_DEPTH;
 use oficina_cam::ops::{preview_svg, sole_job, Part, SoleJob, GOUGE_TOL};
 use oficina_geom::{offset_areas, to_ring, Area, SizeSystem};
 use oficina_sim::Design;

@@ -66,6 +66,20 @@ fn job(passes: Vec<Pass>) -> ReliefJob {
     }
 }
 
+/// The seed's last pass, in both its methods: the 3 mm flat (tool `number`) column by
+/// column at full depth.
+fn seed_final_pass(number: u32) -> Pass {
+    let f = SEED_FEED_MM_MIN;
+    pass(
+        "seed: 3 mm flat, final pass by columns",
+        cutter(number, "flat:3", f, f),
+        1.0,
+        1000.0,
+        Direction::Y,
+        false,
+    )
+}
+
 /// The seed's two-tool method.
 pub fn seed_two_tools() -> ReliefJob {
     let f = SEED_FEED_MM_MIN;
@@ -86,14 +100,7 @@ pub fn seed_two_tools() -> ReliefJob {
             Direction::X,
             true,
         ),
-        pass(
-            "seed: 3 mm flat, final pass by columns",
-            cutter(2, "flat:3", f, f),
-            1.0,
-            1000.0,
-            Direction::Y,
-            false,
-        ),
+        seed_final_pass(2),
     ])
 }
 
@@ -109,14 +116,7 @@ pub fn seed_one_tool() -> ReliefJob {
             Direction::X,
             false,
         ),
-        pass(
-            "seed: 3 mm flat, final pass by columns",
-            cutter(1, "flat:3", f, f),
-            1.0,
-            1000.0,
-            Direction::Y,
-            false,
-        ),
+        seed_final_pass(1),
     ])
 }
 

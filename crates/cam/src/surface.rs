@@ -291,7 +291,7 @@ pub fn surface_grid(design: &Heightmap, kernel: &Kernel) -> Heightmap {
 }
 
 /// [`surface_grid`] that gives up (`None`) once `cancel` is set, at the next row.
-pub fn surface_grid_until(
+pub(crate) fn surface_grid_until(
     design: &Heightmap,
     kernel: &Kernel,
     cancel: &AtomicBool,
@@ -311,7 +311,7 @@ pub fn surface_rows(design: &Heightmap, kernel: &Kernel, rows: &[usize]) -> Vec<
 
 /// [`surface_rows`] that gives up (`None`) once `cancel` is set: rows not yet begun are
 /// skipped, so a cancel costs at most one row per thread.
-pub fn surface_rows_until(
+pub(crate) fn surface_rows_until(
     design: &Heightmap,
     kernel: &Kernel,
     rows: &[usize],

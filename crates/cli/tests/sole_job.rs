@@ -112,7 +112,7 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
                     .collect(),
                 cut_inside: true,
                 top: 0.0,
-                floor: -oficina_cam::ops::sole::TREAD_DEPTH,
+                floor: -oficina_cam::ops::TREAD_DEPTH,
                 slope: 0.0,
             });
         }

@@ -5,7 +5,7 @@ use crate::Move;
 use oficina_geom::{Path, Segment};
 use std::f64::consts::TAU;
 
-pub type P = [f64; 2];
+pub(super) type P = [f64; 2];
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Piece {
@@ -114,7 +114,7 @@ pub struct Chain {
 }
 
 /// Cubic Béziers become lines no further than this from the curve (mm).
-pub const FLATTEN_TOL: f64 = 0.005;
+pub(super) const FLATTEN_TOL: f64 = 0.005;
 
 impl Chain {
     /// Lines and arcs as they are; Béziers flattened to [`FLATTEN_TOL`].
@@ -309,7 +309,7 @@ impl Chain {
 
 /// The larger of two piecewise-linear profiles over the same span, with a point added where
 /// they cross.
-pub fn max_profile(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
+pub(super) fn max_profile(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let eval = |f: &[(f64, f64)], s: f64| -> f64 {
         match f.iter().position(|&(x, _)| x >= s) {
             None => f.last().map_or(0.0, |p| p.1),
@@ -344,7 +344,7 @@ pub fn max_profile(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
 }
 
 /// Even–odd point-in-polygon over several rings.
-pub fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
+pub(super) fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
     let mut inside = false;
     for r in rings {
         let r = r.as_ref();
@@ -366,13 +366,13 @@ pub fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
 /// a ring whose box does not hold a point crosses the point's ray an even number of times
 /// (it is closed and the point is outside it), so skipping it leaves the even–odd count as
 /// it was; only the few rings near a segment are walked.
-pub struct Rings {
+pub(super) struct Rings {
     rings: Vec<Vec<P>>,
     boxes: Vec<[f64; 4]>,
 }
 
 impl Rings {
-    pub fn new(rings: Vec<Vec<P>>) -> Rings {
+    pub(super) fn new(rings: Vec<Vec<P>>) -> Rings {
         let boxes = rings
             .iter()
             .map(|r| {
@@ -399,7 +399,7 @@ impl Rings {
 
     /// Whether the segment a→b stays inside the rings (sampled every 0.05 mm), so a feed
     /// link along it cuts only where the pass is allowed to cut.
-    pub fn segment_inside(&self, a: P, b: P) -> bool {
+    pub(super) fn segment_inside(&self, a: P, b: P) -> bool {
         let (x0, x1) = (a[0].min(b[0]), a[0].max(b[0]));
         let (y0, y1) = (a[1].min(b[1]), a[1].max(b[1]));
         let near: Vec<&Vec<P>> = self
@@ -415,7 +415,7 @@ impl Rings {
 
 /// Whether the segment a→b stays inside `rings` (sampled every 0.05 mm), so a feed link
 /// along it cuts only where the pass is allowed to cut.
-pub fn segment_inside<R: AsRef<[P]>>(rings: &[R], a: P, b: P) -> bool {
+pub(super) fn segment_inside<R: AsRef<[P]>>(rings: &[R], a: P, b: P) -> bool {
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
     let n = (len / 0.05).ceil().max(1.0) as usize;
     (0..=n).all(|k| {

@@ -15,7 +15,7 @@ pub struct DrillParams {
 /// The centre of every closed path that is a circle: arcs about one centre (DXF CIRCLE), or
 /// any closed curve whose points all lie within 0.5 % (and 0.02 mm) of one radius about their
 /// mean (SVG circles arrive as four cubic Béziers).
-pub fn hole_centres(paths: &[Path]) -> Vec<[f64; 2]> {
+pub(super) fn hole_centres(paths: &[Path]) -> Vec<[f64; 2]> {
     paths
         .iter()
         .filter(|p| p.closed && !p.segments.is_empty())

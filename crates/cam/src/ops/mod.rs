@@ -8,21 +8,21 @@
 //! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
 //!   single-line strokes;
-//! - [`entry`]: how a cut goes down into material: ramp along the path, helix, or a plunge
+//! - [`Entry`]: how a cut goes down into material: ramp along the path, helix, or a plunge
 //!   only where the user says the tool can.
 //!
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
-pub mod chain;
-pub mod drill;
-pub mod entry;
-pub mod mill;
-pub mod pocket;
-pub mod preview;
-pub mod profile;
-pub mod rest;
-pub mod sole;
-pub mod vcarve;
+mod chain;
+mod drill;
+mod entry;
+mod mill;
+mod pocket;
+mod preview;
+mod profile;
+mod rest;
+mod sole;
+mod vcarve;
 
 pub use chain::{Chain, Piece};
 pub use drill::{drill, DrillParams};
@@ -30,9 +30,9 @@ pub use entry::Entry;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::{preview_canon_svg, preview_svg};
-pub use profile::{profile, Comp, ProfileParams, Side, Tabs};
+pub use profile::{profile, Comp, ProfileParams, Side, Tabs, DEFAULT_LEAD_IN};
 pub use rest::{rest, rest_machining, rest_pocket};
-pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult};
+pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult, TREAD_DEPTH};
 pub use vcarve::{vcarve, VCarveParams};
 
 use crate::{Move, Operation, Tool};

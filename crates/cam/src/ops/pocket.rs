@@ -176,6 +176,15 @@ fn centre_out(a: &Area, step: f64, r: f64, out: &mut Vec<Ring>) -> Result<(), Op
     Ok(())
 }
 
+/// Feeds along `level` to the start of `chain` and cuts once around it.
+fn around_from_start(b: &mut Builder, chain: &Chain, level: f64, feed: f64) {
+    let to = chain.start();
+    b.line([to[0], to[1], level], feed);
+    let mut moves = Vec::new();
+    chain.walk(&[(0.0, level), (chain.length(), level)], feed, &mut moves);
+    b.extend(moves);
+}
+
 /// Cuts `rings` in order at `level`: each is reached by a feed link from where the tool is
 /// when the straight link stays in the pocket, else by a retract and a new entry from
 /// `z_prev` (the floor already cut there).
@@ -198,15 +207,7 @@ fn cut_rings(
             link.segment_inside(here, to)
         };
         if linked {
-            let to = chain.start();
-            b.line([to[0], to[1], level], cut.feed);
-            let mut moves = Vec::new();
-            chain.walk(
-                &[(0.0, level), (chain.length(), level)],
-                cut.feed,
-                &mut moves,
-            );
-            b.extend(moves);
+            around_from_start(b, &chain, level, cut.feed);
             continue;
         }
         let z_from = z_prev + RAPID_GAP;
@@ -230,15 +231,7 @@ fn cut_rings(
                 let (s, _) = ring.chain.nearest(start);
                 let chain = ring.chain.rotated(s);
                 // The helix sits inside the innermost loop's area: the link stays there.
-                let to = chain.start();
-                b.line([to[0], to[1], level], cut.feed);
-                let mut moves = Vec::new();
-                chain.walk(
-                    &[(0.0, level), (chain.length(), level)],
-                    cut.feed,
-                    &mut moves,
-                );
-                b.extend(moves);
+                around_from_start(b, &chain, level, cut.feed);
             }
             _ => {
                 let start = ring.chain.start();

@@ -56,17 +56,17 @@ pub enum Comp {
 }
 
 /// LinuxCNC refuses an entry move not longer than the tool radius; twice it leaves room.
-pub const COMP_ENTRY: f64 = 2.0;
+pub(super) const COMP_ENTRY: f64 = 2.0;
 
 /// A lead-in radius of about the tool radius keeps the arc short and its tangent join
 /// gentle.
 pub const DEFAULT_LEAD_IN: f64 = 1.0;
 
 /// Offsets are exact to this (mm).
-pub const OFFSET_TOL: f64 = 0.001;
+pub(super) const OFFSET_TOL: f64 = 0.001;
 
 /// The tool-centre loops for `side` at wall distance `d` (≥ 0) from the contours.
-pub fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
+pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
     match side {
         Side::On => Ok(paths
             .iter()
@@ -194,7 +194,7 @@ fn loop_rings(loops: &[Chain]) -> Vec<Vec<P>> {
 /// start would have the arc cross the wall before it), and that arc.
 /// `extra`: added to the arc radius (the tool radius under compensation, where the
 /// programmed arc is the outline's and the tool runs inside it).
-pub fn lead_in(
+pub(super) fn lead_in(
     chain: Chain,
     p: &ProfileParams,
     rings: &[Vec<P>],
@@ -260,7 +260,7 @@ fn hint_for<'a>(chain: &Chain, hints: &'a [Chain]) -> Option<&'a Chain> {
 /// is +t. Every sampled point must lie on the waste side of all `rings` (outside them for
 /// outside profiles, inside for holes): then the tool centre stays at least the offset
 /// distance from the part. Too big an arc is halved, up to three times.
-pub fn lead_in_arc(
+pub(super) fn lead_in_arc(
     chain: &Chain,
     p: &ProfileParams,
     rings: &[Vec<P>],

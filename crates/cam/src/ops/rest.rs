@@ -16,7 +16,7 @@ use oficina_geom::{boolean, offset_areas, Area, BoolOp, Fill, Path, Point, Regio
 
 /// Rest thinner than twice this (mm) is dropped: the offsets' own tolerance leaves slivers
 /// of a few µm along every wall, and no tool is worth sending for less.
-pub const SLIVER: f64 = 0.02;
+pub(super) const SLIVER: f64 = 0.02;
 
 fn geo(e: oficina_geom::PolygonError) -> OpError {
     OpError::Geometry(e.to_string())
@@ -112,14 +112,14 @@ pub fn rest_machining(
     }
 }
 
-/// Total area of `areas`, mm².
-pub fn area_of(areas: &[Area]) -> f64 {
-    areas.iter().map(Area::area).sum()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Total area of `areas`, mm².
+    fn area_of(areas: &[Area]) -> f64 {
+        areas.iter().map(Area::area).sum()
+    }
 
     fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Path {
         Path::polyline(

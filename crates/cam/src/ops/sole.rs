@@ -114,18 +114,18 @@ pub struct SoleResult {
 }
 
 /// Seed 001 §7 tools: (number, spec, rpm, feed mm/min).
-pub const ROUGH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1600.0, 190.0);
-pub const FINISH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1800.0, 100.0);
-pub const DETAIL_6: (u32, &str, f64, f64) = (2, "flat:6,flute=30", 2000.0, 170.0);
+pub(super) const ROUGH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1600.0, 190.0);
+pub(super) const FINISH_16: (u32, &str, f64, f64) = (1, "flat:16,flute=30", 1800.0, 100.0);
+pub(super) const DETAIL_6: (u32, &str, f64, f64) = (2, "flat:6,flute=30", 2000.0, 170.0);
 /// The seed's 1 mm carbide bit (a truncated cone with a 1 mm tip, cutting 2 mm per pass),
 /// modelled as a 1 mm end mill whose flutes reach the mold's depth.
-pub const DETAIL_1: (u32, &str, f64, f64) = (3, "flat:1,flute=30", 2500.0, 140.0);
+pub(super) const DETAIL_1: (u32, &str, f64, f64) = (3, "flat:1,flute=30", 2500.0, 140.0);
 /// Depth of one pass of the 1 mm bit (seed §7: 2 mm in one pass).
-pub const DETAIL_1_STEP: f64 = 2.0;
+pub(super) const DETAIL_1_STEP: f64 = 2.0;
 
 /// Safety plane Z (seed Fig. 7.3) and retraction plane.
-pub const SAFE_Z: f64 = 40.0;
-pub const CLEAR_Z: f64 = 5.0;
+pub(super) const SAFE_Z: f64 = 40.0;
+pub(super) const CLEAR_Z: f64 = 5.0;
 
 fn cut(tool: (u32, &str, f64, f64), depth: f64, passes: usize) -> Result<Cut, OpError> {
     let t: Tool = tool
@@ -312,7 +312,7 @@ fn shrunk(p: &Path, d: f64) -> Result<Path, OpError> {
 }
 
 /// Stock the roughing passes leave on the wall for the finishing pass, mm.
-pub const ALLOWANCE: f64 = 0.5;
+pub(super) const ALLOWANCE: f64 = 0.5;
 
 /// Seed §7's detail tools as rest machining of `region` (what the 16 mm tool was to cut):
 /// the 6 mm mill pockets what the 16 mm one could not reach, then the 1 mm bit what the
