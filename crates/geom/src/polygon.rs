@@ -141,12 +141,7 @@ pub fn boolean(
     op: BoolOp,
     fill: Fill,
 ) -> Result<Vec<Region>, PolygonError> {
-    check_finite(subject)?;
-    check_finite(clip)?;
-    let rule = overlay_rule(op);
-    let subj: Vec<Ring> = subject.to_vec();
-    let clip: Vec<Ring> = clip.to_vec();
-    Ok(regions_from(subj.overlay(&clip, rule, fill_rule(fill))))
+    overlay_pair(subject, clip, op, fill, None)
 }
 
 /// The regions that `rings` enclose under `fill` (resolves self-intersections and overlaps;
@@ -170,14 +165,29 @@ pub fn boolean_fixed(
     fill: Fill,
     scale: f64,
 ) -> Result<Vec<Region>, PolygonError> {
+    overlay_pair(subject, clip, op, fill, Some(scale))
+}
+
+/// [`boolean`] in floating point, or on the fixed grid of `1/scale` mm.
+fn overlay_pair(
+    subject: &[Ring],
+    clip: &[Ring],
+    op: BoolOp,
+    fill: Fill,
+    scale: Option<f64>,
+) -> Result<Vec<Region>, PolygonError> {
     check_finite(subject)?;
     check_finite(clip)?;
     let rule = overlay_rule(op);
     let subj: Vec<Ring> = subject.to_vec();
     let clip: Vec<Ring> = clip.to_vec();
-    subj.overlay_with_fixed_scale(&clip, rule, fill_rule(fill), scale)
-        .map(regions_from)
-        .map_err(|e| PolygonError(format!("{e:?}")))
+    match scale {
+        None => Ok(regions_from(subj.overlay(&clip, rule, fill_rule(fill)))),
+        Some(scale) => subj
+            .overlay_with_fixed_scale(&clip, rule, fill_rule(fill), scale)
+            .map(regions_from)
+            .map_err(|e| PolygonError(format!("{e:?}"))),
+    }
 }
 
 /// i_overlay's round join takes the step angle L/R; a chord of angle φ on radius R has
