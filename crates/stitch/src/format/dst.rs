@@ -9,7 +9,7 @@
 use super::records::{Op, Rec};
 use super::{Format, FormatError};
 
-pub const MAX_STEP: i32 = 121;
+pub(super) const MAX_STEP: i32 = 121;
 const HEADER: usize = 512;
 
 /// Bit positions of the digits 3⁰..3⁴ as (byte, plus bit, minus bit), per axis.
@@ -60,7 +60,7 @@ fn encode(r: &Rec) -> [u8; 3] {
     b
 }
 
-pub fn write(name: &str, recs: &[Rec]) -> Vec<u8> {
+pub(super) fn write(name: &str, recs: &[Rec]) -> Vec<u8> {
     // Expand trims to three jumps that return to the same point.
     let mut expanded = Vec::with_capacity(recs.len());
     for r in recs {
@@ -126,7 +126,7 @@ const NUMERIC: [&str; 10] = ["ST", "CO", "+X", "-X", "+Y", "-Y", "AX", "AY", "MX
 const MAX_FIELD: i64 = 9_999_999;
 
 /// The header's name (LA) and the records up to END.
-pub fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatError> {
+pub(super) fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatError> {
     if bytes.is_empty() {
         return Err(err(0, "the file is empty"));
     }

@@ -6,9 +6,9 @@ use super::records::{Op, Rec};
 use super::{Format, FormatError};
 
 /// ±127: −128 would read as the 0x80 escape.
-pub const MAX_STEP: i32 = 127;
+pub(super) const MAX_STEP: i32 = 127;
 
-pub fn write(recs: &[Rec]) -> Vec<u8> {
+pub(super) fn write(recs: &[Rec]) -> Vec<u8> {
     let mut out = Vec::with_capacity(recs.len() * 2);
     for r in recs {
         let (x, y) = (r.dx as i8 as u8, r.dy as i8 as u8);
@@ -23,7 +23,7 @@ pub fn write(recs: &[Rec]) -> Vec<u8> {
     out
 }
 
-pub fn read(bytes: &[u8]) -> Result<Vec<Rec>, FormatError> {
+pub(super) fn read(bytes: &[u8]) -> Result<Vec<Rec>, FormatError> {
     let err = |offset, message: String| FormatError::new(Format::Exp, offset, message);
     if bytes.is_empty() {
         return Err(err(0, "the file is empty".into()));

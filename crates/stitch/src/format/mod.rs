@@ -6,7 +6,7 @@
 mod dst;
 mod exp;
 mod records;
-pub mod seed_ram;
+pub(crate) mod seed_ram;
 
 use crate::plan::StitchPlan;
 use std::fmt;

@@ -32,7 +32,11 @@ impl Rec {
 const MAX_UNITS: f64 = 100_000.0;
 
 /// The records of a plan, moves split so that no axis exceeds `max` units per record.
-pub fn to_records(plan: &StitchPlan, max: i32, format: Format) -> Result<Vec<Rec>, FormatError> {
+pub(super) fn to_records(
+    plan: &StitchPlan,
+    max: i32,
+    format: Format,
+) -> Result<Vec<Rec>, FormatError> {
     let mut out = Vec::new();
     let mut cur = (0i32, 0i32);
     for (b, block) in plan.blocks.iter().enumerate() {
@@ -93,7 +97,7 @@ fn split(out: &mut Vec<Rec>, from: (i32, i32), to: (i32, i32), max: i32, op: Op,
 }
 
 /// Thread colours for files that carry none: distinct, in the order machines often load.
-pub const PALETTE: [[u8; 3]; 8] = [
+pub(super) const PALETTE: [[u8; 3]; 8] = [
     [0, 0, 0],
     [200, 30, 30],
     [30, 90, 200],
@@ -109,7 +113,7 @@ pub const PALETTE: [[u8; 3]; 8] = [
 /// thread is already cut (no stitch since the start, a trim or a colour change): the DST
 /// convention as pyembroidery reads it. A run that ends where it began moves
 /// nothing and leaves no jump.
-pub fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
+pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
     let new_block = |n: usize| {
         let [r, g, b] = PALETTE[n % PALETTE.len()];
         ColorBlock {

@@ -54,7 +54,7 @@ fn excess16(v: i64) -> [u8; 2] {
 }
 
 /// The program bytes. Errors if a coordinate leaves the 16-bit step range (±6.5 m).
-pub fn write(plan: &StitchPlan, h: &SeedHeader) -> Result<Vec<u8>, FormatError> {
+pub(crate) fn write(plan: &StitchPlan, h: &SeedHeader) -> Result<Vec<u8>, FormatError> {
     let err = |m: String| FormatError::new(Format::SeedRam, 0, m);
     let steps = |v: f64| -> Result<i64, FormatError> {
         let s = (v / STEP).round();
@@ -130,7 +130,7 @@ pub fn write(plan: &StitchPlan, h: &SeedHeader) -> Result<Vec<u8>, FormatError> 
 }
 
 /// Reads a program: the plan (positions from Zero-Peça, mm) and its header.
-pub fn read(bytes: &[u8]) -> Result<(StitchPlan, SeedHeader), FormatError> {
+pub(crate) fn read(bytes: &[u8]) -> Result<(StitchPlan, SeedHeader), FormatError> {
     let err = |o: usize, m: &str| FormatError::new(Format::SeedRam, o, m.to_string());
     if bytes.is_empty() {
         return Err(err(0, "the file is empty"));

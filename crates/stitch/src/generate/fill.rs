@@ -11,7 +11,7 @@
 use super::running::straight;
 use oficina_geom::{Point, Region};
 
-pub struct FillParams {
+pub(crate) struct FillParams {
     pub spacing: f64,
     pub length: f64,
     /// Radians, of the rows against the X axis.
@@ -23,7 +23,7 @@ pub struct FillParams {
 
 /// A run of stitches and whether the needle may sew straight to its first point from the
 /// end of the previous run (the line stays inside the area, under the fill).
-pub struct Run {
+pub(super) struct Run {
     pub points: Vec<Point>,
     pub sew_into: bool,
 }
@@ -31,7 +31,7 @@ pub struct Run {
 /// Shortest stitch kept at the end of a row, as a fraction of the stitch length.
 const MIN_END: f64 = 0.25;
 
-pub fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
+pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
     let (c, s) = (p.angle.cos(), p.angle.sin());
     // Into the row frame (rows horizontal) and back.
     let to_row = |q: &[f64; 2]| Point::new(q[0] * c + q[1] * s, -q[0] * s + q[1] * c);
@@ -269,7 +269,7 @@ fn row_points(seg: (f64, f64), row: usize, reverse: bool, p: &FillParams) -> Vec
 
 /// Whether the segment a–b crosses no boundary of the region (and so, starting on the
 /// boundary of a filled section, stays inside).
-pub fn inside_line(a: Point, b: Point, region: &Region) -> bool {
+pub(super) fn inside_line(a: Point, b: Point, region: &Region) -> bool {
     let mid = a.midpoint(b);
     let rings = std::iter::once(&region.outer).chain(region.holes.iter());
     let mut inside = false;

@@ -20,7 +20,7 @@ mod satin;
 use crate::plan::{ColorBlock, Kind, Stitch, StitchPlan, Thread};
 use oficina_geom::{offset_regions, Area, Color, Drawing, Join, Path, Point};
 
-pub use fill::FillParams;
+pub(crate) use fill::FillParams;
 pub use running::running;
 
 /// What the generator needs; lengths in mm, the angle in degrees.

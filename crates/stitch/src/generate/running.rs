@@ -64,7 +64,7 @@ fn subdivide(piece: &[Point], len: f64, out: &mut Vec<Point>) {
 }
 
 /// Points from `a` to `b` (a excluded), stitches at most `len`.
-pub fn straight(a: Point, b: Point, len: f64) -> Vec<Point> {
+pub(super) fn straight(a: Point, b: Point, len: f64) -> Vec<Point> {
     let n = (a.distance(b) / len - 1e-9).ceil().max(1.0) as usize;
     (1..=n).map(|k| a.lerp(b, k as f64 / n as f64)).collect()
 }

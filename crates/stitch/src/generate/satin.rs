@@ -13,7 +13,7 @@ use oficina_geom::{Point, Vec2};
 const MITRE_LIMIT: f64 = 3.0;
 
 /// Left and right rails of a centreline at half-width `h`.
-pub fn rails(center: &[Point], h: f64) -> (Vec<Point>, Vec<Point>) {
+pub(super) fn rails(center: &[Point], h: f64) -> (Vec<Point>, Vec<Point>) {
     // Repeated points have no direction.
     let mut pts: Vec<Point> = Vec::with_capacity(center.len());
     for &p in center {
@@ -55,7 +55,7 @@ pub fn rails(center: &[Point], h: f64) -> (Vec<Point>, Vec<Point>) {
 
 /// The needle points of a satin between `left` and `right` (same vertex count), zigs
 /// `spacing` apart on the longer rail, each zig cut into stitches of at most `max_stitch`.
-pub fn satin(left: &[Point], right: &[Point], spacing: f64, max_stitch: f64) -> Vec<Point> {
+pub(super) fn satin(left: &[Point], right: &[Point], spacing: f64, max_stitch: f64) -> Vec<Point> {
     let n = left.len().min(right.len());
     if n < 2 {
         return Vec::new();
@@ -102,7 +102,7 @@ pub fn satin(left: &[Point], right: &[Point], spacing: f64, max_stitch: f64) -> 
 }
 
 /// Resamples a polyline to `m` points equally spaced along it (m ≥ 2).
-pub fn resample(points: &[Point], m: usize) -> Vec<Point> {
+pub(super) fn resample(points: &[Point], m: usize) -> Vec<Point> {
     let total: f64 = points.windows(2).map(|w| w[0].distance(w[1])).sum();
     let mut out = Vec::with_capacity(m);
     let (mut k, mut k_start) = (0usize, 0.0);
