@@ -16,21 +16,46 @@ use std::time::Duration;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Fault {
     /// The byte never reaches the firmware.
-    Drop { at: u64 },
+    Drop {
+        /// Byte position, from 1.
+        at: u64,
+    },
     /// The byte arrives as `with`.
-    Corrupt { at: u64, with: u8 },
+    Corrupt {
+        /// Byte position, from 1.
+        at: u64,
+        /// The byte that arrives instead.
+        with: u8,
+    },
     /// A soft reset (Ctrl-X) reaches the firmware right after this byte, as if the board
     /// was reset behind the sender's back.
-    Reset { at: u64 },
+    Reset {
+        /// Byte position, from 1.
+        at: u64,
+    },
     /// The connection is cut before this byte (cable pulled); later connections pass.
-    Disconnect { at: u64 },
+    Disconnect {
+        /// Byte position, from 1.
+        at: u64,
+    },
     /// From this upstream byte on, the firmware's replies stop reaching the sender (a hung
     /// board or a half-dead link); the connection stays open. Ends with the connection.
-    Silence { at: u64 },
+    Silence {
+        /// Byte position, from 1.
+        at: u64,
+    },
     /// Every firmware line is held back this long (a slow or busy firmware).
-    SlowReplies { delay: Duration },
+    SlowReplies {
+        /// How long each line is held.
+        delay: Duration,
+    },
     /// Before every `every`-th firmware line, a line of noise.
-    Garbage { every: u64, noise: Vec<u8> },
+    Garbage {
+        /// Every how many firmware lines.
+        every: u64,
+        /// The noise bytes written.
+        noise: Vec<u8>,
+    },
 }
 
 #[derive(Default)]
@@ -40,13 +65,16 @@ struct Counters {
     fired: Vec<bool>,
 }
 
+/// A TCP proxy between a sender and the emulator that injects [`Fault`]s.
 pub struct FaultProxy {
+    /// The address the sender connects to.
     pub addr: SocketAddr,
     stop: Arc<AtomicBool>,
     state: Arc<Mutex<Counters>>,
 }
 
 impl FaultProxy {
+    /// Listens on a free local port and forwards to `upstream`, injecting `faults`.
     pub fn start(upstream: SocketAddr, faults: Vec<Fault>) -> io::Result<FaultProxy> {
         let listener = TcpListener::bind("127.0.0.1:0")?;
         listener.set_nonblocking(true)?;

@@ -36,6 +36,7 @@ pub struct Config {
     pub rx_buffer: usize,
     /// Planner blocks available (grbl's BLOCK_BUFFER_SIZE − 1).
     pub planner_blocks: usize,
+    /// The version the board reports in its welcome and `$I` (e.g. "1.1h").
     pub version: String,
     /// Settings that differ from grbl's generic defaults.
     pub settings: Vec<(u16, f64)>,
@@ -90,18 +91,24 @@ impl Default for Config {
 /// Counters a test or a benchmark reads.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Stats {
+    /// Bytes read from the sender, real-time bytes included.
     pub bytes_received: u64,
     /// Bytes lost because the RX ring was full (a correct sender never causes one).
     pub rx_overflows: u64,
+    /// G-code and `$` lines completed and answered.
     pub lines_executed: u64,
+    /// `error:` replies sent.
     pub errors_sent: u64,
     /// Times the planner ran dry in a run and more motion arrived later.
     pub starvations: u64,
+    /// Seconds the planner stood empty in those starvations.
     pub starved_seconds: f64,
     /// Starvations that began while the emulator's own reader was behind the wire schedule
     /// (its host was busy): the emulator's limit, not the sender's.
     pub starvations_host_late: u64,
+    /// Seconds the machine was in motion.
     pub busy_seconds: f64,
+    /// Most bytes ever waiting in the RX ring.
     pub max_rx_used: usize,
 }
 
@@ -117,10 +124,16 @@ struct Pending {
     line: Option<String>,
 }
 
+/// The firmware model without I/O: bytes in, replies out, motion timed by the clock the
+/// caller advances.
 pub struct Core {
+    /// The board's knobs.
     pub config: Config,
+    /// The `$` settings in force, by number.
     pub settings: BTreeMap<u16, f64>,
+    /// The G-code interpreter (modal state, work offsets).
     pub interp: Interp,
+    /// The state `?` reports (Idle, Run, Hold...).
     pub state: GrblState,
     /// Machine position (mm).
     pub mpos: [f64; 3],
@@ -138,7 +151,9 @@ pub struct Core {
     /// The planner buffer and the motion it plans.
     motion: Incremental,
     pending: Option<Pending>,
+    /// Bytes to send to the host, oldest first.
     pub out: VecDeque<u8>,
+    /// Counters for tests and benchmarks.
     pub stats: Stats,
     /// Lines whose motion completed, in order (with `record_lines`).
     pub executed: Vec<String>,
@@ -174,6 +189,7 @@ pub struct Core {
 }
 
 impl Core {
+    /// A board just powered on with `config`.
     pub fn new(config: Config) -> Core {
         let mut settings: BTreeMap<u16, f64> =
             SETTINGS.iter().map(|s| (s.number, s.default)).collect();
@@ -262,6 +278,7 @@ impl Core {
         }
     }
 
+    /// Planner blocks free (what `Bf:` reports).
     pub fn planner_free(&self) -> usize {
         self.config.planner_blocks.saturating_sub(self.motion.len())
     }
@@ -310,6 +327,7 @@ impl Core {
             )
     }
 
+    /// Acts on a real-time byte (`?`, `!`, `~`, Ctrl-X, overrides, jog cancel).
     pub fn realtime(&mut self, r: Realtime) {
         let before = self.overrides;
         match r {

@@ -10,6 +10,7 @@
 use std::fmt;
 use std::str::FromStr;
 
+/// Which grbl-family firmware the emulator answers as.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Flavor {
     /// grbl 1.1h on an ATmega328P.
@@ -22,6 +23,7 @@ pub enum Flavor {
 }
 
 impl Flavor {
+    /// The version string this firmware reports.
     pub fn version(self) -> &'static str {
         match self {
             Flavor::Grbl => "1.1h",

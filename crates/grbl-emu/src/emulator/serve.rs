@@ -92,6 +92,7 @@ impl Pacer {
 }
 
 impl Emulator {
+    /// Starts the emulator on a pseudo-terminal or TCP port as `config` says.
     pub fn start(config: Config) -> Emulator {
         let shared = Arc::new(Shared {
             core: Mutex::new(Core::new(config)),
@@ -119,6 +120,7 @@ impl Emulator {
         f(&mut lock(&self.shared.core))
     }
 
+    /// A copy of the counters so far.
     pub fn stats(&self) -> Stats {
         lock(&self.shared.core).stats.clone()
     }
