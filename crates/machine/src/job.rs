@@ -20,13 +20,17 @@ pub enum Pace {
     Instant,
 }
 
+/// A G-code program to run, with how fast to feed it.
 #[derive(Clone, Debug)]
 pub struct Job {
+    /// A name for reports (usually the file name).
     pub name: String,
+    /// The program text.
     pub text: Arc<String>,
     /// Resume from this source line: earlier motion is skipped and the machine goes to the
     /// point where that line starts, at a safe height, with rapids.
     pub start_line: Option<u32>,
+    /// How machine time relates to wall-clock time.
     pub pace: Pace,
 }
 
@@ -37,6 +41,7 @@ pub struct CanonStream {
     inner: oficina_gcode::CanonStream,
     name: String,
     text: Arc<String>,
+    /// The interpreter error that ended the stream, if any.
     pub error: Arc<Mutex<Option<String>>>,
 }
 
@@ -128,6 +133,7 @@ pub struct ResumeFrom<I> {
 
 #[cfg(feature = "virtual")]
 impl<I: Iterator<Item = Canon>> ResumeFrom<I> {
+    /// Skips `ops` up to source line `line`, coming from the machine position `start` (mm).
     pub fn new(ops: I, line: u32, start: [f64; 3]) -> Self {
         ResumeFrom {
             ops,

@@ -26,7 +26,7 @@
 //! let [x, y, _] = vm.status().machine_pos;
 //! assert!((x - 40.0).abs() < 1e-6 && (y - 50.0).abs() < 1e-6, "{x} {y}");
 //! ```
-#![warn(unreachable_pub)]
+#![warn(unreachable_pub, missing_docs)]
 
 pub mod job;
 #[cfg(feature = "virtual")]
@@ -37,22 +37,29 @@ use std::time::Duration;
 #[cfg(feature = "virtual")]
 pub use virtual_machine::VirtualMachine;
 
+/// What the machine is doing.
 #[derive(Clone, Debug, PartialEq)]
 pub enum State {
+    /// At rest, ready for a job or a jog.
     Idle,
+    /// Running a job.
     Run,
     /// Decelerating to a feed hold.
     Holding,
+    /// Stopped by a feed hold, waiting for resume.
     Hold,
     /// M0/M1: waiting for resume.
     Paused,
+    /// Jogging.
     Jog,
+    /// In alarm (says why): unlock or reset to continue.
     Alarm(String),
 }
 
 /// A snapshot of the machine.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Status {
+    /// What the machine is doing.
     pub state: State,
     /// Machine position, mm.
     pub machine_pos: [f64; 3],
@@ -66,13 +73,16 @@ pub struct Status {
     pub buffer: usize,
     /// Machine time executed and planned total, seconds.
     pub elapsed: f64,
+    /// Planned total machine time, seconds.
     pub total: f64,
+    /// Feed override factor in force (1.0 = 100 %).
     pub feed_override: f64,
     /// Rotary axes A, B, C, degrees, counting whole turns (0 on a machine without them).
     pub rotary_pos: [f64; 3],
 }
 
 impl Status {
+    /// A machine at rest at `pos` (mm), nothing planned.
     pub fn idle(pos: [f64; 3]) -> Status {
         Status {
             state: State::Idle,
@@ -99,7 +109,12 @@ pub enum Command {
     /// Decelerate and abandon the job.
     Stop,
     /// Jog by `delta` mm at `feed` mm/min (idle only; soft limits checked first).
-    Jog { delta: [f64; 3], feed: f64 },
+    Jog {
+        /// Displacement, mm.
+        delta: [f64; 3],
+        /// Feed, mm/min.
+        feed: f64,
+    },
     /// Feed override factor for motion not yet started (0.1 … 2.0).
     FeedOverride(f64),
     /// End a jog now, decelerating (a continuous jog's button released, or its page gone);
@@ -111,8 +126,10 @@ pub enum Command {
     Unlock,
 }
 
+/// What a machine reports while connected.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Event {
+    /// A status snapshot (sent periodically while a job runs).
     Status(Status),
     /// `(MSG,…)` or an operator message.
     Message(String),
@@ -121,17 +138,23 @@ pub enum Event {
     Alarm(String),
     /// The job ended: `completed` false when stopped.
     JobEnd {
+        /// The job ran to its end.
         completed: bool,
+        /// Machine time the job took, seconds.
         seconds: f64,
     },
 }
 
+/// Why a machine refused a call.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum MachineError {
+    /// No connection: call [`Machine::connect`] first.
     #[error("not connected")]
     NotConnected,
+    /// Something else runs (a job, a jog); says what.
     #[error("busy: {0}")]
     Busy(String),
+    /// The machine refused the request; says why.
     #[error("{0}")]
     Refused(String),
 }
@@ -139,18 +162,25 @@ pub enum MachineError {
 /// What a connection reports about the machine.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MachineInfo {
+    /// The machine's name (profile or board).
     pub name: String,
+    /// The firmware and its version.
     pub firmware: String,
 }
 
+/// Every machine, virtual or real: connect, stream a job, real-time commands and events.
 pub trait Machine: Send {
+    /// Opens the connection and says what answered.
     fn connect(&mut self) -> Result<MachineInfo, MachineError>;
     /// Starts streaming a job; progress arrives as events.
     fn start(&mut self, job: Job) -> Result<(), MachineError>;
+    /// Sends a real-time command.
     fn command(&mut self, cmd: Command) -> Result<(), MachineError>;
     /// Waits up to `timeout` for the next event.
     fn next_event(&mut self, timeout: Duration) -> Option<Event>;
+    /// The latest status snapshot.
     fn status(&self) -> Status;
+    /// Closes the connection (a running job stops).
     fn disconnect(&mut self);
 
     /// Sends one line in the firmware's own language (a `$` command, or G-code typed at a
@@ -192,6 +222,7 @@ pub trait Machine: Send {
 pub struct JobReport {
     /// One paragraph: what ran, what did not and why.
     pub summary: String,
+    /// The job ran to its end.
     pub completed: bool,
     /// Where an unfinished job can continue.
     pub resume: Option<ResumePoint>,
@@ -214,6 +245,8 @@ pub struct ResumePoint {
 /// acknowledgement, and the error it gave instead of `ok`, explained.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RawReply {
+    /// The lines the firmware sent before its acknowledgement.
     pub lines: Vec<String>,
+    /// The error the firmware gave instead of `ok`, explained.
     pub error: Option<String>,
 }

@@ -18,6 +18,7 @@ use std::time::{Duration, Instant};
 /// Machine-time step of the execution loop.
 const TICK: f64 = 0.005;
 
+/// The built-in simulated machine: runs jobs through the planner in (scaled) real time.
 pub struct VirtualMachine {
     profile: Arc<Profile>,
     status: Arc<Mutex<Status>>,
@@ -38,6 +39,7 @@ pub struct VirtualMachine {
 }
 
 impl VirtualMachine {
+    /// A virtual machine with `profile`'s axes and limits, not yet connected.
     pub fn new(profile: Profile) -> VirtualMachine {
         let (ev_tx, ev_rx) = channel();
         let status = Status::idle(profile.start);
