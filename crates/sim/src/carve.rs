@@ -25,19 +25,27 @@ pub struct Settings {
     pub rough_tool: Option<String>,
     /// Target scallop height of the finish (sets the step-over unless `stepover` is given).
     pub scallop: f64,
+    /// Finishing step-over, mm (overrides `scallop`).
     pub stepover: Option<f64>,
     /// Roughing step-over as a fraction of the roughing tool's diameter.
     pub rough_stepover: f64,
+    /// Roughing depth per level, mm.
     pub stepdown: f64,
     /// Material the roughing leaves for the finishing tool.
     pub allowance: f64,
+    /// Direction of the finishing raster.
     pub direction: Direction,
+    /// Cut in one direction only (climb or conventional throughout) instead of zig-zag.
     pub one_way: bool,
     /// Skip rest machining after roughing.
     pub no_rest: bool,
+    /// Cutting feed, mm/min.
     pub feed: f64,
+    /// Plunge feed, mm/min.
     pub plunge_feed: f64,
+    /// Spindle speed, rpm.
     pub rpm: f64,
+    /// Height for rapids above the stock, mm.
     pub safe_z: f64,
 }
 
@@ -76,21 +84,33 @@ const REST_STEPOVER: f64 = 0.5;
 /// A setting outside what any machine or part could mean.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SettingsError {
+    /// The tool spec does not parse.
     #[error(transparent)]
     Tool(#[from] ToolError),
+    /// A number outside `min..=max`.
     #[error("{what} must be a number from {min} to {max}{unit}, got {value}")]
     Range {
+        /// The setting's name.
         what: &'static str,
+        /// The value given.
         value: f64,
+        /// Smallest value allowed.
         min: f64,
+        /// Largest value allowed.
         max: f64,
+        /// Unit of the setting (" mm", "").
         unit: &'static str,
     },
+    /// A number that must be above 0 and at most `max`.
     #[error("{what} must be a number above 0 and at most {max}{unit}, got {value}")]
     Positive {
+        /// The setting's name.
         what: &'static str,
+        /// The value given.
         value: f64,
+        /// Largest value allowed.
         max: f64,
+        /// Unit of the setting (" mm", "").
         unit: &'static str,
     },
 }
@@ -257,27 +277,44 @@ impl Settings {
 
 /// What one planned job gives: the program, the simulated stock, its quality and times.
 pub struct Evaluation {
+    /// The relief plan (passes and toolpath).
     pub planned: Planned,
+    /// The G-code program.
     pub program: String,
+    /// The stock after simulating the program.
     pub stock: Heightmap,
+    /// How the stock compares with the design.
     pub report: Report,
+    /// Time at the programmed feeds, rapids at 6000 mm/min, no acceleration: seconds.
     pub feed_only_s: f64,
     /// The motion planner's estimate on the machine profile, or why there is none.
     pub planner: Result<f64, String>,
 }
 
+/// Why a relief job could not be planned, simulated or written.
 #[derive(Debug, thiserror::Error)]
 pub enum CarveError {
+    /// The relief planner refused the job.
     #[error(transparent)]
     Plan(#[from] ReliefError),
+    /// The job would need more memory than allowed.
     #[error(transparent)]
     Memory(#[from] OverBudget),
+    /// The simulator could not replay the program.
     #[error(transparent)]
     Simulation(#[from] SimError),
+    /// Oficina's interpreter rejects the program Oficina wrote: a bug to report.
     #[error("internal error: the interpreter rejects the generated program ({count} diagnostics); please report it:\n{first}")]
-    Interpreter { count: usize, first: String },
+    Interpreter {
+        /// How many diagnostics.
+        count: usize,
+        /// The first one, as text.
+        first: String,
+    },
+    /// The job has no passes to cut.
     #[error("the job has no passes")]
     NoPasses,
+    /// The post-processor refused the toolpath.
     #[error("the post-processor refused the toolpath: {0}")]
     Post(#[from] std::io::Error),
 }

@@ -13,9 +13,13 @@ use std::collections::HashMap;
 /// What may be cut: the inside of `rings` (even–odd) or their outside, down to `floor`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Design {
+    /// Closed outlines, mm (X, Y).
     pub rings: Vec<Vec<[f64; 2]>>,
+    /// Cut inside the rings (a pocket) rather than outside (a profile's part).
     pub cut_inside: bool,
+    /// Stock top, mm.
     pub top: f64,
+    /// Design floor, mm.
     pub floor: f64,
     /// Walls that slope down from the rings by this many mm per mm inwards (a V-carving:
     /// 1 / tan(half angle)), down to `floor`; 0: vertical walls.
@@ -24,8 +28,11 @@ pub struct Design {
 
 /// Result of a check, with the grids for previews.
 pub struct MillCheck {
+    /// How the stock compares with the design.
     pub report: Report,
+    /// The simulated stock.
     pub stock: Heightmap,
+    /// The design as a height field on the same grid.
     pub design: Heightmap,
     /// Where grid point (0, 0) is in program coordinates.
     pub origin: [f64; 2],

@@ -7,12 +7,23 @@ use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;
 use std::collections::HashMap;
 
+/// Why the simulator cannot replay a program.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SimError {
+    /// A move uses a tool the simulator has no shape for.
     #[error("line {line}: motion with tool {tool}, which the simulator was not given")]
-    UnknownTool { line: u32, tool: u32 },
+    UnknownTool {
+        /// Source line.
+        line: u32,
+        /// Tool number.
+        tool: u32,
+    },
+    /// A move comes before any tool change.
     #[error("line {line}: motion before any tool change; the simulator needs to know the tool")]
-    NoTool { line: u32 },
+    NoTool {
+        /// Source line.
+        line: u32,
+    },
 }
 
 /// Replays `ops` on `stock`, starting at `start` (mm, machine coordinates). Rapids cut too:

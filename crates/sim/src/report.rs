@@ -4,6 +4,7 @@ use oficina_cam::Tool;
 use oficina_cam::{surface_grid, Kernel};
 use oficina_io::Heightmap;
 
+/// How a simulated stock compares with its design (gouges, leftover, scallops).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
     /// Deepest cut below the design, mm (0 = no gouge).
@@ -12,10 +13,12 @@ pub struct Report {
     pub gouge_at: [f64; 2],
     /// Material left above the design, mm: includes what no tool of this shape can reach.
     pub leftover_max: f64,
+    /// Mean material left above the design, mm.
     pub leftover_mean: f64,
     /// Material left above the best surface the finishing tool can make (the design opened
     /// by the tool): the scallops and anything the toolpath missed.
     pub scallop_max: f64,
+    /// Mean of the scallop heights, mm.
     pub scallop_mean: f64,
 }
 
