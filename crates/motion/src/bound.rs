@@ -8,6 +8,7 @@ use crate::Profile;
 use oficina_canon::MoveBound;
 use std::f64::consts::TAU;
 
+/// The least time of a move from the joints' top speeds (see the module comment).
 pub struct JointBound {
     kinematics: AnyKinematics,
     /// Top speed of each joint, its units per second (`None`: the joint does not exist).
@@ -17,6 +18,7 @@ pub struct JointBound {
 }
 
 impl JointBound {
+    /// The bound for `profile`'s kinematics and joint rates.
     pub fn new(profile: &Profile) -> JointBound {
         JointBound {
             kinematics: for_profile(profile),

@@ -61,13 +61,17 @@ struct OpInfo {
 /// Figures measured by the checker over a program.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CheckReport {
+    /// Segments checked.
     pub segments: usize,
+    /// Machine time of the whole program, seconds.
     pub duration: f64,
     /// Largest distance of planned motion from the programmed path, mm.
     pub max_path_deviation: f64,
     /// Largest ratio of any joint's speed / acceleration / jerk to its limit.
     pub max_speed_ratio: f64,
+    /// Largest ratio of a joint's acceleration to its limit.
     pub max_accel_ratio: f64,
+    /// Largest ratio of a joint's jerk to its limit.
     pub max_jerk_ratio: f64,
 }
 

@@ -17,6 +17,7 @@ use oficina_geom::sweep_between;
 pub struct DdaSummary {
     /// Machine time at the end of the last slot, s.
     pub seconds: f64,
+    /// Steps emitted, all motors.
     pub steps: u64,
     /// Moves interpolated (zero-length ones excluded).
     pub moves: u64,

@@ -6,6 +6,7 @@ use crate::profile::Profile;
 use crate::MotionError;
 use oficina_canon::Canon;
 
+/// Machine time and figures of a planned program.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Estimate {
     /// Total machine time, seconds.

@@ -9,10 +9,14 @@ use crate::MotionError;
 use oficina_canon::{from_arc_frame, to_arc_frame, Canon, CanonOp, FeedMode, PathControlMode, Pos};
 use oficina_geom::{chord_count, Helix};
 
+/// What kind of programmed motion a piece comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MoveKind {
+    /// G0.
     Rapid,
+    /// G1 (or a move at the feed rate).
     Feed,
+    /// A chord of a G2/G3 arc or helix.
     Arc,
 }
 
@@ -126,6 +130,7 @@ pub(crate) fn path_length(a: [f64; 3], b: [f64; 3], ra: [f64; 3], rb: [f64; 3]) 
     }
 }
 
+/// The point at fraction `f` from `a` to `b`.
 pub fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
     [
         a[0] + (b[0] - a[0]) * f,

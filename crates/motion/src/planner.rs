@@ -31,9 +31,12 @@ pub(crate) const MAX_BLOCKS: usize = 1 << 16;
 /// down to the planned stop behind them, so larger batches walk each block fewer times.
 const BATCH: usize = 128;
 
+/// What a planned segment is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SegmentKind {
+    /// Motion of this kind.
     Move(MoveKind),
+    /// G4: at rest for the segment's duration.
     Dwell,
     /// M0/M1: the machine waits for the operator.
     Pause,
@@ -48,29 +51,39 @@ pub enum SegmentKind {
 /// be zero at that instant in S-curve mode (the new motion starts with none).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cut {
+    /// Distance done along the segment, mm.
     pub s: f64,
+    /// Path speed there, mm/s.
     pub v: f64,
 }
 
 /// One planned, timed straight piece (or a pause at rest).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
+    /// Source line.
     pub line: u32,
     /// Index of the canon motion op this segment comes from.
     pub op: u64,
+    /// Motion, dwell, pause, sync or hold.
     pub kind: SegmentKind,
+    /// Cartesian start, mm.
     pub start: [f64; 3],
+    /// Cartesian end, mm.
     pub end: [f64; 3],
     /// Joint positions at the ends; joints move linearly in between.
     pub q0: [f64; 3],
+    /// Joint positions at the end.
     pub q1: [f64; 3],
     /// Rotary joints A, B, C at the ends, degrees; they move linearly in between too.
     pub rot0: [f64; 3],
+    /// Rotary joints at the end, degrees.
     pub rot1: [f64; 3],
+    /// Distance and speed over time along the segment.
     pub motion: Motion,
 }
 
 impl Segment {
+    /// Length of the segment in time, seconds.
     pub fn duration(&self) -> f64 {
         self.motion.duration
     }
@@ -102,8 +115,10 @@ impl Segment {
     }
 }
 
+/// How to plan besides the profile.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct PlanOptions {
+    /// Feed and rapid overrides.
     pub overrides: Overrides,
     /// Overrides the profile's velocity shape.
     pub shape: Option<VelocityProfile>,
@@ -289,6 +304,7 @@ pub struct Planner<'p, I: Iterator<Item = Canon>> {
     done: bool,
 }
 
+/// Plans `ops` on `profile`: a lazy stream of timed segments (or the first error).
 pub fn plan<'p, I: Iterator<Item = Canon>>(
     ops: I,
     profile: &'p Profile,
@@ -331,6 +347,7 @@ pub fn plan<'p, I: Iterator<Item = Canon>>(
 }
 
 impl<'p, I: Iterator<Item = Canon>> Planner<'p, I> {
+    /// The kinematics the planner moves the joints with.
     pub fn kinematics(&self) -> &crate::kinematics::AnyKinematics {
         self.moves.kinematics()
     }

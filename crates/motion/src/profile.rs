@@ -13,8 +13,11 @@ pub(crate) use crate::kinematics::KinematicsKind;
 /// A bad profile: the file, the key (dotted path) and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub struct ProfileError {
+    /// The profile file.
     pub file: String,
+    /// The key (dotted path) at fault.
     pub key: String,
+    /// What is wrong with it.
     pub message: String,
 }
 
@@ -31,6 +34,7 @@ impl fmt::Display for ProfileError {
 /// The velocity profile of every block: how speed changes between two feeds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum VelocityProfile {
+    /// Constant acceleration: speed ramps linearly (grbl).
     #[default]
     Trapezoid,
     /// Jerk-limited: acceleration ramps linearly, so it is continuous.
@@ -57,21 +61,30 @@ pub struct Homing {
 /// One motor-driven joint in internal units (mm or rad; seconds).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Joint {
+    /// Joint name (`x`, `y`, `z`, `a`...).
     pub name: &'static str,
+    /// Motor steps per unit (mm, or rad inside; per degree for rotary joints in the file).
     pub steps_per_unit: f64,
+    /// Top speed, units/s.
     pub max_rate: f64,
+    /// Acceleration limit, units/s².
     pub acceleration: f64,
+    /// Jerk limit, units/s³ (S-curve only).
     pub jerk: Option<f64>,
+    /// Play taken up on each reversal, units.
     pub backlash: f64,
+    /// The motor turns the other way (DIR level inverted).
     pub invert_direction: bool,
     /// Joint travel limits (besides the Cartesian ones), if any.
     pub limits: Option<[f64; 2]>,
+    /// How the joint homes, if it does.
     pub homing: Option<Homing>,
 }
 
 /// A rotary joint: its motor and limits in degrees, and whether it turns without end.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rotary {
+    /// Its motor and limits, degrees.
     pub joint: Joint,
     /// Turns without end (a 4th axis chuck): no travel limits, and the position shown to
     /// the operator is taken modulo 360° ([`Rotary::shown`]); the planner keeps counting
@@ -96,7 +109,9 @@ pub(crate) const ROTARY_NAMES: [&str; 3] = ["a", "b", "c"];
 /// A validated machine profile.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Profile {
+    /// The profile's name.
     pub name: String,
+    /// Which kinematics, with its parameters.
     pub kinematics: KinematicsKind,
     /// Joint i drives `kinematics.joint_names()[i]`; `None` = that joint does not exist and
     /// must never move.
@@ -109,12 +124,17 @@ pub struct Profile {
     pub travel: [[f64; 2]; 3],
     /// Cartesian position at power-up (after homing), mm.
     pub start: [f64; 3],
+    /// Corner blending tolerance (grbl's $11), mm.
     pub junction_deviation: f64,
+    /// Largest chord sag when arcs become straight pieces, mm.
     pub arc_tolerance: f64,
+    /// Largest distance of joint-linear motion from the Cartesian line, mm.
     pub path_tolerance: f64,
+    /// How speed changes between feeds: trapezoid or S-curve.
     pub shape: VelocityProfile,
     /// Look-ahead horizon, seconds of motion.
     pub horizon: f64,
+    /// Highest step rate of any motor, steps/s.
     pub max_step_rate: f64,
     /// Feed used until the program sets one, mm/s.
     pub default_feed: f64,

@@ -22,6 +22,7 @@ pub struct Compressor {
     forward: bool,
     /// Tick of the last emitted step as a decoder reproduces it.
     last: i64,
+    /// The compressed runs so far.
     pub out: Vec<QueueStep>,
 }
 
@@ -42,6 +43,7 @@ impl Compressor {
         }
     }
 
+    /// Adds a step at `time` (s) in direction `forward`.
     pub fn push(&mut self, time: f64, forward: bool) {
         if forward != self.forward && !self.pending.is_empty() {
             self.flush();
@@ -53,6 +55,7 @@ impl Compressor {
         }
     }
 
+    /// Compresses every step still pending.
     pub fn flush(&mut self) {
         while !self.pending.is_empty() {
             self.emit_run();

@@ -15,6 +15,7 @@ use crate::MotionError;
 /// Receives every step. `forward` is the joint's positive direction; the electrical DIR level
 /// is `forward != invert_direction` of the joint.
 pub trait StepSink {
+    /// One step of `motor` at `time` (s) in direction `forward`.
     fn step(&mut self, motor: usize, time: f64, forward: bool);
 }
 
@@ -24,6 +25,7 @@ pub const MOTORS: usize = 6;
 /// Collects steps per motor (for tests and exports of small programs).
 #[derive(Default, Debug, Clone)]
 pub struct StepLog {
+    /// Each motor's steps: (time in s, forward).
     pub motors: [Vec<(f64, bool)>; MOTORS],
 }
 
@@ -36,7 +38,9 @@ impl StepSink for StepLog {
 /// Counts steps only (benchmarks).
 #[derive(Default, Debug, Clone, Copy)]
 pub struct StepCount {
+    /// Steps counted, all motors.
     pub steps: u64,
+    /// Time of the last step, s.
     pub last_time: f64,
 }
 
@@ -110,6 +114,7 @@ impl StepGenerator {
         std::array::from_fn(|i| self.motors[i].map_or(0, |m| m.count))
     }
 
+    /// Emits the steps of `seg` to `sink`, in time order.
     pub fn segment<S: StepSink>(&mut self, seg: &Segment, sink: &mut S) -> Result<(), MotionError> {
         let t_start = self.time;
         self.time += seg.motion.duration;

@@ -13,10 +13,12 @@ pub struct TraceWriter<W: Write> {
     t_seg: f64,
     /// Time of the next sample.
     t_next: f64,
+    /// Rows written so far.
     pub rows: u64,
 }
 
 impl<W: Write> TraceWriter<W> {
+    /// Writes the header to `out`; rows follow every `period` seconds of machine time.
     pub fn new(mut out: W, period: f64, joint_names: [&str; 3]) -> io::Result<Self> {
         writeln!(
             out,
@@ -62,6 +64,7 @@ impl<W: Write> TraceWriter<W> {
     /// commas and the newline.
     pub const ROW_BYTES: u64 = 12 + 3 * 14 + 3 * 15 + 12 + 10 + 9;
 
+    /// Flushes the output; returns the machine time traced, seconds.
     pub fn finish(mut self) -> io::Result<f64> {
         self.out.flush()?;
         Ok(self.t_seg)

@@ -26,6 +26,7 @@ impl Piece {
 /// Limits of one block: peak acceleration and (for S-curve) jerk along the path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
+    /// Peak acceleration along the path, mm/s².
     pub accel: f64,
     /// `f64::INFINITY` for a trapezoid.
     pub jerk: f64,
@@ -36,7 +37,9 @@ pub struct Limits {
 pub struct Motion {
     pieces: [Piece; 7],
     n: u8,
+    /// Time the block takes, seconds.
     pub duration: f64,
+    /// Path length, mm.
     pub length: f64,
 }
 
@@ -314,6 +317,7 @@ impl Motion {
         m
     }
 
+    /// The pieces (constant jerk each) of the motion, in time order.
     pub fn pieces(&self) -> &[Piece] {
         &self.pieces[..self.n as usize]
     }

@@ -16,6 +16,7 @@ pub(crate) use polargraph::Polargraph;
 
 use serde::Deserialize;
 
+/// Maps Cartesian positions (mm) to joint values and back.
 pub trait Kinematics {
     /// Inverse kinematics; `Err` says why the point cannot be reached.
     fn joints(&self, p: [f64; 3]) -> Result<[f64; 3], String>;
@@ -38,15 +39,20 @@ pub trait Kinematics {
 /// Which kinematics the machine has, with its parameters (mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum KinematicsKind {
+    /// Joints are X, Y, Z.
     Cartesian,
+    /// CoreXY: motors A = X + Y, B = X − Y.
     CoreXy,
     /// Seed 003: an arm rotating about the origin, carriage at radius R, pen offset `h`.
     Polar {
+        /// Pen offset `h` from the arm's axis, mm.
         pen_offset: f64,
     },
     /// Two motors at (0, 0) and (`motor_distance`, 0) with the pen hanging below (y < 0).
     Polargraph {
+        /// Distance between the two motors, mm.
         motor_distance: f64,
+        /// Least drop of the pen below the motors' line, mm.
         min_drop: f64,
     },
 }
@@ -108,9 +114,13 @@ pub(crate) trait Check {
 
 /// The kinematics of a profile, dispatched without a heap allocation.
 pub enum AnyKinematics {
+    /// Cartesian: joints are X, Y, Z.
     Cartesian(Cartesian),
+    /// CoreXY belts.
     CoreXy(CoreXy),
+    /// Polar arm (seed 003).
     Polar(Polar),
+    /// Hanging-pen polargraph.
     Polargraph(Polargraph),
 }
 

@@ -23,9 +23,11 @@ use std::collections::VecDeque;
 pub struct Push {
     /// Source line (for errors and the finished-block report).
     pub line: u32,
+    /// Cartesian end, mm.
     pub end: [f64; 3],
     /// Requested path speed before overrides, mm/s; `INFINITY` for rapids (joint limits).
     pub speed: f64,
+    /// Rapid or feed (arcs come as their chords).
     pub kind: MoveKind,
 }
 
@@ -108,6 +110,7 @@ impl Incremental {
         })
     }
 
+    /// The machine profile planned for.
     pub fn profile(&self) -> &Profile {
         &self.profile
     }
@@ -117,6 +120,7 @@ impl Incremental {
         self.blocks.len()
     }
 
+    /// No block in the buffer.
     pub fn is_empty(&self) -> bool {
         self.blocks.is_empty()
     }
