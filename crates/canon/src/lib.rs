@@ -21,7 +21,7 @@
 //! offsets, G92 offsets, rotation and tool length offsets already applied), rotary axes in
 //! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
 //! records are still emitted so that a printer can reconstruct program coordinates.
-#![warn(unreachable_pub)]
+#![warn(unreachable_pub, missing_docs)]
 
 mod summary;
 
@@ -30,15 +30,22 @@ pub use summary::{Extents, MoveBound, Summarizer, Summary};
 /// A point in the six-axis machine space: X Y Z in mm, A B C in degrees.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Pos {
+    /// X, mm.
     pub x: f64,
+    /// Y, mm.
     pub y: f64,
+    /// Z, mm.
     pub z: f64,
+    /// A, degrees.
     pub a: f64,
+    /// B, degrees.
     pub b: f64,
+    /// C, degrees.
     pub c: f64,
 }
 
 impl Pos {
+    /// The origin.
     pub const ZERO: Pos = Pos {
         x: 0.0,
         y: 0.0,
@@ -48,6 +55,7 @@ impl Pos {
         c: 0.0,
     };
 
+    /// A point with only linear axes set (mm).
     pub fn xyz(x: f64, y: f64, z: f64) -> Pos {
         Pos {
             x,
@@ -57,10 +65,12 @@ impl Pos {
         }
     }
 
+    /// X Y Z A B C in that order.
     pub fn to_array(self) -> [f64; 6] {
         [self.x, self.y, self.z, self.a, self.b, self.c]
     }
 
+    /// From X Y Z A B C in that order.
     pub fn from_array(v: [f64; 6]) -> Pos {
         Pos {
             x: v[0],
@@ -82,10 +92,13 @@ impl Pos {
 /// `Plane::axes()` indexes [`Pos::to_array`] as (first in-plane, second in-plane, normal).
 pub use oficina_geom::Plane;
 
+/// Length units of the program.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Units {
+    /// Millimetres (G21).
     #[default]
     Mm,
+    /// Inches (G20).
     Inch,
 }
 
@@ -99,6 +112,7 @@ impl Units {
     }
 }
 
+/// How the feed rate is read (G93 / G94 / G95).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum FeedMode {
     /// G94: feed is mm/min.
@@ -123,9 +137,12 @@ pub enum PathControlMode {
     Continuous,
 }
 
+/// Spindle rotation direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpindleDir {
+    /// M3.
     Clockwise,
+    /// M4.
     CounterClockwise,
 }
 
@@ -144,27 +161,42 @@ pub enum OrientDir {
 /// One canonical operation. Lengths in mm, machine coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub enum CanonOp {
+    /// G20 / G21: the program's length units.
     UseLengthUnits(Units),
     /// Work coordinate system `index` (1 = G54 … 9 = G59.3) is active with this offset.
     SetG5xOffset {
+        /// 1 = G54 … 9 = G59.3.
         index: u8,
+        /// The system's origin in machine coordinates.
         offset: Pos,
     },
+    /// G92 offset in force.
     SetG92Offset(Pos),
     /// Rotation of the XY plane of the active coordinate system, degrees.
     SetXyRotation(f64),
+    /// G17 / G18 / G19.
     SelectPlane(Plane),
+    /// Feed rate: mm/min (G94), 1/min (G93) or mm per revolution (G95).
     SetFeedRate(f64),
+    /// How the feed rate is read.
     SetFeedMode(FeedMode),
+    /// G61 / G61.1 / G64 with its tolerance.
     SetMotionControlMode {
+        /// Exact stop, exact path or blending.
         mode: PathControlMode,
+        /// G64 P: blending tolerance, mm (0 = as fast as possible).
         tolerance: f64,
     },
+    /// G64 Q: LinuxCNC's naive-CAM collinearity tolerance, mm.
     SetNaivecamTolerance(f64),
+    /// G0: rapid to `to`.
     StraightTraverse {
+        /// End point, machine coordinates.
         to: Pos,
     },
+    /// G1: straight feed to `to`.
     StraightFeed {
+        /// End point, machine coordinates.
         to: Pos,
     },
     /// Arc (or helix) in `plane` ending at `end`, about `center` given as the two in-plane
@@ -176,20 +208,31 @@ pub enum CanonOp {
     /// Then `plane` and `center` hold in the arc's own frame, the machine frame turned by
     /// `rotation` about Z ([`to_arc_frame`] / [`from_arc_frame`]). 0 for every other arc.
     ArcFeed {
+        /// Plane of the arc (in its own frame when `rotation` ≠ 0).
         plane: Plane,
+        /// End point, machine coordinates.
         end: Pos,
+        /// Centre, the two in-plane coordinates.
         center: [f64; 2],
+        /// Direction and turns (see above).
         turns: i32,
+        /// Rotation of the arc's plane about machine Z, degrees.
         rotation: f64,
     },
+    /// G4: wait this many seconds.
     Dwell(f64),
+    /// S: spindle speed, rpm.
     SetSpindleSpeed(f64),
+    /// M3 / M4.
     StartSpindle(SpindleDir),
+    /// M5.
     StopSpindle,
     /// M19 R P: turn the spindle to `angle` degrees and hold it there; the spindle no
     /// longer turns (M3/M4 start it again).
     OrientSpindle {
+        /// Orientation angle, degrees.
         angle: f64,
+        /// Which way the spindle turns to it.
         dir: OrientDir,
     },
     /// M19 Q: wait up to this many seconds for the orientation to complete.
@@ -198,25 +241,38 @@ pub enum CanonOp {
     /// advances `pitch` mm along its own path per spindle revolution, so its speed is
     /// pitch × spindle speed (mm/min) and no feed rate applies.
     StartSpeedFeedSync {
+        /// Advance per spindle revolution, mm.
         pitch: f64,
     },
+    /// Ends [`CanonOp::StartSpeedFeedSync`].
     StopSpeedFeedSync,
     /// G33.1 rigid tapping: a synchronised feed from the current point to `to`, the spindle
     /// reversed there, and the same path back; the move ends where it started.
     RigidTap {
+        /// Bottom of the tap, machine coordinates.
         to: Pos,
     },
+    /// M7.
     MistOn,
+    /// M9 (mist off).
     MistOff,
+    /// M8.
     FloodOn,
+    /// M9 (flood off).
     FloodOff,
+    /// T: the tool to load next.
     SelectTool(u32),
+    /// M6: load this tool.
     ChangeTool(u32),
     /// Tool length offset (X, Y, Z… components, mm).
     UseToolLengthOffset(Pos),
+    /// M50: feed override allowed or not.
     EnableFeedOverride(bool),
+    /// M51: spindle speed override allowed or not.
     EnableSpeedOverride(bool),
+    /// M52: adaptive feed on or off.
     EnableAdaptiveFeed(bool),
+    /// M53: feed hold allowed or not.
     EnableFeedHold(bool),
     /// M0
     ProgramStop,
@@ -226,6 +282,7 @@ pub enum CanonOp {
     ProgramEnd,
     /// `(MSG,…)`: shown to the operator.
     Message(String),
+    /// A comment in the program.
     Comment(String),
 }
 
@@ -251,7 +308,9 @@ fn turn_about_z(p: [f64; 3], degrees: f64) -> [f64; 3] {
 /// A canonical operation tagged with the 1-based source line it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Canon {
+    /// 1-based source line.
     pub line: u32,
+    /// The operation.
     pub op: CanonOp,
 }
 

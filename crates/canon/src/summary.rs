@@ -8,7 +8,9 @@ use oficina_geom::Helix;
 /// Axis-aligned box of the linear axes; empty until the first point is added.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Extents {
+    /// Smallest X, Y, Z, mm.
     pub min: [f64; 3],
+    /// Largest X, Y, Z, mm.
     pub max: [f64; 3],
 }
 
@@ -22,10 +24,12 @@ impl Default for Extents {
 }
 
 impl Extents {
+    /// No point added yet.
     pub fn is_empty(&self) -> bool {
         self.min[0] > self.max[0]
     }
 
+    /// Grows the box to hold `p`.
     pub fn add(&mut self, p: [f64; 3]) {
         for i in 0..3 {
             self.min[i] = self.min[i].min(p[i]);
@@ -34,19 +38,26 @@ impl Extents {
     }
 }
 
+/// What a program does, at a glance (see the module comment).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Summary {
     /// Where the rapid moves go (their end points and start points).
     pub rapid_extents: Extents,
     /// Where the tool moves while cutting (lines and the whole swept arcs).
     pub feed_extents: Extents,
+    /// Rapid path length, mm.
     pub rapid_length: f64,
+    /// Feed path length, mm.
     pub feed_length: f64,
+    /// Rapid moves.
     pub rapid_moves: u64,
+    /// Feed moves, arcs included.
     pub feed_moves: u64,
+    /// Arc moves among them.
     pub arcs: u64,
     /// Tools in the order they were first selected or changed to.
     pub tools: Vec<u32>,
+    /// Total dwell, seconds.
     pub dwell_seconds: f64,
     /// Feed moves at their programmed feed plus rapids at the machine's top speed, no
     /// acceleration, every move at least as long as its [`MoveBound`]: a lower bound of the
@@ -61,6 +72,7 @@ pub struct Summary {
 /// at least the difference of its end values. Rapids take exactly this long in the
 /// feed-rate figure; feed moves take at least this long.
 pub trait MoveBound {
+    /// The least time from `from` to `to`, seconds.
     fn min_seconds(&self, from: [f64; 3], to: [f64; 3]) -> f64;
 }
 
@@ -108,6 +120,7 @@ impl Summarizer {
         }
     }
 
+    /// Folds one more op into the summary.
     pub fn add(&mut self, op: &CanonOp) {
         let s = &mut self.summary;
         match op {
@@ -199,6 +212,7 @@ impl Summarizer {
         self.summary.feed_rate_seconds += at_feed.max(least);
     }
 
+    /// The summary of every op added.
     pub fn finish(self) -> Summary {
         self.summary
     }
