@@ -10,6 +10,7 @@ pub(crate) const MAX_PIXELS: u64 = 64_000_000;
 /// At most this many hatch lines per layer.
 const MAX_LINES: f64 = 200_000.0;
 
+/// How a picture becomes hatch lines.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hatching {
     /// Width of one pixel on paper, mm.
@@ -20,18 +21,29 @@ pub struct Hatching {
     pub layers: usize,
 }
 
+/// Why a picture could not be hatched.
 #[derive(Debug, thiserror::Error)]
 pub enum HatchError {
+    /// The picture could not be read.
     #[error("{file}: {msg}")]
-    Image { file: String, msg: String },
+    Image {
+        /// The picture's file.
+        file: String,
+        /// What went wrong.
+        msg: String,
+    },
+    /// A setting out of range; says which.
     #[error("{0}")]
     Settings(String),
 }
 
 /// A grayscale picture, row 0 at the top, 0 = black.
 pub struct Gray<'a> {
+    /// Pixels per row.
     pub width: usize,
+    /// Rows.
     pub height: usize,
+    /// `width × height` gray levels, row by row.
     pub pixels: &'a [u8],
 }
 

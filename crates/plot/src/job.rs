@@ -19,6 +19,7 @@ pub enum Format {
     Hpgl,
 }
 
+/// Everything a plot job is made with besides the drawing and the machine.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Settings {
     /// Uniform scale applied first.
@@ -28,9 +29,11 @@ pub struct Settings {
     pub at: Option<Point>,
     /// The sheet (width, height) in mm, its lower-left corner where the drawing's is put.
     pub paper: Option<(f64, f64)>,
+    /// Stroke optimisation; `None` keeps the strokes as drawn.
     pub optimise: Option<Optimise>,
     /// Joint ramps shorter than this many steps are refused (the seed arm's oscillation).
     pub min_ramp_steps: f64,
+    /// The program's language.
     pub format: Format,
     /// Sub-segment length for joint-space programs, mm.
     pub joint_piece: f64,
@@ -50,12 +53,18 @@ impl Default for Settings {
     }
 }
 
+/// A plot ready to send: the program, its checks and its preview.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Prepared {
+    /// The placed, optimised strokes.
     pub plot: Plot,
+    /// The program text.
     pub program: String,
+    /// What the optimisation changed, if it ran.
     pub report: Option<Report>,
+    /// Each joint's acceleration ramp.
     pub ramps: Vec<Ramp>,
+    /// SVG preview of the strokes.
     pub preview: String,
     /// Bounding box of the placed drawing (min x, min y, max x, max y), mm.
     pub bounds: [f64; 4],

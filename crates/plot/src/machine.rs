@@ -11,16 +11,30 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum PenLift {
     /// A Z axis: `down` and `up` heights, mm.
-    Z { down: f64, up: f64 },
+    Z {
+        /// Drawing height, mm.
+        down: f64,
+        /// Lifted height, mm.
+        up: f64,
+    },
     /// A hobby servo on the spindle PWM (grbl): `M3 S<down>` to draw, `M5` to lift.
-    Servo { down: f64 },
+    Servo {
+        /// The S value that puts the pen down.
+        down: f64,
+    },
     /// Lines of G-code sent as they are (e.g. `M280 P0 S30` on Marlin).
-    Command { down: String, up: String },
+    Command {
+        /// The line that puts the pen down.
+        down: String,
+        /// The line that lifts it.
+        up: String,
+    },
 }
 
 /// What the generated programs and the checks need to know about the machine.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PenMachine {
+    /// How the pen goes down and up.
     pub lift: PenLift,
     /// Drawing feed, mm/min.
     pub draw_feed: f64,
@@ -52,29 +66,47 @@ impl PenMachine {
 /// Why a plot cannot be drawn on this machine.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PlotError {
+    /// A point the machine cannot reach.
     #[error("pen '{pen}', stroke {stroke}: point ({x:.3}, {y:.3}) mm {why}")]
     OutOfReach {
+        /// The pen's name.
         pen: String,
+        /// Stroke index within the pen.
         stroke: usize,
+        /// X, mm.
         x: f64,
+        /// Y, mm.
         y: f64,
+        /// Why it is out of reach.
         why: String,
     },
+    /// The drawing does not fit on the paper.
     #[error("the drawing ({w:.1} × {h:.1} mm at {x0:.1}, {y0:.1}) does not fit the paper {pw} × {ph} mm at the origin")]
     OffPaper {
+        /// Drawing width, mm.
         w: f64,
+        /// Drawing height, mm.
         h: f64,
+        /// Drawing's lower-left X, mm.
         x0: f64,
+        /// Drawing's lower-left Y, mm.
         y0: f64,
+        /// Paper width, mm.
         pw: f64,
+        /// Paper height, mm.
         ph: f64,
     },
+    /// A joint's acceleration ramp is too short for a steady arm.
     #[error("joint {joint}: the acceleration ramp to full speed is {steps:.0} steps, fewer than the {min} the plot needs (raise max_rate or lower acceleration in the profile; a short ramp makes a heavy arm oscillate, seed 003)")]
     ShortRamp {
+        /// The joint's name.
         joint: &'static str,
+        /// Steps of the ramp.
         steps: f64,
+        /// Steps the plot needs at least.
         min: f64,
     },
+    /// The drawing has no strokes.
     #[error("nothing to draw: the drawing has no strokes")]
     Empty,
 }
@@ -162,10 +194,13 @@ pub fn check_paper(plot: &crate::Plot, w: f64, h: f64) -> Result<(), PlotError> 
 /// One joint's acceleration ramp from rest to full speed: v/a seconds over v²/(2a) units.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ramp {
+    /// The joint's name.
     pub joint: &'static str,
+    /// Ramp time, seconds.
     pub seconds: f64,
     /// In the joint's file units (degrees for the polar arm, mm otherwise).
     pub distance: f64,
+    /// Ramp length in motor steps.
     pub steps: f64,
 }
 

@@ -7,6 +7,7 @@ use crate::merge::merge;
 use crate::order::{apply, nearest_neighbour, two_opt};
 use crate::strokes::{Lengths, Plot};
 
+/// How strokes are merged, simplified, de-duplicated and reordered.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Optimise {
     /// Ends closer than this (mm) are joined; 0 turns merging off. vpype's default is 0.05.
@@ -19,6 +20,7 @@ pub struct Optimise {
     pub reorder: bool,
     /// 2-opt looks this many strokes ahead; 0 skips 2-opt.
     pub two_opt_window: usize,
+    /// 2-opt passes at most.
     pub two_opt_passes: usize,
 }
 
@@ -35,13 +37,18 @@ impl Default for Optimise {
     }
 }
 
+/// What the optimisation changed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Report {
+    /// Lengths before.
     pub before: Lengths,
+    /// Lengths after.
     pub after: Lengths,
+    /// Duplicate strokes removed.
     pub duplicates: usize,
     /// Points before and after simplification.
     pub points_before: usize,
+    /// Points after simplification.
     pub points_after: usize,
 }
 

@@ -39,6 +39,7 @@ pub const SEED_SECONDS: [[f64; 3]; 5] = [
 /// The stop-start model's sub-segment, mm (the seed leaves it to the user).
 pub const STOP_PIECE: f64 = 5.0;
 
+/// The seed's three figure sets, in table order.
 pub const FIGURES: [&str; 3] = ["squares", "triangles", "hexagons"];
 
 fn polygon(c: Point, sides: usize, side: f64, turn: f64) -> Stroke {
@@ -78,10 +79,13 @@ pub fn figures(fig: usize, c: Point) -> Plot {
 /// One row of the table: our planned seconds and the seed's for each figure set.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
+    /// Where on the sheet.
     pub place: &'static str,
     /// Distance of the place from the pivot, mm.
     pub radius: f64,
+    /// Our planned seconds for each figure set.
     pub planned: [f64; 3],
+    /// The seed's seconds for each figure set.
     pub seed: [f64; 3],
     /// Pen-down length of each set, mm.
     pub drawn: [f64; 3],

@@ -11,6 +11,7 @@ pub type Stroke = Vec<Point>;
 pub struct Pen {
     /// The layer name or `#rrggbb` colour this pen draws.
     pub name: String,
+    /// The strokes in drawing order.
     pub strokes: Vec<Stroke>,
 }
 
@@ -26,6 +27,7 @@ pub enum PenBy {
 /// Pens in the order they are first met.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Plot {
+    /// The pens, in the order first met.
     pub pens: Vec<Pen>,
 }
 
@@ -33,11 +35,15 @@ pub struct Plot {
 /// strokes of each pen (not from or back to home), as vpype's `stat` does.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Lengths {
+    /// Strokes counted.
     pub strokes: usize,
+    /// Pen-down length, mm.
     pub pen_down: f64,
+    /// Pen-up travel, mm.
     pub pen_up: f64,
 }
 
+/// Length of a polyline, mm.
 pub fn polyline_length(s: &[Point]) -> f64 {
     s.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
@@ -70,6 +76,7 @@ impl Plot {
         plot
     }
 
+    /// The pen named `name`, added at the end if new.
     pub fn pen_mut(&mut self, name: &str) -> &mut Pen {
         match self.pens.iter().position(|p| p.name == name) {
             Some(i) => &mut self.pens[i],
@@ -83,10 +90,12 @@ impl Plot {
         }
     }
 
+    /// Every stroke of every pen, in order.
     pub fn strokes(&self) -> impl Iterator<Item = &Stroke> {
         self.pens.iter().flat_map(|p| p.strokes.iter())
     }
 
+    /// Pen-down and pen-up lengths of the plot.
     pub fn lengths(&self) -> Lengths {
         let mut l = Lengths::default();
         for pen in &self.pens {
