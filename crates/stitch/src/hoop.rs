@@ -10,24 +10,31 @@ use std::fmt;
 /// mm kept between any needle point and the inside of the ring.
 pub const CLEARANCE: f64 = 5.0;
 
+/// The inside of a hoop's ring.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum HoopShape {
+    /// A round ring.
     Round {
+        /// Inside diameter, mm.
         diameter: f64,
     },
     /// Inside sizes, `width` along X ≥ `height` along Y.
     Oval {
+        /// Inside width along X, mm.
         width: f64,
+        /// Inside height along Y, mm.
         height: f64,
     },
 }
 
+/// A hoop of the seed's list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hoop {
     /// The seed's code: C01..C11 round, O01..O06 oval.
     pub code: &'static str,
     /// The MARCO type number.
     pub marco_type: u8,
+    /// The ring's inside.
     pub shape: HoopShape,
 }
 
@@ -77,6 +84,7 @@ impl Hoop {
         }
     }
 
+    /// Area inside the ring, mm².
     pub fn area(&self) -> f64 {
         match self.shape {
             HoopShape::Round { diameter } => std::f64::consts::PI * diameter * diameter / 4.0,
@@ -155,9 +163,13 @@ impl fmt::Display for Hoop {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("the design leaves hoop {hoop}: the point ({x:.1}, {y:.1}) mm is {overflow:.1} mm beyond its sewing field ({CLEARANCE} mm inside the ring)")]
 pub struct HoopError {
+    /// The hoop's code.
     pub hoop: String,
+    /// X of the point, mm.
     pub x: f64,
+    /// Y of the point, mm.
     pub y: f64,
+    /// How far beyond the sewing field, mm.
     pub overflow: f64,
 }
 

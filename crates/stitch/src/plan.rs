@@ -14,14 +14,19 @@ pub enum Kind {
     Stop,
 }
 
+/// One entry of a plan: a point and what happens there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stitch {
+    /// X, mm.
     pub x: f64,
+    /// Y, mm (y up).
     pub y: f64,
+    /// Stitch, jump, trim or stop.
     pub kind: Kind,
 }
 
 impl Stitch {
+    /// An entry of `kind` at (`x`, `y`) mm.
     pub fn new(x: f64, y: f64, kind: Kind) -> Stitch {
         Stitch { x, y, kind }
     }
@@ -30,11 +35,14 @@ impl Stitch {
 /// A thread: its colour and, where a file or design names it, a name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Thread {
+    /// Red, green, blue.
     pub rgb: [u8; 3],
+    /// The thread's name; empty when none is known.
     pub name: String,
 }
 
 impl Thread {
+    /// An unnamed thread of this colour.
     pub fn rgb(r: u8, g: u8, b: u8) -> Thread {
         Thread {
             rgb: [r, g, b],
@@ -51,24 +59,33 @@ impl Thread {
 /// The stitches sewn with one thread; a colour change separates consecutive blocks.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ColorBlock {
+    /// The thread sewn.
     pub thread: Thread,
+    /// Its entries in sewing order.
     pub stitches: Vec<Stitch>,
 }
 
 /// A whole design: colour blocks in sewing order; the end is implicit after the last block.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StitchPlan {
+    /// The design's name.
     pub name: String,
+    /// Colour blocks in sewing order.
     pub blocks: Vec<ColorBlock>,
 }
 
 /// Counts and lengths of a plan (the independent figures of the production sheet).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Counts {
+    /// Sewn stitches.
     pub stitches: usize,
+    /// Jumps.
     pub jumps: usize,
+    /// Trims.
     pub trims: usize,
+    /// Stops.
     pub stops: usize,
+    /// Colour changes (one fewer than the blocks).
     pub color_changes: usize,
     /// Per block: (sewn stitches, thread length in mm along the sewn stitches).
     pub per_block: Vec<(usize, f64)>,
@@ -85,6 +102,7 @@ impl StitchPlan {
             .flat_map(|(b, block)| block.stitches.iter().map(move |s| (b, s)))
     }
 
+    /// No stitch in any block.
     pub fn is_empty(&self) -> bool {
         self.blocks.iter().all(|b| b.stitches.is_empty())
     }

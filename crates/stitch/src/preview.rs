@@ -4,6 +4,7 @@ use crate::hoop::{Hoop, HoopShape, CLEARANCE};
 use crate::plan::{Kind, StitchPlan};
 use std::fmt::Write;
 
+/// An SVG picture of the plan's stitches, the hoop's ring drawn when given.
 pub fn preview_svg(plan: &StitchPlan, hoop: Option<&Hoop>) -> String {
     let mut b = plan.bounds().unwrap_or([0.0, 0.0, 1.0, 1.0]);
     if let Some(h) = hoop {

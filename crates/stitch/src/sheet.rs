@@ -8,26 +8,37 @@ use crate::plan::{Counts, StitchPlan};
 use crate::table::{run, HeadSpeed, Pauses, RunReport, Table};
 use std::fmt::Write;
 
+/// One thread's line on the sheet.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ThreadLine {
+    /// Its colour, `#rrggbb`.
     pub hex: String,
+    /// Stitches sewn with it.
     pub stitches: usize,
     /// Along the sewn stitches, m.
     pub length_m: f64,
 }
 
+/// The production sheet of a design: counts, threads, hoop, and run times.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sheet {
+    /// The design's name.
     pub name: String,
+    /// Stitch, jump, trim, stop and colour-change counts.
     pub counts: Counts,
+    /// Threads in sewing order.
     pub threads: Vec<ThreadLine>,
     /// Width and height of the design, mm.
     pub size: [f64; 2],
+    /// The hoop asked for (checked) or the smallest that fits; or why the design leaves it.
     pub hoop: Result<Hoop, HoopError>,
+    /// The run on the table.
     pub run: RunReport,
     /// The fixed head speed the run used, if one.
     pub fixed_ppm: Option<f64>,
+    /// The table's name.
     pub table: String,
+    /// How many pieces the time is given for.
     pub pieces: u32,
 }
 
@@ -86,6 +97,7 @@ pub fn duration(s: f64) -> String {
 }
 
 impl Sheet {
+    /// The sheet as plain text.
     pub fn text(&self) -> String {
         let mut t = String::new();
         let c = &self.counts;
@@ -163,6 +175,7 @@ impl Sheet {
         t
     }
 
+    /// The sheet as an HTML page.
     pub fn html(&self) -> String {
         let esc = |s: &str| {
             s.replace('&', "&amp;")

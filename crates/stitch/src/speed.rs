@@ -8,8 +8,11 @@
 /// One speed level: code, head speed in stitches per minute, longest stitch (mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedCode {
+    /// The speed code.
     pub code: u8,
+    /// Head speed, stitches per minute.
     pub ppm: f64,
+    /// Longest stitch at this speed, mm.
     pub max_stitch: f64,
 }
 

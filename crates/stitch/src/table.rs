@@ -19,6 +19,7 @@ use crate::speed::{speed_code, SPEED_CODES};
 /// An XY embroidery table with its needle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
+    /// The table's name.
     pub name: String,
     /// mm/s.
     pub max_speed: f64,
@@ -77,15 +78,20 @@ impl Table {
 /// Head speed: the seed's table per section, or one fixed speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum HeadSpeed {
+    /// The seed's speed table, by stitch length.
     Table,
+    /// One speed, stitches per minute.
     Fixed(f64),
 }
 
 /// Seconds for the parts of a run that are not sewing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pauses {
+    /// One trim, seconds.
     pub trim: f64,
+    /// One colour change, seconds.
     pub color_change: f64,
+    /// One stop, seconds.
     pub stop: f64,
 }
 
@@ -105,10 +111,15 @@ impl Default for Pauses {
 pub struct Fault {
     /// Index of the entry in sewing order (from 0).
     pub index: usize,
+    /// Index of its colour block.
     pub block: usize,
+    /// Stitch length, mm.
     pub length: f64,
+    /// Head speed, stitches per minute.
     pub ppm: f64,
+    /// Time the move needs, seconds.
     pub move_seconds: f64,
+    /// Time the needle is up, seconds.
     pub window_seconds: f64,
 }
 
@@ -119,10 +130,13 @@ pub struct RunReport {
     pub sewing_seconds: f64,
     /// Hoop moves with the needle stopped.
     pub jump_seconds: f64,
+    /// Trims, stops and colour changes, seconds.
     pub pause_seconds: f64,
+    /// The whole run, seconds.
     pub total_seconds: f64,
     /// Sewn stitches per speed code (code, stitches, ppm), fastest first.
     pub by_code: Vec<(u8, usize, f64)>,
+    /// Stitches the table could not finish in time.
     pub faults: Vec<Fault>,
     /// Points beyond the table's travel: (entry index, x, y).
     pub out_of_travel: Vec<(usize, f64, f64)>,

@@ -31,6 +31,7 @@ impl Format {
     /// Every format Oficina writes and reads.
     pub const EVERY: [Format; 3] = [Format::Dst, Format::Exp, Format::SeedRam];
 
+    /// The format's name for messages ("DST").
     pub fn name(self) -> &'static str {
         match self {
             Format::Dst => "DST",
@@ -39,6 +40,7 @@ impl Format {
         }
     }
 
+    /// The usual file extension, without the dot.
     pub fn extension(self) -> &'static str {
         match self {
             Format::Dst => "dst",
@@ -63,6 +65,7 @@ impl Format {
         }
     }
 
+    /// The plan as a file of this format.
     pub fn write(self, plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
         Ok(match self {
             Format::Dst => dst::write(&plan.name, &records::to_records(plan, dst::MAX_STEP, self)?),
@@ -106,8 +109,11 @@ impl fmt::Display for Format {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{format} file: byte {offset}: {message}")]
 pub struct FormatError {
+    /// The file's format.
     pub format: Format,
+    /// Byte offset of the problem.
     pub offset: usize,
+    /// What is wrong.
     pub message: String,
 }
 

@@ -6,23 +6,33 @@ use crate::plan::{ColorBlock, Kind, Stitch, StitchPlan, Thread};
 /// What a record does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Op {
+    /// A sewn stitch.
     Stitch,
+    /// A move with the needle up.
     Jump,
+    /// Cut the thread.
     Trim,
+    /// Change to the next colour.
     ColorChange,
+    /// Stop for the operator.
     Stop,
+    /// End of the design.
     End,
 }
 
 /// One record: an increment in 0.1 mm (y up) and its command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rec {
+    /// X increment, 0.1 mm.
     pub dx: i32,
+    /// Y increment, 0.1 mm (y up).
     pub dy: i32,
+    /// The command.
     pub op: Op,
 }
 
 impl Rec {
+    /// A record of `op` moving (`dx`, `dy`) in 0.1 mm.
     pub fn new(dx: i32, dy: i32, op: Op) -> Rec {
         Rec { dx, dy, op }
     }

@@ -25,9 +25,11 @@ const SHORT: i64 = 62;
 /// The program's header fields besides the stitches.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SeedHeader {
+    /// The program number.
     pub program: u16,
     /// Zero-Peça from Zero-Máquina, mm (rounded to steps).
     pub start: [f64; 2],
+    /// The hoop the program names, if any.
     pub hoop: Option<Hoop>,
 }
 

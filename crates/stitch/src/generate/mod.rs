@@ -32,8 +32,11 @@ pub struct Params {
     pub satin_spacing: f64,
     /// Strokes at least this wide sew as satin (the seed's LARGURA starts at 1 mm).
     pub satin_min_width: f64,
+    /// Distance between tatami rows, mm.
     pub fill_spacing: f64,
+    /// Tatami stitch length, mm.
     pub fill_stitch_length: f64,
+    /// Direction of the tatami rows, degrees from X.
     pub fill_angle_deg: f64,
     /// Rows per stagger cycle of the tatami grid.
     pub stagger: u32,
@@ -151,8 +154,11 @@ fn estimate_stitches(drawing: &Drawing, p: &Params) -> f64 {
 /// Stitch type of a shape, in the order they are sewn within a colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum ShapeKind {
+    /// Tatami fill.
     Fill,
+    /// Satin column.
     Satin,
+    /// Running stitch.
     Running,
 }
 
@@ -219,9 +225,13 @@ impl Shape {
 /// How many shapes of each kind, for the report.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Generated {
+    /// The stitches.
     pub plan: StitchPlan,
+    /// Shapes sewn as fill.
     pub fills: usize,
+    /// Shapes sewn as satin.
     pub satins: usize,
+    /// Shapes sewn as running stitch.
     pub runnings: usize,
 }
 
