@@ -5,10 +5,13 @@
 /// rows so that the picture's top row lands at the largest Y and the carving is not mirrored.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Heightmap {
+    /// Columns (along X).
     pub width: usize,
+    /// Rows (along Y).
     pub height: usize,
     /// Grid spacing in mm (X and Y alike).
     pub pixel: f64,
+    /// Heights, mm, row-major: `width × height` values, row 0 at Y = 0.
     pub z: Vec<f32>,
 }
 
@@ -44,11 +47,13 @@ impl Heightmap {
         }
     }
 
+    /// The height at column `ix`, row `iy`, mm.
     #[inline]
     pub fn at(&self, ix: usize, iy: usize) -> f32 {
         self.z[iy * self.width + ix]
     }
 
+    /// Row `iy`, mm.
     pub fn row(&self, iy: usize) -> &[f32] {
         &self.z[iy * self.width..(iy + 1) * self.width]
     }

@@ -31,7 +31,9 @@ pub struct Label {
 /// An imported HPGL file: the drawing and its labels.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Hpgl {
+    /// The drawing, pens as layers.
     pub imported: Imported,
+    /// The `LB` labels, placed.
     pub labels: Vec<Label>,
 }
 

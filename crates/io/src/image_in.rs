@@ -31,6 +31,7 @@ pub struct DepthMapping {
 }
 
 impl DepthMapping {
+    /// Black is `max_depth` mm deep, white the stock top; no inversion or stretching.
     pub fn new(max_depth: f64) -> DepthMapping {
         DepthMapping {
             max_depth,
@@ -40,44 +41,85 @@ impl DepthMapping {
     }
 }
 
+/// Why an elevation image could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum ImageError {
+    /// The file cannot be read.
     #[error("{path}: cannot read the file: {source}")]
     Read {
+        /// The file.
         path: String,
+        /// The I/O error.
         source: std::io::Error,
     },
+    /// The file is empty.
     #[error("{path}: the file is empty (0 bytes); give a PNG, JPEG or TIFF elevation image")]
-    Empty { path: String },
+    Empty {
+        /// The file.
+        path: String,
+    },
+    /// The file is larger than the memory budget.
     #[error("{path}: the file is {size} bytes, over the memory budget of {budget} bytes")]
     FileTooLarge {
+        /// The file.
         path: String,
+        /// Its size, bytes.
         size: u64,
+        /// The budget, bytes.
         budget: u64,
     },
+    /// Not a PNG, JPEG or TIFF.
     #[error("{path}: not a readable PNG, JPEG or TIFF image: {detail}")]
-    Format { path: String, detail: String },
+    Format {
+        /// The file.
+        path: String,
+        /// What the decoder said.
+        detail: String,
+    },
+    /// Decoding would take more memory than the budget.
     #[error(
         "{path}: the image is {width} × {height} pixels and would need about {needed} MB to \
          process, over the budget of {budget} MB; scale it down first"
     )]
     TooBig {
+        /// The file.
         path: String,
+        /// Width, pixels.
         width: u32,
+        /// Height, pixels.
         height: u32,
+        /// Memory needed, MB.
         needed: u64,
+        /// The budget, MB.
         budget: u64,
     },
+    /// The image has no pixels.
     #[error("{path}: the image has no pixels ({width} × {height})")]
     NoPixels {
+        /// The file.
         path: String,
+        /// Width, pixels.
         width: u32,
+        /// Height, pixels.
         height: u32,
     },
+    /// The image is truncated or corrupt.
     #[error("{path}: cannot decode the image (truncated or corrupt?): {detail}")]
-    Decode { path: String, detail: String },
+    Decode {
+        /// The file.
+        path: String,
+        /// What the decoder said.
+        detail: String,
+    },
+    /// A parameter is not a finite number above 0.
     #[error("{what} must be a finite number above 0, got {value}")]
-    BadParameter { what: &'static str, value: f64 },
+    BadParameter {
+        /// The parameter.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A depth (mm) beyond any part.
     #[error("a depth of {0} mm is beyond any part (at most {MAX_DEPTH_MM} mm)")]
     TooDeep(f64),
 }

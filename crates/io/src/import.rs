@@ -20,6 +20,7 @@ pub struct Unsupported {
 }
 
 impl Unsupported {
+    /// Counts one skipped `element` of `kind`.
     pub fn add(&mut self, kind: &str, element: impl Into<String>) {
         *self.counts.entry(kind.to_string()).or_default() += 1;
         let ex = self.examples.entry(kind.to_string()).or_default();
@@ -28,10 +29,12 @@ impl Unsupported {
         }
     }
 
+    /// Entities skipped, all kinds.
     pub fn total(&self) -> usize {
         self.counts.values().sum()
     }
 
+    /// Nothing was skipped.
     pub fn is_empty(&self) -> bool {
         self.counts.is_empty()
     }
@@ -60,7 +63,9 @@ impl fmt::Display for Unsupported {
 /// An imported drawing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Imported {
+    /// What could be read.
     pub drawing: Drawing,
+    /// What was skipped.
     pub unsupported: Unsupported,
     /// Loose points (DXF POINT, the seed file's point list).
     pub points: Vec<Point>,
@@ -70,13 +75,16 @@ pub struct Imported {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{file}: {location}: {message}")]
 pub struct ImportError {
+    /// The file.
     pub file: String,
     /// Line, element id or entity handle.
     pub location: String,
+    /// What is wrong.
     pub message: String,
 }
 
 impl ImportError {
+    /// An error in `file` at `location`.
     pub fn new(file: &str, location: impl Into<String>, message: impl Into<String>) -> ImportError {
         ImportError {
             file: file.to_string(),

@@ -3,39 +3,65 @@
 
 use crate::Heightmap;
 
+/// Why a raw height field could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum RawError {
+    /// The file cannot be read.
     #[error("{path}: cannot read the file: {source}")]
     Read {
+        /// The file.
         path: String,
+        /// The I/O error.
         source: std::io::Error,
     },
+    /// The size is not a whole number of rows.
     #[error(
         "{path}: {bytes} bytes is not a whole number of {width}-sample f32 rows ({row} bytes each)"
     )]
     Shape {
+        /// The file.
         path: String,
+        /// Its size, bytes.
         bytes: u64,
+        /// Samples per row.
         width: usize,
+        /// Bytes per row.
         row: u64,
     },
+    /// The file is empty.
     #[error("{path}: the height field is empty")]
-    Empty { path: String },
+    Empty {
+        /// The file.
+        path: String,
+    },
+    /// The file is larger than the memory budget.
     #[error("{path}: {bytes} bytes is over the memory budget of {budget} bytes")]
     TooBig {
+        /// The file.
         path: String,
+        /// Its size, bytes.
         bytes: u64,
+        /// The budget, bytes.
         budget: u64,
     },
+    /// A sample is NaN or infinite.
     #[error("{path}: sample at row {row}, column {col} is {value}; heights must be finite")]
     NotFinite {
+        /// The file.
         path: String,
+        /// Row.
         row: usize,
+        /// Column.
         col: usize,
+        /// The value given.
         value: f32,
     },
+    /// A parameter is not above 0.
     #[error("{what} must be above 0")]
-    BadParameter { what: &'static str },
+    BadParameter {
+        /// The parameter.
+        what: &'static str,
+    },
 }
 
 /// Loads `width`-wide rows of f32 heights from `path`, with `pixel` mm spacing.

@@ -29,47 +29,73 @@ const MAX_COUNT: usize = 50_000_000;
 pub enum SeedEntity {
     /// 1: centre, start, end, radius, sign (+1 counter-clockwise).
     Arc {
+        /// Centre.
         center: Point,
+        /// Start point.
         start: Point,
+        /// End point.
         end: Point,
+        /// Radius, mm.
         radius: f64,
+        /// +1 counter-clockwise, −1 clockwise.
         sign: f64,
     },
     /// 2: an arc, then a line to `line_end`.
     ArcLine {
+        /// Centre.
         center: Point,
+        /// Start point.
         start: Point,
+        /// End point of the arc.
         end: Point,
+        /// End point of the line.
         line_end: Point,
+        /// +1 counter-clockwise, −1 clockwise.
         sign: f64,
     },
     /// 3: two arcs, start → middle about `c1`, middle → end about `c2`.
     TwoArcs {
+        /// Centre of the first arc.
         c1: Point,
+        /// Centre of the second arc.
         c2: Point,
+        /// Start point.
         start: Point,
+        /// Where the arcs meet.
         middle: Point,
+        /// End point.
         end: Point,
+        /// Direction of each arc (+1 counter-clockwise).
         signs: [f64; 2],
     },
     /// 4: polyline (open, or closed when its last vertex repeats the first).
     Polyline(Vec<Point>),
     /// 6: regular polygon.
     Polygon {
+        /// Centre.
         center: Point,
+        /// One vertex.
         vertex: Point,
+        /// Number of sides.
         sides: u32,
     },
     /// 19: offset of a tangent-circle contour: (start, centre, radius, sign) per arc, then
     /// the closing point.
     ArcChain {
+        /// (start, centre, radius, sign) of each arc.
         arcs: Vec<(Point, Point, f64, f64)>,
+        /// The closing point.
         close: Point,
     },
     /// 24: closed polyline (offset of a polyline contour).
     ClosedPolyline(Vec<Point>),
     /// 20, 25, 26, 27: a contour stored as its control points, fitted on load.
-    Contour { code: u32, control: Vec<Point> },
+    Contour {
+        /// The entity code (20, 25, 26 or 27).
+        code: u32,
+        /// The control points.
+        control: Vec<Point>,
+    },
 }
 
 /// A whole graphic file.
@@ -79,6 +105,7 @@ pub struct SeedFile {
     pub entities: Vec<(SeedEntity, usize)>,
     /// Entities with a code this reader does not know: (code, line).
     pub unknown: Vec<(u32, usize)>,
+    /// The file's point list.
     pub points: Vec<Point>,
 }
 

@@ -51,11 +51,11 @@ pub enum MotionError {
         /// What is wrong with it.
         what: String,
     },
+    /// A joint would step faster than the profile's `max_step_rate`.
     #[error(
         "line {line}: joint {joint} needs {rate_hz:.0} steps/s but the profile allows \
          max_step_rate = {limit_hz:.0}"
     )]
-    /// A joint would step faster than the profile's `max_step_rate`.
     StepRate {
         /// Source line.
         line: u32,
