@@ -13,9 +13,12 @@ pub const MAX_CHORDS: usize = 1 << 20;
 /// The plane of circular motion (G17 / G18 / G19).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Plane {
+    /// G17.
     #[default]
     XY,
+    /// G19.
     YZ,
+    /// G18.
     XZ,
 }
 
@@ -44,8 +47,11 @@ impl Plane {
 pub struct ArcTolerance {
     /// A start or end radius below this is a zero-radius arc; also the slack for R arcs.
     pub radius: f64,
+    /// Radius difference always allowed, mm.
     pub min_abs: f64,
+    /// Radius difference never allowed, mm.
     pub max_abs: f64,
+    /// Radius difference allowed as a fraction of the reference radius.
     pub rel: f64,
     /// `rel` is measured against the start radius (grbl) instead of the larger one (LinuxCNC).
     pub rel_to_start: bool,
@@ -81,16 +87,40 @@ impl ArcTolerance {
 /// Why an arc cannot be made, with the numbers a message needs.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ArcError {
+    /// The start or end radius is (nearly) zero.
     #[error("zero-radius arc: r1={r1:.4} r2={r2:.4} about ({:.4}, {:.4})", center[0], center[1])]
-    ZeroRadius { r1: f64, r2: f64, center: [f64; 2] },
+    ZeroRadius {
+        /// Start radius, mm.
+        r1: f64,
+        /// End radius, mm.
+        r2: f64,
+        /// The centre.
+        center: [f64; 2],
+    },
+    /// The end radius differs from the start radius beyond the tolerance.
     #[error("end radius differs from start radius: r1={r1:.4} r2={r2:.4} about ({:.4}, {:.4})", center[0], center[1])]
-    RadiiDiffer { r1: f64, r2: f64, center: [f64; 2] },
+    RadiiDiffer {
+        /// Start radius, mm.
+        r1: f64,
+        /// End radius, mm.
+        r2: f64,
+        /// The centre.
+        center: [f64; 2],
+    },
+    /// An arc by radius whose start and end are the same point.
     #[error("an arc given by its radius needs distinct start and end points")]
     SameEndPoint,
     #[error(
         "radius {radius:.4} too small to reach the end point: half the chord is {half_chord:.4}"
     )]
-    RadiusTooSmall { radius: f64, half_chord: f64 },
+    /// The radius given is shorter than half the chord.
+    RadiusTooSmall {
+        /// The radius, mm.
+        radius: f64,
+        /// Half the chord, mm.
+        half_chord: f64,
+    },
+    /// A number is NaN or infinite.
     #[error("arc numbers are not finite")]
     NotFinite,
 }
@@ -194,7 +224,9 @@ pub fn chord_count(radius: f64, sweep: f64, tol: f64) -> usize {
 /// A circular arc in a plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
+    /// Centre.
     pub center: Point,
+    /// Radius, mm.
     pub radius: f64,
     /// Angle of the start point about the centre.
     pub start_angle: f64,
@@ -203,6 +235,8 @@ pub struct Arc {
 }
 
 impl Arc {
+    /// An arc about `center` from `start_angle` sweeping `sweep` (radians, > 0
+    /// counter-clockwise).
     pub fn new(center: Point, radius: f64, start_angle: f64, sweep: f64) -> Arc {
         Arc {
             center,
@@ -280,10 +314,12 @@ impl Arc {
         Arc::new(center, radius, 0.0, TAU)
     }
 
+    /// Turns counter-clockwise.
     pub fn is_ccw(&self) -> bool {
         self.sweep > 0.0
     }
 
+    /// Angle of the end point, radians.
     pub fn end_angle(&self) -> f64 {
         self.start_angle + self.sweep
     }
@@ -293,14 +329,17 @@ impl Arc {
         self.center + Vec2::from_angle(self.start_angle + self.sweep * t) * self.radius
     }
 
+    /// Start point.
     pub fn start(&self) -> Point {
         self.point_at(0.0)
     }
 
+    /// End point.
     pub fn end(&self) -> Point {
         self.point_at(1.0)
     }
 
+    /// Point half-way along the sweep.
     pub fn mid(&self) -> Point {
         self.point_at(0.5)
     }
@@ -315,6 +354,7 @@ impl Arc {
         }
     }
 
+    /// Length along the arc, mm.
     pub fn length(&self) -> f64 {
         self.radius * self.sweep.abs()
     }
@@ -418,8 +458,11 @@ pub fn circumcenter(p1: Point, p2: Point, p3: Point) -> Option<Point> {
 /// linearly from `axial.0` to `axial.1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Helix {
+    /// Plane of the arc.
     pub plane: Plane,
+    /// The arc in the plane's own coordinates.
     pub arc: Arc,
+    /// The normal axis at the start and at the end, mm.
     pub axial: (f64, f64),
 }
 

@@ -8,16 +8,21 @@ use std::fmt;
 /// One piece of a path.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Segment {
+    /// A straight line.
     Line(Line),
+    /// A circular arc.
     Arc(Arc),
+    /// A cubic Bézier.
     Cubic(CubicBez),
 }
 
 impl Segment {
+    /// A line from `a` to `b`.
     pub fn line(a: Point, b: Point) -> Segment {
         Segment::Line(Line::new(a, b))
     }
 
+    /// Start point.
     pub fn start(&self) -> Point {
         match self {
             Segment::Line(l) => l.p0,
@@ -26,6 +31,7 @@ impl Segment {
         }
     }
 
+    /// End point.
     pub fn end(&self) -> Point {
         match self {
             Segment::Line(l) => l.p1,
@@ -34,6 +40,7 @@ impl Segment {
         }
     }
 
+    /// Length, mm.
     pub fn length(&self) -> f64 {
         match self {
             Segment::Line(l) => l.p0.distance(l.p1),
@@ -42,6 +49,7 @@ impl Segment {
         }
     }
 
+    /// The same segment run the other way.
     pub fn reversed(&self) -> Segment {
         match self {
             Segment::Line(l) => Segment::line(l.p1, l.p0),
@@ -80,6 +88,7 @@ impl Segment {
         }
     }
 
+    /// Bounding box.
     pub fn bounding_box(&self) -> Rect {
         match self {
             Segment::Line(l) => Rect::from_points(l.p0, l.p1),
@@ -101,15 +110,21 @@ impl Segment {
 /// 8-bit RGBA colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Color {
+    /// Red.
     pub r: u8,
+    /// Green.
     pub g: u8,
+    /// Blue.
     pub b: u8,
+    /// Alpha (255 opaque).
     pub a: u8,
 }
 
 impl Color {
+    /// Opaque black.
     pub const BLACK: Color = Color::rgb(0, 0, 0);
 
+    /// An opaque colour.
     pub const fn rgb(r: u8, g: u8, b: u8) -> Color {
         Color { r, g, b, a: 255 }
     }
@@ -118,8 +133,11 @@ impl Color {
 /// How a path is drawn: stroke colour and width (mm), fill colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Style {
+    /// Stroke colour; `None`: not stroked.
     pub stroke: Option<Color>,
+    /// Stroke width, mm (0: hairline).
     pub stroke_width: f64,
+    /// Fill colour; `None`: not filled.
     pub fill: Option<Color>,
 }
 
@@ -136,12 +154,16 @@ impl Default for Style {
 /// Where a path came from: file, element (SVG id, DXF handle, entity number) and line.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct SourceRef {
+    /// The file.
     pub file: String,
+    /// SVG id, DXF handle or entity number.
     pub element: String,
+    /// Line in the file, where known.
     pub line: Option<usize>,
 }
 
 impl SourceRef {
+    /// A reference to `element` of `file`, line unknown.
     pub fn new(file: impl Into<String>, element: impl Into<String>) -> SourceRef {
         SourceRef {
             file: file.into(),
@@ -173,13 +195,18 @@ impl fmt::Display for SourceRef {
 /// to the first start (with a line if they differ).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Path {
+    /// The segments in order.
     pub segments: Vec<Segment>,
+    /// The last end joins the first start.
     pub closed: bool,
+    /// How it is drawn.
     pub style: Style,
+    /// Where it came from.
     pub source: SourceRef,
 }
 
 impl Path {
+    /// A path of `segments`, default style, no source.
     pub fn new(segments: Vec<Segment>, closed: bool) -> Path {
         Path {
             segments,
@@ -200,24 +227,29 @@ impl Path {
         p
     }
 
+    /// The same path with `source`.
     pub fn with_source(mut self, source: SourceRef) -> Path {
         self.source = source;
         self
     }
 
+    /// The same path with `style`.
     pub fn with_style(mut self, style: Style) -> Path {
         self.style = style;
         self
     }
 
+    /// No segments.
     pub fn is_empty(&self) -> bool {
         self.segments.is_empty()
     }
 
+    /// Start of the first segment.
     pub fn start(&self) -> Option<Point> {
         self.segments.first().map(|s| s.start())
     }
 
+    /// End of the last segment.
     pub fn end(&self) -> Option<Point> {
         self.segments.last().map(|s| s.end())
     }
@@ -231,6 +263,7 @@ impl Path {
         }
     }
 
+    /// Length along the segments, mm.
     pub fn length(&self) -> f64 {
         self.segments.iter().map(|s| s.length()).sum()
     }
@@ -264,6 +297,7 @@ impl Path {
         }
     }
 
+    /// Bounding box of every segment.
     pub fn bounding_box(&self) -> Option<Rect> {
         self.segments
             .iter()
@@ -382,17 +416,21 @@ pub fn to_ring(points: &[Point]) -> Vec<[f64; 2]> {
 /// A named layer of paths.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Layer {
+    /// The layer's name.
     pub name: String,
+    /// Its paths in drawing order.
     pub paths: Vec<Path>,
 }
 
 /// Layers of paths, in mm, y up.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Drawing {
+    /// Layers in file order.
     pub layers: Vec<Layer>,
 }
 
 impl Drawing {
+    /// An empty drawing.
     pub fn new() -> Drawing {
         Drawing::default()
     }
@@ -409,6 +447,7 @@ impl Drawing {
         self.layers.last_mut().unwrap()
     }
 
+    /// Adds `path` to the layer called `layer`, made if missing.
     pub fn push(&mut self, layer: &str, path: Path) {
         self.layer_mut(layer).paths.push(path);
     }
@@ -418,10 +457,12 @@ impl Drawing {
         self.layers.iter().flat_map(|l| l.paths.iter())
     }
 
+    /// Paths over all layers.
     pub fn path_count(&self) -> usize {
         self.layers.iter().map(|l| l.paths.len()).sum()
     }
 
+    /// Bounding box of every path.
     pub fn bounding_box(&self) -> Option<Rect> {
         self.paths()
             .filter_map(|p| p.bounding_box())

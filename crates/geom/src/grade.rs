@@ -14,8 +14,11 @@ use kurbo::{Point, Rect};
 /// Millimetres per size in width (VL) and length (VC).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SizeSystem {
+    /// The system's name.
     pub name: &'static str,
+    /// Width added per size, mm.
     pub width_per_size: f64,
+    /// Length added per size, mm.
     pub length_per_size: f64,
 }
 
@@ -61,6 +64,7 @@ pub enum Reference {
 /// A grading of one base contour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grading {
+    /// The size system.
     pub system: SizeSystem,
     /// NP, the pattern size.
     pub base_size: f64,
@@ -70,16 +74,20 @@ pub struct Grading {
     pub base_length: f64,
     /// CTM, shrinkage as a fraction (2 % = 0.02).
     pub shrink: f64,
+    /// The fixed point of the scaling.
     pub reference: Point,
 }
 
 /// Why a grading cannot be set up.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GradeError {
+    /// The contour has no width or no length.
     #[error("the contour has no width or no length (box {0:?}): nothing to grade")]
     Degenerate(Rect),
+    /// Shrinkage outside −0.5..0.5.
     #[error("shrinkage {0} is not a fraction between -0.5 and 0.5")]
     Shrink(f64),
+    /// A size whose scale factor is not positive.
     #[error("size {0} gives a non-positive scale factor")]
     Size(f64),
 }
@@ -134,6 +142,7 @@ impl Grading {
         )
     }
 
+    /// `p` of the base contour at `size`.
     pub fn point(&self, p: Point, size: f64) -> Point {
         let (a, b) = self.factors(size);
         let r = self.reference;

@@ -16,6 +16,7 @@ pub enum MirrorAxis {
 }
 
 impl MirrorAxis {
+    /// `p` mirrored across the line.
     pub fn point(&self, p: Point) -> Point {
         match *self {
             MirrorAxis::X(xr) => Point::new(2.0 * xr - p.x, p.y),

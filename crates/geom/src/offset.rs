@@ -17,7 +17,9 @@ use kurbo::{Point, Rect, Vec2};
 /// (clockwise), e.g. a pocket wall with islands.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Area {
+    /// The outer boundary (counter-clockwise).
     pub outer: Path,
+    /// The holes (clockwise).
     pub holes: Vec<Path>,
 }
 

@@ -10,12 +10,15 @@ use i_overlay::float::single::SingleFloatOverlay;
 use i_overlay::mesh::float::outline::offset::OutlineOffset;
 use i_overlay::mesh::float::style::{LineJoin, OutlineStyle};
 
+/// A closed ring of (x, y) points, mm: the last point joins the first.
 pub type Ring = Vec<[f64; 2]>;
 
 /// One connected area: an outer ring (counter-clockwise) and holes (clockwise).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Region {
+    /// The outer ring (counter-clockwise).
     pub outer: Ring,
+    /// The holes (clockwise).
     pub holes: Vec<Ring>,
 }
 
@@ -35,18 +38,26 @@ impl Region {
 /// The boolean operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BoolOp {
+    /// Inside either.
     Union,
+    /// Inside both.
     Intersection,
+    /// Inside the subject, not the clip.
     Difference,
+    /// Inside exactly one.
     Xor,
 }
 
 /// Which points are inside rings that overlap or wind more than once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Fill {
+    /// Inside where the winding number is odd.
     EvenOdd,
+    /// Inside where it is not zero.
     NonZero,
+    /// Inside where it is positive.
     Positive,
+    /// Inside where it is negative.
     Negative,
 }
 
@@ -56,12 +67,15 @@ pub enum Join {
     /// A circular arc about the corner, cut into chords no further than `tolerance` (mm)
     /// from it.
     Round {
+        /// Largest distance of a chord from the arc, mm.
         tolerance: f64,
     },
     /// A sharp corner, cut off where the interior angle is below `min_angle` (radians).
     Miter {
+        /// Smallest interior angle kept sharp, radians.
         min_angle: f64,
     },
+    /// A straight cut across the corner.
     Bevel,
 }
 

@@ -12,14 +12,20 @@ use std::fmt;
 /// A fitting method.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
+    /// Seed 001's tangent circles.
     TangentCircles,
+    /// Biarcs.
     Biarc,
+    /// Clamped cubic B-spline.
     BSpline,
+    /// The seed's Bézier.
     Bezier,
+    /// Local cubic interpolation.
     Interpolation,
 }
 
 impl Method {
+    /// Every method.
     pub const ALL: [Method; 5] = [
         Method::TangentCircles,
         Method::Biarc,
@@ -28,6 +34,7 @@ impl Method {
         Method::Interpolation,
     ];
 
+    /// The method's name for reports.
     pub fn name(self) -> &'static str {
         match self {
             Method::TangentCircles => "tangent circles",
@@ -48,6 +55,7 @@ impl fmt::Display for Method {
 /// A fitted contour.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Fit {
+    /// The method used.
     pub method: Method,
     /// Lines and arcs (the polyline methods are flattened to the tolerance).
     pub path: Path,
@@ -59,10 +67,13 @@ pub struct Fit {
     pub control_points: usize,
 }
 
+/// Why a contour could not be fitted.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum FitError {
+    /// Fewer than 8 distinct points.
     #[error("a contour needs at least 8 distinct points, got {0}")]
     TooFewPoints(usize),
+    /// The tangent-circle method failed.
     #[error("tangent circles: {0}")]
     Tangent(#[from] TangentError),
 }

@@ -24,32 +24,47 @@ use kurbo::{Point, Vec2};
 /// Why the tangent-circle fit failed, with the points to change.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TangentError {
+    /// The point count is not 4·(1+n).
     #[error("tangent circles need 4·(1+n) distinct points (n ≥ 1), got {0}")]
     PointCount(usize),
+    /// Three points on one line: no circle.
     #[error("points {indices:?} are collinear: no circle passes through {points:?}; choose other points")]
     Collinear {
+        /// Their indices.
         indices: [usize; 3],
+        /// The points.
         points: [Point; 3],
     },
     #[error(
         "circle {circle} runs the wrong way round ({sweep:.2} rad) after the tangency moves: \
          a loop in the contour; choose other points near {points:?}"
     )]
+    /// A circle turns the wrong way after the tangency moves.
     Loop {
+        /// The circle's index.
         circle: usize,
+        /// Its sweep, radians.
         sweep: f64,
+        /// The points to change.
         points: Vec<Point>,
     },
     #[error(
         "circle {moved} cannot touch circles {fixed:?} (d = {d:.3}, G3 = {g3:.3}, G4 = {g4:.3}); \
          re-enter points near {points:?} so the neighbours reach each other"
     )]
+    /// A circle cannot touch both neighbours.
     NoTangent {
+        /// The circle moved.
         moved: usize,
+        /// Its neighbours.
         fixed: [usize; 2],
+        /// Distance between the neighbours' centres, mm.
         d: f64,
+        /// The seed's G3 term.
         g3: f64,
+        /// The seed's G4 term.
         g4: f64,
+        /// The points to change.
         points: Vec<Point>,
     },
 }
@@ -57,8 +72,11 @@ pub enum TangentError {
 /// A circle of the method: centre, radius and turning sign (+1 counter-clockwise).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TangentCircle {
+    /// Centre.
     pub center: Point,
+    /// Radius, mm.
     pub radius: f64,
+    /// +1 counter-clockwise, −1 clockwise.
     pub sign: f64,
 }
 
