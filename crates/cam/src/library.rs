@@ -33,8 +33,10 @@ pub struct LibraryTool {
     pub spindle_rpm: Option<f64>,
 }
 
+/// The workshop's tools by number, with their feeds and speeds.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Library {
+    /// The tools, in file order.
     #[serde(default, rename = "tool")]
     pub tools: Vec<LibraryTool>,
 }
@@ -110,6 +112,7 @@ impl Library {
         Ok(lib)
     }
 
+    /// Reads a tool library file (TOML, `[[tool]]` tables).
     pub fn load(path: &std::path::Path) -> Result<Library, LibraryError> {
         let name = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|source| LibraryError::Read {
@@ -119,10 +122,12 @@ impl Library {
         Library::parse(&name, &text)
     }
 
+    /// The tool with `number`, if the library has it.
     pub fn get(&self, number: u32) -> Option<&LibraryTool> {
         self.tools.iter().find(|t| t.number == number)
     }
 
+    /// The library as TOML, as [`Library::load`] reads it.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).unwrap_or_default()
     }

@@ -14,9 +14,11 @@ use crate::toolpath::Move;
 /// its G-code text, canonical operations and so on: it says how much per move).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Budget {
+    /// Bytes allowed in all.
     pub bytes: u64,
     /// Bytes the caller holds or will hold besides the plan's (its own grids).
     pub reserved: u64,
+    /// Bytes each move costs the caller besides its own size.
     pub per_move: u64,
 }
 
@@ -42,6 +44,7 @@ pub enum Lever {
 }
 
 impl Lever {
+    /// What to change, in words, for the message.
     pub fn describe(self) -> &'static str {
         match self {
             Lever::PixelSize => {
@@ -62,9 +65,13 @@ impl Lever {
     .lever.describe()
 )]
 pub struct OverBudget {
+    /// What would not fit.
     pub what: String,
+    /// Bytes it would need.
     pub needed: u64,
+    /// Bytes allowed.
     pub budget: u64,
+    /// What to change.
     pub lever: Lever,
 }
 
@@ -120,6 +127,7 @@ pub fn kernel_bytes(reach: usize) -> u64 {
 pub struct PassShape {
     /// Grid points along and across the rows (after transposing for rows along Y).
     pub width: usize,
+    /// Grid points across the rows.
     pub height: usize,
     /// Kernel reach, pixels.
     pub reach: usize,
@@ -129,6 +137,7 @@ pub struct PassShape {
     pub sub: usize,
     /// Earlier passes left a stock to start from.
     pub has_stock: bool,
+    /// Only the regions earlier passes left are cut.
     pub rest_only: bool,
 }
 

@@ -24,16 +24,24 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// A tool with its cutting data.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cutter {
+    /// Tool number in the program.
     pub number: u32,
+    /// The cutter.
     pub tool: Tool,
+    /// Cutting and plunge feeds.
     pub feeds: Feeds,
+    /// Spindle speed, rpm.
     pub spindle_rpm: f64,
 }
 
+/// Which way raster rows run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Direction {
+    /// Rows along X.
     X,
+    /// Rows along Y.
     Y,
+    /// Along X, then along Y.
     Both,
 }
 
@@ -54,7 +62,9 @@ impl std::str::FromStr for Direction {
 /// One pass of one tool.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pass {
+    /// The pass's name for comments and reports.
     pub name: String,
+    /// The tool and its cutting data.
     pub cutter: Cutter,
     /// mm between raster rows.
     pub stepover: f64,
@@ -62,7 +72,9 @@ pub struct Pass {
     pub stepdown: f64,
     /// Material left above the design, mm (roughing).
     pub allowance: f64,
+    /// Which way the rows run.
     pub direction: Direction,
+    /// Cut both ways along alternate rows (else one way, rapid back).
     pub zigzag: bool,
     /// Only where the stock left by earlier passes stands more than `min_cut` above this
     /// tool's target, region by region (rest machining).
@@ -71,8 +83,10 @@ pub struct Pass {
     pub min_cut: f64,
 }
 
+/// A relief (heightmap) job: passes of raster machining.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReliefJob {
+    /// Height for rapids, mm.
     pub safe_z: f64,
     /// Height above free stock for short travels, mm.
     pub clearance: f64,
@@ -81,47 +95,85 @@ pub struct ReliefJob {
     /// Tip heights evaluated per pixel along the raster (1 or more): more points leave less
     /// material on slopes (the bound between samples tightens) at proportional cost.
     pub samples_per_pixel: usize,
+    /// The passes, in cutting order.
     pub passes: Vec<Pass>,
     /// Simulate the stock after the last pass too (for reports); earlier passes are
     /// always simulated since the next pass starts from their stock.
     pub simulate_last: bool,
 }
 
+/// Why a relief job could not be planned.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ReliefError {
+    /// A pass setting is not a finite number above 0.
     #[error("pass '{pass}': {what} must be a finite number above 0, got {value}")]
     Parameter {
+        /// The pass's name.
         pass: String,
+        /// The setting.
         what: &'static str,
+        /// The value given.
         value: f64,
     },
+    /// The tool spans more pixels than the footprint table holds.
     #[error("pass '{pass}': the tool spans {reach} pixels each side at {pixel} mm per pixel (at most {max}); use a coarser pixel size")]
     ToolTooLarge {
+        /// The pass's name.
         pass: String,
+        /// Pixels each side the tool spans.
         reach: usize,
+        /// Pixel size, mm.
         pixel: f64,
+        /// Largest reach allowed, pixels.
         max: usize,
     },
+    /// The step-down is too small.
     #[error("pass '{pass}': step-down {value} mm is below {MIN_STEPDOWN_MM} mm")]
-    StepDown { pass: String, value: f64 },
+    StepDown {
+        /// The pass's name.
+        pass: String,
+        /// The step-down given, mm.
+        value: f64,
+    },
+    /// The height map has no samples.
     #[error("the height map is empty")]
     EmptyDesign,
+    /// The pixel size is not a finite number above 0.
     #[error("the pixel size must be a finite number above 0, got {0}")]
     Pixel(f64),
+    /// The part would be larger than any machine.
     #[error("the part would be {size:.0} mm {what}, more than any machine's {MAX_EXTENT_MM} mm; use a smaller pixel size or depth")]
-    TooLarge { what: &'static str, size: f64 },
+    TooLarge {
+        /// "wide", "long" or "deep".
+        what: &'static str,
+        /// The size, mm.
+        size: f64,
+    },
+    /// The height map's size does not match its samples.
     #[error("the height map claims {width} x {height} samples but holds {len}")]
     CutterShape {
+        /// Columns claimed.
         width: usize,
+        /// Rows claimed.
         height: usize,
+        /// Samples held.
         len: usize,
     },
+    /// A job setting is negative or not finite; names it.
     #[error("{0} must be finite and at least 0")]
     ReliefJob(&'static str),
+    /// Samples per pixel out of range.
     #[error("samples per pixel must be between 1 and {max}, got {got}")]
-    Samples { got: usize, max: usize },
+    Samples {
+        /// The value given.
+        got: usize,
+        /// Largest allowed.
+        max: usize,
+    },
+    /// The plan would need more memory than allowed.
     #[error(transparent)]
     Memory(#[from] OverBudget),
+    /// The caller cancelled the planning.
     #[error("cancelled")]
     Cancelled,
 }
@@ -150,7 +202,9 @@ pub const MAX_REACH_PX: usize = 1000;
 /// Progress: stage name and fraction done.
 pub type Progress<'a> = &'a (dyn Fn(&str, f64) + Sync);
 
+/// A planned relief job.
 pub struct Planned {
+    /// The toolpath of every pass.
     pub toolpath: Toolpath,
     /// Stock after the simulated passes (`None` if nothing was simulated).
     pub stock: Option<Heightmap>,

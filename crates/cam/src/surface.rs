@@ -33,6 +33,8 @@ struct FlatPiece {
     span: Vec<Option<(i32, i32)>>,
 }
 
+/// A tool's footprint on the pixel grid: how high the tip sits above each pixel it
+/// covers.
 #[derive(Clone, Debug)]
 pub struct Kernel {
     /// Offsets span −reach..=reach pixels in X and Y.

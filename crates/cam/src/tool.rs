@@ -8,6 +8,7 @@
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+/// The cutting end's shape.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "lowercase")]
 pub enum CutterShape {
@@ -16,16 +17,27 @@ pub enum CutterShape {
     /// Ball nose: radius = diameter / 2.
     Ball,
     /// V bit with this included angle (degrees); `diameter` is the widest cutting diameter.
-    V { angle: f64 },
+    V {
+        /// Included angle, degrees.
+        angle: f64,
+    },
     /// Bull nose (flat with rounded corners of this radius).
-    Bull { corner_radius: f64 },
+    Bull {
+        /// Corner radius, mm.
+        corner_radius: f64,
+    },
     /// Tapered ball: `diameter` is the tip ball's diameter, the flanks open at `angle`
     /// degrees per side.
-    Taper { angle: f64 },
+    Taper {
+        /// Flank angle per side, degrees.
+        angle: f64,
+    },
 }
 
+/// A cutter's shape and size.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tool {
+    /// The cutting end's shape.
     pub shape: CutterShape,
     /// Cutting diameter in mm (the tip ball's for a tapered ball).
     pub diameter: f64,
@@ -35,15 +47,24 @@ pub struct Tool {
     pub shank_diameter: f64,
 }
 
+/// Why a tool spec is refused.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ToolError {
+    /// The spec does not parse.
     #[error("tool '{text}': {problem}. Write shape:diameter, e.g. ball:6, flat:12, v:12:60, bull:10:2, taper:1:3")]
-    Syntax { text: String, problem: String },
+    Syntax {
+        /// The spec as given.
+        text: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// The sizes do not make a cutter; says why.
     #[error("tool: {0}")]
     Invalid(String),
 }
 
 impl Tool {
+    /// A tool of `shape` and `diameter` (mm), flute and shank from the diameter.
     pub fn new(shape: CutterShape, diameter: f64) -> Result<Tool, ToolError> {
         let mut tool = Tool {
             shape,
@@ -105,6 +126,7 @@ impl Tool {
         }
     }
 
+    /// Radius, mm.
     pub fn radius(&self) -> f64 {
         self.diameter / 2.0
     }

@@ -5,21 +5,30 @@
 use crate::tool::Tool;
 use oficina_canon::{Canon, CanonOp, PathControlMode, Plane, Pos, SpindleDir};
 
+/// One tool-centre move of a toolpath (lengths mm, feeds mm/s).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Move {
+    /// Rapid to `to`.
     Rapid {
+        /// End point.
         to: [f64; 3],
     },
     /// Straight feed at `feed` mm/s.
     Line {
+        /// End point.
         to: [f64; 3],
+        /// Feed, mm/s.
         feed: f64,
     },
     /// Arc in the XY plane about `center` (X, Y), helical when Z changes.
     Arc {
+        /// End point.
         to: [f64; 3],
+        /// Centre (X, Y).
         center: [f64; 2],
+        /// Counter-clockwise (G3) rather than clockwise (G2).
         ccw: bool,
+        /// Feed, mm/s.
         feed: f64,
     },
     /// Seconds.
@@ -123,23 +132,32 @@ impl Drill {
     }
 }
 
+/// The moves of one tool: what a post writes between tool changes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Operation {
+    /// The operation's name, written as a comment.
     pub name: String,
+    /// Tool number in the program.
     pub tool_number: u32,
+    /// The cutter.
     pub tool: Tool,
+    /// Spindle speed, rpm.
     pub spindle_rpm: f64,
+    /// The moves in order.
     pub moves: Vec<Move>,
 }
 
+/// A whole job: operations in order, machine-neutral.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Toolpath {
     /// Z (mm) clear of the stock and clamps; retracts and tool changes happen here.
     pub safe_z: f64,
+    /// The operations in cutting order.
     pub operations: Vec<Operation>,
 }
 
 impl Move {
+    /// Where the move leaves the tool; `None` for moves that do not move it.
     pub fn end(&self) -> Option<[f64; 3]> {
         match *self {
             Move::Rapid { to } | Move::Line { to, .. } | Move::Arc { to, .. } => Some(to),

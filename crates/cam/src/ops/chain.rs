@@ -7,28 +7,39 @@ use std::f64::consts::TAU;
 
 pub(super) type P = [f64; 2];
 
+/// One piece of a tool-centre chain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Piece {
+    /// A straight piece from `a` to `b`.
     Line {
+        /// Start.
         a: P,
+        /// End.
         b: P,
     },
     /// Centre, radius, start angle, signed sweep (> 0 counter-clockwise).
     Arc {
+        /// Centre.
         c: P,
+        /// Radius, mm.
         r: f64,
+        /// Start angle, radians.
         a0: f64,
+        /// Signed sweep, radians (> 0 counter-clockwise).
         sweep: f64,
     },
 }
 
 impl Piece {
+    /// Start point.
     pub fn start(&self) -> P {
         self.at(0.0)
     }
+    /// End point.
     pub fn end(&self) -> P {
         self.at(1.0)
     }
+    /// Length, mm.
     pub fn length(&self) -> f64 {
         match *self {
             Piece::Line { a, b } => (b[0] - a[0]).hypot(b[1] - a[1]),
@@ -77,6 +88,7 @@ impl Piece {
             },
         }
     }
+    /// The same piece run the other way.
     pub fn reversed(&self) -> Piece {
         match *self {
             Piece::Line { a, b } => Piece::Line { a: b, b: a },
@@ -109,7 +121,9 @@ impl Piece {
 /// A chain of pieces, each starting where the last ended.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chain {
+    /// The pieces, each starting where the previous ends.
     pub pieces: Vec<Piece>,
+    /// The last end joins the first start.
     pub closed: bool,
 }
 
@@ -151,18 +165,22 @@ impl Chain {
         }
     }
 
+    /// Length along the pieces, mm.
     pub fn length(&self) -> f64 {
         self.pieces.iter().map(Piece::length).sum()
     }
 
+    /// Start point.
     pub fn start(&self) -> P {
         self.pieces.first().map_or([0.0; 2], Piece::start)
     }
 
+    /// End point.
     pub fn end(&self) -> P {
         self.pieces.last().map_or([0.0; 2], Piece::end)
     }
 
+    /// The same chain run the other way.
     pub fn reversed(&self) -> Chain {
         Chain {
             pieces: self.pieces.iter().rev().map(Piece::reversed).collect(),

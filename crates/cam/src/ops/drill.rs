@@ -4,6 +4,7 @@ use super::{Cut, OpError};
 use crate::{Drill, Move, Operation};
 use oficina_geom::{Path, Segment};
 
+/// How holes are drilled: pecks and dwell.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrillParams {
     /// Peck depth, mm (None: one feed to the bottom; G83 when set).
@@ -55,6 +56,7 @@ fn circle_centre(p: &Path) -> Option<[f64; 2]> {
     (hi > 0.0 && hi - lo <= (0.005 * hi).min(0.02)).then_some([c.0, c.1])
 }
 
+/// Drills every circle of `paths` at its centre with `cut`'s tool and depth.
 pub fn drill(name: &str, paths: &[Path], cut: &Cut, p: &DrillParams) -> Result<Operation, OpError> {
     cut.validate()?;
     if let Some(q) = p.peck {

@@ -8,14 +8,23 @@ use super::{Builder, OpError};
 use crate::Move;
 use std::f64::consts::TAU;
 
+/// How a cut goes down into material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Entry {
     /// Straight down at the plunge feed.
     Plunge,
     /// Down along the path at this angle from horizontal (degrees).
-    Ramp { angle: f64 },
+    Ramp {
+        /// Degrees from horizontal.
+        angle: f64,
+    },
     /// Round a circle of this radius (mm) at this angle, where it fits; otherwise a ramp.
-    Helix { radius: f64, angle: f64 },
+    Helix {
+        /// Radius of the helix, mm.
+        radius: f64,
+        /// Degrees from horizontal.
+        angle: f64,
+    },
 }
 
 impl Default for Entry {
@@ -25,6 +34,7 @@ impl Default for Entry {
 }
 
 impl Entry {
+    /// Refuses angles and radii no cut could use.
     pub fn validate(&self) -> Result<(), OpError> {
         let angle_ok = |a: f64| a.is_finite() && a > 0.1 && a <= 45.0;
         match *self {

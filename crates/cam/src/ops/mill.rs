@@ -9,15 +9,21 @@ use super::{
 use crate::{Operation, Toolpath};
 use oficina_geom::{offset_areas, to_ring, Area, Path};
 
+/// One 2.5D operation with its own parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MillOp {
+    /// Clear the inside of closed shapes.
     Pocket(PocketParams),
+    /// Cut along the shapes' outlines.
     Profile(ProfileParams),
+    /// Drill the circles' centres.
     Drill(DrillParams),
+    /// V-carve the shapes.
     VCarve(VCarveParams),
 }
 
 impl MillOp {
+    /// The operation's name for comments and reports.
     pub fn name(&self) -> &'static str {
         match self {
             MillOp::Pocket(_) => "pocket",

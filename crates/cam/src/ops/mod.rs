@@ -37,12 +37,16 @@ pub use vcarve::{vcarve, VCarveParams};
 
 use crate::{Move, Operation, Tool};
 
+/// Why an operation cannot be made.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum OpError {
+    /// A parameter out of range; says which.
     #[error("{0}")]
     Invalid(String),
+    /// The shapes cannot be cut as asked; says where.
     #[error("geometry: {0}")]
     Geometry(String),
+    /// The operation would cut nothing; says why.
     #[error("nothing to cut: {0}")]
     Empty(String),
 }
@@ -50,8 +54,11 @@ pub enum OpError {
 /// The technology of one operation: tool, speeds, depths, planes, entry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cut {
+    /// Tool number in the program.
     pub tool_number: u32,
+    /// The cutter.
     pub tool: Tool,
+    /// Spindle speed, rpm.
     pub spindle_rpm: f64,
     /// Cutting feed, mm/s.
     pub feed: f64,
@@ -65,6 +72,7 @@ pub struct Cut {
     pub stepdown: f64,
     /// Retraction plane: rapids between cuts happen here (seed 001's "plano de retração").
     pub clear_z: f64,
+    /// How cuts go down into material.
     pub entry: Entry,
 }
 
@@ -83,6 +91,7 @@ impl Cut {
         }
     }
 
+    /// Refuses values no machine could use, naming the parameter.
     pub fn validate(&self) -> Result<(), OpError> {
         let pos = |v: f64, what: &str| {
             if v.is_finite() && v > 0.0 {
@@ -130,10 +139,12 @@ impl Cut {
             .collect()
     }
 
+    /// Z of the bottom of the cut, mm.
     pub fn bottom(&self) -> f64 {
         self.top - self.depth
     }
 
+    /// Tool radius, mm.
     pub fn radius(&self) -> f64 {
         self.tool.diameter / 2.0
     }

@@ -10,6 +10,7 @@ use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::Operation;
 use oficina_geom::{offset_areas, Area, Path};
 
+/// How a pocket is cleared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Strategy {
     /// Offsets of the wall, innermost first, linked by feed moves without retracting.
@@ -18,8 +19,10 @@ pub enum Strategy {
     ZigZag,
 }
 
+/// Pocket parameters besides the cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PocketParams {
+    /// Offsets or zig-zag.
     pub strategy: Strategy,
     /// Distance between passes, mm: the seed's "porcentagem de corte", 0.5–0.75 × D.
     pub stepover: f64,
@@ -42,6 +45,7 @@ impl PocketParams {
 /// input is absurd, and an error says so rather than running out of memory.
 const MAX_RINGS: usize = 100_000;
 
+/// Clears the inside of the closed `paths` (holes stay) with `cut`.
 pub fn pocket(
     name: &str,
     paths: &[Path],

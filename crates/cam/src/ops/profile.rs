@@ -9,10 +9,14 @@ use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::{CompSide, Move, Operation};
 use oficina_geom::{offset_areas, Area, Path};
 
+/// Which side of the line the tool cuts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {
+    /// Inside closed shapes (a hole).
     Inside,
+    /// Outside closed shapes (a part).
     Outside,
+    /// On the line.
     On,
 }
 
@@ -27,12 +31,15 @@ pub struct Tabs {
     pub height: f64,
 }
 
+/// Profile parameters besides the cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProfileParams {
+    /// Inside, outside or on the line.
     pub side: Side,
     /// Stock left on the wall by the depth passes, taken by one finishing pass at full
     /// depth (0: the passes cut to size).
     pub allowance: f64,
+    /// Bridges to leave, if any.
     pub tabs: Option<Tabs>,
     /// Radius of a tangent arc off the wall after the last pass (0: none).
     pub lead_out: f64,
@@ -46,8 +53,10 @@ pub struct ProfileParams {
     pub comp: Comp,
 }
 
+/// Who offsets the path by the tool radius.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Comp {
+    /// Oficina: the moves are the tool centre.
     #[default]
     Computer,
     /// G41 on a straight entry move of [`COMP_ENTRY`] × the radius, G40 after a straight
@@ -119,6 +128,7 @@ pub(crate) fn order_nearest(mut chains: Vec<Chain>, mut from: [f64; 2]) -> Vec<C
     out
 }
 
+/// Cuts along the closed and open `paths` on `p.side` with `cut`.
 pub fn profile(
     name: &str,
     paths: &[Path],

@@ -18,8 +18,11 @@ use oficina_geom::{
 /// What to make.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SoleJob {
+    /// The size the digitised contour is.
     pub from_size: f64,
+    /// The size to make.
     pub to_size: f64,
+    /// The size system (mm per size).
     pub system: SizeSystem,
     /// Material shrinkage as a fraction (seed: 2 % = 0.02).
     pub shrink: f64,
@@ -60,22 +63,30 @@ impl SoleJob {
     }
 }
 
+/// Which foot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Foot {
+    /// Left foot.
     Left,
+    /// Right foot (the left mirrored).
     Right,
 }
 
+/// Which half of the mould.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Part {
+    /// The insert plate, cut out with the tread.
     Insert,
+    /// The cavity the insert fits in.
     Cavity,
 }
 
 /// One program of the job.
 #[derive(Clone, Debug)]
 pub struct SoleProgram {
+    /// Which foot.
     pub foot: Foot,
+    /// Insert or cavity.
     pub part: Part,
     /// The contour as machined (placed on the block, insert clearance applied).
     pub contour: Path,
@@ -85,6 +96,7 @@ pub struct SoleProgram {
     pub depth: f64,
     /// The tread details as placed (insert only), cut [`TREAD_DEPTH`] deep.
     pub tread: Vec<Path>,
+    /// The program's toolpath.
     pub toolpath: Toolpath,
 }
 
@@ -103,13 +115,17 @@ impl SoleProgram {
     }
 }
 
+/// A sole job's result: the grading, the fitted contour and the programs.
 pub struct SoleResult {
+    /// The grading used.
     pub grading: Grading,
     /// (α, β) applied.
     pub factors: (f64, f64),
+    /// The fitted contour.
     pub fit: Fit,
     /// Why tangent circles were not used, if they were not.
     pub fallback: Option<String>,
+    /// One program per foot and part.
     pub programs: Vec<SoleProgram>,
 }
 

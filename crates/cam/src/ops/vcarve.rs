@@ -34,6 +34,7 @@ use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::{CutterShape, Operation};
 use oficina_geom::{offset_areas, Area, Path};
 
+/// V-carving parameters besides the cut.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct VCarveParams {
     /// Largest height of material left below the ideal surface (ridges at the medial axis,
@@ -77,6 +78,8 @@ struct Levels {
     polys: Vec<Vec<Vec<Vec<P>>>>,
 }
 
+/// V-carves the closed `paths` (depth from the distance to the outline) and the open ones
+/// as strokes, with `cut`'s V tool.
 pub fn vcarve(
     name: &str,
     paths: &[Path],
