@@ -20,7 +20,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+/// A grbl board as an [`oficina_machine::Machine`]: jobs run on a thread of their own.
 pub struct GrblDevice {
+    /// Where the board is.
     pub endpoint: Endpoint,
     /// How jobs are run (resume approach, reconnect policy, journal).
     pub settings: RunSettings,

@@ -4,6 +4,7 @@
 
 use crate::gline;
 
+/// One line to send, with where it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StreamLine {
     /// 1-based line number in the source file.
@@ -16,7 +17,9 @@ pub struct StreamLine {
 /// and its pace handed to any machine).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StreamProgram {
+    /// The name for reports (usually the file name).
     pub name: String,
+    /// The lines to send, in order.
     pub lines: Vec<StreamLine>,
 }
 
@@ -43,10 +46,12 @@ impl StreamProgram {
         })
     }
 
+    /// Lines to send.
     pub fn len(&self) -> usize {
         self.lines.len()
     }
 
+    /// No line to send.
     pub fn is_empty(&self) -> bool {
         self.lines.is_empty()
     }

@@ -23,14 +23,22 @@ pub fn step_line(axis: char, distance: f64, feed: f64) -> Result<String, String>
 /// What the operator asked for, e.g. `X+10 F500` (a 10 mm step) or `X- F1000` (continuous).
 #[derive(Clone, Debug, PartialEq)]
 pub enum JogRequest {
+    /// A jog by a fixed distance.
     Step {
+        /// Axis letter.
         axis: char,
+        /// Distance, mm (signed).
         distance: f64,
+        /// Feed, mm/min.
         feed: f64,
     },
+    /// A jog that runs until stopped.
     Continuous {
+        /// Axis letter.
         axis: char,
+        /// +1 or −1.
         direction: f64,
+        /// Feed, mm/min.
         feed: f64,
     },
 }
@@ -98,6 +106,7 @@ pub struct ContinuousJog {
     line: String,
     /// Increments sent and not yet acknowledged.
     outstanding: usize,
+    /// Increments sent so far.
     pub increments_sent: usize,
 }
 

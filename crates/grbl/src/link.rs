@@ -15,6 +15,7 @@ use std::time::Duration;
 /// A line longer than this without a newline is line noise: it is cut and reported.
 const MAX_INCOMING_LINE: usize = 512;
 
+/// What the reader thread reports.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LinkEvent {
     /// A line from the firmware, classified, with its raw text.
@@ -23,20 +24,24 @@ pub enum LinkEvent {
     Closed(String),
 }
 
+/// A line-oriented connection to the firmware, read on a thread of its own.
 pub struct Link {
     writer: Box<dyn Write + Send>,
     events: Receiver<LinkEvent>,
     stop: Arc<AtomicBool>,
     reader: Option<JoinHandle<()>>,
+    /// Where it is connected, for messages.
     pub description: String,
 }
 
 impl Link {
+    /// Connects to `endpoint`.
     pub fn open(endpoint: &Endpoint) -> io::Result<Link> {
         let conn = transport::open(endpoint)?;
         Ok(Link::from_connection(conn, endpoint.to_string()))
     }
 
+    /// A link over an open connection.
     pub fn from_connection(conn: Connection, description: String) -> Link {
         let (tx, rx) = mpsc::channel();
         let stop = Arc::new(AtomicBool::new(false));
@@ -99,10 +104,12 @@ impl Link {
         self.write_raw(&bytes)
     }
 
+    /// Sends one real-time byte at once.
     pub fn send_realtime(&mut self, r: Realtime) -> io::Result<()> {
         self.write_raw(&[r.byte()])
     }
 
+    /// Writes bytes as they are.
     pub fn write_raw(&mut self, bytes: &[u8]) -> io::Result<()> {
         self.writer.write_all(bytes)?;
         self.writer.flush()

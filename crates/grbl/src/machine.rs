@@ -15,6 +15,7 @@ use std::sync::mpsc::Receiver;
 /// Where a run starts.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Start {
+    /// From the first line.
     Beginning,
     /// The first G-code line at or after this 1-based file line.
     FileLine(usize),
@@ -22,11 +23,14 @@ pub enum Start {
     Journal,
 }
 
+/// How a job is run: where it starts, its journal, how it resumes.
 #[derive(Clone, Debug)]
 pub struct RunSettings {
+    /// Where the run starts.
     pub start: Start,
     /// Default: the program's path with `.journal` appended.
     pub journal: Option<PathBuf>,
+    /// How a stopped job is resumed.
     pub resume: ResumeOptions,
     /// Clear an alarm with `$X` when recovering (only when the position is known to hold).
     pub unlock_alarm: bool,
@@ -59,11 +63,15 @@ pub enum RunOutcome {
     /// The job had already completed (journal, or the machine rests at its end); nothing
     /// was sent.
     AlreadyDone,
+    /// The job was streamed; how it ended.
     Streamed(StreamReport),
 }
 
+/// A grbl board driven from this thread: connect, stream a job with a journal, resume.
 pub struct GrblMachine {
+    /// Where the board is.
     pub endpoint: Endpoint,
+    /// The streaming protocol over the link.
     pub sender: Sender,
 }
 
@@ -74,12 +82,14 @@ impl GrblMachine {
         GrblMachine::connect_to(endpoint, SenderOptions::default())
     }
 
+    /// Connects to `endpoint` with `options`.
     pub fn connect_to(endpoint: Endpoint, options: SenderOptions) -> Result<GrblMachine, String> {
         let sender = Sender::connect(&endpoint, options)
             .map_err(|e| format!("cannot talk to grbl at {endpoint}: {e}"))?;
         Ok(GrblMachine { endpoint, sender })
     }
 
+    /// The journal of `program`: the one `settings` name, else `<program>.journal`.
     pub fn journal_path(program: &Path, settings: &RunSettings) -> PathBuf {
         settings.journal.clone().unwrap_or_else(|| {
             let mut p = program.as_os_str().to_owned();
@@ -105,6 +115,8 @@ impl GrblMachine {
         Ok((job, outcome))
     }
 
+    /// Streams `job`, journalling progress to `journal_path`, resuming as `settings` say; `control`
+    /// carries the operator's requests and `observer` hears progress.
     pub fn run(
         &mut self,
         job: &StreamProgram,

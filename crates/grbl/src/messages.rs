@@ -19,9 +19,13 @@ const ALARMS: &[(u8, &str, &str)] = &[
 /// One `$N` setting: its number, name, unit and grbl's generic default.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SettingInfo {
+    /// `$` number.
     pub number: u16,
+    /// Its name.
     pub name: &'static str,
+    /// Its unit.
     pub unit: &'static str,
+    /// grbl's generic default.
     pub default: f64,
 }
 
@@ -124,6 +128,7 @@ pub fn describe_alarm(code: u8) -> String {
     }
 }
 
+/// Name, unit and default of setting `$number`, for settings grbl 1.1 defines.
 pub fn setting_info(number: u16) -> Option<&'static SettingInfo> {
     SETTINGS.iter().find(|s| s.number == number)
 }

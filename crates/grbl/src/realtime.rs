@@ -1,29 +1,52 @@
 //! grbl's real-time command bytes. They bypass the RX buffer and the planner: the firmware
 //! picks them off in the serial interrupt, so they act at once even when the buffer is full.
 
+/// A real-time command: one byte, acted on at once, outside the line protocol.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Realtime {
+    /// `?`: status report.
     StatusQuery,
+    /// `!`: feed hold.
     FeedHold,
+    /// `~`: cycle start / resume.
     CycleStart,
+    /// Ctrl-X: soft reset.
     SoftReset,
+    /// 0x84: safety door.
     SafetyDoor,
+    /// 0x85: jog cancel.
     JogCancel,
+    /// 0x90: feed override 100 %.
     FeedOverrideReset,
+    /// 0x91: feed override +10 %.
     FeedOverridePlus10,
+    /// 0x92: feed override −10 %.
     FeedOverrideMinus10,
+    /// 0x93: feed override +1 %.
     FeedOverridePlus1,
+    /// 0x94: feed override −1 %.
     FeedOverrideMinus1,
+    /// 0x95: rapid override 100 %.
     RapidOverride100,
+    /// 0x96: rapid override 50 %.
     RapidOverride50,
+    /// 0x97: rapid override 25 %.
     RapidOverride25,
+    /// 0x99: spindle override 100 %.
     SpindleOverrideReset,
+    /// 0x9A: spindle override +10 %.
     SpindleOverridePlus10,
+    /// 0x9B: spindle override −10 %.
     SpindleOverrideMinus10,
+    /// 0x9C: spindle override +1 %.
     SpindleOverridePlus1,
+    /// 0x9D: spindle override −1 %.
     SpindleOverrideMinus1,
+    /// 0x9E: spindle stop (in a hold).
     SpindleStopToggle,
+    /// 0xA0: flood coolant toggle.
     FloodToggle,
+    /// 0xA1: mist coolant toggle.
     MistToggle,
 }
 
@@ -78,6 +101,7 @@ pub fn override_by_name(name: &str) -> Option<Realtime> {
 }
 
 impl Realtime {
+    /// The byte sent for this command.
     pub fn byte(self) -> u8 {
         TABLE
             .iter()
@@ -86,6 +110,7 @@ impl Realtime {
             .unwrap_or(b'?')
     }
 
+    /// The command a byte stands for, if any.
     pub fn from_byte(b: u8) -> Option<Realtime> {
         TABLE.iter().find(|(_, x)| *x == b).map(|(r, _)| *r)
     }

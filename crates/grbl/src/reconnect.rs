@@ -7,20 +7,29 @@ use crate::transport::Endpoint;
 use std::io;
 use std::time::{Duration, Instant};
 
+/// Where reconnecting stands, for the operator.
 #[derive(Clone, Debug, PartialEq)]
 pub enum LinkState {
+    /// Attempt number `attempt` under way.
     Connecting {
+        /// From 1.
         attempt: u32,
     },
+    /// The firmware answered.
     Connected {
+        /// Its welcome line.
         firmware: String,
     },
     /// The last attempt failed; the next one comes after `retry_in`.
     Waiting {
+        /// Why it failed.
         error: String,
+        /// Time to the next attempt.
         retry_in: Duration,
     },
+    /// The deadline passed.
     GaveUp {
+        /// The last error.
         error: String,
     },
 }
@@ -30,7 +39,9 @@ pub enum LinkState {
 pub struct RetryPolicy {
     /// Give up when this much time has passed since the first attempt.
     pub deadline: Duration,
+    /// Pause after the first failed attempt; later pauses grow up to `max_pause`.
     pub first_pause: Duration,
+    /// Longest pause between attempts.
     pub max_pause: Duration,
 }
 

@@ -6,30 +6,41 @@ use crate::messages;
 use crate::resume::Located;
 use std::time::Duration;
 
+/// How a stream ended.
 #[derive(Clone, Debug, PartialEq)]
 pub enum StreamEnd {
+    /// Every line acknowledged and the machine at rest.
     Completed,
+    /// The operator stopped it.
     Stopped,
     /// The firmware answered `error:code` to job line `index`.
     Rejected {
+        /// Index of the job line.
         index: usize,
+        /// grbl's error code.
         code: u8,
     },
+    /// The firmware raised this alarm.
     Alarm(u8),
     /// The firmware restarted (banner seen): everything in flight was discarded.
     FirmwareReset,
+    /// The link was lost; says how.
     Disconnected(String),
     /// The firmware went idle with lines unacknowledged: bytes were lost on the link.
     Stalled,
     /// The job completed but the machine is not where the program ends.
     PositionMismatch {
+        /// Where the program ends, work mm.
         expected: [f64; 3],
+        /// Where the machine is, work mm.
         actual: [f64; 3],
     },
 }
 
+/// What a stream did: how it ended, how far it got, where to resume.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StreamReport {
+    /// How it ended.
     pub end: StreamEnd,
     /// Lines `from..acked_end` were acknowledged in this stream.
     pub acked_end: usize,
@@ -44,7 +55,9 @@ pub struct StreamReport {
     /// Why the machine's rest position could not be read, or the reset after a stop was not
     /// answered (then no resume point is offered: the machine's state is not known).
     pub recovery_error: Option<String>,
+    /// Bytes written to the link.
     pub bytes_sent: u64,
+    /// Wall-clock time of the stream.
     pub elapsed: Duration,
     /// Largest number of bytes in flight (never above the RX capacity).
     pub max_in_flight: usize,

@@ -4,11 +4,16 @@
 
 use crate::status::StatusReport;
 
+/// One line from the firmware, classified.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Response {
+    /// `ok`.
     Ok,
+    /// `error:N`.
     Error(u8),
+    /// `ALARM:N`.
     Alarm(u8),
+    /// `<Idle|MPos:…>`.
     Status(StatusReport),
     /// The firmware (re)started; everything in flight is gone. grbl: `Grbl 1.1h ['$' for
     /// help]`; grblHAL: `GrblHAL 1.1f ['$' or '$HELP' for help]`; FluidNC: `Grbl 3.7.12
@@ -16,6 +21,7 @@ pub enum Response {
     Welcome {
         /// `Grbl`, `GrblHAL` or `FluidNC`.
         firmware: String,
+        /// The version, e.g. `1.1h`.
         version: String,
     },
     /// `[MSG:…]`
@@ -26,23 +32,32 @@ pub enum Response {
     Version(String),
     /// `[OPT:V,15,128]`: option letters, planner blocks, RX buffer bytes.
     Options {
+        /// Option letters.
         codes: String,
+        /// Planner blocks.
         blocks: Option<u32>,
+        /// RX buffer bytes.
         rx_bytes: Option<u32>,
     },
     /// `[G54:0.000,0.000,0.000]`, `[PRB:…:1]`, `[TLO:…]`, `[HLP:…]`, `[echo:…]` and others.
     Feedback {
+        /// The tag before the colon.
         tag: String,
+        /// The rest.
         value: String,
     },
     /// `$110=500.000`
     Setting {
+        /// Setting number.
         number: u16,
+        /// Its value as sent.
         value: String,
     },
     /// `$N0=G20`
     StartupLine {
+        /// Startup line number.
         index: u8,
+        /// Its text.
         line: String,
     },
     /// `>G54G20:ok`: a startup line ran.

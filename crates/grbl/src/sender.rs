@@ -24,17 +24,21 @@ use std::io;
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
 
+/// How lines are paced to the firmware.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// Lines in flight up to this many bytes (RX buffer size − 1).
     CharCounting(usize),
+    /// One line at a time: the next waits for the `ok`.
     SendResponse,
 }
 
+/// How the sender talks to the firmware.
 #[derive(Clone, Debug)]
 pub struct SenderOptions {
     /// `None`: character counting when the firmware reports its RX size, else send-response.
     pub mode: Option<Mode>,
+    /// Time between status queries.
     pub status_interval: Duration,
     /// The firmware idle this long while lines await their `ok` means bytes were lost.
     pub stall_after: Duration,
@@ -59,33 +63,51 @@ impl Default for SenderOptions {
 /// Operator requests during a stream.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Control {
+    /// Feed hold.
     Hold,
+    /// Resume after a hold.
     Resume,
+    /// Stop: hold, then reset, and end the stream.
     Stop,
+    /// Any other real-time command (overrides).
     Realtime(Realtime),
 }
 
 /// What the sender tells its observer while streaming.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Notice {
+    /// Lines and bytes acknowledged so far.
     Progress {
+        /// Lines acknowledged.
         acked: usize,
+        /// Lines in the job.
         total: usize,
+        /// Bytes acknowledged.
         bytes_acked: u64,
+        /// Bytes in the job.
         bytes_total: u64,
     },
+    /// A status report.
     Status(StatusReport),
     /// A firmware line that is not part of the protocol (line noise, a fork's extra).
     Unexpected(String),
+    /// A message for the operator (the firmware's `[MSG:…]`, or the sender's own).
     Message(String),
 }
 
+/// The streaming protocol over a link: handshake, character counting or send-response, status
+/// polling.
 pub struct Sender {
     pub(crate) link: Link,
+    /// The options it was made with.
     pub options: SenderOptions,
+    /// Character counting or send-response.
     pub mode: Mode,
+    /// The firmware's welcome line.
     pub firmware: String,
+    /// Planner blocks the firmware reports (or grbl's default).
     pub planner_blocks: usize,
+    /// The latest status report.
     pub last_status: Option<StatusReport>,
     last_wco: Option<Vec<f64>>,
     /// `$12` arc tolerance, to count the planner blocks an arc makes as grbl does.
@@ -101,6 +123,7 @@ fn err(kind: io::ErrorKind, msg: String) -> io::Error {
 }
 
 impl Sender {
+    /// Connects to `endpoint` and reads the firmware's welcome and options.
     pub fn connect(endpoint: &Endpoint, options: SenderOptions) -> io::Result<Sender> {
         Sender::handshake(Link::open(endpoint)?, options)
     }
@@ -221,10 +244,12 @@ impl Sender {
         self.last_status = Some(st);
     }
 
+    /// The link underneath.
     pub fn link(&mut self) -> &mut Link {
         &mut self.link
     }
 
+    /// Sends a real-time command.
     pub fn realtime(&mut self, r: Realtime) -> io::Result<()> {
         self.link.send_realtime(r)
     }
@@ -823,6 +848,7 @@ fn dwell_seconds(text: &str) -> f64 {
 pub struct Reply {
     /// Lines before the `ok`/`error` (settings, `[GC:…]`, messages).
     pub lines: Vec<String>,
+    /// The error code instead of `ok`, if any.
     pub error: Option<u8>,
 }
 

@@ -6,15 +6,19 @@ use crate::messages::{self, SettingInfo};
 use crate::response::Response;
 use crate::sender::Sender;
 
+/// One `$N=value` setting as the firmware reports it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Setting {
+    /// `$` number.
     pub number: u16,
+    /// Its value.
     pub value: f64,
     /// Name, unit and default for settings grbl 1.1 defines (forks add others).
     pub info: Option<&'static SettingInfo>,
 }
 
 impl Setting {
+    /// `$N=value (name, unit)`, or the bare setting when unknown.
     pub fn describe(&self) -> String {
         match self.info {
             Some(i) => format!("${}={} ({}, {})", self.number, self.value, i.name, i.unit),

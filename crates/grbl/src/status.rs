@@ -2,25 +2,34 @@
 //! Every field of interface.md is parsed; unknown fields are kept, not rejected, because
 //! grbl forks (grblHAL, FluidNC) add their own.
 
+/// The machine state of a status report.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum GrblState {
+    /// At rest.
     Idle,
+    /// Running a program.
     Run,
     /// `Hold:0` hold complete, `Hold:1` still decelerating.
     Hold(u8),
+    /// Jogging.
     Jog,
+    /// In alarm: unlock or reset.
     Alarm,
     /// `Door:0` closed and ready, `Door:1` stopped and ajar, `Door:2` opened while moving
     /// (retracting), `Door:3` closed and restoring.
     Door(u8),
+    /// `$C` check mode: lines parsed, nothing moves.
     Check,
+    /// Homing.
     Home,
+    /// Asleep (`$SLP`).
     Sleep,
     /// A state name this version does not know (forks add e.g. `Tool`).
     Other(String),
 }
 
 impl GrblState {
+    /// Reads a state name, with its `:n` sub-state.
     pub fn parse(s: &str) -> GrblState {
         let (name, sub) = match s.split_once(':') {
             Some((n, x)) => (n, x.parse::<u8>().ok()),
@@ -40,6 +49,7 @@ impl GrblState {
         }
     }
 
+    /// The state as grbl writes it (`Hold:0`).
     pub fn name(&self) -> String {
         match self {
             GrblState::Hold(n) => format!("Hold:{n}"),
@@ -66,14 +76,21 @@ impl GrblState {
 /// One parsed status report. Positions are in the report units (mm unless `$13=1`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StatusReport {
+    /// The machine state.
     pub state: GrblState,
+    /// Machine position (`MPos`).
     pub mpos: Option<Vec<f64>>,
+    /// Work position (`WPos`).
     pub wpos: Option<Vec<f64>>,
+    /// Work coordinate offset (`WCO`), sent every few reports.
     pub wco: Option<Vec<f64>>,
     /// (free planner blocks, free RX bytes)
     pub buffer: Option<(u32, u32)>,
+    /// Source line number (`Ln`).
     pub line: Option<u32>,
+    /// Current feed (`F` or `FS`).
     pub feed: Option<f64>,
+    /// Current spindle speed (`FS`).
     pub spindle: Option<f64>,
     /// Input pins that are triggered, e.g. "XYZPDHRS".
     pub pins: Option<String>,

@@ -16,8 +16,18 @@ pub(crate) const READ_POLL: Duration = Duration::from_millis(50);
 /// Where the firmware is.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Endpoint {
-    Serial { path: String, baud: u32 },
-    Tcp { addr: String },
+    /// A serial port.
+    Serial {
+        /// Device path.
+        path: String,
+        /// Baud rate.
+        baud: u32,
+    },
+    /// A TCP socket (grblHAL or FluidNC over the network).
+    Tcp {
+        /// `host:port`.
+        addr: String,
+    },
 }
 
 impl FromStr for Endpoint {
@@ -132,7 +142,9 @@ pub(crate) fn open(endpoint: &Endpoint) -> io::Result<Connection> {
 /// A serial port the system knows of.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PortInfo {
+    /// Device path (`/dev/ttyUSB0`).
     pub path: String,
+    /// What it is (USB vendor/product, or the driver).
     pub kind: String,
 }
 
@@ -176,12 +188,15 @@ pub fn is_timeout(e: &io::Error) -> bool {
 /// sender may close and reopen the slave path (a "replugged cable") without the master
 /// seeing a hang-up.
 pub struct Pty {
+    /// The master's file.
     pub master: File,
+    /// The slave's path, to open as a serial port.
     pub slave_path: String,
     _slave: File,
 }
 
 impl Pty {
+    /// Opens a pseudo-terminal in raw mode.
     pub fn open() -> io::Result<Pty> {
         use nix::sys::termios;
         let pair = nix::pty::openpty(None, None).map_err(io::Error::from)?;

@@ -42,26 +42,37 @@ pub enum MotionMode {
     None,
 }
 
+/// Spindle state (M3 / M4 / M5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Spindle {
+    /// M5.
     Off,
+    /// M3.
     Cw,
+    /// M4.
     Ccw,
 }
 
 /// The modal groups grbl keeps (what `$G` reports).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Modal {
+    /// G0 / G1 / G2 / G3 / G38.x / G80.
     pub motion: MotionMode,
     /// 0 = G17 (XY), 1 = G18 (ZX), 2 = G19 (YZ)
     pub plane: u8,
+    /// G20 in force (else G21).
     pub inches: bool,
+    /// G90 in force (else G91).
     pub absolute: bool,
+    /// G93 in force (else G94).
     pub inverse_time: bool,
     /// 0 = G54 … 5 = G59
     pub wcs: u8,
+    /// M3 / M4 / M5.
     pub spindle: Spindle,
+    /// M7 on.
     pub mist: bool,
+    /// M8 on.
     pub flood: bool,
 }
 
@@ -93,15 +104,18 @@ pub enum Rate {
 /// One straight segment in machine coordinates (mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
+    /// End point, machine mm.
     pub to: [f64; 3],
     /// The 4th axis A at the end, degrees (unchanged on a 3-axis machine).
     pub a: f64,
+    /// Rapid or feed rate.
     pub rate: Rate,
 }
 
 /// Program flow requested by the line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Flow {
+    /// Go on with the next line.
     Continue,
     /// M0 / M1: feed hold after the buffer drains.
     Pause,
@@ -112,29 +126,41 @@ pub enum Flow {
 /// What executing one line does beyond changing the modal state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Effect {
+    /// Straight pieces to queue, in order.
     pub segments: Vec<Segment>,
+    /// Seconds to dwell (G4).
     pub dwell: f64,
+    /// Pause, end, or go on.
     pub flow: Flow,
     /// The line waits for the planner to empty before acknowledging (spindle, coolant,
     /// offsets, dwell in grbl).
     pub sync: bool,
+    /// A probing move (G38.x).
     pub probe: bool,
 }
 
 /// Interpreter state: modal groups, feed, spindle, tool, position and offsets (machine mm).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Interp {
+    /// Modal groups in force.
     pub modal: Modal,
     /// Programmed feed, mm/min (or 1/min in inverse time).
     pub feed: f64,
+    /// Spindle speed, rpm.
     pub spindle_speed: f64,
+    /// The tool number last selected.
     pub tool: u32,
     /// Machine position of the controlled point.
     pub pos: [f64; 3],
+    /// G54…G59 origins, machine mm.
     pub wcs_offsets: [[f64; 3]; 6],
+    /// G92 offset, mm.
     pub g92: [f64; 3],
+    /// G43.1 tool length offset, mm.
     pub tool_length: f64,
+    /// G28 stored position, machine mm.
     pub g28: [f64; 3],
+    /// G30 stored position, machine mm.
     pub g30: [f64; 3],
     /// $12 arc tolerance, mm.
     pub arc_tolerance: f64,
@@ -273,6 +299,7 @@ fn trim_num(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+/// Distance between two points, mm.
 pub fn dist(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
