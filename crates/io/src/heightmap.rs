@@ -11,7 +11,7 @@ pub struct Heightmap {
     pub height: usize,
     /// Grid spacing in mm (X and Y alike).
     pub pixel: f64,
-    /// Heights, mm, row-major: `width × height` values, row 0 at Y = 0.
+    /// Heights, mm, row-major: `width × height` values, row 0 at the smallest Y.
     pub z: Vec<f32>,
 }
 
@@ -53,7 +53,7 @@ impl Heightmap {
         self.z[iy * self.width + ix]
     }
 
-    /// Row `iy`, mm.
+    /// The heights of row `iy`, mm.
     pub fn row(&self, iy: usize) -> &[f32] {
         &self.z[iy * self.width..(iy + 1) * self.width]
     }
