@@ -194,6 +194,11 @@ fn intersections(a: Curve, b: Curve) -> Vec<P2> {
 }
 
 impl Interpreter {
+    /// A compensation error at the block's motion word, with advice on what to change.
+    fn comp_fail(&self, d: &Decoded, message: &str, help: impl Into<String>) -> Diagnostic {
+        self.fail(d.g_span(G::MOTION), message, 0).with_help(help)
+    }
+
     fn comp_side_sign(&self) -> f64 {
         match self.modal.comp {
             Some(Side::Left) => 1.0,
@@ -373,16 +378,14 @@ impl Interpreter {
                     },
                 };
                 if gouge {
-                    return Err(self
-                        .fail(
-                            d.g_span(G::MOTION),
-                            "Cutter gouging with cutter radius comp: concave corner too small for the tool",
-                            0,
-                        )
-                        .with_help(format!(
+                    return Err(self.comp_fail(
+                        d,
+                        "Cutter gouging with cutter radius comp: concave corner too small for the tool",
+                        format!(
                             "the inside corner leaves less room than the tool radius {:.4}; use a smaller tool or open the corner",
                             self.modal.comp_radius / self.modal.units.mm()
-                        )));
+                        ),
+                    ));
                 }
                 let x = best.unwrap_or(corner);
                 prev.set_end(x, ax);
@@ -416,16 +419,14 @@ impl Interpreter {
             // and the tool reaches it from wherever it stands.
             let dist = len(sub(target, self.comp.point));
             if dist <= r {
-                return Err(self
-                    .fail(
-                        d.g_span(G::MOTION),
-                        "Length of cutter compensation entry move is not greater than the tool radius",
-                        0,
-                    )
-                    .with_help(format!(
+                return Err(self.comp_fail(
+                    d,
+                    "Length of cutter compensation entry move is not greater than the tool radius",
+                    format!(
                         "the entry move is {:.4} long; start farther from the path",
                         dist / self.modal.units.mm()
-                    )));
+                    ),
+                ));
             }
             self.comp.entry = false;
             // As rs274: the tool goes straight to the programmed end shifted by r at right
@@ -494,17 +495,15 @@ impl Interpreter {
         let inside = (self.modal.comp == Some(Side::Left)) == ccw;
         let new_r = if inside { radius - r } else { radius + r };
         if new_r <= 0.0 || (inside && radius <= r) {
-            return Err(self
-                .fail(
-                    d.g_span(G::MOTION),
-                    "Tool radius not less than arc radius with comp",
-                    0,
-                )
-                .with_help(format!(
+            return Err(self.comp_fail(
+                d,
+                "Tool radius not less than arc radius with comp",
+                format!(
                     "the arc radius {:.4} is not larger than the tool radius {:.4}",
                     radius / self.modal.units.mm(),
                     r / self.modal.units.mm()
-                )));
+                ),
+            ));
         }
         let on = |p: P2| add(center, scale(unit(sub(p, center)), new_r));
         let e = on(target);
@@ -551,13 +550,11 @@ impl Interpreter {
         let den = 2.0 * (dot(u, cs) + rho);
         let t = (rho * rho - dot(cs, cs)) / den;
         if !t.is_finite() || rho - t <= 0.0 {
-            return Err(self
-                .fail(
-                    d.g_span(G::MOTION),
-                    "Cannot make this arc the entry move of cutter compensation",
-                    0,
-                )
-                .with_help("start the tool farther from the arc, or enter with a straight move"));
+            return Err(self.comp_fail(
+                d,
+                "Cannot make this arc the entry move of cutter compensation",
+                "start the tool farther from the arc, or enter with a straight move",
+            ));
         }
         self.comp.entry = false;
         self.comp_flush(sink);
