@@ -4,8 +4,8 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    allowed_region, preview_canon_svg, preview_svg, toolpath, vcarve::half_tan, Cut, DrillParams,
-    Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
+    allowed_region, half_tan, preview_canon_svg, preview_svg, toolpath, Cut, DrillParams, Entry,
+    MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;

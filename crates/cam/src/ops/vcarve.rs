@@ -54,7 +54,7 @@ impl Default for VCarveParams {
 const MAX_INSETS: usize = 20_000;
 
 /// tan(θ/2) of a V tool, or an error for other shapes.
-pub(super) fn half_tan(cut: &Cut) -> Result<f64, OpError> {
+pub fn half_tan(cut: &Cut) -> Result<f64, OpError> {
     match cut.tool.shape {
         CutterShape::V { angle } => Ok((angle.to_radians() / 2.0).tan()),
         _ => Err(OpError::Invalid(format!(
