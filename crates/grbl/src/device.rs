@@ -178,7 +178,7 @@ fn job_report(outcome: &RunOutcome, job: &StreamProgram) -> JobReport {
 
 /// The real-time bytes that take grbl's feed override from 100 % to `factor` (10–200 %,
 /// in grbl's 10 % and 1 % steps).
-pub fn feed_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
+pub(crate) fn feed_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
     override_bytes(
         "feed",
         factor,
@@ -194,7 +194,7 @@ pub fn feed_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
 
 /// The real-time bytes (0x99 reset, then 0x9A/0x9B ±10 %, 0x9C/0x9D ±1 %) that take grbl's
 /// spindle override from 100 % to `factor` (10–200 %).
-pub fn spindle_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
+pub(crate) fn spindle_override_bytes(factor: f64) -> Result<Vec<Realtime>, String> {
     override_bytes(
         "spindle",
         factor,

@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 
 /// Seconds of machine time before each line: `cumulative[i]` is the time of lines `0..i`;
 /// the last entry is the whole job.
-pub fn cumulative_seconds(job: &StreamProgram, settings: &BTreeMap<u16, f64>) -> Vec<f64> {
+pub(crate) fn cumulative_seconds(job: &StreamProgram, settings: &BTreeMap<u16, f64>) -> Vec<f64> {
     let max_rate = |axis: u16| {
         settings
             .get(&(110 + axis))
@@ -52,7 +52,7 @@ pub fn cumulative_seconds(job: &StreamProgram, settings: &BTreeMap<u16, f64>) ->
 
 /// Seconds left after line `done` (exclusive) given `elapsed` real seconds since line
 /// `started`, scaled by the observed pace once enough machine time has passed to judge it.
-pub fn remaining(cumulative: &[f64], started: usize, done: usize, elapsed: f64) -> f64 {
+pub(crate) fn remaining(cumulative: &[f64], started: usize, done: usize, elapsed: f64) -> f64 {
     let total = *cumulative.last().unwrap_or(&0.0);
     let at = |i: usize| cumulative.get(i).copied().unwrap_or(total);
     let model_left = (total - at(done)).max(0.0);

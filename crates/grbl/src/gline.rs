@@ -9,7 +9,7 @@ pub const MAX_LINE: usize = 79;
 pub(crate) const E_EXPECTED_LETTER: u8 = 1;
 pub(crate) const E_BAD_NUMBER: u8 = 2;
 /// grbl's error 4: a negative value where a positive one is needed.
-pub const E_NEGATIVE: u8 = 4;
+pub(crate) const E_NEGATIVE: u8 = 4;
 /// grbl's error 11: the line is longer than the line buffer.
 pub const E_LINE_OVERFLOW: u8 = 11;
 

@@ -28,7 +28,7 @@
 //!   [`ResumeOptions`], [`replay`], [`resume_preamble`];
 //! - the machine panel: [`read_settings`], [`write_setting`], [`ContinuousJog`],
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
-//!   [`connect_with_retry`] (the link life cycle), [`cumulative_seconds`] (ETA).
+//!   [`connect_with_retry`] (the link life cycle).
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
@@ -57,9 +57,8 @@ mod status;
 mod track;
 mod transport;
 
-pub use device::{feed_override_bytes, spindle_override_bytes, GrblDevice};
-pub use eta::{cumulative_seconds, remaining as eta_remaining};
-pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, E_NEGATIVE, MAX_LINE};
+pub use device::GrblDevice;
+pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
 pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
 pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
