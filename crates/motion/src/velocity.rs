@@ -238,66 +238,48 @@ impl Motion {
         }
         let j = lim.jerk * sign;
         let knee = lim.accel * lim.accel / lim.jerk;
-        if dv.abs() >= knee {
+        // Jerk up to the peak acceleration `ap`, hold it for `tc`, jerk back down. A change
+        // below the knee never reaches the limit: no hold, and ap = jerk · tj.
+        let (tj, tc, ap) = if dv.abs() >= knee {
             let tj = lim.accel / lim.jerk;
-            let tc = dv.abs() / lim.accel - tj;
-            self.push(
-                t,
-                s,
-                Piece {
-                    dur: tj,
-                    v0,
-                    jerk: j,
-                    ..Piece::default()
-                },
-            );
-            let v_mid = v0 + a * tj * 0.5;
-            self.push(
-                t,
-                s,
-                Piece {
-                    dur: tc,
-                    v0: v_mid,
-                    a0: a,
-                    ..Piece::default()
-                },
-            );
-            self.push(
-                t,
-                s,
-                Piece {
-                    dur: tj,
-                    v0: v_mid + a * tc,
-                    a0: a,
-                    jerk: -j,
-                    ..Piece::default()
-                },
-            );
+            (tj, dv.abs() / lim.accel - tj, a)
         } else {
             let tj = (dv.abs() / lim.jerk).sqrt();
-            let ap = lim.jerk * tj * sign;
-            self.push(
-                t,
-                s,
-                Piece {
-                    dur: tj,
-                    v0,
-                    jerk: j,
-                    ..Piece::default()
-                },
-            );
-            self.push(
-                t,
-                s,
-                Piece {
-                    dur: tj,
-                    v0: v0 + ap * tj * 0.5,
-                    a0: ap,
-                    jerk: -j,
-                    ..Piece::default()
-                },
-            );
-        }
+            (tj, 0.0, lim.jerk * tj * sign)
+        };
+        let v_mid = v0 + ap * tj * 0.5;
+        self.push(
+            t,
+            s,
+            Piece {
+                dur: tj,
+                v0,
+                jerk: j,
+                ..Piece::default()
+            },
+        );
+        // `push` drops a piece of no duration: the hold below the knee.
+        self.push(
+            t,
+            s,
+            Piece {
+                dur: tc,
+                v0: v_mid,
+                a0: ap,
+                ..Piece::default()
+            },
+        );
+        self.push(
+            t,
+            s,
+            Piece {
+                dur: tj,
+                v0: v_mid + ap * tc,
+                a0: ap,
+                jerk: -j,
+                ..Piece::default()
+            },
+        );
     }
 
     /// The first `t` seconds of this motion (what was executed before a live re-plan).
