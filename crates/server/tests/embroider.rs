@@ -3,57 +3,38 @@
 //! inputs (parameters out of range, a broken SVG, a design with nothing to sew, a broken
 //! DST), each a clear error naming its field where it has one.
 
-use axum::body::Body;
-use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+mod common;
+
+use axum::http::StatusCode;
+use common::{call, post_json, put, state};
+use oficina_server::AppState;
 use serde_json::{json, Value};
 use std::sync::Arc;
-use tower::ServiceExt;
 
-fn state(dir: &std::path::Path) -> Arc<AppState> {
-    AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap()
+/// A server on `dir` with the sample design uploaded as `sunflower.svg`.
+async fn with_sunflower(dir: &std::path::Path) -> Arc<AppState> {
+    let st = state(dir);
+    put(
+        &st,
+        "sunflower.svg",
+        common::sample("embroidery/sunflower.svg"),
+    )
+    .await;
+    st
 }
 
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    let v = serde_json::from_slice(&body)
-        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
-    (status, v)
-}
-
-async fn put(st: &Arc<AppState>, name: &str, bytes: Vec<u8>) {
-    let req = Request::put(format!("/api/files/{name}"))
-        .body(Body::from(bytes))
-        .unwrap();
-    let (s, v) = call(st, req).await;
+/// `/api/embroider` of the sample with `params`: it must succeed; its answer.
+async fn embroider(st: &Arc<AppState>, params: Value) -> Value {
+    let (s, v) = call(
+        st,
+        post_json(
+            "/api/embroider",
+            json!({"file": "sunflower.svg", "params": params}),
+        ),
+    )
+    .await;
     assert_eq!(s, StatusCode::OK, "{v}");
-}
-
-fn sample() -> Vec<u8> {
-    std::fs::read(format!(
-        "{}/../../samples/embroidery/sunflower.svg",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
-
-fn post_json(uri: &str, body: Value) -> Request<Body> {
-    Request::post(uri)
-        .header("content-type", "application/json")
-        .body(Body::from(body.to_string()))
-        .unwrap()
+    v
 }
 
 /// Sewn stitches in the plan's points (kind 0), and the points' count per block.
@@ -87,17 +68,8 @@ fn pyembroidery_stitches(path: &std::path::Path) -> Option<usize> {
 #[tokio::test]
 async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/embroider",
-            json!({"file": "sunflower.svg", "params": {"format": "dst", "stitch_length": 2.5}}),
-        ),
-    )
-    .await;
-    assert_eq!(s, StatusCode::OK, "{v}");
+    let st = with_sunflower(dir.path()).await;
+    let v = embroider(&st, json!({"format": "dst", "stitch_length": 2.5})).await;
     assert_eq!(v["name"], "sunflower.dst");
     let sheet = &v["sheet"];
     let (n, per_block) = plan_stitches(&v["plan"]);
@@ -160,17 +132,8 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
 #[tokio::test]
 async fn exp_is_written_too() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/embroider",
-            json!({"file": "sunflower.svg", "params": {"format": "exp", "fill_angle": 45}}),
-        ),
-    )
-    .await;
-    assert_eq!(s, StatusCode::OK, "{v}");
+    let st = with_sunflower(dir.path()).await;
+    let v = embroider(&st, json!({"format": "exp", "fill_angle": 45})).await;
     assert_eq!(v["name"], "sunflower.exp");
     assert!(dir.path().join("jobs/sunflower.exp").is_file());
 }
@@ -178,8 +141,7 @@ async fn exp_is_written_too() {
 #[tokio::test]
 async fn bad_inputs_get_clear_errors_beside_their_fields() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
+    let st = with_sunflower(dir.path()).await;
     let cases = [
         (json!({"stitch_length": 0}), Some("stitch_length")),
         (json!({"stitch_length": 99}), Some("stitch_length")),

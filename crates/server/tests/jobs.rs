@@ -1,61 +1,18 @@
 //! The job endpoints (mill, sole, plot, carve, cancel) and their bad inputs, through the
 //! router (no socket). Inputs are the repository's samples, uploaded into the job folder.
 
+mod common;
+
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+use common::{call, post_json, put, sample, state};
 use serde_json::{json, Value};
-use std::sync::Arc;
-use tower::ServiceExt;
-
-fn state(dir: &std::path::Path) -> Arc<AppState> {
-    AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap()
-}
-
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    let v = serde_json::from_slice(&body)
-        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
-    (status, v)
-}
-
-async fn upload(st: &Arc<AppState>, name: &str, sample: &str) {
-    let text = std::fs::read(format!(
-        "{}/../../samples/{sample}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let req = Request::put(format!("/api/files/{name}"))
-        .body(Body::from(text))
-        .unwrap();
-    let (s, v) = call(st, req).await;
-    assert_eq!(s, StatusCode::OK, "{v}");
-}
-
-fn post_json(uri: &str, body: Value) -> Request<Body> {
-    Request::post(uri)
-        .header("content-type", "application/json")
-        .body(Body::from(body.to_string()))
-        .unwrap()
-}
 
 #[tokio::test]
 async fn mill_makes_a_checked_program_in_the_job_folder() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "plate.svg", "mill/plate.svg").await;
+    put(&st, "plate.svg", sample("mill/plate.svg")).await;
     let (s, v) = call(
         &st,
         post_json(
@@ -85,7 +42,7 @@ async fn mill_makes_a_checked_program_in_the_job_folder() {
 async fn mill_errors_name_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "plate.svg", "mill/plate.svg").await;
+    put(&st, "plate.svg", sample("mill/plate.svg")).await;
     let cases = [
         (json!({"op": "pocket", "depth": 2, "safe_z": 1}), "safe_z"),
         (json!({"op": "pocket", "depth": 2, "feed": -5}), "feed"),
@@ -148,7 +105,7 @@ async fn mill_errors_name_the_field() {
 async fn sole_makes_four_programs_and_refuses_bad_sizes() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "size34.csv", "sole/size34.csv").await;
+    put(&st, "size34.csv", sample("sole/size34.csv")).await;
     let (s, v) = call(
         &st,
         post_json(
@@ -181,7 +138,7 @@ async fn sole_makes_four_programs_and_refuses_bad_sizes() {
 async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "design.svg", "plot/design.svg").await;
+    put(&st, "design.svg", sample("plot/design.svg")).await;
     let (s, v) = call(
         &st,
         post_json("/api/plot", json!({"file": "design.svg", "params": {}})),
