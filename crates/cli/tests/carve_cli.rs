@@ -2,6 +2,10 @@
 //! figures checked against independent readings of the program; bad pictures refused with
 //! clear errors and no panic.
 
+mod common;
+
+use common::oficina;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -20,13 +24,6 @@ fn gray(x: u32, y: u32) -> u8 {
 /// The design as the importer must map it: black = −DEPTH, image row 0 at the largest Y.
 fn design_z(ix: u32, iy: u32) -> f64 {
     -(255.0 - gray(ix, H - 1 - iy) as f64) / 255.0 * DEPTH
-}
-
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
 }
 
 fn profile() -> String {

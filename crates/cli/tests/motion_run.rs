@@ -1,11 +1,11 @@
 //! `oficina run` executes every bundled motion sample on the virtual machine, and
 //! `oficina plan --trace` writes one row per millisecond of the total time it prints.
 
-use std::process::Command;
+mod common;
 
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::root;
+
+use std::process::Command;
 
 const SAMPLES: [(&str, &str); 5] = [
     ("router-square", "grbl-router"),

@@ -2,6 +2,10 @@
 //! G43 tool length offset moves the planned motion and the virtual machine by the tool's
 //! length (grbl-router: travel Z −100…0 mm, stored G54 Z −40 mm).
 
+mod common;
+
+use common::oficina;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -10,13 +14,6 @@ fn scratch(name: &str) -> PathBuf {
         std::env::temp_dir().join(format!("oficina-tool-table-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 /// Lowest and highest Z of a `--trace` CSV.

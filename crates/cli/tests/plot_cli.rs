@@ -2,29 +2,15 @@
 //! Cartesian pen plotter and the seed-003 polar plotter; HPGL and joint-space output; bounds
 //! refused before drawing; the seed-check table.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("oficina runs")
-}
+use oficina_testkit::assert_success;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{oficina_in, root};
 
-fn ok(o: &Output) -> String {
-    let out = String::from_utf8_lossy(&o.stdout).to_string();
-    assert!(
-        o.status.success(),
-        "failed: {}\n{out}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    out
+/// `oficina args…` in the repository's root (the sample paths are relative to it).
+fn oficina(args: &[&str]) -> std::process::Output {
+    oficina_in(&root(), args)
 }
 
 fn number_after(text: &str, key: &str) -> f64 {
@@ -45,7 +31,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("out.nc");
     let svg = dir.path().join("preview.svg");
-    let out = ok(&oficina(&[
+    let out = assert_success(&oficina(&[
         "plot",
         "samples/plot/design.svg",
         "--machine",
@@ -75,7 +61,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
     assert!(std::fs::read_to_string(&svg)
         .unwrap()
         .contains("id=\"pen-up\""));
-    let run = ok(&oficina(&[
+    let run = assert_success(&oficina(&[
         "run",
         nc.to_str().unwrap(),
         "--machine",
@@ -89,7 +75,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
 fn the_polar_plotter_draws_the_same_design_and_runs_it() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("polar.nc");
-    ok(&oficina(&[
+    assert_success(&oficina(&[
         "plot",
         "samples/plot/design.svg",
         "--machine",
@@ -99,7 +85,7 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
         "-o",
         nc.to_str().unwrap(),
     ]));
-    ok(&oficina(&[
+    assert_success(&oficina(&[
         "run",
         nc.to_str().unwrap(),
         "--machine",
@@ -108,7 +94,7 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
     ]));
     // Joint space: X is the arm angle in degrees, Y the carriage in mm, timed by G93.
     let joint = dir.path().join("joint.nc");
-    ok(&oficina(&[
+    assert_success(&oficina(&[
         "plot",
         "samples/plot/design.svg",
         "--machine",
@@ -132,7 +118,7 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
 fn hpgl_in_and_out() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("house.hpgl");
-    let o = ok(&oficina(&[
+    let o = assert_success(&oficina(&[
         "plot",
         "samples/plot/house.plt",
         "--machine",
@@ -180,7 +166,7 @@ fn a_drawing_off_the_machine_is_refused_before_drawing() {
 
 #[test]
 fn the_seed_check_prints_five_places() {
-    let out = ok(&oficina(&[
+    let out = assert_success(&oficina(&[
         "plot",
         "--seed-check",
         "--machine",
@@ -202,7 +188,7 @@ fn the_seed_check_prints_five_places() {
 fn images_hatch_text_draws_and_a_broken_image_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("h.nc");
-    let out = ok(&oficina(&[
+    let out = assert_success(&oficina(&[
         "plot",
         "samples/relief/dome.png",
         "--pixel",
@@ -215,7 +201,7 @@ fn images_hatch_text_draws_and_a_broken_image_is_named() {
         nc.to_str().unwrap(),
     ]));
     assert!(number_after(&out, "pen-down ") > 100.0, "{out}");
-    let out = ok(&oficina(&["plot", "--text", "Oficina", "--at", "10,10"]));
+    let out = assert_success(&oficina(&["plot", "--text", "Oficina", "--at", "10,10"]));
     assert!(out.contains("G1 X"), "{out}");
     let empty = dir.path().join("empty.png");
     std::fs::write(&empty, b"").unwrap();

@@ -3,11 +3,65 @@
 #![allow(dead_code)]
 
 use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
+
+/// The repository's root (samples, profiles).
+pub(crate) fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// `oficina args…`, run to its end.
+pub(crate) fn oficina(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// `oficina args…` run in the folder `dir`.
+pub(crate) fn oficina_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+/// A command's stdout and stderr as text.
+pub(crate) fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// A program `{name}.ngc` in this test binary's scratch folder (names differ per test).
+pub(crate) fn program(name: &str, body: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("oficina-programs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(format!("{name}.ngc"));
+    std::fs::write(&p, body).unwrap();
+    p
+}
+
+/// The "total time: N s" figure `oficina plan` prints.
+pub(crate) fn total_time(out: &str) -> f64 {
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("total time:"))
+        .unwrap_or_else(|| panic!("no total time in {out}"));
+    line["total time:".len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
 
 /// An `oficina emulate grbl …` on a free local TCP port (`extra` before the port options),
 /// with the `tcp://` address and the first line it printed (its banner).
-pub fn emulator(extra: &[&str]) -> (Child, String, String) {
+pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
     let mut emulator = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .args(["emulate", "grbl"])
         .args(extra)
@@ -30,7 +84,7 @@ pub fn emulator(extra: &[&str]) -> (Child, String, String) {
 
 /// `oficina run` of `program` (written to a scratch file named `name`) on the machine at
 /// `addr`, with no terminal.
-pub fn run_program_on(addr: &str, name: &str, program: &str) -> Output {
+pub(crate) fn run_program_on(addr: &str, name: &str, program: &str) -> Output {
     let dir = std::env::temp_dir().join(format!("oficina-run-on-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join(name);
