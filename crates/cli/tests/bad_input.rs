@@ -1,12 +1,12 @@
 //! Issue 8, the G-code side: what a user feeds `check`, `gcode canon`, `run` and `plan` is
 //! read by one rule, and every error fits a terminal.
 
+mod common;
+
+use common::root;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn dir() -> PathBuf {
     let d = std::env::temp_dir().join(format!("oficina-bad-input-{}", std::process::id()));
@@ -40,6 +40,18 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Each command with what it printed on stderr for `f`, which every one must refuse.
+fn refusals(f: &Path) -> Vec<(&'static [&'static str], String)> {
+    COMMANDS
+        .iter()
+        .map(|&cmd| {
+            let o = oficina(cmd, f);
+            assert!(!o.status.success(), "{cmd:?} accepted it");
+            (cmd, stderr(&o))
+        })
+        .collect()
+}
+
 #[test]
 fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
     let f = write(
@@ -60,10 +72,7 @@ fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
 #[test]
 fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere() {
     let f = write("latin1-code.nc", b"G21 G90 F600\nG1 X1\xb0\nM2\n");
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("latin1-code.nc:2:6:") && e.contains("0xB0"),
             "{cmd:?}: {e}"
@@ -74,10 +83,7 @@ fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere()
 #[test]
 fn a_byte_order_mark_is_named_as_such_everywhere() {
     let f = write("bom.nc", b"\xef\xbb\xbfG21 G90 F600\nG1 X1\nM2\n");
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("bom.nc:1:1:") && e.contains("byte-order mark"),
             "{cmd:?}: {e}"
@@ -93,10 +99,7 @@ fn a_five_megabyte_line_is_not_echoed_by_any_command() {
     text.extend(std::iter::repeat_n(b'1', 5_000_000));
     text.extend_from_slice(b"\nM2\n");
     let f = write("long.nc", &text);
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    for (cmd, e) in refusals(&f) {
         assert!(e.len() < 2_000, "{cmd:?} printed {} bytes", e.len());
         assert!(e.contains("long.nc:2:1:"), "{cmd:?}: {e}");
         // The limit it says can be raised is raised by a real option.

@@ -26,6 +26,20 @@ fn design_z(ix: u32, iy: u32) -> f64 {
     -(255.0 - gray(ix, H - 1 - iy) as f64) / 255.0 * DEPTH
 }
 
+/// `oficina carve PICTURE --pixel-size 0.5 -o OUT` with `extra` options.
+fn carve(picture: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "carve",
+        picture.to_str().unwrap(),
+        "--pixel-size",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    oficina(&args)
+}
+
 fn profile() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../profiles/grbl-router.toml")
@@ -88,28 +102,21 @@ fn carves_a_picture_into_program_preview_and_estimate() {
     let dir = tempfile::tempdir().unwrap();
     let picture = write_picture(dir.path());
     let out = dir.path().join("dome.nc");
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "3",
-        "--tool",
-        "ball:3",
-        "--rough-tool",
-        "flat:6",
-        "--profile",
-        &profile(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = carve(
+        &picture,
+        &out,
+        &[
+            "--depth",
+            "3",
+            "--tool",
+            "ball:3",
+            "--rough-tool",
+            "flat:6",
+            "--profile",
+            &profile(),
+        ],
     );
+    let stdout = oficina_testkit::assert_success(&run);
 
     let program = std::fs::read_to_string(&out).unwrap();
     assert!(
@@ -188,14 +195,7 @@ fn refused(bytes: &[u8], name: &str, expect: &str) {
     let path = dir.path().join(name);
     std::fs::write(&path, bytes).unwrap();
     let out = dir.path().join("x.nc");
-    let run = oficina(&[
-        "carve",
-        path.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let run = carve(&path, &out, &[]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{name}: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -273,22 +273,20 @@ fn an_output_that_would_replace_the_design_image_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let picture = write_picture(dir.path());
     let before = std::fs::read(&picture).unwrap();
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "3",
-        "--tool",
-        "ball:3",
-        "--profile",
-        &profile(),
-        "-o",
-        dir.path().join("out.nc").to_str().unwrap(),
-        "--preview",
-        picture.to_str().unwrap(),
-    ]);
+    let run = carve(
+        &picture,
+        &dir.path().join("out.nc"),
+        &[
+            "--depth",
+            "3",
+            "--tool",
+            "ball:3",
+            "--profile",
+            &profile(),
+            "--preview",
+            picture.to_str().unwrap(),
+        ],
+    );
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success());
     assert!(err.contains("is the input image"), "{err}");
@@ -447,16 +445,7 @@ fn profiles_are_found_by_name_from_any_folder() {
         );
         assert!(stdout.contains("time: planner "), "{extra:?}: {stdout}");
     }
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--profile",
-        "no-such-router",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let run = carve(&picture, &out, &["--profile", "no-such-router"]);
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert!(
@@ -492,20 +481,11 @@ fn the_bundled_dome_sample_carves_a_dome() {
     let dir = tempfile::tempdir().unwrap();
     let dome = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/relief/dome.png");
     let out = dir.path().join("dome.nc");
-    let run = oficina(&[
-        "carve",
-        dome.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "6",
-        "--tool",
-        "ball:3",
-        "--rough-tool",
-        "flat:6",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let run = carve(
+        &dome,
+        &out,
+        &["--depth", "6", "--tool", "ball:3", "--rough-tool", "flat:6"],
+    );
     assert!(
         run.status.success(),
         "{}",
