@@ -13,7 +13,7 @@ fn oficina() -> Command {
 
 #[test]
 fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
-    let (mut emulator, addr, _) = common::emulator(&[
+    let (emulator, addr, _) = common::emulator(&[
         "--machine",
         "router-4axis",
         "--baud",
@@ -27,15 +27,7 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
         "turn.ngc",
         "G21 G90 G94\nG0 X5 A0\nG1 A90 F5400\nG1 X10 A120 F600\nG0 A0\nM2\n",
     );
-    let _ = emulator.kill();
-    let _ = emulator.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(stdout.contains("done:"), "{stdout}");
+    common::assert_ran_to_done(emulator, &out);
 }
 
 /// A line the firmware refuses (`error:20`) ends the job: `oficina run` reports the error

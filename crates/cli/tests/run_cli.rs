@@ -86,7 +86,7 @@ fn a_work_offset_outside_travel_is_refused_before_any_motion() {
 
 #[test]
 fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
-    let (mut emulator, addr, _) = common::emulator(&[]);
+    let (emulator, addr, _) = common::emulator(&[]);
     let path = program("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
     let out = oficina()
         .arg("run")
@@ -95,13 +95,5 @@ fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
         .stdin(Stdio::null())
         .output()
         .unwrap();
-    let _ = emulator.kill();
-    let _ = emulator.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(stdout.contains("done:"), "{stdout}");
+    common::assert_ran_to_done(emulator, &out);
 }

@@ -99,3 +99,19 @@ pub(crate) fn run_program_on(addr: &str, name: &str, program: &str) -> Output {
     let _ = std::fs::remove_dir_all(&dir);
     out
 }
+
+/// The shipped size-34 sole contour, read by the library's point-list reader.
+pub(crate) fn sole_sample() -> Vec<oficina_geom::Point> {
+    oficina_io::load_points(&root().join("samples/sole/size34.csv")).unwrap()
+}
+
+/// Stops the `emulator` once `out`, a run on it, has ended; the run must have succeeded and
+/// said `done:`.
+pub(crate) fn assert_ran_to_done(mut emulator: Child, out: &Output) {
+    let _ = emulator.kill();
+    let _ = emulator.wait();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+}
