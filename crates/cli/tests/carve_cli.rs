@@ -467,11 +467,7 @@ fn profiles_are_found_by_name_from_any_folder() {
         .current_dir(dir.path())
         .output()
         .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    oficina_testkit::assert_success(&run);
 }
 
 /// The bundled sample is a dome: where the carved program's tool tip goes lowest, cell by
@@ -486,11 +482,7 @@ fn the_bundled_dome_sample_carves_a_dome() {
         &out,
         &["--depth", "6", "--tool", "ball:3", "--rough-tool", "flat:6"],
     );
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    oficina_testkit::assert_success(&run);
     let (points, _) = positions(&std::fs::read_to_string(&out).unwrap());
     let picture = image::open(&dome).unwrap();
     let (w, h) = (

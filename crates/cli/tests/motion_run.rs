@@ -73,11 +73,7 @@ fn plan_trace_has_one_row_per_millisecond() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     let total: f64 = text
         .lines()

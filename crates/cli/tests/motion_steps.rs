@@ -19,11 +19,7 @@ fn step_files_match_the_closed_form_and_each_other() {
         .args(["--steps-compressed", runs.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<(String, f64, bool)> = text
         .lines()

@@ -44,11 +44,7 @@ fn peer_read(py: &str, path: &Path) -> Vec<(char, i64, i64)> {
         .args(["-c", DUMP, path.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     String::from_utf8(out.stdout)
         .unwrap()
         .lines()
@@ -203,11 +199,7 @@ fn we_read_every_stitch_pyembroidery_writes() {
             .args(["-c", WRITE, path.to_str().unwrap()])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        oficina_testkit::assert_success(&out);
         let bytes = std::fs::read(&path).unwrap();
         let plan = format.read(&bytes, "theirs").unwrap();
         let mine = ours(&plan);
