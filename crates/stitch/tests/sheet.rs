@@ -3,26 +3,14 @@
 //! seed's time table (§11.4) and its head-speed table (§8); the table's needle-up faults
 //! against the closed-form move time.
 
+mod common;
+
+use common::sample;
 use oficina_stitch::{
     generate, run, sheet, ColorBlock, Format, HeadSpeed, Kind, Params, Pauses, Stitch, StitchPlan,
     Table, Thread,
 };
-use std::path::Path;
 use std::process::Command;
-
-fn sample() -> StitchPlan {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let imported =
-        oficina_io::load_drawing(&root.join("samples/embroidery/sunflower.svg")).unwrap();
-    generate(
-        &imported.drawing,
-        "sunflower",
-        &Params::default(),
-        &mut |_, _| {},
-    )
-    .unwrap()
-    .plan
-}
 
 /// pyembroidery: per colour, the STITCH count and Σ distance from the previous position.
 const STATS: &str = r#"
