@@ -348,18 +348,9 @@ fn degenerate_pictures_tools_and_steps_carve_without_panic() {
                 "both",
             ],
         ] {
-            let mut args = vec![
-                "carve",
-                picture.to_str().unwrap(),
-                "--pixel-size",
-                "0.5",
-                "--depth",
-                "5",
-                "-o",
-                out.to_str().unwrap(),
-            ];
-            args.extend_from_slice(extra);
-            let run = oficina(&args);
+            let mut opts = vec!["--depth", "5"];
+            opts.extend_from_slice(extra);
+            let run = carve(&picture, &out, &opts);
             let err = String::from_utf8_lossy(&run.stderr);
             assert!(
                 run.status.success() && !err.contains("panicked"),

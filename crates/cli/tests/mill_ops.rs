@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{oficina_in, root};
+use common::mill;
 
 use oficina_cam::ops::{
     allowed_region, toolpath, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams,
@@ -277,10 +277,8 @@ fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("p.ngc");
     let run = |post: &str| {
-        oficina_in(
-            &root(),
+        mill(
             &[
-                "mill",
                 "samples/mill/plate.svg",
                 "--op",
                 "profile-out",
@@ -291,9 +289,8 @@ fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
                 "--comp",
                 "--post",
                 post,
-                "-o",
-                out.to_str().unwrap(),
             ],
+            &out,
         )
     };
     let ok = run("linuxcnc");
@@ -333,10 +330,8 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
     )
     .unwrap();
     let out = dir.join("p.ngc");
-    let o = oficina_in(
-        &root(),
+    let o = mill(
         &[
-            "mill",
             svg.to_str().unwrap(),
             "--op",
             "profile-out",
@@ -349,9 +344,8 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
             "--allowance",
             "0",
             "--comp",
-            "-o",
-            out.to_str().unwrap(),
         ],
+        &out,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let preview = std::fs::read_to_string(out.with_extension("svg")).unwrap();
@@ -403,10 +397,8 @@ fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
     )
     .unwrap();
     let out = dir.join("p.ngc");
-    let o = oficina_in(
-        &root(),
+    let o = mill(
         &[
-            "mill",
             svg.to_str().unwrap(),
             "--op",
             "pocket",
@@ -418,9 +410,8 @@ fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
             "flat:2",
             "--check-pixel",
             "0.1",
-            "-o",
-            out.to_str().unwrap(),
         ],
+        &out,
     );
     let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{said}");

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{oficina_in, root};
+use common::mill;
 
 use oficina_cam::ops::{vcarve, Cut, Entry, VCarveParams};
 use oficina_cam::{Tool, Toolpath};
@@ -214,38 +214,37 @@ fn cli_vcarves_a_drawing_and_hershey_text() {
     )
     .unwrap();
     let out = dir.join("v.ngc");
-    let run = |args: &[&str]| oficina_in(&root(), args);
-    let o = run(&[
-        "mill",
-        svg.to_str().unwrap(),
-        "--op",
-        "vcarve",
-        "--tool",
-        "v:12:90",
-        "--depth",
-        "3",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = mill(
+        &[
+            svg.to_str().unwrap(),
+            "--op",
+            "vcarve",
+            "--tool",
+            "v:12:90",
+            "--depth",
+            "3",
+        ],
+        &out,
+    );
     let stdout = assert_success(&o);
     assert!(stdout.contains("gouge:    none"), "{stdout}");
     let text = std::fs::read_to_string(&out).unwrap();
     rs274::accepts(&text, None);
-    let o = run(&[
-        "mill",
-        "--text",
-        "OFICINA",
-        "--text-height",
-        "8",
-        "--op",
-        "vcarve",
-        "--tool",
-        "v:6:60",
-        "--depth",
-        "0.8",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let o = mill(
+        &[
+            "--text",
+            "OFICINA",
+            "--text-height",
+            "8",
+            "--op",
+            "vcarve",
+            "--tool",
+            "v:6:60",
+            "--depth",
+            "0.8",
+        ],
+        &out,
+    );
     assert_success(&o);
     let text = std::fs::read_to_string(&out).unwrap();
     rs274::accepts(&text, None);

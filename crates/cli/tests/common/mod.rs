@@ -115,3 +115,11 @@ pub(crate) fn assert_ran_to_done(mut emulator: Child, out: &Output) {
     assert!(out.status.success(), "{stdout}\n{stderr}");
     assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
 }
+
+/// `oficina mill ARGS… -o OUT` in the repository's root (sample paths are relative to it).
+pub(crate) fn mill(args: &[&str], out: &Path) -> Output {
+    let mut all = vec!["mill"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    oficina_in(&root(), &all)
+}
