@@ -23,16 +23,21 @@ async fn with_sunflower(dir: &std::path::Path) -> Arc<AppState> {
     st
 }
 
-/// `/api/embroider` of the sample with `params`: it must succeed; its answer.
-async fn embroider(st: &Arc<AppState>, params: Value) -> Value {
-    let (s, v) = call(
+/// `/api/embroider` of the sample with `params`: status and answer.
+async fn embroider(st: &Arc<AppState>, params: Value) -> (StatusCode, Value) {
+    call(
         st,
         post_json(
             "/api/embroider",
             json!({"file": "sunflower.svg", "params": params}),
         ),
     )
-    .await;
+    .await
+}
+
+/// [`embroider`], which must succeed: its answer.
+async fn embroidered(st: &Arc<AppState>, params: Value) -> Value {
+    let (s, v) = embroider(st, params).await;
     assert_eq!(s, StatusCode::OK, "{v}");
     v
 }
@@ -69,7 +74,7 @@ fn pyembroidery_stitches(path: &std::path::Path) -> Option<usize> {
 async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     let dir = tempfile::tempdir().unwrap();
     let st = with_sunflower(dir.path()).await;
-    let v = embroider(&st, json!({"format": "dst", "stitch_length": 2.5})).await;
+    let v = embroidered(&st, json!({"format": "dst", "stitch_length": 2.5})).await;
     assert_eq!(v["name"], "sunflower.dst");
     let sheet = &v["sheet"];
     let (n, per_block) = plan_stitches(&v["plan"]);
@@ -133,7 +138,7 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
 async fn exp_is_written_too() {
     let dir = tempfile::tempdir().unwrap();
     let st = with_sunflower(dir.path()).await;
-    let v = embroider(&st, json!({"format": "exp", "fill_angle": 45})).await;
+    let v = embroidered(&st, json!({"format": "exp", "fill_angle": 45})).await;
     assert_eq!(v["name"], "sunflower.exp");
     assert!(dir.path().join("jobs/sunflower.exp").is_file());
 }
@@ -158,14 +163,7 @@ async fn bad_inputs_get_clear_errors_beside_their_fields() {
         (json!({"pieces": 0}), Some("pieces")),
     ];
     for (params, field) in cases {
-        let (s, v) = call(
-            &st,
-            post_json(
-                "/api/embroider",
-                json!({"file": "sunflower.svg", "params": params}),
-            ),
-        )
-        .await;
+        let (s, v) = embroider(&st, params.clone()).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{params}: {v}");
         assert_eq!(v["field"].as_str(), field, "{params}: {v}");
         assert!(!v["error"].as_str().unwrap().is_empty());
@@ -173,14 +171,7 @@ async fn bad_inputs_get_clear_errors_beside_their_fields() {
     assert!(!dir.path().join("jobs/sunflower.dst").exists());
     // A type the form cannot send, an unknown field: refused by the parser, no job run.
     for params in [json!({"stitch_length": "long"}), json!({"density": 3})] {
-        let (s, v) = call(
-            &st,
-            post_json(
-                "/api/embroider",
-                json!({"file": "sunflower.svg", "params": params}),
-            ),
-        )
-        .await;
+        let (s, v) = embroider(&st, params.clone()).await;
         assert!(s.is_client_error(), "{params}: {s} {v}");
     }
 }
