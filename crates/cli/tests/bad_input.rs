@@ -302,10 +302,7 @@ fn the_feed_rate_time_is_a_lower_bound_of_the_planners_on_every_machine() {
 
 #[test]
 fn canon_numbered_does_not_claim_rs274s_numbers() {
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(["gcode", "canon", "--help"])
-        .output()
-        .unwrap();
+    let o = common::oficina(&["gcode", "canon", "--help"]);
     let help = String::from_utf8_lossy(&o.stdout);
     assert!(help.contains("--numbered"), "{help}");
     assert!(!help.contains("exactly as"), "{help}");
@@ -321,14 +318,16 @@ fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
     let f = write("slow.nc", b"G21 G90 G1 X100 F60\nM2\n");
     let trace = dir().join("slow.csv");
     let _ = std::fs::remove_file(&trace);
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .args(["--max-output-mb", "1"])
-        .output()
-        .unwrap();
+    let o = oficina(
+        &[
+            "plan",
+            "--trace",
+            trace.to_str().unwrap(),
+            "--max-output-mb",
+            "1",
+        ],
+        &f,
+    );
     let e = stderr(&o);
     assert!(!o.status.success());
     assert!(
@@ -337,22 +336,18 @@ fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
     );
     assert!(!trace.exists(), "the refused trace was created");
     let steps = dir().join("slow-steps.csv");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--steps")
-        .arg(&steps)
-        .args(["--max-output-mb", "0"])
-        .output()
-        .unwrap();
+    let o = oficina(
+        &[
+            "plan",
+            "--steps",
+            steps.to_str().unwrap(),
+            "--max-output-mb",
+            "0",
+        ],
+        &f,
+    );
     assert!(stderr(&o).contains("motor steps"), "{}", stderr(&o));
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .output()
-        .unwrap();
+    let o = oficina(&["plan", "--trace", trace.to_str().unwrap()], &f);
     assert!(o.status.success(), "{}", stderr(&o));
     let written = std::fs::metadata(&trace).unwrap().len();
     assert!(written > 1_000_000 && written < 20_000_000, "{written}");
@@ -362,13 +357,7 @@ fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
 fn trace_columns_have_unique_names() {
     let f = sample("router-square.nc");
     let trace = dir().join("square.csv");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .output()
-        .unwrap();
+    let o = oficina(&["plan", "--trace", trace.to_str().unwrap()], &f);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&trace).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();

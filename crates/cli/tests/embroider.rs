@@ -5,12 +5,26 @@ mod common;
 
 use common::{oficina, root, text};
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Output;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("oficina-embroider-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
+}
+
+/// `embroider SAMPLE --run --machine embroidery-xy args…`.
+fn run_on_embroidery_xy(sample: &Path, args: &[&str]) -> Output {
+    let mut all = vec![
+        "embroider",
+        sample.to_str().unwrap(),
+        "--run",
+        "--machine",
+        "embroidery-xy",
+    ];
+    all.extend_from_slice(args);
+    oficina(&all)
 }
 
 fn field(out: &str, key: &str) -> String {
@@ -76,13 +90,7 @@ fn a_slow_table_reports_the_stitches_it_cannot_finish() {
     let sample = root().join("samples/embroidery/sunflower.svg");
     // The bundled embroidery-xy profile (140 mm/s, 5000 mm/s²) cannot move 3 mm fill stitches
     // in code 11's 47.6 ms window: 2·√(3/5000) = 49 ms.
-    let o = oficina(&[
-        "embroider",
-        sample.to_str().unwrap(),
-        "--run",
-        "--machine",
-        "embroidery-xy",
-    ]);
+    let o = run_on_embroidery_xy(&sample, &[]);
     let (stdout, _) = text(&o);
     assert!(!o.status.success());
     assert!(
@@ -90,15 +98,7 @@ fn a_slow_table_reports_the_stitches_it_cannot_finish() {
         "{stdout}"
     );
     // A fixed 350 ppm (the seed's EMC and PATO runs) gives every stitch 85.7 ms: all finish.
-    let o = oficina(&[
-        "embroider",
-        sample.to_str().unwrap(),
-        "--run",
-        "--machine",
-        "embroidery-xy",
-        "--ppm",
-        "350",
-    ]);
+    let o = run_on_embroidery_xy(&sample, &["--ppm", "350"]);
     let (stdout, _) = text(&o);
     assert!(o.status.success(), "{stdout}");
     assert!(stdout.contains("fixed 350 stitches/min"), "{stdout}");

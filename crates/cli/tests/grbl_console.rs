@@ -100,6 +100,15 @@ fn console(addr: &str, extra: &[&str]) -> std::process::Output {
         .expect("run console")
 }
 
+/// `console --job JOB args…` with a 1 mm safe height and no spindle delay, as the resume
+/// tests run it.
+fn console_job(addr: &str, job: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let mut all = vec!["--job", job.to_str().unwrap()];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--safe-z", "1", "--spindle-delay", "0"]);
+    console(addr, &all)
+}
+
 /// Runs an interactive console on `addr`, types `lines`, waits (bounded) until its output
 /// holds every `until` text, then quits; returns what it printed.
 fn console_session(addr: &str, lines: &[&str], until: &[&str]) -> String {
@@ -149,19 +158,7 @@ fn console_streams_a_job_then_resumes_from_a_line() {
     );
     assert!(stdout.contains("all 85 lines done"), "{stdout}");
     // Resume from file line 50 (G1 X23.00 Y0.00): preamble, approach, then the rest.
-    let out = console(
-        &addr,
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--from-line",
-            "50",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
-    );
+    let out = console_job(&addr, &job, &["--from-line", "50"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains(":50: restoring modal state"), "{stderr}");
@@ -229,18 +226,7 @@ fn console_resumes_from_the_journal_after_the_sender_is_killed() {
         acked >= 100,
         "the stream made progress before the crash ({acked} acks)"
     );
-    let out = console(
-        &addr,
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--resume",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
-    );
+    let out = console_job(&addr, &job, &["--resume"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     // Success means the sender also found the machine at the program's final position.
@@ -257,19 +243,10 @@ fn console_reconnects_after_a_cut_cable_and_finishes_the_job() {
     // Cut the line about a third of the way through the job's bytes.
     let proxy =
         FaultProxy::start(addr.parse().unwrap(), vec![Fault::Disconnect { at: 2500 }]).unwrap();
-    let out = console(
+    let out = console_job(
         &proxy.addr.to_string(),
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--auto-resume",
-            "--reconnect",
-            "10",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
+        &job,
+        &["--auto-resume", "--reconnect", "10"],
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
