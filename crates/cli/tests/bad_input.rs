@@ -9,8 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("oficina-bad-input-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
+    let d = oficina_testkit::scratch_dir("bad-input");
     d
 }
 

@@ -8,8 +8,7 @@ fn oficina() -> Command {
 }
 
 fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-check-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("check");
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path

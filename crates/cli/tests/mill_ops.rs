@@ -273,8 +273,7 @@ fn drilling_canned_cycles_at_circle_centres() {
 
 #[test]
 fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
-    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-comp");
     let out = dir.join("p.ngc");
     let run = |post: &str| {
         mill(
@@ -321,8 +320,7 @@ fn square_distance(p: [f64; 2], s: f64) -> f64 {
 fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
     // A 40 mm square cut outside with a 6 mm mill under G41: the program holds the
     // outline, the preview must show where the control moves the tool: 3 mm outside it.
-    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-svg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-comp-svg");
     let svg = dir.join("square.svg");
     std::fs::write(
         &svg,
@@ -388,8 +386,7 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
 fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
     // A 30 × 20 pocket with a 3 mm slot off its side: the 6 mm mill cannot enter the slot
     // nor its corners; `--rest-tool flat:2` must leave nothing the 2 mm one can reach.
-    let dir = std::env::temp_dir().join(format!("oficina-mill-rest-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-rest");
     let svg = dir.join("slot.svg");
     std::fs::write(
         &svg,

@@ -204,8 +204,7 @@ fn a_flat_mill_is_refused_and_a_too_narrow_bit_named() {
 
 #[test]
 fn cli_vcarves_a_drawing_and_hershey_text() {
-    let dir = std::env::temp_dir().join(format!("oficina-vcarve-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("vcarve-cli");
     let svg = dir.join("shapes.svg");
     std::fs::write(
         &svg,

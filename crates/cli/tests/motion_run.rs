@@ -40,8 +40,7 @@ fn run_executes_every_sample_on_its_machine() {
 
 #[test]
 fn run_refuses_a_job_beyond_the_soft_limits() {
-    let dir = std::env::temp_dir().join(format!("oficina-motion-run-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("motion-run");
     let f = dir.join("far.nc");
     std::fs::write(&f, "G90 G1 X100 F1000\nG1 X900\nM2\n").unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
@@ -60,8 +59,7 @@ fn run_refuses_a_job_beyond_the_soft_limits() {
 
 #[test]
 fn plan_trace_has_one_row_per_millisecond() {
-    let dir = std::env::temp_dir().join(format!("oficina-motion-plan-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("motion-plan");
     let trace = dir.join("t.csv");
     let path = root().join("samples/motion/router-square.nc");
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))

@@ -12,8 +12,7 @@ fn oficina() -> Command {
 }
 
 fn program(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-run-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("run");
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path

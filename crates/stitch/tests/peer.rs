@@ -33,8 +33,7 @@ pub fn python_with_pyembroidery() -> Option<String> {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-stitch-peer-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("stitch-peer");
     dir.join(name)
 }
 

@@ -42,8 +42,7 @@ fn stitch_count_and_thread_length_match_pyembroidery() {
         return;
     }
     let plan = sample();
-    let dir = std::env::temp_dir().join(format!("oficina-sheet-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("sheet");
     for f in Format::ALL {
         let path = dir.join(format!("s.{}", f.extension()));
         let bytes = f.write(&plan).unwrap();
