@@ -9,8 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn dir() -> PathBuf {
-    let d = oficina_testkit::scratch_dir("bad-input");
-    d
+    oficina_testkit::scratch_dir("bad-input")
 }
 
 fn write(name: &str, bytes: &[u8]) -> PathBuf {
