@@ -6,7 +6,7 @@
 mod common;
 
 use axum::http::StatusCode;
-use common::{call, post_json, put, state};
+use common::{post, put, state};
 use oficina_server::AppState;
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -25,12 +25,10 @@ async fn with_sunflower(dir: &std::path::Path) -> Arc<AppState> {
 
 /// `/api/embroider` of the sample with `params`: status and answer.
 async fn embroider(st: &Arc<AppState>, params: Value) -> (StatusCode, Value) {
-    call(
+    post(
         st,
-        post_json(
-            "/api/embroider",
-            json!({"file": "sunflower.svg", "params": params}),
-        ),
+        "/api/embroider",
+        json!({"file": "sunflower.svg", "params": params}),
     )
     .await
 }
@@ -107,11 +105,7 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     }
 
     // The file read back: the same stitches, the same sewing time on the same table.
-    let (s, back) = call(
-        &st,
-        post_json("/api/stitches", json!({"file": "sunflower.dst"})),
-    )
-    .await;
+    let (s, back) = post(&st, "/api/stitches", json!({"file": "sunflower.dst"})).await;
     assert_eq!(s, StatusCode::OK, "{back}");
     assert_eq!(back["sheet"]["stitches"], sheet["stitches"]);
     assert_eq!(
@@ -120,12 +114,10 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     );
     // A slower table (the bundled profile's 5000 mm/s²) cannot finish 3 mm fill stitches
     // at the seed's speeds: the run stops and says where.
-    let (s, slow) = call(
+    let (s, slow) = post(
         &st,
-        post_json(
-            "/api/stitches",
-            json!({"file": "sunflower.dst", "params": {"machine": "embroidery-xy"}}),
-        ),
+        "/api/stitches",
+        json!({"file": "sunflower.dst", "params": {"machine": "embroidery-xy"}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{slow}");
@@ -196,32 +188,25 @@ async fn broken_and_empty_designs_and_files_are_named() {
     put(&st, "broken.dst", vec![0x20; 100]).await;
     put(&st, "empty.dst", Vec::new()).await;
     for file in ["broken.svg", "empty.svg", "zero.svg"] {
-        let (s, v) = call(
-            &st,
-            post_json("/api/embroider", json!({"file": file, "params": {}})),
-        )
-        .await;
+        let (s, v) = post(&st, "/api/embroider", json!({"file": file, "params": {}})).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{file}: {v}");
         let e = v["error"].as_str().unwrap();
         assert!(!e.is_empty(), "{file}: {v}");
     }
     for file in ["broken.dst", "empty.dst"] {
-        let (s, v) = call(&st, post_json("/api/stitches", json!({"file": file}))).await;
+        let (s, v) = post(&st, "/api/stitches", json!({"file": file})).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{file}: {v}");
         assert!(v["error"].as_str().unwrap().contains(file), "{file}: {v}");
     }
     // No file, a missing file, a path outside the job folder.
-    let (s, _) = call(&st, post_json("/api/embroider", json!({"params": {}}))).await;
+    let (s, _) = post(&st, "/api/embroider", json!({"params": {}})).await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
-    let (s, _) = call(
-        &st,
-        post_json("/api/embroider", json!({"file": "nope.svg"})),
-    )
-    .await;
+    let (s, _) = post(&st, "/api/embroider", json!({"file": "nope.svg"})).await;
     assert_eq!(s, StatusCode::NOT_FOUND);
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json("/api/stitches", json!({"file": "../../etc/passwd.dst"})),
+        "/api/stitches",
+        json!({"file": "../../etc/passwd.dst"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);

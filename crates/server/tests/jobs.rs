@@ -5,7 +5,7 @@ mod common;
 
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use common::{call, post_json, put, sample, state};
+use common::{call, post, put, sample, state};
 use serde_json::{json, Value};
 
 #[tokio::test]
@@ -13,14 +13,7 @@ async fn mill_makes_a_checked_program_in_the_job_folder() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
     put(&st, "plate.svg", sample("mill/plate.svg")).await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "plate.svg", "params": {"op": "profile-out", "tool": "flat:3", "depth": 2, "tabs": 2}}),
-        ),
-    )
-    .await;
+    let (s, v) = post(&st, "/api/mill", json!({"file": "plate.svg", "params": {"op": "profile-out", "tool": "flat:3", "depth": 2, "tabs": 2}})).await;
     assert_eq!(s, StatusCode::OK, "{v}");
     assert_eq!(v["name"], "plate.profile-outside.ngc", "{v}");
     let text = v["text"].as_str().unwrap();
@@ -56,9 +49,10 @@ async fn mill_errors_name_the_field() {
         ),
     ];
     for (params, field) in cases {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/mill", json!({"file": "plate.svg", "params": params})),
+            "/api/mill",
+            json!({"file": "plate.svg", "params": params}),
         )
         .await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
@@ -66,20 +60,19 @@ async fn mill_errors_name_the_field() {
         assert!(!v["error"].as_str().unwrap().is_empty());
     }
     // A parameter of the wrong kind, an unknown operation: refused by the form's reader.
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "plate.svg", "params": {"op": "engrave"}}),
-        ),
+        "/api/mill",
+        json!({"file": "plate.svg", "params": {"op": "engrave"}}),
     )
     .await;
     assert!(s.is_client_error(), "{s}");
     // Files outside the job folder, or missing.
     for file in ["../plate.svg", "/etc/passwd", "missing.svg"] {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/mill", json!({"file": file, "params": {"depth": 1}})),
+            "/api/mill",
+            json!({"file": file, "params": {"depth": 1}}),
         )
         .await;
         assert!(s.is_client_error(), "{file}: {s} {v}");
@@ -89,12 +82,10 @@ async fn mill_errors_name_the_field() {
         .body(Body::from("<svg><path d='M 0 0 L"))
         .unwrap();
     call(&st, req).await;
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "broken.svg", "params": {"depth": 1}}),
-        ),
+        "/api/mill",
+        json!({"file": "broken.svg", "params": {"depth": 1}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
@@ -106,12 +97,10 @@ async fn sole_makes_four_programs_and_refuses_bad_sizes() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
     put(&st, "size34.csv", sample("sole/size34.csv")).await;
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/sole",
-            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37}}),
-        ),
+        "/api/sole",
+        json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
@@ -122,12 +111,10 @@ async fn sole_makes_four_programs_and_refuses_bad_sizes() {
         assert!(dir.path().join("jobs").join(name).is_file(), "{name}");
     }
     assert!(v["summary"][0].as_str().unwrap().contains("α = "), "{v}");
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/sole",
-            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37, "shrink": 40}}),
-        ),
+        "/api/sole",
+        json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37, "shrink": 40}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
@@ -139,51 +126,44 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
     put(&st, "design.svg", sample("plot/design.svg")).await;
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json("/api/plot", json!({"file": "design.svg", "params": {}})),
+        "/api/plot",
+        json!({"file": "design.svg", "params": {}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
     assert_eq!(v["name"], "design.plot.ngc");
     assert!(!v["pens"].as_array().unwrap().is_empty(), "{v}");
     assert!(v["seconds"].as_f64().unwrap() > 0.0);
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "params": {"paper": [5, 5]}}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "params": {"paper": [5, 5]}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
     assert!(v["error"].as_str().unwrap().contains("paper"), "{v}");
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"params": {"scale": 0}, "file": "design.svg"}),
-        ),
+        "/api/plot",
+        json!({"params": {"scale": 0}, "file": "design.svg"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
     assert_eq!(v["field"], "scale", "{v}");
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "profile": "no-such-plotter"}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "profile": "no-such-plotter"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
     // The plot names the virtual plotter to run it on: the profile it was made for.
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "profile": "pen-plotter"}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "profile": "pen-plotter"}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
@@ -196,9 +176,10 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
         "../outside.toml".into(),
         "/etc/passwd".into(),
     ] {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/plot", json!({"file": "design.svg", "profile": spec})),
+            "/api/plot",
+            json!({"file": "design.svg", "profile": spec}),
         )
         .await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{spec}: {v}");

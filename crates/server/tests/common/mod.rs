@@ -125,3 +125,8 @@ pub(crate) async fn send(ws: &mut Ws, v: Value) -> Value {
     ws.send(Message::Text(v.to_string().into())).await.unwrap();
     until(ws, |m| m["type"] == "ok" || m["type"] == "error").await
 }
+
+/// The router's answer to `body` POSTed as JSON to `uri`.
+pub(crate) async fn post(st: &Arc<AppState>, uri: &str, body: Value) -> (StatusCode, Value) {
+    call(st, post_json(uri, body)).await
+}
