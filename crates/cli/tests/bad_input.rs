@@ -5,17 +5,12 @@ mod common;
 
 use common::root;
 
+use oficina_testkit::scratch_file;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn dir() -> PathBuf {
     oficina_testkit::scratch_dir("bad-input")
-}
-
-fn write(name: &str, bytes: &[u8]) -> PathBuf {
-    let p = dir().join(name);
-    std::fs::write(&p, bytes).unwrap();
-    p
 }
 
 fn oficina(args: &[&str], file: &Path) -> Output {
@@ -52,7 +47,7 @@ fn refusals(f: &Path) -> Vec<(&'static [&'static str], String)> {
 
 #[test]
 fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
-    let f = write(
+    let f = scratch_file(
         "latin1.nc",
         b"G21 G90 F600\n(temp 20\xb0C)\n(MSG, 20\xb0C)\nG1 X1 Y1\nM2\n",
     );
@@ -69,7 +64,7 @@ fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
 
 #[test]
 fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere() {
-    let f = write("latin1-code.nc", b"G21 G90 F600\nG1 X1\xb0\nM2\n");
+    let f = scratch_file("latin1-code.nc", b"G21 G90 F600\nG1 X1\xb0\nM2\n");
     for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("latin1-code.nc:2:6:") && e.contains("0xB0"),
@@ -80,7 +75,7 @@ fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere()
 
 #[test]
 fn a_byte_order_mark_is_named_as_such_everywhere() {
-    let f = write("bom.nc", b"\xef\xbb\xbfG21 G90 F600\nG1 X1\nM2\n");
+    let f = scratch_file("bom.nc", b"\xef\xbb\xbfG21 G90 F600\nG1 X1\nM2\n");
     for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("bom.nc:1:1:") && e.contains("byte-order mark"),
@@ -96,7 +91,7 @@ fn a_five_megabyte_line_is_not_echoed_by_any_command() {
     let mut text = b"G21 G90 F600\nG1 X".to_vec();
     text.extend(std::iter::repeat_n(b'1', 5_000_000));
     text.extend_from_slice(b"\nM2\n");
-    let f = write("long.nc", &text);
+    let f = scratch_file("long.nc", &text);
     for (cmd, e) in refusals(&f) {
         assert!(e.len() < 2_000, "{cmd:?} printed {} bytes", e.len());
         assert!(e.contains("long.nc:2:1:"), "{cmd:?}: {e}");
@@ -124,7 +119,7 @@ fn noise() -> Vec<u8> {
 
 #[test]
 fn check_of_a_binary_file_stops_printing_after_the_error_limit_and_escapes_control_bytes() {
-    let f = write("noise.bin", &noise());
+    let f = scratch_file("noise.bin", &noise());
     let o = oficina(&["check"], &f);
     let e = stderr(&o);
     assert!(!o.status.success());
@@ -167,8 +162,8 @@ fn no_message_says_error_twice_or_repeats_the_os_error() {
             "{cmd:?}: {e}"
         );
     }
-    let f = write("badword.nc", b"G21\nG1 X1 Q\nM2\n");
-    let table = write("bad.tbl", b"T1 Znan\n");
+    let f = scratch_file("badword.nc", b"G21\nG1 X1 Q\nM2\n");
+    let table = scratch_file("bad.tbl", b"T1 Znan\n");
     let with_table = ["check", "--tool-table", table.to_str().unwrap()];
     for cmd in COMMANDS.iter().copied().chain([&with_table[..]]) {
         let o = oficina(cmd, &f);
@@ -217,7 +212,7 @@ fn job_with_a_pause() -> PathBuf {
         text.push_str(&format!("G1 Y{}\n", i + 1));
     }
     text.push_str("M2\n");
-    write("toolchange.nc", text.as_bytes())
+    scratch_file("toolchange.nc", text.as_bytes())
 }
 
 #[test]
@@ -313,7 +308,7 @@ fn canon_numbered_does_not_claim_rs274s_numbers() {
 #[test]
 fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
     // 100 s of motion at 1 ms: 100,000 rows, about 13 MB.
-    let f = write("slow.nc", b"G21 G90 G1 X100 F60\nM2\n");
+    let f = scratch_file("slow.nc", b"G21 G90 G1 X100 F60\nM2\n");
     let trace = dir().join("slow.csv");
     let _ = std::fs::remove_file(&trace);
     let o = oficina(

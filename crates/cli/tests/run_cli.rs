@@ -4,18 +4,11 @@
 
 mod common;
 
-use std::path::PathBuf;
+use oficina_testkit::scratch_file;
 use std::process::{Command, Stdio};
 
 fn oficina() -> Command {
     Command::new(env!("CARGO_BIN_EXE_oficina"))
-}
-
-fn program(name: &str, text: &str) -> PathBuf {
-    let dir = oficina_testkit::scratch_dir("run");
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
 }
 
 /// Safe Z above work zero and a tool change pause, as `oficina carve` writes for grbl.
@@ -25,7 +18,7 @@ const CAM_JOB: &str = "G21 G90 G94 G17\nT1\nM3 S12000\nG0 Z5\nG0 X0 Y0\nG1 Z-2 F
 
 #[test]
 fn a_work_coordinate_program_runs_on_the_router_and_passes_its_pause() {
-    let path = program("cam.nc", CAM_JOB);
+    let path = scratch_file("cam.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -48,7 +41,7 @@ fn a_work_coordinate_program_runs_on_the_router_and_passes_its_pause() {
 
 #[test]
 fn stop_at_pauses_stops_the_job_at_m0() {
-    let path = program("cam-stop.nc", CAM_JOB);
+    let path = scratch_file("cam-stop.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -63,7 +56,7 @@ fn stop_at_pauses_stops_the_job_at_m0() {
 
 #[test]
 fn a_work_offset_outside_travel_is_refused_before_any_motion() {
-    let path = program("cam-off.nc", CAM_JOB);
+    let path = scratch_file("cam-off.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -86,7 +79,7 @@ fn a_work_offset_outside_travel_is_refused_before_any_motion() {
 #[test]
 fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
     let (emulator, addr, _) = common::emulator(&[]);
-    let path = program("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
+    let path = scratch_file("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
     let out = oficina()
         .arg("run")
         .arg(&path)

@@ -23,6 +23,13 @@ pub fn scratch_dir(tag: &str) -> PathBuf {
     dir
 }
 
+/// `contents` written to a file `name` in a new [`scratch_dir`]; its path.
+pub fn scratch_file(name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+    let path = scratch_dir("file").join(name);
+    std::fs::write(&path, contents).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    path
+}
+
 /// The command's stdout; panics with its stdout and stderr unless it exited with success.
 pub fn assert_success(out: &Output) -> String {
     let stdout = String::from_utf8_lossy(&out.stdout).into_owned();

@@ -36,13 +36,9 @@ pub(crate) fn text(o: &Output) -> (String, String) {
     )
 }
 
-/// A program `{name}.ngc` in this test binary's scratch folder (names differ per test).
+/// A program `{name}.ngc` in a scratch folder.
 pub(crate) fn program(name: &str, body: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-programs-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(format!("{name}.ngc"));
-    std::fs::write(&p, body).unwrap();
-    p
+    oficina_testkit::scratch_file(&format!("{name}.ngc"), body)
 }
 
 /// The "total time: N s" figure `oficina plan` prints.
@@ -85,10 +81,7 @@ pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
 /// `oficina run` of `program` (written to a scratch file named `name`) on the machine at
 /// `addr`, with no terminal.
 pub(crate) fn run_program_on(addr: &str, name: &str, program: &str) -> Output {
-    let dir = std::env::temp_dir().join(format!("oficina-run-on-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, program).unwrap();
+    let path = oficina_testkit::scratch_file(name, program);
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .arg("run")
         .arg(&path)
@@ -96,7 +89,7 @@ pub(crate) fn run_program_on(addr: &str, name: &str, program: &str) -> Output {
         .stdin(Stdio::null())
         .output()
         .unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(path.parent().unwrap());
     out
 }
 
