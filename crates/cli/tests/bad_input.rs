@@ -119,7 +119,7 @@ fn noise() -> Vec<u8> {
 
 #[test]
 fn check_of_a_binary_file_stops_printing_after_the_error_limit_and_escapes_control_bytes() {
-    let f = scratch_file("noise.bin", &noise());
+    let f = scratch_file("noise.bin", noise());
     let o = oficina(&["check"], &f);
     let e = stderr(&o);
     assert!(!o.status.success());

@@ -79,7 +79,7 @@ fn a_work_offset_outside_travel_is_refused_before_any_motion() {
 #[test]
 fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
     let (emulator, addr, _) = common::emulator(&[]);
-    let path = scratch_file("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
+    let path = scratch_file("cam-grbl.nc", CAM_JOB.replace("M0\n", ""));
     let out = oficina()
         .arg("run")
         .arg(&path)
