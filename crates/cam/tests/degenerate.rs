@@ -27,6 +27,8 @@ fn cutter(number: u32, spec: &str) -> Cutter {
     }
 }
 
+// Kept here on purpose: `Pass` is plain data with no public builder (cam's seed004 has its
+// own private one with other defaults), and each test states every field it relies on.
 fn pass(name: &str, c: Cutter, stepover: f64, stepdown: f64, direction: Direction) -> Pass {
     Pass {
         name: name.into(),

@@ -5,29 +5,7 @@
 use oficina_cam::ops::{profile, Comp, Cut, Entry, ProfileParams, Side};
 use oficina_cam::{Move, Tool};
 use oficina_geom::{Arc, Path, Point, Segment};
-
-fn poly(pts: &[(f64, f64)]) -> Path {
-    let p: Vec<Point> = pts.iter().map(|&(x, y)| Point::new(x, y)).collect();
-    Path::polyline(&p, true)
-}
-
-/// Two rooms joined by a corridor: concave corners on both sides.
-fn dumbbell() -> Vec<Path> {
-    vec![poly(&[
-        (0.0, 0.0),
-        (25.0, 0.0),
-        (25.0, 9.0),
-        (35.0, 9.0),
-        (35.0, 0.0),
-        (60.0, 0.0),
-        (60.0, 25.0),
-        (35.0, 25.0),
-        (35.0, 16.0),
-        (25.0, 16.0),
-        (25.0, 25.0),
-        (0.0, 25.0),
-    ])]
-}
+use oficina_testkit::shapes::dumbbell;
 
 fn disc() -> Vec<Path> {
     vec![Path::new(

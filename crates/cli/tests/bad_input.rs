@@ -1,23 +1,16 @@
 //! Issue 8, the G-code side: what a user feeds `check`, `gcode canon`, `run` and `plan` is
 //! read by one rule, and every error fits a terminal.
 
+mod common;
+
+use common::root;
+
+use oficina_testkit::scratch_file;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
 fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("oficina-bad-input-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn write(name: &str, bytes: &[u8]) -> PathBuf {
-    let p = dir().join(name);
-    std::fs::write(&p, bytes).unwrap();
-    p
+    oficina_testkit::scratch_dir("bad-input")
 }
 
 fn oficina(args: &[&str], file: &Path) -> Output {
@@ -40,9 +33,21 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Each command with what it printed on stderr for `f`, which every one must refuse.
+fn refusals(f: &Path) -> Vec<(&'static [&'static str], String)> {
+    COMMANDS
+        .iter()
+        .map(|&cmd| {
+            let o = oficina(cmd, f);
+            assert!(!o.status.success(), "{cmd:?} accepted it");
+            (cmd, stderr(&o))
+        })
+        .collect()
+}
+
 #[test]
 fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
-    let f = write(
+    let f = scratch_file(
         "latin1.nc",
         b"G21 G90 F600\n(temp 20\xb0C)\n(MSG, 20\xb0C)\nG1 X1 Y1\nM2\n",
     );
@@ -59,11 +64,8 @@ fn a_latin1_byte_in_a_comment_is_accepted_by_every_command() {
 
 #[test]
 fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere() {
-    let f = write("latin1-code.nc", b"G21 G90 F600\nG1 X1\xb0\nM2\n");
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    let f = scratch_file("latin1-code.nc", b"G21 G90 F600\nG1 X1\xb0\nM2\n");
+    for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("latin1-code.nc:2:6:") && e.contains("0xB0"),
             "{cmd:?}: {e}"
@@ -73,11 +75,8 @@ fn a_byte_outside_utf8_elsewhere_is_an_error_at_its_line_and_column_everywhere()
 
 #[test]
 fn a_byte_order_mark_is_named_as_such_everywhere() {
-    let f = write("bom.nc", b"\xef\xbb\xbfG21 G90 F600\nG1 X1\nM2\n");
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    let f = scratch_file("bom.nc", b"\xef\xbb\xbfG21 G90 F600\nG1 X1\nM2\n");
+    for (cmd, e) in refusals(&f) {
         assert!(
             e.contains("bom.nc:1:1:") && e.contains("byte-order mark"),
             "{cmd:?}: {e}"
@@ -92,11 +91,8 @@ fn a_five_megabyte_line_is_not_echoed_by_any_command() {
     let mut text = b"G21 G90 F600\nG1 X".to_vec();
     text.extend(std::iter::repeat_n(b'1', 5_000_000));
     text.extend_from_slice(b"\nM2\n");
-    let f = write("long.nc", &text);
-    for cmd in COMMANDS {
-        let o = oficina(cmd, &f);
-        let e = stderr(&o);
-        assert!(!o.status.success(), "{cmd:?} accepted it");
+    let f = scratch_file("long.nc", &text);
+    for (cmd, e) in refusals(&f) {
         assert!(e.len() < 2_000, "{cmd:?} printed {} bytes", e.len());
         assert!(e.contains("long.nc:2:1:"), "{cmd:?}: {e}");
         // The limit it says can be raised is raised by a real option.
@@ -123,7 +119,7 @@ fn noise() -> Vec<u8> {
 
 #[test]
 fn check_of_a_binary_file_stops_printing_after_the_error_limit_and_escapes_control_bytes() {
-    let f = write("noise.bin", &noise());
+    let f = scratch_file("noise.bin", noise());
     let o = oficina(&["check"], &f);
     let e = stderr(&o);
     assert!(!o.status.success());
@@ -166,8 +162,8 @@ fn no_message_says_error_twice_or_repeats_the_os_error() {
             "{cmd:?}: {e}"
         );
     }
-    let f = write("badword.nc", b"G21\nG1 X1 Q\nM2\n");
-    let table = write("bad.tbl", b"T1 Znan\n");
+    let f = scratch_file("badword.nc", b"G21\nG1 X1 Q\nM2\n");
+    let table = scratch_file("bad.tbl", b"T1 Znan\n");
     let with_table = ["check", "--tool-table", table.to_str().unwrap()];
     for cmd in COMMANDS.iter().copied().chain([&with_table[..]]) {
         let o = oficina(cmd, &f);
@@ -216,7 +212,7 @@ fn job_with_a_pause() -> PathBuf {
         text.push_str(&format!("G1 Y{}\n", i + 1));
     }
     text.push_str("M2\n");
-    write("toolchange.nc", text.as_bytes())
+    scratch_file("toolchange.nc", text.as_bytes())
 }
 
 #[test]
@@ -299,10 +295,7 @@ fn the_feed_rate_time_is_a_lower_bound_of_the_planners_on_every_machine() {
 
 #[test]
 fn canon_numbered_does_not_claim_rs274s_numbers() {
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(["gcode", "canon", "--help"])
-        .output()
-        .unwrap();
+    let o = common::oficina(&["gcode", "canon", "--help"]);
     let help = String::from_utf8_lossy(&o.stdout);
     assert!(help.contains("--numbered"), "{help}");
     assert!(!help.contains("exactly as"), "{help}");
@@ -315,17 +308,19 @@ fn canon_numbered_does_not_claim_rs274s_numbers() {
 #[test]
 fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
     // 100 s of motion at 1 ms: 100,000 rows, about 13 MB.
-    let f = write("slow.nc", b"G21 G90 G1 X100 F60\nM2\n");
+    let f = scratch_file("slow.nc", b"G21 G90 G1 X100 F60\nM2\n");
     let trace = dir().join("slow.csv");
     let _ = std::fs::remove_file(&trace);
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .args(["--max-output-mb", "1"])
-        .output()
-        .unwrap();
+    let o = oficina(
+        &[
+            "plan",
+            "--trace",
+            trace.to_str().unwrap(),
+            "--max-output-mb",
+            "1",
+        ],
+        &f,
+    );
     let e = stderr(&o);
     assert!(!o.status.success());
     assert!(
@@ -334,22 +329,18 @@ fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
     );
     assert!(!trace.exists(), "the refused trace was created");
     let steps = dir().join("slow-steps.csv");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--steps")
-        .arg(&steps)
-        .args(["--max-output-mb", "0"])
-        .output()
-        .unwrap();
+    let o = oficina(
+        &[
+            "plan",
+            "--steps",
+            steps.to_str().unwrap(),
+            "--max-output-mb",
+            "0",
+        ],
+        &f,
+    );
     assert!(stderr(&o).contains("motor steps"), "{}", stderr(&o));
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .output()
-        .unwrap();
+    let o = oficina(&["plan", "--trace", trace.to_str().unwrap()], &f);
     assert!(o.status.success(), "{}", stderr(&o));
     let written = std::fs::metadata(&trace).unwrap().len();
     assert!(written > 1_000_000 && written < 20_000_000, "{written}");
@@ -359,13 +350,7 @@ fn plan_refuses_an_output_larger_than_the_limit_before_writing_it() {
 fn trace_columns_have_unique_names() {
     let f = sample("router-square.nc");
     let trace = dir().join("square.csv");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .arg("plan")
-        .arg(&f)
-        .arg("--trace")
-        .arg(&trace)
-        .output()
-        .unwrap();
+    let o = oficina(&["plan", "--trace", trace.to_str().unwrap()], &f);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&trace).unwrap();
     let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();

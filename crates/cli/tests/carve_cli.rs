@@ -2,6 +2,10 @@
 //! figures checked against independent readings of the program; bad pictures refused with
 //! clear errors and no panic.
 
+mod common;
+
+use common::oficina;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -22,11 +26,18 @@ fn design_z(ix: u32, iy: u32) -> f64 {
     -(255.0 - gray(ix, H - 1 - iy) as f64) / 255.0 * DEPTH
 }
 
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
+/// `oficina carve PICTURE --pixel-size 0.5 -o OUT` with `extra` options.
+fn carve(picture: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "carve",
+        picture.to_str().unwrap(),
+        "--pixel-size",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    oficina(&args)
 }
 
 fn profile() -> String {
@@ -91,28 +102,21 @@ fn carves_a_picture_into_program_preview_and_estimate() {
     let dir = tempfile::tempdir().unwrap();
     let picture = write_picture(dir.path());
     let out = dir.path().join("dome.nc");
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "3",
-        "--tool",
-        "ball:3",
-        "--rough-tool",
-        "flat:6",
-        "--profile",
-        &profile(),
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let stdout = String::from_utf8_lossy(&run.stdout);
-    assert!(
-        run.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = carve(
+        &picture,
+        &out,
+        &[
+            "--depth",
+            "3",
+            "--tool",
+            "ball:3",
+            "--rough-tool",
+            "flat:6",
+            "--profile",
+            &profile(),
+        ],
     );
+    let stdout = oficina_testkit::assert_success(&run);
 
     let program = std::fs::read_to_string(&out).unwrap();
     assert!(
@@ -191,14 +195,7 @@ fn refused(bytes: &[u8], name: &str, expect: &str) {
     let path = dir.path().join(name);
     std::fs::write(&path, bytes).unwrap();
     let out = dir.path().join("x.nc");
-    let run = oficina(&[
-        "carve",
-        path.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let run = carve(&path, &out, &[]);
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{name}: {stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -276,22 +273,20 @@ fn an_output_that_would_replace_the_design_image_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let picture = write_picture(dir.path());
     let before = std::fs::read(&picture).unwrap();
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "3",
-        "--tool",
-        "ball:3",
-        "--profile",
-        &profile(),
-        "-o",
-        dir.path().join("out.nc").to_str().unwrap(),
-        "--preview",
-        picture.to_str().unwrap(),
-    ]);
+    let run = carve(
+        &picture,
+        &dir.path().join("out.nc"),
+        &[
+            "--depth",
+            "3",
+            "--tool",
+            "ball:3",
+            "--profile",
+            &profile(),
+            "--preview",
+            picture.to_str().unwrap(),
+        ],
+    );
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(!run.status.success());
     assert!(err.contains("is the input image"), "{err}");
@@ -353,18 +348,9 @@ fn degenerate_pictures_tools_and_steps_carve_without_panic() {
                 "both",
             ],
         ] {
-            let mut args = vec![
-                "carve",
-                picture.to_str().unwrap(),
-                "--pixel-size",
-                "0.5",
-                "--depth",
-                "5",
-                "-o",
-                out.to_str().unwrap(),
-            ];
-            args.extend_from_slice(extra);
-            let run = oficina(&args);
+            let mut opts = vec!["--depth", "5"];
+            opts.extend_from_slice(extra);
+            let run = carve(&picture, &out, &opts);
             let err = String::from_utf8_lossy(&run.stderr);
             assert!(
                 run.status.success() && !err.contains("panicked"),
@@ -450,16 +436,7 @@ fn profiles_are_found_by_name_from_any_folder() {
         );
         assert!(stdout.contains("time: planner "), "{extra:?}: {stdout}");
     }
-    let run = oficina(&[
-        "carve",
-        picture.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--profile",
-        "no-such-router",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+    let run = carve(&picture, &out, &["--profile", "no-such-router"]);
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert!(
@@ -481,11 +458,7 @@ fn profiles_are_found_by_name_from_any_folder() {
         .current_dir(dir.path())
         .output()
         .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    oficina_testkit::assert_success(&run);
 }
 
 /// The bundled sample is a dome: where the carved program's tool tip goes lowest, cell by
@@ -495,25 +468,12 @@ fn the_bundled_dome_sample_carves_a_dome() {
     let dir = tempfile::tempdir().unwrap();
     let dome = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/relief/dome.png");
     let out = dir.path().join("dome.nc");
-    let run = oficina(&[
-        "carve",
-        dome.to_str().unwrap(),
-        "--pixel-size",
-        "0.5",
-        "--depth",
-        "6",
-        "--tool",
-        "ball:3",
-        "--rough-tool",
-        "flat:6",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
+    let run = carve(
+        &dome,
+        &out,
+        &["--depth", "6", "--tool", "ball:3", "--rough-tool", "flat:6"],
     );
+    oficina_testkit::assert_success(&run);
     let (points, _) = positions(&std::fs::read_to_string(&out).unwrap());
     let picture = image::open(&dome).unwrap();
     let (w, h) = (

@@ -1,23 +1,15 @@
 //! `oficina check` as a user runs it: all errors of a file with their places, then the summary.
 
-use std::path::PathBuf;
+use oficina_testkit::scratch_file;
 use std::process::Command;
 
 fn oficina() -> Command {
     Command::new(env!("CARGO_BIN_EXE_oficina"))
 }
 
-fn write(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-check-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
-
 #[test]
 fn five_different_errors_are_all_reported_with_positions_and_checking_goes_on() {
-    let path = write(
+    let path = scratch_file(
         "five.ngc",
         "G21 G90\n\
          G0 X0 Y0\n\
@@ -57,7 +49,7 @@ fn five_different_errors_are_all_reported_with_positions_and_checking_goes_on() 
 
 #[test]
 fn a_good_file_prints_extents_length_tools_and_planner_time() {
-    let path = write(
+    let path = scratch_file(
         "good.ngc",
         "G21 G90 G17\nG10 L2 P1 X100 Y100 Z-50\nG54\nT2 M6\nG0 X0 Y0 Z5\n\
          G1 Z-1 F300\nG1 X100 F1200\nG1 Y50\nG2 X50 Y100 R50\nG0 Z5\nM2\n",

@@ -33,60 +33,10 @@ const TIME_LIMIT: Duration = Duration::from_secs(30);
 /// docs/linuxcnc-differences.md). Keep this short: everything else must agree.
 const ALLOWED: &[(&str, &str)] = &[];
 
-/// Canonical calls that are compared. Everything else is dropped, each for a reason:
-/// - `ON_RESET`, `FINISH`: notifications of rs274's own driver loop, not machine operations;
-/// - `SET_FEED_REFERENCE`: always `CANON_XYZ` in rs274, not a state Oficina models;
-/// - `START_CHANGE`: a hint to a tool changer to start moving, no state change;
-/// - `SET_SPINDLE_MODE`: constant-surface-speed mode (G96), not part of the corpus;
-/// - `COMMENT("interpreter: …")`: rs274 narrating its own mode changes (see
-///   [`is_narration`]); user comments are still compared.
-///
-/// The start-up preamble (units, G54 and G92 offsets, rotation) is compared like the rest: it is
-/// the state the program's first moves are relative to.
-const COMPARED: &[&str] = &[
-    "STRAIGHT_TRAVERSE",
-    "STRAIGHT_FEED",
-    "ARC_FEED",
-    "DWELL",
-    "SET_FEED_RATE",
-    "SET_FEED_MODE",
-    "SET_SPINDLE_SPEED",
-    "START_SPINDLE_CLOCKWISE",
-    "START_SPINDLE_COUNTERCLOCKWISE",
-    "STOP_SPINDLE_TURNING",
-    "ORIENT_SPINDLE",
-    "SPINDLE.0.WAIT_ORIENT_COMPLETE",
-    "START_SPEED_FEED_SYNC",
-    "STOP_SPEED_FEED_SYNCH",
-    "RIGID_TAP",
-    "MIST_ON",
-    "MIST_OFF",
-    "FLOOD_ON",
-    "FLOOD_OFF",
-    "SELECT_TOOL",
-    "CHANGE_TOOL",
-    "USE_TOOL_LENGTH_OFFSET",
-    "USE_LENGTH_UNITS",
-    "SELECT_PLANE",
-    "SET_G5X_OFFSET",
-    "SET_G92_OFFSET",
-    "SET_XY_ROTATION",
-    "SET_MOTION_CONTROL_MODE",
-    "SET_NAIVECAM_TOLERANCE",
-    "ENABLE_FEED_OVERRIDE",
-    "DISABLE_FEED_OVERRIDE",
-    "ENABLE_SPEED_OVERRIDE",
-    "DISABLE_SPEED_OVERRIDE",
-    "ENABLE_ADAPTIVE_FEED",
-    "DISABLE_ADAPTIVE_FEED",
-    "ENABLE_FEED_HOLD",
-    "DISABLE_FEED_HOLD",
-    "MESSAGE",
-    "COMMENT",
-    "PROGRAM_STOP",
-    "OPTIONAL_PROGRAM_STOP",
-    "PROGRAM_END",
-];
+// Canonical calls that are compared: `oficina_testkit::rs274::COMPARED` (which says why the
+// others are dropped); besides, `COMMENT("interpreter: …")` is rs274 narrating its own mode
+// changes (see `is_narration`) and is dropped too; user comments are still compared.
+use oficina_testkit::rs274::COMPARED;
 
 /// The calls that move the machine or pass time: compared first and reported on their own.
 const MOTION: &[&str] = &[
@@ -208,10 +158,6 @@ fn run_command(mut cmd: Command) -> Run {
     }
 }
 
-/// rs274 instances share state (it dies with SIGBUS when several run at once), so they run
-/// one at a time; Oficina runs in parallel beside them.
-static RS274_ALONE: Mutex<()> = Mutex::new(());
-
 /// Attempts at a run of rs274 that dies by a signal: another rs274 started outside this test
 /// (by someone else's test) can still collide with ours.
 const RS274_ATTEMPTS: usize = 3;
@@ -232,21 +178,21 @@ fn run_rs274(file: &Path) -> Run {
 }
 
 fn run_rs274_once(file: &Path) -> Run {
-    let mut cmd = Command::new("rs274");
+    // A private HOME, created once per test binary (see `oficina_testkit::rs274::command`).
+    let home = std::env::temp_dir().join(format!("oficina-differential-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&home);
+    let mut cmd = oficina_testkit::rs274::command(&home);
     if uses_subroutine_path(file) {
         cmd.arg("-i").arg(SUBROUTINE_INI);
     }
-    // rs274 keeps its tool table in `$HOME/.tool.mmap`: a private HOME keeps another rs274
-    // (another test binary, another checkout) from changing the table under this one.
-    let home = std::env::temp_dir().join(format!("oficina-differential-{}", std::process::id()));
-    let _ = std::fs::create_dir_all(&home);
     cmd.current_dir(corpus_dir())
-        .env("HOME", &home)
         .arg("-g")
         .arg("-t")
         .arg("tool.tbl")
         .arg(file);
-    let _alone = RS274_ALONE.lock().unwrap_or_else(|e| e.into_inner());
+    // rs274 instances share state (it dies with SIGBUS when several run at once), so they
+    // run one at a time; Oficina runs in parallel beside them.
+    let _alone = oficina_testkit::rs274::alone();
     let mut run = run_command(cmd);
     // A good program must run silently: anything besides rs274's "executing" banner on
     // stderr (an error, a (print,…) line) means it did not run as the corpus intends.
@@ -284,10 +230,9 @@ fn uses_subroutine_path(file: &Path) -> bool {
 
 /// rs274's stderr without its "executing" banner, or None when nothing else was said.
 fn stderr_error_text(stderr: &str) -> Option<String> {
-    let lines: Vec<&str> = stderr
-        .lines()
+    let lines: Vec<&str> = oficina_testkit::rs274::complaints(stderr)
+        .into_iter()
         .map(str::trim_end)
-        .filter(|l| !l.is_empty() && *l != "executing")
         .collect();
     (!lines.is_empty()).then(|| lines.join(" | "))
 }

@@ -1,31 +1,29 @@
 //! `oficina embroider`: the sample design end to end (file, sheet, preview, table run), the
 //! sheet of a file read back, and the refusals (bad files, hoops too small, bad parameters).
 
+mod common;
+
+use common::{oficina, root, text};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use std::process::Output;
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-embroider-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("embroider");
     dir.join(name)
 }
 
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into(),
-        String::from_utf8_lossy(&o.stderr).into(),
-    )
+/// `embroider SAMPLE --run --machine embroidery-xy args…`.
+fn run_on_embroidery_xy(sample: &Path, args: &[&str]) -> Output {
+    let mut all = vec![
+        "embroider",
+        sample.to_str().unwrap(),
+        "--run",
+        "--machine",
+        "embroidery-xy",
+    ];
+    all.extend_from_slice(args);
+    oficina(&all)
 }
 
 fn field(out: &str, key: &str) -> String {
@@ -91,13 +89,7 @@ fn a_slow_table_reports_the_stitches_it_cannot_finish() {
     let sample = root().join("samples/embroidery/sunflower.svg");
     // The bundled embroidery-xy profile (140 mm/s, 5000 mm/s²) cannot move 3 mm fill stitches
     // in code 11's 47.6 ms window: 2·√(3/5000) = 49 ms.
-    let o = oficina(&[
-        "embroider",
-        sample.to_str().unwrap(),
-        "--run",
-        "--machine",
-        "embroidery-xy",
-    ]);
+    let o = run_on_embroidery_xy(&sample, &[]);
     let (stdout, _) = text(&o);
     assert!(!o.status.success());
     assert!(
@@ -105,15 +97,7 @@ fn a_slow_table_reports_the_stitches_it_cannot_finish() {
         "{stdout}"
     );
     // A fixed 350 ppm (the seed's EMC and PATO runs) gives every stitch 85.7 ms: all finish.
-    let o = oficina(&[
-        "embroider",
-        sample.to_str().unwrap(),
-        "--run",
-        "--machine",
-        "embroidery-xy",
-        "--ppm",
-        "350",
-    ]);
+    let o = run_on_embroidery_xy(&sample, &["--ppm", "350"]);
     let (stdout, _) = text(&o);
     assert!(o.status.success(), "{stdout}");
     assert!(stdout.contains("fixed 350 stitches/min"), "{stdout}");

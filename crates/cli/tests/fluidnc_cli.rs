@@ -6,17 +6,12 @@ mod common;
 
 #[test]
 fn a_job_runs_on_fluidnc_over_its_network_port() {
-    let (mut emulator, addr, first) = common::emulator(&["--flavor", "fluidnc", "--baud", "0"]);
+    let (emulator, addr, first) = common::emulator(&["--flavor", "fluidnc", "--baud", "0"]);
     assert!(first.contains("fluidnc"), "{first}");
     let out = common::run_program_on(
         &addr,
         "square.nc",
         "G21 G90 G94\nG0 Z2\nG1 Z-0.5 F300\nG1 X10 F1200\nY10\nX0\nY0\nG0 Z2\nM2\n",
     );
-    let _ = emulator.kill();
-    let _ = emulator.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stdout}\n{stderr}");
-    assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+    common::assert_ran_to_done(emulator, &out);
 }

@@ -24,31 +24,31 @@ fn start_emulator() -> (Emu, String) {
 }
 
 fn start_emulator_with(extra: &[&str]) -> (Emu, String) {
+    let mut args = vec!["--for-seconds", "60"];
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&[
+        "--set",
+        "110=60000",
+        "--set",
+        "111=60000",
+        "--set",
+        "112=60000",
+        // The emulator accelerates: fast ramps keep the jobs short.
+        "--set",
+        "120=20000",
+        "--set",
+        "121=20000",
+        "--set",
+        "122=20000",
+    ]);
+    launch_emulator(&args)
+}
+
+/// `oficina emulate grbl --tcp 127.0.0.1:0 args…`, and the `host:port` it listens on.
+fn launch_emulator(args: &[&str]) -> (Emu, String) {
     let mut child = Command::new(BIN)
-        .args([
-            "emulate",
-            "grbl",
-            "--tcp",
-            "127.0.0.1:0",
-            "--for-seconds",
-            "60",
-        ])
-        .args(extra)
-        .args([
-            "--set",
-            "110=60000",
-            "--set",
-            "111=60000",
-            "--set",
-            "112=60000",
-            // The emulator accelerates: fast ramps keep the jobs short.
-            "--set",
-            "120=20000",
-            "--set",
-            "121=20000",
-            "--set",
-            "122=20000",
-        ])
+        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0"])
+        .args(args)
         .stdout(Stdio::piped())
         .spawn()
         .expect("start emulator");
@@ -62,6 +62,20 @@ fn start_emulator_with(extra: &[&str]) -> (Emu, String) {
         .trim()
         .to_string();
     (Emu(child, out), addr)
+}
+
+/// `oficina console --tcp addr args…` running, its stdin, stdout and stderr piped (or all
+/// three null when `quiet`).
+fn spawn_console(addr: &str, args: &[&str], quiet: bool) -> Child {
+    let io = || if quiet { Stdio::null() } else { Stdio::piped() };
+    Command::new(BIN)
+        .args(["console", "--tcp", addr])
+        .args(args)
+        .stdin(io())
+        .stdout(io())
+        .stderr(io())
+        .spawn()
+        .unwrap()
 }
 
 fn write_job(name: &str, lines: usize) -> std::path::PathBuf {
@@ -84,6 +98,15 @@ fn console(addr: &str, extra: &[&str]) -> std::process::Output {
         .stdin(Stdio::null())
         .output()
         .expect("run console")
+}
+
+/// `console --job JOB args…` with a 1 mm safe height and no spindle delay, as the resume
+/// tests run it.
+fn console_job(addr: &str, job: &std::path::Path, args: &[&str]) -> std::process::Output {
+    let mut all = vec!["--job", job.to_str().unwrap()];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--safe-z", "1", "--spindle-delay", "0"]);
+    console(addr, &all)
 }
 
 /// Runs an interactive console on `addr`, types `lines`, waits (bounded) until its output
@@ -135,19 +158,7 @@ fn console_streams_a_job_then_resumes_from_a_line() {
     );
     assert!(stdout.contains("all 85 lines done"), "{stdout}");
     // Resume from file line 50 (G1 X23.00 Y0.00): preamble, approach, then the rest.
-    let out = console(
-        &addr,
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--from-line",
-            "50",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
-    );
+    let out = console_job(&addr, &job, &["--from-line", "50"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains(":50: restoring modal state"), "{stderr}");
@@ -185,12 +196,7 @@ fn emulate_refuses_bad_settings_and_bench_stream_reports_figures() {
         .args(["bench", "stream", "--lines", "400", "--run", "link"])
         .output()
         .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdout = oficina_testkit::assert_success(&out);
     assert!(
         stdout.contains("% of the line rate") && stdout.contains(" 0 overflows"),
         "{stdout}"
@@ -202,13 +208,7 @@ fn console_resumes_from_the_journal_after_the_sender_is_killed() {
     let (_emu, addr) = start_emulator();
     let job = write_job("crash", 400);
     let journal = job.with_extension("nc.journal");
-    let mut child = Command::new(BIN)
-        .args(["console", "--tcp", &addr, "--job", job.to_str().unwrap()])
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_console(&addr, &["--job", job.to_str().unwrap()], true);
     // Let it get part way, then kill it as a crash would (no chance to clean up).
     let mut acked = 0;
     for _ in 0..600 {
@@ -226,18 +226,7 @@ fn console_resumes_from_the_journal_after_the_sender_is_killed() {
         acked >= 100,
         "the stream made progress before the crash ({acked} acks)"
     );
-    let out = console(
-        &addr,
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--resume",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
-    );
+    let out = console_job(&addr, &job, &["--resume"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     // Success means the sender also found the machine at the program's final position.
@@ -254,19 +243,10 @@ fn console_reconnects_after_a_cut_cable_and_finishes_the_job() {
     // Cut the line about a third of the way through the job's bytes.
     let proxy =
         FaultProxy::start(addr.parse().unwrap(), vec![Fault::Disconnect { at: 2500 }]).unwrap();
-    let out = console(
+    let out = console_job(
         &proxy.addr.to_string(),
-        &[
-            "--job",
-            job.to_str().unwrap(),
-            "--auto-resume",
-            "--reconnect",
-            "10",
-            "--safe-z",
-            "1",
-            "--spindle-delay",
-            "0",
-        ],
+        &job,
+        &["--auto-resume", "--reconnect", "10"],
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -306,25 +286,7 @@ fn emulator_takes_its_settings_from_a_machine_profile() {
         env!("CARGO_MANIFEST_DIR"),
         "/../../profiles/grbl-router.toml"
     );
-    let mut child = Command::new(BIN)
-        .args([
-            "emulate",
-            "grbl",
-            "--tcp",
-            "127.0.0.1:0",
-            "--for-seconds",
-            "30",
-            "--profile",
-            profile,
-        ])
-        .stdout(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut out = BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
-    out.read_line(&mut line).unwrap();
-    let _emu = Emu(child, out);
-    let addr = line.split("tcp://").nth(1).unwrap().trim().to_string();
+    let (_emu, addr) = launch_emulator(&["--for-seconds", "30", "--profile", profile]);
     let want = [
         "$110=6000.000",
         "$112=1500.000",
@@ -344,13 +306,7 @@ fn emulator_takes_its_settings_from_a_machine_profile() {
 #[test]
 fn console_fed_by_a_pipe_waits_for_every_reply() {
     let (_emu, addr) = start_emulator_with(&["--flavor", "grblhal"]);
-    let mut child = Command::new(BIN)
-        .args(["console", "--tcp", &addr])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_console(&addr, &[], false);
     {
         let mut stdin = child.stdin.take().unwrap();
         stdin.write_all(b"$I\n$$\n$G\n$#\nG4P0.5\nG0X5\n").unwrap();
@@ -372,13 +328,7 @@ fn console_job_keys_hold_resume_and_stop_with_a_resume_hint() {
     let (_emu, addr) = start_emulator();
     let job = write_job("keys", 400);
     let journal = job.with_extension("nc.journal");
-    let mut child = Command::new(BIN)
-        .args(["console", "--tcp", &addr, "--job", job.to_str().unwrap()])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_console(&addr, &["--job", job.to_str().unwrap()], false);
     let mut stdin = child.stdin.take().unwrap();
     let acked = || {
         std::fs::read_to_string(&journal)

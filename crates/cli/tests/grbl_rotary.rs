@@ -13,7 +13,7 @@ fn oficina() -> Command {
 
 #[test]
 fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
-    let (mut emulator, addr, _) = common::emulator(&[
+    let (emulator, addr, _) = common::emulator(&[
         "--machine",
         "router-4axis",
         "--baud",
@@ -27,15 +27,7 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
         "turn.ngc",
         "G21 G90 G94\nG0 X5 A0\nG1 A90 F5400\nG1 X10 A120 F600\nG0 A0\nM2\n",
     );
-    let _ = emulator.kill();
-    let _ = emulator.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(stdout.contains("done:"), "{stdout}");
+    common::assert_ran_to_done(emulator, &out);
 }
 
 /// A line the firmware refuses (`error:20`) ends the job: `oficina run` reports the error
@@ -44,8 +36,7 @@ fn a_four_axis_program_runs_to_its_end_on_the_emulated_4th_axis() {
 #[test]
 fn a_refused_line_ends_the_run_with_its_error_and_resume_point() {
     let (mut emulator, addr, _) = common::emulator(&["--baud", "0", "--for-seconds", "60"]);
-    let dir = std::env::temp_dir().join(format!("oficina-grbl-error20-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("grbl-error20");
     let path = dir.join("bad.ngc");
     // A 3-axis grbl has no A axis: line 3 is refused with error:20.
     std::fs::write(&path, "G21 G90\nG1 X1 F600\nG1 A5\nG1 X2\nM2\n").unwrap();

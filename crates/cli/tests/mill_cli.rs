@@ -1,12 +1,12 @@
 //! `oficina mill` and `oficina sole` end to end: files written, every program accepted by
 //! LinuxCNC's rs274, no gouge, bad input refused with a message naming the file.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{oficina_in, root};
+use oficina_testkit::rs274;
+
+use std::path::PathBuf;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("oficina-mill-cli-{}-{name}", std::process::id()));
@@ -14,34 +14,9 @@ fn tmp(name: &str) -> PathBuf {
     d
 }
 
+/// `oficina args…` in the repository's root (the sample paths are relative to it).
 fn oficina(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .current_dir(root())
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn rs274_accepts(file: &Path) {
-    static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _alone = ALONE.lock().unwrap_or_else(|e| e.into_inner());
-    let home = file.parent().expect("a program file in a folder");
-    let out = Command::new("rs274")
-        .env("HOME", home)
-        .arg("-g")
-        .arg(file)
-        .output()
-        .expect("rs274 (LinuxCNC) must be installed");
-    let err = String::from_utf8_lossy(&out.stderr);
-    let bad: Vec<&str> = err
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "executing")
-        .collect();
-    assert!(
-        out.status.success() && bad.is_empty(),
-        "{}: rs274: {err}",
-        file.display()
-    );
+    oficina_in(&root(), args)
 }
 
 #[test]
@@ -90,7 +65,7 @@ fn mill_pocket_profile_and_drill_samples() {
         );
         assert!(stdout.contains("gouge:    none"), "{op}: {stdout}");
         assert!(stdout.contains("(planner)"), "{op}: {stdout}");
-        rs274_accepts(&out_file);
+        rs274::accepts_file(&out_file, None);
         let svg = std::fs::read_to_string(out_file.with_extension("svg")).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("stroke=\"blue\""));
         assert!(out_file.with_extension("stock.png").exists());
@@ -145,7 +120,7 @@ fn sole_34_to_40_writes_four_programs_rs274_accepts() {
             "{name}"
         );
         assert!(text.contains("F190") && text.contains("F100"), "{name}");
-        rs274_accepts(&f);
+        rs274::accepts_file(&f, None);
     }
     // The right foot is the left one mirrored: arcs turn the other way.
     let left = std::fs::read_to_string(dir.join("cavity-left.ngc")).unwrap();

@@ -3,6 +3,10 @@
 //! accepted by LinuxCNC's `rs274`, and replayed on a simulated stock: zero gouge, and no
 //! material left where the tool can reach.
 
+mod common;
+
+use common::mill;
+
 use oficina_cam::ops::{
     allowed_region, toolpath, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams,
     Side, Strategy, Tabs,
@@ -11,13 +15,9 @@ use oficina_cam::{Move, Tool, Toolpath};
 use oficina_geom::{Arc, Path, Point, Segment};
 use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design};
+use oficina_testkit::rs274;
+use oficina_testkit::shapes::{dumbbell, poly};
 use std::collections::HashMap;
-use std::process::Command;
-
-fn poly(pts: &[(f64, f64)]) -> Path {
-    let p: Vec<Point> = pts.iter().map(|&(x, y)| Point::new(x, y)).collect();
-    Path::polyline(&p, true)
-}
 
 fn circle(cx: f64, cy: f64, r: f64) -> Path {
     Path::new(vec![Segment::Arc(Arc::circle(Point::new(cx, cy), r))], true)
@@ -46,24 +46,6 @@ fn plate_with_islands() -> Vec<Path> {
     ]
 }
 
-/// Two rooms joined by a 7 mm corridor: with a 6 mm tool the offsets split in two.
-fn dumbbell() -> Vec<Path> {
-    vec![poly(&[
-        (0.0, 0.0),
-        (25.0, 0.0),
-        (25.0, 9.0),
-        (35.0, 9.0),
-        (35.0, 0.0),
-        (60.0, 0.0),
-        (60.0, 25.0),
-        (35.0, 25.0),
-        (35.0, 16.0),
-        (25.0, 16.0),
-        (25.0, 25.0),
-        (0.0, 25.0),
-    ])]
-}
-
 fn cut(tool: &str, depth: f64, stepdown: f64, entry: Entry) -> Cut {
     Cut {
         tool_number: 1,
@@ -88,29 +70,9 @@ fn post() -> PostOptions {
     }
 }
 
+/// rs274 must accept `text` with this file's tools (T1 6 mm, T2 2 mm).
 fn rs274_accepts(text: &str) {
-    static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _alone = ALONE.lock().unwrap_or_else(|e| e.into_inner());
-    let dir = std::env::temp_dir().join(format!("oficina-mill-ops-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("p.ngc");
-    std::fs::write(&file, text).unwrap();
-    let tbl = dir.join("t.tbl");
-    std::fs::write(&tbl, "T1 P1 D6 Z0\nT2 P2 D2 Z0\n").unwrap();
-    let out = Command::new("rs274")
-        .env("HOME", &dir)
-        .arg("-g")
-        .arg("-t")
-        .arg(&tbl)
-        .arg(&file)
-        .output()
-        .expect("rs274 (LinuxCNC) must be installed");
-    let err = String::from_utf8_lossy(&out.stderr);
-    let bad: Vec<&str> = err
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "executing")
-        .collect();
-    assert!(out.status.success() && bad.is_empty(), "rs274: {err}");
+    rs274::accepts(text, Some("T1 P1 D6 Z0\nT2 P2 D2 Z0\n"));
 }
 
 /// Post, read back, rs274, simulate; returns (gouge, mean scallop).
@@ -311,19 +273,24 @@ fn drilling_canned_cycles_at_circle_centres() {
 
 #[test]
 fn cli_comp_posts_g41_and_the_check_sees_no_gouge() {
-    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-comp");
     let out = dir.join("p.ngc");
     let run = |post: &str| {
-        Command::new(env!("CARGO_BIN_EXE_oficina"))
-            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-            .args(["mill", "samples/mill/plate.svg", "--op", "profile-out"])
-            .args([
-                "--tool", "flat:6", "--depth", "3", "--comp", "--post", post, "-o",
-            ])
-            .arg(&out)
-            .output()
-            .unwrap()
+        mill(
+            &[
+                "samples/mill/plate.svg",
+                "--op",
+                "profile-out",
+                "--tool",
+                "flat:6",
+                "--depth",
+                "3",
+                "--comp",
+                "--post",
+                post,
+            ],
+            &out,
+        )
     };
     let ok = run("linuxcnc");
     let said =
@@ -353,8 +320,7 @@ fn square_distance(p: [f64; 2], s: f64) -> f64 {
 fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
     // A 40 mm square cut outside with a 6 mm mill under G41: the program holds the
     // outline, the preview must show where the control moves the tool: 3 mm outside it.
-    let dir = std::env::temp_dir().join(format!("oficina-mill-comp-svg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-comp-svg");
     let svg = dir.join("square.svg");
     std::fs::write(
         &svg,
@@ -362,15 +328,23 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
     )
     .unwrap();
     let out = dir.join("p.ngc");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .arg("mill")
-        .arg(&svg)
-        .args(["--op", "profile-out", "--tool", "flat:6", "--depth", "2"])
-        .args(["--lead-in", "0", "--allowance", "0", "--comp", "-o"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = mill(
+        &[
+            svg.to_str().unwrap(),
+            "--op",
+            "profile-out",
+            "--tool",
+            "flat:6",
+            "--depth",
+            "2",
+            "--lead-in",
+            "0",
+            "--allowance",
+            "0",
+            "--comp",
+        ],
+        &out,
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let preview = std::fs::read_to_string(out.with_extension("svg")).unwrap();
     // The cutting moves: blue polylines, "x,y x,y …".
@@ -412,8 +386,7 @@ fn comp_preview_shows_the_tool_centre_a_radius_off_the_outline() {
 fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
     // A 30 × 20 pocket with a 3 mm slot off its side: the 6 mm mill cannot enter the slot
     // nor its corners; `--rest-tool flat:2` must leave nothing the 2 mm one can reach.
-    let dir = std::env::temp_dir().join(format!("oficina-mill-rest-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("mill-rest");
     let svg = dir.join("slot.svg");
     std::fs::write(
         &svg,
@@ -421,15 +394,22 @@ fn cli_rest_tool_clears_what_the_first_tool_could_not_reach() {
     )
     .unwrap();
     let out = dir.join("p.ngc");
-    let o = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .arg("mill")
-        .arg(&svg)
-        .args(["--op", "pocket", "--tool", "flat:6", "--depth", "3"])
-        .args(["--rest-tool", "flat:2", "--check-pixel", "0.1", "-o"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = mill(
+        &[
+            svg.to_str().unwrap(),
+            "--op",
+            "pocket",
+            "--tool",
+            "flat:6",
+            "--depth",
+            "3",
+            "--rest-tool",
+            "flat:2",
+            "--check-pixel",
+            "0.1",
+        ],
+        &out,
+    );
     let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{said}");
     assert!(said.contains("gouge:    none"), "{said}");

@@ -4,13 +4,17 @@
 //! judge (the V bit's cone, zero gouge below the ideal sloped walls, little left above
 //! them), LinuxCNC's `rs274` accepting the program, and the CLI end to end.
 
+mod common;
+
+use common::mill;
+
 use oficina_cam::ops::{vcarve, Cut, Entry, VCarveParams};
 use oficina_cam::{Tool, Toolpath};
 use oficina_geom::{to_ring, Arc, Path, Point, Segment};
 use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design, MillCheck};
+use oficina_testkit::{assert_success, rs274};
 use std::collections::HashMap;
-use std::process::Command;
 
 fn rect(w: f64, h: f64) -> Path {
     let p = [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)].map(|(x, y)| Point::new(x, y));
@@ -48,26 +52,6 @@ fn post() -> PostOptions {
     }
 }
 
-fn rs274_accepts(text: &str, name: &str) {
-    let dir = std::env::temp_dir().join(format!("oficina-vcarve-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("p.ngc");
-    std::fs::write(&file, text).unwrap();
-    let out = Command::new("rs274")
-        .env("HOME", &dir)
-        .arg("-g")
-        .arg(&file)
-        .output()
-        .expect("rs274 (LinuxCNC) must be installed");
-    let err = String::from_utf8_lossy(&out.stderr);
-    let bad: Vec<&str> = err
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "executing")
-        .collect();
-    assert!(out.status.success() && bad.is_empty(), "rs274: {err}");
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
 /// Carves `shape`, posts, rs274, reads back, simulates against the sloped design.
 fn carve(shape: Path, c: &Cut, name: &str) -> (Toolpath, MillCheck, f64) {
     let op = vcarve(
@@ -82,7 +66,7 @@ fn carve(shape: Path, c: &Cut, name: &str) -> (Toolpath, MillCheck, f64) {
         operations: vec![op],
     };
     let text = program_text(&tp, &post()).unwrap();
-    rs274_accepts(&text, name);
+    rs274::accepts(&text, None);
     let canon = read_back(&text, &post()).unwrap();
     let Tool { shape: s, .. } = c.tool;
     let angle = match s {
@@ -220,8 +204,7 @@ fn a_flat_mill_is_refused_and_a_too_narrow_bit_named() {
 
 #[test]
 fn cli_vcarves_a_drawing_and_hershey_text() {
-    let dir = std::env::temp_dir().join(format!("oficina-vcarve-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("vcarve-cli");
     let svg = dir.join("shapes.svg");
     std::fs::write(
         &svg,
@@ -230,57 +213,40 @@ fn cli_vcarves_a_drawing_and_hershey_text() {
     )
     .unwrap();
     let out = dir.join("v.ngc");
-    let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_oficina"))
-            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-            .args(args)
-            .output()
-            .unwrap()
-    };
-    let o = run(&[
-        "mill",
-        svg.to_str().unwrap(),
-        "--op",
-        "vcarve",
-        "--tool",
-        "v:12:90",
-        "--depth",
-        "3",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&o.stderr)
+    let o = mill(
+        &[
+            svg.to_str().unwrap(),
+            "--op",
+            "vcarve",
+            "--tool",
+            "v:12:90",
+            "--depth",
+            "3",
+        ],
+        &out,
     );
+    let stdout = assert_success(&o);
     assert!(stdout.contains("gouge:    none"), "{stdout}");
     let text = std::fs::read_to_string(&out).unwrap();
-    rs274_accepts(&text, "cli");
-    let o = run(&[
-        "mill",
-        "--text",
-        "OFICINA",
-        "--text-height",
-        "8",
-        "--op",
-        "vcarve",
-        "--tool",
-        "v:6:60",
-        "--depth",
-        "0.8",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&o.stderr)
+    rs274::accepts(&text, None);
+    let o = mill(
+        &[
+            "--text",
+            "OFICINA",
+            "--text-height",
+            "8",
+            "--op",
+            "vcarve",
+            "--tool",
+            "v:6:60",
+            "--depth",
+            "0.8",
+        ],
+        &out,
     );
+    assert_success(&o);
     let text = std::fs::read_to_string(&out).unwrap();
-    rs274_accepts(&text, "text");
+    rs274::accepts(&text, None);
     // Every stroke is cut at the cap (Hershey strokes have no width).
     assert!(text.contains("Z-0.8"), "{text}");
     let _ = std::fs::remove_dir_all(&dir);

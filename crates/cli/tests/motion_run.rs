@@ -1,11 +1,11 @@
 //! `oficina run` executes every bundled motion sample on the virtual machine, and
 //! `oficina plan --trace` writes one row per millisecond of the total time it prints.
 
-use std::process::Command;
+mod common;
 
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::root;
+
+use std::process::Command;
 
 const SAMPLES: [(&str, &str); 5] = [
     ("router-square", "grbl-router"),
@@ -40,8 +40,7 @@ fn run_executes_every_sample_on_its_machine() {
 
 #[test]
 fn run_refuses_a_job_beyond_the_soft_limits() {
-    let dir = std::env::temp_dir().join(format!("oficina-motion-run-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("motion-run");
     let f = dir.join("far.nc");
     std::fs::write(&f, "G90 G1 X100 F1000\nG1 X900\nM2\n").unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
@@ -60,8 +59,7 @@ fn run_refuses_a_job_beyond_the_soft_limits() {
 
 #[test]
 fn plan_trace_has_one_row_per_millisecond() {
-    let dir = std::env::temp_dir().join(format!("oficina-motion-plan-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("motion-plan");
     let trace = dir.join("t.csv");
     let path = root().join("samples/motion/router-square.nc");
     let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
@@ -73,11 +71,7 @@ fn plan_trace_has_one_row_per_millisecond() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     let total: f64 = text
         .lines()

@@ -5,8 +5,7 @@ use std::process::Command;
 
 #[test]
 fn step_files_match_the_closed_form_and_each_other() {
-    let dir = std::env::temp_dir().join(format!("oficina-steps-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("steps");
     let prog = dir.join("x10.nc");
     // 10 mm along X at 600 mm/min, then back 4 mm: 2000 + 800 steps at 200 steps/mm.
     std::fs::write(&prog, "G21 G90\nG1 X10 F600\nG1 X6\nM2\n").unwrap();
@@ -19,11 +18,7 @@ fn step_files_match_the_closed_form_and_each_other() {
         .args(["--steps-compressed", runs.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows: Vec<(String, f64, bool)> = text
         .lines()

@@ -2,6 +2,10 @@
 //! G43 tool length offset moves the planned motion and the virtual machine by the tool's
 //! length (grbl-router: travel Z −100…0 mm, stored G54 Z −40 mm).
 
+mod common;
+
+use common::oficina;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -10,13 +14,6 @@ fn scratch(name: &str) -> PathBuf {
         std::env::temp_dir().join(format!("oficina-tool-table-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 /// Lowest and highest Z of a `--trace` CSV.
@@ -49,11 +46,7 @@ fn plan_moves_the_motion_by_the_tool_length() {
     let (without, with) = (dir.join("a.csv"), dir.join("b.csv"));
     let p = program.to_str().unwrap();
     let out = oficina(&["plan", p, "--trace", without.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let out = oficina(&[
         "plan",
         p,
@@ -62,11 +55,7 @@ fn plan_moves_the_motion_by_the_tool_length() {
         "--tool-table",
         table.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     // Program Z −1 is machine Z −41 (G54 Z −40) with no table, −31 with the 10 mm tool.
     let (lo_a, _) = z_range(&without);
     let (lo_b, _) = z_range(&with);
@@ -95,11 +84,7 @@ fn run_applies_the_tool_length_on_the_virtual_machine() {
     .unwrap();
     let p = program.to_str().unwrap();
     let out = oficina(&["run", p, "--instant"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     let t = table.to_str().unwrap();
     let out = oficina(&["run", p, "--instant", "--tool-table", t]);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -200,11 +185,7 @@ fn a_profile_names_its_tool_table_and_the_option_overrides_it() {
         let mut args = vec!["check", p, "--machine", m];
         args.extend_from_slice(extra);
         let out = oficina_elsewhere(&args);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        oficina_testkit::assert_success(&out);
         String::from_utf8_lossy(&out.stdout).to_string()
     };
     let with_profile = check(&[]);
@@ -259,11 +240,7 @@ fn a_missing_or_bad_profile_tool_table_names_the_profile_and_the_line() {
         "--tool-table",
         good.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     // A bad line: the table's path, line and column, and the profile.
     std::fs::write(dir.join("bad.tbl"), "T1 P1 D6 Z10\nT2 P2 Dx Z5\n").unwrap();
     let machine = profile_naming(&dir, "bad.tbl");

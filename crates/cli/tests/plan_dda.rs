@@ -1,16 +1,12 @@
 //! `oficina plan --interpolator dda`: seed 002's programs stepped by the seed's own
 //! interpolators, checked against the seed's tables and against the exact step generator.
 
+mod common;
+
+use common::oficina;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
 
 fn sample(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

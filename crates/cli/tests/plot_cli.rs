@@ -2,29 +2,33 @@
 //! Cartesian pen plotter and the seed-003 polar plotter; HPGL and joint-space output; bounds
 //! refused before drawing; the seed-check table.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("oficina runs")
+use oficina_testkit::assert_success;
+
+use common::{oficina_in, root};
+
+/// `oficina args…` in the repository's root (the sample paths are relative to it).
+fn oficina(args: &[&str]) -> std::process::Output {
+    oficina_in(&root(), args)
 }
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+/// `oficina plot args…`, which must succeed: its stdout.
+fn plot(args: &[&str]) -> String {
+    let mut all = vec!["plot"];
+    all.extend_from_slice(args);
+    assert_success(&oficina(&all))
 }
 
-fn ok(o: &Output) -> String {
-    let out = String::from_utf8_lossy(&o.stdout).to_string();
-    assert!(
-        o.status.success(),
-        "failed: {}\n{out}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    out
+/// `oficina run PROGRAM --machine MACHINE --instant`, which must succeed: its stdout.
+fn run_instant(program: &std::path::Path, machine: &str) -> String {
+    assert_success(&oficina(&[
+        "run",
+        program.to_str().unwrap(),
+        "--machine",
+        machine,
+        "--instant",
+    ]))
 }
 
 fn number_after(text: &str, key: &str) -> f64 {
@@ -45,8 +49,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("out.nc");
     let svg = dir.path().join("preview.svg");
-    let out = ok(&oficina(&[
-        "plot",
+    let out = plot(&[
         "samples/plot/design.svg",
         "--machine",
         "pen-plotter",
@@ -56,7 +59,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
         nc.to_str().unwrap(),
         "--preview",
         svg.to_str().unwrap(),
-    ]));
+    ]);
     // Two pens (black and red); the black grid of rect + open box + 3 lines merges.
     assert!(
         out.contains("pen 1: #000000") && out.contains("pen 2: #ff0000"),
@@ -75,13 +78,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
     assert!(std::fs::read_to_string(&svg)
         .unwrap()
         .contains("id=\"pen-up\""));
-    let run = ok(&oficina(&[
-        "run",
-        nc.to_str().unwrap(),
-        "--machine",
-        "pen-plotter",
-        "--instant",
-    ]));
+    let run = run_instant(&nc, "pen-plotter");
     let _ = run;
 }
 
@@ -89,8 +86,7 @@ fn a_svg_plots_and_runs_on_the_cartesian_pen_plotter() {
 fn the_polar_plotter_draws_the_same_design_and_runs_it() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("polar.nc");
-    ok(&oficina(&[
-        "plot",
+    plot(&[
         "samples/plot/design.svg",
         "--machine",
         "polar-plotter",
@@ -98,18 +94,11 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
         "300,-100",
         "-o",
         nc.to_str().unwrap(),
-    ]));
-    ok(&oficina(&[
-        "run",
-        nc.to_str().unwrap(),
-        "--machine",
-        "polar-plotter",
-        "--instant",
-    ]));
+    ]);
+    run_instant(&nc, "polar-plotter");
     // Joint space: X is the arm angle in degrees, Y the carriage in mm, timed by G93.
     let joint = dir.path().join("joint.nc");
-    ok(&oficina(&[
-        "plot",
+    plot(&[
         "samples/plot/design.svg",
         "--machine",
         "polar-plotter",
@@ -119,7 +108,7 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
         "joint",
         "-o",
         joint.to_str().unwrap(),
-    ]));
+    ]);
     let text = std::fs::read_to_string(&joint).unwrap();
     assert!(
         text.contains("G93") && text.contains("X = theta"),
@@ -132,8 +121,7 @@ fn the_polar_plotter_draws_the_same_design_and_runs_it() {
 fn hpgl_in_and_out() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("house.hpgl");
-    let o = ok(&oficina(&[
-        "plot",
+    let o = plot(&[
         "samples/plot/house.plt",
         "--machine",
         "pen-plotter",
@@ -141,7 +129,7 @@ fn hpgl_in_and_out() {
         "hpgl",
         "-o",
         out.to_str().unwrap(),
-    ]));
+    ]);
     assert!(
         o.contains("pen 1: pen 1") && o.contains("pen 2: pen 2"),
         "{o}"
@@ -180,12 +168,7 @@ fn a_drawing_off_the_machine_is_refused_before_drawing() {
 
 #[test]
 fn the_seed_check_prints_five_places() {
-    let out = ok(&oficina(&[
-        "plot",
-        "--seed-check",
-        "--machine",
-        "polar-plotter",
-    ]));
+    let out = plot(&["--seed-check", "--machine", "polar-plotter"]);
     for place in [
         "lower right",
         "upper right",
@@ -202,8 +185,7 @@ fn the_seed_check_prints_five_places() {
 fn images_hatch_text_draws_and_a_broken_image_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let nc = dir.path().join("h.nc");
-    let out = ok(&oficina(&[
-        "plot",
+    let out = plot(&[
         "samples/relief/dome.png",
         "--pixel",
         "0.5",
@@ -213,9 +195,9 @@ fn images_hatch_text_draws_and_a_broken_image_is_named() {
         "10,10",
         "-o",
         nc.to_str().unwrap(),
-    ]));
+    ]);
     assert!(number_after(&out, "pen-down ") > 100.0, "{out}");
-    let out = ok(&oficina(&["plot", "--text", "Oficina", "--at", "10,10"]));
+    let out = plot(&["--text", "Oficina", "--at", "10,10"]);
     assert!(out.contains("G1 X"), "{out}");
     let empty = dir.path().join("empty.png");
     std::fs::write(&empty, b"").unwrap();

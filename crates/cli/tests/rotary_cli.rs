@@ -3,52 +3,34 @@
 //! drives it on the virtual machine, and the planned times of single moves agree with the
 //! trapezoid formula computed here from the profile's numbers and LinuxCNC's feed rule.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{oficina, program, root, text, total_time};
+
+use std::path::{Path, PathBuf};
 
 fn sample() -> PathBuf {
     root().join("samples/motion/rotary-engrave.ngc")
 }
 
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-/// A program in a scratch file named after the test.
-fn program(name: &str, body: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-rotary-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(format!("{name}.ngc"));
-    std::fs::write(&p, body).unwrap();
-    p
-}
-
-/// The "total time: N s" figure `plan` prints.
-fn total_time(out: &str) -> f64 {
-    let line = out
-        .lines()
-        .find(|l| l.starts_with("total time:"))
-        .unwrap_or_else(|| panic!("no total time in {out}"));
-    line["total time:".len()..]
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap()
+/// `oficina plan FILE --machine router-4axis --check` with `extra` options: it must pass the
+/// invariant checker; its stdout.
+fn checked_plan(file: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "plan",
+        file.to_str().unwrap(),
+        "--machine",
+        "router-4axis",
+        "--check",
+    ];
+    args.extend_from_slice(extra);
+    let o = oficina(&args);
+    let (out, err) = text(&o);
+    assert!(
+        o.status.success() && out.contains("check: ok"),
+        "{out}\n{err}"
+    );
+    out
 }
 
 /// Time of a move of length `l` from rest to rest at cruise `v` and acceleration `a`:
@@ -64,32 +46,11 @@ fn trapezoid(l: f64, v: f64, a: f64) -> f64 {
 #[test]
 fn four_axis_sample_plans_and_passes_the_invariant_checker() {
     let s = sample();
-    let o = oficina(&[
-        "plan",
-        s.to_str().unwrap(),
-        "--machine",
-        "router-4axis",
-        "--check",
-    ]);
-    let (out, err) = text(&o);
-    assert!(o.status.success(), "{out}\n{err}");
-    assert!(out.contains("check: ok"), "{out}");
+    let out = checked_plan(&s, &[]);
     // The joints are driven up to their limits, never beyond (the checker's own figures).
     assert!(out.contains("peak joint speed 100.0 %"), "{out}");
     // The S-curve profile drives it too (the A joint has a jerk limit).
-    let o = oficina(&[
-        "plan",
-        s.to_str().unwrap(),
-        "--machine",
-        "router-4axis",
-        "--check",
-        "--scurve",
-    ]);
-    let (out, err) = text(&o);
-    assert!(
-        o.status.success() && out.contains("check: ok"),
-        "{out}\n{err}"
-    );
+    checked_plan(&s, &["--scurve"]);
 }
 
 #[test]
@@ -127,20 +88,7 @@ fn pure_rotary_move_takes_the_trapezoid_time_in_degrees() {
     // profile's A acceleration of 360 °/s². 60 °/s stays under A's 10800 °/min.
     let p = program("pure", "G21 G90 G94\nG1 A360 F3600\nM2\n");
     let steps = p.with_extension("csv");
-    let o = oficina(&[
-        "plan",
-        p.to_str().unwrap(),
-        "--machine",
-        "router-4axis",
-        "--check",
-        "--steps",
-        steps.to_str().unwrap(),
-    ]);
-    let (out, err) = text(&o);
-    assert!(
-        o.status.success() && out.contains("check: ok"),
-        "{out}\n{err}"
-    );
+    let out = checked_plan(&p, &["--steps", steps.to_str().unwrap()]);
     let want = trapezoid(360.0, 60.0, 360.0); // 6.1667 s
     assert!((total_time(&out) - want).abs() < 1e-3, "{out} vs {want}");
     // One full turn at 20 steps per degree, all forward, on motor "a".
@@ -157,39 +105,13 @@ fn mixed_move_times_its_feed_on_xyz_and_is_slowed_by_the_rotary_acceleration() {
     // 10 mm is 9 °/mm, 90 °/s at 10 mm/s (under A's 180 °/s). A's 360 °/s² allows only
     // 360 / 9 = 40 mm/s² along the path (X alone would allow 300).
     let p = program("mixed", "G21 G90 G94\nG1 X10 A90 F600\nM2\n");
-    let o = oficina(&[
-        "plan",
-        p.to_str().unwrap(),
-        "--machine",
-        "router-4axis",
-        "--work-offset",
-        "0,0,0",
-        "--check",
-    ]);
-    let (out, err) = text(&o);
-    assert!(
-        o.status.success() && out.contains("check: ok"),
-        "{out}\n{err}"
-    );
+    let out = checked_plan(&p, &["--work-offset", "0,0,0"]);
     let want = trapezoid(10.0, 10.0, 40.0); // 1.25 s
     assert!((total_time(&out) - want).abs() < 1e-3, "{out} vs {want}");
     // The same move with A's rate too high for the feed: A's 180 °/s caps the path speed at
     // 180 / 36 = 5 mm/s (360° over 10 mm), whatever F asks.
     let p = program("capped", "G21 G90 G94\nG1 X10 A360 F600\nM2\n");
-    let o = oficina(&[
-        "plan",
-        p.to_str().unwrap(),
-        "--machine",
-        "router-4axis",
-        "--work-offset",
-        "0,0,0",
-        "--check",
-    ]);
-    let (out, err) = text(&o);
-    assert!(
-        o.status.success() && out.contains("check: ok"),
-        "{out}\n{err}"
-    );
+    let out = checked_plan(&p, &["--work-offset", "0,0,0"]);
     let want = trapezoid(10.0, 5.0, 10.0); // 360 / 36 = 10 mm/s² along the path
     assert!((total_time(&out) - want).abs() < 1e-3, "{out} vs {want}");
 }

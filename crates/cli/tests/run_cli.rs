@@ -4,19 +4,11 @@
 
 mod common;
 
-use std::path::PathBuf;
+use oficina_testkit::scratch_file;
 use std::process::{Command, Stdio};
 
 fn oficina() -> Command {
     Command::new(env!("CARGO_BIN_EXE_oficina"))
-}
-
-fn program(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-run-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
 }
 
 /// Safe Z above work zero and a tool change pause, as `oficina carve` writes for grbl.
@@ -26,7 +18,7 @@ const CAM_JOB: &str = "G21 G90 G94 G17\nT1\nM3 S12000\nG0 Z5\nG0 X0 Y0\nG1 Z-2 F
 
 #[test]
 fn a_work_coordinate_program_runs_on_the_router_and_passes_its_pause() {
-    let path = program("cam.nc", CAM_JOB);
+    let path = scratch_file("cam.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -49,7 +41,7 @@ fn a_work_coordinate_program_runs_on_the_router_and_passes_its_pause() {
 
 #[test]
 fn stop_at_pauses_stops_the_job_at_m0() {
-    let path = program("cam-stop.nc", CAM_JOB);
+    let path = scratch_file("cam-stop.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -64,7 +56,7 @@ fn stop_at_pauses_stops_the_job_at_m0() {
 
 #[test]
 fn a_work_offset_outside_travel_is_refused_before_any_motion() {
-    let path = program("cam-off.nc", CAM_JOB);
+    let path = scratch_file("cam-off.nc", CAM_JOB);
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -86,8 +78,8 @@ fn a_work_offset_outside_travel_is_refused_before_any_motion() {
 
 #[test]
 fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
-    let (mut emulator, addr, _) = common::emulator(&[]);
-    let path = program("cam-grbl.nc", &CAM_JOB.replace("M0\n", ""));
+    let (emulator, addr, _) = common::emulator(&[]);
+    let path = scratch_file("cam-grbl.nc", CAM_JOB.replace("M0\n", ""));
     let out = oficina()
         .arg("run")
         .arg(&path)
@@ -95,13 +87,5 @@ fn the_same_job_runs_on_grbl_firmware_through_the_emulator() {
         .stdin(Stdio::null())
         .output()
         .unwrap();
-    let _ = emulator.kill();
-    let _ = emulator.wait();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(stdout.contains("done:"), "{stdout}");
+    common::assert_ran_to_done(emulator, &out);
 }

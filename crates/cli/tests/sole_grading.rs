@@ -3,23 +3,11 @@
 //! adds VL = 1.66 mm of width and VC = 6.66 mm of length (Brazilian/French; 2.10 / 8.46
 //! English/US), and shrinkage adds CTM of the pattern's own width and length.
 
-use oficina_geom::{Grading, Point, Reference, SizeSystem};
+mod common;
 
-fn sample_points() -> Vec<Point> {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../samples/sole/size34.csv"
-    ))
-    .unwrap();
-    text.lines()
-        .filter_map(|l| {
-            let mut it = l.split(',');
-            let x = it.next()?.trim().parse().ok()?;
-            let y = it.next()?.trim().parse().ok()?;
-            Some(Point::new(x, y))
-        })
-        .collect()
-}
+use common::sole_sample;
+
+use oficina_geom::{Grading, Point, Reference, SizeSystem};
 
 fn extent(pts: &[Point]) -> (f64, f64) {
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
@@ -34,7 +22,7 @@ fn extent(pts: &[Point]) -> (f64, f64) {
 
 #[test]
 fn sizes_33_to_44_from_34_add_the_seed_constants() {
-    let pts = sample_points();
+    let pts = sole_sample();
     let (lp, cp) = extent(&pts);
     for (system, vl, vc) in [
         (SizeSystem::BRAZILIAN, 1.66, 6.66),

@@ -2,33 +2,20 @@
 //! on the shipped digitised contour; every program read back by the interpreter, accepted by
 //! rs274, and simulated with zero gouge.
 
+mod common;
+
+use common::sole_sample;
+
 use oficina_cam::ops::{sole_job, Part, SoleJob, GOUGE_TOL};
 use oficina_cam::Tool;
-use oficina_geom::{offset_areas, to_ring, Area, Point};
+use oficina_geom::{offset_areas, to_ring, Area};
 use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design};
 use std::collections::HashMap;
 
-fn sample_points() -> Vec<Point> {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../samples/sole/size34.csv"
-    ))
-    .unwrap();
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .filter_map(|l| {
-            let mut it = l.split(',');
-            let x = it.next()?.trim().parse().ok()?;
-            let y = it.next()?.trim().parse().ok()?;
-            Some(Point::new(x, y))
-        })
-        .collect()
-}
-
 #[test]
 fn size_34_to_40_insert_and_cavity_for_both_feet() {
-    let pts = sample_points();
+    let pts = sole_sample();
     assert!(pts.len() > 20);
     let tread: Vec<oficina_geom::Path> = oficina_io::load_drawing(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),

@@ -3,19 +3,11 @@
 //! spindle speed naming the line, and a G76 threading cycle and G33.1 taps from the corpus
 //! pass the motion invariant checker and run on the virtual machine.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use common::{oficina, program, root, total_time};
 
-fn oficina(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use std::process::Output;
 
 fn text(o: &Output) -> String {
     format!(
@@ -23,27 +15,6 @@ fn text(o: &Output) -> String {
         String::from_utf8_lossy(&o.stdout),
         String::from_utf8_lossy(&o.stderr)
     )
-}
-
-fn program(name: &str, body: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-sync-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let p = dir.join(format!("{name}.ngc"));
-    std::fs::write(&p, body).unwrap();
-    p
-}
-
-fn total_time(out: &str) -> f64 {
-    let line = out
-        .lines()
-        .find(|l| l.starts_with("total time:"))
-        .unwrap_or_else(|| panic!("no total time in {out}"));
-    line["total time:".len()..]
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap()
 }
 
 #[test]

@@ -8,7 +8,6 @@
 mod support;
 
 use oficina_gcode::canon_of;
-use std::process::Command;
 
 const BARE_O: &str = "O0001 (MAIN)\nG21\nG0 X1\nM2\n";
 const M98: &str = "G21\nG0 X1\nM98 P100\nM2\nO100\nG0 X2\nM99\n";
@@ -24,7 +23,7 @@ fn disabled_error(program: &str) -> Option<(u32, String)> {
 
 /// rs274's stderr for `program` run with `DISABLE_FANUC_STYLE_SUB = 1`, when rs274 exists.
 fn rs274_disabled(program: &str) -> Option<String> {
-    if Command::new("rs274").arg("-h").output().is_err() {
+    if !oficina_testkit::rs274::installed() {
         eprintln!("rs274 is not installed: only the pasted messages are checked");
         return None;
     }
@@ -39,8 +38,7 @@ fn rs274_disabled(program: &str) -> Option<String> {
     let ngc = dir.join("p.ngc");
     std::fs::write(&ini, "[RS274NGC]\nDISABLE_FANUC_STYLE_SUB = 1\n").ok()?;
     std::fs::write(&ngc, program).ok()?;
-    let out = Command::new("rs274")
-        .env("HOME", &dir)
+    let out = oficina_testkit::rs274::command(&dir)
         .arg("-i")
         .arg(&ini)
         .arg("-g")

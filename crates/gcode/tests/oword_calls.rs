@@ -57,8 +57,7 @@ fn without_the_path_the_call_is_an_error_at_the_call() {
 #[test]
 fn a_file_without_its_sub_is_named_in_the_error() {
     // paths.ini is in the directory but holds no o<paths> sub.
-    let dir = std::env::temp_dir().join(format!("oficina-oword-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("oword");
     std::fs::write(dir.join("empty.ngc"), "G0 X1\nM2\n").unwrap();
     let (_, diags) = run_with_path("G21\no<empty> call\nM2\n", vec![dir.clone()]);
     let _ = std::fs::remove_dir_all(&dir);

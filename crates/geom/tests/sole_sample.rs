@@ -7,6 +7,8 @@ use oficina_geom::{
     SizeSystem,
 };
 
+// Read by hand on purpose: the point-list reader lives in oficina_io, which depends on this
+// crate (the shipped file is plain `x,y` lines).
 fn sample() -> Vec<Point> {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/sole/size34.csv");
     std::fs::read_to_string(p)

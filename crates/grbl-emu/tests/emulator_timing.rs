@@ -3,16 +3,15 @@
 //! closed-form trapezoid, and a starved stream. The firmware model runs in simulated time
 //! (1 ms ticks), so nothing depends on the host's clock.
 
+mod common;
+
+use common::clocked::{stream, TICK};
 use oficina_gcode::Dialect;
 use oficina_gcode::{run, RunOptions};
-use oficina_grbl::GrblState;
 use oficina_grbl_emu::grbl_settings;
 use oficina_grbl_emu::{Config, Core};
 use oficina_motion::{estimate, Profile};
-use std::collections::VecDeque;
 use std::io::Cursor;
-
-const TICK: f64 = 1e-3;
 
 fn router() -> Profile {
     let path = concat!(
@@ -74,54 +73,6 @@ fn estimated(lines: &[String], p: &Profile) -> f64 {
     estimate(ops.into_iter(), p).unwrap().seconds
 }
 
-/// A character-counting sender (grbl's recommended protocol) on a simulated clock:
-/// `pause(line_index)` says how long to wait before offering that line.
-struct Run {
-    seconds: f64,
-    starvations: u64,
-    starved_seconds: f64,
-}
-
-fn stream(c: &mut Core, lines: &[String], pause: impl Fn(usize) -> f64) -> Run {
-    let mut inflight: VecDeque<usize> = VecDeque::new();
-    let mut next = 0;
-    let mut ready_at = pause(0);
-    let mut replies = String::new();
-    for k in 0..5_000_000u64 {
-        let t = k as f64 * TICK;
-        while next < lines.len() && t >= ready_at {
-            let len = lines[next].len() + 1;
-            if inflight.iter().sum::<usize>() + len > 127 {
-                break;
-            }
-            for b in lines[next].bytes().chain(std::iter::once(b'\n')) {
-                c.receive(b);
-            }
-            inflight.push_back(len);
-            next += 1;
-            ready_at = t + pause(next);
-        }
-        c.tick(t);
-        replies.extend(c.out.drain(..).map(char::from));
-        while let Some(end) = replies.find("\r\n") {
-            let reply: String = replies.drain(..end + 2).collect();
-            assert!(!reply.starts_with("error"), "{reply}");
-            if reply.starts_with("ok") {
-                inflight.pop_front();
-            }
-        }
-        if next == lines.len() && inflight.is_empty() && c.state == GrblState::Idle {
-            assert_eq!(c.planner_free(), 15);
-            return Run {
-                seconds: t,
-                starvations: c.stats.starvations,
-                starved_seconds: c.stats.starved_seconds,
-            };
-        }
-    }
-    panic!("the job did not end in simulated time");
-}
-
 #[test]
 fn a_full_buffer_takes_the_whole_job_estimate() {
     let p = router();
@@ -130,6 +81,7 @@ fn a_full_buffer_takes_the_whole_job_estimate() {
     let mut c = core(&p, &[]);
     c.out.clear();
     let got = stream(&mut c, &lines, |_| 0.0);
+    assert_eq!(c.planner_free(), 15);
     assert!(
         (got.seconds - want).abs() <= 0.01 * want,
         "emulated {:.3} s, estimate {want:.3} s",
@@ -154,6 +106,7 @@ fn a_starved_stream_takes_longer_and_is_reported() {
             0.0
         }
     });
+    assert_eq!(c.planner_free(), 15);
     assert_eq!(got.starvations, 3);
     assert!(
         got.starved_seconds > 1.0,

@@ -8,6 +8,8 @@
 //! Cases per property: proptest's `PROPTEST_CASES` (default 256); a long run:
 //! `PROPTEST_CASES=100000 cargo test --release -p oficina-motion --test fuzz_profile`.
 
+mod common;
+
 use oficina_canon::{Canon, CanonOp, Plane, Pos};
 use oficina_motion::{for_profile, Kinematics};
 use oficina_motion::{plan, PlanOptions, Profile};
@@ -122,13 +124,7 @@ fn program(p: &Profile) -> Vec<Canon> {
         },
         CanonOp::ProgramEnd,
     ];
-    ops.into_iter()
-        .enumerate()
-        .map(|(i, op)| Canon {
-            line: i as u32 + 1,
-            op,
-        })
-        .collect()
+    common::numbered(ops)
 }
 
 /// Segments a sane profile needs for the program, many times over: more means a runaway.

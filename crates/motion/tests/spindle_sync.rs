@@ -2,20 +2,13 @@
 //! pitch × spindle speed whatever F says, a rigid tap goes in and comes back out along the
 //! same line, and a synchronised move without a spindle speed is refused.
 
+mod common;
+
+use common::numbered as canon;
 use oficina_canon::{Canon, CanonOp, Pos};
 use oficina_motion::{
     check, plan, resolve, MotionError, PlanOptions, Segment, SegmentKind, VelocityProfile,
 };
-
-fn canon(ops: Vec<CanonOp>) -> Vec<Canon> {
-    ops.into_iter()
-        .enumerate()
-        .map(|(i, op)| Canon {
-            line: i as u32 + 1,
-            op,
-        })
-        .collect()
-}
 
 fn planned(ops: &[Canon]) -> Result<Vec<Segment>, MotionError> {
     let p = resolve("grbl-router").unwrap();

@@ -7,8 +7,8 @@ use oficina_cam::{Move, Operation, Tool, Toolpath};
 use oficina_canon::CanonOp;
 use oficina_geom::{Arc, Path, Point, Segment};
 use oficina_post::{program_text, read_back_with_tools, PostDialect, PostOptions};
+use oficina_testkit::shapes::dumbbell;
 use std::f64::consts::TAU;
-use std::process::Command;
 
 type P3 = [f64; 3];
 
@@ -66,11 +66,6 @@ impl Feed {
     }
 }
 
-fn poly(pts: &[(f64, f64)]) -> Path {
-    let p: Vec<Point> = pts.iter().map(|&(x, y)| Point::new(x, y)).collect();
-    Path::polyline(&p, true)
-}
-
 /// A plate with a rounded end (convex and concave corners, an arc side).
 fn plate() -> Vec<Path> {
     vec![Path::new(
@@ -89,23 +84,6 @@ fn plate() -> Vec<Path> {
         ],
         true,
     )]
-}
-
-fn dumbbell() -> Vec<Path> {
-    vec![poly(&[
-        (0.0, 0.0),
-        (25.0, 0.0),
-        (25.0, 9.0),
-        (35.0, 9.0),
-        (35.0, 0.0),
-        (60.0, 0.0),
-        (60.0, 25.0),
-        (35.0, 25.0),
-        (35.0, 16.0),
-        (25.0, 16.0),
-        (25.0, 25.0),
-        (0.0, 25.0),
-    ])]
 }
 
 fn cut() -> Cut {
@@ -195,34 +173,11 @@ fn interp_feeds(text: &str, o: &PostOptions) -> Vec<Feed> {
 
 /// Feed move ends as LinuxCNC's `rs274` runs the program with T1 = 6 mm.
 fn rs274_feed_ends(text: &str) -> Vec<P3> {
-    let dir = std::env::temp_dir().join(format!("oficina-comp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let (file, tbl) = (dir.join("p.ngc"), dir.join("t.tbl"));
-    std::fs::write(&file, text).unwrap();
     // Without an INI file rs274 reads the tool table in inches.
-    std::fs::write(&tbl, format!("T1 P1 D{:.10} Z0\n", 6.0 / 25.4)).unwrap();
-    // rs274 keeps its tool table in `$HOME/.tool.mmap`: a private HOME keeps a concurrent
-    // rs274 (another test, another checkout) from changing T1 under this one.
-    let out = Command::new("rs274")
-        .env("HOME", &dir)
-        .arg("-g")
-        .arg("-t")
-        .arg(&tbl)
-        .arg(&file)
-        .output()
-        .expect("rs274 (LinuxCNC) must be installed");
-    let _ = std::fs::remove_dir_all(&dir);
-    let err = String::from_utf8_lossy(&out.stderr);
-    let bad: Vec<&str> = err
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "executing")
-        .collect();
-    assert!(
-        out.status.success() && bad.is_empty(),
-        "rs274: {err}\n{text}"
-    );
+    let table = format!("T1 P1 D{:.10} Z0\n", 6.0 / 25.4);
+    let stdout = oficina_testkit::rs274::accepts(text, Some(&table));
     let mut ends = vec![];
-    for line in String::from_utf8_lossy(&out.stdout).lines() {
+    for line in stdout.lines() {
         let args = |name: &str| -> Option<Vec<f64>> {
             let k = line.find(name)?;
             let inner = &line[k + name.len() + 1..line.rfind(')')?];

@@ -7,7 +7,6 @@ use oficina_post::{
     program_text, program_text_with, read_back, sinumerik_to_ngc, Format, LineNumbers, Numbers,
     PostDialect, PostOptions, Units,
 };
-use std::process::Command;
 
 fn op(n: u32, spec: &str, rpm: f64, moves: Vec<Move>) -> Operation {
     Operation {
@@ -149,45 +148,9 @@ fn every_dialect_reads_back_as_the_toolpath() {
     }
 }
 
+/// rs274's canonical calls for `text` (which it must accept) with this file's tool table.
 fn rs274(text: &str) -> String {
-    let dir = tempfile_dir();
-    let file = dir.join("prog.ngc");
-    std::fs::write(&file, text).unwrap();
-    let tbl = dir.join("tool.tbl");
-    std::fs::write(&tbl, "T1 P1 D16 Z0\nT2 P2 D6 Z0\nT99 P99 D0 Z0\n").unwrap();
-    // rs274 keeps state in shared files: one at a time (as tests/differential.rs does).
-    static ALONE: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _alone = ALONE.lock().unwrap_or_else(|e| e.into_inner());
-    let out = Command::new("rs274")
-        .env("HOME", &dir)
-        .arg("-g")
-        .arg("-t")
-        .arg(&tbl)
-        .arg(&file)
-        .output()
-        .expect("rs274 (LinuxCNC) must be installed: apt install linuxcnc-uspace");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    let complaints: Vec<&str> = stderr
-        .lines()
-        .filter(|l| !l.trim().is_empty() && l.trim() != "executing")
-        .collect();
-    assert!(
-        out.status.success() && complaints.is_empty(),
-        "rs274 rejects the program: {stderr}\n{text}"
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn tempfile_dir() -> std::path::PathBuf {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let d = std::env::temp_dir().join(format!(
-        "oficina-post-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    oficina_testkit::rs274::accepts(text, Some("T1 P1 D16 Z0\nT2 P2 D6 Z0\nT99 P99 D0 Z0\n"))
 }
 
 /// The end points of rs274's STRAIGHT_FEED and ARC_FEED calls. ARC_FEED's arguments are

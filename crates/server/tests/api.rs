@@ -1,30 +1,20 @@
 //! The HTTP API and its bad inputs, through the router (no socket).
 
+mod common;
+
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{check_listen, router, AppState, Config};
+use common::call_bytes as call;
+use oficina_server::{check_listen, AppState, Config};
 use std::sync::Arc;
-use tower::ServiceExt;
 
 fn state(dir: &std::path::Path, token: Option<&str>, limit: usize) -> Arc<AppState> {
     AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
         token: token.map(String::from),
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
         upload_limit: limit,
-        open: None,
+        ..common::config(dir)
     })
     .unwrap()
-}
-
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Vec<u8>) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    (status, body)
 }
 
 fn post(uri: &str, body: impl Into<Body>) -> Request<Body> {

@@ -3,57 +3,41 @@
 //! inputs (parameters out of range, a broken SVG, a design with nothing to sew, a broken
 //! DST), each a clear error naming its field where it has one.
 
-use axum::body::Body;
-use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+mod common;
+
+use axum::http::StatusCode;
+use common::{post, put, state};
+use oficina_server::AppState;
 use serde_json::{json, Value};
 use std::sync::Arc;
-use tower::ServiceExt;
 
-fn state(dir: &std::path::Path) -> Arc<AppState> {
-    AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap()
+/// A server on `dir` with the sample design uploaded as `sunflower.svg`.
+async fn with_sunflower(dir: &std::path::Path) -> Arc<AppState> {
+    let st = state(dir);
+    put(
+        &st,
+        "sunflower.svg",
+        common::sample("embroidery/sunflower.svg"),
+    )
+    .await;
+    st
 }
 
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    let v = serde_json::from_slice(&body)
-        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
-    (status, v)
+/// `/api/embroider` of the sample with `params`: status and answer.
+async fn embroider(st: &Arc<AppState>, params: Value) -> (StatusCode, Value) {
+    post(
+        st,
+        "/api/embroider",
+        json!({"file": "sunflower.svg", "params": params}),
+    )
+    .await
 }
 
-async fn put(st: &Arc<AppState>, name: &str, bytes: Vec<u8>) {
-    let req = Request::put(format!("/api/files/{name}"))
-        .body(Body::from(bytes))
-        .unwrap();
-    let (s, v) = call(st, req).await;
+/// [`embroider`], which must succeed: its answer.
+async fn embroidered(st: &Arc<AppState>, params: Value) -> Value {
+    let (s, v) = embroider(st, params).await;
     assert_eq!(s, StatusCode::OK, "{v}");
-}
-
-fn sample() -> Vec<u8> {
-    std::fs::read(format!(
-        "{}/../../samples/embroidery/sunflower.svg",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap()
-}
-
-fn post_json(uri: &str, body: Value) -> Request<Body> {
-    Request::post(uri)
-        .header("content-type", "application/json")
-        .body(Body::from(body.to_string()))
-        .unwrap()
+    v
 }
 
 /// Sewn stitches in the plan's points (kind 0), and the points' count per block.
@@ -87,17 +71,8 @@ fn pyembroidery_stitches(path: &std::path::Path) -> Option<usize> {
 #[tokio::test]
 async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/embroider",
-            json!({"file": "sunflower.svg", "params": {"format": "dst", "stitch_length": 2.5}}),
-        ),
-    )
-    .await;
-    assert_eq!(s, StatusCode::OK, "{v}");
+    let st = with_sunflower(dir.path()).await;
+    let v = embroidered(&st, json!({"format": "dst", "stitch_length": 2.5})).await;
     assert_eq!(v["name"], "sunflower.dst");
     let sheet = &v["sheet"];
     let (n, per_block) = plan_stitches(&v["plan"]);
@@ -130,11 +105,7 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     }
 
     // The file read back: the same stitches, the same sewing time on the same table.
-    let (s, back) = call(
-        &st,
-        post_json("/api/stitches", json!({"file": "sunflower.dst"})),
-    )
-    .await;
+    let (s, back) = post(&st, "/api/stitches", json!({"file": "sunflower.dst"})).await;
     assert_eq!(s, StatusCode::OK, "{back}");
     assert_eq!(back["sheet"]["stitches"], sheet["stitches"]);
     assert_eq!(
@@ -143,12 +114,10 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
     );
     // A slower table (the bundled profile's 5000 mm/s²) cannot finish 3 mm fill stitches
     // at the seed's speeds: the run stops and says where.
-    let (s, slow) = call(
+    let (s, slow) = post(
         &st,
-        post_json(
-            "/api/stitches",
-            json!({"file": "sunflower.dst", "params": {"machine": "embroidery-xy"}}),
-        ),
+        "/api/stitches",
+        json!({"file": "sunflower.dst", "params": {"machine": "embroidery-xy"}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{slow}");
@@ -160,17 +129,8 @@ async fn the_sample_is_sewn_into_a_dst_whose_plan_matches_its_sheet() {
 #[tokio::test]
 async fn exp_is_written_too() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/embroider",
-            json!({"file": "sunflower.svg", "params": {"format": "exp", "fill_angle": 45}}),
-        ),
-    )
-    .await;
-    assert_eq!(s, StatusCode::OK, "{v}");
+    let st = with_sunflower(dir.path()).await;
+    let v = embroidered(&st, json!({"format": "exp", "fill_angle": 45})).await;
     assert_eq!(v["name"], "sunflower.exp");
     assert!(dir.path().join("jobs/sunflower.exp").is_file());
 }
@@ -178,8 +138,7 @@ async fn exp_is_written_too() {
 #[tokio::test]
 async fn bad_inputs_get_clear_errors_beside_their_fields() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(&st, "sunflower.svg", sample()).await;
+    let st = with_sunflower(dir.path()).await;
     let cases = [
         (json!({"stitch_length": 0}), Some("stitch_length")),
         (json!({"stitch_length": 99}), Some("stitch_length")),
@@ -196,14 +155,7 @@ async fn bad_inputs_get_clear_errors_beside_their_fields() {
         (json!({"pieces": 0}), Some("pieces")),
     ];
     for (params, field) in cases {
-        let (s, v) = call(
-            &st,
-            post_json(
-                "/api/embroider",
-                json!({"file": "sunflower.svg", "params": params}),
-            ),
-        )
-        .await;
+        let (s, v) = embroider(&st, params.clone()).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{params}: {v}");
         assert_eq!(v["field"].as_str(), field, "{params}: {v}");
         assert!(!v["error"].as_str().unwrap().is_empty());
@@ -211,14 +163,7 @@ async fn bad_inputs_get_clear_errors_beside_their_fields() {
     assert!(!dir.path().join("jobs/sunflower.dst").exists());
     // A type the form cannot send, an unknown field: refused by the parser, no job run.
     for params in [json!({"stitch_length": "long"}), json!({"density": 3})] {
-        let (s, v) = call(
-            &st,
-            post_json(
-                "/api/embroider",
-                json!({"file": "sunflower.svg", "params": params}),
-            ),
-        )
-        .await;
+        let (s, v) = embroider(&st, params.clone()).await;
         assert!(s.is_client_error(), "{params}: {s} {v}");
     }
 }
@@ -243,32 +188,25 @@ async fn broken_and_empty_designs_and_files_are_named() {
     put(&st, "broken.dst", vec![0x20; 100]).await;
     put(&st, "empty.dst", Vec::new()).await;
     for file in ["broken.svg", "empty.svg", "zero.svg"] {
-        let (s, v) = call(
-            &st,
-            post_json("/api/embroider", json!({"file": file, "params": {}})),
-        )
-        .await;
+        let (s, v) = post(&st, "/api/embroider", json!({"file": file, "params": {}})).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{file}: {v}");
         let e = v["error"].as_str().unwrap();
         assert!(!e.is_empty(), "{file}: {v}");
     }
     for file in ["broken.dst", "empty.dst"] {
-        let (s, v) = call(&st, post_json("/api/stitches", json!({"file": file}))).await;
+        let (s, v) = post(&st, "/api/stitches", json!({"file": file})).await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{file}: {v}");
         assert!(v["error"].as_str().unwrap().contains(file), "{file}: {v}");
     }
     // No file, a missing file, a path outside the job folder.
-    let (s, _) = call(&st, post_json("/api/embroider", json!({"params": {}}))).await;
+    let (s, _) = post(&st, "/api/embroider", json!({"params": {}})).await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
-    let (s, _) = call(
-        &st,
-        post_json("/api/embroider", json!({"file": "nope.svg"})),
-    )
-    .await;
+    let (s, _) = post(&st, "/api/embroider", json!({"file": "nope.svg"})).await;
     assert_eq!(s, StatusCode::NOT_FOUND);
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json("/api/stitches", json!({"file": "../../etc/passwd.dst"})),
+        "/api/stitches",
+        json!({"file": "../../etc/passwd.dst"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);

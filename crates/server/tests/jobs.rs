@@ -1,69 +1,19 @@
 //! The job endpoints (mill, sole, plot, carve, cancel) and their bad inputs, through the
 //! router (no socket). Inputs are the repository's samples, uploaded into the job folder.
 
+mod common;
+
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+use common::{call, post, put, sample, state};
 use serde_json::{json, Value};
-use std::sync::Arc;
-use tower::ServiceExt;
-
-fn state(dir: &std::path::Path) -> Arc<AppState> {
-    AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap()
-}
-
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    let v = serde_json::from_slice(&body)
-        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
-    (status, v)
-}
-
-async fn upload(st: &Arc<AppState>, name: &str, sample: &str) {
-    let text = std::fs::read(format!(
-        "{}/../../samples/{sample}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
-    let req = Request::put(format!("/api/files/{name}"))
-        .body(Body::from(text))
-        .unwrap();
-    let (s, v) = call(st, req).await;
-    assert_eq!(s, StatusCode::OK, "{v}");
-}
-
-fn post_json(uri: &str, body: Value) -> Request<Body> {
-    Request::post(uri)
-        .header("content-type", "application/json")
-        .body(Body::from(body.to_string()))
-        .unwrap()
-}
 
 #[tokio::test]
 async fn mill_makes_a_checked_program_in_the_job_folder() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "plate.svg", "mill/plate.svg").await;
-    let (s, v) = call(
-        &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "plate.svg", "params": {"op": "profile-out", "tool": "flat:3", "depth": 2, "tabs": 2}}),
-        ),
-    )
-    .await;
+    put(&st, "plate.svg", sample("mill/plate.svg")).await;
+    let (s, v) = post(&st, "/api/mill", json!({"file": "plate.svg", "params": {"op": "profile-out", "tool": "flat:3", "depth": 2, "tabs": 2}})).await;
     assert_eq!(s, StatusCode::OK, "{v}");
     assert_eq!(v["name"], "plate.profile-outside.ngc", "{v}");
     let text = v["text"].as_str().unwrap();
@@ -85,7 +35,7 @@ async fn mill_makes_a_checked_program_in_the_job_folder() {
 async fn mill_errors_name_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "plate.svg", "mill/plate.svg").await;
+    put(&st, "plate.svg", sample("mill/plate.svg")).await;
     let cases = [
         (json!({"op": "pocket", "depth": 2, "safe_z": 1}), "safe_z"),
         (json!({"op": "pocket", "depth": 2, "feed": -5}), "feed"),
@@ -99,9 +49,10 @@ async fn mill_errors_name_the_field() {
         ),
     ];
     for (params, field) in cases {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/mill", json!({"file": "plate.svg", "params": params})),
+            "/api/mill",
+            json!({"file": "plate.svg", "params": params}),
         )
         .await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
@@ -109,20 +60,19 @@ async fn mill_errors_name_the_field() {
         assert!(!v["error"].as_str().unwrap().is_empty());
     }
     // A parameter of the wrong kind, an unknown operation: refused by the form's reader.
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "plate.svg", "params": {"op": "engrave"}}),
-        ),
+        "/api/mill",
+        json!({"file": "plate.svg", "params": {"op": "engrave"}}),
     )
     .await;
     assert!(s.is_client_error(), "{s}");
     // Files outside the job folder, or missing.
     for file in ["../plate.svg", "/etc/passwd", "missing.svg"] {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/mill", json!({"file": file, "params": {"depth": 1}})),
+            "/api/mill",
+            json!({"file": file, "params": {"depth": 1}}),
         )
         .await;
         assert!(s.is_client_error(), "{file}: {s} {v}");
@@ -132,12 +82,10 @@ async fn mill_errors_name_the_field() {
         .body(Body::from("<svg><path d='M 0 0 L"))
         .unwrap();
     call(&st, req).await;
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/mill",
-            json!({"file": "broken.svg", "params": {"depth": 1}}),
-        ),
+        "/api/mill",
+        json!({"file": "broken.svg", "params": {"depth": 1}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
@@ -148,13 +96,11 @@ async fn mill_errors_name_the_field() {
 async fn sole_makes_four_programs_and_refuses_bad_sizes() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "size34.csv", "sole/size34.csv").await;
-    let (s, v) = call(
+    put(&st, "size34.csv", sample("sole/size34.csv")).await;
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/sole",
-            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37}}),
-        ),
+        "/api/sole",
+        json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
@@ -165,12 +111,10 @@ async fn sole_makes_four_programs_and_refuses_bad_sizes() {
         assert!(dir.path().join("jobs").join(name).is_file(), "{name}");
     }
     assert!(v["summary"][0].as_str().unwrap().contains("α = "), "{v}");
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/sole",
-            json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37, "shrink": 40}}),
-        ),
+        "/api/sole",
+        json!({"file": "size34.csv", "params": {"from_size": 34, "to_size": 37, "shrink": 40}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
@@ -181,52 +125,45 @@ async fn sole_makes_four_programs_and_refuses_bad_sizes() {
 async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
-    upload(&st, "design.svg", "plot/design.svg").await;
-    let (s, v) = call(
+    put(&st, "design.svg", sample("plot/design.svg")).await;
+    let (s, v) = post(
         &st,
-        post_json("/api/plot", json!({"file": "design.svg", "params": {}})),
+        "/api/plot",
+        json!({"file": "design.svg", "params": {}}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
     assert_eq!(v["name"], "design.plot.ngc");
     assert!(!v["pens"].as_array().unwrap().is_empty(), "{v}");
     assert!(v["seconds"].as_f64().unwrap() > 0.0);
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "params": {"paper": [5, 5]}}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "params": {"paper": [5, 5]}}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
     assert!(v["error"].as_str().unwrap().contains("paper"), "{v}");
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"params": {"scale": 0}, "file": "design.svg"}),
-        ),
+        "/api/plot",
+        json!({"params": {"scale": 0}, "file": "design.svg"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
     assert_eq!(v["field"], "scale", "{v}");
-    let (s, _) = call(
+    let (s, _) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "profile": "no-such-plotter"}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "profile": "no-such-plotter"}),
     )
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
     // The plot names the virtual plotter to run it on: the profile it was made for.
-    let (s, v) = call(
+    let (s, v) = post(
         &st,
-        post_json(
-            "/api/plot",
-            json!({"file": "design.svg", "profile": "pen-plotter"}),
-        ),
+        "/api/plot",
+        json!({"file": "design.svg", "profile": "pen-plotter"}),
     )
     .await;
     assert_eq!(s, StatusCode::OK, "{v}");
@@ -239,9 +176,10 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
         "../outside.toml".into(),
         "/etc/passwd".into(),
     ] {
-        let (s, v) = call(
+        let (s, v) = post(
             &st,
-            post_json("/api/plot", json!({"file": "design.svg", "profile": spec})),
+            "/api/plot",
+            json!({"file": "design.svg", "profile": spec}),
         )
         .await;
         assert_eq!(s, StatusCode::BAD_REQUEST, "{spec}: {v}");

@@ -1,64 +1,15 @@
 //! The live channel over a real socket: one page controls, others watch; a page that goes
 //! away never stops the job; the page that comes back finds it where it is.
 
-use futures_util::{SinkExt, StreamExt};
-use oficina_server::Config;
+mod common;
+
+use common::{connect, send, until};
 use serde_json::{json, Value};
 use std::time::Duration;
-use tokio_tungstenite::tungstenite::Message;
 
-type Ws =
-    tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
+/// Serves a scratch job folder in `dir`; the address it listens on.
 async fn server(dir: &std::path::Path) -> std::net::SocketAddr {
-    let (tx, rx) = tokio::sync::oneshot::channel();
-    let config = Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    };
-    tokio::spawn(async move {
-        oficina_server::serve(config, |a| {
-            let _ = tx.send(a);
-        })
-        .await
-        .unwrap();
-    });
-    rx.await.unwrap()
-}
-
-async fn connect(addr: std::net::SocketAddr) -> Ws {
-    tokio_tungstenite::connect_async(format!("ws://{addr}/ws"))
-        .await
-        .unwrap()
-        .0
-}
-
-/// The next message for which `want` is true (others are skipped), within 30 s.
-async fn until(ws: &mut Ws, want: impl Fn(&Value) -> bool) -> Value {
-    let wait = async {
-        while let Some(Ok(m)) = ws.next().await {
-            if let Message::Text(t) = m {
-                let v: Value = serde_json::from_str(&t).unwrap();
-                if want(&v) {
-                    return v;
-                }
-            }
-        }
-        panic!("the socket closed");
-    };
-    tokio::time::timeout(Duration::from_secs(30), wait)
-        .await
-        .expect("no such message within 30 s")
-}
-
-async fn send(ws: &mut Ws, v: Value) -> Value {
-    ws.send(Message::Text(v.to_string().into())).await.unwrap();
-    until(ws, |m| m["type"] == "ok" || m["type"] == "error").await
+    common::serve(common::config(dir)).await
 }
 
 fn state_is(s: &'static str) -> impl Fn(&Value) -> bool {

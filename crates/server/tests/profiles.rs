@@ -1,34 +1,24 @@
 //! The profile editor's endpoints: the motion crate's own validation messages come back
 //! with their key; a good profile is put on the virtual machine.
 
+mod common;
+
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+use oficina_server::AppState;
 use serde_json::Value;
 use std::sync::Arc;
-use tower::ServiceExt;
 
+/// The router's answer to `req`: status and body as text.
 async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, String) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
+    let (status, body) = common::call_bytes(st, req).await;
     (status, String::from_utf8_lossy(&body).into())
 }
 
 #[tokio::test]
 async fn profiles_are_checked_by_their_own_validation_and_used() {
     let dir = tempfile::tempdir().unwrap();
-    let st = AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.path().join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap();
+    let st = common::state(dir.path());
     let (s, text) = call(
         &st,
         Request::get("/api/profiles/grbl-router")
@@ -96,16 +86,7 @@ async fn profiles_are_checked_by_their_own_validation_and_used() {
 #[tokio::test]
 async fn the_tool_table_is_read_by_the_interpreter_and_saved_only_when_good() {
     let dir = tempfile::tempdir().unwrap();
-    let st = AppState::new(Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.path().join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    })
-    .unwrap();
+    let st = common::state(dir.path());
     let put = |body: &str| {
         Request::put("/api/tools")
             .body(Body::from(body.to_string()))

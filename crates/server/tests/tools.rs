@@ -2,41 +2,18 @@
 //! used tool's data) and the virtual machine's run; a broken saved table is named, never
 //! silently dropped.
 
+mod common;
+
 use axum::body::Body;
 use axum::http::{Request, StatusCode};
-use futures_util::{SinkExt, StreamExt};
-use http_body_util::BodyExt;
-use oficina_server::{router, AppState, Config};
+use common::{call, config, send, until, Ws};
+use oficina_server::AppState;
 use serde_json::{json, Value};
 use std::sync::Arc;
-use std::time::Duration;
-use tokio_tungstenite::tungstenite::Message;
-use tower::ServiceExt;
 
 const TABLE: &str = "T1 P1 D6 Z12.5 ;flat 6\n";
 /// Tool 1's length offset on, then a square cut with the tool's radius to its left.
 const PROGRAM: &str = "G21 G90 G17 G54\nT1 M6\nG43 H1\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG41 D1\nG1 X10 Y0 F600\nX10 Y10\nG40\nG0 Z5\nM2\n";
-
-fn config(dir: &std::path::Path) -> Config {
-    Config {
-        addr: "127.0.0.1:0".parse().unwrap(),
-        token: None,
-        job_dir: dir.join("jobs"),
-        web_dir: None,
-        machine: "virtual".into(),
-        upload_limit: 1 << 20,
-        open: None,
-    }
-}
-
-async fn call(st: &Arc<AppState>, req: Request<Body>) -> (StatusCode, Value) {
-    let r = router(st.clone()).oneshot(req).await.unwrap();
-    let status = r.status();
-    let body = r.into_body().collect().await.unwrap().to_bytes().to_vec();
-    let v = serde_json::from_slice(&body)
-        .unwrap_or_else(|_| Value::String(String::from_utf8_lossy(&body).into()));
-    (status, v)
-}
 
 async fn check(st: &Arc<AppState>) -> (StatusCode, Value) {
     call(
@@ -100,31 +77,6 @@ async fn the_saved_tool_table_reaches_the_check() {
     assert!(v.as_str().unwrap().contains("UTF-8"), "{v}");
 }
 
-type Ws =
-    tokio_tungstenite::WebSocketStream<tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>>;
-
-async fn until(ws: &mut Ws, want: impl Fn(&Value) -> bool) -> Value {
-    let wait = async {
-        while let Some(Ok(m)) = ws.next().await {
-            if let Message::Text(t) = m {
-                let v: Value = serde_json::from_str(&t).unwrap();
-                if want(&v) {
-                    return v;
-                }
-            }
-        }
-        panic!("the socket closed");
-    };
-    tokio::time::timeout(Duration::from_secs(60), wait)
-        .await
-        .expect("no such message within 60 s")
-}
-
-async fn send(ws: &mut Ws, v: Value) -> Value {
-    ws.send(Message::Text(v.to_string().into())).await.unwrap();
-    until(ws, |m| m["type"] == "ok" || m["type"] == "error").await
-}
-
 /// Runs `file` to its end and gives the machine position where it stopped.
 async fn run(ws: &mut Ws, file: &str) -> [f64; 3] {
     let r = send(ws, json!({"cmd": "start", "file": file})).await;
@@ -147,24 +99,13 @@ async fn run(ws: &mut Ws, file: &str) -> [f64; 3] {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_virtual_machine_runs_with_the_saved_tool_table() {
     let dir = tempfile::tempdir().unwrap();
-    let (tx, rx) = tokio::sync::oneshot::channel();
     let cfg = config(dir.path());
     let jobs = cfg.job_dir.clone();
-    tokio::spawn(async move {
-        oficina_server::serve(cfg, |a| {
-            let _ = tx.send(a);
-        })
-        .await
-        .unwrap();
-    });
-    let addr = rx.await.unwrap();
+    let addr = common::serve(cfg).await;
     std::fs::write(jobs.join("square.nc"), PROGRAM).unwrap();
     // The same end point without the tool's offset (no table: G43 H1 would be refused).
     std::fs::write(jobs.join("plain.nc"), "G21 G90 G54\nG0 X0 Y0 Z5\nM2\n").unwrap();
-    let mut ws = tokio_tungstenite::connect_async(format!("ws://{addr}/ws"))
-        .await
-        .unwrap()
-        .0;
+    let mut ws = common::connect(addr).await;
     until(&mut ws, |m| m["type"] == "hello").await;
     let bare = run(&mut ws, "plain.nc").await;
     // Saved as the editor saves it (PUT /api/tools writes this file once checked).

@@ -1,12 +1,13 @@
 //! Plans real jobs on analytic surfaces and checks the simulated result: never a gouge,
 //! and scallops as the closed forms predict.
 
-use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
+mod common;
+
+use common::replay_on_fresh_stock;
+use oficina_cam::relief::{plan, Cutter, Direction, Pass, Planned, ReliefJob};
 use oficina_cam::Feeds;
-use oficina_cam::Tool;
 use oficina_io::Heightmap;
-use oficina_sim::{compare, feed_only_estimate, ideal_surface, replay};
-use std::collections::HashMap;
+use oficina_sim::{compare, feed_only_estimate, ideal_surface};
 
 const FEEDS: Feeds = Feeds {
     cut: 2000.0 / 60.0,
@@ -23,6 +24,8 @@ fn cutter(number: u32, spec: &str) -> Cutter {
     }
 }
 
+// Kept here on purpose: `Pass` is plain data with no public builder (cam's seed004 has its
+// own private one with other defaults), and each test states every field it relies on.
 fn pass(
     name: &str,
     c: Cutter,
@@ -56,23 +59,22 @@ fn job(passes: Vec<Pass>) -> ReliefJob {
     }
 }
 
-/// Simulates by replaying the canonical operations (not the CAM's own stock).
-fn simulate(design: &Heightmap, planned: &oficina_cam::relief::Planned) -> Heightmap {
-    let tools: HashMap<u32, Tool> = planned
-        .toolpath
-        .operations
-        .iter()
-        .map(|o| (o.tool_number, o.tool.clone()))
-        .collect();
-    let mut stock = Heightmap::flat(design.width, design.height, design.pixel, 0.0);
-    replay(
-        &planned.toolpath.canon(),
-        &tools,
-        &mut stock,
-        [0.0, 0.0, 5.0],
+/// A single finishing pass of tool 1 (`spec`) along X over `design`, planned.
+fn finish_plan(design: &Heightmap, spec: &str, stepover: f64, stepdown: f64) -> Planned {
+    plan(
+        design,
+        &job(vec![pass(
+            "finish",
+            cutter(1, spec),
+            stepover,
+            stepdown,
+            0.0,
+            Direction::X,
+            false,
+        )]),
+        &|_, _| {},
     )
-    .unwrap();
-    stock
+    .unwrap()
 }
 
 fn hemisphere(size_mm: f64, depth: f64, pixel: f64) -> Heightmap {
@@ -93,21 +95,8 @@ fn hemisphere(size_mm: f64, depth: f64, pixel: f64) -> Heightmap {
 fn ball_on_a_plane_leaves_the_closed_form_scallop() {
     // A floor 2 mm deep; rows 2 mm apart with a 6 mm ball: h = r − sqrt(r² − (s/2)²).
     let design = Heightmap::flat(81, 81, 0.25, -2.0);
-    let planned = plan(
-        &design,
-        &job(vec![pass(
-            "finish",
-            cutter(1, "ball:6"),
-            2.0,
-            5.0,
-            0.0,
-            Direction::X,
-            false,
-        )]),
-        &|_, _| {},
-    )
-    .unwrap();
-    let stock = simulate(&design, &planned);
+    let planned = finish_plan(&design, "ball:6", 2.0, 5.0);
+    let stock = replay_on_fresh_stock(&design, &planned);
     let ideal = ideal_surface(&design, &planned.toolpath.operations[0].tool);
     let report = compare(&stock, &design, &ideal);
     let exact = 3.0 - (9.0f64 - 1.0).sqrt();
@@ -169,7 +158,7 @@ fn no_gouge_on_hemisphere_cone_ramp_and_step_with_every_tool() {
                 &|_, _| {},
             )
             .unwrap();
-            let stock = simulate(design, &planned);
+            let stock = replay_on_fresh_stock(design, &planned);
             let ideal = ideal_surface(design, &planned.toolpath.operations[1].tool);
             let report = compare(&stock, design, &ideal);
             assert!(
@@ -197,20 +186,7 @@ fn no_gouge_on_hemisphere_cone_ramp_and_step_with_every_tool() {
 #[test]
 fn feed_only_estimate_matches_move_by_move_sum() {
     let design = hemisphere(30.0, 8.0, 0.5);
-    let planned = plan(
-        &design,
-        &job(vec![pass(
-            "finish",
-            cutter(1, "ball:3"),
-            1.0,
-            4.0,
-            0.0,
-            Direction::X,
-            false,
-        )]),
-        &|_, _| {},
-    )
-    .unwrap();
+    let planned = finish_plan(&design, "ball:3", 1.0, 4.0);
     let rapid = 5000.0;
     let est = feed_only_estimate(&planned.toolpath.canon(), [0.0, 0.0, 5.0], rapid);
     // Independent: walk the toolpath moves.
@@ -240,27 +216,14 @@ fn feed_only_estimate_matches_move_by_move_sum() {
 #[test]
 fn a_move_below_the_design_is_reported_as_a_gouge() {
     let design = Heightmap::flat(41, 41, 0.5, -2.0);
-    let mut planned = plan(
-        &design,
-        &job(vec![pass(
-            "finish",
-            cutter(1, "ball:3"),
-            1.0,
-            4.0,
-            0.0,
-            Direction::X,
-            false,
-        )]),
-        &|_, _| {},
-    )
-    .unwrap();
+    let mut planned = finish_plan(&design, "ball:3", 1.0, 4.0);
     planned.toolpath.operations[0]
         .moves
         .push(oficina_cam::Move::Line {
             to: [10.0, 10.0, -2.3],
             feed: 10.0,
         });
-    let stock = simulate(&design, &planned);
+    let stock = replay_on_fresh_stock(&design, &planned);
     let ideal = ideal_surface(&design, &planned.toolpath.operations[0].tool);
     let report = compare(&stock, &design, &ideal);
     assert!((report.max_gouge - 0.3).abs() < 1e-5, "{report:?}");

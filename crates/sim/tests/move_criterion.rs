@@ -4,14 +4,16 @@
 //! replaced (`samples_per_pixel = 1` is that widening: the max of a sample and its two
 //! neighbours is the exact sup of the tip surface over the pixel either side).
 
+mod common;
+
+use common::replay_on_fresh_stock;
 use oficina_cam::apply_moves;
 use oficina_cam::relief::{plan, Cutter, Direction, Pass, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::{surface_rows, Kernel};
 use oficina_cam::{Move, Tool};
 use oficina_io::Heightmap;
-use oficina_sim::{compare, ideal_surface, replay, Report};
-use std::collections::HashMap;
+use oficina_sim::{compare, ideal_surface, Report};
 
 const PIXEL: f64 = 0.1;
 
@@ -72,15 +74,7 @@ fn job(samples_per_pixel: usize) -> ReliefJob {
 /// the raster visits (between rows a ball leaves scallops whatever the criterion).
 fn carve(design: &Heightmap, samples_per_pixel: usize) -> Report {
     let planned = plan(design, &job(samples_per_pixel), &|_, _| {}).unwrap();
-    let mut stock = Heightmap::flat(design.width, design.height, PIXEL, 0.0);
-    let tools = HashMap::from([(1, ball())]);
-    replay(
-        &planned.toolpath.canon(),
-        &tools,
-        &mut stock,
-        [0.0, 0.0, 5.0],
-    )
-    .unwrap();
+    let stock = replay_on_fresh_stock(design, &planned);
     compare(&stock, design, &ideal_surface(design, &ball()))
 }
 

@@ -1,37 +1,14 @@
 //! Stitches from real SVG designs (through Oficina's importer): every kind present, every
 //! stitch within the machine's limit, fills with holes left open, colours from the SVG.
 
+mod common;
+
+use common::{sample, sunflower};
 use oficina_stitch::{generate, Format, Kind, Params, StitchPlan};
-use std::path::Path;
-
-fn root() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-pub fn sample() -> StitchPlan {
-    let imported =
-        oficina_io::load_drawing(&root().join("samples/embroidery/sunflower.svg")).unwrap();
-    generate(
-        &imported.drawing,
-        "sunflower",
-        &Params::default(),
-        &mut |_, _| {},
-    )
-    .unwrap()
-    .plan
-}
 
 #[test]
 fn the_sample_has_fill_satin_and_running_in_three_threads() {
-    let imported =
-        oficina_io::load_drawing(&root().join("samples/embroidery/sunflower.svg")).unwrap();
-    let g = generate(
-        &imported.drawing,
-        "sunflower",
-        &Params::default(),
-        &mut |_, _| {},
-    )
-    .unwrap();
+    let g = sunflower("sunflower", &Params::default());
     assert_eq!((g.fills, g.satins, g.runnings), (1, 2, 2));
     let plan = g.plan;
     let hexes: Vec<String> = plan.blocks.iter().map(|b| b.thread.hex()).collect();
@@ -56,16 +33,13 @@ fn the_sample_has_fill_satin_and_running_in_three_threads() {
     }
     // The ring's hole (the flower's centre, Ø 20 mm at (35, 52) mm y up) has no yellow
     // stitch within 9 mm of its centre.
-    let raw = generate(
-        &imported.drawing,
+    let raw = sunflower(
         "s",
         &Params {
             center: false,
             ..Params::default()
         },
-        &mut |_, _| {},
     )
-    .unwrap()
     .plan;
     let yellow = &raw.blocks[1];
     let near = |s: &&oficina_stitch::Stitch| (s.x - 35.0).hypot(s.y - 52.0) < 9.0;
@@ -144,18 +118,13 @@ fn the_thread_is_locked_wherever_it_is_cut() {
         }
     }
     assert!(trims > 0);
-    let loose = generate(
-        &oficina_io::load_drawing(&root().join("samples/embroidery/sunflower.svg"))
-            .unwrap()
-            .drawing,
+    let loose = sunflower(
         "s",
         &Params {
             ties: false,
             ..Params::default()
         },
-        &mut |_, _| {},
     )
-    .unwrap()
     .plan;
     assert_eq!(
         plan.counts().stitches,

@@ -33,8 +33,7 @@ pub fn python_with_pyembroidery() -> Option<String> {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("oficina-stitch-peer-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("stitch-peer");
     dir.join(name)
 }
 
@@ -44,11 +43,7 @@ fn peer_read(py: &str, path: &Path) -> Vec<(char, i64, i64)> {
         .args(["-c", DUMP, path.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    oficina_testkit::assert_success(&out);
     String::from_utf8(out.stdout)
         .unwrap()
         .lines()
@@ -203,11 +198,7 @@ fn we_read_every_stitch_pyembroidery_writes() {
             .args(["-c", WRITE, path.to_str().unwrap()])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        oficina_testkit::assert_success(&out);
         let bytes = std::fs::read(&path).unwrap();
         let plan = format.read(&bytes, "theirs").unwrap();
         let mine = ours(&plan);

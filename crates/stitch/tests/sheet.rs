@@ -3,26 +3,14 @@
 //! seed's time table (§11.4) and its head-speed table (§8); the table's needle-up faults
 //! against the closed-form move time.
 
+mod common;
+
+use common::sample;
 use oficina_stitch::{
     generate, run, sheet, ColorBlock, Format, HeadSpeed, Kind, Params, Pauses, Stitch, StitchPlan,
     Table, Thread,
 };
-use std::path::Path;
 use std::process::Command;
-
-fn sample() -> StitchPlan {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let imported =
-        oficina_io::load_drawing(&root.join("samples/embroidery/sunflower.svg")).unwrap();
-    generate(
-        &imported.drawing,
-        "sunflower",
-        &Params::default(),
-        &mut |_, _| {},
-    )
-    .unwrap()
-    .plan
-}
 
 /// pyembroidery: per colour, the STITCH count and Σ distance from the previous position.
 const STATS: &str = r#"
@@ -54,8 +42,7 @@ fn stitch_count_and_thread_length_match_pyembroidery() {
         return;
     }
     let plan = sample();
-    let dir = std::env::temp_dir().join(format!("oficina-sheet-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = oficina_testkit::scratch_dir("sheet");
     for f in Format::ALL {
         let path = dir.join(format!("s.{}", f.extension()));
         let bytes = f.write(&plan).unwrap();

@@ -6,10 +6,10 @@
 use oficina_grbl::StreamProgram;
 use oficina_grbl::{Interp, Rate};
 
-pub type Piece = ([f64; 3], [f64; 3]);
+pub(crate) type Piece = ([f64; 3], [f64; 3]);
 
 /// The program's moves in machine mm, each with whether it cuts (a feed move).
-pub fn program_cuts(job: &StreamProgram) -> Vec<(Piece, bool)> {
+pub(crate) fn program_cuts(job: &StreamProgram) -> Vec<(Piece, bool)> {
     let mut it = Interp::default();
     let mut out = Vec::new();
     for l in &job.lines {
@@ -25,13 +25,13 @@ pub fn program_cuts(job: &StreamProgram) -> Vec<(Piece, bool)> {
 }
 
 #[derive(Debug, Default)]
-pub struct Coverage {
+pub(crate) struct Coverage {
     /// Longest uncovered stretch of any cutting move (mm).
-    pub worst_gap: f64,
+    pub(crate) worst_gap: f64,
     /// Largest length of one move covered more than once (mm).
-    pub worst_double: f64,
-    pub where_gap: Option<usize>,
-    pub where_double: Option<usize>,
+    pub(crate) worst_double: f64,
+    pub(crate) where_gap: Option<usize>,
+    pub(crate) where_double: Option<usize>,
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -92,7 +92,12 @@ fn through_vertices(program: &[Piece], made: &[Piece], tol: f64) -> Vec<Piece> {
 /// pieces) that both lie on a cutting move, when longer than `max_step` (the most the
 /// machine moves between two samples at the job's feed): the record has a hole there, it
 /// missed motion. 0 when there is none.
-pub fn record_hole(program: &[(Piece, bool)], made: &[Piece], tol: f64, max_step: f64) -> f64 {
+pub(crate) fn record_hole(
+    program: &[(Piece, bool)],
+    made: &[Piece],
+    tol: f64,
+    max_step: f64,
+) -> f64 {
     let cuts: Vec<Piece> = program
         .iter()
         .filter(|(_, c)| *c)
@@ -108,7 +113,7 @@ pub fn record_hole(program: &[(Piece, bool)], made: &[Piece], tol: f64, max_step
 }
 
 /// How the cutting moves of `program` are covered by the motion `made`.
-pub fn check(program: &[(Piece, bool)], made: &[Piece], tol: f64) -> Coverage {
+pub(crate) fn check(program: &[(Piece, bool)], made: &[Piece], tol: f64) -> Coverage {
     let path: Vec<Piece> = program.iter().map(|(p, _)| *p).collect();
     let made = &through_vertices(&path, made, tol);
     let mut c = Coverage::default();
@@ -159,7 +164,7 @@ pub fn check(program: &[(Piece, bool)], made: &[Piece], tol: f64) -> Coverage {
 /// row's depth following a dome-and-ripple surface, `rows` rows of `cols` moves. It starts
 /// at X1 Y1, away from the origin, so the first rapids (from wherever the machine rests)
 /// do not run along its plunge.
-pub fn relief_program(rows: usize, cols: usize, step: f64, feed: f64) -> String {
+pub(crate) fn relief_program(rows: usize, cols: usize, step: f64, feed: f64) -> String {
     let (w, h) = (cols as f64 * step, rows as f64 * step);
     let depth = |x: f64, y: f64| {
         let r2 = ((x - w / 2.0).powi(2) + (y - h / 2.0).powi(2)) / (w * w / 4.0 + h * h / 4.0);

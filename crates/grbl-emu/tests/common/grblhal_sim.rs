@@ -19,20 +19,20 @@ use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::Duration;
 
-pub struct Sim {
+pub(crate) struct Sim {
     child: Mutex<Child>,
     master: std::fs::File,
-    pub endpoint: Endpoint,
-    pub dir: PathBuf,
+    pub(crate) endpoint: Endpoint,
+    pub(crate) dir: PathBuf,
     /// While set, every `?` from the sender is dropped before it reaches the simulator.
-    pub drop_queries: Arc<AtomicBool>,
+    pub(crate) drop_queries: Arc<AtomicBool>,
     stop: Arc<AtomicBool>,
     _pty: Pty,
 }
 
 /// The simulator, or `None` (with a SKIPPED line on stderr) when `OFICINA_GRBLHAL_SIM` is
 /// unset. `record_every`: seconds between position samples in `steps.out` (None: none).
-pub fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
+pub(crate) fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
     let Some(bin) = std::env::var_os("OFICINA_GRBLHAL_SIM") else {
         eprintln!("SKIPPED {test}: set OFICINA_GRBLHAL_SIM to a grblHAL Simulator binary (grblHAL_sim) to run it against real firmware");
         return None;
@@ -137,7 +137,7 @@ pub fn start(test: &str, record_every: Option<f64>) -> Option<Sim> {
 impl Sim {
     /// Ends the simulator the clean way (Ctrl-F: it exits once idle, flushing its position
     /// record; grblHAL's harness writes the last block's end point only then).
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         let mut child = self.child.lock().unwrap();
         if let Ok(None) = child.try_wait() {
             let _ = (&self.master).write_all(&[0x06]);
@@ -151,7 +151,7 @@ impl Sim {
     }
 
     /// The position record: (simulated seconds, steps per axis) in order.
-    pub fn samples(&self) -> Vec<(f64, [i64; 3])> {
+    pub(crate) fn samples(&self) -> Vec<(f64, [i64; 3])> {
         let text = std::fs::read_to_string(self.dir.join("steps.out")).unwrap_or_default();
         text.lines()
             .filter(|l| !l.starts_with('#'))
@@ -168,7 +168,7 @@ impl Sim {
 
     /// The motion made, as straight pieces in machine mm (`steps_per_mm` from `$100…`).
     /// Calls [`Sim::finish`] first.
-    pub fn pieces(&self, steps_per_mm: f64) -> Vec<([f64; 3], [f64; 3])> {
+    pub(crate) fn pieces(&self, steps_per_mm: f64) -> Vec<([f64; 3], [f64; 3])> {
         self.finish();
         let pts: Vec<[f64; 3]> = self
             .samples()

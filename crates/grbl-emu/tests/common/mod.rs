@@ -1,9 +1,10 @@
 //! Shared set-up for the link tests: an emulator on a loopback port and a sender on it.
 #![allow(dead_code)]
 
-pub mod coverage;
-pub mod grblhal_sim;
-pub mod scenarios;
+pub(crate) mod clocked;
+pub(crate) mod coverage;
+pub(crate) mod grblhal_sim;
+pub(crate) mod scenarios;
 
 use oficina_grbl::Endpoint;
 use oficina_grbl::StreamProgram;
@@ -12,7 +13,7 @@ use oficina_grbl_emu::{Config, Emulator};
 use std::time::Duration;
 
 /// Fast axes so tests finish quickly; the line rate stays grbl's 115200 baud unless asked.
-pub fn config(baud: Option<u32>) -> Config {
+pub(crate) fn config(baud: Option<u32>) -> Config {
     Config {
         baud,
         settings: vec![
@@ -28,7 +29,7 @@ pub fn config(baud: Option<u32>) -> Config {
     }
 }
 
-pub fn emulator(baud: Option<u32>) -> (Emulator, Endpoint) {
+pub(crate) fn emulator(baud: Option<u32>) -> (Emulator, Endpoint) {
     let emu = Emulator::start(config(baud));
     let addr = emu.serve_tcp("127.0.0.1:0").expect("bind loopback");
     (
@@ -39,7 +40,7 @@ pub fn emulator(baud: Option<u32>) -> (Emulator, Endpoint) {
     )
 }
 
-pub fn options() -> SenderOptions {
+pub(crate) fn options() -> SenderOptions {
     SenderOptions {
         status_interval: Duration::from_millis(50),
         stall_after: Duration::from_millis(600),
@@ -48,13 +49,13 @@ pub fn options() -> SenderOptions {
     }
 }
 
-pub fn connect(ep: &Endpoint) -> Sender {
+pub(crate) fn connect(ep: &Endpoint) -> Sender {
     Sender::connect(ep, options()).expect("connect to emulator")
 }
 
 /// A staircase of short G1 moves (it never crosses itself, so a stop position names one
 /// line) ending at a known point, with modal lines mixed in.
-pub fn program(n: usize) -> String {
+pub(crate) fn program(n: usize) -> String {
     let mut s = String::from("G21 G90 G94 (setup)\nG0 Z2\nS1000 M3\nG1 Z-0.5 F3000\n");
     let (mut x, mut y) = (0.0f64, 0.0f64);
     for i in 0..n {
@@ -72,10 +73,10 @@ pub fn program(n: usize) -> String {
     s
 }
 
-pub fn job(n: usize) -> StreamProgram {
+pub(crate) fn job(n: usize) -> StreamProgram {
     StreamProgram::from_text("test.nc", &program(n)).unwrap()
 }
 
-pub fn quiet() -> impl FnMut(Notice) {
+pub(crate) fn quiet() -> impl FnMut(Notice) {
     |_| {}
 }

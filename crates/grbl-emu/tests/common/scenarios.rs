@@ -11,7 +11,7 @@ use oficina_grbl::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamRepo
 use std::sync::mpsc;
 use std::time::Duration;
 
-pub fn options() -> SenderOptions {
+pub(crate) fn options() -> SenderOptions {
     SenderOptions {
         status_interval: Duration::from_millis(100),
         stall_after: Duration::from_millis(1500),
@@ -20,12 +20,12 @@ pub fn options() -> SenderOptions {
     }
 }
 
-pub fn connect(ep: &Endpoint) -> Sender {
+pub(crate) fn connect(ep: &Endpoint) -> Sender {
     Sender::connect(ep, options()).expect("connect")
 }
 
 /// Rates and accelerations both firmwares accept, fast enough for short tests.
-pub fn configure(s: &mut Sender) {
+pub(crate) fn configure(s: &mut Sender) {
     for (n, v) in [
         (110, 6000.0),
         (111, 6000.0),
@@ -40,7 +40,7 @@ pub fn configure(s: &mut Sender) {
     }
 }
 
-pub fn resume_options() -> ResumeOptions {
+pub(crate) fn resume_options() -> ResumeOptions {
     ResumeOptions {
         safe_z: 3.0,
         plunge_feed: 600.0,
@@ -49,7 +49,7 @@ pub fn resume_options() -> ResumeOptions {
 }
 
 /// Bug 4: the reset banner of the firmware is recognised; a reset is answered.
-pub fn reset_is_recognised(ep: &Endpoint) -> Sender {
+pub(crate) fn reset_is_recognised(ep: &Endpoint) -> Sender {
     let mut s = connect(ep);
     s.reset()
         .expect("the firmware's reset banner is recognised");
@@ -62,7 +62,10 @@ pub fn reset_is_recognised(ep: &Endpoint) -> Sender {
 /// Bug 1: every status query is lost for a while after the last `ok`, during a long move.
 /// "done" must still mean at rest at the end of the move. `drop_queries(true/false)` makes
 /// the firmware (or its link) lose queries.
-pub fn done_means_at_rest(ep: &Endpoint, drop_queries: &(dyn Fn(bool) + Sync)) -> StreamReport {
+pub(crate) fn done_means_at_rest(
+    ep: &Endpoint,
+    drop_queries: &(dyn Fn(bool) + Sync),
+) -> StreamReport {
     let mut s = connect(ep);
     configure(&mut s);
     let job = StreamProgram::from_text("long-move.nc", "G21G90G94\nG1X110F3000\n").unwrap();
@@ -100,7 +103,7 @@ pub fn done_means_at_rest(ep: &Endpoint, drop_queries: &(dyn Fn(bool) + Sync)) -
 
 /// Bug 2: a job short enough to be acknowledged at once (grblHAL buffers 100 blocks and
 /// 1024 bytes); hold, resume, an override and stop still act until the machine is idle.
-pub fn controls_work_until_idle(ep: &Endpoint) -> StreamReport {
+pub(crate) fn controls_work_until_idle(ep: &Endpoint) -> StreamReport {
     let mut s = connect(ep);
     configure(&mut s);
     let job = StreamProgram::from_text(
@@ -151,7 +154,7 @@ pub fn controls_work_until_idle(ep: &Endpoint) -> StreamReport {
 /// Bug 3: stopped in the middle of a run of 1 mm lines, the resume point is the line that
 /// holds the reported position (and the point itself), never a later one; resuming from
 /// there leaves no gap and cuts nothing twice (the witness: `made()`, the motion record).
-pub fn resume_from_the_position(
+pub(crate) fn resume_from_the_position(
     ep: &Endpoint,
     clear_record: &dyn Fn(),
     made: &dyn Fn() -> Vec<Piece>,
@@ -205,7 +208,7 @@ pub fn resume_from_the_position(
 
 /// One stop at `stop_after` seconds into the relief job, then a resume to the end: the
 /// coverage of the program path by the motion made.
-pub fn stop_and_resume(
+pub(crate) fn stop_and_resume(
     s: &mut Sender,
     job: &StreamProgram,
     stop_after: Duration,

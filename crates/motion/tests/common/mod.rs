@@ -4,7 +4,7 @@
 use oficina_canon::{Canon, CanonOp, PathControlMode, Plane, Pos};
 use oficina_motion::Profile;
 
-pub fn profile(name: &str) -> Profile {
+pub(crate) fn profile(name: &str) -> Profile {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../profiles")
         .join(name);
@@ -12,32 +12,32 @@ pub fn profile(name: &str) -> Profile {
 }
 
 /// A tiny deterministic generator (no dependency, reproducible corpus).
-pub struct Lcg(u64);
+pub(crate) struct Lcg(u64);
 impl Lcg {
-    pub fn new(seed: u64) -> Lcg {
+    pub(crate) fn new(seed: u64) -> Lcg {
         Lcg(seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407))
     }
-    pub fn f(&mut self) -> f64 {
+    pub(crate) fn f(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
-    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.f()
     }
 }
 
-pub struct Prog {
-    pub ops: Vec<Canon>,
+pub(crate) struct Prog {
+    pub(crate) ops: Vec<Canon>,
     line: u32,
 }
 
 impl Prog {
-    pub fn new(feed_mm_min: f64) -> Prog {
+    pub(crate) fn new(feed_mm_min: f64) -> Prog {
         let mut p = Prog {
             ops: Vec::new(),
             line: 0,
@@ -45,24 +45,24 @@ impl Prog {
         p.op(CanonOp::SetFeedRate(feed_mm_min));
         p
     }
-    pub fn op(&mut self, op: CanonOp) {
+    pub(crate) fn op(&mut self, op: CanonOp) {
         self.line += 1;
         self.ops.push(Canon {
             line: self.line,
             op,
         });
     }
-    pub fn g0(&mut self, x: f64, y: f64, z: f64) {
+    pub(crate) fn g0(&mut self, x: f64, y: f64, z: f64) {
         self.op(CanonOp::StraightTraverse {
             to: Pos::xyz(x, y, z),
         });
     }
-    pub fn g1(&mut self, x: f64, y: f64, z: f64) {
+    pub(crate) fn g1(&mut self, x: f64, y: f64, z: f64) {
         self.op(CanonOp::StraightFeed {
             to: Pos::xyz(x, y, z),
         });
     }
-    pub fn arc(&mut self, x: f64, y: f64, z: f64, cx: f64, cy: f64, turns: i32) {
+    pub(crate) fn arc(&mut self, x: f64, y: f64, z: f64, cx: f64, cy: f64, turns: i32) {
         self.op(CanonOp::ArcFeed {
             plane: Plane::XY,
             end: Pos::xyz(x, y, z),
@@ -74,7 +74,7 @@ impl Prog {
 }
 
 /// Program kinds of the corpus, each drawn around centre (cx, cy) at height z, scaled by `size`.
-pub const KINDS: [&str; 10] = [
+pub(crate) const KINDS: [&str; 10] = [
     "tiny-segments",
     "spiral",
     "tangent-arcs",
@@ -87,7 +87,7 @@ pub const KINDS: [&str; 10] = [
     "mixed-rapids",
 ];
 
-pub fn program(kind: &str, seed: u64, c: [f64; 3], size: f64) -> Prog {
+pub(crate) fn program(kind: &str, seed: u64, c: [f64; 3], size: f64) -> Prog {
     let mut r = Lcg::new(seed);
     let mut p = Prog::new(r.range(300.0, 6000.0));
     let [cx, cy, z] = c;
@@ -203,4 +203,15 @@ pub fn program(kind: &str, seed: u64, c: [f64; 3], size: f64) -> Prog {
     }
     p.op(CanonOp::ProgramEnd);
     p
+}
+
+/// `ops` numbered as the lines 1, 2, … of a program.
+pub(crate) fn numbered(ops: impl IntoIterator<Item = CanonOp>) -> Vec<Canon> {
+    ops.into_iter()
+        .enumerate()
+        .map(|(i, op)| Canon {
+            line: i as u32 + 1,
+            op,
+        })
+        .collect()
 }
