@@ -99,10 +99,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         None => None,
     };
     let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes(), tools)?;
-    let text = match read_program(&args.file, args.max_program_mb)? {
-        Ok(text) => text,
-        Err(code) => return Ok(code),
-    };
+    let text = read_program(&args.file, args.max_program_mb)?;
     if let Some(line) = args.from_line {
         oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
     }
