@@ -10,8 +10,9 @@ use oficina_gcode::CanonStream;
 use oficina_gcode::RunOptions;
 use oficina_gcode::ToolTable;
 use oficina_gcode::{Diagnostic, Dialect, Severity};
-use oficina_motion::Profile;
+use oficina_motion::{Estimate, MotionError, Profile};
 use serde::Serialize;
+use std::io::{BufRead, Seek};
 use std::sync::Arc;
 
 pub struct CheckOptions {
@@ -108,22 +109,10 @@ pub fn check_program_with_tools(
     run.initial_params = profile.initial_params();
     run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
-    let mut ops = 0u64;
-    let mut stream = CanonStream::spawn(reader(text), run);
-    let planned = oficina_motion::estimate(
-        stream.by_ref().inspect(|c| {
-            ops += 1;
-            summarizer.add(&c.op);
-        }),
-        profile,
-    );
-    for c in stream.by_ref() {
-        ops += 1;
-        summarizer.add(&c.op);
-    }
-    let diags = stream.finish();
-    let mut r = report(&diags, summarizer.finish(), ops, planned, &profile.name);
+    let summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
+    let c = interpret(reader(text), run, profile, summarizer);
+    let (diags, planned) = (c.diagnostics, c.time);
+    let mut r = report(&diags, c.summary, c.operations, planned, &profile.name);
     if !tools.is_empty() {
         let rows = tool_rows(tools);
         r.tool_table = r
@@ -135,11 +124,67 @@ pub fn check_program_with_tools(
     r
 }
 
+/// A program interpreted (in the mode `run` says) and planned on a profile.
+pub struct CheckedSource {
+    /// Every diagnostic, in order.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Extents, lengths, tools and the feed-rate time of the whole program.
+    pub summary: Summary,
+    /// Canonical operations made.
+    pub operations: u64,
+    /// The look-ahead planner's estimate, or why it stopped.
+    pub time: Result<Estimate, MotionError>,
+}
+
+/// Interpret `source` with `run` and plan it on `profile` (`oficina check`): moves are bounded
+/// by each joint's top speed; the summary covers the whole program even where the planner
+/// stops early.
+pub fn check_source<R: BufRead + Seek + Send + 'static>(
+    source: R,
+    run: RunOptions,
+    profile: &Profile,
+) -> CheckedSource {
+    let [x, y, z] = profile.start;
+    let summarizer = Summarizer::with_bound(
+        Pos::xyz(x, y, z),
+        Box::new(oficina_motion::JointBound::new(profile)),
+    );
+    interpret(source, run, profile, summarizer)
+}
+
+fn interpret<R: BufRead + Seek + Send + 'static>(
+    source: R,
+    run: RunOptions,
+    profile: &Profile,
+    mut summarizer: Summarizer,
+) -> CheckedSource {
+    let mut ops = 0u64;
+    let mut stream = CanonStream::spawn(source, run);
+    let planned = oficina_motion::estimate(
+        stream.by_ref().inspect(|c| {
+            ops += 1;
+            summarizer.add(&c.op);
+        }),
+        profile,
+    );
+    // The planner may stop early (an unreachable point); the summary still covers it all.
+    for c in stream.by_ref() {
+        ops += 1;
+        summarizer.add(&c.op);
+    }
+    CheckedSource {
+        diagnostics: stream.finish(),
+        summary: summarizer.finish(),
+        operations: ops,
+        time: planned,
+    }
+}
+
 fn report(
     diags: &[Diagnostic],
     s: Summary,
     operations: u64,
-    planned: Result<oficina_motion::Estimate, oficina_motion::MotionError>,
+    planned: Result<Estimate, MotionError>,
     machine: &str,
 ) -> CheckReport {
     let errors = diags

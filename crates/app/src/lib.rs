@@ -48,8 +48,8 @@ mod text;
 mod tools;
 
 pub use check::{
-    check_program, check_program_with_tools, CheckOptions, CheckReport, Diag, ExtentsBox,
-    TimeEstimate,
+    check_program, check_program_with_tools, check_source, CheckOptions, CheckReport,
+    CheckedSource, Diag, ExtentsBox, TimeEstimate,
 };
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};

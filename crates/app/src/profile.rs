@@ -74,12 +74,7 @@ pub fn resolve_with_offset(spec: &str, work_offset: Option<[f64; 3]>) -> Result<
 mod tests {
     use super::*;
 
-    #[test]
-    fn every_bundled_profile_parses() {
-        for (name, _) in BUNDLED {
-            resolve(name).unwrap_or_else(|e| panic!("bundled profile {name}: {e}"));
-        }
-    }
+    // Every bundled profile parsing is motion's test (`every_bundled_profile_parses_by_name_and_by_file_name`).
 
     #[test]
     fn work_offsets_parse_and_reject_garbage() {

@@ -3,9 +3,7 @@
 
 use crate::gcode_input::{machine_for, print_diagnostics, ProgramArgs};
 use crate::machine_profile;
-use oficina_canon::Pos;
-use oficina_canon::{Extents, Summarizer, Summary};
-use oficina_gcode::CanonStream;
+use oficina_canon::{Extents, Summary};
 use oficina_gcode::Severity;
 use oficina_motion::format_hms;
 use std::process::ExitCode;
@@ -35,33 +33,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
     }
     let source = args.program.open()?;
-    let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::with_bound(
-        Pos::xyz(x, y, z),
-        Box::new(oficina_motion::JointBound::new(&profile)),
+    let checked = oficina_app::check_source(source, opts, &profile);
+    let (diags, summary, ops, planned) = (
+        checked.diagnostics,
+        checked.summary,
+        checked.operations,
+        checked.time,
     );
-    let mut ops = 0u64;
-    let mut stream = CanonStream::spawn(source, opts);
-    let planned = oficina_motion::estimate(
-        stream.by_ref().inspect(|c| {
-            ops += 1;
-            summarizer.add(&c.op);
-        }),
-        &profile,
-    );
-    // The planner may stop early (an unreachable point); the summary still covers it all.
-    for c in stream.by_ref() {
-        ops += 1;
-        summarizer.add(&c.op);
-    }
-    let diags = stream.finish();
     print_diagnostics(&args.program.file, &diags, args.program.max_errors);
     let errors = diags
         .iter()
         .filter(|d| d.severity == Severity::Error)
         .count();
     let warnings = diags.len() - errors;
-    let summary = summarizer.finish();
     println!(
         "{}: {} error{}, {} warning{}, {} canonical operations",
         args.program.file.display(),
