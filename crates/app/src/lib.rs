@@ -26,6 +26,7 @@
 // `profile` stays a public module: its `resolve`, `tool_table` and `DEFAULT` read well only
 // behind it (motion has its own `resolve`).
 pub mod bench;
+pub mod carve;
 mod check;
 pub mod embroider;
 mod error;

@@ -1,7 +1,7 @@
 //! A relief job from an uploaded image: heightmap, finishing raster (with optional roughing
 //! and rest machining) and the grbl program, reporting progress as it goes and stopping
-//! within the pass when cancelled. The evaluation (stock simulation, gouge report) is
-//! `oficina carve`'s until it moves into the library.
+//! within the pass when cancelled (the workbench's job; `oficina carve`'s evaluation with the
+//! stock simulation is [`crate::carve`]).
 
 use crate::{Error, Feedback};
 use oficina_cam::memory::Budget;

@@ -20,6 +20,7 @@ mod mill;
 mod peak_memory;
 mod plan;
 mod plot;
+mod progress;
 mod run;
 mod serve;
 mod sole;

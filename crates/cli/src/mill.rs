@@ -1,13 +1,12 @@
 //! `oficina mill`: one 2.5D operation on an SVG/DXF drawing → program, preview, check, time.
 
+use crate::progress::with_bar;
 use anyhow::{Context, Result};
 use clap::{Args as ClapArgs, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 use oficina_app::{mill, EntryKind as AppEntry, MillOpKind, MillParams, PocketStrategy};
-use oficina_app::{Feedback, Judged, PostParams};
+use oficina_app::{Judged, PostParams};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Op {
@@ -165,28 +164,6 @@ impl PostArgs {
             no_modal: self.no_modal,
         }
     }
-}
-
-pub fn progress_bar() -> ProgressBar {
-    let bar = ProgressBar::new(100);
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {wide_msg}")
-            .expect("static template"),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}
-
-/// Runs `job` with the stages shown on a spinner (nobody cancels a command-line job: ^C does).
-pub fn with_bar<T>(job: impl FnOnce(Feedback) -> T) -> (T, ProgressBar) {
-    let bar = progress_bar();
-    let never = AtomicBool::new(false);
-    let show = |stage: &str, _: f64| bar.set_message(stage.to_string());
-    let out = job(Feedback {
-        progress: &show,
-        cancel: &never,
-    });
-    (out, bar)
 }
 
 /// The machine profile for a time estimate: loaded, or why not (not fatal).

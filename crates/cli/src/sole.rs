@@ -1,7 +1,8 @@
 //! `oficina sole`: seed 001's mold job in one command: digitised size-N contour → graded,
 //! fitted, mirrored insert and cavity programs for both feet, each checked and timed.
 
-use crate::mill::{estimate_profile, print_judged, with_bar, PostArgs};
+use crate::mill::{estimate_profile, print_judged, PostArgs};
+use crate::progress::with_bar;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use oficina_app::GOUGE_REPORTED;
