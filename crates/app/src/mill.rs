@@ -13,6 +13,7 @@ use serde::Deserialize;
 use std::path::Path;
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum MillOpKind {
     Pocket,
@@ -20,10 +21,13 @@ pub enum MillOpKind {
     ProfileOut,
     ProfileOn,
     Drill,
+    /// V-carve with a V bit: closed shapes to the depth their width allows (capped at
+    /// --depth), open strokes along the line.
     Vcarve,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum EntryKind {
     Ramp,

@@ -18,6 +18,7 @@ use std::sync::{Arc, Mutex};
 
 /// Who makes the motor steps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Interpolator {
     /// The planned motion's exact step times.
     Exact,

@@ -2,30 +2,11 @@
 
 use crate::progress::with_bar;
 use anyhow::{Context, Result};
-use clap::{Args as ClapArgs, ValueEnum};
-use oficina_app::{mill, EntryKind as AppEntry, MillOpKind, MillParams, PocketStrategy};
+use clap::Args as ClapArgs;
+use oficina_app::{mill, EntryKind, MillOpKind, MillParams, PocketStrategy};
 use oficina_app::{Judged, PostParams};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Op {
-    Pocket,
-    ProfileIn,
-    ProfileOut,
-    ProfileOn,
-    Drill,
-    /// V-carve with a V bit: closed shapes to the depth their width allows (capped at
-    /// --depth), open strokes along the line.
-    Vcarve,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum EntryKind {
-    Ramp,
-    Helix,
-    Plunge,
-}
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
@@ -47,7 +28,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.05)]
     pub leftover: f64,
     #[arg(long, value_enum)]
-    pub op: Op,
+    pub op: MillOpKind,
     /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
     #[arg(long, default_value = "flat:6")]
     pub tool: String,
@@ -179,14 +160,7 @@ pub fn print_judged(j: &Judged) {
 
 pub fn run(args: Args) -> Result<std::process::ExitCode> {
     let params = MillParams {
-        op: match args.op {
-            Op::Pocket => MillOpKind::Pocket,
-            Op::ProfileIn => MillOpKind::ProfileIn,
-            Op::ProfileOut => MillOpKind::ProfileOut,
-            Op::ProfileOn => MillOpKind::ProfileOn,
-            Op::Drill => MillOpKind::Drill,
-            Op::Vcarve => MillOpKind::Vcarve,
-        },
+        op: args.op,
         tool: args.tool.clone(),
         tool_number: args.tool_number,
         depth: args.depth,
@@ -201,11 +175,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         feed: args.feed,
         plunge_feed: args.plunge_feed,
         rpm: args.rpm,
-        entry: match args.entry {
-            EntryKind::Ramp => AppEntry::Ramp,
-            EntryKind::Helix => AppEntry::Helix,
-            EntryKind::Plunge => AppEntry::Plunge,
-        },
+        entry: args.entry,
         ramp_angle: args.ramp_angle,
         helix_radius: args.helix_radius,
         tabs: args.tabs,

@@ -5,7 +5,7 @@ use crate::gcode_input::{
     load_tool_table, machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB,
 };
 use crate::machine_profile;
-use oficina_app::{plan_program, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
+use oficina_app::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 use oficina_canon::Units;
 use oficina_gcode::Dialect;
 use oficina_motion::format_hms;
@@ -66,21 +66,6 @@ pub struct Args {
     check: bool,
 }
 
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Interpolator {
-    Exact,
-    Dda,
-}
-
-impl From<Interpolator> for oficina_app::Interpolator {
-    fn from(i: Interpolator) -> Self {
-        match i {
-            Interpolator::Exact => oficina_app::Interpolator::Exact,
-            Interpolator::Dda => oficina_app::Interpolator::Dda,
-        }
-    }
-}
-
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
@@ -100,7 +85,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         interp,
         period_ms: args.period_ms,
         scurve: args.scurve,
-        interpolator: args.interpolator.into(),
+        interpolator: args.interpolator,
         check: args.check,
         max_output_mb: args.max_output_mb,
         outputs: PlanOutputs {
