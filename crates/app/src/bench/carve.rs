@@ -309,3 +309,62 @@ pub fn peer_window() -> usize {
 pub fn peer_worked_pixels(side: usize) -> f64 {
     (side.saturating_sub(peer_window()).max(1) as f64).powi(2)
 }
+
+/// Both programs on the top-left crop of the generated picture: image-to-gcode on the crop
+/// and on a crop half its side (equal cost per pixel shows its cost is linear, so scaling
+/// its rate to the full image is fair), Oficina on the crop, and each program's quality.
+pub struct CropComparison {
+    /// The crop's side, pixels.
+    pub side: usize,
+    /// The smaller crop's side, pixels.
+    pub half: usize,
+    /// image-to-gcode on the smaller crop.
+    pub small_peer: Peer,
+    /// image-to-gcode on the crop.
+    pub peer: Peer,
+    /// Oficina on the crop.
+    pub ours: Ours,
+    /// The design of the crop.
+    pub design: Heightmap,
+    /// Oficina's program replayed: the report and the share gouged.
+    pub ours_quality: (Report, f64),
+    /// image-to-gcode's program replayed.
+    pub peer_quality: (Report, f64),
+    /// The tool's ideal surface over the crop: what no non-gouging program beats.
+    pub best: Report,
+}
+
+/// Run [`CropComparison`] on the `c` × `c` crop of the `n` × `n` picture `gray`, the peer
+/// through `python` and `script`, Oficina with `job` within `budget` bytes, working in `dir`.
+#[allow(clippy::too_many_arguments)]
+pub fn compare_on_crop(
+    gray: &[u8],
+    n: usize,
+    c: usize,
+    python: &Path,
+    script: &Path,
+    job: &ReliefJob,
+    budget: u64,
+    dir: &Path,
+) -> Result<CropComparison, BenchError> {
+    let half = (c / 2).max(64);
+    let small_peer = run_peer(python, script, &crop(gray, n, half), half, dir)?;
+    let small = crop(gray, n, c);
+    let design = self::design(&small, c);
+    let ours = plan_and_post(&design, job, budget)?;
+    let peer = run_peer(python, script, &small, c, dir)?;
+    let ours_quality = judge(&read_back(&ours.program)?, &design)?;
+    let peer_quality = judge(&peer.canon, &design)?;
+    let best = best_possible(&design);
+    Ok(CropComparison {
+        side: c,
+        half,
+        small_peer,
+        peer,
+        ours,
+        design,
+        ours_quality,
+        peer_quality,
+        best,
+    })
+}
