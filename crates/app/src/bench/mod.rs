@@ -4,6 +4,7 @@
 pub mod carve;
 pub mod gcode;
 pub mod offsets;
+pub mod plot;
 pub mod programs;
 
 use std::time::Instant;
