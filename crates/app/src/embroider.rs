@@ -160,6 +160,18 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
     })
 }
 
+/// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.
+pub fn sheet_document(path: &Path, sheet: &Sheet) -> String {
+    let html = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    if html {
+        sheet.html()
+    } else {
+        sheet.text()
+    }
+}
+
 /// Reads a DST/EXP/seed RAM file (by extension), refusing what is too large to be one.
 pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
