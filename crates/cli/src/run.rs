@@ -10,8 +10,7 @@ use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
 use oficina_canon::Units;
-use oficina_gcode::ToolTable;
-use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status};
+use oficina_machine::{Command, Event, Job, Pace, State, Status};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -56,21 +55,6 @@ pub struct Args {
     max_program_mb: u64,
 }
 
-/// The machine `spec` names, opened by the application layer.
-fn open_machine(
-    spec: &str,
-    work_offset: Option<[f64; 3]>,
-    max_line_len: usize,
-    tools: Option<ToolTable>,
-) -> anyhow::Result<Box<dyn Machine>> {
-    Ok(oficina_app::open_machine_with_tools(
-        spec,
-        work_offset,
-        max_line_len,
-        tools,
-    )?)
-}
-
 /// Leaves raw mode however the run ends.
 struct RawMode(bool);
 impl Drop for RawMode {
@@ -98,7 +82,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Some(path) => Some(load_tool_table(path, Units::Mm)?),
         None => None,
     };
-    let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes(), tools)?;
+    let mut vm = oficina_app::open_machine_with_tools(
+        &machine,
+        args.work_offset,
+        args.line_limit.bytes(),
+        tools,
+    )?;
     let text = read_program(&args.file, args.max_program_mb)?;
     if let Some(line) = args.from_line {
         oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
@@ -225,10 +214,11 @@ fn show_status(bar: &ProgressBar, s: &Status, factor: f64) {
     ));
 }
 
+/// `h:mm:ss`, or `--:--` for a time that never comes (nothing left to divide by).
 fn clock(s: f64) -> String {
-    if !s.is_finite() {
-        return "--:--".into();
+    if s.is_finite() {
+        oficina_motion::format_hms(s, 0)
+    } else {
+        "--:--".into()
     }
-    let s = s.round() as u64;
-    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
