@@ -13,7 +13,7 @@ use oficina_io::Heightmap;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Side of the generated square image, pixels.
     #[arg(long, default_value_t = 4000)]
     pub size: usize,
@@ -62,7 +62,7 @@ fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
     .map_err(explain)
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     if !(64..=MAX_SIZE).contains(&args.size) {
         bail!(
             "--size must be between 64 and {MAX_SIZE} pixels, got {}",

@@ -15,7 +15,7 @@ use std::io::BufWriter;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
-pub struct BenchGcodeArgs {
+pub(crate) struct BenchGcodeArgs {
     /// Number of blocks (lines) in each generated program.
     #[arg(long, default_value_t = 1_000_000)]
     pub blocks: u64,
@@ -60,7 +60,7 @@ fn print_ratio(label: &str, ours: &Timing, peer: &Timing) {
     }
 }
 
-pub fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
+pub(crate) fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
     if args.blocks < 10 {
         bail!("--blocks {} is too small: use at least 10", args.blocks);
     }

@@ -9,7 +9,7 @@ use oficina_motion::{StepCount, StepGenerator};
 use std::time::Instant;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Segments in the large program.
     #[arg(long, default_value_t = 1_000_000)]
     segments: u64,
@@ -50,7 +50,7 @@ fn relief(n: u64) -> impl Iterator<Item = Canon> {
         })
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub(crate) fn run(args: Args) -> anyhow::Result<()> {
     let profile = machine_profile::resolve(&args.machine)?;
     println!("machine: {}", profile.name);
     for &n in &[args.segments / 10, args.segments] {

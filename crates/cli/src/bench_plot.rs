@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Number of paths in the generated drawing.
     #[arg(long, default_value_t = 100_000)]
     pub paths: usize,
@@ -38,7 +38,7 @@ fn line(label: &str, secs: f64, mem_kb: Option<u64>, plot: &Plot) {
     );
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub(crate) fn run(a: Args) -> Result<()> {
     let tmp = tempfile::tempdir()?;
     let dir = a.dir.clone().unwrap_or_else(|| tmp.path().to_path_buf());
     std::fs::create_dir_all(&dir)?;

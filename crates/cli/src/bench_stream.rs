@@ -14,7 +14,7 @@ use oficina_grbl_emu::{Config, Emulator};
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Program length in lines (0.1 mm segments).
     #[arg(long, default_value_t = 200_000)]
     pub lines: usize,
@@ -126,7 +126,7 @@ fn print(name: &str, feed: f64, f: &Figures) {
     );
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub(crate) fn run(args: Args) -> anyhow::Result<()> {
     if args.lines == 0 {
         anyhow::bail!("--lines must be at least 1");
     }

@@ -12,7 +12,7 @@ use oficina_sim::render_png;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Elevation image (PNG, JPEG, TIFF; white = stock top, black = deepest) or raw f32 (.f32).
     pub image: Option<PathBuf>,
     /// mm per pixel on the workpiece.
@@ -101,7 +101,7 @@ pub struct Args {
     pub seed_pixels: Vec<f64>,
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     if args.seed_comparison {
         seed_comparison(&args)?;
         return Ok(std::process::ExitCode::SUCCESS);

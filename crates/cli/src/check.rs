@@ -9,7 +9,7 @@ use oficina_motion::format_hms;
 use std::process::ExitCode;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
     /// Machine profile (file or bundled name) whose planner gives the time estimate; default:
@@ -21,7 +21,7 @@ pub struct Args {
     pub work_offset: Option<[f64; 3]>,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.program.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
     let mut opts = args.program.run_options(true)?;

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
     /// strokes → running stitch).
     input: Option<PathBuf>,
@@ -172,7 +172,7 @@ fn print_run(r: &RunReport, machine: &str) -> ExitCode {
     }
 }
 
-pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     let p = params(&a);
     if let Some(file) = &a.info {
         let plan = read_stitch_file(file)?;

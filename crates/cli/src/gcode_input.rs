@@ -10,10 +10,10 @@ use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
-pub use oficina_app::DEFAULT_MAX_PROGRAM_MB;
+pub(crate) use oficina_app::DEFAULT_MAX_PROGRAM_MB;
 
 #[derive(clap::Args, Debug, Clone)]
-pub struct ProgramArgs {
+pub(crate) struct ProgramArgs {
     /// The G-code program.
     pub file: PathBuf,
     /// linuxcnc (default), grbl or legacy-2006.
@@ -47,14 +47,14 @@ pub struct ProgramArgs {
 
 /// Longest program line accepted, for every command that reads a program.
 #[derive(clap::Args, Debug, Clone, Copy)]
-pub struct LineLimit {
+pub(crate) struct LineLimit {
     /// Longest line accepted, KiB (longer ones are errors, never held in memory).
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub max_line_kb: u32,
 }
 
 impl LineLimit {
-    pub fn bytes(self) -> usize {
+    pub(crate) fn bytes(self) -> usize {
         self.max_line_kb as usize * 1024
     }
 }
@@ -75,12 +75,12 @@ impl From<MachineUnits> for Units {
 }
 
 impl ProgramArgs {
-    pub fn open(&self) -> anyhow::Result<BufReader<File>> {
+    pub(crate) fn open(&self) -> anyhow::Result<BufReader<File>> {
         Ok(oficina_app::open_program(&self.file)?)
     }
 
     /// What the flags ask of the interpreter.
-    pub fn options(&self) -> ProgramOptions {
+    pub(crate) fn options(&self) -> ProgramOptions {
         ProgramOptions {
             dialect: self.dialect,
             tool_table: self.tool_table.clone(),
@@ -93,14 +93,14 @@ impl ProgramArgs {
         }
     }
 
-    pub fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
+    pub(crate) fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
         loaded(self.options().run_options(check_mode))
     }
 }
 
 /// A load's result for `?`: a rendered diagnostic is printed here as it is (it says "error"
 /// itself) and the command fails without printing it again.
-pub fn loaded<T>(result: Result<T, LoadError>) -> anyhow::Result<T> {
+pub(crate) fn loaded<T>(result: Result<T, LoadError>) -> anyhow::Result<T> {
     match result {
         Ok(v) => Ok(v),
         Err(LoadError::Diagnostic(text)) => {
@@ -112,18 +112,18 @@ pub fn loaded<T>(result: Result<T, LoadError>) -> anyhow::Result<T> {
 }
 
 /// Read a LinuxCNC tool table (`--tool-table`) whose lengths are in `machine_units`.
-pub fn load_tool_table(path: &Path, machine_units: Units) -> anyhow::Result<ToolTable> {
+pub(crate) fn load_tool_table(path: &Path, machine_units: Units) -> anyhow::Result<ToolTable> {
     loaded(oficina_app::load_tool_table(path, machine_units))
 }
 
 /// Read a whole program as text for `run` and `plan`.
-pub fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<String> {
+pub(crate) fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<String> {
     loaded(oficina_app::read_program(path, max_mb))
 }
 
 /// The machine profile to use (`--machine`, the program's `(machine: NAME)` comment, the
 /// default); where it came from is said on stderr.
-pub fn machine_for(given: Option<&str>, program: &Path) -> String {
+pub(crate) fn machine_for(given: Option<&str>, program: &Path) -> String {
     let choice = oficina_app::machine_for(given, program);
     if let Some(line) = choice.named_on_line {
         eprintln!(
@@ -136,7 +136,7 @@ pub fn machine_for(given: Option<&str>, program: &Path) -> String {
 }
 
 /// Print diagnostics like a compiler, with the source line and a caret under the place.
-pub fn print_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) {
+pub(crate) fn print_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) {
     eprint!(
         "{}",
         oficina_app::render_diagnostics(path, diags, max_shown)

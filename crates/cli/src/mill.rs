@@ -9,7 +9,7 @@ use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
     #[arg(required_unless_present = "text")]
     pub input: Option<PathBuf>,
@@ -113,7 +113,7 @@ pub struct Args {
 
 /// Post-processor choice and format options, shared by `mill` and `sole`.
 #[derive(ClapArgs, Debug)]
-pub struct PostArgs {
+pub(crate) struct PostArgs {
     /// linuxcnc, grbl, sinumerik or legacy-2006.
     #[arg(long, default_value = "linuxcnc")]
     pub post: String,
@@ -135,7 +135,7 @@ pub struct PostArgs {
 }
 
 impl PostArgs {
-    pub fn params(&self) -> PostParams {
+    pub(crate) fn params(&self) -> PostParams {
         PostParams {
             post: self.post.clone(),
             allow_m6: self.allow_m6,
@@ -148,17 +148,17 @@ impl PostArgs {
 }
 
 /// The machine profile for a time estimate: loaded, or why not (not fatal).
-pub fn estimate_profile(path: &Path) -> Result<oficina_motion::Profile, String> {
+pub(crate) fn estimate_profile(path: &Path) -> Result<oficina_motion::Profile, String> {
     oficina_motion::Profile::load(path).map_err(|e| e.to_string())
 }
 
-pub fn print_judged(j: &Judged) {
+pub(crate) fn print_judged(j: &Judged) {
     for l in j.summary_lines() {
         println!("  {l}");
     }
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     let params = MillParams {
         op: args.op,
         tool: args.tool.clone(),

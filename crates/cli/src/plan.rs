@@ -14,7 +14,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// G-code program.
     file: PathBuf,
     /// Machine profile: a TOML file or a bundled name. Default: the program's
@@ -66,7 +66,7 @@ pub struct Args {
     check: bool,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
     let text = read_program(&args.file, args.max_program_mb)?;

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design: .svg, .dxf, .hpgl/.plt/.hpg, or an image (.png/.jpg) to hatch.
     input: Option<PathBuf>,
     /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
@@ -190,7 +190,7 @@ fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     if a.seed_check {
         return seed_check(&a);
     }

@@ -4,7 +4,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use oficina_app::Feedback;
 use std::sync::atomic::AtomicBool;
 
-pub fn progress_bar() -> ProgressBar {
+pub(crate) fn progress_bar() -> ProgressBar {
     let bar = ProgressBar::new(100);
     bar.set_style(
         ProgressStyle::with_template("{spinner} {elapsed_precise} {wide_msg}")
@@ -15,7 +15,7 @@ pub fn progress_bar() -> ProgressBar {
 }
 
 /// Runs `job` with the stages shown on a spinner (nobody cancels a command-line job: ^C does).
-pub fn with_bar<T>(job: impl FnOnce(Feedback) -> T) -> (T, ProgressBar) {
+pub(crate) fn with_bar<T>(job: impl FnOnce(Feedback) -> T) -> (T, ProgressBar) {
     let bar = progress_bar();
     let never = AtomicBool::new(false);
     let show = |stage: &str, _: f64| bar.set_message(stage.to_string());

@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// G-code program.
     file: PathBuf,
     /// The machine: a profile of the built-in virtual machine (a TOML file or a bundled name:
@@ -76,7 +76,7 @@ fn parse_speed(s: &str) -> anyhow::Result<f64> {
     Ok(v)
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.file);
     let tools = match &args.tool_table {
         Some(path) => Some(load_tool_table(path, Units::Mm)?),

@@ -10,7 +10,7 @@ use oficina_app::{sole, SoleParams};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Digitised contour of the pattern size: CSV or whitespace x y per line, header or not.
     pub points: PathBuf,
     #[arg(long)]
@@ -44,7 +44,7 @@ pub struct Args {
     pub profile: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     let params = SoleParams {
         from_size: args.from_size,
         to_size: args.to_size,

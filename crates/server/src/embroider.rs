@@ -21,7 +21,7 @@ use std::sync::Arc;
 /// lands beside the hoop field); absent fields take the CLI's defaults.
 #[derive(Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct EmbroiderForm {
+pub(crate) struct EmbroiderForm {
     stitch_length: f64,
     fill_angle: f64,
     fill_spacing: f64,
@@ -128,7 +128,7 @@ impl EmbroiderForm {
 }
 
 #[derive(Deserialize)]
-pub struct EmbroiderRequest {
+pub(crate) struct EmbroiderRequest {
     file: Option<String>,
     #[serde(default)]
     params: EmbroiderForm,
@@ -216,7 +216,7 @@ fn sheet_json(s: &Sheet) -> Value {
 }
 
 /// `POST /api/embroider {file, params}`: the design → stitches → the file in the job folder.
-pub async fn embroider_job(
+pub(crate) async fn embroider_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {
@@ -263,7 +263,7 @@ pub async fn embroider_job(
 
 /// `POST /api/stitches {file, params}`: a DST/EXP/RAM file of the job folder read back, its
 /// sheet, and its run on the table the params name (`machine`, `ppm`, `hoop`, `pieces`).
-pub async fn stitch_file(
+pub(crate) async fn stitch_file(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {
