@@ -15,19 +15,28 @@ use serde::Serialize;
 use std::io::{BufRead, Seek};
 use std::sync::Arc;
 
+/// How to check a program: on which machine, in which dialect.
 pub struct CheckOptions {
+    /// The machine whose planner gives the time.
     pub profile: Profile,
+    /// The G-code dialect.
     pub dialect: Dialect,
 }
 
 /// One diagnostic: 1-based line and column, the length of the marked text.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Diag {
+    /// Line, from 1.
     pub line: u32,
+    /// Column, from 1.
     pub col: u32,
+    /// Length of the marked text.
     pub len: u32,
+    /// `error` or `warning`.
     pub severity: &'static str,
+    /// What is wrong.
     pub message: String,
+    /// How to fix it, when known.
     pub help: Option<String>,
 }
 
@@ -50,7 +59,9 @@ impl From<&Diagnostic> for Diag {
 /// An axis-aligned box in machine mm; `None` when no move of that kind exists.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct ExtentsBox {
+    /// Lowest X, Y, Z.
     pub min: [f64; 3],
+    /// Highest X, Y, Z.
     pub max: [f64; 3],
 }
 
@@ -62,24 +73,40 @@ fn extents_box(e: &Extents) -> Option<ExtentsBox> {
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
+/// The look-ahead planner's time for a program.
 pub struct TimeEstimate {
+    /// Machine time, s.
     pub seconds: f64,
+    /// Planned segments.
     pub segments: u64,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
+/// What a check found: diagnostics, extents, lengths, tools and times.
 pub struct CheckReport {
+    /// Every diagnostic, in order.
     pub diagnostics: Vec<Diag>,
+    /// How many diagnostics are errors.
     pub errors: usize,
+    /// How many are warnings.
     pub warnings: usize,
+    /// Canonical operations made.
     pub operations: u64,
+    /// The box of the feed moves.
     pub feed_extents: Option<ExtentsBox>,
+    /// The box of the rapids.
     pub rapid_extents: Option<ExtentsBox>,
+    /// Feed path length, mm.
     pub feed_length: f64,
+    /// Rapid path length, mm.
     pub rapid_length: f64,
+    /// Feed moves.
     pub feed_moves: u64,
+    /// Rapid moves.
     pub rapid_moves: u64,
+    /// Arcs among the feed moves.
     pub arcs: u64,
+    /// Tools changed to, in order.
     pub tools: Vec<u32>,
     /// The tools the program uses as the tool table gives them (diameter, length offset);
     /// `None` for a tool the table lacks. Empty when the check had no table.
@@ -88,6 +115,7 @@ pub struct CheckReport {
     pub feed_rate_seconds: f64,
     /// The look-ahead planner's time on the profile, or why there is none.
     pub time: Result<TimeEstimate, String>,
+    /// The machine profile's name.
     pub machine: String,
 }
 

@@ -12,8 +12,11 @@ use std::path::Path;
 pub const MAX_STITCH_FILE: u64 = 16 << 20;
 
 #[derive(Clone, Debug)]
+/// The form of an embroidery job.
 pub struct EmbroiderParams {
+    /// Stitch lengths, fill, satin, underlay, trims and ties.
     pub stitch: Params,
+    /// The file written: DST, EXP or the seed's program.
     pub format: Format,
     /// A hoop by name or seed code; None = the smallest that fits.
     pub hoop: Option<String>,
@@ -22,6 +25,7 @@ pub struct EmbroiderParams {
     pub table: String,
     /// A fixed head speed (stitches/min) instead of the seed's table.
     pub ppm: Option<f64>,
+    /// Pieces for the sheet's batch time.
     pub pieces: u32,
 }
 
@@ -38,13 +42,17 @@ impl Default for EmbroiderParams {
     }
 }
 
+/// An embroidery job's output.
 pub struct Embroidered {
+    /// Shapes stitched, by kind.
     pub generated: Generated,
     /// The file's bytes in `format`.
     pub file: Vec<u8>,
     /// The sheet of the plan as the file holds it (read back), so its figures are the file's.
     pub sheet: Sheet,
+    /// The SVG preview.
     pub preview: String,
+    /// What the design held that was left out.
     pub notes: Vec<String>,
 }
 
@@ -99,6 +107,7 @@ fn speed(p: &EmbroiderParams) -> HeadSpeed {
     p.ppm.map_or(HeadSpeed::Table, HeadSpeed::Fixed)
 }
 
+/// The production sheet of `plan`: hoop, colours, times and the run on the table.
 pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> {
     if p.pieces == 0 || p.pieces > 1_000_000 {
         return Err(Error(format!("--pieces {}: use 1..1000000", p.pieces)));

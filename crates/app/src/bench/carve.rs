@@ -13,11 +13,15 @@ use oficina_sim::{compare, ideal_surface, replay, Report};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// mm per pixel of the generated relief.
 pub const PIXEL: f64 = 0.1;
+/// Depth of black, mm.
 pub const DEPTH: f64 = 10.0;
+/// Diameter of the ball-nose tool both programs use, mm.
 pub const BALL_DIAMETER: f64 = 6.0;
 /// Rows 5 pixels (0.5 mm) apart for both programs: image-to-gcode steps in whole pixels.
 pub const STEP_PX: usize = 5;
+/// Largest side of the generated relief, pixels.
 pub const MAX_SIZE: usize = 20_000;
 /// Depth below the design that counts as a gouge, mm.
 pub const GOUGE_LIMIT: f64 = 0.001;
@@ -73,6 +77,7 @@ pub fn design(gray: &[u8], n: usize) -> Heightmap {
     luminance_to_heights(n, n, &luma, PIXEL, DepthMapping::new(DEPTH))
 }
 
+/// The ball-nose tool of [`BALL_DIAMETER`].
 pub fn tool() -> Tool {
     Tool::new(oficina_cam::CutterShape::Ball, BALL_DIAMETER).expect("valid built-in tool")
 }
@@ -114,7 +119,9 @@ pub struct Ours {
     pub plan: Cost,
     /// Writing the G-code text (image-to-gcode's time includes writing its program too).
     pub post: Cost,
+    /// The LinuxCNC program.
     pub program: String,
+    /// Moves in the toolpath.
     pub moves: usize,
 }
 
@@ -198,10 +205,15 @@ pub fn read_back(program: &str) -> Result<Vec<Canon>, BenchError> {
 
 /// image-to-gcode's run on one crop.
 pub struct Peer {
+    /// Its own wall seconds for convert() and writing.
     pub seconds: f64,
+    /// Its CPU seconds.
     pub cpu: f64,
+    /// Its program read by the interpreter, in the image grid's frame.
     pub canon: Vec<Canon>,
+    /// What the interpreter said of its program.
     pub diagnostics: Vec<String>,
+    /// Lines in its program.
     pub lines: usize,
 }
 
