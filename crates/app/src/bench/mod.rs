@@ -6,6 +6,7 @@ pub mod gcode;
 pub mod offsets;
 pub mod plot;
 pub mod programs;
+pub mod stream;
 
 use std::time::Instant;
 
