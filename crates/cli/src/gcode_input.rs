@@ -45,6 +45,28 @@ pub(crate) struct ProgramArgs {
     pub max_errors: usize,
 }
 
+/// The program `plan` and `run` hold in memory, and where its work zero is.
+#[derive(clap::Args, Debug, Clone)]
+pub(crate) struct HeldProgram {
+    /// G-code program.
+    pub(crate) file: PathBuf,
+    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
+    #[arg(long, value_parser = crate::machine_profile::parse_xyz)]
+    pub(crate) work_offset: Option<[f64; 3]>,
+    #[command(flatten)]
+    pub(crate) line_limit: LineLimit,
+    /// Largest program held in memory, MB.
+    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
+    pub(crate) max_program_mb: u64,
+}
+
+impl HeldProgram {
+    /// The whole program's text.
+    pub(crate) fn read(&self) -> anyhow::Result<String> {
+        read_program(&self.file, self.max_program_mb)
+    }
+}
+
 /// Longest program line accepted, for every command that reads a program.
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub(crate) struct LineLimit {

@@ -1,9 +1,7 @@
 //! `oficina plan FILE --trace OUT.csv`: the planned motion sampled every millisecond of machine
 //! time (docs/trace-format.md), and the total time. The job is `oficina_app::plan_program`.
 
-use crate::gcode_input::{
-    load_tool_table, machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB,
-};
+use crate::gcode_input::{load_tool_table, machine_for, HeldProgram};
 use crate::machine_profile;
 use oficina_app::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 use oficina_canon::Units;
@@ -15,15 +13,12 @@ use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// G-code program.
-    file: PathBuf,
+    #[command(flatten)]
+    program: HeldProgram,
     /// Machine profile: a TOML file or a bundled name. Default: the program's
     /// `(machine: NAME)` opening comment, else grbl-router.
     #[arg(long)]
     machine: Option<String>,
-    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
-    #[arg(long, value_parser = machine_profile::parse_xyz)]
-    work_offset: Option<[f64; 3]>,
     /// Write the sampled motion here (CSV).
     #[arg(long)]
     trace: Option<PathBuf>,
@@ -54,11 +49,6 @@ pub(crate) struct Args {
     /// the planned motion as they move the machine.
     #[arg(long)]
     tool_table: Option<PathBuf>,
-    #[command(flatten)]
-    line_limit: LineLimit,
-    /// Largest program held in memory, MB.
-    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
-    max_program_mb: u64,
     /// Run the motion invariant checker over the whole plan (every joint's speed,
     /// acceleration and step rate, the path, the feeds, every junction) and fail on any
     /// violation. Holds the program's canon and segments in memory.
@@ -67,16 +57,17 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let machine = machine_for(args.machine.as_deref(), &args.file);
-    let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
-    let text = read_program(&args.file, args.max_program_mb)?;
-    let mut interp = oficina_app::run_options_for(&profile, args.dialect, args.line_limit.bytes());
+    let machine = machine_for(args.machine.as_deref(), &args.program.file);
+    let profile = machine_profile::resolve_with_offset(&machine, args.program.work_offset)?;
+    let text = args.program.read()?;
+    let mut interp =
+        oficina_app::run_options_for(&profile, args.dialect, args.program.line_limit.bytes());
     if let Some(path) = &args.tool_table {
         interp.tool_table = load_tool_table(path, Units::Mm)?;
     } else if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, Units::Mm)? {
         interp.tool_table = t;
     }
-    let name = args.file.display().to_string();
+    let name = args.program.file.display().to_string();
     let machine_name = profile.name.clone();
     let request = PlanRequest {
         name: name.clone(),
