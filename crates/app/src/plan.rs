@@ -273,3 +273,65 @@ fn run_dda(req: &PlanRequest, ops: CanonStream) -> Result<PlanOutcome, Error> {
     }
     Ok(PlanOutcome::Stepped(summary))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn request(text: &str) -> PlanRequest {
+        let profile = crate::profile::resolve("grbl-router").unwrap();
+        PlanRequest {
+            name: "t.ngc".into(),
+            text: Arc::new(text.into()),
+            interp: crate::run_options_for(&profile, oficina_gcode::Dialect::LinuxCnc, 1 << 16),
+            profile,
+            period_ms: 1.0,
+            scurve: false,
+            interpolator: Interpolator::Exact,
+            check: true,
+            max_output_mb: 2048,
+            outputs: PlanOutputs::default(),
+        }
+    }
+
+    #[test]
+    fn a_line_at_600_mm_per_min_takes_its_length_over_the_feed_and_passes_the_checker() {
+        // Incremental, so nothing but the 50 mm line is planned.
+        let req = request("G21 G91\nG1 X50 F600\nM2\n");
+        let PlanOutcome::Planned(s) = plan_program(&req).unwrap() else {
+            panic!("not planned")
+        };
+        assert!((s.distance - 50.0).abs() < 1e-9, "{}", s.distance);
+        // 5 s at the feed; acceleration only adds to it.
+        assert!(s.seconds > 5.0 && s.seconds < 6.0, "{}", s.seconds);
+        assert!(matches!(s.check, Some(Ok(_))), "{:?}", s.check);
+        assert_eq!((s.steps, s.trace_rows), (None, None));
+    }
+
+    #[test]
+    fn an_interpreter_error_comes_back_rendered_with_its_line() {
+        let req = request("G21\nG1 X10 Qbad F100\nM2\n");
+        match plan_program(&req).unwrap() {
+            PlanOutcome::InterpreterFailed(e) => assert!(e.contains("t.ngc:2"), "{e}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn outputs_larger_than_the_limit_are_refused_before_any_file_is_made() {
+        let dir = std::env::temp_dir().join(format!("oficina-app-plan-{}", std::process::id()));
+        let trace = dir.join("never.csv");
+        let mut req = request("G21\nG1 X500 F60\nM2\n");
+        req.max_output_mb = 0;
+        req.outputs.trace = Some(trace.clone());
+        let e = plan_program(&req).unwrap_err().to_string();
+        assert!(
+            e.starts_with("--trace") && e.contains("--max-output-mb 0"),
+            "{e}"
+        );
+        assert!(!trace.exists());
+        req.interpolator = Interpolator::Dda;
+        let e = plan_program(&req).unwrap_err().to_string();
+        assert!(e.contains("--interpolator dda makes steps only"), "{e}");
+    }
+}
