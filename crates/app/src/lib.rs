@@ -1,7 +1,9 @@
-//! The application layer that the `oficina` CLI and the workbench server share: machines
-//! opened from a URI, a session that drives one with its job, check summaries of a program,
-//! preview segments, and the job pipelines (relief carving, 2.5D milling, sole molds, pen
-//! plots). It returns data and progress events and prints nothing.
+//! The application layer that the `oficina` CLI and the workbench server share: programs
+//! loaded (text, tool table, the machine they name, rendered diagnostics), machines opened
+//! from a URI, a session that drives one with its job, check summaries of a program, the
+//! plan of a program (time, trace, steps), preview segments, and the job pipelines (relief
+//! carving, 2.5D milling, sole molds, pen plots, embroidery) and benchmark workloads. It
+//! returns data and progress events and prints nothing.
 //!
 //! ```
 //! use oficina_app::{check_program, CheckOptions};
