@@ -66,8 +66,8 @@ pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResu
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use program::{
-    load_tool_table, machine_for, open_program, read_program, render_diagnostics, LoadError,
-    MachineChoice, ProgramOptions, DEFAULT_MAX_PROGRAM_MB,
+    load_tool_table, machine_for, open_program, read_program, render_diagnostics, tool_table_for,
+    LoadError, MachineChoice, ProgramOptions, DEFAULT_MAX_PROGRAM_MB,
 };
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;

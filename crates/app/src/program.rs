@@ -7,6 +7,7 @@ use crate::Error;
 use oficina_canon::Units;
 use oficina_gcode::text::ReadError;
 use oficina_gcode::{Diagnostic, Dialect, RunOptions, Severity, ToolTable};
+use oficina_motion::Profile;
 use std::fmt;
 use std::fs::File;
 use std::io::BufReader;
@@ -74,6 +75,24 @@ impl ProgramOptions {
             .unwrap_or(if check_mode { Units::Mm } else { Units::Inch })
     }
 
+    /// [`Self::run_options`] on a machine profile (named `spec` by the user): its stored
+    /// offsets, and its tool table unless one was given.
+    pub fn run_options_on(
+        &self,
+        profile: &Profile,
+        spec: &str,
+        check_mode: bool,
+    ) -> Result<RunOptions, LoadError> {
+        let mut opts = self.run_options(check_mode)?;
+        opts.initial_params = profile.initial_params();
+        if self.tool_table.is_none() {
+            if let Some(t) = tool_table_for(None, profile, spec, opts.start.machine_units)? {
+                opts.tool_table = t;
+            }
+        }
+        Ok(opts)
+    }
+
     /// The interpreter's options, the tool table read.
     pub fn run_options(&self, check_mode: bool) -> Result<RunOptions, LoadError> {
         let mut opts = if check_mode {
@@ -95,6 +114,20 @@ impl ProgramOptions {
             opts.tool_table = load_tool_table(path, machine_units)?;
         }
         Ok(opts)
+    }
+}
+
+/// The tool table a program runs with on `profile` (named `spec` by the user): the one
+/// `given` (`--tool-table`), else the one the profile names, else none.
+pub fn tool_table_for(
+    given: Option<&Path>,
+    profile: &Profile,
+    spec: &str,
+    units: Units,
+) -> Result<Option<ToolTable>, LoadError> {
+    match given {
+        Some(path) => load_tool_table(path, units).map(Some),
+        None => Ok(crate::profile::tool_table(profile, spec, units)?),
     }
 }
 

@@ -24,14 +24,7 @@ pub(crate) struct Args {
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.program.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
-    let mut opts = args.program.run_options(true)?;
-    opts.initial_params = profile.initial_params();
-    if args.program.tool_table.is_none() {
-        let units = opts.start.machine_units;
-        if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, units)? {
-            opts.tool_table = t;
-        }
-    }
+    let opts = args.program.run_options_on(&profile, &machine, true)?;
     let source = args.program.open()?;
     let checked = oficina_app::check_source(source, opts, &profile);
     let (diags, summary, ops, planned) = (

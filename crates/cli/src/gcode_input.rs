@@ -118,6 +118,16 @@ impl ProgramArgs {
     pub(crate) fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
         loaded(self.options().run_options(check_mode))
     }
+
+    /// The interpreter's options on `profile`: its offsets, its tool table unless one is given.
+    pub(crate) fn run_options_on(
+        &self,
+        profile: &oficina_motion::Profile,
+        spec: &str,
+        check_mode: bool,
+    ) -> anyhow::Result<RunOptions> {
+        loaded(self.options().run_options_on(profile, spec, check_mode))
+    }
 }
 
 /// A load's result for `?`: a rendered diagnostic is printed here as it is (it says "error"
@@ -131,6 +141,16 @@ pub(crate) fn loaded<T>(result: Result<T, LoadError>) -> anyhow::Result<T> {
         }
         Err(LoadError::Other(e)) => Err(e.into()),
     }
+}
+
+/// The tool table: `given`, else the one `profile` names (lengths in `units`).
+pub(crate) fn tool_table_for(
+    given: Option<&Path>,
+    profile: &oficina_motion::Profile,
+    spec: &str,
+    units: Units,
+) -> anyhow::Result<Option<ToolTable>> {
+    loaded(oficina_app::tool_table_for(given, profile, spec, units))
 }
 
 /// Read a LinuxCNC tool table (`--tool-table`) whose lengths are in `machine_units`.

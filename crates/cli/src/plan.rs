@@ -1,7 +1,7 @@
 //! `oficina plan FILE --trace OUT.csv`: the planned motion sampled every millisecond of machine
 //! time (docs/trace-format.md), and the total time. The job is `oficina_app::plan_program`.
 
-use crate::gcode_input::{load_tool_table, machine_for, HeldProgram};
+use crate::gcode_input::{machine_for, tool_table_for, HeldProgram};
 use crate::machine_profile;
 use oficina_app::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 use oficina_canon::Units;
@@ -62,9 +62,7 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let text = args.program.read()?;
     let mut interp =
         oficina_app::run_options_for(&profile, args.dialect, args.program.line_limit.bytes());
-    if let Some(path) = &args.tool_table {
-        interp.tool_table = load_tool_table(path, Units::Mm)?;
-    } else if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, Units::Mm)? {
+    if let Some(t) = tool_table_for(args.tool_table.as_deref(), &profile, &machine, Units::Mm)? {
         interp.tool_table = t;
     }
     let name = args.program.file.display().to_string();
