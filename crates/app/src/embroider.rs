@@ -88,6 +88,37 @@ pub fn table_for(name: &str) -> Result<Table, Error> {
     })
 }
 
+/// The label `Params::check` starts its message with, and the flag of the field it is about.
+const CHECKED: &[(&str, &str)] = &[
+    ("stitch length", "stitch-length"),
+    ("fill stitch length", "fill-stitch-length"),
+    ("satin spacing", "satin-spacing"),
+    ("fill row spacing", "fill-spacing"),
+    ("satin minimum width", "satin-min-width"),
+    ("fill angle", "fill-angle"),
+    ("pull compensation", "pull-compensation"),
+    ("trim length", "trim-length"),
+];
+
+impl EmbroiderParams {
+    /// Refuse a head speed or stitch parameter out of range before the job starts; the
+    /// message starts with the flag of the field it names, so a form can show it there.
+    pub fn check(&self) -> Result<(), Error> {
+        if let Some(ppm) = self.ppm {
+            if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
+                return Err(Error(format!("--ppm {ppm}: use 1..10000 stitches/min")));
+            }
+        }
+        self.stitch.check().map_err(|e| {
+            let flag = CHECKED
+                .iter()
+                .find(|(label, _)| e.0.starts_with(&format!("{label} (")))
+                .map_or(String::new(), |(_, f)| format!("--{f}: "));
+            Error(format!("{flag}{}", e.0))
+        })
+    }
+}
+
 fn hoop(p: &EmbroiderParams) -> Result<Option<Hoop>, Error> {
     p.hoop
         .as_deref()
@@ -109,6 +140,7 @@ fn speed(p: &EmbroiderParams) -> HeadSpeed {
 
 /// The production sheet of `plan`: hoop, colours, times and the run on the table.
 pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> {
+    p.check()?;
     if p.pieces == 0 || p.pieces > 1_000_000 {
         return Err(Error(format!("--pieces {}: use 1..1000000", p.pieces)));
     }
@@ -125,6 +157,7 @@ pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> 
 
 /// The whole pipeline for a design file.
 pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embroidered, Error> {
+    p.check()?;
     fb.stage("reading the design")?;
     let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
     let mut notes = Vec::new();
@@ -205,4 +238,25 @@ pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
     format
         .read(&bytes, &name)
         .map_err(|e| Error(format!("{}: {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_of_range_parameters_are_refused_naming_their_flag() {
+        assert_eq!(EmbroiderParams::default().check(), Ok(()));
+        let mut p = EmbroiderParams {
+            ppm: Some(0.0),
+            ..EmbroiderParams::default()
+        };
+        let e = p.check().unwrap_err();
+        assert_eq!(e.field().as_deref(), Some("ppm"), "{e}");
+        p.ppm = Some(350.0);
+        p.stitch.stitch_length = 0.0;
+        let e = p.check().unwrap_err();
+        assert_eq!(e.field().as_deref(), Some("stitch_length"), "{e}");
+        assert!(e.0.contains("stitch length (mm) 0 is outside"), "{e}");
+    }
 }

@@ -68,18 +68,6 @@ impl Default for EmbroiderForm {
     }
 }
 
-/// The label `Params::check` starts its message with, and the field it is about.
-const CHECKED: &[(&str, &str)] = &[
-    ("stitch length", "stitch-length"),
-    ("fill stitch length", "fill-stitch-length"),
-    ("satin spacing", "satin-spacing"),
-    ("fill row spacing", "fill-spacing"),
-    ("satin minimum width", "satin-min-width"),
-    ("fill angle", "fill-angle"),
-    ("pull compensation", "pull-compensation"),
-    ("trim length", "trim-length"),
-];
-
 impl EmbroiderForm {
     fn params(self) -> Result<EmbroiderParams, CamError> {
         let format = match self.format.to_ascii_lowercase().as_str() {
@@ -88,11 +76,6 @@ impl EmbroiderForm {
             "ram" | "seed-ram" => Format::SeedRam,
             f => return Err(bad(format!("--format {f}: use dst, exp or ram"))),
         };
-        if let Some(ppm) = self.ppm {
-            if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
-                return Err(bad(format!("--ppm {ppm}: use 1..10000 stitches/min")));
-            }
-        }
         let stitch = Params {
             stitch_length: self.stitch_length,
             fill_angle_deg: self.fill_angle,
@@ -107,23 +90,17 @@ impl EmbroiderForm {
             trim_length: self.trim_length,
             ..Params::default()
         };
-        // The library's own ranges, checked before the job starts; its message gets the
-        // flag of the field it names so the page shows it there.
-        stitch.check().map_err(|e| {
-            let flag = CHECKED
-                .iter()
-                .find(|(label, _)| e.0.starts_with(&format!("{label} (")))
-                .map_or(String::new(), |(_, f)| format!("--{f}: "));
-            bad(format!("{flag}{}", e.0))
-        })?;
-        Ok(EmbroiderParams {
+        let params = EmbroiderParams {
             stitch,
             format,
             hoop: self.hoop.filter(|h| !h.trim().is_empty()),
             table: self.machine,
             ppm: self.ppm,
             pieces: self.pieces,
-        })
+        };
+        // The ranges, checked before the job starts (the message names the field's flag).
+        params.check()?;
+        Ok(params)
     }
 }
 
