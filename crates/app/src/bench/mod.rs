@@ -3,6 +3,7 @@
 
 pub mod carve;
 pub mod gcode;
+pub mod motion;
 pub mod offsets;
 pub mod plot;
 pub mod programs;
