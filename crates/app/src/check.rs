@@ -10,23 +10,33 @@ use oficina_gcode::CanonStream;
 use oficina_gcode::RunOptions;
 use oficina_gcode::ToolTable;
 use oficina_gcode::{Diagnostic, Dialect, Severity};
-use oficina_motion::Profile;
+use oficina_motion::{Estimate, MotionError, Profile};
 use serde::Serialize;
+use std::io::{BufRead, Seek};
 use std::sync::Arc;
 
+/// How to check a program: on which machine, in which dialect.
 pub struct CheckOptions {
+    /// The machine whose planner gives the time.
     pub profile: Profile,
+    /// The G-code dialect.
     pub dialect: Dialect,
 }
 
 /// One diagnostic: 1-based line and column, the length of the marked text.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Diag {
+    /// Line, from 1.
     pub line: u32,
+    /// Column, from 1.
     pub col: u32,
+    /// Length of the marked text.
     pub len: u32,
+    /// `error` or `warning`.
     pub severity: &'static str,
+    /// What is wrong.
     pub message: String,
+    /// How to fix it, when known.
     pub help: Option<String>,
 }
 
@@ -49,7 +59,9 @@ impl From<&Diagnostic> for Diag {
 /// An axis-aligned box in machine mm; `None` when no move of that kind exists.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct ExtentsBox {
+    /// Lowest X, Y, Z.
     pub min: [f64; 3],
+    /// Highest X, Y, Z.
     pub max: [f64; 3],
 }
 
@@ -61,24 +73,40 @@ fn extents_box(e: &Extents) -> Option<ExtentsBox> {
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
+/// The look-ahead planner's time for a program.
 pub struct TimeEstimate {
+    /// Machine time, s.
     pub seconds: f64,
+    /// Planned segments.
     pub segments: u64,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
+/// What a check found: diagnostics, extents, lengths, tools and times.
 pub struct CheckReport {
+    /// Every diagnostic, in order.
     pub diagnostics: Vec<Diag>,
+    /// How many diagnostics are errors.
     pub errors: usize,
+    /// How many are warnings.
     pub warnings: usize,
+    /// Canonical operations made.
     pub operations: u64,
+    /// The box of the feed moves.
     pub feed_extents: Option<ExtentsBox>,
+    /// The box of the rapids.
     pub rapid_extents: Option<ExtentsBox>,
+    /// Feed path length, mm.
     pub feed_length: f64,
+    /// Rapid path length, mm.
     pub rapid_length: f64,
+    /// Feed moves.
     pub feed_moves: u64,
+    /// Rapid moves.
     pub rapid_moves: u64,
+    /// Arcs among the feed moves.
     pub arcs: u64,
+    /// Tools changed to, in order.
     pub tools: Vec<u32>,
     /// The tools the program uses as the tool table gives them (diameter, length offset);
     /// `None` for a tool the table lacks. Empty when the check had no table.
@@ -87,6 +115,7 @@ pub struct CheckReport {
     pub feed_rate_seconds: f64,
     /// The look-ahead planner's time on the profile, or why there is none.
     pub time: Result<TimeEstimate, String>,
+    /// The machine profile's name.
     pub machine: String,
 }
 
@@ -108,22 +137,10 @@ pub fn check_program_with_tools(
     run.initial_params = profile.initial_params();
     run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
-    let mut ops = 0u64;
-    let mut stream = CanonStream::spawn(reader(text), run);
-    let planned = oficina_motion::estimate(
-        stream.by_ref().inspect(|c| {
-            ops += 1;
-            summarizer.add(&c.op);
-        }),
-        profile,
-    );
-    for c in stream.by_ref() {
-        ops += 1;
-        summarizer.add(&c.op);
-    }
-    let diags = stream.finish();
-    let mut r = report(&diags, summarizer.finish(), ops, planned, &profile.name);
+    let summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
+    let c = interpret(reader(text), run, profile, summarizer);
+    let (diags, planned) = (c.diagnostics, c.time);
+    let mut r = report(&diags, c.summary, c.operations, planned, &profile.name);
     if !tools.is_empty() {
         let rows = tool_rows(tools);
         r.tool_table = r
@@ -135,11 +152,67 @@ pub fn check_program_with_tools(
     r
 }
 
+/// A program interpreted (in the mode `run` says) and planned on a profile.
+pub struct CheckedSource {
+    /// Every diagnostic, in order.
+    pub diagnostics: Vec<Diagnostic>,
+    /// Extents, lengths, tools and the feed-rate time of the whole program.
+    pub summary: Summary,
+    /// Canonical operations made.
+    pub operations: u64,
+    /// The look-ahead planner's estimate, or why it stopped.
+    pub time: Result<Estimate, MotionError>,
+}
+
+/// Interpret `source` with `run` and plan it on `profile` (`oficina check`): moves are bounded
+/// by each joint's top speed; the summary covers the whole program even where the planner
+/// stops early.
+pub fn check_source<R: BufRead + Seek + Send + 'static>(
+    source: R,
+    run: RunOptions,
+    profile: &Profile,
+) -> CheckedSource {
+    let [x, y, z] = profile.start;
+    let summarizer = Summarizer::with_bound(
+        Pos::xyz(x, y, z),
+        Box::new(oficina_motion::JointBound::new(profile)),
+    );
+    interpret(source, run, profile, summarizer)
+}
+
+fn interpret<R: BufRead + Seek + Send + 'static>(
+    source: R,
+    run: RunOptions,
+    profile: &Profile,
+    mut summarizer: Summarizer,
+) -> CheckedSource {
+    let mut ops = 0u64;
+    let mut stream = CanonStream::spawn(source, run);
+    let planned = oficina_motion::estimate(
+        stream.by_ref().inspect(|c| {
+            ops += 1;
+            summarizer.add(&c.op);
+        }),
+        profile,
+    );
+    // The planner may stop early (an unreachable point); the summary still covers it all.
+    for c in stream.by_ref() {
+        ops += 1;
+        summarizer.add(&c.op);
+    }
+    CheckedSource {
+        diagnostics: stream.finish(),
+        summary: summarizer.finish(),
+        operations: ops,
+        time: planned,
+    }
+}
+
 fn report(
     diags: &[Diagnostic],
     s: Summary,
     operations: u64,
-    planned: Result<oficina_motion::Estimate, oficina_motion::MotionError>,
+    planned: Result<Estimate, MotionError>,
     machine: &str,
 ) -> CheckReport {
     let errors = diags

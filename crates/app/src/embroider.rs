@@ -12,8 +12,11 @@ use std::path::Path;
 pub const MAX_STITCH_FILE: u64 = 16 << 20;
 
 #[derive(Clone, Debug)]
+/// The form of an embroidery job.
 pub struct EmbroiderParams {
+    /// Stitch lengths, fill, satin, underlay, trims and ties.
     pub stitch: Params,
+    /// The file written: DST, EXP or the seed's program.
     pub format: Format,
     /// A hoop by name or seed code; None = the smallest that fits.
     pub hoop: Option<String>,
@@ -22,6 +25,7 @@ pub struct EmbroiderParams {
     pub table: String,
     /// A fixed head speed (stitches/min) instead of the seed's table.
     pub ppm: Option<f64>,
+    /// Pieces for the sheet's batch time.
     pub pieces: u32,
 }
 
@@ -38,13 +42,17 @@ impl Default for EmbroiderParams {
     }
 }
 
+/// An embroidery job's output.
 pub struct Embroidered {
+    /// Shapes stitched, by kind.
     pub generated: Generated,
     /// The file's bytes in `format`.
     pub file: Vec<u8>,
     /// The sheet of the plan as the file holds it (read back), so its figures are the file's.
     pub sheet: Sheet,
+    /// The SVG preview.
     pub preview: String,
+    /// What the design held that was left out.
     pub notes: Vec<String>,
 }
 
@@ -80,6 +88,37 @@ pub fn table_for(name: &str) -> Result<Table, Error> {
     })
 }
 
+/// The label `Params::check` starts its message with, and the flag of the field it is about.
+const CHECKED: &[(&str, &str)] = &[
+    ("stitch length", "stitch-length"),
+    ("fill stitch length", "fill-stitch-length"),
+    ("satin spacing", "satin-spacing"),
+    ("fill row spacing", "fill-spacing"),
+    ("satin minimum width", "satin-min-width"),
+    ("fill angle", "fill-angle"),
+    ("pull compensation", "pull-compensation"),
+    ("trim length", "trim-length"),
+];
+
+impl EmbroiderParams {
+    /// Refuse a head speed or stitch parameter out of range before the job starts; the
+    /// message starts with the flag of the field it names, so a form can show it there.
+    pub fn check(&self) -> Result<(), Error> {
+        if let Some(ppm) = self.ppm {
+            if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
+                return Err(Error(format!("--ppm {ppm}: use 1..10000 stitches/min")));
+            }
+        }
+        self.stitch.check().map_err(|e| {
+            let flag = CHECKED
+                .iter()
+                .find(|(label, _)| e.0.starts_with(&format!("{label} (")))
+                .map_or(String::new(), |(_, f)| format!("--{f}: "));
+            Error(format!("{flag}{}", e.0))
+        })
+    }
+}
+
 fn hoop(p: &EmbroiderParams) -> Result<Option<Hoop>, Error> {
     p.hoop
         .as_deref()
@@ -99,7 +138,9 @@ fn speed(p: &EmbroiderParams) -> HeadSpeed {
     p.ppm.map_or(HeadSpeed::Table, HeadSpeed::Fixed)
 }
 
+/// The production sheet of `plan`: hoop, colours, times and the run on the table.
 pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> {
+    p.check()?;
     if p.pieces == 0 || p.pieces > 1_000_000 {
         return Err(Error(format!("--pieces {}: use 1..1000000", p.pieces)));
     }
@@ -116,6 +157,7 @@ pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> 
 
 /// The whole pipeline for a design file.
 pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embroidered, Error> {
+    p.check()?;
     fb.stage("reading the design")?;
     let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
     let mut notes = Vec::new();
@@ -160,6 +202,18 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
     })
 }
 
+/// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.
+pub fn sheet_document(path: &Path, sheet: &Sheet) -> String {
+    let html = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    if html {
+        sheet.html()
+    } else {
+        sheet.text()
+    }
+}
+
 /// Reads a DST/EXP/seed RAM file (by extension), refusing what is too large to be one.
 pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
     let format = Format::from_path(path).ok_or_else(|| {
@@ -184,4 +238,25 @@ pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
     format
         .read(&bytes, &name)
         .map_err(|e| Error(format!("{}: {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn out_of_range_parameters_are_refused_naming_their_flag() {
+        assert_eq!(EmbroiderParams::default().check(), Ok(()));
+        let mut p = EmbroiderParams {
+            ppm: Some(0.0),
+            ..EmbroiderParams::default()
+        };
+        let e = p.check().unwrap_err();
+        assert_eq!(e.field().as_deref(), Some("ppm"), "{e}");
+        p.ppm = Some(350.0);
+        p.stitch.stitch_length = 0.0;
+        let e = p.check().unwrap_err();
+        assert_eq!(e.field().as_deref(), Some("stitch_length"), "{e}");
+        assert!(e.0.contains("stitch length (mm) 0 is outside"), "{e}");
+    }
 }

@@ -3,12 +3,14 @@
 use std::fmt;
 
 #[derive(Clone, Debug, PartialEq)]
+/// An error of the application layer, in words.
 pub struct Error(pub String);
 
 /// The message of a job stopped by its cancel flag.
 pub const CANCELLED: &str = "cancelled";
 
 impl Error {
+    /// The message of anything displayable.
     pub fn from_display(e: impl fmt::Display) -> Error {
         Error(e.to_string())
     }
@@ -25,10 +27,12 @@ impl Error {
         Error(text)
     }
 
+    /// The error of a cancelled job.
     pub fn cancelled() -> Error {
         Error(CANCELLED.into())
     }
 
+    /// True for the error of a cancelled job.
     pub fn is_cancelled(&self) -> bool {
         self.0 == CANCELLED
     }

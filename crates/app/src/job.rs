@@ -5,12 +5,15 @@
 use crate::Error;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// `progress(stage, fraction)`: a job's progress report.
 pub type ProgressFn<'a> = &'a (dyn Fn(&str, f64) + Sync);
 
 #[derive(Clone, Copy)]
+/// What a running job reports to, and the flag that cancels it.
 pub struct Feedback<'a> {
     /// `progress(stage, fraction)`, fraction in 0…1 within the stage.
     pub progress: ProgressFn<'a>,
+    /// Set to stop the job at its next check.
     pub cancel: &'a AtomicBool,
 }
 
@@ -34,6 +37,7 @@ impl Feedback<'_> {
         Ok(())
     }
 
+    /// The cancelled error once the flag is set.
     pub fn check(&self) -> Result<(), Error> {
         if self.cancel.load(Ordering::Relaxed) {
             Err(Error::cancelled())
@@ -42,6 +46,7 @@ impl Feedback<'_> {
         }
     }
 
+    /// True once the flag is set.
     pub fn is_cancelled(&self) -> bool {
         self.cancel.load(Ordering::Relaxed)
     }

@@ -17,24 +17,31 @@ pub const GOUGE_REPORTED: f64 = 1e-3;
 #[derive(Serialize)]
 pub struct Judged {
     #[serde(skip)]
+    /// The program text.
     pub program: String,
     /// The program as the interpreter read it back (what the control will do).
     #[serde(skip)]
     pub canon: Vec<oficina_canon::Canon>,
     /// Deepest cut outside the design and where, when the design was checked.
     pub gouge: Option<(f64, [f64; 2])>,
+    /// Mean material left above the design, mm, when checked.
     pub leftover_mean: Option<f64>,
+    /// Time at the programmed feeds alone, s.
     pub feed_only_s: f64,
+    /// The planner's time on the machine profile, s.
     pub planner_s: Option<f64>,
     /// The planner's time for each tool in the order the program loads them: (tool number,
     /// tool, seconds), from the same planning run as `planner_s`.
     pub per_tool: Vec<(u32, String, f64)>,
+    /// Why there is no planner time.
     pub planner_error: Option<String>,
     #[serde(skip)]
+    /// The simulated stock, when the design was checked.
     pub stock: Option<oficina_io::Heightmap>,
 }
 
 impl Judged {
+    /// True when the program cuts deeper than the design by more than [`GOUGE_REPORTED`].
     pub fn gouged(&self) -> bool {
         self.gouge.is_some_and(|(g, _)| g > GOUGE_REPORTED)
     }

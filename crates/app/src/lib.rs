@@ -1,7 +1,9 @@
-//! The application layer that the `oficina` CLI and the workbench server share: machines
-//! opened from a URI, a session that drives one with its job, check summaries of a program,
-//! preview segments, and the job pipelines (relief carving, 2.5D milling, sole molds, pen
-//! plots). It returns data and progress events and prints nothing.
+//! The application layer that the `oficina` CLI and the workbench server share: programs
+//! loaded (text, tool table, the machine they name, rendered diagnostics), machines opened
+//! from a URI, a session that drives one with its job, check summaries of a program, the
+//! plan of a program (time, trace, steps), preview segments, and the job pipelines (relief
+//! carving, 2.5D milling, sole molds, pen plots, embroidery) and benchmark workloads. It
+//! returns data and progress events and prints nothing.
 //!
 //! ```
 //! use oficina_app::{check_program, CheckOptions};
@@ -23,9 +25,12 @@
 //! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
 //! ```
 
+#![warn(unreachable_pub, missing_docs)]
+
 // `profile` stays a public module: its `resolve`, `tool_table` and `DEFAULT` read well only
 // behind it (motion has its own `resolve`).
 pub mod bench;
+pub mod carve;
 mod check;
 pub mod embroider;
 mod error;
@@ -34,10 +39,12 @@ mod jog;
 mod judge;
 mod machine_uri;
 mod mill;
+mod plan;
 mod plot;
 mod post_params;
 mod preview;
 pub mod profile;
+mod program;
 mod relief;
 mod run_options;
 mod session;
@@ -46,17 +53,22 @@ mod text;
 mod tools;
 
 pub use check::{
-    check_program, check_program_with_tools, CheckOptions, CheckReport, Diag, ExtentsBox,
-    TimeEstimate,
+    check_program, check_program_with_tools, check_source, CheckOptions, CheckReport,
+    CheckedSource, Diag, ExtentsBox, TimeEstimate,
 };
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
 pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine_with_tools};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
+pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
+pub use program::{
+    load_tool_table, machine_for, open_program, read_program, render_diagnostics, tool_table_for,
+    LoadError, MachineChoice, ProgramOptions, DEFAULT_MAX_PROGRAM_MB,
+};
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;
 pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot};

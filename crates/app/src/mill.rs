@@ -13,28 +13,45 @@ use serde::Deserialize;
 use std::path::Path;
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
+/// The milling operation.
 pub enum MillOpKind {
+    /// Clear the inside of each closed shape.
     Pocket,
+    /// Cut along each contour, inside it.
     ProfileIn,
+    /// Cut along each contour, outside it.
     ProfileOut,
+    /// Cut on each contour line.
     ProfileOn,
+    /// Drill the circles' centres.
     Drill,
+    /// V-carve with a V bit: closed shapes to the depth their width allows (capped at
+    /// --depth), open strokes along the line.
     Vcarve,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
+/// How the tool enters the material.
 pub enum EntryKind {
+    /// Along the path, at the ramp angle.
     Ramp,
+    /// Down a helix.
     Helix,
+    /// Straight down.
     Plunge,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
 #[serde(rename_all = "kebab-case")]
+/// How a pocket is cleared.
 pub enum PocketStrategy {
+    /// Offsets of the contour, inwards.
     Offset,
+    /// Parallel rows.
     Zigzag,
 }
 
@@ -43,9 +60,11 @@ pub enum PocketStrategy {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(default)]
 pub struct MillParams {
+    /// The operation.
     pub op: MillOpKind,
     /// flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
     pub tool: String,
+    /// The tool's number in the program.
     pub tool_number: u32,
     /// Depth below the stock top.
     pub depth: f64,
@@ -53,20 +72,27 @@ pub struct MillParams {
     pub stepdown: Option<f64>,
     /// Pocket step-over (default 0.6 × tool diameter).
     pub stepover: Option<f64>,
+    /// Pocket strategy.
     pub strategy: PocketStrategy,
     /// Stock left by the depth passes for one finishing pass at full depth.
     pub allowance: f64,
+    /// Cutting feed.
     pub feed: f64,
     /// Ramp, helix and plunge feed (default: a third of the feed).
     pub plunge_feed: Option<f64>,
+    /// Spindle speed, rev/min.
     pub rpm: f64,
+    /// How the tool enters.
     pub entry: EntryKind,
+    /// Ramp angle.
     pub ramp_angle: f64,
     /// Helix radius (default: a third of the tool diameter).
     pub helix_radius: Option<f64>,
     /// Tabs per contour for profiles (0 = none).
     pub tabs: usize,
+    /// Tab width.
     pub tab_width: f64,
+    /// Tab height.
     pub tab_height: f64,
     /// Tangent lead-out arc radius after a profile.
     pub lead_out: f64,
@@ -96,6 +122,7 @@ pub struct MillParams {
     /// Capital height of `text`, mm.
     pub text_height: f64,
     #[serde(flatten)]
+    /// The post-processor and format.
     pub post: PostParams,
 }
 
@@ -136,12 +163,17 @@ impl Default for MillParams {
     }
 }
 
+/// A milling job's output.
 pub struct MillResult {
     /// What the drawing held that was left out, if anything.
     pub warning: Option<String>,
+    /// The operation's name.
     pub op_name: &'static str,
+    /// Moves in the toolpath.
     pub moves: usize,
+    /// The SVG preview.
     pub preview_svg: String,
+    /// The program and what it was judged to be.
     pub judged: Judged,
 }
 

@@ -14,25 +14,39 @@ use serde::Deserialize;
 use std::path::Path;
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
+/// What a plot is written as.
 pub enum PlotFormat {
+    /// Cartesian G-code (grbl family).
     Gcode,
+    /// G-code whose X/Y are the two joints (polar and hanging plotters on a plain controller).
     Joint,
+    /// HPGL (vintage plotters).
     Hpgl,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
+/// What makes a pen of a drawing.
 pub enum PensBy {
+    /// Its stroke colour.
     Color,
+    /// Its layer.
     Layer,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
+/// How the pen is lifted.
 pub enum Lift {
+    /// A Z axis.
     Z,
+    /// A servo: M3 S<servo_down> / M5.
     Servo,
+    /// The pen-down and pen-up command lines as given.
     Command,
 }
 
@@ -40,20 +54,27 @@ pub enum Lift {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(default)]
 pub struct PlotParams {
+    /// The output's form.
     pub format: PlotFormat,
     /// Text to draw in a single-stroke Hershey font (besides or instead of the input).
     pub text: Option<String>,
+    /// Capital height of `text`.
     pub text_height: f64,
+    /// What makes a pen.
     pub pens: PensBy,
+    /// How the pen is lifted.
     pub pen: Lift,
     /// Servo value for pen down (S word).
     pub servo_down: f64,
+    /// Pen-down command (with `Lift::Command`).
     pub pen_down_cmd: Option<String>,
+    /// Pen-up command (with `Lift::Command`).
     pub pen_up_cmd: Option<String>,
     /// Seconds to wait after each pen move.
     pub pen_dwell: f64,
     /// Drawing feed (default: the profile's default feed).
     pub feed: Option<f64>,
+    /// Scale factor of the drawing.
     pub scale: f64,
     /// Lower-left corner of the drawing, work coordinates.
     pub at: Option<[f64; 2]>,
@@ -65,7 +86,9 @@ pub struct PlotParams {
     pub pitch: f64,
     /// Image hatching: layers, 1…4.
     pub hatch_layers: usize,
+    /// Largest gap between stroke ends that are merged.
     pub merge_tol: f64,
+    /// Largest deviation when simplifying strokes.
     pub simplify_tol: f64,
     /// Draw strokes as given: no merging, ordering, simplifying or de-duplicating.
     pub no_optimise: bool,
@@ -103,9 +126,11 @@ impl Default for PlotParams {
     }
 }
 
+/// A plot's output.
 pub struct PlotResult {
     /// What the input held that was left out.
     pub notes: Vec<String>,
+    /// The program, its preview and the optimisation's figures.
     pub prepared: Prepared,
     /// Planned time on the profile, s.
     pub seconds: f64,

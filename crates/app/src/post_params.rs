@@ -6,6 +6,7 @@ use serde::Deserialize;
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(default)]
+/// The post-processor and the program's number format.
 pub struct PostParams {
     /// linuxcnc, grbl, sinumerik or legacy-2006.
     pub post: String,
@@ -43,6 +44,7 @@ impl PostParams {
         }
     }
 
+    /// The post's options and number format, or why these parameters are wrong.
     pub fn options(
         &self,
         title: &str,

@@ -14,18 +14,26 @@ use std::sync::Arc;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u8)]
+/// The kind of a preview segment.
 pub enum PathKind {
+    /// A rapid.
     Rapid = 0,
+    /// A feed move.
     Feed = 1,
     /// A feed move straight down (Z falls, X and Y stay).
     Plunge = 2,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// One straight piece of the toolpath preview.
 pub struct PreviewSegment {
+    /// Its kind.
     pub kind: PathKind,
+    /// The source line it comes from.
     pub line: u32,
+    /// Start, machine mm.
     pub from: [f64; 3],
+    /// End, machine mm.
     pub to: [f64; 3],
 }
 

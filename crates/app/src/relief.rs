@@ -1,7 +1,7 @@
 //! A relief job from an uploaded image: heightmap, finishing raster (with optional roughing
 //! and rest machining) and the grbl program, reporting progress as it goes and stopping
-//! within the pass when cancelled. The evaluation (stock simulation, gouge report) is
-//! `oficina carve`'s until it moves into the library.
+//! within the pass when cancelled (the workbench's job; `oficina carve`'s evaluation with the
+//! stock simulation is [`crate::carve`]).
 
 use crate::{Error, Feedback};
 use oficina_cam::memory::Budget;
@@ -23,20 +23,30 @@ pub struct ReliefParams {
     pub depth: f64,
     /// `ball:6`, `flat:3`, `v:6:60` …
     pub tool: String,
+    /// Roughing tool, same syntax.
     pub rough_tool: Option<String>,
     /// Finishing step-over.
     pub stepover: f64,
+    /// Largest depth per level.
     pub stepdown: f64,
+    /// Cutting feed.
     pub feed: f64,
+    /// Plunge feed.
     pub plunge_feed: f64,
+    /// Safe Z above the stock top.
     pub safe_z: f64,
     #[serde(default)]
+    /// White is deepest instead of black.
     pub invert: bool,
 }
 
+/// A relief job's output.
 pub struct ReliefResult {
+    /// The grbl program.
     pub program: String,
+    /// The image's width and height, pixels.
     pub pixels: [usize; 2],
+    /// mm per pixel.
     pub pixel_size: f64,
 }
 

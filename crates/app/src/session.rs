@@ -12,8 +12,11 @@ use std::time::Duration;
 
 /// A job to start: the program, where to begin and how fast the virtual machine runs.
 pub struct JobRequest {
+    /// The program's name.
     pub name: String,
+    /// The program.
     pub text: Arc<String>,
+    /// Resume from this source line.
     pub from_line: Option<u32>,
     /// Wall time = machine time / speed on the virtual machine; `None`: no waiting at all.
     pub speed: Option<f64>,
@@ -21,10 +24,27 @@ pub struct JobRequest {
 
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
+/// What happened on the machine, for the page.
 pub enum SessionEvent {
-    Message { text: String },
-    Alarm { message: String, meaning: String },
-    JobEnd { completed: bool, seconds: f64 },
+    /// A message from the machine or the program.
+    Message {
+        /// Its text.
+        text: String,
+    },
+    /// An alarm.
+    Alarm {
+        /// The machine's words.
+        message: String,
+        /// What it means.
+        meaning: String,
+    },
+    /// The job ended.
+    JobEnd {
+        /// True when it ran to its end.
+        completed: bool,
+        /// Machine time, s.
+        seconds: f64,
+    },
 }
 
 /// The job as the page shows it.
@@ -38,30 +58,44 @@ pub struct JobView {
     pub completed: Option<bool>,
 }
 
+/// The machine and its job as the page shows them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Snapshot {
+    /// The machine's URI.
     pub uri: String,
+    /// The machine's name.
     pub machine: String,
+    /// Its firmware.
     pub firmware: String,
     /// idle, run, holding, hold, paused, jog or alarm.
     pub state: &'static str,
+    /// The alarm, when in alarm.
     pub alarm: Option<String>,
+    /// What the alarm means.
     pub alarm_meaning: Option<String>,
+    /// Machine position, mm.
     pub machine_pos: [f64; 3],
+    /// Work position, mm.
     pub work_pos: [f64; 3],
     /// mm/min
     pub feed: f64,
+    /// Source line running.
     pub line: u32,
     /// Machine time done and planned, seconds.
     pub elapsed: f64,
+    /// Machine time planned, seconds.
     pub total: f64,
     /// Wall time left at the job's speed, seconds (`None` when not known).
     pub remaining: Option<f64>,
+    /// Feed override factor.
     pub feed_override: f64,
+    /// The job, when there is one.
     pub job: Option<JobView>,
+    /// True when the machine can home and set its work zero.
     pub can_home_and_zero: bool,
 }
 
+/// A machine opened from a URI and the job it runs, driven by the page.
 pub struct Session {
     uri: String,
     machine: Box<dyn Machine>,
@@ -142,10 +176,12 @@ impl Session {
         Ok(())
     }
 
+    /// The virtual machine's profile (none for real firmware).
     pub fn profile(&self) -> Option<&Profile> {
         self.profile.as_ref()
     }
 
+    /// Start the job `req` asks for.
     pub fn start(&mut self, req: JobRequest) -> Result<(), Error> {
         if let Some(s) = req.speed {
             if !(s.is_finite() && s > 0.0 && s <= 1e6) {
@@ -275,6 +311,7 @@ impl Session {
         out
     }
 
+    /// The machine's state now, as the page shows it.
     pub fn snapshot(&self) -> Snapshot {
         let mut s = self.machine.status();
         if let (true, Some(p)) = (self.fresh, &self.profile) {

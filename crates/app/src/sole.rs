@@ -14,7 +14,9 @@ use std::path::Path;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(default)]
 pub struct SoleParams {
+    /// The size the contour was digitised at.
     pub from_size: f64,
+    /// The size to make.
     pub to_size: f64,
     /// br (Brazilian/French, Paris point) or us (English/American).
     pub system: String,
@@ -29,6 +31,7 @@ pub struct SoleParams {
     #[serde(skip)]
     pub tread: Option<std::path::PathBuf>,
     #[serde(flatten)]
+    /// The post-processor and format.
     pub post: PostParams,
 }
 
@@ -51,15 +54,21 @@ impl Default for SoleParams {
 pub struct SoleOutput {
     /// `left-insert`, `right-cavity`, …
     pub name: String,
+    /// Operations in the program.
     pub operations: usize,
+    /// Moves in the program.
     pub moves: usize,
+    /// The SVG preview.
     pub preview_svg: String,
+    /// The program and what it was judged to be.
     pub judged: Judged,
 }
 
+/// A sole-mold job's output.
 pub struct SoleResult {
     /// Grading and fitting, a line each.
     pub summary: Vec<String>,
+    /// One program a part and foot.
     pub programs: Vec<SoleOutput>,
 }
 

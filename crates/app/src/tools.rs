@@ -9,19 +9,28 @@ use serde::Serialize;
 pub const TOOL_TABLE_FILE: &str = "tool.tbl";
 
 #[derive(Clone, Serialize, Debug, PartialEq)]
+/// One row of a tool table.
 pub struct ToolRow {
+    /// Tool number (T).
     pub number: u32,
+    /// Pocket (P).
     pub pocket: u32,
+    /// Diameter (D), mm.
     pub diameter: f64,
     /// Length offset (Z), mm.
     pub length: f64,
+    /// The comment after `;`.
     pub comment: String,
 }
 
 #[derive(Serialize, Debug, PartialEq)]
+/// Where and why a tool table cannot be read.
 pub struct ToolTableError {
+    /// Line, from 1.
     pub line: u32,
+    /// Column, from 1.
     pub col: u32,
+    /// What is wrong.
     pub message: String,
 }
 

@@ -14,7 +14,7 @@ use std::io::Write;
 use std::time::Instant;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Vertices of the contour.
     #[arg(long, default_value_t = 10_000)]
     pub vertices: usize,
@@ -34,7 +34,7 @@ pub struct Args {
     pub no_peers: bool,
 }
 
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     if args.vertices < 3 || args.vertices > 10_000_000 || args.offsets == 0 || args.offsets > 10_000
     {
         bail!("--vertices 3..=10000000 and --offsets 1..=10000");

@@ -5,16 +5,15 @@
 use anyhow::{bail, Result};
 use clap::Args as ClapArgs;
 use oficina_app::bench::carve::{
-    best_possible, check_size, crop, design, job, judge, peer_script, peer_window,
-    peer_worked_pixels, plan_and_post, read_back, relief_image, Ours, Peer, BALL_DIAMETER, DEPTH,
-    MAX_SIZE, PIXEL, STEP_PX,
+    check_size, compare_on_crop, design, job, peer_script, peer_window, peer_worked_pixels,
+    plan_and_post, relief_image, Ours, BALL_DIAMETER, DEPTH, MAX_SIZE, PIXEL, STEP_PX,
 };
 use oficina_app::bench::{self, BenchError, Cost};
 use oficina_io::Heightmap;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Side of the generated square image, pixels.
     #[arg(long, default_value_t = 4000)]
     pub size: usize,
@@ -63,16 +62,7 @@ fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
     .map_err(explain)
 }
 
-fn run_peer(args: &Args, gray: &[u8], c: usize, dir: &std::path::Path) -> Result<Peer> {
-    let script = peer_script(args.peer_script.as_deref());
-    let peer = bench::carve::run_peer(&args.python, &script, gray, c, dir)?;
-    for d in peer.diagnostics.iter().take(3) {
-        eprintln!("image-to-gcode output: {d}");
-    }
-    Ok(peer)
-}
-
-pub fn run(args: Args) -> Result<()> {
+pub(crate) fn run(args: Args) -> Result<()> {
     if !(64..=MAX_SIZE).contains(&args.size) {
         bail!(
             "--size must be between 64 and {MAX_SIZE} pixels, got {}",
@@ -113,24 +103,33 @@ pub fn run(args: Args) -> Result<()> {
         print_peak_memory();
         return Ok(());
     }
-    // The peer on two crop sizes: equal cost per pixel shows it is linear, so scaling its
-    // crop rate to the full image is fair.
     let dir = tempfile::tempdir()?;
-    let half = (c / 2).max(64);
-    let small_peer = run_peer(&args, &crop(&gray, n, half), half, dir.path())?;
-    let small = crop(&gray, n, c);
-    let crop_map = design(&small, c);
-    let ours_crop = time_ours(&crop_map, &args)?;
-    let peer = run_peer(&args, &small, c, dir.path())?;
+    let script = peer_script(args.peer_script.as_deref());
+    let job = job(args.tolerance, args.samples_per_pixel);
+    let cmp = compare_on_crop(
+        &gray,
+        n,
+        c,
+        &args.python,
+        &script,
+        &job,
+        budget(&args),
+        dir.path(),
+    )
+    .map_err(explain)?;
+    for p in [&cmp.small_peer, &cmp.peer] {
+        for d in p.diagnostics.iter().take(3) {
+            eprintln!("image-to-gcode output: {d}");
+        }
+    }
+    let (half, small_peer, peer, ours_crop) = (cmp.half, &cmp.small_peer, &cmp.peer, &cmp.ours);
     // image-to-gcode places tool centres only where the whole tool window fits: it works on
     // (side − window)² pixels, so that is what its cost is per.
     let window = peer_window();
     let worked = peer_worked_pixels;
     let peer_rate = peer.seconds / worked(c);
     let peer_cpu_rate = peer.cpu / worked(c);
-    let ours_canon = read_back(&ours_crop.program)?;
-    let ours_q = judge(&ours_canon, &crop_map)?;
-    let peer_q = judge(&peer.canon, &crop_map)?;
+    let (ours_q, peer_q) = (&cmp.ours_quality, &cmp.peer_quality);
 
     println!();
     println!(
@@ -168,7 +167,7 @@ pub fn run(args: Args) -> Result<()> {
         ours_crop.plan.plus(ours_crop.post),
         crop_px,
     );
-    for (p, side) in [(&small_peer, half), (&peer, c)] {
+    for (p, side) in [(small_peer, half), (peer, c)] {
         row(
             format!("image-to-gcode, crop {side} x {side}"),
             Cost {
@@ -215,11 +214,11 @@ pub fn run(args: Args) -> Result<()> {
         "{:<16} {:>10} {:>16} {:>10} {:>10} {:>12} {:>12}",
         "", "gouge mm", "area > 1 um", "left max", "left mean", "scallop max", "scallop mean"
     );
-    let best = best_possible(&crop_map);
+    let best = (cmp.best.clone(), 0.0);
     for (name, (q, gouged)) in [
-        ("oficina", &ours_q),
-        ("image-to-gcode", &peer_q),
-        ("best possible", &(best, 0.0)),
+        ("oficina", ours_q),
+        ("image-to-gcode", peer_q),
+        ("best possible", &best),
     ] {
         println!(
             "{:<16} {:>10.4} {:>15.2}% {:>10.3} {:>10.4} {:>12.3} {:>12.4}",

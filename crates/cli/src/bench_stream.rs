@@ -6,15 +6,10 @@
 //! (measures the sender: goal ≥ 95 % of the line rate), and "motion-bound" at 90 % of the
 //! feed the wire can feed (the firmware keeps up: goal zero planner starvation).
 
-use anyhow::Context;
-use oficina_grbl::Endpoint;
-use oficina_grbl::StreamProgram;
-use oficina_grbl::{Mode, Notice, Sender, SenderOptions, StreamEnd};
-use oficina_grbl_emu::{Config, Emulator};
-use std::time::Instant;
+use oficina_app::bench::stream::{one_run, wire_feed, Figures};
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Program length in lines (0.1 mm segments).
     #[arg(long, default_value_t = 200_000)]
     pub lines: usize,
@@ -24,89 +19,6 @@ pub struct Args {
     /// Which run: link, motion or both.
     #[arg(long, default_value = "both")]
     pub run: String,
-}
-
-/// A zig-zag raster of 0.1 mm segments: rows of 100 mm, 0.5 mm apart.
-fn program(lines: usize, feed: f64) -> String {
-    let mut s = format!("G21G90G94\nG1Z-0.2F{feed:.0}\n");
-    for i in 0..lines {
-        let row = i / 1000;
-        let k = i % 1000 + 1;
-        let x = if row % 2 == 0 {
-            k as f64 * 0.1
-        } else {
-            100.0 - k as f64 * 0.1
-        };
-        let y = row as f64 * 0.5 + if k == 1000 { 0.5 } else { 0.0 };
-        s += &format!("G1X{x:.3}Y{y:.3}\n");
-    }
-    s
-}
-
-struct Figures {
-    chars_per_s: f64,
-    line_rate: f64,
-    starvations: u64,
-    host_late: u64,
-    sender_stalls: u32,
-    starved_s: f64,
-    overflows: u64,
-    max_rx: usize,
-    seconds: f64,
-    lines: usize,
-}
-
-fn one_run(lines: usize, baud: u32, feed: f64) -> anyhow::Result<Figures> {
-    let emu = Emulator::start(Config {
-        baud: Some(baud),
-        // The emulator plans with acceleration over its 15 blocks (1.5 mm of 0.1 mm
-        // segments, which must hold a stop): fast axes and 100 m/s² let the motion outrun
-        // the wire, so the link is what is measured.
-        settings: vec![
-            (110, 100_000.0),
-            (111, 100_000.0),
-            (112, 100_000.0),
-            (120, 100_000.0),
-            (121, 100_000.0),
-            (122, 100_000.0),
-        ],
-        ..Config::default()
-    });
-    let path = emu.serve_pty().context("cannot open a pseudo-terminal")?;
-    let mut sender = Sender::connect(&Endpoint::Serial { path, baud }, SenderOptions::default())
-        .context("cannot connect to the emulator")?;
-    let Mode::CharCounting(window) = sender.mode else {
-        anyhow::bail!("emulator did not report its RX buffer")
-    };
-    let job =
-        StreamProgram::from_text("bench.nc", &program(lines, feed)).map_err(anyhow::Error::msg)?;
-    let start = Instant::now();
-    let mut last_ack = start;
-    let mut bytes = 0u64;
-    let report = sender.stream(&job, 0, None, None, &mut |n| {
-        if let Notice::Progress { bytes_acked, .. } = n {
-            bytes = bytes_acked;
-            last_ack = Instant::now();
-        }
-    });
-    if report.end != StreamEnd::Completed {
-        anyhow::bail!("bench stream did not complete: {}", report.describe(&job));
-    }
-    let secs = (last_ack - start).as_secs_f64();
-    let st = emu.stats();
-    let _ = window;
-    Ok(Figures {
-        chars_per_s: bytes as f64 / secs,
-        line_rate: baud as f64 / 10.0,
-        starvations: st.starvations,
-        host_late: st.starvations_host_late,
-        sender_stalls: report.sender_stalls,
-        starved_s: st.starved_seconds,
-        overflows: st.rx_overflows,
-        max_rx: st.max_rx_used,
-        seconds: secs,
-        lines: job.len(),
-    })
 }
 
 fn print(name: &str, feed: f64, f: &Figures) {
@@ -126,15 +38,12 @@ fn print(name: &str, feed: f64, f: &Figures) {
     );
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub(crate) fn run(args: Args) -> anyhow::Result<()> {
     if args.lines == 0 {
         anyhow::bail!("--lines must be at least 1");
     }
-    let sample =
-        StreamProgram::from_text("b", &program(args.lines, 1000.0)).map_err(anyhow::Error::msg)?;
-    let bytes_per_line = sample.bytes_from(2) as f64 / args.lines as f64;
     // Feed at which 0.1 mm segments consume exactly what the wire delivers.
-    let wire_feed = (args.baud as f64 / 10.0) / bytes_per_line * 0.1 * 60.0;
+    let (bytes_per_line, wire_feed) = wire_feed(args.lines, args.baud)?;
     println!(
         "streaming {} lines of 0.1 mm ({bytes_per_line:.1} bytes/line) over a pty at {} baud; the wire can feed {wire_feed:.0} mm/min",
         args.lines, args.baud

@@ -1,22 +1,18 @@
-//! `oficina carve`: relief carving from a grayscale elevation image. Wiring only: the
-//! import, CAM, post, simulator and estimators live in their crates.
+//! `oficina carve`: relief carving from a grayscale elevation image. Parsing and printing
+//! only: the job is `oficina_app::carve` (design, header, evaluation, seed 004 comparison).
 
 use crate::machine_profile;
+use crate::progress::progress_bar;
 use anyhow::{bail, Context, Result};
 use clap::Args as ClapArgs;
-use indicatif::{ProgressBar, ProgressStyle};
-use oficina_cam::memory::Lever;
-use oficina_cam::relief::{ReliefError, ReliefJob};
-use oficina_cam::seed004;
-use oficina_io::{DepthMapping, Heightmap, Scale};
+use oficina_app::carve::{evaluate_relief, refuse_overwriting, relief_post, DesignSource};
 use oficina_motion::format_hms;
-use oficina_post::{PostDialect, PostOptions};
-use oficina_sim::carve::{evaluate, CarveError, Evaluation, Settings};
+use oficina_sim::carve::{Evaluation, Settings};
 use oficina_sim::render_png;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Elevation image (PNG, JPEG, TIFF; white = stock top, black = deepest) or raw f32 (.f32).
     pub image: Option<PathBuf>,
     /// mm per pixel on the workpiece.
@@ -105,7 +101,7 @@ pub struct Args {
     pub seed_pixels: Vec<f64>,
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     if args.seed_comparison {
         seed_comparison(&args)?;
         return Ok(std::process::ExitCode::SUCCESS);
@@ -117,20 +113,29 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         bail!("give the output program with -o OUT.nc")
     };
     let profile = machine_profile::resolve(&args.profile)?;
-    let design = load_design(&args, image)?;
+    let source = DesignSource {
+        image: image.clone(),
+        pixel_size: args.pixel_size,
+        width: args.width,
+        depth: args.depth,
+        invert: args.invert,
+        normalize: args.normalize,
+        raw_width: args.raw_width,
+    };
+    let design = source.load(budget(&args))?;
     let settings = settings(&args)?;
     let job = settings.job()?;
-    let header = header(&args, image, &design, &settings);
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let header = source.header(command, &design, &settings, &args.profile);
     let bar = progress_bar();
-    let eval = evaluate(
+    let eval = evaluate_relief(
         &design,
         &job,
-        Some(&profile),
-        &post_options(&args, header)?,
+        &profile,
+        &relief_post(&args.post, args.allow_m6, header)?,
         budget(&args),
         &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
-    )
-    .map_err(explain);
+    );
     bar.finish_and_clear();
     let eval = eval?;
     // The preview sits beside the program; neither may ever replace the design image.
@@ -138,14 +143,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         .preview
         .clone()
         .unwrap_or_else(|| output.with_extension("preview.png"));
-    for target in [output, &preview] {
-        if same_file(target, image) {
-            bail!(
-                "{} is the input image: choose another output name (-o / --preview)",
-                target.display()
-            );
-        }
-    }
+    refuse_overwriting(image, &[output, &preview])?;
     std::fs::write(output, &eval.program)
         .with_context(|| format!("{}: cannot write the program", output.display()))?;
     render_png(&eval.stock, &preview).map_err(anyhow::Error::msg)?;
@@ -161,50 +159,6 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
 
 fn budget(args: &Args) -> u64 {
     args.memory_mb.saturating_mul(1 << 20)
-}
-
-/// A memory refusal names the options that change it.
-fn explain(e: CarveError) -> anyhow::Error {
-    if let CarveError::Plan(ReliefError::TooLarge { .. }) = e {
-        return anyhow::anyhow!("{e} (options: --pixel-size or --width, --depth)");
-    }
-    let Some(over) = e.over_budget() else {
-        return e.into();
-    };
-    let options = match over.lever {
-        Lever::PixelSize => "--memory-mb, a picture of fewer pixels, --pixel-size or --width",
-        Lever::Levels => "--stepdown, --depth, --memory-mb",
-        Lever::Moves => "--stepover (or --scallop), --stepdown, --memory-mb",
-    };
-    anyhow::anyhow!("{e} (options: {options})")
-}
-
-fn load_design(args: &Args, image: &Path) -> Result<Heightmap> {
-    let budget = budget(args);
-    let is_raw = image
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("f32"));
-    if is_raw {
-        let width = args
-            .raw_width
-            .context("a raw .f32 height field needs --raw-width")?;
-        let pixel = args
-            .pixel_size
-            .context("a raw .f32 height field needs --pixel-size")?;
-        return Ok(oficina_io::load_raw_f32(image, width, pixel, budget)?);
-    }
-    let scale = match (args.pixel_size, args.width) {
-        (Some(p), None) => Scale::PixelSize(p),
-        (None, Some(w)) => Scale::Width(w),
-        (None, None) => bail!("give --pixel-size MM or --width MM"),
-        (Some(_), Some(_)) => bail!("give --pixel-size or --width, not both"),
-    };
-    let mapping = DepthMapping {
-        max_depth: args.depth,
-        invert: args.invert,
-        normalize: args.normalize,
-    };
-    Ok(oficina_io::load_image(image, scale, mapping, budget)?)
 }
 
 fn settings(args: &Args) -> Result<Settings> {
@@ -224,62 +178,6 @@ fn settings(args: &Args) -> Result<Settings> {
         rpm: args.rpm,
         safe_z: args.safe_z,
     })
-}
-
-/// The program's header: how it was made, readable (`name = value`).
-fn header(
-    args: &Args,
-    image: &Path,
-    design: &Heightmap,
-    settings: &Settings,
-) -> Vec<(String, String)> {
-    let mut h = vec![
-        (
-            "command".to_string(),
-            std::env::args().collect::<Vec<_>>().join(" "),
-        ),
-        ("image".into(), image.display().to_string()),
-        (
-            "grid".into(),
-            format!(
-                "{} x {} samples, {} mm per pixel",
-                design.width, design.height, design.pixel
-            ),
-        ),
-    ];
-    if args.raw_width.is_none() {
-        let mut depth = format!("{} mm at black", args.depth);
-        if args.invert {
-            depth = format!("{} mm at white", args.depth);
-        }
-        if args.normalize {
-            depth.push_str(", normalized");
-        }
-        h.push(("depth".into(), depth));
-    }
-    h.extend(settings.describe());
-    h.push(("machine profile".into(), args.profile.clone()));
-    h
-}
-
-fn post_options(args: &Args, settings: Vec<(String, String)>) -> Result<PostOptions> {
-    let dialect: PostDialect = args.post.parse().map_err(anyhow::Error::msg)?;
-    Ok(PostOptions {
-        dialect,
-        allow_m6: args.allow_m6,
-        title: "Oficina relief carving".into(),
-        settings,
-    })
-}
-
-fn progress_bar() -> ProgressBar {
-    let bar = ProgressBar::new(100);
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {wide_msg}")
-            .expect("static template"),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
 }
 
 fn print_evaluation(e: &Evaluation) {
@@ -312,7 +210,7 @@ fn seed_comparison(args: &Args) -> Result<()> {
     let profile = &machine_profile::resolve(&args.profile)?;
     println!(
         "Seed 004 hemisphere: 150 x 150 mm, 25 mm deep, F{} mm/min (the seed's feed)",
-        seed004::SEED_FEED_MM_MIN
+        oficina_cam::seed004::SEED_FEED_MM_MIN
     );
     println!("seed's measurement: two tools 1:53:50 vs 3 mm alone 3:00:00 = 36.8 % saved");
     println!(
@@ -320,50 +218,25 @@ fn seed_comparison(args: &Args) -> Result<()> {
         "pixel", "strategy", "planner", "feed-only", "gouge", "left max", "left mean", "saving"
     );
     for &pixel in &args.seed_pixels {
-        if !(pixel.is_finite() && (0.1..=5.0).contains(&pixel)) {
-            bail!("--seed-pixels: {pixel} mm is outside 0.1 ..= 5");
-        }
-        let design = seed004::hemisphere(150.0, 25.0, pixel);
-        let post = PostOptions {
-            dialect: PostDialect::Grbl,
-            allow_m6: false,
-            title: "seed 004 comparison".into(),
-            settings: vec![],
-        };
         let bar = progress_bar();
-        let run = |job: &ReliefJob| {
-            evaluate(
-                &design,
-                job,
-                Some(profile),
-                &post,
-                budget(args),
-                &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
-            )
-            .map_err(explain)
-        };
-        let one = run(&seed004::seed_one_tool())?;
-        let two = run(&seed004::seed_two_tools())?;
-        // Ours must be at least as good: finish scallop chosen to match the seed's mean leftover.
-        let ours = run(&seed004::improved())?;
+        let rows =
+            oficina_app::carve::seed_comparison(pixel, profile, budget(args), &|stage, f| {
+                bar.set_message(format!("{stage}: {:.0} %", f * 100.0))
+            });
         bar.finish_and_clear();
-        if let Some(err) = [&one, &two, &ours]
+        let rows = rows?;
+        if let Some(err) = rows
             .iter()
-            .find_map(|e| e.planner.as_ref().err())
+            .find_map(|r| r.evaluation.planner.as_ref().err())
         {
             println!("        (planner unavailable, savings from feed-only times: {err})");
         }
-        let base = |e: &Evaluation| *e.planner.as_ref().unwrap_or(&e.feed_only_s);
-        for (name, e) in [
-            ("seed: 3 mm flat alone", &one),
-            ("seed: 12 mm + 3 mm flat", &two),
-            ("ours: 12 mm flat + 3 mm ball", &ours),
-        ] {
-            let saving = 100.0 * (1.0 - base(e) / base(&one));
+        for row in &rows {
+            let e = &row.evaluation;
             println!(
                 "{:>6}  {:<34} {:>10} {:>10} {:>8.4} {:>9.3} {:>9.4} {:>8.1}%",
                 pixel,
-                name,
+                row.name,
                 e.planner
                     .as_ref()
                     .map(|p| format_hms(*p, 0))
@@ -372,17 +245,9 @@ fn seed_comparison(args: &Args) -> Result<()> {
                 e.report.max_gouge,
                 e.report.leftover_max,
                 e.report.leftover_mean,
-                saving
+                row.saving
             );
         }
     }
     Ok(())
-}
-
-/// True when both paths name one existing file (however they are spelled).
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }

@@ -3,15 +3,13 @@
 
 use crate::gcode_input::{machine_for, print_diagnostics, ProgramArgs};
 use crate::machine_profile;
-use oficina_canon::Pos;
-use oficina_canon::{Extents, Summarizer, Summary};
-use oficina_gcode::CanonStream;
+use oficina_canon::{Extents, Summary};
 use oficina_gcode::Severity;
 use oficina_motion::format_hms;
 use std::process::ExitCode;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
     /// Machine profile (file or bundled name) whose planner gives the time estimate; default:
@@ -23,45 +21,24 @@ pub struct Args {
     pub work_offset: Option<[f64; 3]>,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.program.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
-    let mut opts = args.program.run_options(true)?;
-    opts.initial_params = profile.initial_params();
-    if args.program.tool_table.is_none() {
-        let units = opts.start.machine_units;
-        if let Some(t) = oficina_app::profile::tool_table(&profile, &machine, units)? {
-            opts.tool_table = t;
-        }
-    }
+    let opts = args.program.run_options_on(&profile, &machine, true)?;
     let source = args.program.open()?;
-    let [x, y, z] = profile.start;
-    let mut summarizer = Summarizer::with_bound(
-        Pos::xyz(x, y, z),
-        Box::new(oficina_motion::JointBound::new(&profile)),
+    let checked = oficina_app::check_source(source, opts, &profile);
+    let (diags, summary, ops, planned) = (
+        checked.diagnostics,
+        checked.summary,
+        checked.operations,
+        checked.time,
     );
-    let mut ops = 0u64;
-    let mut stream = CanonStream::spawn(source, opts);
-    let planned = oficina_motion::estimate(
-        stream.by_ref().inspect(|c| {
-            ops += 1;
-            summarizer.add(&c.op);
-        }),
-        &profile,
-    );
-    // The planner may stop early (an unreachable point); the summary still covers it all.
-    for c in stream.by_ref() {
-        ops += 1;
-        summarizer.add(&c.op);
-    }
-    let diags = stream.finish();
     print_diagnostics(&args.program.file, &diags, args.program.max_errors);
     let errors = diags
         .iter()
         .filter(|d| d.severity == Severity::Error)
         .count();
     let warnings = diags.len() - errors;
-    let summary = summarizer.finish();
     println!(
         "{}: {} error{}, {} warning{}, {} canonical operations",
         args.program.file.display(),

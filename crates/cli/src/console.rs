@@ -41,7 +41,7 @@ macro_rules! say {
 }
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Serial port of the board, e.g. /dev/ttyUSB0 or COM3.
     #[arg(long, conflicts_with_all = ["tcp", "emulator"])]
     pub port: Option<String>,
@@ -94,7 +94,7 @@ pub struct Args {
     pub send_response: bool,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     if args.list_ports {
         let ports = oficina_grbl::list_ports().context("cannot list serial ports")?;
         if ports.is_empty() {

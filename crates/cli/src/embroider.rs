@@ -3,7 +3,9 @@
 //! `oficina embroider --info FILE.dst` prints the sheet of any DST/EXP file.
 
 use anyhow::Context;
-use oficina_app::embroider::{embroider, read_stitch_file, sheet_of, EmbroiderParams};
+use oficina_app::embroider::{
+    embroider, read_stitch_file, sheet_document, sheet_of, EmbroiderParams,
+};
 use oficina_app::Feedback;
 use oficina_stitch::{duration, preview_svg, Format, Params, RunReport, Sheet};
 use std::io::Write;
@@ -11,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
     /// strokes → running stitch).
     input: Option<PathBuf>,
@@ -126,11 +128,8 @@ fn params(a: &Args) -> EmbroiderParams {
 }
 
 fn write_sheet(path: &Path, s: &Sheet) -> anyhow::Result<()> {
-    let html = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
-    let body = if html { s.html() } else { s.text() };
-    std::fs::write(path, body).with_context(|| format!("writing {}", path.display()))?;
+    std::fs::write(path, sheet_document(path, s))
+        .with_context(|| format!("writing {}", path.display()))?;
     println!("wrote {}", path.display());
     Ok(())
 }
@@ -173,7 +172,7 @@ fn print_run(r: &RunReport, machine: &str) -> ExitCode {
     }
 }
 
-pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     let p = params(&a);
     if let Some(file) = &a.info {
         let plan = read_stitch_file(file)?;

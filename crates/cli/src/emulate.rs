@@ -8,13 +8,13 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
-pub enum Firmware {
+pub(crate) enum Firmware {
     /// grbl 1.1h on an ATmega328P: 128-byte RX buffer, 15 planner blocks.
     Grbl,
 }
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Firmware to emulate.
     #[arg(value_enum)]
     pub firmware: Firmware,
@@ -64,7 +64,7 @@ fn parse_setting(s: &str) -> anyhow::Result<(u16, f64)> {
     Ok((n, v))
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let Firmware::Grbl = args.firmware;
     if !args.pty && args.tcp.is_none() {
         bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// Point list: x,y per line (CSV or whitespace), header optional.
     file: PathBuf,
     /// Fitting tolerance, mm.
@@ -16,7 +16,7 @@ pub struct Args {
     tol: f64,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     if !(args.tol > 0.0 && args.tol.is_finite()) {
         bail!("--tol must be a positive number of mm, got {}", args.tol);
     }

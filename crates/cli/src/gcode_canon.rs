@@ -8,7 +8,7 @@ use std::io::{BufWriter, Write};
 use std::process::ExitCode;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     #[command(flatten)]
     pub program: ProgramArgs,
     /// Prefix each call with a counter and `N.....` in the layout of `rs274 -g`. The counter
@@ -19,7 +19,7 @@ pub struct Args {
     pub numbered: bool,
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let opts = args.program.run_options(false)?;
     let source = args.program.open()?;
     let stdout = std::io::stdout();

@@ -1,7 +1,7 @@
-//! What the commands that read a program share: opening it, the interpreter options, the
-//! machine it names, and printing diagnostics so that they fit a terminal.
+//! The flags of the commands that read a program, and printing what `oficina_app::program`
+//! loads: its diagnostics, the machine it names.
 
-use anyhow::Context;
+use oficina_app::{LoadError, ProgramOptions};
 use oficina_canon::Units;
 use oficina_gcode::RunOptions;
 use oficina_gcode::ToolTable;
@@ -9,10 +9,11 @@ use oficina_gcode::{Diagnostic, Dialect};
 use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
+
+pub(crate) use oficina_app::DEFAULT_MAX_PROGRAM_MB;
 
 #[derive(clap::Args, Debug, Clone)]
-pub struct ProgramArgs {
+pub(crate) struct ProgramArgs {
     /// The G-code program.
     pub file: PathBuf,
     /// linuxcnc (default), grbl or legacy-2006.
@@ -44,23 +45,41 @@ pub struct ProgramArgs {
     pub max_errors: usize,
 }
 
+/// The program `plan` and `run` hold in memory, and where its work zero is.
+#[derive(clap::Args, Debug, Clone)]
+pub(crate) struct HeldProgram {
+    /// G-code program.
+    pub(crate) file: PathBuf,
+    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
+    #[arg(long, value_parser = crate::machine_profile::parse_xyz)]
+    pub(crate) work_offset: Option<[f64; 3]>,
+    #[command(flatten)]
+    pub(crate) line_limit: LineLimit,
+    /// Largest program held in memory, MB.
+    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
+    pub(crate) max_program_mb: u64,
+}
+
+impl HeldProgram {
+    /// The whole program's text.
+    pub(crate) fn read(&self) -> anyhow::Result<String> {
+        read_program(&self.file, self.max_program_mb)
+    }
+}
+
 /// Longest program line accepted, for every command that reads a program.
 #[derive(clap::Args, Debug, Clone, Copy)]
-pub struct LineLimit {
+pub(crate) struct LineLimit {
     /// Longest line accepted, KiB (longer ones are errors, never held in memory).
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub max_line_kb: u32,
 }
 
 impl LineLimit {
-    pub fn bytes(self) -> usize {
+    pub(crate) fn bytes(self) -> usize {
         self.max_line_kb as usize * 1024
     }
 }
-
-/// Diagnostics kept by `check` beyond those printed, so the rest can be counted; past this
-/// many the interpreter stops checking (memory stays bounded on a binary file).
-const KEPT_DIAGNOSTICS: usize = 10_000;
 
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MachineUnits {
@@ -78,148 +97,90 @@ impl From<MachineUnits> for Units {
 }
 
 impl ProgramArgs {
-    pub fn open(&self) -> anyhow::Result<BufReader<File>> {
-        open(&self.file)
+    pub(crate) fn open(&self) -> anyhow::Result<BufReader<File>> {
+        Ok(oficina_app::open_program(&self.file)?)
     }
 
-    pub fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
-        let mut opts = if check_mode {
-            RunOptions::check(self.dialect)
-        } else {
-            RunOptions {
-                dialect: self.dialect,
-                ..RunOptions::default()
-            }
-        };
-        opts.block_delete = self.block_delete;
-        opts.disable_fanuc_subs = self.disable_fanuc_subs;
-        opts.subroutine_path = self.subroutine_path.clone();
-        opts.max_line_len = self.limits.bytes();
-        opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
-        // `gcode canon` exists to be compared with `rs274`, whose machine is in inches.
-        let default_units = if check_mode {
-            MachineUnits::Mm
-        } else {
-            MachineUnits::Inch
-        };
-        let machine_units: Units = self.machine_units.unwrap_or(default_units).into();
-        opts.start.machine_units = machine_units;
-        if let Some(path) = &self.tool_table {
-            opts.tool_table = load_tool_table(path, machine_units)?;
+    /// What the flags ask of the interpreter.
+    pub(crate) fn options(&self) -> ProgramOptions {
+        ProgramOptions {
+            dialect: self.dialect,
+            tool_table: self.tool_table.clone(),
+            block_delete: self.block_delete,
+            disable_fanuc_subs: self.disable_fanuc_subs,
+            subroutine_path: self.subroutine_path.clone(),
+            machine_units: self.machine_units.map(Units::from),
+            max_line_len: self.limits.bytes(),
+            max_errors: self.max_errors,
         }
-        Ok(opts)
+    }
+
+    pub(crate) fn run_options(&self, check_mode: bool) -> anyhow::Result<RunOptions> {
+        loaded(self.options().run_options(check_mode))
+    }
+
+    /// The interpreter's options on `profile`: its offsets, its tool table unless one is given.
+    pub(crate) fn run_options_on(
+        &self,
+        profile: &oficina_motion::Profile,
+        spec: &str,
+        check_mode: bool,
+    ) -> anyhow::Result<RunOptions> {
+        loaded(self.options().run_options_on(profile, spec, check_mode))
     }
 }
 
-/// Read a LinuxCNC tool table (`--tool-table`) whose lengths are in `machine_units`; a bad
-/// line is printed like a program diagnostic.
-pub fn load_tool_table(path: &Path, machine_units: Units) -> anyhow::Result<ToolTable> {
-    let bytes = std::fs::read(path)
-        .with_context(|| format!("cannot read tool table {}", path.display()))?;
-    let text = oficina_gcode::text::decode(&bytes);
-    let table = ToolTable::parse(&text, machine_units).map_err(|d| {
-        eprint!(
-            "{}",
-            d.render(
-                &path.display().to_string(),
-                text.lines().nth(d.span.line.saturating_sub(1) as usize)
-            )
-        );
-        crate::Reported
-    })?;
-    Ok(table)
-}
-
-/// Open a program to stream it through the interpreter (`check`, `gcode canon`).
-pub fn open(path: &Path) -> anyhow::Result<BufReader<File>> {
-    oficina_gcode::text::open_program(path).map_err(|e| read_error(path, e))
-}
-
-/// A program that could not be opened or read: the OS error once, after the file name.
-fn read_error(path: &Path, e: oficina_gcode::text::ReadError) -> anyhow::Error {
-    use oficina_gcode::text::ReadError;
-    match e {
-        ReadError::Io(e) => {
-            anyhow::Error::new(e).context(format!("cannot open {}", path.display()))
+/// A load's result for `?`: a rendered diagnostic is printed here as it is (it says "error"
+/// itself) and the command fails without printing it again.
+pub(crate) fn loaded<T>(result: Result<T, LoadError>) -> anyhow::Result<T> {
+    match result {
+        Ok(v) => Ok(v),
+        Err(LoadError::Diagnostic(text)) => {
+            eprint!("{text}");
+            Err(crate::Reported.into())
         }
-        ReadError::TooLarge { .. } => {
-            anyhow::anyhow!(
-                "{}: {e} (--max-program-mb raises the limit)",
-                path.display()
-            )
-        }
-        ReadError::Bad(d) => anyhow::anyhow!("{}:{d}", path.display()),
+        Err(LoadError::Other(e)) => Err(e.into()),
     }
 }
 
-/// Most of a program `run` and `plan` hold in memory, by default.
-pub const DEFAULT_MAX_PROGRAM_MB: u64 = 1024;
-
-/// Read a whole program as text for `run` and `plan`, by the same rule as the streaming
-/// commands (oficina_gcode::text). A diagnostic is printed here, as `check` prints it.
-pub fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<Result<String, ExitCode>> {
-    use oficina_gcode::text::ReadError;
-    match oficina_gcode::text::read_program(path, max_mb.saturating_mul(1_000_000)) {
-        Ok(text) => Ok(Ok(text)),
-        Err(ReadError::Bad(d)) => {
-            print_diagnostics(path, std::slice::from_ref(&d), 0);
-            Ok(Err(ExitCode::FAILURE))
-        }
-        Err(e) => Err(read_error(path, e)),
-    }
+/// The tool table: `given`, else the one `profile` names (lengths in `units`).
+pub(crate) fn tool_table_for(
+    given: Option<&Path>,
+    profile: &oficina_motion::Profile,
+    spec: &str,
+    units: Units,
+) -> anyhow::Result<Option<ToolTable>> {
+    loaded(oficina_app::tool_table_for(given, profile, spec, units))
 }
 
-/// The machine profile to use: `--machine` when given, else the one the program names in a
-/// `(machine: NAME)` opening comment (said on stderr), else the default.
-pub fn machine_for(given: Option<&str>, program: &Path) -> String {
-    if let Some(m) = given {
-        return m.to_string();
-    }
-    let hint = File::open(program)
-        .ok()
-        .and_then(|f| oficina_gcode::machine_hint(BufReader::new(f)));
-    match hint {
-        Some(h) => {
-            eprintln!(
-                "machine: {} (named on line {} of {}; --machine overrides it)",
-                oficina_gcode::text::escape(&h.name),
-                h.line,
-                program.display()
-            );
-            h.name
-        }
-        None => crate::machine_profile::DEFAULT.to_string(),
-    }
+/// Read a LinuxCNC tool table (`--tool-table`) whose lengths are in `machine_units`.
+pub(crate) fn load_tool_table(path: &Path, machine_units: Units) -> anyhow::Result<ToolTable> {
+    loaded(oficina_app::load_tool_table(path, machine_units))
 }
 
-/// Print diagnostics like a compiler, with the source line and a caret under the place: the
-/// first `max_shown` (0 = all), then how many more there are of each kind.
-pub fn print_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) {
-    let shown = if max_shown == 0 {
-        diags
-    } else {
-        &diags[..diags.len().min(max_shown)]
-    };
-    let lines = oficina_app::source_lines(path, shown.iter().map(|d| (d.span.line, d.span.col)));
-    let name = path.display().to_string();
-    for d in shown {
-        eprint!(
-            "{}",
-            d.render(&name, lines.get(&d.span.line).map(|s| s.as_str()))
-        );
-    }
-    let rest = &diags[shown.len()..];
-    if !rest.is_empty() {
-        let errors = rest
-            .iter()
-            .filter(|d| d.severity == oficina_gcode::Severity::Error)
-            .count();
+/// Read a whole program as text for `run` and `plan`.
+pub(crate) fn read_program(path: &Path, max_mb: u64) -> anyhow::Result<String> {
+    loaded(oficina_app::read_program(path, max_mb))
+}
+
+/// The machine profile to use (`--machine`, the program's `(machine: NAME)` comment, the
+/// default); where it came from is said on stderr.
+pub(crate) fn machine_for(given: Option<&str>, program: &Path) -> String {
+    let choice = oficina_app::machine_for(given, program);
+    if let Some(line) = choice.named_on_line {
         eprintln!(
-            "{name}: {} more not shown ({errors} error{}, {} warning{}); --max-errors 0 shows all",
-            rest.len(),
-            if errors == 1 { "" } else { "s" },
-            rest.len() - errors,
-            if rest.len() - errors == 1 { "" } else { "s" },
+            "machine: {} (named on line {line} of {}; --machine overrides it)",
+            oficina_gcode::text::escape(&choice.spec),
+            program.display()
         );
     }
+    choice.spec
+}
+
+/// Print diagnostics like a compiler, with the source line and a caret under the place.
+pub(crate) fn print_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) {
+    eprint!(
+        "{}",
+        oficina_app::render_diagnostics(path, diags, max_shown)
+    );
 }

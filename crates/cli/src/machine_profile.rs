@@ -1,3 +1,3 @@
 //! Finding a machine profile: the application layer does it for the CLI and the server.
 
-pub use oficina_app::profile::{parse_xyz, resolve, resolve_with_offset, DEFAULT};
+pub(crate) use oficina_app::profile::{parse_xyz, resolve, resolve_with_offset, DEFAULT};

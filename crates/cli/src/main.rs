@@ -1,6 +1,8 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
+#![warn(unreachable_pub)]
+
 mod bench_cam;
 mod bench_carve;
 mod bench_gcode;
@@ -20,6 +22,7 @@ mod mill;
 mod peak_memory;
 mod plan;
 mod plot;
+mod progress;
 mod run;
 mod serve;
 mod sole;

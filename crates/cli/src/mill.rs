@@ -1,35 +1,15 @@
 //! `oficina mill`: one 2.5D operation on an SVG/DXF drawing → program, preview, check, time.
 
+use crate::progress::with_bar;
 use anyhow::{Context, Result};
-use clap::{Args as ClapArgs, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
-use oficina_app::{mill, EntryKind as AppEntry, MillOpKind, MillParams, PocketStrategy};
-use oficina_app::{Feedback, Judged, PostParams};
+use clap::Args as ClapArgs;
+use oficina_app::{mill, EntryKind, MillOpKind, MillParams, PocketStrategy};
+use oficina_app::{Judged, PostParams};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Op {
-    Pocket,
-    ProfileIn,
-    ProfileOut,
-    ProfileOn,
-    Drill,
-    /// V-carve with a V bit: closed shapes to the depth their width allows (capped at
-    /// --depth), open strokes along the line.
-    Vcarve,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum EntryKind {
-    Ramp,
-    Helix,
-    Plunge,
-}
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
     #[arg(required_unless_present = "text")]
     pub input: Option<PathBuf>,
@@ -48,7 +28,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.05)]
     pub leftover: f64,
     #[arg(long, value_enum)]
-    pub op: Op,
+    pub op: MillOpKind,
     /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
     #[arg(long, default_value = "flat:6")]
     pub tool: String,
@@ -133,7 +113,7 @@ pub struct Args {
 
 /// Post-processor choice and format options, shared by `mill` and `sole`.
 #[derive(ClapArgs, Debug)]
-pub struct PostArgs {
+pub(crate) struct PostArgs {
     /// linuxcnc, grbl, sinumerik or legacy-2006.
     #[arg(long, default_value = "linuxcnc")]
     pub post: String,
@@ -155,7 +135,7 @@ pub struct PostArgs {
 }
 
 impl PostArgs {
-    pub fn params(&self) -> PostParams {
+    pub(crate) fn params(&self) -> PostParams {
         PostParams {
             post: self.post.clone(),
             allow_m6: self.allow_m6,
@@ -167,49 +147,20 @@ impl PostArgs {
     }
 }
 
-pub fn progress_bar() -> ProgressBar {
-    let bar = ProgressBar::new(100);
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {wide_msg}")
-            .expect("static template"),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
-}
-
-/// Runs `job` with the stages shown on a spinner (nobody cancels a command-line job: ^C does).
-pub fn with_bar<T>(job: impl FnOnce(Feedback) -> T) -> (T, ProgressBar) {
-    let bar = progress_bar();
-    let never = AtomicBool::new(false);
-    let show = |stage: &str, _: f64| bar.set_message(stage.to_string());
-    let out = job(Feedback {
-        progress: &show,
-        cancel: &never,
-    });
-    (out, bar)
-}
-
 /// The machine profile for a time estimate: loaded, or why not (not fatal).
-pub fn estimate_profile(path: &Path) -> Result<oficina_motion::Profile, String> {
+pub(crate) fn estimate_profile(path: &Path) -> Result<oficina_motion::Profile, String> {
     oficina_motion::Profile::load(path).map_err(|e| e.to_string())
 }
 
-pub fn print_judged(j: &Judged) {
+pub(crate) fn print_judged(j: &Judged) {
     for l in j.summary_lines() {
         println!("  {l}");
     }
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     let params = MillParams {
-        op: match args.op {
-            Op::Pocket => MillOpKind::Pocket,
-            Op::ProfileIn => MillOpKind::ProfileIn,
-            Op::ProfileOut => MillOpKind::ProfileOut,
-            Op::ProfileOn => MillOpKind::ProfileOn,
-            Op::Drill => MillOpKind::Drill,
-            Op::Vcarve => MillOpKind::Vcarve,
-        },
+        op: args.op,
         tool: args.tool.clone(),
         tool_number: args.tool_number,
         depth: args.depth,
@@ -224,11 +175,7 @@ pub fn run(args: Args) -> Result<std::process::ExitCode> {
         feed: args.feed,
         plunge_feed: args.plunge_feed,
         rpm: args.rpm,
-        entry: match args.entry {
-            EntryKind::Ramp => AppEntry::Ramp,
-            EntryKind::Helix => AppEntry::Helix,
-            EntryKind::Plunge => AppEntry::Plunge,
-        },
+        entry: args.entry,
         ramp_angle: args.ramp_angle,
         helix_radius: args.helix_radius,
         tabs: args.tabs,

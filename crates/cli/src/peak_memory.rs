@@ -2,12 +2,12 @@
 //! read beside its speed.
 
 /// VmHWM in kB (`oficina_app::bench::peak_memory_kb`).
-pub fn vm_hwm_kb() -> Option<u64> {
+pub(crate) fn vm_hwm_kb() -> Option<u64> {
     oficina_app::bench::peak_memory_kb()
 }
 
 /// The closing line of a benchmark: `peak memory (VmHWM): 12345 kB`.
-pub fn print() {
+pub(crate) fn print() {
     match vm_hwm_kb() {
         Some(kb) => println!("peak memory (VmHWM): {kb} kB"),
         None => println!("peak memory (VmHWM): unavailable (no /proc/self/status)"),

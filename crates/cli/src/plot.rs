@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design: .svg, .dxf, .hpgl/.plt/.hpg, or an image (.png/.jpg) to hatch.
     input: Option<PathBuf>,
     /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
@@ -22,8 +22,8 @@ pub struct Args {
     output: Option<PathBuf>,
     /// Program format: gcode (Cartesian, grbl family), joint (X/Y = the two joints, for
     /// polar and hanging plotters driven by a plain controller), hpgl (vintage plotters).
-    #[arg(long, value_enum, default_value_t = FormatArg::Gcode)]
-    format: FormatArg,
+    #[arg(long, value_enum, default_value_t = PlotFormat::Gcode)]
+    format: PlotFormat,
     /// Write an SVG preview with the pen-up moves dashed.
     #[arg(long)]
     preview: Option<PathBuf>,
@@ -34,12 +34,12 @@ pub struct Args {
     #[arg(long, default_value_t = 10.0)]
     text_height: f64,
     /// One pen per stroke colour or per layer (DXF layers, HPGL pens).
-    #[arg(long, value_enum, default_value_t = PenByArg::Color)]
-    pens: PenByArg,
+    #[arg(long, value_enum, default_value_t = PensBy::Color)]
+    pens: PensBy,
     /// Pen lift: z (a Z axis), servo (M3 S<--pen-down> / M5), or command (--pen-down-cmd /
     /// --pen-up-cmd lines as given).
-    #[arg(long, value_enum, default_value_t = LiftArg::Z)]
-    pen: LiftArg,
+    #[arg(long, value_enum, default_value_t = Lift::Z)]
+    pen: Lift,
     /// Servo value for pen down (S word).
     #[arg(long, default_value_t = 30.0)]
     servo_down: f64,
@@ -92,26 +92,6 @@ pub struct Args {
     seed_check: bool,
 }
 
-#[derive(clap::ValueEnum, Clone, Copy)]
-enum FormatArg {
-    Gcode,
-    Joint,
-    Hpgl,
-}
-
-#[derive(clap::ValueEnum, Clone, Copy)]
-enum PenByArg {
-    Color,
-    Layer,
-}
-
-#[derive(clap::ValueEnum, Clone, Copy)]
-enum LiftArg {
-    Z,
-    Servo,
-    Command,
-}
-
 fn parse_xy(s: &str) -> Result<[f64; 2], String> {
     let v: Vec<f64> = s
         .split(',')
@@ -130,22 +110,11 @@ fn parse_xy(s: &str) -> Result<[f64; 2], String> {
 /// The form the application layer takes.
 fn params(a: &Args) -> PlotParams {
     PlotParams {
-        format: match a.format {
-            FormatArg::Gcode => PlotFormat::Gcode,
-            FormatArg::Joint => PlotFormat::Joint,
-            FormatArg::Hpgl => PlotFormat::Hpgl,
-        },
+        format: a.format,
         text: a.text.clone(),
         text_height: a.text_height,
-        pens: match a.pens {
-            PenByArg::Color => PensBy::Color,
-            PenByArg::Layer => PensBy::Layer,
-        },
-        pen: match a.pen {
-            LiftArg::Z => Lift::Z,
-            LiftArg::Servo => Lift::Servo,
-            LiftArg::Command => Lift::Command,
-        },
+        pens: a.pens,
+        pen: a.pen,
         servo_down: a.servo_down,
         pen_down_cmd: a.pen_down_cmd.clone(),
         pen_up_cmd: a.pen_up_cmd.clone(),
@@ -221,7 +190,7 @@ fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-pub fn run(a: Args) -> anyhow::Result<ExitCode> {
+pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     if a.seed_check {
         return seed_check(&a);
     }

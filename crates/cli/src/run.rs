@@ -1,17 +1,13 @@
 //! `oficina run FILE`: execute a program on the virtual machine with a progress bar, and
 //! keyboard hold / resume / stop when stdin is a terminal.
 
-use crate::gcode_input::{
-    load_tool_table, machine_for, read_program, LineLimit, DEFAULT_MAX_PROGRAM_MB,
-};
-use crate::machine_profile;
+use crate::gcode_input::{load_tool_table, machine_for, HeldProgram};
 use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
 use indicatif::{ProgressBar, ProgressStyle};
 use oficina_canon::Units;
-use oficina_gcode::ToolTable;
-use oficina_machine::{Command, Event, Job, Machine, Pace, State, Status};
+use oficina_machine::{Command, Event, Job, Pace, State, Status};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -19,9 +15,9 @@ use std::sync::Arc;
 use std::time::Duration;
 
 #[derive(clap::Args)]
-pub struct Args {
-    /// G-code program.
-    file: PathBuf,
+pub(crate) struct Args {
+    #[command(flatten)]
+    program: HeldProgram,
     /// The machine: a profile of the built-in virtual machine (a TOML file or a bundled name:
     /// grbl-router, hotwire-xy, polar-plotter, polargraph-wall, embroidery-xy; `virtual` is
     /// grbl-router), or real grbl-family firmware: `grbl:/dev/ttyUSB0[@baud]`,
@@ -29,9 +25,6 @@ pub struct Args {
     /// comment, else grbl-router.
     #[arg(long)]
     machine: Option<String>,
-    /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
-    #[arg(long, value_parser = machine_profile::parse_xyz)]
-    work_offset: Option<[f64; 3]>,
     /// Run faster than real time, e.g. `10x` or `2.5`.
     #[arg(long, default_value = "1x")]
     speed: String,
@@ -49,26 +42,6 @@ pub struct Args {
     /// A LinuxCNC tool table (.tbl) for G43 and M6, lengths in mm (virtual machine only).
     #[arg(long)]
     tool_table: Option<PathBuf>,
-    #[command(flatten)]
-    line_limit: LineLimit,
-    /// Largest program held in memory, MB.
-    #[arg(long, default_value_t = DEFAULT_MAX_PROGRAM_MB)]
-    max_program_mb: u64,
-}
-
-/// The machine `spec` names, opened by the application layer.
-fn open_machine(
-    spec: &str,
-    work_offset: Option<[f64; 3]>,
-    max_line_len: usize,
-    tools: Option<ToolTable>,
-) -> anyhow::Result<Box<dyn Machine>> {
-    Ok(oficina_app::open_machine_with_tools(
-        spec,
-        work_offset,
-        max_line_len,
-        tools,
-    )?)
 }
 
 /// Leaves raw mode however the run ends.
@@ -92,17 +65,19 @@ fn parse_speed(s: &str) -> anyhow::Result<f64> {
     Ok(v)
 }
 
-pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let machine = machine_for(args.machine.as_deref(), &args.file);
+pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let machine = machine_for(args.machine.as_deref(), &args.program.file);
     let tools = match &args.tool_table {
         Some(path) => Some(load_tool_table(path, Units::Mm)?),
         None => None,
     };
-    let mut vm = open_machine(&machine, args.work_offset, args.line_limit.bytes(), tools)?;
-    let text = match read_program(&args.file, args.max_program_mb)? {
-        Ok(text) => text,
-        Err(code) => return Ok(code),
-    };
+    let mut vm = oficina_app::open_machine_with_tools(
+        &machine,
+        args.program.work_offset,
+        args.program.line_limit.bytes(),
+        tools,
+    )?;
+    let text = args.program.read()?;
     if let Some(line) = args.from_line {
         oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
     }
@@ -117,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         f64::INFINITY
     };
     let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
-    let name = args.file.display().to_string();
+    let name = args.program.file.display().to_string();
     vm.start(Job {
         name: name.clone(),
         text: Arc::new(text),
@@ -228,10 +203,11 @@ fn show_status(bar: &ProgressBar, s: &Status, factor: f64) {
     ));
 }
 
+/// `h:mm:ss`, or `--:--` for a time that never comes (nothing left to divide by).
 fn clock(s: f64) -> String {
-    if !s.is_finite() {
-        return "--:--".into();
+    if s.is_finite() {
+        oficina_motion::format_hms(s, 0)
+    } else {
+        "--:--".into()
     }
-    let s = s.round() as u64;
-    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }

@@ -1,7 +1,8 @@
 //! `oficina sole`: seed 001's mold job in one command: digitised size-N contour → graded,
 //! fitted, mirrored insert and cavity programs for both feet, each checked and timed.
 
-use crate::mill::{estimate_profile, print_judged, with_bar, PostArgs};
+use crate::mill::{estimate_profile, print_judged, PostArgs};
+use crate::progress::with_bar;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
 use oficina_app::GOUGE_REPORTED;
@@ -9,7 +10,7 @@ use oficina_app::{sole, SoleParams};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// Digitised contour of the pattern size: CSV or whitespace x y per line, header or not.
     pub points: PathBuf,
     #[arg(long)]
@@ -43,7 +44,7 @@ pub struct Args {
     pub profile: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<std::process::ExitCode> {
+pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     let params = SoleParams {
         from_size: args.from_size,
         to_size: args.to_size,

@@ -24,7 +24,7 @@ fn bad(msg: impl Into<String>) -> (StatusCode, String) {
     (StatusCode::BAD_REQUEST, msg.into())
 }
 
-pub fn routes(state: Arc<AppState>) -> Router {
+pub(crate) fn routes(state: Arc<AppState>) -> Router {
     let limit = state.config.upload_limit;
     Router::new()
         .route("/api/info", get(info))
@@ -82,7 +82,7 @@ async fn open_program(State(st): State<Arc<AppState>>) -> ApiResult {
 }
 
 /// A file of the job folder, or else a bundled sample of that name.
-pub fn program_text(st: &AppState, name: &str) -> Result<Arc<String>, (StatusCode, String)> {
+pub(crate) fn program_text(st: &AppState, name: &str) -> Result<Arc<String>, (StatusCode, String)> {
     let path = path_in(&st.config.job_dir, name).map_err(bad)?;
     if path.is_file() {
         return std::fs::read_to_string(&path)
@@ -208,7 +208,7 @@ async fn check(
 
 /// Bytes per preview segment: from and to as 6 × f32, then line << 2 | kind as u32, all
 /// little-endian (the page reads them straight into typed arrays).
-pub const SEGMENT_BYTES: usize = 28;
+pub(crate) const SEGMENT_BYTES: usize = 28;
 /// Segments per chunk sent: the page draws as they arrive.
 const CHUNK_SEGMENTS: usize = 8192;
 
@@ -257,7 +257,7 @@ async fn preview(
 }
 
 /// The built page, or a page that says how to build it.
-pub fn page_service(st: &AppState) -> Router {
+pub(crate) fn page_service(st: &AppState) -> Router {
     match &st.config.web_dir {
         Some(dir) if dir.join("index.html").is_file() => Router::new().fallback_service(
             tower_http::services::ServeDir::new(dir)

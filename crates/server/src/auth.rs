@@ -8,7 +8,7 @@ use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use std::sync::Arc;
 
-pub async fn require_token(
+pub(crate) async fn require_token(
     State(state): State<Arc<AppState>>,
     req: Request,
     next: Next,

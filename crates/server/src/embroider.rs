@@ -21,7 +21,7 @@ use std::sync::Arc;
 /// lands beside the hoop field); absent fields take the CLI's defaults.
 #[derive(Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct EmbroiderForm {
+pub(crate) struct EmbroiderForm {
     stitch_length: f64,
     fill_angle: f64,
     fill_spacing: f64,
@@ -68,18 +68,6 @@ impl Default for EmbroiderForm {
     }
 }
 
-/// The label `Params::check` starts its message with, and the field it is about.
-const CHECKED: &[(&str, &str)] = &[
-    ("stitch length", "stitch-length"),
-    ("fill stitch length", "fill-stitch-length"),
-    ("satin spacing", "satin-spacing"),
-    ("fill row spacing", "fill-spacing"),
-    ("satin minimum width", "satin-min-width"),
-    ("fill angle", "fill-angle"),
-    ("pull compensation", "pull-compensation"),
-    ("trim length", "trim-length"),
-];
-
 impl EmbroiderForm {
     fn params(self) -> Result<EmbroiderParams, CamError> {
         let format = match self.format.to_ascii_lowercase().as_str() {
@@ -88,11 +76,6 @@ impl EmbroiderForm {
             "ram" | "seed-ram" => Format::SeedRam,
             f => return Err(bad(format!("--format {f}: use dst, exp or ram"))),
         };
-        if let Some(ppm) = self.ppm {
-            if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
-                return Err(bad(format!("--ppm {ppm}: use 1..10000 stitches/min")));
-            }
-        }
         let stitch = Params {
             stitch_length: self.stitch_length,
             fill_angle_deg: self.fill_angle,
@@ -107,28 +90,22 @@ impl EmbroiderForm {
             trim_length: self.trim_length,
             ..Params::default()
         };
-        // The library's own ranges, checked before the job starts; its message gets the
-        // flag of the field it names so the page shows it there.
-        stitch.check().map_err(|e| {
-            let flag = CHECKED
-                .iter()
-                .find(|(label, _)| e.0.starts_with(&format!("{label} (")))
-                .map_or(String::new(), |(_, f)| format!("--{f}: "));
-            bad(format!("{flag}{}", e.0))
-        })?;
-        Ok(EmbroiderParams {
+        let params = EmbroiderParams {
             stitch,
             format,
             hoop: self.hoop.filter(|h| !h.trim().is_empty()),
             table: self.machine,
             ppm: self.ppm,
             pieces: self.pieces,
-        })
+        };
+        // The ranges, checked before the job starts (the message names the field's flag).
+        params.check()?;
+        Ok(params)
     }
 }
 
 #[derive(Deserialize)]
-pub struct EmbroiderRequest {
+pub(crate) struct EmbroiderRequest {
     file: Option<String>,
     #[serde(default)]
     params: EmbroiderForm,
@@ -216,7 +193,7 @@ fn sheet_json(s: &Sheet) -> Value {
 }
 
 /// `POST /api/embroider {file, params}`: the design → stitches → the file in the job folder.
-pub async fn embroider_job(
+pub(crate) async fn embroider_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {
@@ -263,7 +240,7 @@ pub async fn embroider_job(
 
 /// `POST /api/stitches {file, params}`: a DST/EXP/RAM file of the job folder read back, its
 /// sheet, and its run on the table the params name (`machine`, `ppm`, `hoop`, `pieces`).
-pub async fn stitch_file(
+pub(crate) async fn stitch_file(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {

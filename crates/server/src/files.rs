@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 /// A name is 1–100 of `A-Z a-z 0-9 . _ -`, not starting with a dot: no separators, no `..`,
 /// nothing hidden, so `folder.join(name)` stays in the folder.
-pub fn safe_name(name: &str) -> Result<&str, String> {
+pub(crate) fn safe_name(name: &str) -> Result<&str, String> {
     let ok = !name.is_empty()
         && name.len() <= 100
         && !name.starts_with('.')
@@ -20,7 +20,7 @@ pub fn safe_name(name: &str) -> Result<&str, String> {
     }
 }
 
-pub fn path_in(folder: &Path, name: &str) -> Result<PathBuf, String> {
+pub(crate) fn path_in(folder: &Path, name: &str) -> Result<PathBuf, String> {
     Ok(folder.join(safe_name(name)?))
 }
 

@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// A CAM job's failure as the page shows it: the message, and the form field it is about.
-pub struct CamError(StatusCode, Error);
+pub(crate) struct CamError(StatusCode, Error);
 
 impl IntoResponse for CamError {
     fn into_response(self) -> Response {
@@ -106,7 +106,7 @@ pub(crate) async fn compute<T: Send + 'static>(
     result
 }
 
-pub async fn cancel(State(st): State<Arc<AppState>>) -> Response {
+pub(crate) async fn cancel(State(st): State<Arc<AppState>>) -> Response {
     match lock(&st.computing.0).as_ref() {
         Some(f) => {
             f.store(true, Ordering::Relaxed);
@@ -120,7 +120,7 @@ pub async fn cancel(State(st): State<Arc<AppState>>) -> Response {
 /// A CAM job on a file of the job folder (not `oficina_app::JobRequest`, which starts a
 /// program on the machine).
 #[derive(Deserialize)]
-pub struct CamRequest<P> {
+pub(crate) struct CamRequest<P> {
     /// The input's name in the job folder.
     file: Option<String>,
     #[serde(default)]
@@ -166,7 +166,7 @@ fn estimate_profile(
     profile::resolve(&spec).map_err(|e| e.to_string())
 }
 
-pub async fn mill_job(
+pub(crate) async fn mill_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<CamRequest<MillParams>>,
 ) -> Result<Response, CamError> {
@@ -192,7 +192,7 @@ pub async fn mill_job(
     .into_response())
 }
 
-pub async fn sole_job(
+pub(crate) async fn sole_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<CamRequest<SoleParams>>,
 ) -> Result<Response, CamError> {
@@ -229,7 +229,7 @@ pub async fn sole_job(
     .into_response())
 }
 
-pub async fn plot_job(
+pub(crate) async fn plot_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<CamRequest<PlotParams>>,
 ) -> Result<Response, CamError> {
@@ -277,11 +277,11 @@ pub async fn plot_job(
 /// The image's name (for messages and the program's name), beside the relief parameters in
 /// the same query (serde's `flatten` would read every number as a string).
 #[derive(Deserialize)]
-pub struct ImageName {
+pub(crate) struct ImageName {
     name: String,
 }
 
-pub async fn carve(
+pub(crate) async fn carve(
     State(st): State<Arc<AppState>>,
     Query(q): Query<ImageName>,
     Query(params): Query<ReliefParams>,

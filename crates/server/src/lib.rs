@@ -26,6 +26,8 @@
 //! assert_eq!((report["errors"].as_u64(), report["feed_length"].as_f64()), (Some(0), Some(10.0)));
 //! ```
 
+#![warn(unreachable_pub)]
+
 mod api;
 mod auth;
 mod embroider;

@@ -25,7 +25,7 @@ fn refused(status: StatusCode, key: &str, message: String) -> Response {
 }
 
 /// A bundled profile's text (`GET /api/profiles/grbl-router`).
-pub async fn text(Path(name): Path<String>) -> Response {
+pub(crate) async fn text(Path(name): Path<String>) -> Response {
     match BUNDLED.iter().find(|(n, _)| *n == name) {
         Some((_, t)) => t.to_string().into_response(),
         None => refused(
@@ -53,7 +53,7 @@ fn summary(p: &Profile) -> serde_json::Value {
 }
 
 /// Validates without using (`POST /api/profiles/check`).
-pub async fn check(body: Bytes) -> Response {
+pub(crate) async fn check(body: Bytes) -> Response {
     match parse(&body) {
         Ok(p) => Json(summary(&p)).into_response(),
         Err(r) => *r,
@@ -62,7 +62,7 @@ pub async fn check(body: Bytes) -> Response {
 
 /// Validates, saves as `profile-NAME.toml` in the job folder and connects the virtual
 /// machine to it (refused while the machine is busy).
-pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
+pub(crate) async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
     let p = match parse(&body) {
         Ok(p) => p,
         Err(r) => return *r,
@@ -105,7 +105,7 @@ pub async fn use_profile(State(st): State<Arc<AppState>>, body: Bytes) -> Respon
 /// (the editor saves them there). Anything else, a path elsewhere on this computer above
 /// all, is refused: a request never reads files outside the job folder. Gives the spec to
 /// resolve (the bundled name, or the file's full path).
-pub fn profile_spec(st: &AppState, spec: &str) -> Result<String, String> {
+pub(crate) fn profile_spec(st: &AppState, spec: &str) -> Result<String, String> {
     if BUNDLED.iter().any(|(n, _)| *n == spec) {
         return Ok(spec.to_string());
     }
@@ -124,7 +124,7 @@ pub fn profile_spec(st: &AppState, spec: &str) -> Result<String, String> {
 
 /// A machine URI a page asks to connect to: firmware addresses as they are; a virtual
 /// machine's profile only as [`profile_spec`] allows.
-pub fn machine_uri(st: &AppState, uri: &str) -> Result<String, String> {
+pub(crate) fn machine_uri(st: &AppState, uri: &str) -> Result<String, String> {
     if oficina_app::is_firmware(uri) {
         return Ok(uri.to_string());
     }
@@ -146,7 +146,7 @@ pub fn machine_uri(st: &AppState, uri: &str) -> Result<String, String> {
 
 /// The tool table saved in the job folder, as the check and the virtual machine take it
 /// (empty when none was saved). A table put there by other means and unreadable is named.
-pub fn saved_tools(st: &AppState) -> Result<ToolTable, String> {
+pub(crate) fn saved_tools(st: &AppState) -> Result<ToolTable, String> {
     let path = path_in(&st.config.job_dir, TOOL_TABLE_FILE)?;
     let text = match std::fs::read(&path) {
         Ok(b) => b,
@@ -165,7 +165,7 @@ pub fn saved_tools(st: &AppState) -> Result<ToolTable, String> {
 }
 
 /// The saved tool table (`GET /api/tools`), empty when none was saved.
-pub async fn tools_text(State(st): State<Arc<AppState>>) -> Response {
+pub(crate) async fn tools_text(State(st): State<Arc<AppState>>) -> Response {
     let path = match path_in(&st.config.job_dir, TOOL_TABLE_FILE) {
         Ok(p) => p,
         Err(e) => return refused(StatusCode::BAD_REQUEST, "", e),
@@ -178,7 +178,7 @@ pub async fn tools_text(State(st): State<Arc<AppState>>) -> Response {
 
 /// Checks a tool table with the interpreter's parser and, when good, saves it into the job
 /// folder (`PUT /api/tools`); errors name line and column.
-pub async fn save_tools(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
+pub(crate) async fn save_tools(State(st): State<Arc<AppState>>, body: Bytes) -> Response {
     let Ok(text) = std::str::from_utf8(&body) else {
         return refused(
             StatusCode::BAD_REQUEST,

@@ -1,6 +1,6 @@
 //! Programs and images bundled in the binary, so the page opens with something to run.
 
-pub const PROGRAMS: &[(&str, &str)] = &[
+pub(crate) const PROGRAMS: &[(&str, &str)] = &[
     (
         "plate.nc",
         include_str!("../../../samples/workbench/plate.nc"),
@@ -15,16 +15,16 @@ pub const PROGRAMS: &[(&str, &str)] = &[
     ),
 ];
 
-pub const IMAGES: &[(&str, &[u8])] = &[(
+pub(crate) const IMAGES: &[(&str, &[u8])] = &[(
     "dome.png",
     include_bytes!("../../../samples/relief/dome.png"),
 )];
 
 /// The program the page opens with when none is given.
-pub const DEFAULT: &str = "plate.nc";
+pub(crate) const DEFAULT: &str = "plate.nc";
 
 /// Designs for the processes: a drawing to mill, a contour for sole molds, a drawing to plot, a design to embroider.
-pub const DESIGNS: &[(&str, &str)] = &[
+pub(crate) const DESIGNS: &[(&str, &str)] = &[
     ("plate.svg", include_str!("../../../samples/mill/plate.svg")),
     ("holes.svg", include_str!("../../../samples/mill/holes.svg")),
     (

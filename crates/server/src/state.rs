@@ -51,7 +51,7 @@ const CONSOLE_LINES: usize = 300;
 /// Status is sent this often: smooth for the eye, light for the link.
 const STATUS_PERIOD: Duration = Duration::from_millis(100);
 
-pub fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
@@ -142,7 +142,7 @@ impl AppState {
 
 /// The thread that drains machine events and sends status to every page, whether or not any
 /// page is open: the job never depends on a browser.
-pub fn spawn_pump(state: Arc<AppState>) {
+pub(crate) fn spawn_pump(state: Arc<AppState>) {
     std::thread::spawn(move || loop {
         let events = match lock(&state.session).as_mut() {
             Some(s) => s.poll(Duration::ZERO),

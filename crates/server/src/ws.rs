@@ -16,7 +16,7 @@ use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
 
-pub fn routes(state: Arc<AppState>) -> Router {
+pub(crate) fn routes(state: Arc<AppState>) -> Router {
     Router::new()
         .route("/ws", get(upgrade))
         .route_layer(axum::middleware::from_fn_with_state(

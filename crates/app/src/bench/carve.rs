@@ -13,11 +13,15 @@ use oficina_sim::{compare, ideal_surface, replay, Report};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// mm per pixel of the generated relief.
 pub const PIXEL: f64 = 0.1;
+/// Depth of black, mm.
 pub const DEPTH: f64 = 10.0;
+/// Diameter of the ball-nose tool both programs use, mm.
 pub const BALL_DIAMETER: f64 = 6.0;
 /// Rows 5 pixels (0.5 mm) apart for both programs: image-to-gcode steps in whole pixels.
 pub const STEP_PX: usize = 5;
+/// Largest side of the generated relief, pixels.
 pub const MAX_SIZE: usize = 20_000;
 /// Depth below the design that counts as a gouge, mm.
 pub const GOUGE_LIMIT: f64 = 0.001;
@@ -73,6 +77,7 @@ pub fn design(gray: &[u8], n: usize) -> Heightmap {
     luminance_to_heights(n, n, &luma, PIXEL, DepthMapping::new(DEPTH))
 }
 
+/// The ball-nose tool of [`BALL_DIAMETER`].
 pub fn tool() -> Tool {
     Tool::new(oficina_cam::CutterShape::Ball, BALL_DIAMETER).expect("valid built-in tool")
 }
@@ -114,7 +119,9 @@ pub struct Ours {
     pub plan: Cost,
     /// Writing the G-code text (image-to-gcode's time includes writing its program too).
     pub post: Cost,
+    /// The LinuxCNC program.
     pub program: String,
+    /// Moves in the toolpath.
     pub moves: usize,
 }
 
@@ -198,10 +205,15 @@ pub fn read_back(program: &str) -> Result<Vec<Canon>, BenchError> {
 
 /// image-to-gcode's run on one crop.
 pub struct Peer {
+    /// Its own wall seconds for convert() and writing.
     pub seconds: f64,
+    /// Its CPU seconds.
     pub cpu: f64,
+    /// Its program read by the interpreter, in the image grid's frame.
     pub canon: Vec<Canon>,
+    /// What the interpreter said of its program.
     pub diagnostics: Vec<String>,
+    /// Lines in its program.
     pub lines: usize,
 }
 
@@ -308,4 +320,63 @@ pub fn peer_window() -> usize {
 /// The pixels image-to-gcode works on for a picture of `side` × `side`.
 pub fn peer_worked_pixels(side: usize) -> f64 {
     (side.saturating_sub(peer_window()).max(1) as f64).powi(2)
+}
+
+/// Both programs on the top-left crop of the generated picture: image-to-gcode on the crop
+/// and on a crop half its side (equal cost per pixel shows its cost is linear, so scaling
+/// its rate to the full image is fair), Oficina on the crop, and each program's quality.
+pub struct CropComparison {
+    /// The crop's side, pixels.
+    pub side: usize,
+    /// The smaller crop's side, pixels.
+    pub half: usize,
+    /// image-to-gcode on the smaller crop.
+    pub small_peer: Peer,
+    /// image-to-gcode on the crop.
+    pub peer: Peer,
+    /// Oficina on the crop.
+    pub ours: Ours,
+    /// The design of the crop.
+    pub design: Heightmap,
+    /// Oficina's program replayed: the report and the share gouged.
+    pub ours_quality: (Report, f64),
+    /// image-to-gcode's program replayed.
+    pub peer_quality: (Report, f64),
+    /// The tool's ideal surface over the crop: what no non-gouging program beats.
+    pub best: Report,
+}
+
+/// Run [`CropComparison`] on the `c` × `c` crop of the `n` × `n` picture `gray`, the peer
+/// through `python` and `script`, Oficina with `job` within `budget` bytes, working in `dir`.
+#[allow(clippy::too_many_arguments)]
+pub fn compare_on_crop(
+    gray: &[u8],
+    n: usize,
+    c: usize,
+    python: &Path,
+    script: &Path,
+    job: &ReliefJob,
+    budget: u64,
+    dir: &Path,
+) -> Result<CropComparison, BenchError> {
+    let half = (c / 2).max(64);
+    let small_peer = run_peer(python, script, &crop(gray, n, half), half, dir)?;
+    let small = crop(gray, n, c);
+    let design = self::design(&small, c);
+    let ours = plan_and_post(&design, job, budget)?;
+    let peer = run_peer(python, script, &small, c, dir)?;
+    let ours_quality = judge(&read_back(&ours.program)?, &design)?;
+    let peer_quality = judge(&peer.canon, &design)?;
+    let best = best_possible(&design);
+    Ok(CropComparison {
+        side: c,
+        half,
+        small_peer,
+        peer,
+        ours,
+        design,
+        ours_quality,
+        peer_quality,
+        best,
+    })
 }

@@ -2,19 +2,26 @@
 //! and the measurements. The CLI parses options, calls these and prints the tables.
 
 pub mod carve;
+pub mod gcode;
+pub mod motion;
 pub mod offsets;
+pub mod plot;
 pub mod programs;
+pub mod stream;
 
 use std::time::Instant;
 
 /// Wall and CPU seconds (CPU: every thread of this process, from getrusage).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cost {
+    /// Wall seconds.
     pub wall: f64,
+    /// CPU seconds, user + system.
     pub cpu: f64,
 }
 
 impl Cost {
+    /// Both costs together.
     pub fn plus(self, o: Cost) -> Cost {
         Cost {
             wall: self.wall + o.wall,
@@ -81,7 +88,9 @@ pub fn load_average() -> Option<String> {
 /// it) or anything else, said in words.
 #[derive(Debug)]
 pub enum BenchError {
+    /// Over the memory budget: what would not fit.
     OverMemory(String),
+    /// Anything else, in words.
     Failed(String),
 }
 

@@ -52,9 +52,13 @@ print(json.dumps({"wall": wall, "cpu": cpu, "rss_mb": resource.getrusage(resourc
 
 /// A peer's run: its own wall and CPU seconds, peak memory and the area of every inset.
 pub struct Peer {
+    /// Wall seconds.
     pub wall: f64,
+    /// CPU seconds.
     pub cpu: f64,
+    /// Peak resident memory, MB.
     pub rss_mb: f64,
+    /// The area of every inset, mm².
     pub areas: Vec<f64>,
 }
 
@@ -179,8 +183,11 @@ pub fn relative_diff(a: f64, b: f64) -> f64 {
 
 /// The pocketing run: paths imported, moves made, and the import's wall seconds.
 pub struct Pocketed {
+    /// Paths imported.
     pub paths: usize,
+    /// Moves made.
     pub moves: usize,
+    /// Wall seconds of the import.
     pub import_seconds: f64,
 }
 
