@@ -25,7 +25,6 @@
 //! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
 //! ```
 
-#![warn(unreachable_pub, missing_docs)]
 
 // `profile` stays a public module: its `resolve`, `tool_table` and `DEFAULT` read well only
 // behind it (motion has its own `resolve`).

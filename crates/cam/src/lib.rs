@@ -22,7 +22,6 @@
 //! assert!(canon.contains(&CanonOp::SetFeedRate(600.0)));
 //! assert!(canon.contains(&CanonOp::StraightFeed { to: Pos::xyz(50.0, 0.0, -1.0) }));
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 // `memory`, `ops`, `relief` and `seed004` stay public namespaces: their names (`check`,
 // `plan`, `check`, `profile`, `pocket`) read well only behind the module, and new operations

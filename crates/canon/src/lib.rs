@@ -21,7 +21,6 @@
 //! offsets, G92 offsets, rotation and tool length offsets already applied), rotary axes in
 //! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
 //! records are still emitted so that a printer can reconstruct program coordinates.
-#![warn(unreachable_pub, missing_docs)]
 
 mod summary;
 

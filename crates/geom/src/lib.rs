@@ -17,7 +17,6 @@
 //! assert_eq!(grown.len(), 1);
 //! assert!((grown[0].area() - 144.0).abs() < 1e-6, "{}", grown[0].area());
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 mod arc;
 mod drawing;

@@ -16,7 +16,6 @@
 //! assert!((rect.area().abs() - 200.0).abs() < 1e-3, "{}", rect.area()); // usvg works in f32
 //! assert_eq!(imported.unsupported.total(), 1); // the text
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 mod dxf;
 mod heightmap;

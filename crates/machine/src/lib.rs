@@ -26,7 +26,6 @@
 //! let [x, y, _] = vm.status().machine_pos;
 //! assert!((x - 40.0).abs() < 1e-6 && (y - 50.0).abs() < 1e-6, "{x} {y}");
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 pub mod job;
 #[cfg(feature = "virtual")]

@@ -30,7 +30,6 @@
 //! - `trace`: the planned motion sampled at a fixed period.
 //!
 //! What other crates use is the flat list below.
-#![warn(unreachable_pub, missing_docs)]
 
 mod bound;
 mod check;

@@ -21,7 +21,6 @@
 //! assert!(prepared.program.lines().any(|l| l == "G1 X110 Y10"), "{}", prepared.program);
 //! assert_eq!(prepared.bounds, [10.0, 10.0, 110.0, 10.0]);
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 mod canon;
 mod clean;

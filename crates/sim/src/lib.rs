@@ -25,7 +25,6 @@
 //! assert_eq!(stock.at(20, 4), 0.0); // (10, 2)
 //! assert_eq!(stock.range(), (-1.0, 0.0));
 //! ```
-#![warn(unreachable_pub, missing_docs)]
 
 // `carve` stays a namespace: `carve::evaluate`, `carve::Settings` read well only behind it.
 pub mod carve;

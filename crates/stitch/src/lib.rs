@@ -1,7 +1,6 @@
 //! Embroidery (seed 000): a `Drawing` becomes a [`StitchPlan`] of running, satin and tatami
 //! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
 //! sewn on the needle-synchronised table, and written as Tajima DST or Melco EXP.
-#![warn(unreachable_pub, missing_docs)]
 
 mod format;
 mod generate;
