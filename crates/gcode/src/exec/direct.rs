@@ -176,7 +176,7 @@ impl Reader<'_> {
                     block.n = Some(self.number()?);
                 }
                 letter @ b'a'..=b'z' if letter != b'o' => {
-                    let value = self.real_value()?;
+                    let value = self.simple_value()?;
                     block.words.push(Word {
                         letter: letter.to_ascii_uppercase() as char,
                         value,
@@ -208,7 +208,7 @@ impl Reader<'_> {
             }
         };
         self.eat(b'=')?;
-        let value = self.real_value()?;
+        let value = self.simple_value()?;
         block.assignments.push(Assignment {
             target,
             value,
@@ -250,15 +250,53 @@ impl Reader<'_> {
         let (v, len) = crate::lex::scan_number(&self.raw[self.pos..])?.ok()?;
         self.pos += len;
         // The number stopped at a byte that is neither a digit nor a point: only a blank
-        // can hide more digits after it.
+        // can hide more digits after it. Usually one blank and then the next token, told
+        // apart here without the call to `peek`.
         if self.raw.get(self.pos).is_some_and(|&b| is_blank(b)) {
-            if let Some((b, _)) = self.peek() {
-                if b.is_ascii_digit() || b == b'.' {
-                    return None;
-                }
+            let next = match self.raw.get(self.pos + 1) {
+                Some(&c) if c > b' ' => Some(c),
+                None => None,
+                Some(_) => self.peek().map(|(c, _)| c),
+            };
+            if next.is_some_and(|c| c.is_ascii_digit() || c == b'.') {
+                return None;
             }
         }
         Some(v)
+    }
+
+    /// A value as [`Reader::real_value`] reads it, taking the usual forms (a number, `-`
+    /// and a number, `#n`) without its call and bookkeeping; anything else goes to it.
+    /// Away from the nesting limit (where a sign or `#` adds a level that could exceed it)
+    /// the usual forms need no depth bookkeeping.
+    #[inline(always)]
+    fn simple_value(&mut self) -> Option<f64> {
+        if self.depth + 2 >= MAX_NESTING {
+            return self.real_value();
+        }
+        let (b, i) = self.peek()?;
+        let next = self.raw.get(i + 1).copied();
+        match b {
+            b'0'..=b'9' | b'.' => {
+                self.pos = i;
+                self.number()
+            }
+            b'-' if matches!(next, Some(b'0'..=b'9' | b'.')) => {
+                self.pos = i + 1;
+                Some(-self.number()?)
+            }
+            b'#' if next.is_some_and(|c| c.is_ascii_digit()) => {
+                self.plain = false;
+                match self.whole_number(i + 1) {
+                    // As `compound_value` reads it.
+                    Some(n) => ((1..=LAST_NUMBERED).contains(&n))
+                        .then(|| self.params.get(n).ok())
+                        .flatten(),
+                    None => self.real_value(),
+                }
+            }
+            _ => self.real_value(),
+        }
     }
 
     /// A value: number, `[expression]`, `#parameter`, unary sign, or function.
@@ -383,7 +421,14 @@ impl Reader<'_> {
             return None;
         }
         self.pos = i + 1;
-        binary(op, lhs, rhs, Span::default()).ok()
+        // `binary` for these four, without its call.
+        match op {
+            BinOp::Add => Some(lhs + rhs),
+            BinOp::Sub => Some(lhs - rhs),
+            BinOp::Mul => Some(lhs * rhs),
+            _ if rhs == 0.0 => None,
+            _ => Some(lhs / rhs),
+        }
     }
 
     /// The digits at `at` as an integer, read without the float reading of
@@ -417,7 +462,7 @@ impl Reader<'_> {
             _ => false,
         };
         if simple {
-            self.real_value()
+            self.simple_value()
         } else {
             None
         }
