@@ -225,6 +225,18 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.end.is_some() {
                 return Ok(false);
             }
+            // grbl has its own letters and line limit: always the full path.
+            if self.skip.is_none()
+                && self.dialect != Dialect::Grbl
+                && self.seen_content
+                && self.fast_path_in_place(params, block)
+            {
+                if self.fanuc_block(block)? {
+                    continue;
+                }
+                self.idle_iterations = 0;
+                return Ok(true);
+            }
             let number = match self.src.read() {
                 Ok(Read::Line { number, offset }) => {
                     self.current = Mark {
@@ -353,29 +365,46 @@ impl<R: BufRead + Seek> Executor<R> {
     /// it goes first only while lines are plain.
     fn fast_path(&mut self, number: u32, params: &mut Params, block: &mut Block) -> bool {
         let text = self.src.text();
-        let direct = |params: &mut Params, block: &mut Block, scratch: &mut direct::Scratch| {
-            direct::direct_line(text, number, params, block, scratch)
-        };
-        if self.plain_lines {
-            if plain::plain_line(text, number, block) {
-                return true;
+        // A line read by `read` holds no newline: taken, it is taken whole.
+        fast_line(
+            text,
+            None,
+            number,
+            params,
+            block,
+            &mut self.scratch,
+            &mut self.plain_lines,
+            &mut self.plain_run,
+        )
+        .is_some()
+    }
+
+    /// The next line through one of the fast paths, read where it lies in the reader's
+    /// buffer, before `read` has looked for its end or set it apart: taken only when the
+    /// fast path stops at its newline (a line that goes on past the bytes at hand, an
+    /// over-long one, or any line a fast path declines, is left to `read`).
+    fn fast_path_in_place(&mut self, params: &mut Params, block: &mut Block) -> bool {
+        let (_, number) = self.src.position();
+        let max_len = self.src.max_len();
+        let chunk = self.src.buffered();
+        let taken = fast_line(
+            chunk,
+            Some(max_len),
+            number,
+            params,
+            block,
+            &mut self.scratch,
+            &mut self.plain_lines,
+            &mut self.plain_run,
+        );
+        match taken {
+            Some(len) => {
+                let (offset, line) = self.src.take_line(len);
+                self.current = Mark { offset, line };
+                true
             }
-            self.plain_lines = false;
-            self.plain_run = 0;
-            direct(params, block, &mut self.scratch)
-        } else if direct(params, block, &mut self.scratch) {
-            // Back to the plain path only after two plain lines in a row: a lone plain line
-            // between lines with expressions would make the next line fail the plain path
-            // first, wasting its reading.
-            self.plain_run = if self.scratch.was_plain {
-                self.plain_run.saturating_add(1)
-            } else {
-                0
-            };
-            self.plain_lines = self.plain_run >= 2;
-            true
-        } else {
-            false
+            // `block` may be half-filled: the full path refills it.
+            None => false,
         }
     }
 
@@ -537,6 +566,42 @@ impl<R: BufRead + Seek> Executor<R> {
     }
 }
 
+/// One line through the plain or the direct path (see [`Executor::fast_path`]), with the
+/// line's length when one takes it; `in_place` as for [`direct::direct_line_upto`].
+fn fast_line(
+    raw: &[u8],
+    in_place: Option<usize>,
+    number: u32,
+    params: &mut Params,
+    block: &mut Block,
+    scratch: &mut direct::Scratch,
+    plain_lines: &mut bool,
+    plain_run: &mut u8,
+) -> Option<usize> {
+    let ended =
+        |len: usize| in_place.is_none_or(|max_len| raw.get(len) == Some(&b'\n') && len <= max_len);
+    if *plain_lines {
+        if let Some(len) = plain::plain_line_upto(raw, number, block).filter(|&l| ended(l)) {
+            return Some(len);
+        }
+        *plain_lines = false;
+        *plain_run = 0;
+        direct::direct_line_upto(raw, in_place, number, params, block, scratch)
+    } else {
+        let len = direct::direct_line_upto(raw, in_place, number, params, block, scratch)?;
+        // Back to the plain path only after two plain lines in a row: a lone plain line
+        // between lines with expressions would make the next line fail the plain path
+        // first, wasting its reading.
+        *plain_run = if scratch.was_plain {
+            plain_run.saturating_add(1)
+        } else {
+            0
+        };
+        *plain_lines = *plain_run >= 2;
+        Some(len)
+    }
+}
+
 /// Whether `line` may read a system parameter: a `<` followed, blanks aside, by `_`. A
 /// search for each `<`, as they are rare in G-code; false positives only cost a refresh.
 fn names_system_param(mut line: &[u8]) -> bool {
@@ -612,4 +677,61 @@ pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
     }
     out.push_str(rest);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{run, RunOptions};
+    use oficina_canon::{Canon, CanonOp};
+    use std::io::{BufReader, Cursor};
+
+    /// Runs `text` through a reader whose buffer holds `capacity` bytes.
+    fn run_with_buffer(text: &str, capacity: usize, opts: &RunOptions) -> Vec<Canon> {
+        let mut ops = Vec::new();
+        let reader = BufReader::with_capacity(capacity, Cursor::new(text.as_bytes().to_vec()));
+        let diagnostics = run(reader, opts, &mut |c| ops.push(c));
+        assert!(diagnostics.is_empty(), "{capacity}: {diagnostics:?}");
+        ops
+    }
+
+    #[test]
+    fn lines_read_in_place_match_lines_read_whole_at_any_buffer_size() {
+        // Lines cut anywhere by the reader's buffer are read apart and whole; an
+        // assignment must still run exactly once (the X of each move counts them).
+        for newline in ["\n", "\r\n"] {
+            let mut text = format!("G21 G90 G1 F100{newline}#1 = 0{newline}");
+            for _ in 0..40 {
+                text += &format!("#1 = [#1 + 1]{newline}G1 X#1 Y[#1 * 2]{newline}G1 Z-1{newline}");
+            }
+            text += "M2";
+            let whole = run_with_buffer(&text, 1 << 16, &RunOptions::default());
+            let last_x = whole.iter().rev().find_map(|c| match c.op {
+                CanonOp::StraightFeed { to } => Some(to.x),
+                _ => None,
+            });
+            assert_eq!(last_x, Some(40.0));
+            for capacity in 1..48 {
+                assert_eq!(
+                    run_with_buffer(&text, capacity, &RunOptions::default()),
+                    whole,
+                    "buffer of {capacity} bytes, {newline:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_line_limit_holds_for_lines_read_in_place() {
+        let long = format!("G1 X1 Y[2 + {}]\n", "0".repeat(200));
+        let text = format!("G21 G1 F100\n{long}M2\n");
+        let opts = RunOptions {
+            max_line_len: 100,
+            ..RunOptions::default()
+        };
+        let reader = BufReader::with_capacity(1 << 16, Cursor::new(text.into_bytes()));
+        let diagnostics = run(reader, &opts, &mut |_| {});
+        assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+        assert_eq!(diagnostics[0].span.line, 2);
+        assert!(diagnostics[0].message.contains("more than the limit"));
+    }
 }

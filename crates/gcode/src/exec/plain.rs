@@ -8,9 +8,18 @@ use crate::block::{Block, Word};
 use crate::diag::Span;
 use crate::lex::scan_number;
 
+// The whole-line form: the tests' (the executor reads in place, `_upto`).
+#[cfg(test)]
 /// Fill `block` from `raw` if the line is plain; `false` leaves the line to the full path
 /// (`block` may then hold partial content: the caller refills it).
 pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
+    plain_line_upto(raw, line, block).is_some()
+}
+
+/// [`plain_line`] over `raw` holding the line and perhaps what follows it (the reader's
+/// buffer, read in place): reading stops at the first newline. The line's length when it
+/// is taken: the newline's position, or the end of `raw` when it holds none.
+pub(super) fn plain_line_upto(raw: &[u8], line: u32, block: &mut Block) -> Option<usize> {
     let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
     block.line = line;
     block.n = None;
@@ -19,15 +28,20 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
     block.assignments.clear();
     let mut i = 0;
     let len = raw.len();
+    let mut end = len;
     while i < len {
         let b = raw[i];
         if b == b' ' || b == b'\t' {
             i += 1;
             continue;
         }
+        if b == b'\n' {
+            end = i;
+            break;
+        }
         let letter = b.to_ascii_lowercase();
         if !letter.is_ascii_lowercase() || letter == b'o' {
-            return false;
+            return None;
         }
         let start = i;
         i += 1;
@@ -50,7 +64,7 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         }
         let (value, used) = match scan_number(&raw[i..]) {
             Some(Ok(v)) => v,
-            _ => return false,
+            _ => return None,
         };
         i += used;
         // A blank followed by more digits is a number with a blank inside: full path.
@@ -59,13 +73,13 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
             j += 1;
         }
         if j < len && (raw[j].is_ascii_digit() || raw[j] == b'.') {
-            return false;
+            return None;
         }
         let value = if negative { -value } else { value };
         if letter == b'n' {
             // Only first on the line, unsigned: anything else is the full path's error.
             if !block.words.is_empty() || block.n.is_some() || signed {
-                return false;
+                return None;
             }
             block.n = Some(value);
         } else {
@@ -78,7 +92,7 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         }
         i = j;
     }
-    !block.words.is_empty() || block.n.is_some()
+    (!block.words.is_empty() || block.n.is_some()).then_some(end)
 }
 
 #[cfg(test)]

@@ -85,6 +85,28 @@ impl<R: BufRead + Seek> LineSource<R> {
         Ok(())
     }
 
+    /// The bytes the reader holds from the next line on (reading more only when it holds
+    /// none), for a caller that finds the line's end itself and then takes it with
+    /// [`LineSource::take_line`]. Empty at the end of the input or on an error, which the
+    /// next [`LineSource::read`] then meets.
+    pub(super) fn buffered(&mut self) -> &[u8] {
+        if let Some(len) = self.in_place.take() {
+            self.reader.consume(len + 1);
+        }
+        self.reader.fill_buf().unwrap_or_default()
+    }
+
+    /// Take the first `len` bytes of [`LineSource::buffered`] and the newline after them
+    /// as the next line: its offset and number.
+    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+        self.reader.consume(len + 1);
+        let offset = self.pos;
+        self.pos += len as u64 + 1;
+        let number = self.next_line;
+        self.next_line = self.next_line.saturating_add(1);
+        (offset, number)
+    }
+
     pub(super) fn read(&mut self) -> io::Result<Read> {
         if let Some(len) = self.in_place.take() {
             self.reader.consume(len + 1);
@@ -193,6 +215,20 @@ impl<R: BufRead + Seek> Sources<R> {
         match self.files.last_mut() {
             Some(Some(f)) => f.text(),
             _ => self.main.text(),
+        }
+    }
+
+    pub(super) fn buffered(&mut self) -> &[u8] {
+        match self.files.last_mut() {
+            Some(Some(f)) => f.buffered(),
+            _ => self.main.buffered(),
+        }
+    }
+
+    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+        match self.file_mut() {
+            Some(f) => f.take_line(len),
+            None => self.main.take_line(len),
         }
     }
 
