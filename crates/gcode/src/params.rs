@@ -158,6 +158,13 @@ impl Params {
             .ok_or_else(|| ParamError::Undefined(key.to_string()))
     }
 
+    /// Read the local `#<name>`, `name` already lower-case and not starting with `_`:
+    /// [`Params::get_named`] without its checks, for the fast path.
+    pub(crate) fn get_local(&self, name: &str) -> Option<f64> {
+        debug_assert!(!name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()));
+        self.locals().get(name).copied()
+    }
+
     /// Whether `#<name>=…` would be refused because the interpreter owns the name.
     pub fn is_read_only(&self, name: &str) -> bool {
         name.starts_with('_') && self.system.contains_key(&name.to_ascii_lowercase())

@@ -153,7 +153,7 @@ fn lookup<T: Copy>(table: &[(&'static [u8], T)], rest: &[u8]) -> Option<(&'stati
         .copied()
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
     /// The next non-blank byte and its position, without consuming anything.
     fn peek(&self) -> Option<(u8, usize)> {
         // Usually the next byte is the token itself (blanks are all at most b' ').
@@ -279,6 +279,23 @@ impl Reader<'_> {
         None
     }
 
+    /// The name after `<` when it is a local one written as it is kept (`scale`: lower
+    /// case, digits and `_`, not first, no blanks), read in place without a copy; `pos`
+    /// moves past the `>` only then. Anything else is for [`Reader::read_name`].
+    fn local_name(&mut self) -> Option<&'a str> {
+        let raw: &'a [u8] = self.raw;
+        let rest = &raw[self.pos..];
+        let len = rest
+            .iter()
+            .position(|&b| !(b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'))?;
+        if len == 0 || rest[0] == b'_' || rest[len] != b'>' {
+            return None;
+        }
+        let name = std::str::from_utf8(&rest[..len]).ok()?;
+        self.pos += len + 1;
+        Some(name)
+    }
+
     /// An unsigned number at `pos`; a blank followed by more digits (a number with a blank
     /// inside) is for the full path.
     // Inlined: a call per number cost as much as a quarter of the number's own reading.
@@ -387,6 +404,9 @@ impl Reader<'_> {
                 match self.peek()? {
                     (b'<', j) => {
                         self.pos = j + 1;
+                        if let Some(name) = self.local_name() {
+                            return self.params.get_local(name);
+                        }
                         self.read_name()?;
                         // A system value not yet refreshed: the full path refreshes it.
                         if self.name.starts_with('_')
