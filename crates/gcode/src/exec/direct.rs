@@ -616,9 +616,6 @@ fn param_number(v: f64) -> Option<i64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
     use proptest::prelude::*;
 
     fn params() -> Params {
@@ -659,19 +656,7 @@ mod tests {
             return false;
         }
         let mut full_params = params();
-        let mut c = Compact::new();
-        c.load(src.as_bytes(), 3)
-            .unwrap_or_else(|e| panic!("{src}: {e}"));
-        let mut line = Line::default();
-        parse_line(&c, crate::Dialect::LinuxCnc, &mut line)
-            .unwrap_or_else(|e| panic!("{src}: {e}"));
-        assert!(
-            line.oword.is_none() && !line.percent && !line.block_delete,
-            "{src}"
-        );
-        let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
-        let full = exec
-            .full_path_result(&line, &mut full_params)
+        let full = crate::exec::full_path_of(src, 3, &mut full_params)
             .unwrap_or_else(|e| panic!("{src}: {e}"));
         assert_eq!(fast, full, "{src}");
         assert_eq!(touched(&fast_params), touched(&full_params), "{src}");

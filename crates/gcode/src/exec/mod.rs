@@ -18,6 +18,7 @@
 
 mod direct;
 mod fanuc;
+mod fast;
 mod flow;
 mod oword;
 mod plain;
@@ -75,12 +76,8 @@ pub struct Executor<R> {
     end: Option<ProgramEnd>,
     /// Assignments of the current line, before they are applied (reused buffer).
     pending: Vec<(ParamRef, f64, Span)>,
-    /// Buffers of the one-pass fast path.
-    scratch: direct::Scratch,
-    /// The last line taken by a fast path was plain: try the plain path first.
-    plain_lines: bool,
-    /// Plain lines the direct path has taken in a row since the plain path last failed.
-    plain_run: u8,
+    /// The plain and direct paths for ordinary lines.
+    fast: fast::FastPaths,
     /// Start of the line being run.
     current: Mark,
     /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
@@ -118,9 +115,7 @@ impl<R: BufRead + Seek> Executor<R> {
             opened_with_percent: false,
             end: None,
             pending: Vec::new(),
-            scratch: direct::Scratch::default(),
-            plain_lines: true,
-            plain_run: 0,
+            fast: fast::FastPaths::default(),
             current: Mark { offset: 0, line: 0 },
             fanuc_subs: true,
             printed: Vec::new(),
@@ -360,23 +355,11 @@ impl<R: BufRead + Seek> Executor<R> {
         }
     }
 
-    /// The current line through one of the fast paths, if one takes it. Both give what the
-    /// full path gives; the plain one is quicker but wasted on lines with expressions, so
-    /// it goes first only while lines are plain.
+    /// The current line through one of the fast paths, if one takes it.
     fn fast_path(&mut self, number: u32, params: &mut Params, block: &mut Block) -> bool {
-        let text = self.src.text();
         // A line read by `read` holds no newline: taken, it is taken whole.
-        fast_line(
-            text,
-            None,
-            number,
-            params,
-            block,
-            &mut self.scratch,
-            &mut self.plain_lines,
-            &mut self.plain_run,
-        )
-        .is_some()
+        let text = self.src.text();
+        self.fast.line(text, None, number, params, block).is_some()
     }
 
     /// The next line through one of the fast paths, read where it lies in the reader's
@@ -387,17 +370,7 @@ impl<R: BufRead + Seek> Executor<R> {
         let (_, number) = self.src.position();
         let max_len = self.src.max_len();
         let chunk = self.src.buffered();
-        let taken = fast_line(
-            chunk,
-            Some(max_len),
-            number,
-            params,
-            block,
-            &mut self.scratch,
-            &mut self.plain_lines,
-            &mut self.plain_run,
-        );
-        match taken {
+        match self.fast.line(chunk, Some(max_len), number, params, block) {
             Some(len) => {
                 let (offset, line) = self.src.take_line(len);
                 self.current = Mark { offset, line };
@@ -454,28 +427,6 @@ impl<R: BufRead + Seek> Executor<R> {
             .with_help(format!("close it with {label} {}", open.closer().name())));
         }
         Ok(false)
-    }
-
-    /// The block the full path makes of `line` (tests of the fast path).
-    #[cfg(test)]
-    pub(crate) fn full_path_block(&mut self, line: &Line, params: &mut Params) -> Block {
-        self.line = line.clone();
-        let mut block = Block::default();
-        self.fill_block(params, &mut block)
-            .expect("a plain line evaluates");
-        block
-    }
-
-    /// The block the full path makes of `line`, or its error (tests of the fast paths).
-    #[cfg(test)]
-    pub(crate) fn full_path_result(
-        &mut self,
-        line: &Line,
-        params: &mut Params,
-    ) -> Result<Block, Diagnostic> {
-        self.line = line.clone();
-        let mut block = Block::default();
-        self.fill_block(params, &mut block).map(|_| block)
     }
 
     /// Evaluate the words and assignments of the current line into `block`.
@@ -566,40 +517,24 @@ impl<R: BufRead + Seek> Executor<R> {
     }
 }
 
-/// One line through the plain or the direct path (see [`Executor::fast_path`]), with the
-/// line's length when one takes it; `in_place` as for [`direct::direct_line_upto`].
-fn fast_line(
-    raw: &[u8],
-    in_place: Option<usize>,
-    number: u32,
-    params: &mut Params,
-    block: &mut Block,
-    scratch: &mut direct::Scratch,
-    plain_lines: &mut bool,
-    plain_run: &mut u8,
-) -> Option<usize> {
-    let ended =
-        |len: usize| in_place.is_none_or(|max_len| raw.get(len) == Some(&b'\n') && len <= max_len);
-    if *plain_lines {
-        if let Some(len) = plain::plain_line_upto(raw, number, block).filter(|&l| ended(l)) {
-            return Some(len);
-        }
-        *plain_lines = false;
-        *plain_run = 0;
-        direct::direct_line_upto(raw, in_place, number, params, block, scratch)
-    } else {
-        let len = direct::direct_line_upto(raw, in_place, number, params, block, scratch)?;
-        // Back to the plain path only after two plain lines in a row: a lone plain line
-        // between lines with expressions would make the next line fail the plain path
-        // first, wasting its reading.
-        *plain_run = if scratch.was_plain {
-            plain_run.saturating_add(1)
-        } else {
-            0
-        };
-        *plain_lines = *plain_run >= 2;
-        Some(len)
-    }
+/// The block the full path makes of the source line `src` (number `line`), reading and
+/// writing `params` (tests of the fast paths, which must give the same). Panics when
+/// the line does not compact and parse as an ordinary line: the fast paths take none
+/// other.
+#[cfg(test)]
+pub(crate) fn full_path_of(src: &str, line: u32, params: &mut Params) -> Result<Block, Diagnostic> {
+    let mut c = Compact::new();
+    c.load(src.as_bytes(), line)
+        .unwrap_or_else(|e| panic!("{src}: {e}"));
+    let mut exec = Executor::from_text("", Dialect::LinuxCnc);
+    parse_line(&c, Dialect::LinuxCnc, &mut exec.line).unwrap_or_else(|e| panic!("{src}: {e}"));
+    let parsed = &exec.line;
+    assert!(
+        parsed.oword.is_none() && !parsed.percent && !parsed.block_delete,
+        "{src}"
+    );
+    let mut block = Block::default();
+    exec.fill_block(params, &mut block).map(|_| block)
 }
 
 /// Whether `line` may read a system parameter: a `<` followed, blanks aside, by `_`. A

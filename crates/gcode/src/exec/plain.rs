@@ -98,9 +98,7 @@ pub(super) fn plain_line_upto(raw: &[u8], line: u32, block: &mut Block) -> Optio
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
+    use crate::params::Params;
 
     /// The fast path gives what the full path gives, or declines.
     fn same_as_full_path(src: &str) -> bool {
@@ -108,12 +106,8 @@ mod tests {
         if !plain_line(src.as_bytes(), 3, &mut fast) {
             return false;
         }
-        let mut c = Compact::new();
-        c.load(src.as_bytes(), 3).unwrap();
-        let mut line = Line::default();
-        parse_line(&c, crate::Dialect::LinuxCnc, &mut line).unwrap();
-        let mut exec = crate::exec::Executor::from_text(src, crate::Dialect::LinuxCnc);
-        let full = exec.full_path_block(&line, &mut crate::params::Params::new());
+        let full =
+            crate::exec::full_path_of(src, 3, &mut Params::new()).expect("a plain line evaluates");
         assert_eq!(fast.words, full.words, "{src}");
         assert_eq!(fast.n, full.n, "{src}");
         true
@@ -164,9 +158,7 @@ mod tests {
 #[cfg(test)]
 mod properties {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
+    use crate::params::Params;
     use proptest::prelude::*;
 
     proptest! {
@@ -175,12 +167,7 @@ mod properties {
         fn fast_path_never_disagrees_with_the_full_path(src in "[GXYNnoEe0-9.+\\- \t]{0,24}") {
             let mut fast = Block::default();
             if plain_line(src.as_bytes(), 1, &mut fast) {
-                let mut c = Compact::new();
-                c.load(src.as_bytes(), 1).unwrap();
-                let mut line = Line::default();
-                parse_line(&c, crate::Dialect::LinuxCnc, &mut line).unwrap();
-                let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
-                let full = exec.full_path_block(&line, &mut crate::params::Params::new());
+                let full = crate::exec::full_path_of(&src, 1, &mut Params::new()).expect("a plain line evaluates");
                 prop_assert_eq!(fast.words, full.words);
                 prop_assert_eq!(fast.n, full.n);
             }
