@@ -28,6 +28,7 @@ pub struct Rs274Printer {
 }
 
 impl Rs274Printer {
+    /// A printer at the start of a program (millimetres, no offsets).
     pub fn new() -> Rs274Printer {
         Rs274Printer::default()
     }

@@ -47,7 +47,10 @@ pub enum ProgramEnd {
     Percent,
     /// The end of the file. LinuxCNC reports an error here unless M2/M30 came first (the
     /// interpreter knows; the executor does not look at M words).
-    EndOfFile { opened_with_percent: bool },
+    EndOfFile {
+        /// The first line was a `%` (then a closing `%` was missing).
+        opened_with_percent: bool,
+    },
 }
 
 /// Most subroutine definitions remembered: a bound on memory for hostile input.
@@ -55,6 +58,8 @@ const MAX_SUBS: usize = 100_000;
 /// Most `if`s and loops open at once (a million `o1 if [1]` lines must not grow memory).
 const MAX_OPEN_BLOCKS: usize = 1_000;
 
+/// The front end's executor: reads lines from a seekable reader, runs O-word control flow
+/// and evaluates expressions, yielding [`Block`]s.
 pub struct Executor<R> {
     src: Sources<R>,
     dialect: Dialect,
@@ -96,6 +101,7 @@ impl Executor<Cursor<Vec<u8>>> {
 }
 
 impl<R: BufRead + Seek> Executor<R> {
+    /// An executor reading `reader` in `dialect`.
     pub fn new(reader: R, dialect: Dialect) -> Self {
         Executor {
             src: Sources::new(reader),
@@ -151,14 +157,17 @@ impl<R: BufRead + Seek> Executor<R> {
         self.subroutine_path = dirs;
     }
 
+    /// Replace the limits on loops, calls and subroutines.
     pub fn set_limits(&mut self, limits: Limits) {
         self.limits = limits;
     }
 
+    /// The limits on loops, calls and subroutines.
     pub fn limits(&self) -> Limits {
         self.limits
     }
 
+    /// The dialect lines are read in.
     pub fn dialect(&self) -> Dialect {
         self.dialect
     }
