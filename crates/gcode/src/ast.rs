@@ -232,12 +232,16 @@ pub struct Line {
     pub block_delete: bool,
     /// `%` alone: a program start/end marker.
     pub percent: bool,
+    /// The `N` word's value, if any.
     pub n: Option<f64>,
+    /// The O-word (control flow: sub, call, if, while, …), if any.
     pub oword: Option<OWord>,
+    /// Words, assignments and comments, in source order.
     pub items: Vec<Item>,
 }
 
 impl Line {
+    /// Empty the line for reuse as source line `line` (keeps the buffers).
     pub fn clear(&mut self, line: u32) {
         self.line = line;
         self.block_delete = false;

@@ -7,14 +7,18 @@ use crate::diag::Span;
 /// (letter and value expression) in the source.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Word {
+    /// The letter, upper case.
     pub letter: char,
+    /// The evaluated value.
     pub value: f64,
+    /// Where the word (letter and value) is in the source.
     pub span: Span,
 }
 
 /// A comment of the block; `(MSG,…)` comments become operator messages.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Note {
+    /// An ordinary comment, without its parentheses.
     Comment(String),
     /// `(MSG, text)`
     Message(String),
@@ -31,6 +35,7 @@ pub struct Block {
     pub n: Option<f64>,
     /// Words in source order, letters upper-cased (and the polar `@`, `^`); never `N` or `O`.
     pub words: Vec<Word>,
+    /// The block's comments and messages, in source order.
     pub notes: Vec<Note>,
     /// Parameter assignments `#n=…` / `#<name>=…` on this line: evaluated with the values
     /// the parameters had before the line (as LinuxCNC does) and already applied to the

@@ -5,12 +5,16 @@ use std::fmt;
 /// A place in the source: 1-based line, 1-based column (in characters), length in characters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Span {
+    /// 1-based line.
     pub line: u32,
+    /// 1-based column (in characters).
     pub col: u32,
+    /// Length in columns (0 for a point).
     pub len: u32,
 }
 
 impl Span {
+    /// The span of `len` columns from `col` on `line`.
     pub fn new(line: u32, col: u32, len: u32) -> Span {
         Span { line, col, len }
     }
@@ -25,15 +29,21 @@ impl Span {
     }
 }
 
+/// How bad a diagnostic is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Severity {
+    /// The program runs on; something deserves a look.
     Warning,
+    /// The program (or the block, in check mode) cannot run.
     Error,
 }
 
+/// A message about the program, with where it applies.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
+    /// Warning or error.
     pub severity: Severity,
+    /// Where in the source it applies.
     pub span: Span,
     /// What is wrong, e.g. "arc end point radius differs from start radius by 0.0213 mm".
     pub message: String,
@@ -44,6 +54,7 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
+    /// An error at `span`.
     pub fn error(span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Error,
@@ -54,6 +65,7 @@ impl Diagnostic {
         }
     }
 
+    /// A warning at `span`.
     pub fn warning(span: Span, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
             severity: Severity::Warning,
@@ -64,11 +76,13 @@ impl Diagnostic {
         }
     }
 
+    /// The same diagnostic with a hint on how to fix it.
     pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
         self.help = Some(help.into());
         self
     }
 
+    /// The same diagnostic with a numeric code (grbl's error number).
     pub fn with_code(mut self, code: u16) -> Diagnostic {
         self.code = Some(code);
         self

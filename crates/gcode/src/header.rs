@@ -9,7 +9,9 @@ const HEADER_BYTES: u64 = 64 * 1024;
 /// The machine a program asks for, and the line that asks.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MachineHint {
+    /// The machine's name as the program writes it.
     pub name: String,
+    /// The line that names it.
     pub line: u32,
 }
 

@@ -23,10 +23,12 @@ pub struct Compact {
 }
 
 impl Compact {
+    /// An empty line.
     pub fn new() -> Compact {
         Compact::default()
     }
 
+    /// Whether the line holds nothing (blank, or blanks only).
     pub fn is_empty(&self) -> bool {
         self.bytes.is_empty()
     }

@@ -1,3 +1,4 @@
+#![warn(unreachable_pub, missing_docs)]
 //! RS274/NGC front end: text → blocks → canonical operations.
 //!
 //! ```

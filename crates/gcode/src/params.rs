@@ -63,6 +63,8 @@ pub enum ParamError {
     ReadOnly(String),
 }
 
+/// All parameters of a run: numbered, global named, system (read-only) and the named locals
+/// of each subroutine call.
 #[derive(Clone, Debug)]
 pub struct Params {
     numbered: Vec<f64>,
@@ -83,6 +85,7 @@ impl Default for Params {
 }
 
 impl Params {
+    /// Every numbered parameter 0, no named one.
     pub fn new() -> Params {
         Params {
             numbered: vec![0.0; MAX_NUMBERED as usize + 1],
@@ -102,10 +105,12 @@ impl Params {
         }
     }
 
+    /// Read `#n`.
     pub fn get(&self, n: i64) -> Result<f64, ParamError> {
         Ok(self.numbered[Self::index(n)?])
     }
 
+    /// Set `#n` (1 to the last numbered parameter).
     pub fn set(&mut self, n: i64, value: f64) -> Result<(), ParamError> {
         let i = Self::index(n)?;
         if i == 0 {
@@ -158,6 +163,13 @@ impl Params {
             .ok_or_else(|| ParamError::Undefined(key.to_string()))
     }
 
+    /// Read the local `#<name>`, `name` already lower-case and not starting with `_`:
+    /// [`Params::get_named`] without its checks, for the fast path.
+    pub(crate) fn get_local(&self, name: &str) -> Option<f64> {
+        debug_assert!(!name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()));
+        self.locals().get(name).copied()
+    }
+
     /// Whether `#<name>=…` would be refused because the interpreter owns the name.
     pub fn is_read_only(&self, name: &str) -> bool {
         name.starts_with('_') && self.system.contains_key(&name.to_ascii_lowercase())
@@ -178,10 +190,13 @@ impl Params {
         std::mem::take(&mut self.system_stale)
     }
 
+    /// Whether `#<name>` is defined here.
     pub fn exists_named(&self, name: &str) -> bool {
         self.get_named(name).is_ok()
     }
 
+    /// Set `#<name>` (a local, or a global when it starts with `_`); read-only names are
+    /// refused.
     pub fn set_named(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
         // Updating a lower-case name that exists (the usual case) allocates nothing.
         if !name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()) {
@@ -234,6 +249,7 @@ impl Params {
         }
     }
 
+    /// Depth of subroutine calls whose locals are kept.
     pub fn call_depth(&self) -> usize {
         self.frames.len()
     }

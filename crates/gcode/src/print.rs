@@ -28,6 +28,7 @@ pub struct Rs274Printer {
 }
 
 impl Rs274Printer {
+    /// A printer at the start of a program (millimetres, no offsets).
     pub fn new() -> Rs274Printer {
         Rs274Printer::default()
     }
@@ -253,20 +254,12 @@ impl Rs274Printer {
             CanonOp::SetG5xOffset { index, offset } => {
                 self.frame.g5x = offset.to_array();
                 let v = self.lengths(offset);
-                write!(
-                    out,
-                    "SET_G5X_OFFSET({index}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
-                    v[0], v[1], v[2], v[3], v[4], v[5]
-                )
+                write_call(out, &format!("SET_G5X_OFFSET({index}, "), &v)
             }
             CanonOp::SetG92Offset(offset) => {
                 self.frame.g92 = offset.to_array();
                 let v = self.lengths(offset);
-                write!(
-                    out,
-                    "SET_G92_OFFSET({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
-                    v[0], v[1], v[2], v[3], v[4], v[5]
-                )
+                write_call(out, "SET_G92_OFFSET(", &v)
             }
             CanonOp::SetXyRotation(r) => {
                 self.frame.rotation = *r;
@@ -316,19 +309,11 @@ impl Rs274Printer {
             }
             CanonOp::StraightTraverse { to } => {
                 let p = self.program(to);
-                write!(
-                    out,
-                    "STRAIGHT_TRAVERSE({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
-                    p[0], p[1], p[2], p[3], p[4], p[5]
-                )
+                write_call(out, "STRAIGHT_TRAVERSE(", &p)
             }
             CanonOp::StraightFeed { to } => {
                 let p = self.program(to);
-                write!(
-                    out,
-                    "STRAIGHT_FEED({:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
-                    p[0], p[1], p[2], p[3], p[4], p[5]
-                )
+                write_call(out, "STRAIGHT_FEED(", &p)
             }
             CanonOp::ArcFeed {
                 plane,
@@ -398,6 +383,16 @@ impl Rs274Printer {
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
         }
     }
+}
+
+/// `head` then the six axis values with four decimals and `)`: the calls that carry a
+/// whole position or offset (the general path; [`push_list`] is the fast one).
+fn write_call(out: &mut impl Write, head: &str, v: &[f64; 6]) -> io::Result<()> {
+    write!(
+        out,
+        "{head}{:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4})",
+        v[0], v[1], v[2], v[3], v[4], v[5]
+    )
 }
 
 /// `v0, v1, …` with four decimals each (each passing [`decimal::fixed4_fits`]).

@@ -15,12 +15,15 @@ use std::io::{BufRead, Cursor, Seek};
 /// How to run a program.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
+    /// The dialect the program is read in.
     pub dialect: Dialect,
     /// Skip blocks that start with `/` (the front end honours it).
     pub block_delete: bool,
+    /// The tools the machine knows.
     pub tool_table: ToolTable,
     /// Check mode: report an erroneous block, skip it, go on. Run mode stops at the first.
     pub continue_after_error: bool,
+    /// The modal state the program starts in.
     pub start: StartState,
     /// Most diagnostics kept in check mode (0 = 1000); past it checking stops.
     pub max_diagnostics: usize,
@@ -37,6 +40,7 @@ pub struct RunOptions {
 }
 
 impl RunOptions {
+    /// Options for check mode in `dialect`: go on after an error.
     pub fn check(dialect: Dialect) -> RunOptions {
         RunOptions {
             dialect,
@@ -48,7 +52,9 @@ impl RunOptions {
 
 /// Feeds blocks to the interpreter and collects what went wrong.
 pub struct Driver {
+    /// The modal interpreter.
     pub interp: Interpreter,
+    /// The parameters of the run.
     pub params: Params,
     diagnostics: Vec<Diagnostic>,
     continue_after_error: bool,
@@ -59,6 +65,7 @@ pub struct Driver {
 }
 
 impl Driver {
+    /// A driver for `opts`, its interpreter started (operations it makes go to `sink`).
     pub fn new(opts: &RunOptions, sink: &mut dyn FnMut(Canon)) -> Driver {
         let mut interp = Interpreter::new(opts.dialect, &opts.start, opts.tool_table.clone());
         let mut params = Params::new();

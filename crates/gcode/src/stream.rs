@@ -14,6 +14,8 @@ const CHUNK: usize = 1024;
 /// Chunks in flight: bounds the memory between the interpreter and its consumer.
 const CHUNKS_IN_FLIGHT: usize = 8;
 
+/// Canonical operations of a program interpreted on another thread, as an iterator: the
+/// interpreter runs ahead by a bounded number of chunks.
 pub struct CanonStream {
     rx: Receiver<Vec<Canon>>,
     chunk: std::vec::IntoIter<Canon>,

@@ -99,7 +99,12 @@ pub enum ReadError {
     /// The file could not be opened or read (the OS error, once).
     Io(std::io::Error),
     /// The file is larger than the caller allows to hold in memory.
-    TooLarge { bytes: u64, limit: u64 },
+    TooLarge {
+        /// The file's size.
+        bytes: u64,
+        /// The most the caller allows.
+        limit: u64,
+    },
     /// A byte outside UTF-8 outside a comment (or a byte-order mark): the lexer's diagnostic.
     Bad(Diagnostic),
 }
@@ -184,7 +189,9 @@ pub const QUOTE_WIDTH: usize = 72;
 /// place, control characters escaped; `pad` is the terminal column of the place in `text`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Quote {
+    /// The text of the window.
     pub text: String,
+    /// Terminal column of the place in `text`.
     pub pad: usize,
     /// Terminal columns under the span (at least 1).
     pub width: usize,

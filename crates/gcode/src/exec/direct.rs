@@ -15,6 +15,9 @@ use crate::expr::{binary, call, degrees, LAST_NUMBERED};
 use crate::params::Params;
 use crate::parse::{MAX_NESTING, WORD_OPS};
 
+/// Spare name strings kept: more than a line's named assignments is never needed.
+const MAX_SPARE_NAMES: usize = 16;
+
 /// How far from an integer a parameter number may be (as `expr::param_number`).
 const INTEGER_TOLERANCE: f64 = 0.0001;
 
@@ -22,11 +25,16 @@ const INTEGER_TOLERANCE: f64 = 0.0001;
 #[derive(Default)]
 pub(super) struct Scratch {
     name: String,
+    /// Strings of the named assignments of earlier lines, reused for later ones: a line
+    /// like `#<scale> = …` then allocates nothing.
+    spare_names: Vec<String>,
     /// The last line taken had only letters and plain numbers (no brackets, parameters,
     /// functions or assignments): one the plain path would have taken.
     pub was_plain: bool,
 }
 
+// The whole-line form: the tests' (the executor reads in place, `_upto`).
+#[cfg(test)]
 /// Fill `block` from `raw` and apply its assignments to `params` if the line is ordinary;
 /// `false` leaves the line (and `params`) to the full path, `block` possibly half-filled.
 pub(super) fn direct_line(
@@ -36,26 +44,52 @@ pub(super) fn direct_line(
     block: &mut Block,
     scratch: &mut Scratch,
 ) -> bool {
+    direct_line_upto(raw, None, line, params, block, scratch).is_some()
+}
+
+/// [`direct_line`] over `raw` holding the line and perhaps what follows it (the reader's
+/// buffer, read in place): reading stops at the first newline. The line's length when it
+/// is taken: the newline's position, or the end of `raw` when it holds none. With
+/// `in_place = Some(max_len)` the line is taken only if a newline ends it within `max_len`
+/// bytes (checked before any assignment is applied: a line declined changed nothing).
+pub(super) fn direct_line_upto(
+    raw: &[u8],
+    in_place: Option<usize>,
+    line: u32,
+    params: &mut Params,
+    block: &mut Block,
+    scratch: &mut Scratch,
+) -> Option<usize> {
     let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
     block.line = line;
     block.n = None;
     block.words.clear();
     block.notes.clear();
-    block.assignments.clear();
+    for a in block.assignments.drain(..) {
+        if let ParamRef::Named(name) = a.target {
+            if scratch.spare_names.len() < MAX_SPARE_NAMES {
+                scratch.spare_names.push(name);
+            }
+        }
+    }
     let mut r = Reader {
         raw,
         pos: 0,
         depth: 0,
         params,
         name: &mut scratch.name,
+        spare_names: &mut scratch.spare_names,
         plain: true,
+        end: raw.len(),
     };
-    if r.line(line, block).is_none() {
-        return false;
-    }
+    r.line(line, block)?;
+    let end = r.end;
     scratch.was_plain = r.plain;
     if block.words.is_empty() && block.n.is_none() && block.assignments.is_empty() {
-        return false;
+        return None;
+    }
+    if in_place.is_some_and(|max_len| raw.get(end) != Some(&b'\n') || end > max_len) {
+        return None;
     }
     // All values were read from before the line; now the assignments take effect, in
     // order. Their targets were checked while reading, so none can fail.
@@ -66,7 +100,7 @@ pub(super) fn direct_line(
         };
         debug_assert!(applied.is_ok());
     }
-    true
+    Some(end)
 }
 
 /// Blanks as the compactor drops them.
@@ -80,8 +114,11 @@ struct Reader<'a> {
     depth: usize,
     params: &'a Params,
     name: &'a mut String,
+    spare_names: &'a mut Vec<String>,
     /// Nothing but letters and plain numbers so far.
     plain: bool,
+    /// Where the line ends: at the first newline, or the end of `raw`.
+    end: usize,
 }
 
 /// Functions taken here (`EXISTS` is left to the full path; ATAN has its own syntax).
@@ -116,7 +153,7 @@ fn lookup<T: Copy>(table: &[(&'static [u8], T)], rest: &[u8]) -> Option<(&'stati
         .copied()
 }
 
-impl Reader<'_> {
+impl<'a> Reader<'a> {
     /// The next non-blank byte and its position, without consuming anything.
     fn peek(&self) -> Option<(u8, usize)> {
         // Usually the next byte is the token itself (blanks are all at most b' ').
@@ -158,6 +195,10 @@ impl Reader<'_> {
         while let Some((b, start)) = self.peek() {
             self.pos = start + 1;
             match b.to_ascii_lowercase() {
+                b'\n' => {
+                    self.end = start;
+                    return Some(());
+                }
                 b'#' => {
                     self.plain = false;
                     self.assignment(line, start, block)?
@@ -176,7 +217,7 @@ impl Reader<'_> {
                     block.n = Some(self.number()?);
                 }
                 letter @ b'a'..=b'z' if letter != b'o' => {
-                    let value = self.real_value()?;
+                    let value = self.simple_value()?;
                     block.words.push(Word {
                         letter: letter.to_ascii_uppercase() as char,
                         value,
@@ -200,7 +241,9 @@ impl Reader<'_> {
                 if !self.params.exists_named(self.name) || self.params.is_read_only(self.name) {
                     return None;
                 }
-                ParamRef::Named(self.name.clone())
+                let mut name = self.spare_names.pop().unwrap_or_default();
+                name.clone_from(self.name);
+                ParamRef::Named(name)
             }
             _ => {
                 let v = self.real_value()?;
@@ -208,7 +251,7 @@ impl Reader<'_> {
             }
         };
         self.eat(b'=')?;
-        let value = self.real_value()?;
+        let value = self.simple_value()?;
         block.assignments.push(Assignment {
             target,
             value,
@@ -220,26 +263,37 @@ impl Reader<'_> {
     /// A name after `<`, up to `>`: lower-cased and without blanks, as the compactor has it.
     fn read_name(&mut self) -> Option<()> {
         self.name.clear();
-        let rest = &self.raw[self.pos..];
-        let end = rest.iter().position(|&b| b == b'>')?;
-        let name = &rest[..end];
-        self.pos += end + 1;
-        // Usually already so (`#<scale>`): copied at once rather than byte by byte.
-        if name
-            .iter()
-            .all(|&b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_')
-        {
-            self.name.push_str(std::str::from_utf8(name).ok()?);
-            return Some(());
-        }
-        for &b in name {
+        // One pass, byte by byte: names are short, and a search for `>` before the copy
+        // cost more than the copy.
+        for (i, &b) in self.raw[self.pos..].iter().enumerate() {
             match b {
-                b'(' | b';' | 0x80.. => return None,
+                b'>' => {
+                    self.pos += i + 1;
+                    return Some(());
+                }
+                b'(' | b';' | b'\n' | 0x80.. => return None,
                 b if is_blank(b) => {}
-                b => self.name.push(b.to_ascii_lowercase() as char),
+                b => self.name.push(char::from(b.to_ascii_lowercase())),
             }
         }
-        Some(())
+        None
+    }
+
+    /// The name after `<` when it is a local one written as it is kept (`scale`: lower
+    /// case, digits and `_`, not first, no blanks), read in place without a copy; `pos`
+    /// moves past the `>` only then. Anything else is for [`Reader::read_name`].
+    fn local_name(&mut self) -> Option<&'a str> {
+        let raw: &'a [u8] = self.raw;
+        let rest = &raw[self.pos..];
+        let len = rest
+            .iter()
+            .position(|&b| !(b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'))?;
+        if len == 0 || rest[0] == b'_' || rest[len] != b'>' {
+            return None;
+        }
+        let name = std::str::from_utf8(&rest[..len]).ok()?;
+        self.pos += len + 1;
+        Some(name)
     }
 
     /// An unsigned number at `pos`; a blank followed by more digits (a number with a blank
@@ -250,15 +304,53 @@ impl Reader<'_> {
         let (v, len) = crate::lex::scan_number(&self.raw[self.pos..])?.ok()?;
         self.pos += len;
         // The number stopped at a byte that is neither a digit nor a point: only a blank
-        // can hide more digits after it.
+        // can hide more digits after it. Usually one blank and then the next token, told
+        // apart here without the call to `peek`.
         if self.raw.get(self.pos).is_some_and(|&b| is_blank(b)) {
-            if let Some((b, _)) = self.peek() {
-                if b.is_ascii_digit() || b == b'.' {
-                    return None;
-                }
+            let next = match self.raw.get(self.pos + 1) {
+                Some(&c) if c > b' ' => Some(c),
+                None => None,
+                Some(_) => self.peek().map(|(c, _)| c),
+            };
+            if next.is_some_and(|c| c.is_ascii_digit() || c == b'.') {
+                return None;
             }
         }
         Some(v)
+    }
+
+    /// A value as [`Reader::real_value`] reads it, taking the usual forms (a number, `-`
+    /// and a number, `#n`) without its call and bookkeeping; anything else goes to it.
+    /// Away from the nesting limit (where a sign or `#` adds a level that could exceed it)
+    /// the usual forms need no depth bookkeeping.
+    #[inline(always)]
+    fn simple_value(&mut self) -> Option<f64> {
+        if self.depth + 2 >= MAX_NESTING {
+            return self.real_value();
+        }
+        let (b, i) = self.peek()?;
+        let next = self.raw.get(i + 1).copied();
+        match b {
+            b'0'..=b'9' | b'.' => {
+                self.pos = i;
+                self.number()
+            }
+            b'-' if matches!(next, Some(b'0'..=b'9' | b'.')) => {
+                self.pos = i + 1;
+                Some(-self.number()?)
+            }
+            b'#' if next.is_some_and(|c| c.is_ascii_digit()) => {
+                self.plain = false;
+                match self.whole_number(i + 1) {
+                    // As `compound_value` reads it.
+                    Some(n) => ((1..=LAST_NUMBERED).contains(&n))
+                        .then(|| self.params.get(n).ok())
+                        .flatten(),
+                    None => self.real_value(),
+                }
+            }
+            _ => self.real_value(),
+        }
     }
 
     /// A value: number, `[expression]`, `#parameter`, unary sign, or function.
@@ -312,6 +404,9 @@ impl Reader<'_> {
                 match self.peek()? {
                     (b'<', j) => {
                         self.pos = j + 1;
+                        if let Some(name) = self.local_name() {
+                            return self.params.get_local(name);
+                        }
                         self.read_name()?;
                         // A system value not yet refreshed: the full path refreshes it.
                         if self.name.starts_with('_')
@@ -383,15 +478,33 @@ impl Reader<'_> {
             return None;
         }
         self.pos = i + 1;
-        binary(op, lhs, rhs, Span::default()).ok()
+        // `binary` for these four, without its call.
+        match op {
+            BinOp::Add => Some(lhs + rhs),
+            BinOp::Sub => Some(lhs - rhs),
+            BinOp::Mul => Some(lhs * rhs),
+            _ if rhs == 0.0 => None,
+            _ => Some(lhs / rhs),
+        }
     }
 
     /// The digits at `at` as an integer, read without the float reading of
     /// [`Reader::number`], when they are at most four (every parameter number) and end the
     /// number: not followed by a point or by a blank (which could hide more digits).
     /// `pos` moves past them only when they are taken.
+    #[inline(always)]
     fn whole_number(&mut self, at: usize) -> Option<i64> {
         let rest = &self.raw[at..];
+        // One digit (`#1`), the usual case, without the loops below.
+        if let [d @ b'0'..=b'9', after @ ..] = rest {
+            if !after
+                .first()
+                .is_some_and(|&b| b.is_ascii_digit() || b == b'.' || is_blank(b))
+            {
+                self.pos = at + 1;
+                return Some(i64::from(d - b'0'));
+            }
+        }
         let digits = rest.iter().take_while(|b| b.is_ascii_digit()).count();
         if digits > 4 || rest.get(digits).is_some_and(|&b| b == b'.' || is_blank(b)) {
             return None;
@@ -417,7 +530,7 @@ impl Reader<'_> {
             _ => false,
         };
         if simple {
-            self.real_value()
+            self.simple_value()
         } else {
             None
         }
@@ -503,9 +616,6 @@ fn param_number(v: f64) -> Option<i64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
     use proptest::prelude::*;
 
     fn params() -> Params {
@@ -546,19 +656,7 @@ mod tests {
             return false;
         }
         let mut full_params = params();
-        let mut c = Compact::new();
-        c.load(src.as_bytes(), 3)
-            .unwrap_or_else(|e| panic!("{src}: {e}"));
-        let mut line = Line::default();
-        parse_line(&c, crate::Dialect::LinuxCnc, &mut line)
-            .unwrap_or_else(|e| panic!("{src}: {e}"));
-        assert!(
-            line.oword.is_none() && !line.percent && !line.block_delete,
-            "{src}"
-        );
-        let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
-        let full = exec
-            .full_path_result(&line, &mut full_params)
+        let full = crate::exec::full_path_of(src, 3, &mut full_params)
             .unwrap_or_else(|e| panic!("{src}: {e}"));
         assert_eq!(fast, full, "{src}");
         assert_eq!(touched(&fast_params), touched(&full_params), "{src}");

@@ -18,6 +18,7 @@
 
 mod direct;
 mod fanuc;
+mod fast;
 mod flow;
 mod oword;
 mod plain;
@@ -46,7 +47,10 @@ pub enum ProgramEnd {
     Percent,
     /// The end of the file. LinuxCNC reports an error here unless M2/M30 came first (the
     /// interpreter knows; the executor does not look at M words).
-    EndOfFile { opened_with_percent: bool },
+    EndOfFile {
+        /// The first line was a `%` (then a closing `%` was missing).
+        opened_with_percent: bool,
+    },
 }
 
 /// Most subroutine definitions remembered: a bound on memory for hostile input.
@@ -54,6 +58,8 @@ const MAX_SUBS: usize = 100_000;
 /// Most `if`s and loops open at once (a million `o1 if [1]` lines must not grow memory).
 const MAX_OPEN_BLOCKS: usize = 1_000;
 
+/// The front end's executor: reads lines from a seekable reader, runs O-word control flow
+/// and evaluates expressions, yielding [`Block`]s.
 pub struct Executor<R> {
     src: Sources<R>,
     dialect: Dialect,
@@ -75,12 +81,8 @@ pub struct Executor<R> {
     end: Option<ProgramEnd>,
     /// Assignments of the current line, before they are applied (reused buffer).
     pending: Vec<(ParamRef, f64, Span)>,
-    /// Buffers of the one-pass fast path.
-    scratch: direct::Scratch,
-    /// The last line taken by a fast path was plain: try the plain path first.
-    plain_lines: bool,
-    /// Plain lines the direct path has taken in a row since the plain path last failed.
-    plain_run: u8,
+    /// The plain and direct paths for ordinary lines.
+    fast: fast::FastPaths,
     /// Start of the line being run.
     current: Mark,
     /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
@@ -99,6 +101,7 @@ impl Executor<Cursor<Vec<u8>>> {
 }
 
 impl<R: BufRead + Seek> Executor<R> {
+    /// An executor reading `reader` in `dialect`.
     pub fn new(reader: R, dialect: Dialect) -> Self {
         Executor {
             src: Sources::new(reader),
@@ -118,9 +121,7 @@ impl<R: BufRead + Seek> Executor<R> {
             opened_with_percent: false,
             end: None,
             pending: Vec::new(),
-            scratch: direct::Scratch::default(),
-            plain_lines: true,
-            plain_run: 0,
+            fast: fast::FastPaths::default(),
             current: Mark { offset: 0, line: 0 },
             fanuc_subs: true,
             printed: Vec::new(),
@@ -156,14 +157,17 @@ impl<R: BufRead + Seek> Executor<R> {
         self.subroutine_path = dirs;
     }
 
+    /// Replace the limits on loops, calls and subroutines.
     pub fn set_limits(&mut self, limits: Limits) {
         self.limits = limits;
     }
 
+    /// The limits on loops, calls and subroutines.
     pub fn limits(&self) -> Limits {
         self.limits
     }
 
+    /// The dialect lines are read in.
     pub fn dialect(&self) -> Dialect {
         self.dialect
     }
@@ -224,6 +228,18 @@ impl<R: BufRead + Seek> Executor<R> {
         loop {
             if self.end.is_some() {
                 return Ok(false);
+            }
+            // grbl has its own letters and line limit: always the full path.
+            if self.skip.is_none()
+                && self.dialect != Dialect::Grbl
+                && self.seen_content
+                && self.fast_path_in_place(params, block)
+            {
+                if self.fanuc_block(block)? {
+                    continue;
+                }
+                self.idle_iterations = 0;
+                return Ok(true);
             }
             let number = match self.src.read() {
                 Ok(Read::Line { number, offset }) => {
@@ -348,34 +364,29 @@ impl<R: BufRead + Seek> Executor<R> {
         }
     }
 
-    /// The current line through one of the fast paths, if one takes it. Both give what the
-    /// full path gives; the plain one is quicker but wasted on lines with expressions, so
-    /// it goes first only while lines are plain.
+    /// The current line through one of the fast paths, if one takes it.
     fn fast_path(&mut self, number: u32, params: &mut Params, block: &mut Block) -> bool {
+        // A line read by `read` holds no newline: taken, it is taken whole.
         let text = self.src.text();
-        let direct = |params: &mut Params, block: &mut Block, scratch: &mut direct::Scratch| {
-            direct::direct_line(text, number, params, block, scratch)
-        };
-        if self.plain_lines {
-            if plain::plain_line(text, number, block) {
-                return true;
+        self.fast.line(text, None, number, params, block).is_some()
+    }
+
+    /// The next line through one of the fast paths, read where it lies in the reader's
+    /// buffer, before `read` has looked for its end or set it apart: taken only when the
+    /// fast path stops at its newline (a line that goes on past the bytes at hand, an
+    /// over-long one, or any line a fast path declines, is left to `read`).
+    fn fast_path_in_place(&mut self, params: &mut Params, block: &mut Block) -> bool {
+        let (_, number) = self.src.position();
+        let max_len = self.src.max_len();
+        let chunk = self.src.buffered();
+        match self.fast.line(chunk, Some(max_len), number, params, block) {
+            Some(len) => {
+                let (offset, line) = self.src.take_line(len);
+                self.current = Mark { offset, line };
+                true
             }
-            self.plain_lines = false;
-            self.plain_run = 0;
-            direct(params, block, &mut self.scratch)
-        } else if direct(params, block, &mut self.scratch) {
-            // Back to the plain path only after two plain lines in a row: a lone plain line
-            // between lines with expressions would make the next line fail the plain path
-            // first, wasting its reading.
-            self.plain_run = if self.scratch.was_plain {
-                self.plain_run.saturating_add(1)
-            } else {
-                0
-            };
-            self.plain_lines = self.plain_run >= 2;
-            true
-        } else {
-            false
+            // `block` may be half-filled: the full path refills it.
+            None => false,
         }
     }
 
@@ -425,28 +436,6 @@ impl<R: BufRead + Seek> Executor<R> {
             .with_help(format!("close it with {label} {}", open.closer().name())));
         }
         Ok(false)
-    }
-
-    /// The block the full path makes of `line` (tests of the fast path).
-    #[cfg(test)]
-    pub(crate) fn full_path_block(&mut self, line: &Line, params: &mut Params) -> Block {
-        self.line = line.clone();
-        let mut block = Block::default();
-        self.fill_block(params, &mut block)
-            .expect("a plain line evaluates");
-        block
-    }
-
-    /// The block the full path makes of `line`, or its error (tests of the fast paths).
-    #[cfg(test)]
-    pub(crate) fn full_path_result(
-        &mut self,
-        line: &Line,
-        params: &mut Params,
-    ) -> Result<Block, Diagnostic> {
-        self.line = line.clone();
-        let mut block = Block::default();
-        self.fill_block(params, &mut block).map(|_| block)
     }
 
     /// Evaluate the words and assignments of the current line into `block`.
@@ -537,6 +526,26 @@ impl<R: BufRead + Seek> Executor<R> {
     }
 }
 
+/// The block the full path makes of the source line `src` (number `line`), reading and
+/// writing `params` (tests of the fast paths, which must give the same). Panics when
+/// the line does not compact and parse as an ordinary line: the fast paths take none
+/// other.
+#[cfg(test)]
+pub(crate) fn full_path_of(src: &str, line: u32, params: &mut Params) -> Result<Block, Diagnostic> {
+    let mut c = Compact::new();
+    c.load(src.as_bytes(), line)
+        .unwrap_or_else(|e| panic!("{src}: {e}"));
+    let mut exec = Executor::from_text("", Dialect::LinuxCnc);
+    parse_line(&c, Dialect::LinuxCnc, &mut exec.line).unwrap_or_else(|e| panic!("{src}: {e}"));
+    let parsed = &exec.line;
+    assert!(
+        parsed.oword.is_none() && !parsed.percent && !parsed.block_delete,
+        "{src}"
+    );
+    let mut block = Block::default();
+    exec.fill_block(params, &mut block).map(|_| block)
+}
+
 /// Whether `line` may read a system parameter: a `<` followed, blanks aside, by `_`. A
 /// search for each `<`, as they are rare in G-code; false positives only cost a refresh.
 fn names_system_param(mut line: &[u8]) -> bool {
@@ -612,4 +621,61 @@ pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
     }
     out.push_str(rest);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{run, RunOptions};
+    use oficina_canon::{Canon, CanonOp};
+    use std::io::{BufReader, Cursor};
+
+    /// Runs `text` through a reader whose buffer holds `capacity` bytes.
+    fn run_with_buffer(text: &str, capacity: usize, opts: &RunOptions) -> Vec<Canon> {
+        let mut ops = Vec::new();
+        let reader = BufReader::with_capacity(capacity, Cursor::new(text.as_bytes().to_vec()));
+        let diagnostics = run(reader, opts, &mut |c| ops.push(c));
+        assert!(diagnostics.is_empty(), "{capacity}: {diagnostics:?}");
+        ops
+    }
+
+    #[test]
+    fn lines_read_in_place_match_lines_read_whole_at_any_buffer_size() {
+        // Lines cut anywhere by the reader's buffer are read apart and whole; an
+        // assignment must still run exactly once (the X of each move counts them).
+        for newline in ["\n", "\r\n"] {
+            let mut text = format!("G21 G90 G1 F100{newline}#1 = 0{newline}");
+            for _ in 0..40 {
+                text += &format!("#1 = [#1 + 1]{newline}G1 X#1 Y[#1 * 2]{newline}G1 Z-1{newline}");
+            }
+            text += "M2";
+            let whole = run_with_buffer(&text, 1 << 16, &RunOptions::default());
+            let last_x = whole.iter().rev().find_map(|c| match c.op {
+                CanonOp::StraightFeed { to } => Some(to.x),
+                _ => None,
+            });
+            assert_eq!(last_x, Some(40.0));
+            for capacity in 1..48 {
+                assert_eq!(
+                    run_with_buffer(&text, capacity, &RunOptions::default()),
+                    whole,
+                    "buffer of {capacity} bytes, {newline:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_line_limit_holds_for_lines_read_in_place() {
+        let long = format!("G1 X1 Y[2 + {}]\n", "0".repeat(200));
+        let text = format!("G21 G1 F100\n{long}M2\n");
+        let opts = RunOptions {
+            max_line_len: 100,
+            ..RunOptions::default()
+        };
+        let reader = BufReader::with_capacity(1 << 16, Cursor::new(text.into_bytes()));
+        let diagnostics = run(reader, &opts, &mut |_| {});
+        assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+        assert_eq!(diagnostics[0].span.line, 2);
+        assert!(diagnostics[0].message.contains("more than the limit"));
+    }
 }

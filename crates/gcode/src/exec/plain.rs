@@ -8,9 +8,18 @@ use crate::block::{Block, Word};
 use crate::diag::Span;
 use crate::lex::scan_number;
 
+// The whole-line form: the tests' (the executor reads in place, `_upto`).
+#[cfg(test)]
 /// Fill `block` from `raw` if the line is plain; `false` leaves the line to the full path
 /// (`block` may then hold partial content: the caller refills it).
 pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
+    plain_line_upto(raw, line, block).is_some()
+}
+
+/// [`plain_line`] over `raw` holding the line and perhaps what follows it (the reader's
+/// buffer, read in place): reading stops at the first newline. The line's length when it
+/// is taken: the newline's position, or the end of `raw` when it holds none.
+pub(super) fn plain_line_upto(raw: &[u8], line: u32, block: &mut Block) -> Option<usize> {
     let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
     block.line = line;
     block.n = None;
@@ -19,15 +28,20 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
     block.assignments.clear();
     let mut i = 0;
     let len = raw.len();
+    let mut end = len;
     while i < len {
         let b = raw[i];
         if b == b' ' || b == b'\t' {
             i += 1;
             continue;
         }
+        if b == b'\n' {
+            end = i;
+            break;
+        }
         let letter = b.to_ascii_lowercase();
         if !letter.is_ascii_lowercase() || letter == b'o' {
-            return false;
+            return None;
         }
         let start = i;
         i += 1;
@@ -50,7 +64,7 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         }
         let (value, used) = match scan_number(&raw[i..]) {
             Some(Ok(v)) => v,
-            _ => return false,
+            _ => return None,
         };
         i += used;
         // A blank followed by more digits is a number with a blank inside: full path.
@@ -59,13 +73,13 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
             j += 1;
         }
         if j < len && (raw[j].is_ascii_digit() || raw[j] == b'.') {
-            return false;
+            return None;
         }
         let value = if negative { -value } else { value };
         if letter == b'n' {
             // Only first on the line, unsigned: anything else is the full path's error.
             if !block.words.is_empty() || block.n.is_some() || signed {
-                return false;
+                return None;
             }
             block.n = Some(value);
         } else {
@@ -78,15 +92,13 @@ pub(super) fn plain_line(raw: &[u8], line: u32, block: &mut Block) -> bool {
         }
         i = j;
     }
-    !block.words.is_empty() || block.n.is_some()
+    (!block.words.is_empty() || block.n.is_some()).then_some(end)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
+    use crate::params::Params;
 
     /// The fast path gives what the full path gives, or declines.
     fn same_as_full_path(src: &str) -> bool {
@@ -94,12 +106,8 @@ mod tests {
         if !plain_line(src.as_bytes(), 3, &mut fast) {
             return false;
         }
-        let mut c = Compact::new();
-        c.load(src.as_bytes(), 3).unwrap();
-        let mut line = Line::default();
-        parse_line(&c, crate::Dialect::LinuxCnc, &mut line).unwrap();
-        let mut exec = crate::exec::Executor::from_text(src, crate::Dialect::LinuxCnc);
-        let full = exec.full_path_block(&line, &mut crate::params::Params::new());
+        let full =
+            crate::exec::full_path_of(src, 3, &mut Params::new()).expect("a plain line evaluates");
         assert_eq!(fast.words, full.words, "{src}");
         assert_eq!(fast.n, full.n, "{src}");
         true
@@ -150,9 +158,7 @@ mod tests {
 #[cfg(test)]
 mod properties {
     use super::*;
-    use crate::ast::Line;
-    use crate::lex::Compact;
-    use crate::parse::parse_line;
+    use crate::params::Params;
     use proptest::prelude::*;
 
     proptest! {
@@ -161,12 +167,7 @@ mod properties {
         fn fast_path_never_disagrees_with_the_full_path(src in "[GXYNnoEe0-9.+\\- \t]{0,24}") {
             let mut fast = Block::default();
             if plain_line(src.as_bytes(), 1, &mut fast) {
-                let mut c = Compact::new();
-                c.load(src.as_bytes(), 1).unwrap();
-                let mut line = Line::default();
-                parse_line(&c, crate::Dialect::LinuxCnc, &mut line).unwrap();
-                let mut exec = crate::exec::Executor::from_text("", crate::Dialect::LinuxCnc);
-                let full = exec.full_path_block(&line, &mut crate::params::Params::new());
+                let full = crate::exec::full_path_of(&src, 1, &mut Params::new()).expect("a plain line evaluates");
                 prop_assert_eq!(fast.words, full.words);
                 prop_assert_eq!(fast.n, full.n);
             }

@@ -29,7 +29,11 @@ pub(super) struct LineSource<R> {
     pos: u64,
     /// 1-based number of the next line.
     next_line: u32,
+    /// The last line when it had to be gathered from several reads of the reader.
     buf: Vec<u8>,
+    /// The last line is instead the first `len` bytes of the reader's own buffer, read in
+    /// place (no copy); it and its newline are consumed at the next read.
+    in_place: Option<usize>,
     max_len: usize,
 }
 
@@ -41,6 +45,7 @@ impl<R: BufRead + Seek> LineSource<R> {
             pos,
             next_line: 1,
             buf: Vec::new(),
+            in_place: None,
             max_len: DEFAULT_MAX_LINE_LEN,
         }
     }
@@ -54,8 +59,16 @@ impl<R: BufRead + Seek> LineSource<R> {
     }
 
     /// The text of the last line read (without its newline).
-    pub(super) fn text(&self) -> &[u8] {
-        &self.buf
+    pub(super) fn text(&mut self) -> &[u8] {
+        match self.in_place {
+            // Nothing was consumed since the read: `fill_buf` hands back the same buffer
+            // without reading (the `BufRead` contract), so this cannot fail or differ.
+            Some(len) => match self.reader.fill_buf() {
+                Ok(b) => b.get(..len).unwrap_or_default(),
+                Err(_) => &[],
+            },
+            None => &self.buf,
+        }
     }
 
     /// Where the next line starts, and its number.
@@ -64,15 +77,55 @@ impl<R: BufRead + Seek> LineSource<R> {
     }
 
     pub(super) fn seek(&mut self, offset: u64, line: u32) -> io::Result<()> {
+        // The line read in place is left behind with the buffer the seek discards.
+        self.in_place = None;
         self.reader.seek(SeekFrom::Start(offset))?;
         self.pos = offset;
         self.next_line = line;
         Ok(())
     }
 
+    /// The bytes the reader holds from the next line on (reading more only when it holds
+    /// none), for a caller that finds the line's end itself and then takes it with
+    /// [`LineSource::take_line`]. Empty at the end of the input or on an error, which the
+    /// next [`LineSource::read`] then meets.
+    pub(super) fn buffered(&mut self) -> &[u8] {
+        if let Some(len) = self.in_place.take() {
+            self.reader.consume(len + 1);
+        }
+        self.reader.fill_buf().unwrap_or_default()
+    }
+
+    /// Take the first `len` bytes of [`LineSource::buffered`] and the newline after them
+    /// as the next line: its offset and number.
+    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+        self.reader.consume(len + 1);
+        let offset = self.pos;
+        self.pos += len as u64 + 1;
+        let number = self.next_line;
+        self.next_line = self.next_line.saturating_add(1);
+        (offset, number)
+    }
+
     pub(super) fn read(&mut self) -> io::Result<Read> {
+        if let Some(len) = self.in_place.take() {
+            self.reader.consume(len + 1);
+        }
         self.buf.clear();
         let offset = self.pos;
+        // Usually the whole line, newline included, is already in the reader's buffer:
+        // it is read there, in place.
+        if let Ok(chunk) = self.reader.fill_buf() {
+            if let Some(len) = crate::bytes::find_byte(b'\n', chunk) {
+                if len <= self.max_len {
+                    self.in_place = Some(len);
+                    self.pos += len as u64 + 1;
+                    let number = self.next_line;
+                    self.next_line = self.next_line.saturating_add(1);
+                    return Ok(Read::Line { offset, number });
+                }
+            }
+        }
         let mut len: u64 = 0;
         let mut too_long = false;
         let mut any = false;
@@ -158,10 +211,24 @@ impl<R: BufRead + Seek> Sources<R> {
         self.file().is_none()
     }
 
-    pub(super) fn text(&self) -> &[u8] {
-        match self.file() {
-            Some(f) => f.text(),
-            None => self.main.text(),
+    pub(super) fn text(&mut self) -> &[u8] {
+        match self.files.last_mut() {
+            Some(Some(f)) => f.text(),
+            _ => self.main.text(),
+        }
+    }
+
+    pub(super) fn buffered(&mut self) -> &[u8] {
+        match self.files.last_mut() {
+            Some(Some(f)) => f.buffered(),
+            _ => self.main.buffered(),
+        }
+    }
+
+    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+        match self.file_mut() {
+            Some(f) => f.take_line(len),
+            None => self.main.take_line(len),
         }
     }
 

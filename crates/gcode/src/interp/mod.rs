@@ -15,7 +15,7 @@ mod offsets;
 mod simple;
 pub(crate) mod state;
 mod threading;
-pub mod tool_table;
+pub(crate) mod tool_table;
 pub(crate) mod words;
 
 use crate::block::{Block, Note};
@@ -31,6 +31,7 @@ use words::{g_group as G, m_group as M, Decoded};
 /// What the caller should do after a block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Flow {
+    /// Go on with the next block.
     Continue,
     /// M2 / M30: the program ended.
     End,
@@ -39,6 +40,7 @@ pub enum Flow {
 /// How a run starts.
 #[derive(Clone, Debug)]
 pub struct StartState {
+    /// Length units before the program sets them (G20/G21).
     pub units: Units,
     /// Feed (mm/min) before the program sets one; the legacy dialect takes its feed from
     /// the machine configuration, never from F words.
@@ -60,30 +62,36 @@ impl Default for StartState {
 
 /// Feed of the legacy dialect when the run gives none (mm/min): the seed takes its feed
 /// from the machine configuration, never from the program.
-pub const LEGACY_DEFAULT_FEED: f64 = 600.0;
+pub(crate) const LEGACY_DEFAULT_FEED: f64 = 600.0;
 
 /// Where the operations go.
-pub type Sink<'a> = &'a mut dyn FnMut(Canon);
+pub(crate) type Sink<'a> = &'a mut dyn FnMut(Canon);
 
 /// LinuxCNC's parameter numbers.
-pub mod param {
-    pub const G28_HOME: i64 = 5161;
-    pub const G30_HOME: i64 = 5181;
-    pub const G92_ENABLED: i64 = 5210;
-    pub const G92_OFFSET: i64 = 5211;
-    pub const COORD_SYSTEM: i64 = 5220;
+pub(crate) mod param {
+    pub(crate) const G28_HOME: i64 = 5161;
+    pub(crate) const G30_HOME: i64 = 5181;
+    pub(crate) const G92_ENABLED: i64 = 5210;
+    pub(crate) const G92_OFFSET: i64 = 5211;
+    pub(crate) const COORD_SYSTEM: i64 = 5220;
     /// G54 X; system n (1-based) starts at `G5X_BASE + 20·(n−1)`, R (rotation) at +9.
-    pub const G5X_BASE: i64 = 5221;
-    pub const TOOL_NUMBER: i64 = 5400;
-    pub const POSITION: i64 = 5420;
+    pub(crate) const G5X_BASE: i64 = 5221;
+    pub(crate) const TOOL_NUMBER: i64 = 5400;
+    pub(crate) const POSITION: i64 = 5420;
 }
 
+/// The modal interpreter: turns blocks into canonical operations, keeping the modal state
+/// between them.
 pub struct Interpreter {
+    /// The dialect blocks are interpreted in.
     pub dialect: Dialect,
+    /// The modal state (motion mode, plane, units, feed, …).
     pub modal: Modal,
     /// Current point in program coordinates, mm (A B C degrees).
     pub pos: [f64; 6],
+    /// The offsets between program and machine coordinates.
     pub frame: Frame,
+    /// The tools the machine knows.
     pub tools: ToolTable,
     machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
@@ -94,9 +102,10 @@ pub struct Interpreter {
 }
 
 /// Axis letters in [`Pos::to_array`] order.
-pub const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
+pub(crate) const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
 impl Interpreter {
+    /// An interpreter in `dialect`, starting from `start`, with `tools`.
     pub fn new(dialect: Dialect, start: &StartState, tools: ToolTable) -> Interpreter {
         let mut modal = Modal::new(start.units);
         modal.feed = start.feed;

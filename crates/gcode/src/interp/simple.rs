@@ -1,7 +1,7 @@
 //! The short way through the interpreter for the blocks that make up most programs: a
 //! move (`G0`…`G3`, or the modal one) with axis words, perhaps an `F` and, for arcs, the
 //! centre or radius words, in the LinuxCNC dialect, without cutter compensation or
-//! inverse-time feed.
+//! inverse-time feed; and the blocks with no word at all (lines of parameter assignments).
 //!
 //! It does exactly what the full path does for such a block (set the feed, set the motion
 //! mode, move, refresh the position parameters) and declines (`None`, nothing changed)
@@ -31,6 +31,17 @@ impl Interpreter {
             || self.modal.diameter_mode
         {
             return None;
+        }
+        if block.words.is_empty() && block.n.is_none() {
+            // A line of assignments only: all the full path does with it is forget a
+            // canned cycle's memory (unless a cycle is the motion mode) and refresh the
+            // position parameters.
+            self.line = block.line;
+            if !matches!(self.modal.motion, Motion::Cycle(_)) {
+                self.cycle.reset();
+            }
+            self.update_params(params);
+            return Some(Flow::Continue);
         }
         let mut motion = self.modal.motion;
         let mut g_seen = false;

@@ -7,17 +7,22 @@ use crate::diag::{Diagnostic, Span};
 use oficina_canon::Units;
 use std::collections::BTreeMap;
 
+/// One tool of the table.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tool {
+    /// Tool number (the `T` word).
     pub number: u32,
+    /// Pocket number in the tool changer.
     pub pocket: u32,
     /// X Y Z A B C offsets, mm (A B C in degrees).
     pub offset: [f64; 6],
     /// Diameter, mm.
     pub diameter: f64,
+    /// The comment of its line in the table file.
     pub comment: String,
 }
 
+/// Tools by number, as a LinuxCNC tool table file lists them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ToolTable {
     tools: BTreeMap<u32, Tool>,
@@ -27,26 +32,32 @@ pub struct ToolTable {
 const MAX_LINE: usize = 4096;
 
 impl ToolTable {
+    /// An empty table.
     pub fn new() -> ToolTable {
         ToolTable::default()
     }
 
+    /// The tool with this number.
     pub fn get(&self, number: u32) -> Option<&Tool> {
         self.tools.get(&number)
     }
 
+    /// Add the tool, replacing one with the same number.
     pub fn insert(&mut self, tool: Tool) {
         self.tools.insert(tool.number, tool);
     }
 
+    /// How many tools the table holds.
     pub fn len(&self) -> usize {
         self.tools.len()
     }
 
+    /// Whether the table holds no tool.
     pub fn is_empty(&self) -> bool {
         self.tools.is_empty()
     }
 
+    /// The tools in order of their numbers.
     pub fn iter(&self) -> impl Iterator<Item = &Tool> {
         self.tools.values()
     }
