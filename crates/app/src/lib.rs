@@ -25,7 +25,6 @@
 //! assert!(time.seconds >= report.feed_rate_seconds, "{}", time.seconds);
 //! ```
 
-
 // `profile` stays a public module: its `resolve`, `tool_table` and `DEFAULT` read well only
 // behind it (motion has its own `resolve`).
 pub mod bench;

@@ -1,7 +1,6 @@
 //! `oficina`: the command line. Each subcommand lives in its own module and only wires
 //! arguments to the library crates; no domain logic here.
 
-
 mod bench_cam;
 mod bench_carve;
 mod bench_gcode;

@@ -1,3 +1,4 @@
+//! The virtual machine as a `Machine`: jobs to their end point, soft limits, feed hold and resume, feed override mid-move.
 use oficina_machine::{Command, Event, Job, Machine, Pace, State, VirtualMachine};
 use oficina_motion::Profile;
 use std::sync::Arc;

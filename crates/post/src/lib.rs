@@ -33,7 +33,6 @@
 //! file says how to regenerate it. [`read_back`] reads a program as Oficina's interpreter
 //! does, so callers judge the text a machine would get, never the CAM's own idea of it.
 
-
 mod emit;
 mod format;
 mod grbl;

@@ -1,3 +1,4 @@
+//! The posts' programs: grbl's tool-change pauses and settings, the printed moves against the toolpath, and the interpreter reading them back.
 use oficina_cam::{Move, Operation, Tool, Toolpath};
 use oficina_canon::CanonOp;
 use oficina_post::{program_text, PostDialect, PostOptions};

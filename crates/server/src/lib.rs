@@ -26,7 +26,6 @@
 //! assert_eq!((report["errors"].as_u64(), report["feed_length"].as_f64()), (Some(0), Some(10.0)));
 //! ```
 
-
 mod api;
 mod auth;
 mod embroider;

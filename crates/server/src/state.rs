@@ -11,8 +11,11 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 use tokio::sync::broadcast;
 
+/// How the server was started (`oficina serve`'s flags).
 pub struct Config {
+    /// Address and port the server listens on.
     pub addr: SocketAddr,
+    /// The token every API request must carry; `None`: no token asked (loopback only).
     pub token: Option<String>,
     /// Uploads and generated programs live here and only here.
     pub job_dir: PathBuf,
@@ -29,18 +32,25 @@ pub struct Config {
 /// The job the machine runs, kept so a page that reconnects shows it where it is.
 #[derive(Clone)]
 pub struct RunningJob {
+    /// The program's file name, as the page shows it.
     pub name: String,
+    /// The program text the machine runs.
     pub text: Arc<String>,
 }
 
+/// Everything the server's handlers share.
 pub struct AppState {
+    /// How the server was started.
     pub config: Config,
     session: Mutex<Option<Session>>,
+    /// The job the machine runs or last ran.
     pub job: Mutex<Option<RunningJob>>,
+    /// The console's recent lines, sent to a page that joins.
     pub console: Mutex<VecDeque<String>>,
     /// The client allowed to move the machine; every other page watches.
     pub controller: Mutex<Option<u64>>,
     next_client: AtomicU64,
+    /// Status, console and job events to every connected page (JSON text).
     pub live: broadcast::Sender<String>,
     /// The CAM job being computed, if any (cancelled through `/api/cancel`).
     pub computing: crate::jobs::Computing,
@@ -56,6 +66,7 @@ pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl AppState {
+    /// Opens the job folder and connects the configured machine.
     pub fn new(config: Config) -> Result<Arc<AppState>, String> {
         std::fs::create_dir_all(&config.job_dir).map_err(|e| {
             format!(
@@ -77,6 +88,7 @@ impl AppState {
         }))
     }
 
+    /// A number for a newly connected page.
     pub fn new_client(&self) -> u64 {
         self.next_client.fetch_add(1, Ordering::Relaxed)
     }
@@ -108,6 +120,7 @@ impl AppState {
         Ok(())
     }
 
+    /// Starts a job on the machine and remembers it for pages that join later.
     pub fn start(&self, req: JobRequest) -> Result<(), String> {
         let job = RunningJob {
             name: req.name.clone(),
@@ -132,6 +145,7 @@ impl AppState {
             .send(json!({"type": "console", "lines": [line]}).to_string());
     }
 
+    /// The machine's status as the live channel's JSON message.
     pub fn snapshot_json(&self) -> serde_json::Value {
         match lock(&self.session).as_ref() {
             Some(s) => json!({"type": "status", "status": s.snapshot()}),

@@ -16,7 +16,7 @@ for x, y, c in p.stitches:
     print(names.get(c & P.COMMAND_MASK, '?'), x, y)
 "#;
 
-pub fn python_with_pyembroidery() -> Option<String> {
+fn python_with_pyembroidery() -> Option<String> {
     let py = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
     let ok = Command::new(&py)
         .args(["-c", "import pyembroidery"])
