@@ -37,6 +37,6 @@ pub use kurbo::{Point, Rect, Vec2};
 pub use mirror::{mirror_drawing, mirror_path, MirrorAxis};
 pub use offset::{offset_areas, oriented, Area};
 pub use polygon::{
-    boolean, boolean_fixed, offset_regions, offset_rings, offset_steps, ring_area, simplify,
-    total_area, BoolOp, Fill, Join, PolygonError, Region, Ring,
+    boolean, boolean_fixed, bounds, offset_regions, offset_rings, offset_steps, ring_area,
+    simplify, total_area, BoolOp, Fill, Join, PolygonError, Region, Ring,
 };

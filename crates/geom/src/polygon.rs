@@ -9,6 +9,7 @@ use i_overlay::float::scale::FixedScaleFloatOverlay;
 use i_overlay::float::single::SingleFloatOverlay;
 use i_overlay::mesh::float::outline::offset::OutlineOffset;
 use i_overlay::mesh::float::style::{LineJoin, OutlineStyle};
+use kurbo::Rect;
 
 /// A closed ring of (x, y) points, mm: the last point joins the first.
 pub type Ring = Vec<[f64; 2]>;
@@ -259,15 +260,22 @@ pub fn offset_regions(
 /// every edge's offset band crosses nearly every other (quadratic work: 0.5 s for the last,
 /// vanishing inset of a 1 mm circle flattened to 150 chords, against 1 ms for the others).
 fn can_hold_disc(r: &Region, radius: f64) -> bool {
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in &r.outer {
-        x0 = x0.min(p[0]);
-        y0 = y0.min(p[1]);
-        x1 = x1.max(p[0]);
-        y1 = y1.max(p[1]);
-    }
+    let Some(b) = bounds(r.outer.iter().copied()) else {
+        return false;
+    };
     let d = 2.0 * radius;
-    x1 - x0 > d && y1 - y0 > d && r.area() > std::f64::consts::PI * radius * radius
+    b.width() > d && b.height() > d && r.area() > std::f64::consts::PI * radius * radius
+}
+
+/// The smallest axis-aligned box holding every point (mm), or `None` when there are none.
+/// A NaN coordinate is passed over (`f64::min` keeps the other value).
+pub fn bounds(points: impl IntoIterator<Item = [f64; 2]>) -> Option<Rect> {
+    let mut points = points.into_iter();
+    let [x, y] = points.next()?;
+    let first = Rect::new(x, y, x, y);
+    Some(points.fold(first, |b, [x, y]| {
+        Rect::new(b.x0.min(x), b.y0.min(y), b.x1.max(x), b.y1.max(y))
+    }))
 }
 
 /// `count` successive offsets: the first at `first`, each next `step` further (the same sign

@@ -54,16 +54,12 @@ pub fn check_mill(
     start_z: f64,
     last_tool: &Tool,
 ) -> Result<MillCheck, SimError> {
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in designs.iter().flat_map(|d| d.rings.iter().flatten()) {
-        x0 = x0.min(p[0]);
-        y0 = y0.min(p[1]);
-        x1 = x1.max(p[0]);
-        y1 = y1.max(p[1]);
-    }
-    if x0 > x1 {
-        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
-    }
+    let (x0, y0, x1, y1) = oficina_geom::bounds(
+        designs
+            .iter()
+            .flat_map(|d| d.rings.iter().flatten().copied()),
+    )
+    .map_or((0.0, 0.0, 1.0, 1.0), |b| (b.x0, b.y0, b.x1, b.y1));
     let (x0, y0) = (x0 - margin, y0 - margin);
     let (w_mm, h_mm) = (x1 + margin - x0, y1 + margin - y0);
     while (w_mm / pixel) * (h_mm / pixel) > MAX_PIXELS as f64 {

@@ -62,16 +62,8 @@ fn preview_moves(drawing: &[Path], plain: &[Move], safe_z: f64) -> String {
             .filter(|e| e[0].is_finite() && e[1].is_finite())
             .map(|e| [e[0], e[1]]),
     );
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
-    for p in &pts {
-        x0 = x0.min(p[0]);
-        y0 = y0.min(p[1]);
-        x1 = x1.max(p[0]);
-        y1 = y1.max(p[1]);
-    }
-    if x0 > x1 {
-        (x0, y0, x1, y1) = (0.0, 0.0, 1.0, 1.0);
-    }
+    let (x0, y0, x1, y1) = oficina_geom::bounds(pts.iter().copied())
+        .map_or((0.0, 0.0, 1.0, 1.0), |b| (b.x0, b.y0, b.x1, b.y1));
     let m = 2.0;
     let (w, h) = (x1 - x0 + 2.0 * m, y1 - y0 + 2.0 * m);
     let mut s = String::new();
