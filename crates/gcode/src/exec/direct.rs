@@ -520,6 +520,8 @@ impl<'a> Reader<'a> {
     /// An operand of [`Reader::one_operator`]: a number, `-` and a number, `#n` or
     /// `#<name>`, read by [`Reader::real_value`]; `None` (nothing read) for anything that
     /// could hold a bracket.
+    // Inlined: it is two thirds of the usual bracket's reading, and the call was a fifth of it.
+    #[inline(always)]
     fn operand(&mut self) -> Option<f64> {
         let (b, i) = self.peek()?;
         let next = self.raw.get(i + 1);
