@@ -349,6 +349,25 @@ impl<'a> Reader<'a> {
                     None => self.real_value(),
                 }
             }
+            // `#<scale>`, a local written as kept: as `compound_value` reads it.
+            b'#' if next == Some(b'<') => {
+                self.plain = false;
+                self.pos = i + 2;
+                match self.local_name() {
+                    Some(name) => self.params.get_local(name),
+                    None => {
+                        self.pos = i;
+                        self.real_value()
+                    }
+                }
+            }
+            // A bracket, one level down as `real_value` counts it, without its two calls.
+            b'[' => {
+                self.depth += 1;
+                let v = self.bracket(i);
+                self.depth -= 1;
+                v
+            }
             _ => self.real_value(),
         }
     }
@@ -383,21 +402,7 @@ impl<'a> Reader<'a> {
     /// A value that is not a plain number, its first byte `b` at `i`.
     fn compound_value(&mut self, b: u8, i: usize) -> Option<f64> {
         match b {
-            b'[' => {
-                self.pos = i + 1;
-                self.plain = false;
-                let v = match self.one_operator() {
-                    Some(v) => v,
-                    None => {
-                        self.pos = i + 1;
-                        let v = self.expression(0)?;
-                        self.eat(b']')?;
-                        v
-                    }
-                };
-                // LinuxCNC checks each bracketed value (the full path reports it).
-                v.is_finite().then_some(v)
-            }
+            b'[' => self.bracket(i),
             b'#' => {
                 self.pos = i + 1;
                 self.plain = false;
@@ -449,6 +454,24 @@ impl<'a> Reader<'a> {
             }
             _ => None,
         }
+    }
+
+    /// A bracketed expression, its `[` at `i`: the usual one-operator form first.
+    #[inline(always)]
+    fn bracket(&mut self, i: usize) -> Option<f64> {
+        self.pos = i + 1;
+        self.plain = false;
+        let v = match self.one_operator() {
+            Some(v) => v,
+            None => {
+                self.pos = i + 1;
+                let v = self.expression(0)?;
+                self.eat(b']')?;
+                v
+            }
+        };
+        // LinuxCNC checks each bracketed value (the full path reports it).
+        v.is_finite().then_some(v)
     }
 
     /// The rest of `[a]` or `[a op b]` with one of `+ - * /` and simple operands (the
