@@ -235,14 +235,25 @@ impl<'a> Reader<'a> {
         let target = match self.peek()? {
             (b'<', i) => {
                 self.pos = i + 1;
-                self.read_name()?;
-                // A new name is defined while its line is read (later reads on the line
-                // see 0), and read-only names are errors: both for the full path.
-                if !self.params.exists_named(self.name) || self.params.is_read_only(self.name) {
-                    return None;
-                }
                 let mut name = self.spare_names.pop().unwrap_or_default();
-                name.clone_from(self.name);
+                name.clear();
+                // A kept local that exists, read in place: one lookup, and never read-only
+                // (only `_` names are).
+                match self.local_name() {
+                    Some(local) if self.params.get_local(local).is_some() => name.push_str(local),
+                    _ => {
+                        self.pos = i + 1;
+                        self.read_name()?;
+                        // A new name is defined while its line is read (later reads on the
+                        // line see 0), and read-only names are errors: both for the full path.
+                        if !self.params.exists_named(self.name)
+                            || self.params.is_read_only(self.name)
+                        {
+                            return None;
+                        }
+                        name.push_str(self.name);
+                    }
+                }
                 ParamRef::Named(name)
             }
             _ => {
