@@ -372,13 +372,7 @@ impl<'a> Reader<'a> {
                     }
                 }
             }
-            // A bracket, one level down as `real_value` counts it, without its two calls.
-            b'[' => {
-                self.depth += 1;
-                let v = self.bracket(i);
-                self.depth -= 1;
-                v
-            }
+            b'[' => self.bracket_value(i),
             _ => self.real_value(),
         }
     }
@@ -465,6 +459,19 @@ impl<'a> Reader<'a> {
             }
             _ => None,
         }
+    }
+
+    /// A bracket as [`Reader::real_value`] reads it (one level down), its `[` at `i`,
+    /// without the two calls on the way.
+    #[inline(always)]
+    fn bracket_value(&mut self, i: usize) -> Option<f64> {
+        if self.depth >= MAX_NESTING {
+            return None;
+        }
+        self.depth += 1;
+        let v = self.bracket(i);
+        self.depth -= 1;
+        v
     }
 
     /// A bracketed expression, its `[` at `i`: the usual one-operator form first.
@@ -618,11 +625,11 @@ impl<'a> Reader<'a> {
         let rest = &self.raw[self.pos..];
         let (name, func) = lookup(&FUNCS, rest)?;
         self.pos += name.len();
-        if !matches!(self.peek(), Some((b'[', _))) {
+        let Some((b'[', at)) = self.peek() else {
             return None;
-        }
+        };
         match func {
-            Some(f) => call(f, self.real_value()?, Span::default()).ok(),
+            Some(f) => call(f, self.bracket_value(at)?, Span::default()).ok(),
             None => {
                 // ATAN[y]/[x]
                 let y = self.real_value()?;
