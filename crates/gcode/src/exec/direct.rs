@@ -240,7 +240,7 @@ impl<'a> Reader<'a> {
                 // A kept local that exists, read in place: one lookup, and never read-only
                 // (only `_` names are).
                 match self.local_name() {
-                    Some(local) if self.params.get_local(local).is_some() => name.push_str(local),
+                    true if self.params.get_local(self.name).is_some() => name.push_str(self.name),
                     _ => {
                         self.pos = i + 1;
                         self.read_name()?;
@@ -290,21 +290,29 @@ impl<'a> Reader<'a> {
         None
     }
 
-    /// The name after `<` when it is a local one written as it is kept (`scale`: lower
-    /// case, digits and `_`, not first, no blanks), read in place without a copy; `pos`
-    /// moves past the `>` only then. Anything else is for [`Reader::read_name`].
-    fn local_name(&mut self) -> Option<&'a str> {
-        let raw: &'a [u8] = self.raw;
-        let rest = &raw[self.pos..];
-        let len = rest
+    /// Whether the name after `<` is a local one written as it is kept (`scale`: lower
+    /// case, digits and `_`, not first, no blanks); then it is in `name`, and `pos` moves
+    /// past the `>`. Anything else is for [`Reader::read_name`].
+    fn local_name(&mut self) -> bool {
+        let rest = &self.raw[self.pos..];
+        let Some(len) = rest
             .iter()
-            .position(|&b| !(b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'))?;
+            .position(|&b| !(b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_'))
+        else {
+            return false;
+        };
         if len == 0 || rest[0] == b'_' || rest[len] != b'>' {
-            return None;
+            return false;
         }
-        let name = std::str::from_utf8(&rest[..len]).ok()?;
+        // Usually the name read last (`#<scale>` line after line): kept as it is. A
+        // comparison costs less than turning the bytes into a `str` (a call to `from_utf8`).
+        let bytes = &rest[..len];
+        if self.name.as_bytes() != bytes {
+            self.name.clear();
+            self.name.extend(bytes.iter().map(|&b| char::from(b)));
+        }
         self.pos += len + 1;
-        Some(name)
+        true
     }
 
     /// An unsigned number at `pos`; a blank followed by more digits (a number with a blank
@@ -365,8 +373,8 @@ impl<'a> Reader<'a> {
                 self.plain = false;
                 self.pos = i + 2;
                 match self.local_name() {
-                    Some(name) => self.params.get_local(name),
-                    None => {
+                    true => self.params.get_local(self.name),
+                    false => {
                         self.pos = i;
                         self.real_value()
                     }
@@ -414,8 +422,8 @@ impl<'a> Reader<'a> {
                 match self.peek()? {
                     (b'<', j) => {
                         self.pos = j + 1;
-                        if let Some(name) = self.local_name() {
-                            return self.params.get_local(name);
+                        if self.local_name() {
+                            return self.params.get_local(self.name);
                         }
                         self.read_name()?;
                         // A system value not yet refreshed: the full path refreshes it.
