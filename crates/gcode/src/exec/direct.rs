@@ -138,15 +138,17 @@ const FUNCS: [(&[u8], Option<Func>); 13] = [
     (b"tan", Some(Func::Tan)),
 ];
 
-/// Whether `rest` starts with the lower-case `name`, in any case.
+/// Whether `rest` starts with `name` (lower-case letters only, as in the tables), in any
+/// case: setting bit 5 lower-cases a letter, and only the two cases of a letter end up
+/// equal to a lower-case letter that way.
 fn starts_with_ci(rest: &[u8], name: &[u8]) -> bool {
-    rest.len() >= name.len() && rest[..name.len()].eq_ignore_ascii_case(name)
+    rest.len() >= name.len() && rest.iter().zip(name).all(|(&r, &n)| r | 0x20 == n)
 }
 
 /// The first entry of `table` whose lower-case name starts `rest`, in any case. The first
 /// byte is compared alone before the whole name: most entries fail on it, cheaply.
 fn lookup<T: Copy>(table: &[(&'static [u8], T)], rest: &[u8]) -> Option<(&'static [u8], T)> {
-    let first = rest.first()?.to_ascii_lowercase();
+    let first = rest.first()? | 0x20;
     table
         .iter()
         .find(|(n, _)| n[0] == first && starts_with_ci(rest, n))
@@ -792,6 +794,31 @@ mod tests {
             &mut scratch
         ));
         assert_eq!(block.get('X'), Some(7.0));
+    }
+
+    #[test]
+    fn names_are_matched_in_any_case_and_only_as_letters() {
+        // `starts_with_ci` relies on the tables holding lower-case letters only.
+        let names = FUNCS
+            .iter()
+            .map(|(n, _)| *n)
+            .chain(WORD_OPS.iter().map(|(n, _)| *n));
+        for n in names {
+            assert!(n.iter().all(u8::is_ascii_lowercase), "{n:?}");
+        }
+        assert!(starts_with_ci(b"SiN[", b"sin"));
+        assert!(!starts_with_ci(b"s)n[", b"sin"));
+        assert!(!starts_with_ci(b"si", b"sin"));
+        assert_eq!(
+            lookup(&FUNCS, b"ATAN[1]").map(|(n, _)| n),
+            Some(&b"atan"[..])
+        );
+        assert_eq!(
+            lookup(&WORD_OPS, b"Mod 2").map(|(_, op)| op),
+            Some(BinOp::Mod)
+        );
+        // `{` is `[` with bit 5 set: not a letter.
+        assert!(lookup(&FUNCS, b"{abs").is_none());
     }
 
     #[test]
