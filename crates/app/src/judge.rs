@@ -106,11 +106,7 @@ pub(crate) fn judge(
         .collect();
     let canon = read_back_with_tools(&program, post, &table)
         .map_err(|e| Error(format!("internal error, please report: {e}")))?;
-    let tools: HashMap<u32, Tool> = tp
-        .operations
-        .iter()
-        .map(|o| (o.tool_number, o.tool.clone()))
-        .collect();
+    let tools = tp.tools();
     let (mut gouge, mut leftover_mean, mut stock) = (None, None, None);
     if let Some(designs) = designs {
         fb.stage("simulating the stock")?;

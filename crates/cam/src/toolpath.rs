@@ -168,6 +168,15 @@ impl Move {
 }
 
 impl Toolpath {
+    /// Each tool number the operations use, with its tool: what the simulator needs to cut
+    /// with the right cutter when it replays the program.
+    pub fn tools(&self) -> std::collections::HashMap<u32, Tool> {
+        self.operations
+            .iter()
+            .map(|o| (o.tool_number, o.tool.clone()))
+            .collect()
+    }
+
     /// The canonical operations this toolpath means, starting from the machine at `safe_z`
     /// above the origin. Used to feed the simulator and the estimator without text; it must
     /// agree with what the post-processors print (tested there).

@@ -7,11 +7,9 @@ mod common;
 use common::sole_sample;
 
 use oficina_cam::ops::{sole_job, Part, SoleJob, GOUGE_TOL};
-use oficina_cam::Tool;
 use oficina_geom::{offset_areas, to_ring, Area};
 use oficina_post::{program_text, read_back, PostDialect, PostOptions};
 use oficina_sim::{check_mill, Design};
-use std::collections::HashMap;
 
 #[test]
 fn size_34_to_40_insert_and_cavity_for_both_feet() {
@@ -63,12 +61,7 @@ fn size_34_to_40_insert_and_cavity_for_both_feet() {
                     .collect::<Vec<_>>()
             })
             .collect();
-        let tools: HashMap<u32, Tool> = p
-            .toolpath
-            .operations
-            .iter()
-            .map(|o| (o.tool_number, o.tool.clone()))
-            .collect();
+        let tools = p.toolpath.tools();
         let mut designs = vec![Design {
             rings,
             cut_inside: inside,

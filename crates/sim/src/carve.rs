@@ -10,11 +10,10 @@ use crate::{compare, feed_only_estimate, ideal_surface, replay, Report, SimError
 use oficina_cam::memory::{self, Budget, Lever, OverBudget};
 use oficina_cam::relief::{plan_within, Cutter, Direction, Pass, Planned, ReliefError, ReliefJob};
 use oficina_cam::Feeds;
-use oficina_cam::{Move, Tool, ToolError};
+use oficina_cam::{Move, ToolError};
 use oficina_canon::{Canon, CanonOp};
 use oficina_io::Heightmap;
 use oficina_post::{program_text, PostDialect, PostOptions};
-use std::collections::HashMap;
 
 /// The carving settings a user chooses (feeds in mm/min, lengths in mm).
 #[derive(Clone, Debug, PartialEq)]
@@ -391,12 +390,7 @@ pub fn evaluate(
     progress("interpreting the program", 0.0);
     let canon = interpret(&program, post)?;
     progress("simulating the stock", 0.0);
-    let tools: HashMap<u32, Tool> = planned
-        .toolpath
-        .operations
-        .iter()
-        .map(|o| (o.tool_number, o.tool.clone()))
-        .collect();
+    let tools = planned.toolpath.tools();
     let mut stock = Heightmap::flat(design.width, design.height, design.pixel, 0.0);
     let start = [0.0, 0.0, job.safe_z];
     replay(&canon, &tools, &mut stock, start)?;

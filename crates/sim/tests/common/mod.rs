@@ -3,21 +3,14 @@
 #![allow(dead_code)]
 
 use oficina_cam::relief::Planned;
-use oficina_cam::Tool;
 use oficina_io::Heightmap;
 use oficina_sim::replay;
-use std::collections::HashMap;
 
 /// The planned toolpath's canonical operations replayed on fresh flat stock (top at 0) from
 /// (0, 0, 5): the tests' own simulation, independent of the CAM's stock and of the carve
 /// pipeline (which replays the interpreted program text instead).
 pub(crate) fn replay_on_fresh_stock(design: &Heightmap, planned: &Planned) -> Heightmap {
-    let tools: HashMap<u32, Tool> = planned
-        .toolpath
-        .operations
-        .iter()
-        .map(|o| (o.tool_number, o.tool.clone()))
-        .collect();
+    let tools = planned.toolpath.tools();
     let mut stock = Heightmap::flat(design.width, design.height, design.pixel, 0.0);
     replay(
         &planned.toolpath.canon(),
