@@ -1,4 +1,3 @@
-#![warn(unreachable_pub, missing_docs)]
 //! RS274/NGC front end: text → blocks → canonical operations.
 //!
 //! ```
