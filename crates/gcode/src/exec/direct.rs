@@ -484,59 +484,14 @@ impl<'a> Reader<'a> {
         v
     }
 
-    /// A bracketed expression, its `[` at `i`: the usual one-operator form first.
+    /// A bracketed expression, its `[` at `i`, up to and including its `]`.
     #[inline(always)]
     fn bracket(&mut self, i: usize) -> Option<f64> {
         self.pos = i + 1;
         self.plain = false;
-        let v = match self.one_operator() {
-            Some(v) => v,
-            None => {
-                self.pos = i + 1;
-                let v = self.expression(0)?;
-                self.eat(b']')?;
-                v
-            }
-        };
+        let v = self.expression()?;
         // LinuxCNC checks each bracketed value (the full path reports it).
         v.is_finite().then_some(v)
-    }
-
-    /// The rest of `[a]` or `[a op b]` with one of `+ - * /` and simple operands (the
-    /// brackets CAM output and hand-written programs mostly hold), `pos` after the `[`: with
-    /// a single operator precedence cannot matter, so this is [`Reader::expression`]'s
-    /// result without its recursion. `None` on anything else; the caller then reads the
-    /// bracket again in full. Operands never hold a bracket, so a failed attempt costs at
-    /// most one pass over the bracket's own text (nested brackets are not tried twice).
-    fn one_operator(&mut self) -> Option<f64> {
-        let lhs = self.operand()?;
-        let (b, i) = self.peek()?;
-        let op = match b {
-            b']' => {
-                self.pos = i + 1;
-                return Some(lhs);
-            }
-            b'+' => BinOp::Add,
-            b'-' => BinOp::Sub,
-            b'*' if self.raw.get(i + 1) != Some(&b'*') => BinOp::Mul,
-            b'/' => BinOp::Div,
-            _ => return None,
-        };
-        self.pos = i + 1;
-        let rhs = self.operand()?;
-        let (b, i) = self.peek()?;
-        if b != b']' {
-            return None;
-        }
-        self.pos = i + 1;
-        // `binary` for these four, without its call.
-        match op {
-            BinOp::Add => Some(lhs + rhs),
-            BinOp::Sub => Some(lhs - rhs),
-            BinOp::Mul => Some(lhs * rhs),
-            _ if rhs == 0.0 => None,
-            _ => Some(lhs / rhs),
-        }
     }
 
     /// The digits at `at` as an integer, read without the float reading of
@@ -568,66 +523,79 @@ impl<'a> Reader<'a> {
         )
     }
 
-    /// An operand of [`Reader::one_operator`]: a number, `-` and a number, `#n` or
-    /// `#<name>`, read by [`Reader::real_value`]; `None` (nothing read) for anything that
-    /// could hold a bracket.
-    // Inlined: it is two thirds of the usual bracket's reading, and the call was a fifth of it.
+    /// The inside of a bracket up to and including its `]`, `pos` after the `[`. Most
+    /// brackets hold one value or one operator (`[#1 + 2.5]`): read here without any stack;
+    /// longer ones go on to [`Reader::expression_rest`].
+    fn expression(&mut self) -> Option<f64> {
+        let lhs = self.simple_value()?;
+        let Some(op) = self.operator()? else {
+            return Some(lhs);
+        };
+        let rhs = self.simple_value()?;
+        match self.operator()? {
+            None => apply(op, lhs, rhs),
+            Some(next) => self.expression_rest([lhs, rhs], op, next),
+        }
+    }
+
+    /// The operator after a value, consumed: `Some(None)` for the bracket's closing `]`
+    /// (consumed too), `None` for anything else (blanks inside `M O D`, a letter that is no
+    /// operator, the end of the line), which is the full path's to read or report.
     #[inline(always)]
-    fn operand(&mut self) -> Option<f64> {
+    fn operator(&mut self) -> Option<Option<BinOp>> {
         let (b, i) = self.peek()?;
-        let next = self.raw.get(i + 1);
-        let simple = match b {
-            b'0'..=b'9' | b'.' => true,
-            b'-' => matches!(next, Some(b'0'..=b'9' | b'.')),
-            b'#' => matches!(next, Some(b'0'..=b'9' | b'<')),
-            _ => false,
+        let (op, len) = match b {
+            b']' => {
+                self.pos = i + 1;
+                return Some(None);
+            }
+            b'+' => (BinOp::Add, 1),
+            b'-' => (BinOp::Sub, 1),
+            b'*' if self.raw.get(i + 1) == Some(&b'*') => (BinOp::Pow, 2),
+            b'*' => (BinOp::Mul, 1),
+            b'/' => (BinOp::Div, 1),
+            _ => {
+                let (name, op) = lookup(&WORD_OPS, &self.raw[i..])?;
+                (op, name.len())
+            }
         };
-        if simple {
-            self.simple_value()
-        } else {
-            None
-        }
+        self.pos = i + len;
+        Some(Some(op))
     }
 
-    /// Precedence climbing, all operators left-associative (as `parse::Parser::expression`).
-    fn expression(&mut self, min_prec: u8) -> Option<f64> {
-        let mut lhs = self.real_value()?;
-        loop {
-            let Some((op, at, len)) = self.peek_binop()? else {
-                return Some(lhs);
-            };
-            if op.precedence() < min_prec {
-                return Some(lhs);
+    /// The rest of a bracket after `a op b next`, `pos` after `next`: operator precedence
+    /// without recursion (a shunting-yard over two small stacks). It gives the tree that
+    /// `parse::Parser::expression` builds by precedence climbing, every operator
+    /// left-associative, and so the same `binary` calls on the same operands in the same
+    /// order: bit-identical values. Each operand is a value read one level down, as there.
+    ///
+    /// The stacks stay small: before an operator is pushed, every pending operator of the
+    /// same or a higher precedence is applied, so the pending ones have strictly increasing
+    /// precedences — at most one per level.
+    #[inline(never)]
+    fn expression_rest(&mut self, first: [f64; 2], op: BinOp, next: BinOp) -> Option<f64> {
+        let mut values = [0.0; LEVELS + 1];
+        let mut ops = [BinOp::Add; LEVELS];
+        [values[0], values[1]] = first;
+        ops[0] = op;
+        let mut pending = 1;
+        let mut op = Some(next);
+        while let Some(next) = op {
+            let precedence = next.precedence();
+            while pending > 0 && ops[pending - 1].precedence() >= precedence {
+                pending -= 1;
+                values[pending] = apply(ops[pending], values[pending], values[pending + 1])?;
             }
-            self.pos = at + len;
-            let rhs = self.expression(op.precedence() + 1)?;
-            lhs = binary(op, lhs, rhs, Span::default()).ok()?;
+            *ops.get_mut(pending)? = next;
+            pending += 1;
+            *values.get_mut(pending)? = self.simple_value()?;
+            op = self.operator()?;
         }
-    }
-
-    /// The operator after the value just read: `Some(None)` when there is none (a `]` or
-    /// the end), `None` when a word follows that is not a whole operator (blanks inside
-    /// `M O D`, or an error).
-    #[allow(clippy::type_complexity)]
-    fn peek_binop(&self) -> Option<Option<(BinOp, usize, usize)>> {
-        let Some((b, i)) = self.peek() else {
-            return Some(None);
-        };
-        let next = self.raw.get(i + 1).copied();
-        Some(Some(match b {
-            b'*' if next == Some(b'*') => (BinOp::Pow, i, 2),
-            b'*' => (BinOp::Mul, i, 1),
-            b'/' => (BinOp::Div, i, 1),
-            b'+' => (BinOp::Add, i, 1),
-            b'-' => (BinOp::Sub, i, 1),
-            b if b.is_ascii_alphabetic() => {
-                let rest = &self.raw[i..];
-                let (name, op) = lookup(&WORD_OPS, rest)?;
-                (op, i, name.len())
-            }
-            // `]`, or anything else the caller will reject.
-            _ => return Some(None),
-        }))
+        while pending > 0 {
+            pending -= 1;
+            values[pending] = apply(ops[pending], values[pending], values[pending + 1])?;
+        }
+        Some(values[0])
     }
 
     /// A function call, `pos` at its name.
@@ -651,6 +619,21 @@ impl<'a> Reader<'a> {
                 Some(degrees(y.atan2(x)))
             }
         }
+    }
+}
+
+/// Precedence levels of binary operators (`BinOp::precedence` runs from 0 to 4).
+const LEVELS: usize = 5;
+
+/// `binary` without its call for the four usual operators; `None` on any error.
+#[inline(always)]
+fn apply(op: BinOp, a: f64, b: f64) -> Option<f64> {
+    match op {
+        BinOp::Add => Some(a + b),
+        BinOp::Sub => Some(a - b),
+        BinOp::Mul => Some(a * b),
+        BinOp::Div if b != 0.0 => Some(a / b),
+        _ => binary(op, a, b, Span::default()).ok(),
     }
 }
 
@@ -728,6 +711,8 @@ mod tests {
             "X##1 Y#[1+1]",
             "X[ 1 + 2 ] Y - [ 3 ]",
             "G1 X[ABS[SIN[12]] * 0 + 1]",
+            "X[1 + 2 * 3 ** 2 - 4 / 8 mod 3] Y[1 lt 2 + 3 and 4 eq 4 or 0] Z[2 ** 3 ** 2 * 2]",
+            "X[#1 - #2 - #3 + #<a> * #<b> / 4 ** 2 ** 0.5]",
             "X#01 Y#0002 Z[#3 + #12] A#00001 B#1. C#5601",
         ] {
             assert!(agrees_with_full_path(s), "fast path declined {s}");
@@ -867,6 +852,22 @@ mod tests {
                     inner.clone()
                 )
                     .prop_map(|(a, op, b)| format!("[{a}{op}{b}]")),
+                // Chains of operators in one bracket: precedence and associativity.
+                (
+                    inner.clone(),
+                    prop::collection::vec(
+                        (
+                            "( ?[-+*/] ?|\\*\\*| (mod|eq|ne|GT|ge|lt|le|and|or|xor) )",
+                            inner.clone()
+                        ),
+                        2..6
+                    )
+                )
+                    .prop_map(|(a, rest)| {
+                        let rest: String =
+                            rest.into_iter().map(|(op, b)| format!("{op}{b}")).collect();
+                        format!("[{a}{rest}]")
+                    }),
                 (inner.clone(), "-|\\+| - ").prop_map(|(a, s)| format!("{s}{a}")),
                 (
                     inner.clone(),
