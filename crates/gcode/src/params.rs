@@ -34,12 +34,108 @@ impl Hasher for NameHasher {
         self.add(u64::from(b));
     }
 
+    fn write_u128(&mut self, k: u128) {
+        self.add(k as u64);
+        self.add((k >> 64) as u64);
+    }
+
     fn finish(&self) -> u64 {
         self.0
     }
 }
 
-type NameMap = HashMap<String, f64, BuildHasherDefault<NameHasher>>;
+type Hashed<K, V> = HashMap<K, V, BuildHasherDefault<NameHasher>>;
+
+/// Named values, names already lower-case. Nearly every name is at most 15 bytes: those are
+/// keyed by their bytes packed in a `u128` (length in the top byte, so "a" and "a\0" differ),
+/// one compare of two integers instead of a string compare, and while there are few of them
+/// (a program's handful of locals) they are found by a scan, without hashing; longer names
+/// are keyed by string.
+#[derive(Clone, Debug, Default)]
+struct NameMap {
+    short: Vec<(u128, f64)>,
+    /// Position in `short` by key, built once `short` outgrows a scan.
+    index: Hashed<u128, usize>,
+    long: Hashed<String, f64>,
+}
+
+impl NameMap {
+    /// Up to this many short names a scan beats hashing.
+    const SCAN: usize = 8;
+
+    /// `name` packed as a short key, or `None` when it is longer than 15 bytes. The bytes
+    /// go in by fixed-size copies (two overlapping ones cover 4 to 15 bytes), not a
+    /// copy of variable length, which is a call.
+    fn pack(name: &str) -> Option<u128> {
+        let b = name.as_bytes();
+        let n = b.len();
+        let mut k = [0u8; 16];
+        match n {
+            16.. => return None,
+            8.. => {
+                k[..8].copy_from_slice(&b[..8]);
+                k[n - 8..n].copy_from_slice(&b[n - 8..]);
+            }
+            4.. => {
+                k[..4].copy_from_slice(&b[..4]);
+                k[n - 4..n].copy_from_slice(&b[n - 4..]);
+            }
+            _ => k[..n].copy_from_slice(b),
+        }
+        k[15] = n as u8;
+        Some(u128::from_le_bytes(k))
+    }
+
+    fn slot(&self, key: u128) -> Option<usize> {
+        if self.short.len() <= Self::SCAN {
+            self.short.iter().position(|&(k, _)| k == key)
+        } else {
+            self.index.get(&key).copied()
+        }
+    }
+
+    fn get(&self, name: &str) -> Option<f64> {
+        match Self::pack(name) {
+            Some(key) => self.slot(key).map(|i| self.short[i].1),
+            None => self.long.get(name).copied(),
+        }
+    }
+
+    fn get_mut(&mut self, name: &str) -> Option<&mut f64> {
+        match Self::pack(name) {
+            Some(key) => self.slot(key).map(|i| &mut self.short[i].1),
+            None => self.long.get_mut(name),
+        }
+    }
+
+    fn contains_key(&self, name: &str) -> bool {
+        self.get(name).is_some()
+    }
+
+    fn insert(&mut self, name: String, value: f64) {
+        if let Some(slot) = self.get_mut(&name) {
+            *slot = value;
+            return;
+        }
+        let Some(key) = Self::pack(&name) else {
+            self.long.insert(name, value);
+            return;
+        };
+        self.short.push((key, value));
+        if self.short.len() > Self::SCAN {
+            if self.index.is_empty() {
+                self.index = self
+                    .short
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &(k, _))| (k, i))
+                    .collect();
+            } else {
+                self.index.insert(key, self.short.len() - 1);
+            }
+        }
+    }
+}
 
 /// Highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS − 1).
 pub(crate) const MAX_NUMBERED: u32 = 5602;
@@ -158,16 +254,14 @@ impl Params {
         } else {
             self.locals().get(key)
         };
-        found
-            .copied()
-            .ok_or_else(|| ParamError::Undefined(key.to_string()))
+        found.ok_or_else(|| ParamError::Undefined(key.to_string()))
     }
 
     /// Read the local `#<name>`, `name` already lower-case and not starting with `_`:
     /// [`Params::get_named`] without its checks, for the fast path.
     pub(crate) fn get_local(&self, name: &str) -> Option<f64> {
         debug_assert!(!name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()));
-        self.locals().get(name).copied()
+        self.locals().get(name)
     }
 
     /// Whether `#<name>=…` would be refused because the interpreter owns the name.
@@ -290,6 +384,41 @@ mod tests {
         for (i, n) in names.iter().enumerate() {
             assert_eq!(p.get_named(n).unwrap(), i as f64, "{n}");
         }
+    }
+
+    #[test]
+    fn names_that_pack_alike_stay_apart_before_and_after_the_index() {
+        // Same bytes but for trailing NULs or repeats: the packed key holds the length.
+        let names = [
+            "a",
+            "a\0",
+            "aa",
+            "aaaa",
+            "aaaaa",
+            "aaaaaaaa",
+            "aaaaaaaaa",
+            "abcdefgh",
+            "abcdefghabcdefg",
+            "abcdefghabcdefgh",
+            "bcdefgh",
+            "x\0\0\0",
+            "x",
+        ];
+        let mut p = Params::new();
+        for (round, scale) in [(0, 1.0), (1, 10.0)] {
+            for (i, n) in names.iter().enumerate() {
+                p.set_named(n, i as f64 * scale).unwrap();
+            }
+            for (i, n) in names.iter().enumerate() {
+                assert_eq!(p.get_named(n), Ok(i as f64 * scale), "{n:?} round {round}");
+                assert_eq!(
+                    p.get_local(n),
+                    Some(i as f64 * scale),
+                    "{n:?} round {round}"
+                );
+            }
+        }
+        assert!(p.get_named("aaa").is_err() && p.get_named("a\0\0").is_err());
     }
 
     #[test]
