@@ -63,27 +63,37 @@ impl NameMap {
     /// Up to this many short names a scan beats hashing.
     const SCAN: usize = 8;
 
-    /// `name` packed as a short key, or `None` when it is longer than 15 bytes. The bytes
-    /// go in by fixed-size copies (two overlapping ones cover 4 to 15 bytes), not a
-    /// copy of variable length, which is a call.
+    /// `name` packed as a short key (byte i at bits 8i, the length at bits 120…127), or
+    /// `None` when it is longer than 15 bytes. Built from two overlapping word reads in
+    /// registers: bytes stored one by one and read back as words would miss store
+    /// forwarding, a stall on every lookup.
     fn pack(name: &str) -> Option<u128> {
         let b = name.as_bytes();
         let n = b.len();
-        let mut k = [0u8; 16];
-        match n {
+        let word = |s: &[u8]| {
+            let mut w = [0u8; 8];
+            w[..s.len()].copy_from_slice(s);
+            u64::from_le_bytes(w)
+        };
+        let bytes = match n {
             16.. => return None,
+            // Bytes 0…7, then bytes 8…n−1: the last 8 bytes shifted past the 16 − n that
+            // the first word already holds.
             8.. => {
-                k[..8].copy_from_slice(&b[..8]);
-                k[n - 8..n].copy_from_slice(&b[n - 8..]);
+                let tail = u128::from(word(&b[n - 8..])) >> (8 * (16 - n));
+                u128::from(word(&b[..8])) | tail << 64
             }
+            // Bytes 0…3, then 4…n−1 the same way.
             4.. => {
-                k[..4].copy_from_slice(&b[..4]);
-                k[n - 4..n].copy_from_slice(&b[n - 4..]);
+                let tail = word(&b[n - 4..]) >> (8 * (8 - n));
+                u128::from(word(&b[..4]) | tail << 32)
             }
-            _ => k[..n].copy_from_slice(b),
-        }
-        k[15] = n as u8;
-        Some(u128::from_le_bytes(k))
+            _ => b
+                .iter()
+                .enumerate()
+                .fold(0, |k, (i, &c)| k | u128::from(c) << (8 * i)),
+        };
+        Some(bytes | (n as u128) << 120)
     }
 
     fn slot(&self, key: u128) -> Option<usize> {
