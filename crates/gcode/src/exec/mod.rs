@@ -213,7 +213,40 @@ impl<R: BufRead + Seek> Executor<R> {
     /// caller marks them stale after each block and brings them up to date only for the
     /// lines that read them. The fast paths decline such lines (see `direct.rs`), so only
     /// the full path looks for the names.
+    // Inlined into the caller's loop: the usual line costs no call and no `Result` built
+    // in memory; anything else goes to `read_block_slow`.
+    #[inline]
     pub fn read_block_with(
+        &mut self,
+        params: &mut Params,
+        block: &mut Block,
+        refresh: &mut dyn FnMut(&mut Params),
+    ) -> Result<bool, Diagnostic> {
+        if self.fast_path_open() && self.fast_path_in_place(params, block) {
+            self.printed.clear();
+            if !self.fanuc_block(block)? {
+                self.idle_iterations = 0;
+                return Ok(true);
+            }
+        }
+        self.read_block_slow(params, block, refresh)
+    }
+
+    /// Whether the next line may go through a fast path: lines are not being skipped, the
+    /// program has begun (its first line, perhaps a `%`, is the full path's) and not ended.
+    /// grbl has its own letters and line limit: always the full path.
+    #[inline]
+    fn fast_path_open(&self) -> bool {
+        // `seen_content` implies `started`: set on a line read after the start.
+        self.seen_content
+            && self.skip.is_none()
+            && self.end.is_none()
+            && self.dialect != Dialect::Grbl
+    }
+
+    /// [`Executor::read_block_with`] for every line but the usual one.
+    #[inline(never)]
+    fn read_block_slow(
         &mut self,
         params: &mut Params,
         block: &mut Block,
@@ -229,12 +262,7 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.end.is_some() {
                 return Ok(false);
             }
-            // grbl has its own letters and line limit: always the full path.
-            if self.skip.is_none()
-                && self.dialect != Dialect::Grbl
-                && self.seen_content
-                && self.fast_path_in_place(params, block)
-            {
+            if self.fast_path_open() && self.fast_path_in_place(params, block) {
                 if self.fanuc_block(block)? {
                     continue;
                 }
@@ -270,12 +298,7 @@ impl<R: BufRead + Seek> Executor<R> {
                     ));
                 }
             };
-            // grbl has its own letters and line limit: always the full path.
-            if self.skip.is_none()
-                && self.dialect != Dialect::Grbl
-                && self.seen_content
-                && self.fast_path(number, params, block)
-            {
+            if self.fast_path_open() && self.fast_path(number, params, block) {
                 if self.fanuc_block(block)? {
                     continue;
                 }
@@ -375,6 +398,7 @@ impl<R: BufRead + Seek> Executor<R> {
     /// buffer, before `read` has looked for its end or set it apart: taken only when the
     /// fast path stops at its newline (a line that goes on past the bytes at hand, an
     /// over-long one, or any line a fast path declines, is left to `read`).
+    #[inline]
     fn fast_path_in_place(&mut self, params: &mut Params, block: &mut Block) -> bool {
         let (_, number) = self.src.position();
         let max_len = self.src.max_len();

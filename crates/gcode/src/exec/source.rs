@@ -89,6 +89,7 @@ impl<R: BufRead + Seek> LineSource<R> {
     /// none), for a caller that finds the line's end itself and then takes it with
     /// [`LineSource::take_line`]. Empty at the end of the input or on an error, which the
     /// next [`LineSource::read`] then meets.
+    #[inline]
     pub(super) fn buffered(&mut self) -> &[u8] {
         if let Some(len) = self.in_place.take() {
             self.reader.consume(len + 1);
@@ -218,6 +219,7 @@ impl<R: BufRead + Seek> Sources<R> {
         }
     }
 
+    #[inline]
     pub(super) fn buffered(&mut self) -> &[u8] {
         match self.files.last_mut() {
             Some(Some(f)) => f.buffered(),
@@ -225,6 +227,7 @@ impl<R: BufRead + Seek> Sources<R> {
         }
     }
 
+    #[inline]
     pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
         match self.file_mut() {
             Some(f) => f.take_line(len),
