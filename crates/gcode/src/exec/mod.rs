@@ -83,7 +83,8 @@ pub struct Executor<R> {
     pending: Vec<(ParamRef, f64, Span)>,
     /// The plain and direct paths for ordinary lines.
     fast: fast::FastPaths,
-    /// Start of the line being run.
+    /// Start of the last line read whole by `read` (every o-word line is: `while` jumps
+    /// back to it).
     current: Mark,
     /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
     fanuc_subs: bool,
@@ -181,6 +182,12 @@ impl<R: BufRead + Seek> Executor<R> {
     /// them to its output). Emptied by the next read.
     pub fn take_printed(&mut self) -> std::vec::Drain<'_, String> {
         self.printed.drain(..)
+    }
+
+    /// Whether the block just read has `(print, …)` texts to take: a test cheaper than an
+    /// empty [`Executor::take_printed`].
+    pub fn has_printed(&self) -> bool {
+        !self.printed.is_empty()
     }
 
     /// Depth of subroutine calls in progress.
@@ -404,9 +411,10 @@ impl<R: BufRead + Seek> Executor<R> {
         let max_len = self.src.max_len();
         let chunk = self.src.buffered();
         match self.fast.line(chunk, Some(max_len), number, params, block) {
+            // `current` is left as it is: only o-word lines read it, and they are the full
+            // path's.
             Some(len) => {
-                let (offset, line) = self.src.take_line(len);
-                self.current = Mark { offset, line };
+                self.src.take_line(len);
                 true
             }
             // `block` may be half-filled: the full path refills it.

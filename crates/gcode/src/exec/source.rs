@@ -98,14 +98,11 @@ impl<R: BufRead + Seek> LineSource<R> {
     }
 
     /// Take the first `len` bytes of [`LineSource::buffered`] and the newline after them
-    /// as the next line: its offset and number.
-    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+    /// as the next line.
+    pub(super) fn take_line(&mut self, len: usize) {
         self.reader.consume(len + 1);
-        let offset = self.pos;
         self.pos += len as u64 + 1;
-        let number = self.next_line;
         self.next_line = self.next_line.saturating_add(1);
-        (offset, number)
     }
 
     pub(super) fn read(&mut self) -> io::Result<Read> {
@@ -228,7 +225,7 @@ impl<R: BufRead + Seek> Sources<R> {
     }
 
     #[inline]
-    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+    pub(super) fn take_line(&mut self, len: usize) {
         match self.file_mut() {
             Some(f) => f.take_line(len),
             None => self.main.take_line(len),
