@@ -697,6 +697,26 @@ mod tests {
     }
 
     #[test]
+    fn a_line_read_in_place_empties_the_printed_texts() {
+        // The second and third lines take the inlined fast path: they must not hand back
+        // the first line's text.
+        let mut exec = crate::Executor::from_text(
+            "G21 G1 F100\nG1 X1 (print, one)\nG1 X2\nG1 X[2 * 2]\nM2\n",
+            crate::Dialect::LinuxCnc,
+        );
+        let mut params = crate::params::Params::new();
+        let mut block = crate::block::Block::default();
+        let mut printed = Vec::new();
+        while exec.read_block(&mut params, &mut block).expect("reads") {
+            printed.push((block.line, exec.has_printed()));
+        }
+        assert_eq!(
+            printed,
+            vec![(1, false), (2, true), (3, false), (4, false), (5, false)]
+        );
+    }
+
+    #[test]
     fn the_line_limit_holds_for_lines_read_in_place() {
         let long = format!("G1 X1 Y[2 + {}]\n", "0".repeat(200));
         let text = format!("G21 G1 F100\n{long}M2\n");
