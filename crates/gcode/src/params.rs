@@ -34,12 +34,118 @@ impl Hasher for NameHasher {
         self.add(u64::from(b));
     }
 
+    fn write_u128(&mut self, k: u128) {
+        self.add(k as u64);
+        self.add((k >> 64) as u64);
+    }
+
     fn finish(&self) -> u64 {
         self.0
     }
 }
 
-type NameMap = HashMap<String, f64, BuildHasherDefault<NameHasher>>;
+type Hashed<K, V> = HashMap<K, V, BuildHasherDefault<NameHasher>>;
+
+/// Named values, names already lower-case. Nearly every name is at most 15 bytes: those are
+/// keyed by their bytes packed in a `u128` (length in the top byte, so "a" and "a\0" differ),
+/// one compare of two integers instead of a string compare, and while there are few of them
+/// (a program's handful of locals) they are found by a scan, without hashing; longer names
+/// are keyed by string.
+#[derive(Clone, Debug, Default)]
+struct NameMap {
+    short: Vec<(u128, f64)>,
+    /// Position in `short` by key, built once `short` outgrows a scan.
+    index: Hashed<u128, usize>,
+    long: Hashed<String, f64>,
+}
+
+impl NameMap {
+    /// Up to this many short names a scan beats hashing.
+    const SCAN: usize = 8;
+
+    /// `name` packed as a short key (byte i at bits 8i, the length at bits 120…127), or
+    /// `None` when it is longer than 15 bytes. Built from two overlapping word reads in
+    /// registers: bytes stored one by one and read back as words would miss store
+    /// forwarding, a stall on every lookup.
+    fn pack(name: &str) -> Option<u128> {
+        let b = name.as_bytes();
+        let n = b.len();
+        let word = |s: &[u8]| {
+            let mut w = [0u8; 8];
+            w[..s.len()].copy_from_slice(s);
+            u64::from_le_bytes(w)
+        };
+        let bytes = match n {
+            16.. => return None,
+            // Bytes 0…7, then bytes 8…n−1: the last 8 bytes shifted past the 16 − n that
+            // the first word already holds.
+            8.. => {
+                let tail = u128::from(word(&b[n - 8..])) >> (8 * (16 - n));
+                u128::from(word(&b[..8])) | tail << 64
+            }
+            // Bytes 0…3, then 4…n−1 the same way.
+            4.. => {
+                let tail = word(&b[n - 4..]) >> (8 * (8 - n));
+                u128::from(word(&b[..4]) | tail << 32)
+            }
+            _ => b
+                .iter()
+                .enumerate()
+                .fold(0, |k, (i, &c)| k | u128::from(c) << (8 * i)),
+        };
+        Some(bytes | (n as u128) << 120)
+    }
+
+    fn slot(&self, key: u128) -> Option<usize> {
+        if self.short.len() <= Self::SCAN {
+            self.short.iter().position(|&(k, _)| k == key)
+        } else {
+            self.index.get(&key).copied()
+        }
+    }
+
+    fn get(&self, name: &str) -> Option<f64> {
+        match Self::pack(name) {
+            Some(key) => self.slot(key).map(|i| self.short[i].1),
+            None => self.long.get(name).copied(),
+        }
+    }
+
+    fn get_mut(&mut self, name: &str) -> Option<&mut f64> {
+        match Self::pack(name) {
+            Some(key) => self.slot(key).map(|i| &mut self.short[i].1),
+            None => self.long.get_mut(name),
+        }
+    }
+
+    fn contains_key(&self, name: &str) -> bool {
+        self.get(name).is_some()
+    }
+
+    fn insert(&mut self, name: String, value: f64) {
+        if let Some(slot) = self.get_mut(&name) {
+            *slot = value;
+            return;
+        }
+        let Some(key) = Self::pack(&name) else {
+            self.long.insert(name, value);
+            return;
+        };
+        self.short.push((key, value));
+        if self.short.len() > Self::SCAN {
+            if self.index.is_empty() {
+                self.index = self
+                    .short
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &(k, _))| (k, i))
+                    .collect();
+            } else {
+                self.index.insert(key, self.short.len() - 1);
+            }
+        }
+    }
+}
 
 /// Highest numbered parameter (LinuxCNC's RS274NGC_MAX_PARAMETERS − 1).
 pub(crate) const MAX_NUMBERED: u32 = 5602;
@@ -158,16 +264,14 @@ impl Params {
         } else {
             self.locals().get(key)
         };
-        found
-            .copied()
-            .ok_or_else(|| ParamError::Undefined(key.to_string()))
+        found.ok_or_else(|| ParamError::Undefined(key.to_string()))
     }
 
     /// Read the local `#<name>`, `name` already lower-case and not starting with `_`:
     /// [`Params::get_named`] without its checks, for the fast path.
     pub(crate) fn get_local(&self, name: &str) -> Option<f64> {
         debug_assert!(!name.starts_with('_') && !name.bytes().any(|b| b.is_ascii_uppercase()));
-        self.locals().get(name).copied()
+        self.locals().get(name)
     }
 
     /// Whether `#<name>=…` would be refused because the interpreter owns the name.
@@ -290,6 +394,41 @@ mod tests {
         for (i, n) in names.iter().enumerate() {
             assert_eq!(p.get_named(n).unwrap(), i as f64, "{n}");
         }
+    }
+
+    #[test]
+    fn names_that_pack_alike_stay_apart_before_and_after_the_index() {
+        // Same bytes but for trailing NULs or repeats: the packed key holds the length.
+        let names = [
+            "a",
+            "a\0",
+            "aa",
+            "aaaa",
+            "aaaaa",
+            "aaaaaaaa",
+            "aaaaaaaaa",
+            "abcdefgh",
+            "abcdefghabcdefg",
+            "abcdefghabcdefgh",
+            "bcdefgh",
+            "x\0\0\0",
+            "x",
+        ];
+        let mut p = Params::new();
+        for (round, scale) in [(0, 1.0), (1, 10.0)] {
+            for (i, n) in names.iter().enumerate() {
+                p.set_named(n, i as f64 * scale).unwrap();
+            }
+            for (i, n) in names.iter().enumerate() {
+                assert_eq!(p.get_named(n), Ok(i as f64 * scale), "{n:?} round {round}");
+                assert_eq!(
+                    p.get_local(n),
+                    Some(i as f64 * scale),
+                    "{n:?} round {round}"
+                );
+            }
+        }
+        assert!(p.get_named("aaa").is_err() && p.get_named("a\0\0").is_err());
     }
 
     #[test]

@@ -134,11 +134,13 @@ impl Driver {
             if block.line > 0 {
                 self.last_line = block.line;
             }
-            for text in exec.take_printed() {
-                self.report(Diagnostic::warning(
-                    Span::line(block.line),
-                    format!("(print) {text}"),
-                ));
+            if exec.has_printed() {
+                for text in exec.take_printed() {
+                    self.report(Diagnostic::warning(
+                        Span::line(block.line),
+                        format!("(print) {text}"),
+                    ));
+                }
             }
             match result {
                 Ok(Flow::End) => {

@@ -53,12 +53,13 @@ impl FastPaths {
             // Back to the plain path only after two plain lines in a row: a lone plain
             // line between lines with expressions would make the next line fail the plain
             // path first, wasting its reading.
-            self.plain_run = if scratch.was_plain {
-                self.plain_run.saturating_add(1)
+            // (`plain_lines` is false here: only a plain line can set it.)
+            if scratch.was_plain {
+                self.plain_run = self.plain_run.saturating_add(1);
+                self.plain_lines = self.plain_run >= 2;
             } else {
-                0
-            };
-            self.plain_lines = self.plain_run >= 2;
+                self.plain_run = 0;
+            }
             Some(len)
         }
     }

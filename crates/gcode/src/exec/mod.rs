@@ -83,7 +83,8 @@ pub struct Executor<R> {
     pending: Vec<(ParamRef, f64, Span)>,
     /// The plain and direct paths for ordinary lines.
     fast: fast::FastPaths,
-    /// Start of the line being run.
+    /// Start of the last line read whole by `read` (every o-word line is: `while` jumps
+    /// back to it).
     current: Mark,
     /// Fanuc-style subprograms (`O100` … `M99`, `M98`) are read (LinuxCNC's default).
     fanuc_subs: bool,
@@ -183,6 +184,12 @@ impl<R: BufRead + Seek> Executor<R> {
         self.printed.drain(..)
     }
 
+    /// Whether the block just read has `(print, …)` texts to take: a test cheaper than an
+    /// empty [`Executor::take_printed`].
+    pub fn has_printed(&self) -> bool {
+        !self.printed.is_empty()
+    }
+
     /// Depth of subroutine calls in progress.
     pub fn call_depth(&self) -> usize {
         self.calls.len()
@@ -213,7 +220,40 @@ impl<R: BufRead + Seek> Executor<R> {
     /// caller marks them stale after each block and brings them up to date only for the
     /// lines that read them. The fast paths decline such lines (see `direct.rs`), so only
     /// the full path looks for the names.
+    // Inlined into the caller's loop: the usual line costs no call and no `Result` built
+    // in memory; anything else goes to `read_block_slow`.
+    #[inline]
     pub fn read_block_with(
+        &mut self,
+        params: &mut Params,
+        block: &mut Block,
+        refresh: &mut dyn FnMut(&mut Params),
+    ) -> Result<bool, Diagnostic> {
+        if self.fast_path_open() && self.fast_path_in_place(params, block) {
+            self.printed.clear();
+            if !self.fanuc_block(block)? {
+                self.idle_iterations = 0;
+                return Ok(true);
+            }
+        }
+        self.read_block_slow(params, block, refresh)
+    }
+
+    /// Whether the next line may go through a fast path: lines are not being skipped, the
+    /// program has begun (its first line, perhaps a `%`, is the full path's) and not ended.
+    /// grbl has its own letters and line limit: always the full path.
+    #[inline]
+    fn fast_path_open(&self) -> bool {
+        // `seen_content` implies `started`: set on a line read after the start.
+        self.seen_content
+            && self.skip.is_none()
+            && self.end.is_none()
+            && self.dialect != Dialect::Grbl
+    }
+
+    /// [`Executor::read_block_with`] for every line but the usual one.
+    #[inline(never)]
+    fn read_block_slow(
         &mut self,
         params: &mut Params,
         block: &mut Block,
@@ -229,12 +269,7 @@ impl<R: BufRead + Seek> Executor<R> {
             if self.end.is_some() {
                 return Ok(false);
             }
-            // grbl has its own letters and line limit: always the full path.
-            if self.skip.is_none()
-                && self.dialect != Dialect::Grbl
-                && self.seen_content
-                && self.fast_path_in_place(params, block)
-            {
+            if self.fast_path_open() && self.fast_path_in_place(params, block) {
                 if self.fanuc_block(block)? {
                     continue;
                 }
@@ -270,12 +305,7 @@ impl<R: BufRead + Seek> Executor<R> {
                     ));
                 }
             };
-            // grbl has its own letters and line limit: always the full path.
-            if self.skip.is_none()
-                && self.dialect != Dialect::Grbl
-                && self.seen_content
-                && self.fast_path(number, params, block)
-            {
+            if self.fast_path_open() && self.fast_path(number, params, block) {
                 if self.fanuc_block(block)? {
                     continue;
                 }
@@ -375,14 +405,16 @@ impl<R: BufRead + Seek> Executor<R> {
     /// buffer, before `read` has looked for its end or set it apart: taken only when the
     /// fast path stops at its newline (a line that goes on past the bytes at hand, an
     /// over-long one, or any line a fast path declines, is left to `read`).
+    #[inline]
     fn fast_path_in_place(&mut self, params: &mut Params, block: &mut Block) -> bool {
         let (_, number) = self.src.position();
         let max_len = self.src.max_len();
         let chunk = self.src.buffered();
         match self.fast.line(chunk, Some(max_len), number, params, block) {
+            // `current` is left as it is: only o-word lines read it, and they are the full
+            // path's.
             Some(len) => {
-                let (offset, line) = self.src.take_line(len);
-                self.current = Mark { offset, line };
+                self.src.take_line(len);
                 true
             }
             // `block` may be half-filled: the full path refills it.
@@ -662,6 +694,26 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_line_read_in_place_empties_the_printed_texts() {
+        // The second and third lines take the inlined fast path: they must not hand back
+        // the first line's text.
+        let mut exec = crate::Executor::from_text(
+            "G21 G1 F100\nG1 X1 (print, one)\nG1 X2\nG1 X[2 * 2]\nM2\n",
+            crate::Dialect::LinuxCnc,
+        );
+        let mut params = crate::params::Params::new();
+        let mut block = crate::block::Block::default();
+        let mut printed = Vec::new();
+        while exec.read_block(&mut params, &mut block).expect("reads") {
+            printed.push((block.line, exec.has_printed()));
+        }
+        assert_eq!(
+            printed,
+            vec![(1, false), (2, true), (3, false), (4, false), (5, false)]
+        );
     }
 
     #[test]

@@ -89,6 +89,7 @@ impl<R: BufRead + Seek> LineSource<R> {
     /// none), for a caller that finds the line's end itself and then takes it with
     /// [`LineSource::take_line`]. Empty at the end of the input or on an error, which the
     /// next [`LineSource::read`] then meets.
+    #[inline]
     pub(super) fn buffered(&mut self) -> &[u8] {
         if let Some(len) = self.in_place.take() {
             self.reader.consume(len + 1);
@@ -97,14 +98,11 @@ impl<R: BufRead + Seek> LineSource<R> {
     }
 
     /// Take the first `len` bytes of [`LineSource::buffered`] and the newline after them
-    /// as the next line: its offset and number.
-    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+    /// as the next line.
+    pub(super) fn take_line(&mut self, len: usize) {
         self.reader.consume(len + 1);
-        let offset = self.pos;
         self.pos += len as u64 + 1;
-        let number = self.next_line;
         self.next_line = self.next_line.saturating_add(1);
-        (offset, number)
     }
 
     pub(super) fn read(&mut self) -> io::Result<Read> {
@@ -218,6 +216,7 @@ impl<R: BufRead + Seek> Sources<R> {
         }
     }
 
+    #[inline]
     pub(super) fn buffered(&mut self) -> &[u8] {
         match self.files.last_mut() {
             Some(Some(f)) => f.buffered(),
@@ -225,7 +224,8 @@ impl<R: BufRead + Seek> Sources<R> {
         }
     }
 
-    pub(super) fn take_line(&mut self, len: usize) -> (u64, u32) {
+    #[inline]
+    pub(super) fn take_line(&mut self, len: usize) {
         match self.file_mut() {
             Some(f) => f.take_line(len),
             None => self.main.take_line(len),

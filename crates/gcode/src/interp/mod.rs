@@ -733,14 +733,17 @@ impl Interpreter {
     /// `#5420…` current position, `#5400` tool, and the cheap named `#<_…>` values.
     fn update_params(&self, params: &mut Params) {
         let k = self.k();
-        let mut here = self.pos;
         // In mm (k = 1) the division changes nothing: skipped, as it runs after every block.
-        if k != 1.0 {
-            for v in &mut here[..3] {
-                *v /= k;
-            }
+        // Two real branches, not one copy with a select: the select divides every time, and
+        // its 16-byte reads across `self.pos`'s 16-byte stores miss store forwarding, while
+        // the plain copy reads the position with the same widths it was just written with.
+        if k == 1.0 {
+            let _ = params.set_run(param::POSITION, &self.pos);
+        } else {
+            let p = self.pos;
+            let here = [p[0] / k, p[1] / k, p[2] / k, p[3], p[4], p[5]];
+            let _ = params.set_run(param::POSITION, &here);
         }
-        let _ = params.set_run(param::POSITION, &here);
         let _ = params.set(param::COORD_SYSTEM, self.modal.coord_system as f64);
         let _ = params.set(param::TOOL_NUMBER, self.modal.tool_in_spindle as f64);
     }

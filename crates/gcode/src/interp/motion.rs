@@ -362,9 +362,16 @@ impl Interpreter {
     pub(crate) fn emit_arc(&self, sink: Sink, end: [f64; 6], center: [f64; 2], turns: i32) {
         let plane = self.modal.plane;
         let (a0, a1, _) = plane.axes();
-        let mut c = end;
-        c[a0] = center[0];
-        c[a1] = center[1];
+        // The centre as a whole point (`end` off the plane), written out per plane rather
+        // than patched into a copy of `end`: 8-byte patches read back as 16-byte words
+        // miss store forwarding, a stall on every arc.
+        let [c0, c1] = center;
+        let [x, y, z, a, b, cc] = end;
+        let c = match plane {
+            Plane::XY => [c0, c1, z, a, b, cc],
+            Plane::YZ => [x, c0, c1, a, b, cc],
+            Plane::XZ => [c1, y, c0, a, b, cc],
+        };
         let cm = self.frame.to_machine(c);
         let rotation = if plane == Plane::XY {
             0.0
