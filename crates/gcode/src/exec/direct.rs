@@ -8,6 +8,7 @@
 //! new name, and every error. The full path then reads the line from scratch, so errors and
 //! unusual syntax keep their one implementation.
 
+use super::fanuc::is_call_or_return;
 use crate::ast::{BinOp, Func};
 use crate::block::{Assignment, Block, ParamRef, Word};
 use crate::diag::Span;
@@ -220,6 +221,10 @@ impl<'a> Reader<'a> {
                 }
                 letter @ b'a'..=b'z' if letter != b'o' => {
                     let value = self.simple_value()?;
+                    // M98/M99 call and return: the full path's (see `fanuc.rs`).
+                    if letter == b'm' && is_call_or_return(value) {
+                        return None;
+                    }
                     block.words.push(Word {
                         letter: letter.to_ascii_uppercase() as char,
                         value,
@@ -744,6 +749,8 @@ mod tests {
             "X[0**-1]",
             "#1 5",
             "X1 µ",
+            "M98 P[1000] L2",
+            "G1 X[1] m99",
         ] {
             assert!(!agrees_with_full_path(s), "{s} should take the full path");
         }

@@ -19,17 +19,24 @@ use crate::block::Block;
 use crate::diag::{Diagnostic, Span};
 use std::io::{BufRead, Seek};
 
+/// Whether an M word's value is M98 or M99. The fast paths decline such lines, so that only
+/// the full path's blocks need [`Executor::fanuc_block`]'s look at every word.
+#[inline(always)]
+pub(super) fn is_call_or_return(m: f64) -> bool {
+    m == 98.0 || m == 99.0
+}
+
 impl<R: BufRead + Seek> Executor<R> {
     /// Run the M98 or M99 of `block`, if it has one: `Ok(true)` when the block was a call
     /// or a return and is used up. `M99` in the main program becomes `M2`.
     #[inline(always)]
     pub(super) fn fanuc_block(&mut self, block: &mut Block) -> Result<bool, Diagnostic> {
-        // Every block passes here: the test is one pass over its few words, the work is
-        // out of line.
+        // Every block of the full path passes here: the test is one pass over its few
+        // words, the work is out of line.
         match block
             .words
             .iter()
-            .position(|w| w.letter == 'M' && (w.value == 98.0 || w.value == 99.0))
+            .position(|w| w.letter == 'M' && is_call_or_return(w.value))
         {
             None => Ok(false),
             Some(m) => self.m98_or_m99(block, m),

@@ -230,11 +230,10 @@ impl<R: BufRead + Seek> Executor<R> {
         refresh: &mut dyn FnMut(&mut Params),
     ) -> Result<bool, Diagnostic> {
         if self.fast_path_open() && self.fast_path_in_place(params, block) {
+            // No M98/M99 to run: the fast paths decline their lines.
             self.printed.clear();
-            if !self.fanuc_block(block)? {
-                self.idle_iterations = 0;
-                return Ok(true);
-            }
+            self.idle_iterations = 0;
+            return Ok(true);
         }
         self.read_block_slow(params, block, refresh)
     }
@@ -270,9 +269,6 @@ impl<R: BufRead + Seek> Executor<R> {
                 return Ok(false);
             }
             if self.fast_path_open() && self.fast_path_in_place(params, block) {
-                if self.fanuc_block(block)? {
-                    continue;
-                }
                 self.idle_iterations = 0;
                 return Ok(true);
             }
@@ -306,9 +302,6 @@ impl<R: BufRead + Seek> Executor<R> {
                 }
             };
             if self.fast_path_open() && self.fast_path(number, params, block) {
-                if self.fanuc_block(block)? {
-                    continue;
-                }
                 self.idle_iterations = 0;
                 return Ok(true);
             }

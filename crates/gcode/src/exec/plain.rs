@@ -4,6 +4,7 @@
 //! parameters, o-words, a blank inside a number, `/`, `%`, non-ASCII) returns `false` and
 //! goes through the full lexer and parser, which handle it exactly as before.
 
+use super::fanuc::is_call_or_return;
 use crate::block::{Block, Word};
 use crate::diag::Span;
 use crate::lex::scan_number;
@@ -83,6 +84,10 @@ pub(super) fn plain_line_upto(raw: &[u8], line: u32, block: &mut Block) -> Optio
             }
             block.n = Some(value);
         } else {
+            // M98/M99 call and return: the full path's (see `fanuc.rs`).
+            if letter == b'm' && is_call_or_return(value) {
+                return None;
+            }
             let span = Span::new(line, start as u32 + 1, (i - start) as u32);
             block.words.push(Word {
                 letter: letter.to_ascii_uppercase() as char,
@@ -145,6 +150,9 @@ mod tests {
             "",
             "X1 µ",
             "G1 X--1",
+            "M98 P1000 L2",
+            "m99",
+            "M 99.0",
         ] {
             let mut b = Block::default();
             assert!(
