@@ -210,6 +210,10 @@ impl Interpreter {
     }
 
     /// [`Interpreter::execute`] without the short way for simple moves.
+    ///
+    /// Never inlined: inside `execute` its large frame was set up for every block, the
+    /// short way's too.
+    #[inline(never)]
     fn execute_full(
         &mut self,
         block: &Block,
