@@ -118,30 +118,53 @@ impl Driver {
         // One block reused throughout: no allocation per block on the straight path.
         let mut block = Block::default();
         loop {
-            // `#<_x>` and friends cost a map update each: brought up to date only before a
-            // line that reads them, which only programs that read them pay.
-            let interp = &self.interp;
-            let mut refresh = |params: &mut Params| interp.update_named_params(params);
-            let read = exec.read_block_with(&mut self.params, &mut block, &mut refresh);
-            let result = match read {
-                Ok(false) => break,
-                Ok(true) => {
-                    self.params.mark_system_stale();
-                    self.interp.execute(&block, &mut self.params, sink)
+            // The usual lines first, in one stretch, until one is declined or its block
+            // does not simply continue the program.
+            let interp = &mut self.interp;
+            let mut stopped = None;
+            let last = exec.read_fast_lines(&mut self.params, &mut block, |block, params| {
+                params.mark_system_stale();
+                match interp.execute(block, params, sink) {
+                    Ok(Flow::Continue) => true,
+                    other => {
+                        stopped = Some(other);
+                        false
+                    }
                 }
-                Err(e) => Err(e),
+            });
+            if last > 0 {
+                self.last_line = last;
+            }
+            let result = match stopped {
+                Some(result) => result,
+                None => {
+                    // `#<_x>` and friends cost a map update each: brought up to date only
+                    // before a line that reads them, which only programs that read them pay.
+                    let interp = &self.interp;
+                    let mut refresh = |params: &mut Params| interp.update_named_params(params);
+                    let read = exec.read_block_slow(&mut self.params, &mut block, &mut refresh);
+                    let result = match read {
+                        Ok(false) => break,
+                        Ok(true) => {
+                            self.params.mark_system_stale();
+                            self.interp.execute(&block, &mut self.params, sink)
+                        }
+                        Err(e) => Err(e),
+                    };
+                    if block.line > 0 {
+                        self.last_line = block.line;
+                    }
+                    if exec.has_printed() {
+                        for text in exec.take_printed() {
+                            self.report(Diagnostic::warning(
+                                Span::line(block.line),
+                                format!("(print) {text}"),
+                            ));
+                        }
+                    }
+                    result
+                }
             };
-            if block.line > 0 {
-                self.last_line = block.line;
-            }
-            if exec.has_printed() {
-                for text in exec.take_printed() {
-                    self.report(Diagnostic::warning(
-                        Span::line(block.line),
-                        format!("(print) {text}"),
-                    ));
-                }
-            }
             match result {
                 Ok(Flow::End) => {
                     self.ended = true;
@@ -236,6 +259,22 @@ mod tests {
                 _ => None,
             })
             .collect()
+    }
+
+    #[test]
+    fn errors_inside_a_stretch_of_usual_lines_name_their_line() {
+        // Every line here is a fast path's: the lines read in one stretch still say which
+        // line erred, check mode goes on after it, and the missing end names the last line.
+        let text = "G21 G90 G1 F100\nG1 X1\nG2 X2 Y0 I0 J0\nG1 X3\nG1 X[2 + 2]\n";
+        let (ops, diags) = canon_of(text, &RunOptions::check(Dialect::LinuxCnc));
+        let lines: Vec<u32> = diags.iter().map(|d| d.span.line).collect();
+        assert_eq!(lines, vec![3, 5], "{diags:?}");
+        assert!(diags[1].message.contains("no percent sign"), "{diags:?}");
+        let feeds = ops
+            .iter()
+            .filter(|c| matches!(c.op, CanonOp::StraightFeed { .. }))
+            .count();
+        assert_eq!(feeds, 3);
     }
 
     #[test]

@@ -238,6 +238,51 @@ impl<R: BufRead + Seek> Executor<R> {
         self.read_block_slow(params, block, refresh)
     }
 
+    /// Reads the usual lines one after another straight from the reader's buffer, handing
+    /// each block to `each` until it answers false, a fast path declines a line or the
+    /// buffer runs out; [`Executor::read_block_slow`] reads what comes next. Returns the
+    /// number of the last line taken (0 when none was). The reader's position is brought
+    /// up to date once per stretch, not once per line: this is the loop most programs
+    /// spend their time in (`Driver::run`).
+    #[inline]
+    pub(crate) fn read_fast_lines(
+        &mut self,
+        params: &mut Params,
+        block: &mut Block,
+        mut each: impl FnMut(&mut Block, &mut Params) -> bool,
+    ) -> u32 {
+        if !self.fast_path_open() {
+            return 0;
+        }
+        // Nothing in a stretch can close it: fast lines run no o-word, no `%`, no M98/M99.
+        let max_len = self.src.max_len();
+        let (_, first) = self.src.position();
+        let chunk = self.src.buffered();
+        let mut used = 0;
+        let mut lines: u32 = 0;
+        let mut number = first;
+        while let Some(len) = self
+            .fast
+            .line(&chunk[used..], Some(max_len), number, params, block)
+        {
+            // `line` took `len` bytes and saw the newline after them.
+            used += len + 1;
+            lines = lines.saturating_add(1);
+            if !each(block, params) {
+                break;
+            }
+            number = number.saturating_add(1);
+        }
+        if lines == 0 {
+            return 0;
+        }
+        self.src.take_lines(used, lines);
+        self.printed.clear();
+        self.idle_iterations = 0;
+        // The last line taken (`block` may hold part of a line declined after it).
+        first.saturating_add(lines - 1)
+    }
+
     /// Whether the next line may go through a fast path: lines are not being skipped, the
     /// program has begun (its first line, perhaps a `%`, is the full path's) and not ended.
     /// grbl has its own letters and line limit: always the full path.
@@ -252,7 +297,7 @@ impl<R: BufRead + Seek> Executor<R> {
 
     /// [`Executor::read_block_with`] for every line but the usual one.
     #[inline(never)]
-    fn read_block_slow(
+    pub(crate) fn read_block_slow(
         &mut self,
         params: &mut Params,
         block: &mut Block,

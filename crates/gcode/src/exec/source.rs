@@ -100,9 +100,16 @@ impl<R: BufRead + Seek> LineSource<R> {
     /// Take the first `len` bytes of [`LineSource::buffered`] and the newline after them
     /// as the next line.
     pub(super) fn take_line(&mut self, len: usize) {
-        self.reader.consume(len + 1);
-        self.pos += len as u64 + 1;
-        self.next_line = self.next_line.saturating_add(1);
+        self.take_lines(len + 1, 1);
+    }
+
+    /// Take the first `bytes` bytes of [`LineSource::buffered`], `lines` whole lines with
+    /// their newlines, at once.
+    #[inline]
+    pub(super) fn take_lines(&mut self, bytes: usize, lines: u32) {
+        self.reader.consume(bytes);
+        self.pos += bytes as u64;
+        self.next_line = self.next_line.saturating_add(lines);
     }
 
     pub(super) fn read(&mut self) -> io::Result<Read> {
@@ -229,6 +236,15 @@ impl<R: BufRead + Seek> Sources<R> {
         match self.file_mut() {
             Some(f) => f.take_line(len),
             None => self.main.take_line(len),
+        }
+    }
+
+    /// [`LineSource::take_lines`] of the innermost file.
+    #[inline]
+    pub(super) fn take_lines(&mut self, bytes: usize, lines: u32) {
+        match self.file_mut() {
+            Some(f) => f.take_lines(bytes, lines),
+            None => self.main.take_lines(bytes, lines),
         }
     }
 
