@@ -35,11 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // A deterministic pseudo-random walk with the usual 3-decimal coordinates.
     let mut out = BufWriter::new(std::fs::File::create(&path)?);
     writeln!(out, "G21 G90 G17 F1200")?;
-    let mut seed: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut random = oficina_testkit::random::Xorshift::new(0x9E37_79B9_7F4A_7C15);
     for i in 0..blocks {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
+        let seed = random.next_u64();
         let x = (seed % 200_000) as f64 / 1000.0;
         let y = ((seed >> 20) % 200_000) as f64 / 1000.0;
         if i % 1000 == 0 {

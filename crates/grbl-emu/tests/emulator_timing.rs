@@ -33,13 +33,8 @@ fn core(p: &Profile, extra: &[(u16, f64)]) -> Core {
 
 /// A closed tour of long random segments in XY with small Z changes, feeds varying.
 fn program(n: usize) -> Vec<String> {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut r = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut random = oficina_testkit::random::Xorshift::new(0x2545_f491_4f6c_dd1d);
+    let mut r = move || random.unit();
     let mut lines = vec!["G21 G90 G94".to_string()];
     for i in 0..n {
         let (x, y, z) = (20.0 + 300.0 * r(), 20.0 + 300.0 * r(), -5.0 * r());

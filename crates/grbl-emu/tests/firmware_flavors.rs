@@ -284,12 +284,9 @@ fn random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(8);
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut random = oficina_testkit::random::Xorshift::new(0x9e37_79b9_7f4a_7c15);
     for k in 0..trials {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        let f = 0.1 + 0.8 * (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let f = 0.1 + 0.8 * random.unit();
         let stop = Duration::from_secs_f64(total * f);
         emu.with_core(|c| c.motion_record.clear());
         let (c, report) = scenarios::stop_and_resume(&mut s, &job, stop, &|| made(&emu));

@@ -140,14 +140,11 @@ fn sim_random_stops_on_a_relief_leave_no_gap_and_no_double_cut() {
         .and_then(|v| v.parse().ok())
         .unwrap_or(4);
     let mut total = 0.0;
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut random = oficina_testkit::random::Xorshift::new(0x2545_f491_4f6c_dd1d);
     let (mut worst_gap, mut worst_double, mut witnessed) = (0.0f64, 0.0f64, 0);
     // Trial 0 runs the job without a stop (and measures its length).
     for k in 0..=trials {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        let f = 0.1 + 0.8 * (seed >> 11) as f64 / (1u64 << 53) as f64;
+        let f = 0.1 + 0.8 * random.unit();
         let stop = if k == 0 {
             Duration::from_secs(3600)
         } else {

@@ -1,7 +1,8 @@
 //! What several crates' integration tests share: LinuxCNC's `rs274` run as the oracle
-//! ([`rs274`]), private scratch folders, a command's output checked for success, and the
-//! sample shapes more than one crate cuts ([`shapes`]). Dev-only: never published.
+//! ([`rs274`]), private scratch folders, a command's output checked for success, the
+//! sample shapes more than one crate cuts ([`shapes`]) and seeded random numbers ([`random`]). Dev-only: never published.
 
+pub mod random;
 pub mod rs274;
 pub mod shapes;
 
