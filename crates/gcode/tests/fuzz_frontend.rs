@@ -12,6 +12,7 @@ use oficina_gcode::Compact;
 use oficina_gcode::Line;
 use oficina_gcode::Params;
 use oficina_gcode::{Dialect, Span};
+use oficina_gcode::{Driver, RunOptions};
 use oficina_gcode::{Executor, Limits};
 use proptest::prelude::*;
 use std::io::Cursor;
@@ -112,6 +113,26 @@ fn run_program(text: &[u8], dialect: Dialect) {
     }
     // After the end it stays ended.
     assert!(exec.next_block(&mut params).is_none());
+}
+
+/// Run a whole program through the driver (interpreter included) as `oficina_gcode::run`
+/// does, in check mode so every line is read: the fast paths' stretches of usual lines and
+/// the slow path alternate however the input falls. No panic, and every diagnostic names a
+/// line of the input (or the line just after it, for a missing program end).
+fn run_pipeline(text: &[u8], dialect: Dialect) {
+    let lines: Vec<&[u8]> = text.split(|&b| b == b'\n').collect();
+    let mut exec = Executor::new(Cursor::new(text.to_vec()), dialect);
+    exec.set_limits(LIMITS);
+    exec.set_max_line_len(2048);
+    let opts = RunOptions::check(dialect);
+    let mut sink = |_| {};
+    for d in Driver::new(&opts, &mut sink).run(&mut exec, &mut sink) {
+        assert!(
+            d.span.line as usize <= lines.len() + 1,
+            "{}: {d:?}",
+            d.message
+        );
+    }
 }
 
 /// Lex and parse one line in every dialect.
@@ -316,6 +337,7 @@ fn random_bytes_never_break_the_lexer_parser_or_executor() {
             }
             for d in DIALECTS {
                 run_program(bytes, d);
+                run_pipeline(bytes, d);
             }
         },
     );
@@ -329,6 +351,7 @@ fn gcode_token_soup_never_breaks_the_front_end() {
         }
         for d in DIALECTS {
             run_program(text, d);
+            run_pipeline(text, d);
         }
     });
 }
@@ -338,6 +361,7 @@ fn mutated_corpus_programs_never_break_the_front_end() {
     check("mutated corpus", mutated_corpus(), |text| {
         for d in DIALECTS {
             run_program(text, d);
+            run_pipeline(text, d);
         }
     });
 }
