@@ -8,15 +8,13 @@ use oficina_geom::{
 };
 use std::path::PathBuf;
 
+/// One of Clipper2's test files, kept in the repository (`tests/data/clipper2`, under
+/// Clipper2's Boost licence beside them) so a clone anywhere runs this test.
 fn data(name: &str) -> String {
-    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    for dir in here.ancestors() {
-        let p = dir.join("shared/data/clipper2").join(name);
-        if p.exists() {
-            return std::fs::read_to_string(p).unwrap();
-        }
-    }
-    panic!("shared/data/clipper2/{name} not found beside the repository");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/clipper2")
+        .join(name);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 struct Case {
