@@ -145,3 +145,22 @@ fn machine_trait_raw_lines_and_firmware_settings() {
         Err(oficina_machine::MachineError::Refused(_))
     ));
 }
+
+/// A caller that drains events until none is left (the web server's pump does, holding its
+/// session lock) must come back from an idle board, which always has a fresh status to give.
+#[test]
+fn draining_an_idle_board_ends() {
+    let (_emu, ep) = emulator(Some(115_200));
+    let mut dev = GrblDevice::new(&ep.to_string()).unwrap();
+    dev.connect().unwrap();
+    for round in 0..5 {
+        let mut n = 0;
+        while let Some(e) = dev.next_event(Duration::ZERO) {
+            n += 1;
+            assert!(n <= 3, "round {round}: event {n} from an idle board: {e:?}");
+        }
+        std::thread::sleep(Duration::from_millis(60));
+    }
+    // And the status it gives is the board's: idle at the emulator's origin.
+    assert_eq!(dev.status().state, State::Idle);
+}

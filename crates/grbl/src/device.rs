@@ -37,7 +37,14 @@ pub struct GrblDevice {
     worker: Option<JoinHandle<()>>,
     /// How the last job ended ([`Machine::job_report`]).
     report: Arc<Mutex<Option<JobReport>>>,
+    /// When the idle firmware was last asked for its status ([`Machine::next_event`]).
+    last_idle_poll: Option<Instant>,
 }
+
+/// An idle board is asked for its status at most this often. Without a limit an idle
+/// board always has a fresh status, and a caller draining events until none is left (the
+/// server's pump) would never stop.
+const IDLE_POLL_PERIOD: Duration = Duration::from_millis(50);
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
@@ -65,6 +72,7 @@ impl GrblDevice {
             control: None,
             worker: None,
             report: Arc::new(Mutex::new(None)),
+            last_idle_poll: None,
         }
     }
 
@@ -450,6 +458,13 @@ impl Machine for GrblDevice {
                 if self.job_running() {
                     return None;
                 }
+                if self
+                    .last_idle_poll
+                    .is_some_and(|t| t.elapsed() < IDLE_POLL_PERIOD)
+                {
+                    return None;
+                }
+                self.last_idle_poll = Some(Instant::now());
                 let mut guard = lock(&self.idle);
                 let m = guard.as_mut()?;
                 let st = m.sender.status().ok()?;
