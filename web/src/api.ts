@@ -33,6 +33,8 @@ export interface Diag { line: number; col: number; len: number; severity: 'error
 export interface Box3 { min: [number, number, number]; max: [number, number, number]; }
 export interface CheckReport {
   diagnostics: Diag[]; errors: number; warnings: number; operations: number;
+  /// The reading the check used: the machine's (grbl on firmware).
+  dialect?: string;
   feed_extents: Box3 | null; rapid_extents: Box3 | null;
   feed_length: number; rapid_length: number; feed_moves: number; rapid_moves: number; arcs: number;
   tools: number[]; feed_rate_seconds: number;

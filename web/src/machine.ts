@@ -23,6 +23,9 @@ export class MachinePanel {
   private client = 0;
   private last: Snapshot | null = null;
   private jogging = false;
+  private programErrors = 0;
+  /// The shown job's end as last seen (null while it runs or when there is none).
+  private jobEnded: boolean | null = null;
 
   constructor(private hooks: Hooks) {
     const send = (cmd: Record<string, unknown>) => {
@@ -141,6 +144,12 @@ export class MachinePanel {
     }
   }
 
+  /// The loaded program's error count: Start stays disabled while it has errors.
+  setProgramErrors(n: number) {
+    this.programErrors = n;
+    this.updateButtons();
+  }
+
   private status(s: Snapshot) {
     this.last = s;
     $('machine-name').textContent = `${s.machine} · ${s.firmware}`;
@@ -161,6 +170,15 @@ export class MachinePanel {
     $('alarm-text').textContent = s.alarm ?? '';
     $('alarm-meaning').textContent = s.alarm_meaning ?? '';
     document.body.dataset.state = s.state;
+    // The override the machine reports (grbl's `Ov:`), not the slider's wish.
+    const ov = Math.round(s.feed_override * 100);
+    document.body.dataset.feedOverride = String(ov);
+    const fo = $<HTMLInputElement>('fo');
+    if (document.activeElement !== fo) { fo.value = String(ov); $('fo-value').textContent = `${ov} %`; }
+    // A job that ended (or a new one) leaves no stale "from line" for the next start.
+    const ended = s.job?.completed ?? null;
+    if (ended !== null && this.jobEnded === null) $<HTMLInputElement>('from-line').value = '';
+    this.jobEnded = s.job ? ended : null;
     document.body.dataset.jobDone = s.job?.completed === true ? 'completed' : s.job?.completed === false ? 'stopped' : '';
     this.updateButtons();
     this.hooks.onStatus(s);
@@ -171,7 +189,8 @@ export class MachinePanel {
     const c = this.controls;
     const idle = s === 'idle';
     const set = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !(c && on); };
-    set('start', idle);
+    set('start', idle && this.programErrors === 0);
+    $('start').title = this.programErrors ? `the program has ${this.programErrors} errors: fix them first` : '';
     set('hold', s === 'run');
     set('resume', s === 'hold' || s === 'holding' || s === 'paused');
     set('stop', !idle && s !== 'alarm');

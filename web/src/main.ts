@@ -91,7 +91,9 @@ function showCheck(r: CheckReport) {
   const size = e ? `${(e.max[0] - e.min[0]).toFixed(1)} × ${(e.max[1] - e.min[1]).toFixed(1)} × ${(e.max[2] - e.min[2]).toFixed(1)} mm` : 'no cutting moves';
   const time = r.time.Ok ? hms(r.time.Ok.seconds) : `no estimate (${r.time.Err})`;
   const tools = r.tool_table.map(([n, t]) => t ? `T${n} Ø${t.diameter} L${t.length}` : `T${n} not in the tool table`).join(', ');
-  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
+  panel.setProgramErrors(r.errors);
+  const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
+  $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
 }
 
@@ -500,7 +502,14 @@ const panel = new MachinePanel({
 
 /// While the loaded program runs, the editor and the preview follow the machine.
 let shownEnd = '';
+let checkedFor = '';
 function followJob(s: Snapshot) {
+  // Another machine reads the program another way (grbl's dialect on firmware): check again.
+  if (s.uri !== checkedFor) {
+    const first = checkedFor === '';
+    checkedFor = s.uri;
+    if (!first && program.text) runCheck();
+  }
   // A finished job shows its whole path again (once: the user may scrub after).
   const ended = s.job && s.job.completed === true && s.job.name === program.name;
   if (ended && shownEnd !== program.name) {

@@ -22,7 +22,8 @@ pub(crate) struct Args {
     /// Folder of uploads and generated programs (nothing outside it is written).
     #[arg(long, default_value = "oficina-jobs")]
     jobs: PathBuf,
-    /// The built page (default: web/dist of the source tree, or $OFICINA_WEB_DIR).
+    /// Serve the page from this folder (development: web/dist) instead of the one built
+    /// into the binary.
     #[arg(long, env = "OFICINA_WEB_DIR")]
     web: Option<PathBuf>,
     /// Largest upload, MB.
@@ -31,18 +32,19 @@ pub(crate) struct Args {
     /// A program (in the job folder, or a bundled sample name) the page opens with.
     #[arg(long)]
     open: Option<String>,
+    /// Another name the page may be opened by (repeatable): `NAME` on the server's port, or
+    /// `NAME:PORT` behind a proxy. Any other `Host:` is refused (DNS rebinding).
+    #[arg(long = "allow-host", value_name = "NAME[:PORT]")]
+    allow_host: Vec<String>,
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let addr = args
         .listen
         .unwrap_or(SocketAddr::new(IpAddr::V4(Ipv4Addr::LOCALHOST), args.port));
-    let web = args.web.or_else(|| {
-        let built = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../web/dist"));
-        built.join("index.html").is_file().then_some(built)
-    });
-    if web.is_none() {
-        eprintln!("(the page is not built: run `npm ci && npm run build` in web/; the API works meanwhile)");
+    let web = args.web;
+    if web.is_none() && !oficina_server::page_built() {
+        eprintln!("(this oficina was built before the page: run `npm ci && npm run build` in web/ and rebuild, or give --web web/dist; the API works meanwhile)");
     }
     let token = args.token.clone();
     let config = oficina_server::Config {
@@ -53,6 +55,7 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         machine: args.machine,
         upload_limit: args.upload_mb.saturating_mul(1 << 20),
         open: args.open,
+        allowed_hosts: args.allow_host,
     };
     let rt = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)

@@ -76,6 +76,17 @@ pub enum Dialect {
     Legacy2006,
 }
 
+impl std::fmt::Display for Dialect {
+    /// The name `FromStr` reads back.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Dialect::LinuxCnc => "linuxcnc",
+            Dialect::Grbl => "grbl",
+            Dialect::Legacy2006 => "legacy-2006",
+        })
+    }
+}
+
 impl std::str::FromStr for Dialect {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {

@@ -157,9 +157,14 @@ struct ProgramQuery {
 }
 
 impl ProgramQuery {
-    fn dialect(&self) -> Result<Dialect, (StatusCode, String)> {
+    /// The dialect asked, else the one of the machine the program will run on: grbl's for
+    /// real firmware (where a program without M2 is normal), LinuxCNC's for the virtual one.
+    fn dialect(&self, st: &AppState) -> Result<Dialect, (StatusCode, String)> {
         match &self.dialect {
-            None => Ok(Dialect::LinuxCnc),
+            None => {
+                let firmware = st.with_session(|s| Ok(s.profile().is_none())).map_err(bad)?;
+                Ok(if firmware { Dialect::Grbl } else { Dialect::LinuxCnc })
+            }
             Some(d) => d.parse().map_err(|e| bad(format!("dialect {d:?}: {e}"))),
         }
     }
@@ -193,9 +198,10 @@ async fn check(
     body: Bytes,
 ) -> ApiResult {
     let text = q.text(&st, body)?;
+    let dialect = q.dialect(&st)?;
     let opts = CheckOptions {
         profile: current_profile(&st)?,
-        dialect: q.dialect()?,
+        dialect,
     };
     // The page's saved tool table: G43 H and G41 D as the virtual machine will run them.
     let tools = crate::profiles::saved_tools(&st).map_err(bad)?;
@@ -203,6 +209,9 @@ async fn check(
         tokio::task::spawn_blocking(move || check_program_with_tools(&text, &opts, &tools))
             .await
             .map_err(|e| bad(e.to_string()))?;
+    // Which reading the page shows: it names it beside the counts.
+    let mut report = serde_json::to_value(report).map_err(|e| bad(e.to_string()))?;
+    report["dialect"] = json!(dialect.to_string());
     Ok(Json(report).into_response())
 }
 
@@ -219,7 +228,7 @@ async fn preview(
 ) -> ApiResult {
     let text = q.text(&st, body)?;
     let profile = current_profile(&st)?;
-    let dialect = q.dialect()?;
+    let dialect = q.dialect(&st)?;
     let (tx, rx) = tokio::sync::mpsc::channel::<Vec<u8>>(8);
     tokio::task::spawn_blocking(move || {
         let mut buf = Vec::with_capacity(CHUNK_SEGMENTS * SEGMENT_BYTES);
@@ -256,13 +265,15 @@ async fn preview(
         .into_response())
 }
 
-/// The built page, or a page that says how to build it.
+/// The page: from `--web DIR` when given (development), else the one built into the binary,
+/// else a page that says how to build it.
 pub(crate) fn page_service(st: &AppState) -> Router {
     match &st.config.web_dir {
         Some(dir) if dir.join("index.html").is_file() => Router::new().fallback_service(
             tower_http::services::ServeDir::new(dir)
                 .fallback(tower_http::services::ServeFile::new(dir.join("index.html"))),
         ),
+        None if crate::page::built() => Router::new().fallback(crate::page::serve),
         _ => Router::new().fallback(|| async {
             (
                 StatusCode::OK,

@@ -15,6 +15,7 @@
 //! let state = AppState::new(Config {
 //!     addr: "127.0.0.1:0".parse().unwrap(), token: None, job_dir: dir.path().join("jobs"),
 //!     web_dir: None, machine: "virtual".into(), upload_limit: 1 << 20, open: None,
+//!     allowed_hosts: Vec::new(),
 //! }).unwrap();
 //! let program = "G21 G90\nG0 X0 Y0\nG1 X10 F600\nM2\n";
 //! let check = Request::post("/api/check").body(Body::from(program)).unwrap();
@@ -31,6 +32,7 @@ mod auth;
 mod embroider;
 mod files;
 mod jobs;
+mod page;
 mod profiles;
 mod samples;
 mod state;
@@ -47,6 +49,12 @@ pub fn router(state: Arc<AppState>) -> Router {
     api::routes(state.clone())
         .merge(ws::routes(state.clone()))
         .fallback_service(api::page_service(&state))
+        .layer(axum::middleware::from_fn_with_state(state, auth::guard))
+}
+
+/// True when this binary carries the built page (it was built after `npm run build`).
+pub fn page_built() -> bool {
+    page::built()
 }
 
 /// Refuse to listen beyond this computer without a token: anyone on the network could
@@ -74,6 +82,8 @@ pub async fn serve(
         .await
         .map_err(|e| format!("cannot listen on {}: {e}", config.addr))?;
     let addr = listener.local_addr()?;
+    // The port asked may have been 0: `Host:` is checked against the one bound.
+    let config = Config { addr, ..config };
     let state = AppState::new(config)?;
     state::spawn_pump(state.clone());
     ready(addr);

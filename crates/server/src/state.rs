@@ -27,6 +27,9 @@ pub struct Config {
     pub upload_limit: usize,
     /// The program the page opens with: a file in the job folder or a bundled sample name.
     pub open: Option<String>,
+    /// Names besides the listening address that `Host:` may carry (`--allow-host`): `name`
+    /// on the server's port, or `name:port` (behind a proxy).
+    pub allowed_hosts: Vec<String>,
 }
 
 /// The job the machine runs, kept so a page that reconnects shows it where it is.

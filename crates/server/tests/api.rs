@@ -7,6 +7,7 @@ use axum::http::{Request, StatusCode};
 use common::call_bytes as call;
 use oficina_server::{check_listen, AppState, Config};
 use std::sync::Arc;
+use tower::ServiceExt;
 
 fn state(dir: &std::path::Path, token: Option<&str>, limit: usize) -> Arc<AppState> {
     AppState::new(Config {
@@ -201,5 +202,39 @@ async fn samples_and_the_opening_program_are_served() {
             .unwrap(),
     )
     .await;
+    assert_eq!(s, StatusCode::NOT_FOUND);
+}
+
+/// Without `--web`, the page comes from the binary (built after `npm run build`), so a
+/// release `oficina serve` works outside the checkout; before the page is built it says how.
+#[tokio::test]
+async fn the_binary_serves_the_page_it_carries() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path(), None, 1 << 20);
+    let get = |uri: &str| Request::get(uri).body(Body::empty()).unwrap();
+    let (s, b) = call(&st, get("/")).await;
+    let page = String::from_utf8_lossy(&b).to_string();
+    assert_eq!(s, StatusCode::OK);
+    if !oficina_server::page_built() {
+        assert!(page.contains("npm run build"), "{page}");
+        return;
+    }
+    assert!(page.contains("<script type=\"module\""), "{page}");
+    // Every asset the page names is there, with its type.
+    let asset = page
+        .split("src=\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .expect("the page names its script");
+    let r = oficina_server::router(st.clone())
+        .oneshot(get(asset))
+        .await
+        .unwrap();
+    assert_eq!(r.status(), StatusCode::OK, "{asset}");
+    assert_eq!(r.headers()["content-type"], "text/javascript", "{asset}");
+    // An app path is the page; a missing asset is not.
+    let (s, b) = call(&st, get("/some/view")).await;
+    assert_eq!((s, b.len()), (StatusCode::OK, page.len()));
+    let (s, _) = call(&st, get("/assets/missing.js")).await;
     assert_eq!(s, StatusCode::NOT_FOUND);
 }

@@ -25,6 +25,7 @@ pub(crate) fn config(dir: &std::path::Path) -> Config {
         machine: "virtual".into(),
         upload_limit: 1 << 20,
         open: None,
+        allowed_hosts: Vec::new(),
     }
 }
 

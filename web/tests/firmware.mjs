@@ -1,0 +1,115 @@
+// The page drives real firmware: for each flavour (grbl 1.1, grblHAL, FluidNC, as Oficina's
+// emulator speaks them over TCP) a user connects through the machine list, sees the board's
+// position move, loads and starts a program, holds, resumes, changes the feed override,
+// stops, closes the tab (the server keeps answering and the board keeps its state), comes
+// back, and resumes from a line to the end. Clicks and keys only, as a user would.
+
+import { startServer, startEmulator, launch, suite, assert, sleep, out } from './harness.mjs';
+import path from 'node:path';
+
+const { test, state, finish } = suite('firmware');
+const server = await startServer();
+const browser = await launch();
+
+// A square traced ten times at 1 mm deep: long enough (about two minutes at F900) to hold,
+// resume and stop in the middle, and short lines near the end to resume from.
+const laps = Array.from({ length: 10 }, () => 'G1 X20 F900\nY20\nX0\nY0').join('\n');
+const program = `G21 G90\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F300\n${laps}\nG0 Z5\nG0 X1 Y1\nM2\n`;
+const lines = program.trimEnd().split('\n').length;
+
+async function openPage() {
+  const page = await browser.newPage({ viewport: { width: 1600, height: 900 } });
+  state.page = page;
+  await page.goto(server.url);
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  return page;
+}
+const dro = (page) => page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('m' + a).textContent)));
+const waitState = (page, s, timeout = 30000) =>
+  page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+
+for (const flavor of ['grbl', 'grblhal', 'fluidnc']) {
+  const board = await startEmulator(flavor);
+  let page;
+
+  await test(`${flavor}: connect shows the board and a live position`, async () => {
+    page = await openPage();
+    // The machine list's last entry asks for an address.
+    page.once('dialog', (d) => d.accept(board.uri));
+    await page.selectOption('#machine-uri', '');
+    await page.click('#connect');
+    const address = board.uri.replace('tcp://', '');
+    await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), address, { timeout: 15000 })
+      .catch(async () => { throw new Error(`the board's address is not shown: ${await page.textContent('#machine-name')}`); });
+    await waitState(page, 'idle');
+    const name = await page.textContent('#machine-name');
+    assert(name.includes(flavor === 'fluidnc' ? 'FluidNC' : 'grbl 1.1'), `the firmware is named: ${name}`);
+    const before = await dro(page);
+    assert(before.every(Number.isFinite), `the DRO shows numbers: ${before}`);
+    // A jog the board makes is seen on the DRO: the position is the board's, live.
+    await page.selectOption('#jog-step', '10');
+    await page.click('#jog button[data-jog="1,0,0"]');
+    await page.waitForFunction((x0) => Math.abs(Number(document.getElementById('mx').textContent) - x0 - 10) < 1e-3,
+      before[0], { timeout: 15000 });
+    await waitState(page, 'idle');
+    await page.screenshot({ path: path.join(out, `firmware-${flavor}-connected.png`) });
+  });
+
+  await test(`${flavor}: start, hold, resume, feed override and stop a program`, async () => {
+    await page.fill('#text', program);
+    await page.waitForFunction(() => document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 30000 });
+    await page.click('#start');
+    await waitState(page, 'run');
+    await page.waitForFunction(() => Number(document.getElementById('line').textContent) > 4, null, { timeout: 15000 });
+    await page.click('#hold');
+    await page.waitForFunction(() => document.body.dataset.state === 'hold', null, { timeout: 15000 });
+    const held = await dro(page);
+    await sleep(700);
+    const still = await dro(page);
+    assert(held.every((v, i) => Math.abs(v - still[i]) < 1e-6), `nothing moves in a hold: ${held} then ${still}`);
+    await page.click('#resume');
+    await waitState(page, 'run');
+    await page.$eval('#fo', (e) => { e.value = '150'; e.dispatchEvent(new Event('input')); e.dispatchEvent(new Event('change')); });
+    await page.waitForFunction(() => document.body.dataset.feedOverride === '150', null, { timeout: 15000 });
+    await page.screenshot({ path: path.join(out, `firmware-${flavor}-running.png`) });
+    await page.click('#stop');
+    await page.waitForFunction(() => document.body.dataset.jobDone === 'stopped', null, { timeout: 30000 });
+    await waitState(page, 'idle');
+  });
+
+  await test(`${flavor}: the server answers once the tab is closed, and a new tab finds the board`, async () => {
+    const where = await dro(page);
+    await page.close();
+    await sleep(500);
+    for (let i = 0; i < 3; i++) {
+      const r = await fetch(`${server.origin}/api/info`, { signal: AbortSignal.timeout(5000) });
+      assert(r.ok, `the server answers: ${r.status}`);
+      await sleep(200);
+    }
+    page = await openPage();
+    await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), board.uri.replace('tcp://', ''), { timeout: 15000 });
+    await waitState(page, 'idle');
+    const again = await dro(page);
+    assert(where.every((v, i) => Math.abs(v - again[i]) < 1e-3), `the board is where it was: ${where} vs ${again}`);
+  });
+
+  await test(`${flavor}: resume from a line runs to the end`, async () => {
+    await page.fill('#text', program);
+    await page.waitForFunction(() => document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 30000 });
+    await page.fill('#from-line', String(lines - 6));
+    await page.click('#start');
+    await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 60000 });
+    await waitState(page, 'idle');
+    const end = await dro(page);
+    // The program ends at work X1 Y1 Z5; the board's work offset is zero.
+    const work = await page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('w' + a).textContent)));
+    assert(Math.abs(work[0] - 1) < 1e-3 && Math.abs(work[1] - 1) < 1e-3 && Math.abs(work[2] - 5) < 1e-3, `ends at X1 Y1 Z5: ${work} (machine ${end})`);
+    assert((await page.inputValue('#from-line')) === '', 'from line resets after the job');
+    await page.close();
+  });
+
+  board.stop();
+}
+
+await browser.close();
+finish();

@@ -1,0 +1,107 @@
+// What the browser test files share: an `oficina serve` and `oficina emulate grbl` of their
+// own (so a test that connects the machine to firmware leaves the other files' server
+// alone), chromium, and the `ok` / `FAIL` lines with their count.
+
+import { chromium } from 'playwright-core';
+import { spawn } from 'node:child_process';
+import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import os from 'node:os';
+import path from 'node:path';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+export const root = path.join(here, '..', '..');
+export const out = process.env.OFICINA_TEST_OUTPUT || path.join(here, '..', 'test-output');
+mkdirSync(out, { recursive: true });
+const bin = path.resolve(process.env.OFICINA_BIN || path.join(root, 'target', 'debug', 'oficina'));
+
+const children = [];
+const scratch = [];
+function cleanup() {
+  for (const c of children) { try { c.kill('SIGKILL'); } catch { /* gone */ } }
+  for (const d of scratch) rmSync(d, { recursive: true, force: true });
+}
+process.on('exit', cleanup);
+
+/// Starts `oficina ARGS…` and resolves with the first match of `pattern` in what it prints.
+function startPrinting(args, pattern, what, cwd = root) {
+  return new Promise((resolve, reject) => {
+    const p = spawn(bin, args, { stdio: ['ignore', 'pipe', 'pipe'], cwd });
+    children.push(p);
+    let seen = '';
+    const timer = setTimeout(() => reject(new Error(`${what} did not start within 60 s: ${seen}`)), 60000);
+    const look = (d) => {
+      seen += d;
+      const m = seen.match(pattern);
+      if (m) { clearTimeout(timer); resolve({ proc: p, match: m }); }
+    };
+    p.stdout.on('data', look);
+    p.stderr.on('data', look);
+    p.on('exit', (code) => { clearTimeout(timer); reject(new Error(`${what} exited (${code}): ${seen}`)); });
+    p.on('error', (e) => { clearTimeout(timer); reject(new Error(`${what}: ${e.message}`)); });
+  });
+}
+
+/// A workbench server on a free loopback port with a fresh job folder. `embedded`: the page
+/// the binary carries, served from outside the checkout (no `--web`), as a user runs it.
+export async function startServer(extra = [], { embedded = false } = {}) {
+  const dir = mkdtempSync(path.join(os.tmpdir(), 'oficina-web-'));
+  scratch.push(dir);
+  const web = embedded ? [] : ['--web', path.join(root, 'web', 'dist')];
+  const { proc, match } = await startPrinting(
+    ['serve', '--port', '0', '--jobs', path.join(dir, 'jobs'), ...web, ...extra],
+    /http:\/\/[^\s]+/, 'oficina serve', embedded ? dir : root);
+  const url = match[0];
+  return { url, origin: new URL(url).origin, port: Number(new URL(url).port), proc, dir };
+}
+
+/// A software grbl board (`grbl`, `grblhal` or `fluidnc`) on a free loopback TCP port.
+export async function startEmulator(flavor, extra = []) {
+  const { proc, match } = await startPrinting(
+    ['emulate', 'grbl', '--flavor', flavor, '--tcp', '127.0.0.1:0', ...extra],
+    /tcp:\/\/[0-9.]+:\d+/, `the ${flavor} emulator`);
+  return { uri: match[0], proc, stop: () => proc.kill('SIGKILL') };
+}
+
+export async function launch() {
+  return chromium.launch({
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+      // The rebinding test names a host the system resolver does not know.
+      '--host-resolver-rules=MAP rebound.test 127.0.0.1'],
+  });
+}
+
+/// Test bookkeeping: `test(name, fn)` runs `fn`, prints `ok`/`FAIL`, and on a failure saves a
+/// screenshot of `page()` when there is one.
+export function suite(prefix) {
+  let passed = 0, failed = 0;
+  const state = { page: null };
+  async function test(name, fn) {
+    const t0 = Date.now();
+    try {
+      await fn();
+      passed++;
+      console.log(`ok   ${prefix}: ${name} (${Date.now() - t0} ms)`);
+    } catch (e) {
+      failed++;
+      console.log(`FAIL ${prefix}: ${name}: ${String(e.message || e).split('\n').slice(0, 6).join('\n     ')}`);
+      if (state.page) {
+        await state.page.screenshot({ path: path.join(out, `failed-${prefix}-${name.replace(/\W+/g, '-')}.png`) }).catch(() => {});
+      }
+    }
+  }
+  return {
+    test,
+    state,
+    counts: () => ({ passed, failed }),
+    finish() {
+      console.log(`${passed} passed, ${failed} failed`);
+      cleanup();
+      process.exit(failed ? 1 : 0);
+    },
+  };
+}
+
+export function assert(cond, msg) { if (!cond) throw new Error(msg); }
+export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
