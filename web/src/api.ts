@@ -50,6 +50,8 @@ export interface Snapshot {
   machine_pos: [number, number, number]; work_pos: [number, number, number];
   feed: number; line: number; elapsed: number; total: number; remaining: number | null;
   feed_override: number; job: JobView | null; can_home_and_zero: boolean;
+  /// The built-in virtual machine: its speed factor applies (firmware runs at its own pace).
+  virtual_machine: boolean;
 }
 export type LiveMessage =
   | { type: 'hello'; client: number; controller: boolean }

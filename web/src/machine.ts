@@ -163,6 +163,9 @@ export class MachinePanel {
     $('feed').textContent = s.feed.toFixed(0);
     const p = $<HTMLProgressElement>('progress');
     p.value = s.total > 0 ? Math.min(1, s.elapsed / s.total) : 0;
+    const speedSel = $<HTMLSelectElement>('speed');
+    speedSel.disabled = !s.virtual_machine;
+    speedSel.title = s.virtual_machine ? '' : 'firmware runs the job at its own pace';
     const speed = s.job?.speed ?? null;
     $('elapsed').textContent = hms(speed ? s.elapsed / speed : s.elapsed);
     $('remaining').textContent = hms(s.remaining);

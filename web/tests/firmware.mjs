@@ -71,6 +71,10 @@ for (const flavor of ['grbl', 'grblhal', 'fluidnc']) {
     await waitState(page, 'run');
     await page.$eval('#fo', (e) => { e.value = '150'; e.dispatchEvent(new Event('input')); e.dispatchEvent(new Event('change')); });
     await page.waitForFunction(() => document.body.dataset.feedOverride === '150', null, { timeout: 15000 });
+    // Firmware runs at its own pace: wall-clock times, no speed factor.
+    assert(await page.isDisabled('#speed'), 'the speed factor is the virtual machine\'s only');
+    await page.waitForFunction(() => document.getElementById('elapsed').textContent >= '0:00:02', null, { timeout: 15000 });
+    assert((await page.textContent('#remaining')) !== '—', 'a remaining time is shown');
     await page.screenshot({ path: path.join(out, `firmware-${flavor}-running.png`) });
     await page.click('#stop');
     await page.waitForFunction(() => document.body.dataset.jobDone === 'stopped', null, { timeout: 30000 });

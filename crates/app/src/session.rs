@@ -93,6 +93,8 @@ pub struct Snapshot {
     pub job: Option<JobView>,
     /// True when the machine can home and set its work zero.
     pub can_home_and_zero: bool,
+    /// The built-in virtual machine (its job speed factor applies); false for firmware.
+    pub virtual_machine: bool,
 }
 
 /// A machine opened from a URI and the job it runs, driven by the page.
@@ -181,8 +183,12 @@ impl Session {
         self.profile.as_ref()
     }
 
-    /// Start the job `req` asks for.
-    pub fn start(&mut self, req: JobRequest) -> Result<(), Error> {
+    /// Start the job `req` asks for. Real firmware runs at its own pace: the speed factor
+    /// is the virtual machine's only, so a firmware job's times are wall times.
+    pub fn start(&mut self, mut req: JobRequest) -> Result<(), Error> {
+        if self.profile.is_none() {
+            req.speed = Some(1.0);
+        }
         if let Some(s) = req.speed {
             if !(s.is_finite() && s > 0.0 && s <= 1e6) {
                 return Err(Error(format!(
@@ -301,10 +307,12 @@ impl Session {
                     message,
                 }),
                 Event::JobEnd { completed, seconds } => {
-                    if let Some(j) = &mut self.job {
+                    // Only a job the session started ends as a job: a jog or a homing move
+                    // of the virtual machine runs as a small job of its own, and is no news.
+                    if let Some(j) = self.job.as_mut().filter(|j| j.completed.is_none()) {
                         j.completed = Some(completed);
+                        out.push(SessionEvent::JobEnd { completed, seconds });
                     }
-                    out.push(SessionEvent::JobEnd { completed, seconds });
                 }
             }
         }
@@ -343,6 +351,7 @@ impl Session {
             feed_override: s.feed_override,
             job: self.job.clone(),
             can_home_and_zero: self.profile.is_some(),
+            virtual_machine: self.profile.is_some(),
         }
     }
 }
@@ -463,11 +472,27 @@ mod tests {
         let snap = s.snapshot();
         assert_eq!(snap.work_pos, [0.0; 3], "{snap:?}");
         s.home().unwrap();
-        wait_end(&mut s);
-        let back = s.snapshot().machine_pos;
+        let t = Instant::now();
+        let mut news = Vec::new();
+        let back = loop {
+            news.extend(s.poll(Duration::from_millis(20)));
+            let snap = s.snapshot();
+            let there = (0..3).all(|i| (snap.machine_pos[i] - home[i]).abs() < 1e-6);
+            if there && snap.state == "idle" {
+                break snap.machine_pos;
+            }
+            assert!(t.elapsed() < Duration::from_secs(60), "not home: {snap:?}");
+        };
         for i in 0..3 {
             assert!((back[i] - home[i]).abs() < 1e-6, "{back:?} vs {home:?}");
         }
+        // The homing move is not a job: nothing ended.
+        news.extend(s.poll(Duration::from_millis(200)));
+        assert!(
+            !news.iter().any(|e| matches!(e, SessionEvent::JobEnd { .. })),
+            "{news:?}"
+        );
+        assert_eq!(s.snapshot().job.unwrap().completed, Some(true));
     }
 
     #[test]

@@ -55,6 +55,18 @@ fn run_refuses_a_job_beyond_the_soft_limits() {
             && err.contains("nothing was moved"),
         "{err}"
     );
+    // The operator reads the program: its own X900 is quoted first, the machine's X (the
+    // work offset added: 900 + 100 = 1000) beside it.
+    let out = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(["run", f.to_str().unwrap(), "--instant"])
+        .args(["--work-offset", "100,20,-30"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("line 2: X900.0000 of the program is X = 1000.0000 mm on the machine"),
+        "{err}"
+    );
 }
 
 #[test]

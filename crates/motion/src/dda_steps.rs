@@ -327,6 +327,7 @@ impl<S: StepSink> Dda<'_, S> {
                 line,
                 axis: ['X', 'Y', 'Z'][axis],
                 value: mm,
+                program: None,
                 min: lo,
                 max: hi,
             });

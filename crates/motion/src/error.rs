@@ -30,14 +30,17 @@ pub enum MotionError {
         axis: String,
     },
     /// A position outside the profile's travel limits.
-    #[error("line {line}: {axis} = {value:.4} mm is outside the travel limits [{min}, {max}] mm")]
+    #[error("line {line}: {}", soft_limit_text(*axis, *value, *program, *min, *max))]
     SoftLimit {
         /// Source line.
         line: u32,
         /// The axis letter.
         axis: char,
-        /// The position asked for, mm.
+        /// The position asked for, machine coordinates, mm.
         value: f64,
+        /// The same position as the program wrote it (its work coordinates: the G5x, G92
+        /// and tool length offsets taken off), when known.
+        program: Option<f64>,
         /// Lower travel limit, mm.
         min: f64,
         /// Upper travel limit, mm.
@@ -66,4 +69,15 @@ pub enum MotionError {
         /// Step rate allowed, steps/s.
         limit_hz: f64,
     },
+}
+
+/// The operator reads the program, so the limit message quotes its own coordinate first
+/// and the machine's beside it.
+fn soft_limit_text(axis: char, value: f64, program: Option<f64>, min: f64, max: f64) -> String {
+    match program {
+        Some(w) if (w - value).abs() > 1e-9 => format!(
+            "{axis}{w:.4} of the program is {axis} = {value:.4} mm on the machine, outside its travel limits [{min}, {max}] mm (check the work zero)"
+        ),
+        _ => format!("{axis} = {value:.4} mm is outside the travel limits [{min}, {max}] mm"),
+    }
 }

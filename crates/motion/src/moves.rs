@@ -202,6 +202,11 @@ pub(crate) struct MoveStream<'p, I> {
     tap_return: Option<(u32, [f64; 3])>,
     /// The way back out of a tap is under way: the move after it starts from rest.
     after_tap: bool,
+    /// The G5x origin, the G92 offset and the tool length offset in force, to quote a
+    /// position in the program's own coordinates; `origin` is their sum, `None` while the
+    /// XY plane is rotated (G10 L2 R), where a plain difference would mislead.
+    offsets: [[f64; 3]; 3],
+    origin: Option<[f64; 3]>,
 }
 
 impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
@@ -238,6 +243,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             failed: false,
             spindle_rpm: 0.0,
             sync_pitch: None,
+            offsets: [[0.0; 3]; 3],
+            origin: Some([0.0; 3]),
             tap_return: None,
             after_tap: false,
         })
@@ -520,9 +527,27 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     self.stop_next = true;
                     return Some(Ok(Item::Sync { line, pause: false }));
                 }
+                CanonOp::SetG5xOffset { offset, .. } => self.set_offset(0, offset.to_array()),
+                CanonOp::SetG92Offset(p) => self.set_offset(1, p.to_array()),
+                CanonOp::UseToolLengthOffset(p) => self.set_offset(2, p.to_array()),
+                CanonOp::SetXyRotation(r) => {
+                    self.origin = (r.abs() < 1e-12).then(|| self.origin_sum());
+                }
                 _ => {}
             }
         }
+    }
+
+    /// One of the offsets changed (0 G5x, 1 G92, 2 tool length).
+    fn set_offset(&mut self, which: usize, v: [f64; 6]) {
+        self.offsets[which] = [v[0], v[1], v[2]];
+        if self.origin.is_some() {
+            self.origin = Some(self.origin_sum());
+        }
+    }
+
+    fn origin_sum(&self) -> [f64; 3] {
+        std::array::from_fn(|i| self.offsets.iter().map(|o| o[i]).sum())
     }
 
     /// The XYZ end point and the rotary joints' end values of a move to `to`. A rotary axis
@@ -571,6 +596,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     line,
                     axis: *axis,
                     value: p[i],
+                    program: self.origin.map(|o| p[i] - o[i]),
                     min: lo,
                     max: hi,
                 });
