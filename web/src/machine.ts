@@ -101,15 +101,40 @@ export class MachinePanel {
     };
   }
 
-  /// Puts the virtual machine on `uri` (the plotter a plot was made for) unless it is there
-  /// already or the machine is real firmware (whose kind the page cannot change).
+  /// The machine a plot borrowed the virtual machine from, given back by [`restoreMachine`].
+  private borrowedFrom: string | null = null;
+
+  /// A plot runs on the plotter it was made for: the virtual machine is put on `uri` (and
+  /// the console says so, and what it was); real firmware is never swapped by a process —
+  /// the page says the plot was made for another machine and leaves the choice to the user.
   useVirtual(uri: string) {
     const s = this.last;
-    if (!s || !s.can_home_and_zero || s.uri === uri) return;
+    if (!s || s.uri === uri) return;
+    if (!s.virtual_machine) {
+      const msg = `this plot was made for ${uri}, but the connected machine is ${s.machine} (${s.uri}): run it there only if that is the plotter, or connect ${uri} to try it on the virtual plotter`;
+      this.log(msg);
+      this.hooks.error(msg);
+      return;
+    }
     const sel = $<HTMLSelectElement>('machine-uri');
     if (!Array.from(sel.options).some((o) => o.value === uri)) sel.insertBefore(new Option(uri, uri), sel.options[0]);
     sel.value = uri;
+    if (this.borrowedFrom === null) this.borrowedFrom = s.uri;
+    this.log(`the virtual machine is now ${uri}, the plotter this plot was made for (it was ${this.borrowedFrom}; it goes back when another program is opened)`);
     try { this.hooks.send({ cmd: 'connect', uri }); } catch (e) { this.hooks.error((e as Error).message); }
+  }
+
+  /// Puts back the machine a plot borrowed, once it is idle (a job is never interrupted).
+  restoreMachine() {
+    const back = this.borrowedFrom;
+    const s = this.last;
+    if (back === null || !s || !s.virtual_machine) { this.borrowedFrom = null; return; }
+    if (s.state !== 'idle') return;
+    this.borrowedFrom = null;
+    if (s.uri === back) return;
+    $<HTMLSelectElement>('machine-uri').value = back;
+    this.log(`the virtual machine is ${back} again`);
+    try { this.hooks.send({ cmd: 'connect', uri: back }); } catch (e) { this.hooks.error((e as Error).message); }
   }
 
   connected() {

@@ -132,7 +132,9 @@ function runPreview() {
   source('/api/preview').then((src) => w.postMessage(src)).catch((e) => error(`preview: ${e.message}`));
 }
 
-function loadProgram(name: string, text: string, saved = false) {
+function loadProgram(name: string, text: string, saved = false, plot = false) {
+  // Another program than a plot: the machine a plot borrowed goes back.
+  if (!plot) panel.restoreMachine();
   stats.loadStartMs = performance.now();
   showingStitches = false;
   program = { name: safeName(name), text, saved };
@@ -294,7 +296,7 @@ async function make() {
     }
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
-    loadProgram(body.name!, body.text!, true);
+    loadProgram(body.name!, body.text!, true, kind === 'plot');
     // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
     if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {

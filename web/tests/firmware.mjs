@@ -4,7 +4,7 @@
 // stops, closes the tab (the server keeps answering and the board keeps its state), comes
 // back, and resumes from a line to the end. Clicks and keys only, as a user would.
 
-import { startServer, startEmulator, launch, suite, assert, sleep, out } from './harness.mjs';
+import { startServer, startEmulator, launch, suite, assert, sleep, out, root } from './harness.mjs';
 import path from 'node:path';
 
 const { test, state, finish } = suite('firmware');
@@ -27,6 +27,28 @@ async function openPage() {
 const dro = (page) => page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('m' + a).textContent)));
 const waitState = (page, s, timeout = 30000) =>
   page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+
+/// Opens a drawing and makes a plot of it (the *Plot* process, its default plotter).
+async function plot(page) {
+  await page.setInputFiles('#file-input', path.join(root, 'samples', 'mill', 'plate.svg'));
+  await page.selectOption('#process', 'plot');
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('program-name').textContent.endsWith('.plot.ngc'), null, { timeout: 60000 });
+}
+
+await test('a plot borrows the virtual machine for its plotter, says so, and gives it back', async () => {
+  const page = await openPage();
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('virtual machine'), null, { timeout: 15000 });
+  const before = await page.textContent('#machine-name');
+  await plot(page);
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('pen plotter'), null, { timeout: 20000 });
+  assert((await page.textContent('#console')).includes('the plotter this plot was made for (it was virtual'), 'the console says what it was');
+  // Another program: the machine goes back.
+  await page.selectOption('#sample', 'plate.nc');
+  await page.waitForFunction((b) => document.getElementById('machine-name').textContent === b, before, { timeout: 20000 });
+  assert((await page.textContent('#console')).includes('is virtual again'), 'the console says it went back');
+  await page.close();
+});
 
 for (const flavor of ['grbl', 'grblhal', 'fluidnc']) {
   const board = await startEmulator(flavor);
@@ -54,6 +76,15 @@ for (const flavor of ['grbl', 'grblhal', 'fluidnc']) {
     await waitState(page, 'idle');
     await page.screenshot({ path: path.join(out, `firmware-${flavor}-connected.png`) });
   });
+
+  if (flavor === 'grbl') {
+    await test('grbl: a plot made while firmware is connected leaves the board and says so', async () => {
+      await plot(page);
+      await sleep(1000);
+      assert((await page.textContent('#machine-name')).includes(board.uri.replace('tcp://', '')), 'still the board');
+      assert((await page.textContent('#console')).includes('this plot was made for virtual:pen-plotter, but the connected machine is'), 'the page says so');
+    });
+  }
 
   await test(`${flavor}: start, hold, resume, feed override and stop a program`, async () => {
     await page.fill('#text', program);
