@@ -58,7 +58,7 @@ mod transport;
 
 pub use device::GrblDevice;
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
-pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
+pub use interp::{dist, Effect, Flow, Interp, Modal, ProbeKind, Rate, Segment, Spindle};
 pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
