@@ -32,7 +32,9 @@ impl std::str::FromStr for GridSpec {
     /// `5x5` (points along X and Y) or `10` / `10mm` (largest spacing, mm).
     fn from_str(s: &str) -> Result<GridSpec, String> {
         let t = s.trim().to_ascii_lowercase();
-        let bad = || format!("grid {s:?}: expected points along X and Y such as 5x5, or a spacing in mm such as 10");
+        let bad = || {
+            format!("grid {s:?}: expected points along X and Y such as 5x5, or a spacing in mm such as 10")
+        };
         if let Some((a, b)) = t.split_once('x') {
             let nx: usize = a.trim().parse().map_err(|_| bad())?;
             let ny: usize = b.trim().parse().map_err(|_| bad())?;
@@ -158,9 +160,12 @@ impl ProbeGrid {
         let mut z = vec![0.0; total];
         for (done, (i, j)) in self.serpentine().enumerate() {
             let [x, y] = self.point(i, j);
-            let h = probe
-                .probe_at(x, y)
-                .map_err(|e| format!("probing point {} of {total} at X{x:.3} Y{y:.3}: {e}", done + 1))?;
+            let h = probe.probe_at(x, y).map_err(|e| {
+                format!(
+                    "probing point {} of {total} at X{x:.3} Y{y:.3}: {e}",
+                    done + 1
+                )
+            })?;
             if !(h.is_finite() && h < clearance) {
                 return Err(format!(
                     "probing point {} of {total} at X{x:.3} Y{y:.3}: contact at Z{h} is not below the clearance Z{clearance}",
@@ -230,7 +235,12 @@ mod tests {
                 Ok(0.0)
             }
         };
-        let e = g.probe(&mut failing, 5.0, &mut |_, _, _, _, _| {}).unwrap_err();
-        assert!(e.contains("point 3 of 6 at X2.000 Y0.000: no contact"), "{e}");
+        let e = g
+            .probe(&mut failing, 5.0, &mut |_, _, _, _, _| {})
+            .unwrap_err();
+        assert!(
+            e.contains("point 3 of 6 at X2.000 Y0.000: no contact"),
+            "{e}"
+        );
     }
 }

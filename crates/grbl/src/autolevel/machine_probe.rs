@@ -46,15 +46,24 @@ const MAX_PROBE_SECONDS: f64 = 25.0;
 
 impl<'m> MachineProbe<'m> {
     /// Reads the work offset from the idle machine and checks the motion can complete.
-    pub fn new(machine: &'m mut dyn Machine, motion: ProbeMotion) -> Result<MachineProbe<'m>, String> {
-        if !(motion.clearance.is_finite() && motion.max_depth.is_finite() && motion.clearance > motion.max_depth) {
+    pub fn new(
+        machine: &'m mut dyn Machine,
+        motion: ProbeMotion,
+    ) -> Result<MachineProbe<'m>, String> {
+        if !(motion.clearance.is_finite()
+            && motion.max_depth.is_finite()
+            && motion.clearance > motion.max_depth)
+        {
             return Err(format!(
                 "probe clearance Z{} must be above the deepest probe Z{}",
                 motion.clearance, motion.max_depth
             ));
         }
         if !(motion.feed.is_finite() && motion.feed > 0.0) {
-            return Err(format!("probe feed {}: must be more than 0 mm/min", motion.feed));
+            return Err(format!(
+                "probe feed {}: must be more than 0 mm/min",
+                motion.feed
+            ));
         }
         let seconds = (motion.clearance - motion.max_depth) / motion.feed * 60.0;
         if seconds > MAX_PROBE_SECONDS {
@@ -78,15 +87,17 @@ impl<'m> MachineProbe<'m> {
         let state = p.send("$G")?;
         p.wcs = parser_wcs(&state).ok_or("`$G` did not say which coordinate system is in force")?;
         let offsets = p.send("$#")?;
-        p.wco_z = work_offset_z(&offsets, &p.wcs)
-            .ok_or("`$#` did not report the work offsets")?
+        p.wco_z = work_offset_z(&offsets, &p.wcs).ok_or("`$#` did not report the work offsets")?
             * report_mm;
         Ok(p)
     }
 
     /// One line to the firmware; an error reply is an error naming the line.
     fn send(&mut self, line: &str) -> Result<Vec<String>, String> {
-        let reply = self.machine.raw_line(line).map_err(|e| format!("`{line}`: {e}"))?;
+        let reply = self
+            .machine
+            .raw_line(line)
+            .map_err(|e| format!("`{line}`: {e}"))?;
         match reply.error {
             Some(e) => Err(format!("`{line}`: {e}")),
             None => Ok(reply.lines),
@@ -143,7 +154,12 @@ fn work_offset_z(lines: &[String], wcs: &str) -> Option<f64> {
     let (mut sys, mut g92, mut tlo) = (None, 0.0, 0.0);
     for l in lines {
         if let Response::Feedback { tag, value } = Response::parse(l) {
-            let z = || value.split(',').nth(2).and_then(|v| v.trim().parse::<f64>().ok());
+            let z = || {
+                value
+                    .split(',')
+                    .nth(2)
+                    .and_then(|v| v.trim().parse::<f64>().ok())
+            };
             match tag.as_str() {
                 t if t == wcs => sys = z(),
                 "G92" => g92 = z().unwrap_or(0.0),
@@ -165,8 +181,14 @@ mod tests {
 
     #[test]
     fn replies_are_read() {
-        assert_eq!(probe_contact(&lines(&["[PRB:1.000,2.000,-3.250:1]"])), Some(-3.25));
-        assert_eq!(probe_contact(&lines(&["ALARM:5", "[PRB:1.000,2.000,-3.250:0]"])), None);
+        assert_eq!(
+            probe_contact(&lines(&["[PRB:1.000,2.000,-3.250:1]"])),
+            Some(-3.25)
+        );
+        assert_eq!(
+            probe_contact(&lines(&["ALARM:5", "[PRB:1.000,2.000,-3.250:0]"])),
+            None
+        );
         assert_eq!(probe_contact(&[]), None);
         let gc = lines(&["[GC:G0 G55 G17 G21 G90 G94 M5 M9 T0 F0 S0]"]);
         assert_eq!(parser_wcs(&gc).as_deref(), Some("G55"));

@@ -108,7 +108,9 @@ impl HeightMap {
         }
         if let Some(k) = self.z.iter().position(|v| !v.is_finite()) {
             let (i, j) = (k % self.nx, k / self.nx);
-            return Err(format!("height map: the height at column {i}, row {j} is not a number"));
+            return Err(format!(
+                "height map: the height at column {i}, row {j} is not a number"
+            ));
         }
         if let Some(k) = self.z.iter().position(|v| *v >= self.clearance) {
             let (i, j) = (k % self.nx, k / self.nx);
@@ -290,8 +292,10 @@ mod tests {
         assert!(bad("{").contains("not a map file"));
         assert!(bad(&text.replace("\"nx\": 3", "\"nx\": 4")).contains("rows of 4"));
         assert!(bad(&text.replace("\"version\": 1", "\"version\": 7")).contains("version"));
-        assert!(bad(&text.replace("\"clearance\": 5.0", "\"clearance\": 2.5"))
-            .contains("not below the clearance"));
+        assert!(
+            bad(&text.replace("\"clearance\": 5.0", "\"clearance\": 2.5"))
+                .contains("not below the clearance")
+        );
         assert!(bad(&text.replace("\"units\": \"mm\"", "\"units\": \"in\"")).contains("units"));
         assert!(bad(&" ".repeat(400_000)).contains("bytes"));
         let neg = HeightMap::new([0.0; 2], [-1.0, 1.0], 2, 2, vec![0.0; 4], 5.0).unwrap_err();

@@ -18,6 +18,8 @@ pub(super) struct LineInfo {
     pub(super) names: [bool; 3],
     /// The distance mode after the line: G91 (true) or G90.
     pub(super) incremental: bool,
+    /// M2 / M30: the interpreter's resets that come with it are grbl's own at program end.
+    pub(super) ends_program: bool,
 }
 
 /// Reads `text` (source line `line`, 1-based), `incremental` being the distance mode before
@@ -40,6 +42,7 @@ pub(super) fn classify(text: &str, line: u32, incremental: bool) -> Result<LineI
             'X' => info.names[0] = true,
             'Y' => info.names[1] = true,
             'Z' => info.names[2] = true,
+            'M' if value == 2.0 || value == 30.0 => info.ends_program = true,
             'G' => {
                 // G-numbers in tenths: 92.1 → 921.
                 match (value * 10.0).round() as i64 {
@@ -78,6 +81,7 @@ mod tests {
         let i = classify("G91 G28 X0", 5, false).unwrap();
         assert!(i.goes_home && i.incremental);
         assert!(!classify("G90", 6, true).unwrap().incremental);
+        assert!(classify("m30", 7, false).unwrap().ends_program);
         for (text, says) in [
             ("G92 X0", "G92"),
             ("G92.1", "G92"),

@@ -102,9 +102,12 @@ pub fn level_program(
         incremental: false,
         at: [None; 3],
         k: 1.0,
+        units: None,
         motion: None,
         pending_feed: None,
         coolant: (false, false),
+        coolant_sent: (false, false),
+        coolant_line: 0,
         levelled: false,
         error: None,
         report: LevelReport {
@@ -123,6 +126,7 @@ pub fn level_program(
     if let Some(e) = l.error.take() {
         return Err(e);
     }
+    l.flush_coolant();
     let mut report = l.report;
     if report.offset_range.0 > report.offset_range.1 {
         report.offset_range = (0.0, 0.0);
@@ -185,14 +189,17 @@ struct Leveller<'a, 'o> {
     /// Where the tool is in work coordinates (mm), per axis; `None` until the program names
     /// the axis (the interpreter's own start at 0 is a guess, never sent).
     at: [Option<f64>; 3],
-    /// Millimetres per output unit (the program's units).
+    /// Millimetres per output unit (the program's units), and those units once written.
     k: f64,
+    units: Option<Units>,
     /// The motion word last written (0 or 1), so repeated ones are left out.
     motion: Option<u8>,
     /// A feed (mm/min) to write with the next feed move.
     pending_feed: Option<f64>,
-    /// Mist, flood.
+    /// Mist, flood: as the program wants them, as last written, and the line that asked.
     coolant: (bool, bool),
+    coolant_sent: (bool, bool),
+    coolant_line: u32,
     /// The move being written was cut into offset pieces.
     levelled: bool,
     error: Option<String>,
@@ -210,6 +217,7 @@ impl Leveller<'_, '_> {
     }
 
     fn emit(&mut self, line: u32, text: String) {
+        self.flush_coolant();
         self.report.lines += 1;
         (self.out)(StreamLine {
             file_line: line.max(1) as usize,
@@ -224,18 +232,21 @@ impl Leveller<'_, '_> {
                 "line {line}: the program goes back to an earlier line (subroutine or loop): not supported while levelling"
             ));
         }
+        if self.src_line < line {
+            // The coolant a finished line asked for goes out with its line number.
+            self.flush_coolant();
+        }
         while self.src_line < line {
             let text = self.src.next().unwrap_or("");
             self.src_line += 1;
-            if self.src_line == line {
-                self.info = classify(text, line, self.incremental)?;
-                self.incremental = self.info.incremental;
-                if self.info.machine_move {
-                    // Sent as written: no motion word of ours is in force after it.
-                    self.motion = None;
-                    let t = self.info.clean.clone();
-                    self.emit(line, t);
-                }
+            // Every line, those without operations too: G90 / G91 alone change the mode.
+            self.info = classify(text, self.src_line, self.incremental)?;
+            self.incremental = self.info.incremental;
+            if self.src_line == line && self.info.machine_move {
+                // Sent as written: no motion word of ours is in force after it.
+                self.motion = None;
+                let t = self.info.clean.clone();
+                self.emit(line, t);
             }
         }
         Ok(())
@@ -257,6 +268,18 @@ impl Leveller<'_, '_> {
                     }
                 }
             }
+            return Ok(());
+        }
+        if self.info.ends_program
+            && matches!(
+                c.op,
+                CanonOp::SetG5xOffset { .. }
+                    | CanonOp::StopSpindle
+                    | CanonOp::MistOff
+                    | CanonOp::FloodOff
+            )
+        {
+            // Program end: grbl resets these itself.
             return Ok(());
         }
         match c.op {
@@ -358,6 +381,10 @@ impl Leveller<'_, '_> {
     }
 
     fn units(&mut self, line: u32, u: Units) {
+        if self.units == Some(u) {
+            return;
+        }
+        self.units = Some(u);
         self.k = u.mm();
         self.emit(
             line,
@@ -369,23 +396,39 @@ impl Leveller<'_, '_> {
         );
     }
 
-    /// M7 / M8 turn one on; grbl's only off is M9 (both), so what stays on is turned back on.
-    fn coolant_to(&mut self, line: u32, want: (bool, bool)) {
-        let was = self.coolant;
-        self.coolant = want;
+    /// Coolant goes out when something else does (or at the end), so the pair of
+    /// operations M9 makes (mist off, flood off) becomes one M9: grbl's only off is M9
+    /// (both), after which what stays on is turned back on.
+    fn flush_coolant(&mut self) {
+        let (was, want) = (self.coolant_sent, self.coolant);
         if want == was {
             return;
         }
+        self.coolant_sent = want;
         let off = (was.0 && !want.0) || (was.1 && !want.1);
+        let mut say = |s: &str| {
+            self.report.lines += 1;
+            (self.out)(StreamLine {
+                file_line: self.coolant_line.max(1) as usize,
+                text: s.into(),
+            })
+        };
         if off {
-            self.emit(line, "M9".into());
+            say("M9");
         }
         if want.0 && (off || !was.0) {
-            self.emit(line, "M7".into());
+            say("M7");
         }
         if want.1 && (off || !was.1) {
-            self.emit(line, "M8".into());
+            say("M8");
         }
+    }
+
+    fn coolant_to(&mut self, line: u32, want: (bool, bool)) {
+        if self.coolant == self.coolant_sent {
+            self.coolant_line = line;
+        }
+        self.coolant = want;
     }
 
     /// The current position when every axis is known.
