@@ -29,9 +29,11 @@
 //! - the machine panel: [`read_settings`], [`write_setting`], [`ContinuousJog`],
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
 //!   [`connect_with_retry`] (the link life cycle);
+//! - probing (touch plate, corner, tool length setter) over a [`ProbeLink`] (a [`Sender`]
+//!   or any `Machine`): [`run_z_plate`], [`run_corner`], [`run_tool_setter`];
 //! - auto-levelling: [`ProbeGrid`] probes a [`HeightMap`] through a [`SurfaceProbe`]
-//!   ([`MachineProbe`] on firmware), [`level_program`] / [`level_stream`] / [`level_text`]
-//!   make a program follow it.
+//!   ([`MachineProbe`] over a [`ProbeLink`]), [`level_program`] / [`level_stream`] /
+//!   [`level_text`] make a program follow it.
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
@@ -49,6 +51,7 @@ mod journal;
 mod link;
 mod machine;
 mod messages;
+mod probe;
 mod realtime;
 mod reconnect;
 mod report;
@@ -66,12 +69,14 @@ pub use autolevel::{
 };
 pub use device::GrblDevice;
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
-pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
+pub use interp::{dist, Effect, Flow, Interp, Modal, ProbeKind, Rate, Segment, Spindle};
 pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
 pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};
 pub use messages::{describe_alarm, describe_error, setting_info, SettingInfo, SETTINGS};
+pub use probe::{run_corner, run_tool_setter, run_z_plate, Approach, Corner, ProbeError};
+pub use probe::{ProbeLink, ProbeResult, SetterResult, ToolSetter, ZPlate};
 pub use realtime::{override_by_name, Realtime};
 pub use reconnect::{connect_with_retry, LinkState, RetryPolicy};
 pub use report::{StreamEnd, StreamReport};
