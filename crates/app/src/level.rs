@@ -6,7 +6,7 @@
 use crate::Error;
 use oficina_gcode::Dialect;
 use oficina_grbl::{
-    feed_area, level_stream, level_text, Area, GridSpec, GrblDevice, HeightMap, LevelOptions,
+    feed_area, level_stream, level_text, Area, GrblDevice, GridSpec, HeightMap, LevelOptions,
     LevelReport, MachineProbe, ProbeGrid, ProbeMotion,
 };
 use oficina_machine::{Machine, MachineInfo};
@@ -76,7 +76,11 @@ pub fn probe_grid(program: Option<&str>, req: &ProbeRequest) -> Result<ProbeGrid
     let area = match (req.area, program) {
         (Some(a), _) => a,
         (None, Some(text)) => feed_area(text, Dialect::Grbl).map_err(Error)?,
-        (None, None) => return Err(Error("no program and no --area: nothing says where to probe".into())),
+        (None, None) => {
+            return Err(Error(
+                "no program and no --area: nothing says where to probe".into(),
+            ))
+        }
     };
     ProbeGrid::over(area, req.margin, req.grid).map_err(Error)
 }
@@ -188,9 +192,13 @@ pub fn run_levelled(
         }
         (None, MapSource::File(path)) => load_map(path)?,
     };
-    let (program, report) =
-        level_stream(&format!("{name}.levelled"), text, &map, &level_options(&map, tuning))
-            .map_err(Error)?;
+    let (program, report) = level_stream(
+        &format!("{name}.levelled"),
+        text,
+        &map,
+        &level_options(&map, tuning),
+    )
+    .map_err(Error)?;
     dev.start_program(program, start_line)
         .map_err(Error::from_display)?;
     Ok(LevelledRun {

@@ -165,11 +165,20 @@ fn probe(args: ProbeArgs) -> anyhow::Result<ExitCode> {
     let info = machine.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
     eprintln!(
         "{}: probing {} × {} points, {:.2} × {:.2} mm apart, from X{:.3} Y{:.3}",
-        info.name, grid.nx, grid.ny, grid.spacing[0], grid.spacing[1], grid.origin[0], grid.origin[1]
+        info.name,
+        grid.nx,
+        grid.ny,
+        grid.spacing[0],
+        grid.spacing[1],
+        grid.origin[0],
+        grid.origin[1]
     );
-    let map = oficina_app::probe_map(&mut *machine, text.as_deref(), &req, &mut |d, n, x, y, z| {
-        eprintln!("probe {d}/{n}: X{x:.3} Y{y:.3} Z{z:.4}")
-    })
+    let map = oficina_app::probe_map(
+        &mut *machine,
+        text.as_deref(),
+        &req,
+        &mut |d, n, x, y, z| eprintln!("probe {d}/{n}: X{x:.3} Y{y:.3} Z{z:.4}"),
+    )
     .map_err(anyhow::Error::msg)?;
     machine.disconnect();
     oficina_app::save_map(&args.output, &map).map_err(anyhow::Error::msg)?;

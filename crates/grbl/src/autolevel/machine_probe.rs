@@ -1,12 +1,14 @@
-//! Probing on a machine through [`Machine::raw_line`]: for each point a rapid to the
-//! clearance, across to X Y, `G38.2` down to the deepest allowed Z, and back up. grbl
-//! reports the contact as `[PRB:x,y,z:1]` in machine coordinates before its `ok`; the work
-//! Z is that minus the work offset, read once from `$G` (which system) and `$#` (its
-//! offset, G92 and the tool length offset).
+//! Probing a height map over a [`ProbeLink`] (any `Machine` through its `raw_line`, or the
+//! console's `Sender`): for each point a rapid to the clearance, across to X Y, `G38.2`
+//! down to the deepest allowed Z, and back up. grbl reports the contact as `[PRB:x,y,z:1]`
+//! in machine coordinates before its `ok`; the work Z is that minus the work offset, read
+//! once from `$G` (which system) and `$#` (its offset, G92 and the tool length offset).
 
 use super::grid::SurfaceProbe;
+use crate::messages::describe_alarm;
+use crate::probe::{parse_prb, parse_xyz, ProbeLink};
 use crate::response::Response;
-use oficina_machine::Machine;
+use std::time::Duration;
 
 /// How each point is probed, in work coordinates (mm, mm/min).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -29,27 +31,22 @@ impl Default for ProbeMotion {
     }
 }
 
-/// A machine (grbl firmware) as a [`SurfaceProbe`].
-pub struct MachineProbe<'m> {
-    machine: &'m mut dyn Machine,
+/// A grbl link as a [`SurfaceProbe`].
+pub struct MachineProbe<'m, L: ProbeLink + ?Sized> {
+    link: &'m mut L,
     motion: ProbeMotion,
     /// Work offset of Z (machine Z of work zero), mm.
     wco_z: f64,
-    /// Millimetres per unit the firmware reports positions in ($13).
-    report_mm: f64,
     /// The work coordinate system in force (`G54` …).
     pub wcs: String,
 }
 
-/// Longest a single probe may take, seconds: the sender waits 30 s for a reply.
+/// Longest a single probe may take, seconds: a `Machine` waits 30 s for a reply.
 const MAX_PROBE_SECONDS: f64 = 25.0;
 
-impl<'m> MachineProbe<'m> {
-    /// Reads the work offset from the idle machine and checks the motion can complete.
-    pub fn new(
-        machine: &'m mut dyn Machine,
-        motion: ProbeMotion,
-    ) -> Result<MachineProbe<'m>, String> {
+impl<'m, L: ProbeLink + ?Sized> MachineProbe<'m, L> {
+    /// Reads the work offset from the idle firmware and checks the motion can complete.
+    pub fn new(link: &'m mut L, motion: ProbeMotion) -> Result<MachineProbe<'m, L>, String> {
         if !(motion.clearance.is_finite()
             && motion.max_depth.is_finite()
             && motion.clearance > motion.max_depth)
@@ -72,32 +69,41 @@ impl<'m> MachineProbe<'m> {
                 motion.clearance, motion.max_depth, motion.feed
             ));
         }
-        // $13=1: grbl reports positions in inches.
-        let report_mm = match machine.firmware_settings() {
-            Ok(s) if s.iter().any(|&(n, v)| n == 13 && v == 1.0) => 25.4,
-            _ => 1.0,
-        };
         let mut p = MachineProbe {
-            machine,
+            link,
             motion,
             wco_z: 0.0,
-            report_mm,
             wcs: String::new(),
         };
+        // Positions are read in mm: $13=1 (report inches) would scale every one.
+        let settings = p.send("$$")?;
+        if settings.iter().any(|l| {
+            matches!(Response::parse(l), Response::Setting { number: 13, value } if value.trim() == "1")
+        }) {
+            return Err("the firmware reports inches ($13=1): set $13=0 to probe a height map".into());
+        }
         let state = p.send("$G")?;
         p.wcs = parser_wcs(&state).ok_or("`$G` did not say which coordinate system is in force")?;
         let offsets = p.send("$#")?;
-        p.wco_z = work_offset_z(&offsets, &p.wcs).ok_or("`$#` did not report the work offsets")?
-            * report_mm;
+        p.wco_z = work_offset_z(&offsets, &p.wcs).ok_or("`$#` did not report the work offsets")?;
         Ok(p)
     }
 
-    /// One line to the firmware; an error reply is an error naming the line.
+    /// One line to the firmware; an alarm or an error reply is an error naming the line.
     fn send(&mut self, line: &str) -> Result<Vec<String>, String> {
+        let seconds = (self.motion.clearance - self.motion.max_depth) / self.motion.feed * 60.0;
         let reply = self
-            .machine
-            .raw_line(line)
+            .link
+            .line(line, Duration::from_secs_f64(seconds * 1.5 + 10.0))
             .map_err(|e| format!("`{line}`: {e}"))?;
+        for l in &reply.lines {
+            if let Response::Alarm(code) = Response::parse(l) {
+                return Err(format!(
+                    "alarm during `{line}`: {}; unlock with $X once the cause is fixed",
+                    describe_alarm(code)
+                ));
+            }
+        }
         match reply.error {
             Some(e) => Err(format!("`{line}`: {e}")),
             None => Ok(reply.lines),
@@ -105,37 +111,27 @@ impl<'m> MachineProbe<'m> {
     }
 }
 
-impl SurfaceProbe for MachineProbe<'_> {
+impl<L: ProbeLink + ?Sized> SurfaceProbe for MachineProbe<'_, L> {
     fn probe_at(&mut self, x: f64, y: f64) -> Result<f64, String> {
         let m = self.motion;
         // G38.2 moves in the modal units and distance mode: say them.
         self.send(&format!("G21G90G0Z{:.4}", m.clearance))?;
         self.send(&format!("G0X{x:.4}Y{y:.4}"))?;
-        let reply = self.send(&format!("G38.2Z{:.4}F{:.1}", m.max_depth, m.feed))?;
-        let contact = probe_contact(&reply).ok_or_else(|| {
-            format!(
-                "no contact down to Z{} (grbl said: {}); clear the alarm with $X, check the probe and the depth",
-                m.max_depth,
-                reply.join(" ")
-            )
-        })?;
-        self.send(&format!("G0Z{:.4}", m.clearance))?;
-        Ok(contact * self.report_mm - self.wco_z)
-    }
-}
-
-/// The machine Z of a successful probe in `[PRB:x,y,z:1]`.
-fn probe_contact(lines: &[String]) -> Option<f64> {
-    lines.iter().rev().find_map(|l| match Response::parse(l) {
-        Response::Feedback { tag, value } if tag == "PRB" => {
-            let (pos, ok) = value.rsplit_once(':')?;
-            if ok.trim() != "1" {
-                return None;
+        let probe = format!("G38.2Z{:.4}F{:.1}", m.max_depth, m.feed);
+        let reply = self.send(&probe)?;
+        let contact = match reply.iter().find_map(|l| parse_prb(l)) {
+            Some((at, true)) => at[2],
+            _ => {
+                return Err(format!(
+                    "`{probe}`: no contact down to Z{} ({}): check the probe and the depth",
+                    m.max_depth,
+                    reply.join(" ")
+                ))
             }
-            pos.split(',').nth(2)?.trim().parse().ok()
-        }
-        _ => None,
-    })
+        };
+        self.send(&format!("G0Z{:.4}", m.clearance))?;
+        Ok(contact - self.wco_z)
+    }
 }
 
 /// `G54` … `G59` from `$G`'s `[GC:G0 G54 G17 …]`.
@@ -154,15 +150,9 @@ fn work_offset_z(lines: &[String], wcs: &str) -> Option<f64> {
     let (mut sys, mut g92, mut tlo) = (None, 0.0, 0.0);
     for l in lines {
         if let Response::Feedback { tag, value } = Response::parse(l) {
-            let z = || {
-                value
-                    .split(',')
-                    .nth(2)
-                    .and_then(|v| v.trim().parse::<f64>().ok())
-            };
             match tag.as_str() {
-                t if t == wcs => sys = z(),
-                "G92" => g92 = z().unwrap_or(0.0),
+                t if t == wcs => sys = parse_xyz(&value).map(|p| p[2]),
+                "G92" => g92 = parse_xyz(&value).map_or(0.0, |p| p[2]),
                 "TLO" => tlo = value.trim().parse().unwrap_or(0.0),
                 _ => {}
             }
@@ -181,15 +171,6 @@ mod tests {
 
     #[test]
     fn replies_are_read() {
-        assert_eq!(
-            probe_contact(&lines(&["[PRB:1.000,2.000,-3.250:1]"])),
-            Some(-3.25)
-        );
-        assert_eq!(
-            probe_contact(&lines(&["ALARM:5", "[PRB:1.000,2.000,-3.250:0]"])),
-            None
-        );
-        assert_eq!(probe_contact(&[]), None);
         let gc = lines(&["[GC:G0 G55 G17 G21 G90 G94 M5 M9 T0 F0 S0]"]);
         assert_eq!(parser_wcs(&gc).as_deref(), Some("G55"));
         let offsets = lines(&[
