@@ -35,6 +35,7 @@ mod error;
 mod job;
 mod jog;
 mod judge;
+mod level;
 mod machine_uri;
 mod mill;
 mod plan;
@@ -57,6 +58,10 @@ pub use check::{
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
+pub use level::{
+    level_file, level_options, load_map, probe_grid, probe_map, run_levelled, save_map,
+    LevelTuning, LevelledRun, MapSource, ProbeRequest,
+};
 pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine_with_tools};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};

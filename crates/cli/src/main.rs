@@ -17,6 +17,7 @@ mod emulate_probe;
 mod fit;
 mod gcode_canon;
 mod gcode_input;
+mod level;
 mod machine_profile;
 mod mill;
 mod peak_memory;
@@ -59,6 +60,9 @@ enum Command {
     Emulate(emulate::Args),
     /// Fit a digitised contour by every method: blocks and deviation of each.
     Fit(fit::Args),
+    /// Auto-levelling: probe a height map on grbl firmware, or level a program with one.
+    #[command(subcommand)]
+    Level(level::Command),
     /// Run a program on the virtual machine or grbl firmware: progress, ETA, keyboard hold/resume/stop.
     Run(run::Args),
     /// Plan a program: total time, and the motion sampled every millisecond (--trace).
@@ -120,6 +124,7 @@ fn main() -> ExitCode {
         Command::Emulate(args) => emulate::run(args),
         Command::Fit(args) => fit::run(args),
         Command::Run(args) => run::run(args),
+        Command::Level(cmd) => level::run(cmd),
         Command::Plan(args) => plan::run(args),
         Command::Mill(args) => mill::run(args),
         Command::Sole(args) => sole::run(args),

@@ -42,6 +42,8 @@ pub(crate) struct Args {
     /// A LinuxCNC tool table (.tbl) for G43 and M6, lengths in mm (virtual machine only).
     #[arg(long)]
     tool_table: Option<PathBuf>,
+    #[command(flatten)]
+    level: crate::level::RunFlags,
 }
 
 /// Leaves raw mode however the run ends.
@@ -71,12 +73,6 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         Some(path) => Some(load_tool_table(path, Units::Mm)?),
         None => None,
     };
-    let mut vm = oficina_app::open_machine_with_tools(
-        &machine,
-        args.program.work_offset,
-        args.program.line_limit.bytes(),
-        tools,
-    )?;
     let text = args.program.read()?;
     if let Some(line) = args.from_line {
         oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
@@ -91,15 +87,45 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     } else {
         f64::INFINITY
     };
-    let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
     let name = args.program.file.display().to_string();
-    vm.start(Job {
-        name: name.clone(),
-        text: Arc::new(text),
-        start_line: args.from_line,
-        pace,
-    })
-    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let (mut vm, info) = match args.level.source() {
+        // Levelled: probed or loaded map, then the levelled lines stream to the firmware.
+        Some(source) => {
+            if tools.is_some() {
+                bail!("--tool-table is for the virtual machine; levelling runs on grbl firmware");
+            }
+            let run = oficina_app::run_levelled(
+                &machine,
+                &name,
+                &text,
+                args.from_line,
+                &source,
+                &args.level.tuning(),
+                &mut |m| eprintln!("{m}"),
+            )
+            .map_err(anyhow::Error::msg)?;
+            crate::level::print_map(&run.map);
+            crate::level::print_report(&run.report);
+            (run.machine, run.info)
+        }
+        None => {
+            let mut vm = oficina_app::open_machine_with_tools(
+                &machine,
+                args.program.work_offset,
+                args.program.line_limit.bytes(),
+                tools,
+            )?;
+            let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
+            vm.start(Job {
+                name: name.clone(),
+                text: Arc::new(text),
+                start_line: args.from_line,
+                pace,
+            })
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+            (vm, info)
+        }
+    };
     let interactive = std::io::stdin().is_terminal() && !args.instant;
     let _raw = RawMode(interactive && terminal::enable_raw_mode().is_ok());
     let bar = ProgressBar::new(1000);

@@ -101,6 +101,137 @@ impl GrblDevice {
         self.with_idle(|m| m.sender.realtime(key).map_err(|e| e.to_string()))
     }
 
+    /// Starts streaming a program already made into grbl lines (a levelled program, whose
+    /// lines keep their source line numbers), from the first line at or after
+    /// `start_line` when given; progress arrives as the trait's events, as for
+    /// [`Machine::start`].
+    pub fn start_program(
+        &mut self,
+        grbl_job: StreamProgram,
+        start_line: Option<u32>,
+    ) -> Result<(), MachineError> {
+        if self.job_running() {
+            return Err(MachineError::Busy("a job is running".into()));
+        }
+        if let Some(w) = self.worker.take() {
+            // The previous job gave the link back; its thread is ending.
+            let _ = w.join();
+        }
+        let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
+        let cumulative = eta::cumulative_seconds(&grbl_job, &machine.sender.settings);
+        let mut settings = self.settings.clone();
+        settings.start = match start_line {
+            Some(n) => Start::FileLine(n as usize),
+            None => settings.start,
+        };
+        let journal = settings
+            .journal
+            .clone()
+            .unwrap_or_else(|| format!("{}.journal", grbl_job.name).into());
+        let (ctl_tx, ctl_rx) = mpsc::channel();
+        self.control = Some(ctl_tx);
+        *lock(&self.report) = None;
+        let (idle, status, events, last_report) = (
+            self.idle.clone(),
+            self.status.clone(),
+            self.events_tx.clone(),
+            self.report.clone(),
+        );
+        self.worker = Some(std::thread::spawn(move || {
+            let start = Instant::now();
+            let mut wco = vec![0.0; 3];
+            // (first acknowledged line of this run, last acknowledged line)
+            let mut lines: Option<(usize, usize)> = None;
+            let mut observer = |n: Notice| match n {
+                Notice::Status(st) => {
+                    if let Some(w) = &st.wco {
+                        wco = w.clone();
+                    }
+                    let mut s = lock(&status);
+                    translate_status(&st, &wco, &mut s);
+                    s.elapsed = start.elapsed().as_secs_f64();
+                    // Elapsed plus grbl's timing model for the rest, at the pace seen so far.
+                    if let Some((first, acked)) = lines {
+                        s.total = s.elapsed + eta::remaining(&cumulative, first, acked, s.elapsed);
+                    }
+                    let _ = events.send(Event::Status(s.clone()));
+                }
+                Notice::Progress { acked, .. } => {
+                    let first = lines.map(|l| l.0).unwrap_or(acked.saturating_sub(1));
+                    lines = Some((first, acked));
+                    if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
+                        lock(&status).line = l.file_line as u32;
+                    }
+                }
+                Notice::Message(m) => {
+                    let _ = events.send(Event::Message(m));
+                }
+                Notice::Unexpected(u) => {
+                    let _ = events.send(Event::Message(format!(
+                        "ignored unexpected firmware line: {u:?}"
+                    )));
+                }
+            };
+            let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);
+            let seconds = start.elapsed().as_secs_f64();
+            // The report is in place before its summary goes out as a message or an alarm.
+            *lock(&last_report) = match &result {
+                Ok(outcome) => Some(job_report(outcome, &grbl_job)),
+                Err(_) => None,
+            };
+            let end = match result {
+                Ok(RunOutcome::AlreadyDone) => Event::JobEnd {
+                    completed: true,
+                    seconds,
+                },
+                Ok(RunOutcome::Streamed(report)) => {
+                    let text = report.describe(&grbl_job);
+                    match report.end {
+                        StreamEnd::Completed => Event::JobEnd {
+                            completed: true,
+                            seconds,
+                        },
+                        StreamEnd::Stopped => {
+                            let _ = events.send(Event::Message(text));
+                            Event::JobEnd {
+                                completed: false,
+                                seconds,
+                            }
+                        }
+                        _ => {
+                            let _ = events.send(Event::Alarm(text));
+                            Event::JobEnd {
+                                completed: false,
+                                seconds,
+                            }
+                        }
+                    }
+                }
+                // Every job ends with a JobEnd, an error too (after its alarm): a waiting
+                // shell (`oficina run`, the server) learns the job is over.
+                Err(e) => {
+                    let _ = events.send(Event::Alarm(e));
+                    Event::JobEnd {
+                        completed: false,
+                        seconds,
+                    }
+                }
+            };
+            // Where the job left the machine, before saying it ended.
+            if let Ok(st) = machine.sender.status() {
+                let mut s = lock(&status);
+                translate_status(&st, &wco, &mut s);
+                s.elapsed = seconds;
+                let _ = events.send(Event::Status(s.clone()));
+            }
+            // The link goes back before the end is announced, so a start right after the
+            // event finds it.
+            *lock(&idle) = Some(machine);
+            let _ = events.send(end);
+        }));
+        Ok(())
+    }
+
     /// A job holds the link: the worker took it and has not given it back.
     fn job_running(&self) -> bool {
         lock(&self.idle).is_none() && self.worker.as_ref().is_some_and(|w| !w.is_finished())
@@ -254,128 +385,9 @@ impl Machine for GrblDevice {
     }
 
     fn start(&mut self, job: Job) -> Result<(), MachineError> {
-        if self.job_running() {
-            return Err(MachineError::Busy("a job is running".into()));
-        }
-        if let Some(w) = self.worker.take() {
-            // The previous job gave the link back; its thread is ending.
-            let _ = w.join();
-        }
         let grbl_job =
             StreamProgram::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
-        let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
-        let cumulative = eta::cumulative_seconds(&grbl_job, &machine.sender.settings);
-        let mut settings = self.settings.clone();
-        settings.start = match job.start_line {
-            Some(n) => Start::FileLine(n as usize),
-            None => settings.start,
-        };
-        let journal = settings
-            .journal
-            .clone()
-            .unwrap_or_else(|| format!("{}.journal", job.name).into());
-        let (ctl_tx, ctl_rx) = mpsc::channel();
-        self.control = Some(ctl_tx);
-        *lock(&self.report) = None;
-        let (idle, status, events, last_report) = (
-            self.idle.clone(),
-            self.status.clone(),
-            self.events_tx.clone(),
-            self.report.clone(),
-        );
-        self.worker = Some(std::thread::spawn(move || {
-            let start = Instant::now();
-            let mut wco = vec![0.0; 3];
-            // (first acknowledged line of this run, last acknowledged line)
-            let mut lines: Option<(usize, usize)> = None;
-            let mut observer = |n: Notice| match n {
-                Notice::Status(st) => {
-                    if let Some(w) = &st.wco {
-                        wco = w.clone();
-                    }
-                    let mut s = lock(&status);
-                    translate_status(&st, &wco, &mut s);
-                    s.elapsed = start.elapsed().as_secs_f64();
-                    // Elapsed plus grbl's timing model for the rest, at the pace seen so far.
-                    if let Some((first, acked)) = lines {
-                        s.total = s.elapsed + eta::remaining(&cumulative, first, acked, s.elapsed);
-                    }
-                    let _ = events.send(Event::Status(s.clone()));
-                }
-                Notice::Progress { acked, .. } => {
-                    let first = lines.map(|l| l.0).unwrap_or(acked.saturating_sub(1));
-                    lines = Some((first, acked));
-                    if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
-                        lock(&status).line = l.file_line as u32;
-                    }
-                }
-                Notice::Message(m) => {
-                    let _ = events.send(Event::Message(m));
-                }
-                Notice::Unexpected(u) => {
-                    let _ = events.send(Event::Message(format!(
-                        "ignored unexpected firmware line: {u:?}"
-                    )));
-                }
-            };
-            let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);
-            let seconds = start.elapsed().as_secs_f64();
-            // The report is in place before its summary goes out as a message or an alarm.
-            *lock(&last_report) = match &result {
-                Ok(outcome) => Some(job_report(outcome, &grbl_job)),
-                Err(_) => None,
-            };
-            let end = match result {
-                Ok(RunOutcome::AlreadyDone) => Event::JobEnd {
-                    completed: true,
-                    seconds,
-                },
-                Ok(RunOutcome::Streamed(report)) => {
-                    let text = report.describe(&grbl_job);
-                    match report.end {
-                        StreamEnd::Completed => Event::JobEnd {
-                            completed: true,
-                            seconds,
-                        },
-                        StreamEnd::Stopped => {
-                            let _ = events.send(Event::Message(text));
-                            Event::JobEnd {
-                                completed: false,
-                                seconds,
-                            }
-                        }
-                        _ => {
-                            let _ = events.send(Event::Alarm(text));
-                            Event::JobEnd {
-                                completed: false,
-                                seconds,
-                            }
-                        }
-                    }
-                }
-                // Every job ends with a JobEnd, an error too (after its alarm): a waiting
-                // shell (`oficina run`, the server) learns the job is over.
-                Err(e) => {
-                    let _ = events.send(Event::Alarm(e));
-                    Event::JobEnd {
-                        completed: false,
-                        seconds,
-                    }
-                }
-            };
-            // Where the job left the machine, before saying it ended.
-            if let Ok(st) = machine.sender.status() {
-                let mut s = lock(&status);
-                translate_status(&st, &wco, &mut s);
-                s.elapsed = seconds;
-                let _ = events.send(Event::Status(s.clone()));
-            }
-            // The link goes back before the end is announced, so a start right after the
-            // event finds it.
-            *lock(&idle) = Some(machine);
-            let _ = events.send(end);
-        }));
-        Ok(())
+        self.start_program(grbl_job, job.start_line)
     }
 
     fn command(&mut self, cmd: Command) -> Result<(), MachineError> {

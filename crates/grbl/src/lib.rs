@@ -30,12 +30,16 @@
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
 //!   [`connect_with_retry`] (the link life cycle);
 //! - probing (touch plate, corner, tool length setter) over a [`ProbeLink`] (a [`Sender`]
-//!   or any `Machine`): [`run_z_plate`], [`run_corner`], [`run_tool_setter`].
+//!   or any `Machine`): [`run_z_plate`], [`run_corner`], [`run_tool_setter`];
+//! - auto-levelling: [`ProbeGrid`] probes a [`HeightMap`] through a [`SurfaceProbe`]
+//!   ([`MachineProbe`] over a [`ProbeLink`]), [`level_program`] / [`level_stream`] /
+//!   [`level_text`] make a program follow it.
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
 // What other crates do not use is `pub(crate)`: the API is the list below.
 
+mod autolevel;
 mod check;
 mod device;
 mod eta;
@@ -59,6 +63,10 @@ mod status;
 mod track;
 mod transport;
 
+pub use autolevel::{
+    feed_area, level_program, level_stream, level_text, Area, GridSpec, HeightMap, LevelOptions,
+    LevelReport, MachineProbe, ProbeGrid, ProbeMotion, SurfaceProbe, MAX_GRID,
+};
 pub use device::GrblDevice;
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
 pub use interp::{dist, Effect, Flow, Interp, Modal, ProbeKind, Rate, Segment, Spindle};

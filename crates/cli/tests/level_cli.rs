@@ -1,0 +1,162 @@
+//! `oficina level probe` on an emulated tilted block (work zero set from the console),
+//! `oficina level apply` into a file, `oficina run --level` on the same board, and a
+//! malformed map refused naming the file.
+
+mod common;
+
+use oficina_grbl::{line_words, HeightMap};
+use std::io::Write;
+use std::process::{Child, Command, Stdio};
+
+/// Kills the emulator when the test ends, however it ends.
+struct Running(Child);
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+const PROGRAM: &str = "G21 G90\nG0 Z5\nG0 X0 Y0\nG0 Z1\nG1 Z-0.1 F1500\nG1 X30 Y0 F3000\nG2 X30 Y20 I0 J10\nG1 X0 Y0\nG0 Z5\nM2\n";
+
+/// The block's top in work coordinates: machine top −29.8 + tilt, work zero at machine
+/// (−50, −40, −30).
+fn surface(x: f64, y: f64) -> f64 {
+    let (mx, my) = (x - 50.0, y - 40.0);
+    -29.8 + 0.006 * mx - 0.009 * my + 30.0
+}
+
+#[test]
+fn probe_apply_and_run_levelled_on_the_emulator() {
+    let (emu, addr, _) = common::emulator(&[
+        "--baud",
+        "0",
+        "--for-seconds",
+        "120",
+        "--probe-block",
+        "-80,-70,20,20,-29.8",
+        "--probe-tilt",
+        "0.006,-0.009",
+        "--set",
+        "110=60000",
+        "--set",
+        "111=60000",
+        "--set",
+        "112=60000",
+        "--set",
+        "120=3000",
+        "--set",
+        "121=3000",
+        "--set",
+        "122=3000",
+    ]);
+    let _emu = Running(emu);
+    let tcp = addr.trim_start_matches("tcp://");
+    let mut console = Command::new(env!("CARGO_BIN_EXE_oficina"))
+        .args(["console", "--tcp", tcp])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    console
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"G10 L2 P1 X-50 Y-40 Z-30\n")
+        .unwrap();
+    assert!(console.wait().unwrap().success());
+
+    let file = common::program("level", PROGRAM);
+    let dir = file.parent().unwrap().to_path_buf();
+    let map_path = dir.join("level.map.json");
+    let out = common::oficina(&[
+        "level",
+        "probe",
+        file.to_str().unwrap(),
+        "--machine",
+        &addr,
+        "--grid",
+        "4x3",
+        "--probe-feed",
+        "600",
+        "-o",
+        map_path.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = common::text(&out);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("probe 12/12"), "{stderr}");
+    assert!(stdout.contains("height map: 4 × 3 points"), "{stdout}");
+    let map = HeightMap::from_json(&std::fs::read_to_string(&map_path).unwrap()).unwrap();
+    assert_eq!(map.wcs.as_deref(), Some("G54"));
+    for j in 0..map.ny {
+        for i in 0..map.nx {
+            let (x, y) = (
+                map.origin[0] + i as f64 * map.spacing[0],
+                map.origin[1] + j as f64 * map.spacing[1],
+            );
+            assert!((map.at_node(i, j) - surface(x, y)).abs() < 2e-3, "({i}, {j})");
+        }
+    }
+
+    // A file for any sender: every cut point 0.1 mm below the block's top.
+    let levelled = dir.join("level.levelled.nc");
+    let out = common::oficina(&[
+        "level",
+        "apply",
+        file.to_str().unwrap(),
+        "--map",
+        map_path.to_str().unwrap(),
+        "-o",
+        levelled.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = common::text(&out);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("levelled:"), "{stdout}");
+    let text = std::fs::read_to_string(&levelled).unwrap();
+    let mut at = [f64::NAN; 3];
+    let mut cuts = 0;
+    for line in text.lines().filter(|l| !l.starts_with('(')) {
+        for (letter, v) in line_words(line).unwrap() {
+            if let Some(a) = "XYZ".find(letter) {
+                at[a] = v;
+            }
+        }
+        if at[2] < 0.5 + surface(at[0], at[1]) {
+            cuts += 1;
+            let depth = at[2] - surface(at[0], at[1]);
+            assert!((depth + 0.1).abs() < 3e-3, "{line}: {depth}");
+        }
+    }
+    assert!(cuts > 60, "{cuts} cut points");
+
+    // The same program run levelled by the map, on the same board.
+    let out = common::oficina(&[
+        "run",
+        file.to_str().unwrap(),
+        "--machine",
+        &addr,
+        "--level",
+        map_path.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = common::text(&out);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+
+    // A malformed map is refused naming the file, before anything moves.
+    let bad = dir.join("bad.map.json");
+    std::fs::write(&bad, "{\"format\": \"oficina-height-map\"").unwrap();
+    let out = common::oficina(&[
+        "level",
+        "apply",
+        file.to_str().unwrap(),
+        "--map",
+        bad.to_str().unwrap(),
+        "-o",
+        dir.join("never.nc").to_str().unwrap(),
+    ]);
+    let (_, stderr) = common::text(&out);
+    assert!(!out.status.success());
+    assert!(stderr.contains("bad.map.json: height map: not a map file"), "{stderr}");
+}
