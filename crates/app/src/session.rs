@@ -58,6 +58,17 @@ pub struct JobView {
     pub completed: Option<bool>,
 }
 
+/// A tool change the job waits for (grbl has no tool changer): what to put in, and Resume.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ToolChangeView {
+    /// The tool to put in.
+    pub tool: u32,
+    /// The source line of the `M6`.
+    pub line: u32,
+    /// What the operator is asked.
+    pub prompt: String,
+}
+
 /// The machine and its job as the page shows them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Snapshot {
@@ -93,6 +104,8 @@ pub struct Snapshot {
     pub job: Option<JobView>,
     /// True when the machine can home and set its work zero.
     pub can_home_and_zero: bool,
+    /// The tool change the job waits for (state `paused`), if any.
+    pub tool_change: Option<ToolChangeView>,
 }
 
 /// A machine opened from a URI and the job it runs, driven by the page.
@@ -110,6 +123,8 @@ pub struct Session {
     fresh: bool,
     /// The virtual machine's tool table (G43 H, G41 D, M6).
     tools: ToolTable,
+    /// The last tool change asked for ([`Event::ToolChange`]); shown while paused.
+    tool_change: Option<ToolChangeView>,
 }
 
 /// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
@@ -137,6 +152,7 @@ impl Session {
             job: None,
             fresh: true,
             tools: ToolTable::default(),
+            tool_change: None,
         })
     }
 
@@ -300,7 +316,15 @@ impl Session {
                     meaning: alarm_meaning(&message),
                     message,
                 }),
+                // The page gets the prompt as a message, and the snapshot's `tool_change`.
+                Event::ToolChange { tool, line, prompt } => {
+                    out.push(SessionEvent::Message {
+                        text: prompt.clone(),
+                    });
+                    self.tool_change = Some(ToolChangeView { tool, line, prompt });
+                }
                 Event::JobEnd { completed, seconds } => {
+                    self.tool_change = None;
                     if let Some(j) = &mut self.job {
                         j.completed = Some(completed);
                     }
@@ -343,6 +367,10 @@ impl Session {
             feed_override: s.feed_override,
             job: self.job.clone(),
             can_home_and_zero: self.profile.is_some(),
+            tool_change: self
+                .tool_change
+                .clone()
+                .filter(|_| s.state == State::Paused),
         }
     }
 }

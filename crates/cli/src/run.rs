@@ -2,6 +2,7 @@
 //! keyboard hold / resume / stop when stdin is a terminal.
 
 use crate::gcode_input::{load_tool_table, machine_for, HeldProgram};
+use crate::tool_change::ToolChangeArgs;
 use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
@@ -42,6 +43,8 @@ pub(crate) struct Args {
     /// A LinuxCNC tool table (.tbl) for G43 and M6, lengths in mm (virtual machine only).
     #[arg(long)]
     tool_table: Option<PathBuf>,
+    #[command(flatten)]
+    tool_change: ToolChangeArgs,
 }
 
 /// Leaves raw mode however the run ends.
@@ -71,12 +74,21 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         Some(path) => Some(load_tool_table(path, Units::Mm)?),
         None => None,
     };
-    let mut vm = oficina_app::open_machine_with_tools(
-        &machine,
-        args.program.work_offset,
-        args.program.line_limit.bytes(),
-        tools,
-    )?;
+    let mut vm = if oficina_app::is_firmware(&machine) && tools.is_none() {
+        if args.program.work_offset.is_some() {
+            // (open_machine_with_tools says why)
+            oficina_app::open_machine_with_tools(&machine, args.program.work_offset, 0, None)?
+        } else {
+            oficina_app::open_firmware(&machine, args.tool_change.settings()?)?
+        }
+    } else {
+        oficina_app::open_machine_with_tools(
+            &machine,
+            args.program.work_offset,
+            args.program.line_limit.bytes(),
+            tools,
+        )?
+    };
     let text = args.program.read()?;
     if let Some(line) = args.from_line {
         oficina_machine::job::check_start_line(&text, line).map_err(anyhow::Error::msg)?;
@@ -119,6 +131,8 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     );
     let mut result = ExitCode::SUCCESS;
     let mut passed_pause = false;
+    // A tool change waits for the operator's resume; with no terminal it stops the job.
+    let mut tool_wait = false;
     loop {
         if _raw.0 {
             while event::poll(Duration::ZERO).unwrap_or(false) {
@@ -140,6 +154,8 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         // A pause waits for the operator; with no terminal there is none, so pass it (or stop).
         let paused = vm.status().state == State::Paused;
+        tool_wait &= paused;
+        let paused = paused && !tool_wait;
         if paused && !interactive && !passed_pause {
             if args.stop_at_pauses {
                 let _ = vm.command(Command::Stop);
@@ -159,6 +175,17 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             None => show_status(&bar, &vm.status(), factor),
             // Through stderr: a hidden bar (no terminal) would swallow println.
             Some(Event::Message(m)) => bar.suspend(|| eprintln!("{m}")),
+            Some(Event::ToolChange { line, prompt, .. }) => {
+                tool_wait = true;
+                if interactive {
+                    bar.suspend(|| eprintln!("TOOL CHANGE: {prompt}  [~/r resume · q stop]\r"));
+                } else {
+                    bar.suspend(|| {
+                        eprintln!("TOOL CHANGE: {prompt}\n(no terminal to resume from: stopping; change the tool, then run again with --from-line {line})")
+                    });
+                    let _ = vm.command(Command::Stop);
+                }
+            }
             Some(Event::Alarm(a)) => {
                 bar.suspend(|| eprintln!("ALARM: {a}"));
                 result = ExitCode::FAILURE;

@@ -28,7 +28,9 @@
 //!   [`ResumeOptions`], [`replay`], [`resume_preamble`];
 //! - the machine panel: [`read_settings`], [`write_setting`], [`ContinuousJog`],
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
-//!   [`connect_with_retry`] (the link life cycle).
+//!   [`connect_with_retry`] (the link life cycle);
+//! - tool changes at `M6` for firmware without a changer: [`ToolChange`] ([`ToolPolicy`],
+//!   [`ToolSetter`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`].
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
@@ -53,6 +55,7 @@ mod resume;
 mod sender;
 mod settings;
 mod status;
+mod toolchange;
 mod track;
 mod transport;
 
@@ -72,4 +75,5 @@ pub use resume::{preamble as resume_preamble, replay, ResumeOptions};
 pub use sender::{Control, Mode, Notice, Reply, Sender, SenderOptions};
 pub use settings::{read as read_settings, write as write_setting, Setting};
 pub use status::{GrblState, StatusReport};
+pub use toolchange::{sender_view, SenderNote, ToolChange, ToolPolicy, ToolSetter, ToolStop};
 pub use transport::{is_timeout, list_ports, Endpoint, PortInfo, Pty};
