@@ -67,8 +67,8 @@ pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use program::{
     grbl_sender_source, load_tool_table, machine_for, open_program, read_program,
-    render_diagnostics, tool_table_for,
-    LoadError, MachineChoice, ProgramOptions, DEFAULT_MAX_PROGRAM_MB,
+    render_diagnostics, tool_table_for, LoadError, MachineChoice, ProgramOptions,
+    DEFAULT_MAX_PROGRAM_MB,
 };
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;

@@ -19,10 +19,10 @@
 //!   …) are grbl's relative real-time bytes, sent with [`GrblDevice::realtime`]: the
 //!   trait's overrides are absolute factors, and it has no rapid, coolant or spindle-stop key.
 
+use crate::tool_change::ToolChangeArgs;
 use anyhow::{bail, Context};
 use oficina_grbl::{ContinuousJog, JogRequest};
 use oficina_grbl::{Endpoint, GrblDevice, GrblMachine, ResumeOptions, RetryPolicy, StreamProgram};
-use crate::tool_change::ToolChangeArgs;
 use oficina_grbl::{LinkEvent, Realtime, Response, RunSettings, Start, StatusReport};
 use oficina_grbl::{Mode, Sender, SenderOptions};
 use oficina_grbl_emu::{Config, Emulator};

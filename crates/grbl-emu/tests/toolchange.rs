@@ -152,7 +152,10 @@ fn pause_stops_streaming_at_each_m6_until_resume_and_grbl_never_gets_m6() {
         assert_eq!(emu.with_core(|c| c.state.clone()), GrblState::Idle);
         // Still nothing after a while: the stop is a real stop.
         std::thread::sleep(Duration::from_millis(400));
-        assert_eq!(emu.with_core(|c| (c.stats.lines_executed, c.rx_used())), received);
+        assert_eq!(
+            emu.with_core(|c| (c.stats.lines_executed, c.rx_used())),
+            received
+        );
         assert_eq!(executed(&emu), ran);
         changes.push((tool, line, prompt.to_string()));
         dev.command(Command::Resume).unwrap();
@@ -192,7 +195,11 @@ fn ignore_streams_the_program_without_m6_and_t() {
         .into_iter()
         .map(|(_, t)| t)
         .collect();
-    assert_eq!(executed(&emu), want, "exactly the program, M6 and T left out");
+    assert_eq!(
+        executed(&emu),
+        want,
+        "exactly the program, M6 and T left out"
+    );
     let notes = events
         .iter()
         .filter(|e| matches!(e, Event::Message(m) if m.contains("M6 T") && m.contains("dropped")))
@@ -210,9 +217,9 @@ fn as_written_grbl_refuses_m6_with_error_20() {
     let (completed, events) = run_until_end(&mut dev, |_, _, _, _| panic!("no pause"));
     assert!(!completed);
     assert!(
-        events
-            .iter()
-            .any(|e| matches!(e, Event::Alarm(a) if a.contains("error:20") || a.contains("Unsupported"))),
+        events.iter().any(
+            |e| matches!(e, Event::Alarm(a) if a.contains("error:20") || a.contains("Unsupported"))
+        ),
         "{events:?}"
     );
 }
@@ -272,6 +279,9 @@ fn a_stop_while_waiting_resumes_at_the_m6_line_from_the_journal_and_from_the_lin
         .map(|(_, t)| t)
         .collect();
     let ran = executed(&emu);
-    assert!(is_subsequence(&rest, &ran[ran_before.len()..]), "{rest:?} in {ran:?}");
+    assert!(
+        is_subsequence(&rest, &ran[ran_before.len()..]),
+        "{rest:?} in {ran:?}"
+    );
     assert!(!ran.iter().any(|l| l.contains("M6")));
 }

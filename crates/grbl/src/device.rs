@@ -336,9 +336,7 @@ impl Machine for GrblDevice {
                 }
                 Notice::ToolChangeDone { tool } => {
                     tool_wait = false;
-                    let _ = events.send(Event::Message(format!(
-                        "tool T{tool} in place: going on"
-                    )));
+                    let _ = events.send(Event::Message(format!("tool T{tool} in place: going on")));
                 }
             };
             let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);

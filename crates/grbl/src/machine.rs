@@ -212,8 +212,15 @@ impl GrblMachine {
                 observer(Notice::Message(
                     "measuring the tool in the spindle on the tool setter (the reference)".into(),
                 ));
-                toolchange::remeasure(&mut self.sender, setter, &mut lengths, None, &mut journal, observer)
-                    .map_err(|e| format!("measuring the first tool: {e}"))?;
+                toolchange::remeasure(
+                    &mut self.sender,
+                    setter,
+                    &mut lengths,
+                    None,
+                    &mut journal,
+                    observer,
+                )
+                .map_err(|e| format!("measuring the first tool: {e}"))?;
             }
         }
         // A resume approaches line `from` first (unless a tool change there does it).
@@ -249,14 +256,9 @@ impl GrblMachine {
                 approach = false;
             }
             let until = job.next_stop_after(from);
-            let report = self.sender.stream_range(
-                job,
-                from,
-                until,
-                Some(&mut journal),
-                control,
-                observer,
-            );
+            let report =
+                self.sender
+                    .stream_range(job, from, until, Some(&mut journal), control, observer);
             if report.end == StreamEnd::Completed && until < job.len() {
                 from = until;
                 continue;
@@ -326,7 +328,8 @@ impl GrblMachine {
             offset: None,
         };
         if let Some(stop) = job.tool_stops.iter().rev().find(|s| s.index < from) {
-            let known = past.and_then(|p| p.tool_lengths.iter().rev().find(|(i, _)| *i == stop.index));
+            let known =
+                past.and_then(|p| p.tool_lengths.iter().rev().find(|(i, _)| *i == stop.index));
             match known {
                 Some((_, d)) => lengths.offset = Some(*d),
                 None => {
@@ -375,7 +378,10 @@ impl GrblMachine {
             work_pos,
             resume: Some(Located {
                 index: stop.index,
-                reason: format!("the change to T{} at line {} did not finish", stop.tool, stop.file_line),
+                reason: format!(
+                    "the change to T{} at line {} did not finish",
+                    stop.tool, stop.file_line
+                ),
                 entry: None,
             }),
             recovery_error: None,

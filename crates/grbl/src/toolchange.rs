@@ -16,13 +16,13 @@
 //! (it reads and keeps the tool number, 0…255).
 
 use crate::gline;
+use crate::interp::Spindle;
 use crate::job::{StreamLine, StreamProgram};
 use crate::journal::Journal;
 use crate::link::LinkEvent;
 use crate::messages;
 use crate::realtime::Realtime;
 use crate::response::Response;
-use crate::interp::Spindle;
 use crate::resume::{self, ResumeOptions};
 use crate::sender::{Control, Notice, Sender};
 use std::str::FromStr;
@@ -76,8 +76,8 @@ impl FromStr for ToolPolicy {
             "remeasure" | "pause-remeasure" => ToolPolicy::Remeasure,
             other => {
                 return Err(format!(
-                "tool-change policy '{other}': one of pause, ignore, remeasure, park, firmware"
-            ))
+                    "tool-change policy '{other}': one of pause, ignore, remeasure, park, firmware"
+                ))
             }
         })
     }
@@ -159,14 +159,18 @@ impl ToolChange {
     /// setter; every coordinate finite, feeds and travel above zero.
     pub fn validate(&self) -> Result<(), String> {
         if self.policy == ToolPolicy::ParkPause && self.park.is_none() {
-            return Err("--tool-change park needs a park position (--park X,Y,Z, machine mm)".into());
+            return Err(
+                "--tool-change park needs a park position (--park X,Y,Z, machine mm)".into(),
+            );
         }
         if self.policy == ToolPolicy::Remeasure && self.setter.is_none() {
             return Err("--tool-change remeasure needs a tool setter (--tool-setter X,Y,ZSTART, machine mm)".into());
         }
         if let Some(p) = self.park {
             if !p.iter().all(|v| v.is_finite()) {
-                return Err(format!("park position {p:?}: every coordinate a finite number"));
+                return Err(format!(
+                    "park position {p:?}: every coordinate a finite number"
+                ));
             }
         }
         if let Some(s) = &self.setter {
@@ -179,7 +183,9 @@ impl ToolChange {
                 ("slow feed", s.feed_slow),
             ] {
                 if !(v.is_finite() && v > 0.0 && v <= 100_000.0) {
-                    return Err(format!("tool setter {what} {v}: above 0 and at most 100000"));
+                    return Err(format!(
+                        "tool setter {what} {v}: above 0 and at most 100000"
+                    ));
                 }
             }
             if s.travel <= ToolSetter::BACKOFF {
@@ -249,7 +255,10 @@ impl ToolStop {
 
 /// The words of a cleaned line and, when it has an `M6`, that line without the words the
 /// policy takes out (`M6`; `T` too under `ignore`), as byte ranges of the line to drop.
-pub(crate) fn m6_words(clean: &[u8], policy: ToolPolicy) -> Option<(Option<u32>, Vec<std::ops::Range<usize>>)> {
+pub(crate) fn m6_words(
+    clean: &[u8],
+    policy: ToolPolicy,
+) -> Option<(Option<u32>, Vec<std::ops::Range<usize>>)> {
     let words = gline::word_spans(clean).ok()?;
     if !words.iter().any(|(l, v, _)| *l == 'M' && *v == 6.0) {
         return None;
@@ -283,14 +292,22 @@ fn tool_comment(raw: &str) -> Option<(u32, String)> {
         return None;
     }
     let n = rest[..digits].parse().ok()?;
-    let text: String = inner.chars().filter(|c| !c.is_control()).take(100).collect();
+    let text: String = inner
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(100)
+        .collect();
     Some((n, text))
 }
 
 impl StreamProgram {
     /// The program as the sender streams it under `tc`: [`StreamProgram::from_text`], then
     /// each `M6` line rewritten as the policy says and its stop recorded.
-    pub fn with_tool_change(name: &str, text: &str, tc: &ToolChange) -> Result<StreamProgram, String> {
+    pub fn with_tool_change(
+        name: &str,
+        text: &str,
+        tc: &ToolChange,
+    ) -> Result<StreamProgram, String> {
         tc.validate()?;
         let mut job = StreamProgram::from_text(name, text)?;
         if tc.policy == ToolPolicy::Firmware {
@@ -390,7 +407,12 @@ pub fn sender_view(text: &[u8], tc: &ToolChange) -> (Vec<u8>, Vec<SenderNote>) {
     let mut out = text.to_vec();
     let mut notes = Vec::new();
     let mut starts = vec![0];
-    starts.extend(text.iter().enumerate().filter(|(_, b)| **b == b'\n').map(|(i, _)| i + 1));
+    starts.extend(
+        text.iter()
+            .enumerate()
+            .filter(|(_, b)| **b == b'\n')
+            .map(|(i, _)| i + 1),
+    );
     let line_of = |k: usize| {
         let s = starts[k];
         let e = starts.get(k + 1).map_or(text.len(), |n| n - 1);
@@ -523,7 +545,9 @@ pub(crate) fn send_line(
                 probe = parse_probe(&value);
             }
             Some(LinkEvent::Line(Response::Welcome { .. }, _)) => {
-                return Err(ToolError::Failed(format!("the firmware reset while running `{line}`")))
+                return Err(ToolError::Failed(format!(
+                    "the firmware reset while running `{line}`"
+                )))
             }
             Some(LinkEvent::Closed(why)) => return Err(ToolError::Lost(why)),
             _ => {}
@@ -553,7 +577,10 @@ pub(crate) fn measure(sender: &mut Sender, setter: &ToolSetter) -> Result<f64, T
     let plain = |s: &mut Sender, l: &str| send_line(s, l, Duration::from_secs(60)).map(|_| ());
     plain(sender, "G21G90")?;
     plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
-    plain(sender, &format!("G53G0X{}Y{}", num(setter.x), num(setter.y)))?;
+    plain(
+        sender,
+        &format!("G53G0X{}Y{}", num(setter.x), num(setter.y)),
+    )?;
     let touch = |s: &mut Sender, dist: f64, feed: f64| -> Result<f64, ToolError> {
         let line = format!("G91G38.2Z-{}F{}", num(dist), num(feed));
         match send_line(s, &line, secs(dist, feed))? {
@@ -653,7 +680,11 @@ pub(crate) fn change_tool(
     let first = job.tool_stops.first().map(|s| s.index) == Some(stop.index) && !tc.measure_at_start;
     if tc.policy == ToolPolicy::Remeasure && lengths.reference.is_none() && !first {
         let at = job.tool_stops.first().map(|s| s.file_line).unwrap_or(0);
-        let from = if tc.measure_at_start { "the start".to_string() } else { format!("line {at} (the first M6)") };
+        let from = if tc.measure_at_start {
+            "the start".to_string()
+        } else {
+            format!("line {at} (the first M6)")
+        };
         return Err(ToolError::Failed(format!(
             "the first tool's touch on the tool setter is not known (not in the journal): run from {from} so it is measured"
         )));
@@ -771,10 +802,29 @@ mod tests {
         let texts: Vec<&str> = j.lines.iter().map(|l| l.text.as_str()).collect();
         assert_eq!(texts, ["T1", "S10000M3", "G0X1", "M5", "T2", "G0X2", "M30"]);
         assert_eq!(j.tool_stops.len(), 2);
-        assert_eq!((j.tool_stops[0].index, j.tool_stops[0].tool, j.tool_stops[0].file_line), (0, 1, 4));
-        assert_eq!((j.tool_stops[1].index, j.tool_stops[1].tool, j.tool_stops[1].file_line), (5, 2, 9));
-        assert_eq!(j.tool_stops[1].description.as_deref(), Some("T2 D=6 - ball"));
-        assert!(j.tool_stops[1].prompt(ToolPolicy::Pause).starts_with("change to tool T2 (T2 D=6 - ball; M6 at line 9)"));
+        assert_eq!(
+            (
+                j.tool_stops[0].index,
+                j.tool_stops[0].tool,
+                j.tool_stops[0].file_line
+            ),
+            (0, 1, 4)
+        );
+        assert_eq!(
+            (
+                j.tool_stops[1].index,
+                j.tool_stops[1].tool,
+                j.tool_stops[1].file_line
+            ),
+            (5, 2, 9)
+        );
+        assert_eq!(
+            j.tool_stops[1].description.as_deref(),
+            Some("T2 D=6 - ball")
+        );
+        assert!(j.tool_stops[1]
+            .prompt(ToolPolicy::Pause)
+            .starts_with("change to tool T2 (T2 D=6 - ball; M6 at line 9)"));
         assert_eq!(j.next_stop_after(0), 5);
         assert_eq!(j.next_stop_after(5), j.len());
         assert!(j.tool_stop_at(5).is_some() && j.tool_stop_at(4).is_none());
@@ -786,7 +836,10 @@ mod tests {
         let texts: Vec<&str> = j.lines.iter().map(|l| l.text.as_str()).collect();
         assert_eq!(texts, ["S10000M3", "G0X1", "M5", "T2", "G0X2", "M30"]);
         assert_eq!(j.tool_stops.len(), 2, "recorded for the notes");
-        assert!(j.tool_stop_at(j.tool_stops[1].index).is_none(), "never stops");
+        assert!(
+            j.tool_stop_at(j.tool_stops[1].index).is_none(),
+            "never stops"
+        );
         assert_eq!(j.next_stop_after(0), j.len());
         assert!(!j.lines.iter().any(|l| l.text.contains("M6")));
     }
@@ -796,15 +849,28 @@ mod tests {
         let j = prepared(TWO_TOOLS, ToolPolicy::Firmware);
         assert!(j.lines.iter().any(|l| l.text == "T1M6"));
         assert!(j.tool_stops.is_empty());
-        let bad = ToolChange { policy: ToolPolicy::Remeasure, ..ToolChange::default() };
+        let bad = ToolChange {
+            policy: ToolPolicy::Remeasure,
+            ..ToolChange::default()
+        };
         assert!(bad.validate().unwrap_err().contains("--tool-setter"));
-        let bad = ToolChange { policy: ToolPolicy::ParkPause, ..ToolChange::default() };
+        let bad = ToolChange {
+            policy: ToolPolicy::ParkPause,
+            ..ToolChange::default()
+        };
         assert!(bad.validate().unwrap_err().contains("--park"));
         let mut s = ToolSetter::at(0.0, 0.0, 0.0);
         s.feed_slow = f64::NAN;
-        let bad = ToolChange { policy: ToolPolicy::Remeasure, setter: Some(s), ..ToolChange::default() };
+        let bad = ToolChange {
+            policy: ToolPolicy::Remeasure,
+            setter: Some(s),
+            ..ToolChange::default()
+        };
         assert!(bad.validate().is_err());
-        assert_eq!("pause-remeasure".parse::<ToolPolicy>(), Ok(ToolPolicy::Remeasure));
+        assert_eq!(
+            "pause-remeasure".parse::<ToolPolicy>(),
+            Ok(ToolPolicy::Remeasure)
+        );
         assert!("swap".parse::<ToolPolicy>().is_err());
     }
 
@@ -820,11 +886,20 @@ mod tests {
         );
         let at: Vec<(u32, u32, u32)> = notes.iter().map(|n| (n.line, n.col, n.len)).collect();
         assert_eq!(at, [(1, 1, 1), (3, 4, 3), (6, 1, 3), (8, 1, 1)]);
-        assert!(notes[1].message.starts_with("M6 T1: grbl has no tool changer; the sender pauses"));
-        assert!(notes[2].message.contains("M6 T2") && notes[2].message.contains("--tool-change pause"));
-        let ignore = ToolChange { policy: ToolPolicy::Ignore, ..ToolChange::default() };
+        assert!(notes[1]
+            .message
+            .starts_with("M6 T1: grbl has no tool changer; the sender pauses"));
+        assert!(
+            notes[2].message.contains("M6 T2") && notes[2].message.contains("--tool-change pause")
+        );
+        let ignore = ToolChange {
+            policy: ToolPolicy::Ignore,
+            ..ToolChange::default()
+        };
         let (out, notes) = sender_view(text, &ignore);
-        assert!(std::str::from_utf8(&out).unwrap().contains("\n       (first)\n"));
+        assert!(std::str::from_utf8(&out)
+            .unwrap()
+            .contains("\n       (first)\n"));
         assert!(notes[1].message.contains("drops M6 and the T word"));
         // `%` in the middle stays (grbl refuses it), and so does M6 under `firmware`.
         let (out, notes) = sender_view(b"G0\n%\nM6\nG0\n", &ToolChange::as_written());
@@ -834,7 +909,10 @@ mod tests {
 
     #[test]
     fn probe_reports() {
-        assert_eq!(parse_probe("0.000,1.500,-40.123:1"), Some(Some([0.0, 1.5, -40.123])));
+        assert_eq!(
+            parse_probe("0.000,1.500,-40.123:1"),
+            Some(Some([0.0, 1.5, -40.123]))
+        );
         assert_eq!(parse_probe("0.000,1.500,-40.123:0"), Some(None));
         assert_eq!(parse_probe("garbage"), None);
         assert_eq!(parse_probe("1,2:1"), None);

@@ -174,7 +174,8 @@ fn offsets(shared: &Mutex<Shared>, from: usize) -> Vec<f64> {
 #[test]
 fn remeasure_applies_the_difference_of_the_two_touches_and_a_resume_restores_it() {
     let (ep, shared) = fake_grbl();
-    let journal = std::env::temp_dir().join(format!("oficina-remeasure-{}.journal", std::process::id()));
+    let journal =
+        std::env::temp_dir().join(format!("oficina-remeasure-{}.journal", std::process::id()));
     let _ = std::fs::remove_file(&journal);
     let settings = settings(&journal);
     let job = StreamProgram::with_tool_change("two.nc", PROGRAM, &settings.tool_change).unwrap();
@@ -194,16 +195,35 @@ fn remeasure_applies_the_difference_of_the_two_touches_and_a_resume_restores_it(
     let RunOutcome::Streamed(report) = outcome else {
         panic!("{outcome:?}")
     };
-    assert_eq!(report.end, StreamEnd::Completed, "{}", report.describe(&job));
+    assert_eq!(
+        report.end,
+        StreamEnd::Completed,
+        "{}",
+        report.describe(&job)
+    );
     assert_eq!(prompts.len(), 2, "{prompts:?}");
-    assert!(prompts[1].contains("measures it on the tool setter"), "{}", prompts[1]);
+    assert!(
+        prompts[1].contains("measures it on the tool setter"),
+        "{}",
+        prompts[1]
+    );
     let expected = TOUCH[1] - TOUCH[0];
     let applied = offsets(&shared, 0);
     assert_eq!(applied.len(), 2, "{applied:?}");
-    assert!(applied[0].abs() < 1e-9, "the first tool is the reference: {applied:?}");
-    assert!((applied[1] - expected).abs() < 1e-4, "{applied:?} vs {expected}");
+    assert!(
+        applied[0].abs() < 1e-9,
+        "the first tool is the reference: {applied:?}"
+    );
+    assert!(
+        (applied[1] - expected).abs() < 1e-4,
+        "{applied:?} vs {expected}"
+    );
     let lines = shared.lock().unwrap().lines.clone();
-    assert_eq!(lines.iter().filter(|l| l.contains("G38.2")).count(), 4, "a fast and a slow touch per tool");
+    assert_eq!(
+        lines.iter().filter(|l| l.contains("G38.2")).count(),
+        4,
+        "a fast and a slow touch per tool"
+    );
     assert!(!lines.iter().any(|l| l.contains("M6")));
 
     // Resume after the change (a new run from a line of tool 2): the offset comes back from
@@ -211,11 +231,18 @@ fn remeasure_applies_the_difference_of_the_two_touches_and_a_resume_restores_it(
     let seen = lines.len();
     let mut again = settings.clone();
     again.start = Start::FileLine(17); // G1 X40 F800
-    let outcome = m.run(&job, &journal, &again, Some(&rx), &mut |_| {}).unwrap();
+    let outcome = m
+        .run(&job, &journal, &again, Some(&rx), &mut |_| {})
+        .unwrap();
     let RunOutcome::Streamed(report) = outcome else {
         panic!("{outcome:?}")
     };
-    assert_eq!(report.end, StreamEnd::Completed, "{}", report.describe(&job));
+    assert_eq!(
+        report.end,
+        StreamEnd::Completed,
+        "{}",
+        report.describe(&job)
+    );
     let after = shared.lock().unwrap().lines[seen..].to_vec();
     assert!(!after.iter().any(|l| l.contains("G38")), "{after:?}");
     let restored = offsets(&shared, seen);
@@ -224,7 +251,9 @@ fn remeasure_applies_the_difference_of_the_two_touches_and_a_resume_restores_it(
 
     // Without the journal the length is not known: the resume is refused, naming the M6.
     let _ = std::fs::remove_file(&journal);
-    let e = m.run(&job, &journal, &again, Some(&rx), &mut |_| {}).unwrap_err();
+    let e = m
+        .run(&job, &journal, &again, Some(&rx), &mut |_| {})
+        .unwrap_err();
     assert!(e.contains("line 13"), "{e}");
     let _ = std::fs::remove_file(&journal);
 }
@@ -232,7 +261,10 @@ fn remeasure_applies_the_difference_of_the_two_touches_and_a_resume_restores_it(
 #[test]
 fn a_setter_out_of_reach_ends_in_grbls_probe_alarm_at_the_m6() {
     let (ep, shared) = fake_grbl();
-    let journal = std::env::temp_dir().join(format!("oficina-remeasure-miss-{}.journal", std::process::id()));
+    let journal = std::env::temp_dir().join(format!(
+        "oficina-remeasure-miss-{}.journal",
+        std::process::id()
+    ));
     let _ = std::fs::remove_file(&journal);
     let settings = settings(&journal);
     let job = StreamProgram::with_tool_change("two.nc", PROGRAM, &settings.tool_change).unwrap();
