@@ -32,7 +32,10 @@ fn main() {
     let mut code = String::from("/// The built page: (path under web/dist, contents).\npub(crate) static PAGE: &[(&str, &[u8])] = &[\n");
     for (rel, path) in &list {
         println!("cargo:rerun-if-changed={}", path.display());
-        code += &format!("    ({rel:?}, include_bytes!({:?})),\n", path.display().to_string());
+        code += &format!(
+            "    ({rel:?}, include_bytes!({:?})),\n",
+            path.display().to_string()
+        );
     }
     code += "];\n";
     let out = PathBuf::from(std::env::var("OUT_DIR").unwrap()).join("page.rs");

@@ -36,7 +36,7 @@ export async function startSimulator(bin, { socat = process.env.SOCAT || 'socat'
     const p = spawn(socat, ['-d', '-d', ...(verbose ? ['-v'] : []), ...args], { cwd: dir, stdio: ['ignore', 'ignore', 'pipe'] });
     procs.push(p);
     let log = '';
-    const file = verbose ? createWriteStream(path.join(dir, 'bridge.log')) : null;
+    const file = trace ? createWriteStream(path.join(dir, verbose ? 'bridge.log' : 'sim.log')) : null;
     p.stderr.on('data', (d) => { if (file) file.write(d); if (log.length < 100000) log += d; });
     p.on('error', (e) => { log += `\n${what}: ${e.message}`; });
     return { p, log: () => log };

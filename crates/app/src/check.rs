@@ -32,7 +32,7 @@ pub struct Diag {
     pub col: u32,
     /// Length of the marked text.
     pub len: u32,
-    /// `error` or `warning`.
+    /// `error`, `warning` or `note`.
     pub severity: &'static str,
     /// What is wrong.
     pub message: String,
@@ -49,6 +49,7 @@ impl From<&Diagnostic> for Diag {
             severity: match d.severity {
                 Severity::Error => "error",
                 Severity::Warning => "warning",
+                Severity::Note => "note",
             },
             message: d.message.clone(),
             help: d.help.clone(),
@@ -222,7 +223,10 @@ fn report(
     CheckReport {
         diagnostics: diags.iter().map(Diag::from).collect(),
         errors,
-        warnings: diags.len() - errors,
+        warnings: diags
+            .iter()
+            .filter(|d| d.severity == Severity::Warning)
+            .count(),
         operations,
         feed_extents: extents_box(&s.feed_extents),
         rapid_extents: extents_box(&s.rapid_extents),

@@ -62,19 +62,22 @@ pub use level::{
     level_file, level_options, load_map, probe_grid, probe_map, run_levelled, save_map,
     LevelTuning, LevelledRun, MapSource, ProbeRequest,
 };
-pub use machine_uri::{is_firmware, open_machine, open_machine_with, open_machine_with_tools};
+pub use machine_uri::{
+    is_firmware, open_firmware, open_machine, open_machine_with, open_machine_with_tools,
+};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use program::{
-    load_tool_table, machine_for, open_program, read_program, render_diagnostics, tool_table_for,
-    LoadError, MachineChoice, ProgramOptions, DEFAULT_MAX_PROGRAM_MB,
+    grbl_sender_source, load_tool_table, machine_for, open_program, read_program,
+    render_diagnostics, tool_table_for, LoadError, MachineChoice, ProgramOptions,
+    DEFAULT_MAX_PROGRAM_MB,
 };
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;
-pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot};
+pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot, ToolChangeView};
 pub use sole::{sole, SoleOutput, SoleParams, SoleResult};
 pub use text::source_lines;
 pub use tools::{

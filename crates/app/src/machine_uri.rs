@@ -26,11 +26,22 @@ pub fn open_machine_with(
         if work_offset.is_some() {
             return Err(Error("--work-offset is for the virtual machine; real firmware keeps its own G54 (set it with G10 L20 in the console)".into()));
         }
-        let device = oficina_grbl::GrblDevice::new(spec)
-            .map_err(|e| Error(format!("--machine {spec}: {e}")))?;
-        return Ok(Box::new(device));
+        return open_firmware(spec, oficina_grbl::ToolChange::default());
     }
     open_machine_with_tools(spec, work_offset, max_line_len, None)
+}
+
+/// Real firmware at `spec` (`grbl:/dev/ttyUSB0`, `tcp://HOST:PORT`) whose sender handles
+/// `M6` as `tool_change` says.
+pub fn open_firmware(
+    spec: &str,
+    tool_change: oficina_grbl::ToolChange,
+) -> Result<Box<dyn Machine>, Error> {
+    tool_change.validate().map_err(Error)?;
+    let mut device =
+        oficina_grbl::GrblDevice::new(spec).map_err(|e| Error(format!("--machine {spec}: {e}")))?;
+    device.settings.tool_change = tool_change;
+    Ok(Box::new(device))
 }
 
 /// [`open_machine_with`] and a tool table for the virtual machine's interpreter (G43, M6).

@@ -150,6 +150,27 @@ pub fn open_program(path: &Path) -> Result<BufReader<File>, Error> {
     oficina_gcode::text::open_program(path).map_err(|e| read_error(path, e))
 }
 
+/// The program at `path` as grbl receives it from the sender under `tc`
+/// ([`oficina_grbl::sender_view`]: `M6` and the `%` tape marks blanked in place, so lines and
+/// columns hold), to check in the grbl dialect, and a note for each line the sender changes.
+/// The whole program is held in memory.
+pub fn grbl_sender_source(
+    path: &Path,
+    tc: &oficina_grbl::ToolChange,
+) -> Result<(std::io::Cursor<Vec<u8>>, Vec<Diagnostic>), Error> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    open_program(path)?
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error(format!("cannot read {}: {e}", path.display())))?;
+    let (view, notes) = oficina_grbl::sender_view(&bytes, tc);
+    let notes = notes
+        .into_iter()
+        .map(|n| Diagnostic::note(oficina_gcode::Span::new(n.line, n.col, n.len), n.message))
+        .collect();
+    Ok((std::io::Cursor::new(view), notes))
+}
+
 /// A program that could not be opened or read: the OS error once, after the file name.
 fn read_error(path: &Path, e: ReadError) -> Error {
     match e {
@@ -225,17 +246,14 @@ pub fn render_diagnostics(path: &Path, diags: &[Diagnostic], max_shown: usize) -
     }
     let rest = &diags[shown.len()..];
     if !rest.is_empty() {
-        let errors = rest
-            .iter()
-            .filter(|d| d.severity == Severity::Error)
-            .count();
+        let count = |s: Severity| rest.iter().filter(|d| d.severity == s).count();
+        let (errors, warnings) = (count(Severity::Error), count(Severity::Warning));
         let plural = |n: usize| if n == 1 { "" } else { "s" };
         out.push_str(&format!(
-            "{name}: {} more not shown ({errors} error{}, {} warning{}); --max-errors 0 shows all\n",
+            "{name}: {} more not shown ({errors} error{}, {warnings} warning{}); --max-errors 0 shows all\n",
             rest.len(),
             plural(errors),
-            rest.len() - errors,
-            plural(rest.len() - errors),
+            plural(warnings),
         ));
     }
     out

@@ -58,6 +58,17 @@ pub struct JobView {
     pub completed: Option<bool>,
 }
 
+/// A tool change the job waits for (grbl has no tool changer): what to put in, and Resume.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ToolChangeView {
+    /// The tool to put in.
+    pub tool: u32,
+    /// The source line of the `M6`.
+    pub line: u32,
+    /// What the operator is asked.
+    pub prompt: String,
+}
+
 /// The machine and its job as the page shows them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Snapshot {
@@ -95,6 +106,8 @@ pub struct Snapshot {
     pub can_home_and_zero: bool,
     /// The built-in virtual machine (its job speed factor applies); false for firmware.
     pub virtual_machine: bool,
+    /// The tool change the job waits for (state `paused`), if any.
+    pub tool_change: Option<ToolChangeView>,
 }
 
 /// A machine opened from a URI and the job it runs, driven by the page.
@@ -112,6 +125,8 @@ pub struct Session {
     fresh: bool,
     /// The virtual machine's tool table (G43 H, G41 D, M6).
     tools: ToolTable,
+    /// The last tool change asked for ([`Event::ToolChange`]); shown while paused.
+    tool_change: Option<ToolChangeView>,
 }
 
 /// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
@@ -139,6 +154,7 @@ impl Session {
             job: None,
             fresh: true,
             tools: ToolTable::default(),
+            tool_change: None,
         })
     }
 
@@ -306,7 +322,15 @@ impl Session {
                     meaning: alarm_meaning(&message),
                     message,
                 }),
+                // The page gets the prompt as a message, and the snapshot's `tool_change`.
+                Event::ToolChange { tool, line, prompt } => {
+                    out.push(SessionEvent::Message {
+                        text: prompt.clone(),
+                    });
+                    self.tool_change = Some(ToolChangeView { tool, line, prompt });
+                }
                 Event::JobEnd { completed, seconds } => {
+                    self.tool_change = None;
                     // Only a job the session started ends as a job: a jog or a homing move
                     // of the virtual machine runs as a small job of its own, and is no news.
                     if let Some(j) = self.job.as_mut().filter(|j| j.completed.is_none()) {
@@ -352,6 +376,10 @@ impl Session {
             job: self.job.clone(),
             can_home_and_zero: self.profile.is_some(),
             virtual_machine: self.profile.is_some(),
+            tool_change: self
+                .tool_change
+                .clone()
+                .filter(|_| s.state == State::Paused),
         }
     }
 }
@@ -489,7 +517,9 @@ mod tests {
         // The homing move is not a job: nothing ended.
         news.extend(s.poll(Duration::from_millis(200)));
         assert!(
-            !news.iter().any(|e| matches!(e, SessionEvent::JobEnd { .. })),
+            !news
+                .iter()
+                .any(|e| matches!(e, SessionEvent::JobEnd { .. })),
             "{news:?}"
         );
         assert_eq!(s.snapshot().job.unwrap().completed, Some(true));

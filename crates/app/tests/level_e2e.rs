@@ -163,6 +163,9 @@ fn run_on(surface: &Surface) -> (f64, usize) {
             Event::JobEnd { completed, .. } => break completed,
             Event::Alarm(a) => panic!("alarm: {a}"),
             Event::Message(_) => {}
+            Event::ToolChange { prompt, .. } => {
+                panic!("a levelled program has no tool change: {prompt}")
+            }
         }
     };
     assert!(completed);

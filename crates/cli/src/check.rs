@@ -4,7 +4,8 @@
 use crate::gcode_input::{machine_for, print_diagnostics, ProgramArgs};
 use crate::machine_profile;
 use oficina_canon::{Extents, Summary};
-use oficina_gcode::Severity;
+use oficina_gcode::{Dialect, Severity};
+use oficina_grbl::ToolChange;
 use oficina_motion::format_hms;
 use std::process::ExitCode;
 
@@ -19,14 +20,31 @@ pub(crate) struct Args {
     /// Work zero in machine coordinates, X,Y,Z mm (default: the profile's stored G54).
     #[arg(long, value_parser = machine_profile::parse_xyz)]
     pub work_offset: Option<[f64; 3]>,
+    /// With --dialect grbl: what the sender does at M6 (grbl has none), as `run` and
+    /// `console` take it; the M6 lines then get a note instead of grbl's error:20
+    /// (`firmware`: the error stays). The `%` tape marks the sender drops get a note too.
+    #[arg(long, default_value = "pause", value_name = "POLICY")]
+    pub tool_change: oficina_grbl::ToolPolicy,
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let machine = machine_for(args.machine.as_deref(), &args.program.file);
     let profile = machine_profile::resolve_with_offset(&machine, args.work_offset)?;
     let opts = args.program.run_options_on(&profile, &machine, true)?;
-    let source = args.program.open()?;
-    let checked = oficina_app::check_source(source, opts, &profile);
+    let checked = if args.program.dialect == Dialect::Grbl {
+        // What grbl receives from the sender: M6 and the tape marks handled, with notes.
+        let tc = ToolChange {
+            policy: args.tool_change,
+            ..ToolChange::default()
+        };
+        let (source, notes) = oficina_app::grbl_sender_source(&args.program.file, &tc)?;
+        let mut checked = oficina_app::check_source(source, opts, &profile);
+        checked.diagnostics.extend(notes);
+        checked.diagnostics.sort_by_key(|d| d.span.line);
+        checked
+    } else {
+        oficina_app::check_source(args.program.open()?, opts, &profile)
+    };
     let (diags, summary, ops, planned) = (
         checked.diagnostics,
         checked.summary,
@@ -34,18 +52,24 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         checked.time,
     );
     print_diagnostics(&args.program.file, &diags, args.program.max_errors);
-    let errors = diags
-        .iter()
-        .filter(|d| d.severity == Severity::Error)
-        .count();
-    let warnings = diags.len() - errors;
+    let count = |s: Severity| diags.iter().filter(|d| d.severity == s).count();
+    let (errors, warnings, notes) = (
+        count(Severity::Error),
+        count(Severity::Warning),
+        count(Severity::Note),
+    );
     println!(
-        "{}: {} error{}, {} warning{}, {} canonical operations",
+        "{}: {} error{}, {} warning{}{}, {} canonical operations",
         args.program.file.display(),
         errors,
         plural(errors),
         warnings,
         plural(warnings),
+        if notes > 0 {
+            format!(", {notes} note{}", plural(notes))
+        } else {
+            String::new()
+        },
         ops
     );
     print_summary(&summary);

@@ -19,6 +19,7 @@
 //!   …) are grbl's relative real-time bytes, sent with [`GrblDevice::realtime`]: the
 //!   trait's overrides are absolute factors, and it has no rapid, coolant or spindle-stop key.
 
+use crate::tool_change::ToolChangeArgs;
 use anyhow::{bail, Context};
 use oficina_grbl::{ContinuousJog, JogRequest};
 use oficina_grbl::{Endpoint, GrblDevice, GrblMachine, ResumeOptions, RetryPolicy, StreamProgram};
@@ -92,6 +93,8 @@ pub(crate) struct Args {
     /// One line at a time instead of filling the firmware's buffer.
     #[arg(long)]
     pub send_response: bool,
+    #[command(flatten)]
+    pub tool_change: ToolChangeArgs,
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -461,13 +464,15 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
         }),
         auto_resume: args.auto_resume,
         check_first: args.check,
+        tool_change: args.tool_change.settings()?,
     };
     let journal_path = GrblMachine::journal_path(path, &machine.settings);
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let name = path.display().to_string();
     // The device's own reading of the file: line counts for the progress display.
-    let lines = StreamProgram::from_text(&name, &text).map_err(anyhow::Error::msg)?;
+    let lines = StreamProgram::with_tool_change(&name, &text, &machine.settings.tool_change)
+        .map_err(anyhow::Error::msg)?;
     eprintln!("keys (then Enter): h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …");
     let keys = stdin_lines();
     machine
@@ -518,6 +523,9 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
             Some(Event::Alarm(a)) if is_summary(machine, &a) => {}
             Some(Event::Message(m)) => eprintln!("\r\x1b[K{m}"),
             Some(Event::Alarm(a)) => alarms.push(a),
+            Some(Event::ToolChange { prompt, .. }) => {
+                eprintln!("\r\x1b[KTOOL CHANGE: {prompt}  (r + Enter: resume, s + Enter: stop)")
+            }
             Some(Event::JobEnd { .. }) => break,
             None => {}
         }

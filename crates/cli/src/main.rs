@@ -27,6 +27,7 @@ mod progress;
 mod run;
 mod serve;
 mod sole;
+mod tool_change;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

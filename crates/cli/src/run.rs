@@ -2,6 +2,7 @@
 //! keyboard hold / resume / stop when stdin is a terminal.
 
 use crate::gcode_input::{load_tool_table, machine_for, HeldProgram};
+use crate::tool_change::ToolChangeArgs;
 use anyhow::{bail, Context};
 use crossterm::event::{self, Event as Key, KeyCode, KeyModifiers};
 use crossterm::terminal;
@@ -44,6 +45,8 @@ pub(crate) struct Args {
     tool_table: Option<PathBuf>,
     #[command(flatten)]
     level: crate::level::RunFlags,
+    #[command(flatten)]
+    tool_change: ToolChangeArgs,
 }
 
 /// Leaves raw mode however the run ends.
@@ -109,12 +112,21 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             (run.machine, run.info)
         }
         None => {
-            let mut vm = oficina_app::open_machine_with_tools(
-                &machine,
-                args.program.work_offset,
-                args.program.line_limit.bytes(),
-                tools,
-            )?;
+            // Firmware takes the tool-change policy (grbl has no M6); the virtual machine
+            // its tool table.
+            let mut vm = if oficina_app::is_firmware(&machine)
+                && tools.is_none()
+                && args.program.work_offset.is_none()
+            {
+                oficina_app::open_firmware(&machine, args.tool_change.settings()?)?
+            } else {
+                oficina_app::open_machine_with_tools(
+                    &machine,
+                    args.program.work_offset,
+                    args.program.line_limit.bytes(),
+                    tools,
+                )?
+            };
             let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
             vm.start(Job {
                 name: name.clone(),
@@ -145,6 +157,8 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     );
     let mut result = ExitCode::SUCCESS;
     let mut passed_pause = false;
+    // A tool change waits for the operator's resume; with no terminal it stops the job.
+    let mut tool_wait = false;
     loop {
         if _raw.0 {
             while event::poll(Duration::ZERO).unwrap_or(false) {
@@ -166,6 +180,8 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         // A pause waits for the operator; with no terminal there is none, so pass it (or stop).
         let paused = vm.status().state == State::Paused;
+        tool_wait &= paused;
+        let paused = paused && !tool_wait;
         if paused && !interactive && !passed_pause {
             if args.stop_at_pauses {
                 let _ = vm.command(Command::Stop);
@@ -185,6 +201,17 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             None => show_status(&bar, &vm.status(), factor),
             // Through stderr: a hidden bar (no terminal) would swallow println.
             Some(Event::Message(m)) => bar.suspend(|| eprintln!("{m}")),
+            Some(Event::ToolChange { line, prompt, .. }) => {
+                tool_wait = true;
+                if interactive {
+                    bar.suspend(|| eprintln!("TOOL CHANGE: {prompt}  [~/r resume · q stop]\r"));
+                } else {
+                    bar.suspend(|| {
+                        eprintln!("TOOL CHANGE: {prompt}\n(no terminal to resume from: stopping; change the tool, then run again with --from-line {line})")
+                    });
+                    let _ = vm.command(Command::Stop);
+                }
+            }
             Some(Event::Alarm(a)) => {
                 bar.suspend(|| eprintln!("ALARM: {a}"));
                 result = ExitCode::FAILURE;

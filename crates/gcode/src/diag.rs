@@ -32,6 +32,8 @@ impl Span {
 /// How bad a diagnostic is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Severity {
+    /// Information: what will happen to the line (a sender that handles it, say).
+    Note,
     /// The program runs on; something deserves a look.
     Warning,
     /// The program (or the block, in check mode) cannot run.
@@ -76,6 +78,17 @@ impl Diagnostic {
         }
     }
 
+    /// A note at `span`: not a fault, what will happen there.
+    pub fn note(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Note,
+            span,
+            message: message.into(),
+            help: None,
+            code: None,
+        }
+    }
+
     /// The same diagnostic with a hint on how to fix it.
     pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
         self.help = Some(help.into());
@@ -95,6 +108,7 @@ impl Diagnostic {
         use crate::text::{escape, quote};
         // A firmware code reads like rustc's `error[E0308]`: "error" is said once.
         let kind = match (self.severity, self.code) {
+            (Severity::Note, _) => "note".to_string(),
             (Severity::Warning, None) => "warning".to_string(),
             (Severity::Error, None) => "error".to_string(),
             (Severity::Warning, Some(c)) => format!("warning[grbl:{c}]"),

@@ -142,6 +142,8 @@ impl GrblDevice {
             let mut wco = vec![0.0; 3];
             // (first acknowledged line of this run, last acknowledged line)
             let mut lines: Option<(usize, usize)> = None;
+            // Waiting for a tool change: the machine idles, the job is paused.
+            let mut tool_wait = false;
             let mut observer = |n: Notice| match n {
                 Notice::Status(st) => {
                     if let Some(w) = &st.wco {
@@ -149,6 +151,9 @@ impl GrblDevice {
                     }
                     let mut s = lock(&status);
                     translate_status(&st, &wco, &mut s);
+                    if tool_wait && s.state == State::Idle {
+                        s.state = State::Paused;
+                    }
                     s.elapsed = start.elapsed().as_secs_f64();
                     // Elapsed plus grbl's timing model for the rest, at the pace seen so far.
                     if let Some((first, acked)) = lines {
@@ -170,6 +175,26 @@ impl GrblDevice {
                     let _ = events.send(Event::Message(format!(
                         "ignored unexpected firmware line: {u:?}"
                     )));
+                }
+                Notice::ToolChange {
+                    tool,
+                    file_line,
+                    prompt,
+                } => {
+                    tool_wait = true;
+                    let line = file_line as u32;
+                    let s = {
+                        let mut s = lock(&status);
+                        s.state = State::Paused;
+                        s.line = line;
+                        s.clone()
+                    };
+                    let _ = events.send(Event::Status(s));
+                    let _ = events.send(Event::ToolChange { tool, line, prompt });
+                }
+                Notice::ToolChangeDone { tool } => {
+                    tool_wait = false;
+                    let _ = events.send(Event::Message(format!("tool T{tool} in place: going on")));
                 }
             };
             let result = machine.run(&grbl_job, &journal, &settings, Some(&ctl_rx), &mut observer);
@@ -302,8 +327,11 @@ fn job_report(outcome: &RunOutcome, job: &StreamProgram) -> JobReport {
         RunOutcome::Streamed(r) => r,
     };
     let resume = report.resume.as_ref().and_then(|r| {
-        job.lines.get(r.index).map(|l| ResumePoint {
-            file_line: l.file_line as u32,
+        // At a tool stop the M6 line itself: a resume there asks for the tool again.
+        let stop = job.tool_stop_at(r.index).map(|s| s.file_line);
+        let line = stop.or_else(|| job.lines.get(r.index).map(|l| l.file_line));
+        line.map(|file_line| ResumePoint {
+            file_line: file_line as u32,
             within_line: r.entry.is_some(),
         })
     });
@@ -386,7 +414,8 @@ impl Machine for GrblDevice {
 
     fn start(&mut self, job: Job) -> Result<(), MachineError> {
         let grbl_job =
-            StreamProgram::from_text(&job.name, &job.text).map_err(MachineError::Refused)?;
+            StreamProgram::with_tool_change(&job.name, &job.text, &self.settings.tool_change)
+                .map_err(MachineError::Refused)?;
         self.start_program(grbl_job, job.start_line)
     }
 

@@ -16,34 +16,59 @@ pub const E_LINE_OVERFLOW: u8 = 11;
 /// The line as grbl's protocol loop keeps it: no spaces, comments or control characters,
 /// upper-case. `Err(11)` when it overflows the line buffer.
 pub fn clean(line: &str) -> Result<String, u8> {
-    let mut out = String::with_capacity(line.len());
+    let mut out = Vec::with_capacity(line.len());
+    walk(line.as_bytes(), |_, b| out.push(b));
+    if out.len() > MAX_LINE {
+        return Err(E_LINE_OVERFLOW);
+    }
+    // Only ASCII bytes are changed or dropped, so whole UTF-8 characters remain.
+    Ok(String::from_utf8(out).unwrap_or_default())
+}
+
+/// [`clean`] on raw bytes, with the index in `raw` of every byte kept: where each word of the
+/// cleaned line stands in the source (for diagnostics and for blanking words in place).
+pub(crate) fn clean_mapped(raw: &[u8]) -> (Vec<u8>, Vec<usize>) {
+    let (mut out, mut at) = (Vec::new(), Vec::new());
+    walk(raw, |i, b| {
+        out.push(b);
+        at.push(i);
+    });
+    (out, at)
+}
+
+/// grbl's clean-up, byte by byte: `keep(index, byte)` for every byte it keeps, upper-cased.
+/// ('(', ')', ';' and '/' never occur inside a multi-byte UTF-8 character.)
+fn walk(line: &[u8], mut keep: impl FnMut(usize, u8)) {
     let mut in_paren = false;
-    for c in line.chars() {
+    for (i, &c) in line.iter().enumerate() {
         if in_paren {
-            if c == ')' {
+            if c == b')' {
                 in_paren = false;
             }
             continue;
         }
         match c {
-            '(' => in_paren = true,
-            ';' => break,
+            b'(' => in_paren = true,
+            b';' => break,
             // Block delete is not supported by grbl: the character is ignored.
-            '/' => {}
-            c if c <= ' ' || c == '\u{7f}' => {}
-            c => out.push(c.to_ascii_uppercase()),
+            b'/' => {}
+            c if c <= b' ' || c == 0x7f => {}
+            c => keep(i, c.to_ascii_uppercase()),
         }
     }
-    if out.len() > MAX_LINE {
-        return Err(E_LINE_OVERFLOW);
-    }
-    Ok(out)
 }
 
 /// Splits a cleaned line into (letter, value) words; grbl's read_float rules: optional sign,
 /// digits with at most one decimal point, no exponent.
 pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
-    let b = clean.as_bytes();
+    Ok(word_spans(clean.as_bytes())?
+        .into_iter()
+        .map(|(l, v, _)| (l, v))
+        .collect())
+}
+
+/// [`words`] with where each word stands in the cleaned line (byte range).
+pub(crate) fn word_spans(b: &[u8]) -> Result<Vec<(char, f64, std::ops::Range<usize>)>, u8> {
     let mut i = 0;
     let mut out = Vec::new();
     while i < b.len() {
@@ -51,6 +76,7 @@ pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
         if !letter.is_ascii_uppercase() {
             return Err(E_EXPECTED_LETTER);
         }
+        let word_start = i;
         i += 1;
         let start = i;
         if i < b.len() && (b[i] == b'-' || b[i] == b'+') {
@@ -70,8 +96,11 @@ pub fn words(clean: &str) -> Result<Vec<(char, f64)>, u8> {
         if digits == 0 {
             return Err(E_BAD_NUMBER);
         }
-        let value: f64 = clean[start..i].parse().map_err(|_| E_BAD_NUMBER)?;
-        out.push((letter, value));
+        let value: f64 = std::str::from_utf8(&b[start..i])
+            .ok()
+            .and_then(|t| t.parse().ok())
+            .ok_or(E_BAD_NUMBER)?;
+        out.push((letter, value, word_start..i));
     }
     Ok(out)
 }

@@ -3,6 +3,7 @@
 //! can name the line the user sees in the editor.
 
 use crate::gline;
+use crate::toolchange::{ToolChange, ToolStop};
 
 /// One line to send, with where it came from.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,6 +22,11 @@ pub struct StreamProgram {
     pub name: String,
     /// The lines to send, in order.
     pub lines: Vec<StreamLine>,
+    /// How its `M6` lines are handled ([`StreamProgram::with_tool_change`]); by default they
+    /// go to the firmware as written.
+    pub tool_change: ToolChange,
+    /// Where the sender stops for a tool change: before these lines, in order.
+    pub tool_stops: Vec<ToolStop>,
 }
 
 impl StreamProgram {
@@ -43,6 +49,8 @@ impl StreamProgram {
         Ok(StreamProgram {
             name: name.to_string(),
             lines,
+            tool_change: ToolChange::default(),
+            tool_stops: Vec::new(),
         })
     }
 

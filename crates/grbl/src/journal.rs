@@ -4,7 +4,9 @@
 //!
 //! Format, one record a line: a header `oficina-grbl-journal 1 <lines> <fingerprint>`, then
 //! `S i` (line i written to the wire), `A i` (acknowledged by ok), `E i code` (error:code),
-//! `C i` (every line before i completed: the machine was seen idle), `X note` (stream end).
+//! `C i` (every line before i completed: the machine was seen idle), `X note` (stream end),
+//! and for tool changes that re-measure: `R z` (the first tool's touch on the setter, machine
+//! Z), `L i delta` (the tool length offset applied at the tool stop before line i).
 
 use crate::job::StreamProgram;
 use std::fs::{File, OpenOptions};
@@ -27,6 +29,10 @@ pub struct JournalState {
     pub completed: usize,
     pub errors: Vec<(usize, u8)>,
     pub end_note: Option<String>,
+    /// The first tool's touch on the tool setter (machine Z, mm).
+    pub tool_reference: Option<f64>,
+    /// (tool stop index, `G43.1` offset applied there), in the order written.
+    pub tool_lengths: Vec<(usize, f64)>,
 }
 
 impl Journal {
@@ -77,6 +83,14 @@ impl Journal {
         self.record(format_args!("C {i}"))
     }
 
+    pub fn tool_reference(&mut self, z: f64) -> io::Result<()> {
+        self.record(format_args!("R {z}"))
+    }
+
+    pub fn tool_length(&mut self, i: usize, delta: f64) -> io::Result<()> {
+        self.record(format_args!("L {i} {delta}"))
+    }
+
     pub fn end(&mut self, note: &str) -> io::Result<()> {
         let note = note.replace('\n', " ");
         self.record(format_args!("X {note}"))
@@ -108,6 +122,12 @@ impl Journal {
                 st.end_note = Some(line[1..].trim().to_string());
                 continue;
             }
+            if kind == "R" {
+                if let Some(z) = it.next().and_then(|v| v.parse::<f64>().ok()) {
+                    st.tool_reference = Some(z).filter(|z| z.is_finite());
+                }
+                continue;
+            }
             let Some(i) = it.next().and_then(|v| v.parse::<usize>().ok()) else {
                 continue;
             };
@@ -115,6 +135,13 @@ impl Journal {
                 "S" => st.sent_end = st.sent_end.max(i + 1),
                 "A" => st.acked_end = st.acked_end.max(i + 1),
                 "C" => st.completed = st.completed.max(i),
+                "L" => {
+                    if let Some(d) = it.next().and_then(|v| v.parse::<f64>().ok()) {
+                        if d.is_finite() {
+                            st.tool_lengths.push((i, d));
+                        }
+                    }
+                }
                 "E" => {
                     if let Some(code) = it.next().and_then(|c| c.parse().ok()) {
                         st.errors.push((i, code));
@@ -145,6 +172,8 @@ mod tests {
             j.acked(0).unwrap();
             j.completed(1).unwrap();
             j.error(1, 33).unwrap();
+            j.tool_reference(-40.5).unwrap();
+            j.tool_length(2, 1.25).unwrap();
         }
         std::fs::OpenOptions::new()
             .append(true)
@@ -156,6 +185,8 @@ mod tests {
         assert_eq!(st.sent_end, 2);
         assert_eq!(st.completed, 1);
         assert_eq!(st.errors, vec![(1, 33)]);
+        assert_eq!(st.tool_reference, Some(-40.5));
+        assert_eq!(st.tool_lengths, vec![(2, 1.25)]);
         // The torn "A 2" without newline still parses as a whole record or not at all.
         assert!(st.acked_end == 2 || st.acked_end == 3);
         let other = StreamProgram::from_text("t", "G0X9\n").unwrap();

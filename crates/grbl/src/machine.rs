@@ -6,8 +6,9 @@
 use crate::job::StreamProgram;
 use crate::journal::Journal;
 use crate::reconnect::{connect_with_retry, LinkState, RetryPolicy};
-use crate::resume::ResumeOptions;
+use crate::resume::{Located, ResumeOptions};
 use crate::sender::{Control, Notice, Sender, SenderOptions, StreamEnd, StreamReport};
+use crate::toolchange::{self, ToolChange, ToolError, ToolLengths, ToolPolicy, ToolStop};
 use crate::transport::Endpoint;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::Receiver;
@@ -41,6 +42,9 @@ pub struct RunSettings {
     /// Run the whole program through grbl's check mode (`$C`) first and refuse to cut if
     /// the firmware rejects any line.
     pub check_first: bool,
+    /// What happens at `M6` (grbl 1.1 has no tool changer): applied when the program is
+    /// read ([`StreamProgram::with_tool_change`]).
+    pub tool_change: ToolChange,
 }
 
 impl Default for RunSettings {
@@ -53,6 +57,7 @@ impl Default for RunSettings {
             reconnect: Some(RetryPolicy::default()),
             auto_resume: false,
             check_first: false,
+            tool_change: ToolChange::default(),
         }
     }
 }
@@ -109,7 +114,11 @@ impl GrblMachine {
     ) -> Result<(StreamProgram, RunOutcome), String> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        let job = StreamProgram::from_text(&path.display().to_string(), &text)?;
+        let job = StreamProgram::with_tool_change(
+            &path.display().to_string(),
+            &text,
+            &settings.tool_change,
+        )?;
         let journal = GrblMachine::journal_path(path, settings);
         let outcome = self.run(&job, &journal, settings, control, observer)?;
         Ok((job, outcome))
@@ -180,20 +189,80 @@ impl GrblMachine {
         if from >= job.len() {
             return Ok(RunOutcome::AlreadyDone);
         }
-        if from > 0 {
-            observer(Notice::Message(format!(
-                "resume at {}:{}: restoring modal state and approaching at Z{}",
-                job.name, job.lines[from].file_line, settings.resume.safe_z
-            )));
-            self.sender
-                .run_preamble_at(job, from, entry, &settings.resume)?;
-        }
+        // What the last run measured (remeasure): read before the journal is reopened.
+        let past = Journal::load(journal_path, job).ok();
         let mut journal = Journal::open(journal_path, job)
             .map_err(|e| format!("cannot write journal {}: {e}", journal_path.display()))?;
+        let mut lengths = ToolLengths::default();
+        if job.tool_change.policy == ToolPolicy::Ignore {
+            for s in job.tool_stops.iter().filter(|s| s.index >= from) {
+                observer(Notice::Message(format!(
+                    "{}:{}: M6 T{} dropped (--tool-change ignore): the tool is not changed",
+                    job.name, s.file_line, s.tool
+                )));
+            }
+        }
+        if job.tool_change.policy == ToolPolicy::Remeasure {
+            lengths = self.tool_lengths_at(job, from, past.as_ref())?;
+            if let (true, None, Some(setter)) = (
+                job.tool_change.measure_at_start && from == 0,
+                lengths.reference,
+                &job.tool_change.setter,
+            ) {
+                observer(Notice::Message(
+                    "measuring the tool in the spindle on the tool setter (the reference)".into(),
+                ));
+                toolchange::remeasure(
+                    &mut self.sender,
+                    setter,
+                    &mut lengths,
+                    None,
+                    &mut journal,
+                    observer,
+                )
+                .map_err(|e| format!("measuring the first tool: {e}"))?;
+            }
+        }
+        // A resume approaches line `from` first (unless a tool change there does it).
+        let mut approach = from > 0;
         loop {
-            let report = self
-                .sender
-                .stream(job, from, Some(&mut journal), control, observer);
+            if let Some(stop) = job.tool_stop_at(from) {
+                let changed = toolchange::change_tool(
+                    &mut self.sender,
+                    job,
+                    stop,
+                    &settings.resume,
+                    &mut lengths,
+                    &mut journal,
+                    control,
+                    observer,
+                );
+                if let Err(e) = changed {
+                    return self.tool_change_failed(job, stop, e);
+                }
+                approach = false;
+            }
+            if approach {
+                observer(Notice::Message(format!(
+                    "resume at {}:{}: restoring modal state and approaching at Z{}",
+                    job.name, job.lines[from].file_line, settings.resume.safe_z
+                )));
+                self.sender
+                    .run_preamble_at(job, from, entry, &settings.resume)?;
+                if job.tool_change.policy == ToolPolicy::Remeasure {
+                    toolchange::apply_offset(&mut self.sender, lengths.offset)
+                        .map_err(|e| format!("restoring the tool length offset: {e}"))?;
+                }
+                approach = false;
+            }
+            let until = job.next_stop_after(from);
+            let report =
+                self.sender
+                    .stream_range(job, from, until, Some(&mut journal), control, observer);
+            if report.end == StreamEnd::Completed && until < job.len() {
+                from = until;
+                continue;
+            }
             let StreamEnd::Disconnected(why) = &report.end else {
                 return Ok(RunOutcome::Streamed(report));
             };
@@ -234,9 +303,92 @@ impl GrblMachine {
                     ..report
                 }));
             }
-            self.sender
-                .run_preamble_at(job, at.index, at.entry, &settings.resume)?;
             from = at.index;
+            entry = at.entry;
+            approach = true;
         }
+    }
+
+    /// The tool lengths in force at line `from` under `remeasure`, from the journal of the
+    /// last run: the first tool's touch, and the offset applied at the last tool stop
+    /// before `from` (a stop at `from` measures again). Refuses when a length is needed
+    /// and the journal does not have it.
+    fn tool_lengths_at(
+        &self,
+        job: &StreamProgram,
+        from: usize,
+        past: Option<&crate::journal::JournalState>,
+    ) -> Result<ToolLengths, String> {
+        if from == 0 {
+            // A run from the top measures its first tool afresh.
+            return Ok(ToolLengths::default());
+        }
+        let mut lengths = ToolLengths {
+            reference: past.and_then(|p| p.tool_reference),
+            offset: None,
+        };
+        if let Some(stop) = job.tool_stops.iter().rev().find(|s| s.index < from) {
+            let known =
+                past.and_then(|p| p.tool_lengths.iter().rev().find(|(i, _)| *i == stop.index));
+            match known {
+                Some((_, d)) => lengths.offset = Some(*d),
+                None => {
+                    return Err(format!(
+                        "{}: resume at line {} needs the length of T{} measured after the M6 at line {}, and the journal does not have it: resume from line {} so the tool is changed and measured again",
+                        job.name,
+                        job.lines.get(from).map(|l| l.file_line).unwrap_or(0),
+                        stop.tool,
+                        stop.file_line,
+                        stop.file_line
+                    ))
+                }
+            }
+        }
+        Ok(lengths)
+    }
+
+    /// A tool change that did not finish, as a stream that ended at its stop: the resume
+    /// point is the stop, so a resume asks for the tool again.
+    fn tool_change_failed(
+        &mut self,
+        job: &StreamProgram,
+        stop: &ToolStop,
+        e: ToolError,
+    ) -> Result<RunOutcome, String> {
+        let end = match &e {
+            ToolError::Stopped => StreamEnd::Stopped,
+            ToolError::Alarm(c) => StreamEnd::Alarm(*c),
+            ToolError::Lost(why) => StreamEnd::Disconnected(why.clone()),
+            ToolError::Failed(why) => {
+                return Err(format!(
+                    "{}: tool change to T{} at line {}: {why}; resume from line {} to try again",
+                    job.name, stop.tool, stop.file_line, stop.file_line
+                ))
+            }
+        };
+        let work_pos = match end {
+            StreamEnd::Disconnected(_) => None,
+            _ => self.sender.wait_at_rest().ok(),
+        };
+        Ok(RunOutcome::Streamed(StreamReport {
+            end,
+            acked_end: stop.index,
+            sent_end: stop.index,
+            certain: stop.index,
+            work_pos,
+            resume: Some(Located {
+                index: stop.index,
+                reason: format!(
+                    "the change to T{} at line {} did not finish",
+                    stop.tool, stop.file_line
+                ),
+                entry: None,
+            }),
+            recovery_error: None,
+            bytes_sent: 0,
+            elapsed: std::time::Duration::ZERO,
+            max_in_flight: 0,
+            sender_stalls: 0,
+        }))
     }
 }

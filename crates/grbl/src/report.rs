@@ -69,11 +69,11 @@ pub struct StreamReport {
 impl StreamReport {
     /// One paragraph for the user: what happened, where, what grbl said, what to do.
     pub fn describe(&self, job: &StreamProgram) -> String {
-        let line = |i: usize| {
-            job.lines
-                .get(i)
-                .map(|l| format!("{}:{} `{}`", job.name, l.file_line, l.text))
-                .unwrap_or_else(|| "end of program".into())
+        let line = |i: usize| match (job.tool_stop_at(i), job.lines.get(i)) {
+            // A resume there asks for the tool again: name the M6 line.
+            (Some(s), _) => format!("{}:{} (M6 T{})", job.name, s.file_line, s.tool),
+            (None, Some(l)) => format!("{}:{} `{}`", job.name, l.file_line, l.text),
+            (None, None) => "end of program".into(),
         };
         let mut s = match &self.end {
             StreamEnd::Completed => format!("{}: all {} lines done", job.name, job.len()),

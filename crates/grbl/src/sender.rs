@@ -93,6 +93,22 @@ pub enum Notice {
     Unexpected(String),
     /// A message for the operator (the firmware's `[MSG:…]`, or the sender's own).
     Message(String),
+    /// Streaming stopped before an `M6` line, every line before it executed: the operator
+    /// changes the tool, then resumes ([`Control::Resume`]); a stop ends the job there.
+    ToolChange {
+        /// The tool to put in.
+        tool: u32,
+        /// The file line of the `M6`.
+        file_line: usize,
+        /// What the operator is asked.
+        prompt: String,
+    },
+    /// The operator resumed after the change to `tool`; the sender goes on (measuring the
+    /// tool first under `remeasure`).
+    ToolChangeDone {
+        /// The tool put in.
+        tool: u32,
+    },
 }
 
 /// The streaming protocol over a link: handshake, character counting or send-response, status
@@ -435,10 +451,26 @@ impl Sender {
         &mut self,
         job: &StreamProgram,
         from: usize,
+        journal: Option<&mut Journal>,
+        control: Option<&Receiver<Control>>,
+        observer: &mut dyn FnMut(Notice),
+    ) -> StreamReport {
+        self.stream_range(job, from, job.len(), journal, control, observer)
+    }
+
+    /// [`Sender::stream`] of the lines `from..until` only: it completes once they are all
+    /// acknowledged and the machine rests where line `until - 1` ends (a tool change waits
+    /// there).
+    pub(crate) fn stream_range(
+        &mut self,
+        job: &StreamProgram,
+        from: usize,
+        until: usize,
         mut journal: Option<&mut Journal>,
         control: Option<&Receiver<Control>>,
         observer: &mut dyn FnMut(Notice),
     ) -> StreamReport {
+        let until = until.min(job.len());
         let start = Instant::now();
         let capacity = match self.mode {
             Mode::CharCounting(n) => n,
@@ -479,7 +511,7 @@ impl Sender {
         };
         // Nothing left to send is a finished job, not a wait for acknowledgements that
         // will never come.
-        let nothing_left = from >= job.len();
+        let nothing_left = from >= until;
         let mut sender_stalls = 0u32;
         let mut last_turn = Instant::now();
         let end: StreamEnd = 'outer: loop {
@@ -512,7 +544,7 @@ impl Sender {
                 }
             }
             // Fill the firmware's buffer.
-            while next < job.len() {
+            while next < until {
                 let len = job.lines[next].text.len() + 1;
                 let fits = match self.mode {
                     Mode::CharCounting(_) => used + len <= capacity,
@@ -563,7 +595,7 @@ impl Sender {
                             bytes_acked,
                             bytes_total,
                         });
-                        all_acked = acked_end == job.len();
+                        all_acked = acked_end == until;
                     }
                     None => observer(Notice::Unexpected(raw)),
                 },
@@ -664,9 +696,9 @@ impl Sender {
                 }
                 if let Ok(pos) = rest {
                     report.work_pos = Some(pos);
-                    report.certain = job.len();
-                    jrec(&mut journal, &|j| j.completed(job.len()), observer);
-                    let expected = resume::replay(job, job.len()).work_pos();
+                    report.certain = until;
+                    jrec(&mut journal, &|j| j.completed(until), observer);
+                    let expected = resume::replay(job, until).work_pos();
                     if (0..3).any(|a| (expected[a] - pos[a]).abs() > resume::POSITION_TOLERANCE) {
                         report.end = StreamEnd::PositionMismatch {
                             expected,

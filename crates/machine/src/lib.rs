@@ -47,7 +47,7 @@ pub enum State {
     Holding,
     /// Stopped by a feed hold, waiting for resume.
     Hold,
-    /// M0/M1: waiting for resume.
+    /// M0/M1, or a tool change ([`Event::ToolChange`]): waiting for resume.
     Paused,
     /// Jogging.
     Jog,
@@ -135,6 +135,18 @@ pub enum Event {
     /// The job could not start or had to stop; the machine is in alarm. A running job
     /// then ends with [`Event::JobEnd`] (`completed` false), on every machine.
     Alarm(String),
+    /// The job stopped for a tool change the machine cannot make itself (`M6` on grbl):
+    /// every line before the `M6` has run, the state is [`State::Paused`], and
+    /// [`Command::Resume`] goes on once the operator has put the tool in (a
+    /// [`Command::Stop`] ends the job there; it resumes at the `M6` line).
+    ToolChange {
+        /// The tool to put in (the `T` word; 0 when the program gave none).
+        tool: u32,
+        /// The source line of the `M6`.
+        line: u32,
+        /// What the operator is asked, e.g. "change to tool T2 (…), then resume".
+        prompt: String,
+    },
     /// The job ended: `completed` false when stopped.
     JobEnd {
         /// The job ran to its end.

@@ -162,8 +162,14 @@ impl ProgramQuery {
     fn dialect(&self, st: &AppState) -> Result<Dialect, (StatusCode, String)> {
         match &self.dialect {
             None => {
-                let firmware = st.with_session(|s| Ok(s.profile().is_none())).map_err(bad)?;
-                Ok(if firmware { Dialect::Grbl } else { Dialect::LinuxCnc })
+                let firmware = st
+                    .with_session(|s| Ok(s.profile().is_none()))
+                    .map_err(bad)?;
+                Ok(if firmware {
+                    Dialect::Grbl
+                } else {
+                    Dialect::LinuxCnc
+                })
             }
             Some(d) => d.parse().map_err(|e| bad(format!("dialect {d:?}: {e}"))),
         }

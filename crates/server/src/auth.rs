@@ -57,7 +57,11 @@ fn same(a: &str, b: &str) -> bool {
 ///   state-changing request, must be this server's own (`null`, from a sandboxed frame or a
 ///   file, is refused). Requests without it come from programs, not pages: they pass, and
 ///   the token still guards a network address.
-pub(crate) async fn guard(State(state): State<Arc<AppState>>, req: Request, next: Next) -> Response {
+pub(crate) async fn guard(
+    State(state): State<Arc<AppState>>,
+    req: Request,
+    next: Next,
+) -> Response {
     match check_request(&state.config, req.headers()) {
         Ok(()) => next.run(req).await,
         Err(why) => (StatusCode::FORBIDDEN, why).into_response(),
@@ -69,7 +73,10 @@ fn check_request(config: &crate::Config, headers: &axum::http::HeaderMap) -> Res
     let text = |name: axum::http::HeaderName| {
         headers
             .get(name)
-            .map(|v| v.to_str().map_err(|_| "a header that is not text".to_string()))
+            .map(|v| {
+                v.to_str()
+                    .map_err(|_| "a header that is not text".to_string())
+            })
             .transpose()
     };
     let host = text(axum::http::header::HOST)?;
@@ -110,15 +117,22 @@ pub(crate) fn host_allowed(config: &crate::Config, host: &str) -> bool {
             .any(|a| a.eq_ignore_ascii_case(host));
     }
     let listen = config.addr.ip();
-    match name.trim_start_matches('[').trim_end_matches(']').parse::<std::net::IpAddr>() {
-        Ok(ip) => ip == listen || listen.is_unspecified() || (listen.is_loopback() && ip.is_loopback()),
+    match name
+        .trim_start_matches('[')
+        .trim_end_matches(']')
+        .parse::<std::net::IpAddr>()
+    {
+        Ok(ip) => {
+            ip == listen || listen.is_unspecified() || (listen.is_loopback() && ip.is_loopback())
+        }
         Err(_) => {
             // `localhost` always resolves to this computer in browsers: never rebound.
             ((listen.is_loopback() || listen.is_unspecified())
                 && name.eq_ignore_ascii_case("localhost"))
-                || config.allowed_hosts.iter().any(|a| {
-                    a.eq_ignore_ascii_case(name) || a.eq_ignore_ascii_case(host)
-                })
+                || config
+                    .allowed_hosts
+                    .iter()
+                    .any(|a| a.eq_ignore_ascii_case(name) || a.eq_ignore_ascii_case(host))
         }
     }
 }
@@ -169,10 +183,24 @@ mod tests {
     #[test]
     fn only_this_servers_names_are_answered() {
         let c = config("127.0.0.1:7878", &["cnc.lan"]);
-        for ok in ["127.0.0.1:7878", "localhost:7878", "LOCALHOST:7878", "[::1]:7878", "cnc.lan:7878"] {
+        for ok in [
+            "127.0.0.1:7878",
+            "localhost:7878",
+            "LOCALHOST:7878",
+            "[::1]:7878",
+            "cnc.lan:7878",
+        ] {
             assert!(host_allowed(&c, ok), "{ok}");
         }
-        for bad in ["evil.example:7878", "127.0.0.1:7879", "localhost", "127.0.0.1", "192.168.1.5:7878", "localhost.evil.example:7878", "[::1]"] {
+        for bad in [
+            "evil.example:7878",
+            "127.0.0.1:7879",
+            "localhost",
+            "127.0.0.1",
+            "192.168.1.5:7878",
+            "localhost.evil.example:7878",
+            "[::1]",
+        ] {
             assert!(!host_allowed(&c, bad), "{bad}");
         }
         // On every interface: any address of this computer, but still no other name.

@@ -29,5 +29,9 @@ pub(crate) async fn serve(uri: Uri) -> Response {
         None => return (StatusCode::NOT_FOUND, format!("no such file: /{path}")).into_response(),
     };
     let mime = mime_guess::from_path(name).first_or_octet_stream();
-    ([(header::CONTENT_TYPE, mime.essence_str().to_string())], bytes).into_response()
+    (
+        [(header::CONTENT_TYPE, mime.essence_str().to_string())],
+        bytes,
+    )
+        .into_response()
 }

@@ -148,6 +148,10 @@ pub fn level_stream(
         StreamProgram {
             name: name.to_string(),
             lines,
+            // A levelled program goes to the firmware as written: tool changes are refused
+            // by the transform before it gets here.
+            tool_change: crate::ToolChange::as_written(),
+            tool_stops: Vec::new(),
         },
         report,
     ))

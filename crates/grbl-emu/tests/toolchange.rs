@@ -1,0 +1,287 @@
+//! Tool changes at M6 on grbl (which has none: `M6` is its error:20), against the emulator:
+//! the sender stops streaming at the M6 line until Resume, never sends `M6`, and a job
+//! stopped while it waits resumes at the M6 line with the same prompt.
+
+mod common;
+use common::*;
+use oficina_grbl::{clean_line, GrblDevice, GrblState, Start, ToolChange, ToolPolicy};
+use oficina_grbl_emu::Emulator;
+use oficina_machine::{Command, Event, Job, Machine, Pace, State};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// A program for grbl with two tools, as Fusion 360's and FreeCAD's grbl posts write them.
+const TWO_TOOLS: &str = "%
+(two-tools.nc)
+(T1 D=3.175 CR=0 - ZMIN=-1 - flat end mill)
+(T2 D=6 CR=3 - ZMIN=-0.5 - ball end mill)
+G90 G94
+G17
+G21
+(2D Contour1)
+T1 M6
+S10000 M3
+G0 X0 Y0
+G0 Z5
+G1 Z-1 F300
+G1 X20 F800
+G1 Y10
+G0 Z5
+M5
+(Parallel1)
+T2 M6
+S12000 M3
+G0 X5 Y5
+G1 Z-0.5 F300
+G1 X15 F800
+G0 Z5
+M5
+M30
+%
+";
+
+/// The lines grbl is meant to run, (file line, text as grbl reads it), worked out here from
+/// the text: comments, blank lines and tape marks dropped, `M6` (and `T` if `drop_t`) out.
+fn expected_lines(text: &str, drop_t: bool) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let mut c = clean_line(raw).unwrap();
+        if c == "%" {
+            continue;
+        }
+        c = c.replace("M6", "");
+        if drop_t {
+            c = c.replace("T1", "").replace("T2", "");
+        }
+        if !c.is_empty() {
+            out.push((i + 1, c));
+        }
+    }
+    out
+}
+
+fn m6_line(text: &str, tool: u32) -> u32 {
+    let l = text
+        .lines()
+        .position(|l| l.starts_with(&format!("T{tool} M6")))
+        .unwrap();
+    l as u32 + 1
+}
+
+fn device(emu_ep: &oficina_grbl::Endpoint, policy: ToolPolicy, tag: &str) -> GrblDevice {
+    let mut dev = GrblDevice::at(emu_ep.clone(), options());
+    dev.settings.resume.spindle_delay = 0.0;
+    dev.settings.resume.safe_z = 5.0;
+    dev.settings.tool_change = ToolChange {
+        policy,
+        ..ToolChange::default()
+    };
+    dev.settings.journal = Some(std::env::temp_dir().join(format!(
+        "oficina-toolchange-{tag}-{}.journal",
+        std::process::id()
+    )));
+    dev.connect().unwrap();
+    dev
+}
+
+fn job(start_line: Option<u32>) -> Job {
+    Job {
+        name: "two-tools.nc".into(),
+        text: Arc::new(TWO_TOOLS.to_string()),
+        start_line,
+        pace: Pace::Instant,
+    }
+}
+
+fn executed(emu: &Emulator) -> Vec<String> {
+    emu.with_core(|c| c.executed.clone())
+}
+
+/// `sub` appears in `all` in order (other lines may come between).
+fn is_subsequence(sub: &[String], all: &[String]) -> bool {
+    let mut it = all.iter();
+    sub.iter().all(|s| it.any(|a| a == s))
+}
+
+/// Events until the job ends; `on_change` is called at every tool change.
+fn run_until_end(
+    dev: &mut GrblDevice,
+    mut on_change: impl FnMut(&mut GrblDevice, u32, u32, &str),
+) -> (bool, Vec<Event>) {
+    let mut seen = Vec::new();
+    let t = Instant::now();
+    while t.elapsed() < Duration::from_secs(120) {
+        match dev.next_event(Duration::from_millis(20)) {
+            Some(Event::ToolChange { tool, line, prompt }) => {
+                on_change(dev, tool, line, &prompt);
+                seen.push(Event::ToolChange { tool, line, prompt });
+            }
+            Some(Event::JobEnd { completed, .. }) => return (completed, seen),
+            Some(Event::Status(_)) | None => {}
+            Some(e) => seen.push(e),
+        }
+    }
+    panic!("the job did not end: {seen:?}");
+}
+
+#[test]
+fn pause_stops_streaming_at_each_m6_until_resume_and_grbl_never_gets_m6() {
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Pause, "pause");
+    let want = expected_lines(TWO_TOOLS, false);
+    let texts: Vec<String> = want.iter().map(|(_, t)| t.clone()).collect();
+    dev.start(job(None)).unwrap();
+    let mut changes = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, line, prompt| {
+        // Every line before the M6 has run, the machine rests, and nothing after it came.
+        let before: Vec<String> = want
+            .iter()
+            .filter(|(l, _)| (*l as u32) < line)
+            .map(|(_, t)| t.clone())
+            .collect();
+        let ran = executed(&emu);
+        assert!(is_subsequence(&before, &ran), "{before:?} in {ran:?}");
+        // The last line run is the last before the M6 (the first stop: exactly those).
+        assert_eq!(ran.last(), before.last(), "{ran:?}");
+        if tool == 1 {
+            assert_eq!(ran, before);
+        }
+        let received = emu.with_core(|c| (c.stats.lines_executed, c.rx_used()));
+        assert_eq!(received.1, 0, "nothing waits in grbl's RX buffer");
+        assert_eq!(dev.status().state, State::Paused);
+        assert_eq!(emu.with_core(|c| c.state.clone()), GrblState::Idle);
+        // Still nothing after a while: the stop is a real stop.
+        std::thread::sleep(Duration::from_millis(400));
+        assert_eq!(
+            emu.with_core(|c| (c.stats.lines_executed, c.rx_used())),
+            received
+        );
+        assert_eq!(executed(&emu), ran);
+        changes.push((tool, line, prompt.to_string()));
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(
+        changes.iter().map(|c| (c.0, c.1)).collect::<Vec<_>>(),
+        [(1, m6_line(TWO_TOOLS, 1)), (2, m6_line(TWO_TOOLS, 2))]
+    );
+    assert!(
+        changes[1].2.starts_with("change to tool T2 (T2 D=6 CR=3"),
+        "{}",
+        changes[1].2
+    );
+    let ran = executed(&emu);
+    assert!(is_subsequence(&texts, &ran), "{texts:?} in {ran:?}");
+    assert!(!ran.iter().any(|l| l.contains("M6")), "{ran:?}");
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0, "no error:20");
+    let end = oficina_grbl::replay(
+        &oficina_grbl::StreamProgram::from_text("t", &texts.join("\n")).unwrap(),
+        usize::MAX,
+    )
+    .work_pos();
+    for a in 0..3 {
+        assert!((dev.status().work_pos[a] - end[a]).abs() < 0.01);
+    }
+}
+
+#[test]
+fn ignore_streams_the_program_without_m6_and_t() {
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Ignore, "ignore");
+    dev.start(job(None)).unwrap();
+    let (completed, events) = run_until_end(&mut dev, |_, _, _, _| panic!("no pause"));
+    assert!(completed, "{events:?}");
+    let want: Vec<String> = expected_lines(TWO_TOOLS, true)
+        .into_iter()
+        .map(|(_, t)| t)
+        .collect();
+    assert_eq!(
+        executed(&emu),
+        want,
+        "exactly the program, M6 and T left out"
+    );
+    let notes = events
+        .iter()
+        .filter(|e| matches!(e, Event::Message(m) if m.contains("M6 T") && m.contains("dropped")))
+        .count();
+    assert_eq!(notes, 2, "{events:?}");
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
+}
+
+#[test]
+fn as_written_grbl_refuses_m6_with_error_20() {
+    // What the policies are for: grbl 1.1 has no M6.
+    let (_emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Firmware, "firmware");
+    dev.start(job(None)).unwrap();
+    let (completed, events) = run_until_end(&mut dev, |_, _, _, _| panic!("no pause"));
+    assert!(!completed);
+    assert!(
+        events.iter().any(
+            |e| matches!(e, Event::Alarm(a) if a.contains("error:20") || a.contains("Unsupported"))
+        ),
+        "{events:?}"
+    );
+}
+
+#[test]
+fn a_stop_while_waiting_resumes_at_the_m6_line_from_the_journal_and_from_the_line() {
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Pause, "stop");
+    let _ = std::fs::remove_file(dev.settings.journal.as_ref().unwrap());
+    let second = m6_line(TWO_TOOLS, 2);
+    dev.start(job(None)).unwrap();
+    let (completed, _) = run_until_end(&mut dev, |dev, tool, _, _| {
+        let cmd = if tool == 1 {
+            Command::Resume
+        } else {
+            Command::Stop
+        };
+        dev.command(cmd).unwrap();
+    });
+    assert!(!completed);
+    let report = dev.job_report().unwrap();
+    let at = report.resume.as_ref().unwrap();
+    assert_eq!(at.file_line, second, "{}", report.summary);
+    assert!(report.summary.contains("M6 T2"), "{}", report.summary);
+    let ran_before = executed(&emu);
+
+    // From the journal: it asks for T2 again before sending anything.
+    dev.settings.start = Start::Journal;
+    dev.start(job(None)).unwrap();
+    let (completed, seen) = run_until_end(&mut dev, |dev, tool, line, _| {
+        assert_eq!((tool, line), (2, second));
+        assert_eq!(executed(&emu), ran_before, "nothing ran before the prompt");
+        dev.command(Command::Stop).unwrap();
+    });
+    assert!(!completed);
+    assert_eq!(
+        seen.iter()
+            .filter(|e| matches!(e, Event::ToolChange { .. }))
+            .count(),
+        1
+    );
+    assert_eq!(dev.job_report().unwrap().resume.unwrap().file_line, second);
+
+    // From the line: the same prompt, then the rest of the program.
+    dev.settings.start = Start::Beginning;
+    dev.start(job(Some(second))).unwrap();
+    let mut asked = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, line, _| {
+        asked.push((tool, line));
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(asked, [(2, second)]);
+    let rest: Vec<String> = expected_lines(TWO_TOOLS, false)
+        .into_iter()
+        .filter(|(l, _)| *l as u32 > second)
+        .map(|(_, t)| t)
+        .collect();
+    let ran = executed(&emu);
+    assert!(
+        is_subsequence(&rest, &ran[ran_before.len()..]),
+        "{rest:?} in {ran:?}"
+    );
+    assert!(!ran.iter().any(|l| l.contains("M6")));
+}

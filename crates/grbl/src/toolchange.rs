@@ -1,0 +1,920 @@
+//! Tool changes at `M6` for firmware without a tool changer. grbl 1.1 answers `M6` with
+//! error:20 (unsupported command), so the sender handles it, with the policies CNCjs names:
+//! - `firmware`: the line goes as written (grblHAL and FluidNC may change tools themselves);
+//! - `ignore`: `M6` and the `T` word are taken out of the line, and the console says so;
+//! - `pause`: streaming stops before the `M6` line; once the machine has executed every line
+//!   before it (idle), spindle and coolant go off and the operator is asked to change to
+//!   tool T; after Resume the state before the change is restored (the resume preamble:
+//!   spindle, coolant, a safe approach, the program's modes) and streaming goes on;
+//! - `park`: as `pause`, after a move to the park position (`G53 G0 Z`, then `X Y`);
+//! - `remeasure`: as `pause` (parking first when a park position is given); after Resume
+//!   the new tool is measured on a tool length setter ([`ChangeSetter`]) and
+//!   `G43.1 Z<delta>` puts its tip where the first tool's was (delta = this tool's touch Z
+//!   − the first tool's, both in machine coordinates).
+//!
+//! `M6` itself never reaches the firmware under the last four; `T` alone is harmless to grbl
+//! (it reads and keeps the tool number, 0…255).
+
+use crate::gline;
+use crate::interp::Spindle;
+use crate::job::{StreamLine, StreamProgram};
+use crate::journal::Journal;
+use crate::link::LinkEvent;
+use crate::messages;
+use crate::realtime::Realtime;
+use crate::response::Response;
+use crate::resume::{self, ResumeOptions};
+use crate::sender::{Control, Notice, Sender};
+use std::str::FromStr;
+use std::sync::mpsc::Receiver;
+use std::time::{Duration, Instant};
+
+/// What the sender does at an `M6`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolPolicy {
+    /// Send the line as written: the firmware changes tools itself.
+    Firmware,
+    /// Drop `M6` and the `T` word from the line; note it in the console.
+    Ignore,
+    /// Stop streaming at the `M6` line and wait for the operator to change the tool.
+    Pause,
+    /// Move to the park position first, then pause.
+    ParkPause,
+    /// Pause, then measure the new tool on the tool setter and apply its length offset.
+    Remeasure,
+}
+
+impl ToolPolicy {
+    /// The name the command line takes (`--tool-change NAME`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ToolPolicy::Firmware => "firmware",
+            ToolPolicy::Ignore => "ignore",
+            ToolPolicy::Pause => "pause",
+            ToolPolicy::ParkPause => "park",
+            ToolPolicy::Remeasure => "remeasure",
+        }
+    }
+
+    /// The sender stops streaming at each `M6`.
+    pub fn pauses(self) -> bool {
+        matches!(
+            self,
+            ToolPolicy::Pause | ToolPolicy::ParkPause | ToolPolicy::Remeasure
+        )
+    }
+}
+
+impl FromStr for ToolPolicy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<ToolPolicy, String> {
+        Ok(match s.trim().to_ascii_lowercase().as_str() {
+            "firmware" | "none" => ToolPolicy::Firmware,
+            "ignore" => ToolPolicy::Ignore,
+            "pause" | "manual" => ToolPolicy::Pause,
+            "park" | "park-pause" => ToolPolicy::ParkPause,
+            "remeasure" | "pause-remeasure" => ToolPolicy::Remeasure,
+            other => {
+                return Err(format!(
+                    "tool-change policy '{other}': one of pause, ignore, remeasure, park, firmware"
+                ))
+            }
+        })
+    }
+}
+
+/// A tool length setter: a switch on the table touched by the tool tip. Machine coordinates, mm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChangeSetter {
+    /// Machine X over the setter.
+    pub x: f64,
+    /// Machine Y over the setter.
+    pub y: f64,
+    /// Machine Z the move to the setter travels at and the probing starts from (a safe
+    /// height above the setter and the work).
+    pub z_start: f64,
+    /// Longest probing travel down from `z_start`, mm (no touch within it: grbl's ALARM:5).
+    pub travel: f64,
+    /// Feed of the first, fast touch, mm/min.
+    pub feed_fast: f64,
+    /// Feed of the second, slow touch that is measured, mm/min.
+    pub feed_slow: f64,
+}
+
+impl ChangeSetter {
+    /// Lift between the fast and the slow touch, mm.
+    pub const BACKOFF: f64 = 2.0;
+
+    /// A setter at machine `x`, `y`, probed from machine `z_start`, with 50 mm of travel, a
+    /// fast touch at 200 mm/min and a slow one at 25 mm/min.
+    pub fn at(x: f64, y: f64, z_start: f64) -> ChangeSetter {
+        ChangeSetter {
+            x,
+            y,
+            z_start,
+            travel: 50.0,
+            feed_fast: 200.0,
+            feed_slow: 25.0,
+        }
+    }
+}
+
+/// How tool changes are handled (the sender's run settings carry one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolChange {
+    /// What happens at an `M6`.
+    pub policy: ToolPolicy,
+    /// Park position, machine X, Y, Z (mm): `G53 G0 Z`, then `G53 G0 X Y`. Needed by `park`;
+    /// `remeasure` parks there too when it is given.
+    pub park: Option<[f64; 3]>,
+    /// The tool setter `remeasure` probes.
+    pub setter: Option<ChangeSetter>,
+    /// `remeasure`: measure the tool in the spindle when the job starts (the first tool's
+    /// reference), not at the first `M6`.
+    pub measure_at_start: bool,
+}
+
+impl Default for ToolChange {
+    /// Pause for a manual change: never cut on with the wrong tool.
+    fn default() -> Self {
+        ToolChange {
+            policy: ToolPolicy::Pause,
+            park: None,
+            setter: None,
+            measure_at_start: false,
+        }
+    }
+}
+
+impl ToolChange {
+    /// `M6` goes to the firmware as written.
+    pub fn as_written() -> ToolChange {
+        ToolChange {
+            policy: ToolPolicy::Firmware,
+            ..ToolChange::default()
+        }
+    }
+
+    /// Says what is missing or out of range: `park` needs a park position, `remeasure` a
+    /// setter; every coordinate finite, feeds and travel above zero.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.policy == ToolPolicy::ParkPause && self.park.is_none() {
+            return Err(
+                "--tool-change park needs a park position (--park X,Y,Z, machine mm)".into(),
+            );
+        }
+        if self.policy == ToolPolicy::Remeasure && self.setter.is_none() {
+            return Err("--tool-change remeasure needs a tool setter (--tool-setter X,Y,ZSTART, machine mm)".into());
+        }
+        if let Some(p) = self.park {
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(format!(
+                    "park position {p:?}: every coordinate a finite number"
+                ));
+            }
+        }
+        if let Some(s) = &self.setter {
+            if ![s.x, s.y, s.z_start].iter().all(|v| v.is_finite()) {
+                return Err("tool setter: X, Y and Z start must be finite numbers".into());
+            }
+            for (what, v) in [
+                ("travel", s.travel),
+                ("fast feed", s.feed_fast),
+                ("slow feed", s.feed_slow),
+            ] {
+                if !(v.is_finite() && v > 0.0 && v <= 100_000.0) {
+                    return Err(format!(
+                        "tool setter {what} {v}: above 0 and at most 100000"
+                    ));
+                }
+            }
+            if s.travel <= ChangeSetter::BACKOFF {
+                return Err(format!(
+                    "tool setter travel {} mm: more than the {} mm lift between the touches",
+                    s.travel,
+                    ChangeSetter::BACKOFF
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// What `check --dialect grbl` says of an `M6` the sender handles: the policy and what
+    /// happens (`None` under `firmware`: the line goes to grbl, which refuses it).
+    pub fn note(&self, tool: Option<u32>) -> Option<String> {
+        let t = tool.map(|t| format!(" T{t}")).unwrap_or_default();
+        let what = match self.policy {
+            ToolPolicy::Firmware => return None,
+            ToolPolicy::Ignore => "the sender drops M6 and the T word",
+            ToolPolicy::Pause => "the sender pauses for a manual change",
+            ToolPolicy::ParkPause => {
+                "the sender parks the machine and pauses for a manual change"
+            }
+            ToolPolicy::Remeasure => {
+                "the sender pauses for a manual change, then measures the new tool on the tool setter (G43.1)"
+            }
+        };
+        Some(format!(
+            "M6{t}: grbl has no tool changer; {what} (--tool-change {})",
+            self.policy.name()
+        ))
+    }
+}
+
+/// Where the sender stops for a tool change (or, under `ignore`, where one was dropped).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolStop {
+    /// The job line the stop comes before (what remains of the `M6` line, or the next line).
+    pub index: usize,
+    /// The file line of the `M6`.
+    pub file_line: usize,
+    /// The tool: the line's `T` word, else the last one before it (0 when none).
+    pub tool: u32,
+    /// The program's own words for the tool: a `(T2 D=6 …)` comment, as CAM posts write.
+    pub description: Option<String>,
+}
+
+impl ToolStop {
+    /// What the operator is asked.
+    pub fn prompt(&self, policy: ToolPolicy) -> String {
+        let about = match &self.description {
+            Some(d) => format!("{d}; "),
+            None => String::new(),
+        };
+        let then = if policy == ToolPolicy::Remeasure {
+            ", then resume: the sender measures it on the tool setter"
+        } else {
+            ", then resume"
+        };
+        format!(
+            "change to tool T{} ({about}M6 at line {}){then}",
+            self.tool, self.file_line
+        )
+    }
+}
+
+/// The words of a cleaned line and, when it has an `M6`, that line without the words the
+/// policy takes out (`M6`; `T` too under `ignore`), as byte ranges of the line to drop.
+pub(crate) fn m6_words(
+    clean: &[u8],
+    policy: ToolPolicy,
+) -> Option<(Option<u32>, Vec<std::ops::Range<usize>>)> {
+    let words = gline::word_spans(clean).ok()?;
+    if !words.iter().any(|(l, v, _)| *l == 'M' && *v == 6.0) {
+        return None;
+    }
+    let tool = tool_word(&words);
+    let drop = words
+        .into_iter()
+        .filter(|(l, v, _)| (*l == 'M' && *v == 6.0) || (*l == 'T' && policy == ToolPolicy::Ignore))
+        .map(|(_, _, r)| r)
+        .collect();
+    Some((tool, drop))
+}
+
+fn tool_word(words: &[(char, f64, std::ops::Range<usize>)]) -> Option<u32> {
+    words
+        .iter()
+        .find(|(l, _, _)| *l == 'T')
+        .map(|(_, v, _)| v.clamp(0.0, u32::MAX as f64) as u32)
+}
+
+/// `(T2 D=6 CR=0 - flat end mill)` → (2, "T2 D=6 CR=0 - flat end mill"): the tool list CAM
+/// posts write in comments. Control characters are dropped, the text is kept short.
+fn tool_comment(raw: &str) -> Option<(u32, String)> {
+    let start = raw.find('(')?;
+    let inner = &raw[start + 1..];
+    let inner = inner[..inner.find(')').unwrap_or(inner.len())].trim();
+    let rest = inner.strip_prefix(['T', 't'])?;
+    let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
+    let after = &rest[digits..];
+    if digits == 0 || !(after.is_empty() || after.starts_with([' ', '\t'])) {
+        return None;
+    }
+    let n = rest[..digits].parse().ok()?;
+    let text: String = inner
+        .chars()
+        .filter(|c| !c.is_control())
+        .take(100)
+        .collect();
+    Some((n, text))
+}
+
+impl StreamProgram {
+    /// The program as the sender streams it under `tc`: [`StreamProgram::from_text`], then
+    /// each `M6` line rewritten as the policy says and its stop recorded.
+    pub fn with_tool_change(
+        name: &str,
+        text: &str,
+        tc: &ToolChange,
+    ) -> Result<StreamProgram, String> {
+        tc.validate()?;
+        let mut job = StreamProgram::from_text(name, text)?;
+        if tc.policy == ToolPolicy::Firmware {
+            return Ok(job);
+        }
+        let mut described = std::collections::BTreeMap::new();
+        for raw in text.lines() {
+            if let Some((n, d)) = tool_comment(raw) {
+                described.entry(n).or_insert(d);
+            }
+        }
+        let mut lines = Vec::with_capacity(job.lines.len());
+        let mut stops: Vec<ToolStop> = Vec::new();
+        let mut tool = None;
+        for line in std::mem::take(&mut job.lines) {
+            let bytes = line.text.as_bytes();
+            if let Ok(w) = gline::word_spans(bytes) {
+                tool = tool_word(&w).or(tool);
+            }
+            let Some((_, drop)) = m6_words(bytes, tc.policy) else {
+                lines.push(line);
+                continue;
+            };
+            let kept: String = line
+                .text
+                .char_indices()
+                .filter(|(i, _)| !drop.iter().any(|r| r.contains(i)))
+                .map(|(_, c)| c)
+                .collect();
+            let t = tool.unwrap_or(0);
+            let stop = ToolStop {
+                index: lines.len(),
+                file_line: line.file_line,
+                tool: t,
+                description: described.get(&t).cloned(),
+            };
+            // Two changes with nothing between them: the last one is the tool wanted.
+            if stops.last().is_some_and(|s| s.index == stop.index) {
+                stops.pop();
+            }
+            stops.push(stop);
+            if !kept.is_empty() {
+                lines.push(StreamLine {
+                    file_line: line.file_line,
+                    text: kept,
+                });
+            }
+        }
+        job.lines = lines;
+        job.tool_stops = stops;
+        job.tool_change = tc.clone();
+        Ok(job)
+    }
+
+    /// The tool stop before job line `index`, when the policy stops there.
+    pub fn tool_stop_at(&self, index: usize) -> Option<&ToolStop> {
+        if !self.tool_change.policy.pauses() {
+            return None;
+        }
+        self.tool_stops.iter().find(|s| s.index == index)
+    }
+
+    /// Where streaming from `from` must stop next: the first tool stop after `from`, else the end.
+    pub(crate) fn next_stop_after(&self, from: usize) -> usize {
+        if !self.tool_change.policy.pauses() {
+            return self.len();
+        }
+        self.tool_stops
+            .iter()
+            .map(|s| s.index)
+            .find(|&i| i > from)
+            .unwrap_or(self.len())
+            .min(self.len())
+    }
+}
+
+/// What the sender does to a line of a program checked for grbl (`check --dialect grbl`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SenderNote {
+    /// 1-based line.
+    pub line: u32,
+    /// 1-based column (characters) of the first word taken out.
+    pub col: u32,
+    /// Columns from `col` to the end of the last word taken out.
+    pub len: u32,
+    /// What the sender does there.
+    pub message: String,
+}
+
+/// The program as grbl receives it from the sender under `tc`, for a check in grbl's own
+/// terms: `M6` (and the `T` word under `ignore`) and the `%` tape marks on the first and
+/// last lines (which the sender never sends) are overwritten with spaces, so the result
+/// has the same bytes everywhere else and every column of a diagnostic still points into
+/// the file; a note says what happens on each such line. Under `firmware` `M6` stays (grbl
+/// refuses it).
+pub fn sender_view(text: &[u8], tc: &ToolChange) -> (Vec<u8>, Vec<SenderNote>) {
+    let mut out = text.to_vec();
+    let mut notes = Vec::new();
+    let mut starts = vec![0];
+    starts.extend(
+        text.iter()
+            .enumerate()
+            .filter(|(_, b)| **b == b'\n')
+            .map(|(i, _)| i + 1),
+    );
+    let line_of = |k: usize| {
+        let s = starts[k];
+        let e = starts.get(k + 1).map_or(text.len(), |n| n - 1);
+        s..e
+    };
+    let col = |s: usize, at: usize| {
+        // Characters, not bytes: count the UTF-8 lead bytes before `at`.
+        1 + text[s..at].iter().filter(|b| (**b & 0xC0) != 0x80).count() as u32
+    };
+    let blank = |r: &std::ops::Range<usize>| r.clone().all(|i| text[i].is_ascii_whitespace());
+    let is_mark = |r: &std::ops::Range<usize>| text[r.clone()].trim_ascii() == b"%";
+    let first = (0..starts.len()).find(|&k| !blank(&line_of(k)));
+    let last = (0..starts.len()).rev().find(|&k| !blank(&line_of(k)));
+    let mut tool = None;
+    for k in 0..starts.len() {
+        let r = line_of(k);
+        let number = k as u32 + 1;
+        if (Some(k) == first || Some(k) == last) && is_mark(&r) {
+            let at = r.start + text[r.clone()].iter().position(|b| *b == b'%').unwrap_or(0);
+            out[at] = b' ';
+            notes.push(SenderNote {
+                line: number,
+                col: col(r.start, at),
+                len: 1,
+                message: "'%' tape mark: the sender does not send it".into(),
+            });
+            continue;
+        }
+        let (clean, at) = gline::clean_mapped(&text[r.clone()]);
+        if let Ok(w) = gline::word_spans(&clean) {
+            tool = tool_word(&w).or(tool);
+        }
+        if tc.policy == ToolPolicy::Firmware {
+            continue;
+        }
+        let Some((_, drop)) = m6_words(&clean, tc.policy) else {
+            continue;
+        };
+        // Every source byte of the words taken out (spaces inside a word included).
+        let mut span: Option<(usize, usize)> = None;
+        for w in &drop {
+            let (a, b) = (at[w.start], at[w.end - 1]);
+            for i in w.clone() {
+                out[r.start + at[i]] = b' ';
+            }
+            span = Some(span.map_or((a, b), |(s, e)| (s.min(a), e.max(b))));
+        }
+        let (a, b) = span.unwrap_or((0, 0));
+        let c0 = col(r.start, r.start + a);
+        notes.push(SenderNote {
+            line: number,
+            col: c0,
+            len: col(r.start, r.start + b + 1) - c0,
+            message: tc.note(tool).unwrap_or_default(),
+        });
+    }
+    (out, notes)
+}
+
+/// Why a tool change did not finish.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum ToolError {
+    /// The operator stopped the job while it waited.
+    Stopped,
+    /// The firmware raised an alarm (grbl's ALARM:4 probe already touching, ALARM:5 no touch).
+    Alarm(u8),
+    /// The link was lost.
+    Lost(String),
+    /// A line was refused or an answer did not come; says which.
+    Failed(String),
+}
+
+impl std::fmt::Display for ToolError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ToolError::Stopped => f.write_str("stopped by the operator"),
+            ToolError::Alarm(c) => f.write_str(&messages::describe_alarm(*c)),
+            ToolError::Lost(why) => write!(f, "connection lost: {why}"),
+            ToolError::Failed(why) => f.write_str(why),
+        }
+    }
+}
+
+/// `[PRB:x,y,z:1]` → the machine position of the touch; `:0` (no touch) → `None`.
+pub(crate) fn parse_probe(value: &str) -> Option<Option<[f64; 3]>> {
+    let (coords, ok) = value.rsplit_once(':')?;
+    let v: Vec<f64> = coords
+        .split(',')
+        .map(|c| c.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .ok()?;
+    if v.len() < 3 || !v.iter().all(|c| c.is_finite()) {
+        return None;
+    }
+    Some((ok.trim() == "1").then_some([v[0], v[1], v[2]]))
+}
+
+/// Sends one line and waits for its `ok`, keeping a `[PRB:…]` report that comes before it;
+/// an `error:N` or an `ALARM:N` ends the wait at once. `motion` is how long the line's own
+/// motion may take, on top of the sender's reply timeout.
+pub(crate) fn send_line(
+    sender: &mut Sender,
+    line: &str,
+    motion: Duration,
+) -> Result<Option<Option<[f64; 3]>>, ToolError> {
+    sender
+        .link
+        .send_line(line)
+        .map_err(|e| ToolError::Lost(e.to_string()))?;
+    let wait = sender.options.reply_timeout + motion;
+    let deadline = Instant::now() + wait;
+    let mut probe = None;
+    loop {
+        if Instant::now() > deadline {
+            return Err(ToolError::Failed(format!(
+                "no answer to `{line}` within {:.0} s",
+                wait.as_secs_f64()
+            )));
+        }
+        match sender.link.recv(Duration::from_millis(50)) {
+            Some(LinkEvent::Line(Response::Ok, _)) => return Ok(probe),
+            Some(LinkEvent::Line(Response::Error(c), _)) => {
+                return Err(ToolError::Failed(format!(
+                    "grbl refused `{line}`: {}",
+                    messages::describe_error(c)
+                )))
+            }
+            Some(LinkEvent::Line(Response::Alarm(c), _)) => return Err(ToolError::Alarm(c)),
+            Some(LinkEvent::Line(Response::Feedback { tag, value }, _)) if tag == "PRB" => {
+                probe = parse_probe(&value);
+            }
+            Some(LinkEvent::Line(Response::Welcome { .. }, _)) => {
+                return Err(ToolError::Failed(format!(
+                    "the firmware reset while running `{line}`"
+                )))
+            }
+            Some(LinkEvent::Closed(why)) => return Err(ToolError::Lost(why)),
+            _ => {}
+        }
+    }
+}
+
+fn num(v: f64) -> String {
+    crate::resume::num(v)
+}
+
+/// The lines that park the machine: up first, then across (machine coordinates, mm).
+pub(crate) fn park_lines(park: [f64; 3]) -> Vec<String> {
+    vec![
+        "G21G90".into(),
+        format!("G53G0Z{}", num(park[2])),
+        format!("G53G0X{}Y{}", num(park[0]), num(park[1])),
+    ]
+}
+
+/// Measures the tool in the spindle on `setter`: up to `z_start`, over the setter, a fast
+/// touch, a lift of [`ChangeSetter::BACKOFF`], a slow touch (the one measured), back up.
+/// Returns the machine Z of the slow touch, mm.
+pub(crate) fn measure(sender: &mut Sender, setter: &ChangeSetter) -> Result<f64, ToolError> {
+    let k = if sender.reports_inches { 25.4 } else { 1.0 };
+    let secs = |dist: f64, feed: f64| Duration::from_secs_f64((dist / feed * 60.0).min(3600.0));
+    let plain = |s: &mut Sender, l: &str| send_line(s, l, Duration::from_secs(60)).map(|_| ());
+    plain(sender, "G21G90")?;
+    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
+    plain(
+        sender,
+        &format!("G53G0X{}Y{}", num(setter.x), num(setter.y)),
+    )?;
+    let touch = |s: &mut Sender, dist: f64, feed: f64| -> Result<f64, ToolError> {
+        let line = format!("G91G38.2Z-{}F{}", num(dist), num(feed));
+        match send_line(s, &line, secs(dist, feed))? {
+            Some(Some(p)) => Ok(p[2] * k),
+            Some(None) => Err(ToolError::Failed(format!(
+                "`{line}`: the tool setter was not touched within {dist} mm"
+            ))),
+            None => Err(ToolError::Failed(format!(
+                "`{line}`: grbl gave no [PRB:…] report (is probe reporting enabled?)"
+            ))),
+        }
+    };
+    touch(sender, setter.travel, setter.feed_fast)?;
+    plain(sender, &format!("G0Z{}", num(ChangeSetter::BACKOFF)))?;
+    let z = touch(sender, 2.0 * ChangeSetter::BACKOFF, setter.feed_slow)?;
+    plain(sender, "G90")?;
+    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
+    Ok(z)
+}
+
+/// What a run knows of tool lengths under `remeasure`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct ToolLengths {
+    /// The first tool's touch on the setter, machine Z (mm).
+    pub reference: Option<f64>,
+    /// The `G43.1` offset in force (None: none applied).
+    pub offset: Option<f64>,
+}
+
+/// Sends `lines` one by one, each waiting for its `ok`.
+fn send_all(sender: &mut Sender, lines: &[String]) -> Result<(), ToolError> {
+    for l in lines {
+        send_line(sender, l, Duration::from_secs(120))?;
+    }
+    Ok(())
+}
+
+/// Measures the tool in the spindle and makes its tip the reference's: the first
+/// measurement of a job is the reference itself (offset 0). Journalled, told to the operator.
+pub(crate) fn remeasure(
+    sender: &mut Sender,
+    setter: &ChangeSetter,
+    lengths: &mut ToolLengths,
+    stop_index: Option<usize>,
+    journal: &mut Journal,
+    observer: &mut dyn FnMut(Notice),
+) -> Result<(), ToolError> {
+    let z = measure(sender, setter)?;
+    let reference = match lengths.reference {
+        Some(r) => r,
+        None => {
+            lengths.reference = Some(z);
+            let _ = journal.tool_reference(z);
+            z
+        }
+    };
+    let delta = z - reference;
+    apply_offset(sender, Some(delta))?;
+    lengths.offset = Some(delta);
+    if let Some(i) = stop_index {
+        let _ = journal.tool_length(i, delta);
+    }
+    observer(Notice::Message(format!(
+        "tool setter touched at machine Z{}; the first tool's touch: Z{}; tool length offset G43.1 Z{}",
+        num(z),
+        num(reference),
+        num(delta)
+    )));
+    Ok(())
+}
+
+/// Puts a tool length offset in force (`G43.1`, mm), or clears it (`G49`).
+pub(crate) fn apply_offset(sender: &mut Sender, offset: Option<f64>) -> Result<(), ToolError> {
+    let line = match offset {
+        Some(d) => format!("G21G43.1Z{}", num(d)),
+        None => "G49".to_string(),
+    };
+    send_line(sender, &line, Duration::ZERO).map(|_| ())
+}
+
+/// The tool change at `stop`: wait for rest, spindle and coolant off, park, ask the operator
+/// and wait for Resume, measure under `remeasure`, then restore the program's state before
+/// the `M6` (the resume preamble) so streaming goes on as if nothing happened.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn change_tool(
+    sender: &mut Sender,
+    job: &StreamProgram,
+    stop: &ToolStop,
+    resume_opts: &ResumeOptions,
+    lengths: &mut ToolLengths,
+    journal: &mut Journal,
+    control: Option<&Receiver<Control>>,
+    observer: &mut dyn FnMut(Notice),
+) -> Result<(), ToolError> {
+    let tc = &job.tool_change;
+    // Measuring this tool needs the first tool's touch unless this is where it is taken.
+    let first = job.tool_stops.first().map(|s| s.index) == Some(stop.index) && !tc.measure_at_start;
+    if tc.policy == ToolPolicy::Remeasure && lengths.reference.is_none() && !first {
+        let at = job.tool_stops.first().map(|s| s.file_line).unwrap_or(0);
+        let from = if tc.measure_at_start {
+            "the start".to_string()
+        } else {
+            format!("line {at} (the first M6)")
+        };
+        return Err(ToolError::Failed(format!(
+            "the first tool's touch on the tool setter is not known (not in the journal): run from {from} so it is measured"
+        )));
+    }
+    sender
+        .wait_at_rest()
+        .map_err(|e| ToolError::Failed(e.to_string()))?;
+    let st = resume::replay(job, stop.index);
+    let mut off = Vec::new();
+    if st.modal.spindle != Spindle::Off {
+        off.push("M5".to_string());
+    }
+    if st.modal.mist || st.modal.flood {
+        off.push("M9".to_string());
+    }
+    send_all(sender, &off)?;
+    let park = match tc.policy {
+        ToolPolicy::ParkPause | ToolPolicy::Remeasure => tc.park,
+        _ => None,
+    };
+    if let Some(p) = park {
+        send_all(sender, &park_lines(p))?;
+        sender
+            .wait_at_rest()
+            .map_err(|e| ToolError::Failed(e.to_string()))?;
+    }
+    let _ = journal.completed(stop.index);
+    observer(Notice::ToolChange {
+        tool: stop.tool,
+        file_line: stop.file_line,
+        prompt: stop.prompt(tc.policy),
+    });
+    wait_for_resume(sender, control, observer)?;
+    observer(Notice::ToolChangeDone { tool: stop.tool });
+    if let (ToolPolicy::Remeasure, Some(setter)) = (tc.policy, &tc.setter) {
+        remeasure(sender, setter, lengths, Some(stop.index), journal, observer)?;
+    }
+    sender
+        .run_preamble_at(job, stop.index, None, resume_opts)
+        .map_err(ToolError::Failed)
+}
+
+/// Waits for the operator's Resume (or Stop) while the machine rests, keeping status reports
+/// (and overrides) flowing and watching the link.
+fn wait_for_resume(
+    sender: &mut Sender,
+    control: Option<&Receiver<Control>>,
+    observer: &mut dyn FnMut(Notice),
+) -> Result<(), ToolError> {
+    let Some(control) = control else {
+        return Err(ToolError::Failed(
+            "a tool change needs an operator to resume, and this run takes no commands".into(),
+        ));
+    };
+    let lost = |e: std::io::Error| ToolError::Lost(e.to_string());
+    let mut last_query: Option<Instant> = None;
+    let mut last_heard = Instant::now();
+    loop {
+        while let Ok(c) = control.try_recv() {
+            match c {
+                Control::Resume => return Ok(()),
+                Control::Stop => return Err(ToolError::Stopped),
+                // Already at rest: nothing to hold.
+                Control::Hold => {}
+                Control::Realtime(r) => sender.realtime(r).map_err(lost)?,
+            }
+        }
+        if last_query.is_none_or(|t| t.elapsed() >= sender.options.status_interval) {
+            sender.realtime(Realtime::StatusQuery).map_err(lost)?;
+            last_query = Some(Instant::now());
+        }
+        match sender.link.recv(Duration::from_millis(20)) {
+            Some(LinkEvent::Line(Response::Status(st), _)) => {
+                last_heard = Instant::now();
+                observer(Notice::Status(st));
+            }
+            Some(LinkEvent::Line(Response::Alarm(c), _)) => return Err(ToolError::Alarm(c)),
+            Some(LinkEvent::Line(Response::Message(m), _)) => observer(Notice::Message(m)),
+            Some(LinkEvent::Line(_, raw)) => {
+                last_heard = Instant::now();
+                observer(Notice::Unexpected(raw));
+            }
+            Some(LinkEvent::Closed(why)) => return Err(ToolError::Lost(why)),
+            None => {
+                if last_heard.elapsed() > sender.options.silence_timeout {
+                    return Err(ToolError::Lost(format!(
+                        "the firmware answered nothing, not even status queries, for {:.0} s",
+                        sender.options.silence_timeout.as_secs_f64()
+                    )));
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn prepared(text: &str, policy: ToolPolicy) -> StreamProgram {
+        let tc = ToolChange {
+            policy,
+            park: Some([0.0, 0.0, -1.0]),
+            setter: Some(ChangeSetter::at(0.0, 0.0, -5.0)),
+            measure_at_start: false,
+        };
+        StreamProgram::with_tool_change("t.nc", text, &tc).unwrap()
+    }
+
+    const TWO_TOOLS: &str = "%\n(T1 D=3.175 CR=0 - flat end mill)\n(T2 D=6 - ball)\nT1 M6\nS10000 M3\nG0 X1\nM5\nT2\nm06 (change)\nG0 X2\nM30\n%\n";
+
+    #[test]
+    fn pause_keeps_t_and_stops_before_the_line() {
+        let j = prepared(TWO_TOOLS, ToolPolicy::Pause);
+        let texts: Vec<&str> = j.lines.iter().map(|l| l.text.as_str()).collect();
+        assert_eq!(texts, ["T1", "S10000M3", "G0X1", "M5", "T2", "G0X2", "M30"]);
+        assert_eq!(j.tool_stops.len(), 2);
+        assert_eq!(
+            (
+                j.tool_stops[0].index,
+                j.tool_stops[0].tool,
+                j.tool_stops[0].file_line
+            ),
+            (0, 1, 4)
+        );
+        assert_eq!(
+            (
+                j.tool_stops[1].index,
+                j.tool_stops[1].tool,
+                j.tool_stops[1].file_line
+            ),
+            (5, 2, 9)
+        );
+        assert_eq!(
+            j.tool_stops[1].description.as_deref(),
+            Some("T2 D=6 - ball")
+        );
+        assert!(j.tool_stops[1]
+            .prompt(ToolPolicy::Pause)
+            .starts_with("change to tool T2 (T2 D=6 - ball; M6 at line 9)"));
+        assert_eq!(j.next_stop_after(0), 5);
+        assert_eq!(j.next_stop_after(5), j.len());
+        assert!(j.tool_stop_at(5).is_some() && j.tool_stop_at(4).is_none());
+    }
+
+    #[test]
+    fn ignore_drops_m6_and_t() {
+        let j = prepared(TWO_TOOLS, ToolPolicy::Ignore);
+        let texts: Vec<&str> = j.lines.iter().map(|l| l.text.as_str()).collect();
+        assert_eq!(texts, ["S10000M3", "G0X1", "M5", "T2", "G0X2", "M30"]);
+        assert_eq!(j.tool_stops.len(), 2, "recorded for the notes");
+        assert!(
+            j.tool_stop_at(j.tool_stops[1].index).is_none(),
+            "never stops"
+        );
+        assert_eq!(j.next_stop_after(0), j.len());
+        assert!(!j.lines.iter().any(|l| l.text.contains("M6")));
+    }
+
+    #[test]
+    fn firmware_leaves_m6_and_settings_are_validated() {
+        let j = prepared(TWO_TOOLS, ToolPolicy::Firmware);
+        assert!(j.lines.iter().any(|l| l.text == "T1M6"));
+        assert!(j.tool_stops.is_empty());
+        let bad = ToolChange {
+            policy: ToolPolicy::Remeasure,
+            ..ToolChange::default()
+        };
+        assert!(bad.validate().unwrap_err().contains("--tool-setter"));
+        let bad = ToolChange {
+            policy: ToolPolicy::ParkPause,
+            ..ToolChange::default()
+        };
+        assert!(bad.validate().unwrap_err().contains("--park"));
+        let mut s = ChangeSetter::at(0.0, 0.0, 0.0);
+        s.feed_slow = f64::NAN;
+        let bad = ToolChange {
+            policy: ToolPolicy::Remeasure,
+            setter: Some(s),
+            ..ToolChange::default()
+        };
+        assert!(bad.validate().is_err());
+        assert_eq!(
+            "pause-remeasure".parse::<ToolPolicy>(),
+            Ok(ToolPolicy::Remeasure)
+        );
+        assert!("swap".parse::<ToolPolicy>().is_err());
+    }
+
+    #[test]
+    fn sender_view_blanks_in_place_with_notes() {
+        let text = b"%\n(T1 D=3)\nT1 m 6 (first)\nG0 X1\nT2\nM06\nM30\n%\n";
+        let pause = ToolChange::default();
+        let (out, notes) = sender_view(text, &pause);
+        assert_eq!(out.len(), text.len());
+        assert_eq!(
+            std::str::from_utf8(&out).unwrap(),
+            " \n(T1 D=3)\nT1     (first)\nG0 X1\nT2\n   \nM30\n \n"
+        );
+        let at: Vec<(u32, u32, u32)> = notes.iter().map(|n| (n.line, n.col, n.len)).collect();
+        assert_eq!(at, [(1, 1, 1), (3, 4, 3), (6, 1, 3), (8, 1, 1)]);
+        assert!(notes[1]
+            .message
+            .starts_with("M6 T1: grbl has no tool changer; the sender pauses"));
+        assert!(
+            notes[2].message.contains("M6 T2") && notes[2].message.contains("--tool-change pause")
+        );
+        let ignore = ToolChange {
+            policy: ToolPolicy::Ignore,
+            ..ToolChange::default()
+        };
+        let (out, notes) = sender_view(text, &ignore);
+        assert!(std::str::from_utf8(&out)
+            .unwrap()
+            .contains("\n       (first)\n"));
+        assert!(notes[1].message.contains("drops M6 and the T word"));
+        // `%` in the middle stays (grbl refuses it), and so does M6 under `firmware`.
+        let (out, notes) = sender_view(b"G0\n%\nM6\nG0\n", &ToolChange::as_written());
+        assert_eq!(out, b"G0\n%\nM6\nG0\n");
+        assert!(notes.is_empty());
+    }
+
+    #[test]
+    fn probe_reports() {
+        assert_eq!(
+            parse_probe("0.000,1.500,-40.123:1"),
+            Some(Some([0.0, 1.5, -40.123]))
+        );
+        assert_eq!(parse_probe("0.000,1.500,-40.123:0"), Some(None));
+        assert_eq!(parse_probe("garbage"), None);
+        assert_eq!(parse_probe("1,2:1"), None);
+    }
+}
