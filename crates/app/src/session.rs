@@ -127,6 +127,9 @@ pub struct Session {
     tools: ToolTable,
     /// The last tool change asked for ([`Event::ToolChange`]); shown while paused.
     tool_change: Option<ToolChangeView>,
+    /// The last alarm the machine named with its number (`ALARM:5 …`): grbl's status says
+    /// only `Alarm`, so the snapshot shows this while the machine stays in alarm.
+    last_alarm: Option<String>,
 }
 
 /// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
@@ -154,6 +157,7 @@ impl Session {
             job: None,
             fresh: true,
             tools: ToolTable::default(),
+            last_alarm: None,
             tool_change: None,
         })
     }
@@ -316,12 +320,20 @@ impl Session {
         while let Some(e) = self.machine.next_event(wait) {
             wait = Duration::ZERO;
             match e {
-                Event::Status(_) => {}
                 Event::Message(text) => out.push(SessionEvent::Message { text }),
-                Event::Alarm(message) => out.push(SessionEvent::Alarm {
-                    meaning: alarm_meaning(&message),
-                    message,
-                }),
+                Event::Status(st) if !matches!(st.state, State::Alarm(_)) => {
+                    self.last_alarm = None;
+                }
+                Event::Status(_) => {}
+                Event::Alarm(message) => {
+                    if message.contains("ALARM:") {
+                        self.last_alarm = Some(message.clone());
+                    }
+                    out.push(SessionEvent::Alarm {
+                        meaning: alarm_meaning(&message),
+                        message,
+                    })
+                }
                 // The page gets the prompt as a message, and the snapshot's `tool_change`.
                 Event::ToolChange { tool, line, prompt } => {
                     out.push(SessionEvent::Message {
@@ -349,8 +361,11 @@ impl Session {
         if let (true, Some(p)) = (self.fresh, &self.profile) {
             s.work_pos = std::array::from_fn(|i| s.machine_pos[i] - p.work_offset[i]);
         }
-        let alarm = match &s.state {
-            State::Alarm(a) => Some(a.clone()),
+        let alarm = match (&s.state, &self.last_alarm) {
+            (State::Alarm(a), Some(named)) if !a.contains("ALARM:") => {
+                Some(format!("{named} ({a})"))
+            }
+            (State::Alarm(a), _) => Some(a.clone()),
             _ => None,
         };
         let running = self.job.as_ref().is_some_and(|j| j.completed.is_none());

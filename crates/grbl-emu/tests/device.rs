@@ -164,3 +164,63 @@ fn draining_an_idle_board_ends() {
     // And the status it gives is the board's: idle at the emulator's origin.
     assert_eq!(dev.status().state, State::Idle);
 }
+
+/// The line a page shows is the one the machine is on, not the last one acknowledged:
+/// grblHAL (100 blocks, 1024 bytes) takes a short program whole before it has moved.
+#[test]
+fn the_line_shown_is_the_one_the_machine_is_on() {
+    let emu = oficina_grbl_emu::Emulator::start(oficina_grbl_emu::Config::flavored(
+        oficina_grbl_emu::Flavor::GrblHal,
+    ));
+    let addr = emu.serve_tcp("127.0.0.1:0").unwrap();
+    let mut dev = GrblDevice::new(&format!("tcp://{addr}")).unwrap();
+    dev.connect().unwrap();
+    // Four sides of 30 mm at 900 mm/min: 2 s each; lines 2 to 5.
+    let text = "G21 G90 G0 X0 Y0\nG1 X30 F900\nY30\nX0\nY0\nM2\n";
+    dev.start(Job {
+        name: "square.nc".into(),
+        text: Arc::new(text.into()),
+        start_line: None,
+        pace: Pace::Speed(1.0),
+    })
+    .unwrap();
+    let mut seen = Vec::new();
+    let end = events_until_end(&mut dev, |_, s| {
+        let [x, y, _] = s.work_pos;
+        // Well inside one side (not at a corner), the line is that side's.
+        let side = if y.abs() < 1e-6 && (1.0..29.0).contains(&x) {
+            Some(2)
+        } else if (x - 30.0).abs() < 1e-6 && (1.0..29.0).contains(&y) {
+            Some(3)
+        } else if (y - 30.0).abs() < 1e-6 && (1.0..29.0).contains(&x) {
+            Some(4)
+        } else {
+            None
+        };
+        if let (Some(line), State::Run) = (side, &s.state) {
+            seen.push((line, s.line));
+        }
+    });
+    assert!(
+        matches!(
+            end,
+            Event::JobEnd {
+                completed: true,
+                ..
+            }
+        ),
+        "{end:?}"
+    );
+    assert!(seen.len() >= 5, "too few reports on the sides: {seen:?}");
+    // The status and the position come from the same report, the line from the one
+    // before it: allow one report of lag, never a line ahead.
+    let ahead: Vec<_> = seen.iter().filter(|(want, got)| *got > *want).collect();
+    assert!(
+        ahead.is_empty(),
+        "lines ahead of the machine: {ahead:?} of {seen:?}"
+    );
+    assert!(
+        seen.iter().filter(|(want, got)| want == got).count() * 10 >= seen.len() * 8,
+        "{seen:?}"
+    );
+}

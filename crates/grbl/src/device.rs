@@ -142,6 +142,9 @@ impl GrblDevice {
             let mut wco = vec![0.0; 3];
             // (first acknowledged line of this run, last acknowledged line)
             let mut lines: Option<(usize, usize)> = None;
+            // The line the machine was last seen on: what the page shows and the time left
+            // counts from (acknowledged lines may be a whole buffer ahead).
+            let mut running: Option<usize> = None;
             // Waiting for a tool change: the machine idles, the job is paused.
             let mut tool_wait = false;
             let mut observer = |n: Notice| match n {
@@ -157,14 +160,24 @@ impl GrblDevice {
                     s.elapsed = start.elapsed().as_secs_f64();
                     // Elapsed plus grbl's timing model for the rest, at the pace seen so far.
                     if let Some((first, acked)) = lines {
-                        s.total = s.elapsed + eta::remaining(&cumulative, first, acked, s.elapsed);
+                        let done = running.map_or(acked, |r| r.min(acked));
+                        s.total = s.elapsed + eta::remaining(&cumulative, first, done, s.elapsed);
                     }
                     let _ = events.send(Event::Status(s.clone()));
                 }
                 Notice::Progress { acked, .. } => {
                     let first = lines.map(|l| l.0).unwrap_or(acked.saturating_sub(1));
                     lines = Some((first, acked));
-                    if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
+                    // Until the machine is seen on the path, the last acknowledged line.
+                    if running.is_none() {
+                        if let Some(l) = grbl_job.lines.get(acked.saturating_sub(1)) {
+                            lock(&status).line = l.file_line as u32;
+                        }
+                    }
+                }
+                Notice::Running { index } => {
+                    running = Some(index);
+                    if let Some(l) = grbl_job.lines.get(index) {
                         lock(&status).line = l.file_line as u32;
                     }
                 }

@@ -89,6 +89,13 @@ pub enum Notice {
     },
     /// A status report.
     Status(StatusReport),
+    /// The machine was seen on the path of job line `index` (sent earlier than the status
+    /// report that follows). The acknowledged count runs ahead of this by the firmware's
+    /// buffer — on grblHAL a short program is acknowledged whole before it moves.
+    Running {
+        /// The job line the machine is on.
+        index: usize,
+    },
     /// A firmware line that is not part of the protocol (line noise, a fork's extra).
     Unexpected(String),
     /// A message for the operator (the firmware's `[MSG:…]`, or the sender's own).
@@ -621,7 +628,9 @@ impl Sender {
                         certain = certain.max(self.certain_bound(job, acked_end, certain));
                         if let Some(w) = work.as_ref().filter(|w| w.len() >= 3) {
                             let k = if self.reports_inches { 25.4 } else { 1.0 };
-                            tracker.observe([w[0] * k, w[1] * k, w[2] * k]);
+                            if let Some(seen) = tracker.observe([w[0] * k, w[1] * k, w[2] * k]) {
+                                observer(Notice::Running { index: seen.index });
+                            }
                             certain = certain.max(tracker.done_before.min(acked_end));
                         }
                     }
