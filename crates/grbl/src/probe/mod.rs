@@ -24,6 +24,7 @@ use crate::sender::{Sender, SenderOptions};
 use checks::{check_positive, check_range, check_thickness, check_wcs, fits, MAX_TRAVEL};
 use oficina_machine::{Machine, RawReply};
 use session::{num, Session};
+pub(crate) use session::{parse_prb, parse_xyz};
 use std::fmt;
 use std::time::Duration;
 

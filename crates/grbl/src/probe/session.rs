@@ -173,7 +173,7 @@ impl<'a, L: ProbeLink + ?Sized> Session<'a, L> {
 }
 
 /// `[PRB:x,y,z:ok]` → the position and whether it touched.
-pub(super) fn parse_prb(line: &str) -> Option<([f64; 3], bool)> {
+pub(crate) fn parse_prb(line: &str) -> Option<([f64; 3], bool)> {
     match Response::parse(line) {
         Response::Feedback { tag, value } if tag == "PRB" => {
             let (xyz, ok) = value.rsplit_once(':')?;
@@ -184,7 +184,7 @@ pub(super) fn parse_prb(line: &str) -> Option<([f64; 3], bool)> {
 }
 
 /// `x,y,z[,a…]` → the first three (grblHAL adds its other axes).
-fn parse_xyz(s: &str) -> Option<[f64; 3]> {
+pub(crate) fn parse_xyz(s: &str) -> Option<[f64; 3]> {
     let v: Vec<f64> = s
         .split(',')
         .map(|x| x.trim().parse().ok())
