@@ -96,7 +96,10 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
                 map.origin[0] + i as f64 * map.spacing[0],
                 map.origin[1] + j as f64 * map.spacing[1],
             );
-            assert!((map.at_node(i, j) - surface(x, y)).abs() < 2e-3, "({i}, {j})");
+            assert!(
+                (map.at_node(i, j) - surface(x, y)).abs() < 2e-3,
+                "({i}, {j})"
+            );
         }
     }
 
@@ -158,5 +161,8 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
     ]);
     let (_, stderr) = common::text(&out);
     assert!(!out.status.success());
-    assert!(stderr.contains("bad.map.json: height map: not a map file"), "{stderr}");
+    assert!(
+        stderr.contains("bad.map.json: height map: not a map file"),
+        "{stderr}"
+    );
 }
