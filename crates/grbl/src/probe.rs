@@ -18,7 +18,7 @@
 
 use crate::messages;
 use crate::response::Response;
-use crate::sender::Sender;
+use crate::sender::{Sender, SenderOptions};
 use oficina_machine::{Machine, RawReply};
 use std::fmt;
 use std::time::Duration;
@@ -35,6 +35,13 @@ pub trait ProbeLink {
     /// that came before the acknowledgement (`[PRB:…]`, `ALARM:N`, `[G54:…]`) are in the
     /// reply, an error explained in words.
     fn line(&mut self, line: &str, patience: Duration) -> Result<RawReply, String>;
+
+    /// The longest this link waits for a reply, if the caller cannot choose: a probing
+    /// move that may take longer is refused before it is sent (the firmware would still
+    /// be moving when the link gave up).
+    fn longest_wait(&self) -> Option<Duration> {
+        None
+    }
 }
 
 impl ProbeLink for Sender {
@@ -51,12 +58,17 @@ impl ProbeLink for Sender {
     }
 }
 
-/// Any machine, through [`Machine::raw_line`] (a [`crate::GrblDevice`] waits for each
-/// reply as long as its `SenderOptions::reply_timeout`, 30 s by default: a probing move
-/// must end within it; the virtual machine refuses, having no firmware language).
+/// Any machine, through [`Machine::raw_line`] (the virtual machine refuses, having no
+/// firmware language).
 impl<M: Machine + ?Sized> ProbeLink for M {
     fn line(&mut self, line: &str, _patience: Duration) -> Result<RawReply, String> {
         self.raw_line(line).map_err(|e| e.to_string())
+    }
+
+    /// A [`crate::GrblDevice`] waits for each reply as long as its
+    /// `SenderOptions::reply_timeout`, which the trait does not show: its default.
+    fn longest_wait(&self) -> Option<Duration> {
+        Some(SenderOptions::default().reply_timeout)
     }
 }
 
@@ -191,16 +203,18 @@ pub fn run_z_plate<L: ProbeLink + ?Sized>(
     check_thickness(p.thickness)?;
     check_wcs(p.wcs)?;
     p.approach.check()?;
-    let mut s = Session::begin(link)?;
-    let top = s.touch('Z', -1.0, &p.approach)?;
-    let r = p.approach.retract;
-    s.send(&format!("G90 G53 G0 Z{}", num(top[2] + r)))?;
-    s.send(&format!("G10 L20 P{} Z{}", p.wcs, num(p.thickness + r)))?;
-    let offset = s.finish(p.wcs)?;
-    Ok(ProbeResult {
-        contacts: vec![top],
-        wcs: p.wcs,
-        offset,
+    p.approach.fits(link)?;
+    Session::begin(link)?.run(|s| {
+        let top = s.touch('Z', -1.0, &p.approach)?;
+        let r = p.approach.retract;
+        s.send(&format!("G90 G53 G0 Z{}", num(top[2] + r)))?;
+        s.send(&format!("G10 L20 P{} Z{}", p.wcs, num(p.thickness + r)))?;
+        let offset = s.finish(p.wcs)?;
+        Ok(ProbeResult {
+            contacts: vec![top],
+            wcs: p.wcs,
+            offset,
+        })
     })
 }
 
@@ -231,7 +245,25 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
             radius + p.approach.retract
         )));
     }
-    let mut s = Session::begin(link)?;
+    let side = Approach {
+        travel: p.reach,
+        ..p.approach
+    };
+    let down = p.approach.retract + p.depth;
+    p.approach.fits(link)?;
+    side.fits(link)?;
+    fits(link, down, p.approach.feed)?;
+    Session::begin(link)?.run(|s| corner(s, p, &side, down))
+}
+
+/// [`run_corner`]'s lines, once checked.
+fn corner<L: ProbeLink + ?Sized>(
+    s: &mut Session<'_, L>,
+    p: &Corner,
+    side: &Approach,
+    down: f64,
+) -> Result<ProbeResult, ProbeError> {
+    let radius = p.tool_diameter / 2.0;
     let top = s.touch('Z', -1.0, &p.approach)?;
     let r = p.approach.retract;
     let above = top[2] + r;
@@ -241,7 +273,6 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
         s.send(&format!("G91 G0 {axis}-{}", num(p.reach)))?;
         // Down beside the side as a probing move: if the tool is still above the work it
         // touches instead of plunging into it.
-        let down = r + p.depth;
         let (at, touched) = s.probe(
             &format!("G38.3 Z-{} F{}", num(down), num(p.approach.feed)),
             down,
@@ -253,11 +284,7 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
                 p.reach, at[2]
             )));
         }
-        let side = Approach {
-            travel: p.reach,
-            ..p.approach
-        };
-        sides[i] = s.touch(axis, 1.0, &side)?;
+        sides[i] = s.touch(axis, 1.0, side)?;
         s.send(&format!("G91 G0 {axis}-{}", num(r)))?;
         s.send(&format!("G0 Z{}", num(down)))?;
         s.send(&format!("G90 G53 G0 X{} Y{}", num(top[0]), num(top[1])))?;
@@ -298,29 +325,37 @@ pub fn run_tool_setter<L: ProbeLink + ?Sized>(
     if let Some(z) = p.reference {
         check_range("reference Z", z, -10_000.0, 10_000.0)?;
     }
-    let mut s = Session::begin(link)?;
-    if let Some([x, y]) = p.at {
-        s.send(&format!("G90 G53 G0 Z{}", num(p.safe_z)))?;
-        s.send(&format!("G53 G0 X{} Y{}", num(x), num(y)))?;
-    }
-    let contact = s.touch('Z', -1.0, &p.approach)?;
-    s.send(&format!(
-        "G90 G53 G0 Z{}",
-        num(contact[2] + p.approach.retract)
-    ))?;
-    let tool_offset = p.reference.map(|r| contact[2] - r);
-    if let Some(tlo) = tool_offset {
-        s.send(&format!("G43.1 Z{}", num(tlo)))?;
-    }
-    s.finish(1)?;
-    Ok(SetterResult {
-        contact,
-        measured_z: contact[2],
-        tool_offset,
+    p.approach.fits(link)?;
+    Session::begin(link)?.run(|s| {
+        if let Some([x, y]) = p.at {
+            s.send(&format!("G90 G53 G0 Z{}", num(p.safe_z)))?;
+            s.send(&format!("G53 G0 X{} Y{}", num(x), num(y)))?;
+        }
+        let contact = s.touch('Z', -1.0, &p.approach)?;
+        s.send(&format!(
+            "G90 G53 G0 Z{}",
+            num(contact[2] + p.approach.retract)
+        ))?;
+        let tool_offset = p.reference.map(|r| contact[2] - r);
+        if let Some(tlo) = tool_offset {
+            s.send(&format!("G43.1 Z{}", num(tlo)))?;
+        }
+        s.finish(1)?;
+        Ok(SetterResult {
+            contact,
+            measured_z: contact[2],
+            tool_offset,
+        })
     })
 }
 
 impl Approach {
+    /// Its search and its touch each end within what `link` waits for a reply.
+    fn fits<L: ProbeLink + ?Sized>(&self, link: &L) -> Result<(), ProbeError> {
+        fits(link, self.travel, self.feed)?;
+        fits(link, 2.0 * self.retract, self.slow_feed)
+    }
+
     fn check(&self) -> Result<(), ProbeError> {
         check_range("travel", self.travel, 0.0, MAX_TRAVEL)?;
         check_positive("travel", self.travel)?;
@@ -331,6 +366,20 @@ impl Approach {
             check_range(what, f, 0.0, MAX_FEED)?;
         }
         Ok(())
+    }
+}
+
+/// A probing move of `distance` at `feed` ends within what `link` waits for a reply
+/// (with two seconds for acceleration and the reply), or it is refused before anything
+/// moves: the firmware would still be moving when the link gave up.
+fn fits<L: ProbeLink + ?Sized>(link: &L, distance: f64, feed: f64) -> Result<(), ProbeError> {
+    let seconds = distance / feed * 60.0;
+    match link.longest_wait() {
+        Some(limit) if seconds + 2.0 > limit.as_secs_f64() => Err(ProbeError::Input(format!(
+            "a probing move of {distance} mm at F{feed} may take {seconds:.0} s, longer than this link waits for a reply ({} s): raise the feed or shorten the travel",
+            limit.as_secs()
+        ))),
+        _ => Ok(()),
     }
 }
 
@@ -432,6 +481,20 @@ impl<'a, L: ProbeLink + ?Sized> Session<'a, L> {
         Ok(s)
     }
 
+    /// Runs a routine's lines; when they fail without an alarm (the firmware still takes
+    /// lines), the units and distance mode are given back before the error.
+    fn run<T>(
+        mut self,
+        lines: impl FnOnce(&mut Self) -> Result<T, ProbeError>,
+    ) -> Result<T, ProbeError> {
+        let result = lines(&mut self);
+        if let Err(ProbeError::Input(_) | ProbeError::Firmware(_)) = &result {
+            let restore = self.restore.clone();
+            let _ = self.link.line(&restore, PATIENCE);
+        }
+        result
+    }
+
     /// Sends one line; an alarm or an error in its reply ends the routine, explained.
     fn send(&mut self, line: &str) -> Result<RawReply, ProbeError> {
         self.send_waiting(line, PATIENCE)
@@ -503,7 +566,7 @@ impl<'a, L: ProbeLink + ?Sized> Session<'a, L> {
 
     /// Restores the modal state, waits for the machine to stop (`G4 P0` answers once the
     /// planner is empty) and reads back the offset of coordinate system `wcs`.
-    fn finish(mut self, wcs: u8) -> Result<[f64; 3], ProbeError> {
+    fn finish(&mut self, wcs: u8) -> Result<[f64; 3], ProbeError> {
         let restore = self.restore.clone();
         self.send(&restore)?;
         self.send("G4 P0")?;
@@ -720,8 +783,53 @@ mod tests {
         };
         let e = run_corner(&mut fw, &p).unwrap_err();
         assert!(e.to_string().contains("still touched"), "{e}");
+        // The units and distance mode are given back; nothing was set.
+        assert_eq!(fw.sent.last().unwrap(), "G20 G90");
+        assert!(
+            !fw.sent.iter().any(|l| l.starts_with("G10")),
+            "{:?}",
+            fw.sent
+        );
         let e = run_corner(&mut firmware(vec![]), &Corner { reach: 4.0, ..p }).unwrap_err();
         assert!(e.to_string().contains("reach"), "{e}");
+    }
+
+    /// A link that waits at most 30 s, as a `GrblDevice` behind the `Machine` trait.
+    struct Impatient(Scripted);
+
+    impl ProbeLink for Impatient {
+        fn line(&mut self, line: &str, p: Duration) -> Result<RawReply, String> {
+            self.0.line(line, p)
+        }
+        fn longest_wait(&self) -> Option<Duration> {
+            Some(Duration::from_secs(30))
+        }
+    }
+
+    #[test]
+    fn a_search_longer_than_the_link_waits_is_refused_before_it_moves() {
+        let slow = ZPlate {
+            approach: Approach {
+                travel: 60.0,
+                ..Approach::default()
+            },
+            ..plate()
+        };
+        let mut link = Impatient(firmware(vec![]));
+        let e = run_z_plate(&mut link, &slow).unwrap_err();
+        assert!(e.to_string().contains("may take 36 s"), "{e}");
+        assert!(link.0.sent.is_empty(), "{:?}", link.0.sent);
+        assert!(
+            !link.0.sent.iter().any(|l| l.contains("G38")),
+            "{:?}",
+            link.0.sent
+        );
+        // The default search (30 mm at 100 mm/min, 18 s) fits.
+        let mut link = Impatient(firmware(vec![
+            ("G91 G38.2 Z-30", vec!["[PRB:5.000,6.000,-20.100:1]"]),
+            ("G38.2 Z-4", vec!["[PRB:5.000,6.000,-20.000:1]"]),
+        ]));
+        assert!(run_z_plate(&mut link, &plate()).is_ok());
     }
 
     #[test]

@@ -11,6 +11,10 @@
 //! last buffered block, so a starved buffer slows the machine, and every new block re-plans
 //! the rest from the current speed. Feed hold brakes and cycle start accelerates through the
 //! same planner; overrides re-plan at once.
+//!
+//! Probing: a G38.x line waits for the planner to empty, is cut short where the probe input
+//! changes (what [`ProbeModel`] says the tool touches), and is answered as grbl's
+//! mc_probe_cycle answers once its move has run.
 
 use super::flavor::Flavor;
 use super::fluidnc;
