@@ -372,7 +372,11 @@ impl Approach {
 /// A probing move of `distance` at `feed` ends within what `link` waits for a reply
 /// (with two seconds for acceleration and the reply), or it is refused before anything
 /// moves: the firmware would still be moving when the link gave up.
-fn fits<L: ProbeLink + ?Sized>(link: &L, distance: f64, feed: f64) -> Result<(), ProbeError> {
+pub(crate) fn fits<L: ProbeLink + ?Sized>(
+    link: &L,
+    distance: f64,
+    feed: f64,
+) -> Result<(), ProbeError> {
     let seconds = distance / feed * 60.0;
     match link.longest_wait() {
         Some(limit) if seconds + 2.0 > limit.as_secs_f64() => Err(ProbeError::Input(format!(
