@@ -312,3 +312,22 @@ fn resume_from_a_source_line_starts_at_its_first_levelled_piece() {
     // Lines that make no line of output (none here) resume at the next that does.
     assert_eq!(program.index_of_file_line(7), Some(program.len() - 1));
 }
+
+#[test]
+fn maps_and_grids_built_field_by_field_are_checked_before_use() {
+    let mut bad = flat();
+    bad.nx = 0;
+    let e = level_stream("t.nc", "G0 X1 Y1 Z1\n", &bad, &LevelOptions::default()).unwrap_err();
+    assert!(e.contains("2 to 100"), "{e}");
+    let huge = ProbeGrid {
+        origin: [0.0; 2],
+        spacing: [1.0; 2],
+        nx: 1_000_000_000,
+        ny: 1_000_000_000,
+    };
+    let mut probe = |_: f64, _: f64| Ok(0.0);
+    let e = huge
+        .probe(&mut probe, 3.0, &mut |_, _, _, _, _| {})
+        .unwrap_err();
+    assert!(e.contains("2 to 100"), "{e}");
+}

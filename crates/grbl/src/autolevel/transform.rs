@@ -79,6 +79,7 @@ pub fn level_program(
             opts.arc_tolerance
         ));
     }
+    map.check()?;
     let clearance = opts.clearance.unwrap_or(map.clearance);
     let (_, top) = map.z_range();
     if !(clearance.is_finite() && clearance > top) {

@@ -24,9 +24,9 @@ use crate::sender::{Sender, SenderOptions};
 use checks::{check_positive, check_range, check_thickness, check_wcs, MAX_TRAVEL};
 // For the auto-levelling probe (crate::autolevel), which probes over the same links.
 pub(crate) use checks::fits;
-pub(crate) use session::{parse_prb, parse_xyz};
 use oficina_machine::{Machine, RawReply};
 use session::{num, Session};
+pub(crate) use session::{parse_prb, parse_xyz};
 use std::fmt;
 use std::time::Duration;
 
