@@ -90,6 +90,11 @@ pub fn level_program(
     let allowance = opts
         .outside_allowance
         .unwrap_or(0.5 * map.spacing[0].min(map.spacing[1]));
+    if !(allowance.is_finite() && allowance >= 0.0) {
+        return Err(format!(
+            "outside allowance {allowance}: must be 0 or more, mm"
+        ));
+    }
     let mut l = Leveller {
         map,
         clearance,
