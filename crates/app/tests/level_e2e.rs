@@ -258,3 +258,68 @@ fn a_probe_that_finds_no_surface_stops_the_map_naming_the_point() {
     );
     assert!(e.contains("ALARM") || e.contains("alarm"), "{e}");
 }
+
+#[test]
+fn a_levelled_run_resumes_from_a_source_line() {
+    let tilted = Surface {
+        top: -29.8,
+        tilt: [0.006, -0.009],
+        warp: 0.0,
+        wavelength: 100.0,
+    };
+    let (emu, ep) = emulator(&tilted);
+    let mut dev = GrblDevice::at(ep, SenderOptions::default());
+    dev.settings.resume.spindle_delay = 0.0;
+    dev.settings.journal = Some(std::env::temp_dir().join(format!(
+        "oficina-level-resume-{}.journal",
+        std::process::id()
+    )));
+    dev.connect().unwrap();
+    let set = format!("G10L2P1X{}Y{}Z{}", WCO[0], WCO[1], WCO[2]);
+    assert_eq!(dev.raw_line(&set).unwrap().error, None);
+    let map = probe_map(
+        &mut dev,
+        Some(ENGRAVING),
+        &request(),
+        &mut |_, _, _, _, _| {},
+    )
+    .unwrap();
+    emu.with_core(|c| c.motion_record.clear());
+    let opts = level_options(&map, &LevelTuning::default());
+    let (program, _) = level_stream("engraving.nc", ENGRAVING, &map, &opts).unwrap();
+    // Line 16 is the last plunge (at X30 Y8), line 17 the last stroke.
+    dev.start_program(program, Some(16)).unwrap();
+    let completed = loop {
+        match dev.next_event(Duration::from_secs(60)).expect("an event") {
+            Event::JobEnd { completed, .. } => break completed,
+            Event::Alarm(a) => panic!("alarm: {a}"),
+            _ => {}
+        }
+    };
+    assert!(completed);
+    let pieces = emu.with_core(|c| c.motion_record.clone());
+    let mut cuts = 0;
+    for (_, to) in &pieces {
+        let [x, y, z] = [to[0] - WCO[0], to[1] - WCO[1], to[2] - WCO[2]];
+        if z >= 3.0 {
+            continue;
+        }
+        let depth = z - tilted.work_z(x, y);
+        let programmed = if (depth - TRAVEL).abs() < 0.5 {
+            TRAVEL
+        } else {
+            CUT
+        };
+        assert!((depth - programmed).abs() < 2e-3, "X{x} Y{y} Z{z}: {depth}");
+        if programmed == CUT {
+            cuts += 1;
+            // Only the last stroke, from (30, 8) to (10, 22): the earlier lines were skipped.
+            assert!(
+                (8.0 - 1e-6..=22.0 + 1e-6).contains(&y) && x >= 10.0 - 1e-6,
+                "{x} {y}"
+            );
+        }
+    }
+    // ⌈24.4 mm / 1 mm⌉ pieces of the stroke and the plunge's end.
+    assert!(cuts >= 25, "{cuts} cut points");
+}

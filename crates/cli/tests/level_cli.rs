@@ -1,6 +1,6 @@
 //! `oficina level probe` on an emulated tilted block (work zero set from the console),
-//! `oficina level apply` into a file, `oficina run --level` on the same board, and a
-//! malformed map refused naming the file.
+//! `oficina level apply` into a file, `oficina run --level` and `--level-probe` on the same
+//! board, and a malformed map refused naming the file.
 
 mod common;
 
@@ -146,6 +146,27 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
     let (stdout, stderr) = common::text(&out);
     assert!(out.status.success(), "{stdout}\n{stderr}");
     assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+
+    // Probe and run in one go, keeping the map.
+    let again = dir.join("level.again.map.json");
+    let out = common::oficina(&[
+        "run",
+        file.to_str().unwrap(),
+        "--machine",
+        &addr,
+        "--level-probe",
+        "3x3",
+        "--level-save",
+        again.to_str().unwrap(),
+        "--probe-feed",
+        "600",
+    ]);
+    let (stdout, stderr) = common::text(&out);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("probe 9/9"), "{stderr}");
+    assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+    let kept = HeightMap::from_json(&std::fs::read_to_string(&again).unwrap()).unwrap();
+    assert_eq!((kept.nx, kept.ny), (3, 3));
 
     // A malformed map is refused naming the file, before anything moves.
     let bad = dir.join("bad.map.json");

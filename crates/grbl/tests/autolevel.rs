@@ -299,3 +299,35 @@ fn modal_words_pass_as_grbl_lines_with_their_source_lines() {
         ]
     );
 }
+
+#[test]
+fn resume_from_a_source_line_starts_at_its_first_levelled_piece() {
+    let text = "G21 G90\nG0 Z5\nG0 X1 Y1\nG1 Z-0.1 F300\nG1 X11 Y1\nG1 X11 Y6\nG0 Z5\n";
+    let (program, _) = level_stream("t.nc", text, &flat(), &LevelOptions::default()).unwrap();
+    let at = program.index_of_file_line(6).unwrap();
+    // Line 5's ten pieces end at X11; line 6 starts with its first piece.
+    assert_eq!(program.lines[at - 1].text, "X11Y1Z-0.1");
+    assert_eq!(program.lines[at].text, "X11Y2Z-0.1");
+    assert_eq!(program.lines[at].file_line, 6);
+    // Lines that make no line of output (none here) resume at the next that does.
+    assert_eq!(program.index_of_file_line(7), Some(program.len() - 1));
+}
+
+#[test]
+fn maps_and_grids_built_field_by_field_are_checked_before_use() {
+    let mut bad = flat();
+    bad.nx = 0;
+    let e = level_stream("t.nc", "G0 X1 Y1 Z1\n", &bad, &LevelOptions::default()).unwrap_err();
+    assert!(e.contains("2 to 100"), "{e}");
+    let huge = ProbeGrid {
+        origin: [0.0; 2],
+        spacing: [1.0; 2],
+        nx: 1_000_000_000,
+        ny: 1_000_000_000,
+    };
+    let mut probe = |_: f64, _: f64| Ok(0.0);
+    let e = huge
+        .probe(&mut probe, 3.0, &mut |_, _, _, _, _| {})
+        .unwrap_err();
+    assert!(e.contains("2 to 100"), "{e}");
+}

@@ -156,6 +156,12 @@ impl ProbeGrid {
         clearance: f64,
         progress: &mut dyn FnMut(usize, usize, f64, f64, f64),
     ) -> Result<HeightMap, String> {
+        if !(2..=MAX_GRID).contains(&self.nx) || !(2..=MAX_GRID).contains(&self.ny) {
+            return Err(format!(
+                "grid of {} × {} points: a grid needs 2 to {MAX_GRID} points along each axis",
+                self.nx, self.ny
+            ));
+        }
         let total = self.nx * self.ny;
         let mut z = vec![0.0; total];
         for (done, (i, j)) in self.serpentine().enumerate() {

@@ -6,7 +6,7 @@
 
 use super::grid::SurfaceProbe;
 use crate::messages::describe_alarm;
-use crate::probe::{parse_prb, parse_xyz, ProbeLink};
+use crate::probe::{fits, parse_prb, parse_xyz, ProbeLink};
 use crate::response::Response;
 use std::time::Duration;
 
@@ -41,9 +41,6 @@ pub struct MachineProbe<'m, L: ProbeLink + ?Sized> {
     pub wcs: String,
 }
 
-/// Longest a single probe may take, seconds: a `Machine` waits 30 s for a reply.
-const MAX_PROBE_SECONDS: f64 = 25.0;
-
 impl<'m, L: ProbeLink + ?Sized> MachineProbe<'m, L> {
     /// Reads the work offset from the idle firmware and checks the motion can complete.
     pub fn new(link: &'m mut L, motion: ProbeMotion) -> Result<MachineProbe<'m, L>, String> {
@@ -62,13 +59,9 @@ impl<'m, L: ProbeLink + ?Sized> MachineProbe<'m, L> {
                 motion.feed
             ));
         }
-        let seconds = (motion.clearance - motion.max_depth) / motion.feed * 60.0;
-        if seconds > MAX_PROBE_SECONDS {
-            return Err(format!(
-                "a probe from Z{} to Z{} at F{} takes {seconds:.0} s, more than the {MAX_PROBE_SECONDS:.0} s a reply may take: raise the feed or lower the clearance",
-                motion.clearance, motion.max_depth, motion.feed
-            ));
-        }
+        // Each probe must end within the link's reply wait.
+        fits(&*link, motion.clearance - motion.max_depth, motion.feed)
+            .map_err(|e| e.to_string())?;
         let mut p = MachineProbe {
             link,
             motion,
@@ -182,5 +175,79 @@ mod tests {
         ]);
         assert_eq!(work_offset_z(&offsets, "G55"), Some(-29.25));
         assert_eq!(work_offset_z(&offsets, "G57"), None);
+    }
+
+    /// A firmware answering from a script: each line the reply of the first entry its
+    /// start matches, else a plain `ok`.
+    struct Scripted {
+        sent: Vec<String>,
+        replies: Vec<(&'static str, Vec<&'static str>)>,
+    }
+
+    impl ProbeLink for Scripted {
+        fn line(&mut self, line: &str, _: Duration) -> Result<oficina_machine::RawReply, String> {
+            self.sent.push(line.to_string());
+            let lines = self
+                .replies
+                .iter()
+                .find(|(p, _)| line.starts_with(p))
+                .map(|(_, r)| r.iter().map(|s| s.to_string()).collect())
+                .unwrap_or_default();
+            Ok(oficina_machine::RawReply { lines, error: None })
+        }
+
+        fn longest_wait(&self) -> Option<Duration> {
+            Some(Duration::from_secs(30))
+        }
+    }
+
+    fn board(settings: &'static str, prb: &'static str) -> Scripted {
+        Scripted {
+            sent: Vec::new(),
+            replies: vec![
+                ("$$", vec![settings]),
+                ("$G", vec!["[GC:G0 G55 G17 G21 G90 G94 M5 M9 T0 F0 S0]"]),
+                ("$#", vec!["[G55:10.000,20.000,-30.000]", "[TLO:0.500]"]),
+                ("G38.2", vec![prb]),
+            ],
+        }
+    }
+
+    #[test]
+    fn a_point_is_probed_from_the_clearance_in_work_coordinates() {
+        let mut fw = board("$13=0", "[PRB:15.000,27.000,-29.300:1]");
+        let mut p = MachineProbe::new(&mut fw, ProbeMotion::default()).unwrap();
+        assert_eq!(p.wcs, "G55");
+        // Machine −29.3 less the work offset −30 + 0.5 (TLO): 0.2.
+        let z = p.probe_at(5.0, 7.0).unwrap();
+        assert!((z - 0.2).abs() < 1e-12, "{z}");
+        assert_eq!(
+            fw.sent[3..],
+            [
+                "G21G90G0Z3.0000",
+                "G0X5.0000Y7.0000",
+                "G38.2Z-3.0000F60.0",
+                "G0Z3.0000"
+            ]
+        );
+        let mut miss = board("$13=0", "[PRB:15.000,27.000,-33.000:0]");
+        let e = MachineProbe::new(&mut miss, ProbeMotion::default())
+            .unwrap()
+            .probe_at(5.0, 7.0)
+            .unwrap_err();
+        assert!(e.contains("no contact down to Z-3"), "{e}");
+        let mut inches = board("$13=1", "");
+        let e = MachineProbe::new(&mut inches, ProbeMotion::default())
+            .err()
+            .unwrap();
+        assert!(e.contains("$13=0"), "{e}");
+        let slow = ProbeMotion {
+            feed: 5.0,
+            ..ProbeMotion::default()
+        };
+        let e = MachineProbe::new(&mut board("$13=0", ""), slow)
+            .err()
+            .unwrap();
+        assert!(e.contains("raise the feed"), "{e}");
     }
 }

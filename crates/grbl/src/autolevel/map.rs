@@ -74,11 +74,13 @@ impl HeightMap {
             clearance,
             wcs: None,
         };
-        map.validate()?;
+        map.check()?;
         Ok(map)
     }
 
-    fn validate(&self) -> Result<(), String> {
+    /// The map's shape and values are sound (what [`HeightMap::new`] and
+    /// [`HeightMap::from_json`] ensure; a map built field by field is checked with this).
+    pub fn check(&self) -> Result<(), String> {
         for (what, n) in [("nx", self.nx), ("ny", self.ny)] {
             if !(2..=MAX_GRID).contains(&n) {
                 return Err(format!(
@@ -228,7 +230,7 @@ impl HeightMap {
             clearance: f.clearance,
             wcs: f.wcs,
         };
-        map.validate()?;
+        map.check()?;
         Ok(map)
     }
 }

@@ -50,7 +50,7 @@ impl Default for LevelOptions {
 pub struct LevelReport {
     /// Lines written.
     pub lines: usize,
-    /// Programmed moves cut into pieces and offset.
+    /// Programmed moves that went below the clearance: cut into pieces, their ends offset.
     pub levelled_moves: usize,
     /// Smallest and largest Z offset applied, mm (0, 0 when none was).
     pub offset_range: (f64, f64),
@@ -79,6 +79,7 @@ pub fn level_program(
             opts.arc_tolerance
         ));
     }
+    map.check()?;
     let clearance = opts.clearance.unwrap_or(map.clearance);
     let (_, top) = map.z_range();
     if !(clearance.is_finite() && clearance > top) {
@@ -89,6 +90,11 @@ pub fn level_program(
     let allowance = opts
         .outside_allowance
         .unwrap_or(0.5 * map.spacing[0].min(map.spacing[1]));
+    if !(allowance.is_finite() && allowance >= 0.0) {
+        return Err(format!(
+            "outside allowance {allowance}: must be 0 or more, mm"
+        ));
+    }
     let mut l = Leveller {
         map,
         clearance,
@@ -136,6 +142,30 @@ pub fn level_program(
 
 /// [`level_program`] into a [`StreamProgram`] named `name`, ready for the sender: its lines
 /// keep the source line numbers, so progress and resume name the user's lines.
+///
+/// ```
+/// use oficina_grbl::{level_stream, HeightMap, LevelOptions};
+///
+/// // A plane rising 0.01 mm per mm of X, probed at X0 and X10 (Y0 and Y10).
+/// let map = HeightMap::new([0.0, 0.0], [10.0, 10.0], 2, 2, vec![0.0, 0.1, 0.0, 0.1], 3.0).unwrap();
+/// let text = "G21 G90\nG0 X0 Y5 Z5\nG1 Z-0.2 F300\nG1 X2\nG0 Z5\n";
+/// let (program, report) = level_stream("cut.nc", text, &map, &LevelOptions::default()).unwrap();
+/// let lines: Vec<_> = program.lines.iter().map(|l| (l.file_line, l.text.as_str())).collect();
+/// assert_eq!(
+///     lines,
+///     [
+///         (1, "G21"),
+///         (1, "G90"),
+///         (2, "G0X0Y5Z5"),
+///         (3, "G1X0Y5Z-0.2F300"),
+///         (4, "X1Y5Z-0.19"),
+///         (4, "X2Y5Z-0.18"),
+///         (5, "G0X2Y5Z5"),
+///     ]
+/// );
+/// // The plunge, the cut and the retract went below the clearance.
+/// assert_eq!(report.levelled_moves, 3);
+/// ```
 pub fn level_stream(
     name: &str,
     text: &str,

@@ -31,7 +31,7 @@ impl Approach {
 /// A probing move of `distance` at `feed` ends within what `link` waits for a reply
 /// (with two seconds for acceleration and the reply), or it is refused before anything
 /// moves: the firmware would still be moving when the link gave up.
-pub(super) fn fits<L: ProbeLink + ?Sized>(
+pub(crate) fn fits<L: ProbeLink + ?Sized>(
     link: &L,
     distance: f64,
     feed: f64,

@@ -21,7 +21,9 @@ mod session;
 
 use crate::messages;
 use crate::sender::{Sender, SenderOptions};
-use checks::{check_positive, check_range, check_thickness, check_wcs, fits, MAX_TRAVEL};
+use checks::{check_positive, check_range, check_thickness, check_wcs, MAX_TRAVEL};
+// For the auto-levelling probe (crate::autolevel), which probes over the same links.
+pub(crate) use checks::fits;
 use oficina_machine::{Machine, RawReply};
 use session::{num, Session};
 pub(crate) use session::{parse_prb, parse_xyz};
