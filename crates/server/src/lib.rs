@@ -31,6 +31,7 @@ mod auth;
 mod embroider;
 mod files;
 mod jobs;
+mod macros;
 mod profiles;
 mod samples;
 mod state;
