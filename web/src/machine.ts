@@ -1,7 +1,13 @@
-// The machine panel: connect, DRO, jog, home, zero, start / hold / resume / stop, resume from
-// a line, feed override, progress with elapsed and remaining time, console and alarms.
+// The machine panel: connect, DRO, jog (buttons, keys, gamepad), home, unlock, reset, work
+// offsets, start / hold / resume / stop, resume from a line, feed override, progress with
+// elapsed and remaining time, console with typed lines, macros and alarms. Any page may
+// hold, stop and reset; moving and starting need control.
 
 import type { LiveMessage, Snapshot } from './api';
+import { Jogger, gamepadJog, keyboardJog } from './jog';
+import { setupMacros } from './macros';
+import { setupMdi } from './mdi';
+import { setupOffsets, showOffsets } from './offsets';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 
@@ -22,7 +28,7 @@ export class MachinePanel {
   private controls = false;
   private client = 0;
   private last: Snapshot | null = null;
-  private jogging = false;
+  private macros: { refresh(): void };
 
   constructor(private hooks: Hooks) {
     const send = (cmd: Record<string, unknown>) => {
@@ -34,7 +40,10 @@ export class MachinePanel {
     $('stop').onclick = () => send({ cmd: 'stop' });
     $('unlock').onclick = () => send({ cmd: 'unlock' });
     $('home').onclick = () => send({ cmd: 'home' });
-    $('zero').onclick = () => send({ cmd: 'zero', axes: [true, true, true] });
+    $('reset').onclick = () => send({ cmd: 'soft_reset' });
+    setupOffsets(send);
+    setupMdi(send);
+    this.macros = setupMacros(send, () => this.controls);
     $('control').onclick = () => { if (!this.controls) send({ cmd: 'take_control' }); };
     $('start').onclick = async () => {
       try {
@@ -46,33 +55,20 @@ export class MachinePanel {
         hooks.error((e as Error).message);
       }
     };
-    const continuous = () => $<HTMLSelectElement>('jog-step').value === 'continuous';
-    const feed = () => Number($<HTMLInputElement>('jog-feed').value);
+    const jog = new Jogger(send, () => this.controls && (this.last?.state ?? 'idle') === 'idle');
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) {
       const dir = b.dataset.jog!.split(',').map(Number);
-      b.onclick = () => {
-        if (continuous()) return;
-        const step = Number($<HTMLSelectElement>('jog-step').value);
-        send({ cmd: 'jog', delta: dir.map((v) => v * step), feed: feed() });
-      };
+      b.onclick = () => jog.step(dir);
       // Continuous: moves while held. The release is watched on the window (the button is
-      // disabled while the machine moves), and a page that goes away stops it on the server.
+      // disabled while the machine moves).
       b.onpointerdown = (e) => {
-        if (!continuous() || b.disabled) return;
+        if (!jog.continuous || b.disabled) return;
         e.preventDefault();
-        this.jogging = true;
-        send({ cmd: 'jog_start', direction: dir, feed: feed() });
+        jog.start(dir);
       };
     }
-    const release = () => {
-      if (!this.jogging) return;
-      this.jogging = false;
-      try { send({ cmd: 'jog_stop' }); } catch { /* the server stops it when the socket drops */ }
-    };
-    window.addEventListener('pointerup', release);
-    window.addEventListener('pointercancel', release);
-    window.addEventListener('blur', release);
-    document.addEventListener('visibilitychange', () => { if (document.hidden) release(); });
+    keyboardJog(jog);
+    gamepadJog(jog);
     const so = $<HTMLInputElement>('so');
     so.oninput = () => { $('so-value').textContent = `${so.value} %`; };
     so.onchange = () => send({ cmd: 'spindle_override', value: Number(so.value) / 100 });
@@ -102,7 +98,7 @@ export class MachinePanel {
   /// already or the machine is real firmware (whose kind the page cannot change).
   useVirtual(uri: string) {
     const s = this.last;
-    if (!s || !s.can_home_and_zero || s.uri === uri) return;
+    if (!s || !s.is_virtual || s.uri === uri) return;
     const sel = $<HTMLSelectElement>('machine-uri');
     if (!Array.from(sel.options).some((o) => o.value === uri)) sel.insertBefore(new Option(uri, uri), sel.options[0]);
     sel.value = uri;
@@ -161,6 +157,7 @@ export class MachinePanel {
     $('alarm-text').textContent = s.alarm ?? '';
     $('alarm-meaning').textContent = s.alarm_meaning ?? '';
     document.body.dataset.state = s.state;
+    showOffsets(s.offsets);
     document.body.dataset.jobDone = s.job?.completed === true ? 'completed' : s.job?.completed === false ? 'stopped' : '';
     this.updateButtons();
     this.hooks.onStatus(s);
@@ -170,14 +167,24 @@ export class MachinePanel {
     const s = this.last?.state ?? 'idle';
     const c = this.controls;
     const idle = s === 'idle';
+    const rest = idle || s === 'alarm';
     const set = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !(c && on); };
+    // Stopping needs no control: any page may.
+    const anyPage = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !on; };
     set('start', idle);
-    set('hold', s === 'run');
+    anyPage('hold', s === 'run' || s === 'jog');
     set('resume', s === 'hold' || s === 'holding' || s === 'paused');
-    set('stop', !idle && s !== 'alarm');
-    set('connect', idle || s === 'alarm');
-    set('home', idle && !!this.last?.can_home_and_zero);
-    set('zero', idle && !!this.last?.can_home_and_zero);
+    anyPage('stop', !idle && s !== 'alarm');
+    anyPage('reset', this.last !== null);
+    set('connect', rest);
+    set('home', rest);
+    set('unlock', s === 'alarm' || (idle && !this.last?.is_virtual));
+    for (const id of ['zero-x', 'zero-y', 'zero-z', 'zero', 'goto-zero']) set(id, idle);
+    set('read-offsets', rest);
+    $<HTMLSelectElement>('wcs').disabled = !(c && idle);
+    $<HTMLInputElement>('mdi').disabled = !c;
+    set('mdi-send', true);
+    this.macros.refresh();
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) b.disabled = !(c && idle);
   }
 }
