@@ -117,7 +117,8 @@ impl Session {
                 "`{line}`: the virtual machine has no firmware $ commands (its profile says how it moves); Home, Unlock and the offsets table work without them"
             )));
         }
-        let text = format!("{}\n{line}\n", SYSTEMS[self.offsets.active]);
+        // (The virtual machine wants a program end.)
+        let text = format!("{}\n{line}\nM2\n", SYSTEMS[self.offsets.active]);
         let error = self.run_virtual(line, text, Pace::Instant)?;
         Ok(MdiReply {
             line: line.to_string(),
@@ -288,7 +289,7 @@ impl Session {
         if self.profile().is_none() {
             return self.firmware_lines(&lines);
         }
-        let text = format!("{}\n{}\n", SYSTEMS[self.offsets.active], lines.join("\n"));
+        let text = format!("{}\n{}\nM2\n", SYSTEMS[self.offsets.active], lines.join("\n"));
         self.run_virtual("go to work zero", text, Pace::Speed(1.0))
             .map(|_| ())
     }

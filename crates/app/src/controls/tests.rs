@@ -158,6 +158,8 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     let r = s.run_macro("G0 X[x+2]\nG0 Y[y-1]").unwrap();
     assert_eq!(r.len(), 2);
     assert!((s.snapshot().work_pos[0] - 3.0).abs() < 1e-6);
+    // The events of the lines before are drained (the server's pump does it all the time).
+    s.poll(Duration::ZERO);
     s.go_to_zero(true).unwrap();
     let t0 = Instant::now();
     while !s.snapshot().job.unwrap().completed.is_some() {
