@@ -137,7 +137,8 @@ fn number(v: f64) -> String {
     }
 }
 
-const NAMES: &str = "x, y, z (work position), mx, my, mz (machine position), prb_x, prb_y, prb_z (last probe)";
+const NAMES: &str =
+    "x, y, z (work position), mx, my, mz (machine position), prb_x, prb_y, prb_z (last probe)";
 
 fn param(name: &str, v: &MacroValues) -> Result<f64, String> {
     let name = name.to_ascii_lowercase();
@@ -309,7 +310,14 @@ mod tests {
         let e = expand("G0 X0\nG0 X[foo]", &values()).unwrap_err().0;
         assert!(e.starts_with("line 2: unknown parameter [foo]"), "{e}");
         assert!(e.contains("prb_x"), "{e}");
-        for bad in ["G0 X[x", "G0 X[x+]", "G0 X[1/0]", "G0 X[(x]", "G0 X[x y]", "G0 X[]"] {
+        for bad in [
+            "G0 X[x",
+            "G0 X[x+]",
+            "G0 X[1/0]",
+            "G0 X[(x]",
+            "G0 X[x y]",
+            "G0 X[]",
+        ] {
             assert!(expand(bad, &values()).is_err(), "{bad}");
         }
         let mut v = values();
@@ -320,7 +328,10 @@ mod tests {
             pos: [0.0; 3],
             touched: false,
         });
-        assert!(expand("G0 Z[prb_z]", &v).unwrap_err().0.contains("did not touch"));
+        assert!(expand("G0 Z[prb_z]", &v)
+            .unwrap_err()
+            .0
+            .contains("did not touch"));
     }
 
     #[test]

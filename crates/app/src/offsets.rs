@@ -37,7 +37,9 @@ pub struct WorkOffsets {
 
 /// The index (0 = G54) of a system named `G54`…`G59` (any case).
 pub fn system_index(name: &str) -> Option<usize> {
-    SYSTEMS.iter().position(|s| s.eq_ignore_ascii_case(name.trim()))
+    SYSTEMS
+        .iter()
+        .position(|s| s.eq_ignore_ascii_case(name.trim()))
 }
 
 fn numbers(value: &str) -> Vec<f64> {

@@ -458,7 +458,9 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
             let sent = match job_key(k.trim()) {
                 Some(Key::Command(c)) => machine.command(c),
                 Some(Key::Realtime(r)) => machine.realtime(r),
-                None => Err(oficina_machine::MachineError::Refused(typed_during_job(k.trim()))),
+                None => Err(oficina_machine::MachineError::Refused(typed_during_job(
+                    k.trim(),
+                ))),
             };
             if let Err(e) = sent {
                 eprintln!("\r\x1b[K{e}");
