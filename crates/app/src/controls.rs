@@ -129,7 +129,12 @@ impl Session {
 
     /// Runs `text` as a job named after `line` on the virtual machine; with `Pace::Instant`
     /// waits for its end and gives its refusal (the machine is unlocked again: nothing moved).
-    fn run_virtual(&mut self, line: &str, text: String, pace: Pace) -> Result<Option<String>, Error> {
+    fn run_virtual(
+        &mut self,
+        line: &str,
+        text: String,
+        pace: Pace,
+    ) -> Result<Option<String>, Error> {
         let lines = text.lines().count();
         let instant = pace == Pace::Instant;
         self.machine
@@ -197,7 +202,9 @@ impl Session {
         if self.profile().is_none() {
             let reply = self.machine.raw_line("$H").map_err(busy_error)?;
             return match reply.error {
-                Some(e) if e.starts_with("error:5 ") => Err(Error(format!("{HOMING_DISABLED} ({e})"))),
+                Some(e) if e.starts_with("error:5 ") => {
+                    Err(Error(format!("{HOMING_DISABLED} ({e})")))
+                }
                 Some(e) => Err(Error(format!("homing refused: {e}"))),
                 None => Ok(()),
             };
@@ -289,7 +296,11 @@ impl Session {
         if self.profile().is_none() {
             return self.firmware_lines(&lines);
         }
-        let text = format!("{}\n{}\nM2\n", SYSTEMS[self.offsets.active], lines.join("\n"));
+        let text = format!(
+            "{}\n{}\nM2\n",
+            SYSTEMS[self.offsets.active],
+            lines.join("\n")
+        );
         self.run_virtual("go to work zero", text, Pace::Speed(1.0))
             .map(|_| ())
     }

@@ -9,9 +9,14 @@ const FLAVORS: [Flavor; 3] = [Flavor::Grbl, Flavor::GrblHal, Flavor::FluidNc];
 fn board(flavor: Flavor) -> (Emulator, Session) {
     let mut config = Config::flavored(flavor);
     // Fast axes: the tests wait for moves to end.
-    config
-        .settings
-        .extend([(110, 6000.0), (111, 6000.0), (112, 3000.0), (120, 1000.0), (121, 1000.0), (122, 1000.0)]);
+    config.settings.extend([
+        (110, 6000.0),
+        (111, 6000.0),
+        (112, 3000.0),
+        (120, 1000.0),
+        (121, 1000.0),
+        (122, 1000.0),
+    ]);
     let emu = Emulator::start(config);
     let addr = emu.serve_tcp("127.0.0.1:0").unwrap();
     let s = Session::open(&format!("tcp://{addr}")).unwrap();
@@ -43,10 +48,18 @@ fn typed_lines_offsets_home_and_reset_on_every_flavour() {
         let r = s.mdi("G0 X5 Y3").unwrap();
         assert_eq!(r.error, None, "{flavor:?}");
         assert_eq!(r.console_lines(), ["> G0 X5 Y3", "ok"]);
-        wait(&mut s, "moved", |s| s.state == "idle" && near(s.work_pos, [5.0, 3.0, 0.0]));
+        wait(&mut s, "moved", |s| {
+            s.state == "idle" && near(s.work_pos, [5.0, 3.0, 0.0])
+        });
         // Firmware errors come back in words.
         let r = s.mdi("G1 X1").unwrap();
-        assert!(r.error.as_deref().unwrap().starts_with("error:22 (Undefined feed rate"), "{r:?}");
+        assert!(
+            r.error
+                .as_deref()
+                .unwrap()
+                .starts_with("error:22 (Undefined feed rate"),
+            "{r:?}"
+        );
         // Zero X alone in G54, then G55 chosen and zeroed whole: G54 stays.
         s.zero([true, false, false]).unwrap();
         let snap = wait(&mut s, "X zeroed", |s| near(s.work_pos, [0.0, 3.0, 0.0]));
@@ -54,25 +67,40 @@ fn typed_lines_offsets_home_and_reset_on_every_flavour() {
         s.select_system(1).unwrap();
         assert_eq!(s.snapshot().offsets.active, 1);
         s.mdi("G0 X7").unwrap();
-        wait(&mut s, "moved in G55", |s| s.state == "idle" && (s.machine_pos[0] - 7.0).abs() < 1e-3);
+        wait(&mut s, "moved in G55", |s| {
+            s.state == "idle" && (s.machine_pos[0] - 7.0).abs() < 1e-3
+        });
         s.zero([true, true, true]).unwrap();
         let o = s.snapshot().offsets;
-        assert_eq!((o.systems[0], o.systems[1]), ([5.0, 0.0, 0.0], [7.0, 3.0, 0.0]), "{flavor:?}");
+        assert_eq!(
+            (o.systems[0], o.systems[1]),
+            ([5.0, 0.0, 0.0], [7.0, 3.0, 0.0]),
+            "{flavor:?}"
+        );
         // `$#` typed fills the table too.
         let r = s.mdi("$#").unwrap();
-        assert!(r.lines.iter().any(|l| l.starts_with("[G55:7.000,3.000")), "{r:?}");
+        assert!(
+            r.lines.iter().any(|l| l.starts_with("[G55:7.000,3.000")),
+            "{r:?}"
+        );
         // Go to zero: Z up to the clearance first, then XY.
         s.mdi("G0 X12 Y9 Z-5").unwrap();
-        wait(&mut s, "away", |s| s.state == "idle" && (s.machine_pos[2] + 5.0).abs() < 1e-3);
+        wait(&mut s, "away", |s| {
+            s.state == "idle" && (s.machine_pos[2] + 5.0).abs() < 1e-3
+        });
         s.go_to_zero(false).unwrap();
-        let snap = wait(&mut s, "at zero", |s| s.state == "idle" && near(s.machine_pos, [7.0, 3.0, -1.0]));
+        let snap = wait(&mut s, "at zero", |s| {
+            s.state == "idle" && near(s.machine_pos, [7.0, 3.0, -1.0])
+        });
         assert!((snap.work_pos[2] + 1.0).abs() < 1e-3, "{snap:?}");
         // Homing refused with $22=0, explained; enabled, it homes.
         let e = s.home().unwrap_err().0;
         assert!(e.contains("$22=1") && e.contains("error:5"), "{e}");
         assert_eq!(s.mdi("$22=1").unwrap().error, None);
         s.home().unwrap();
-        wait(&mut s, "homed", |s| s.state == "idle" && near(s.machine_pos, [0.0; 3]));
+        wait(&mut s, "homed", |s| {
+            s.state == "idle" && near(s.machine_pos, [0.0; 3])
+        });
         // Soft reset while moving: alarm (G54 active again); unlock.
         s.mdi("G1 X-100 F300").unwrap();
         wait(&mut s, "moving", |s| s.state == "run");
@@ -82,7 +110,11 @@ fn typed_lines_offsets_home_and_reset_on_every_flavour() {
         s.unlock().unwrap();
         wait(&mut s, "unlocked", |s| s.state == "idle");
         s.read_offsets().unwrap();
-        assert_eq!(s.snapshot().offsets.active, 0, "{flavor:?}: G54 after the reset");
+        assert_eq!(
+            s.snapshot().offsets.active,
+            0,
+            "{flavor:?}: G54 after the reset"
+        );
     }
 }
 
@@ -99,29 +131,48 @@ fn typed_lines_and_macros_are_refused_during_a_job() {
     wait(&mut s, "running", |s| s.state == "run");
     let e = s.mdi("G0 X1").unwrap_err().0;
     assert!(e.contains("a job is running") && e.contains("Hold"), "{e}");
-    assert!(s.run_macro("G0 X1").unwrap_err().0.contains("a job is running"));
+    assert!(s
+        .run_macro("G0 X1")
+        .unwrap_err()
+        .0
+        .contains("a job is running"));
     assert!(s.zero([true; 3]).is_err());
     assert!(s.home().is_err());
-    // Real-time controls still work.
-    s.command(Command::Stop).unwrap();
-    wait(&mut s, "stopped", |s| s.job.as_ref().is_some_and(|j| j.completed.is_some()));
+    // Real-time controls still work: hold, then a soft reset ends the job.
+    s.command(Command::Hold).unwrap();
+    wait(&mut s, "held", |s| s.state == "hold");
+    s.soft_reset().unwrap();
+    let snap = wait(&mut s, "ended", |s| {
+        s.job.as_ref().is_some_and(|j| j.completed == Some(false))
+    });
+    assert_ne!(snap.state, "run", "{snap:?}");
+    wait(&mut s, "at rest", |s| matches!(s.state, "idle" | "alarm"));
+    assert!(s.mdi("G0 X1").is_ok(), "typed lines again after the job");
 }
 
 #[test]
 fn macros_run_line_by_line_and_stop_at_the_first_error() {
     let (_emu, mut s) = board(Flavor::GrblHal);
     s.mdi("G0 X2 Y1").unwrap();
-    wait(&mut s, "moved", |s| s.state == "idle" && near(s.machine_pos, [2.0, 1.0, 0.0]));
+    wait(&mut s, "moved", |s| {
+        s.state == "idle" && near(s.machine_pos, [2.0, 1.0, 0.0])
+    });
     let r = s.run_macro("G0 X[x+1]\nG1 Y5\nG0 X0").unwrap();
     assert_eq!(r.len(), 2, "{r:?}");
     assert_eq!(r[0].line, "G0 X3");
     assert!(r[1].error.as_deref().unwrap().contains("error:22"));
-    wait(&mut s, "moved", |s| s.state == "idle" && near(s.machine_pos, [3.0, 1.0, 0.0]));
+    wait(&mut s, "moved", |s| {
+        s.state == "idle" && near(s.machine_pos, [3.0, 1.0, 0.0])
+    });
     // Unknown parameters: nothing is sent.
     let e = s.run_macro("G0 X0\nG0 X[q]").unwrap_err().0;
     assert!(e.contains("unknown parameter [q]"), "{e}");
     // The emulator's `$#` reports no probe touch yet.
-    assert!(s.run_macro("G0 X[prb_x]").unwrap_err().0.contains("did not touch"));
+    assert!(s
+        .run_macro("G0 X[prb_x]")
+        .unwrap_err()
+        .0
+        .contains("did not touch"));
     assert!(s.mdi("").is_err() && s.mdi("G0\nG1").is_err());
 }
 
@@ -135,7 +186,10 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     let r = s.mdi("G0 X5 Y3").unwrap();
     assert_eq!(r.error, None);
     let snap = s.snapshot();
-    assert!(near(snap.work_pos, [5.0, 3.0, start.work_pos[2]]), "{snap:?}");
+    assert!(
+        near(snap.work_pos, [5.0, 3.0, start.work_pos[2]]),
+        "{snap:?}"
+    );
     // A refused line moves nothing and leaves the machine unlocked.
     let r = s.mdi("G0 X99999").unwrap();
     assert!(r.error.is_some(), "{r:?}");
@@ -149,7 +203,10 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     s.zero([true, true, true]).unwrap();
     let o = s.snapshot().offsets;
     assert_eq!(o.active, 1);
-    assert!((o.systems[0][0] - snap.machine_pos[0]).abs() < 1e-9, "{o:?}");
+    assert!(
+        (o.systems[0][0] - snap.machine_pos[0]).abs() < 1e-9,
+        "{o:?}"
+    );
     assert!((o.systems[1][0] - 20.0).abs() < 1e-9, "{o:?}");
     s.mdi("G0 X1").unwrap();
     assert!((s.snapshot().machine_pos[0] - 21.0).abs() < 1e-6);
@@ -162,7 +219,7 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     s.poll(Duration::ZERO);
     s.go_to_zero(true).unwrap();
     let t0 = Instant::now();
-    while !s.snapshot().job.unwrap().completed.is_some() {
+    while s.snapshot().job.unwrap().completed.is_none() {
         s.poll(Duration::from_millis(20));
         assert!(t0.elapsed() < Duration::from_secs(30));
     }
