@@ -138,8 +138,16 @@ export class MachinePanel {
   }
 
   private status(s: Snapshot) {
+    const changed = s.uri !== this.last?.uri;
     this.last = s;
     $('machine-name').textContent = `${s.machine} · ${s.firmware}`;
+    // The select shows the machine connected when it changes (another page's connect too);
+    // a choice not yet connected is left alone.
+    const sel = $<HTMLSelectElement>('machine-uri');
+    if (changed && sel.value !== s.uri && sel.options.length) {
+      if (!Array.from(sel.options).some((o) => o.value === s.uri)) sel.insertBefore(new Option(s.uri, s.uri), sel.options[0]);
+      sel.value = s.uri;
+    }
     const f = (v: number) => v.toFixed(3);
     ['x', 'y', 'z'].forEach((a, i) => {
       $('w' + a).textContent = f(s.work_pos[i]);

@@ -302,6 +302,39 @@ await test('virtual machine: typed lines, $ refused, offsets in G54 and G55, go 
   await waitDro(page, { mx: home[0], my: home[1], mz: home[2] }, 30000);
 });
 
+await test('typed lines: Up and Down browse the history, kept across a reload', async () => {
+  await page.reload();
+  await page.waitForFunction(() => document.getElementById('control').textContent.includes('controlling'), null, { timeout: 20000 });
+  await page.click('#mdi');
+  await page.keyboard.press('ArrowUp');
+  assert(await page.inputValue('#mdi') === 'G0 X4 Y-2', `last line: ${await page.inputValue('#mdi')}`);
+  await page.keyboard.press('ArrowUp');
+  assert(await page.inputValue('#mdi') === 'G53 G0 X20', `the one before: ${await page.inputValue('#mdi')}`);
+  await page.keyboard.press('ArrowDown');
+  await page.keyboard.press('ArrowDown');
+  assert(await page.inputValue('#mdi') === '', 'back to an empty line');
+});
+
+await test('gamepad: the left stick pushed right jogs X+, released it stops', async () => {
+  await waitState(page, 'idle');
+  await page.fill('#jog-feed', '600');
+  const x0 = await num(page, 'mx');
+  await page.evaluate(() => {
+    const pad = { id: 'test pad', axes: [0, 0, 0, 0], buttons: [] };
+    window.__pad = pad;
+    navigator.getGamepads = () => [pad];
+    window.dispatchEvent(Object.assign(new Event('gamepadconnected'), { gamepad: pad }));
+  });
+  assert((await page.textContent('#gamepad-hint')).includes('test pad'), 'the hint names the gamepad');
+  await page.evaluate(() => { window.__pad.axes[0] = 1; });
+  await page.waitForFunction((x) => Number(document.getElementById('mx').textContent) > x + 1, x0, { timeout: 20000 });
+  await page.evaluate(() => { window.__pad.axes[0] = 0; });
+  await waitState(page, 'idle');
+  const x1 = await num(page, 'mx');
+  await page.waitForTimeout(400);
+  assert(near(await num(page, 'mx'), x1) && x1 - x0 < 100, `stopped at ${x1} from ${x0}`);
+});
+
 await test('no script errors in the page', async () => {
   assert(pageErrors.length === 0, pageErrors.join('\n'));
 });
