@@ -335,6 +335,22 @@ await test('gamepad: the left stick pushed right jogs X+, released it stops', as
   assert(near(await num(page, 'mx'), x1) && x1 - x0 < 100, `stopped at ${x1} from ${x0}`);
 });
 
+await test('virtual machine: a watching page stops the running job', async () => {
+  await waitState(page, 'idle');
+  await page.selectOption('#speed', '1');
+  await page.click('#start');
+  await waitState(page, 'run');
+  const ctx = await browser.newContext({ viewport: { width: 1400, height: 1000 } });
+  const other = await ctx.newPage();
+  await other.goto(url);
+  await other.waitForFunction(() => document.getElementById('control').textContent.includes('watching') && document.body.dataset.state === 'run', null, { timeout: 20000 });
+  assert(await other.isDisabled('#start') && await other.isDisabled('#mdi'), 'a watcher cannot start or type');
+  await other.click('#stop');
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'stopped', null, { timeout: 20000 });
+  await waitState(page, 'idle');
+  await ctx.close();
+});
+
 await test('no script errors in the page', async () => {
   assert(pageErrors.length === 0, pageErrors.join('\n'));
 });
