@@ -55,7 +55,7 @@ const KEYS: Record<string, number[]> = {
 /// Keys jog while the page has focus outside text fields and the editor.
 function typing(t: EventTarget | null): boolean {
   const e = t as HTMLElement | null;
-  return !!e && (e.isContentEditable || ['INPUT', 'TEXTAREA', 'SELECT'].includes(e.tagName));
+  return !!e && (e.isContentEditable || ['INPUT', 'TEXTAREA', 'SELECT'].includes(e.tagName) || !!e.closest?.('#editor'));
 }
 
 export function keyboardJog(jog: Jogger) {
