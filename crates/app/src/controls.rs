@@ -117,14 +117,25 @@ impl Session {
                 "`{line}`: the virtual machine has no firmware $ commands (its profile says how it moves); Home, Unlock and the offsets table work without them"
             )));
         }
-        // (The virtual machine wants a program end.)
-        let text = format!("{}\n{line}\nM2\n", SYSTEMS[self.offsets.active]);
+        let text = format!("{}{line}\nM2\n", self.virtual_preamble());
         let error = self.run_virtual(line, text, Pace::Instant)?;
         Ok(MdiReply {
             line: line.to_string(),
             lines: Vec::new(),
             error,
         })
+    }
+
+    /// What a job of typed lines starts with on the virtual machine (it ends with M2, the
+    /// program end the machine asks for): the system chosen, and a move of no length to
+    /// where the machine stands, so the interpreter starts there (axes a line leaves out
+    /// stay where they are, G91 counts from there).
+    fn virtual_preamble(&self) -> String {
+        let [x, y, z] = self.machine.status().machine_pos;
+        format!(
+            "{}\nG90 G53 G0 X{x:.6} Y{y:.6} Z{z:.6}\n",
+            SYSTEMS[self.offsets.active]
+        )
     }
 
     /// Runs `text` as a job named after `line` on the virtual machine; with `Pace::Instant`
@@ -296,11 +307,7 @@ impl Session {
         if self.profile().is_none() {
             return self.firmware_lines(&lines);
         }
-        let text = format!(
-            "{}\n{}\nM2\n",
-            SYSTEMS[self.offsets.active],
-            lines.join("\n")
-        );
+        let text = format!("{}{}\nM2\n", self.virtual_preamble(), lines.join("\n"));
         self.run_virtual("go to work zero", text, Pace::Speed(1.0))
             .map(|_| ())
     }

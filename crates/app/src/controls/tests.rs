@@ -199,7 +199,14 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     s.zero([true, false, false]).unwrap();
     assert!((s.snapshot().work_pos[0]).abs() < 1e-9);
     s.select_system(1).unwrap();
+    let before = s.snapshot().machine_pos;
     s.mdi("G53 G0 X20").unwrap();
+    // The axes a line leaves out stay where they are; G91 counts from there.
+    let after = s.snapshot().machine_pos;
+    assert_eq!((after[1], after[2]), (before[1], before[2]), "{after:?}");
+    s.mdi("G91 G0 Y1").unwrap();
+    s.mdi("G91 G0 Y-1").unwrap();
+    assert!(near(s.snapshot().machine_pos, [20.0, before[1], before[2]]));
     s.zero([true, true, true]).unwrap();
     let o = s.snapshot().offsets;
     assert_eq!(o.active, 1);
