@@ -49,9 +49,14 @@ export interface Snapshot {
   alarm: string | null; alarm_meaning: string | null;
   machine_pos: [number, number, number]; work_pos: [number, number, number];
   feed: number; line: number; elapsed: number; total: number; remaining: number | null;
-  feed_override: number; job: JobView | null; can_home_and_zero: boolean;
-  /// The built-in virtual machine: its speed factor applies (firmware runs at its own pace).
-  virtual_machine: boolean;
+  feed_override: number; job: JobView | null;
+  /// The built-in virtual machine (no firmware `$` commands; its profile can change).
+  is_virtual: boolean;
+  offsets: Offsets;
+}
+export interface Offsets {
+  systems: [number, number, number][]; active: number; g92: [number, number, number]; tlo: number;
+  probe: { pos: [number, number, number]; touched: boolean } | null; known: boolean;
 }
 export type LiveMessage =
   | { type: 'hello'; client: number; controller: boolean }

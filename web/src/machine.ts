@@ -1,7 +1,13 @@
-// The machine panel: connect, DRO, jog, home, zero, start / hold / resume / stop, resume from
-// a line, feed override, progress with elapsed and remaining time, console and alarms.
+// The machine panel: connect, DRO, jog (buttons, keys, gamepad), home, unlock, reset, work
+// offsets, start / hold / resume / stop, resume from a line, feed override, progress with
+// elapsed and remaining time, console with typed lines, macros and alarms. Any page may
+// hold, stop and reset; moving and starting need control.
 
 import type { LiveMessage, Snapshot } from './api';
+import { Jogger, gamepadJog, keyboardJog } from './jog';
+import { setupMacros } from './macros';
+import { setupMdi } from './mdi';
+import { setupOffsets, showOffsets } from './offsets';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
 
@@ -22,10 +28,10 @@ export class MachinePanel {
   private controls = false;
   private client = 0;
   private last: Snapshot | null = null;
-  private jogging = false;
   private programErrors = 0;
   /// The shown job's end as last seen (null while it runs or when there is none).
   private jobEnded: boolean | null = null;
+  private macros: { refresh(): void };
 
   constructor(private hooks: Hooks) {
     const send = (cmd: Record<string, unknown>) => {
@@ -37,7 +43,10 @@ export class MachinePanel {
     $('stop').onclick = () => send({ cmd: 'stop' });
     $('unlock').onclick = () => send({ cmd: 'unlock' });
     $('home').onclick = () => send({ cmd: 'home' });
-    $('zero').onclick = () => send({ cmd: 'zero', axes: [true, true, true] });
+    $('reset').onclick = () => send({ cmd: 'soft_reset' });
+    setupOffsets(send);
+    setupMdi(send);
+    this.macros = setupMacros(send, () => this.controls);
     $('control').onclick = () => { if (!this.controls) send({ cmd: 'take_control' }); };
     $('start').onclick = async () => {
       try {
@@ -49,33 +58,20 @@ export class MachinePanel {
         hooks.error((e as Error).message);
       }
     };
-    const continuous = () => $<HTMLSelectElement>('jog-step').value === 'continuous';
-    const feed = () => Number($<HTMLInputElement>('jog-feed').value);
+    const jog = new Jogger(send, () => this.controls && (this.last?.state ?? 'idle') === 'idle');
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) {
       const dir = b.dataset.jog!.split(',').map(Number);
-      b.onclick = () => {
-        if (continuous()) return;
-        const step = Number($<HTMLSelectElement>('jog-step').value);
-        send({ cmd: 'jog', delta: dir.map((v) => v * step), feed: feed() });
-      };
+      b.onclick = () => jog.step(dir);
       // Continuous: moves while held. The release is watched on the window (the button is
-      // disabled while the machine moves), and a page that goes away stops it on the server.
+      // disabled while the machine moves).
       b.onpointerdown = (e) => {
-        if (!continuous() || b.disabled) return;
+        if (!jog.continuous || b.disabled) return;
         e.preventDefault();
-        this.jogging = true;
-        send({ cmd: 'jog_start', direction: dir, feed: feed() });
+        jog.start(dir);
       };
     }
-    const release = () => {
-      if (!this.jogging) return;
-      this.jogging = false;
-      try { send({ cmd: 'jog_stop' }); } catch { /* the server stops it when the socket drops */ }
-    };
-    window.addEventListener('pointerup', release);
-    window.addEventListener('pointercancel', release);
-    window.addEventListener('blur', release);
-    document.addEventListener('visibilitychange', () => { if (document.hidden) release(); });
+    keyboardJog(jog);
+    gamepadJog(jog);
     const so = $<HTMLInputElement>('so');
     so.oninput = () => { $('so-value').textContent = `${so.value} %`; };
     so.onchange = () => send({ cmd: 'spindle_override', value: Number(so.value) / 100 });
@@ -110,7 +106,7 @@ export class MachinePanel {
   useVirtual(uri: string) {
     const s = this.last;
     if (!s || s.uri === uri) return;
-    if (!s.virtual_machine) {
+    if (!s.is_virtual) {
       const msg = `this plot was made for ${uri}, but the connected machine is ${s.machine} (${s.uri}): run it there only if that is the plotter, or connect ${uri} to try it on the virtual plotter`;
       this.log(msg);
       this.hooks.error(msg);
@@ -128,7 +124,7 @@ export class MachinePanel {
   restoreMachine() {
     const back = this.borrowedFrom;
     const s = this.last;
-    if (back === null || !s || !s.virtual_machine) { this.borrowedFrom = null; return; }
+    if (back === null || !s || !s.is_virtual) { this.borrowedFrom = null; return; }
     if (s.state !== 'idle') return;
     this.borrowedFrom = null;
     if (s.uri === back) return;
@@ -176,8 +172,16 @@ export class MachinePanel {
   }
 
   private status(s: Snapshot) {
+    const changed = s.uri !== this.last?.uri;
     this.last = s;
     $('machine-name').textContent = `${s.machine} · ${s.firmware}`;
+    // The select shows the machine connected when it changes (another page's connect too);
+    // a choice not yet connected is left alone.
+    const sel = $<HTMLSelectElement>('machine-uri');
+    if (changed && sel.value !== s.uri && sel.options.length) {
+      if (!Array.from(sel.options).some((o) => o.value === s.uri)) sel.insertBefore(new Option(s.uri, s.uri), sel.options[0]);
+      sel.value = s.uri;
+    }
     const f = (v: number) => v.toFixed(3);
     ['x', 'y', 'z'].forEach((a, i) => {
       $('w' + a).textContent = f(s.work_pos[i]);
@@ -189,8 +193,8 @@ export class MachinePanel {
     const p = $<HTMLProgressElement>('progress');
     p.value = s.total > 0 ? Math.min(1, s.elapsed / s.total) : 0;
     const speedSel = $<HTMLSelectElement>('speed');
-    speedSel.disabled = !s.virtual_machine;
-    speedSel.title = s.virtual_machine ? '' : 'firmware runs the job at its own pace';
+    speedSel.disabled = !s.is_virtual;
+    speedSel.title = s.is_virtual ? '' : 'firmware runs the job at its own pace';
     const speed = s.job?.speed ?? null;
     $('elapsed').textContent = hms(speed ? s.elapsed / speed : s.elapsed);
     $('remaining').textContent = hms(s.remaining);
@@ -207,6 +211,7 @@ export class MachinePanel {
     const ended = s.job?.completed ?? null;
     if (ended !== null && this.jobEnded === null) $<HTMLInputElement>('from-line').value = '';
     this.jobEnded = s.job ? ended : null;
+    showOffsets(s.offsets);
     document.body.dataset.jobDone = s.job?.completed === true ? 'completed' : s.job?.completed === false ? 'stopped' : '';
     this.updateButtons();
     this.hooks.onStatus(s);
@@ -216,15 +221,25 @@ export class MachinePanel {
     const s = this.last?.state ?? 'idle';
     const c = this.controls;
     const idle = s === 'idle';
+    const rest = idle || s === 'alarm';
     const set = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !(c && on); };
+    // Stopping needs no control: any page may.
+    const anyPage = (id: string, on: boolean) => { $<HTMLButtonElement>(id).disabled = !on; };
     set('start', idle && this.programErrors === 0);
     $('start').title = this.programErrors ? `the program has ${this.programErrors} errors: fix them first` : '';
-    set('hold', s === 'run');
+    anyPage('hold', s === 'run' || s === 'jog');
     set('resume', s === 'hold' || s === 'holding' || s === 'paused');
-    set('stop', !idle && s !== 'alarm');
-    set('connect', idle || s === 'alarm');
-    set('home', idle && !!this.last?.can_home_and_zero);
-    set('zero', idle && !!this.last?.can_home_and_zero);
+    anyPage('stop', !idle && s !== 'alarm');
+    anyPage('reset', this.last !== null);
+    set('connect', rest);
+    set('home', rest);
+    set('unlock', s === 'alarm' || (idle && !this.last?.is_virtual));
+    for (const id of ['zero-x', 'zero-y', 'zero-z', 'zero', 'goto-zero']) set(id, idle);
+    set('read-offsets', rest);
+    $<HTMLSelectElement>('wcs').disabled = !(c && idle);
+    $<HTMLInputElement>('mdi').disabled = !c;
+    set('mdi-send', true);
+    this.macros.refresh();
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) b.disabled = !(c && idle);
   }
 }

@@ -166,11 +166,13 @@ await test('reloading mid-job shows the job where it is', async () => {
   await shot('reloaded-mid-job');
 });
 
-await test('a second page watches and cannot move the machine', async () => {
+await test('a second page watches and cannot move the machine, but may stop it', async () => {
   const other = await browser.newPage({ viewport: { width: 1200, height: 800 } });
   await other.goto(url);
   await other.waitForFunction(() => document.getElementById('control').textContent.includes('watching'), null, { timeout: 20000 });
-  assert(await other.isDisabled('#stop'), 'a watcher cannot stop the job');
+  await other.waitForFunction(() => document.body.dataset.state === 'run', null, { timeout: 20000 });
+  assert(await other.isDisabled('#start') && await other.isDisabled('#jog button[data-jog="1,0,0"]'), 'a watcher cannot start or jog');
+  assert(!(await other.isDisabled('#stop')) && !(await other.isDisabled('#hold')), 'a watcher can hold and stop the job');
   await other.close();
 });
 

@@ -30,6 +30,7 @@
 pub mod bench;
 pub mod carve;
 mod check;
+mod controls;
 pub mod embroider;
 mod error;
 mod job;
@@ -37,7 +38,9 @@ mod jog;
 mod judge;
 mod level;
 mod machine_uri;
+mod macros;
 mod mill;
+mod offsets;
 mod plan;
 mod plot;
 mod post_params;
@@ -55,6 +58,7 @@ pub use check::{
     check_program, check_program_with_tools, check_source, CheckOptions, CheckReport,
     CheckedSource, Diag, ExtentsBox, TimeEstimate,
 };
+pub use controls::MdiReply;
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
@@ -65,7 +69,9 @@ pub use level::{
 pub use machine_uri::{
     is_firmware, open_firmware, open_machine, open_machine_with, open_machine_with_tools,
 };
+pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
+pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;

@@ -1,7 +1,8 @@
-//! A session with one machine: the job it runs, real-time commands, jog, home and work zero,
-//! and a snapshot that a page (or a terminal) shows. Events are drained by the caller; the
+//! A session with one machine: the job it runs, real-time commands, jog, and a snapshot that
+//! a page (or a terminal) shows (typed lines, home, reset and work offsets: `controls`). Events are drained by the caller; the
 //! machine runs its job on its own thread, so whoever watches may come and go.
 
+use crate::offsets::WorkOffsets;
 use crate::{machine_uri, profile, Error};
 use oficina_gcode::ToolTable;
 use oficina_machine::{Command, Event, Job, Machine, MachineInfo, Pace, State};
@@ -102,10 +103,11 @@ pub struct Snapshot {
     pub feed_override: f64,
     /// The job, when there is one.
     pub job: Option<JobView>,
-    /// True when the machine can home and set its work zero.
-    pub can_home_and_zero: bool,
-    /// The built-in virtual machine (its job speed factor applies); false for firmware.
-    pub virtual_machine: bool,
+    /// True on the virtual machine (no firmware `$` commands; its profile can change, its
+    /// job speed factor applies).
+    pub is_virtual: bool,
+    /// The work offsets as last known (read again after every change).
+    pub offsets: WorkOffsets,
     /// The tool change the job waits for (state `paused`), if any.
     pub tool_change: Option<ToolChangeView>,
 }
@@ -113,16 +115,13 @@ pub struct Snapshot {
 /// A machine opened from a URI and the job it runs, driven by the page.
 pub struct Session {
     uri: String,
-    machine: Box<dyn Machine>,
+    pub(crate) machine: Box<dyn Machine>,
     info: MachineInfo,
     /// The virtual machine's profile (none for real firmware).
     profile: Option<Profile>,
     /// Where the virtual machine homes to: the profile's start.
-    home: [f64; 3],
-    job: Option<JobView>,
-    /// No job has run since the virtual machine was made: its idle status still shows the
-    /// machine position as the work position, so the snapshot applies the offset itself.
-    fresh: bool,
+    pub(crate) home: [f64; 3],
+    pub(crate) job: Option<JobView>,
     /// The virtual machine's tool table (G43 H, G41 D, M6).
     tools: ToolTable,
     /// The last tool change asked for ([`Event::ToolChange`]); shown while paused.
@@ -130,12 +129,13 @@ pub struct Session {
     /// The last alarm the machine named with its number (`ALARM:5 …`): grbl's status says
     /// only `Alarm`, so the snapshot shows this while the machine stays in alarm.
     last_alarm: Option<String>,
+    /// Work offsets: the virtual machine's own (G54 is its profile's), or the firmware's
+    /// as its last `$#` and `$G` replies said.
+    pub(crate) offsets: WorkOffsets,
 }
 
 /// Feed overrides outside this range are refused (the virtual machine's and grbl's range).
 const FEED_OVERRIDE: std::ops::RangeInclusive<f64> = 0.1..=2.0;
-/// Homing speed of the virtual machine, mm/min.
-const HOME_FEED: f64 = 3000.0;
 
 impl Session {
     /// Connect to the machine `uri` names (see [`machine_uri::open_machine`]).
@@ -148,18 +148,28 @@ impl Session {
         let mut machine = machine_uri::open_machine(uri, None)?;
         let info = machine.connect().map_err(Error::from_display)?;
         let home = profile.as_ref().map_or([0.0; 3], |p| p.start);
-        Ok(Session {
+        let mut offsets = WorkOffsets::default();
+        if let Some(p) = &profile {
+            offsets.systems[0] = p.work_offset;
+            offsets.known = true;
+        }
+        let mut session = Session {
             uri: uri.to_string(),
             machine,
             info,
             profile,
             home,
             job: None,
-            fresh: true,
             tools: ToolTable::default(),
             last_alarm: None,
             tool_change: None,
-        })
+            offsets,
+        };
+        if session.profile.is_none() {
+            // The firmware's table from the start (a board in alarm still lists it).
+            let _ = session.read_offsets();
+        }
+        Ok(session)
     }
 
     /// Gives the virtual machine a tool table (idle only; it stays where it is). Real
@@ -186,15 +196,22 @@ impl Session {
     }
 
     /// A new virtual machine on `profile` (its start = where the old one stood), with the
-    /// session's tool table.
-    fn rebuild(&mut self, profile: Profile) -> Result<(), Error> {
-        let vm = oficina_machine::VirtualMachine::new(profile.clone());
-        let mut machine: Box<dyn Machine> = Box::new(vm.with_tool_table(self.tools.clone()));
+    /// session's tool table and work offsets (G54 is the profile's; G55…G59 go to every job
+    /// as the parameters #5241… that LinuxCNC keeps them in).
+    pub(crate) fn rebuild(&mut self, profile: Profile) -> Result<(), Error> {
+        let params = (1..6)
+            .flat_map(|s| (0..3).map(move |i| (s, i)))
+            .map(|(s, i)| (5221 + 20 * s as i64 + i as i64, self.offsets.systems[s][i]))
+            .collect();
+        let vm = oficina_machine::VirtualMachine::new(profile.clone())
+            .with_tool_table(self.tools.clone())
+            .with_initial_params(params);
+        let mut machine: Box<dyn Machine> = Box::new(vm);
         self.info = machine.connect().map_err(Error::from_display)?;
         self.machine.disconnect();
         self.machine = machine;
+        self.offsets.systems[0] = profile.work_offset;
         self.profile = Some(profile);
-        self.fresh = true;
         Ok(())
     }
 
@@ -235,7 +252,6 @@ impl Session {
                 pace: req.speed.map_or(Pace::Instant, Pace::Speed),
             })
             .map_err(Error::from_display)?;
-        self.fresh = false;
         self.job = Some(JobView {
             name: req.name,
             lines,
@@ -276,41 +292,7 @@ impl Session {
         }
         self.machine
             .command(Command::Jog { delta, feed })
-            .map_err(Error::from_display)?;
-        self.fresh = false;
-        Ok(())
-    }
-
-    /// The virtual machine goes back to its reference point (the profile's start).
-    pub fn home(&mut self) -> Result<(), Error> {
-        if self.profile.is_none() {
-            return Err(Error("home real firmware from its console ($H)".into()));
-        }
-        let p = self.machine.status().machine_pos;
-        let delta = [0, 1, 2].map(|i| self.home[i] - p[i]);
-        self.jog(delta, HOME_FEED)
-    }
-
-    /// Make the current point the work zero (G54) of the virtual machine, for the axes asked.
-    pub fn zero(&mut self, axes: [bool; 3]) -> Result<(), Error> {
-        let Some(profile) = &self.profile else {
-            return Err(Error(
-                "set real firmware's work zero from its console (G10 L20 P1 X0 Y0 Z0)".into(),
-            ));
-        };
-        let status = self.machine.status();
-        if status.state != State::Idle {
-            return Err(Error(format!(
-                "work zero is set when idle, not while {}",
-                state_name(&status.state)
-            )));
-        }
-        let mut profile = profile.clone();
-        for (i, _) in axes.iter().enumerate().filter(|(_, on)| **on) {
-            profile.work_offset[i] = status.machine_pos[i];
-        }
-        profile.start = status.machine_pos;
-        self.rebuild(profile)
+            .map_err(Error::from_display)
     }
 
     /// Every event waiting now (waits up to `timeout` for the first).
@@ -358,8 +340,11 @@ impl Session {
     /// The machine's state now, as the page shows it.
     pub fn snapshot(&self) -> Snapshot {
         let mut s = self.machine.status();
-        if let (true, Some(p)) = (self.fresh, &self.profile) {
-            s.work_pos = std::array::from_fn(|i| s.machine_pos[i] - p.work_offset[i]);
+        let running = self.job.as_ref().is_some_and(|j| j.completed.is_none());
+        // Between jobs the virtual machine's work position is the session's active system
+        // (its status still shows the last job's).
+        if self.profile.is_some() && !running {
+            s.work_pos = self.offsets.work_position(s.machine_pos);
         }
         let alarm = match (&s.state, &self.last_alarm) {
             (State::Alarm(a), Some(named)) if !a.contains("ALARM:") => {
@@ -368,7 +353,6 @@ impl Session {
             (State::Alarm(a), _) => Some(a.clone()),
             _ => None,
         };
-        let running = self.job.as_ref().is_some_and(|j| j.completed.is_none());
         let remaining = match self.job.as_ref().and_then(|j| j.speed) {
             Some(speed) if running && s.total > 0.0 => Some((s.total - s.elapsed).max(0.0) / speed),
             _ => None,
@@ -389,8 +373,8 @@ impl Session {
             remaining,
             feed_override: s.feed_override,
             job: self.job.clone(),
-            can_home_and_zero: self.profile.is_some(),
-            virtual_machine: self.profile.is_some(),
+            is_virtual: self.profile.is_some(),
+            offsets: self.offsets.clone(),
             tool_change: self
                 .tool_change
                 .clone()
@@ -405,7 +389,7 @@ impl Drop for Session {
     }
 }
 
-fn state_name(s: &State) -> &'static str {
+pub(crate) fn state_name(s: &State) -> &'static str {
     match s {
         State::Idle => "idle",
         State::Run => "run",

@@ -444,6 +444,11 @@ fn job_key(k: &str) -> Option<Key> {
     })
 }
 
+/// Why a typed line is not sent while the job runs, and which keys are taken.
+fn typed_during_job(line: &str) -> String {
+    format!("`{line}`: not sent: typed lines wait until the job ends (keys now: h hold, r resume, s stop; overrides f+10 f-10 f100 r50 s+10 …)")
+}
+
 fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result<ExitCode> {
     machine.settings = RunSettings {
         start: match (args.from_line, args.resume) {
@@ -492,7 +497,9 @@ fn run_job(machine: &mut GrblDevice, path: &Path, args: &Args) -> anyhow::Result
             let sent = match job_key(k.trim()) {
                 Some(Key::Command(c)) => machine.command(c),
                 Some(Key::Realtime(r)) => machine.realtime(r),
-                None => Ok(()),
+                None => Err(oficina_machine::MachineError::Refused(typed_during_job(
+                    k.trim(),
+                ))),
             };
             if let Err(e) = sent {
                 eprintln!("\r\x1b[K{e}");
@@ -578,5 +585,20 @@ fn endpoint_flags(args: &Args) -> String {
         (Some(p), _) => format!("--port {p} --baud {}", args.baud),
         (_, Some(t)) => format!("--tcp {t}"),
         _ => "--emulator".into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn during_a_job_only_keys_are_taken_and_typed_lines_are_refused_in_words() {
+        assert!(matches!(job_key("h"), Some(Key::Command(Command::Hold))));
+        assert!(matches!(job_key("f+10"), Some(Key::Realtime(_))));
+        for typed in ["G0 X10", "$H", "$$"] {
+            assert!(job_key(typed).is_none(), "{typed}");
+            assert!(typed_during_job(typed).contains("wait until the job ends"));
+        }
     }
 }

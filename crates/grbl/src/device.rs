@@ -544,6 +544,11 @@ impl Machine for GrblDevice {
         })
     }
 
+    fn soft_reset(&mut self) -> Result<(), MachineError> {
+        // A running job hears it through its stream (which then reports the restart).
+        self.realtime(Realtime::SoftReset)
+    }
+
     fn firmware_settings(&mut self) -> Result<Vec<(u16, f64)>, MachineError> {
         self.with_idle(|m| {
             let all = crate::settings::read(&mut m.sender)?;

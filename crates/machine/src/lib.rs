@@ -203,6 +203,15 @@ pub trait Machine: Send {
         )))
     }
 
+    /// Soft reset (grbl's Ctrl-X, 0x18): the firmware stops at once, drops what it had
+    /// queued and restarts; a machine that was moving goes to alarm (its position may be
+    /// lost). Machines without such a reset refuse.
+    fn soft_reset(&mut self) -> Result<(), MachineError> {
+        Err(MachineError::Refused(
+            "this machine has no soft reset: stop it instead".into(),
+        ))
+    }
+
     /// The firmware's settings as (number, value), in its own numbering (grbl's `$$`).
     fn firmware_settings(&mut self) -> Result<Vec<(u16, f64)>, MachineError> {
         Err(MachineError::Refused(

@@ -31,6 +31,8 @@ pub struct VirtualMachine {
     max_line_len: usize,
     /// Tool table for G43 and M6 (empty: every tool has no offset).
     tools: ToolTable,
+    /// Parameters every job starts with besides the profile's (e.g. G55…G59 offsets).
+    params: Vec<(i64, f64)>,
     /// The motion running is a jog (what `JogCancel` may stop).
     jogging: bool,
     /// The spindle override asked for; the virtual machine has no spindle to slow, so it
@@ -53,6 +55,7 @@ impl VirtualMachine {
             connected: false,
             max_line_len: 0,
             tools: ToolTable::default(),
+            params: Vec::new(),
             jogging: false,
             spindle_override: 1.0,
         }
@@ -61,6 +64,13 @@ impl VirtualMachine {
     /// Run programs with this tool table: G43's tool length offsets reach the motion.
     pub fn with_tool_table(mut self, tools: ToolTable) -> VirtualMachine {
         self.tools = tools;
+        self
+    }
+
+    /// Every job starts with these parameters too, after the profile's (LinuxCNC numbering,
+    /// machine mm): the G55…G59 offsets in #5241…, say, kept by whoever drives the machine.
+    pub fn with_initial_params(mut self, params: Vec<(i64, f64)>) -> VirtualMachine {
+        self.params = params;
         self
     }
 
@@ -107,12 +117,13 @@ impl Machine for VirtualMachine {
         self.jogging = false;
         let (tx, rx) = channel();
         self.cmd_tx = Some(tx);
-        let (profile, status, events, max_line_len, tools) = (
+        let (profile, status, events, max_line_len, tools, params) = (
             self.profile.clone(),
             self.status.clone(),
             self.ev_tx.clone(),
             self.max_line_len,
             self.tools.clone(),
+            self.params.clone(),
         );
         lock(&status).state = State::Run;
         thread::spawn(move || {
@@ -124,6 +135,7 @@ impl Machine for VirtualMachine {
                 override_: 1.0,
                 max_line_len,
                 tools,
+                params,
             }
             .run_job(job)
         });
@@ -212,6 +224,7 @@ struct Runner {
     override_: f64,
     max_line_len: usize,
     tools: ToolTable,
+    params: Vec<(i64, f64)>,
 }
 
 /// Live commands waiting for the instant they can be applied, and the hold in progress.
@@ -240,7 +253,7 @@ impl Runner {
         start: [f64; 3],
     ) -> (Box<dyn Iterator<Item = Canon>>, Arc<Mutex<Option<String>>>) {
         let opts = oficina_gcode::RunOptions {
-            initial_params: self.profile.initial_params(),
+            initial_params: [self.profile.initial_params(), self.params.clone()].concat(),
             max_line_len: self.max_line_len,
             tool_table: self.tools.clone(),
             ..Default::default()

@@ -49,6 +49,10 @@ pub(crate) fn routes(state: Arc<AppState>) -> Router {
             "/api/tools",
             get(crate::profiles::tools_text).put(crate::profiles::save_tools),
         )
+        .route(
+            "/api/macros",
+            get(crate::macros::list).put(crate::macros::save),
+        )
         .layer(DefaultBodyLimit::max(limit))
         .route_layer(axum::middleware::from_fn_with_state(
             state.clone(),

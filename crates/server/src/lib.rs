@@ -32,6 +32,7 @@ mod auth;
 mod embroider;
 mod files;
 mod jobs;
+mod macros;
 mod page;
 mod profiles;
 mod samples;

@@ -1,6 +1,7 @@
 //! The live channel: status, console and events to every page; commands from the one page
-//! that controls the machine. A page that goes away releases control and nothing else: the
-//! job runs on.
+//! that controls the machine, except Hold, Stop and Reset, which any page may give (only
+//! starting and moving need control). A page that goes away releases control and nothing
+//! else: the job runs on.
 
 use crate::state::lock;
 use crate::{auth, AppState};
@@ -71,6 +72,33 @@ enum Request {
     Zero {
         axes: [bool; 3],
     },
+    /// A typed line (G-code or a `$` command).
+    Mdi {
+        line: String,
+    },
+    /// Ctrl-X.
+    SoftReset,
+    /// G54 (0) … G59 (5).
+    SelectSystem {
+        system: usize,
+    },
+    /// To the active system's zero: Z to a clearance, XY, then Z0 when `z`.
+    GoToZero {
+        z: bool,
+    },
+    /// Read the work offsets again (`$#`).
+    ReadOffsets,
+    /// A macro of the job folder's `macros.json`, by name.
+    RunMacro {
+        name: String,
+    },
+}
+
+impl Request {
+    /// Any page may stop the machine: these need no control.
+    fn stops(&self) -> bool {
+        matches!(self, Request::Hold | Request::Stop | Request::SoftReset)
+    }
 }
 
 async fn client(st: Arc<AppState>, socket: WebSocket) {
@@ -153,7 +181,7 @@ async fn handle(st: &Arc<AppState>, me: u64, text: &str) -> serde_json::Value {
         announce_control(st);
         return json!({"type": "ok", "cmd": "take_control", "controller": me});
     }
-    if *lock(&st.controller) != Some(me) {
+    if *lock(&st.controller) != Some(me) && !req.stops() {
         return json!({"type": "error", "message": "another page controls the machine: this one watches (take control to act)"});
     }
     let st2 = st.clone();
@@ -215,5 +243,34 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
         Request::Zero { axes } => st
             .with_session(|s| s.zero(axes).map_err(|e| e.to_string()))
             .map(|()| "zero"),
+        Request::Mdi { line } => {
+            let reply = st.with_session(|s| s.mdi(&line).map_err(|e| e.to_string()))?;
+            reply.console_lines().iter().for_each(|l| st.say(l));
+            Ok("mdi")
+        }
+        Request::SoftReset => st
+            .with_session(|s| s.soft_reset().map_err(|e| e.to_string()))
+            .map(|()| "soft_reset"),
+        Request::SelectSystem { system } => st
+            .with_session(|s| s.select_system(system).map_err(|e| e.to_string()))
+            .map(|()| "select_system"),
+        Request::GoToZero { z } => st
+            .with_session(|s| s.go_to_zero(z).map_err(|e| e.to_string()))
+            .map(|()| "go_to_zero"),
+        Request::ReadOffsets => st
+            .with_session(|s| s.read_offsets().map_err(|e| e.to_string()))
+            .map(|()| "read_offsets"),
+        Request::RunMacro { name } => {
+            let text = crate::macros::macro_text(st, &name)?;
+            st.say(&format!("macro {name}"));
+            let replies = st.with_session(|s| s.run_macro(&text).map_err(|e| e.to_string()))?;
+            for r in &replies {
+                r.console_lines().iter().for_each(|l| st.say(l));
+            }
+            match replies.iter().find_map(|r| r.error.as_ref()) {
+                Some(e) => Err(format!("macro {name} stopped: {e}")),
+                None => Ok("run_macro"),
+            }
+        }
     }
 }

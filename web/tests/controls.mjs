@@ -1,0 +1,362 @@
+// Browser tests of the machine panel's controls on real firmware (the grbl emulator as grbl,
+// grblHAL and FluidNC) and on the virtual machine: typed lines, work offsets, home, unlock,
+// soft reset, keyboard jog, macros, and a watching page that may hold and stop but not move.
+// Starts its own `oficina serve` (fresh job folder) and `oficina emulate grbl` per flavour;
+// only the page's visible controls are used (clicks and keys). Prints `controls: N passed,
+// M failed`; screenshots go to web/test-output/.
+
+import { chromium } from 'playwright-core';
+import { spawn } from 'node:child_process';
+import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { fileURLToPath } from 'node:url';
+import path from 'node:path';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const repo = path.join(here, '..', '..');
+const out = process.env.OFICINA_TEST_OUTPUT || path.join(here, '..', 'test-output');
+mkdirSync(out, { recursive: true });
+const bin = process.env.OFICINA_BIN || path.join(process.env.CARGO_TARGET_DIR || path.join(repo, 'target'), 'debug', 'oficina');
+const webDir = process.env.OFICINA_WEB || path.join(repo, 'web', 'dist');
+const flavours = (process.env.OFICINA_FLAVOURS || 'grbl,grblhal,fluidnc').split(',');
+
+const children = [];
+/// Starts `oficina ARGS` and resolves with the first match of `pattern` in its output.
+function start(args, pattern) {
+  const child = spawn(bin, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  children.push(child);
+  return new Promise((resolve, reject) => {
+    let seen = '';
+    const timer = setTimeout(() => reject(new Error(`oficina ${args.join(' ')}: no ${pattern} within 20 s:\n${seen}`)), 20000);
+    const look = (d) => {
+      seen += d;
+      const m = seen.match(pattern);
+      if (m) { clearTimeout(timer); resolve({ child, found: m[0] }); }
+    };
+    child.stdout.on('data', look);
+    child.stderr.on('data', look);
+    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`oficina ${args.join(' ')} exited (${code}):\n${seen}`)); });
+  });
+}
+function stop(child) {
+  child.removeAllListeners('exit');
+  child.kill();
+}
+
+const jobs = mkdtempSync(path.join(tmpdir(), 'oficina-controls-'));
+let passed = 0, failed = 0;
+let server, browser, page;
+try {
+  server = await start(['serve', '--port', '0', '--jobs', path.join(jobs, 'jobs'), '--web', webDir], /http:\/\/\S+/);
+} catch (e) {
+  console.log(`FAIL the server starts: ${e.message}`);
+  console.log('controls: 0 passed, 1 failed');
+  process.exit(1);
+}
+const url = server.found;
+
+browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
+});
+page = await browser.newPage({ viewport: { width: 1600, height: 1000 } });
+const pageErrors = [];
+page.on('pageerror', (e) => pageErrors.push(String(e)));
+
+async function test(name, fn) {
+  const t0 = Date.now();
+  try {
+    await fn();
+    passed++;
+    console.log(`ok   ${name} (${Date.now() - t0} ms)`);
+  } catch (e) {
+    failed++;
+    console.log(`FAIL ${name}: ${e.message.split('\n').slice(0, 6).join('\n     ')}`);
+    await page.screenshot({ path: path.join(out, `failed-controls-${name.replace(/\W+/g, '-')}.png`) }).catch(() => {});
+  }
+}
+function assert(cond, msg) { if (!cond) throw new Error(msg); }
+const shot = (p, name) => p.screenshot({ path: path.join(out, `${name}.png`) });
+const num = (p, id) => p.$eval('#' + id, (e) => Number(e.textContent));
+const near = (a, b) => Math.abs(a - b) < 1e-3;
+async function waitDro(p, want, timeout = 20000) {
+  // want: { wx: 5, my: 0, … }
+  await p.waitForFunction((w) => Object.entries(w).every(([id, v]) => Math.abs(Number(document.getElementById(id).textContent) - v) < 1e-3)
+    && document.body.dataset.state === 'idle', want, { timeout });
+}
+async function waitState(p, s, timeout = 20000) {
+  await p.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+}
+/// Types a line into the MDI input and presses Enter; waits for its reply in the console.
+async function mdi(p, line, reply = 'ok') {
+  const before = (await p.textContent('#console')).length;
+  await p.click('#mdi');
+  await p.keyboard.type(line);
+  await p.keyboard.press('Enter');
+  await p.waitForFunction(([before, line, reply]) => {
+    const c = document.getElementById('console').textContent.slice(before);
+    const at = c.indexOf('> ' + line + '\n');
+    return at >= 0 && c.slice(at).includes('\n' + reply);
+  }, [before, line, reply], { timeout: 20000 });
+}
+/// Presses a key with the focus on the page, outside any text field.
+async function key(p, k) {
+  await p.click('#dro');
+  await p.keyboard.press(k);
+}
+const offsetRow = (p, name) => p.$$eval(`#offsets tr[data-row="${name}"] td`, (tds) => tds.map((t) => Number(t.textContent)));
+const errorText = (p) => p.textContent('#error');
+
+await test('the page opens and controls the machine', async () => {
+  await page.goto(url);
+  await page.waitForFunction(() => document.getElementById('control').textContent.includes('controlling'), null, { timeout: 20000 });
+  assert(await page.isVisible('#mdi') && await page.isVisible('#jog-hint'), 'typed lines and the key hint are shown');
+});
+
+/// Connects the page to `uri` through the machine select's "type an address" entry.
+async function connect(uri) {
+  page.once('dialog', (d) => d.accept(uri));
+  await page.selectOption('#machine-uri', '');
+  await page.waitForFunction((u) => document.getElementById('machine-uri').value === u, uri, { timeout: 5000 });
+  await page.click('#connect');
+  await page.waitForFunction((u) => document.getElementById('machine-name').textContent.includes(u.replace('tcp://', '')), uri, { timeout: 20000 });
+}
+
+for (const flavour of flavours) {
+  let emu = null;
+  const t = (name, fn) => test(`${flavour}: ${name}`, fn);
+  await t('connect to the emulator; a jog moves the DRO', async () => {
+    emu = await start(['emulate', 'grbl', '--tcp', '127.0.0.1:0', '--flavor', flavour,
+      '--set', '110=6000', '--set', '111=6000', '--set', '112=3000', '--set', '120=800', '--set', '121=800', '--set', '122=800'], /tcp:\/\/[0-9.]+:\d+/);
+    await connect(emu.found);
+    await waitDro(page, { mx: 0, my: 0, mz: 0 });
+    await page.selectOption('#jog-step', '1');
+    await page.fill('#jog-feed', '3000');
+    await page.click('#jog button[data-jog="1,0,0"]');
+    await waitDro(page, { mx: 1, my: 0 });
+  });
+  await t('typed G0 X5 Y3 moves there and the console says ok', async () => {
+    await mdi(page, 'G0 X5 Y3');
+    await waitDro(page, { wx: 5, wy: 3, mx: 5 });
+    await mdi(page, 'G1 X1', 'error:22 (Undefined feed rate');
+  });
+  await t('$# fills the offsets table', async () => {
+    await mdi(page, '$#');
+    assert((await page.textContent('#console')).includes('[G54:0.000,0.000,0.000]'), 'the reply is in the console');
+    assert((await offsetRow(page, 'G54')).join() === '0,0,0', 'G54 row');
+    assert((await page.$$('#offsets tr[data-row]')).length >= 6, 'six systems');
+  });
+  await t('zero X alone: work X 0, Y stays', async () => {
+    await page.click('#zero-x');
+    await waitDro(page, { wx: 0, wy: 3 });
+    await page.waitForFunction(() => document.querySelector('#offsets tr[data-row="G54"] td').textContent === '5.000', null, { timeout: 10000 });
+  });
+  await t('G55 chosen and zeroed whole: G55 shown, G54 unchanged', async () => {
+    await page.selectOption('#wcs', '1');
+    await page.waitForFunction(() => document.querySelector('#offsets tr.active')?.dataset.row === 'G55', null, { timeout: 10000 });
+    await mdi(page, 'G0 X2');
+    await waitDro(page, { wx: 2, mx: 2 });
+    await page.click('#zero');
+    await waitDro(page, { wx: 0, wy: 0, wz: 0 });
+    await page.waitForFunction(() => document.querySelector('#offsets tr[data-row="G55"] td').textContent === '2.000', null, { timeout: 10000 });
+    assert((await offsetRow(page, 'G54')).join() === '5,0,0', `G54 stays: ${await offsetRow(page, 'G54')}`);
+    assert((await offsetRow(page, 'G55')).join() === '2,3,0', `G55: ${await offsetRow(page, 'G55')}`);
+    assert(await page.$eval('#wcs', (s) => s.value) === '1', 'the select shows G55');
+    await shot(page, `controls-${flavour}-offsets`);
+  });
+  await t('go to zero: XY back to the work zero', async () => {
+    await mdi(page, 'G0 X10 Y8');
+    await waitDro(page, { wx: 10, wy: 8 });
+    await page.click('#goto-zero');
+    await waitDro(page, { wx: 0, wy: 0, mx: 2, my: 3 });
+  });
+  await t('home: refused with $22=0 and explained, then homes', async () => {
+    await page.click('#home');
+    await page.waitForFunction(() => document.getElementById('error').textContent.includes('$22=1'), null, { timeout: 10000 });
+    assert((await errorText(page)).includes('homing is not enabled'), await errorText(page));
+    await mdi(page, '$22=1');
+    await page.click('#home');
+    await waitDro(page, { mx: 0, my: 0, mz: 0 });
+  });
+  await t('soft reset while moving: alarm, then unlock', async () => {
+    await mdi(page, 'G1 X-150 F300');
+    await waitState(page, 'run');
+    await page.click('#reset');
+    await waitState(page, 'alarm');
+    assert(await page.isVisible('#alarm'), 'the alarm is shown');
+    await shot(page, `controls-${flavour}-alarm`);
+    await page.click('#unlock');
+    await waitState(page, 'idle');
+    // The reset made G54 active again.
+    await page.waitForFunction(() => document.getElementById('wcs').value === '0', null, { timeout: 10000 });
+  });
+  await t('keyboard jog: ArrowRight steps X+1; held ArrowUp moves until released', async () => {
+    await page.selectOption('#jog-step', '1');
+    const x0 = await num(page, 'mx'), y0 = await num(page, 'my');
+    await key(page, 'ArrowRight');
+    await waitDro(page, { mx: x0 + 1, my: y0 });
+    // `]` twice: 10, then hold to move.
+    await key(page, ']');
+    await page.keyboard.press(']');
+    assert(await page.$eval('#jog-step', (s) => s.value) === 'continuous', 'the step keys switch to hold to move');
+    await page.fill('#jog-feed', '600');
+    await page.click('#dro');
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction((y) => Number(document.getElementById('my').textContent) > y + 1, y0, { timeout: 20000 });
+    await page.keyboard.up('ArrowUp');
+    await waitState(page, 'idle');
+    const y1 = await num(page, 'my');
+    await page.waitForTimeout(400);
+    assert(near(await num(page, 'my'), y1), 'it stays where it stopped');
+    assert(y1 - y0 > 1 && y1 - y0 < 100, `moved ${y1 - y0} mm`);
+    // Typing in a field does not jog.
+    await page.click('#mdi');
+    await page.keyboard.press('ArrowRight');
+    await page.waitForTimeout(300);
+    assert(near(await num(page, 'mx'), x0 + 1), 'no jog while typing');
+    await page.selectOption('#jog-step', '1');
+  });
+  await t('macros: saved, run with [x+1], unknown parameters refused', async () => {
+    const details = await page.$('#macro-editor');
+    if (!(await details.evaluate((d) => d.open))) await page.click('#macro-editor summary');
+    const rows = await page.$$('#macro-list .macro-row');
+    if (rows.length === 0) {
+      await page.click('#macro-add');
+      await page.fill('#macro-list .macro-row:last-child .macro-name', 'bad');
+      await page.fill('#macro-list .macro-row:last-child .macro-text', 'G0 X[wx]');
+      await page.click('#macro-save');
+      await page.waitForFunction(() => document.getElementById('macro-message').textContent.includes('unknown parameter [wx]'), null, { timeout: 10000 });
+      await page.fill('#macro-list .macro-row:last-child .macro-name', 'X plus 1');
+      await page.fill('#macro-list .macro-row:last-child .macro-text', 'G0 X[x+1] Y[y]');
+      await page.click('#macro-add');
+      await page.fill('#macro-list .macro-row:last-child .macro-name', 'to probe');
+      await page.fill('#macro-list .macro-row:last-child .macro-text', 'G0 X[prb_x]');
+      await page.click('#macro-save');
+      await page.waitForFunction(() => document.getElementById('macro-message').textContent === 'saved 2 macros', null, { timeout: 10000 });
+    }
+    await mdi(page, 'G0 X3 Y2');
+    await waitDro(page, { wx: 3, wy: 2 });
+    await page.click('#macro-buttons button[title^="G0 X[x+1]"]');
+    await waitDro(page, { wx: 4, wy: 2 });
+    assert((await page.textContent('#console')).includes('> G0 X4 Y2'), 'the expanded line is in the console');
+    // The emulator has no probe touch: the macro says so and sends nothing.
+    await page.click('#macro-buttons button[title^="G0 X[prb_x]"]');
+    await page.waitForFunction(() => document.getElementById('error').textContent.includes('prb_x'), null, { timeout: 10000 });
+    await shot(page, `controls-${flavour}-macros`);
+  });
+  await t('a watching page may hold and stop (reset) but not jog or type', async () => {
+    const ctx = await browser.newContext({ viewport: { width: 1400, height: 1000 } });
+    const other = await ctx.newPage();
+    await other.goto(url);
+    await other.waitForFunction(() => document.getElementById('control').textContent.includes('watching'), null, { timeout: 20000 });
+    await other.waitForFunction(() => document.getElementById('mx').textContent !== '', null, { timeout: 20000 });
+    assert(await other.isDisabled('#jog button[data-jog="1,0,0"]') && await other.isDisabled('#mdi') && await other.isDisabled('#home'), 'moving needs control');
+    const x0 = await num(other, 'mx');
+    await other.click('#dro');
+    await other.keyboard.press('ArrowRight');
+    await other.waitForTimeout(500);
+    assert(near(await num(other, 'mx'), x0), 'a watcher\'s keys do not jog');
+    await mdi(page, 'G1 X-100 F200');
+    await waitState(other, 'run');
+    assert(!(await other.isDisabled('#hold')), 'a watcher may hold');
+    await other.click('#hold');
+    await waitState(other, 'hold');
+    await shot(other, `controls-${flavour}-watcher`);
+    await other.click('#reset');
+    await other.waitForFunction(() => ['idle', 'alarm'].includes(document.body.dataset.state), null, { timeout: 20000 });
+    await ctx.close();
+    if ((await page.evaluate(() => document.body.dataset.state)) === 'alarm') await page.click('#unlock');
+    await waitState(page, 'idle');
+  });
+  if (emu) stop(emu.child);
+}
+
+await test('virtual machine: typed lines, $ refused, offsets in G54 and G55, go to zero, home', async () => {
+  await page.selectOption('#machine-uri', 'virtual');
+  await page.click('#connect');
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('virtual machine'), null, { timeout: 20000 });
+  await waitState(page, 'idle');
+  const home = [await num(page, 'mx'), await num(page, 'my'), await num(page, 'mz')];
+  await mdi(page, 'G0 X5 Y3');
+  await waitDro(page, { wx: 5, wy: 3 });
+  await page.click('#mdi');
+  await page.keyboard.type('$$');
+  await page.keyboard.press('Enter');
+  await page.waitForFunction(() => document.getElementById('error').textContent.includes('no firmware $ commands'), null, { timeout: 10000 });
+  await page.click('#zero-x');
+  await waitDro(page, { wx: 0, wy: 3 });
+  const mx = await num(page, 'mx');
+  await page.selectOption('#wcs', '1');
+  await page.waitForFunction(() => document.querySelector('#offsets tr.active')?.dataset.row === 'G55', null, { timeout: 10000 });
+  await mdi(page, 'G53 G0 X20');
+  await page.click('#zero');
+  await waitDro(page, { wx: 0, wy: 0, wz: 0, mx: 20 });
+  assert(near((await offsetRow(page, 'G54'))[0], mx), `G54 X stays ${mx}: ${await offsetRow(page, 'G54')}`);
+  assert(near((await offsetRow(page, 'G55'))[0], 20), `G55 X 20: ${await offsetRow(page, 'G55')}`);
+  await mdi(page, 'G0 X4 Y-2');
+  await waitDro(page, { wx: 4, wy: -2, mx: 24 });
+  await page.click('#goto-zero');
+  await waitDro(page, { wx: 0, wy: 0, mx: 20 }, 30000);
+  await shot(page, 'controls-virtual');
+  await page.click('#home');
+  await waitDro(page, { mx: home[0], my: home[1], mz: home[2] }, 30000);
+});
+
+await test('typed lines: Up and Down browse the history, kept across a reload', async () => {
+  await page.reload();
+  await page.waitForFunction(() => document.getElementById('control').textContent.includes('controlling'), null, { timeout: 20000 });
+  await page.click('#mdi');
+  await page.keyboard.press('ArrowUp');
+  assert(await page.inputValue('#mdi') === 'G0 X4 Y-2', `last line: ${await page.inputValue('#mdi')}`);
+  await page.keyboard.press('ArrowUp');
+  assert(await page.inputValue('#mdi') === 'G53 G0 X20', `the one before: ${await page.inputValue('#mdi')}`);
+  await page.keyboard.press('ArrowDown');
+  await page.keyboard.press('ArrowDown');
+  assert(await page.inputValue('#mdi') === '', 'back to an empty line');
+});
+
+await test('gamepad: the left stick pushed right jogs X+, released it stops', async () => {
+  await waitState(page, 'idle');
+  await page.fill('#jog-feed', '600');
+  const x0 = await num(page, 'mx');
+  await page.evaluate(() => {
+    const pad = { id: 'test pad', axes: [0, 0, 0, 0], buttons: [] };
+    window.__pad = pad;
+    navigator.getGamepads = () => [pad];
+    window.dispatchEvent(Object.assign(new Event('gamepadconnected'), { gamepad: pad }));
+  });
+  assert((await page.textContent('#gamepad-hint')).includes('test pad'), 'the hint names the gamepad');
+  await page.evaluate(() => { window.__pad.axes[0] = 1; });
+  await page.waitForFunction((x) => Number(document.getElementById('mx').textContent) > x + 1, x0, { timeout: 20000 });
+  await page.evaluate(() => { window.__pad.axes[0] = 0; });
+  await waitState(page, 'idle');
+  const x1 = await num(page, 'mx');
+  await page.waitForTimeout(400);
+  assert(near(await num(page, 'mx'), x1) && x1 - x0 < 100, `stopped at ${x1} from ${x0}`);
+});
+
+await test('virtual machine: a watching page stops the running job', async () => {
+  await waitState(page, 'idle');
+  await page.selectOption('#speed', '1');
+  await page.click('#start');
+  await waitState(page, 'run');
+  const ctx = await browser.newContext({ viewport: { width: 1400, height: 1000 } });
+  const other = await ctx.newPage();
+  await other.goto(url);
+  await other.waitForFunction(() => document.getElementById('control').textContent.includes('watching') && document.body.dataset.state === 'run', null, { timeout: 20000 });
+  assert(await other.isDisabled('#start') && await other.isDisabled('#mdi'), 'a watcher cannot start or type');
+  await other.click('#stop');
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'stopped', null, { timeout: 20000 });
+  await waitState(page, 'idle');
+  await ctx.close();
+});
+
+await test('no script errors in the page', async () => {
+  assert(pageErrors.length === 0, pageErrors.join('\n'));
+});
+
+await browser.close();
+for (const c of children) c.removeAllListeners('exit'), c.kill();
+rmSync(jobs, { recursive: true, force: true });
+console.log(`controls: ${passed} passed, ${failed} failed`);
+process.exit(failed > 0 || passed === 0 ? 1 : 0);
