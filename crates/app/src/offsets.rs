@@ -49,12 +49,7 @@ fn numbers(value: &str) -> Vec<f64> {
         .collect()
 }
 
-fn xyz(value: &str) -> Option<[f64; 3]> {
-    match numbers(value)[..] {
-        [x, y, z, ..] => Some([x, y, z]),
-        _ => None,
-    }
-}
+use oficina_grbl::report_xyz as xyz;
 
 impl WorkOffsets {
     /// Reads the lines of a `$#` or `$G` reply (any other line is left alone); true when
@@ -88,17 +83,9 @@ impl WorkOffsets {
             "G92" => xyz(value).map(|p| self.g92 = p).is_some(),
             // grbl: `[TLO:z]`; grblHAL may list one value per axis: Z's is the last.
             "TLO" => numbers(value).last().map(|z| self.tlo = *z).is_some(),
-            "PRB" => {
-                let (pos, flag) = value.rsplit_once(':').unwrap_or((value, "0"));
-                xyz(pos)
-                    .map(|pos| {
-                        self.probe = Some(Probe {
-                            pos,
-                            touched: flag.trim() == "1",
-                        })
-                    })
-                    .is_some()
-            }
+            "PRB" => oficina_grbl::probe_report(value)
+                .map(|(pos, touched)| self.probe = Some(Probe { pos, touched }))
+                .is_some(),
             _ => false,
         }
     }

@@ -83,7 +83,7 @@ pub use probe::{ProbeLink, ProbeResult, SetterResult, ToolSetter, ZPlate};
 pub use realtime::{override_by_name, Realtime};
 pub use reconnect::{connect_with_retry, LinkState, RetryPolicy};
 pub use report::{StreamEnd, StreamReport};
-pub use response::Response;
+pub use response::{probe_report, report_xyz, Response};
 pub use resume::{preamble as resume_preamble, replay, ResumeOptions};
 pub use sender::{Control, Mode, Notice, Reply, Sender, SenderOptions};
 pub use settings::{read as read_settings, write as write_setting, Setting};

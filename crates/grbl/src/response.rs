@@ -66,6 +66,23 @@ pub enum Response {
     Unknown(String),
 }
 
+/// `x,y,z[,a…]`, the value of a `[G54:…]`, `[G92:…]` or `[PRB:…]` report → its first three
+/// numbers (grblHAL lists its other axes after them).
+pub fn report_xyz(value: &str) -> Option<[f64; 3]> {
+    let v: Vec<f64> = value
+        .split(',')
+        .map(|x| x.trim().parse().ok())
+        .collect::<Option<_>>()?;
+    (v.len() >= 3 && v.iter().all(|x| x.is_finite())).then(|| [v[0], v[1], v[2]])
+}
+
+/// The value of a `[PRB:x,y,z:flag]` report → where the probe stopped (machine mm) and
+/// whether it touched (`flag` 1).
+pub fn probe_report(value: &str) -> Option<([f64; 3], bool)> {
+    let (xyz, flag) = value.rsplit_once(':')?;
+    Some((report_xyz(xyz)?, flag.trim() == "1"))
+}
+
 impl Response {
     /// Classifies one line (without its line ending). Never panics on any input.
     pub fn parse(raw: &str) -> Response {

@@ -498,16 +498,7 @@ impl std::fmt::Display for ToolError {
 
 /// `[PRB:x,y,z:1]` → the machine position of the touch; `:0` (no touch) → `None`.
 pub(crate) fn parse_probe(value: &str) -> Option<Option<[f64; 3]>> {
-    let (coords, ok) = value.rsplit_once(':')?;
-    let v: Vec<f64> = coords
-        .split(',')
-        .map(|c| c.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .ok()?;
-    if v.len() < 3 || !v.iter().all(|c| c.is_finite()) {
-        return None;
-    }
-    Some((ok.trim() == "1").then_some([v[0], v[1], v[2]]))
+    crate::response::probe_report(value).map(|(p, touched)| touched.then_some(p))
 }
 
 /// Sends one line and waits for its `ok`, keeping a `[PRB:…]` report that comes before it;

@@ -175,22 +175,12 @@ impl<'a, L: ProbeLink + ?Sized> Session<'a, L> {
 /// `[PRB:x,y,z:ok]` → the position and whether it touched.
 pub(crate) fn parse_prb(line: &str) -> Option<([f64; 3], bool)> {
     match Response::parse(line) {
-        Response::Feedback { tag, value } if tag == "PRB" => {
-            let (xyz, ok) = value.rsplit_once(':')?;
-            Some((parse_xyz(xyz)?, ok.trim() == "1"))
-        }
+        Response::Feedback { tag, value } if tag == "PRB" => crate::response::probe_report(&value),
         _ => None,
     }
 }
 
-/// `x,y,z[,a…]` → the first three (grblHAL adds its other axes).
-pub(crate) fn parse_xyz(s: &str) -> Option<[f64; 3]> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse().ok())
-        .collect::<Option<_>>()?;
-    (v.len() >= 3 && v.iter().all(|x| x.is_finite())).then(|| [v[0], v[1], v[2]])
-}
+pub(crate) use crate::response::report_xyz as parse_xyz;
 
 /// An alarm during `line`, in plain words with grbl's own text.
 fn alarm(code: u8, line: &str) -> ProbeError {
