@@ -26,7 +26,7 @@ use crate::response::Response;
 use crate::resume::{self, ResumeOptions};
 use crate::sender::{Control, Notice, Sender};
 use std::str::FromStr;
-use std::sync::mpsc::Receiver;
+use std::sync::mpsc::{Receiver, TryRecvError};
 use std::time::{Duration, Instant};
 
 /// What the sender does at an `M6`.
@@ -712,6 +712,8 @@ pub(crate) fn change_tool(
             .map_err(|e| ToolError::Failed(e.to_string()))?;
     }
     let _ = journal.completed(stop.index);
+    // Only a Resume given after the prompt counts: one sent before (for a hold) is dropped.
+    drain_controls(sender, control)?;
     observer(Notice::ToolChange {
         tool: stop.tool,
         file_line: stop.file_line,
@@ -725,6 +727,27 @@ pub(crate) fn change_tool(
     sender
         .run_preamble_at(job, stop.index, None, resume_opts)
         .map_err(ToolError::Failed)
+}
+
+/// The operator's requests waiting now: a Stop ends the change, overrides go on to the
+/// firmware, Hold and Resume are dropped.
+fn drain_controls(
+    sender: &mut Sender,
+    control: Option<&Receiver<Control>>,
+) -> Result<(), ToolError> {
+    let Some(control) = control else {
+        return Ok(());
+    };
+    loop {
+        match control.try_recv() {
+            Ok(Control::Stop) | Err(TryRecvError::Disconnected) => return Err(ToolError::Stopped),
+            Ok(Control::Realtime(r)) => sender
+                .realtime(r)
+                .map_err(|e| ToolError::Lost(e.to_string()))?,
+            Ok(Control::Hold | Control::Resume) => {}
+            Err(TryRecvError::Empty) => return Ok(()),
+        }
+    }
 }
 
 /// Waits for the operator's Resume (or Stop) while the machine rests, keeping status reports
@@ -743,13 +766,17 @@ fn wait_for_resume(
     let mut last_query: Option<Instant> = None;
     let mut last_heard = Instant::now();
     loop {
-        while let Ok(c) = control.try_recv() {
-            match c {
-                Control::Resume => return Ok(()),
-                Control::Stop => return Err(ToolError::Stopped),
+        loop {
+            match control.try_recv() {
+                Ok(Control::Resume) => return Ok(()),
+                // Nobody left to resume: the job ends here.
+                Ok(Control::Stop) | Err(TryRecvError::Disconnected) => {
+                    return Err(ToolError::Stopped)
+                }
                 // Already at rest: nothing to hold.
-                Control::Hold => {}
-                Control::Realtime(r) => sender.realtime(r).map_err(lost)?,
+                Ok(Control::Hold) => {}
+                Ok(Control::Realtime(r)) => sender.realtime(r).map_err(lost)?,
+                Err(TryRecvError::Empty) => break,
             }
         }
         if last_query.is_none_or(|t| t.elapsed() >= sender.options.status_interval) {
