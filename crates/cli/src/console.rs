@@ -233,6 +233,7 @@ fn explain(resp: &Response, raw: &str) -> String {
 fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
     eprintln!("type G-code or $ commands; ! hold, ~ resume, ? status, ^X or /reset soft reset,");
     eprintln!("/jog X+10 F500 (step), /jog X- F1000 (continuous until Enter), /ov f+10 (overrides), /quit to leave");
+    eprintln!("/probe z --plate 19.5, /probe corner --tool 6, /probe setter (see /probe --help)");
     let input = stdin_lines();
     let mut last_query = Instant::now();
     let mut jogging: Option<ContinuousJog> = None;
@@ -287,6 +288,19 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
                                 Ok(())
                             }
                         }
+                    }
+                    _ if t == "/probe" || t.starts_with("/probe ") => {
+                        // The routine waits for each reply: first the replies to lines
+                        // still in flight, or it would take their `ok`s for its own.
+                        if settle(sender, &mut unanswered)? {
+                            match crate::console_probe::run(sender, t) {
+                                Ok(text) | Err(text) => say!("{}", text.trim_end()),
+                            }
+                        } else {
+                            say!("probe not started: {unanswered} line(s) still unanswered");
+                        }
+                        last_reply = Instant::now();
+                        Ok(())
                     }
                     _ if t.starts_with("/jog") => match oficina_grbl::parse_jog(&t[4..], 500.0) {
                         Ok(JogRequest::Step {
@@ -376,6 +390,26 @@ fn interactive(sender: &mut Sender) -> anyhow::Result<ExitCode> {
             None => {}
         }
     }
+}
+
+/// Prints the replies to the lines in flight until all are answered (at most 10 s); says
+/// whether they all were.
+fn settle(sender: &mut Sender, unanswered: &mut usize) -> anyhow::Result<bool> {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while *unanswered > 0 && Instant::now() < deadline {
+        match sender.link().recv(Duration::from_millis(20)) {
+            Some(LinkEvent::Line(Response::Status(_), _)) | None => {}
+            Some(LinkEvent::Line(resp, raw)) => {
+                if resp.is_ack() {
+                    *unanswered -= 1;
+                }
+                eprint!("\r\x1b[K");
+                say!("{}", explain(&resp, &raw));
+            }
+            Some(LinkEvent::Closed(why)) => bail!("connection closed: {why}"),
+        }
+    }
+    Ok(*unanswered == 0)
 }
 
 /// The job's status line from the trait's [`Status`]: state, machine position, feed and

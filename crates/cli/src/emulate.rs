@@ -40,6 +40,9 @@ pub(crate) struct Args {
     /// Initial settings, e.g. --set 110=5000 --set 22=1 (repeatable; applied after --profile).
     #[arg(long = "set", value_name = "N=VALUE")]
     pub settings: Vec<String>,
+    /// What the probe input touches (G38.2…G38.5) and the tool in the spindle.
+    #[command(flatten)]
+    pub probe: crate::emulate_probe::ProbeArgs,
     /// Stop after this many seconds (for scripts); default: run until interrupted.
     #[arg(long, value_name = "SECONDS")]
     pub for_seconds: Option<f64>,
@@ -84,6 +87,7 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     settings.extend(overrides);
     let base = Config::flavored(args.flavor);
     let config = Config {
+        probe: crate::emulate_probe::model(&args.probe)?,
         baud: (args.baud > 0).then_some(args.baud),
         settings: base.settings.iter().copied().chain(settings).collect(),
         ..base

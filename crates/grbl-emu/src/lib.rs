@@ -15,4 +15,5 @@ mod proxy;
 
 pub use emulator::profile::{grbl_settings, motion_profile, GRBL_MAX_STEP_RATE};
 pub use emulator::{Config, Core, Emulator, Flavor, Stats};
+pub use emulator::{LengthSetter, ProbeModel, Stock, Tool, TouchPlate, SETTER_PAD};
 pub use proxy::{Fault, FaultProxy};

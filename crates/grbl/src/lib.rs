@@ -30,7 +30,9 @@
 //!   [`GrblDevice`] (Oficina's `Machine` trait), [`GrblMachine`] (the one-call job runner),
 //!   [`connect_with_retry`] (the link life cycle);
 //! - tool changes at `M6` for firmware without a changer: [`ToolChange`] ([`ToolPolicy`],
-//!   [`ToolSetter`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`].
+//!   [`setter_at`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`];
+//! - probing (touch plate, corner, tool length setter) over a [`ProbeLink`] (a [`Sender`]
+//!   or any `Machine`): [`run_z_plate`], [`run_corner`], [`run_tool_setter`].
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
@@ -47,6 +49,7 @@ mod journal;
 mod link;
 mod machine;
 mod messages;
+mod probe;
 mod realtime;
 mod reconnect;
 mod report;
@@ -61,12 +64,14 @@ mod transport;
 
 pub use device::GrblDevice;
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
-pub use interp::{dist, Effect, Flow, Interp, Modal, Rate, Segment, Spindle};
+pub use interp::{dist, Effect, Flow, Interp, Modal, ProbeKind, Rate, Segment, Spindle};
 pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
 pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};
 pub use messages::{describe_alarm, describe_error, setting_info, SettingInfo, SETTINGS};
+pub use probe::{run_corner, run_tool_setter, run_z_plate, Approach, Corner, ProbeError};
+pub use probe::{ProbeLink, ProbeResult, SetterResult, ToolSetter, ZPlate};
 pub use realtime::{override_by_name, Realtime};
 pub use reconnect::{connect_with_retry, LinkState, RetryPolicy};
 pub use report::{StreamEnd, StreamReport};
@@ -75,5 +80,5 @@ pub use resume::{preamble as resume_preamble, replay, ResumeOptions};
 pub use sender::{Control, Mode, Notice, Reply, Sender, SenderOptions};
 pub use settings::{read as read_settings, write as write_setting, Setting};
 pub use status::{GrblState, StatusReport};
-pub use toolchange::{sender_view, SenderNote, ToolChange, ToolPolicy, ToolSetter, ToolStop};
+pub use toolchange::{sender_view, setter_at, SenderNote, ToolChange, ToolPolicy, ToolStop};
 pub use transport::{is_timeout, list_ports, Endpoint, PortInfo, Pty};

@@ -8,7 +8,7 @@
 //!   spindle, coolant, a safe approach, the program's modes) and streaming goes on;
 //! - `park`: as `pause`, after a move to the park position (`G53 G0 Z`, then `X Y`);
 //! - `remeasure`: as `pause` (parking first when a park position is given); after Resume
-//!   the new tool is measured on a tool length setter ([`ToolSetter`]) and
+//!   the new tool is measured on a tool length setter ([`setter_at`], the probe routines' [`ToolSetter`]) and
 //!   `G43.1 Z<delta>` puts its tip where the first tool's was (delta = this tool's touch Z
 //!   − the first tool's, both in machine coordinates).
 //!
@@ -21,6 +21,7 @@ use crate::job::{StreamLine, StreamProgram};
 use crate::journal::Journal;
 use crate::link::LinkEvent;
 use crate::messages;
+use crate::probe::{run_tool_setter, Approach, ProbeError, ToolSetter};
 use crate::realtime::Realtime;
 use crate::response::Response;
 use crate::resume::{self, ResumeOptions};
@@ -83,39 +84,20 @@ impl FromStr for ToolPolicy {
     }
 }
 
-/// A tool length setter: a switch on the table touched by the tool tip. Machine coordinates, mm.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ToolSetter {
-    /// Machine X over the setter.
-    pub x: f64,
-    /// Machine Y over the setter.
-    pub y: f64,
-    /// Machine Z the move to the setter travels at and the probing starts from (a safe
-    /// height above the setter and the work).
-    pub z_start: f64,
-    /// Longest probing travel down from `z_start`, mm (no touch within it: grbl's ALARM:5).
-    pub travel: f64,
-    /// Feed of the first, fast touch, mm/min.
-    pub feed_fast: f64,
-    /// Feed of the second, slow touch that is measured, mm/min.
-    pub feed_slow: f64,
-}
-
-impl ToolSetter {
-    /// Lift between the fast and the slow touch, mm.
-    pub const BACKOFF: f64 = 2.0;
-
-    /// A setter at machine `x`, `y`, probed from machine `z_start`, with 50 mm of travel, a
-    /// fast touch at 200 mm/min and a slow one at 25 mm/min.
-    pub fn at(x: f64, y: f64, z_start: f64) -> ToolSetter {
-        ToolSetter {
-            x,
-            y,
-            z_start,
+/// The tool setter of a tool change: machine `x`, `y` (mm) over it, reached at machine
+/// `z_start` (the height the move travels at and the search starts from); a search of at
+/// most 50 mm at 200 mm/min, a lift of 2 mm and the measured touch at 25 mm/min.
+pub fn setter_at(x: f64, y: f64, z_start: f64) -> ToolSetter {
+    ToolSetter {
+        at: Some([x, y]),
+        safe_z: z_start,
+        reference: None,
+        approach: Approach {
             travel: 50.0,
-            feed_fast: 200.0,
-            feed_slow: 25.0,
-        }
+            feed: 200.0,
+            slow_feed: 25.0,
+            retract: 2.0,
+        },
     }
 }
 
@@ -127,7 +109,8 @@ pub struct ToolChange {
     /// Park position, machine X, Y, Z (mm): `G53 G0 Z`, then `G53 G0 X Y`. Needed by `park`;
     /// `remeasure` parks there too when it is given.
     pub park: Option<[f64; 3]>,
-    /// The tool setter `remeasure` probes.
+    /// The tool setter `remeasure` probes ([`setter_at`]; its `reference`, when given, is
+    /// the first tool's touch, so the first tool need not be measured).
     pub setter: Option<ToolSetter>,
     /// `remeasure`: measure the tool in the spindle when the job starts (the first tool's
     /// reference), not at the first `M6`.
@@ -170,29 +153,6 @@ impl ToolChange {
             if !p.iter().all(|v| v.is_finite()) {
                 return Err(format!(
                     "park position {p:?}: every coordinate a finite number"
-                ));
-            }
-        }
-        if let Some(s) = &self.setter {
-            if ![s.x, s.y, s.z_start].iter().all(|v| v.is_finite()) {
-                return Err("tool setter: X, Y and Z start must be finite numbers".into());
-            }
-            for (what, v) in [
-                ("travel", s.travel),
-                ("fast feed", s.feed_fast),
-                ("slow feed", s.feed_slow),
-            ] {
-                if !(v.is_finite() && v > 0.0 && v <= 100_000.0) {
-                    return Err(format!(
-                        "tool setter {what} {v}: above 0 and at most 100000"
-                    ));
-                }
-            }
-            if s.travel <= ToolSetter::BACKOFF {
-                return Err(format!(
-                    "tool setter travel {} mm: more than the {} mm lift between the touches",
-                    s.travel,
-                    ToolSetter::BACKOFF
                 ));
             }
         }
@@ -496,35 +456,20 @@ impl std::fmt::Display for ToolError {
     }
 }
 
-/// `[PRB:x,y,z:1]` → the machine position of the touch; `:0` (no touch) → `None`.
-pub(crate) fn parse_probe(value: &str) -> Option<Option<[f64; 3]>> {
-    let (coords, ok) = value.rsplit_once(':')?;
-    let v: Vec<f64> = coords
-        .split(',')
-        .map(|c| c.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .ok()?;
-    if v.len() < 3 || !v.iter().all(|c| c.is_finite()) {
-        return None;
-    }
-    Some((ok.trim() == "1").then_some([v[0], v[1], v[2]]))
-}
-
-/// Sends one line and waits for its `ok`, keeping a `[PRB:…]` report that comes before it;
-/// an `error:N` or an `ALARM:N` ends the wait at once. `motion` is how long the line's own
-/// motion may take, on top of the sender's reply timeout.
+/// Sends one line and waits for its `ok`; an `error:N` or an `ALARM:N` ends the wait at
+/// once. `motion` is how long the line's own motion may take, on top of the sender's reply
+/// timeout.
 pub(crate) fn send_line(
     sender: &mut Sender,
     line: &str,
     motion: Duration,
-) -> Result<Option<Option<[f64; 3]>>, ToolError> {
+) -> Result<(), ToolError> {
     sender
         .link
         .send_line(line)
         .map_err(|e| ToolError::Lost(e.to_string()))?;
     let wait = sender.options.reply_timeout + motion;
     let deadline = Instant::now() + wait;
-    let mut probe = None;
     loop {
         if Instant::now() > deadline {
             return Err(ToolError::Failed(format!(
@@ -533,7 +478,7 @@ pub(crate) fn send_line(
             )));
         }
         match sender.link.recv(Duration::from_millis(50)) {
-            Some(LinkEvent::Line(Response::Ok, _)) => return Ok(probe),
+            Some(LinkEvent::Line(Response::Ok, _)) => return Ok(()),
             Some(LinkEvent::Line(Response::Error(c), _)) => {
                 return Err(ToolError::Failed(format!(
                     "grbl refused `{line}`: {}",
@@ -541,9 +486,6 @@ pub(crate) fn send_line(
                 )))
             }
             Some(LinkEvent::Line(Response::Alarm(c), _)) => return Err(ToolError::Alarm(c)),
-            Some(LinkEvent::Line(Response::Feedback { tag, value }, _)) if tag == "PRB" => {
-                probe = parse_probe(&value);
-            }
             Some(LinkEvent::Line(Response::Welcome { .. }, _)) => {
                 return Err(ToolError::Failed(format!(
                     "the firmware reset while running `{line}`"
@@ -568,39 +510,6 @@ pub(crate) fn park_lines(park: [f64; 3]) -> Vec<String> {
     ]
 }
 
-/// Measures the tool in the spindle on `setter`: up to `z_start`, over the setter, a fast
-/// touch, a lift of [`ToolSetter::BACKOFF`], a slow touch (the one measured), back up.
-/// Returns the machine Z of the slow touch, mm.
-pub(crate) fn measure(sender: &mut Sender, setter: &ToolSetter) -> Result<f64, ToolError> {
-    let k = if sender.reports_inches { 25.4 } else { 1.0 };
-    let secs = |dist: f64, feed: f64| Duration::from_secs_f64((dist / feed * 60.0).min(3600.0));
-    let plain = |s: &mut Sender, l: &str| send_line(s, l, Duration::from_secs(60)).map(|_| ());
-    plain(sender, "G21G90")?;
-    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
-    plain(
-        sender,
-        &format!("G53G0X{}Y{}", num(setter.x), num(setter.y)),
-    )?;
-    let touch = |s: &mut Sender, dist: f64, feed: f64| -> Result<f64, ToolError> {
-        let line = format!("G91G38.2Z-{}F{}", num(dist), num(feed));
-        match send_line(s, &line, secs(dist, feed))? {
-            Some(Some(p)) => Ok(p[2] * k),
-            Some(None) => Err(ToolError::Failed(format!(
-                "`{line}`: the tool setter was not touched within {dist} mm"
-            ))),
-            None => Err(ToolError::Failed(format!(
-                "`{line}`: grbl gave no [PRB:…] report (is probe reporting enabled?)"
-            ))),
-        }
-    };
-    touch(sender, setter.travel, setter.feed_fast)?;
-    plain(sender, &format!("G0Z{}", num(ToolSetter::BACKOFF)))?;
-    let z = touch(sender, 2.0 * ToolSetter::BACKOFF, setter.feed_slow)?;
-    plain(sender, "G90")?;
-    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
-    Ok(z)
-}
-
 /// What a run knows of tool lengths under `remeasure`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct ToolLengths {
@@ -618,8 +527,9 @@ fn send_all(sender: &mut Sender, lines: &[String]) -> Result<(), ToolError> {
     Ok(())
 }
 
-/// Measures the tool in the spindle and makes its tip the reference's: the first
-/// measurement of a job is the reference itself (offset 0). Journalled, told to the operator.
+/// Measures the tool in the spindle on the setter ([`run_tool_setter`]) and makes its tip
+/// the reference's: the first measurement of a job is the reference itself (offset 0). Then
+/// back up to the setter's safe Z. Journalled, told to the operator.
 pub(crate) fn remeasure(
     sender: &mut Sender,
     setter: &ToolSetter,
@@ -628,17 +538,28 @@ pub(crate) fn remeasure(
     journal: &mut Journal,
     observer: &mut dyn FnMut(Notice),
 ) -> Result<(), ToolError> {
-    let z = measure(sender, setter)?;
-    let reference = match lengths.reference {
+    let mut p = *setter;
+    p.reference = lengths.reference.or(setter.reference);
+    let measured = run_tool_setter(sender, &p).map_err(|e| match e {
+        ProbeError::AlreadyTriggered(_) => ToolError::Alarm(4),
+        ProbeError::NoContact(_) => ToolError::Alarm(5),
+        other => ToolError::Failed(format!("tool setter: {other}")),
+    })?;
+    let z = measured.measured_z;
+    let reference = match p.reference {
         Some(r) => r,
         None => {
-            lengths.reference = Some(z);
             let _ = journal.tool_reference(z);
             z
         }
     };
+    lengths.reference = Some(reference);
     let delta = z - reference;
-    apply_offset(sender, Some(delta))?;
+    if measured.tool_offset.is_none() {
+        apply_offset(sender, Some(delta))?;
+    }
+    let up = format!("G90G53G0Z{}", num(setter.safe_z));
+    send_line(sender, &up, Duration::from_secs(60))?;
     lengths.offset = Some(delta);
     if let Some(i) = stop_index {
         let _ = journal.tool_length(i, delta);
@@ -658,7 +579,7 @@ pub(crate) fn apply_offset(sender: &mut Sender, offset: Option<f64>) -> Result<(
         Some(d) => format!("G21G43.1Z{}", num(d)),
         None => "G49".to_string(),
     };
-    send_line(sender, &line, Duration::ZERO).map(|_| ())
+    send_line(sender, &line, Duration::ZERO)
 }
 
 /// The tool change at `stop`: wait for rest, spindle and coolant off, park, ask the operator
@@ -815,7 +736,7 @@ mod tests {
         let tc = ToolChange {
             policy,
             park: Some([0.0, 0.0, -1.0]),
-            setter: Some(ToolSetter::at(0.0, 0.0, -5.0)),
+            setter: Some(setter_at(0.0, 0.0, -5.0)),
             measure_at_start: false,
         };
         StreamProgram::with_tool_change("t.nc", text, &tc).unwrap()
@@ -886,11 +807,8 @@ mod tests {
             ..ToolChange::default()
         };
         assert!(bad.validate().unwrap_err().contains("--park"));
-        let mut s = ToolSetter::at(0.0, 0.0, 0.0);
-        s.feed_slow = f64::NAN;
         let bad = ToolChange {
-            policy: ToolPolicy::Remeasure,
-            setter: Some(s),
+            park: Some([0.0, f64::NAN, 0.0]),
             ..ToolChange::default()
         };
         assert!(bad.validate().is_err());
@@ -932,16 +850,5 @@ mod tests {
         let (out, notes) = sender_view(b"G0\n%\nM6\nG0\n", &ToolChange::as_written());
         assert_eq!(out, b"G0\n%\nM6\nG0\n");
         assert!(notes.is_empty());
-    }
-
-    #[test]
-    fn probe_reports() {
-        assert_eq!(
-            parse_probe("0.000,1.500,-40.123:1"),
-            Some(Some([0.0, 1.5, -40.123]))
-        );
-        assert_eq!(parse_probe("0.000,1.500,-40.123:0"), Some(None));
-        assert_eq!(parse_probe("garbage"), None);
-        assert_eq!(parse_probe("1,2:1"), None);
     }
 }

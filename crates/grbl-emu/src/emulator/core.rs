@@ -14,10 +14,11 @@
 
 use super::flavor::Flavor;
 use super::fluidnc;
+use super::probe::{ProbeModel, Tool};
 use oficina_grbl::GrblState;
 use oficina_grbl::Realtime;
 use oficina_grbl::SETTINGS;
-use oficina_grbl::{Flow, Interp, Rate, Segment};
+use oficina_grbl::{Flow, Interp, ProbeKind, Rate, Segment};
 use oficina_motion::MoveKind;
 use oficina_motion::{Incremental, Push};
 use std::collections::{BTreeMap, VecDeque};
@@ -51,6 +52,8 @@ pub struct Config {
     /// Keep every straight piece of motion the machine made (a block run to its end, or
     /// up to where a reset cut it): the witness for "every part of the path cut once".
     pub record_motion: bool,
+    /// What the probe input touches (G38.x), and the tool in the spindle.
+    pub probe: ProbeModel,
 }
 
 impl Config {
@@ -84,6 +87,7 @@ impl Default for Config {
             flavor: Flavor::Grbl,
             lose_status_every: 0,
             record_motion: false,
+            probe: ProbeModel::default(),
         }
     }
 }
@@ -119,9 +123,22 @@ struct Pending {
     dwell: f64,
     segments: VecDeque<Segment>,
     flow: Flow,
-    probe: bool,
+    probe: Option<ProbeEnd>,
     reply: String,
     line: Option<String>,
+}
+
+/// How a probing line ends once its (possibly shortened) move has run, as grbl's
+/// mc_probe_cycle decides it.
+#[derive(Clone, Copy, Debug)]
+enum ProbeEnd {
+    /// The probe changed state where the move now ends: `[PRB:…:1]`.
+    Contact,
+    /// The move ran to its end without the change: G38.3/5 report `[PRB:…:0]`, G38.2/4
+    /// raise ALARM:5.
+    Missed { no_error: bool },
+    /// The probe was already as the move seeks it: ALARM:4, nothing moves.
+    AlreadyTriggered,
 }
 
 /// The firmware model without I/O: bytes in, replies out, motion timed by the clock the
@@ -186,6 +203,10 @@ pub struct Core {
     pub motion_record: Vec<([f64; 3], [f64; 3])>,
     /// Where the running block's motion began (it may have begun before a hold).
     piece_start: [f64; 3],
+    /// grbl's sys_probe_position (machine mm), kept over a reset.
+    probe_position: [f64; 3],
+    /// grbl's sys.probe_succeeded, cleared by a reset.
+    probe_succeeded: bool,
 }
 
 impl Core {
@@ -235,11 +256,24 @@ impl Core {
             status_queries: 0,
             motion_record: Vec::new(),
             piece_start: [0.0; 3],
+            probe_position: [0.0; 3],
+            probe_succeeded: false,
         };
         core.interp.arc_tolerance = core.setting(12);
         core.interp.a_axis = core.has_a();
         core.boot();
         core
+    }
+
+    /// Puts another tool in the spindle (what the probe touches with): a tool change
+    /// without a firmware line, as an operator's hands do it.
+    pub fn set_tool(&mut self, tool: Tool) {
+        self.config.probe.tool = tool;
+    }
+
+    /// The last probe's machine position and whether it touched (what `$#` prints as PRB).
+    pub fn last_probe(&self) -> ([f64; 3], bool) {
+        (self.probe_position, self.probe_succeeded)
     }
 
     /// The board drives a 4th axis A (its `$103` is set).
@@ -486,6 +520,7 @@ impl Core {
         self.jog_cancelling = false;
         self.jogging = false;
         self.check_mode = false;
+        self.probe_succeeded = false;
         self.overrides = (100, 100, 100);
         self.motion.set_overrides(1.0, 1.0);
         let keep = (self.interp.wcs_offsets, self.interp.g28, self.interp.g30);
@@ -582,9 +617,10 @@ impl Core {
         ) {
             return self.reply_error(9);
         }
+        let from = self.interp.pos;
         match self.interp.execute(&clean) {
             Err(e) => self.reply_error(e),
-            Ok(effect) => {
+            Ok(mut effect) => {
                 self.stats.lines_executed += 1;
                 if self.check_mode {
                     return self.say("ok");
@@ -592,15 +628,86 @@ impl Core {
                 if self.beyond_soft_limits(&effect.segments) {
                     return self.alarm_soft_limit();
                 }
+                let probe = effect
+                    .probe
+                    .map(|kind| self.plan_probe(from, kind, &mut effect.segments));
                 self.pending = Some(Pending {
-                    sync: effect.sync || effect.flow != Flow::Continue,
+                    // grbl's probe cycle starts only once the planner has emptied.
+                    sync: effect.sync || effect.flow != Flow::Continue || probe.is_some(),
                     dwell: effect.dwell,
                     segments: effect.segments.into(),
                     flow: effect.flow,
-                    probe: effect.probe,
+                    probe,
                     reply: "ok".into(),
                     line: self.config.record_lines.then(|| clean.clone()),
                 });
+            }
+        }
+    }
+
+    /// A probing move from `from`: cut short where the probe changes state, or dropped when
+    /// it is already as the move seeks it (the parser then stays at `from`, as grbl's
+    /// GC_UPDATE_POS_NONE). The move stops exactly at the contact: a real machine brakes
+    /// past it and reports the contact, so the reported position is the same.
+    fn plan_probe(&mut self, from: [f64; 3], kind: ProbeKind, segs: &mut Vec<Segment>) -> ProbeEnd {
+        let model = &self.config.probe;
+        if model.touching(from) != kind.away {
+            segs.clear();
+            self.interp.pos = from;
+            return ProbeEnd::AlreadyTriggered;
+        }
+        let Some(last) = segs.last_mut() else {
+            return ProbeEnd::Missed {
+                no_error: kind.no_error,
+            };
+        };
+        match model.first_change(from, last.to) {
+            Some(at) => {
+                last.to = at;
+                self.interp.pos = at;
+                ProbeEnd::Contact
+            }
+            None => ProbeEnd::Missed {
+                no_error: kind.no_error,
+            },
+        }
+    }
+
+    /// The end of a probe cycle, once its motion is done: grbl's mc_probe_cycle reports
+    /// the alarm first, then the probe position (MESSAGE_PROBE_COORDINATES), then `ok`.
+    fn end_probe(&mut self, end: ProbeEnd) {
+        let prb = |at: [f64; 3], ok: bool| {
+            format!(
+                "[PRB:{:.3},{:.3},{:.3}:{}]",
+                at[0],
+                at[1],
+                at[2],
+                u8::from(ok)
+            )
+        };
+        match end {
+            ProbeEnd::AlreadyTriggered => {
+                self.probe_succeeded = false;
+                self.state = GrblState::Alarm;
+                self.say("ALARM:4");
+            }
+            ProbeEnd::Missed { no_error: false } => {
+                // sys_probe_position keeps the last contact.
+                self.probe_succeeded = false;
+                self.state = GrblState::Alarm;
+                self.say("ALARM:5");
+                let l = prb(self.probe_position, false);
+                self.say(&l);
+            }
+            ProbeEnd::Contact | ProbeEnd::Missed { no_error: true } => {
+                self.probe_position = self.mpos;
+                self.probe_succeeded = matches!(end, ProbeEnd::Contact);
+                // The cycle waited for the machine to stop: it is idle when `ok` comes.
+                if self.state == GrblState::Run {
+                    self.state = GrblState::Idle;
+                }
+                let l = prb(self.probe_position, self.probe_succeeded);
+                self.say(&l);
             }
         }
     }
@@ -692,11 +799,11 @@ impl Core {
                 self.stats.starved_seconds += self.clock - since;
             }
         }
-        if self
-            .pending
-            .as_ref()
-            .is_some_and(|p| !p.segments.is_empty())
-        {
+        if self.pending.as_ref().is_some_and(|p| {
+            // A probe line answers once its move has run.
+            !p.segments.is_empty()
+                || (p.probe.is_some() && (!self.motion.is_empty() || self.spin.is_some()))
+        }) {
             return;
         }
         let p = self.pending.take().expect("pending checked above");
@@ -709,12 +816,8 @@ impl Core {
             Flow::End => self.state = GrblState::Idle,
             Flow::Continue => {}
         }
-        if p.probe {
-            // The emulator has no probe input, so a probe never touches: grbl's answer.
-            self.say(&format!(
-                "[PRB:{:.3},{:.3},{:.3}:0]",
-                self.mpos[0], self.mpos[1], self.mpos[2]
-            ));
+        if let Some(end) = p.probe {
+            self.end_probe(end);
         }
         let reply = p.reply;
         self.say(&reply);
@@ -880,6 +983,9 @@ impl Core {
             self.interp.spindle_speed
         };
         s += &format!("|FS:{:.0},{:.0}", self.speed() * 60.0 / inch, spindle);
+        if self.config.probe.touching(self.mpos) {
+            s += "|Pn:P";
+        }
         if self.report_counter == 0 {
             s += &format!("|WCO:{}", f(wco, a.map(|_| 0.0)));
             self.report_counter = if self.state == GrblState::Idle {
@@ -1122,6 +1228,94 @@ mod tests {
         c.realtime(Realtime::SoftReset);
         assert_eq!(c.state, GrblState::Alarm);
         assert!(take_out(&mut c).contains("'$H'|'$X' to unlock"));
+    }
+
+    fn probe_core() -> Core {
+        use super::super::probe::{Stock, TouchPlate};
+        let mut config = cfg();
+        config.settings.extend([(120, 1e5), (121, 1e5), (122, 1e5)]);
+        config.probe = ProbeModel {
+            stock: Some(Stock::flat([0.0, 0.0], [100.0, 50.0], -40.0)),
+            plate: Some(TouchPlate {
+                min: [10.0, 10.0],
+                max: [30.0, 30.0],
+                thickness: 5.0,
+            }),
+            ..ProbeModel::default()
+        };
+        let mut c = Core::new(config);
+        take_out(&mut c);
+        c
+    }
+
+    /// Feeds `lines` and runs the clock until every line is answered.
+    fn run_lines(c: &mut Core, lines: &str) -> String {
+        feed(c, lines);
+        let want = lines.lines().count();
+        let mut out = String::new();
+        let mut t = c.clock;
+        while out.matches("ok").count() + out.matches("error").count() < want && t < 600.0 {
+            t += 0.01;
+            c.tick(t);
+            out += &take_out(c);
+        }
+        out
+    }
+
+    #[test]
+    fn probe_stops_at_the_plate_and_reports_before_ok() {
+        let mut c = probe_core();
+        let out = run_lines(&mut c, "G0 X20 Y20 Z-10\nG38.2 Z-60 F300\n");
+        assert_eq!(out, "ok\r\n[PRB:20.000,20.000,-35.000:1]\r\nok\r\n");
+        assert_eq!(c.mpos, [20.0, 20.0, -35.0]);
+        assert!(c.status_report().contains("|Pn:P"));
+        // The parser continues from the contact, not from the programmed end.
+        run_lines(&mut c, "G91 G0 Z2\nG4 P0\n");
+        let out = run_lines(&mut c, "$#\n");
+        assert!((c.interp.pos[2] + 33.0).abs() < 1e-9, "{:?}", c.interp.pos);
+        assert!(
+            out.contains("[TLO:0.000]\r\n[PRB:20.000,20.000,-35.000:1]\r\nok"),
+            "{out}"
+        );
+        // Probing again from above touches again; probing away from it opens.
+        let out = run_lines(&mut c, "G38.2 Z-10 F100\nG38.4 Z5\n");
+        assert!(out.contains("[PRB:20.000,20.000,-35.000:1]"), "{out}");
+        assert_eq!(c.state, GrblState::Idle);
+    }
+
+    #[test]
+    fn probe_failures_as_grbl_reports_them() {
+        let mut c = probe_core();
+        // Beside the stock: G38.3 ends with :0 and no alarm.
+        let out = run_lines(&mut c, "G0 X150 Y20 Z-10\nG38.3 Z-60 F600\n");
+        assert_eq!(out, "ok\r\n[PRB:150.000,20.000,-60.000:0]\r\nok\r\n");
+        assert_eq!(c.state, GrblState::Idle);
+        // G38.2 alarms and keeps the last probe position.
+        let out = run_lines(&mut c, "G0 Z-10\nG38.2 Z-60 F600\nG0 Z0\n");
+        assert_eq!(
+            out,
+            "ok\r\nALARM:5\r\n[PRB:150.000,20.000,-60.000:0]\r\nok\r\nerror:9\r\n"
+        );
+        assert_eq!(c.state, GrblState::Alarm);
+        // Already touching at the start: ALARM:4 and no motion.
+        let out = run_lines(&mut c, "$X\nG0 X50 Y25 Z-40\nG38.2 Z-45 F100\n");
+        assert!(out.ends_with("ok\r\nALARM:4\r\nok\r\n"), "{out}");
+        assert_eq!(c.mpos, [50.0, 25.0, -40.0]);
+        assert_eq!(c.interp.pos, [50.0, 25.0, -40.0]);
+        // A reset forgets the success, not the position.
+        c.realtime(Realtime::SoftReset);
+        assert_eq!(c.last_probe(), ([150.0, 20.0, -60.0], false));
+    }
+
+    #[test]
+    fn a_longer_tool_touches_higher() {
+        let mut c = probe_core();
+        c.set_tool(Tool {
+            length: 12.5,
+            diameter: 0.0,
+        });
+        let out = run_lines(&mut c, "G0 X60 Y20 Z0\nG38.2 Z-60 F600\n");
+        assert!(out.contains("[PRB:60.000,20.000,-27.500:1]"), "{out}");
     }
 
     #[test]

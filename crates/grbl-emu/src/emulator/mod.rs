@@ -5,9 +5,11 @@
 pub(crate) mod core;
 mod flavor;
 mod fluidnc;
+mod probe;
 pub(crate) mod profile;
 mod serve;
 
 pub use self::core::{Config, Core, Stats};
 pub use flavor::Flavor;
+pub use probe::{LengthSetter, ProbeModel, Stock, Tool, TouchPlate, SETTER_PAD};
 pub use serve::Emulator;

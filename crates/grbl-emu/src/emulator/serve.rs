@@ -120,6 +120,12 @@ impl Emulator {
         f(&mut lock(&self.shared.core))
     }
 
+    /// Puts another tool in the spindle, as an operator does at an M6 (see
+    /// [`Core::set_tool`]): the probe then touches with its length and diameter.
+    pub fn set_tool(&self, tool: super::probe::Tool) {
+        lock(&self.shared.core).set_tool(tool);
+    }
+
     /// A copy of the counters so far.
     pub fn stats(&self) -> Stats {
         lock(&self.shared.core).stats.clone()

@@ -60,7 +60,7 @@ pub(super) fn check(s: &Interp, b: &Block) -> Result<Plan, u8> {
     let feeding = uses_motion
         && matches!(
             motion_mode,
-            MotionMode::Linear | MotionMode::ArcCw | MotionMode::ArcCcw | MotionMode::Probe
+            MotionMode::Linear | MotionMode::ArcCw | MotionMode::ArcCcw | MotionMode::Probe(_)
         );
     if feeding && (feed <= 0.0 || (b.inverse_time && b.value('F').is_none())) {
         return Err(E_UNDEFINED_FEED);

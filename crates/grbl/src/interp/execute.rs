@@ -16,7 +16,7 @@ pub(super) fn execute(s: &mut Interp, mut b: Block, p: Plan, jog: bool) -> Resul
         dwell: 0.0,
         flow: b.stop.unwrap_or(Flow::Continue),
         sync,
-        probe: false,
+        probe: None,
     };
     non_modal(s, &mut b, &p, &mut effect)?;
     if p.uses_motion && !matches!(b.non_modal, NonModal::SetCoord | NonModal::SetG92) {
@@ -216,9 +216,9 @@ fn feed_rate(p: &Plan, inverse_time: bool, len: f64) -> Rate {
 fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Result<(), u8> {
     let mode = p.motion_mode;
     match mode {
-        MotionMode::Rapid | MotionMode::Linear | MotionMode::Probe => {
+        MotionMode::Rapid | MotionMode::Linear | MotionMode::Probe(_) => {
             if !p.any_axis {
-                return if mode == MotionMode::Probe {
+                return if matches!(mode, MotionMode::Probe(_)) {
                     Err(E_NO_AXIS_WORDS)
                 } else {
                     Ok(())
@@ -230,7 +230,7 @@ fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Resul
             // A move of A alone: its feed is degrees per minute (LinuxCNC's rule; the
             // emulator times it so), and in inverse time its "length" is the turn.
             let turn = if len == 0.0 { (a - s.a).abs() } else { 0.0 };
-            if mode == MotionMode::Probe && len == 0.0 {
+            if matches!(mode, MotionMode::Probe(_)) && len == 0.0 {
                 return Err(E_INVALID_TARGET);
             }
             let rate = if mode == MotionMode::Rapid {
@@ -241,7 +241,10 @@ fn motion(s: &mut Interp, b: &mut Block, p: &Plan, effect: &mut Effect) -> Resul
             if len > 0.0 || turn > 0.0 {
                 effect.segments.push(Segment { to, a, rate });
             }
-            effect.probe = mode == MotionMode::Probe;
+            effect.probe = match mode {
+                MotionMode::Probe(kind) => Some(kind),
+                _ => None,
+            };
             s.pos = to;
             s.a = a;
         }

@@ -38,8 +38,31 @@ pub enum MotionMode {
     Linear,
     ArcCw,
     ArcCcw,
-    Probe,
+    Probe(ProbeKind),
     None,
+}
+
+/// Which of grbl's four probing moves: G38.2 (toward the work, alarm if it is not touched),
+/// G38.3 (toward, no alarm), G38.4 (away, until contact is lost, alarm if it is not),
+/// G38.5 (away, no alarm).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ProbeKind {
+    /// G38.4 / G38.5: the move ends when the probe opens.
+    pub away: bool,
+    /// G38.3 / G38.5: a move that ends without the change is not an alarm.
+    pub no_error: bool,
+}
+
+impl ProbeKind {
+    /// The G-code that names it, e.g. `G38.2`.
+    pub fn code(self) -> &'static str {
+        match (self.away, self.no_error) {
+            (false, false) => "G38.2",
+            (false, true) => "G38.3",
+            (true, false) => "G38.4",
+            (true, true) => "G38.5",
+        }
+    }
 }
 
 /// Spindle state (M3 / M4 / M5).
@@ -135,8 +158,8 @@ pub struct Effect {
     /// The line waits for the planner to empty before acknowledging (spindle, coolant,
     /// offsets, dwell in grbl).
     pub sync: bool,
-    /// A probing move (G38.x).
-    pub probe: bool,
+    /// A probing move (G38.x): which one.
+    pub probe: Option<ProbeKind>,
 }
 
 /// Interpreter state: modal groups, feed, spindle, tool, position and offsets (machine mm).
@@ -261,7 +284,7 @@ impl Interp {
             MotionMode::Linear => "G1",
             MotionMode::ArcCw => "G2",
             MotionMode::ArcCcw => "G3",
-            MotionMode::Probe => "G38.2",
+            MotionMode::Probe(kind) => kind.code(),
             MotionMode::None => "G80",
         };
         let spindle = match m.spindle {
@@ -394,6 +417,23 @@ mod tests {
             .segments
             .iter()
             .all(|s| (s.to[0].hypot(s.to[1]) - 10.0).abs() < 1e-6 && s.to[1] <= 1e-9));
+    }
+
+    #[test]
+    fn the_four_probe_moves_are_told_apart() {
+        let mut i = Interp::default();
+        for (line, away, no_error) in [
+            ("G38.2 Z-5 F100", false, false),
+            ("G38.3 Z-10", false, true),
+            ("G38.4 Z-5", true, false),
+            ("G38.5 Z0", true, true),
+        ] {
+            let e = run(&mut i, line).unwrap();
+            assert_eq!(e.probe, Some(ProbeKind { away, no_error }), "{line}");
+            assert!(i.parser_state().starts_with(&line[..5]), "{line}");
+        }
+        assert_eq!(run(&mut i, "G0 X1").unwrap().probe, None);
+        assert_eq!(run(&mut i, "G38.6 Z1"), Err(E_UNSUPPORTED));
     }
 
     #[test]

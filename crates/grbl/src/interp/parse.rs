@@ -189,7 +189,10 @@ fn g_word(b: &mut Block, groups: &mut Groups, value: f64) -> Result<(), u8> {
                 (1, 0) => MotionMode::Linear,
                 (2, 0) => MotionMode::ArcCw,
                 (3, 0) => MotionMode::ArcCcw,
-                (38, 20..=50) if mantissa % 10 == 0 => MotionMode::Probe,
+                (38, 20..=50) if mantissa % 10 == 0 => MotionMode::Probe(ProbeKind {
+                    away: mantissa >= 40,
+                    no_error: mantissa % 20 == 10,
+                }),
                 (80, 0) => MotionMode::None,
                 (38, _) => return Err(E_UNSUPPORTED),
                 _ => return Err(E_NOT_INTEGER),

@@ -63,7 +63,11 @@ impl Core {
                     format!("[G30:{}]", f(self.interp.g30)),
                     format!("[G92:{}]", f(self.interp.g92)),
                     format!("[TLO:{:.3}]", self.interp.tool_length),
-                    "[PRB:0.000,0.000,0.000:0]".to_string(),
+                    format!(
+                        "[PRB:{}:{}]",
+                        f(self.probe_position),
+                        u8::from(self.probe_succeeded)
+                    ),
                 ];
                 for l in lines {
                     self.say(&l);
@@ -223,7 +227,7 @@ impl Core {
                     dwell: 0.0,
                     segments: effect.segments.into(),
                     flow: Flow::Continue,
-                    probe: false,
+                    probe: None,
                     reply: "ok".into(),
                     line: None,
                 });
