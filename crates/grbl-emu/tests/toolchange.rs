@@ -285,3 +285,74 @@ fn a_stop_while_waiting_resumes_at_the_m6_line_from_the_journal_and_from_the_lin
     );
     assert!(!ran.iter().any(|l| l.contains("M6")));
 }
+
+#[test]
+fn remeasure_on_the_emulated_setter_offsets_the_longer_tool_by_its_length() {
+    use oficina_grbl::{setter_at, Approach};
+    use oficina_grbl_emu::{Config, LengthSetter, ProbeModel, Tool};
+    // The setter's pad: machine X250 Y50, its top at Z−80; tool 2 is 12.5 mm longer.
+    let (pad_top, longer) = (-80.0, 12.5);
+    let emu = Emulator::start(Config {
+        probe: ProbeModel {
+            setter: Some(LengthSetter {
+                at: [250.0, 50.0],
+                top: pad_top,
+            }),
+            ..ProbeModel::default()
+        },
+        ..config(None)
+    });
+    let ep = oficina_grbl::Endpoint::Tcp {
+        addr: emu.serve_tcp("127.0.0.1:0").unwrap().to_string(),
+    };
+    let mut setter = setter_at(250.0, 50.0, -45.0);
+    setter.approach = Approach {
+        travel: 50.0,
+        feed: 3000.0,
+        slow_feed: 600.0,
+        retract: 2.0,
+    };
+    let mut dev = GrblDevice::at(ep, options());
+    dev.settings.resume.spindle_delay = 0.0;
+    dev.settings.tool_change = ToolChange {
+        policy: ToolPolicy::Remeasure,
+        park: None,
+        setter: Some(setter),
+        measure_at_start: false,
+    };
+    dev.settings.journal = Some(std::env::temp_dir().join(format!(
+        "oficina-toolchange-remeasure-{}.journal",
+        std::process::id()
+    )));
+    dev.connect().unwrap();
+    dev.start(job(None)).unwrap();
+    let mut tools = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, _, _| {
+        // The operator puts the tool in.
+        let length = if tool == 2 { longer } else { 0.0 };
+        emu.set_tool(Tool {
+            length,
+            diameter: 0.0,
+        });
+        tools.push(tool);
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(tools, [1, 2]);
+    // Each tool touched the pad (its tip at the pad's top), and the offset is the
+    // difference of the two touches: the second tool's extra length.
+    let told: Vec<&Event> = events
+        .iter()
+        .filter(|e| matches!(e, Event::Message(m) if m.starts_with("tool setter touched")))
+        .collect();
+    assert_eq!(told.len(), 2, "{events:?}");
+    let tlo = dev.raw_line("$#").unwrap();
+    let tlo: f64 = tlo
+        .lines
+        .iter()
+        .find_map(|l| l.strip_prefix("[TLO:")?.strip_suffix(']')?.parse().ok())
+        .unwrap();
+    assert!((tlo - longer).abs() < 0.002, "TLO {tlo}");
+    assert!(!executed(&emu).iter().any(|l| l.contains("M6")));
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
+}
