@@ -356,3 +356,74 @@ fn remeasure_on_the_emulated_setter_offsets_the_longer_tool_by_its_length() {
     assert!(!executed(&emu).iter().any(|l| l.contains("M6")));
     assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
 }
+
+#[test]
+fn park_moves_to_the_park_position_before_the_prompt_and_comes_back() {
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::ParkPause, "park");
+    dev.disconnect();
+    let park = [-30.0, -20.0, -1.0];
+    dev.settings.tool_change.park = Some(park);
+    dev.connect().unwrap();
+    dev.start(job(None)).unwrap();
+    let mut stops = 0;
+    let (completed, events) = run_until_end(&mut dev, |dev, _, _, _| {
+        // At the prompt the machine rests at the park position (machine coordinates).
+        let (mpos, state) = emu.with_core(|c| (c.mpos, c.state.clone()));
+        assert_eq!(state, GrblState::Idle);
+        for a in 0..3 {
+            assert!((mpos[a] - park[a]).abs() < 1e-6, "{mpos:?} vs {park:?}");
+        }
+        let last = executed(&emu);
+        assert!(
+            last.ends_with(&["G53G0Z-1".into(), "G53G0X-30Y-20".into()]),
+            "{last:?}"
+        );
+        stops += 1;
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(stops, 2);
+    // Back on the path: the job ended where the program does (the sender checks it too).
+    let texts: Vec<String> = expected_lines(TWO_TOOLS, false)
+        .into_iter()
+        .map(|(_, t)| t)
+        .collect();
+    assert!(is_subsequence(&texts, &executed(&emu)));
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
+}
+
+#[test]
+fn a_change_with_the_spindle_running_stops_it_and_the_resume_restarts_it() {
+    // No M5 before the M6 (some posts leave it to the control): the sender turns the
+    // spindle and the coolant off before asking, and back on before the next line.
+    let text = "G21 G90\nT1 M6\nS9000 M3 M8\nG0 X1 Y1\nG1 Z-0.5 F600\nG0 Z2\nT2 M6\nG1 X3 F600\nM5 M9\nM30\n";
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Pause, "spindle");
+    dev.start(Job {
+        name: "spindle.nc".into(),
+        text: Arc::new(text.into()),
+        start_line: None,
+        pace: Pace::Instant,
+    })
+    .unwrap();
+    let mut at_prompt = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, _, _| {
+        let m = emu.with_core(|c| c.interp.modal);
+        at_prompt.push((tool, m.spindle, m.flood));
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    use oficina_grbl::Spindle;
+    assert_eq!(
+        at_prompt,
+        [(1, Spindle::Off, false), (2, Spindle::Off, false)]
+    );
+    // After the second change the spindle ran again at its speed before "G1 X3".
+    let ran = executed(&emu);
+    let g1 = ran.iter().position(|l| l == "G1X3F600").unwrap();
+    let back = ran[..g1].iter().rposition(|l| l == "S9000M3").unwrap();
+    let off = ran[..g1].iter().rposition(|l| l == "M5").unwrap();
+    assert!(off < back, "{ran:?}");
+    assert!(ran[back..g1].contains(&"M8".to_string()), "{ran:?}");
+}
