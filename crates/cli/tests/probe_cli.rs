@@ -48,6 +48,8 @@ fn console_probe_z_on_the_emulated_plate_prints_the_offset() {
         "10,20,210,170,-60",
         "--probe-plate",
         "100,60,140,100,10",
+        "--probe-setter",
+        "250,50,-80",
         "--set",
         "110=60000",
         "--set",
@@ -66,7 +68,8 @@ fn console_probe_z_on_the_emulated_plate_prints_the_offset() {
     let out = console(
         addr,
         "G90 G0 X120 Y80 Z-40\n/probe z --plate 10 --feed 1000 --slow 200\n$#\n\
-         /probe z --plate -1\nG0 X300\n/probe z --plate 10 --feed 1000\n",
+         /probe setter --at 250,50 --safe-z -45 --travel 40 --feed 1000 --slow 200\n\
+         /probe z --plate -1\nG90 G0 X300 Y80\n/probe z --plate 10 --feed 1000\n",
     );
     // The plate's top: the block's −60 plus 10; G54 Z is the block's top.
     assert!(
@@ -78,6 +81,11 @@ fn console_probe_z_on_the_emulated_plate_prints_the_offset() {
         "{out}"
     );
     assert!(out.contains("[G54:0.000,0.000,-60.000]"), "{out}");
+    // The setter's pad: the reference for later tools.
+    assert!(
+        out.contains("probe setter: touched at machine Z -80.000 (after a tool change: /probe setter --reference -80.000)"),
+        "{out}"
+    );
     assert!(out.contains("plate thickness cannot be negative"), "{out}");
     // Beside the block nothing is touched: ALARM:5, in words.
     assert!(out.contains("probe failed: no contact"), "{out}");

@@ -364,3 +364,30 @@ fn a_machine_trait_object_runs_the_routine() {
     let e = run_z_plate(&mut vm, &p).unwrap_err();
     assert!(e.to_string().contains("no firmware lines"), "{e}");
 }
+
+#[test]
+fn a_tilted_warped_top_is_touched_where_the_formula_says() {
+    // What an auto-levelling probe meets: z(x, y) = z0 + ax·x + ay·y + w·sin(2πx/λ)·sin(2πy/λ).
+    let (z0, ax, ay, w, lambda) = (-60.0, 0.002, -0.001, 0.15, 37.0);
+    let (emu, mut s) = start(Flavor::Grbl);
+    emu.with_core(|c| {
+        c.config.probe.plate = None;
+        let st = c.config.probe.stock.as_mut().unwrap();
+        st.tilt = [ax, ay];
+        st.warp = w;
+        st.wavelength = lambda;
+    });
+    let k = std::f64::consts::TAU / lambda;
+    for (x, y) in [(30.0, 40.0), (77.7, 123.4), (205.0, 25.0)] {
+        let want = z0 + ax * x + ay * y + w * (k * x).sin() * (k * y).sin();
+        send(&mut s, &format!("G90 G0 X{x} Y{y} Z-50"));
+        let lines = send(&mut s, "G38.2 Z-70 F3000");
+        let prb = lines
+            .iter()
+            .find_map(|l| l.strip_prefix("[PRB:").and_then(|l| l.strip_suffix(":1]")))
+            .unwrap_or_else(|| panic!("no contact at {x},{y}: {lines:?}"));
+        let z: f64 = prb.split(',').nth(2).unwrap().parse().unwrap();
+        // [PRB:…] has three decimals.
+        near(z, want, 0.0006, &format!("top at {x},{y}"));
+    }
+}

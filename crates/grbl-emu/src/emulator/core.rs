@@ -11,6 +11,10 @@
 //! last buffered block, so a starved buffer slows the machine, and every new block re-plans
 //! the rest from the current speed. Feed hold brakes and cycle start accelerates through the
 //! same planner; overrides re-plan at once.
+//!
+//! Probing: a G38.x line waits for the planner to empty, is cut short where the probe input
+//! changes (what [`ProbeModel`] says the tool touches), and is answered as grbl's
+//! mc_probe_cycle answers once its move has run.
 
 use super::flavor::Flavor;
 use super::fluidnc;
@@ -1305,6 +1309,28 @@ mod tests {
         // A reset forgets the success, not the position.
         c.realtime(Realtime::SoftReset);
         assert_eq!(c.last_probe(), ([150.0, 20.0, -60.0], false));
+    }
+
+    #[test]
+    fn probing_away_seeks_the_opening() {
+        let mut c = probe_core();
+        // Not touching: G38.4 and G38.5 start with the probe open, ALARM:4 as grbl.
+        let out = run_lines(&mut c, "G0 X20 Y20 Z-10\nG38.5 Z-20 F600\n");
+        assert!(out.ends_with("ok\r\nALARM:4\r\nok\r\n"), "{out}");
+        assert_eq!(c.mpos, [20.0, 20.0, -10.0]);
+        // Resting on the plate (top −35), sliding along its top never opens: G38.5 ends
+        // with :0 and no alarm, G38.4 raises ALARM:5.
+        let out = run_lines(&mut c, "$X\nG0 Z-35\nG38.5 X25 F600\n");
+        assert!(
+            out.ends_with("[PRB:25.000,20.000,-35.000:0]\r\nok\r\n"),
+            "{out}"
+        );
+        assert_eq!(c.state, GrblState::Idle);
+        let out = run_lines(&mut c, "G38.4 X28 F600\n");
+        assert!(out.starts_with("ALARM:5\r\n"), "{out}");
+        // Sliding off the plate, a point tip opens just past its edge at X30.
+        let out = run_lines(&mut c, "$X\nG38.4 X40 F600\n");
+        assert!(out.contains("[PRB:30.000,20.000,-35.000:1]"), "{out}");
     }
 
     #[test]

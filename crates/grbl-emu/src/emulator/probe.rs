@@ -13,7 +13,7 @@ use std::f64::consts::TAU;
 /// Diameter of a tool length setter's pad, mm (a common 10 mm button).
 pub const SETTER_PAD: f64 = 10.0;
 
-/// Longest probing move looked along, mm (anything longer is searched in coarser steps).
+/// Most looks along one probing move (beyond 4 m of travel the steps grow).
 const MAX_SAMPLES: f64 = 400_000.0;
 /// Step along the move between the looks for a change, mm; bisection then finds the
 /// change to far below a micron.
@@ -189,7 +189,7 @@ impl ProbeModel {
 
     /// The first point of the straight move `from` → `to` where the probe is no longer as
     /// it was at `from` (it closes, or for a move away it opens); `None` if it never
-    /// changes. The move is looked along in [`SAMPLE_STEP`] steps, then the change is
+    /// changes. The move is looked along in 0.01 mm steps, then the change is
     /// bisected to 1e-7 mm; the point returned is on the changed side.
     pub fn first_change(&self, from: [f64; 3], to: [f64; 3]) -> Option<[f64; 3]> {
         let at = |t: f64| {

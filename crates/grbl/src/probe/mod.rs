@@ -16,17 +16,16 @@
 //! `G21 G91`; the units and distance mode `$G` reported before are restored at the end.
 //! Positions are read in mm: a board with `$13=1` (report inches) is not supported.
 
+mod checks;
+mod session;
+
 use crate::messages;
-use crate::response::Response;
-use crate::sender::Sender;
+use crate::sender::{Sender, SenderOptions};
+use checks::{check_positive, check_range, check_thickness, check_wcs, fits, MAX_TRAVEL};
 use oficina_machine::{Machine, RawReply};
+use session::{num, Session};
 use std::fmt;
 use std::time::Duration;
-
-/// The longest travel, size or offset a routine accepts, mm.
-const MAX_TRAVEL: f64 = 1000.0;
-/// The fastest feed a routine accepts, mm/min.
-const MAX_FEED: f64 = 100_000.0;
 
 /// A link a probe routine runs over: one line at a time, each waited for.
 pub trait ProbeLink {
@@ -35,6 +34,13 @@ pub trait ProbeLink {
     /// that came before the acknowledgement (`[PRB:…]`, `ALARM:N`, `[G54:…]`) are in the
     /// reply, an error explained in words.
     fn line(&mut self, line: &str, patience: Duration) -> Result<RawReply, String>;
+
+    /// The longest this link waits for a reply, if the caller cannot choose: a probing
+    /// move that may take longer is refused before it is sent (the firmware would still
+    /// be moving when the link gave up).
+    fn longest_wait(&self) -> Option<Duration> {
+        None
+    }
 }
 
 impl ProbeLink for Sender {
@@ -51,12 +57,17 @@ impl ProbeLink for Sender {
     }
 }
 
-/// Any machine, through [`Machine::raw_line`] (a [`crate::GrblDevice`] waits for each
-/// reply as long as its `SenderOptions::reply_timeout`, 30 s by default: a probing move
-/// must end within it; the virtual machine refuses, having no firmware language).
+/// Any machine, through [`Machine::raw_line`] (the virtual machine refuses, having no
+/// firmware language).
 impl<M: Machine + ?Sized> ProbeLink for M {
     fn line(&mut self, line: &str, _patience: Duration) -> Result<RawReply, String> {
         self.raw_line(line).map_err(|e| e.to_string())
+    }
+
+    /// A [`crate::GrblDevice`] waits for each reply as long as its
+    /// `SenderOptions::reply_timeout`, which the trait does not show: its default.
+    fn longest_wait(&self) -> Option<Duration> {
+        Some(SenderOptions::default().reply_timeout)
     }
 }
 
@@ -191,16 +202,18 @@ pub fn run_z_plate<L: ProbeLink + ?Sized>(
     check_thickness(p.thickness)?;
     check_wcs(p.wcs)?;
     p.approach.check()?;
-    let mut s = Session::begin(link)?;
-    let top = s.touch('Z', -1.0, &p.approach)?;
-    let r = p.approach.retract;
-    s.send(&format!("G90 G53 G0 Z{}", num(top[2] + r)))?;
-    s.send(&format!("G10 L20 P{} Z{}", p.wcs, num(p.thickness + r)))?;
-    let offset = s.finish(p.wcs)?;
-    Ok(ProbeResult {
-        contacts: vec![top],
-        wcs: p.wcs,
-        offset,
+    p.approach.fits(link)?;
+    Session::begin(link)?.run(|s| {
+        let top = s.touch('Z', -1.0, &p.approach)?;
+        let r = p.approach.retract;
+        s.send(&format!("G90 G53 G0 Z{}", num(top[2] + r)))?;
+        s.send(&format!("G10 L20 P{} Z{}", p.wcs, num(p.thickness + r)))?;
+        let offset = s.finish(p.wcs)?;
+        Ok(ProbeResult {
+            contacts: vec![top],
+            wcs: p.wcs,
+            offset,
+        })
     })
 }
 
@@ -231,7 +244,25 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
             radius + p.approach.retract
         )));
     }
-    let mut s = Session::begin(link)?;
+    let side = Approach {
+        travel: p.reach,
+        ..p.approach
+    };
+    let down = p.approach.retract + p.depth;
+    p.approach.fits(link)?;
+    side.fits(link)?;
+    fits(link, down, p.approach.feed)?;
+    Session::begin(link)?.run(|s| corner(s, p, &side, down))
+}
+
+/// [`run_corner`]'s lines, once checked.
+fn corner<L: ProbeLink + ?Sized>(
+    s: &mut Session<'_, L>,
+    p: &Corner,
+    side: &Approach,
+    down: f64,
+) -> Result<ProbeResult, ProbeError> {
+    let radius = p.tool_diameter / 2.0;
     let top = s.touch('Z', -1.0, &p.approach)?;
     let r = p.approach.retract;
     let above = top[2] + r;
@@ -241,7 +272,6 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
         s.send(&format!("G91 G0 {axis}-{}", num(p.reach)))?;
         // Down beside the side as a probing move: if the tool is still above the work it
         // touches instead of plunging into it.
-        let down = r + p.depth;
         let (at, touched) = s.probe(
             &format!("G38.3 Z-{} F{}", num(down), num(p.approach.feed)),
             down,
@@ -253,11 +283,7 @@ pub fn run_corner<L: ProbeLink + ?Sized>(
                 p.reach, at[2]
             )));
         }
-        let side = Approach {
-            travel: p.reach,
-            ..p.approach
-        };
-        sides[i] = s.touch(axis, 1.0, &side)?;
+        sides[i] = s.touch(axis, 1.0, side)?;
         s.send(&format!("G91 G0 {axis}-{}", num(r)))?;
         s.send(&format!("G0 Z{}", num(down)))?;
         s.send(&format!("G90 G53 G0 X{} Y{}", num(top[0]), num(top[1])))?;
@@ -298,268 +324,33 @@ pub fn run_tool_setter<L: ProbeLink + ?Sized>(
     if let Some(z) = p.reference {
         check_range("reference Z", z, -10_000.0, 10_000.0)?;
     }
-    let mut s = Session::begin(link)?;
-    if let Some([x, y]) = p.at {
-        s.send(&format!("G90 G53 G0 Z{}", num(p.safe_z)))?;
-        s.send(&format!("G53 G0 X{} Y{}", num(x), num(y)))?;
-    }
-    let contact = s.touch('Z', -1.0, &p.approach)?;
-    s.send(&format!(
-        "G90 G53 G0 Z{}",
-        num(contact[2] + p.approach.retract)
-    ))?;
-    let tool_offset = p.reference.map(|r| contact[2] - r);
-    if let Some(tlo) = tool_offset {
-        s.send(&format!("G43.1 Z{}", num(tlo)))?;
-    }
-    s.finish(1)?;
-    Ok(SetterResult {
-        contact,
-        measured_z: contact[2],
-        tool_offset,
+    p.approach.fits(link)?;
+    Session::begin(link)?.run(|s| {
+        if let Some([x, y]) = p.at {
+            s.send(&format!("G90 G53 G0 Z{}", num(p.safe_z)))?;
+            s.send(&format!("G53 G0 X{} Y{}", num(x), num(y)))?;
+        }
+        let contact = s.touch('Z', -1.0, &p.approach)?;
+        s.send(&format!(
+            "G90 G53 G0 Z{}",
+            num(contact[2] + p.approach.retract)
+        ))?;
+        let tool_offset = p.reference.map(|r| contact[2] - r);
+        if let Some(tlo) = tool_offset {
+            s.send(&format!("G43.1 Z{}", num(tlo)))?;
+        }
+        s.finish(1)?;
+        Ok(SetterResult {
+            contact,
+            measured_z: contact[2],
+            tool_offset,
+        })
     })
-}
-
-impl Approach {
-    fn check(&self) -> Result<(), ProbeError> {
-        check_range("travel", self.travel, 0.0, MAX_TRAVEL)?;
-        check_positive("travel", self.travel)?;
-        check_positive("retract", self.retract)?;
-        check_range("retract", self.retract, 0.0, MAX_TRAVEL / 2.0)?;
-        for (what, f) in [("feed", self.feed), ("slow feed", self.slow_feed)] {
-            check_positive(what, f)?;
-            check_range(what, f, 0.0, MAX_FEED)?;
-        }
-        Ok(())
-    }
-}
-
-fn check_range(what: &str, v: f64, lo: f64, hi: f64) -> Result<(), ProbeError> {
-    if !v.is_finite() {
-        return Err(ProbeError::Input(format!(
-            "{what} must be a number, got {v}"
-        )));
-    }
-    if v < lo || v > hi {
-        return Err(ProbeError::Input(format!(
-            "{what} {v} is outside {lo} … {hi}"
-        )));
-    }
-    Ok(())
-}
-
-fn check_positive(what: &str, v: f64) -> Result<(), ProbeError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(ProbeError::Input(format!(
-            "{what} must be more than 0, got {v}"
-        )))
-    }
-}
-
-fn check_thickness(t: f64) -> Result<(), ProbeError> {
-    if t.is_finite() && t < 0.0 {
-        return Err(ProbeError::Input(format!(
-            "plate thickness cannot be negative, got {t} mm"
-        )));
-    }
-    check_range("plate thickness", t, 0.0, MAX_TRAVEL)
-}
-
-fn check_wcs(wcs: u8) -> Result<(), ProbeError> {
-    if (1..=6).contains(&wcs) {
-        Ok(())
-    } else {
-        Err(ProbeError::Input(format!(
-            "coordinate system {wcs}: grbl has 1 (G54) … 6 (G59)"
-        )))
-    }
-}
-
-/// A number for a G-code word: 4 decimals (0.1 µm), no trailing zeros.
-fn num(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".into()
-    } else {
-        s.into()
-    }
-}
-
-/// A routine's lines over one link: the modal state to restore, and the reading of each
-/// reply.
-struct Session<'a, L: ?Sized> {
-    link: &'a mut L,
-    /// Units and distance mode before the routine, e.g. `G21 G90`.
-    restore: String,
-}
-
-/// A reply to an ordinary line comes at once; a move's after it is queued.
-const PATIENCE: Duration = Duration::from_secs(30);
-
-impl<'a, L: ProbeLink + ?Sized> Session<'a, L> {
-    /// Reads the modal state (`$G`) and switches to mm and incremental moves.
-    fn begin(link: &'a mut L) -> Result<Self, ProbeError> {
-        let mut s = Session {
-            link,
-            restore: String::new(),
-        };
-        let reply = s.send("$G")?;
-        let modes = reply
-            .lines
-            .iter()
-            .find_map(|l| match Response::parse(l) {
-                Response::ParserState(p) => Some(p),
-                _ => None,
-            })
-            .ok_or_else(|| {
-                ProbeError::Firmware(format!(
-                    "`$G` gave no parser state ([GC:…]) but {:?}",
-                    reply.lines
-                ))
-            })?;
-        let word = |a: &str, b: &str| {
-            if modes.split_whitespace().any(|w| w == b) {
-                b.to_string()
-            } else {
-                a.to_string()
-            }
-        };
-        s.restore = format!("{} {}", word("G21", "G20"), word("G90", "G91"));
-        s.send("G21 G91")?;
-        Ok(s)
-    }
-
-    /// Sends one line; an alarm or an error in its reply ends the routine, explained.
-    fn send(&mut self, line: &str) -> Result<RawReply, ProbeError> {
-        self.send_waiting(line, PATIENCE)
-    }
-
-    fn send_waiting(&mut self, line: &str, patience: Duration) -> Result<RawReply, ProbeError> {
-        let reply = self
-            .link
-            .line(line, patience)
-            .map_err(|e| ProbeError::Firmware(format!("`{line}`: {e}")))?;
-        for l in &reply.lines {
-            if let Response::Alarm(code) = Response::parse(l) {
-                return Err(alarm(code, line));
-            }
-        }
-        if let Some(e) = &reply.error {
-            return Err(ProbeError::Firmware(format!(
-                "the firmware refused `{line}`: {e}"
-            )));
-        }
-        Ok(reply)
-    }
-
-    /// One probing line that may travel `distance` at `feed`: where it stopped, and
-    /// whether the probe touched there (its `[PRB:x,y,z:ok]`).
-    fn probe(
-        &mut self,
-        line: &str,
-        distance: f64,
-        feed: f64,
-    ) -> Result<([f64; 3], bool), ProbeError> {
-        let patience = Duration::from_secs_f64(distance / feed * 60.0 * 1.5 + 10.0);
-        let reply = self.send_waiting(line, patience)?;
-        reply
-            .lines
-            .iter()
-            .find_map(|l| parse_prb(l))
-            .ok_or_else(|| {
-                ProbeError::Firmware(format!(
-                    "`{line}` was answered without a probe report ([PRB:…]): {:?}",
-                    reply.lines
-                ))
-            })
-    }
-
-    /// A surface along `axis` in `direction`: search, back off, touch slowly, back off.
-    /// Returns the slow touch's machine position; the tool ends `retract` away from it.
-    fn touch(&mut self, axis: char, direction: f64, a: &Approach) -> Result<[f64; 3], ProbeError> {
-        let sign = if direction < 0.0 { "-" } else { "" };
-        let back = if direction < 0.0 { "" } else { "-" };
-        let search = format!("G91 G38.2 {axis}{sign}{} F{}", num(a.travel), num(a.feed));
-        let (_, touched) = self.probe(&search, a.travel, a.feed)?;
-        if !touched {
-            return Err(ProbeError::NoContact(format!(
-                "`{search}` ended without contact"
-            )));
-        }
-        self.send(&format!("G0 {axis}{back}{}", num(a.retract)))?;
-        let slow = 2.0 * a.retract;
-        let line = format!("G38.2 {axis}{sign}{} F{}", num(slow), num(a.slow_feed));
-        let (at, touched) = self.probe(&line, slow, a.slow_feed)?;
-        if !touched {
-            return Err(ProbeError::NoContact(format!(
-                "`{line}` ended without contact"
-            )));
-        }
-        Ok(at)
-    }
-
-    /// Restores the modal state, waits for the machine to stop (`G4 P0` answers once the
-    /// planner is empty) and reads back the offset of coordinate system `wcs`.
-    fn finish(mut self, wcs: u8) -> Result<[f64; 3], ProbeError> {
-        let restore = self.restore.clone();
-        self.send(&restore)?;
-        self.send("G4 P0")?;
-        let tag = format!("G{}", 53 + wcs);
-        let reply = self.send("$#")?;
-        reply
-            .lines
-            .iter()
-            .find_map(|l| match Response::parse(l) {
-                Response::Feedback { tag: t, value } if t == tag => parse_xyz(&value),
-                _ => None,
-            })
-            .ok_or_else(|| {
-                ProbeError::Firmware(format!("`$#` did not report [{tag}:…]: {:?}", reply.lines))
-            })
-    }
-}
-
-/// `[PRB:x,y,z:ok]` → the position and whether it touched.
-fn parse_prb(line: &str) -> Option<([f64; 3], bool)> {
-    match Response::parse(line) {
-        Response::Feedback { tag, value } if tag == "PRB" => {
-            let (xyz, ok) = value.rsplit_once(':')?;
-            Some((parse_xyz(xyz)?, ok.trim() == "1"))
-        }
-        _ => None,
-    }
-}
-
-/// `x,y,z[,a…]` → the first three (grblHAL adds its other axes).
-fn parse_xyz(s: &str) -> Option<[f64; 3]> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse().ok())
-        .collect::<Option<_>>()?;
-    (v.len() >= 3 && v.iter().all(|x| x.is_finite())).then(|| [v[0], v[1], v[2]])
-}
-
-/// An alarm during `line`, in plain words with grbl's own text.
-fn alarm(code: u8, line: &str) -> ProbeError {
-    let after = "The machine is in alarm: unlock it with $X (the routine had switched to G91 \
-                 incremental moves: send G90 before absolute moves), or reset it.";
-    let grbl = messages::describe_alarm(code);
-    match code {
-        4 => ProbeError::AlreadyTriggered(format!(
-            "the probe was already closed before `{line}` moved: the tool is touching the plate, the clip is on the plate, or the probe input is shorted. {after} [{grbl}]"
-        )),
-        5 => ProbeError::NoContact(format!(
-            "no contact within the travel of `{line}`: is the plate (or setter) under the tool, is the clip on the tool, is the travel long enough? {after} [{grbl}]"
-        )),
-        _ => ProbeError::Firmware(format!("alarm during `{line}`: {grbl}. {after}")),
-    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::session::parse_prb;
     use super::*;
 
     /// A firmware that answers from a script: each line gets the next reply whose prefix
@@ -720,8 +511,53 @@ mod tests {
         };
         let e = run_corner(&mut fw, &p).unwrap_err();
         assert!(e.to_string().contains("still touched"), "{e}");
+        // The units and distance mode are given back; nothing was set.
+        assert_eq!(fw.sent.last().unwrap(), "G20 G90");
+        assert!(
+            !fw.sent.iter().any(|l| l.starts_with("G10")),
+            "{:?}",
+            fw.sent
+        );
         let e = run_corner(&mut firmware(vec![]), &Corner { reach: 4.0, ..p }).unwrap_err();
         assert!(e.to_string().contains("reach"), "{e}");
+    }
+
+    /// A link that waits at most 30 s, as a `GrblDevice` behind the `Machine` trait.
+    struct Impatient(Scripted);
+
+    impl ProbeLink for Impatient {
+        fn line(&mut self, line: &str, p: Duration) -> Result<RawReply, String> {
+            self.0.line(line, p)
+        }
+        fn longest_wait(&self) -> Option<Duration> {
+            Some(Duration::from_secs(30))
+        }
+    }
+
+    #[test]
+    fn a_search_longer_than_the_link_waits_is_refused_before_it_moves() {
+        let slow = ZPlate {
+            approach: Approach {
+                travel: 60.0,
+                ..Approach::default()
+            },
+            ..plate()
+        };
+        let mut link = Impatient(firmware(vec![]));
+        let e = run_z_plate(&mut link, &slow).unwrap_err();
+        assert!(e.to_string().contains("may take 36 s"), "{e}");
+        assert!(link.0.sent.is_empty(), "{:?}", link.0.sent);
+        assert!(
+            !link.0.sent.iter().any(|l| l.contains("G38")),
+            "{:?}",
+            link.0.sent
+        );
+        // The default search (30 mm at 100 mm/min, 18 s) fits.
+        let mut link = Impatient(firmware(vec![
+            ("G91 G38.2 Z-30", vec!["[PRB:5.000,6.000,-20.100:1]"]),
+            ("G38.2 Z-4", vec!["[PRB:5.000,6.000,-20.000:1]"]),
+        ]));
+        assert!(run_z_plate(&mut link, &plate()).is_ok());
     }
 
     #[test]
