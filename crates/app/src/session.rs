@@ -320,6 +320,11 @@ impl Session {
         while let Some(e) = self.machine.next_event(wait) {
             wait = Duration::ZERO;
             match e {
+                // Between jobs real firmware (GrblDevice) answers every call with a fresh
+                // status: one is enough, or this loop would never end.
+                Event::Status(_) if self.job.as_ref().is_none_or(|j| j.completed.is_some()) => {
+                    break
+                }
                 Event::Status(_) => {}
                 Event::Message(text) => out.push(SessionEvent::Message { text }),
                 Event::Alarm(message) => out.push(SessionEvent::Alarm {
