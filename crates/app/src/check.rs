@@ -139,8 +139,23 @@ pub fn check_program_with_tools(
     run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
     let summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());
-    let c = interpret(reader(text), run, profile, summarizer);
-    let (diags, planned) = (c.diagnostics, c.time);
+    // For grbl: the program as the sender sends it (pausing at M6), as `oficina check` reads it.
+    let (text, notes) = match opts.dialect {
+        Dialect::Grbl => {
+            let tc = oficina_grbl::ToolChange::default();
+            let (view, notes) = oficina_grbl::sender_view(text.as_bytes(), &tc);
+            // Only ASCII bytes were blanked: the text stays UTF-8.
+            let view = String::from_utf8(view).unwrap_or_else(|_| text.to_string());
+            (Arc::new(view), crate::program::sender_notes(notes))
+        }
+        _ => (text.clone(), Vec::new()),
+    };
+    let c = interpret(reader(&text), run, profile, summarizer);
+    let (mut diags, planned) = (c.diagnostics, c.time);
+    if !notes.is_empty() {
+        diags.extend(notes);
+        diags.sort_by_key(|d| d.span.line);
+    }
     let mut r = report(&diags, c.summary, c.operations, planned, &profile.name);
     if !tools.is_empty() {
         let rows = tool_rows(tools);
@@ -308,6 +323,31 @@ mod tests {
             (1, 6.0, 12.5)
         );
         assert!(bare.tool_table.is_empty());
+    }
+
+    #[test]
+    fn grbl_programs_are_checked_as_the_sender_sends_them() {
+        let text = Arc::new("%\nG21 G90\nT2 M6\nG0 X1\nG41 G1 X2 F100\nM30\n%\n".to_string());
+        let opts = CheckOptions {
+            profile: oficina_motion::resolve("grbl-router").unwrap(),
+            dialect: Dialect::Grbl,
+        };
+        let r = check_program(&text, &opts);
+        let at = |sev: &str| -> Vec<u32> {
+            r.diagnostics
+                .iter()
+                .filter(|d| d.severity == sev)
+                .map(|d| d.line)
+                .collect()
+        };
+        assert_eq!(at("note"), [1, 3, 7], "{:?}", r.diagnostics);
+        assert_eq!(
+            at("error"),
+            [5],
+            "G41 is still grbl's error: {:?}",
+            r.diagnostics
+        );
+        assert_eq!((r.errors, r.warnings), (1, 0));
     }
 
     #[test]

@@ -164,11 +164,15 @@ pub fn grbl_sender_source(
         .read_to_end(&mut bytes)
         .map_err(|e| Error(format!("cannot read {}: {e}", path.display())))?;
     let (view, notes) = oficina_grbl::sender_view(&bytes, tc);
-    let notes = notes
+    Ok((std::io::Cursor::new(view), sender_notes(notes)))
+}
+
+/// The sender's notes as diagnostics of severity note.
+pub(crate) fn sender_notes(notes: Vec<oficina_grbl::SenderNote>) -> Vec<Diagnostic> {
+    notes
         .into_iter()
         .map(|n| Diagnostic::note(oficina_gcode::Span::new(n.line, n.col, n.len), n.message))
-        .collect();
-    Ok((std::io::Cursor::new(view), notes))
+        .collect()
 }
 
 /// A program that could not be opened or read: the OS error once, after the file name.

@@ -140,12 +140,22 @@ const FEED_OVERRIDE: std::ops::RangeInclusive<f64> = 0.1..=2.0;
 impl Session {
     /// Connect to the machine `uri` names (see [`machine_uri::open_machine`]).
     pub fn open(uri: &str) -> Result<Session, Error> {
+        Session::open_with(uri, oficina_grbl::ToolChange::default())
+    }
+
+    /// [`Session::open`], real firmware handling `M6` as `tool_change` says (the virtual
+    /// machine changes tools itself).
+    pub fn open_with(uri: &str, tool_change: oficina_grbl::ToolChange) -> Result<Session, Error> {
         let profile = if machine_uri::is_firmware(uri) {
             None
         } else {
             Some(profile::resolve(machine_uri::virtual_name(uri))?)
         };
-        let mut machine = machine_uri::open_machine(uri, None)?;
+        let mut machine = if machine_uri::is_firmware(uri) {
+            machine_uri::open_firmware(uri, tool_change)?
+        } else {
+            machine_uri::open_machine(uri, None)?
+        };
         let info = machine.connect().map_err(Error::from_display)?;
         let home = profile.as_ref().map_or([0.0; 3], |p| p.start);
         let mut offsets = WorkOffsets::default();

@@ -2,7 +2,7 @@
 //! handles `M6`), and the operator's side of a change.
 
 use crate::machine_profile::parse_xyz;
-use oficina_grbl::{ChangeSetter, ToolChange, ToolPolicy};
+use oficina_grbl::{setter_at, ToolChange, ToolPolicy};
 
 #[derive(clap::Args, Debug, Clone)]
 pub(crate) struct ToolChangeArgs {
@@ -31,7 +31,7 @@ impl ToolChangeArgs {
         let tc = ToolChange {
             policy: self.tool_change,
             park: self.park,
-            setter: self.tool_setter.map(|[x, y, z]| ChangeSetter::at(x, y, z)),
+            setter: self.tool_setter.map(|[x, y, z]| setter_at(x, y, z)),
             measure_at_start: self.measure_at_start,
         };
         tc.validate().map_err(anyhow::Error::msg)?;

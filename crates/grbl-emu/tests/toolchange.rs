@@ -285,3 +285,145 @@ fn a_stop_while_waiting_resumes_at_the_m6_line_from_the_journal_and_from_the_lin
     );
     assert!(!ran.iter().any(|l| l.contains("M6")));
 }
+
+#[test]
+fn remeasure_on_the_emulated_setter_offsets_the_longer_tool_by_its_length() {
+    use oficina_grbl::{setter_at, Approach};
+    use oficina_grbl_emu::{Config, LengthSetter, ProbeModel, Tool};
+    // The setter's pad: machine X250 Y50, its top at Z−80; tool 2 is 12.5 mm longer.
+    let (pad_top, longer) = (-80.0, 12.5);
+    let emu = Emulator::start(Config {
+        probe: ProbeModel {
+            setter: Some(LengthSetter {
+                at: [250.0, 50.0],
+                top: pad_top,
+            }),
+            ..ProbeModel::default()
+        },
+        ..config(None)
+    });
+    let ep = oficina_grbl::Endpoint::Tcp {
+        addr: emu.serve_tcp("127.0.0.1:0").unwrap().to_string(),
+    };
+    let mut setter = setter_at(250.0, 50.0, -45.0);
+    setter.approach = Approach {
+        travel: 50.0,
+        feed: 3000.0,
+        slow_feed: 600.0,
+        retract: 2.0,
+    };
+    let mut dev = GrblDevice::at(ep, options());
+    dev.settings.resume.spindle_delay = 0.0;
+    dev.settings.tool_change = ToolChange {
+        policy: ToolPolicy::Remeasure,
+        park: None,
+        setter: Some(setter),
+        measure_at_start: false,
+    };
+    dev.settings.journal = Some(std::env::temp_dir().join(format!(
+        "oficina-toolchange-remeasure-{}.journal",
+        std::process::id()
+    )));
+    dev.connect().unwrap();
+    dev.start(job(None)).unwrap();
+    let mut tools = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, _, _| {
+        // The operator puts the tool in.
+        let length = if tool == 2 { longer } else { 0.0 };
+        emu.set_tool(Tool {
+            length,
+            diameter: 0.0,
+        });
+        tools.push(tool);
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(tools, [1, 2]);
+    // Each tool touched the pad (its tip at the pad's top), and the offset is the
+    // difference of the two touches: the second tool's extra length.
+    let told: Vec<&Event> = events
+        .iter()
+        .filter(|e| matches!(e, Event::Message(m) if m.starts_with("tool setter touched")))
+        .collect();
+    assert_eq!(told.len(), 2, "{events:?}");
+    let tlo = dev.raw_line("$#").unwrap();
+    let tlo: f64 = tlo
+        .lines
+        .iter()
+        .find_map(|l| l.strip_prefix("[TLO:")?.strip_suffix(']')?.parse().ok())
+        .unwrap();
+    assert!((tlo - longer).abs() < 0.002, "TLO {tlo}");
+    assert!(!executed(&emu).iter().any(|l| l.contains("M6")));
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
+}
+
+#[test]
+fn park_moves_to_the_park_position_before_the_prompt_and_comes_back() {
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::ParkPause, "park");
+    dev.disconnect();
+    let park = [-30.0, -20.0, -1.0];
+    dev.settings.tool_change.park = Some(park);
+    dev.connect().unwrap();
+    dev.start(job(None)).unwrap();
+    let mut stops = 0;
+    let (completed, events) = run_until_end(&mut dev, |dev, _, _, _| {
+        // At the prompt the machine rests at the park position (machine coordinates).
+        let (mpos, state) = emu.with_core(|c| (c.mpos, c.state.clone()));
+        assert_eq!(state, GrblState::Idle);
+        for a in 0..3 {
+            assert!((mpos[a] - park[a]).abs() < 1e-6, "{mpos:?} vs {park:?}");
+        }
+        let last = executed(&emu);
+        assert!(
+            last.ends_with(&["G53G0Z-1".into(), "G53G0X-30Y-20".into()]),
+            "{last:?}"
+        );
+        stops += 1;
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    assert_eq!(stops, 2);
+    // Back on the path: the job ended where the program does (the sender checks it too).
+    let texts: Vec<String> = expected_lines(TWO_TOOLS, false)
+        .into_iter()
+        .map(|(_, t)| t)
+        .collect();
+    assert!(is_subsequence(&texts, &executed(&emu)));
+    assert_eq!(emu.with_core(|c| c.stats.errors_sent), 0);
+}
+
+#[test]
+fn a_change_with_the_spindle_running_stops_it_and_the_resume_restarts_it() {
+    // No M5 before the M6 (some posts leave it to the control): the sender turns the
+    // spindle and the coolant off before asking, and back on before the next line.
+    let text = "G21 G90\nT1 M6\nS9000 M3 M8\nG0 X1 Y1\nG1 Z-0.5 F600\nG0 Z2\nT2 M6\nG1 X3 F600\nM5 M9\nM30\n";
+    let (emu, ep) = emulator(None);
+    let mut dev = device(&ep, ToolPolicy::Pause, "spindle");
+    dev.start(Job {
+        name: "spindle.nc".into(),
+        text: Arc::new(text.into()),
+        start_line: None,
+        pace: Pace::Instant,
+    })
+    .unwrap();
+    let mut at_prompt = Vec::new();
+    let (completed, events) = run_until_end(&mut dev, |dev, tool, _, _| {
+        let m = emu.with_core(|c| c.interp.modal);
+        at_prompt.push((tool, m.spindle, m.flood));
+        dev.command(Command::Resume).unwrap();
+    });
+    assert!(completed, "{events:?}");
+    use oficina_grbl::Spindle;
+    assert_eq!(
+        at_prompt,
+        [(1, Spindle::Off, false), (2, Spindle::Off, false)]
+    );
+    // After the second change the spindle ran again at its speed before "G1 X3".
+    let ran = executed(&emu);
+    let g1 = ran.iter().position(|l| l == "G1X3F600").unwrap();
+    let back = ran[..g1].iter().rposition(|l| l == "S9000M3").unwrap();
+    let off = ran[..g1].iter().rposition(|l| l == "M5").unwrap();
+    assert!(off < back, "{ran:?}");
+    assert!(ran[back..g1].contains(&"M8".to_string()), "{ran:?}");
+}

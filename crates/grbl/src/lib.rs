@@ -33,9 +33,9 @@
 //!   or any `Machine`): [`run_z_plate`], [`run_corner`], [`run_tool_setter`];
 //! - auto-levelling: [`ProbeGrid`] probes a [`HeightMap`] through a [`SurfaceProbe`]
 //!   ([`MachineProbe`] over a [`ProbeLink`]), [`level_program`] / [`level_stream`] /
-//!   [`level_text`] make a program follow it.
+//!   [`level_text`] make a program follow it;
 //! - tool changes at `M6` for firmware without a changer: [`ToolChange`] ([`ToolPolicy`],
-//!   [`ChangeSetter`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`].
+//!   [`setter_at`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`].
 //!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
@@ -88,5 +88,5 @@ pub use resume::{preamble as resume_preamble, replay, ResumeOptions};
 pub use sender::{Control, Mode, Notice, Reply, Sender, SenderOptions};
 pub use settings::{read as read_settings, write as write_setting, Setting};
 pub use status::{GrblState, StatusReport};
-pub use toolchange::{sender_view, ChangeSetter, SenderNote, ToolChange, ToolPolicy, ToolStop};
+pub use toolchange::{sender_view, setter_at, SenderNote, ToolChange, ToolPolicy, ToolStop};
 pub use transport::{is_timeout, list_ports, Endpoint, PortInfo, Pty};

@@ -8,7 +8,7 @@
 //!   spindle, coolant, a safe approach, the program's modes) and streaming goes on;
 //! - `park`: as `pause`, after a move to the park position (`G53 G0 Z`, then `X Y`);
 //! - `remeasure`: as `pause` (parking first when a park position is given); after Resume
-//!   the new tool is measured on a tool length setter ([`ChangeSetter`]) and
+//!   the new tool is measured on a tool length setter ([`setter_at`], the probe routines' [`ToolSetter`]) and
 //!   `G43.1 Z<delta>` puts its tip where the first tool's was (delta = this tool's touch Z
 //!   − the first tool's, both in machine coordinates).
 //!
@@ -16,18 +16,12 @@
 //! (it reads and keeps the tool number, 0…255).
 
 use crate::gline;
-use crate::interp::Spindle;
 use crate::job::{StreamLine, StreamProgram};
-use crate::journal::Journal;
-use crate::link::LinkEvent;
-use crate::messages;
-use crate::realtime::Realtime;
-use crate::response::Response;
-use crate::resume::{self, ResumeOptions};
-use crate::sender::{Control, Notice, Sender};
+use crate::probe::{Approach, ToolSetter};
 use std::str::FromStr;
-use std::sync::mpsc::Receiver;
-use std::time::{Duration, Instant};
+
+mod run;
+pub(crate) use run::{apply_offset, change_tool, remeasure, ToolError, ToolLengths};
 
 /// What the sender does at an `M6`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -83,39 +77,20 @@ impl FromStr for ToolPolicy {
     }
 }
 
-/// A tool length setter: a switch on the table touched by the tool tip. Machine coordinates, mm.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ChangeSetter {
-    /// Machine X over the setter.
-    pub x: f64,
-    /// Machine Y over the setter.
-    pub y: f64,
-    /// Machine Z the move to the setter travels at and the probing starts from (a safe
-    /// height above the setter and the work).
-    pub z_start: f64,
-    /// Longest probing travel down from `z_start`, mm (no touch within it: grbl's ALARM:5).
-    pub travel: f64,
-    /// Feed of the first, fast touch, mm/min.
-    pub feed_fast: f64,
-    /// Feed of the second, slow touch that is measured, mm/min.
-    pub feed_slow: f64,
-}
-
-impl ChangeSetter {
-    /// Lift between the fast and the slow touch, mm.
-    pub const BACKOFF: f64 = 2.0;
-
-    /// A setter at machine `x`, `y`, probed from machine `z_start`, with 50 mm of travel, a
-    /// fast touch at 200 mm/min and a slow one at 25 mm/min.
-    pub fn at(x: f64, y: f64, z_start: f64) -> ChangeSetter {
-        ChangeSetter {
-            x,
-            y,
-            z_start,
+/// The tool setter of a tool change: machine `x`, `y` (mm) over it, reached at machine
+/// `z_start` (the height the move travels at and the search starts from); a search of at
+/// most 50 mm at 200 mm/min, a lift of 2 mm and the measured touch at 25 mm/min.
+pub fn setter_at(x: f64, y: f64, z_start: f64) -> ToolSetter {
+    ToolSetter {
+        at: Some([x, y]),
+        safe_z: z_start,
+        reference: None,
+        approach: Approach {
             travel: 50.0,
-            feed_fast: 200.0,
-            feed_slow: 25.0,
-        }
+            feed: 200.0,
+            slow_feed: 25.0,
+            retract: 2.0,
+        },
     }
 }
 
@@ -127,8 +102,9 @@ pub struct ToolChange {
     /// Park position, machine X, Y, Z (mm): `G53 G0 Z`, then `G53 G0 X Y`. Needed by `park`;
     /// `remeasure` parks there too when it is given.
     pub park: Option<[f64; 3]>,
-    /// The tool setter `remeasure` probes.
-    pub setter: Option<ChangeSetter>,
+    /// The tool setter `remeasure` probes ([`setter_at`]; its `reference`, when given, is
+    /// the first tool's touch, so the first tool need not be measured).
+    pub setter: Option<ToolSetter>,
     /// `remeasure`: measure the tool in the spindle when the job starts (the first tool's
     /// reference), not at the first `M6`.
     pub measure_at_start: bool,
@@ -156,7 +132,8 @@ impl ToolChange {
     }
 
     /// Says what is missing or out of range: `park` needs a park position, `remeasure` a
-    /// setter; every coordinate finite, feeds and travel above zero.
+    /// setter, a park position has finite coordinates (the setter's numbers are checked by
+    /// the probe routine before it moves).
     pub fn validate(&self) -> Result<(), String> {
         if self.policy == ToolPolicy::ParkPause && self.park.is_none() {
             return Err(
@@ -170,29 +147,6 @@ impl ToolChange {
             if !p.iter().all(|v| v.is_finite()) {
                 return Err(format!(
                     "park position {p:?}: every coordinate a finite number"
-                ));
-            }
-        }
-        if let Some(s) = &self.setter {
-            if ![s.x, s.y, s.z_start].iter().all(|v| v.is_finite()) {
-                return Err("tool setter: X, Y and Z start must be finite numbers".into());
-            }
-            for (what, v) in [
-                ("travel", s.travel),
-                ("fast feed", s.feed_fast),
-                ("slow feed", s.feed_slow),
-            ] {
-                if !(v.is_finite() && v > 0.0 && v <= 100_000.0) {
-                    return Err(format!(
-                        "tool setter {what} {v}: above 0 and at most 100000"
-                    ));
-                }
-            }
-            if s.travel <= ChangeSetter::BACKOFF {
-                return Err(format!(
-                    "tool setter travel {} mm: more than the {} mm lift between the touches",
-                    s.travel,
-                    ChangeSetter::BACKOFF
                 ));
             }
         }
@@ -472,305 +426,6 @@ pub fn sender_view(text: &[u8], tc: &ToolChange) -> (Vec<u8>, Vec<SenderNote>) {
     (out, notes)
 }
 
-/// Why a tool change did not finish.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) enum ToolError {
-    /// The operator stopped the job while it waited.
-    Stopped,
-    /// The firmware raised an alarm (grbl's ALARM:4 probe already touching, ALARM:5 no touch).
-    Alarm(u8),
-    /// The link was lost.
-    Lost(String),
-    /// A line was refused or an answer did not come; says which.
-    Failed(String),
-}
-
-impl std::fmt::Display for ToolError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ToolError::Stopped => f.write_str("stopped by the operator"),
-            ToolError::Alarm(c) => f.write_str(&messages::describe_alarm(*c)),
-            ToolError::Lost(why) => write!(f, "connection lost: {why}"),
-            ToolError::Failed(why) => f.write_str(why),
-        }
-    }
-}
-
-/// `[PRB:x,y,z:1]` → the machine position of the touch; `:0` (no touch) → `None`.
-pub(crate) fn parse_probe(value: &str) -> Option<Option<[f64; 3]>> {
-    crate::response::probe_report(value).map(|(p, touched)| touched.then_some(p))
-}
-
-/// Sends one line and waits for its `ok`, keeping a `[PRB:…]` report that comes before it;
-/// an `error:N` or an `ALARM:N` ends the wait at once. `motion` is how long the line's own
-/// motion may take, on top of the sender's reply timeout.
-pub(crate) fn send_line(
-    sender: &mut Sender,
-    line: &str,
-    motion: Duration,
-) -> Result<Option<Option<[f64; 3]>>, ToolError> {
-    sender
-        .link
-        .send_line(line)
-        .map_err(|e| ToolError::Lost(e.to_string()))?;
-    let wait = sender.options.reply_timeout + motion;
-    let deadline = Instant::now() + wait;
-    let mut probe = None;
-    loop {
-        if Instant::now() > deadline {
-            return Err(ToolError::Failed(format!(
-                "no answer to `{line}` within {:.0} s",
-                wait.as_secs_f64()
-            )));
-        }
-        match sender.link.recv(Duration::from_millis(50)) {
-            Some(LinkEvent::Line(Response::Ok, _)) => return Ok(probe),
-            Some(LinkEvent::Line(Response::Error(c), _)) => {
-                return Err(ToolError::Failed(format!(
-                    "grbl refused `{line}`: {}",
-                    messages::describe_error(c)
-                )))
-            }
-            Some(LinkEvent::Line(Response::Alarm(c), _)) => return Err(ToolError::Alarm(c)),
-            Some(LinkEvent::Line(Response::Feedback { tag, value }, _)) if tag == "PRB" => {
-                probe = parse_probe(&value);
-            }
-            Some(LinkEvent::Line(Response::Welcome { .. }, _)) => {
-                return Err(ToolError::Failed(format!(
-                    "the firmware reset while running `{line}`"
-                )))
-            }
-            Some(LinkEvent::Closed(why)) => return Err(ToolError::Lost(why)),
-            _ => {}
-        }
-    }
-}
-
-fn num(v: f64) -> String {
-    crate::resume::num(v)
-}
-
-/// The lines that park the machine: up first, then across (machine coordinates, mm).
-pub(crate) fn park_lines(park: [f64; 3]) -> Vec<String> {
-    vec![
-        "G21G90".into(),
-        format!("G53G0Z{}", num(park[2])),
-        format!("G53G0X{}Y{}", num(park[0]), num(park[1])),
-    ]
-}
-
-/// Measures the tool in the spindle on `setter`: up to `z_start`, over the setter, a fast
-/// touch, a lift of [`ChangeSetter::BACKOFF`], a slow touch (the one measured), back up.
-/// Returns the machine Z of the slow touch, mm.
-pub(crate) fn measure(sender: &mut Sender, setter: &ChangeSetter) -> Result<f64, ToolError> {
-    let k = if sender.reports_inches { 25.4 } else { 1.0 };
-    let secs = |dist: f64, feed: f64| Duration::from_secs_f64((dist / feed * 60.0).min(3600.0));
-    let plain = |s: &mut Sender, l: &str| send_line(s, l, Duration::from_secs(60)).map(|_| ());
-    plain(sender, "G21G90")?;
-    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
-    plain(
-        sender,
-        &format!("G53G0X{}Y{}", num(setter.x), num(setter.y)),
-    )?;
-    let touch = |s: &mut Sender, dist: f64, feed: f64| -> Result<f64, ToolError> {
-        let line = format!("G91G38.2Z-{}F{}", num(dist), num(feed));
-        match send_line(s, &line, secs(dist, feed))? {
-            Some(Some(p)) => Ok(p[2] * k),
-            Some(None) => Err(ToolError::Failed(format!(
-                "`{line}`: the tool setter was not touched within {dist} mm"
-            ))),
-            None => Err(ToolError::Failed(format!(
-                "`{line}`: grbl gave no [PRB:…] report (is probe reporting enabled?)"
-            ))),
-        }
-    };
-    touch(sender, setter.travel, setter.feed_fast)?;
-    plain(sender, &format!("G0Z{}", num(ChangeSetter::BACKOFF)))?;
-    let z = touch(sender, 2.0 * ChangeSetter::BACKOFF, setter.feed_slow)?;
-    plain(sender, "G90")?;
-    plain(sender, &format!("G53G0Z{}", num(setter.z_start)))?;
-    Ok(z)
-}
-
-/// What a run knows of tool lengths under `remeasure`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct ToolLengths {
-    /// The first tool's touch on the setter, machine Z (mm).
-    pub reference: Option<f64>,
-    /// The `G43.1` offset in force (None: none applied).
-    pub offset: Option<f64>,
-}
-
-/// Sends `lines` one by one, each waiting for its `ok`.
-fn send_all(sender: &mut Sender, lines: &[String]) -> Result<(), ToolError> {
-    for l in lines {
-        send_line(sender, l, Duration::from_secs(120))?;
-    }
-    Ok(())
-}
-
-/// Measures the tool in the spindle and makes its tip the reference's: the first
-/// measurement of a job is the reference itself (offset 0). Journalled, told to the operator.
-pub(crate) fn remeasure(
-    sender: &mut Sender,
-    setter: &ChangeSetter,
-    lengths: &mut ToolLengths,
-    stop_index: Option<usize>,
-    journal: &mut Journal,
-    observer: &mut dyn FnMut(Notice),
-) -> Result<(), ToolError> {
-    let z = measure(sender, setter)?;
-    let reference = match lengths.reference {
-        Some(r) => r,
-        None => {
-            lengths.reference = Some(z);
-            let _ = journal.tool_reference(z);
-            z
-        }
-    };
-    let delta = z - reference;
-    apply_offset(sender, Some(delta))?;
-    lengths.offset = Some(delta);
-    if let Some(i) = stop_index {
-        let _ = journal.tool_length(i, delta);
-    }
-    observer(Notice::Message(format!(
-        "tool setter touched at machine Z{}; the first tool's touch: Z{}; tool length offset G43.1 Z{}",
-        num(z),
-        num(reference),
-        num(delta)
-    )));
-    Ok(())
-}
-
-/// Puts a tool length offset in force (`G43.1`, mm), or clears it (`G49`).
-pub(crate) fn apply_offset(sender: &mut Sender, offset: Option<f64>) -> Result<(), ToolError> {
-    let line = match offset {
-        Some(d) => format!("G21G43.1Z{}", num(d)),
-        None => "G49".to_string(),
-    };
-    send_line(sender, &line, Duration::ZERO).map(|_| ())
-}
-
-/// The tool change at `stop`: wait for rest, spindle and coolant off, park, ask the operator
-/// and wait for Resume, measure under `remeasure`, then restore the program's state before
-/// the `M6` (the resume preamble) so streaming goes on as if nothing happened.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn change_tool(
-    sender: &mut Sender,
-    job: &StreamProgram,
-    stop: &ToolStop,
-    resume_opts: &ResumeOptions,
-    lengths: &mut ToolLengths,
-    journal: &mut Journal,
-    control: Option<&Receiver<Control>>,
-    observer: &mut dyn FnMut(Notice),
-) -> Result<(), ToolError> {
-    let tc = &job.tool_change;
-    // Measuring this tool needs the first tool's touch unless this is where it is taken.
-    let first = job.tool_stops.first().map(|s| s.index) == Some(stop.index) && !tc.measure_at_start;
-    if tc.policy == ToolPolicy::Remeasure && lengths.reference.is_none() && !first {
-        let at = job.tool_stops.first().map(|s| s.file_line).unwrap_or(0);
-        let from = if tc.measure_at_start {
-            "the start".to_string()
-        } else {
-            format!("line {at} (the first M6)")
-        };
-        return Err(ToolError::Failed(format!(
-            "the first tool's touch on the tool setter is not known (not in the journal): run from {from} so it is measured"
-        )));
-    }
-    sender
-        .wait_at_rest()
-        .map_err(|e| ToolError::Failed(e.to_string()))?;
-    let st = resume::replay(job, stop.index);
-    let mut off = Vec::new();
-    if st.modal.spindle != Spindle::Off {
-        off.push("M5".to_string());
-    }
-    if st.modal.mist || st.modal.flood {
-        off.push("M9".to_string());
-    }
-    send_all(sender, &off)?;
-    let park = match tc.policy {
-        ToolPolicy::ParkPause | ToolPolicy::Remeasure => tc.park,
-        _ => None,
-    };
-    if let Some(p) = park {
-        send_all(sender, &park_lines(p))?;
-        sender
-            .wait_at_rest()
-            .map_err(|e| ToolError::Failed(e.to_string()))?;
-    }
-    let _ = journal.completed(stop.index);
-    observer(Notice::ToolChange {
-        tool: stop.tool,
-        file_line: stop.file_line,
-        prompt: stop.prompt(tc.policy),
-    });
-    wait_for_resume(sender, control, observer)?;
-    observer(Notice::ToolChangeDone { tool: stop.tool });
-    if let (ToolPolicy::Remeasure, Some(setter)) = (tc.policy, &tc.setter) {
-        remeasure(sender, setter, lengths, Some(stop.index), journal, observer)?;
-    }
-    sender
-        .run_preamble_at(job, stop.index, None, resume_opts)
-        .map_err(ToolError::Failed)
-}
-
-/// Waits for the operator's Resume (or Stop) while the machine rests, keeping status reports
-/// (and overrides) flowing and watching the link.
-fn wait_for_resume(
-    sender: &mut Sender,
-    control: Option<&Receiver<Control>>,
-    observer: &mut dyn FnMut(Notice),
-) -> Result<(), ToolError> {
-    let Some(control) = control else {
-        return Err(ToolError::Failed(
-            "a tool change needs an operator to resume, and this run takes no commands".into(),
-        ));
-    };
-    let lost = |e: std::io::Error| ToolError::Lost(e.to_string());
-    let mut last_query: Option<Instant> = None;
-    let mut last_heard = Instant::now();
-    loop {
-        while let Ok(c) = control.try_recv() {
-            match c {
-                Control::Resume => return Ok(()),
-                Control::Stop => return Err(ToolError::Stopped),
-                // Already at rest: nothing to hold.
-                Control::Hold => {}
-                Control::Realtime(r) => sender.realtime(r).map_err(lost)?,
-            }
-        }
-        if last_query.is_none_or(|t| t.elapsed() >= sender.options.status_interval) {
-            sender.realtime(Realtime::StatusQuery).map_err(lost)?;
-            last_query = Some(Instant::now());
-        }
-        match sender.link.recv(Duration::from_millis(20)) {
-            Some(LinkEvent::Line(Response::Status(st), _)) => {
-                last_heard = Instant::now();
-                observer(Notice::Status(st));
-            }
-            Some(LinkEvent::Line(Response::Alarm(c), _)) => return Err(ToolError::Alarm(c)),
-            Some(LinkEvent::Line(Response::Message(m), _)) => observer(Notice::Message(m)),
-            Some(LinkEvent::Line(_, raw)) => {
-                last_heard = Instant::now();
-                observer(Notice::Unexpected(raw));
-            }
-            Some(LinkEvent::Closed(why)) => return Err(ToolError::Lost(why)),
-            None => {
-                if last_heard.elapsed() > sender.options.silence_timeout {
-                    return Err(ToolError::Lost(format!(
-                        "the firmware answered nothing, not even status queries, for {:.0} s",
-                        sender.options.silence_timeout.as_secs_f64()
-                    )));
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -779,7 +434,7 @@ mod tests {
         let tc = ToolChange {
             policy,
             park: Some([0.0, 0.0, -1.0]),
-            setter: Some(ChangeSetter::at(0.0, 0.0, -5.0)),
+            setter: Some(setter_at(0.0, 0.0, -5.0)),
             measure_at_start: false,
         };
         StreamProgram::with_tool_change("t.nc", text, &tc).unwrap()
@@ -850,11 +505,8 @@ mod tests {
             ..ToolChange::default()
         };
         assert!(bad.validate().unwrap_err().contains("--park"));
-        let mut s = ChangeSetter::at(0.0, 0.0, 0.0);
-        s.feed_slow = f64::NAN;
         let bad = ToolChange {
-            policy: ToolPolicy::Remeasure,
-            setter: Some(s),
+            park: Some([0.0, f64::NAN, 0.0]),
             ..ToolChange::default()
         };
         assert!(bad.validate().is_err());
@@ -896,16 +548,5 @@ mod tests {
         let (out, notes) = sender_view(b"G0\n%\nM6\nG0\n", &ToolChange::as_written());
         assert_eq!(out, b"G0\n%\nM6\nG0\n");
         assert!(notes.is_empty());
-    }
-
-    #[test]
-    fn probe_reports() {
-        assert_eq!(
-            parse_probe("0.000,1.500,-40.123:1"),
-            Some(Some([0.0, 1.5, -40.123]))
-        );
-        assert_eq!(parse_probe("0.000,1.500,-40.123:0"), Some(None));
-        assert_eq!(parse_probe("garbage"), None);
-        assert_eq!(parse_probe("1,2:1"), None);
     }
 }

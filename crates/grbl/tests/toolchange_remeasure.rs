@@ -4,12 +4,12 @@
 //!
 //! The fake is grbl's protocol over TCP on Oficina's grbl interpreter (instant motion):
 //! `?` status with `MPos` and `WCO` (the tool length offset in it, as grbl reports), `$I`,
-//! `$$`, soft reset, and `G38.2` answered `[PRB:x,y,z:1]` then `ok` when the setter is
-//! within the travel, else `ALARM:5` (grbl's "probe fail: no contact").
+//! `$$`, `$G`, `$#`, soft reset, and `G38.2` answered `[PRB:x,y,z:1]` then `ok` when the
+//! setter is within the travel, else `ALARM:5`, `[PRB:…:0]`, `ok` (grbl's "probe fail").
 
 use oficina_grbl::{
-    clean_line, ChangeSetter, Control, Endpoint, GrblMachine, Interp, Notice, RunOutcome,
-    RunSettings, SenderOptions, Start, StreamEnd, StreamProgram, ToolChange, ToolPolicy,
+    clean_line, setter_at, Control, Endpoint, GrblMachine, Interp, Notice, RunOutcome, RunSettings,
+    SenderOptions, Start, StreamEnd, StreamProgram, ToolChange, ToolPolicy,
 };
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -78,6 +78,15 @@ fn execute(interp: &mut Interp, raw: &str, shared: &Mutex<Shared>) -> String {
     match clean.as_str() {
         "" => return "ok\r\n".into(),
         "$I" => return "[VER:1.1h.20190825:]\r\n[OPT:V,15,128]\r\nok\r\n".into(),
+        "$G" => {
+            let m = interp.modal;
+            return format!(
+                "[GC:G0 G54 G17 {} {} G94 M5 M9 T0 F0 S0]\r\nok\r\n",
+                if m.inches { "G20" } else { "G21" },
+                if m.absolute { "G90" } else { "G91" }
+            );
+        }
+        "$#" => return "[G54:0.000,0.000,0.000]\r\n[TLO:0.000]\r\nok\r\n".into(),
         c if c.starts_with('$') => return "ok\r\n".into(),
         _ => {}
     }
@@ -92,7 +101,12 @@ fn execute(interp: &mut Interp, raw: &str, shared: &Mutex<Shared>) -> String {
                 let p = interp.pos;
                 format!("[PRB:{:.3},{:.3},{:.3}:1]\r\nok\r\n", p[0], p[1], p[2])
             } else {
-                "ALARM:5\r\n".into()
+                // grbl's mc_probe_cycle: the alarm, the report of no contact, then `ok`.
+                let p = interp.pos;
+                format!(
+                    "ALARM:5\r\n[PRB:{:.3},{:.3},{:.3}:0]\r\nok\r\n",
+                    p[0], p[1], p[2]
+                )
             }
         }
         Ok(_) => "ok\r\n".into(),
@@ -144,7 +158,7 @@ fn settings(journal: &std::path::Path) -> RunSettings {
         tool_change: ToolChange {
             policy: ToolPolicy::Remeasure,
             park: None,
-            setter: Some(ChangeSetter::at(100.0, 50.0, -5.0)),
+            setter: Some(setter_at(100.0, 50.0, -5.0)),
             measure_at_start: false,
         },
         reconnect: None,
