@@ -29,7 +29,7 @@ export async function putFile(name: string, body: BodyInit): Promise<void> {
   if (!r.ok) return fail(r);
 }
 
-export interface Diag { line: number; col: number; len: number; severity: 'error' | 'warning'; message: string; help: string | null; }
+export interface Diag { line: number; col: number; len: number; severity: 'error' | 'warning' | 'note'; message: string; help: string | null; }
 export interface Box3 { min: [number, number, number]; max: [number, number, number]; }
 export interface CheckReport {
   diagnostics: Diag[]; errors: number; warnings: number; operations: number;

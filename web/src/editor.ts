@@ -141,7 +141,8 @@ export class Editor {
     let nums = '';
     for (let i = first; i < last; i++) {
       const d = this.diags.get(i + 1);
-      const cls = d ? (d.some((x) => x.severity === 'error') ? 'err' : 'warn') : '';
+      const worst = d && (d.some((x) => x.severity === 'error') ? 'err' : d.some((x) => x.severity === 'warning') ? 'warn' : 'note');
+      const cls = worst || '';
       nums += cls ? `<span class="${cls}" title="${esc(d!.map((x) => x.message).join('\n'))}">${i + 1}</span>\n` : `${i + 1}\n`;
     }
     this.gutter.style.top = offset + 'px';
@@ -154,7 +155,8 @@ export class Editor {
         if (d) {
           // The marked span of the first diagnostic is underlined.
           const s = Math.max(0, d[0].col - 1), e = Math.max(s + 1, s + d[0].len);
-          html += colourLine(line.slice(0, s)) + `<span class="squiggle">${esc(line.slice(s, e) || ' ')}</span>` + colourLine(line.slice(e)) + '\n';
+          const kind = d[0].severity === 'note' ? ' note' : '';
+          html += colourLine(line.slice(0, s)) + `<span class="squiggle${kind}">${esc(line.slice(s, e) || ' ')}</span>` + colourLine(line.slice(e)) + '\n';
         } else {
           html += colourLine(line) + '\n';
         }
