@@ -20,6 +20,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+mod routine;
+pub use routine::Routine;
+
 /// A grbl board as an [`oficina_machine::Machine`]: jobs run on a thread of their own.
 pub struct GrblDevice {
     /// Where the board is.
@@ -545,6 +548,10 @@ impl Machine for GrblDevice {
     fn job_report(&mut self) -> Option<JobReport> {
         // (Cleared when a job starts, set just before its summary goes out.)
         lock(&self.report).clone()
+    }
+
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
     }
 
     fn disconnect(&mut self) {
