@@ -30,6 +30,7 @@
 pub mod bench;
 pub mod carve;
 mod check;
+mod check_sender;
 pub mod embroider;
 mod error;
 mod job;
@@ -55,6 +56,7 @@ pub use check::{
     check_program, check_program_with_tools, check_source, CheckOptions, CheckReport,
     CheckedSource, Diag, ExtentsBox, TimeEstimate,
 };
+pub use check_sender::check_for_sender;
 pub use error::{Error, CANCELLED};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
@@ -77,7 +79,10 @@ pub use program::{
 };
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;
-pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot, ToolChangeView};
+pub use session::{
+    alarm_meaning, JobRequest, Probing, ProbingResult, Session, SessionEvent, Snapshot,
+    ToolChangeView,
+};
 pub use sole::{sole, SoleOutput, SoleParams, SoleResult};
 pub use text::source_lines;
 pub use tools::{
