@@ -33,6 +33,7 @@ mod embroider;
 mod files;
 mod jobs;
 mod page;
+mod probing;
 mod profiles;
 mod samples;
 mod state;
