@@ -513,7 +513,8 @@ impl Machine for GrblDevice {
                 let m = guard.as_mut()?;
                 let st = m.sender.status().ok()?;
                 let mut s = lock(&self.status);
-                let wco = st.wco.clone().unwrap_or_default();
+                // grbl sends `WCO:` only every so many reports: the last one it sent holds.
+                let wco = st.wco.clone().or(m.sender.last_wco.clone()).unwrap_or_default();
                 translate_status(&st, if wco.len() >= 3 { &wco } else { &[0.0; 3] }, &mut s);
                 Some(Event::Status(s.clone()))
             }

@@ -53,10 +53,10 @@ impl GrblDevice {
         self.control = Some(ctl_tx);
         let (tx, rx) = mpsc::channel();
         let (idle, status, events) = (self.idle.clone(), self.status.clone(), self.events_tx.clone());
-        let wco = {
+        let wco = machine.sender.last_wco.clone().unwrap_or_else(|| {
             let s = lock(&status);
             std::array::from_fn::<f64, 3, _>(|i| s.machine_pos[i] - s.work_pos[i]).to_vec()
-        };
+        });
         self.worker = Some(std::thread::spawn(move || {
             let mut link = Watched {
                 machine: &mut machine,
@@ -150,6 +150,7 @@ impl ProbeLink for Watched<'_> {
                 Some(LinkEvent::Line(Response::Status(st), _)) => {
                     if let Some(w) = st.wco.as_ref().filter(|w| w.len() >= 3) {
                         self.wco = w.clone();
+                        self.machine.sender.last_wco = Some(w.clone());
                     }
                     let mut s = lock(self.status);
                     translate_status(&st, &self.wco, &mut s);
