@@ -197,6 +197,14 @@ impl GrblDevice {
                 }
                 Notice::ToolChangeDone { tool } => {
                     tool_wait = false;
+                    // The change is over: no longer paused, though the firmware may say
+                    // nothing until the sender asks again (a remeasure's touches).
+                    let s = {
+                        let mut s = lock(&status);
+                        s.state = State::Run;
+                        s.clone()
+                    };
+                    let _ = events.send(Event::Status(s));
                     let _ = events.send(Event::Message(format!("tool T{tool} in place: going on")));
                 }
             };

@@ -31,7 +31,7 @@ pub fn replay(job: &StreamProgram, index: usize) -> Interp {
 /// The axes (X, Y, Z) the first `index` lines of `job` name: on the others the replayed
 /// position is the interpreter's 0, not where the machine is (a program that changes tools
 /// before it moves, a run that ends before an axis was ever programmed).
-pub fn axes_named(job: &StreamProgram, index: usize) -> [bool; 3] {
+pub(crate) fn axes_named(job: &StreamProgram, index: usize) -> [bool; 3] {
     let mut named = [false; 3];
     for l in job.lines.iter().take(index) {
         if l.text.starts_with('$') {
