@@ -19,7 +19,8 @@ const HTML = `
 <div id="level-message" class="muted">The map is saved in the job folder as level-map.json.</div>
 <table id="level-map"></table>`;
 
-interface MapJson { origin: [number, number]; spacing: [number, number]; nx: number; ny: number; z: number[]; }
+/// level-map.json as the library writes it: `z` one row per Y, from the smallest Y.
+interface MapJson { origin: [number, number]; spacing: [number, number]; nx: number; ny: number; z: number[][]; }
 
 export function setupLevel(hooks: WorkshopHooks): Section {
   const root = addSection('level', 'Level', HTML);
@@ -56,7 +57,8 @@ export function setupLevel(hooks: WorkshopHooks): Section {
 
   const table = root.querySelector<HTMLTableElement>('#level-map')!;
   const draw = (m: MapJson) => {
-    const lo = Math.min(...m.z), hi = Math.max(...m.z);
+    const all = m.z.flat();
+    const lo = Math.min(...all), hi = Math.max(...all);
     const colour = (z: number) => {
       const t = hi > lo ? (z - lo) / (hi - lo) : 0.5;
       return `hsl(${(1 - t) * 240}, 70%, 45%)`;
@@ -65,7 +67,7 @@ export function setupLevel(hooks: WorkshopHooks): Section {
     for (let j = m.ny - 1; j >= 0; j--) {
       html += `<tr><th>${(m.origin[1] + j * m.spacing[1]).toFixed(1)}</th>`;
       for (let i = 0; i < m.nx; i++) {
-        const z = m.z[j * m.nx + i];
+        const z = m.z[j][i];
         html += `<td style="background:${colour(z)};color:#fff">${z.toFixed(3)}</td>`;
       }
       html += '</tr>';
