@@ -32,6 +32,8 @@ export function setupToolChange(hooks: WorkshopHooks): Section {
   const banner = document.createElement('div');
   banner.id = 'toolchange-banner';
   banner.hidden = true;
+  // Unmissable: the job waits for the operator's hands.
+  banner.style.cssText = 'border:2px solid #e0a030;background:#3a2a08;color:#ffd680;padding:6px 8px;margin:6px 0;border-radius:4px';
   banner.innerHTML = '<b id="toolchange-tool"></b><p id="toolchange-prompt"></p><button id="toolchange-continue">Tool changed — continue</button>';
   const alarm = document.getElementById('alarm')!;
   alarm.parentElement!.insertBefore(banner, alarm.nextSibling);

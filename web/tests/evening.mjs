@@ -253,6 +253,9 @@ await test('a 4 × 4 height map and a levelled engraving follow the warped surfa
   }
   assert(cuts >= 20, `cutting seen at ${cuts} samples of ${samples.length}`);
   assert(worst <= 0.02, `depth below the true surface within 0.02 of ${ENGRAVE.depth}: worst ${worst.toFixed(4)} over ${cuts} samples`);
+  // The map beside the finished job: the other sections folded away.
+  for (const id of ['probe', 'toolchange']) await page.click(`#${id} > summary`);
+  await page.$eval('#level-map', (e) => e.scrollIntoView());
   await page.screenshot({ path: path.join(out, 'evening-level-done.png') });
 });
 
