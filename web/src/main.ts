@@ -6,6 +6,7 @@ import { Editor } from './editor';
 import { Preview, View } from './preview';
 import type { WorkerOut } from './worker';
 import { MachinePanel } from './machine';
+import { setupWorkshop } from './workshop';
 import { setupProfileEditor, setupToolEditor } from './profile';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
@@ -501,6 +502,8 @@ const panel = new MachinePanel({
   error,
   onStatus: (s: Snapshot) => followJob(s),
 });
+// Probing, tool changes and levelling (after the panel: they listen to Start before it).
+const workshop = setupWorkshop({ send: (cmd) => live.send(cmd), prepareStart: async () => { await ensureSaved(); return program.name; }, error });
 
 /// While the loaded program runs, the editor and the preview follow the machine.
 let shownEnd = '';
@@ -534,6 +537,7 @@ function followJob(s: Snapshot) {
 let joined = false;
 async function onLive(m: LiveMessage) {
   panel.handle(m);
+  workshop.handle(m);
   if (m.type === 'progress') {
     if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;

@@ -133,6 +133,18 @@ pub fn check_program_with_tools(
     opts: &CheckOptions,
     tools: &ToolTable,
 ) -> CheckReport {
+    check_for_sender(text, opts, tools, &oficina_grbl::ToolChange::default())
+}
+
+/// [`check_program_with_tools`] where grbl firmware will receive the program from Oficina's
+/// sender under the tool-change policy `tc`: `M6` and the `%` tape marks are the sender's
+/// (read as it sends them, with a note on each such line) instead of grbl's refusal.
+pub fn check_for_sender(
+    text: &Arc<String>,
+    opts: &CheckOptions,
+    tools: &ToolTable,
+    tc: &oficina_grbl::ToolChange,
+) -> CheckReport {
     let profile = &opts.profile;
     let mut run = RunOptions::check(opts.dialect);
     run.initial_params = profile.initial_params();
@@ -142,8 +154,7 @@ pub fn check_program_with_tools(
     // For grbl: the program as the sender sends it (pausing at M6), as `oficina check` reads it.
     let (text, notes) = match opts.dialect {
         Dialect::Grbl => {
-            let tc = oficina_grbl::ToolChange::default();
-            let (view, notes) = oficina_grbl::sender_view(text.as_bytes(), &tc);
+            let (view, notes) = oficina_grbl::sender_view(text.as_bytes(), tc);
             // Only ASCII bytes were blanked: the text stays UTF-8.
             let view = String::from_utf8(view).unwrap_or_else(|_| text.to_string());
             (Arc::new(view), crate::program::sender_notes(notes))
@@ -358,5 +369,31 @@ mod tests {
         assert_eq!(d.line, 2, "{d:?}");
         assert!(d.col >= 1);
         assert!(r.diagnostics.iter().all(|d| !d.message.is_empty()));
+    }
+
+    #[test]
+    fn m6_is_a_note_under_pause_and_an_error_as_written() {
+        let text = Arc::new("G21 G90\nT2 M6\nG0 X1\nM2\n".to_string());
+        let opts = CheckOptions {
+            profile: crate::profile::resolve(crate::profile::DEFAULT).unwrap(),
+            dialect: Dialect::Grbl,
+        };
+        let r = super::check_for_sender(
+            &text,
+            &opts,
+            &ToolTable::default(),
+            &oficina_grbl::ToolChange::default(),
+        );
+        assert_eq!(r.errors, 0, "{:?}", r.diagnostics);
+        let note = r.diagnostics.iter().find(|d| d.severity == "note").unwrap();
+        assert_eq!(note.line, 2);
+        assert!(note.message.contains("pauses"), "{}", note.message);
+        let r = super::check_for_sender(
+            &text,
+            &opts,
+            &ToolTable::default(),
+            &oficina_grbl::ToolChange::as_written(),
+        );
+        assert!(r.errors > 0, "{:?}", r.diagnostics);
     }
 }

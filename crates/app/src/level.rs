@@ -7,7 +7,7 @@ use crate::Error;
 use oficina_gcode::Dialect;
 use oficina_grbl::{
     feed_area, level_stream, level_text, Area, GrblDevice, GridSpec, HeightMap, LevelOptions,
-    LevelReport, MachineProbe, ProbeGrid, ProbeMotion,
+    LevelReport, MachineProbe, ProbeGrid, ProbeLink, ProbeMotion,
 };
 use oficina_machine::{Machine, MachineInfo};
 use std::path::{Path, PathBuf};
@@ -85,12 +85,13 @@ pub fn probe_grid(program: Option<&str>, req: &ProbeRequest) -> Result<ProbeGrid
     ProbeGrid::over(area, req.margin, req.grid).map_err(Error)
 }
 
-/// Probes a height map on `machine` (idle, connected, probe attached): over `program`'s
+/// Probes a height map on `machine` (any [`ProbeLink`]: a machine idle, connected, probe
+/// attached, or a routine's link): over `program`'s
 /// feed moves or `req.area`. When a program is given it is first levelled against a flat
 /// map of the same grid, so what cannot be levelled is refused before the probe moves.
 /// `progress(done, total, x, y, z)` hears each contact.
-pub fn probe_map(
-    machine: &mut dyn Machine,
+pub fn probe_map<L: ProbeLink + ?Sized>(
+    machine: &mut L,
     program: Option<&str>,
     req: &ProbeRequest,
     progress: &mut dyn FnMut(usize, usize, f64, f64, f64),

@@ -55,8 +55,8 @@ mod text;
 mod tools;
 
 pub use check::{
-    check_program, check_program_with_tools, check_source, CheckOptions, CheckReport,
-    CheckedSource, Diag, ExtentsBox, TimeEstimate,
+    check_for_sender, check_program, check_program_with_tools, check_source, CheckOptions,
+    CheckReport, CheckedSource, Diag, ExtentsBox, TimeEstimate,
 };
 pub use controls::MdiReply;
 pub use error::{Error, CANCELLED};
@@ -83,7 +83,10 @@ pub use program::{
 };
 pub use relief::{carve_relief, ReliefParams, ReliefResult};
 pub use run_options::run_options_for;
-pub use session::{alarm_meaning, JobRequest, Session, SessionEvent, Snapshot, ToolChangeView};
+pub use session::{
+    alarm_meaning, JobRequest, Probing, ProbingResult, Session, SessionEvent, Snapshot,
+    ToolChangeView,
+};
 pub use sole::{sole, SoleOutput, SoleParams, SoleResult};
 pub use text::source_lines;
 pub use tools::{

@@ -11,6 +11,9 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Duration;
 
+mod probing;
+pub use probing::{Probing, ProbingResult};
+
 /// A job to start: the program, where to begin and how fast the virtual machine runs.
 pub struct JobRequest {
     /// The program's name.

@@ -20,6 +20,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+mod routine;
+pub use routine::Routine;
+
 /// A grbl board as an [`oficina_machine::Machine`]: jobs run on a thread of their own.
 pub struct GrblDevice {
     /// Where the board is.
@@ -207,6 +210,14 @@ impl GrblDevice {
                 }
                 Notice::ToolChangeDone { tool } => {
                     tool_wait = false;
+                    // The change is over: no longer paused, though the firmware may say
+                    // nothing until the sender asks again (a remeasure's touches).
+                    let s = {
+                        let mut s = lock(&status);
+                        s.state = State::Run;
+                        s.clone()
+                    };
+                    let _ = events.send(Event::Status(s));
                     let _ = events.send(Event::Message(format!("tool T{tool} in place: going on")));
                 }
             };
@@ -523,7 +534,12 @@ impl Machine for GrblDevice {
                 let m = guard.as_mut()?;
                 let st = m.sender.status().ok()?;
                 let mut s = lock(&self.status);
-                let wco = st.wco.clone().unwrap_or_default();
+                // grbl sends `WCO:` only every so many reports: the last one it sent holds.
+                let wco = st
+                    .wco
+                    .clone()
+                    .or(m.sender.last_wco.clone())
+                    .unwrap_or_default();
                 translate_status(&st, if wco.len() >= 3 { &wco } else { &[0.0; 3] }, &mut s);
                 Some(Event::Status(s.clone()))
             }
@@ -563,6 +579,10 @@ impl Machine for GrblDevice {
     fn job_report(&mut self) -> Option<JobReport> {
         // (Cleared when a job starts, set just before its summary goes out.)
         lock(&self.report).clone()
+    }
+
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
     }
 
     fn disconnect(&mut self) {

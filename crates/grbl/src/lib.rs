@@ -70,7 +70,7 @@ pub use autolevel::{
     feed_area, level_program, level_stream, level_text, Area, GridSpec, HeightMap, LevelOptions,
     LevelReport, MachineProbe, ProbeGrid, ProbeMotion, SurfaceProbe, MAX_GRID,
 };
-pub use device::GrblDevice;
+pub use device::{GrblDevice, Routine};
 pub use gline::{clean as clean_line, words as line_words, E_LINE_OVERFLOW, MAX_LINE};
 pub use interp::{dist, Effect, Flow, Interp, Modal, ProbeKind, Rate, Segment, Spindle};
 pub use job::{StreamLine, StreamProgram};

@@ -28,6 +28,24 @@ pub fn replay(job: &StreamProgram, index: usize) -> Interp {
     i
 }
 
+/// The axes (X, Y, Z) the first `index` lines of `job` name: on the others the replayed
+/// position is the interpreter's 0, not where the machine is (a program that changes tools
+/// before it moves, a run that ends before an axis was ever programmed).
+pub(crate) fn axes_named(job: &StreamProgram, index: usize) -> [bool; 3] {
+    let mut named = [false; 3];
+    for l in job.lines.iter().take(index) {
+        if l.text.starts_with('$') {
+            continue;
+        }
+        for (letter, _, _) in crate::gline::word_spans(l.text.as_bytes()).unwrap_or_default() {
+            if let Some(a) = ['X', 'Y', 'Z'].iter().position(|c| *c == letter) {
+                named[a] = true;
+            }
+        }
+    }
+    named
+}
+
 /// Where to resume and why.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Located {
@@ -274,6 +292,14 @@ mod tests {
 
     fn job(text: &str) -> StreamProgram {
         StreamProgram::from_text("t.nc", text).unwrap()
+    }
+
+    #[test]
+    fn only_named_axes_have_a_known_place() {
+        let j = job("G21 G90\nT1\nG0 z5\nG0 X1 Y2\n");
+        assert_eq!(axes_named(&j, 2), [false; 3]);
+        assert_eq!(axes_named(&j, 3), [false, false, true]);
+        assert_eq!(axes_named(&j, 4), [true; 3]);
     }
 
     #[test]

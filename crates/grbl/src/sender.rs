@@ -132,7 +132,8 @@ pub struct Sender {
     pub planner_blocks: usize,
     /// The latest status report.
     pub last_status: Option<StatusReport>,
-    last_wco: Option<Vec<f64>>,
+    /// The last work offset grbl reported (it sends `WCO:` only every so many reports).
+    pub(crate) last_wco: Option<Vec<f64>>,
     /// `$12` arc tolerance, to count the planner blocks an arc makes as grbl does.
     pub arc_tolerance: f64,
     /// Every `$N` setting read at connect (empty if the machine was busy).
@@ -708,7 +709,11 @@ impl Sender {
                     report.certain = until;
                     jrec(&mut journal, &|j| j.completed(until), observer);
                     let expected = resume::replay(job, until).work_pos();
-                    if (0..3).any(|a| (expected[a] - pos[a]).abs() > resume::POSITION_TOLERANCE) {
+                    // Only the axes the program has named so far have a known place.
+                    let named = resume::axes_named(job, until);
+                    if (0..3).any(|a| {
+                        named[a] && (expected[a] - pos[a]).abs() > resume::POSITION_TOLERANCE
+                    }) {
                         report.end = StreamEnd::PositionMismatch {
                             expected,
                             actual: pos,

@@ -235,6 +235,12 @@ pub trait Machine: Send {
     fn job_report(&mut self) -> Option<JobReport> {
         None
     }
+
+    /// The machine as [`std::any::Any`], for a shell that drives one kind further (grbl
+    /// firmware's tool-change policy, probing routines, levelled programs); `None` by default.
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        None
+    }
 }
 
 /// See [`Machine::job_report`].

@@ -215,10 +215,19 @@ async fn check(
     };
     // The page's saved tool table: G43 H and G41 D as the virtual machine will run them.
     let tools = crate::profiles::saved_tools(&st).map_err(bad)?;
-    let report =
-        tokio::task::spawn_blocking(move || check_program_with_tools(&text, &opts, &tools))
-            .await
-            .map_err(|e| bad(e.to_string()))?;
+    // On firmware the check reads what the sender streams (M6 under its tool-change policy).
+    let sender = match dialect {
+        Dialect::Grbl => st
+            .with_session(|s| Ok(s.tool_change_policy()))
+            .map_err(bad)?,
+        _ => None,
+    };
+    let report = tokio::task::spawn_blocking(move || match sender {
+        Some(tc) => oficina_app::check_for_sender(&text, &opts, &tools, &tc),
+        None => check_program_with_tools(&text, &opts, &tools),
+    })
+    .await
+    .map_err(|e| bad(e.to_string()))?;
     // Which reading the page shows: it names it beside the counts.
     let mut report = serde_json::to_value(report).map_err(|e| bad(e.to_string()))?;
     report["dialect"] = json!(dialect.to_string());

@@ -34,6 +34,7 @@ mod files;
 mod jobs;
 mod macros;
 mod page;
+mod probing;
 mod profiles;
 mod samples;
 mod state;

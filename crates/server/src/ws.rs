@@ -92,6 +92,17 @@ enum Request {
     RunMacro {
         name: String,
     },
+    // Probing, tool change and levelling (crate::probing reads them; the session runs them).
+    ProbeZPlate(crate::probing::ZPlateArgs),
+    ProbeCorner(crate::probing::CornerArgs),
+    ProbeSetter(crate::probing::SetterArgs),
+    ToolChange(crate::probing::ToolChangeArgs),
+    ProbeMap(crate::probing::LevelArgs),
+    LoadMap,
+    StartLevelled {
+        file: String,
+        from_line: Option<u32>,
+    },
 }
 
 impl Request {
@@ -194,7 +205,7 @@ async fn handle(st: &Arc<AppState>, me: u64, text: &str) -> serde_json::Value {
     }
 }
 
-fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
+fn run(st: &Arc<AppState>, req: Request) -> Result<&'static str, String> {
     let cmd = |c: Command| st.with_session(|s| s.command(c).map_err(|e| e.to_string()));
     match req {
         Request::TakeControl => Ok("take_control"),
@@ -271,6 +282,15 @@ fn run(st: &AppState, req: Request) -> Result<&'static str, String> {
                 Some(e) => Err(format!("macro {name} stopped: {e}")),
                 None => Ok("run_macro"),
             }
+        }
+        Request::ProbeZPlate(a) => crate::probing::z_plate(st, a).map(|()| "probe_z_plate"),
+        Request::ProbeCorner(a) => crate::probing::corner(st, a).map(|()| "probe_corner"),
+        Request::ProbeSetter(a) => crate::probing::setter(st, a).map(|()| "probe_setter"),
+        Request::ToolChange(a) => crate::probing::tool_change(st, a).map(|()| "tool_change"),
+        Request::ProbeMap(a) => crate::probing::probe_map(st, a).map(|()| "probe_map"),
+        Request::LoadMap => crate::probing::load(st).map(|()| "load_map"),
+        Request::StartLevelled { file, from_line } => {
+            crate::probing::start_levelled(st, file, from_line).map(|()| "start_levelled")
         }
     }
 }

@@ -1,0 +1,264 @@
+// An evening at the machine, through the page's visible controls only, against the grbl
+// emulator with a stock block (tilted and warped top), a touch plate on it and a tool length
+// setter: connect, jog over the plate and probe Z with it; measure the tool on the setter;
+// run a two-tool program whose M6s pause for the change (remeasured on the setter), with a
+// hold and a resume; probe a 4 × 4 height map and run an engraving levelled with it. Every
+// expectation is computed here from the emulator's numbers below, never from our code.
+
+import { startServer, startEmulator, launch, suite, assert, sleep, out } from './harness.mjs';
+import path from 'node:path';
+import { writeFileSync } from 'node:fs';
+
+// The emulated shop (machine coordinates, mm).
+const BLOCK = { x0: 10, y0: 10, x1: 290, y1: 190, top: -60 };
+const TILT = [0.002, -0.001];
+const WARP = { w: 0.1, lambda: 120 };
+const PLATE = { x0: 150, y0: 50, x1: 190, y1: 90, thickness: 10 };
+const SETTER = { x: 300, y: 100, top: -50 };
+const TOOL_LENGTH = 15;
+/// The block's top at machine X, Y: top + tilt·(x, y) + w·sin(2πx/λ)·sin(2πy/λ).
+const surface = (x, y) => {
+  const k = 2 * Math.PI / WARP.lambda;
+  return BLOCK.top + TILT[0] * x + TILT[1] * y + WARP.w * Math.sin(k * x) * Math.sin(k * y);
+};
+
+const { test, state, finish } = suite('evening');
+const server = await startServer();
+const board = await startEmulator('grbl', [
+  '--probe-block', `${BLOCK.x0},${BLOCK.y0},${BLOCK.x1},${BLOCK.y1},${BLOCK.top}`,
+  '--probe-plate', `${PLATE.x0},${PLATE.y0},${PLATE.x1},${PLATE.y1},${PLATE.thickness}`,
+  '--probe-setter', `${SETTER.x},${SETTER.y},${SETTER.top}`,
+  '--probe-tilt', TILT.join(','),
+  '--probe-warp', `${WARP.w},${WARP.lambda}`,
+  '--tool-length', String(TOOL_LENGTH),
+  '--set', '110=6000', '--set', '111=6000', '--set', '112=3000',
+]);
+const browser = await launch();
+const page = await browser.newPage({ viewport: { width: 1600, height: 1100 } });
+state.page = page;
+
+const dro = () => page.evaluate(() => Object.fromEntries(['x', 'y', 'z'].flatMap((a) =>
+  [['m' + a, Number(document.getElementById('m' + a).textContent)], ['w' + a, Number(document.getElementById('w' + a).textContent)]])));
+const waitState = (s, timeout = 30000) => page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+const openSection = async (id) => {
+  if (!(await page.$eval(`#${id}`, (d) => d.open))) await page.click(`#${id} > summary`);
+};
+async function load(program) {
+  await page.fill('#text', program);
+  await page.waitForFunction(() => / 0 errors/.test(' ' + document.getElementById('summary').textContent), null, { timeout: 30000 })
+    .catch(async () => { throw new Error(`the program does not check: ${await page.textContent('#summary')} ${await page.textContent('#diagnostics')}`); });
+}
+/// The page's console, kept beside the screenshots for a failure's story.
+const consoleTail = async () => {
+  const text = await page.textContent('#console');
+  writeFileSync(path.join(out, 'evening-console.txt'), text);
+  return text.slice(-400).replace(/\n/g, ' | ');
+};
+/// Waits for a probing routine's answer in the Probe section; a failure is thrown in its words.
+async function probed() {
+  await page.waitForFunction(() => ['done', 'failed'].includes(document.body.dataset.probe), null, { timeout: 60000 });
+  const text = await page.textContent('#probe-result');
+  if ((await page.evaluate(() => document.body.dataset.probe)) === 'failed') throw new Error(`probing failed: ${text}`);
+  await waitState('idle');
+  await sleep(400);
+  return text;
+}
+
+await test('connect to the board and jog over the touch plate', async () => {
+  await page.goto(server.url);
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  page.once('dialog', (d) => d.accept(board.uri));
+  await page.selectOption('#machine-uri', '');
+  await page.click('#connect');
+  await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), board.uri.replace('tcp://', ''), { timeout: 15000 });
+  await waitState('idle');
+  await page.fill('#jog-feed', '5000');
+  await page.selectOption('#jog-step', '10');
+  // To machine X170 Y70 (the plate's middle), and 30 mm down.
+  const target = { X: 170, Y: 70, Z: -30 };
+  const buttons = { X: '1,0,0', Y: '0,1,0', Z: '0,0,-1' };
+  for (const axis of ['X', 'Y', 'Z']) {
+    for (let i = 0; i < Math.abs(target[axis]) / 10; i++) {
+      await page.click(`#jog button[data-jog="${buttons[axis]}"]`);
+      await page.waitForFunction(([id, v]) => Math.abs(Number(document.getElementById(id).textContent) - v) < 1e-3,
+        ['m' + axis.toLowerCase(), Math.sign(target[axis]) * 10 * (i + 1)], { timeout: 15000 });
+      await waitState('idle');
+    }
+  }
+  const d = await dro();
+  assert(Math.abs(d.mx - 170) < 1e-3 && Math.abs(d.my - 70) < 1e-3 && Math.abs(d.mz + 30) < 1e-3, `over the plate: ${JSON.stringify(d)}`);
+});
+
+await test('probe Z with the plate: the stock top under it is work Z0', async () => {
+  await openSection('probe');
+  await page.fill('#probe [name=thickness]', String(PLATE.thickness));
+  await page.fill('#probe [name=travel]', '20');
+  await page.fill('#probe [name=feed]', '200');
+  await page.fill('#probe [name=slow_feed]', '25');
+  await page.fill('#probe [name=retract]', '2');
+  await page.selectOption('#probe [name=wcs]', '1');
+  await page.click('#probe-z');
+  const text = await probed();
+  assert(text.includes('G54 offset set to'), `the result is shown: ${text}`);
+  // grbl reports its work offset (WCO) every so many reports: the DRO follows within a few.
+  await page.waitForFunction(() => Math.abs(Number(document.getElementById('wz').textContent) - Number(document.getElementById('mz').textContent)) > 1,
+    null, { timeout: 5000 }).catch(() => {});
+  const d = await dro();
+  // The work Z the spindle would read with the tool tip on the stock's top here.
+  const stockTop = surface(d.mx, d.my);
+  const workAtTop = d.wz - (d.mz - (stockTop + TOOL_LENGTH));
+  assert(Math.abs(workAtTop) < 0.01, `work Z at the stock top ${workAtTop.toFixed(4)} (DRO ${JSON.stringify(d)}, top ${stockTop.toFixed(4)})`);
+  // The tool rests the retract above the plate: work Z = thickness + retract.
+  assert(Math.abs(d.wz - (PLATE.thickness + 2)) < 0.01, `the DRO reads ${d.wz}, ${PLATE.thickness + 2} expected`);
+  await page.screenshot({ path: path.join(out, 'evening-probe.png') });
+});
+
+await test('the tool length setter measures the tool, and a probe refused on the virtual machine is said so', async () => {
+  await page.fill('#probe [name=setter_x]', String(SETTER.x));
+  await page.fill('#probe [name=setter_y]', String(SETTER.y));
+  await page.fill('#probe [name=safe_z]', '-5');
+  await page.fill('#probe [name=reference]', '');
+  // From safe Z −5 the tip is 15 mm lower, 30 mm above the pad: 40 mm of travel reaches it.
+  await page.fill('#probe [name=travel]', '40');
+  await page.fill('#probe [name=feed]', '600');
+  await page.click('#probe-setter');
+  const text = await probed();
+  const expected = (SETTER.top + TOOL_LENGTH).toFixed(3);
+  assert(text.includes(`(Z${expected})`), `the setter's touch at machine Z${expected}: ${text}`);
+  // With that as the reference, the same tool's offset is 0.
+  await page.fill('#probe [name=reference]', expected);
+  await page.click('#probe-setter');
+  const again = await probed();
+  assert(/G43\.1 Z-?0\.000/.test(again), `the same tool has no length offset: ${again}`);
+  // A probe with too short a travel fails with ALARM:5, explained in words.
+  await page.fill('#probe [name=reference]', '');
+  await page.fill('#probe [name=safe_z]', '20');
+  await page.fill('#probe [name=travel]', '5');
+  await page.click('#probe-setter');
+  await page.waitForFunction(() => document.body.dataset.probe === 'failed', null, { timeout: 60000 });
+  const failure = await page.textContent('#probe-result');
+  assert(failure.startsWith('No contact') && failure.includes('ALARM:5'), `the failure in words: ${failure}`);
+  await page.click('#unlock');
+  await waitState('idle');
+  await page.fill('#probe [name=safe_z]', '-5');
+});
+
+// Two tools; each cut long enough to hold in.
+const passes = (y) => Array.from({ length: 3 }, (_, i) => `G1 X${i % 2 ? 120 : 160} Y${y + i} F600`).join('\n');
+const twoTools = [
+  'G21 G90', 'T1 M6', 'G0 Z5', 'G0 X120 Y120', 'G1 Z-0.5 F300', passes(120), 'G0 Z5',
+  'T2 M6', 'G0 X120 Y140', 'G1 Z-0.5 F300', passes(140), 'G0 Z5', 'M2',
+].join('\n') + '\n';
+const lineOf = (text, s) => text.split('\n').findIndex((l) => l === s) + 1;
+
+await test('a two-tool program pauses at each M6 (remeasure), names the tool and line, and goes on', async () => {
+  await openSection('toolchange');
+  await page.selectOption('#toolchange [name=policy]', 'remeasure');
+  await page.fill('#toolchange [name=tc_setter_x]', String(SETTER.x));
+  await page.fill('#toolchange [name=tc_setter_y]', String(SETTER.y));
+  // The remeasure starts with the tip 5 mm over the pad.
+  await page.fill('#toolchange [name=tc_setter_z]', String(SETTER.top + TOOL_LENGTH + 5));
+  await page.dispatchEvent('#toolchange [name=tc_setter_z]', 'change');
+  await load(twoTools);
+  const notes = await page.$$eval('#diagnostics li', (l) => l.map((x) => `${x.className}: ${x.textContent}`));
+  assert(notes.some((n) => n.includes('M6') && n.includes('remeasure')), `the check says what the sender does at M6: ${notes}`);
+  await page.click('#start');
+  for (const [tool, line] of [[1, lineOf(twoTools, 'T1 M6')], [2, lineOf(twoTools, 'T2 M6')]]) {
+    await page.waitForFunction((t) => document.body.dataset.toolChange === t, `T${tool}@${line}`, { timeout: 60000 })
+      .catch(async () => { throw new Error(`no banner for T${tool} at line ${line}: ${await page.evaluate(() => document.body.dataset.toolChange)}, state ${await page.evaluate(() => document.body.dataset.state)}; console: ${await consoleTail()}`); });
+    const banner = await page.textContent('#toolchange-banner');
+    assert(await page.isVisible('#toolchange-banner'), 'the banner is shown');
+    assert(banner.includes(`T${tool}`) && banner.includes(`line ${line}`), `the banner names T${tool} and line ${line}: ${banner}`);
+    if (tool === 2) await page.screenshot({ path: path.join(out, 'evening-toolchange.png') });
+    await page.click('#toolchange-continue');
+    await page.waitForFunction(() => document.body.dataset.toolChange === '', null, { timeout: 30000 })
+      .catch(async () => { throw new Error(`T${tool} continue did not go on: state ${await page.evaluate(() => document.body.dataset.state)}; console: ${await consoleTail()}`); });
+    if (tool === 1) {
+      // A hold and a resume while the first tool cuts.
+      await page.waitForFunction(() => document.body.dataset.state === 'run' && Number(document.getElementById('line').textContent) >= 6, null, { timeout: 60000 });
+      await page.click('#hold');
+      await waitState('hold');
+      const held = await dro();
+      await sleep(600);
+      const still = await dro();
+      assert(held.mx === still.mx && held.my === still.my, `nothing moves in a hold: ${JSON.stringify(held)} ${JSON.stringify(still)}`);
+      await page.click('#resume');
+      await waitState('run');
+    }
+  }
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 120000 })
+    .catch(async () => { throw new Error(`the job did not complete: ${await page.evaluate(() => document.body.dataset.jobDone)}; ${await consoleTail()}`); });
+  const console_ = await page.textContent('#console');
+  assert(console_.includes('tool T2 in place'), 'the console says the tool is in place');
+});
+
+// An engraving 0.1 mm deep over a 30 × 20 mm rectangle.
+const ENGRAVE = { x0: 100, y0: 120, x1: 130, y1: 140, depth: 0.1 };
+const engraving = [
+  'G21 G90', 'G0 Z3', `G0 X${ENGRAVE.x0} Y${ENGRAVE.y0}`, `G1 Z-${ENGRAVE.depth} F200`,
+  `G1 X${ENGRAVE.x1} F600`, `G1 Y${ENGRAVE.y1}`, `G1 X${ENGRAVE.x0}`, `G1 Y${ENGRAVE.y0 + 1}`, 'G0 Z3', 'M2',
+].join('\n') + '\n';
+
+await test('a 4 × 4 height map and a levelled engraving follow the warped surface', async () => {
+  await load(engraving);
+  await openSection('level');
+  await page.fill('#level [name=nx]', '4');
+  await page.fill('#level [name=ny]', '4');
+  await page.fill('#level [name=margin]', '2');
+  await page.fill('#level [name=clearance]', '3');
+  await page.fill('#level [name=depth]', '-3');
+  await page.fill('#level [name=level_feed]', '300');
+  await page.click('#level-probe');
+  await page.waitForFunction(() => ['mapped', 'failed'].includes(document.body.dataset.level), null, { timeout: 180000 })
+    .catch(async () => { throw new Error(`no map: ${await page.textContent('#level-message')}; console: ${await consoleTail()}`); });
+  const msg = await page.textContent('#level-message');
+  assert((await page.evaluate(() => document.body.dataset.level)) === 'mapped', `the map: ${msg}`);
+  await waitState('idle');
+  // The map's heights against the surface: work Z = machine top + tool length − the work offset.
+  const d = await dro();
+  const wcoZ = d.mz - d.wz;
+  const cells = await page.$$eval('#level-map tr', (rows) => rows.map((r) => Array.from(r.children).map((c) => c.textContent)));
+  const xs = cells[0].slice(1).map(Number);
+  const heights = cells.slice(1).flatMap((r) => r.slice(1).map((z, i) => ({ x: xs[i], y: Number(r[0]), z: Number(z) })));
+  assert(heights.length === 16, `16 heights: ${heights.length}`);
+  for (const h of heights) {
+    const want = surface(h.x, h.y) + TOOL_LENGTH - wcoZ;
+    assert(Math.abs(h.z - want) < 0.01, `height at X${h.x} Y${h.y}: ${h.z}, the surface says ${want.toFixed(4)}`);
+  }
+  // Start levelled; the DRO is sampled as it cuts.
+  await page.check('#start-levelled');
+  await page.evaluate(() => {
+    const w = window;
+    w.__samples = [];
+    w.__sampler = setInterval(() => {
+      if (document.body.dataset.state !== 'run') return;
+      w.__samples.push(['mx', 'my', 'mz'].map((id) => Number(document.getElementById(id).textContent)));
+    }, 30);
+  });
+  await page.click('#start');
+  await page.waitForFunction(() => (document.getElementById('console').textContent || '').includes('levelled with level-map.json'), null, { timeout: 15000 });
+  await page.waitForFunction(() => document.body.dataset.state === 'run', null, { timeout: 15000 });
+  await page.screenshot({ path: path.join(out, 'evening-level.png') });
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 120000 });
+  const samples = await page.evaluate(() => { clearInterval(window.__sampler); return window.__samples; });
+  // Cutting samples: the tool below 1 mm over the surface, away from the plunge and lift points.
+  const ends = [[ENGRAVE.x0, ENGRAVE.y0], [ENGRAVE.x0, ENGRAVE.y0 + 1]];
+  let worst = 0, cuts = 0;
+  for (const [mx, my, mz] of samples) {
+    const depth = surface(mx, my) - (mz - TOOL_LENGTH);
+    if (depth < -1) continue;
+    if (ends.some(([x, y]) => Math.hypot(mx - x, my - y) < 0.05)) continue;
+    cuts++;
+    worst = Math.max(worst, Math.abs(depth - ENGRAVE.depth));
+  }
+  assert(cuts >= 20, `cutting seen at ${cuts} samples of ${samples.length}`);
+  assert(worst <= 0.02, `depth below the true surface within 0.02 of ${ENGRAVE.depth}: worst ${worst.toFixed(4)} over ${cuts} samples`);
+  // The map beside the finished job: the other sections folded away.
+  for (const id of ['probe', 'toolchange']) await page.click(`#${id} > summary`);
+  await page.$eval('#level-map', (e) => e.scrollIntoView());
+  await page.screenshot({ path: path.join(out, 'evening-level-done.png') });
+});
+
+await browser.close();
+board.stop();
+finish();
