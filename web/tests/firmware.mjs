@@ -5,6 +5,7 @@
 // back, and resumes from a line to the end. Clicks and keys only, as a user would.
 
 import { startServer, startEmulator, launch, suite, assert, sleep, out, root } from './harness.mjs';
+import { squareProgram, openPage as open, dro, waitState } from './harness.mjs';
 import path from 'node:path';
 
 const { test, state, finish } = suite('firmware');
@@ -13,20 +14,8 @@ const browser = await launch();
 
 // A square traced ten times at 1 mm deep: long enough (about two minutes at F900) to hold,
 // resume and stop in the middle, and short lines near the end to resume from.
-const laps = Array.from({ length: 10 }, () => 'G1 X20 F900\nY20\nX0\nY0').join('\n');
-const program = `G21 G90\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F300\n${laps}\nG0 Z5\nG0 X1 Y1\nM2\n`;
-const lines = program.trimEnd().split('\n').length;
-
-async function openPage() {
-  const page = await browser.newPage({ viewport: { width: 1600, height: 900 } });
-  state.page = page;
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
-  return page;
-}
-const dro = (page) => page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('m' + a).textContent)));
-const waitState = (page, s, timeout = 30000) =>
-  page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+const { program, lines } = squareProgram(10, 900);
+const openPage = () => open(browser, server, state);
 
 /// Opens a drawing and makes a plot of it (the *Plot* process, its default plotter).
 async function plot(page) {

@@ -105,3 +105,28 @@ export function suite(prefix) {
 
 export function assert(cond, msg) { if (!cond) throw new Error(msg); }
 export const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+// What the firmware files do to the page the same way.
+
+/// A square of 20 mm traced `laps` times at 1 mm deep at `feed`, then short lines to resume
+/// from (ends at work X1 Y1 Z5); its text and its line count.
+export function squareProgram(laps, feed) {
+  const sides = Array.from({ length: laps }, () => `G1 X20 F${feed}\nY20\nX0\nY0`).join('\n');
+  const program = `G21 G90\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F300\n${sides}\nG0 Z5\nG0 X1 Y1\nM2\n`;
+  return { program, lines: program.trimEnd().split('\n').length };
+}
+
+/// A new page of `server`, once its first check is shown; kept in `state` for screenshots.
+export async function openPage(browser, server, state) {
+  const page = await browser.newPage({ viewport: { width: 1600, height: 900 } });
+  state.page = page;
+  await page.goto(server.url);
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  return page;
+}
+
+/// The DRO's machine (`m`) or work (`w`) position.
+export const dro = (page, kind = 'm') =>
+  page.evaluate((k) => ['x', 'y', 'z'].map((a) => Number(document.getElementById(k + a).textContent)), kind);
+export const waitState = (page, s, timeout = 30000) =>
+  page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });

@@ -11,6 +11,7 @@
 // Without OFICINA_GRBLHAL_SIM it prints SKIPPED and passes.
 
 import { startServer, launch, suite, assert, sleep, out } from './harness.mjs';
+import { squareProgram, openPage as open, dro, waitState } from './harness.mjs';
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
 
@@ -38,21 +39,9 @@ const browser = await launch();
 
 // grblHAL's defaults in the Simulator: 500 mm/min on every axis, 10 mm/s², 250 steps/mm. A
 // 20 mm square three times at F400 (about half a minute), then short lines to resume from.
-const laps = Array.from({ length: 3 }, () => 'G1 X20 F400\nY20\nX0\nY0').join('\n');
-const program = `G21 G90\nG0 Z5\nG0 X0 Y0\nG1 Z-1 F300\n${laps}\nG0 Z5\nG0 X1 Y1\nM2\n`;
-const lines = program.trimEnd().split('\n').length;
-
-async function openPage() {
-  const page = await browser.newPage({ viewport: { width: 1600, height: 900 } });
-  state.page = page;
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
-  return page;
-}
-const dro = (page) => page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('m' + a).textContent)));
-const work = (page) => page.evaluate(() => ['x', 'y', 'z'].map((a) => Number(document.getElementById('w' + a).textContent)));
-const waitState = (page, s, timeout = 30000) =>
-  page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+const { program, lines } = squareProgram(3, 400);
+const openPage = () => open(browser, server, state);
+const work = (page) => dro(page, 'w');
 const pageState = (page) => page.evaluate(() => ({
   state: document.body.dataset.state,
   alarm: document.getElementById('alarm').hidden ? null : document.getElementById('alarm-text').textContent,

@@ -97,6 +97,9 @@ fn finish(st: &Arc<AppState>, what: &'static str, r: Probing<ProbingResult>) {
 }
 
 fn report(st: &AppState, what: &str, r: Result<ProbingResult, oficina_app::Error>) {
+    // A routine sets work offsets (G10 L20) or the probe's last touch: the page's table is
+    // read again, whatever the outcome (a board in alarm still answers `$#`).
+    let _ = st.with_session(|s| s.read_offsets().map_err(|e| e.to_string()));
     match r {
         Ok(result) => {
             st.say(&format!("{what}: {}", describe(&result)));
