@@ -373,6 +373,7 @@ impl<'b> Drawer<'b> {
                 }
             }
             Geo::Text => self.skip(e, "text is not drawn"),
+            Geo::Unreadable(why) => self.skip(e, why),
             Geo::Other => self.skip(e, ""),
             Geo::Insert(ins) => self.insert(e, ins, m, depth, ctx)?,
             Geo::Dimension(name) => match self.blocks.get(name) {
@@ -425,7 +426,7 @@ impl<'b> Drawer<'b> {
             ins.scale[1]
         };
         let (cols, rows) = (ins.cols.max(1) as u64, ins.rows.max(1) as u64);
-        if cols * rows > MAX_EXPANDED as u64 {
+        if cols.saturating_mul(rows) > MAX_EXPANDED as u64 {
             return Err(ImportError::new(
                 self.file,
                 Self::element(e),

@@ -128,6 +128,8 @@ pub(super) enum Geo {
     Text,
     /// Anything else (kept for the count of what was skipped).
     Other,
+    /// A kind that is read, whose structure is broken (e.g. a HATCH boundary cut short).
+    Unreadable(String),
 }
 
 #[derive(Clone, Debug)]
@@ -294,8 +296,21 @@ pub(super) fn parse(
         "DIMENSION" => Geo::Dimension(t.s(2)),
         "HATCH" => {
             let p = t.p3(10)?;
+            // A boundary that does not follow the structure is skipped with its place; a
+            // value that is not a number stays an error.
+            let paths = match hatch_paths(tags) {
+                Ok(p) => p,
+                Err(m) if !m.contains("not a number") => {
+                    return Ok(Ent {
+                        kind: kind.to_string(),
+                        common,
+                        geo: Geo::Unreadable(m),
+                    })
+                }
+                Err(m) => return Err(m),
+            };
             Geo::Hatch {
-                paths: hatch_paths(tags)?,
+                paths,
                 elev: p[2],
                 n: t.normal()?,
                 associative: t.i(71, 0)? != 0,
