@@ -71,6 +71,14 @@ fn ocs(n: P3, z: f64) -> Affine {
     Affine::new([ax[0], ax[1], ay[0], ay[1], z * n[0], z * n[1]])
 }
 
+/// `m` keeps shapes (its columns are orthogonal and of one length).
+fn similar(m: Affine) -> bool {
+    let c = m.as_coeffs();
+    let (a, b) = (Vec2::new(c[0], c[1]), Vec2::new(c[2], c[3]));
+    let l = a.hypot().max(b.hypot());
+    a.dot(b).abs() <= 1e-9 * l * l && (a.hypot() - b.hypot()).abs() <= 1e-9 * l
+}
+
 /// Segments of a polyline with bulges (bulge = tan(sweep/4) on the vertex starting a span).
 fn bulged(v: &[(Point, f64)], closed: bool) -> Vec<Segment> {
     let n = v.len();
@@ -253,7 +261,12 @@ impl<'b> Drawer<'b> {
         };
         let ctx = (layer.as_str(), color);
         if !matches!(e.geo, Geo::Insert(_) | Geo::Dimension(_)) {
-            *self.counts.entry(e.kind.clone()).or_default() += 1;
+            // A circle or an arc placed with unequal scales is an ellipse (as ezdxf counts it).
+            let kind = match e.geo {
+                Geo::Circle { .. } | Geo::Arc { .. } if !similar(m) => "ELLIPSE",
+                _ => e.kind.as_str(),
+            };
+            *self.counts.entry(kind.to_string()).or_default() += 1;
         }
         match &e.geo {
             Geo::Line(a, b) => {
@@ -533,14 +546,22 @@ impl<'b> Drawer<'b> {
                     if segs.is_empty() {
                         continue;
                     }
-                    let start = segs[0].start();
-                    match pieces.last_mut() {
-                        Some(last)
-                            if last.last().is_some_and(|l: &Segment| {
-                                l.end().distance(start) <= 1e-6 * (1.0 + start.to_vec2().hypot())
-                            }) =>
-                        {
-                            last.extend(segs)
+                    // Edges chain end to start; one written the other way round (as some
+                    // writers do with clockwise arcs) is turned, as ezdxf does.
+                    let meets =
+                        |a: Point, b: Point| a.distance(b) <= 1e-6 * (1.0 + a.to_vec2().hypot());
+                    let end = pieces.last().and_then(|l| l.last()).map(|l| l.end());
+                    match end {
+                        Some(e) if meets(e, segs[0].start()) => {
+                            if let Some(l) = pieces.last_mut() {
+                                l.extend(segs)
+                            }
+                        }
+                        Some(e) if meets(e, segs[segs.len() - 1].end()) => {
+                            let turned = segs.iter().rev().map(|s| s.reversed());
+                            if let Some(l) = pieces.last_mut() {
+                                l.extend(turned)
+                            }
                         }
                         _ => pieces.push(segs),
                     }
