@@ -11,9 +11,10 @@
 //!
 //! The reader is its own: a group-code tokenizer (`tokens`) that keeps values as slices of the
 //! file, entities read from their codes (`entity`), placed and converted (`draw`, with NURBS →
-//! cubic Béziers in `spline`). Bounded: the tokenizer allocates nothing per pair, counts in
-//! the file are checked against what follows them, and inserts expand to at most
-//! `MAX_EXPANDED` entities.
+//! cubic Béziers in `spline`). Bounded: the file is at most `MAX_DRAWING_BYTES` (the loader's
+//! cap), the tokenizer allocates nothing per pair, one entity holds at most `MAX_GROUPS`
+//! groups and a file `MAX_ENTITIES` entities, counts in the file (hatch paths, edges, knots)
+//! are checked against what follows them, and inserts expand to at most 10⁶ entities.
 
 mod draw;
 mod entity;
@@ -24,6 +25,12 @@ use crate::import::{ImportError, Imported};
 use entity::{Ent, P3};
 use std::collections::{BTreeMap, HashMap};
 use tokens::{Tag, Tokens};
+
+/// Most groups one entity may have (a polyline of a million vertices has about three million):
+/// the groups of the entity being read are held until it ends, 40 bytes each.
+const MAX_GROUPS: usize = 8_000_000;
+/// Most entities a file may hold (model space and blocks).
+const MAX_ENTITIES: usize = 4_000_000;
 
 /// How to read a DXF file.
 #[derive(Clone, Debug, PartialEq)]
@@ -228,15 +235,25 @@ struct Sections<'a> {
     section: Option<String>,
     block: Option<(String, Block)>,
     pending: Option<Pending<'a>>,
+    stored: usize,
 }
 
 impl<'a> Sections<'a> {
-    fn store(&mut self, e: Ent) {
+    fn store(&mut self, e: Ent) -> Result<(), ImportError> {
+        self.stored += 1;
+        if self.stored > MAX_ENTITIES {
+            return Err(ImportError::new(
+                self.file,
+                e.common.at,
+                format!("more than {MAX_ENTITIES} entities: too many to read"),
+            ));
+        }
         match (&mut self.block, self.section.as_deref()) {
             (Some((_, b)), _) => b.ents.push(e),
             (None, Some("ENTITIES") | None) => self.data.model.push(e),
             _ => {}
         }
+        Ok(())
     }
 
     fn entity(
@@ -247,8 +264,7 @@ impl<'a> Sections<'a> {
         at: String,
     ) -> Result<(), ImportError> {
         let e = entity::parse(kind, tags, subs, at).map_err(|m| located(self.file, m))?;
-        self.store(e);
-        Ok(())
+        self.store(e)
     }
 
     fn flush_pending(&mut self) -> Result<(), ImportError> {
@@ -267,6 +283,17 @@ impl<'a> Sections<'a> {
                 _ => kind == "ATTRIB",
             };
             if belongs {
+                if p.subs.len() >= MAX_GROUPS / 4 {
+                    return Err(ImportError::new(
+                        self.file,
+                        p.at.clone(),
+                        format!(
+                            "a {} of more than {} parts: too large to read",
+                            p.kind,
+                            MAX_GROUPS / 4
+                        ),
+                    ));
+                }
                 p.subs.push(tags);
                 return Ok(());
             }
@@ -365,6 +392,7 @@ fn structure(bytes: &[u8], file: &str) -> Result<FileData, ImportError> {
         section: None,
         block: None,
         pending: None,
+        stored: 0,
     };
     let mut current: Option<(String, String)> = None;
     let mut tags: Vec<Tag> = Vec::new();
@@ -389,6 +417,14 @@ fn structure(bytes: &[u8], file: &str) -> Result<FileData, ImportError> {
                             "group {} before any group 0: this is not a DXF file",
                             t.code
                         ),
+                    ));
+                }
+                if tags.len() >= MAX_GROUPS {
+                    let at = current.as_ref().map(|c| c.1.clone()).unwrap_or_default();
+                    return Err(ImportError::new(
+                        file,
+                        at,
+                        format!("one entity of more than {MAX_GROUPS} groups: too large to read"),
                     ));
                 }
                 tags.push(t);
