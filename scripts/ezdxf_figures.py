@@ -16,6 +16,8 @@ Prints one JSON object per file (one line each) for model space with every INSER
   extents      [xmin, ymin, xmax, ymax] in mm of those flattened curves (XY)
   closed       how many of those curves are closed (start meets end within 1e-9 relative,
                length not zero), HATCH boundary paths counted as curves
+  texts        [string, x, y, height] in mm of each TEXT and visible ATTRIB (its first
+               alignment point, in WCS), sorted
   units        $INSUNITS, $MEASUREMENT and the mm per drawing unit used
 
 Units: $INSUNITS when it is set, else inches when $MEASUREMENT is 0 (imperial), else mm.
@@ -76,6 +78,7 @@ def figures(name):
     dup_closed = 0
     closed = 0
     box = [math.inf, math.inf, -math.inf, -math.inf]
+    texts = []
 
     def take(path):
         nonlocal length, closed
@@ -112,6 +115,9 @@ def figures(name):
             continue
         elif kind in DRAWN:
             take(epath.make_path(e))
+        elif kind in ("TEXT", "ATTRIB") and not (kind == "ATTRIB" and e.is_invisible):
+            p = e.ocs().to_wcs(e.dxf.insert)
+            texts.append([e.dxf.text, p.x * scale, p.y * scale, e.dxf.height * scale])
     ok = box[0] <= box[2]
     return {
         "file": name,
@@ -121,6 +127,7 @@ def figures(name):
         "hatch_dup_closed": dup_closed,
         "extents": [v * scale for v in box] if ok else None,
         "closed": closed,
+        "texts": sorted(texts),
         "units": {"insunits": ins, "measurement": meas, "mm_per_unit": scale},
         "ezdxf": ezdxf.__version__,
     }

@@ -293,3 +293,83 @@ fn what_is_skipped_is_counted_with_its_reason() {
     let p = i.drawing.paths().next().unwrap();
     assert!(p.closed && (p.length() - 12.0).abs() < 1e-12 && (p.area().abs() - 6.0).abs() < 1e-12);
 }
+
+#[test]
+fn texts_are_placed_for_a_caller_with_a_font() {
+    let r = read_dxf(&data("made_by_ezdxf.dxf"), "t.dxf", &DxfOptions::default()).unwrap();
+    assert_eq!(r.texts.len(), 1);
+    let t = &r.texts[0];
+    assert_eq!(t.text, "Oficina");
+    assert!(
+        t.at.distance(oficina_geom::Point::new(500.0, 10.0)) < 1e-9
+            && (t.height - 5.0).abs() < 1e-12
+    );
+    // A TEXT in a block inserted at (10, 0), turned 90° and scaled 2: the baseline turns, the
+    // height doubles; MTEXT codes are removed.
+    let s = pairs(&[
+        ("0", "SECTION"),
+        ("2", "BLOCKS"),
+        ("0", "BLOCK"),
+        ("2", "T"),
+        ("10", "0"),
+        ("20", "0"),
+        ("0", "TEXT"),
+        ("8", "0"),
+        ("10", "1"),
+        ("20", "0"),
+        ("40", "2.5"),
+        ("1", "%%c6 H7"),
+        ("0", "ENDBLK"),
+        ("0", "ENDSEC"),
+        ("0", "SECTION"),
+        ("2", "ENTITIES"),
+        ("0", "INSERT"),
+        ("8", "marks"),
+        ("2", "T"),
+        ("10", "10"),
+        ("20", "0"),
+        ("41", "2"),
+        ("42", "2"),
+        ("50", "90"),
+        ("0", "MTEXT"),
+        ("8", "notes"),
+        ("10", "0"),
+        ("20", "50"),
+        ("40", "3"),
+        ("71", "1"),
+        ("1", r"{\fArial;Part\P}rev \H2x;B"),
+        ("0", "ENDSEC"),
+        ("0", "EOF"),
+    ]);
+    let r = read_dxf(s.as_bytes(), "t.dxf", &DxfOptions::default()).unwrap();
+    let t = &r.texts[0];
+    assert_eq!((t.text.as_str(), t.layer.as_str()), ("⌀6 H7", "marks"));
+    assert!(
+        t.at.distance(oficina_geom::Point::new(10.0, 2.0)) < 1e-9,
+        "{:?}",
+        t.at
+    );
+    assert!(
+        (t.height - 5.0).abs() < 1e-12 && (t.angle - std::f64::consts::FRAC_PI_2).abs() < 1e-12
+    );
+    let m = &r.texts[1];
+    assert_eq!(m.text, "Part\nrev B");
+    assert!(
+        m.at.distance(oficina_geom::Point::new(0.0, 47.0)) < 1e-9,
+        "{:?}",
+        m.at
+    );
+    assert_eq!(
+        r.imported.unsupported.total(),
+        2,
+        "{}",
+        r.imported.unsupported
+    );
+    // Attributes of a 5 × 5 array: one string per cell and attribute.
+    let opts = DxfOptions {
+        max_size_mm: f64::INFINITY,
+        ..DxfOptions::default()
+    };
+    let r = read_dxf(&data("ezdxf_multi_insert_with_attribs.dxf"), "m.dxf", &opts).unwrap();
+    assert_eq!(r.texts.len(), 75);
+}

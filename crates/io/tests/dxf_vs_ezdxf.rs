@@ -207,6 +207,34 @@ fn real_files_read_as_ezdxf_reads_them() {
                 o.closed
             ));
         }
+        // Strings of TEXT and ATTRIB where ezdxf places them (MTEXT's attachment is ours).
+        let mut texts: Vec<(String, f64, f64, f64)> = r
+            .texts
+            .iter()
+            .filter(|t| !t.source.element.starts_with("MTEXT"))
+            .map(|t| (t.text.clone(), t.at.x, t.at.y, t.height))
+            .collect();
+        texts.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        let want: Vec<(String, f64, f64, f64)> = fig["texts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| {
+                let f = |i: usize| t[i].as_f64().unwrap();
+                (t[0].as_str().unwrap().to_string(), f(1), f(2), f(3))
+            })
+            .collect();
+        let placed = texts.len() == want.len()
+            && texts.iter().zip(&want).all(|(a, b)| {
+                (a.1 - b.1).abs() < 0.05 && (a.2 - b.2).abs() < 0.05 && (a.3 - b.3).abs() < 0.05
+            });
+        if !placed {
+            bad.push(format!(
+                "{name}: texts {:?}…, ezdxf {:?}…",
+                &texts[..texts.len().min(3)],
+                &want[..want.len().min(3)]
+            ));
+        }
         // Units as ezdxf reads the header.
         let scale = fig["units"]["mm_per_unit"].as_f64().unwrap();
         if (r.mm_per_unit - scale).abs() > 1e-9 * scale {

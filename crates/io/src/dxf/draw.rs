@@ -7,14 +7,14 @@
 //! the 2-D affine map with columns (Ax.x, Ax.y), (Ay.x, Ay.y) and offset z·(N.x, N.y), z being
 //! the entity's elevation. For N = +Z that is the identity; for N = −Z it mirrors x.
 
-use super::entity::{Boundary, Edge, Ent, Geo, InsertData, SplineData, P3};
+use super::entity::{Boundary, Edge, Ent, Geo, InsertData, SplineData, TextData, P3};
 use super::spline::{through_fit_points, Nurbs};
-use super::Block;
+use super::{Block, DxfText};
 use crate::import::{ImportError, Imported};
 use oficina_geom::kurbo::{Affine, CubicBez, Vec2};
 use oficina_geom::{Arc, Color, Path, Point, Segment, SourceRef, Style};
 use std::collections::{BTreeMap, HashMap, HashSet};
-use std::f64::consts::TAU;
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 /// Deepest nesting of block inserts followed (a block that inserts itself stops here).
 const MAX_DEPTH: usize = 16;
@@ -137,6 +137,7 @@ pub(super) struct Drawer<'b> {
     scale: f64,
     out: Imported,
     counts: BTreeMap<String, usize>,
+    texts: Vec<DxfText>,
     expanded: usize,
 }
 
@@ -162,6 +163,7 @@ impl<'b> Drawer<'b> {
             scale,
             out: Imported::default(),
             counts: BTreeMap::new(),
+            texts: Vec::new(),
             expanded: 0,
         }
     }
@@ -187,8 +189,8 @@ impl<'b> Drawer<'b> {
         Ok(())
     }
 
-    pub(super) fn finish(self) -> (Imported, BTreeMap<String, usize>) {
-        (self.out, self.counts)
+    pub(super) fn finish(self) -> (Imported, BTreeMap<String, usize>, Vec<DxfText>) {
+        (self.out, self.counts, self.texts)
     }
 
     fn element(e: &Ent) -> String {
@@ -394,7 +396,12 @@ impl<'b> Drawer<'b> {
                     }
                 }
             }
-            Geo::Text => self.skip(e, "text is not drawn"),
+            Geo::Text(t) => {
+                if !t.hidden {
+                    self.text(e, t, m, Vec2::ZERO, ctx.0);
+                }
+                self.skip(e, "text is not drawn");
+            }
             Geo::Unreadable(why) => self.skip(e, why),
             Geo::Other => self.skip(e, ""),
             Geo::Insert(ins) => self.insert(e, ins, m, depth, ctx)?,
@@ -413,6 +420,34 @@ impl<'b> Drawer<'b> {
             },
         }
         Ok(())
+    }
+
+    /// A string placed in mm: `shift` moves it first (in its own coordinates).
+    fn text(&mut self, e: &Ent, t: &TextData, m: Affine, shift: Vec2, layer: &str) {
+        let place = if t.mtext { m } else { m * ocs(t.n, t.at[2]) };
+        let mut at = Point::new(t.at[0], t.at[1]) + shift;
+        let (dir, up) = (
+            Vec2::from_angle(t.angle),
+            Vec2::from_angle(t.angle + FRAC_PI_2),
+        );
+        if t.top {
+            // MTEXT attached at the top: the first baseline is about one height lower.
+            at -= up * t.height;
+        }
+        let c = place.as_coeffs();
+        let lin = |v: Vec2| Vec2::new(c[0] * v.x + c[2] * v.y, c[1] * v.x + c[3] * v.y);
+        let d = lin(dir);
+        let scale = (c[0] * c[3] - c[1] * c[2]).abs().sqrt();
+        let mut source = SourceRef::new(self.file, Self::element(e));
+        source.line = e.common.line;
+        self.texts.push(DxfText {
+            text: t.text.clone(),
+            at: place * at,
+            height: t.height * scale,
+            angle: d.y.atan2(d.x),
+            layer: layer.to_string(),
+            source,
+        });
     }
 
     fn insert(
@@ -472,9 +507,15 @@ impl<'b> Drawer<'b> {
                 for be in &block.ents {
                     self.entity(be, place, depth + 1, Some(inh))?;
                 }
-                if ins.attribs > 0 {
-                    *self.counts.entry("ATTRIB".into()).or_default() += ins.attribs;
-                    for _ in 0..ins.attribs {
+                if !ins.attribs.is_empty() {
+                    *self.counts.entry("ATTRIB".into()).or_default() += ins.attribs.len();
+                    // Attributes are written where the first cell puts them; the others move
+                    // by the cell's offset along the turned axes.
+                    let shift = Affine::rotate(ins.rotation.to_radians()) * cell.to_point();
+                    for a in &ins.attribs {
+                        if !a.hidden {
+                            self.text(e, a, m, shift.to_vec2(), ctx.0);
+                        }
                         self.out
                             .unsupported
                             .add("ATTRIB (text is not drawn)", Self::element(e));

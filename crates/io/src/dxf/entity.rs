@@ -66,7 +66,25 @@ pub(super) struct InsertData {
     pub(super) row_step: f64,
     pub(super) normal: P3,
     /// ATTRIBs that follow it (text, not drawn).
-    pub(super) attribs: usize,
+    pub(super) attribs: Vec<TextData>,
+}
+
+/// A string with where and how large it is written.
+#[derive(Clone, Debug)]
+pub(super) struct TextData {
+    pub(super) text: String,
+    /// Start of the first baseline (TEXT, ATTRIB: in the OCS; MTEXT: in WCS, its insertion
+    /// point).
+    pub(super) at: P3,
+    pub(super) height: f64,
+    /// Direction of the baseline, radians (in the OCS for TEXT).
+    pub(super) angle: f64,
+    pub(super) n: P3,
+    /// MTEXT: WCS, and the insertion point is the top of the first line (attachment 1–3).
+    pub(super) mtext: bool,
+    pub(super) top: bool,
+    /// An invisible attribute (flag 1).
+    pub(super) hidden: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -124,8 +142,8 @@ pub(super) enum Geo {
     },
     /// 3DFACE corners in WCS (drawn 1-2-3-4).
     Face([P3; 4]),
-    /// TEXT, MTEXT, ATTRIB, ATTDEF: not drawn (no font).
-    Text,
+    /// TEXT, MTEXT, ATTRIB, ATTDEF: not drawn (no font), their strings kept.
+    Text(TextData),
     /// Anything else (kept for the count of what was skipped).
     Other,
     /// A kind that is read, whose structure is broken (e.g. a HATCH boundary cut short).
@@ -291,7 +309,10 @@ pub(super) fn parse(
             col_step: t.f(44, 0.0)?,
             row_step: t.f(45, 0.0)?,
             normal: t.normal()?,
-            attribs: vertices.len(),
+            attribs: vertices
+                .iter()
+                .map(|a| text("ATTRIB", a))
+                .collect::<Result<_, _>>()?,
         }),
         "DIMENSION" => Geo::Dimension(t.s(2)),
         "HATCH" => {
@@ -321,7 +342,7 @@ pub(super) fn parse(
             n: t.normal()?,
         },
         "3DFACE" => Geo::Face([t.p3(10)?, t.p3(11)?, t.p3(12)?, t.p3(13)?]),
-        "TEXT" | "MTEXT" | "ATTRIB" | "ATTDEF" => Geo::Text,
+        "TEXT" | "MTEXT" | "ATTRIB" | "ATTDEF" => Geo::Text(text(kind, tags)?),
         _ => Geo::Other,
     };
     Ok(Ent {
@@ -525,4 +546,128 @@ fn spline_edge(c: &mut Cursor, last_edge: bool) -> Result<SplineData, String> {
         }
     }
     Ok(s)
+}
+
+fn text(kind: &str, tags: &[Tag]) -> Result<TextData, String> {
+    let t = Tags(tags);
+    let mtext = kind == "MTEXT";
+    let raw: String = if mtext {
+        // The string comes in chunks of 250: group 3 for all but the last, group 1 last.
+        let mut s = String::new();
+        for g in tags.iter().filter(|g| g.code == 3) {
+            s.push_str(&g.text());
+        }
+        for g in tags.iter().filter(|g| g.code == 1) {
+            s.push_str(&g.text());
+        }
+        s
+    } else {
+        t.s(1)
+    };
+    let angle = if mtext {
+        // An x direction (11/21/31) overrides the rotation (group 50, radians in MTEXT).
+        if tags.iter().any(|g| g.code == 11) {
+            let d = t.p3(11)?;
+            d[1].atan2(d[0])
+        } else {
+            t.f(50, 0.0)?
+        }
+    } else {
+        t.f(50, 0.0)?.to_radians()
+    };
+    Ok(TextData {
+        text: if mtext {
+            plain_mtext(&raw)
+        } else {
+            plain_text(&raw)
+        },
+        at: t.p3(10)?,
+        height: t.f(40, 1.0)?,
+        angle,
+        n: t.normal()?,
+        mtext,
+        top: mtext && (1..=3).contains(&t.i(71, 1)?),
+        hidden: matches!(kind, "ATTRIB" | "ATTDEF") && t.i(70, 0)? & 1 != 0,
+    })
+}
+
+/// TEXT's control codes: %%d degree, %%p plus-minus, %%c diameter, %%u/%%o/%%k (underline,
+/// overline, strike toggles) dropped.
+pub(super) fn plain_text(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut rest = s;
+    while let Some(i) = rest.find("%%") {
+        out.push_str(&rest[..i]);
+        let code = rest[i + 2..].chars().next();
+        match code.map(|c| c.to_ascii_lowercase()) {
+            Some('d') => out.push('°'),
+            Some('p') => out.push('±'),
+            Some('c') => out.push('⌀'),
+            Some('%') => out.push('%'),
+            Some('u' | 'o' | 'k') => {}
+            _ => {
+                out.push_str("%%");
+                rest = &rest[i + 2..];
+                continue;
+            }
+        }
+        rest = &rest[i + 2 + code.map_or(0, char::len_utf8)..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// MTEXT's inline formatting removed: \P new line, \~ space, \\ \{ \} literal, braces
+/// grouping, \X…; settings (font, height, width, colour, …) and \L \l \O \o \K \k toggles
+/// dropped, \S stacked fractions as a/b.
+pub(super) fn plain_mtext(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut it = s.chars().peekable();
+    while let Some(c) = it.next() {
+        match c {
+            '{' | '}' => {}
+            '\\' => match it.next() {
+                Some('P') => out.push('\n'),
+                Some('~') => out.push(' '),
+                Some(c @ ('\\' | '{' | '}')) => out.push(c),
+                Some('L' | 'l' | 'O' | 'o' | 'K' | 'k') | None => {}
+                Some('S') => {
+                    for c in it.by_ref() {
+                        match c {
+                            ';' => break,
+                            '^' | '#' => out.push('/'),
+                            c => out.push(c),
+                        }
+                    }
+                }
+                Some(_) => {
+                    for c in it.by_ref() {
+                        if c == ';' {
+                            break;
+                        }
+                    }
+                }
+            },
+            c => out.push(c),
+        }
+    }
+    plain_text(&out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_codes_become_plain_strings() {
+        assert_eq!(
+            plain_text("%%c10 %%p0.1 45%%d %%uA%%u 5%%%"),
+            "⌀10 ±0.1 45° A 5%"
+        );
+        assert_eq!(plain_text("100%% sure"), "100%% sure");
+        assert_eq!(
+            plain_mtext(r"{\fArial|b1;Oficina}\PA\~B \H2.5x;big\S1^2; \\x\{"),
+            "Oficina\nA B big1/2 \\x{"
+        );
+    }
 }

@@ -5,7 +5,8 @@
 //! drawn), SPLINE (control points with knots and weights, or fit points), HATCH boundary
 //! paths, SOLID, TRACE and 3DFACE outlines, POINT; entities in any plane (their OCS) projected
 //! onto XY. Text (TEXT, MTEXT, ATTRIB) is not drawn: it is counted in `Unsupported`, as every
-//! other kind not read. Units come from `$INSUNITS`, else `$MEASUREMENT` (0: inches), else mm;
+//! other kind not read, and its strings are placed in [`DxfRead::texts`] for a caller with a
+//! single-stroke font. Units come from `$INSUNITS`, else `$MEASUREMENT` (0: inches), else mm;
 //! a drawing larger than [`DxfOptions::max_size_mm`] is refused with a hint, as its units are
 //! then almost surely wrong.
 //!
@@ -50,6 +51,25 @@ impl Default for DxfOptions {
     }
 }
 
+/// A string of the drawing, placed: MTEXT formatting removed, TEXT's %% codes as characters.
+/// Horizontal justification is the writer's (TEXT's first point is where its baseline starts);
+/// MTEXT's attachment is applied vertically only (top: one height down).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DxfText {
+    /// The string; `\n` between lines.
+    pub text: String,
+    /// Start of the first baseline, mm.
+    pub at: oficina_geom::Point,
+    /// Height of capitals, mm.
+    pub height: f64,
+    /// Direction of the baseline, radians counter-clockwise from +X.
+    pub angle: f64,
+    /// Layer it is on.
+    pub layer: String,
+    /// Entity and line.
+    pub source: oficina_geom::SourceRef,
+}
+
 /// A DXF file read: the drawing and what was found in it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DxfRead {
@@ -58,6 +78,9 @@ pub struct DxfRead {
     /// Entities met in model space by kind, INSERTs and DIMENSIONs exploded (they are not
     /// counted themselves; what their blocks hold is).
     pub entities: BTreeMap<String, usize>,
+    /// The strings of TEXT, MTEXT and visible ATTRIBs, placed in mm, for a caller that draws
+    /// them with a single-stroke font (the drawing does not hold them).
+    pub texts: Vec<DxfText>,
     /// Millimetres per drawing unit used.
     pub mm_per_unit: f64,
     /// Where the units came from, e.g. "inches ($INSUNITS 1)".
@@ -89,7 +112,7 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
     };
     let mut d = draw::Drawer::new(file, &f.blocks, &f.layers, scale);
     d.model(&f.model)?;
-    let (imported, entities) = d.finish();
+    let (imported, entities, texts) = d.finish();
     if let Some(b) = bounds(&imported) {
         let (w, h) = (b.width(), b.height());
         if !(w.is_finite() && h.is_finite()) {
@@ -117,6 +140,7 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
     Ok(DxfRead {
         imported,
         entities,
+        texts,
         mm_per_unit: scale,
         units,
         version: f.header.version,
