@@ -314,7 +314,7 @@ pub(super) fn parse(
                 .map(|a| text("ATTRIB", a))
                 .collect::<Result<_, _>>()?,
         }),
-        "DIMENSION" => Geo::Dimension(t.s(2)),
+        "DIMENSION" | "ARC_DIMENSION" | "LARGE_RADIAL_DIMENSION" => Geo::Dimension(t.s(2)),
         "HATCH" => {
             let p = t.p3(10)?;
             // A boundary that does not follow the structure is skipped with its place; a
