@@ -373,3 +373,44 @@ fn texts_are_placed_for_a_caller_with_a_font() {
     let r = read_dxf(&data("ezdxf_multi_insert_with_attribs.dxf"), "m.dxf", &opts).unwrap();
     assert_eq!(r.texts.len(), 75);
 }
+
+#[test]
+fn block_and_layer_names_ignore_case() {
+    let s = pairs(&[
+        ("0", "SECTION"),
+        ("2", "TABLES"),
+        ("0", "TABLE"),
+        ("2", "LAYER"),
+        ("0", "LAYER"),
+        ("2", "Cut"),
+        ("62", "1"),
+        ("0", "ENDTAB"),
+        ("0", "ENDSEC"),
+        ("0", "SECTION"),
+        ("2", "BLOCKS"),
+        ("0", "BLOCK"),
+        ("2", "Part"),
+        ("10", "0"),
+        ("20", "0"),
+        ("0", "CIRCLE"),
+        ("8", "0"),
+        ("10", "0"),
+        ("20", "0"),
+        ("40", "3"),
+        ("0", "ENDBLK"),
+        ("0", "ENDSEC"),
+        ("0", "SECTION"),
+        ("2", "ENTITIES"),
+        ("0", "INSERT"),
+        ("8", "CUT"),
+        ("2", "PART"),
+        ("10", "5"),
+        ("20", "5"),
+        ("0", "ENDSEC"),
+        ("0", "EOF"),
+    ]);
+    let i = dxf_from_bytes(s.as_bytes(), "case.dxf").unwrap();
+    let p = i.drawing.paths().next().unwrap();
+    assert_eq!(p.style.stroke, Some(Color::rgb(255, 0, 0)));
+    assert!((p.length() - 6.0 * std::f64::consts::PI).abs() < 1e-9);
+}

@@ -130,7 +130,9 @@ fn ellipse_path(
 
 pub(super) struct Drawer<'b> {
     file: &'b str,
+    /// Block definitions by name in capitals (DXF names ignore case).
     blocks: &'b HashMap<String, Block>,
+    /// Layer colours by name in capitals.
     layers: &'b HashMap<String, i64>,
     /// Handles of every entity in the file (for associative hatch boundaries).
     handles: HashSet<&'b str>,
@@ -268,7 +270,10 @@ impl<'b> Drawer<'b> {
         let color = match e.common.color {
             0 => inherit.and_then(|i| i.color),
             c @ 1..=255 => aci(c),
-            _ => self.layers.get(&layer).and_then(|c| aci(c.abs())),
+            _ => self
+                .layers
+                .get(&layer.to_uppercase())
+                .and_then(|c| aci(c.abs())),
         };
         let ctx = (layer.as_str(), color);
         if !matches!(e.geo, Geo::Insert(_) | Geo::Dimension(_)) {
@@ -405,7 +410,7 @@ impl<'b> Drawer<'b> {
             Geo::Unreadable(why) => self.skip(e, why),
             Geo::Other => self.skip(e, ""),
             Geo::Insert(ins) => self.insert(e, ins, m, depth, ctx)?,
-            Geo::Dimension(name) => match self.blocks.get(name) {
+            Geo::Dimension(name) => match self.blocks.get(&name.to_uppercase()) {
                 Some(b) => {
                     let place = m * Affine::translate((-b.base[0], -b.base[1]));
                     let inh = Inherit {
@@ -465,7 +470,7 @@ impl<'b> Drawer<'b> {
                 format!("blocks nested deeper than {MAX_DEPTH} (a block inserting itself?)"),
             ));
         }
-        let Some(block) = self.blocks.get(&ins.name) else {
+        let Some(block) = self.blocks.get(&ins.name.to_uppercase()) else {
             return Err(ImportError::new(
                 self.file,
                 Self::element(e),

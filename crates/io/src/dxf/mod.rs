@@ -343,7 +343,7 @@ impl<'a> Sections<'a> {
             _ => match self.section.as_deref() {
                 Some("TABLES") if kind == "LAYER" => {
                     let c = t.i(62, 7).map_err(|m| located(self.file, m))?;
-                    self.data.layers.insert(t.s(2), c);
+                    self.data.layers.insert(t.s(2).to_uppercase(), c);
                 }
                 Some("BLOCKS") if kind == "BLOCK" => {
                     if let Some((name, b)) = self.block.take() {
@@ -351,7 +351,7 @@ impl<'a> Sections<'a> {
                     }
                     let base = t.p3(10).map_err(|m| located(self.file, m))?;
                     self.block = Some((
-                        t.s(2),
+                        t.s(2).to_uppercase(),
                         Block {
                             base,
                             ents: Vec::new(),
