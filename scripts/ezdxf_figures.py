@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """What ezdxf reads in DXF files: the peer figures for Oficina's DXF reader.
 
-Usage: scripts/ezdxf_figures.py FILE.dxf...
+Usage: scripts/ezdxf_figures.py [--curves] FILE.dxf...
 
 Prints one JSON object per file (one line each) for model space with every INSERT exploded
 (nested, arrays; ezdxf's recursive_decompose):
@@ -19,6 +19,9 @@ Prints one JSON object per file (one line each) for model space with every INSER
   texts        [string, x, y, height] in mm of each TEXT and visible ATTRIB (its first
                alignment point, in WCS), sorted
   units        $INSUNITS, $MEASUREMENT and the mm per drawing unit used
+
+With --curves, also `curves`: handle → points [x, y] in mm on each SPLINE and ELLIPSE of model
+space (not inside blocks), from ezdxf's evaluation of the curve itself (flattened to 1 µm).
 
 Units: $INSUNITS when it is set, else inches when $MEASUREMENT is 0 (imperial), else mm.
 Files are read with ezdxf.recover, which also reads binary DXF and headerless R12.
@@ -63,7 +66,7 @@ def is_closed(path):
     return math.hypot(e.x - s.x, e.y - s.y) <= 1e-9 * size
 
 
-def figures(name):
+def figures(name, curves=False):
     with open(name, "rb") as f:
         binary = f.read(22).startswith(b"AutoCAD Binary DXF")
     # recover reads damaged and headerless files but not binary ones; readfile reads binary.
@@ -119,7 +122,14 @@ def figures(name):
             p = e.ocs().to_wcs(e.dxf.insert)
             texts.append([e.dxf.text, p.x * scale, p.y * scale, e.dxf.height * scale])
     ok = box[0] <= box[2]
+    points = {}
+    if curves:
+        for e in msp.query("SPLINE ELLIPSE"):
+            # The curve itself (NURBS evaluated with its weights), not a path approximating it.
+            pts = e.construction_tool().flattening(0.001 / scale)
+            points[e.dxf.handle] = [[v.x * scale, v.y * scale] for v in pts]
     return {
+        "curves": points,
         "file": name,
         "counts": dict(sorted(counts.items())),
         "length": length * scale,
@@ -134,9 +144,11 @@ def figures(name):
 
 
 def main():
-    for name in sys.argv[1:]:
+    args = sys.argv[1:]
+    curves = "--curves" in args
+    for name in (a for a in args if a != "--curves"):
         try:
-            print(json.dumps(figures(name)), flush=True)
+            print(json.dumps(figures(name, curves)), flush=True)
         except Exception as exc:  # one bad file must not hide the others' figures
             print(json.dumps({"file": name, "error": f"{type(exc).__name__}: {exc}"}), flush=True)
 

@@ -61,8 +61,16 @@ fn files() -> Vec<PathBuf> {
 }
 
 fn peer(files: &[PathBuf]) -> Option<Vec<Value>> {
+    peer_with(&[], files)
+}
+
+fn peer_with(flags: &[&str], files: &[PathBuf]) -> Option<Vec<Value>> {
     let script = root().join("scripts/ezdxf_figures.py");
-    let out = Command::new("python3").arg(&script).args(files).output();
+    let out = Command::new("python3")
+        .arg(&script)
+        .args(flags)
+        .args(files)
+        .output();
     match out {
         Ok(o) if o.status.success() => Some(
             String::from_utf8_lossy(&o.stdout)
@@ -250,4 +258,71 @@ fn real_files_read_as_ezdxf_reads_them() {
         bad.len(),
         bad.join("\n")
     );
+}
+
+/// Every SPLINE and ELLIPSE within 1 µm of the curve as ezdxf evaluates it (NURBS with its
+/// weights, fit points interpolated as CAD programs do, ellipses by their parameters).
+#[test]
+fn splines_and_ellipses_lie_within_a_micrometre_of_ezdxfs_curves() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dxf");
+    let names = [
+        "made_by_ezdxf.dxf",
+        "camotics_camotics.dxf",
+        "camotics_stretching_cat.dxf",
+        "ezdxf_no_layouts.dxf",
+        "ezdxf_hatches_2.dxf",
+        "dxfparser_ellipse.dxf",
+    ];
+    let files: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
+    let Some(peer) = peer_with(&["--curves"], &files) else {
+        return;
+    };
+    let mut worst_all = 0.0f64;
+    let mut checked = 0;
+    let mut bad = Vec::new();
+    for (path, fig) in files.iter().zip(&peer) {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        let r = read_dxf(&std::fs::read(path).unwrap(), &name, &DxfOptions::default()).unwrap();
+        let curves = fig["curves"].as_object().expect("curves");
+        for (handle, pts) in curves {
+            let ours: Vec<_> = r
+                .imported
+                .drawing
+                .paths()
+                .filter(|p| {
+                    p.source.element == format!("SPLINE #{handle}")
+                        || p.source.element == format!("ELLIPSE #{handle}")
+                })
+                .collect();
+            if ours.is_empty() {
+                bad.push(format!("{name}: curve #{handle} not read"));
+                continue;
+            }
+            let worst = pts
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|q| {
+                    let q =
+                        oficina_geom::Point::new(q[0].as_f64().unwrap(), q[1].as_f64().unwrap());
+                    ours.iter()
+                        .map(|p| p.distance(q))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0f64, f64::max);
+            if worst > 1e-6 {
+                eprintln!("{name} #{handle}: {worst:.2e} mm");
+            }
+            worst_all = worst_all.max(worst);
+            checked += 1;
+            if worst > 1e-3 {
+                bad.push(format!(
+                    "{name}: #{handle} is {worst:.6} mm from ezdxf's curve"
+                ));
+            }
+        }
+    }
+    eprintln!("{checked} splines and ellipses, at most {worst_all:.2e} mm from ezdxf's curves");
+    assert!(checked > 300, "{checked}");
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
 }

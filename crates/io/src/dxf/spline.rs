@@ -125,7 +125,9 @@ impl Nurbs<'_> {
             if exact {
                 out.push(four_point_cubic(&f, a, b));
             } else {
-                approximate(&f, a, b, tol, 0, &mut out)?;
+                // Checked at seven parameters only: half the tolerance there keeps the
+                // points between them inside it.
+                approximate(&f, a, b, 0.5 * tol, 0, &mut out)?;
             }
             if out.len() > MAX_PIECES {
                 return Err(format!("more than {MAX_PIECES} pieces"));
