@@ -345,6 +345,10 @@ fn absurd_counts_and_expansions_are_errors_not_allocations() {
     let s = b.replacen("0\nENDBLK\n", "0\nINSERT\n2\nB\n0\nENDBLK\n", 1);
     let e = dxf_from_bytes(s.as_bytes(), "self.dxf").unwrap_err();
     assert!(e.message.contains("nested deeper"), "{e}");
+    // A dimension whose block holds the dimension itself.
+    let s = b.replacen("0\nENDBLK\n", "0\nDIMENSION\n2\nB\n0\nENDBLK\n", 1);
+    let e = dxf_from_bytes(s.as_bytes(), "dim.dxf").unwrap_err();
+    assert!(e.message.contains("nested deeper"), "{e}");
     // 20 doublings of an array of 2 × 2: 4²⁰ entities.
     let mut s = pairs(&[("0", "SECTION"), ("2", "BLOCKS")]);
     s += &pairs(&[

@@ -411,6 +411,15 @@ impl<'b> Drawer<'b> {
             Geo::Other => self.skip(e, ""),
             Geo::Insert(ins) => self.insert(e, ins, m, depth, ctx)?,
             Geo::Dimension(name) => match self.blocks.get(&name.to_uppercase()) {
+                Some(_) if depth >= MAX_DEPTH => {
+                    return Err(ImportError::new(
+                        self.file,
+                        Self::element(e),
+                        format!(
+                            "blocks nested deeper than {MAX_DEPTH} (a block inserting itself?)"
+                        ),
+                    ))
+                }
                 Some(b) => {
                     let place = m * Affine::translate((-b.base[0], -b.base[1]));
                     let inh = Inherit {

@@ -115,7 +115,8 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
     let (imported, entities, texts) = d.finish();
     if let Some(b) = bounds(&imported) {
         let (w, h) = (b.width(), b.height());
-        if !(w.is_finite() && h.is_finite()) {
+        // (A bounding box hides NaN: min and max pass over it. Every coordinate is checked.)
+        if !(w.is_finite() && h.is_finite() && finite(&imported)) {
             return Err(ImportError::new(
                 file,
                 "extents",
@@ -146,6 +147,24 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
         version: f.header.version,
         binary: f.binary,
     })
+}
+
+fn finite(i: &Imported) -> bool {
+    use oficina_geom::Segment;
+    let ok = |p: &oficina_geom::Point| p.x.is_finite() && p.y.is_finite();
+    i.points.iter().all(ok)
+        && i.drawing.paths().all(|p| {
+            p.segments.iter().all(|s| match s {
+                Segment::Line(l) => ok(&l.p0) && ok(&l.p1),
+                Segment::Arc(a) => {
+                    ok(&a.center)
+                        && a.radius.is_finite()
+                        && a.start_angle.is_finite()
+                        && a.sweep.is_finite()
+                }
+                Segment::Cubic(c) => [c.p0, c.p1, c.p2, c.p3].iter().all(ok),
+            })
+        })
 }
 
 fn bounds(i: &Imported) -> Option<oficina_geom::kurbo::Rect> {
