@@ -291,6 +291,11 @@ fn what_is_skipped_is_counted_with_its_reason() {
     ]);
     let i = dxf_from_bytes(s.as_bytes(), "r12.dxf").unwrap();
     let p = i.drawing.paths().next().unwrap();
+    // Paper space (group 67 = 1) is the sheet, not the part.
+    let paper = s.replace("0\nPOLYLINE\n66\n1\n", "0\nPOLYLINE\n5\nA0\n67\n1\n66\n1\n");
+    let ip = dxf_from_bytes(paper.as_bytes(), "p.dxf").unwrap();
+    assert_eq!(ip.drawing.path_count(), 0);
+    assert_eq!(ip.unsupported.examples["paper-space entity"], ["POLYLINE #A0"]);
     assert!(p.closed && (p.length() - 12.0).abs() < 1e-12 && (p.area().abs() - 6.0).abs() < 1e-12);
 }
 

@@ -180,10 +180,9 @@ impl<'b> Drawer<'b> {
         let m = Affine::scale(self.scale);
         for e in model {
             if e.common.paper {
-                self.out.unsupported.add(
-                    "paper-space entity",
-                    format!("{} #{}", e.kind, e.common.handle),
-                );
+                self.out
+                    .unsupported
+                    .add("paper-space entity", Self::element(e));
                 continue;
             }
             self.entity(e, m, 0, None)?;
