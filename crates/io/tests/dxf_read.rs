@@ -110,6 +110,9 @@ fn trash_after_eof_is_ignored_and_a_file_cut_short_names_its_line() {
     let mut s = with_header(&[]);
     s += "this is not DXF\n12\n";
     assert!((length(s.as_bytes()) - 10.0).abs() < 1e-12);
+    // Entities with no SECTION around them at all, as some generators write.
+    let bare = "0\nLINE\n10\n0\n20\n0\n11\n3\n21\n4\n0\nEOF\n";
+    assert!((length(bare.as_bytes()) - 5.0).abs() < 1e-12);
     let cut = "0\nSECTION\n2\nENTITIES\n0\nLINE\n10\n1\n20";
     let e = dxf_from_bytes(cut.as_bytes(), "cut.dxf").unwrap_err();
     assert_eq!(e.location, "line 9", "{e}");
@@ -295,7 +298,10 @@ fn what_is_skipped_is_counted_with_its_reason() {
     let paper = s.replace("0\nPOLYLINE\n66\n1\n", "0\nPOLYLINE\n5\nA0\n67\n1\n66\n1\n");
     let ip = dxf_from_bytes(paper.as_bytes(), "p.dxf").unwrap();
     assert_eq!(ip.drawing.path_count(), 0);
-    assert_eq!(ip.unsupported.examples["paper-space entity"], ["POLYLINE #A0"]);
+    assert_eq!(
+        ip.unsupported.examples["paper-space entity"],
+        ["POLYLINE #A0"]
+    );
     assert!(p.closed && (p.length() - 12.0).abs() < 1e-12 && (p.area().abs() - 6.0).abs() < 1e-12);
 }
 
