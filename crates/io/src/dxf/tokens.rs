@@ -39,10 +39,10 @@ impl<'a> Tag<'a> {
         }
     }
 
-    /// The value as text (numbers formatted).
+    /// The value as text (numbers formatted); see [`decode`].
     pub(super) fn text(&self) -> Cow<'a, str> {
         match self.raw {
-            Raw::Text(t) => String::from_utf8_lossy(t),
+            Raw::Text(t) => decode(t),
             Raw::F(f) => Cow::Owned(f.to_string()),
             Raw::I(i) => Cow::Owned(i.to_string()),
         }
@@ -108,6 +108,55 @@ impl<'a> Tag<'a> {
             ))
         }
     }
+}
+
+/// Windows-1252 in 0x80–0x9F (the rest of the code page is Latin-1).
+const CP1252_HIGH: [char; 32] = [
+    '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8d}', 'Ž', '\u{8f}',
+    '\u{90}', '‘', '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ', '\u{9d}', 'ž', 'Ÿ',
+];
+
+/// Text of a value: UTF-8 (R2007 and later) or, when it is not, the ANSI_1252 code page older
+/// releases write by default; `\U+XXXX` escapes (how AutoCAD writes characters outside the
+/// code page) become their characters.
+pub(super) fn decode(t: &[u8]) -> Cow<'_, str> {
+    let s = match std::str::from_utf8(t) {
+        Ok(s) => Cow::Borrowed(s),
+        Err(_) => Cow::Owned(
+            t.iter()
+                .map(|&b| match b {
+                    0x80..=0x9f => CP1252_HIGH[(b - 0x80) as usize],
+                    b => b as char,
+                })
+                .collect(),
+        ),
+    };
+    if !s.contains("\\U+") {
+        return s;
+    }
+    let mut out = String::with_capacity(s.len());
+    let mut rest: &str = &s;
+    while let Some(i) = rest.find("\\U+") {
+        out.push_str(&rest[..i]);
+        let hex = rest
+            .get(i + 3..i + 7)
+            .filter(|h| h.bytes().all(|b| b.is_ascii_hexdigit()));
+        match hex
+            .and_then(|h| u32::from_str_radix(h, 16).ok())
+            .and_then(char::from_u32)
+        {
+            Some(c) => {
+                out.push(c);
+                rest = &rest[i + 7..];
+            }
+            None => {
+                out.push_str("\\U+");
+                rest = &rest[i + 3..];
+            }
+        }
+    }
+    out.push_str(rest);
+    Cow::Owned(out)
 }
 
 /// Reads pairs one at a time; `next` gives `None` at the end and an error (with its place)
@@ -330,6 +379,13 @@ mod tests {
             .collect::<Result<Vec<_>, _>>()
             .unwrap_err();
         assert!(e.contains("no value"), "{e}");
+    }
+
+    #[test]
+    fn code_page_and_unicode_escapes() {
+        assert_eq!(decode(b"Ma\xe7\xe3 \x80"), "Maçã €");
+        assert_eq!(decode("maçã".as_bytes()), "maçã");
+        assert_eq!(decode(br"a\U+00E7o \U+20ACx \U+zz"), "aço €x \\U+zz");
     }
 
     #[test]
