@@ -27,7 +27,7 @@ mod raw;
 mod seed001;
 mod svg;
 
-pub use dxf::dxf_from_bytes;
+pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;
 pub use hpgl::{hpgl_from_bytes, load_hpgl, Hpgl};
 pub use image_in::{

@@ -220,7 +220,13 @@ fn spline_and_ellipse_written_by_the_dxf_crate() {
 #[test]
 fn broken_files_are_errors_that_say_where() {
     let e = dxf_from_bytes(b"0\nSECTION\n2\nENTITIES\n0\nLINE\n10\nabc\n", "bad.dxf").unwrap_err();
-    assert!(e.to_string().starts_with("bad.dxf: DXF:"), "{e}");
+    // The value "abc" of group 10 is on line 8 (its group code on line 7).
+    assert_eq!(
+        (e.file.as_str(), e.location.as_str()),
+        ("bad.dxf", "line 7"),
+        "{e}"
+    );
+    assert!(e.message.contains("'abc' is not a number"), "{e}");
     let undefined = hand_written("4").replace("2\nB\n10\n100.0", "2\nNOPE\n10\n100.0");
     let e = dxf_from_bytes(undefined.as_bytes(), "u.dxf").unwrap_err();
     assert!(e.to_string().contains("block 'NOPE' is not defined"), "{e}");
