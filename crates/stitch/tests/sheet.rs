@@ -18,14 +18,17 @@ import sys, math, pyembroidery as P
 p = P.read(sys.argv[1])
 x = y = 0.0
 n, l = 0, 0.0
+sewn = False
 for sx, sy, c in p.stitches:
     c &= P.COMMAND_MASK
     if c == P.STITCH:
         n += 1
         l += math.hypot(sx - x, sy - y)
-    elif c == P.COLOR_CHANGE:
+    elif c == P.COLOR_CHANGE or (c == P.NEEDLE_SET and sewn):
+        # U01 changes colour by needle; its first needle is chosen before anything is sewn.
         print(n, l / 10.0)
         n, l = 0, 0.0
+    sewn = sewn or c == P.STITCH
     x, y = sx, sy
 print(n, l / 10.0)
 "#;
@@ -79,9 +82,13 @@ fn stitch_count_and_thread_length_match_pyembroidery() {
                 o.length_m
             );
         }
-        // And the design's own sheet, before quantising, within the 0.05 mm rounding/stitch.
+        // And the design's own sheet, before quantising, within the 0.05 mm rounding/stitch
+        // (VP3 has no jump: a move inside a block is a long stitch, so its thread differs).
         let design = plan.counts();
         assert_eq!(design.stitches, ours.counts.stitches, "{f}");
+        if f == Format::Vp3 {
+            continue;
+        }
         for (d, o) in design.per_block.iter().zip(&ours.threads) {
             assert!(
                 (d.1 / 1000.0 - o.length_m).abs() < d.0 as f64 * 0.00008,

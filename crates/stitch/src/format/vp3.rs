@@ -107,7 +107,13 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
         out.extend_from_slice(&[0, 5, 0]);
         let block_len_at = out.len();
         out.extend_from_slice(&[0; 4]);
-        // The block starts where the hoop is; its first stitch is sewn from there.
+        // The block starts where the hoop is after the block's leading jumps; its first
+        // stitch is sewn from there.
+        for r in recs.iter().take_while(|r| r.op == Op::Jump) {
+            hx += r.dx as i64;
+            hy += r.dy as i64;
+        }
+        let lead = recs.iter().take_while(|r| r.op == Op::Jump).count();
         let start = (hx, hy);
         put_i32be(&mut out, um(start.0 - cx));
         put_i32be(&mut out, um(start.1 - cy));
@@ -128,7 +134,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
         out.extend_from_slice(&[0; 4]);
         out.extend_from_slice(&[0x0A, 0xF6, 0x00]);
         let (mut sx, mut sy) = start;
-        for r in recs {
+        for r in &recs[lead..] {
             match r.op {
                 Op::Jump => {
                     hx += r.dx as i64;
