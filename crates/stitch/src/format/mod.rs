@@ -130,10 +130,10 @@ impl Format {
         Format::EVERY.into_iter().find(|f| f.extension() == ext)
     }
 
-    /// The format a file's first bytes show, where they show one: `#PES`, `#PEC`, `%vsm%`,
-    /// a DST header (`LA:` and 512 bytes), a JEF header (its stitch offset 0x74 + 8 per colour
-    /// and flags 0x14 or 0x0A), the seed program's signature. EXP, XXX and U01 carry no
-    /// signature: their extension decides.
+    /// The format a file's first bytes (a few hundred suffice) show, where they show one:
+    /// `#PES`, `#PEC`, `%vsm%`, a DST header (`LA:`, 512 bytes), a JEF header (its stitches'
+    /// offset 0x74 + 8 per colour, flags 0x14 or 0x0A). EXP, XXX, U01 and the seed's program
+    /// carry no signature: their extension decides.
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         if bytes.starts_with(b"#PES") {
             return Some(Format::Pes);
@@ -151,11 +151,7 @@ impl Format {
             let u =
                 |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
             let (start, colours) = (u(0) as usize, u(24) as usize);
-            if colours < 1000
-                && start == 0x74 + 8 * colours
-                && start <= bytes.len()
-                && matches!(u(4), 0x0A | 0x14)
-            {
+            if colours < 1000 && start == 0x74 + 8 * colours && matches!(u(4), 0x0A | 0x14) {
                 return Some(Format::Jef);
             }
         }
@@ -199,6 +195,14 @@ impl Format {
                 seed_ram::write(plan, &header)?
             }
         })
+    }
+
+    /// Whether the file keeps each block's thread colour (exactly or as a chart thread).
+    pub fn stores_colours(self) -> bool {
+        !matches!(
+            self,
+            Format::Dst | Format::Exp | Format::U01 | Format::SeedRam
+        )
     }
 
     /// Reads a file; `name` names the design when the file carries no name.

@@ -9,9 +9,11 @@
 //! length, `0A F6 00`, then the stitches: two signed bytes (dx, dy in 0.1 mm, y down),
 //! `80 01 dx dy 80 02` with 16-bit dx, dy for a long stitch, `80 03` a trim.
 //!
-//! VP3 has no jump: a move is one long stitch to where sewing resumes (the machine does not
-//! sew one that long), and each colour block starts where its first stitch is. Stops are
-//! not kept (VP3 has no stop; pyembroidery drops them the same way).
+//! VP3 has no jump. Each colour block starts where its first stitch is; after a trim, the
+//! move to where sewing resumes is one long record, which Oficina reads as a jump (machines
+//! do not sew it; pyembroidery reads it as a stitch); a move without a trim is sewn into the
+//! next stitch, as pyembroidery writes it. Stops are not kept (VP3 has none; pyembroidery
+//! drops them the same way).
 
 use super::bytes::{patch_u32be, put_i32be, put_u16be, Reader};
 use super::records::{self, Op, TrimRule};
@@ -40,6 +42,30 @@ fn put_string8(out: &mut Vec<u8>, s: &str) {
 fn close(out: &mut [u8], at: usize) {
     let len = out.len() - at - 4;
     patch_u32be(out, at, len as u32);
+}
+
+/// One stitch of (dx, dy) 0.1 mm (y down): two bytes, or the long form `80 01 dx dy 80 02`
+/// when it does not fit a byte or `long` asks for it.
+fn put_stitch(out: &mut Vec<u8>, dx: i64, dy: i64, long: bool) -> Result<(), FormatError> {
+    if !long && dx.abs() <= 127 && dy.abs() <= 127 {
+        out.extend_from_slice(&[dx as i8 as u8, dy as i8 as u8]);
+    } else if dx.abs() <= 32767 && dy.abs() <= 32767 {
+        out.extend_from_slice(&[0x80, 0x01]);
+        put_u16be(out, dx as i16 as u16);
+        put_u16be(out, dy as i16 as u16);
+        out.extend_from_slice(&[0x80, 0x02]);
+    } else {
+        return Err(FormatError::new(
+            Format::Vp3,
+            out.len(),
+            format!(
+                "a move of ({}, {}) mm: VP3 moves at most 3276.7 mm at once",
+                dx as f64 / 10.0,
+                -dy as f64 / 10.0
+            ),
+        ));
+    }
+    Ok(())
 }
 
 const PRODUCER: &str = "Produced by     Software Ltd";
@@ -134,6 +160,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
         out.extend_from_slice(&[0; 4]);
         out.extend_from_slice(&[0x0A, 0xF6, 0x00]);
         let (mut sx, mut sy) = start;
+        let mut trimmed = false;
         for r in &recs[lead..] {
             match r.op {
                 Op::Jump => {
@@ -141,30 +168,22 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
                     hy += r.dy as i64;
                 }
                 Op::Stitch => {
+                    // After a trim, the move to where sewing resumes is its own long record
+                    // (read back as a jump); elsewhere a jump is sewn into the next stitch.
+                    if trimmed && (hx, hy) != (sx, sy) {
+                        put_stitch(&mut out, hx - sx, -(hy - sy), true)?;
+                        (sx, sy) = (hx, hy);
+                    }
+                    trimmed = false;
                     hx += r.dx as i64;
                     hy += r.dy as i64;
-                    let (dx, dy) = (hx - sx, -(hy - sy));
-                    if dx.abs() <= 127 && dy.abs() <= 127 {
-                        out.extend_from_slice(&[dx as i8 as u8, dy as i8 as u8]);
-                    } else if dx.abs() <= 32767 && dy.abs() <= 32767 {
-                        out.extend_from_slice(&[0x80, 0x01]);
-                        put_u16be(&mut out, dx as i16 as u16);
-                        put_u16be(&mut out, dy as i16 as u16);
-                        out.extend_from_slice(&[0x80, 0x02]);
-                    } else {
-                        return Err(FormatError::new(
-                            Format::Vp3,
-                            out.len(),
-                            format!(
-                                "a move of ({}, {}) mm: VP3 moves at most 3276.7 mm at once",
-                                dx as f64 / 10.0,
-                                -dy as f64 / 10.0
-                            ),
-                        ));
-                    }
+                    put_stitch(&mut out, hx - sx, -(hy - sy), false)?;
                     (sx, sy) = (hx, hy);
                 }
-                Op::Trim => out.extend_from_slice(&[0x80, 0x03]),
+                Op::Trim => {
+                    out.extend_from_slice(&[0x80, 0x03]);
+                    trimmed = true;
+                }
                 Op::End => out.extend_from_slice(&[0x80, 0x03]),
                 Op::ColorChange | Op::Stop => {}
             }
@@ -268,6 +287,7 @@ pub(super) fn read(bytes: &[u8], name: &str) -> Result<StitchPlan, FormatError> 
         r.skip(15, "the block's shift and stitch header")?;
         r.skip(3, "the stitches' tag")?;
         // Stitch pairs up to the block's end; an odd last byte is padding.
+        let mut moving = false;
         while r.pos + 1 < end {
             let at = r.pos;
             let p = r.take(2, "a stitch")?;
@@ -276,6 +296,7 @@ pub(super) fn read(bytes: &[u8], name: &str) -> Result<StitchPlan, FormatError> 
                 let (dx, dy) = (a as i8 as i64, -(c as i8 as i64));
                 recs.push(Rec::new(dx as i32, dy as i32, Op::Stitch));
                 (x, y) = (x + dx, y + dy);
+                moving = false;
                 continue;
             }
             match c {
@@ -286,12 +307,20 @@ pub(super) fn read(bytes: &[u8], name: &str) -> Result<StitchPlan, FormatError> 
                     let dx = r.u16be("a long stitch")? as i16 as i64;
                     let dy = -(r.u16be("a long stitch")? as i16 as i64);
                     r.skip(2, "a long stitch's end")?;
-                    recs.push(Rec::new(dx as i32, dy as i32, Op::Stitch));
+                    // A long record right after a trim is the move to where sewing
+                    // resumes: the machine does not sew it.
+                    let op = if moving { Op::Jump } else { Op::Stitch };
+                    recs.push(Rec::new(dx as i32, dy as i32, op));
                     (x, y) = (x + dx, y + dy);
                 }
-                0x03 => recs.push(Rec::new(0, 0, Op::Trim)),
+                0x03 => {
+                    recs.push(Rec::new(0, 0, Op::Trim));
+                    moving = true;
+                    continue;
+                }
                 _ => {}
             }
+            moving = false;
         }
         r.seek(end, "the next colour block")?;
     }
