@@ -167,9 +167,8 @@ pub(super) fn write(plan: &StitchPlan, version: Version) -> Result<Vec<u8>, Form
             put_u16le(&mut out, 1);
             out.extend_from_slice(b"02");
             put_string8(&mut out, &plan.name);
-            for _ in 0..4 {
-                out.push(0); // category, author, keywords, comments
-            }
+            // Empty category, author, keywords and comments.
+            out.extend_from_slice(&[0; 4]);
             // Hoop, page and grid settings of PE-Design 6.
             for v in [
                 0u16, 0, 0x64, 0x64, 0, 0xC8, 0xC8, 0x64, 0x64, 0x64, 0x07, 0x13, 1, 1, 0, 100, 1,

@@ -129,6 +129,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
     put_u16be(&mut out, blocks.len() as u16);
     // Absolute position of the needle (last stitch) and of the hoop (after jumps).
     let (mut hx, mut hy) = (0i64, 0i64);
+    let mut needle = (0i64, 0i64);
     for (thread, recs) in &blocks {
         out.extend_from_slice(&[0, 5, 0]);
         let block_len_at = out.len();
@@ -140,7 +141,11 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
             hy += r.dy as i64;
         }
         let lead = recs.iter().take_while(|r| r.op == Op::Jump).count();
-        let start = (hx, hy);
+        // pyembroidery moves to a block's start only when neither coordinate is 0: such a
+        // start is written at the needle, and the move after it as a trim and a long record.
+        let jumped = (hx, hy);
+        let odd = (jumped.0 == 0) != (jumped.1 == 0) && jumped != needle;
+        let start = if odd { needle } else { jumped };
         put_i32be(&mut out, um(start.0 - cx));
         put_i32be(&mut out, um(start.1 - cy));
         out.extend_from_slice(&[1, 0, thread.rgb[0], thread.rgb[1], thread.rgb[2]]);
@@ -161,6 +166,11 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
         out.extend_from_slice(&[0x0A, 0xF6, 0x00]);
         let (mut sx, mut sy) = start;
         let mut trimmed = false;
+        if odd {
+            out.extend_from_slice(&[0x80, 0x03]);
+            put_stitch(&mut out, jumped.0 - sx, -(jumped.1 - sy), true)?;
+            (sx, sy) = jumped;
+        }
         for r in &recs[lead..] {
             match r.op {
                 Op::Jump => {
@@ -188,6 +198,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
                 Op::ColorChange | Op::Stop => {}
             }
         }
+        needle = (sx, sy);
         close(&mut out, stitches_len_at);
         let shift = [um(sx - start.0), um(-(sy - start.1))];
         out[shift_at..shift_at + 4].copy_from_slice(&shift[0].to_be_bytes());
