@@ -6,6 +6,8 @@
 //! python3 lacks pyembroidery (`python3 -m pip install --user pyembroidery`, see
 //! scripts/install-deps).
 
+mod common;
+
 use oficina_stitch::{ColorBlock, Format, Kind, Stitch, StitchPlan, Thread};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -501,5 +503,54 @@ fn real_files_convert_to_every_format() {
             }
         }
         println!("{what}: converted to every format, read back by pyembroidery as by us");
+    }
+}
+
+/// Our PES headers (PE-Design's `CEmbOne`/`CSewSeg` segments, the thread list, the PEC header
+/// and colour list) are byte for byte what pyembroidery writes for the same stitches, so
+/// software that reads the PES side (PE-Design) sees what it sees in pyembroidery's files.
+/// The sample design: its jumps land where the next stitch is, as Oficina generates them
+/// (pyembroidery's encoder moves a jump that lands elsewhere onto the next stitch).
+#[test]
+fn pes_headers_match_pyembroidery_byte_for_byte() {
+    let Some(py) = python_with_pyembroidery() else {
+        return;
+    };
+    const REWRITE: &str = r#"
+import sys, pyembroidery as P
+P.write(P.read(sys.argv[1]), sys.argv[2], {'version': int(sys.argv[3])})
+"#;
+    let plan = common::sample();
+    for (format, version) in [(Format::Pes, "6"), (Format::PesV1, "1")] {
+        let ours = format.write(&plan).unwrap();
+        let a = scratch(&format!("hdr-ours-{version}.pes"));
+        let b = scratch(&format!("hdr-theirs-{version}.pes"));
+        std::fs::write(&a, &ours).unwrap();
+        let out = Command::new(&py)
+            .args([
+                "-c",
+                REWRITE,
+                a.to_str().unwrap(),
+                b.to_str().unwrap(),
+                version,
+            ])
+            .output()
+            .unwrap();
+        oficina_testkit::assert_success(&out);
+        let theirs = std::fs::read(&b).unwrap();
+        let pec = u32::from_le_bytes([ours[8], ours[9], ours[10], ours[11]]) as usize;
+        assert_eq!(
+            &ours[..12],
+            &theirs[..12],
+            "{format}: signature and PEC offset"
+        );
+        // Up to the first stitch of the PEC block; PES v1 carries no name for pyembroidery
+        // to write back, so the PEC label (16 bytes after "LA:") is skipped there.
+        let end = pec + 0x210;
+        let differ: Vec<usize> = (0..end)
+            .filter(|&i| ours[i] != theirs[i])
+            .filter(|&i| !(version == "1" && (pec + 3..pec + 19).contains(&i)))
+            .collect();
+        assert!(differ.is_empty(), "{format}: bytes {differ:?} differ");
     }
 }

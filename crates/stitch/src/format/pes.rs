@@ -52,7 +52,8 @@ fn segments(plan: &StitchPlan, codes: &[u16]) -> Vec<Segment> {
     let at = |x: f64, y: f64| (u(x) - ox, oy - u(y));
     let mut segs: Vec<Segment> = Vec::new();
     let mut entry = 0usize;
-    let mut last = (0i64, 0i64);
+    // A jump from before any stitch starts at the origin.
+    let mut last = at(0.0, 0.0);
     let mut in_stitches = false;
     for (b, block) in plan.blocks.iter().enumerate() {
         if b > 0 {
