@@ -193,6 +193,30 @@ fn broken_files_of_every_format_are_refused_at_their_byte() {
     assert!(e.to_string().contains("not a VP3 file"), "{e}");
 }
 
+/// A plan with nothing to sew writes a valid file of every format, read back as nothing.
+#[test]
+fn empty_plans_write_and_read_back_empty() {
+    let empty = StitchPlan {
+        name: "nothing".into(),
+        blocks: vec![ColorBlock {
+            thread: Thread::rgb(10, 20, 30),
+            stitches: Vec::new(),
+        }],
+    };
+    for plan in [StitchPlan::default(), empty] {
+        for f in Format::ALL {
+            let bytes = f.write(&plan).unwrap_or_else(|e| panic!("{f}: {e}"));
+            if f == Format::Exp {
+                // EXP has no header: nothing to sew is a 0-byte file, which reads as empty.
+                assert!(bytes.is_empty());
+                continue;
+            }
+            let back = f.read(&bytes, "x").unwrap_or_else(|e| panic!("{f}: {e}"));
+            assert!(back.is_empty(), "{f}: {:?}", back.counts());
+        }
+    }
+}
+
 /// Every format's own file is recognised by its first bytes where it has a signature.
 #[test]
 fn files_are_recognised_by_content() {

@@ -130,6 +130,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
     // Absolute position of the needle (last stitch) and of the hoop (after jumps).
     let (mut hx, mut hy) = (0i64, 0i64);
     let mut needle = (0i64, 0i64);
+    let mut sewn = false;
     for (thread, recs) in &blocks {
         out.extend_from_slice(&[0, 5, 0]);
         let block_len_at = out.len();
@@ -185,6 +186,7 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
                         (sx, sy) = (hx, hy);
                     }
                     trimmed = false;
+                    sewn = true;
                     hx += r.dx as i64;
                     hy += r.dy as i64;
                     put_stitch(&mut out, hx - sx, -(hy - sy), false)?;
@@ -194,7 +196,12 @@ pub(super) fn write(plan: &StitchPlan) -> Result<Vec<u8>, FormatError> {
                     out.extend_from_slice(&[0x80, 0x03]);
                     trimmed = true;
                 }
-                Op::End => out.extend_from_slice(&[0x80, 0x03]),
+                // The machine does not cut at the end by itself: a trim ends what was sewn.
+                Op::End => {
+                    if sewn && !trimmed {
+                        out.extend_from_slice(&[0x80, 0x03]);
+                    }
+                }
                 Op::ColorChange | Op::Stop => {}
             }
         }
