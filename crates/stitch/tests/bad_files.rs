@@ -35,6 +35,31 @@ fn truncated_files_say_so() {
     );
     let e = Format::Dst.read(&dst[..dst.len() - 1], "x").unwrap_err();
     assert!(e.to_string().contains("truncated"), "{e}");
+    // A 0x1A after END (DOS end of file), or after the last record of a file without END
+    // or of an EXP: read as pyembroidery and machines read it.
+    let mut eof = dst.clone();
+    eof.push(0x1A);
+    assert_eq!(
+        Format::Dst.read(&eof, "x").unwrap().counts(),
+        Format::Dst.read(&dst, "x").unwrap().counts()
+    );
+    let mut eof = dst[..dst.len() - 3].to_vec();
+    eof.push(0x1A);
+    assert_eq!(
+        Format::Dst.read(&eof, "x").unwrap().counts().stitches,
+        small_plan().counts().stitches
+    );
+    let mut eof = dst[..dst.len() - 3].to_vec();
+    eof.push(0x05);
+    let e = Format::Dst.read(&eof, "x").unwrap_err();
+    assert!(e.to_string().contains("1 of 3 bytes"), "{e}");
+    let exp = Format::Exp.write(&small_plan()).unwrap();
+    let mut eof = exp.clone();
+    eof.push(0x1A);
+    assert_eq!(
+        Format::Exp.read(&eof, "x").unwrap().counts(),
+        Format::Exp.read(&exp, "x").unwrap().counts()
+    );
     // No END record (PEmbroider writes none): read to the file's end, as pyembroidery does.
     let cut = Format::Dst.read(&dst[..dst.len() - 3], "x").unwrap();
     assert_eq!(cut.counts().stitches, small_plan().counts().stitches);

@@ -175,16 +175,6 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatErr
         }
     }
     let body = &bytes[HEADER..];
-    if !body.len().is_multiple_of(3) {
-        let at = HEADER + body.len() / 3 * 3;
-        return Err(err(
-            at,
-            format!(
-                "the last record has {} of 3 bytes: the file is truncated",
-                body.len() % 3
-            ),
-        ));
-    }
     let mut recs = Vec::with_capacity(body.len() / 3 + 1);
     for (i, c) in body.chunks_exact(3).enumerate() {
         let b = [c[0], c[1], c[2]];
@@ -209,7 +199,18 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatErr
             return Ok((name, recs));
         }
     }
-    // No END record: machines and pyembroidery sew what is there (PEmbroider writes no END).
+    // No END record: machines and pyembroidery sew what is there (PEmbroider writes no END),
+    // and a DOS end-of-file mark (0x1A) may follow; any other partial record is a cut file.
+    let rest = &body[body.len() / 3 * 3..];
+    if !rest.is_empty() && rest.iter().any(|&b| b != 0x1A) {
+        return Err(err(
+            HEADER + body.len() / 3 * 3,
+            format!(
+                "the last record has {} of 3 bytes: the file is truncated",
+                rest.len()
+            ),
+        ));
+    }
     recs.push(Rec::new(0, 0, Op::End));
     Ok((name, recs))
 }
