@@ -304,6 +304,31 @@ fn pyembroidery_reads_every_stitch_we_write() {
     }
 }
 
+/// The sample design (fills, satins, running stitches, three colours, trims) as Oficina
+/// generates it: pyembroidery reads each format's file as we read it back.
+#[test]
+fn the_sample_design_reads_identically_in_every_format() {
+    let Some(py) = python_with_pyembroidery() else {
+        return;
+    };
+    let plan = common::sample();
+    for format in Format::ALL {
+        let bytes = format.write(&plan).unwrap();
+        let path = scratch(&format!("sample-{}.{}", format.id(), format.extension()));
+        std::fs::write(&path, &bytes).unwrap();
+        let (peer, threads) = peer_read(&py, &path);
+        let back = format.read(&bytes, "sample").unwrap();
+        agree(&format!("sample {format}"), &ours_as(&back, format), &peer);
+        same_threads(&format!("sample {format}"), format, &back, &threads);
+        assert_eq!(back.blocks.len(), 3, "{format}");
+        assert_eq!(
+            ours(&back).stitches,
+            ours(&plan).stitches,
+            "{format}: the design's stitches"
+        );
+    }
+}
+
 /// Stops survive in the formats that have one (PES and PEC as a change to the same thread,
 /// JEF as a change to thread 0, U01's stop code); DST, EXP and XXX stop at their colour
 /// change code, VP3 has none.
