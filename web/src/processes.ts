@@ -4,11 +4,11 @@
 // other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
 // `oficina sole` and `oficina plot`, whose pipelines the server runs.
 
-// Embroidery takes a design (.svg/.dxf) to /api/embroider, or a stitch file (.dst/.exp/.ram)
+// Embroidery takes a design (.svg/.dxf) to /api/embroider, or a stitch file (.dst/.exp/.pes/.pec/.jef/.vp3/.xxx/.u01/.ram)
 // to /api/stitches; its answer is drawn in thread colours, not loaded as a program.
 export type ProcessKind = 'mill' | 'sole' | 'plot' | 'embroider';
 /// Stitch files: read back and shown as they are.
-export const STITCH_FILE = /\.(dst|exp|ram)$/i;
+export const STITCH_FILE = /\.(dst|exp|pes|pec|jef|vp3|xxx|u01|ram)$/i;
 
 interface Field {
   name: string; label: string; unit?: string;
@@ -63,7 +63,7 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
   },
   // Names and ranges are `oficina embroider`'s flags and the stitch crate's Params::check.
   embroider: {
-    title: 'Embroidery', accept: /\.(svg|dxf|dst|exp|ram)$/i, sample: 'sunflower.svg',
+    title: 'Embroidery', accept: /\.(svg|dxf|dst|exp|pes|pec|jef|vp3|xxx|u01|ram)$/i, sample: 'sunflower.svg',
     fields: [
       { name: 'stitch_length', label: 'Stitch length', unit: 'mm', value: '2.5', min: 0.1, max: 12.7 },
       { name: 'fill_angle', label: 'Fill angle', unit: '°', value: '0', min: -360, max: 360 },
@@ -77,7 +77,7 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'ties', label: 'Lock stitches', kind: 'check', value: 'on' },
       { name: 'fill_closed', label: 'Fill closed outlines', kind: 'check', value: '' },
       { name: 'hoop', label: 'Hoop', kind: 'text', value: '', optional: true, placeholder: 'smallest that fits (C03, round-150…)' },
-      { name: 'format', label: 'File format', kind: 'select', value: 'dst', options: ['dst', 'exp', 'ram'] },
+      { name: 'format', label: 'File format', kind: 'select', value: 'dst', options: ['dst', 'exp', 'pes', 'pes-v1', 'pec', 'jef', 'vp3', 'xxx', 'u01', 'ram'] },
       // The table the sheet's run and "Sew" use: the seed's, or a motion profile's X/Y limits.
       { name: 'machine', label: 'Embroidery table', kind: 'select', value: 'embroidery-table', options: ['embroidery-table', 'embroidery-xy'] },
       { name: 'ppm', label: 'Fixed head speed', unit: 'stitches/min', value: '', min: 1, max: 10000, optional: true },

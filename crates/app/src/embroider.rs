@@ -1,5 +1,6 @@
-//! Embroidery jobs: a design (SVG/DXF) → stitches → hoop check → sheet → DST/EXP file and
-//! preview → a run on the needle-synchronised table; and the sheet of any stitch file.
+//! Embroidery jobs: a design (SVG/DXF) or an embroidery file → stitches → hoop check → sheet
+//! → an embroidery file in the format the output's extension names, and preview → a run on
+//! the needle-synchronised table; and the sheet of any stitch file.
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
@@ -54,6 +55,57 @@ pub struct Embroidered {
     pub preview: String,
     /// What the design held that was left out.
     pub notes: Vec<String>,
+    /// The input's format when it was an embroidery file (read, not generated).
+    pub source: Option<Format>,
+}
+
+/// Every format Oficina writes, for messages: "dst, exp, pes, …".
+pub fn writable() -> String {
+    let mut ext: Vec<&str> = Format::EVERY.iter().map(|f| f.extension()).collect();
+    ext.dedup();
+    ext.iter()
+        .map(|e| format!(".{e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The format an embroidery job writes: the output's extension decides, and `--format`, if
+/// given, must agree with it (`pes-v1` is a `.pes`); without an output, `--format` or DST.
+/// An extension Oficina cannot write is refused before any work, naming those it can.
+pub fn output_format(output: Option<&Path>, format: Option<Format>) -> Result<Format, Error> {
+    let Some(out) = output else {
+        return Ok(format.unwrap_or(Format::Dst));
+    };
+    let Some(by_ext) = Format::from_path(out) else {
+        return Err(Error(format!(
+            "{}: Oficina cannot write embroidery files of this extension; it writes {} (--format pes-v1 for PES version 1)",
+            out.display(),
+            writable()
+        )));
+    };
+    match format {
+        Some(f) if f.extension() != by_ext.extension() => Err(Error(format!(
+            "--format {}: the output {} names {} by its extension; give a .{} file or leave --format out",
+            f.id(),
+            out.display(),
+            by_ext,
+            f.extension()
+        ))),
+        Some(f) => Ok(f),
+        None => Ok(by_ext),
+    }
+}
+
+/// The stitch-file format of `path`: what its first bytes show, else what its extension
+/// names; None for anything else (a drawing). Unreadable files are left to the reader that
+/// follows, which names the error.
+pub fn stitch_format(path: &Path) -> Option<Format> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(1024);
+    if let Ok(f) = std::fs::File::open(path) {
+        let _ = f.take(1024).read_to_end(&mut head);
+    }
+    Format::sniff(&head).or_else(|| Format::from_path(path))
 }
 
 /// The table a name stands for.
@@ -155,28 +207,52 @@ pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> 
     .map_err(Error)
 }
 
-/// The whole pipeline for a design file.
+/// The whole pipeline for a design file, or for an embroidery file (read as its stitch plan,
+/// then checked, summed up and converted to `p.format`).
 pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embroidered, Error> {
     p.check()?;
-    fb.stage("reading the design")?;
-    let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
-    let mut notes = Vec::new();
-    if !imported.unsupported.is_empty() {
-        notes.push(format!(
-            "{}: {} element(s) not sewn (text, images: convert them to paths)",
-            input.display(),
-            imported.unsupported.total()
-        ));
-    }
     let name = input
         .file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().to_string());
-    fb.stage("generating stitches")?;
-    let mut tick = |done: usize, total: usize| {
-        (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
+    let mut notes = Vec::new();
+    let source = stitch_format(input);
+    let generated = if let Some(format) = source {
+        fb.stage("reading the stitch file")?;
+        let (plan, _, moved) = read_stitch(input)?;
+        if plan.is_empty() {
+            return Err(Error(format!(
+                "{}: the file holds no stitches",
+                input.display()
+            )));
+        }
+        if let Some((dx, dy)) = moved.filter(|(dx, dy)| dx.abs().max(dy.abs()) >= 1.0) {
+            notes.push(format!(
+                "{}: {format} design centred in the hoop as Brother machines sew it (moved {dx:+.1}, {dy:+.1} mm)",
+                input.display()
+            ));
+        }
+        Generated {
+            plan,
+            fills: 0,
+            satins: 0,
+            runnings: 0,
+        }
+    } else {
+        fb.stage("reading the design")?;
+        let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
+        if !imported.unsupported.is_empty() {
+            notes.push(format!(
+                "{}: {} element(s) not sewn (text, images: convert them to paths)",
+                input.display(),
+                imported.unsupported.total()
+            ));
+        }
+        fb.stage("generating stitches")?;
+        let mut tick = |done: usize, total: usize| {
+            (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
+        };
+        generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?
     };
-    let generated =
-        generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?;
     fb.stage("writing the file")?;
     let file = p
         .format
@@ -186,9 +262,11 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         .format
         .read(&file, &name)
         .map_err(|e| Error(e.to_string()))?;
-    // The file carries no colours: the design's threads, block for block.
-    for (b, g) in back.blocks.iter_mut().zip(&generated.plan.blocks) {
-        b.thread = g.thread.clone();
+    if !p.format.stores_colours() {
+        // The file carries no colours: the design's threads, block for block.
+        for (b, g) in back.blocks.iter_mut().zip(&generated.plan.blocks) {
+            b.thread = g.thread.clone();
+        }
     }
     fb.stage("sheet and table run")?;
     let sheet = sheet_of(&back, p)?;
@@ -199,6 +277,7 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         sheet,
         preview,
         notes,
+        source,
     })
 }
 
@@ -214,14 +293,16 @@ pub fn sheet_document(path: &Path, sheet: &Sheet) -> String {
     }
 }
 
-/// Reads a DST/EXP/seed RAM file (by extension), refusing what is too large to be one.
+/// Reads an embroidery file (its format from its content, else its extension), refusing what
+/// is too large to be one. A PES or PEC design is centred on the hoop centre, where Brother
+/// machines sew it (its file's origin is only where its first stitch happens to be).
 pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
-    let format = Format::from_path(path).ok_or_else(|| {
-        Error(format!(
-            "{}: unknown stitch file extension (read: .dst, .exp, .ram)",
-            path.display()
-        ))
-    })?;
+    read_stitch(path).map(|(plan, _, _)| plan)
+}
+
+/// The plan of an embroidery file, its format and how far a Brother design was moved to
+/// centre it (mm).
+fn read_stitch(path: &Path) -> Result<(StitchPlan, Format, Option<(f64, f64)>), Error> {
     let meta = std::fs::metadata(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
     if meta.len() > MAX_STITCH_FILE {
         return Err(Error(format!(
@@ -232,12 +313,33 @@ pub fn read_stitch_file(path: &Path) -> Result<StitchPlan, Error> {
         )));
     }
     let bytes = std::fs::read(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    let format = Format::sniff(&bytes)
+        .or_else(|| Format::from_path(path))
+        .ok_or_else(|| {
+            Error(format!(
+                "{}: not an embroidery file Oficina reads (it reads {})",
+                path.display(),
+                writable()
+            ))
+        })?;
     let name = path
         .file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().to_string());
-    format
+    let plan = format
         .read(&bytes, &name)
-        .map_err(|e| Error(format!("{}: {e}", path.display())))
+        .map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    if !matches!(format, Format::Pes | Format::PesV1 | Format::Pec) {
+        return Ok((plan, format, None));
+    }
+    let Some([x0, y0, x1, y1]) = plan.bounds() else {
+        return Ok((plan, format, None));
+    };
+    // The centre rounded to the files' 0.1 mm, so the stitches stay on their grid.
+    let (dx, dy) = (
+        -((x0 + x1) * 5.0).round() / 10.0,
+        -((y0 + y1) * 5.0).round() / 10.0,
+    );
+    Ok((plan.translated(dx, dy), format, Some((dx, dy))))
 }
 
 #[cfg(test)]

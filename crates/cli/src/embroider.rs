@@ -1,10 +1,11 @@
-//! `oficina embroider DESIGN.svg -o out.dst`: an SVG/DXF design becomes an embroidery file,
-//! with the production sheet, a preview and a run on the needle-synchronised table.
-//! `oficina embroider --info FILE.dst` prints the sheet of any DST/EXP file.
+//! `oficina embroider DESIGN.svg -o out.pes`: an SVG/DXF design (or an embroidery file, to
+//! convert it) becomes an embroidery file in the format of the output's extension, with the
+//! production sheet, a preview and a run on the needle-synchronised table.
+//! `oficina embroider --info FILE.jef` prints the sheet of any embroidery file.
 
 use anyhow::Context;
 use oficina_app::embroider::{
-    embroider, read_stitch_file, sheet_document, sheet_of, EmbroiderParams,
+    embroider, output_format, read_stitch_file, sheet_document, sheet_of, EmbroiderParams,
 };
 use oficina_app::Feedback;
 use oficina_stitch::{duration, preview_svg, Format, Params, RunReport, Sheet};
@@ -15,14 +16,17 @@ use std::process::ExitCode;
 #[derive(clap::Args)]
 pub(crate) struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
-    /// strokes → running stitch).
+    /// strokes → running stitch), or an embroidery file (.dst .exp .pes .pec .jef .vp3 .xxx
+    /// .u01 .ram) to check and convert.
     input: Option<PathBuf>,
-    /// Where to write the embroidery file (.dst, .exp, or .ram: the seed's program).
+    /// Where to write the embroidery file; its extension names the format (.dst .exp .pes
+    /// .pec .jef .vp3 .xxx .u01, or .ram: the seed's program).
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// File format (default: from the output's extension, else dst).
-    #[arg(long, value_enum)]
-    format: Option<FormatArg>,
+    /// File format: dst exp pes pes-v1 pec jef vp3 xxx u01 seed-ram (default: the output's
+    /// extension; must agree with it).
+    #[arg(long, value_parser = format_arg)]
+    format: Option<Format>,
     /// Running stitch length, mm (the seed's PASSO, 0.1–12.7).
     #[arg(long, default_value_t = 2.5)]
     stitch_length: f64,
@@ -66,7 +70,7 @@ pub(crate) struct Args {
     /// Write an SVG preview in the thread colours (jumps dashed, hoop drawn).
     #[arg(long)]
     preview: Option<PathBuf>,
-    /// Print the sheet of an existing .dst/.exp/.ram file instead.
+    /// Print the sheet of an existing embroidery file instead.
     #[arg(long, conflicts_with = "input")]
     info: Option<PathBuf>,
     /// Sew it on the virtual needle-synchronised table: report the time and every stitch the
@@ -85,25 +89,14 @@ pub(crate) struct Args {
     pieces: u32,
 }
 
-#[derive(Clone, Copy, clap::ValueEnum)]
-enum FormatArg {
-    Dst,
-    Exp,
-    /// The seed's machine program (0.2 mm steps, speed codes, colour stops), `.ram`.
-    SeedRam,
+fn format_arg(s: &str) -> Result<Format, String> {
+    Format::from_id(s).ok_or_else(|| {
+        let ids: Vec<&str> = Format::EVERY.iter().map(|f| f.id()).collect();
+        format!("use one of {}", ids.join(", "))
+    })
 }
 
-fn params(a: &Args) -> EmbroiderParams {
-    let format = match a.format {
-        Some(FormatArg::Dst) => Format::Dst,
-        Some(FormatArg::Exp) => Format::Exp,
-        Some(FormatArg::SeedRam) => Format::SeedRam,
-        None => a
-            .output
-            .as_deref()
-            .and_then(Format::from_path)
-            .unwrap_or(Format::Dst),
-    };
+fn params(a: &Args, format: Format) -> EmbroiderParams {
     EmbroiderParams {
         stitch: Params {
             stitch_length: a.stitch_length,
@@ -173,7 +166,9 @@ fn print_run(r: &RunReport, machine: &str) -> ExitCode {
 }
 
 pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
-    let p = params(&a);
+    // The output's format first: an extension Oficina cannot write is refused before any work.
+    let format = output_format(a.output.as_deref(), a.format)?;
+    let p = params(&a, format);
     if let Some(file) = &a.info {
         let plan = read_stitch_file(file)?;
         let s = sheet_of(&plan, &p)?;
@@ -192,7 +187,9 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     let Some(input) = &a.input else {
-        anyhow::bail!("give a design (SVG/DXF) to embroider, or --info FILE.dst");
+        anyhow::bail!(
+            "give a design (SVG/DXF) or an embroidery file to embroider, or --info FILE.dst"
+        );
     };
     // One line per stage, its percentage updated in place.
     let last = std::sync::Mutex::new(String::new());
@@ -219,10 +216,13 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         eprintln!("note: {n}");
     }
     let g = &r.generated;
-    println!(
-        "shapes: {} fill, {} satin, {} running",
-        g.fills, g.satins, g.runnings
-    );
+    match r.source {
+        Some(f) => println!("read {} ({f})", input.display()),
+        None => println!(
+            "shapes: {} fill, {} satin, {} running",
+            g.fills, g.satins, g.runnings
+        ),
+    }
     print!("{}", r.sheet.text());
     if let Err(e) = &r.sheet.hoop {
         anyhow::bail!("{e}; nothing written (choose a larger --hoop or scale the design)");

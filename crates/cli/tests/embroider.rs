@@ -36,7 +36,7 @@ fn field(out: &str, key: &str) -> String {
 #[test]
 fn the_sample_sews_end_to_end_and_reads_back() {
     let sample = root().join("samples/embroidery/sunflower.svg");
-    for ext in ["dst", "exp"] {
+    for ext in ["dst", "exp", "pes", "pec", "jef", "vp3", "xxx", "u01"] {
         let out = scratch(&format!("sunflower.{ext}"));
         let sheet = scratch(&format!("sheet-{ext}.html"));
         let preview = scratch(&format!("preview-{ext}.svg"));
@@ -63,10 +63,17 @@ fn the_sample_sews_end_to_end_and_reads_back() {
         );
         assert!(stderr.contains("generating stitches 100%"), "{stderr}");
         let stitches = field(&stdout, "Stitches");
+        assert!(
+            stdout.contains(&format!("({}, ", ext.to_uppercase())),
+            "the output's extension names the format: {stdout}"
+        );
         let svg = std::fs::read_to_string(&preview).unwrap();
         for c in ["#2e8b3a", "#f2c014", "#6b3e1e"] {
             assert!(svg.contains(c), "{c} missing from the preview");
-            assert!(stdout.contains(c), "{c} missing from the sheet");
+            // PEC and JEF keep a thread chart's nearest colour, not the design's.
+            if !matches!(ext, "pec" | "jef") {
+                assert!(stdout.contains(c), "{ext}: {c} missing from the sheet");
+            }
         }
         assert!(std::fs::read_to_string(&sheet)
             .unwrap()
@@ -127,7 +134,17 @@ fn bad_files_and_parameters_get_clear_errors() {
     let txt = scratch("design.pes");
     std::fs::write(&txt, b"#PES0001").unwrap();
     let (_, err) = text(&oficina(&["embroider", "--info", txt.to_str().unwrap()]));
-    assert!(err.contains("unknown stitch file extension"), "{err}");
+    assert!(
+        err.contains("design.pes") && err.contains("PES file: byte 8") && err.contains("truncated"),
+        "{err}"
+    );
+    let txt = scratch("notes.txt");
+    std::fs::write(&txt, b"hello").unwrap();
+    let (_, err) = text(&oficina(&["embroider", "--info", txt.to_str().unwrap()]));
+    assert!(
+        err.contains("not an embroidery file Oficina reads"),
+        "{err}"
+    );
 
     let sample = root().join("samples/embroidery/sunflower.svg");
     let (_, err) = text(&oficina(&[
@@ -173,6 +190,93 @@ fn bad_files_and_parameters_get_clear_errors() {
         "{err}"
     );
     assert!(!out.exists());
+}
+
+/// The output's extension decides the format: one Oficina cannot write is refused before
+/// any work, naming those it can; `--format` must agree with it.
+#[test]
+fn the_output_format_follows_the_extension() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let out = scratch("design.xyz");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (_, err) = text(&o);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("design.xyz") && err.contains(".pes, .pec, .jef, .vp3, .xxx, .u01"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("generating"),
+        "refused before any work: {err}"
+    );
+    assert!(!out.exists());
+    let out = scratch("design.dst");
+    let (_, err) = text(&oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--format",
+        "jef",
+    ]));
+    assert!(
+        err.contains("--format jef") && err.contains("names DST"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // PES version 1 is a .pes too.
+    let out = scratch("v1.pes");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--format",
+        "pes-v1",
+    ]);
+    assert!(o.status.success(), "{}", text(&o).1);
+    assert!(std::fs::read(&out).unwrap().starts_with(b"#PES0001"));
+}
+
+/// An embroidery file as input is read as its stitch plan, checked and converted.
+#[test]
+fn an_embroidery_file_converts_to_another_format() {
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let jef = scratch("sunflower.jef");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        jef.to_str().unwrap(),
+    ]);
+    let (made, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    let pes = scratch("converted.pes");
+    let o = oficina(&[
+        "embroider",
+        jef.to_str().unwrap(),
+        "-o",
+        pes.to_str().unwrap(),
+    ]);
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        stdout.contains("(JEF)") && stdout.contains("(PES, "),
+        "{stdout}"
+    );
+    assert!(std::fs::read(&pes).unwrap().starts_with(b"#PES0060"));
+    assert_eq!(field(&stdout, "Stitches"), field(&made, "Stitches"));
+    assert_eq!(field(&stdout, "Trims"), field(&made, "Trims"));
+    assert_eq!(field(&stdout, "Colours"), field(&made, "Colours"));
+    assert_eq!(field(&stdout, "Design size"), field(&made, "Design size"));
+    let info = oficina(&["embroider", "--info", pes.to_str().unwrap()]);
+    let (info_out, _) = text(&info);
+    assert_eq!(field(&info_out, "Stitches"), field(&made, "Stitches"));
 }
 
 #[test]

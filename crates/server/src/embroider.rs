@@ -35,7 +35,7 @@ pub(crate) struct EmbroiderForm {
     trim_length: f64,
     /// A hoop name or seed code; empty or absent = the smallest that fits.
     hoop: Option<String>,
-    /// dst, exp or ram.
+    /// dst, exp, pes, pes-v1, pec, jef, vp3, xxx, u01 or ram.
     format: String,
     /// The table: embroidery-table or a motion profile.
     machine: String,
@@ -70,12 +70,10 @@ impl Default for EmbroiderForm {
 
 impl EmbroiderForm {
     fn params(self) -> Result<EmbroiderParams, CamError> {
-        let format = match self.format.to_ascii_lowercase().as_str() {
-            "dst" => Format::Dst,
-            "exp" => Format::Exp,
-            "ram" | "seed-ram" => Format::SeedRam,
-            f => return Err(bad(format!("--format {f}: use dst, exp or ram"))),
-        };
+        let format = Format::from_id(&self.format).ok_or_else(|| {
+            let ids: Vec<&str> = Format::EVERY.iter().map(|f| f.id()).collect();
+            bad(format!("--format {}: use {}", self.format, ids.join(", ")))
+        })?;
         let stitch = Params {
             stitch_length: self.stitch_length,
             fill_angle_deg: self.fill_angle,

@@ -1,6 +1,7 @@
 //! Embroidery (seed 000): a `Drawing` becomes a [`StitchPlan`] of running, satin and tatami
 //! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
-//! sewn on the needle-synchronised table, and written as Tajima DST or Melco EXP.
+//! sewn on the needle-synchronised table, and written and read as the machines' files (Tajima
+//! DST, Melco EXP, Brother PES/PEC, Janome JEF, Pfaff VP3, Singer XXX, Barudan U01).
 
 mod format;
 mod generate;

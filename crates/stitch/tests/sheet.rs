@@ -18,14 +18,17 @@ import sys, math, pyembroidery as P
 p = P.read(sys.argv[1])
 x = y = 0.0
 n, l = 0, 0.0
+sewn = False
 for sx, sy, c in p.stitches:
     c &= P.COMMAND_MASK
     if c == P.STITCH:
         n += 1
         l += math.hypot(sx - x, sy - y)
-    elif c == P.COLOR_CHANGE:
+    elif c == P.COLOR_CHANGE or (c == P.NEEDLE_SET and sewn):
+        # U01 changes colour by needle; its first needle is chosen before anything is sewn.
         print(n, l / 10.0)
         n, l = 0, 0.0
+    sewn = sewn or c == P.STITCH
     x, y = sx, sy
 print(n, l / 10.0)
 "#;
@@ -44,6 +47,11 @@ fn stitch_count_and_thread_length_match_pyembroidery() {
     let plan = sample();
     let dir = oficina_testkit::scratch_dir("sheet");
     for f in Format::ALL {
+        if f == Format::Vp3 {
+            // pyembroidery counts VP3's move after a trim as a sewn stitch, we as a jump
+            // (machines do not sew it); peer.rs compares VP3 stitch by stitch with that view.
+            continue;
+        }
         let path = dir.join(format!("s.{}", f.extension()));
         let bytes = f.write(&plan).unwrap();
         std::fs::write(&path, &bytes).unwrap();

@@ -3,7 +3,8 @@
 //! spaces; then 3-byte records. Each axis increment d ∈ [−121, 121] is written in balanced
 //! ternary, d = Σ tₖ·3ᵏ with tₖ ∈ {−1, 0, 1} for k = 0..4 (1 + 3 + 9 + 27 + 81 = 121), each
 //! digit a pair of bits (+, −). Byte 2's bits 0 and 1 are always set; bit 7 marks a jump,
-//! bits 7 + 6 a colour change, 0xF3 the end. DST has no trim: three jumps are one (the
+//! bits 7 + 6 a colour change, 0xF3 the end (which some writers leave out: the
+//! records then end with the file). DST has no trim: three jumps are one (the
 //! writer emits +0.2, −0.4, +0.2 mm, as pyembroidery does).
 
 use super::records::{Op, Rec};
@@ -174,16 +175,6 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatErr
         }
     }
     let body = &bytes[HEADER..];
-    if !body.len().is_multiple_of(3) {
-        let at = HEADER + body.len() / 3 * 3;
-        return Err(err(
-            at,
-            format!(
-                "the last record has {} of 3 bytes: the file is truncated",
-                body.len() % 3
-            ),
-        ));
-    }
     let mut recs = Vec::with_capacity(body.len() / 3 + 1);
     for (i, c) in body.chunks_exact(3).enumerate() {
         let b = [c[0], c[1], c[2]];
@@ -208,7 +199,20 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Option<String>, Vec<Rec>), FormatErr
             return Ok((name, recs));
         }
     }
-    Err(err(bytes.len(), "no END record: the file is truncated"))
+    // No END record: machines and pyembroidery sew what is there (PEmbroider writes no END),
+    // and a DOS end-of-file mark (0x1A) may follow; any other partial record is a cut file.
+    let rest = &body[body.len() / 3 * 3..];
+    if !rest.is_empty() && rest.iter().any(|&b| b != 0x1A) {
+        return Err(err(
+            HEADER + body.len() / 3 * 3,
+            format!(
+                "the last record has {} of 3 bytes: the file is truncated",
+                rest.len()
+            ),
+        ));
+    }
+    recs.push(Rec::new(0, 0, Op::End));
+    Ok((name, recs))
 }
 
 #[cfg(test)]

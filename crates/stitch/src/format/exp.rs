@@ -32,6 +32,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Rec>, FormatError> {
     let mut i = 0;
     while i < bytes.len() {
         if i + 2 > bytes.len() {
+            // A DOS end-of-file mark after the last record.
+            if bytes[i] == 0x1A {
+                break;
+            }
             return Err(err(
                 i,
                 "a record is cut after 1 of 2 bytes: the file is truncated".into(),

@@ -118,12 +118,24 @@ pub(super) const PALETTE: [[u8; 3]; 8] = [
     [120, 120, 120],
 ];
 
-/// A plan from records. A run of consecutive jumps becomes one jump to its end; with
-/// `jumps_trim`, a run of 3 or more jumps is also a trim where the run starts, unless the
-/// thread is already cut (no stitch since the start, a trim or a colour change): the DST
-/// convention as pyembroidery reads it. A run that ends where it began moves
-/// nothing and leaves no jump.
-pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
+/// When a run of jumps also cuts the thread, for formats that have no trim command of their
+/// own (as pyembroidery reads them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum TrimRule {
+    /// Only explicit trim records cut.
+    Explicit,
+    /// A run of this many jumps or more cuts (DST: three).
+    Jumps(usize),
+    /// A run that goes further than this many units on either axis cuts (JEF: 30, 3 mm).
+    Distance(i64),
+}
+
+/// A plan from records. A run of consecutive jumps becomes one jump to its end; under
+/// `rule`, a run is also a trim where it starts, unless the thread is already cut (no stitch
+/// since the start, a trim or a colour change). A run that ends where it began moves
+/// nothing and leaves no jump. A colour change's own displacement, if any, is a jump at the
+/// start of the next block.
+pub(super) fn to_plan(recs: &[Rec], rule: TrimRule) -> StitchPlan {
     let new_block = |n: usize| {
         let [r, g, b] = PALETTE[n % PALETTE.len()];
         ColorBlock {
@@ -134,17 +146,26 @@ pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
     let mut blocks = vec![new_block(0)];
     let (mut x, mut y) = (0i64, 0i64);
     let mm = |v: i64| v as f64 / 10.0;
-    // The jump run in progress: its record count and where it started.
+    // The jump run in progress: its record count, where it started and how far it went.
     let mut run = 0usize;
+    let mut run_far = 0i64;
     let mut run_from = (0i64, 0i64);
     let mut trimmed = true;
     let flush = |blocks: &mut Vec<ColorBlock>,
                  trimmed: &mut bool,
                  run: usize,
+                 far: i64,
                  from: (i64, i64),
                  to: (i64, i64)| {
-        let block = blocks.last_mut().unwrap();
-        if jumps_trim && run >= 3 && !*trimmed {
+        let Some(block) = blocks.last_mut() else {
+            return;
+        };
+        let cuts = match rule {
+            TrimRule::Explicit => false,
+            TrimRule::Jumps(n) => run >= n,
+            TrimRule::Distance(d) => far > d,
+        };
+        if run > 0 && cuts && !*trimmed {
             *trimmed = true;
             block
                 .stitches
@@ -160,17 +181,21 @@ pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
         if r.op == Op::Jump {
             if run == 0 {
                 run_from = (x, y);
+                run_far = 0;
             }
             run += 1;
             x += r.dx as i64;
             y += r.dy as i64;
+            run_far = run_far.max((x - run_from.0).abs().max((y - run_from.1).abs()));
             continue;
         }
-        flush(&mut blocks, &mut trimmed, run, run_from, (x, y));
+        flush(&mut blocks, &mut trimmed, run, run_far, run_from, (x, y));
         run = 0;
         x += r.dx as i64;
         y += r.dy as i64;
-        let block = blocks.last_mut().unwrap();
+        let Some(block) = blocks.last_mut() else {
+            break;
+        };
         let at = |kind| Stitch::new(mm(x), mm(y), kind);
         trimmed = match r.op {
             Op::Stitch => false,
@@ -185,7 +210,9 @@ pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
                 let n = blocks.len();
                 blocks.push(new_block(n));
                 if r.dx != 0 || r.dy != 0 {
-                    blocks.last_mut().unwrap().stitches.push(at(Kind::Jump));
+                    if let Some(b) = blocks.last_mut() {
+                        b.stitches.push(at(Kind::Jump));
+                    }
                 }
             }
             // Jumps were taken above.
@@ -193,7 +220,7 @@ pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
             Op::End => break,
         }
     }
-    flush(&mut blocks, &mut trimmed, run, run_from, (x, y));
+    flush(&mut blocks, &mut trimmed, run, run_far, run_from, (x, y));
     if blocks.len() > 1 && blocks.last().is_some_and(|b| b.stitches.is_empty()) {
         blocks.pop();
     }
@@ -201,4 +228,71 @@ pub(super) fn to_plan(recs: &[Rec], jumps_trim: bool) -> StitchPlan {
         name: String::new(),
         blocks,
     }
+}
+
+/// Gives the blocks the file's threads in order; blocks beyond the list keep their default.
+pub(super) fn set_threads(plan: &mut StitchPlan, threads: &[Thread]) {
+    for (b, t) in plan.blocks.iter_mut().zip(threads) {
+        b.thread = t.clone();
+    }
+}
+
+/// Formats whose only pause is a colour change write a stop as a change to the same thread
+/// again; read back, a change between two equal threads is a stop (as pyembroidery reads
+/// PES, PEC and JEF). `threads` holds one thread per block the changes separate.
+pub(super) fn duplicates_as_stops(recs: &mut [Rec], threads: &mut Vec<Thread>) {
+    let mut kept: Vec<Thread> = threads.iter().take(1).cloned().collect();
+    let mut k = 0;
+    for r in recs.iter_mut().filter(|r| r.op == Op::ColorChange) {
+        k += 1;
+        let Some(next) = threads.get(k) else { break };
+        if kept.last() == Some(next) {
+            r.op = Op::Stop;
+        } else {
+            kept.push(next.clone());
+        }
+    }
+    kept.extend(threads.iter().skip(k + 1).cloned());
+    *threads = kept;
+}
+
+/// The threads a plan's blocks and stops ask for, one per colour change or stop plus the
+/// first: a stop repeats the thread before it.
+pub(super) fn thread_sequence(recs: &[Rec], plan: &StitchPlan) -> Vec<Thread> {
+    let mut blocks = plan.blocks.iter().map(|b| b.thread.clone());
+    let mut cur = blocks
+        .next()
+        .unwrap_or_else(|| Thread::rgb(PALETTE[0][0], PALETTE[0][1], PALETTE[0][2]));
+    let mut out = vec![cur.clone()];
+    for r in recs {
+        match r.op {
+            Op::ColorChange => {
+                if let Some(t) = blocks.next() {
+                    cur = t;
+                }
+                out.push(cur.clone());
+            }
+            Op::Stop => out.push(cur.clone()),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The bounds of the records' points in units: [min x, min y, max x, max y] (0s when empty),
+/// and the last point.
+pub(super) fn extents(recs: &[Rec]) -> ([i64; 4], (i64, i64)) {
+    let (mut x, mut y) = (0i64, 0i64);
+    let mut b: Option<[i64; 4]> = None;
+    for r in recs {
+        x += r.dx as i64;
+        y += r.dy as i64;
+        if matches!(r.op, Op::Stitch | Op::Jump) {
+            b = Some(match b {
+                None => [x, y, x, y],
+                Some([a, c, d, e]) => [a.min(x), c.min(y), d.max(x), e.max(y)],
+            });
+        }
+    }
+    (b.unwrap_or([0; 4]), (x, y))
 }
