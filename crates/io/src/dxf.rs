@@ -423,7 +423,7 @@ pub fn dxf_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError>
         out: Imported::default(),
         expanded: 0,
     };
-    r.out.units = format!("{units:?} ($INSUNITS), {scale} mm per unit");
+    r.out.set_units(format!("{units:?} ($INSUNITS)"), scale);
     let m = Affine::scale(scale);
     for e in d.entities() {
         if e.common.is_in_paper_space {

@@ -62,7 +62,7 @@ impl fmt::Display for Unsupported {
 }
 
 /// An imported drawing.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Imported {
     /// What could be read.
     pub drawing: Drawing,
@@ -70,13 +70,35 @@ pub struct Imported {
     pub unsupported: Unsupported,
     /// Loose points (DXF POINT, the seed file's point list).
     pub points: Vec<Point>,
-    /// The units the file's numbers were read in (e.g. `inches ($INSUNITS 1)`); empty: mm.
+    /// The units the file's numbers were read in (e.g. `Inches ($INSUNITS)`); empty: mm.
     pub units: String,
+    /// Millimetres per drawing unit (1 when the file is in mm or has no units).
+    pub mm_per_unit: f64,
     /// What closing and chaining found: loops, and what stayed open per layer.
     pub closure: Closure,
 }
 
+impl Default for Imported {
+    fn default() -> Imported {
+        Imported {
+            drawing: Drawing::default(),
+            unsupported: Unsupported::default(),
+            points: Vec::new(),
+            units: String::new(),
+            mm_per_unit: 1.0,
+            closure: Closure::default(),
+        }
+    }
+}
+
 impl Imported {
+    /// Records the units the file was read in: their name and millimetres per unit.
+    pub fn set_units(&mut self, name: impl Into<String>, mm_per_unit: f64) {
+        let name = name.into();
+        self.units = format!("{name}, {mm_per_unit} mm per unit");
+        self.mm_per_unit = mm_per_unit;
+    }
+
     /// Closes and chains the drawing with join tolerance `tol` mm ([`close_and_chain`]) and
     /// keeps the report.
     pub fn close(&mut self, tol: f64) {
