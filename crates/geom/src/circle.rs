@@ -70,9 +70,9 @@ fn same_centre_arcs(p: &Path) -> Option<CircleFit> {
         })
         .collect::<Option<_>>()?;
     let first = arcs.first()?;
-    let same = arcs.iter().all(|a| {
-        a.center.distance(first.center) < 1e-6 && (a.radius - first.radius).abs() < 1e-6
-    });
+    let same = arcs
+        .iter()
+        .all(|a| a.center.distance(first.center) < 1e-6 && (a.radius - first.radius).abs() < 1e-6);
     let sweep: f64 = arcs.iter().map(|a| a.sweep).sum();
     (same && (sweep.abs() - TAU).abs() < 1e-6).then_some(CircleFit {
         center: first.center,
@@ -156,7 +156,10 @@ mod tests {
     fn a_24_gon_four_arcs_and_four_beziers_are_circles() {
         let c = Point::new(120.0, -35.0);
         let gon = polygon(24, c, 4.0).as_circle(0.01).expect("24-gon");
-        assert!(gon.center.distance(c) < 1e-9 && (gon.radius - 4.0).abs() < 1e-9, "{gon:?}");
+        assert!(
+            gon.center.distance(c) < 1e-9 && (gon.radius - 4.0).abs() < 1e-9,
+            "{gon:?}"
+        );
         let quarters: Vec<Segment> = (0..4)
             .map(|i| Segment::Arc(Arc::new(c, 4.0, i as f64 * TAU / 4.0, TAU / 4.0)))
             .collect();
@@ -170,18 +173,27 @@ mod tests {
             from = p3;
         });
         let bez = Path::new(segs, true).as_circle(0.01).expect("Béziers");
-        assert!(bez.center.distance(c) < 1e-3 && bez.deviation < 0.01, "{bez:?}");
+        assert!(
+            bez.center.distance(c) < 1e-3 && bez.deviation < 0.01,
+            "{bez:?}"
+        );
     }
 
     #[test]
     fn squares_octagons_ellipses_slots_and_open_arcs_are_not() {
         let c = Point::new(0.0, 0.0);
-        assert!(polygon(4, c, 4.0).fit_circle().is_none(), "a square's corners are 90° apart");
+        assert!(
+            polygon(4, c, 4.0).fit_circle().is_none(),
+            "a square's corners are 90° apart"
+        );
         assert!(polygon(8, c, 4.0).fit_circle().is_none(), "45° steps");
         assert!(polygon(9, c, 4.0).fit_circle().is_some());
         let ellipse = polygon(48, c, 4.0).transform(Affine::scale_non_uniform(1.0, 0.9));
         let e = ellipse.fit_circle().expect("goes around");
-        assert!(e.deviation > 0.1 && ellipse.as_circle(0.01).is_none(), "{e:?}");
+        assert!(
+            e.deviation > 0.1 && ellipse.as_circle(0.01).is_none(),
+            "{e:?}"
+        );
         let mut open = polygon(24, c, 4.0);
         open.closed = false;
         assert!(open.as_circle(1.0).is_none());
