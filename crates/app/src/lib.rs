@@ -74,7 +74,9 @@ pub use machine_uri::{
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
-pub use output::{check_output, check_output_dir, PROGRAM_EXTENSIONS};
+pub use output::{
+    check_output, check_output_dir, plot_extensions, HPGL_EXTENSIONS, PROGRAM_EXTENSIONS,
+};
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;

@@ -9,6 +9,17 @@ use std::path::Path;
 pub const PROGRAM_EXTENSIONS: &[&str] =
     &["nc", "ngc", "gcode", "gc", "g", "tap", "cnc", "txt", "mpf"];
 
+/// Extensions of HPGL files, as plotters and their drivers name them.
+pub const HPGL_EXTENSIONS: &[&str] = &["hpgl", "plt", "hpg", "hgl"];
+
+/// What `oficina plot --format FORMAT` writes.
+pub fn plot_extensions(format: crate::PlotFormat) -> &'static [&'static str] {
+    match format {
+        crate::PlotFormat::Hpgl => HPGL_EXTENSIONS,
+        crate::PlotFormat::Gcode | crate::PlotFormat::Joint => PROGRAM_EXTENSIONS,
+    }
+}
+
 /// Refuses `output` (given with `flag`) when its extension is not one of `can`; a name
 /// without an extension claims no format and is taken.
 pub fn check_output(command: &str, flag: &str, output: &Path, can: &[&str]) -> Result<(), Error> {
@@ -18,8 +29,13 @@ pub fn check_output(command: &str, flag: &str, output: &Path, can: &[&str]) -> R
     if can.iter().any(|c| c.eq_ignore_ascii_case(ext)) {
         return Ok(());
     }
+    let what = if can == HPGL_EXTENSIONS {
+        "HPGL"
+    } else {
+        "G-code programs"
+    };
     Err(Error(format!(
-        "{flag} {}: oficina {command} cannot write .{ext} files; it writes G-code programs: .{}",
+        "{flag} {}: oficina {command} cannot write .{ext} files here; it writes {what}: .{}",
         output.display(),
         can.join(", .")
     )))
@@ -57,6 +73,33 @@ mod tests {
                 "{e}"
             );
         }
+        let e = check_output(
+            "plot",
+            "-o",
+            Path::new("p.plt"),
+            plot_extensions(crate::PlotFormat::Gcode),
+        );
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("writes G-code programs"));
+        assert!(check_output(
+            "plot",
+            "-o",
+            Path::new("p.plt"),
+            plot_extensions(crate::PlotFormat::Hpgl)
+        )
+        .is_ok());
+        let e = check_output(
+            "plot",
+            "-o",
+            Path::new("p.nc"),
+            plot_extensions(crate::PlotFormat::Hpgl),
+        );
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("writes HPGL: .hpgl, .plt"));
         let file = std::env::temp_dir().join(format!("oficina-out-{}", std::process::id()));
         std::fs::write(&file, "x").unwrap();
         let r = check_output_dir("sole", "-o", &file);

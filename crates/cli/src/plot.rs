@@ -200,7 +200,7 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         return seed_check(&a);
     }
     if let Some(out) = &a.output {
-        oficina_app::check_output("plot", "-o", out, oficina_app::PROGRAM_EXTENSIONS)?;
+        oficina_app::check_output("plot", "-o", out, oficina_app::plot_extensions(a.format))?;
     }
     let profile = machine_profile::resolve(&a.machine)?;
     let r = plot(a.input.as_deref(), &params(&a), &profile, Feedback::none())?;
