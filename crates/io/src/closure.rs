@@ -49,6 +49,8 @@ pub struct OpenLayer {
 pub struct Closure {
     /// The tolerance used, mm.
     pub tolerance: f64,
+    /// Paths as the file had them (before closing and chaining).
+    pub paths_read: usize,
     /// Paths closed in the file (closed flag, `Z`, CIRCLE).
     pub closed_in_file: usize,
     /// Open paths whose own ends met: closed as drawn.
@@ -120,6 +122,7 @@ pub fn close_and_chain(drawing: &mut Drawing, tol: f64) -> Closure {
     };
     for layer in &mut drawing.layers {
         let paths = std::mem::take(&mut layer.paths);
+        report.paths_read += paths.len();
         layer.paths = close_layer(paths, tol, &mut report);
         if let Some(open) = open_report(&layer.name, &layer.paths) {
             report.open.push(open);

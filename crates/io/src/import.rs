@@ -117,14 +117,12 @@ impl Imported {
     /// What was imported, in lines for a report: loops (closed in the file, where their ends
     /// meet, chained), what stayed open per layer with its largest gap, layers and units.
     pub fn summary(&self) -> Vec<String> {
+        // Paths as read: what the file holds, before pieces were chained.
+        let read = self.closure.paths_read.max(self.drawing.path_count());
         let mut lines = vec![format!(
-            "{} path{} on {} layer{} ({}), units: {}",
-            self.drawing.path_count(),
-            if self.drawing.path_count() == 1 {
-                ""
-            } else {
-                "s"
-            },
+            "{} path{} read on {} layer{} ({}), units: {}",
+            read,
+            if read == 1 { "" } else { "s" },
             self.drawing.layers.len(),
             if self.drawing.layers.len() == 1 {
                 ""
