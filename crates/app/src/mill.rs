@@ -205,15 +205,16 @@ pub fn mill(
     within("check-pixel", p.check_pixel, 0.01, 10.0)?;
     within("join-tol", p.join_tol, 0.0, oficina_io::MAX_JOIN_TOL)?;
     fb.stage("reading the drawing")?;
-    let (paths, warning, summary) = match &p.text {
-        Some(text) => (text_paths(text, p.text_height)?, None, vec![]),
+    let (paths, warning, summary, closure) = match &p.text {
+        Some(text) => (text_paths(text, p.text_height)?, None, vec![], None),
         None => {
             let imported =
                 oficina_io::load_drawing_with(input, p.join_tol).map_err(|e| Error::chain(&e))?;
             let warning = (!imported.unsupported.is_empty())
                 .then(|| format!("{}: {}", input.display(), imported.unsupported));
             let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
-            (paths, warning, imported.summary())
+            let summary = imported.summary();
+            (paths, warning, summary, Some(imported.closure))
         }
     };
     if paths.is_empty() {
@@ -300,7 +301,16 @@ pub fn mill(
         )));
     }
     fb.stage(&format!("{} with {}", op.name(), cut.tool.spec()))?;
-    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| Error::chain(&e))?;
+    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| {
+        // Nothing closed to cut is often an outline whose ends miss by more than the join
+        // tolerance: say what stayed open and what tolerance would join it.
+        let mut err = Error::chain(&e);
+        if let Some(hint) = closure.as_ref().and_then(|c| c.open_hint()) {
+            err.0.push('\n');
+            err.0.push_str(&hint);
+        }
+        err
+    })?;
     let mut warning = warning;
     if let Some(spec) = &p.rest_tool {
         match rest_operation(&paths, &cut, &op, spec)? {

@@ -41,6 +41,18 @@ pub fn check_output(command: &str, flag: &str, output: &Path, can: &[&str]) -> R
     )))
 }
 
+/// Refuses outputs that would overwrite the input drawing (`mill part.svg -o part.nc` writes
+/// its preview to `part.svg`).
+pub fn refuse_overwriting_drawing(input: &Path, outputs: &[&Path]) -> Result<(), Error> {
+    match outputs.iter().find(|o| crate::carve::same_file(o, input)) {
+        Some(o) => Err(Error(format!(
+            "{} is the input drawing: choose another output name (-o / --preview)",
+            o.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// Refuses an output folder (`oficina sole -o DIR`) that is an existing file.
 pub fn check_output_dir(command: &str, flag: &str, dir: &Path) -> Result<(), Error> {
     if dir.is_file() {

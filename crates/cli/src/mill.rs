@@ -165,6 +165,14 @@ pub(crate) fn print_judged(j: &Judged) {
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     check_output("mill", "-o", &args.output, PROGRAM_EXTENSIONS)?;
+    let preview = args
+        .preview
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("svg"));
+    let stock_png = args.output.with_extension("stock.png");
+    if let Some(input) = &args.input {
+        oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;
+    }
     let params = MillParams {
         op: args.op,
         tool: args.tool.clone(),
@@ -219,13 +227,8 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     });
     std::fs::write(&args.output, &r.judged.program)
         .with_context(|| format!("{}: cannot write the program", args.output.display()))?;
-    let preview = args
-        .preview
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("svg"));
     std::fs::write(&preview, &r.preview_svg)
         .with_context(|| format!("{}: cannot write the preview", preview.display()))?;
-    let stock_png = args.output.with_extension("stock.png");
     if let Some(stock) = &r.judged.stock {
         render_png(stock, &stock_png).map_err(anyhow::Error::msg)?;
     }

@@ -117,3 +117,60 @@ fn profile_names_are_bundled_from_any_folder_and_paths_stay_paths() {
     assert!(run.status.success(), "{stderr}");
     assert!(stdout.contains("(planner"), "{stdout}");
 }
+
+#[test]
+fn mill_never_writes_over_its_drawing_and_says_what_stayed_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A square of four paths whose corner at (50, 10) misses by 0.05 mm.
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+<path d="M 10 10 L 50 10"/><path d="M 50 50 L 50.05 10"/><path d="M 50 50 L 10 50"/><path d="M 10 50 L 10 10"/></svg>"#;
+    let part = d.join("part.svg");
+    std::fs::write(&part, svg).unwrap();
+    let mill = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "mill",
+            "part.svg",
+            "--op",
+            "profile-out",
+            "--depth",
+            "1",
+            "-o",
+            out,
+        ];
+        args.extend_from_slice(extra);
+        oficina_in(d, &args)
+    };
+    // -o part.nc would write its preview over part.svg: refused, the drawing intact.
+    let run = mill("part.nc", &[]);
+    let (_, err) = text(&run);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(err.contains("part.svg is the input drawing"), "{err}");
+    assert_eq!(std::fs::read_to_string(&part).unwrap(), svg);
+    assert!(!d.join("part.nc").exists());
+    // Nothing closed at the default tolerance: the error says what stayed open, where, and
+    // the tolerance that joins it.
+    let run = mill("x.nc", &[]);
+    let (_, err) = text(&run);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(err.contains("nothing to cut"), "{err}");
+    assert!(
+        err.contains("open on layer svg: 1 path, largest gap 0.050 mm at (50.000, 90.000)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("--join-tol 0.050 would join the nearest"),
+        "{err}"
+    );
+    // That tolerance does: one loop chained from the four paths.
+    let run = mill("x.nc", &["--join-tol", "0.05"]);
+    let (out, err) = text(&run);
+    assert!(run.status.success(), "{err}");
+    assert!(
+        out.contains("imported: 1 closed loop: 0 closed in the file, 0 closed where their ends meet, 1 chained from 4 pieces (join tolerance 0.05 mm)"),
+        "{out}"
+    );
+    // Out of range is refused by name.
+    let (_, err) = text(&mill("x.nc", &["--join-tol", "11"]));
+    assert!(err.contains("--join-tol 11: use 0 to 10"), "{err}");
+}

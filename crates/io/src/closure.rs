@@ -73,6 +73,36 @@ impl Closure {
     pub fn open_paths(&self) -> usize {
         self.open.iter().map(|o| o.paths).sum()
     }
+
+    /// For a job that found nothing closed to cut: what stayed open, per layer, and the
+    /// tolerance that would join the nearest ends; `None` when nothing stayed open.
+    pub fn open_hint(&self) -> Option<String> {
+        let nearest = self
+            .open
+            .iter()
+            .map(|o| o.smallest_gap)
+            .filter(|g| *g > self.tolerance)
+            .fold(f64::INFINITY, f64::min);
+        let lines: Vec<String> = self
+            .to_string()
+            .lines()
+            .skip(1)
+            .map(str::to_string)
+            .collect();
+        if lines.is_empty() {
+            return None;
+        }
+        let mut hint = lines.join("\n");
+        if nearest.is_finite() {
+            hint.push_str(&format!(
+                "\nends closer than --join-tol ({} mm) are joined: --join-tol {:.3} would join the nearest",
+                self.tolerance,
+                // Rounded up, so the figure printed does join them.
+                (nearest * 1000.0).ceil() / 1000.0
+            ));
+        }
+        Some(hint)
+    }
 }
 
 impl fmt::Display for Closure {
