@@ -286,7 +286,9 @@ async function make() {
       return;
     }
     const lines: string[] = [];
-    if (kind === 'mill') lines.push(...(body.report as string[]), ...(body.warning ? [String(body.warning)] : []));
+    // What was imported (loops closed in the file, closed where their ends meet, chained;
+    // what stayed open per layer with its largest gap; layers, units) before the program.
+    if (kind === 'mill') lines.push(...((body.imported ?? []) as string[]), ...(body.report as string[]), ...(body.warning ? [String(body.warning)] : []));
     if (kind === 'sole') {
       lines.push(...(body.summary as string[]));
       for (const p of body.programs as { name: string; report: string[] }[]) lines.push(p.name, ...p.report.map((l) => '  ' + l));

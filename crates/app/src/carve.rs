@@ -157,7 +157,7 @@ pub fn refuse_overwriting(image: &Path, outputs: &[&Path]) -> Result<(), Error> 
 }
 
 /// True when both paths name one existing file.
-fn same_file(a: &Path, b: &Path) -> bool {
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) => x == y,
         _ => false,

@@ -35,6 +35,9 @@ pub struct Judged {
     pub per_tool: Vec<(u32, String, f64)>,
     /// Why there is no planner time.
     pub planner_error: Option<String>,
+    /// The XY shift, mm, that placed a program lying outside the machine's travel inside it
+    /// for the planner's time (the time does not depend on the place on a Cartesian machine).
+    pub planner_shift: Option<[f64; 2]>,
     #[serde(skip)]
     /// The simulated stock, when the design was checked.
     pub stock: Option<oficina_io::Heightmap>,
@@ -64,8 +67,11 @@ impl Judged {
         }
         lines.push(match (self.planner_s, &self.planner_error) {
             (Some(s), _) => format!(
-                "time:     {} (planner), {} at programmed feeds",
+                "time:     {} (planner{}), {} at programmed feeds",
                 hms(s),
+                self.planner_shift.map_or(String::new(), |[x, y]| format!(
+                    ", the program moved by ({x:+.2}, {y:+.2}) mm into the machine's travel"
+                )),
                 hms(self.feed_only_s)
             ),
             (None, Some(e)) => format!(
@@ -143,9 +149,20 @@ pub(crate) fn judge(
     }
     fb.stage("estimating time")?;
     let feed_only_s = feed_only_estimate(&canon, [0.0, 0.0, tp.safe_z], FEED_ONLY_RAPID);
+    let mut planner_shift = None;
+    let mut too_large = None;
     let (planner_s, per_tool, planner_error) = match profile {
         Ok(p) => match oficina_motion::estimate_with(
-            oficina_sim::to_machine(&canon, tp.safe_z + 1.0),
+            {
+                // Two passes over the read-back program (no copy of it is kept).
+                let lifted = || oficina_sim::to_machine(&canon, tp.safe_z + 1.0);
+                match crate::travel_fit::shift_into_travel(lifted(), p) {
+                    Ok(d) => planner_shift = d,
+                    Err(e) => too_large = Some(e),
+                }
+                let d = planner_shift.unwrap_or([0.0, 0.0]);
+                lifted().map(move |c| crate::travel_fit::shifted(c, d))
+            },
             p,
             oficina_motion::PlanOptions::default(),
             true,
@@ -154,7 +171,10 @@ pub(crate) fn judge(
                 let per_tool = per_tool_times(&canon, &e.per_line, &tools);
                 (Some(e.seconds), per_tool, None)
             }
-            Err(e) => (None, vec![], Some(e.to_string())),
+            Err(e) => {
+                let why = too_large.map_or(String::new(), |t| format!("; {t}"));
+                (None, vec![], Some(format!("{e}{why}")))
+            }
         },
         Err(e) => (None, vec![], Some(e.clone())),
     };
@@ -167,6 +187,7 @@ pub(crate) fn judge(
         planner_s,
         per_tool,
         planner_error,
+        planner_shift,
         stock,
     })
 }

@@ -41,6 +41,7 @@ mod machine_uri;
 mod macros;
 mod mill;
 mod offsets;
+mod output;
 mod plan;
 mod plot;
 mod post_params;
@@ -53,6 +54,7 @@ mod session;
 mod sole;
 mod text;
 mod tools;
+mod travel_fit;
 
 pub use check::{
     check_for_sender, check_program, check_program_with_tools, check_source, CheckOptions,
@@ -72,6 +74,10 @@ pub use machine_uri::{
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
+pub use output::{
+    check_output, check_output_dir, plot_extensions, refuse_overwriting_drawing, HPGL_EXTENSIONS,
+    PROGRAM_EXTENSIONS,
+};
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;

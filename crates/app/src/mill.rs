@@ -121,6 +121,9 @@ pub struct MillParams {
     pub text: Option<String>,
     /// Capital height of `text`, mm.
     pub text_height: f64,
+    /// Ends of a drawing's paths that meet within this distance are joined (closed as
+    /// drawn, open pieces chained into loops), mm.
+    pub join_tol: f64,
     #[serde(flatten)]
     /// The post-processor and format.
     pub post: PostParams,
@@ -158,6 +161,7 @@ impl Default for MillParams {
             rest_tool: None,
             text: None,
             text_height: 10.0,
+            join_tol: oficina_io::JOIN_TOL,
             post: PostParams::default(),
         }
     }
@@ -167,6 +171,9 @@ impl Default for MillParams {
 pub struct MillResult {
     /// What the drawing held that was left out, if anything.
     pub warning: Option<String>,
+    /// What was imported: paths, layers, units, loops and what stayed open (empty for
+    /// `--text`).
+    pub imported: Vec<String>,
     /// The operation's name.
     pub op_name: &'static str,
     /// Moves in the toolpath.
@@ -196,15 +203,18 @@ pub fn mill(
     within("feed", p.feed, 1e-3, 1e6)?;
     within("rpm", p.rpm, 0.0, 1e6)?;
     within("check-pixel", p.check_pixel, 0.01, 10.0)?;
+    within("join-tol", p.join_tol, 0.0, oficina_io::MAX_JOIN_TOL)?;
     fb.stage("reading the drawing")?;
-    let (paths, warning) = match &p.text {
-        Some(text) => (text_paths(text, p.text_height)?, None),
+    let (paths, warning, summary, closure) = match &p.text {
+        Some(text) => (text_paths(text, p.text_height)?, None, vec![], None),
         None => {
-            let imported = oficina_io::load_drawing(input).map_err(|e| Error::chain(&e))?;
+            let imported =
+                oficina_io::load_drawing_with(input, p.join_tol).map_err(|e| Error::chain(&e))?;
             let warning = (!imported.unsupported.is_empty())
                 .then(|| format!("{}: {}", input.display(), imported.unsupported));
             let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
-            (paths, warning)
+            let summary = imported.summary();
+            (paths, warning, summary, Some(imported.closure))
         }
     };
     if paths.is_empty() {
@@ -291,7 +301,16 @@ pub fn mill(
         )));
     }
     fb.stage(&format!("{} with {}", op.name(), cut.tool.spec()))?;
-    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| Error::chain(&e))?;
+    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| {
+        // Nothing closed to cut is often an outline whose ends miss by more than the join
+        // tolerance: say what stayed open and what tolerance would join it.
+        let mut err = Error::chain(&e);
+        if let Some(hint) = closure.as_ref().and_then(|c| c.open_hint()) {
+            err.0.push('\n');
+            err.0.push_str(&hint);
+        }
+        err
+    })?;
     let mut warning = warning;
     if let Some(spec) = &p.rest_tool {
         match rest_operation(&paths, &cut, &op, spec)? {
@@ -335,6 +354,7 @@ pub fn mill(
     let judged = judge(&tp, &post, &format, design, p.check_pixel, profile, fb)?;
     Ok(MillResult {
         warning,
+        imported: summary,
         op_name: op.name(),
         moves: tp.move_count(),
         // Under G41/G42 the moves are the outline: show the compensated path the

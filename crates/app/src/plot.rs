@@ -96,6 +96,9 @@ pub struct PlotParams {
     pub min_ramp_steps: f64,
     /// Chord tolerance for curves.
     pub tolerance: f64,
+    /// Ends of a drawing's paths that meet within this distance are joined (closed as
+    /// drawn, open pieces chained), mm.
+    pub join_tol: f64,
 }
 
 impl Default for PlotParams {
@@ -122,6 +125,7 @@ impl Default for PlotParams {
             no_optimise: false,
             min_ramp_steps: 100.0,
             tolerance: 0.02,
+            join_tol: oficina_io::JOIN_TOL,
         }
     }
 }
@@ -174,7 +178,9 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
     };
     match ext.as_str() {
         "hpgl" | "plt" | "hpg" | "hgl" => {
-            let h = oficina_io::load_hpgl(path).map_err(|e| Error::chain(&e))?;
+            let mut h = oficina_io::load_hpgl(path).map_err(|e| Error::chain(&e))?;
+            h.imported.close(p.join_tol);
+            notes.extend(h.imported.summary());
             if !h.imported.unsupported.is_empty() {
                 notes.push(h.imported.unsupported.to_string());
             }
@@ -206,7 +212,9 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
             Ok(plot)
         }
         _ => {
-            let imported = oficina_io::load_drawing(path).map_err(|e| Error::chain(&e))?;
+            let imported =
+                oficina_io::load_drawing_with(path, p.join_tol).map_err(|e| Error::chain(&e))?;
+            notes.extend(imported.summary());
             if !imported.unsupported.is_empty() {
                 notes.push(imported.unsupported.to_string());
             }
@@ -227,6 +235,13 @@ pub fn plot(
         return Err(Error(format!(
             "--scale {}: use more than 0, at most 10000",
             p.scale
+        )));
+    }
+    if !(p.join_tol.is_finite() && (0.0..=oficina_io::MAX_JOIN_TOL).contains(&p.join_tol)) {
+        return Err(Error(format!(
+            "--join-tol {}: use 0 to {} mm",
+            p.join_tol,
+            oficina_io::MAX_JOIN_TOL
         )));
     }
     fb.stage("reading the design")?;

@@ -30,6 +30,8 @@ pub struct SoleParams {
     /// Never read from a form: a path from the page could name any file on the server.
     #[serde(skip)]
     pub tread: Option<std::path::PathBuf>,
+    /// Ends of the tread drawing's paths that meet within this distance are joined, mm.
+    pub join_tol: f64,
     #[serde(flatten)]
     /// The post-processor and format.
     pub post: PostParams,
@@ -44,6 +46,7 @@ impl Default for SoleParams {
             shrink: 2.0,
             fit_tolerance: 0.3,
             check_pixel: 0.5,
+            join_tol: oficina_io::JOIN_TOL,
             tread: None,
             post: PostParams::default(),
         }
@@ -106,13 +109,27 @@ pub fn sole(
             p.check_pixel
         )));
     }
+    if !(p.join_tol.is_finite() && (0.0..=oficina_io::MAX_JOIN_TOL).contains(&p.join_tol)) {
+        return Err(Error(format!(
+            "--join-tol {}: use 0 to {} mm",
+            p.join_tol,
+            oficina_io::MAX_JOIN_TOL
+        )));
+    }
+    let mut tread_summary = vec![];
     let tread = match &p.tread {
         Some(file) => {
-            let imported = oficina_io::load_drawing(file).map_err(|e| Error::chain(&e))?;
+            let imported =
+                oficina_io::load_drawing_with(file, p.join_tol).map_err(|e| Error::chain(&e))?;
             let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
             if paths.is_empty() {
                 return Err(Error(format!("{}: the tread has no paths", file.display())));
             }
+            tread_summary = imported
+                .summary()
+                .into_iter()
+                .map(|l| format!("tread: {l}"))
+                .collect();
             paths
         }
         None => vec![],
@@ -230,5 +247,6 @@ pub fn sole(
             judged,
         });
     }
+    summary.extend(tread_summary);
     Ok(SoleResult { summary, programs })
 }

@@ -112,6 +112,7 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     let Some(output) = &args.output else {
         bail!("give the output program with -o OUT.nc")
     };
+    oficina_app::check_output("carve", "-o", output, oficina_app::PROGRAM_EXTENSIONS)?;
     let profile = machine_profile::resolve(&args.profile)?;
     let source = DesignSource {
         image: image.clone(),

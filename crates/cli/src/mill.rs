@@ -3,10 +3,10 @@
 use crate::progress::with_bar;
 use anyhow::{Context, Result};
 use clap::Args as ClapArgs;
+use oficina_app::{check_output, Judged, PostParams, PROGRAM_EXTENSIONS};
 use oficina_app::{mill, EntryKind, MillOpKind, MillParams, PocketStrategy};
-use oficina_app::{Judged, PostParams};
 use oficina_sim::render_png;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
 pub(crate) struct Args {
@@ -106,9 +106,13 @@ pub(crate) struct Args {
     /// Grid of the stock simulation, mm.
     #[arg(long, default_value_t = 0.2)]
     pub check_pixel: f64,
-    /// Machine profile for the planner's time estimate.
-    #[arg(long, default_value = "profiles/grbl-router.toml")]
-    pub profile: PathBuf,
+    /// Machine profile for the planner's time estimate: a bundled name or a TOML file.
+    #[arg(long, default_value = crate::machine_profile::DEFAULT)]
+    pub profile: String,
+    /// Join ends of the drawing's paths that meet within this distance, mm: a path ending
+    /// on its start is closed, open pieces (lines, arcs, curves of a layer) are chained.
+    #[arg(long, default_value_t = oficina_io::JOIN_TOL)]
+    pub join_tol: f64,
 }
 
 /// Post-processor choice and format options, shared by `mill` and `sole`.
@@ -147,9 +151,10 @@ impl PostArgs {
     }
 }
 
-/// The machine profile for a time estimate: loaded, or why not (not fatal).
-pub(crate) fn estimate_profile(path: &Path) -> Result<oficina_motion::Profile, String> {
-    oficina_motion::Profile::load(path).map_err(|e| e.to_string())
+/// The machine profile for a time estimate (a bundled name or a file): loaded, or why not
+/// (not fatal).
+pub(crate) fn estimate_profile(spec: &str) -> Result<oficina_motion::Profile, String> {
+    crate::machine_profile::resolve(spec).map_err(|e| e.to_string())
 }
 
 pub(crate) fn print_judged(j: &Judged) {
@@ -159,6 +164,15 @@ pub(crate) fn print_judged(j: &Judged) {
 }
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
+    check_output("mill", "-o", &args.output, PROGRAM_EXTENSIONS)?;
+    let preview = args
+        .preview
+        .clone()
+        .unwrap_or_else(|| args.output.with_extension("svg"));
+    let stock_png = args.output.with_extension("stock.png");
+    if let Some(input) = &args.input {
+        oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;
+    }
     let params = MillParams {
         op: args.op,
         tool: args.tool.clone(),
@@ -193,6 +207,7 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
         rest_tool: args.rest_tool.clone(),
         text: args.text.clone(),
         text_height: args.text_height,
+        join_tol: args.join_tol,
         post: args.out.params(),
     };
     let profile = estimate_profile(&args.profile);
@@ -205,15 +220,15 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     if let Some(w) = &r.warning {
         bar.suspend(|| eprintln!("oficina: warning: {w}"));
     }
+    bar.suspend(|| {
+        for l in &r.imported {
+            println!("imported: {l}");
+        }
+    });
     std::fs::write(&args.output, &r.judged.program)
         .with_context(|| format!("{}: cannot write the program", args.output.display()))?;
-    let preview = args
-        .preview
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("svg"));
     std::fs::write(&preview, &r.preview_svg)
         .with_context(|| format!("{}: cannot write the preview", preview.display()))?;
-    let stock_png = args.output.with_extension("stock.png");
     if let Some(stock) = &r.judged.stock {
         render_png(stock, &stock_png).map_err(anyhow::Error::msg)?;
     }

@@ -86,6 +86,10 @@ pub(crate) struct Args {
     /// Chord tolerance for curves, mm.
     #[arg(long, default_value_t = 0.02)]
     tolerance: f64,
+    /// Join ends of the drawing's paths that meet within this distance, mm (a path ending
+    /// on its start is closed; open pieces of a layer are chained).
+    #[arg(long, default_value_t = oficina_io::JOIN_TOL)]
+    join_tol: f64,
     /// Print seed 003's test (squares, triangles, hexagons at five places) planned on
     /// --machine beside the seed's measured times, and exit.
     #[arg(long)]
@@ -131,6 +135,7 @@ fn params(a: &Args) -> PlotParams {
         no_optimise: a.no_optimise,
         min_ramp_steps: a.min_ramp_steps,
         tolerance: a.tolerance,
+        join_tol: a.join_tol,
     }
 }
 
@@ -193,6 +198,9 @@ fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
 pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     if a.seed_check {
         return seed_check(&a);
+    }
+    if let Some(out) = &a.output {
+        oficina_app::check_output("plot", "-o", out, oficina_app::plot_extensions(a.format))?;
     }
     let profile = machine_profile::resolve(&a.machine)?;
     let r = plot(a.input.as_deref(), &params(&a), &profile, Feedback::none())?;

@@ -39,12 +39,16 @@ pub(crate) struct Args {
     /// Grid of the stock simulation, mm.
     #[arg(long, default_value_t = 0.5)]
     pub check_pixel: f64,
-    /// Machine profile for the planner's time estimate.
-    #[arg(long, default_value = "profiles/grbl-router.toml")]
-    pub profile: PathBuf,
+    /// Machine profile for the planner's time estimate: a bundled name or a TOML file.
+    #[arg(long, default_value = crate::machine_profile::DEFAULT)]
+    pub profile: String,
+    /// Join ends of the tread drawing's paths that meet within this distance, mm.
+    #[arg(long, default_value_t = oficina_io::JOIN_TOL)]
+    pub join_tol: f64,
 }
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
+    oficina_app::check_output_dir("sole", "-o", &args.output)?;
     let params = SoleParams {
         from_size: args.from_size,
         to_size: args.to_size,
@@ -53,6 +57,7 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
         fit_tolerance: args.fit_tolerance,
         check_pixel: args.check_pixel,
         tread: args.tread.clone(),
+        join_tol: args.join_tol,
         post: args.out.params(),
     };
     let profile = estimate_profile(&args.profile);

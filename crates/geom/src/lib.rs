@@ -19,6 +19,7 @@
 //! ```
 
 mod arc;
+mod circle;
 mod drawing;
 pub mod fit;
 mod grade;
@@ -30,6 +31,7 @@ pub use arc::{
     center_from_offsets, center_from_radius, chord_count, circumcenter, sweep_between, Arc,
     ArcError, ArcTolerance, Helix, Plane, MAX_CHORDS,
 };
+pub use circle::CircleFit;
 pub use drawing::{to_ring, Color, Drawing, Layer, Path, Segment, SourceRef, Style};
 pub use grade::{GradeError, Grading, Reference, SizeSystem};
 pub use kurbo;

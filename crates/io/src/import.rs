@@ -2,6 +2,7 @@
 //! (counted and listed, never dropped in silence) and loose points; and one error type that
 //! names the file, the place in it and what is wrong.
 
+use crate::closure::{close_and_chain, Closure, JOIN_TOL};
 use oficina_geom::{Drawing, Path as GeomPath, Point, SourceRef};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -61,7 +62,7 @@ impl fmt::Display for Unsupported {
 }
 
 /// An imported drawing.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Imported {
     /// What could be read.
     pub drawing: Drawing,
@@ -69,6 +70,75 @@ pub struct Imported {
     pub unsupported: Unsupported,
     /// Loose points (DXF POINT, the seed file's point list).
     pub points: Vec<Point>,
+    /// The units the file's numbers were read in (e.g. `Inches ($INSUNITS)`); empty: mm.
+    pub units: String,
+    /// Millimetres per drawing unit (1 when the file is in mm or has no units).
+    pub mm_per_unit: f64,
+    /// What closing and chaining found: loops, and what stayed open per layer.
+    pub closure: Closure,
+}
+
+impl Default for Imported {
+    fn default() -> Imported {
+        Imported {
+            drawing: Drawing::default(),
+            unsupported: Unsupported::default(),
+            points: Vec::new(),
+            units: String::new(),
+            mm_per_unit: 1.0,
+            closure: Closure::default(),
+        }
+    }
+}
+
+impl Imported {
+    /// Records the units the file was read in: their name and millimetres per unit.
+    pub fn set_units(&mut self, name: impl Into<String>, mm_per_unit: f64) {
+        let name = name.into();
+        self.units = format!("{name}, {mm_per_unit} mm per unit");
+        self.mm_per_unit = mm_per_unit;
+    }
+
+    /// Closes and chains the drawing with join tolerance `tol` mm ([`close_and_chain`]) and
+    /// keeps the report.
+    pub fn close(&mut self, tol: f64) {
+        self.closure = close_and_chain(&mut self.drawing, tol);
+    }
+
+    /// Layer names, in file order.
+    pub fn layer_names(&self) -> Vec<&str> {
+        self.drawing
+            .layers
+            .iter()
+            .map(|l| l.name.as_str())
+            .collect()
+    }
+
+    /// What was imported, in lines for a report: loops (closed in the file, where their ends
+    /// meet, chained), what stayed open per layer with its largest gap, layers and units.
+    pub fn summary(&self) -> Vec<String> {
+        // Paths as read: what the file holds, before pieces were chained.
+        let read = self.closure.paths_read.max(self.drawing.path_count());
+        let mut lines = vec![format!(
+            "{} path{} read on {} layer{} ({}), units: {}",
+            read,
+            if read == 1 { "" } else { "s" },
+            self.drawing.layers.len(),
+            if self.drawing.layers.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            self.layer_names().join(", "),
+            if self.units.is_empty() {
+                "mm"
+            } else {
+                &self.units
+            }
+        )];
+        lines.extend(self.closure.to_string().lines().map(str::to_string));
+        lines
+    }
 }
 
 /// A file that cannot be read: which file, where in it, what is wrong.
@@ -113,9 +183,23 @@ pub(crate) fn read_capped(path: &Path) -> Result<Vec<u8>, ImportError> {
     std::fs::read(path).map_err(|e| ImportError::new(&name, "file", e.to_string()))
 }
 
-/// Loads a drawing by its extension: `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point
-/// list, taken as one closed contour) or `.dat`/`.g01` (the seed 001 graphic file).
+/// [`load_drawing_with`] at the default join tolerance, [`JOIN_TOL`].
 pub fn load_drawing(path: &Path) -> Result<Imported, ImportError> {
+    load_drawing_with(path, JOIN_TOL)
+}
+
+/// Loads a drawing by its extension (see [`read_drawing`]), then closes and chains it with
+/// join tolerance `join_tol` mm: every importer's drawing goes through the one rule.
+pub fn load_drawing_with(path: &Path, join_tol: f64) -> Result<Imported, ImportError> {
+    let mut imported = read_drawing(path)?;
+    imported.close(join_tol);
+    Ok(imported)
+}
+
+/// Reads a drawing by its extension: `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point
+/// list, taken as one closed contour) or `.dat`/`.g01` (the seed 001 graphic file), as the
+/// file has it (nothing closed or chained).
+fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
     let name = path.display().to_string();
     let ext = path
         .extension()

@@ -17,6 +17,7 @@
 //! assert_eq!(imported.unsupported.total(), 1); // the text
 //! ```
 
+mod closure;
 mod dxf;
 mod heightmap;
 mod hpgl;
@@ -27,13 +28,16 @@ mod raw;
 mod seed001;
 mod svg;
 
+pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;
 pub use hpgl::{hpgl_from_bytes, load_hpgl, Hpgl};
 pub use image_in::{
     load_image, load_image_bytes, luminance_to_heights, DepthMapping, ImageError, Scale,
 };
-pub use import::{load_drawing, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES};
+pub use import::{
+    load_drawing, load_drawing_with, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES,
+};
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};

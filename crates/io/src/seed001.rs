@@ -490,6 +490,7 @@ impl SeedFile {
             drawing,
             unsupported,
             points: self.points.clone(),
+            ..Imported::default()
         })
     }
 

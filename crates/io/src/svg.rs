@@ -62,6 +62,7 @@ pub fn svg_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError>
     let h = tree.size().height() as f64;
     // px, y down → mm, y up.
     let to_mm = Affine::new([k, 0.0, 0.0, -k, 0.0, h * k]);
+    out.units = "mm (the SVG's width/height and viewBox, 96 px per inch)".into();
     let mut w = Walker {
         file,
         to_mm,

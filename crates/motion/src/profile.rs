@@ -372,23 +372,46 @@ pub fn bundled(name: &str) -> Option<Result<Profile, ProfileError>> {
         .map(|(n, text)| Profile::parse(text, &format!("<bundled {n}>")))
 }
 
-/// Finds a machine: `spec` is an existing profile file, else the name of a bundled profile.
+/// Finds a machine. A name (no folder, no `.toml`) is a bundled profile first, so what it
+/// means never depends on the current folder; a file of that name is the fallback. A path
+/// (with a folder or `.toml`) stays a path: a missing file is an error, never silently the
+/// bundled profile of the same file name.
 pub fn resolve(spec: &str) -> Result<Profile, ProfileError> {
     let path = Path::new(spec);
+    let names = || {
+        BUNDLED
+            .iter()
+            .map(|(n, _)| *n)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let is_path = spec.contains(['/', '\\']) || spec.ends_with(".toml");
+    if !is_path {
+        if let Some(p) = bundled(spec) {
+            return p;
+        }
+    }
     if path.is_file() {
         return Profile::load(path);
     }
-    bundled(spec).unwrap_or_else(|| {
-        let names: Vec<&str> = BUNDLED.iter().map(|(n, _)| *n).collect();
-        Err(err(
-            spec,
-            "",
-            format!(
-                "no such profile file, and no bundled profile of that name (bundled: {})",
-                names.join(", ")
-            ),
-        ))
-    })
+    let message = if is_path {
+        let hint = bundled(spec)
+            .map(|_| {
+                let stem = spec.trim_end_matches(".toml");
+                let stem = stem.rsplit(['/', '\\']).next().unwrap_or(stem);
+                format!(
+                    " (the bundled profile of that name is `{stem}`, without a folder or .toml)"
+                )
+            })
+            .unwrap_or_default();
+        format!("no such profile file{hint}; bundled profiles: {}", names())
+    } else {
+        format!(
+            "no such profile file, and no bundled profile of that name (bundled: {})",
+            names()
+        )
+    };
+    Err(err(spec, "", message))
 }
 
 fn err(file: &str, key: &str, message: String) -> ProfileError {
@@ -789,6 +812,34 @@ mod bundled_tests {
         let e = Profile::parse(&corexy, "t.toml").unwrap_err();
         assert_eq!(e.key, "joints.c", "{e}");
         assert!(e.message.contains("cartesian"), "{e}");
+    }
+
+    #[test]
+    fn names_are_bundled_first_and_paths_stay_paths() {
+        // A file called like a bundled profile, with other contents.
+        let dir = std::env::temp_dir().join(format!("oficina-resolve-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let router = BUNDLED.iter().find(|(n, _)| *n == DEFAULT).unwrap().1;
+        let mine = router.replacen("name = ", "name = \"mine\"\n# was: ", 1);
+        let file = dir.join("grbl-router");
+        std::fs::write(&file, &mine).unwrap();
+        // The bare name is the bundled profile (the CLI's tests run it from a folder holding
+        // such a file; the current folder is not changed in a unit test).
+        assert_eq!(
+            resolve("grbl-router").unwrap().name,
+            "grbl router (seed 004)"
+        );
+        // A path to that file is the file.
+        let as_path = resolve(file.to_str().unwrap());
+        let missing = resolve(dir.join("profiles/grbl-router.toml").to_str().unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(as_path.unwrap().name, "mine");
+        // A missing path is an error that names the bundled profile, not the profile itself.
+        let e = missing.unwrap_err().to_string();
+        assert!(
+            e.contains("no such profile file") && e.contains("`grbl-router`"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -187,6 +187,7 @@ pub(crate) async fn mill_job(
         "report": r.judged.summary_lines(),
         "judged": r.judged,
         "warning": r.warning,
+        "imported": r.imported,
         "preview_svg": r.preview_svg,
     }))
     .into_response())

@@ -32,6 +32,54 @@ async fn mill_makes_a_checked_program_in_the_job_folder() {
 }
 
 #[tokio::test]
+async fn mill_reports_what_was_imported_closed_and_chained() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    // A 40 mm square as four separate paths, one drawn backwards, ends 5 µm apart.
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <path d="M 10 10 L 50 10"/><path d="M 50 50 L 50.005 10"/>
+      <path d="M 50 50 L 10 50"/><path d="M 10 50 L 10 10"/></svg>"#;
+    put(&st, "square.svg", svg.as_bytes().to_vec()).await;
+    let params = json!({"op": "profile-out", "tool": "flat:3", "depth": 2});
+    let (s, v) = post(
+        &st,
+        "/api/mill",
+        json!({"file": "square.svg", "params": params}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let imported: Vec<&str> = v["imported"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l.as_str().unwrap())
+        .collect();
+    assert!(
+        imported[0].starts_with("4 paths read on 1 layer (svg)"),
+        "{imported:?}"
+    );
+    assert!(
+        imported[1].starts_with("1 closed loop: ")
+            && imported[1].contains("1 chained from 4 pieces"),
+        "{imported:?}"
+    );
+    // A tolerance below the gap leaves the square open, and says where.
+    let params = json!({"op": "profile-on", "tool": "flat:3", "depth": 2, "join_tol": 0.001});
+    let (s, v) = post(
+        &st,
+        "/api/mill",
+        json!({"file": "square.svg", "params": params}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let text = v["imported"].to_string();
+    assert!(
+        text.contains("open on layer svg: 1 path, largest gap 0.005 mm"),
+        "{text}"
+    );
+}
+
+#[tokio::test]
 async fn mill_errors_name_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let st = state(dir.path());
@@ -46,6 +94,10 @@ async fn mill_errors_name_the_field() {
         (
             json!({"op": "pocket", "depth": 2, "post": "fanuc-9"}),
             "post",
+        ),
+        (
+            json!({"op": "pocket", "depth": 2, "join_tol": 50}),
+            "join_tol",
         ),
     ];
     for (params, field) in cases {

@@ -2,7 +2,7 @@
 
 use super::{Cut, OpError};
 use crate::{Drill, Move, Operation};
-use oficina_geom::{Path, Segment};
+use oficina_geom::Path;
 
 /// How holes are drilled: pecks and dwell.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -13,47 +13,22 @@ pub struct DrillParams {
     pub dwell: f64,
 }
 
-/// The centre of every closed path that is a circle: arcs about one centre (DXF CIRCLE), or
-/// any closed curve whose points all lie within 0.5 % (and 0.02 mm) of one radius about their
-/// mean (SVG circles arrive as four cubic Béziers).
+/// How far a hole's outline may stray from its circle: 0.5 % of the radius, at most 0.02 mm.
+/// A 24-gon's vertices lie on the circle; an SVG circle's four Béziers within 0.03 %.
+fn hole_tolerance(radius: f64) -> f64 {
+    (0.005 * radius).min(0.02)
+}
+
+/// The centre of every closed path that is a circle however it was drawn (a CIRCLE, arcs
+/// about one centre, a many-sided polygon, a spline, Béziers): `Path::fit_circle` within
+/// [`hole_tolerance`].
 pub(super) fn hole_centres(paths: &[Path]) -> Vec<[f64; 2]> {
     paths
         .iter()
-        .filter(|p| p.closed && !p.segments.is_empty())
-        .filter_map(circle_centre)
+        .filter_map(|p| p.fit_circle())
+        .filter(|c| c.deviation <= hole_tolerance(c.radius))
+        .map(|c| [c.center.x, c.center.y])
         .collect()
-}
-
-fn circle_centre(p: &Path) -> Option<[f64; 2]> {
-    let arcs: Vec<_> = p
-        .segments
-        .iter()
-        .map(|s| match s {
-            Segment::Arc(a) => Some(a.center),
-            _ => None,
-        })
-        .collect();
-    if let Some(Some(c)) = arcs.first() {
-        if arcs
-            .iter()
-            .all(|a| a.is_some_and(|k| k.distance(*c) < 1e-6))
-        {
-            return Some([c.x, c.y]);
-        }
-    }
-    let pts = p.flatten(0.001);
-    if pts.len() < 8 {
-        return None;
-    }
-    let n = pts.len() as f64;
-    let c = pts
-        .iter()
-        .fold((0.0, 0.0), |a, q| (a.0 + q.x / n, a.1 + q.y / n));
-    let radii: Vec<f64> = pts.iter().map(|q| (q.x - c.0).hypot(q.y - c.1)).collect();
-    let (lo, hi) = radii
-        .iter()
-        .fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
-    (hi > 0.0 && hi - lo <= (0.005 * hi).min(0.02)).then_some([c.0, c.1])
 }
 
 /// Drills every circle of `paths` at its centre with `cut`'s tool and depth.

@@ -112,7 +112,8 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
     };
     let mut d = draw::Drawer::new(file, &f.blocks, &f.layers, scale);
     d.model(&f.model)?;
-    let (imported, entities, texts) = d.finish();
+    let (mut imported, entities, texts) = d.finish();
+    imported.set_units(units.clone(), scale);
     if let Some(b) = bounds(&imported) {
         let (w, h) = (b.width(), b.height());
         // (A bounding box hides NaN: min and max pass over it. Every coordinate is checked.)
