@@ -172,8 +172,10 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
         PensBy::Color => PenBy::Color,
         PensBy::Layer => PenBy::Layer,
     };
+    // HP-GL by its extension or its content (.plt, .hp, .000, PCL with HP-GL/2 inside, …).
+    let hpgl = oficina_io::is_hpgl_file(path);
     match ext.as_str() {
-        "hpgl" | "plt" | "hpg" | "hgl" => {
+        _ if hpgl => {
             let h = oficina_io::load_hpgl(path).map_err(|e| Error::chain(&e))?;
             if !h.imported.unsupported.is_empty() {
                 notes.push(h.imported.unsupported.to_string());

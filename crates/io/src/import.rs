@@ -113,7 +113,8 @@ pub(crate) fn read_capped(path: &Path) -> Result<Vec<u8>, ImportError> {
     std::fs::read(path).map_err(|e| ImportError::new(&name, "file", e.to_string()))
 }
 
-/// Loads a drawing by its extension: `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point
+/// Loads a drawing by its extension: HP-GL (`.plt`, `.hpgl`, `.hpg`, `.hp`, … or any file whose
+/// content is HP-GL), `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point
 /// list, taken as one closed contour) or `.dat`/`.g01` (the seed 001 graphic file).
 pub fn load_drawing(path: &Path) -> Result<Imported, ImportError> {
     let name = path.display().to_string();
@@ -123,6 +124,11 @@ pub fn load_drawing(path: &Path) -> Result<Imported, ImportError> {
         .unwrap_or("")
         .to_ascii_lowercase();
     let bytes = read_capped(path)?;
+    // HP-GL by its extension or, whatever the extension, by its content.
+    if crate::hpgl::HPGL_EXTENSIONS.contains(&ext.as_str()) || crate::hpgl::looks_like_hpgl(&bytes)
+    {
+        return crate::hpgl::hpgl_from_bytes(&bytes, &name).map(crate::hpgl::Hpgl::into_imported);
+    }
     match ext.as_str() {
         "svg" => crate::svg::svg_from_bytes(&bytes, &name),
         "dxf" => crate::dxf::dxf_from_bytes(&bytes, &name),
@@ -143,7 +149,7 @@ pub fn load_drawing(path: &Path) -> Result<Imported, ImportError> {
         other => Err(ImportError::new(
             &name,
             "file",
-            format!("unknown drawing type '.{other}': use .svg, .dxf, .csv/.txt (points) or .dat (seed 001)"),
+            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .csv/.txt (points), .dat (seed 001) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
         )),
     }
 }

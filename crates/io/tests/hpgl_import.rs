@@ -65,7 +65,7 @@ fn unknown_settings_are_counted_not_dropped_silently() {
 #[test]
 fn errors_name_the_line_and_the_instruction() {
     let e = hpgl_from_bytes(b"IN;\nSP1;\nPD10,20,30;", "x.plt").unwrap_err();
-    assert_eq!(e.location, "line 3, PD");
+    assert_eq!(e.location, "line 3, column 11, PD");
     assert!(e.message.contains("pairs"), "{e}");
     let e = hpgl_from_bytes(b"IN;CI;", "x.plt").unwrap_err();
     assert!(
@@ -75,12 +75,17 @@ fn errors_name_the_line_and_the_instruction() {
     let e = hpgl_from_bytes(b"IN;PA1e300,0;", "x.plt").unwrap_err();
     assert!(e.to_string().contains("PA"), "{e}");
     let e = hpgl_from_bytes(b"IN;\n\n%%garbage", "x.plt").unwrap_err();
-    assert_eq!(e.location, "line 3");
+    assert_eq!(e.location, "line 3, column 1");
     let e = hpgl_from_bytes(b"IN;AA10,10;", "x.plt").unwrap_err();
     assert!(e.to_string().contains("AA"), "{e}");
 }
 
 #[test]
-fn an_empty_file_is_an_empty_drawing() {
-    assert_eq!(parse("").imported.drawing.path_count(), 0);
+fn an_empty_file_is_refused_by_name_and_a_file_of_settings_is_an_empty_drawing() {
+    let e = hpgl_from_bytes(b"", "empty.plt").unwrap_err();
+    assert_eq!(e.file, "empty.plt");
+    assert!(e.message.contains("empty (0 bytes)"), "{e}");
+    let e = hpgl_from_bytes(b" \r\n\0", "blank.plt").unwrap_err();
+    assert!(e.message.contains("blanks"), "{e}");
+    assert_eq!(parse("IN;SP1;").imported.drawing.path_count(), 0);
 }
