@@ -80,6 +80,16 @@ pub struct PlotParams {
     pub at: Option<[f64; 2]>,
     /// Paper W, H; the drawing must fit on it.
     pub paper: Option<[f64; 2]>,
+    /// Lay the drawing out on this page (a4, a3, letter, … or WxH with units), as vpype's
+    /// `layout`: centred, scaled to fit inside `margin` unless `no_fit`.
+    pub layout: Option<String>,
+    /// The page of `layout` in landscape (otherwise portrait; a page that fits the machine
+    /// only when turned is turned, with a note).
+    pub landscape: bool,
+    /// Margin of `layout` when fitting, mm.
+    pub margin: f64,
+    /// `layout` keeps the drawing's size (only centres it).
+    pub no_fit: bool,
     /// Image hatching: pixel size on paper.
     pub pixel: f64,
     /// Image hatching: distance between hatch lines.
@@ -114,6 +124,10 @@ impl Default for PlotParams {
             scale: 1.0,
             at: None,
             paper: None,
+            layout: None,
+            landscape: false,
+            margin: 10.0,
+            no_fit: false,
             pixel: 0.5,
             pitch: 1.0,
             hatch_layers: 3,
@@ -247,10 +261,51 @@ pub fn plot(
             "nothing to plot: give a design file or --text".into(),
         ));
     }
+    let layout = match &p.layout {
+        None => None,
+        Some(name) => {
+            if p.paper.is_some() {
+                return Err(Error(
+                    "give the page once: --layout or --paper, not both".into(),
+                ));
+            }
+            let page = oficina_plot::page_size(name).map_err(Error)?;
+            let mut l = oficina_plot::Layout {
+                page,
+                landscape: p.landscape,
+                margin: p.margin,
+                fit: !p.no_fit,
+            };
+            // A page that fits the machine only when turned is turned (an A3 sheet lies
+            // landscape on an A3 plotter).
+            let travel = |(w, h): (f64, f64)| {
+                w <= profile.travel[0][1] - profile.travel[0][0] + 1e-9
+                    && h <= profile.travel[1][1] - profile.travel[1][0] + 1e-9
+            };
+            let turned = oficina_plot::Layout {
+                landscape: !l.landscape,
+                ..l.clone()
+            };
+            if p.at.is_none() && !travel(l.oriented()) && travel(turned.oriented()) {
+                let (w, h) = turned.oriented();
+                notes.push(format!(
+                    "the page is laid {} ({w} × {h} mm): that way it fits the machine's travel",
+                    if turned.landscape {
+                        "landscape"
+                    } else {
+                        "portrait"
+                    }
+                ));
+                l = turned;
+            }
+            Some(l)
+        }
+    };
     let settings = Settings {
         scale: p.scale,
         at: p.at.map(|[x, y]| Point::new(x, y)),
         paper: p.paper.map(|[w, h]| (w, h)),
+        layout,
         optimise: (!p.no_optimise).then(|| Optimise {
             merge_tol: p.merge_tol,
             simplify_tol: p.simplify_tol,

@@ -60,8 +60,22 @@ pub(crate) struct Args {
     #[arg(long, value_parser = parse_xy, allow_hyphen_values = true)]
     at: Option<[f64; 2]>,
     /// Paper size W,H mm; the drawing must fit on it (its corner at --at).
-    #[arg(long, value_parser = parse_xy)]
+    #[arg(long, value_parser = parse_xy, conflicts_with = "layout")]
     paper: Option<[f64; 2]>,
+    /// Lay the drawing out on a page as vpype's `layout` does: a4, a3, letter, … or WxH in mm
+    /// (units allowed: 8.5x11in). Centred, scaled to fit inside --margin unless --no-fit; the
+    /// page's lower-left corner at --at or at the machine's travel corner.
+    #[arg(long)]
+    layout: Option<String>,
+    /// The --layout page in landscape (otherwise portrait, unless only landscape fits the machine).
+    #[arg(long, requires = "layout")]
+    landscape: bool,
+    /// Margin of --layout when fitting, mm.
+    #[arg(long, default_value_t = 10.0, requires = "layout")]
+    margin: f64,
+    /// --layout only centres the drawing, at its size.
+    #[arg(long, requires = "layout")]
+    no_fit: bool,
     /// Image hatching: pixel size on paper, mm.
     #[arg(long, default_value_t = 0.5)]
     pixel: f64,
@@ -123,6 +137,10 @@ fn params(a: &Args) -> PlotParams {
         scale: a.scale,
         at: a.at,
         paper: a.paper,
+        layout: a.layout.clone(),
+        landscape: a.landscape,
+        margin: a.margin,
+        no_fit: a.no_fit,
         pixel: a.pixel,
         pitch: a.pitch,
         hatch_layers: a.hatch_layers,
@@ -209,9 +227,15 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
             pen.strokes.len()
         );
     }
+    if let Some(pl) = &p.placed {
+        println!(
+            "page: {} x {} mm, drawing scaled by {:.4}",
+            pl.page.0, pl.page.1, pl.scale
+        );
+    }
     let b = p.bounds;
     println!(
-        "drawing: {:.1} x {:.1} mm at ({:.1}, {:.1})",
+        "drawing: {:.2} x {:.2} mm at ({:.2}, {:.2})",
         b[2] - b[0],
         b[3] - b[1],
         b[0],
