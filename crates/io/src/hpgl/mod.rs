@@ -600,7 +600,7 @@ fn check(p: Point) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!(
-            "the point ({:.0}, {:.0}) plotter units is beyond ±{} (≈ 25 km)",
+            "the point ({:.3e}, {:.3e}) plotter units is beyond ±{:e} (≈ 25 km)",
             p.x,
             p.y,
             scan::MAX_COORD

@@ -89,12 +89,14 @@ pub(super) fn read(sc: &mut Scanner) -> Result<Vec<PeOp>, ImportError> {
                 up = false;
                 absolute = false;
             }
-            _ => return Err(sc.err(
-                "PE",
-                format!(
+            _ => {
+                return Err(sc.err(
+                    "PE",
+                    format!(
                     "byte {c:#04x} is neither a PE flag nor an encoded number (a PE ends with ';')"
                 ),
-            )),
+                ))
+            }
         }
         if ops.len() > 10_000_000 {
             return Err(sc.err("PE", "more than ten million encoded values".into()));
