@@ -162,23 +162,52 @@ fn bad(sc: &Scanner, c: u8) -> ImportError {
     )
 }
 
-/// Encodes `v` as `PE` digits (base 64, 8-bit), for tests and writers.
 #[cfg(test)]
-pub(super) fn encode(v: f64, fraction: i32) -> Vec<u8> {
-    let n = (v * f64::powi(2.0, fraction)).round() as i64;
-    let mut u = if n < 0 {
-        (n.unsigned_abs() << 1) | 1
-    } else {
-        (n as u64) << 1
-    };
-    let mut out = Vec::new();
-    loop {
-        let d = (u & 63) as u8;
-        u >>= 6;
-        if u == 0 {
-            out.push(191 + d);
-            return out;
+mod tests {
+    /// Encodes `v` as `PE` digits (base 64, 8-bit), as the reference describes the writer.
+    fn encode(v: f64, fraction: i32) -> Vec<u8> {
+        let n = (v * f64::powi(2.0, fraction)).round() as i64;
+        let mut u = if n < 0 {
+            (n.unsigned_abs() << 1) | 1
+        } else {
+            (n as u64) << 1
+        };
+        let mut out = Vec::new();
+        loop {
+            let d = (u & 63) as u8;
+            u >>= 6;
+            if u == 0 {
+                out.push(191 + d);
+                return out;
+            }
+            out.push(63 + d);
         }
-        out.push(63 + d);
+    }
+
+    #[test]
+    fn values_round_trip_through_the_encoding() {
+        for f in [0, 1, 5] {
+            for v in [0.0, 1.0, -1.0, 31.0, 32.0, -1000.5, 123456.25, 8.0e8] {
+                let mut b = b"PE>".to_vec();
+                b.extend(encode(f64::from(f), 0));
+                b.extend(encode(v, f));
+                b.extend(encode(0.0, f));
+                b.push(b';');
+                let mut sc = super::Scanner::new(&b[2..], "t");
+                let ops = super::read(&mut sc).unwrap();
+                let want = (v * f64::powi(2.0, f)).round() / f64::powi(2.0, f);
+                match ops[..] {
+                    [super::PeOp::Move {
+                        x,
+                        y,
+                        up: false,
+                        absolute: false,
+                    }] => {
+                        assert_eq!((x, y), (want, 0.0), "{v} with {f} bits")
+                    }
+                    _ => panic!("{ops:?}"),
+                }
+            }
+        }
     }
 }
