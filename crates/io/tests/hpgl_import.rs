@@ -57,9 +57,26 @@ fn pens_become_layers_and_labels_are_kept() {
 
 #[test]
 fn unknown_settings_are_counted_not_dropped_silently() {
-    let h = parse("IN;VS10;LT2;SP1;PD10,10;");
+    let h = parse("IN;VS10;FT3;SP1;PD10,10;");
     assert_eq!(h.imported.unsupported.counts.get("VS"), Some(&1));
-    assert_eq!(h.imported.unsupported.counts.get("LT"), Some(&1));
+    assert_eq!(h.imported.unsupported.counts.get("FT"), Some(&1));
+}
+
+#[test]
+fn line_types_are_drawn_as_the_pen_draws_them() {
+    // LT2 with a 10 mm pattern (mode 1: mm) on a 25 mm line: down 0–5, 10–15, 20–25.
+    let h = parse("IN;SP1;LT2,10,1;PU0,0;PD1000,0;LT;PU0,400;PD1000,400;");
+    let d = &h.imported.drawing;
+    assert_eq!(d.path_count(), 4, "three dashes and the solid line");
+    let total: f64 = d.paths().map(|p| p.length()).sum();
+    assert!((total - (15.0 + 25.0)).abs() < 1e-9, "{total}");
+    // Relative pattern length: 4 % of P1–P2's diagonal (5000 units = 125 mm → 5 mm).
+    let h = parse("IN;IP0,0,3000,4000;SP1;LT2,4;PU0,0;PD400,0;");
+    let d = &h.imported.drawing;
+    assert_eq!(d.path_count(), 2);
+    assert!((d.layers[0].paths[1].start().unwrap().x - 5.0).abs() < 1e-9);
+    let e = hpgl_from_bytes(b"IN;LT2,-1;", "x.plt").unwrap_err();
+    assert!(e.message.contains("pattern length"), "{e}");
 }
 
 #[test]
@@ -74,8 +91,19 @@ fn errors_name_the_line_and_the_instruction() {
     );
     let e = hpgl_from_bytes(b"IN;PA1e300,0;", "x.plt").unwrap_err();
     assert!(e.to_string().contains("PA"), "{e}");
-    let e = hpgl_from_bytes(b"IN;\n\n%%garbage", "x.plt").unwrap_err();
+    let e = hpgl_from_bytes(b"\n\n%%garbage;IN;", "x.plt").unwrap_err();
     assert_eq!(e.location, "line 3, column 1");
+    // Inside a plot, text that is not HP-GL is skipped to the next ';' and counted…
+    let h = hpgl_from_bytes(b"IN;SP1;\nX0=0;Y0=0;\nPD10,10;", "x.plt").unwrap();
+    let (k, n) = h.imported.unsupported.counts.iter().next().unwrap();
+    assert!(k.contains("not HP-GL") && *n == 2, "{k}: {n}");
+    // …but a file that is mostly such text is refused.
+    let e = hpgl_from_bytes(
+        b"IN;\n%%%% this is a letter, not a plot; it goes on and on",
+        "x.plt",
+    )
+    .unwrap_err();
+    assert!(e.message.contains("mostly not HP-GL"), "{e}");
     let e = hpgl_from_bytes(b"IN;AA10,10;", "x.plt").unwrap_err();
     assert!(e.to_string().contains("AA"), "{e}");
 }

@@ -4,7 +4,8 @@
 //! Read: IN, DF, SP, PU, PD, PA, PR (with or without commas, trailing commas, one or many pairs,
 //! lower case, no newlines), PE (polyline encoded, base 64 or 32, fractional bits), CI, AA, AR,
 //! BZ, BR (cubic Béziers), EA, ER, EW (outlined rectangles and wedges), PM/EP (polygons
-//! outlined), IP and SC (scaling: anisotropic, isotropic with its left/bottom placement, point
+//! outlined), RO (rotation), LT (dashed and dotted line types, drawn with the pen lifted in
+//! the gaps), CO (comments, quoted or not), IP and SC (scaling: anisotropic, isotropic with its left/bottom placement, point
 //! factor), LB, DT, SI, DI; PCL around HP-GL/2 (`ESC E`, UEL and PJL lines, `ESC % n B` …
 //! `ESC % n A`, raster data skipped) and device-control escapes (`ESC . ( …`). Coordinates are
 //! plotter units, 40 per mm (HP's 0.025 mm); with SC they are user units mapped onto P1…P2
@@ -12,9 +13,10 @@
 //! a layer `pen N`; pen-down runs become paths of lines, arcs and Béziers (arcs stay circular
 //! where the scaling is isotropic; anisotropic scaling draws ellipses, as chords). Labels are
 //! returned as [`Label`]s (the caller draws them with a single-stroke font). Everything else
-//! (speeds, line types, fills, pages, vendor `!` commands, PCL text) is counted as unsupported,
+//! (speeds, fills, pages, vendor `!` commands, PCL text) is counted as unsupported,
 //! never dropped in silence. Errors name the line, column and instruction.
 
+mod linetype;
 mod pe;
 mod scan;
 mod sniff;
@@ -106,6 +108,11 @@ struct State {
     /// Polygon mode (PM0 … PM2): outlines are kept for EP instead of drawn.
     polygon: Option<Vec<Path>>,
     last_polygon: Vec<Path>,
+    /// RO: the plot's rotation on the paper, degrees counter-clockwise (0, 90, 180, 270).
+    rotation: f64,
+    /// LT: the line type in force (None: solid) and the pattern length set last, mm.
+    line_type: Option<linetype::LineType>,
+    pattern: f64,
 }
 
 impl State {
@@ -126,6 +133,9 @@ impl State {
             scale: None,
             polygon: None,
             last_polygon: Vec::new(),
+            rotation: 0.0,
+            line_type: None,
+            pattern: default_pattern(P1_DEFAULT, P2_DEFAULT),
         }
     }
 
@@ -170,12 +180,13 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 let text = sc.text_until(st.terminator);
                 if mn == *b"LB" {
                     let (w, h) = st.size;
+                    let turn = oficina_geom::kurbo::Affine::rotate(st.rotation.to_radians());
                     out.labels.push(Label {
-                        at: mm(st.at),
+                        at: turn * mm(st.at),
                         text,
                         height: h,
                         width: w,
-                        angle: st.angle,
+                        angle: st.angle + st.rotation.to_radians(),
                         layer: layer(st.pen),
                     });
                 }
@@ -204,6 +215,19 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 pe(&mut sc, &mut st, &mut out.imported, file, line)?;
                 continue;
             }
+            b"CO" => {
+                // A comment: HP-GL/2 quotes it; older writers run it up to the ';'.
+                while sc.look().is_some_and(|c| c == b' ') {
+                    sc.raw();
+                }
+                if sc.look() == Some(b'"') {
+                    sc.raw();
+                    sc.text_until(b'"');
+                } else {
+                    sc.text_until(b';');
+                }
+                continue;
+            }
             _ => {}
         }
         let params = sc.numbers(&name)?;
@@ -217,7 +241,10 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 st.size = (2.85, 3.75);
                 st.angle = 0.0;
                 st.polygon = None;
+                st.line_type = None;
+                st.pattern = default_pattern(st.p1, st.p2);
                 if mn == *b"IN" {
+                    st.rotation = 0.0;
                     st.at = Point::ORIGIN;
                     st.p1 = P1_DEFAULT;
                     st.p2 = P2_DEFAULT;
@@ -419,19 +446,65 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
             }
             b"PM" => {
                 flush(&mut st, &mut out.imported, file);
-                match params.first().copied().unwrap_or(0.0) as i64 {
+                let mode = params.first().copied().unwrap_or(0.0) as i64;
+                // PM1 and PM2 close the subpolygon with a move in the current pen state: a
+                // line back to its start when the pen is down, nothing when it is up (as
+                // hp2xx draws it).
+                if mode != 0 && st.down {
+                    if let Some(last) = st.polygon.as_mut().and_then(|p| p.last_mut()) {
+                        last.closed = true;
+                    }
+                }
+                match mode {
                     0 => st.polygon = Some(Vec::new()),
                     1 => {}
-                    _ => {
-                        st.last_polygon = st.polygon.take().unwrap_or_default();
-                    }
+                    _ => st.last_polygon = st.polygon.take().unwrap_or_default(),
                 }
             }
             b"EP" => {
-                for mut p in st.last_polygon.clone() {
-                    p.closed = true;
-                    out.imported.drawing.push(&layer(st.pen), p);
+                for p in st.last_polygon.clone() {
+                    emit(&mut st, &mut out.imported, p);
                 }
+            }
+            b"LT" => {
+                flush(&mut st, &mut out.imported, file);
+                let Some(&kind) = params.first() else {
+                    st.line_type = None;
+                    continue;
+                };
+                if let Some(&l) = params.get(1) {
+                    if !(l.is_finite() && l > 0.0) {
+                        return Err(here(format!("pattern length {l}: must be > 0")));
+                    }
+                    st.pattern = if params.get(2) == Some(&1.0) {
+                        l
+                    } else {
+                        st.p1.distance(st.p2) * l / 100.0 / UNITS_PER_MM
+                    };
+                }
+                let k = kind as i32;
+                st.line_type = match k {
+                    -8..=8 => Some(linetype::LineType {
+                        kind: k,
+                        length: st.pattern,
+                    }),
+                    _ => {
+                        out.imported
+                            .unsupported
+                            .add(&format!("LT {kind} (drawn solid)"), sc.place());
+                        None
+                    }
+                };
+            }
+            b"RO" => {
+                // The coordinate system turns on the paper: what is drawn from here on is
+                // turned with it (about the origin; a layout places the drawing afterwards).
+                let r = params.first().copied().unwrap_or(0.0);
+                if ![0.0, 90.0, 180.0, 270.0].contains(&r) {
+                    return Err(here(format!("RO {r}: use 0, 90, 180 or 270")));
+                }
+                flush(&mut st, &mut out.imported, file);
+                st.rotation = r;
             }
             b"SI" => {
                 if params.len() >= 2 {
@@ -591,6 +664,11 @@ fn arc(st: &State, c: Point, r: f64, a0: f64, sweep: f64, chord: Option<f64>) ->
     (0..n).map(|k| Segment::line(pt(k), pt(k + 1))).collect()
 }
 
+/// The default pattern length: 4 % of the diagonal P1–P2, mm.
+fn default_pattern(p1: Point, p2: Point) -> f64 {
+    0.04 * p1.distance(p2) / UNITS_PER_MM
+}
+
 fn check(p: Point) -> Result<(), String> {
     if p.x.is_finite()
         && p.y.is_finite()
@@ -641,12 +719,45 @@ fn move_to(st: &mut State, p: Point, line: usize, place: &str, out: &mut Importe
 /// A finished path goes to the drawing, or to the polygon buffer in polygon mode. Pen 0 is
 /// no pen: what it would draw is counted, not drawn.
 fn emit(st: &mut State, out: &mut Imported, path: Path) {
+    if st.polygon.is_none() {
+        if let Some(lt) = st.line_type {
+            // Dashed: the pen-down pieces of the pattern, each drawn as its own path.
+            let mut pts = path.flatten(0.005);
+            if path.closed && !pts.is_empty() {
+                pts.push(pts[0]);
+            }
+            let (pieces, dots) = if lt.kind == 0 {
+                (Vec::new(), pts.len())
+            } else {
+                linetype::dash(&pts, lt)
+            };
+            if dots > 0 {
+                out.unsupported.add(
+                    &format!(
+                        "dots of line type {} (a touch of the pen: not drawn)",
+                        lt.kind
+                    ),
+                    format!("line {}", path.source.line.unwrap_or(0)),
+                );
+            }
+            let saved = st.line_type.take();
+            for piece in pieces {
+                let p = Path::polyline(&piece, false).with_source(path.source.clone());
+                emit(st, out, p);
+            }
+            st.line_type = saved;
+            return;
+        }
+    }
     if let Some(poly) = &mut st.polygon {
         poly.push(path);
     } else if st.pen == 0 {
         let at = format!("line {}", path.source.line.unwrap_or(0));
         out.unsupported
             .add("drawing with no pen selected (SP0)", at);
+    } else if st.rotation != 0.0 {
+        let turn = oficina_geom::kurbo::Affine::rotate(st.rotation.to_radians());
+        out.drawing.push(&layer(st.pen), path.transform(turn));
     } else {
         out.drawing.push(&layer(st.pen), path);
     }

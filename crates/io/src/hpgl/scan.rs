@@ -28,6 +28,10 @@ pub(super) struct Scanner<'a> {
     pub(super) skipped_pcl: bool,
     /// Vendor instructions (`!PZ…;` of Roland and Graphtec cutters) skipped, and where.
     pub(super) vendor: Vec<(String, String)>,
+    /// An instruction has been read (before one, anything else is an error).
+    started: bool,
+    /// Bytes skipped as not HP-GL.
+    garbage: usize,
     file: &'a str,
 }
 
@@ -41,6 +45,8 @@ impl<'a> Scanner<'a> {
             pcl: false,
             skipped_pcl: false,
             vendor: Vec::new(),
+            started: false,
+            garbage: 0,
             file,
         }
     }
@@ -129,14 +135,39 @@ impl<'a> Scanner<'a> {
             let next = self.b.get(self.i + 1).copied().unwrap_or(0);
             if !(c.is_ascii_alphabetic() && next.is_ascii_alphabetic()) {
                 let end = (self.i + 8).min(self.b.len());
-                return Err(self.err(
-                    "",
-                    format!(
-                        "expected a two-letter instruction, found '{}'",
-                        String::from_utf8_lossy(&self.b[self.i..end]).escape_debug()
-                    ),
+                let found = String::from_utf8_lossy(&self.b[self.i..end])
+                    .escape_debug()
+                    .to_string();
+                if !self.started {
+                    return Err(self.err(
+                        "",
+                        format!("expected a two-letter instruction, found '{found}'"),
+                    ));
+                }
+                // Text that is not HP-GL inside a plot (notes a program left, "X0=0;Y0=0;"):
+                // skipped up to the next ';' or line, counted, as plotters and hp2xx ignore it;
+                // a file that is mostly such text is refused.
+                let place = self.place();
+                let from = self.i;
+                while let Some(c) = self.bump() {
+                    if c == b';' || c == b'\n' {
+                        break;
+                    }
+                }
+                self.garbage += self.i - from;
+                if self.garbage * 2 > self.b.len() {
+                    return Err(self.err(
+                        "",
+                        format!("mostly not HP-GL: {} bytes of it are not instructions (the last at {place}: '{found}')", self.garbage),
+                    ));
+                }
+                self.vendor.push((
+                    "text that is not HP-GL, skipped".to_string(),
+                    format!("{place}: '{found}'"),
                 ));
+                continue;
             }
+            self.started = true;
             self.i += 2;
             return Ok(Some([c.to_ascii_uppercase(), next.to_ascii_uppercase()]));
         }
