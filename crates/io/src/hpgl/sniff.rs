@@ -36,9 +36,12 @@ pub(super) fn is_known(m: &[u8; 2]) -> bool {
 /// with HP-GL/2 inside.
 pub fn looks_like_hpgl(bytes: &[u8]) -> bool {
     let b = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    let start = b
-        .iter()
-        .position(|c| !matches!(c, b' ' | b'\t' | b'\r' | b'\n' | 0 | b';'));
+    let start = b.iter().position(|c| {
+        !matches!(
+            c,
+            b' ' | b'\t' | b'\r' | b'\n' | 0 | 0x03 | 0x0c | 0x1a | b';'
+        )
+    });
     let Some(start) = start else { return false };
     let b = &b[start..];
     if b[0] == 0x1b {
@@ -94,6 +97,7 @@ mod tests {
             b"\x1b%-12345X@PJL ENTER LANGUAGE=HPGL2\r\n",
             b"\x1bE\x1b%0BIN;",
             b"\r\nIN\r\nSP1\r\n",
+            b"\x03INCA2IP0,0,10300,7650DI0,1SP2",
             b"SP1;\nPA2640,1753;\nPD;",
             b"INPU0,0PD10,10",
             b"IN",
