@@ -266,10 +266,17 @@ pub fn plot(
         Some(name) => {
             if p.paper.is_some() {
                 return Err(Error(
-                    "give the page once: --layout or --paper, not both".into(),
+                    "--layout and --paper: give the page once, not both".into(),
                 ));
             }
-            let page = oficina_plot::page_size(name).map_err(Error)?;
+            let page = oficina_plot::page_size(name).map_err(|e| Error(format!("--layout {e}")))?;
+            if !(p.margin.is_finite() && p.margin >= 0.0 && 2.0 * p.margin < page.0.min(page.1)) {
+                return Err(Error(format!(
+                    "--margin {} mm: use 0 or more, less than half the page's shorter side ({} mm)",
+                    p.margin,
+                    page.0.min(page.1)
+                )));
+            }
             let mut l = oficina_plot::Layout {
                 page,
                 landscape: p.landscape,
