@@ -11,7 +11,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The design: .svg, .dxf, .hpgl/.plt/.hpg, or an image (.png/.jpg) to hatch.
+    /// The design: .svg, .dxf, HP-GL (.plt/.hpgl/.hpg/.hp or any file whose content is
+    /// HP-GL, also inside PCL), or an image (.png/.jpg) to hatch.
     input: Option<PathBuf>,
     /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
     /// polargraph-wall, …).

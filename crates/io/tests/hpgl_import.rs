@@ -240,6 +240,9 @@ fn hpgl2_inside_pcl_and_device_control_escapes_are_read() {
         .counts
         .keys()
         .any(|k| k.contains("PCL")));
+    // A raster print job (PCL alone) is not a plot.
+    let e = hpgl_from_bytes(b"\x1bE\x1b*r1A\x1b*b2WPD\x1b*rB\x0c\x1bE", "page.prn").unwrap_err();
+    assert!(e.message.contains("PCL without HP-GL/2"), "{e}");
     // Device control, no newlines, lower case, trailing commas, no separators.
     let h = parse(
         "\x1b.(;\x1b.I81;;17:\x1b.N;19:in;sp1;pu0,0,;pd400,0,400,400,;pu;PA800,800PD1200,800PU",

@@ -531,6 +531,13 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
         }
     }
     flush(&mut st, &mut out.imported, file);
+    if sc.skipped_pcl && !sc.started {
+        return Err(ImportError::new(
+            file,
+            "file",
+            "PCL without HP-GL/2 in it (a raster or text print job, not a plot): nothing to draw",
+        ));
+    }
     if sc.skipped_pcl {
         out.imported
             .unsupported

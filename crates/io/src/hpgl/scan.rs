@@ -29,7 +29,7 @@ pub(super) struct Scanner<'a> {
     /// Vendor instructions (`!PZ…;` of Roland and Graphtec cutters) skipped, and where.
     pub(super) vendor: Vec<(String, String)>,
     /// An instruction has been read (before one, anything else is an error).
-    started: bool,
+    pub(super) started: bool,
     /// Bytes skipped as not HP-GL.
     garbage: usize,
     file: &'a str,
