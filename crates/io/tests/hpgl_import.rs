@@ -292,3 +292,27 @@ fn drawings_are_hpgl_by_content_whatever_the_extension() {
     assert!(e.message.contains("not HP-GL by its content"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn three_point_arcs_and_the_pen_after_a_label() {
+    // AT from (10, 0) mm through (0, 10) to (-10, 0): a half circle of radius 10 mm about the
+    // origin; RT the same relative; collinear points draw straight lines.
+    let h = parse("IN;SP1;PU400,0;PD;AT0,400,-400,0;PU;PA400,4000;PD;RT-400,400,-800,0;PU;PA0,0;PD;AT100,0,200,0;");
+    let p = &h.imported.drawing.layers[0].paths;
+    assert_eq!(p.len(), 3);
+    for k in 0..2 {
+        assert!(
+            (p[k].length() - std::f64::consts::PI * 10.0).abs() < 1e-9,
+            "{}",
+            p[k].length()
+        );
+    }
+    assert!((p[1].end().unwrap().x + 10.0).abs() < 1e-9);
+    assert!((p[2].length() - 5.0).abs() < 1e-9);
+    let e = hpgl_from_bytes(b"IN;AT1,2;", "x.plt").unwrap_err();
+    assert!(e.location.contains("AT"), "{e}");
+    // After "AB" (two cells of 1.5 × 2.85 mm) the pen is 8.55 mm further on; PR goes from there.
+    let h = parse("IN;SP1;PA0,0;LBAB\x03PD;PR400,0;");
+    let s = h.imported.drawing.layers[0].paths[0].start().unwrap();
+    assert!((s.x - 8.55).abs() < 1e-9 && s.y.abs() < 1e-9, "{s:?}");
+}

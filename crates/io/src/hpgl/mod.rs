@@ -3,18 +3,20 @@
 //!
 //! Read: IN, DF, SP, PU, PD, PA, PR (with or without commas, trailing commas, one or many pairs,
 //! lower case, no newlines), PE (polyline encoded, base 64 or 32, fractional bits), CI, AA, AR,
-//! BZ, BR (cubic Béziers), EA, ER, EW (outlined rectangles and wedges), PM/EP (polygons
-//! outlined), RO (rotation), LT (dashed and dotted line types, drawn with the pen lifted in
-//! the gaps), CO (comments, quoted or not), IP and SC (scaling: anisotropic, isotropic with its left/bottom placement, point
-//! factor), LB, DT, SI, DI; PCL around HP-GL/2 (`ESC E`, UEL and PJL lines, `ESC % n B` …
-//! `ESC % n A`, raster data skipped) and device-control escapes (`ESC . ( …`). Coordinates are
-//! plotter units, 40 per mm (HP's 0.025 mm); with SC they are user units mapped onto P1…P2
-//! (IP; by default P1 = (0, 0), P2 = (33600, 47520), hp2xx's A0 hard-clip limits). Each pen is
-//! a layer `pen N`; pen-down runs become paths of lines, arcs and Béziers (arcs stay circular
-//! where the scaling is isotropic; anisotropic scaling draws ellipses, as chords). Labels are
-//! returned as [`Label`]s (the caller draws them with a single-stroke font). Everything else
-//! (speeds, fills, pages, vendor `!` commands, PCL text) is counted as unsupported,
-//! never dropped in silence. Errors name the line, column and instruction.
+//! AT, RT (arcs through three points), BZ, BR (cubic Béziers), EA, ER, EW (outlined rectangles
+//! and wedges), PM/EP (polygons outlined), RO (rotation), LT (dashed and dotted line types,
+//! drawn with the pen lifted in the gaps), CO (comments, quoted or not), IP and SC (scaling:
+//! anisotropic, isotropic with its left/bottom placement, point factor), LB, DT, SI, DI; PCL
+//! around HP-GL/2 (`ESC E`, UEL and PJL lines, `ESC % n B` … `ESC % n A`, raster data skipped)
+//! and device-control escapes (`ESC . ( …`). Coordinates are plotter units, 40 per mm (HP's
+//! 0.025 mm); with SC they are user units mapped onto P1…P2 (IP; by default P1 = (0, 0),
+//! P2 = (33600, 47520), hp2xx's A0 hard-clip limits). Each pen is a layer `pen N`; pen-down
+//! runs become paths of lines, arcs and Béziers (arcs stay circular where the scaling is
+//! isotropic; anisotropic scaling draws ellipses, as chords; an explicit chord angle draws the
+//! polygon the plotter draws). Labels are returned as [`Label`]s (the caller draws them with a
+//! single-stroke font). Everything else (speeds, fills, pages, vendor `!` commands, PCL text,
+//! stray text between instructions) is counted as unsupported, never dropped in silence.
+//! Errors name the line, column and instruction.
 
 mod linetype;
 mod pe;
@@ -180,15 +182,37 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 let text = sc.text_until(st.terminator);
                 if mn == *b"LB" {
                     let (w, h) = st.size;
+                    let start = st.at;
                     let turn = oficina_geom::kurbo::Affine::rotate(st.rotation.to_radians());
                     out.labels.push(Label {
                         at: turn * mm(st.at),
-                        text,
+                        text: text.clone(),
                         height: h,
                         width: w,
                         angle: st.angle + st.rotation.to_radians(),
                         layer: layer(st.pen),
                     });
+                    // The pen ends after the label: each character cell is 1.5 character
+                    // widths; a carriage return goes back to the label's start, a line feed
+                    // down two character heights (HP-GL's label spacing).
+                    let along = Vec2::from_angle(st.angle) * UNITS_PER_MM;
+                    let down = Vec2::new(along.y, -along.x);
+                    let mut line_start = start;
+                    let mut at = start;
+                    for ch in text.chars() {
+                        match ch {
+                            '\r' => at = line_start,
+                            '\n' => {
+                                line_start += down * (2.0 * h);
+                                at += down * (2.0 * h);
+                            }
+                            c if c.is_control() => {}
+                            _ => at += along * (1.5 * w),
+                        }
+                    }
+                    if check(at).is_ok() {
+                        st.at = at;
+                    }
                 }
                 continue;
             }
@@ -360,6 +384,54 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                     }
                     let segs = arc(&st, c, r, start, sweep, params.get(3).copied());
                     st.run.extend(segs);
+                }
+                st.at = st.to_pu(end);
+            }
+            b"AT" | b"RT" => {
+                // Arc through three points: the current one, an intermediate, the end.
+                if params.len() < 4 {
+                    return Err(here(format!(
+                        "needs Xi,Yi,Xe,Ye (a point on the arc and its end), got {} parameters",
+                        params.len()
+                    )));
+                }
+                let cur = st.to_user(st.at);
+                let off = if mn == *b"RT" {
+                    cur.to_vec2()
+                } else {
+                    Vec2::ZERO
+                };
+                let mid = Point::new(params[0], params[1]) + off;
+                let end = Point::new(params[2], params[3]) + off;
+                check(st.to_pu(mid)).map_err(&here)?;
+                check(st.to_pu(end)).map_err(&here)?;
+                if st.down {
+                    if st.run.is_empty() {
+                        st.run_place = (line, sc.place());
+                    }
+                    match Arc::through(cur, mid, end) {
+                        Some(a) => {
+                            let segs = arc(
+                                &st,
+                                a.center,
+                                a.radius,
+                                a.start_angle,
+                                a.sweep,
+                                params.get(4).copied(),
+                            );
+                            st.run.extend(segs);
+                        }
+                        // Collinear (or coincident) points: the plotter draws straight lines.
+                        None => {
+                            for p in [mid, end] {
+                                let (a, b) = (mm(st.at), mm(st.to_pu(p)));
+                                if a != b {
+                                    st.run.push(Segment::line(a, b));
+                                }
+                                st.at = st.to_pu(p);
+                            }
+                        }
+                    }
                 }
                 st.at = st.to_pu(end);
             }
