@@ -19,7 +19,7 @@ fn instruction() -> impl Strategy<Value = String> {
     let mn = prop::sample::select(vec![
         "IN", "SP", "PU", "PD", "PA", "PR", "CI", "AA", "AR", "LB", "DT", "SI", "DI", "VS", "zz",
         "SC", "IP", "BZ", "BR", "EA", "ER", "EW", "PM", "EP", "SM", "PE", "\x1b.(", "\x1b%1B",
-        "\x1b%0A", "\x1b*b3W", "\x1bE", "!PZ",
+        "\x1b%0A", "\x1b*b3W", "\x1bE", "!PZ", "LT", "AT", "RT", "RO", "CO",
     ]);
     let num = prop_oneof![
         (-100_000i64..100_000).prop_map(|v| v.to_string()),

@@ -75,6 +75,15 @@ fn line_types_are_drawn_as_the_pen_draws_them() {
     let d = &h.imported.drawing;
     assert_eq!(d.path_count(), 2);
     assert!((d.layers[0].paths[1].start().unwrap().x - 5.0).abs() < 1e-9);
+    // A pattern of a micron along 25 km is not dashed into billions of pieces.
+    let h = parse("IN;SP1;LT2,0.001,1;PU0,0;PD999999999,0;");
+    assert_eq!(h.imported.drawing.path_count(), 1);
+    assert!(h
+        .imported
+        .unsupported
+        .counts
+        .keys()
+        .any(|k| k.contains("drawn solid")));
     let e = hpgl_from_bytes(b"IN;LT2,-1;", "x.plt").unwrap_err();
     assert!(e.message.contains("pattern length"), "{e}");
 }

@@ -799,7 +799,15 @@ fn move_to(st: &mut State, p: Point, line: usize, place: &str, out: &mut Importe
 /// no pen: what it would draw is counted, not drawn.
 fn emit(st: &mut State, out: &mut Imported, path: Path) {
     if st.polygon.is_none() {
-        if let Some(lt) = st.line_type {
+        let too_fine = st
+            .line_type
+            .is_some_and(|lt| path.length() / lt.length.max(1e-9) > 1e6);
+        if too_fine {
+            out.unsupported.add(
+                "line type finer than a millionth of its path (drawn solid)",
+                format!("line {}", path.source.line.unwrap_or(0)),
+            );
+        } else if let Some(lt) = st.line_type {
             // Dashed: the pen-down pieces of the pattern, each drawn as its own path.
             let mut pts = path.flatten(0.005);
             if path.closed && !pts.is_empty() {
