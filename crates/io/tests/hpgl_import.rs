@@ -227,6 +227,13 @@ fn scaling_maps_user_units_onto_p1_p2() {
     let h = parse("IN;IP0,0,4000,4000;SC0,10,0,10;SP1;PA5,5;CI1;");
     let c = &h.imported.drawing.layers[0].paths[0];
     assert!((c.length() - 20.0 * std::f64::consts::PI).abs() < 1e-9);
+    // IR: P1, P2 at 0 % and 50 % of the hard-clip limits (0…33600, 0…47520 units).
+    let h = parse("IN;IR0,0,50,50;SC0,10,0,10;SP1;PU0,0;PD10,10;");
+    let e = h.imported.drawing.layers[0].paths[0].end().unwrap();
+    assert!(
+        (e.x - 420.0).abs() < 1e-9 && (e.y - 594.0).abs() < 1e-9,
+        "{e:?}"
+    );
     let e = hpgl_from_bytes(b"IN;SC0,0,0,10;", "x.plt").unwrap_err();
     assert!(e.message.contains("min and max must differ"), "{e}");
 }

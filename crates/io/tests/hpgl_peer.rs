@@ -1,14 +1,15 @@
 //! Debian's `hp2xx` as the peer reader of HP-GL: on real plotter files both must find the same
-//! extents (their sizes: hp2xx moves its drawing to the origin) and the same pen-down length. hp2xx is run with `-m hpgl` (its own reading written
-//! back as absolute PU/PD moves in plotter units, arcs as chords), which a dozen lines below
-//! measure. Files: `$OFICINA_REALWORLD` (default /work/shared/data/realworld)/plot-svg and
+//! extents (their sizes: hp2xx moves its drawing to the origin) and the same pen-down length
+//! (ink: each drawn segment once). hp2xx is run with `-m hpgl` (its own reading written back as
+//! absolute PU/PD moves in plotter units, arcs as chords), which a dozen lines below measure.
+//! Files: `$OFICINA_REALWORLD` (default /work/shared/data/realworld)/plot-svg and
 //! tests/data/hpgl, every HP-GL file there whatever its extension. Encoded polylines (PE) are
 //! judged by ezdxf's HP-GL/2 interpreter instead (ezdxf_hpgl2_peer.py), as hp2xx decodes PE's
 //! fractional bits wrongly.
 //!
 //! Known, documented differences are excluded by what the file holds: labels (hp2xx draws them
-//! with its font, we hand them to `oficina plot`) and fills
-//! (hp2xx hatches them); such files are listed, read without error, not compared.
+//! with its font, we hand them to `oficina plot`) and fills (hp2xx hatches them); such files
+//! are listed, read without error, not compared.
 
 use oficina_io::{hpgl_from_bytes, looks_like_hpgl};
 use std::path::PathBuf;

@@ -6,7 +6,7 @@
 //! AT, RT (arcs through three points), BZ, BR (cubic Béziers), EA, ER, EW (outlined rectangles
 //! and wedges), PM/EP (polygons outlined), RO (rotation), LT (dashed and dotted line types,
 //! drawn with the pen lifted in the gaps), CO (comments, quoted or not), IP and SC (scaling:
-//! anisotropic, isotropic with its left/bottom placement, point factor), LB, DT, SI, DI; PCL
+//! anisotropic, isotropic with its left/bottom placement, point factor; IR), LB, DT, SI, DI; PCL
 //! around HP-GL/2 (`ESC E`, UEL and PJL lines, `ESC % n B` … `ESC % n A`, raster data skipped)
 //! and device-control escapes (`ESC . ( …`). Coordinates are plotter units, 40 per mm (HP's
 //! 0.025 mm); with SC they are user units mapped onto P1…P2 (IP; by default P1 = (0, 0),
@@ -295,6 +295,34 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                     _ => {
                         return Err(here(format!(
                             "{} parameters: use IP, IP x1,y1 or IP x1,y1,x2,y2",
+                            params.len()
+                        )))
+                    }
+                };
+                st.p1 = p1;
+                st.p2 = p2;
+                if let Some(p) = st.sc.clone() {
+                    st.scale = Some(scale(&p, p1, p2).map_err(here)?);
+                }
+            }
+            b"IR" => {
+                // P1 (and P2) as percentages of the hard-clip limits (the default P1…P2).
+                let at = |px: f64, py: f64| {
+                    Point::new(
+                        P1_DEFAULT.x + px / 100.0 * (P2_DEFAULT.x - P1_DEFAULT.x),
+                        P1_DEFAULT.y + py / 100.0 * (P2_DEFAULT.y - P1_DEFAULT.y),
+                    )
+                };
+                let (p1, p2) = match params.as_slice() {
+                    [] => (P1_DEFAULT, P2_DEFAULT),
+                    [x, y] => {
+                        let p1 = at(*x, *y);
+                        (p1, p1 + (st.p2 - st.p1))
+                    }
+                    [a, b, c, d, ..] => (at(*a, *b), at(*c, *d)),
+                    _ => {
+                        return Err(here(format!(
+                            "{} parameters: use IR, IR x1%,y1% or IR x1%,y1%,x2%,y2%",
                             params.len()
                         )))
                     }
