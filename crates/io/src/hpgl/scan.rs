@@ -7,8 +7,8 @@
 //! (0x21…0x2F), a group character (0x60…0x7E), then value fields, each a signed decimal number
 //! followed by a parameter character: lower case (0x60…0x7E) continues a combined sequence, upper
 //! case (0x40…0x5E) ends it. A value field ended by `W` (or `w`) is followed by that many bytes
-//! of data (raster rows, fonts, macros), as is `ESC & p # X` (transparent print data). Other escapes
-//! are two bytes (`ESC E`, `ESC 9`, …).
+//! of data (raster rows, fonts, macros), as is `ESC & p # X` (transparent print data). Other
+//! escapes are two bytes (`ESC E`, `ESC 9`, …).
 
 use crate::import::ImportError;
 
