@@ -79,8 +79,8 @@ pub struct Prepared {
     pub placed: Option<Placed>,
 }
 
-/// Scales and places `plot` (or lays it out on a page), checks paper, ramps and reach, optimises, and writes the
-/// program for `profile`.
+/// Scales and places `plot` (or lays it out on a page), checks paper, ramps and reach,
+/// optimises, and writes the program for `profile`.
 pub fn prepare(
     mut plot: Plot,
     profile: &Profile,
