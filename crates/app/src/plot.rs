@@ -327,7 +327,14 @@ pub fn plot(
         joint_piece: 1.0,
     };
     fb.stage("placing, optimising, writing the program")?;
-    let prepared = prepare(plot, profile, &m, &settings).map_err(|e| Error::chain(&e))?;
+    let prepared = prepare(plot, profile, &m, &settings).map_err(|e| match e {
+        // Nothing drawn: say what the file held instead (fills, labels of no pen, …).
+        oficina_plot::PlotError::Empty if !notes.is_empty() => Error(format!(
+            "{e}; the design held only what was skipped: {}",
+            notes.join("; ")
+        )),
+        e => Error::chain(&e),
+    })?;
     fb.stage("planning the time")?;
     let e = estimate_with(
         oficina_plot::to_canon(&prepared.plot, &m, profile).into_iter(),

@@ -63,6 +63,23 @@ fn unknown_settings_are_counted_not_dropped_silently() {
 }
 
 #[test]
+fn filled_rectangles_are_edged_by_ep_and_their_fill_noted() {
+    // hp2xx's ft.hp: RR then EP draws the rectangle's outline; the fill is not drawn.
+    let h = parse("IN;SP1;PA2000,2000;FT;RR2500,300;EP;PR0,300;RR2500,300;");
+    let d = &h.imported.drawing;
+    assert_eq!(d.path_count(), 1);
+    let r = d.layers[0].paths[0].bounding_box().unwrap();
+    assert_eq!((r.x0, r.y0, r.x1, r.y1), (50.0, 50.0, 112.5, 57.5));
+    assert_eq!(
+        h.imported
+            .unsupported
+            .counts
+            .get("RR fill (its outline is drawn by EP)"),
+        Some(&2)
+    );
+}
+
+#[test]
 fn line_types_are_drawn_as_the_pen_draws_them() {
     // LT2 with a 10 mm pattern (mode 1: mm) on a 25 mm line: down 0–5, 10–15, 20–25.
     let h = parse("IN;SP1;LT2,10,1;PU0,0;PD1000,0;LT;PU0,400;PD1000,400;");

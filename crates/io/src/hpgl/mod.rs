@@ -4,7 +4,7 @@
 //! Read: IN, DF, SP, PU, PD, PA, PR (with or without commas, trailing commas, one or many pairs,
 //! lower case, no newlines), PE (polyline encoded, base 64 or 32, fractional bits), CI, AA, AR,
 //! AT, RT (arcs through three points), BZ, BR (cubic Béziers), EA, ER, EW (outlined rectangles
-//! and wedges), PM/EP (polygons outlined), RO (rotation), LT (dashed and dotted line types,
+//! and wedges; RA/RR rectangles for EP), PM/EP (polygons outlined), RO (rotation), LT (dashed and dotted line types,
 //! drawn with the pen lifted in the gaps), CO (comments, quoted or not), IP and SC (scaling:
 //! anisotropic, isotropic with its left/bottom placement, point factor; IR), LB, DT, SI, DI; PCL
 //! around HP-GL/2 (`ESC E`, UEL and PJL lines, `ESC % n B` … `ESC % n A`, raster data skipped)
@@ -498,14 +498,14 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                     st.at = pts[2];
                 }
             }
-            b"EA" | b"ER" => {
+            b"EA" | b"ER" | b"RA" | b"RR" => {
                 let [x, y] = params[..] else {
                     return Err(here(format!(
                         "needs X,Y (the opposite corner), got {} parameters",
                         params.len()
                     )));
                 };
-                let q = if mn == *b"ER" {
+                let q = if mn == *b"ER" || mn == *b"RR" {
                     st.offset(Vec2::new(x, y))
                 } else {
                     st.to_pu(Point::new(x, y))
@@ -515,7 +515,17 @@ pub fn hpgl_from_bytes(bytes: &[u8], file: &str) -> Result<Hpgl, ImportError> {
                 let p = st.at;
                 let corners = [p, Point::new(q.x, p.y), q, Point::new(p.x, q.y)].map(mm);
                 let path = Path::polyline(&corners, true).with_source(source(file, line, &name));
-                emit(&mut st, &mut out.imported, path);
+                if mn == *b"RA" || mn == *b"RR" {
+                    // A filled rectangle: the fill is not drawn (noted); its outline goes to
+                    // the polygon buffer, where a following EP edges it (HP-GL/2).
+                    out.imported.unsupported.add(
+                        &format!("{name} fill (its outline is drawn by EP)"),
+                        sc.place(),
+                    );
+                    st.last_polygon = vec![path];
+                } else {
+                    emit(&mut st, &mut out.imported, path);
+                }
             }
             b"EW" => {
                 if params.len() < 3 {
