@@ -295,6 +295,9 @@ async function make() {
     }
     if (kind === 'plot') {
       for (const p of body.pens as { name: string; strokes: number }[]) lines.push(`pen ${p.name}: ${p.strokes} strokes`);
+      // Where the drawing lands (after the form's layout): what the page and margin did.
+      const [x0, y0, x1, y1] = body.bounds as number[];
+      lines.push(`drawing: ${(x1 - x0).toFixed(1)} × ${(y1 - y0).toFixed(1)} mm at (${x0.toFixed(1)}, ${y0.toFixed(1)})`);
       lines.push(`planned time: ${hms(body.seconds as number)}`, ...(body.notes as string[]));
     }
     $('process-report').textContent = lines.join('\n');

@@ -48,11 +48,17 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
     ],
   },
   plot: {
-    title: 'Plot', accept: /\.(svg|dxf|hpgl|plt|hpg)$/i, sample: 'design.svg',
+    // HP-GL is read by its content on the server; these are the extensions plotter files carry.
+    title: 'Plot', accept: /\.(svg|dxf|hpgl|hpgl2|plt|hpg|hp|hgl|gl|gl2|prn)$/i, sample: 'design.svg',
     fields: [
       // Not a plot parameter: the plotter profile the job is made for (and run on).
       { name: 'machine', label: 'Plotter', kind: 'select', value: 'pen-plotter', options: ['pen-plotter', 'polar-plotter', 'polargraph-wall'] },
       { name: 'scale', label: 'Scale', unit: '×', value: '1', min: 0.001, max: 10000 },
+      // `oficina plot --layout/--landscape/--margin/--no-fit`: vpype's layout on a page.
+      { name: 'layout', label: 'Page (layout)', kind: 'text', value: '', optional: true, placeholder: 'none: a4, a3, letter, 300x200, 8.5x11in' },
+      { name: 'landscape', label: 'Landscape', kind: 'check', value: '' },
+      { name: 'margin', label: 'Margin', unit: 'mm', value: '10', min: 0, max: 1000 },
+      { name: 'no_fit', label: 'Keep size (centre only)', kind: 'check', value: '' },
       { name: 'feed', label: 'Drawing feed', unit: 'mm/min', value: '', min: 1, max: 100000, optional: true },
       { name: 'pen', label: 'Pen lift', kind: 'select', value: 'z', options: ['z', 'servo'] },
       { name: 'pens', label: 'Pens by', kind: 'select', value: 'color', options: ['color', 'layer'] },

@@ -80,6 +80,16 @@ pub struct PlotParams {
     pub at: Option<[f64; 2]>,
     /// Paper W, H; the drawing must fit on it.
     pub paper: Option<[f64; 2]>,
+    /// Lay the drawing out on this page (a4, a3, letter, … or WxH with units), as vpype's
+    /// `layout`: centred, scaled to fit inside `margin` unless `no_fit`.
+    pub layout: Option<String>,
+    /// The page of `layout` in landscape (otherwise portrait; a page that fits the machine
+    /// only when turned is turned, with a note).
+    pub landscape: bool,
+    /// Margin of `layout` when fitting, mm.
+    pub margin: f64,
+    /// `layout` keeps the drawing's size (only centres it).
+    pub no_fit: bool,
     /// Image hatching: pixel size on paper.
     pub pixel: f64,
     /// Image hatching: distance between hatch lines.
@@ -117,6 +127,10 @@ impl Default for PlotParams {
             scale: 1.0,
             at: None,
             paper: None,
+            layout: None,
+            landscape: false,
+            margin: 10.0,
+            no_fit: false,
             pixel: 0.5,
             pitch: 1.0,
             hatch_layers: 3,
@@ -176,8 +190,10 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
         PensBy::Color => PenBy::Color,
         PensBy::Layer => PenBy::Layer,
     };
+    // HP-GL by its extension or its content (.plt, .hp, .000, PCL with HP-GL/2 inside, …).
+    let hpgl = oficina_io::is_hpgl_file(path);
     match ext.as_str() {
-        "hpgl" | "plt" | "hpg" | "hgl" => {
+        _ if hpgl => {
             let mut h = oficina_io::load_hpgl(path).map_err(|e| Error::chain(&e))?;
             h.imported.close(p.join_tol);
             notes.extend(h.imported.summary());
@@ -260,10 +276,58 @@ pub fn plot(
             "nothing to plot: give a design file or --text".into(),
         ));
     }
+    let layout = match &p.layout {
+        None => None,
+        Some(name) => {
+            if p.paper.is_some() {
+                return Err(Error(
+                    "--layout and --paper: give the page once, not both".into(),
+                ));
+            }
+            let page = oficina_plot::page_size(name).map_err(|e| Error(format!("--layout {e}")))?;
+            if !(p.margin.is_finite() && p.margin >= 0.0 && 2.0 * p.margin < page.0.min(page.1)) {
+                return Err(Error(format!(
+                    "--margin {} mm: use 0 or more, less than half the page's shorter side ({} mm)",
+                    p.margin,
+                    page.0.min(page.1)
+                )));
+            }
+            let mut l = oficina_plot::Layout {
+                page,
+                landscape: p.landscape,
+                margin: p.margin,
+                fit: !p.no_fit,
+            };
+            // A page that fits the machine only when turned is turned (an A3 sheet lies
+            // landscape on an A3 plotter).
+            let travel = |(w, h): (f64, f64)| {
+                w <= profile.travel[0][1] - profile.travel[0][0] + 1e-9
+                    && h <= profile.travel[1][1] - profile.travel[1][0] + 1e-9
+            };
+            let turned = oficina_plot::Layout {
+                landscape: !l.landscape,
+                ..l.clone()
+            };
+            if p.at.is_none() && !travel(l.oriented()) && travel(turned.oriented()) {
+                let (w, h) = turned.oriented();
+                notes.push(format!(
+                    "the page is laid {} ({w} × {h} mm): that way it fits the machine's travel",
+                    if turned.landscape {
+                        "landscape"
+                    } else {
+                        "portrait"
+                    }
+                ));
+                l = turned;
+            }
+            Some(l)
+        }
+    };
     let settings = Settings {
         scale: p.scale,
         at: p.at.map(|[x, y]| Point::new(x, y)),
         paper: p.paper.map(|[w, h]| (w, h)),
+        layout,
         optimise: (!p.no_optimise).then(|| Optimise {
             merge_tol: p.merge_tol,
             simplify_tol: p.simplify_tol,
@@ -278,7 +342,14 @@ pub fn plot(
         joint_piece: 1.0,
     };
     fb.stage("placing, optimising, writing the program")?;
-    let prepared = prepare(plot, profile, &m, &settings).map_err(|e| Error::chain(&e))?;
+    let prepared = prepare(plot, profile, &m, &settings).map_err(|e| match e {
+        // Nothing drawn: say what the file held instead (fills, labels of no pen, …).
+        oficina_plot::PlotError::Empty if !notes.is_empty() => Error(format!(
+            "{e}; the design held only what was skipped: {}",
+            notes.join("; ")
+        )),
+        e => Error::chain(&e),
+    })?;
     fb.stage("planning the time")?;
     let e = estimate_with(
         oficina_plot::to_canon(&prepared.plot, &m, profile).into_iter(),

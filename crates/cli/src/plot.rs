@@ -11,7 +11,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub(crate) struct Args {
-    /// The design: .svg, .dxf, .hpgl/.plt/.hpg, or an image (.png/.jpg) to hatch.
+    /// The design: .svg, .dxf, HP-GL (.plt/.hpgl/.hpg/.hp or any file whose content is
+    /// HP-GL, also inside PCL), or an image (.png/.jpg) to hatch.
     input: Option<PathBuf>,
     /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
     /// polargraph-wall, …).
@@ -60,8 +61,22 @@ pub(crate) struct Args {
     #[arg(long, value_parser = parse_xy, allow_hyphen_values = true)]
     at: Option<[f64; 2]>,
     /// Paper size W,H mm; the drawing must fit on it (its corner at --at).
-    #[arg(long, value_parser = parse_xy)]
+    #[arg(long, value_parser = parse_xy, conflicts_with = "layout")]
     paper: Option<[f64; 2]>,
+    /// Lay the drawing out on a page as vpype's `layout` does: a4, a3, letter, … or WxH in mm
+    /// (units allowed: 8.5x11in). Centred, scaled to fit inside --margin unless --no-fit; the
+    /// page's lower-left corner at --at or at the machine's travel corner.
+    #[arg(long)]
+    layout: Option<String>,
+    /// The --layout page in landscape (otherwise portrait, unless only landscape fits the machine).
+    #[arg(long, requires = "layout")]
+    landscape: bool,
+    /// Margin of --layout when fitting, mm.
+    #[arg(long, default_value_t = 10.0, requires = "layout")]
+    margin: f64,
+    /// --layout only centres the drawing, at its size.
+    #[arg(long, requires = "layout")]
+    no_fit: bool,
     /// Image hatching: pixel size on paper, mm.
     #[arg(long, default_value_t = 0.5)]
     pixel: f64,
@@ -127,6 +142,10 @@ fn params(a: &Args) -> PlotParams {
         scale: a.scale,
         at: a.at,
         paper: a.paper,
+        layout: a.layout.clone(),
+        landscape: a.landscape,
+        margin: a.margin,
+        no_fit: a.no_fit,
         pixel: a.pixel,
         pitch: a.pitch,
         hatch_layers: a.hatch_layers,
@@ -217,9 +236,15 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
             pen.strokes.len()
         );
     }
+    if let Some(pl) = &p.placed {
+        println!(
+            "page: {} x {} mm, drawing scaled by {:.4}",
+            pl.page.0, pl.page.1, pl.scale
+        );
+    }
     let b = p.bounds;
     println!(
-        "drawing: {:.1} x {:.1} mm at ({:.1}, {:.1})",
+        "drawing: {:.2} x {:.2} mm at ({:.2}, {:.2})",
         b[2] - b[0],
         b[3] - b[1],
         b[0],

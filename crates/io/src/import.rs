@@ -196,9 +196,10 @@ pub fn load_drawing_with(path: &Path, join_tol: f64) -> Result<Imported, ImportE
     Ok(imported)
 }
 
-/// Reads a drawing by its extension: `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point
-/// list, taken as one closed contour) or `.dat`/`.g01` (the seed 001 graphic file), as the
-/// file has it (nothing closed or chained).
+/// Reads a drawing by its extension: HP-GL (`.plt`, `.hpgl`, `.hpg`, `.hp`, … or any file whose
+/// content is HP-GL), `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point list, taken as one
+/// closed contour) or `.dat`/`.g01` (the seed 001 graphic file), as the file has it (nothing
+/// closed or chained).
 fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
     let name = path.display().to_string();
     let ext = path
@@ -207,6 +208,11 @@ fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
         .unwrap_or("")
         .to_ascii_lowercase();
     let bytes = read_capped(path)?;
+    // HP-GL by its extension or, whatever the extension, by its content.
+    if crate::hpgl::HPGL_EXTENSIONS.contains(&ext.as_str()) || crate::hpgl::looks_like_hpgl(&bytes)
+    {
+        return crate::hpgl::hpgl_from_bytes(&bytes, &name).map(crate::hpgl::Hpgl::into_imported);
+    }
     match ext.as_str() {
         "svg" => crate::svg::svg_from_bytes(&bytes, &name),
         "dxf" => crate::dxf::dxf_from_bytes(&bytes, &name),
@@ -227,7 +233,7 @@ fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
         other => Err(ImportError::new(
             &name,
             "file",
-            format!("unknown drawing type '.{other}': use .svg, .dxf, .csv/.txt (points) or .dat (seed 001)"),
+            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .csv/.txt (points), .dat (seed 001) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
         )),
     }
 }

@@ -31,7 +31,7 @@ mod svg;
 pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;
-pub use hpgl::{hpgl_from_bytes, load_hpgl, Hpgl};
+pub use hpgl::{hpgl_from_bytes, is_hpgl_file, load_hpgl, looks_like_hpgl, Hpgl, HPGL_EXTENSIONS};
 pub use image_in::{
     load_image, load_image_bytes, luminance_to_heights, DepthMapping, ImageError, Scale,
 };

@@ -1,4 +1,5 @@
-//! Proptest fuzzing of the HPGL reader: arbitrary bytes and HPGL-shaped noise never panic,
+//! Proptest fuzzing of the HPGL reader: arbitrary bytes, encoded polylines (PE) of any bytes,
+//! and HPGL-shaped noise with PCL and device-control escapes never panic,
 //! and every path it returns has finite coordinates.
 
 use oficina_io::hpgl_from_bytes;
@@ -17,6 +18,8 @@ fn check(bytes: &[u8]) {
 fn instruction() -> impl Strategy<Value = String> {
     let mn = prop::sample::select(vec![
         "IN", "SP", "PU", "PD", "PA", "PR", "CI", "AA", "AR", "LB", "DT", "SI", "DI", "VS", "zz",
+        "SC", "IP", "BZ", "BR", "EA", "ER", "EW", "PM", "EP", "SM", "PE", "\x1b.(", "\x1b%1B",
+        "\x1b%0A", "\x1b*b3W", "\x1bE", "!PZ", "LT", "AT", "RT", "RO", "CO",
     ]);
     let num = prop_oneof![
         (-100_000i64..100_000).prop_map(|v| v.to_string()),
@@ -43,6 +46,15 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
         check(&bytes);
+    }
+
+    #[test]
+    fn encoded_polylines_of_any_bytes_never_panic(
+        body in prop::collection::vec(any::<u8>(), 0..200),
+        seven in any::<bool>(),
+    ) {
+        let head: &[u8] = if seven { b"IN;SP1;SC0,3,0,7;PE7" } else { b"IN;SP1;PE" };
+        check(&[head, &body].concat());
     }
 
     #[test]

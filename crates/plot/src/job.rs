@@ -4,7 +4,10 @@ use oficina_geom::Point;
 use oficina_motion::Profile;
 use oficina_motion::{for_profile, Kinematics};
 
-use crate::machine::{check_paper, check_ramps, check_reach, PenMachine, PlotError, Ramp};
+use crate::layout::{layout, Layout, Placed};
+use crate::machine::{
+    check_paper, check_ramps, check_reach, snap_to_travel, PenMachine, PlotError, Ramp,
+};
 use crate::optimise::{optimise, Optimise, Report};
 use crate::strokes::Plot;
 
@@ -29,6 +32,9 @@ pub struct Settings {
     pub at: Option<Point>,
     /// The sheet (width, height) in mm, its lower-left corner where the drawing's is put.
     pub paper: Option<(f64, f64)>,
+    /// Lay the drawing out on a page (centred, fitted or not), the page's lower-left corner at
+    /// `at` or else at the lower-left corner of the machine's travel. Replaces `paper`.
+    pub layout: Option<Layout>,
     /// Stroke optimisation; `None` keeps the strokes as drawn.
     pub optimise: Option<Optimise>,
     /// Joint ramps shorter than this many steps are refused (the seed arm's oscillation).
@@ -45,6 +51,7 @@ impl Default for Settings {
             scale: 1.0,
             at: None,
             paper: None,
+            layout: None,
             optimise: Some(Optimise::default()),
             min_ramp_steps: 100.0,
             format: Format::Gcode,
@@ -68,10 +75,12 @@ pub struct Prepared {
     pub preview: String,
     /// Bounding box of the placed drawing (min x, min y, max x, max y), mm.
     pub bounds: [f64; 4],
+    /// The page and scale of the layout, if one was asked for.
+    pub placed: Option<Placed>,
 }
 
-/// Scales and places `plot`, checks paper, ramps and reach, optimises, and writes the
-/// program for `profile`.
+/// Scales and places `plot` (or lays it out on a page), checks paper, ramps and reach,
+/// optimises, and writes the program for `profile`.
 pub fn prepare(
     mut plot: Plot,
     profile: &Profile,
@@ -80,14 +89,25 @@ pub fn prepare(
 ) -> Result<Prepared, PlotError> {
     let b = plot.bounds().ok_or(PlotError::Empty)?;
     let scale = s.scale;
-    let origin = s.at.unwrap_or(Point::new(b[0] * scale, b[1] * scale));
-    let shift = origin - Point::new(b[0] * scale, b[1] * scale);
-    plot.map_points(|p| Point::new(p.x * scale, p.y * scale) + shift);
-    if let Some((w, h)) = s.paper {
-        let mut on_paper = plot.clone();
-        on_paper.map_points(|p| p - origin.to_vec2());
-        check_paper(&on_paper, w, h)?;
+    let mut placed = None;
+    if let Some(l) = &s.layout {
+        plot.map_points(|p| Point::new(p.x * scale, p.y * scale));
+        let corner = s.at.unwrap_or(Point::new(
+            profile.travel[0][0] - profile.work_offset[0],
+            profile.travel[1][0] - profile.work_offset[1],
+        ));
+        placed = Some(layout(&mut plot, l, corner)?);
+    } else {
+        let origin = s.at.unwrap_or(Point::new(b[0] * scale, b[1] * scale));
+        let shift = origin - Point::new(b[0] * scale, b[1] * scale);
+        plot.map_points(|p| Point::new(p.x * scale, p.y * scale) + shift);
+        if let Some((w, h)) = s.paper {
+            let mut on_paper = plot.clone();
+            on_paper.map_points(|p| p - origin.to_vec2());
+            check_paper(&on_paper, w, h)?;
+        }
     }
+    snap_to_travel(&mut plot, profile);
     let ramps = check_ramps(profile, s.min_ramp_steps)?;
     let report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
     // Straight lines stay straight in joint space on linear machines: their ends suffice.
@@ -111,5 +131,6 @@ pub fn prepare(
         ramps,
         preview,
         bounds,
+        placed,
     })
 }

@@ -27,6 +27,7 @@ mod clean;
 mod emit;
 mod hatch;
 mod job;
+mod layout;
 mod machine;
 mod merge;
 mod optimise;
@@ -41,9 +42,10 @@ pub use clean::{dedupe, simplify};
 pub use emit::{gcode, hpgl, joint_gcode};
 pub use hatch::{hatch, load_gray, Gray, HatchError, Hatching};
 pub use job::{prepare, Format, Prepared, Settings};
+pub use layout::{layout, page_size, Layout, Placed, PAGE_SIZES};
 pub use machine::{
-    arm_limited_feed, check_paper, check_ramps, check_reach, ramps, PenLift, PenMachine, PlotError,
-    Ramp,
+    arm_limited_feed, check_paper, check_ramps, check_reach, ramps, snap_to_travel, PenLift,
+    PenMachine, PlotError, Ramp, TRAVEL_TOL,
 };
 pub use merge::merge;
 pub use optimise::{optimise, Optimise, Report};

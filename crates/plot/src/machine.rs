@@ -109,6 +109,35 @@ pub enum PlotError {
     /// The drawing has no strokes.
     #[error("nothing to draw: the drawing has no strokes")]
     Empty,
+    /// The page layout cannot be made.
+    #[error("layout: {0}")]
+    Layout(String),
+}
+
+/// How far outside the travel a point may lie and still be on its edge, mm: a micron, far
+/// below any step, so that y = −0.000 (a rounding of the layout or of the file) is inside.
+pub const TRAVEL_TOL: f64 = 1e-3;
+
+/// Moves points that lie within [`TRAVEL_TOL`] outside the Cartesian travel onto its edge, so
+/// the program never asks for Y-0.0004 of a machine whose travel starts at 0.
+pub fn snap_to_travel(plot: &mut crate::Plot, profile: &Profile) {
+    let off = profile.work_offset;
+    let snap = |v: f64, [lo, hi]: [f64; 2], o: f64| {
+        let m = v + o;
+        if m < lo && m >= lo - TRAVEL_TOL {
+            lo - o
+        } else if m > hi && m <= hi + TRAVEL_TOL {
+            hi - o
+        } else {
+            v
+        }
+    };
+    plot.map_points(|p| {
+        Point::new(
+            snap(p.x, profile.travel[0], off[0]),
+            snap(p.y, profile.travel[1], off[1]),
+        )
+    });
 }
 
 /// Checks every point and segment of every stroke, and every pen-up move between them,
@@ -129,9 +158,9 @@ pub fn check_reach(plot: &crate::Plot, profile: &Profile, step: f64) -> Result<(
         };
         for (i, axis) in ["x", "y"].iter().enumerate() {
             let [lo, hi] = profile.travel[i];
-            if !(m[i] >= lo - 1e-9 && m[i] <= hi + 1e-9) {
+            if !(m[i] >= lo - TRAVEL_TOL && m[i] <= hi + TRAVEL_TOL) {
                 return Err(bad(format!(
-                    "lies outside the machine travel {axis} [{lo}, {hi}]"
+                    "lies outside the machine travel {axis} [{lo}, {hi}] (fit it on a page: --layout a3, or a smaller --scale)"
                 )));
             }
         }

@@ -204,6 +204,45 @@ async fn plot_writes_pen_moves_and_refuses_a_drawing_off_the_paper() {
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
     assert_eq!(v["field"], "scale", "{v}");
+    // The Plot form's layout: centred on a portrait A4 page inside 20 mm margins.
+    let (s, v) = post(
+        &st,
+        "/api/plot",
+        json!({"file": "design.svg", "params": {"layout": "a4", "margin": 20, "landscape": false, "no_fit": false}}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    let b: Vec<f64> = v["bounds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        b[0] >= 20.0 - 1e-6 && b[1] >= 20.0 - 1e-6 && b[2] <= 190.0 + 1e-6 && b[3] <= 277.0 + 1e-6,
+        "{b:?}"
+    );
+    assert!(
+        (b[0] - 20.0).abs() < 1e-6 || (b[1] - 20.0).abs() < 1e-6,
+        "fitted to a margin: {b:?}"
+    );
+    assert!(
+        ((b[0] + b[2]) / 2.0 - 105.0).abs() < 1e-6 && ((b[1] + b[3]) / 2.0 - 148.5).abs() < 1e-6,
+        "centred: {b:?}"
+    );
+    for (params, field) in [
+        (json!({"layout": "a9"}), "layout"),
+        (json!({"layout": "a4", "margin": 200}), "margin"),
+    ] {
+        let (s, v) = post(
+            &st,
+            "/api/plot",
+            json!({"file": "design.svg", "params": params}),
+        )
+        .await;
+        assert_eq!(s, StatusCode::BAD_REQUEST);
+        assert_eq!(v["field"], field, "{v}");
+    }
     let (s, _) = post(
         &st,
         "/api/plot",
