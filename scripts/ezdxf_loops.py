@@ -11,27 +11,30 @@ Figures, in mm (from $INSUNITS; unitless is mm, as Oficina reads it):
                    (find_all_simple_chains on a Deposit with gap_tol = the join tolerance)
   closed_entities, chained_loops, open_chains   the parts of that count
   length_mm        total length of the outline entities (paths flattened to 1 µm)
-  extents_mm       [xmin, ymin, xmax, ymax] of those entities (ezdxf.bbox)
+  extents_mm       [xmin, ymin, xmax, ymax] of those entities' curves flattened to 1 µm, in XY
   length_units, extents_units   the same in the file's own units (for comparing geometry
                    apart from how $INSUNITS is read)
-Block references are exploded (disassemble.recursive_decompose); text, hatches, dimensions
-and points are not outlines and are left out, as Oficina's importer counts them apart.
+Block references are exploded (disassemble.recursive_decompose); SOLID/TRACE/3DFACE outlines count
+as closed loops (as Oficina's reader draws them); text, hatches, dimensions and points are not outlines and are left out, as Oficina's importer counts them apart.
 """
 import json
+import math
 import sys
 
 import ezdxf
-from ezdxf import bbox, disassemble, units
+from ezdxf import disassemble, units
 from ezdxf import edgeminer as em
 from ezdxf import edgesmith as es
 from ezdxf.path import make_path
 
 OUTLINES = {"LINE", "ARC", "CIRCLE", "ELLIPSE", "SPLINE", "LWPOLYLINE", "POLYLINE"}
+# Outlines of filled faces: always closed, drawn by Oficina's reader as loops.
+FACES = {"SOLID", "TRACE", "3DFACE"}
 
 
 def outline_entities(doc):
     for e in disassemble.recursive_decompose(doc.modelspace()):
-        if e.dxftype() not in OUTLINES:
+        if e.dxftype() not in OUTLINES | FACES:
             continue
         if e.dxftype() == "POLYLINE" and (e.is_polygon_mesh or e.is_poly_face_mesh):
             continue
@@ -44,10 +47,13 @@ def figures(path, join_tol):
     k = units.conversion_factor(insunits, units.MM) if insunits else 1.0
     gap = join_tol / k
     ents = list(outline_entities(doc))
-    closed = [e for e in ents if es.is_closed_entity(e)]
+    def is_closed(e):
+        return e.dxftype() in FACES or es.is_closed_entity(e)
+
+    closed = [e for e in ents if is_closed(e)]
     open_by_layer = {}
     for e in ents:
-        if not es.is_closed_entity(e):
+        if not is_closed(e):
             open_by_layer.setdefault(e.dxf.layer, []).append(e)
     chained = 0
     open_chains = 0
@@ -60,10 +66,20 @@ def figures(path, join_tol):
             else:
                 open_chains += 1
     length = 0.0
+    xs, ys = [], []
     for e in ents:
         pts = list(make_path(e).flattening(0.001 / k))
-        length += sum(a.distance(b) for a, b in zip(pts, pts[1:]))
-    box = bbox.extents(ents)
+        # Projected onto XY, as a drawing is read (entities in a tilted plane included).
+        length += sum(math.hypot(b.x - a.x, b.y - a.y) for a, b in zip(pts, pts[1:]))
+        xs += [p.x for p in pts]
+        ys += [p.y for p in pts]
+
+    class Box:  # the flattened curves' extents (ezdxf.bbox would take a 3-D box)
+        has_data = bool(xs)
+        extmin = type("V", (), {"x": min(xs, default=0), "y": min(ys, default=0)})
+        extmax = type("V", (), {"x": max(xs, default=0), "y": max(ys, default=0)})
+
+    box = Box
     return {
         "file": path,
         "ezdxf": ezdxf.__version__,

@@ -35,7 +35,8 @@ const PARTS: &[(&str, usize, &str)] = &[
     ("emm_Puzzle-R2007.dxf", 1, "1 closed in the file"),
     // The outline and the features; one stray LINE pair on layer 0 stays open (reported).
     ("emm_Tux-R2000.dxf", 25, "25 closed in the file"),
-    ("ezdxf_POLI-ALL210_12.DXF", 14, "14 closed in the file"),
+    // 14 closed POLYLINEs (some in a tilted plane) and a 3DFACE's outline.
+    ("ezdxf_POLI-ALL210_12.DXF", 15, "15 closed in the file"),
     ("ezdxf_forms.dxf", 40, "40 closed in the file"),
     // A square and a 24-gon drawn back to their start, no `Z`.
     (
@@ -227,13 +228,9 @@ fn open_pieces_are_reported_per_layer_with_the_largest_gap() {
     );
 }
 
-/// Where the DXF reader (not closing and chaining) differs from ezdxf today, and why: the
-/// figure is printed, not asserted. Item 2 of issue #21 (DXF as ezdxf reads it) removes these.
-const KNOWN_EXTENTS: &[(&str, &str)] = &[(
-    "ezdxf_POLI-ALL210_12.DXF",
-    "its 2D POLYLINEs lie in a tilted OCS (extrusion (0.02, 0.32, 0.95)): ezdxf's extents are in \
-     world coordinates, the reader takes the OCS coordinates as they are",
-)];
+/// Where the DXF reader differs from ezdxf on extents, and why: the figure is printed, not
+/// asserted. None today (the reader projects entities in a tilted plane onto XY as ezdxf does).
+const KNOWN_EXTENTS: &[(&str, &str)] = &[];
 
 /// ezdxf's figures for `file` (None, with a note, when python3 or ezdxf is missing).
 fn ezdxf(file: &Path) -> Option<serde_json::Value> {

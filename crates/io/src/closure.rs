@@ -298,6 +298,21 @@ impl Ends {
         )
     }
 
+    /// How many ends (of used pieces too) lie within `tol` of `q`.
+    fn meeting(&self, q: Point, tol: f64) -> usize {
+        let (kx, ky) = self.key(q);
+        let mut n = 0;
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let k = (kx.saturating_add(dx), ky.saturating_add(dy));
+                for &id in self.grid.get(&k).map(Vec::as_slice).unwrap_or(&[]) {
+                    n += usize::from(self.points[id].distance(q) <= tol);
+                }
+            }
+        }
+        n
+    }
+
     /// The nearest end within `tol` of `q` whose piece is not used yet.
     fn nearest(&self, q: Point, tol: f64, used: &[bool]) -> Option<usize> {
         let (kx, ky) = self.key(q);
@@ -350,6 +365,13 @@ fn chain(pieces: Vec<(usize, Path)>, tol: f64, report: &mut Closure) -> Vec<(usi
                     break;
                 }
                 let at = if forward { e } else { s };
+                // Only where exactly two ends meet: at a junction of three or more (a grid, a
+                // T of strokes) which way an outline goes is a guess, and a guessed loop would
+                // cut the network's other pieces off it (the plotter's merge, which walks whole
+                // networks, then needs more strokes).
+                if ends.meeting(at, tol) != 2 {
+                    break;
+                }
                 let Some(id) = ends.nearest(at, tol, &used) else {
                     break;
                 };
@@ -540,6 +562,31 @@ mod tests {
             "{}",
             loop_.source
         );
+    }
+
+    #[test]
+    fn no_chain_goes_through_a_junction_of_three_ends() {
+        // Two squares sharing their middle edge (a "日"): its two ends are where three lines
+        // meet. The outer ring's pieces chain only between junctions; nothing closes by guess.
+        let l = |a: (f64, f64), b: (f64, f64), n: &str| {
+            piece(vec![Segment::line(p(a.0, a.1), p(b.0, b.1))], n)
+        };
+        let pieces = vec![
+            l((0.0, 0.0), (10.0, 0.0), "B"),
+            l((10.0, 0.0), (10.0, 10.0), "R1"),
+            l((10.0, 10.0), (10.0, 20.0), "R2"),
+            l((10.0, 20.0), (0.0, 20.0), "T"),
+            l((0.0, 20.0), (0.0, 10.0), "L1"),
+            l((0.0, 10.0), (0.0, 0.0), "L2"),
+            l((0.0, 10.0), (10.0, 10.0), "M"),
+        ];
+        let mut d = drawing("0", pieces);
+        let r = close_and_chain(&mut d, JOIN_TOL);
+        assert_eq!(r.loops(), 0, "{r}");
+        // The middle line and the two U-shaped runs between the junctions, all reported open.
+        assert_eq!(r.open.iter().map(|o| o.paths).sum::<usize>(), 3, "{r}");
+        let total: f64 = d.layers[0].paths.iter().map(|p| p.length()).sum();
+        assert!((total - 70.0).abs() < 1e-9, "nothing dropped: {total}");
     }
 
     #[test]

@@ -292,7 +292,11 @@ fn what_is_skipped_is_counted_with_its_reason() {
         ("0", "ENDSEC"),
         ("0", "EOF"),
     ]);
-    let i = dxf_from_bytes(s.as_bytes(), "r12.dxf").unwrap();
+    let mut i = dxf_from_bytes(s.as_bytes(), "r12.dxf").unwrap();
+    // The reader keeps it as drawn; the one closure rule of every importer closes it.
+    assert!(!i.drawing.paths().next().unwrap().closed);
+    i.close(oficina_io::JOIN_TOL);
+    assert_eq!(i.closure.loops(), 1);
     let p = i.drawing.paths().next().unwrap();
     // Paper space (group 67 = 1) is the sheet, not the part.
     let paper = s.replace("0\nPOLYLINE\n66\n1\n", "0\nPOLYLINE\n5\nA0\n67\n1\n66\n1\n");

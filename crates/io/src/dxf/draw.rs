@@ -216,14 +216,7 @@ impl<'b> Drawer<'b> {
             return;
         }
         // A polyline whose last vertex is its first (R12 writers do that instead of setting the
-        // closed flag) is closed as drawn. Ends a tolerance apart are close_and_chain's matter.
-        if !path.closed {
-            if let (Some(a), Some(b)) = (path.start(), path.end()) {
-                if a.distance(b) <= 1e-9 * (1.0 + a.to_vec2().hypot()) && path.length() > 0.0 {
-                    path.closed = true;
-                }
-            }
-        }
+        // closed flag) is closed by close_and_chain, the one closure rule of every importer.
         let mut src = SourceRef::new(self.file, Self::element(e));
         src.line = e.common.line;
         path = path.with_source(src);
