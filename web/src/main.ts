@@ -17,7 +17,8 @@ const INLINE_LIMIT = 4 * 1024 * 1024;
 /// Typing pauses this long before the check and the preview run again, ms.
 const EDIT_DEBOUNCE_MS = 350;
 
-interface Program { name: string; text: string; saved: boolean; }
+/// `from`: what the program was made from (a plot of a drawing, a relief of an image).
+interface Program { name: string; text: string; saved: boolean; from?: string; }
 
 const editor = new Editor();
 const preview = new Preview($('viewport'));
@@ -31,6 +32,8 @@ let uploadLimit = 64 * 1024 * 1024;
 let editTimer = 0;
 /// The preview holds an embroidery plan (not the editor's program).
 let showingStitches = false;
+/// The connected machine's name (the check reads the program for it).
+let machineName = '';
 
 function error(msg: string) {
   $('error').textContent = msg;
@@ -77,6 +80,16 @@ async function runCheck() {
   }
 }
 
+/// The header above the preview: what it shows, and for which machine it was read.
+function showTitle() {
+  const r = stats.lastCheck;
+  const reading = r ? ` · read as ${r.dialect === 'grbl' ? 'grbl reads it' : 'LinuxCNC reads it'}${machineName ? ` for ${machineName}` : ''}` : '';
+  const title = showingStitches ? `stitches of ${stitchFile}`
+    : !program.text.trim() ? 'nothing loaded'
+      : `${program.name}${program.from ? ` (${program.from})` : ''}${reading}`;
+  $('preview-title').textContent = title;
+}
+
 function showCheck(r: CheckReport) {
   editor.setDiagnostics(r.diagnostics);
   const list = $('diagnostics');
@@ -96,6 +109,14 @@ function showCheck(r: CheckReport) {
   const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
   $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
+  // The view frames the program's own moves (not where the tool stood before it).
+  preview.frameOn(union(r.feed_extents, r.rapid_extents));
+  showTitle();
+}
+
+function union(a: CheckReport['feed_extents'], b: CheckReport['feed_extents']) {
+  if (!a || !b) return a ?? b;
+  return { min: a.min.map((v, i) => Math.min(v, b.min[i])), max: a.max.map((v, i) => Math.max(v, b.max[i])) } as typeof a;
 }
 
 function runPreview() {
@@ -133,16 +154,19 @@ function runPreview() {
   source('/api/preview').then((src) => w.postMessage(src)).catch((e) => error(`preview: ${e.message}`));
 }
 
-function loadProgram(name: string, text: string, saved = false, plot = false) {
+function loadProgram(name: string, text: string, saved = false, plot = false, from?: string) {
   // Another program than a plot: the machine a plot borrowed goes back.
   if (!plot) panel.restoreMachine();
   stats.loadStartMs = performance.now();
   showingStitches = false;
-  program = { name: safeName(name), text, saved };
+  program = { name: safeName(name), text, saved, from };
+  stats.lastCheck = null;
+  preview.frameOn(null);
   editor.value = text;
   stats.editorMs = performance.now() - stats.loadStartMs;
   editor.setCurrentLine(0);
   $('program-name').textContent = program.name;
+  showTitle();
   error('');
   runCheck();
   runPreview();
@@ -297,7 +321,7 @@ async function make() {
     }
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
-    loadProgram(body.name!, body.text!, true, kind === 'plot');
+    loadProgram(body.name!, body.text!, true, kind === 'plot', `${kind === 'plot' ? 'a plot' : kind === 'mill' ? 'milled' : 'a sole mold'} of ${design.name}`);
     // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
     if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {
@@ -336,6 +360,8 @@ async function embroider(name: string, params: Record<string, unknown>) {
     const sheet = body.sheet;
     const sewn = preview.stitches(body.plan.blocks);
     showingStitches = true;
+    stitchFile = body.name;
+    showTitle();
     preview.setView('xy');
     document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', (x as HTMLElement).dataset.view === 'xy'));
     const scrub = $<HTMLInputElement>('scrub');
@@ -344,7 +370,6 @@ async function embroider(name: string, params: Record<string, unknown>) {
     $('viewport').dataset.stitches = String(sewn);
     $('viewport').dataset.segments = String(preview.total);
     $('preview-info').textContent = `${sewn.toLocaleString()} stitches, ${(preview.total - sewn).toLocaleString()} jumps drawn`;
-    stitchFile = body.name;
     const link = $<HTMLAnchorElement>('stitch-download');
     link.href = withToken('/api/files/' + encodeURIComponent(body.name));
     link.download = body.name;
@@ -469,7 +494,7 @@ async function carve() {
       return;
     }
     $('carve-status').textContent = `${body.name}: ${body.text.split('\n').length} lines`;
-    loadProgram(body.name, body.text, true);
+    loadProgram(body.name, body.text, true, false, `a relief of ${image.name}`);
   } catch (e) {
     $('carve-status').textContent = '';
     error(`carve: ${(e as Error).message}`);
@@ -509,6 +534,7 @@ const workshop = setupWorkshop({ send: (cmd) => live.send(cmd), prepareStart: as
 let shownEnd = '';
 let checkedFor = '';
 function followJob(s: Snapshot) {
+  if (s.machine !== machineName) { machineName = s.machine; showTitle(); }
   // Another machine reads the program another way (grbl's dialect on firmware): check again.
   if (s.uri !== checkedFor) {
     const first = checkedFor === '';
