@@ -109,14 +109,10 @@ function showCheck(r: CheckReport) {
   const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
   $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
-  // The view frames the program's own moves (not where the tool stood before it).
-  preview.frameOn(union(r.feed_extents, r.rapid_extents));
+  // The view frames the extents the summary names: where the program cuts (its rapids
+  // when it has no cut), never where the tool stood before it.
+  preview.frameOn(e ?? r.rapid_extents);
   showTitle();
-}
-
-function union(a: CheckReport['feed_extents'], b: CheckReport['feed_extents']) {
-  if (!a || !b) return a ?? b;
-  return { min: a.min.map((v, i) => Math.min(v, b.min[i])), max: a.max.map((v, i) => Math.max(v, b.max[i])) } as typeof a;
 }
 
 function runPreview() {

@@ -327,8 +327,8 @@ export class Preview {
     return { min: this.min.toArray(), max: this.max.toArray() };
   }
 
-  /// The program's own extents (the check's: its moves, not where the tool stood before
-  /// it), which the view frames; null: the drawn segments' bounds.
+  /// The program's own extents (the check's: where it cuts, not where the tool stood
+  /// before it), which the view frames; null: the drawn segments' bounds.
   private program: { min: number[]; max: number[] } | null = null;
 
   frameOn(box: { min: number[]; max: number[] } | null) {
