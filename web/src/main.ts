@@ -22,7 +22,7 @@ interface Program { name: string; text: string; saved: boolean; from?: string; }
 
 const editor = new Editor();
 const preview = new Preview($('viewport'));
-const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
+const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null, checkedText: '' };
 let program: Program = { name: 'untitled.nc', text: '', saved: false };
 let worker: Worker | null = null;
 let image: { name: string; bytes: ArrayBuffer } | null = null;
@@ -67,6 +67,7 @@ async function source(path: string): Promise<{ url: string; body: string | null 
 
 async function runCheck() {
   const gen = ++stats.checks;
+  const text = program.text;
   try {
     const src = await source('/api/check');
     const r = await fetch(src.url, { method: 'POST', body: src.body });
@@ -74,6 +75,7 @@ async function runCheck() {
     const report: CheckReport = await r.json();
     if (gen !== stats.checks) return;
     stats.lastCheck = report;
+    stats.checkedText = text;
     showCheck(report);
   } catch (e) {
     error(`check: ${(e as Error).message}`);
@@ -560,6 +562,8 @@ let joined = false;
 async function onLive(m: LiveMessage) {
   panel.handle(m);
   workshop.handle(m);
+  // A new tool-change policy on the board: the check's M6 notes name the one in force.
+  if (m.type === 'ok' && m.cmd === 'tool_change' && program.text) runCheck();
   if (m.type === 'progress') {
     if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;

@@ -823,6 +823,11 @@ impl Core {
             return;
         }
         let p = self.pending.take().expect("pending checked above");
+        // A line that waited for the machine to stop (G4) finds it idle: grbl's cycle stop
+        // came before its `ok`, so a `$` command right after it is taken.
+        if p.sync && self.state == GrblState::Run && self.motion.is_empty() && self.spin.is_none() {
+            self.state = GrblState::Idle;
+        }
         if let Some(l) = p.line {
             self.awaiting.push_back((l, self.blocks_pushed));
             self.record_done();
