@@ -85,11 +85,12 @@ async function runCheck() {
 /// The header above the preview: what it shows, and for which machine it was read.
 function showTitle() {
   const r = stats.lastCheck;
-  const reading = r ? ` · read as ${r.dialect === 'grbl' ? 'grbl reads it' : 'LinuxCNC reads it'}${machineName ? ` for ${machineName}` : ''}` : '';
+  const reading = r ? ` · read as ${r.dialect === 'grbl' ? 'grbl' : 'LinuxCNC'}${machineName ? ` · ${machineName}` : ''}` : '';
   const title = showingStitches ? `stitches of ${stitchFile}`
     : !program.text.trim() ? 'nothing loaded'
       : `${program.name}${program.from ? ` (${program.from})` : ''}${reading}`;
   $('preview-title').textContent = title;
+  $('preview-title').title = title;
 }
 
 function showCheck(r: CheckReport) {

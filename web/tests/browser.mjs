@@ -539,7 +539,7 @@ await test('the header names what the preview shows; the extents and the framing
   await page.selectOption('#sample', 'plate.nc');
   await page.waitForFunction(() => document.getElementById('preview-title').textContent.startsWith('plate.nc · read as'), null, { timeout: 20000 });
   const machine = (await page.textContent('#machine-name')).split(' · ')[0];
-  assert((await title()) === `plate.nc · read as LinuxCNC reads it for ${machine}`, `the header: ${await title()}`);
+  assert((await title()) === `plate.nc · read as LinuxCNC · ${machine}`, `the header: ${await title()}`);
   await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews && window.__oficina.preview.total > 0, null, { timeout: 30000 });
   const e0 = await extents();
   const framed = await page.evaluate(() => window.__oficina.preview.framed());

@@ -51,6 +51,8 @@ await test('Home: the DRO follows the cycle, the server answers meanwhile, anoth
   assert(await page.evaluate(() => document.body.dataset.state) === 'home', 'still homing when it was answered');
   await waitState(other, 'home', 5000);
   assert(!(await other.isDisabled('#stop')), 'a watching page may stop the cycle');
+  // Mid-cycle: Z on its way up.
+  await page.waitForFunction(() => document.body.dataset.state === 'home' && Number(document.getElementById('mz').textContent) > -30, null, { timeout: 10000 });
   await page.screenshot({ path: path.join(out, 'homing.png') });
   await waitAt([0, 0, 0]);
   const samples = await page.evaluate(() => { clearInterval(window.__sampler); return window.__homing; });
