@@ -165,6 +165,7 @@ function loadProgram(name: string, text: string, saved = false, plot = false, fr
   stats.editorMs = performance.now() - stats.loadStartMs;
   editor.setCurrentLine(0);
   $('program-name').textContent = program.name;
+  $('scrub-info').textContent = '';
   showTitle();
   error('');
   runCheck();

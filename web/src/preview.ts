@@ -379,7 +379,10 @@ export class Preview {
     const centre = new THREE.Vector3().addVectors(lo, hi).multiplyScalar(0.5);
     const size = new THREE.Vector3().subVectors(hi, lo);
     const r = Math.max(size.length() / 2, 1);
-    const d = r / Math.sin((this.camera.fov * Math.PI) / 360) * 1.05;
+    // The narrower of the two angles of view holds the sphere (a tall viewport is narrower
+    // across than the vertical field of view).
+    const half = Math.atan(Math.tan((this.camera.fov * Math.PI) / 360) * Math.min(1, this.camera.aspect));
+    const d = r / Math.sin(half) * 1.05;
     const dir = {
       iso: new THREE.Vector3(1, -1, 0.9),
       xy: new THREE.Vector3(0, -0.0001, 1),

@@ -564,6 +564,8 @@ await test('the header names what the preview shows; the extents and the framing
   await page.waitForFunction(() => document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 20000 });
   assert(JSON.stringify(await extents()) === JSON.stringify(e0), `the extents stay the program's: ${JSON.stringify(await extents())}`);
   assert(JSON.stringify(await page.evaluate(() => window.__oficina.preview.framed())) === JSON.stringify(e0), 'so does the framing');
+  await page.click('#views button[data-view="iso"]');
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews, null, { timeout: 30000 });
   await shot('header-and-extents');
   // Another program: another header; an empty editor: nothing.
   await page.selectOption('#sample', 'router-square.nc');
