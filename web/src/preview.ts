@@ -277,7 +277,6 @@ export class Preview {
     this.fit();
     const size = new THREE.Vector3().subVectors(this.max, this.min);
     const span = Math.max(size.x, size.y, 1);
-    this.marker.scale.setScalar(span / 120);
     if (this.grid) this.scene.remove(this.grid);
     this.grid = new THREE.GridHelper(Math.ceil(span * 1.4 / 10) * 10, 20, 0x3a3f4a, 0x2a2e36);
     this.grid.rotation.x = Math.PI / 2;
@@ -378,6 +377,8 @@ export class Preview {
     const [lo, hi] = [new THREE.Vector3().fromArray(f.min), new THREE.Vector3().fromArray(f.max)];
     const centre = new THREE.Vector3().addVectors(lo, hi).multiplyScalar(0.5);
     const size = new THREE.Vector3().subVectors(hi, lo);
+    // The tool marker in proportion to what is framed.
+    this.marker.scale.setScalar(Math.max(size.x, size.y, 1) / 120);
     const r = Math.max(size.length() / 2, 1);
     // The narrower of the two angles of view holds the sphere (a tall viewport is narrower
     // across than the vertical field of view).
