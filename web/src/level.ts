@@ -29,6 +29,8 @@ export function setupLevel(hooks: WorkshopHooks): Section {
   const say = (text: string, bad = false) => { message.textContent = text; message.classList.toggle('error', bad); };
   const levelled = root.querySelector<HTMLInputElement>('#start-levelled')!;
   root.querySelector<HTMLButtonElement>('#level-probe')!.onclick = async () => {
+    // Busy from the click on: a map shown before is not this one.
+    document.body.dataset.level = 'busy';
     try {
       const file = await hooks.prepareStart();
       const cmd = {
@@ -38,7 +40,7 @@ export function setupLevel(hooks: WorkshopHooks): Section {
       say(`probing a ${cmd.nx} × ${cmd.ny} grid over ${file}…`);
       document.body.dataset.level = 'busy';
       hooks.send(cmd);
-    } catch (e) { say((e as Error).message, true); }
+    } catch (e) { say((e as Error).message, true); document.body.dataset.level = 'failed'; }
   };
   root.querySelector<HTMLButtonElement>('#level-load')!.onclick = () => {
     try { hooks.send({ cmd: 'load_map' }); } catch (e) { say((e as Error).message, true); }

@@ -17,11 +17,12 @@ const INLINE_LIMIT = 4 * 1024 * 1024;
 /// Typing pauses this long before the check and the preview run again, ms.
 const EDIT_DEBOUNCE_MS = 350;
 
-interface Program { name: string; text: string; saved: boolean; }
+/// `from`: what the program was made from (a plot of a drawing, a relief of an image).
+interface Program { name: string; text: string; saved: boolean; from?: string; }
 
 const editor = new Editor();
 const preview = new Preview($('viewport'));
-const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null };
+const stats = { checks: 0, previews: 0, previewDone: 0, loadStartMs: 0, editorMs: 0, segments: 0, firstBatchMs: 0, previewMs: 0, lastCheck: null as CheckReport | null, checkedText: '' };
 let program: Program = { name: 'untitled.nc', text: '', saved: false };
 let worker: Worker | null = null;
 let image: { name: string; bytes: ArrayBuffer } | null = null;
@@ -31,6 +32,8 @@ let uploadLimit = 64 * 1024 * 1024;
 let editTimer = 0;
 /// The preview holds an embroidery plan (not the editor's program).
 let showingStitches = false;
+/// The connected machine's name (the check reads the program for it).
+let machineName = '';
 
 function error(msg: string) {
   $('error').textContent = msg;
@@ -64,6 +67,7 @@ async function source(path: string): Promise<{ url: string; body: string | null 
 
 async function runCheck() {
   const gen = ++stats.checks;
+  const text = program.text;
   try {
     const src = await source('/api/check');
     const r = await fetch(src.url, { method: 'POST', body: src.body });
@@ -71,10 +75,22 @@ async function runCheck() {
     const report: CheckReport = await r.json();
     if (gen !== stats.checks) return;
     stats.lastCheck = report;
+    stats.checkedText = text;
     showCheck(report);
   } catch (e) {
     error(`check: ${(e as Error).message}`);
   }
+}
+
+/// The header above the preview: what it shows, and for which machine it was read.
+function showTitle() {
+  const r = stats.lastCheck;
+  const reading = r ? ` · read as ${r.dialect === 'grbl' ? 'grbl' : 'LinuxCNC'}${machineName ? ` · ${machineName}` : ''}` : '';
+  const title = showingStitches ? `stitches of ${stitchFile}`
+    : !program.text.trim() ? 'nothing loaded'
+      : `${program.name}${program.from ? ` (${program.from})` : ''}${reading}`;
+  $('preview-title').textContent = title;
+  $('preview-title').title = title;
 }
 
 function showCheck(r: CheckReport) {
@@ -96,6 +112,10 @@ function showCheck(r: CheckReport) {
   const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
   $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
+  // The view frames the extents the summary names: where the program cuts (its rapids
+  // when it has no cut), never where the tool stood before it.
+  preview.frameOn(e ?? r.rapid_extents);
+  showTitle();
 }
 
 function runPreview() {
@@ -133,16 +153,20 @@ function runPreview() {
   source('/api/preview').then((src) => w.postMessage(src)).catch((e) => error(`preview: ${e.message}`));
 }
 
-function loadProgram(name: string, text: string, saved = false, plot = false) {
+function loadProgram(name: string, text: string, saved = false, plot = false, from?: string) {
   // Another program than a plot: the machine a plot borrowed goes back.
   if (!plot) panel.restoreMachine();
   stats.loadStartMs = performance.now();
   showingStitches = false;
-  program = { name: safeName(name), text, saved };
+  program = { name: safeName(name), text, saved, from };
+  stats.lastCheck = null;
+  preview.frameOn(null);
   editor.value = text;
   stats.editorMs = performance.now() - stats.loadStartMs;
   editor.setCurrentLine(0);
   $('program-name').textContent = program.name;
+  $('scrub-info').textContent = '';
+  showTitle();
   error('');
   runCheck();
   runPreview();
@@ -302,7 +326,7 @@ async function make() {
     }
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
-    loadProgram(body.name!, body.text!, true, kind === 'plot');
+    loadProgram(body.name!, body.text!, true, kind === 'plot', `${kind === 'plot' ? 'a plot' : kind === 'mill' ? 'milled' : 'a sole mold'} of ${design.name}`);
     // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
     if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {
@@ -341,6 +365,8 @@ async function embroider(name: string, params: Record<string, unknown>) {
     const sheet = body.sheet;
     const sewn = preview.stitches(body.plan.blocks);
     showingStitches = true;
+    stitchFile = body.name;
+    showTitle();
     preview.setView('xy');
     document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', (x as HTMLElement).dataset.view === 'xy'));
     const scrub = $<HTMLInputElement>('scrub');
@@ -349,7 +375,6 @@ async function embroider(name: string, params: Record<string, unknown>) {
     $('viewport').dataset.stitches = String(sewn);
     $('viewport').dataset.segments = String(preview.total);
     $('preview-info').textContent = `${sewn.toLocaleString()} stitches, ${(preview.total - sewn).toLocaleString()} jumps drawn`;
-    stitchFile = body.name;
     const link = $<HTMLAnchorElement>('stitch-download');
     link.href = withToken('/api/files/' + encodeURIComponent(body.name));
     link.download = body.name;
@@ -474,7 +499,7 @@ async function carve() {
       return;
     }
     $('carve-status').textContent = `${body.name}: ${body.text.split('\n').length} lines`;
-    loadProgram(body.name, body.text, true);
+    loadProgram(body.name, body.text, true, false, `a relief of ${image.name}`);
   } catch (e) {
     $('carve-status').textContent = '';
     error(`carve: ${(e as Error).message}`);
@@ -514,6 +539,7 @@ const workshop = setupWorkshop({ send: (cmd) => live.send(cmd), prepareStart: as
 let shownEnd = '';
 let checkedFor = '';
 function followJob(s: Snapshot) {
+  if (s.machine !== machineName) { machineName = s.machine; showTitle(); }
   // Another machine reads the program another way (grbl's dialect on firmware): check again.
   if (s.uri !== checkedFor) {
     const first = checkedFor === '';
@@ -543,6 +569,8 @@ let joined = false;
 async function onLive(m: LiveMessage) {
   panel.handle(m);
   workshop.handle(m);
+  // A new tool-change policy on the board: the check's M6 notes name the one in force.
+  if (m.type === 'ok' && m.cmd === 'tool_change' && program.text) runCheck();
   if (m.type === 'progress') {
     if (computing) document.querySelectorAll<HTMLButtonElement>('.cancel-job').forEach((b) => { b.hidden = false; });
     $<HTMLProgressElement>('job-progress').value = m.fraction;

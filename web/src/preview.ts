@@ -277,7 +277,6 @@ export class Preview {
     this.fit();
     const size = new THREE.Vector3().subVectors(this.max, this.min);
     const span = Math.max(size.x, size.y, 1);
-    this.marker.scale.setScalar(span / 120);
     if (this.grid) this.scene.remove(this.grid);
     this.grid = new THREE.GridHelper(Math.ceil(span * 1.4 / 10) * 10, 20, 0x3a3f4a, 0x2a2e36);
     this.grid.rotation.x = Math.PI / 2;
@@ -295,6 +294,7 @@ export class Preview {
     let n = 0;
     for (const b of blocks) n += b.points.length / 3;
     this.clear();
+    this.program = null;
     this.expect(n);
     const pos = new Float32Array(n * 6), cols = new Uint8Array(n * 6), kinds = new Uint8Array(n), lines = new Uint32Array(n);
     let k = 0, entry = 0, sewn = 0, px = 0, py = 0;
@@ -324,6 +324,20 @@ export class Preview {
 
   bounds() {
     return { min: this.min.toArray(), max: this.max.toArray() };
+  }
+
+  /// The program's own extents (the check's: where it cuts, not where the tool stood
+  /// before it), which the view frames; null: the drawn segments' bounds.
+  private program: { min: number[]; max: number[] } | null = null;
+
+  frameOn(box: { min: number[]; max: number[] } | null) {
+    this.program = box;
+    this.fit();
+  }
+
+  /// What the view frames: the program's extents, else the segments drawn.
+  framed(): { min: number[]; max: number[] } {
+    return this.program ?? this.bounds();
   }
 
   /// Segments of each kind drawn: what the legend's colours count.
@@ -358,11 +372,18 @@ export class Preview {
 
   /// Camera framing the whole path from the current view's direction.
   fit() {
-    if (!isFinite(this.min.x)) return;
-    const centre = new THREE.Vector3().addVectors(this.min, this.max).multiplyScalar(0.5);
-    const size = new THREE.Vector3().subVectors(this.max, this.min);
+    const f = this.framed();
+    if (!isFinite(f.min[0])) return;
+    const [lo, hi] = [new THREE.Vector3().fromArray(f.min), new THREE.Vector3().fromArray(f.max)];
+    const centre = new THREE.Vector3().addVectors(lo, hi).multiplyScalar(0.5);
+    const size = new THREE.Vector3().subVectors(hi, lo);
+    // The tool marker in proportion to what is framed.
+    this.marker.scale.setScalar(Math.max(size.x, size.y, 1) / 120);
     const r = Math.max(size.length() / 2, 1);
-    const d = r / Math.sin((this.camera.fov * Math.PI) / 360) * 1.05;
+    // The narrower of the two angles of view holds the sphere (a tall viewport is narrower
+    // across than the vertical field of view).
+    const half = Math.atan(Math.tan((this.camera.fov * Math.PI) / 360) * Math.min(1, this.camera.aspect));
+    const d = r / Math.sin(half) * 1.05;
     const dir = {
       iso: new THREE.Vector3(1, -1, 0.9),
       xy: new THREE.Vector3(0, -0.0001, 1),

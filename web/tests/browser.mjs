@@ -283,6 +283,8 @@ await test('SVG → plot → preview with pen up and down → run on the virtual
   await page.waitForFunction(() => document.getElementById('process-input').textContent === 'design.svg', null, { timeout: 20000 });
   await page.click('#make');
   await page.waitForFunction(() => document.getElementById('program-name').textContent === 'design.plot.ngc', null, { timeout: 60000 });
+  const title = await page.textContent('#preview-title');
+  assert(title.startsWith('design.plot.ngc (a plot of design.svg)'), `the header says it is a plot of the drawing: ${title}`);
   await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews && window.__oficina.preview.total > 0, null, { timeout: 60000 });
   assert((await page.textContent('#legend-rapid')) === 'pen up' && (await page.textContent('#legend-feed')) === 'pen down', 'the legend speaks of the pen');
   const kinds = await page.evaluate(() => window.__oficina.preview.kindCounts());
@@ -528,6 +530,53 @@ await test('a .dst file opened shows its stitches and sheet', async () => {
   const drawn = Number(await page.$eval('#viewport', (e) => e.dataset.stitches));
   assert(sheet === before && drawn === sheet, `read back ${sheet}, drawn ${drawn}, made ${before}`);
   await page.selectOption('#process', 'gcode');
+});
+
+await test('the header names what the preview shows; the extents and the framing are the program\'s, wherever the tool is', async () => {
+  const title = () => page.textContent('#preview-title');
+  // The last thing shown: the stitch file read back.
+  assert((await title()) === 'stitches of again.dst', `the header names the stitches: ${await title()}`);
+  await page.selectOption('#sample', 'plate.nc');
+  await page.waitForFunction(() => document.getElementById('preview-title').textContent.startsWith('plate.nc · read as'), null, { timeout: 20000 });
+  const machine = (await page.textContent('#machine-name')).split(' · ')[0];
+  assert((await title()) === `plate.nc · read as LinuxCNC · ${machine}`, `the header: ${await title()}`);
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews && window.__oficina.preview.total > 0, null, { timeout: 30000 });
+  const e0 = await extents();
+  const framed = await page.evaluate(() => window.__oficina.preview.framed());
+  const drawn = await page.evaluate(() => window.__oficina.preview.bounds());
+  assert(JSON.stringify(framed) === JSON.stringify(e0), `the view frames the extents the summary names: ${JSON.stringify(framed)} vs ${JSON.stringify(e0)}`);
+  // The first rapid leaves from where the tool stood (the machine's start, X0 Y0): drawn,
+  // but not the program's extents.
+  assert(drawn.min[0] < e0.min[0] - 1 && drawn.min[1] < e0.min[1] - 1, `the approach is drawn (${JSON.stringify(drawn)}) outside the extents ${JSON.stringify(e0)}`);
+  // The machine goes far away; the program checked again has the same extents.
+  await waitState('idle');
+  await page.selectOption('#jog-step', '10');
+  await page.fill('#jog-feed', '6000');
+  const x0 = Number(await page.textContent('#mx'));
+  for (let i = 1; i <= 4; i++) {
+    await page.click('#jog button[data-jog="1,0,0"]');
+    await page.waitForFunction(([x, d]) => Number(document.getElementById('mx').textContent) > x + d - 0.01, [x0, 10 * i], { timeout: 20000 });
+    await waitState('idle');
+  }
+  const checks = await page.evaluate(() => window.__oficina.stats.checks);
+  await page.evaluate(() => document.getElementById('text').dispatchEvent(new Event('input')));
+  await page.waitForFunction((n) => window.__oficina.stats.checks > n && window.__oficina.stats.lastCheck, checks, { timeout: 20000 });
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('0 errors'), null, { timeout: 20000 });
+  assert(JSON.stringify(await extents()) === JSON.stringify(e0), `the extents stay the program's: ${JSON.stringify(await extents())}`);
+  assert(JSON.stringify(await page.evaluate(() => window.__oficina.preview.framed())) === JSON.stringify(e0), 'so does the framing');
+  await page.click('#views button[data-view="iso"]');
+  await page.waitForFunction(() => window.__oficina.stats.previewDone === window.__oficina.stats.previews, null, { timeout: 30000 });
+  await shot('header-and-extents');
+  // Another program: another header; an empty editor: nothing.
+  await page.selectOption('#sample', 'router-square.nc');
+  await page.waitForFunction(() => document.getElementById('preview-title').textContent.startsWith('router-square.nc · read as'), null, { timeout: 20000 });
+  await page.fill('#text', '');
+  await page.waitForFunction(() => document.getElementById('preview-title').textContent === 'nothing loaded', null, { timeout: 20000 });
+  for (let i = 0; i < 4; i++) {
+    await page.click('#jog button[data-jog="-1,0,0"]');
+    await page.waitForTimeout(100);
+    await waitState('idle');
+  }
 });
 
 await test('no script errors in the page', async () => {

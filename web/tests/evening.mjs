@@ -4,8 +4,12 @@
 // run a two-tool program whose M6s pause for the change (remeasured on the setter), with a
 // hold and a resume; probe a 4 × 4 height map and run an engraving levelled with it. Every
 // expectation is computed here from the emulator's numbers below, never from our code.
+//
+// The whole evening runs on grbl; the other flavours run the parts that differ by firmware:
+// on grblHAL the XYZ corner probe, the manual change with re-measure and the park policy;
+// on FluidNC the touch plate and the levelled engraving (OFICINA_FLAVOURS picks flavours).
 
-import { startServer, startEmulator, launch, suite, assert, sleep, out } from './harness.mjs';
+import { startServer, startEmulator, launch, suite, assert, sleep, out, connectBoard, mdi } from './harness.mjs';
 import path from 'node:path';
 import { writeFileSync } from 'node:fs';
 
@@ -22,9 +26,9 @@ const surface = (x, y) => {
   return BLOCK.top + TILT[0] * x + TILT[1] * y + WARP.w * Math.sin(k * x) * Math.sin(k * y);
 };
 
-const { test, state, finish } = suite('evening');
-const server = await startServer();
-const board = await startEmulator('grbl', [
+/// The tool's diameter on grblHAL, whose evening probes the block's corner with its side.
+const TOOL_DIAMETER = 6;
+const SHOP = [
   '--probe-block', `${BLOCK.x0},${BLOCK.y0},${BLOCK.x1},${BLOCK.y1},${BLOCK.top}`,
   '--probe-plate', `${PLATE.x0},${PLATE.y0},${PLATE.x1},${PLATE.y1},${PLATE.thickness}`,
   '--probe-setter', `${SETTER.x},${SETTER.y},${SETTER.top}`,
@@ -32,10 +36,19 @@ const board = await startEmulator('grbl', [
   '--probe-warp', `${WARP.w},${WARP.lambda}`,
   '--tool-length', String(TOOL_LENGTH),
   '--set', '110=6000', '--set', '111=6000', '--set', '112=3000',
-]);
+  '--set', '120=500', '--set', '121=500', '--set', '122=500',
+];
+const FLAVOURS = (process.env.OFICINA_FLAVOURS || 'grbl,grblhal,fluidnc').split(',');
+
+const { test, state, finish } = suite('evening');
+const server = await startServer();
 const browser = await launch();
 const page = await browser.newPage({ viewport: { width: 1600, height: 1100 } });
 state.page = page;
+/// The flavour whose evening runs, and its board.
+let flavour = 'grbl', board = null;
+/// A screenshot's name: the grbl evening's as they were, the others' with their flavour.
+const shotPath = (name) => path.join(out, flavour === 'grbl' ? `evening-${name}.png` : `evening-${flavour}-${name}.png`);
 
 const dro = () => page.evaluate(() => Object.fromEntries(['x', 'y', 'z'].flatMap((a) =>
   [['m' + a, Number(document.getElementById('m' + a).textContent)], ['w' + a, Number(document.getElementById('w' + a).textContent)]])));
@@ -45,7 +58,9 @@ const openSection = async (id) => {
 };
 async function load(program) {
   await page.fill('#text', program);
-  await page.waitForFunction(() => / 0 errors/.test(' ' + document.getElementById('summary').textContent), null, { timeout: 30000 })
+  // This program's check, not one shown before it.
+  await page.waitForFunction((p) => window.__oficina.stats.checkedText === p
+    && / 0 errors/.test(' ' + document.getElementById('summary').textContent), program, { timeout: 30000 })
     .catch(async () => { throw new Error(`the program does not check: ${await page.textContent('#summary')} ${await page.textContent('#diagnostics')}`); });
 }
 /// The page's console, kept beside the screenshots for a failure's story.
@@ -64,14 +79,21 @@ async function probed() {
   return text;
 }
 
-await test('connect to the board and jog over the touch plate', async () => {
-  await page.goto(server.url);
-  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
-  page.once('dialog', (d) => d.accept(board.uri));
-  await page.selectOption('#machine-uri', '');
-  await page.click('#connect');
-  await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), board.uri.replace('tcp://', ''), { timeout: 15000 });
+/// Connects the page to this flavour's board: jogs over the touch plate with the buttons
+/// on grbl, goes there with a typed line on the others.
+const connect = () => test(`${flavour}: connect to the board and ${flavour === 'grbl' ? 'jog' : 'go'} over the touch plate`, async () => {
+  if (page.url() === 'about:blank') {
+    await page.goto(server.url);
+    await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  }
+  await connectBoard(page, board.uri);
   await waitState('idle');
+  if (flavour !== 'grbl') {
+    await mdi(page, 'G0 X170 Y70');
+    await mdi(page, 'G0 Z-30');
+    await page.waitForFunction(() => document.body.dataset.state === 'idle' && Number(document.getElementById('mz').textContent) === -30, null, { timeout: 15000 });
+    return;
+  }
   await page.fill('#jog-feed', '5000');
   await page.selectOption('#jog-step', '10');
   // To machine X170 Y70 (the plate's middle), and 30 mm down.
@@ -89,7 +111,7 @@ await test('connect to the board and jog over the touch plate', async () => {
   assert(Math.abs(d.mx - 170) < 1e-3 && Math.abs(d.my - 70) < 1e-3 && Math.abs(d.mz + 30) < 1e-3, `over the plate: ${JSON.stringify(d)}`);
 });
 
-await test('probe Z with the plate: the stock top under it is work Z0', async () => {
+const plate = () => test(`${flavour}: probe Z with the plate: the stock top under it is work Z0`, async () => {
   await openSection('probe');
   await page.fill('#probe [name=thickness]', String(PLATE.thickness));
   await page.fill('#probe [name=travel]', '20');
@@ -110,10 +132,10 @@ await test('probe Z with the plate: the stock top under it is work Z0', async ()
   assert(Math.abs(workAtTop) < 0.01, `work Z at the stock top ${workAtTop.toFixed(4)} (DRO ${JSON.stringify(d)}, top ${stockTop.toFixed(4)})`);
   // The tool rests the retract above the plate: work Z = thickness + retract.
   assert(Math.abs(d.wz - (PLATE.thickness + 2)) < 0.01, `the DRO reads ${d.wz}, ${PLATE.thickness + 2} expected`);
-  await page.screenshot({ path: path.join(out, 'evening-probe.png') });
+  await page.screenshot({ path: shotPath('probe') });
 });
 
-await test('the tool length setter measures the tool, and a probe refused on the virtual machine is said so', async () => {
+const setter = () => test(`${flavour}: the tool length setter measures the tool; a missed touch is ALARM:5 in words`, async () => {
   await page.fill('#probe [name=setter_x]', String(SETTER.x));
   await page.fill('#probe [name=setter_y]', String(SETTER.y));
   await page.fill('#probe [name=safe_z]', '-5');
@@ -151,7 +173,7 @@ const twoTools = [
 ].join('\n') + '\n';
 const lineOf = (text, s) => text.split('\n').findIndex((l) => l === s) + 1;
 
-await test('a two-tool program pauses at each M6 (remeasure), names the tool and line, and goes on', async () => {
+const remeasure = () => test(`${flavour}: a two-tool program pauses at each M6 (remeasure), names the tool and line, and goes on`, async () => {
   await openSection('toolchange');
   await page.selectOption('#toolchange [name=policy]', 'remeasure');
   await page.fill('#toolchange [name=tc_setter_x]', String(SETTER.x));
@@ -169,7 +191,7 @@ await test('a two-tool program pauses at each M6 (remeasure), names the tool and
     const banner = await page.textContent('#toolchange-banner');
     assert(await page.isVisible('#toolchange-banner'), 'the banner is shown');
     assert(banner.includes(`T${tool}`) && banner.includes(`line ${line}`), `the banner names T${tool} and line ${line}: ${banner}`);
-    if (tool === 2) await page.screenshot({ path: path.join(out, 'evening-toolchange.png') });
+    if (tool === 2) await page.screenshot({ path: shotPath('toolchange') });
     await page.click('#toolchange-continue');
     await page.waitForFunction(() => document.body.dataset.toolChange === '', null, { timeout: 30000 })
       .catch(async () => { throw new Error(`T${tool} continue did not go on: state ${await page.evaluate(() => document.body.dataset.state)}; console: ${await consoleTail()}`); });
@@ -199,7 +221,7 @@ const engraving = [
   `G1 X${ENGRAVE.x1} F600`, `G1 Y${ENGRAVE.y1}`, `G1 X${ENGRAVE.x0}`, `G1 Y${ENGRAVE.y0 + 1}`, 'G0 Z3', 'M2',
 ].join('\n') + '\n';
 
-await test('a 4 × 4 height map and a levelled engraving follow the warped surface', async () => {
+const level = () => test(`${flavour}: a 4 × 4 height map and a levelled engraving follow the warped surface`, async () => {
   await load(engraving);
   await openSection('level');
   await page.fill('#level [name=nx]', '4');
@@ -238,7 +260,7 @@ await test('a 4 × 4 height map and a levelled engraving follow the warped surfa
   await page.click('#start');
   await page.waitForFunction(() => (document.getElementById('console').textContent || '').includes('levelled with level-map.json'), null, { timeout: 15000 });
   await page.waitForFunction(() => document.body.dataset.state === 'run', null, { timeout: 15000 });
-  await page.screenshot({ path: path.join(out, 'evening-level.png') });
+  await page.screenshot({ path: shotPath('level') });
   await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 120000 });
   const samples = await page.evaluate(() => { clearInterval(window.__sampler); return window.__samples; });
   // Cutting samples: the tool below 1 mm over the surface, away from the plunge and lift points.
@@ -254,11 +276,94 @@ await test('a 4 × 4 height map and a levelled engraving follow the warped surfa
   assert(cuts >= 20, `cutting seen at ${cuts} samples of ${samples.length}`);
   assert(worst <= 0.02, `depth below the true surface within 0.02 of ${ENGRAVE.depth}: worst ${worst.toFixed(4)} over ${cuts} samples`);
   // The map beside the finished job: the other sections folded away.
-  for (const id of ['probe', 'toolchange']) await page.click(`#${id} > summary`);
+  for (const id of ['probe', 'toolchange']) {
+    if (await page.$eval(`#${id}`, (d) => d.open)) await page.click(`#${id} > summary`);
+  }
   await page.$eval('#level-map', (e) => e.scrollIntoView());
-  await page.screenshot({ path: path.join(out, 'evening-level-done.png') });
+  await page.screenshot({ path: shotPath('level-done') });
+  await page.uncheck('#start-levelled');
 });
 
+const corner = () => test(`${flavour}: the XYZ corner probe makes the block's front-left top corner X0 Y0 Z0`, async () => {
+  await openSection('probe');
+  // Over the block, 10 mm in from both sides; the tip 5 mm above the top.
+  await mdi(page, 'G53 G0 Z-30');
+  await mdi(page, `G53 G0 X${BLOCK.x0 + 10} Y${BLOCK.y0 + 10}`);
+  await mdi(page, 'G53 G0 Z-40');
+  await waitState('idle');
+  await page.fill('#probe [name=thickness]', '0');
+  await page.fill('#probe [name=tool_diameter]', String(TOOL_DIAMETER));
+  await page.fill('#probe [name=reach]', '15');
+  await page.fill('#probe [name=depth]', '3');
+  await page.fill('#probe [name=side_x]', '0');
+  await page.fill('#probe [name=side_y]', '0');
+  await page.fill('#probe [name=travel]', '20');
+  await page.fill('#probe [name=feed]', '1000');
+  await page.fill('#probe [name=slow_feed]', '100');
+  await page.fill('#probe [name=retract]', '2');
+  await page.selectOption('#probe [name=wcs]', '1');
+  await page.click('#probe-corner');
+  const text = await probed();
+  const nums = (s) => s.match(/X(-?[\d.]+) Y(-?[\d.]+) Z(-?[\d.]+)/).slice(1).map(Number);
+  const contacts = text.split('; ')[0].split(', ').map(nums);
+  const offset = nums(text.split('offset set to ')[1]);
+  // The top touched under the start, the tip on the surface; the sides at the block's own.
+  const top = surface(contacts[0][0], contacts[0][1]) + TOOL_LENGTH;
+  assert(Math.abs(offset[0] - BLOCK.x0) < 0.01 && Math.abs(offset[1] - BLOCK.y0) < 0.01, `G54 X, Y at the block's sides ${BLOCK.x0}, ${BLOCK.y0}: ${text}`);
+  assert(Math.abs(offset[2] - top) < 0.01, `G54 Z at the top (machine Z ${top.toFixed(4)} with the tip on it): ${text}`);
+  await page.screenshot({ path: shotPath('corner') });
+  // Back up to the work zero: the tool's centre over the corner, 5 mm above it.
+  await mdi(page, 'G0 Z5');
+  await mdi(page, 'G0 X0 Y0');
+  await page.waitForFunction(() => document.body.dataset.state === 'idle' && ['wx', 'wy', 'wz'].every((id, i) => Math.abs(Number(document.getElementById(id).textContent) - [0, 0, 5][i]) < 1e-3), null, { timeout: 15000 });
+});
+
+// A one-change program: the tool goes to the park position at its M6 and waits there.
+const PARK = { x: 250, y: 180, z: -5 };
+const oneChange = [
+  'G21 G90', 'G0 Z5', 'G0 X20 Y20', 'G1 Z-0.5 F300', 'G1 X40 F600', 'G0 Z5',
+  'T2 M6', 'G0 X20 Y30', 'G1 Z-0.5 F300', 'G1 X40 F600', 'G0 Z5', 'M2',
+].join('\n') + '\n';
+
+const park = () => test(`${flavour}: the park policy takes the tool to the park position at M6, and the job goes on from there`, async () => {
+  await openSection('toolchange');
+  await page.selectOption('#toolchange [name=policy]', 'park');
+  await page.fill('#toolchange [name=park_x]', String(PARK.x));
+  await page.fill('#toolchange [name=park_y]', String(PARK.y));
+  await page.fill('#toolchange [name=park_z]', String(PARK.z));
+  await page.dispatchEvent('#toolchange [name=park_z]', 'change');
+  await load(oneChange);
+  // The check's note follows the policy the board was given.
+  await page.waitForFunction(() => Array.from(document.querySelectorAll('#diagnostics li')).some((l) => l.textContent.includes('M6') && l.textContent.includes('--tool-change park')), null, { timeout: 10000 })
+    .catch(async () => { throw new Error(`the check names the park policy: ${await page.$$eval('#diagnostics li', (l) => l.map((x) => x.textContent))}`); });
+  await page.click('#start');
+  const line = lineOf(oneChange, 'T2 M6');
+  await page.waitForFunction((t) => document.body.dataset.toolChange === t, `T2@${line}`, { timeout: 60000 })
+    .catch(async () => { throw new Error(`no banner for T2: state ${await page.evaluate(() => document.body.dataset.state)}; ${await consoleTail()}`); });
+  await page.waitForFunction((p) => ['mx', 'my', 'mz'].every((id, i) => Math.abs(Number(document.getElementById(id).textContent) - p[i]) < 1e-3), [PARK.x, PARK.y, PARK.z], { timeout: 30000 })
+    .catch(async () => { throw new Error(`not at the park position: ${JSON.stringify(await dro())}`); });
+  const banner = await page.textContent('#toolchange-banner');
+  assert(banner.includes('T2') && banner.includes(`line ${line}`), `the banner names T2 and line ${line}: ${banner}`);
+  await page.screenshot({ path: shotPath('park') });
+  await page.click('#toolchange-continue');
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 60000 })
+    .catch(async () => { throw new Error(`the job did not complete: ${await consoleTail()}`); });
+  const d = await dro();
+  assert(Math.abs(d.wx - 40) < 1e-3 && Math.abs(d.wy - 30) < 1e-3 && Math.abs(d.wz - 5) < 1e-3, `the job went on after the park and ended at work X40 Y30 Z5: ${JSON.stringify(d)}`);
+});
+
+/// What each flavour's evening covers.
+const PLAN = {
+  grbl: [plate, setter, remeasure, level],
+  grblhal: [corner, remeasure, park],
+  fluidnc: [plate, level],
+};
+for (flavour of FLAVOURS) {
+  board = await startEmulator(flavour, [...SHOP, ...(flavour === 'grblhal' ? ['--tool-diameter', String(TOOL_DIAMETER)] : [])]);
+  await connect();
+  for (const step of PLAN[flavour] ?? []) await step();
+  board.stop();
+}
+
 await browser.close();
-board.stop();
 finish();

@@ -130,3 +130,26 @@ export const dro = (page, kind = 'm') =>
   page.evaluate((k) => ['x', 'y', 'z'].map((a) => Number(document.getElementById(k + a).textContent)), kind);
 export const waitState = (page, s, timeout = 30000) =>
   page.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
+
+/// Connects the page to the board at `uri` through the machine list's "type an address"
+/// entry, as a user does; resolves once the page names it.
+export async function connectBoard(page, uri) {
+  page.once('dialog', (d) => d.accept(uri));
+  await page.selectOption('#machine-uri', '');
+  await page.click('#connect');
+  await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), uri.replace('tcp://', ''), { timeout: 15000 })
+    .catch(async () => { throw new Error(`the board's address is not shown: ${await page.textContent('#machine-name')}`); });
+}
+
+/// Types `line` into the typed-line field and presses Enter; waits for the reply (`ok` or
+/// the start of an error) after it in the console.
+export async function mdi(page, line, reply = 'ok') {
+  const before = (await page.textContent('#console')).length;
+  await page.fill('#mdi', line);
+  await page.press('#mdi', 'Enter');
+  await page.waitForFunction(([before, line, reply]) => {
+    const c = document.getElementById('console').textContent.slice(before);
+    const at = c.indexOf('> ' + line + '\n');
+    return at >= 0 && c.slice(at).includes('\n' + reply);
+  }, [before, line, reply], { timeout: 20000 });
+}

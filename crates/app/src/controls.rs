@@ -10,7 +10,8 @@
 use crate::macros::{expand, MacroValues};
 use crate::offsets::SYSTEMS;
 use crate::session::{state_name, JobView};
-use crate::{Error, Session};
+use crate::{Error, Probing, Session};
+use oficina_grbl::GrblDevice;
 use oficina_machine::{Command, Job, MachineError, Pace, State};
 use serde::Serialize;
 use std::sync::Arc;
@@ -50,6 +51,26 @@ impl MdiReply {
 
 /// What homing answers `error:5` means, in words.
 const HOMING_DISABLED: &str = "homing is not enabled on this machine ($22=0): if it has limit switches, enable it with `$22=1` (typed below) and home again; otherwise jog to the work zero and set it by hand";
+
+/// How long a homing cycle may take before the firmware is given up on: grbl searches up
+/// to 1.5 × each axis's travel at the seek rate, one axis after another.
+const HOMING_PATIENCE: Duration = Duration::from_secs(300);
+
+/// What the firmware's answer to `$H` means: homed, refused (homing disabled, not idle), or
+/// an alarm raised during the cycle (grbl answers `ok` after `ALARM:9` and resets).
+fn homing_outcome(lines: &[String], error: Option<String>) -> Result<(), String> {
+    if let Some(alarm) = lines.iter().find(|l| l.starts_with("ALARM:")) {
+        return Err(format!(
+            "homing failed: {}",
+            crate::session::alarm_meaning(alarm)
+        ));
+    }
+    match error {
+        Some(e) if e.starts_with("error:5 ") => Err(format!("{HOMING_DISABLED} ({e})")),
+        Some(e) => Err(format!("homing refused: {e}")),
+        None => Ok(()),
+    }
+}
 
 impl Session {
     /// Why the machine takes no typed line now (a job streams, it jogs), if it does not.
@@ -206,23 +227,35 @@ impl Session {
         Ok(())
     }
 
-    /// Homes: real firmware runs its homing cycle (`$H`, answered when done); the virtual
-    /// machine goes back to its reference point (the profile's start).
-    pub fn home(&mut self) -> Result<(), Error> {
+    /// Homes. Real firmware runs its homing cycle (`$H`, answered only when it is over,
+    /// seconds later) as a routine on the device's thread: the returned [`Probing`] is
+    /// waited on *without* the session, so status keeps flowing (state `home`) and Stop
+    /// reaches the cycle; it ends with what went wrong (refused, an alarm). The virtual
+    /// machine moves back to its reference point (the profile's start): `None`, nothing
+    /// to wait for.
+    pub fn home(&mut self) -> Result<Option<Probing<()>>, Error> {
         self.busy("home")?;
-        if self.profile().is_none() {
-            let reply = self.machine.raw_line("$H").map_err(busy_error)?;
-            return match reply.error {
-                Some(e) if e.starts_with("error:5 ") => {
-                    Err(Error(format!("{HOMING_DISABLED} ({e})")))
-                }
-                Some(e) => Err(Error(format!("homing refused: {e}"))),
-                None => Ok(()),
-            };
+        if self.profile().is_some() {
+            let p = self.machine.status().machine_pos;
+            let delta = [0, 1, 2].map(|i| self.home[i] - p[i]);
+            return self.jog(delta, HOME_FEED).map(|()| None);
         }
-        let p = self.machine.status().machine_pos;
-        let delta = [0, 1, 2].map(|i| self.home[i] - p[i]);
-        self.jog(delta, HOME_FEED)
+        let Some(dev) = self
+            .machine
+            .as_any_mut()
+            .and_then(|m| m.downcast_mut::<GrblDevice>())
+        else {
+            return Err(Error(
+                "home: this machine is neither virtual nor grbl firmware".into(),
+            ));
+        };
+        let r = dev
+            .start_routine(|link| {
+                let reply = link.line("$H", HOMING_PATIENCE)?;
+                homing_outcome(&reply.lines, reply.error)
+            })
+            .map_err(Error::from_display)?;
+        Ok(Some(Probing(r)))
     }
 
     /// Leaves the alarm state (grbl's `$X`).

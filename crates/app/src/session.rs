@@ -82,7 +82,7 @@ pub struct Snapshot {
     pub machine: String,
     /// Its firmware.
     pub firmware: String,
-    /// idle, run, holding, hold, paused, jog or alarm.
+    /// idle, run, holding, hold, paused, jog, home or alarm.
     pub state: &'static str,
     /// The alarm, when in alarm.
     pub alarm: Option<String>,
@@ -410,6 +410,7 @@ pub(crate) fn state_name(s: &State) -> &'static str {
         State::Hold => "hold",
         State::Paused => "paused",
         State::Jog => "jog",
+        State::Home => "home",
         State::Alarm(_) => "alarm",
     }
 }

@@ -41,7 +41,9 @@ impl Extents {
 /// What a program does, at a glance (see the module comment).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Summary {
-    /// Where the rapid moves go (their end points and start points).
+    /// Where the rapid moves go (their end points and start points). The position before
+    /// the program's first move is where the tool happened to be, not the program's: it
+    /// counts in neither box.
     pub rapid_extents: Extents,
     /// Where the tool moves while cutting (lines and the whole swept arcs).
     pub feed_extents: Extents,
@@ -90,6 +92,8 @@ impl MoveBound for [f64; 3] {
 /// Folds canon operations into a [`Summary`].
 pub struct Summarizer {
     pos: Pos,
+    /// A move has been made: `pos` is the program's (before it, the tool's start).
+    moved: bool,
     feed: f64,
     feed_mode: FeedMode,
     /// Spindle speed, rev/min, and inside G33/G33.1/G76 the pitch, mm/rev.
@@ -111,6 +115,7 @@ impl Summarizer {
     pub fn with_bound(start: Pos, bound: Box<dyn MoveBound + Send>) -> Summarizer {
         Summarizer {
             pos: start,
+            moved: false,
             feed: 0.0,
             feed_mode: FeedMode::UnitsPerMinute,
             spindle_rpm: 0.0,
@@ -122,13 +127,26 @@ impl Summarizer {
 
     /// Folds one more op into the summary.
     pub fn add(&mut self, op: &CanonOp) {
+        self.fold(op);
+        self.moved |= matches!(
+            op,
+            CanonOp::StraightTraverse { .. }
+                | CanonOp::StraightFeed { .. }
+                | CanonOp::ArcFeed { .. }
+                | CanonOp::RigidTap { .. }
+        );
+    }
+
+    fn fold(&mut self, op: &CanonOp) {
         let s = &mut self.summary;
         match op {
             CanonOp::SetFeedRate(f) => self.feed = *f,
             CanonOp::SetFeedMode(m) => self.feed_mode = *m,
             CanonOp::StraightTraverse { to } => {
                 let len = self.pos.dist_xyz(to);
-                s.rapid_extents.add(xyz(&self.pos));
+                if self.moved {
+                    s.rapid_extents.add(xyz(&self.pos));
+                }
                 s.rapid_extents.add(xyz(to));
                 s.rapid_length += len;
                 s.rapid_moves += 1;
@@ -137,7 +155,9 @@ impl Summarizer {
             }
             CanonOp::StraightFeed { to } => {
                 let len = self.pos.dist_xyz(to);
-                s.feed_extents.add(xyz(&self.pos));
+                if self.moved {
+                    s.feed_extents.add(xyz(&self.pos));
+                }
                 s.feed_extents.add(xyz(to));
                 s.feed_moves += 1;
                 s.feed_length += len;
@@ -337,6 +357,34 @@ mod tests {
         assert_eq!(r.rapid_extents.max[0], 100.0);
         assert_eq!(r.feed_extents.min[0], 100.0);
         assert_eq!(r.feed_length, 50.0);
+    }
+
+    #[test]
+    fn the_start_position_is_not_the_programs_extents() {
+        // The tool stands at X-200 Z40 before the program: its first rapid and its first
+        // feed begin there, but only where the program goes counts.
+        let mut s = Summarizer::new(Pos::xyz(-200.0, 0.0, 40.0), [6000.0; 3]);
+        s.add(&CanonOp::StraightTraverse {
+            to: Pos::xyz(10.0, 10.0, 5.0),
+        });
+        s.add(&CanonOp::StraightTraverse {
+            to: Pos::xyz(20.0, 10.0, 5.0),
+        });
+        let r = s.finish();
+        assert_eq!(r.rapid_extents.min, [10.0, 10.0, 5.0]);
+        assert_eq!(r.rapid_extents.max, [20.0, 10.0, 5.0]);
+        // A program that starts cutting at once: the plunge's start is not its box either.
+        let mut s = Summarizer::new(Pos::xyz(-200.0, 0.0, 40.0), [6000.0; 3]);
+        s.add(&CanonOp::SetFeedRate(100.0));
+        for to in [(5.0, 5.0, -1.0), (15.0, 5.0, -1.0)] {
+            s.add(&CanonOp::StraightFeed {
+                to: Pos::xyz(to.0, to.1, to.2),
+            });
+        }
+        let r = s.finish();
+        assert_eq!(r.feed_extents.min, [5.0, 5.0, -1.0]);
+        assert_eq!(r.feed_extents.max, [15.0, 5.0, -1.0]);
+        assert!(r.rapid_extents.is_empty());
     }
 
     #[test]

@@ -43,6 +43,10 @@ pub(crate) struct Args {
     /// What the probe input touches (G38.2…G38.5) and the tool in the spindle.
     #[command(flatten)]
     pub probe: crate::emulate_probe::ProbeArgs,
+    /// The board has no limit switches: `$H` (with `$22=1`) searches 1.5 × the Z travel
+    /// ($132), then fails with ALARM:9, as a machine without switches does.
+    #[arg(long)]
+    pub no_limit_switches: bool,
     /// Stop after this many seconds (for scripts); default: run until interrupted.
     #[arg(long, value_name = "SECONDS")]
     pub for_seconds: Option<f64>,
@@ -89,6 +93,7 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let config = Config {
         probe: crate::emulate_probe::model(&args.probe)?,
         baud: (args.baud > 0).then_some(args.baud),
+        limit_switches: !args.no_limit_switches,
         settings: base.settings.iter().copied().chain(settings).collect(),
         ..base
     };

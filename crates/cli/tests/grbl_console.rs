@@ -362,3 +362,46 @@ fn console_job_keys_hold_resume_and_stop_with_a_resume_hint() {
         "{stdout}"
     );
 }
+
+/// `$H` typed in the console: the terminal keeps asking for status while the cycle runs
+/// (`[Home]` with the position moving), prints `ok` when it is over; a board without limit
+/// switches answers with ALARM:9, in words.
+#[test]
+fn console_homing_shows_the_cycle_and_its_alarm() {
+    let (_emu, addr) = start_emulator_with(&["--set", "22=1", "--set", "25=600"]);
+    let mut child = spawn_console(&addr, &[], false);
+    {
+        let mut stdin = child.stdin.take().unwrap();
+        // From 10 mm down and 20 mm out: about 3 s of homing at 600 mm/min.
+        stdin
+            .write_all(b"$X\nG0 X-20 Z-10\nG4 P0\n$H\nG4 P0\n")
+            .unwrap();
+    }
+    let out = child.wait_with_output().unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert_eq!(stdout.matches("ok").count(), 5, "{stdout}");
+    let homing: std::collections::BTreeSet<&str> = stderr
+        .split(['\r', '\n'])
+        .filter_map(|l| l.split("[Home] MPos ").nth(1))
+        .map(|p| p.split(' ').next().unwrap_or(""))
+        .collect();
+    assert!(
+        homing.len() >= 3,
+        "the status flows while homing: {homing:?}\n{stderr}"
+    );
+
+    let (_bare, addr) =
+        start_emulator_with(&["--no-limit-switches", "--set", "22=1", "--set", "132=10"]);
+    let mut child = spawn_console(&addr, &[], false);
+    child.stdin.take().unwrap().write_all(b"$H\n").unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("ALARM:9 (Homing fail: "),
+        "the alarm in words: {stdout}"
+    );
+}

@@ -307,7 +307,8 @@ impl GrblDevice {
 pub(crate) fn translate_status(st: &StatusReport, wco: &[f64], into: &mut Status) {
     into.state = match &st.state {
         GrblState::Idle | GrblState::Check | GrblState::Sleep => State::Idle,
-        GrblState::Run | GrblState::Home => State::Run,
+        GrblState::Run => State::Run,
+        GrblState::Home => State::Home,
         GrblState::Hold(0) | GrblState::Door(0) | GrblState::Door(1) => State::Hold,
         GrblState::Hold(_) | GrblState::Door(_) => State::Holding,
         GrblState::Jog => State::Jog,

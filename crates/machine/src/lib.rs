@@ -51,6 +51,8 @@ pub enum State {
     Paused,
     /// Jogging.
     Jog,
+    /// Running its homing cycle (grbl's `$H`): seeking the limit switches.
+    Home,
     /// In alarm (says why): unlock or reset to continue.
     Alarm(String),
 }

@@ -1,4 +1,4 @@
-//! The page's probing, tool-change and levelling requests: their fields read into the
+//! The page's homing, probing, tool-change and levelling requests: their fields read into the
 //! library's parameters, the session's routines started under its lock and waited for
 //! outside it on a thread of their own (the request is answered at once: the page's socket
 //! keeps carrying status and its Hold / Stop meanwhile), and what they measured sent to
@@ -148,6 +148,31 @@ fn describe(r: &ProbingResult) -> String {
             ),
         },
     }
+}
+
+/// Homes: on firmware the cycle runs on the device's thread and is waited for outside the
+/// session's lock (status keeps flowing, any page's Stop reaches it); how it ended goes to
+/// every page's console, a failure as an error too.
+pub(crate) fn home(st: &Arc<AppState>) -> Result<(), String> {
+    let Some(cycle) = st.with_session(|s| s.home().map_err(|e| e.to_string()))? else {
+        return Ok(());
+    };
+    st.say("home: homing cycle ($H)…");
+    let st = st.clone();
+    std::thread::spawn(move || match cycle.wait() {
+        Ok(()) => {
+            // grbl keeps the offsets over homing, but a failed or reset cycle may not.
+            let _ = st.with_session(|s| s.read_offsets().map_err(|e| e.to_string()));
+            st.say("home: homed");
+        }
+        Err(e) => {
+            st.say(&format!("home: {e}"));
+            let _ = st
+                .live
+                .send(json!({"type": "error", "message": e.to_string()}).to_string());
+        }
+    });
+    Ok(())
 }
 
 pub(crate) fn z_plate(st: &Arc<AppState>, a: ZPlateArgs) -> Result<(), String> {

@@ -248,9 +248,7 @@ fn run(st: &Arc<AppState>, req: Request) -> Result<&'static str, String> {
         Request::SpindleOverride { value } => {
             cmd(Command::SpindleOverride(value)).map(|()| "spindle_override")
         }
-        Request::Home => st
-            .with_session(|s| s.home().map_err(|e| e.to_string()))
-            .map(|()| "home"),
+        Request::Home => crate::probing::home(st).map(|()| "home"),
         Request::Zero { axes } => st
             .with_session(|s| s.zero(axes).map_err(|e| e.to_string()))
             .map(|()| "zero"),

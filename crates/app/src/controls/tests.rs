@@ -94,10 +94,10 @@ fn typed_lines_offsets_home_and_reset_on_every_flavour() {
         });
         assert!((snap.work_pos[2] + 1.0).abs() < 1e-3, "{snap:?}");
         // Homing refused with $22=0, explained; enabled, it homes.
-        let e = s.home().unwrap_err().0;
+        let e = homing(&mut s).wait().unwrap_err().0;
         assert!(e.contains("$22=1") && e.contains("error:5"), "{e}");
         assert_eq!(s.mdi("$22=1").unwrap().error, None);
-        s.home().unwrap();
+        homing(&mut s).wait().unwrap();
         wait(&mut s, "homed", |s| {
             s.state == "idle" && near(s.machine_pos, [0.0; 3])
         });
@@ -116,6 +116,79 @@ fn typed_lines_offsets_home_and_reset_on_every_flavour() {
             "{flavor:?}: G54 after the reset"
         );
     }
+}
+
+/// `$H` on firmware: the cycle, under way on the device's thread.
+fn homing(s: &mut Session) -> Probing<()> {
+    s.home().unwrap().expect("firmware homes as a routine")
+}
+
+#[test]
+fn homing_on_firmware_runs_beside_the_session_and_reports_its_alarms() {
+    let (_emu, mut s) = board(Flavor::GrblHal);
+    assert_eq!(s.mdi("$22=1").unwrap().error, None);
+    // A slow seek (300 mm/min) from 8 mm below Z0 and 20 mm left of X0: about 5.6 s.
+    assert_eq!(s.mdi("$25=300").unwrap().error, None);
+    s.unlock().unwrap();
+    s.mdi("G0 X-20 Y-5 Z-8").unwrap();
+    wait(&mut s, "away", |s| {
+        s.state == "idle" && near(s.machine_pos, [-20.0, -5.0, -8.0])
+    });
+    let cycle = homing(&mut s);
+    // The session stays free: the status flows (state home, Z rising first), typed lines
+    // are refused in words, and a second homing is refused.
+    let seen = wait(&mut s, "homing, Z on its way", |s| {
+        s.state == "home" && s.machine_pos[2] > -7.0 && s.machine_pos[2] < -0.5
+    });
+    assert!((seen.machine_pos[0] + 20.0).abs() < 1e-3, "{seen:?}");
+    let e = s.mdi("G0 X1").unwrap_err().0;
+    assert!(e.contains("not idle (home)"), "{e}");
+    assert!(s.home().is_err());
+    wait(&mut s, "Z home, X on its way", |s| {
+        s.state == "home" && s.machine_pos[2].abs() < 1e-3 && s.machine_pos[0] > -19.0
+    });
+    cycle.wait().unwrap();
+    wait(&mut s, "homed", |s| {
+        s.state == "idle" && near(s.machine_pos, [0.0; 3])
+    });
+
+    // Stop during the cycle: grbl's ALARM:6, said as an alarm and as the cycle's end.
+    s.mdi("G0 Z-10").unwrap();
+    wait(&mut s, "down", |s| {
+        s.state == "idle" && s.machine_pos[2] < -9.99
+    });
+    let cycle = homing(&mut s);
+    wait(&mut s, "homing", |s| s.state == "home");
+    s.command(Command::Stop).unwrap();
+    let e = cycle.wait().unwrap_err().0;
+    assert!(e.contains("stopped by the operator"), "{e}");
+    let snap = wait(&mut s, "alarm", |s| s.state == "alarm");
+    assert!(
+        snap.alarm.as_deref().unwrap_or("").contains("ALARM:6"),
+        "{snap:?}"
+    );
+}
+
+#[test]
+fn homing_without_switches_ends_in_alarm_9_explained() {
+    let mut config = Config::flavored(Flavor::Grbl);
+    config.limit_switches = false;
+    config
+        .settings
+        .extend([(22, 1.0), (25, 3000.0), (132, 10.0)]);
+    let emu = Emulator::start(config);
+    let addr = emu.serve_tcp("127.0.0.1:0").unwrap();
+    let mut s = Session::open(&format!("tcp://{addr}")).unwrap();
+    let e = homing(&mut s).wait().unwrap_err().0;
+    assert!(
+        e.starts_with("homing failed: ALARM:9 (Homing fail") && e.contains("re-home"),
+        "{e}"
+    );
+    let snap = wait(&mut s, "alarm", |s| s.state == "alarm");
+    assert!(
+        snap.alarm.as_deref().unwrap_or("").contains("ALARM:9"),
+        "{snap:?}"
+    );
 }
 
 #[test]

@@ -17,8 +17,8 @@ use oficina_grbl::{
 use oficina_machine::State;
 use serde::Serialize;
 
-/// A probing routine under way on the firmware's thread.
-pub struct Probing<T>(Routine<T>);
+/// A routine under way on the firmware's thread (a probing routine, a homing cycle).
+pub struct Probing<T>(pub(crate) Routine<T>);
 
 impl<T> Probing<T> {
     /// Waits for its end (hold the session meanwhile and status stops flowing: don't).

@@ -27,6 +27,7 @@ use oficina_motion::MoveKind;
 use oficina_motion::{Incremental, Push};
 use std::collections::{BTreeMap, VecDeque};
 
+mod homing;
 mod rotary;
 mod system;
 
@@ -58,6 +59,8 @@ pub struct Config {
     pub record_motion: bool,
     /// What the probe input touches (G38.x), and the tool in the spindle.
     pub probe: ProbeModel,
+    /// Homing finds its switches; without them `$H` searches, then fails with `ALARM:9`.
+    pub limit_switches: bool,
 }
 
 impl Config {
@@ -92,6 +95,7 @@ impl Default for Config {
             lose_status_every: 0,
             record_motion: false,
             probe: ProbeModel::default(),
+            limit_switches: true,
         }
     }
 }
@@ -172,6 +176,8 @@ pub struct Core {
     /// The planner buffer and the motion it plans.
     motion: Incremental,
     pending: Option<Pending>,
+    /// A homing cycle under way (`$H`): no line is taken until it ends.
+    homing: Option<homing::Homing>,
     /// Bytes to send to the host, oldest first.
     pub out: VecDeque<u8>,
     /// Counters for tests and benchmarks.
@@ -237,6 +243,7 @@ impl Core {
             line_overflow: false,
             motion,
             pending: None,
+            homing: None,
             out: VecDeque::new(),
             stats: Stats::default(),
             executed: Vec::new(),
@@ -506,6 +513,10 @@ impl Core {
     }
 
     fn soft_reset(&mut self) {
+        if self.homing.is_some() {
+            // A reset during the cycle: grbl's EXEC_ALARM_HOMING_FAIL_RESET.
+            return self.homing_failed(6);
+        }
         // Only a reset while steps are being generated loses position; a completed hold
         // with blocks still queued is grbl's safe way to cancel a job.
         if self.moving() {
@@ -556,14 +567,15 @@ impl Core {
             self.host_late = true;
         }
         self.run_motion(dt);
+        self.advance_homing(dt);
         self.host_late = was_late;
-        if self.blocked {
+        if self.blocked || self.homing.is_some() {
             return;
         }
         // Take lines out of the RX ring while the previous one is fully planned.
         for _ in 0..64 {
             self.advance_pending();
-            if self.pending.is_some() || self.blocked {
+            if self.pending.is_some() || self.blocked || self.homing.is_some() {
                 break;
             }
             match self.next_line() {
@@ -811,6 +823,11 @@ impl Core {
             return;
         }
         let p = self.pending.take().expect("pending checked above");
+        // A line that waited for the machine to stop (G4) finds it idle: grbl's cycle stop
+        // came before its `ok`, so a `$` command right after it is taken.
+        if p.sync && self.state == GrblState::Run && self.motion.is_empty() && self.spin.is_none() {
+            self.state = GrblState::Idle;
+        }
         if let Some(l) = p.line {
             self.awaiting.push_back((l, self.blocks_pushed));
             self.record_done();
@@ -1232,6 +1249,78 @@ mod tests {
         c.realtime(Realtime::SoftReset);
         assert_eq!(c.state, GrblState::Alarm);
         assert!(take_out(&mut c).contains("'$H'|'$X' to unlock"));
+    }
+
+    fn homing_core(limit_switches: bool) -> Core {
+        let mut c = Core::new(Config {
+            // Homing on, seek at 600 mm/min (10 mm/s), 10 mm of Z travel.
+            settings: vec![(22, 1.0), (25, 600.0), (132, 10.0)],
+            limit_switches,
+            ..cfg()
+        });
+        take_out(&mut c);
+        c
+    }
+
+    #[test]
+    fn homing_takes_its_time_z_first_and_answers_when_home() {
+        let mut c = homing_core(true);
+        // The machine was moved away: 20 mm in Z, 40 mm in X.
+        run_lines(&mut c, "$X\nG0 X-40 Y-10 Z-20\nG4 P0\n");
+        let t0 = c.clock;
+        feed(&mut c, "$H\nG0 X-1\n");
+        c.tick(t0);
+        c.tick(t0 + 1.0);
+        assert_eq!(take_out(&mut c), "", "no answer while homing");
+        assert_eq!(c.state, GrblState::Home);
+        assert!(c.status_report().starts_with("<Home|"));
+        // Z rises first (10 mm/s): half way after 1 s, X untouched.
+        assert!((c.mpos[2] + 10.0).abs() < 1e-6, "{:?}", c.mpos);
+        assert!((c.mpos[0] + 40.0).abs() < 1e-6, "{:?}", c.mpos);
+        c.tick(t0 + 4.0);
+        assert_eq!(c.state, GrblState::Home, "X and Y take 4 s more");
+        assert!(
+            c.mpos[2].abs() < 1e-9 && (c.mpos[0] + 20.0).abs() < 1e-6,
+            "{:?}",
+            c.mpos
+        );
+        c.tick(t0 + 6.01);
+        // Home, answered; the line after it runs from there.
+        assert!(take_out(&mut c).starts_with("ok\r\nok\r\n"));
+        assert_eq!(c.mpos, [0.0; 3]);
+        c.tick(t0 + 8.0);
+        assert!((c.mpos[0] + 1.0).abs() < 1e-9, "{:?}", c.mpos);
+    }
+
+    #[test]
+    fn homing_without_switches_or_reset_mid_cycle_alarms() {
+        let mut c = homing_core(false);
+        let out = run_lines(&mut c, "$X\n$H\n");
+        // 15 mm searched at 10 mm/s.
+        assert!((c.clock - 1.5).abs() < 0.05, "{}", c.clock);
+        assert!(out.contains("ALARM:9\r\nok\r\n"), "{out}");
+        assert!(
+            out.contains("Grbl 1.1h ['$' for help]"),
+            "reset after: {out}"
+        );
+        assert!(out.contains("'$H'|'$X' to unlock"), "{out}");
+        assert_eq!(c.state, GrblState::Alarm);
+
+        let mut c = homing_core(true);
+        run_lines(&mut c, "$X\nG0 Z-30\nG4 P0\n");
+        feed(&mut c, "$H\n");
+        c.tick(c.clock);
+        c.tick(c.clock + 1.0);
+        assert_eq!(c.state, GrblState::Home);
+        c.realtime(Realtime::SoftReset);
+        let out = take_out(&mut c);
+        assert!(out.starts_with("ALARM:6\r\nok\r\n"), "{out}");
+        assert_eq!(c.state, GrblState::Alarm);
+        assert!(
+            (c.mpos[2] + 20.0).abs() < 1e-6,
+            "stopped where it was: {:?}",
+            c.mpos
+        );
     }
 
     fn probe_core() -> Core {

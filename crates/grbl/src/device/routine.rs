@@ -98,6 +98,25 @@ impl Watched<'_> {
         self.machine.sender.realtime(r).map_err(|e| e.to_string())
     }
 
+    /// After a reset: the firmware's lines until its banner, an alarm it raised (a reset
+    /// mid-move, mid-homing) said as it comes.
+    fn await_restart(&mut self) {
+        let deadline = Instant::now() + self.machine.sender.options.reply_timeout;
+        while Instant::now() < deadline {
+            match self.machine.sender.link.recv(Duration::from_millis(30)) {
+                Some(LinkEvent::Line(Response::Alarm(code), _)) => {
+                    let _ = self
+                        .events
+                        .send(Event::Alarm(messages::describe_alarm(code)));
+                }
+                Some(LinkEvent::Line(Response::Welcome { .. }, _)) | Some(LinkEvent::Closed(_)) => {
+                    return
+                }
+                _ => {}
+            }
+        }
+    }
+
     /// Operator requests that came in; `Err` when the operator stopped the routine.
     fn obey(&mut self) -> Result<(), String> {
         while let Ok(c) = self.control.try_recv() {
@@ -110,6 +129,7 @@ impl Watched<'_> {
                     self.realtime(Realtime::FeedHold)?;
                     std::thread::sleep(Duration::from_millis(500));
                     self.realtime(Realtime::SoftReset)?;
+                    self.await_restart();
                     return Err("stopped by the operator (feed hold, then reset)".into());
                 }
             }
@@ -159,6 +179,21 @@ impl ProbeLink for Watched<'_> {
                     let mut s = lock(self.status);
                     translate_status(&st, &self.wco, &mut s);
                     let _ = self.events.send(Event::Status(s.clone()));
+                }
+                Some(LinkEvent::Line(Response::Alarm(code), raw)) => {
+                    // Said as it comes (the shell shows the alarm), and kept in the reply.
+                    let _ = self
+                        .events
+                        .send(Event::Alarm(messages::describe_alarm(code)));
+                    lines.push(raw)
+                }
+                Some(LinkEvent::Line(Response::Welcome { .. }, raw)) => {
+                    // The firmware reset (after an alarm, say): nothing more is answered.
+                    lines.push(raw);
+                    return Ok(RawReply {
+                        lines,
+                        error: Some(format!("the firmware restarted before answering `{line}`")),
+                    });
                 }
                 Some(LinkEvent::Line(_, raw)) => lines.push(raw),
                 Some(LinkEvent::Closed(why)) => return Err(format!("{description}: {why}")),

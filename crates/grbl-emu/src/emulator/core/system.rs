@@ -124,11 +124,8 @@ impl Core {
                 if !idle_like {
                     return self.reply_error(8);
                 }
-                // Homing ends at machine zero; the seek takes travel / seek rate.
-                self.mpos = [0.0; 3];
-                self.motion = new_motion(&self.settings, self.mpos);
-                self.interp.pos = self.mpos;
-                self.state = GrblState::Idle;
+                // Answered when the cycle ends (homing.rs).
+                return self.start_homing();
             }
             "SLP" => {
                 self.state = GrblState::Sleep;
