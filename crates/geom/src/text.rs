@@ -6,6 +6,11 @@
 //! Hershey's Roman Simplex capitals run from y = −12 to the baseline at y = 9 (y down) in the
 //! font's units; here a glyph is measured in cap heights (capitals are 1 tall), y up, its
 //! baseline on y = 0 and its cell starting at x = 0.
+//!
+//! The font data's licence asks for this acknowledgement to go with it: the Hershey Fonts
+//! were originally created by Dr. A. V. Hershey while working at the U. S. National Bureau
+//! of Standards; the format of the font data in this distribution was originally created by
+//! James Hurt, Cognition, Inc.
 
 use crate::{Point, Vec2};
 use std::sync::OnceLock;
