@@ -268,3 +268,50 @@ fn text_can_be_left_out_as_before() {
     assert_eq!(i.drawing.path_count(), 0);
     assert_eq!(i.unsupported.counts["<text>"], 1);
 }
+
+mod fuzz {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn value() -> impl Strategy<Value = String> {
+        prop_oneof![
+            Just(String::new()),
+            Just("1e308".to_string()),
+            Just("-1e308 1e308".to_string()),
+            Just("NaN".to_string()),
+            Just("inf".to_string()),
+            Just("0".to_string()),
+            Just("1em".to_string()),
+            Just("150%".to_string()),
+            "[-0-9. ,a-z%]{0,16}",
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+        /// Any positions, sizes, anchors, rotations, nesting and characters: a drawing or an
+        /// error, never a panic, and nothing drawn outside finite coordinates.
+        #[test]
+        fn any_text_is_read_or_refused(
+            x in value(), dx in value(), size in value(), rot in value(), inner in value(),
+            anchor in prop_oneof![Just("start"), Just("middle"), Just("end"), Just("x")],
+            s in "[a-zA-Z0-9 →€\u{20}-\u{7e}]{0,12}",
+            preserve in any::<bool>(),
+        ) {
+            let esc = |v: &str| v.replace('&', "&amp;").replace('<', "&lt;").replace('"', "&quot;");
+            let body = format!(
+                r#"<g font-size="{}"><text x="{}" dx="{}" rotate="{}" text-anchor="{anchor}" {}>{}<tspan x="{}" style="font-size:{}">{}</tspan></text></g>"#,
+                esc(&size), esc(&x), esc(&dx), esc(&rot),
+                if preserve { r#"xml:space="preserve""# } else { "" },
+                esc(&s), esc(&inner), esc(&size), esc(&s),
+            );
+            if let Ok(i) = svg_from_bytes(page(&body).as_bytes(), "f.svg") {
+                for p in i.drawing.paths() {
+                    if let Some(b) = p.bounding_box() {
+                        prop_assert!(b.x0.is_finite() && b.y1.is_finite(), "{body}");
+                    }
+                }
+            }
+        }
+    }
+}
