@@ -34,8 +34,8 @@ const MEDIUM: f64 = 16.0;
 /// Largest font-size drawn, in px or user units (a 100 m letter is a mistake, and the
 /// strokes must stay within usvg's f32).
 pub(crate) const MAX_FONT_SIZE: f64 = 1.0e6;
-/// Most characters drawn for one document.
-const MAX_CHARS: usize = 1_000_000;
+/// Most characters drawn for one document (each becomes some 300 bytes of path data).
+const MAX_CHARS: usize = 100_000;
 
 /// `source` with every `<text>` replaced by the `<path>` of its strokes, and what could not
 /// be drawn noted in `notes`. `None` when the document has no `<text>`.
@@ -259,7 +259,7 @@ impl<'a, 'i> TextLayout<'_, 'a, 'i> {
         }
         if self.chars.len() > *budget {
             self.notes.add(
-                "<text> (over a million characters in the document: not drawn)",
+                "<text> (over 100,000 characters in the document: not drawn)",
                 self.place.to_string(),
             );
             return None;

@@ -243,6 +243,17 @@ fn bad_text_is_noted_not_fatal() {
             i.unsupported
         );
     }
+    // Too many characters for one document: noted, not drawn, the rest read.
+    let long = "A".repeat(100_001);
+    let i = read(&format!(
+        r#"<text x="0" y="50">{long}</text><rect width="5" height="5"/>"#
+    ));
+    assert_eq!(i.drawing.path_count(), 1);
+    assert!(
+        i.unsupported.to_string().contains("100,000 characters"),
+        "{}",
+        i.unsupported
+    );
     // Markup inside the text is escaped, not injected.
     let i = read(r#"<text id="a&amp;&quot;b" class="x&lt;y" x="10" y="50">&lt;/&amp;&gt;</text>"#);
     assert!(i.drawing.path_count() > 0);
