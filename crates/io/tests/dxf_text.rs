@@ -230,3 +230,140 @@ fn text_options_and_bad_text_are_reported_not_fatal() {
     let e = read("1e9", "AB").unwrap_err();
     assert!(e.message.contains("units"), "{e}");
 }
+
+#[test]
+fn justified_text_and_mtext_attachments_sit_on_their_points() {
+    // "HIH" is symmetric in its cells: centred on a point, its strokes are centred on it.
+    fn ent(
+        kind: &'static str,
+        codes: &[(&'static str, &'static str)],
+    ) -> Vec<(&'static str, &'static str)> {
+        let mut v = vec![("0", kind), ("8", "0"), ("40", "6")];
+        v.extend_from_slice(codes);
+        v
+    }
+    let mut all = vec![("0", "SECTION"), ("2", "ENTITIES")];
+    let cases: Vec<Vec<(&str, &str)>> = vec![
+        // centre, on the baseline at (100, 0); group 10 where a wider font put its start.
+        ent(
+            "TEXT",
+            &[
+                ("5", "C"),
+                ("10", "80"),
+                ("20", "0"),
+                ("11", "100"),
+                ("21", "0"),
+                ("72", "1"),
+                ("1", "HIH"),
+            ],
+        ),
+        // right, at (100, 20)
+        ent(
+            "TEXT",
+            &[
+                ("5", "R"),
+                ("10", "70"),
+                ("20", "20"),
+                ("11", "100"),
+                ("21", "20"),
+                ("72", "2"),
+                ("1", "HIH"),
+            ],
+        ),
+        // middle (72 = 4) at (100, 40)
+        ent(
+            "TEXT",
+            &[
+                ("5", "M"),
+                ("10", "0"),
+                ("20", "0"),
+                ("11", "100"),
+                ("21", "40"),
+                ("72", "4"),
+                ("1", "HIH"),
+            ],
+        ),
+        // top left at (0, 60), bottom left at (0, 80)
+        ent(
+            "TEXT",
+            &[
+                ("5", "T"),
+                ("10", "0"),
+                ("20", "0"),
+                ("11", "0"),
+                ("21", "60"),
+                ("73", "3"),
+                ("1", "HIH"),
+            ],
+        ),
+        ent(
+            "TEXT",
+            &[
+                ("5", "B"),
+                ("10", "0"),
+                ("20", "0"),
+                ("11", "0"),
+                ("21", "80"),
+                ("73", "1"),
+                ("1", "HIH"),
+            ],
+        ),
+        // MTEXT of two lines attached middle centre (5) at (100, 120)
+        ent(
+            "MTEXT",
+            &[
+                ("5", "X"),
+                ("10", "100"),
+                ("20", "120"),
+                ("71", "5"),
+                ("1", r"HIH\PHIH"),
+            ],
+        ),
+    ];
+    for c in &cases {
+        all.extend_from_slice(c);
+    }
+    all.extend_from_slice(&[("0", "ENDSEC"), ("0", "EOF")]);
+    let r = read_dxf(pairs(&all).as_bytes(), "j.dxf", &DxfOptions::default()).unwrap();
+    let b = |h: &str| {
+        bbox_of(
+            r.imported
+                .drawing
+                .paths()
+                .filter(|p| p.source.element.ends_with(&format!("#{h}"))),
+        )
+    };
+    let h = 6.0;
+    let near = |a: f64, b: f64| (a - b).abs() < 1e-6;
+    let c = b("C");
+    assert!(near((c.x0 + c.x1) / 2.0, 100.0) && near(c.y0, 0.0), "{c:?}");
+    let rt = b("R");
+    // Ends at the point less H's right side bearing (4 of its 22 units, cap 21).
+    assert!(
+        near(rt.x1, 100.0 - 4.0 / 21.0 * h) && near(rt.y0, 20.0),
+        "{rt:?}"
+    );
+    let m = b("M");
+    assert!(
+        near((m.x0 + m.x1) / 2.0, 100.0) && near((m.y0 + m.y1) / 2.0, 40.0),
+        "{m:?}"
+    );
+    let t = b("T");
+    assert!(near(t.y1, 60.0) && t.x0 > 0.0 && t.x0 < 0.35 * h, "{t:?}");
+    let bo = b("B");
+    assert!(near(bo.y0, 80.0 + h / 3.0), "{bo:?}");
+    // The block: first line's capitals on top, the second baseline 5/3 h lower.
+    let x = b("X");
+    assert!(near(x.height(), h + 5.0 / 3.0 * h), "{x:?}");
+    assert!(
+        near((x.x0 + x.x1) / 2.0, 100.0) && near((x.y0 + x.y1) / 2.0, 120.0),
+        "{x:?}"
+    );
+}
+
+fn bbox_of<'a>(paths: impl Iterator<Item = &'a oficina_geom::Path>) -> oficina_geom::Rect {
+    paths
+        .filter_map(|p| p.bounding_box())
+        .reduce(|a, b| a.union(b))
+        .expect("drawn")
+}

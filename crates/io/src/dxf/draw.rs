@@ -455,9 +455,21 @@ impl<'b> Drawer<'b> {
             Vec2::from_angle(t.angle),
             Vec2::from_angle(t.angle + FRAC_PI_2),
         );
-        if t.top {
-            // MTEXT attached at the top: the first baseline is about one height lower.
-            at -= up * t.height;
+        let mut anchor = at;
+        if t.mtext {
+            // The insertion point is the top, middle or bottom of the block of lines (the
+            // first baseline a height under its top, the last on its bottom).
+            let lines = t.text.split('\n').count().max(1) as f64;
+            let below_first = (lines - 1.0) * MTEXT_LINE_PITCH * t.height;
+            at -= up
+                * match t.row {
+                    0 => t.height,
+                    1 => (t.height - below_first) / 2.0,
+                    _ => -below_first,
+                };
+            anchor = at;
+        } else if let Some(a) = t.anchor {
+            anchor = Point::new(a[0], a[1]) + shift - up * (t.rise * t.height);
         }
         let c = place.as_coeffs();
         let lin = |v: Vec2| Vec2::new(c[0] * v.x + c[2] * v.y, c[1] * v.x + c[3] * v.y);
@@ -468,6 +480,8 @@ impl<'b> Drawer<'b> {
         let placed = DxfText {
             text: t.text.clone(),
             at: place * at,
+            anchor: place * anchor,
+            justify: t.justify,
             height: t.height * scale,
             angle: d.y.atan2(d.x),
             layer: layer.to_string(),
@@ -480,10 +494,11 @@ impl<'b> Drawer<'b> {
     }
 
     /// A placed string drawn with the single-stroke font as open strokes on its layer: the
-    /// capitals as tall as the text's height (CAD's text height is the capital height), the
-    /// first baseline starting at its point, MTEXT's lines 5/3 of a height apart (AutoCAD's
-    /// line spacing at factor 1). The font's advances are not the CAD font's, so right or
-    /// centred TEXT keeps its start point and ends where Roman Simplex ends.
+    /// capitals as tall as the text's height (CAD's text height is the capital height), each
+    /// line justified on the anchor with the font's own widths (left text starts at its
+    /// point; centred and right text is centred on or ends at its alignment point, as the
+    /// CAD program draws it with its font), MTEXT's lines 5/3 of a height apart (AutoCAD's
+    /// line spacing at factor 1).
     fn draw_string(&mut self, e: &Ent, ctx: (&str, Option<Color>), t: &DxfText) {
         if !(t.height.is_finite() && t.height > 0.0) {
             self.skip(e, "text of no height");
@@ -502,7 +517,9 @@ impl<'b> Drawer<'b> {
             Vec2::from_angle(t.angle + FRAC_PI_2),
         );
         for (row, line) in t.text.split('\n').enumerate() {
-            let mut pen = t.at - up * (row as f64 * MTEXT_LINE_PITCH * t.height);
+            let mut pen = t.anchor
+                - up * (row as f64 * MTEXT_LINE_PITCH * t.height)
+                - dir * (t.justify * text::text_width(line, t.height));
             for ch in line.chars() {
                 for s in text::glyph_strokes(ch, pen, t.height, dir, up) {
                     // Already in mm: pushed as they are.

@@ -58,14 +58,19 @@ impl Default for DxfOptions {
 }
 
 /// A string of the drawing, placed: MTEXT formatting removed, TEXT's %% codes as characters.
-/// Horizontal justification is the writer's (TEXT's first point is where its baseline starts);
-/// MTEXT's attachment is applied vertically only (top: one height down).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DxfText {
     /// The string; `\n` between lines.
     pub text: String,
-    /// Start of the first baseline, mm.
+    /// Start of the first baseline, mm: TEXT's first point (where the writer's font put
+    /// it), MTEXT's insertion point moved to its first baseline by its attachment row.
     pub at: oficina_geom::Point,
+    /// The point on the first baseline each line is justified on, mm: `at` for left text,
+    /// TEXT's alignment point (group 11) moved to the baseline for centred, right, middle or
+    /// top text.
+    pub anchor: oficina_geom::Point,
+    /// Fraction of each line's width left of `anchor`: 0 left, ½ centred, 1 right.
+    pub justify: f64,
     /// Height of capitals, mm.
     pub height: f64,
     /// Direction of the baseline, radians counter-clockwise from +X.
