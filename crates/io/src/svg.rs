@@ -60,7 +60,8 @@ pub fn read_svg(bytes: &[u8], file: &str, opts: &SvgOptions) -> Result<Imported,
         };
         match tag {
             "text" if opts.draw_text => {}
-            "text" | "image" | "foreignObject" | "video" | "audio" => {
+            // (flowRoot: Inkscape 0.92's flowed text, not SVG; usvg drops it.)
+            "text" | "image" | "foreignObject" | "video" | "audio" | "flowRoot" => {
                 out.unsupported.add(&format!("<{tag}>"), where_())
             }
             "g" => {

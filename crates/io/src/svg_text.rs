@@ -140,7 +140,14 @@ fn font_size(n: &Node) -> f64 {
     chain.reverse();
     let mut size = MEDIUM;
     for a in chain {
-        let Some(v) = property(&a, "font-size") else {
+        // font-size, else the size in the `font` shorthand ("bold 12px/1.2 sans-serif").
+        let shorthand = || {
+            property(&a, "font")?
+                .split_whitespace()
+                .map(|w| w.split('/').next().unwrap_or(""))
+                .find(|w| w.starts_with(|c: char| c.is_ascii_digit() || c == '.'))
+        };
+        let Some(v) = property(&a, "font-size").or_else(shorthand) else {
             continue;
         };
         size = match v {

@@ -151,6 +151,11 @@ fn tspans_dx_dy_units_inheritance_transforms_and_use() {
         r#"<g font-size="20"><text x="0" y="50" style="font-size:0.5em">H</text></g>"#,
     ));
     assert!((em.height() - 7.0).abs() < 1e-3, "{em:?}");
+    // The `font` shorthand.
+    let short = extents(&read(
+        r#"<text x="0" y="50" style="font:bold 20px/1.25 sans-serif">H</text>"#,
+    ));
+    assert!((short.height() - 14.0).abs() < 1e-3, "{short:?}");
     // No font-size anywhere: CSS's medium, 16.
     let medium = extents(&read(r#"<text x="0" y="50">H</text>"#));
     assert!((medium.height() - 16.0 * 0.7).abs() < 1e-3);
@@ -243,6 +248,11 @@ fn bad_text_is_noted_not_fatal() {
             i.unsupported
         );
     }
+    // Inkscape 0.92's flowed text is not SVG: noted, not dropped in silence.
+    let i = read(
+        r#"<flowRoot id="f"><flowRegion><rect width="9" height="9"/></flowRegion><flowPara>hi</flowPara></flowRoot>"#,
+    );
+    assert_eq!(i.unsupported.counts["<flowRoot>"], 1, "{}", i.unsupported);
     // Too many characters for one document: noted, not drawn, the rest read.
     let long = "A".repeat(100_001);
     let i = read(&format!(
@@ -325,4 +335,28 @@ mod fuzz {
             }
         }
     }
+}
+
+#[test]
+fn inkscape_multiline_text() {
+    // As Inkscape 1.x writes two lines: xml:space preserve, a tspan per line with its own
+    // x and y, the size in the text's style, namespaced attributes.
+    let i = read(
+        r#"<g inkscape:groupmode="layer" id="layer1" inkscape:label="Labels" xmlns:sodipodi="http://sodipodi.sourceforge.net/DTD/sodipodi-0.dtd">
+        <text xml:space="preserve" style="font-size:10.5833px;line-height:1.25;font-family:sans-serif;fill:#ff0000;stroke-width:0.264583" x="20" y="30" id="text1"><tspan sodipodi:role="line" id="tspan1" style="stroke-width:0.264583" x="20" y="30">HI</tspan><tspan sodipodi:role="line" style="stroke-width:0.264583" x="20" y="43.229" id="tspan2">HI</tspan></text></g>"#,
+    );
+    let p: Vec<&Path> = i.drawing.paths().collect();
+    // H three strokes, I one, twice: each a path of the drawing, sourced to the element.
+    assert_eq!(p.len(), 8);
+    assert!(p.iter().all(|p| p.source.element == "#text1"));
+    assert_eq!(i.drawing.layers[0].name, "Labels");
+    assert_eq!(p[0].style.stroke, Some(Color::rgb(255, 0, 0)));
+    let b = extents(&i);
+    let cap = 10.5833 * 0.7;
+    // From the second baseline (100 − 43.229) to the first line's capitals (100 − 30 + cap).
+    assert!(
+        (b.y0 - (100.0 - 43.229)).abs() < 1e-3 && (b.y1 - (70.0 + cap)).abs() < 1e-3,
+        "{b:?}"
+    );
+    assert!(b.x0 > 20.0 && b.x0 < 20.0 + 0.35 * cap, "{b:?}");
 }
