@@ -1,5 +1,6 @@
 //! Geometry: `Drawing` (layers of lines, arcs and cubic Béziers), the one arc module, offsets
-//! and booleans, curve fitting of digitised contours, grading of sizes and mirroring.
+//! and booleans, curve fitting of digitised contours, grading of sizes and mirroring, and the
+//! single-stroke font ([`text`]).
 //!
 //! ```
 //! use oficina_geom::{offset_regions, Arc, Join, Point, Region};
@@ -26,6 +27,7 @@ mod grade;
 mod mirror;
 mod offset;
 mod polygon;
+pub mod text;
 
 pub use arc::{
     center_from_offsets, center_from_radius, chord_count, circumcenter, sweep_between, Arc,
@@ -42,3 +44,4 @@ pub use polygon::{
     boolean, boolean_fixed, bounds, offset_regions, offset_rings, offset_steps, ring_area,
     simplify, total_area, BoolOp, Fill, Join, PolygonError, Region, Ring,
 };
+pub use text::text_strokes;

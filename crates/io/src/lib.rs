@@ -4,7 +4,7 @@
 //! ```
 //! use oficina_io::svg_from_bytes;
 //!
-//! // A 20 × 10 mm rectangle and a text element, which must be converted to paths first.
+//! // A 20 × 10 mm rectangle and a text element, drawn with the single-stroke font.
 //! let svg = br#"<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="50mm"
 //!     viewBox="0 0 100 50">
 //!   <rect x="10" y="10" width="20" height="10"/>
@@ -14,7 +14,12 @@
 //! let rect = imported.drawing.paths().next().unwrap();
 //! assert!(rect.closed);
 //! assert!((rect.area().abs() - 200.0).abs() < 1e-3, "{}", rect.area()); // usvg works in f32
-//! assert_eq!(imported.unsupported.total(), 1); // the text
+//! assert!(imported.unsupported.is_empty());
+//! // "hi" in single strokes (h: 2, i: the stem and its dot), on the baseline y = 50 − 40 mm.
+//! let hi: Vec<_> = imported.drawing.paths().skip(1).collect();
+//! assert_eq!(hi.len(), 4);
+//! let low = hi.iter().filter_map(|p| p.bounding_box()).map(|b| b.y0).fold(f64::MAX, f64::min);
+//! assert!((low - 10.0).abs() < 1e-3, "{low}");
 //! ```
 
 mod closure;
@@ -27,6 +32,7 @@ mod points;
 mod raw;
 mod seed001;
 mod svg;
+mod svg_text;
 
 pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
@@ -43,4 +49,4 @@ pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
 pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
-pub use svg::svg_from_bytes;
+pub use svg::{read_svg, svg_from_bytes, SvgOptions};

@@ -1,8 +1,9 @@
 //! SVG → `Drawing` through usvg, which resolves transforms, units, the viewBox, groups,
 //! `<use>`, CSS and turns every shape (rect, circle, ellipse, line, polyline, polygon) and
 //! path command into moves, lines and curves. Coordinates come out in user-space px at
-//! 96 px/in; here they become mm with y up (SVG's y runs down). Text, images and foreign
-//! objects are counted as unsupported (text must be converted to paths first).
+//! 96 px/in; here they become mm with y up (SVG's y runs down). Text is drawn with the
+//! single-stroke font (`svg_text`), or counted as unsupported when
+//! [`SvgOptions::draw_text`] is off; images and foreign objects are counted as unsupported.
 
 use crate::import::{ImportError, Imported};
 use oficina_geom::kurbo::{Affine, CubicBez, Point};
@@ -13,8 +14,26 @@ use usvg::roxmltree;
 /// CSS px per inch, as usvg converts mm, cm, in, pt.
 const DPI: f64 = 96.0;
 
-/// Reads an SVG document into a drawing, in mm.
+/// How to read an SVG document.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// Draw `<text>` with the single-stroke font (default); off, it is counted as skipped.
+    pub draw_text: bool,
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions { draw_text: true }
+    }
+}
+
+/// Reads an SVG document into a drawing, in mm, text drawn with the single-stroke font.
 pub fn svg_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError> {
+    read_svg(bytes, file, &SvgOptions::default())
+}
+
+/// Reads an SVG document into a drawing, in mm.
+pub fn read_svg(bytes: &[u8], file: &str, opts: &SvgOptions) -> Result<Imported, ImportError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         ImportError::new(file, format!("byte {}", e.valid_up_to()), "not UTF-8 text")
     })?;
@@ -40,7 +59,9 @@ pub fn svg_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError>
             )
         };
         match tag {
-            "text" | "image" | "foreignObject" | "video" | "audio" => {
+            "text" if opts.draw_text => {}
+            // (flowRoot: Inkscape 0.92's flowed text, not SVG; usvg drops it.)
+            "text" | "image" | "foreignObject" | "video" | "audio" | "flowRoot" => {
                 out.unsupported.add(&format!("<{tag}>"), where_())
             }
             "g" => {
@@ -56,8 +77,16 @@ pub fn svg_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError>
             _ => {}
         }
     }
-    let tree = usvg::Tree::from_str(text, &usvg::Options::default())
-        .map_err(|e| ImportError::new(file, "SVG", e.to_string()))?;
+    let with_text = if opts.draw_text {
+        crate::svg_text::texts_to_paths(text, &doc, &mut out.unsupported)
+    } else {
+        None
+    };
+    let tree = usvg::Tree::from_str(
+        with_text.as_deref().unwrap_or(text),
+        &usvg::Options::default(),
+    )
+    .map_err(|e| ImportError::new(file, "SVG", e.to_string()))?;
     let k = 25.4 / DPI;
     let h = tree.size().height() as f64;
     // px, y down → mm, y up.
@@ -192,7 +221,9 @@ mod tests {
           <circle id="c" cx="80" cy="40" r="5"/>
           <text x="1" y="1">hi</text>
         </svg>"##;
-        let imp = svg_from_bytes(svg.as_bytes(), "t.svg").unwrap();
+        // (Text left out here: svg_text's tests draw it.)
+        let off = SvgOptions { draw_text: false };
+        let imp = read_svg(svg.as_bytes(), "t.svg", &off).unwrap();
         let paths: Vec<&Path> = imp.drawing.paths().collect();
         assert_eq!(paths.len(), 3, "{paths:?}");
         let r = paths[0].bounding_box().unwrap();

@@ -250,12 +250,12 @@ fn colours_by_layer_and_by_block_and_layer_zero_inside_blocks() {
 
 #[test]
 fn what_is_skipped_is_counted_with_its_reason() {
-    let r = read_dxf(
-        &data("ezdxf_hatches_2.dxf"),
-        "h.dxf",
-        &DxfOptions::default(),
-    )
-    .unwrap();
+    // Text is drawn unless asked not to; asked not to, it is counted with its reason.
+    let no_text = DxfOptions {
+        draw_text: false,
+        ..DxfOptions::default()
+    };
+    let r = read_dxf(&data("ezdxf_hatches_2.dxf"), "h.dxf", &no_text).unwrap();
     let u = &r.imported.unsupported;
     assert_eq!(u.counts.get("MTEXT (text is not drawn)"), Some(&2), "{u}");
     assert_eq!(
@@ -356,7 +356,11 @@ fn texts_are_placed_for_a_caller_with_a_font() {
         ("0", "ENDSEC"),
         ("0", "EOF"),
     ]);
-    let r = read_dxf(s.as_bytes(), "t.dxf", &DxfOptions::default()).unwrap();
+    let no_text = DxfOptions {
+        draw_text: false,
+        ..DxfOptions::default()
+    };
+    let r = read_dxf(s.as_bytes(), "t.dxf", &no_text).unwrap();
     let t = &r.texts[0];
     assert_eq!((t.text.as_str(), t.layer.as_str()), ("⌀6 H7", "marks"));
     assert!(

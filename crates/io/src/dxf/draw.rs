@@ -12,9 +12,12 @@ use super::spline::{through_fit_points, Nurbs};
 use super::{Block, DxfText};
 use crate::import::{ImportError, Imported};
 use oficina_geom::kurbo::{Affine, CubicBez, Vec2};
-use oficina_geom::{Arc, Color, Path, Point, Segment, SourceRef, Style};
+use oficina_geom::{text, Arc, Color, Path, Point, Segment, SourceRef, Style};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// MTEXT's distance between baselines, in text heights (AutoCAD's at line spacing factor 1).
+const MTEXT_LINE_PITCH: f64 = 5.0 / 3.0;
 
 /// Deepest nesting of block inserts followed (a block that inserts itself stops here).
 const MAX_DEPTH: usize = 16;
@@ -140,6 +143,8 @@ pub(super) struct Drawer<'b> {
     out: Imported,
     counts: BTreeMap<String, usize>,
     texts: Vec<DxfText>,
+    /// Draw text with the single-stroke font ([`super::DxfOptions::draw_text`]).
+    pub(super) draw_text: bool,
     expanded: usize,
 }
 
@@ -166,6 +171,7 @@ impl<'b> Drawer<'b> {
             out: Imported::default(),
             counts: BTreeMap::new(),
             texts: Vec::new(),
+            draw_text: true,
             expanded: 0,
         }
     }
@@ -394,10 +400,14 @@ impl<'b> Drawer<'b> {
                 }
             }
             Geo::Text(t) => {
-                if !t.hidden {
-                    self.text(e, t, m, Vec2::ZERO, ctx.0);
+                if t.hidden {
+                    self.skip(e, "invisible attribute");
+                } else {
+                    self.text(e, t, m, Vec2::ZERO, ctx);
+                    if !self.draw_text {
+                        self.skip(e, "text is not drawn");
+                    }
                 }
-                self.skip(e, "text is not drawn");
             }
             Geo::Unreadable(why) => self.skip(e, why),
             Geo::Other => self.skip(e, ""),
@@ -428,17 +438,31 @@ impl<'b> Drawer<'b> {
         Ok(())
     }
 
-    /// A string placed in mm: `shift` moves it first (in its own coordinates).
-    fn text(&mut self, e: &Ent, t: &TextData, m: Affine, shift: Vec2, layer: &str) {
+    /// A string placed in mm: `shift` moves it first (in its own coordinates). Kept in
+    /// `texts`, and drawn when text is drawn.
+    fn text(&mut self, e: &Ent, t: &TextData, m: Affine, shift: Vec2, ctx: (&str, Option<Color>)) {
+        let layer = ctx.0;
         let place = if t.mtext { m } else { m * ocs(t.n, t.at[2]) };
         let mut at = Point::new(t.at[0], t.at[1]) + shift;
         let (dir, up) = (
             Vec2::from_angle(t.angle),
             Vec2::from_angle(t.angle + FRAC_PI_2),
         );
-        if t.top {
-            // MTEXT attached at the top: the first baseline is about one height lower.
-            at -= up * t.height;
+        let mut anchor = at;
+        if t.mtext {
+            // The insertion point is the top, middle or bottom of the block of lines (the
+            // first baseline a height under its top, the last on its bottom).
+            let lines = t.text.split('\n').count().max(1) as f64;
+            let below_first = (lines - 1.0) * MTEXT_LINE_PITCH * t.height;
+            at -= up
+                * match t.row {
+                    0 => t.height,
+                    1 => (t.height - below_first) / 2.0,
+                    _ => -below_first,
+                };
+            anchor = at;
+        } else if let Some(a) = t.anchor {
+            anchor = Point::new(a[0], a[1]) + shift - up * (t.rise * t.height);
         }
         let c = place.as_coeffs();
         let lin = |v: Vec2| Vec2::new(c[0] * v.x + c[2] * v.y, c[1] * v.x + c[3] * v.y);
@@ -446,14 +470,57 @@ impl<'b> Drawer<'b> {
         let scale = (c[0] * c[3] - c[1] * c[2]).abs().sqrt();
         let mut source = SourceRef::new(self.file, Self::element(e));
         source.line = e.common.line;
-        self.texts.push(DxfText {
+        let placed = DxfText {
             text: t.text.clone(),
             at: place * at,
+            anchor: place * anchor,
+            justify: t.justify,
             height: t.height * scale,
             angle: d.y.atan2(d.x),
             layer: layer.to_string(),
             source,
-        });
+        };
+        if self.draw_text {
+            self.draw_string(e, ctx, &placed);
+        }
+        self.texts.push(placed);
+    }
+
+    /// A placed string drawn with the single-stroke font as open strokes on its layer: the
+    /// capitals as tall as the text's height (CAD's text height is the capital height), each
+    /// line justified on the anchor with the font's own widths (left text starts at its
+    /// point; centred and right text is centred on or ends at its alignment point, as the
+    /// CAD program draws it with its font), MTEXT's lines 5/3 of a height apart (AutoCAD's
+    /// line spacing at factor 1).
+    fn draw_string(&mut self, e: &Ent, ctx: (&str, Option<Color>), t: &DxfText) {
+        if !(t.height.is_finite() && t.height > 0.0) {
+            self.skip(e, "text of no height");
+            return;
+        }
+        let missing = text::missing_glyphs(&t.text);
+        if !missing.is_empty() {
+            let chars: String = missing.iter().take(8).collect();
+            self.out.unsupported.add(
+                &format!("{} (characters without a glyph, drawn as '?')", e.kind),
+                format!("{} {chars:?}", Self::element(e)),
+            );
+        }
+        let (dir, up) = (
+            Vec2::from_angle(t.angle),
+            Vec2::from_angle(t.angle + FRAC_PI_2),
+        );
+        for (row, line) in t.text.split('\n').enumerate() {
+            let mut pen = t.anchor
+                - up * (row as f64 * MTEXT_LINE_PITCH * t.height)
+                - dir * (t.justify * text::text_width(line, t.height));
+            for ch in line.chars() {
+                for s in text::glyph_strokes(ch, pen, t.height, dir, up) {
+                    // Already in mm: pushed as they are.
+                    self.push(e, ctx, Path::polyline(&s, false));
+                }
+                pen += dir * (text::glyph_advance(ch) * t.height);
+            }
+        }
     }
 
     fn insert(
@@ -519,12 +586,18 @@ impl<'b> Drawer<'b> {
                     // by the cell's offset along the turned axes.
                     let shift = Affine::rotate(ins.rotation.to_radians()) * cell.to_point();
                     for a in &ins.attribs {
-                        if !a.hidden {
-                            self.text(e, a, m, shift.to_vec2(), ctx.0);
+                        if a.hidden {
+                            self.out
+                                .unsupported
+                                .add("ATTRIB (invisible attribute)", Self::element(e));
+                        } else {
+                            self.text(e, a, m, shift.to_vec2(), ctx);
+                            if !self.draw_text {
+                                self.out
+                                    .unsupported
+                                    .add("ATTRIB (text is not drawn)", Self::element(e));
+                            }
                         }
-                        self.out
-                            .unsupported
-                            .add("ATTRIB (text is not drawn)", Self::element(e));
                     }
                 }
             }

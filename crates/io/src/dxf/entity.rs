@@ -80,9 +80,19 @@ pub(super) struct TextData {
     /// Direction of the baseline, radians (in the OCS for TEXT).
     pub(super) angle: f64,
     pub(super) n: P3,
-    /// MTEXT: WCS, and the insertion point is the top of the first line (attachment 1–3).
+    /// MTEXT: WCS, and the insertion point is where its attachment says.
     pub(super) mtext: bool,
-    pub(super) top: bool,
+    /// Justification: the fraction of each line's width left of the anchor (0 left,
+    /// ½ centre, 1 right), and the anchor's height above the first baseline in text heights
+    /// (0 baseline, −⅓ bottom of the descenders, ½ middle, 1 top). MTEXT's middle and bottom
+    /// rows are counted from its last line in `draw`.
+    pub(super) justify: f64,
+    pub(super) rise: f64,
+    /// MTEXT's attachment row: 0 top, 1 middle, 2 bottom.
+    pub(super) row: u8,
+    /// The point TEXT and ATTRIB are justified on (group 11, OCS) when not left on the
+    /// baseline; the writer's group 10 assumed its own font's widths.
+    pub(super) anchor: Option<P3>,
     /// An invisible attribute (flag 1).
     pub(super) hidden: bool,
 }
@@ -575,6 +585,35 @@ fn text(kind: &str, tags: &[Tag]) -> Result<TextData, String> {
     } else {
         t.f(50, 0.0)?.to_radians()
     };
+    let (justify, rise, row, anchor) = if mtext {
+        // Attachment 1–9: rows top, middle, bottom of left, centre, right.
+        let a = t.i(71, 1)?.clamp(1, 9) - 1;
+        ([0.0, 0.5, 1.0][(a % 3) as usize], 0.0, (a / 3) as u8, None)
+    } else {
+        // TEXT: 72 left, centre, right, aligned, middle, fit; vertical in 73 (ATTRIB and
+        // ATTDEF: 74) baseline, bottom, middle, top. Aligned and fit stay on their start.
+        let h = t.i(72, 0)?;
+        let v = t.i(if kind == "TEXT" { 73 } else { 74 }, 0)?;
+        let justify = match h {
+            1 | 4 => 0.5,
+            2 => 1.0,
+            _ => 0.0,
+        };
+        let rise = match (h, v) {
+            (4, 0) | (_, 2) => 0.5,
+            (_, 1) => -1.0 / 3.0,
+            (_, 3) => 1.0,
+            _ => 0.0,
+        };
+        if !matches!(h, 3 | 5)
+            && (justify != 0.0 || rise != 0.0)
+            && tags.iter().any(|g| g.code == 11)
+        {
+            (justify, rise, 0, Some(t.p3(11)?))
+        } else {
+            (0.0, 0.0, 0, None)
+        }
+    };
     Ok(TextData {
         text: if mtext {
             plain_mtext(&raw)
@@ -586,7 +625,10 @@ fn text(kind: &str, tags: &[Tag]) -> Result<TextData, String> {
         angle,
         n: t.normal()?,
         mtext,
-        top: mtext && (1..=3).contains(&t.i(71, 1)?),
+        justify,
+        rise,
+        row,
+        anchor,
         hidden: matches!(kind, "ATTRIB" | "ATTDEF") && t.i(70, 0)? & 1 != 0,
     })
 }

@@ -4,9 +4,10 @@
 //! CIRCLE, ELLIPSE, LWPOLYLINE and POLYLINE (2-D with bulges, 3-D; centre lines, widths not
 //! drawn), SPLINE (control points with knots and weights, or fit points), HATCH boundary
 //! paths, SOLID, TRACE and 3DFACE outlines, POINT; entities in any plane (their OCS) projected
-//! onto XY. Text (TEXT, MTEXT, ATTRIB) is not drawn: it is counted in `Unsupported`, as every
-//! other kind not read, and its strings are placed in [`DxfRead::texts`] for a caller with a
-//! single-stroke font. Units come from `$INSUNITS`, else `$MEASUREMENT` (0: inches), else mm;
+//! onto XY. Text (TEXT, MTEXT, visible ATTRIBs) is drawn with the single-stroke Hershey font
+//! (`oficina_geom::text`) as open strokes on its layer, or, with [`DxfOptions::draw_text`]
+//! off, counted in `Unsupported` as every other kind not read; either way its strings are
+//! placed in [`DxfRead::texts`]. Units come from `$INSUNITS`, else `$MEASUREMENT` (0: inches), else mm;
 //! a drawing larger than [`DxfOptions::max_size_mm`] is refused with a hint, as its units are
 //! then almost surely wrong.
 //!
@@ -40,6 +41,10 @@ pub struct DxfOptions {
     pub mm_per_unit: Option<f64>,
     /// Largest width or height in mm accepted (beyond it the units are taken to be wrong).
     pub max_size_mm: f64,
+    /// Draw TEXT, MTEXT and visible ATTRIBs with the single-stroke font as open strokes on
+    /// their layer (default); off, they are counted as skipped. Either way they are placed
+    /// in [`DxfRead::texts`].
+    pub draw_text: bool,
 }
 
 impl Default for DxfOptions {
@@ -47,19 +52,25 @@ impl Default for DxfOptions {
         DxfOptions {
             mm_per_unit: None,
             max_size_mm: 10_000.0,
+            draw_text: true,
         }
     }
 }
 
 /// A string of the drawing, placed: MTEXT formatting removed, TEXT's %% codes as characters.
-/// Horizontal justification is the writer's (TEXT's first point is where its baseline starts);
-/// MTEXT's attachment is applied vertically only (top: one height down).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DxfText {
     /// The string; `\n` between lines.
     pub text: String,
-    /// Start of the first baseline, mm.
+    /// Start of the first baseline, mm: TEXT's first point (where the writer's font put
+    /// it), MTEXT's insertion point moved to its first baseline by its attachment row.
     pub at: oficina_geom::Point,
+    /// The point on the first baseline each line is justified on, mm: `at` for left text,
+    /// TEXT's alignment point (group 11) moved to the baseline for centred, right, middle or
+    /// top text.
+    pub anchor: oficina_geom::Point,
+    /// Fraction of each line's width left of `anchor`: 0 left, ½ centred, 1 right.
+    pub justify: f64,
     /// Height of capitals, mm.
     pub height: f64,
     /// Direction of the baseline, radians counter-clockwise from +X.
@@ -78,8 +89,8 @@ pub struct DxfRead {
     /// Entities met in model space by kind, INSERTs and DIMENSIONs exploded (they are not
     /// counted themselves; what their blocks hold is).
     pub entities: BTreeMap<String, usize>,
-    /// The strings of TEXT, MTEXT and visible ATTRIBs, placed in mm, for a caller that draws
-    /// them with a single-stroke font (the drawing does not hold them).
+    /// The strings of TEXT, MTEXT and visible ATTRIBs, placed in mm (drawn in the drawing
+    /// too unless [`DxfOptions::draw_text`] is off).
     pub texts: Vec<DxfText>,
     /// Millimetres per drawing unit used.
     pub mm_per_unit: f64,
@@ -111,6 +122,7 @@ pub fn read_dxf(bytes: &[u8], file: &str, opts: &DxfOptions) -> Result<DxfRead, 
         None => header_units(&f.header, file)?,
     };
     let mut d = draw::Drawer::new(file, &f.blocks, &f.layers, scale);
+    d.draw_text = opts.draw_text;
     d.model(&f.model)?;
     let (mut imported, entities, texts) = d.finish();
     imported.set_units(units.clone(), scale);
