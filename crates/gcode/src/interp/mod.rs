@@ -662,7 +662,12 @@ impl Interpreter {
                     format!("Requested tool {n} not found in the tool table"),
                     0,
                 )
-                .with_help("add the tool to the tool table or correct the number"));
+                .with_help(if self.tools.is_rs274_default() {
+                    "no tool table was given, so this is rs274's standalone default (tools \
+                     1, 2 and 3): give the machine's table with --tool-table"
+                } else {
+                    "add the tool to the tool table or correct the number"
+                }));
         }
         Ok(n)
     }
