@@ -328,6 +328,10 @@ bad('spline_nurbs_fewer_points_than_order', 'G21 G17 G90 F100\nG0 X0 Y0\nG5.2 X1
 bad('spline_nurbs_zero_weight', 'G21 G17 G90 F100\nG0 X0 Y0\nG5.2 X1 Y1 P1\nX2 Y0\nG5.3\nM2\n')
 bad('spline_with_cutter_comp', 'G21 G17 G90 F100\nT1 M6\nG0 X-5 Y-5\nG41 G1 X0 Y0\nG5 I0 J5 P0 Q-5 X10 Y0\nG40\nM2\n')
 
+# G0 / G1 without axis words (issue 27): rs274 moves to where it is.
+good('motion_g0_g1_without_axes', '(G0 and G1 without axis words: rs274 moves to where it is, a move of length zero)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X1 Y2 Z3\nG0\nG1 F100\nG91 G1\nG90 X5\nG1 F200 M3 S1000\nG0\nM2\n')
+good('comp_g1_without_axes', '(a G1 without axis words under cutter compensation)\nG21 G17 G90 G94 G40 G49 G80 G54 F100\nT1 M6\nG0 X1\nG41 G1 X5 Y5\nG1\nX10\nG40 G0 X0 Y0\nM2\n')
+
 
 def write_all():
     for sub in ("", "bad"):

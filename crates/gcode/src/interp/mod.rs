@@ -637,10 +637,13 @@ impl Interpreter {
                 self.spline.continuing = false;
             }
         }
-        let needs_words = matches!(
-            self.block_motion(d),
-            Motion::Rapid | Motion::Linear | Motion::Off
-        );
+        // rs274 moves on a G0 or G1 without axis words (to where it is: a move of length
+        // zero); grbl and the legacy dialect only set the motion mode.
+        let needs_words = match self.block_motion(d) {
+            Motion::Off => true,
+            Motion::Rapid | Motion::Linear => self.dialect != Dialect::LinuxCnc,
+            _ => false,
+        };
         if !matches!(self.modal.motion, Motion::Cycle(_)) {
             self.cycle.reset();
         }
