@@ -332,6 +332,10 @@ bad('spline_with_cutter_comp', 'G21 G17 G90 F100\nT1 M6\nG0 X-5 Y-5\nG41 G1 X0 Y
 good('motion_g0_g1_without_axes', '(G0 and G1 without axis words: rs274 moves to where it is, a move of length zero)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X1 Y2 Z3\nG0\nG1 F100\nG91 G1\nG90 X5\nG1 F200 M3 S1000\nG0\nM2\n')
 good('comp_g1_without_axes', '(a G1 without axis words under cutter compensation)\nG21 G17 G90 G94 G40 G49 G80 G54 F100\nT1 M6\nG0 X1\nG41 G1 X5 Y5\nG1\nX10\nG40 G0 X0 Y0\nM2\n')
 
+# Splines under G93 (issue 27).
+good('spline_inverse_time', '(G93: a spline takes its F like an arc; rs274 prints no feed rate for it)\nG21 G17 G90 G40 G49 G80 G54 G93\nG1 X1 F2\nG5 I0 J10 P0 Q-10 X20 Y0 F1\nG5.1 X30 Y0 I5 J5 F3\nG1 X35 F2\nG94 F100\nM2\n')
+bad('spline_inverse_time_without_f', 'G21 G17 G90 G93\nG1 X1 F2\nG5.1 X30 Y0 I5 J5\nM2\n')
+
 
 def write_all():
     for sub in ("", "bad"):

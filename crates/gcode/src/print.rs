@@ -86,13 +86,14 @@ impl Rs274Printer {
     /// Print one operation (one or more lines; none for an inverse-time feed, which is
     /// printed with the move it times).
     pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
+        // Everything up to the last feed that traces the spline is the spline's (its G93
+        // rates too): rs274 prints the NURBS_FEED alone.
         if self.spline_feeds > 0 {
             if let CanonOp::StraightFeed { to } = &canon.op {
                 self.spline_feeds -= 1;
                 self.last = to.to_array();
-                return Ok(());
             }
-            self.spline_feeds = 0;
+            return Ok(());
         }
         if let CanonOp::SetFeedRate(f) = canon.op {
             if self.feed_mode == FeedMode::InverseTime {

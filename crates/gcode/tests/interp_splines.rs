@@ -159,3 +159,26 @@ fn spline_errors_name_their_line_and_word() {
         "{d:?}"
     );
 }
+
+#[test]
+fn under_g93_the_whole_curve_takes_one_over_f_minutes() {
+    let ops = run("G21 G17 G90 G93\nG0 X0 Y0\nG5 I0 J10 P0 Q-10 X20 Y0 F2\nG94 F100 G1 X30\nM2\n");
+    let at = ops
+        .iter()
+        .position(|c| matches!(c.op, CanonOp::NurbsFeed { .. }))
+        .unwrap();
+    let CanonOp::NurbsFeed { segments, .. } = ops[at].op else {
+        unreachable!()
+    };
+    // Each traced feed is preceded by its rate; the minutes 1/rate add up to 1/F.
+    let body = &ops[at + 1..at + 1 + 2 * segments as usize];
+    let mut minutes = 0.0;
+    for pair in body.chunks(2) {
+        let (CanonOp::SetFeedRate(rate), CanonOp::StraightFeed { .. }) = (&pair[0].op, &pair[1].op)
+        else {
+            panic!("{pair:?}");
+        };
+        minutes += 1.0 / rate;
+    }
+    assert!((minutes - 0.5).abs() < 1e-9, "{minutes}");
+}

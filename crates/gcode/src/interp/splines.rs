@@ -112,7 +112,7 @@ impl Interpreter {
         self.inverse_time_rate(d, sink);
         let weighted: Vec<[f64; 3]> = points.iter().map(|p| [p[0], p[1], 1.0]).collect();
         let order = weighted.len() as u32;
-        self.emit_nurbs(sink, &weighted, order);
+        self.emit_nurbs(sink, &weighted, order, d.get('F'));
         Ok(())
     }
 
@@ -141,7 +141,7 @@ impl Interpreter {
                     0,
                 ));
             }
-            self.emit_nurbs(sink, &points, order);
+            self.emit_nurbs(sink, &points, order, d.get('F'));
             return Ok(());
         }
         let (x, y) = (d.has('X'), d.has('Y'));
@@ -196,8 +196,10 @@ impl Interpreter {
     }
 
     /// NURBS_FEED, then the curve as straight feeds from the current point; the current point
-    /// becomes the last control point (X and Y only, as in LinuxCNC).
-    fn emit_nurbs(&mut self, sink: Sink, points: &[[f64; 3]], order: u32) {
+    /// becomes the last control point (X and Y only, as in LinuxCNC). Under G93 the block's F
+    /// (else the last one) times the whole curve: each feed gets the inverse-time rate that
+    /// gives it its share of 1/F minutes, by length.
+    fn emit_nurbs(&mut self, sink: Sink, points: &[[f64; 3]], order: u32, f: Option<f64>) {
         let tolerance = if self.modal.blend_tolerance > 0.0 {
             self.modal.blend_tolerance
         } else {
@@ -211,7 +213,27 @@ impl Interpreter {
                 segments: on_curve.len() as u32,
             },
         );
+        let inverse_f = f.unwrap_or(self.modal.feed);
+        let timed = self.modal.feed_mode == FeedMode::InverseTime && inverse_f > 0.0;
+        let mut from = [self.pos[0], self.pos[1]];
+        let total: f64 = if timed {
+            on_curve
+                .iter()
+                .scan(from, |a, b| {
+                    let l = (b[0] - a[0]).hypot(b[1] - a[1]);
+                    *a = *b;
+                    Some(l)
+                })
+                .sum()
+        } else {
+            0.0
+        };
         for p in on_curve {
+            let len = (p[0] - from[0]).hypot(p[1] - from[1]);
+            if timed && len > 0.0 && total > 0.0 {
+                self.emit(sink, CanonOp::SetFeedRate(inverse_f * total / len));
+            }
+            from = p;
             let mut to = self.pos;
             to[0] = p[0];
             to[1] = p[1];
