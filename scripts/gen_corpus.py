@@ -313,6 +313,29 @@ badp("exponent_number", "G1 Y1e0 F100")
 bad("no_program_end", "G21 G0 X1\nG1 X2 F100\n")
 bad("call_with_wrong_end", "G21\no1 sub\nG0 X1\no2 endsub\no1 call\nM2\n")
 
+# Splines (issue 27): G5, G5.1, G5.2/G5.3 as rs274 reads them.
+good('spline_g5_1_quadratic', '(G5.1 quadratic B-splines: I J is the control point from the start; G5.1 is not modal)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X0 Y0 Z1\nG1 Z-0.5 F200\nG5.1 X10 Y0 I5 J8\nG5.1 X20 Y0 I5 J-8\nX25 Y2\nG91 G5.1 X10 Y10 I10 J0\nG90 G1 X0 Y0\nG0 Z5\nM2\n')
+good('spline_g5_2_nurbs', '(G5.2 NURBS: control points with weights P, order L, ended by G5.3; then G1 from the last point)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X0 Y0 Z1\nG1 Z-1 F250\nG5.2 X0 Y10 P1 L3\nX10 Y10 P0.7071\nX10 Y0 P1\nG5.3\nG1 X20 Y0\nG5.2 P2 L4\nX25 Y10 P1\nX30 Y-10 P3\nX35 Y10 P1\nX40 Y0 P1\nG5.3\nG1 X50\nG0 Z5\nM2\n')
+good('spline_g5_cubic', '(G5 cubic splines: I J from the start, P Q from the end; a G5 without I J continues smoothly)\n(G5 leaves the motion mode as it was: X Y alone after it is the G1 before it)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X0 Y0 Z1\nG1 Z-1 F300\nG5 I0 J10 P0 Q-10 X20 Y0\nG5 P0 Q10 X40 Y0\nG5 X60 Y5 P-5 Q0\nX70 Y5\nG91 G5 I5 J5 P0 Q-5 X10 Y10\nG90 G1 Y20\nG0 Z5\nM2\n')
+good('spline_offsets_inch', '(splines under work offsets, G92 and inches: control points are program coordinates)\nG20 G17 G90 G94 G40 G49 G80\nG10 L2 P2 X1 Y2 Z0\nG55\nG92 X0.5 Y0.5\nG0 X0 Y0 Z0.1\nG1 Z-0.02 F20\nG5 I0 J0.5 P0 Q-0.5 X1 Y0\nG5.1 X2 Y0 I0.5 J0.4\nG5.2 X2 Y1 P1\nX3 Y1 P1\nX3 Y0 P1\nG5.3\nG1 X4\nG92.1 G54\nG0 Z1\nM2\n')
+good('spline_tolerance_g64', '(G64 P sets the tolerance the curve is followed with; rs274 prints one NURBS_FEED either way)\nG21 G17 G90 G94 G40 G49 G80 G54\nG64 P0.2\nG0 X0 Y0\nG1 X1 F500\nG5 I0 J30 P0 Q-30 X50 Y0\nG61\nG5 I0 J-30 P0 Q30 X100 Y0\nG1 X110\nM2\n')
+bad('spline_g5_1_without_j', 'G21 G17 G90 F100\nG0 X0 Y0\nG5.1 X10 Y0 I5\nM2\n')
+bad('spline_g5_3_without_g5_2', 'G21 G17 G90 F100\nG0 X0 Y0\nG1 X1\nG5.3\nM2\n')
+bad('spline_g5_in_xz_plane', 'G21 G18 G90 F100\nG0 X0 Y0 Z0\nG5 I1 J1 P1 Q1 X10 Y0\nM2\n')
+bad('spline_g5_with_z', 'G21 G17 G90 F100\nG0 X0 Y0\nG5 I1 J1 P1 Q1 X10 Y0 Z-1\nM2\n')
+bad('spline_g5_without_pq', 'G21 G17 G90 F100\nG0 X0 Y0\nG5 I1 J1 X10 Y0\nM2\n')
+bad('spline_nurbs_fewer_points_than_order', 'G21 G17 G90 F100\nG0 X0 Y0\nG5.2 X1 Y1 P1 L4\nX2 Y0 P1\nG5.3\nM2\n')
+bad('spline_nurbs_zero_weight', 'G21 G17 G90 F100\nG0 X0 Y0\nG5.2 X1 Y1 P1\nX2 Y0\nG5.3\nM2\n')
+bad('spline_with_cutter_comp', 'G21 G17 G90 F100\nT1 M6\nG0 X-5 Y-5\nG41 G1 X0 Y0\nG5 I0 J5 P0 Q-5 X10 Y0\nG40\nM2\n')
+
+# G0 / G1 without axis words (issue 27): rs274 moves to where it is.
+good('motion_g0_g1_without_axes', '(G0 and G1 without axis words: rs274 moves to where it is, a move of length zero)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X1 Y2 Z3\nG0\nG1 F100\nG91 G1\nG90 X5\nG1 F200 M3 S1000\nG0\nM2\n')
+good('comp_g1_without_axes', '(a G1 without axis words under cutter compensation)\nG21 G17 G90 G94 G40 G49 G80 G54 F100\nT1 M6\nG0 X1\nG41 G1 X5 Y5\nG1\nX10\nG40 G0 X0 Y0\nM2\n')
+
+# Splines under G93 (issue 27).
+good('spline_inverse_time', '(G93: a spline takes its F like an arc; rs274 prints no feed rate for it)\nG21 G17 G90 G40 G49 G80 G54 G93\nG1 X1 F2\nG5 I0 J10 P0 Q-10 X20 Y0 F1\nG5.1 X30 Y0 I5 J5 F3\nG1 X35 F2\nG94 F100\nM2\n')
+bad('spline_inverse_time_without_f', 'G21 G17 G90 G93\nG1 X1 F2\nG5.1 X30 Y0 I5 J5\nM2\n')
+
 
 def write_all():
     for sub in ("", "bad"):

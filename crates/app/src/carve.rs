@@ -146,7 +146,7 @@ fn explain(e: CarveError) -> Error {
 /// Refuse outputs that would replace the design image (however the paths are spelled).
 pub fn refuse_overwriting(image: &Path, outputs: &[&Path]) -> Result<(), Error> {
     for target in outputs {
-        if same_file(target, image) {
+        if crate::output::same_file(target, image) {
             return Err(Error(format!(
                 "{} is the input image: choose another output name (-o / --preview)",
                 target.display()
@@ -154,14 +154,6 @@ pub fn refuse_overwriting(image: &Path, outputs: &[&Path]) -> Result<(), Error> 
         }
     }
     Ok(())
-}
-
-/// True when both paths name one existing file.
-pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
 
 /// One row of seed 004's comparison.

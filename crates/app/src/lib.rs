@@ -75,8 +75,8 @@ pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACRO
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
 pub use output::{
-    check_output, check_output_dir, plot_extensions, refuse_overwriting_drawing, HPGL_EXTENSIONS,
-    PROGRAM_EXTENSIONS,
+    check_output, check_output_dir, plot_extensions, refuse_overwriting_drawing, same_file,
+    HPGL_EXTENSIONS, PROGRAM_EXTENSIONS,
 };
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
 pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};

@@ -44,12 +44,20 @@ pub fn check_output(command: &str, flag: &str, output: &Path, can: &[&str]) -> R
 /// Refuses outputs that would overwrite the input drawing (`mill part.svg -o part.nc` writes
 /// its preview to `part.svg`).
 pub fn refuse_overwriting_drawing(input: &Path, outputs: &[&Path]) -> Result<(), Error> {
-    match outputs.iter().find(|o| crate::carve::same_file(o, input)) {
+    match outputs.iter().find(|o| same_file(o, input)) {
         Some(o) => Err(Error(format!(
             "{} is the input drawing: choose another output name (-o / --preview)",
             o.display()
         ))),
         None => Ok(()),
+    }
+}
+
+/// True when both paths name one existing file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
     }
 }
 

@@ -51,7 +51,8 @@ impl From<Error> for LoadError {
 pub struct ProgramOptions {
     /// The G-code dialect.
     pub dialect: Dialect,
-    /// A LinuxCNC tool table (.tbl) for G43 and M6.
+    /// A LinuxCNC tool table (.tbl) for G43 and M6; without one (and without a profile's),
+    /// the LinuxCNC dialect uses rs274's standalone default ([`ToolTable::rs274_default`]).
     pub tool_table: Option<PathBuf>,
     /// Skip blocks that start with `/`.
     pub block_delete: bool,
@@ -110,8 +111,14 @@ impl ProgramOptions {
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
         let machine_units = self.units(check_mode);
         opts.start.machine_units = machine_units;
-        if let Some(path) = &self.tool_table {
-            opts.tool_table = load_tool_table(path, machine_units)?;
+        match &self.tool_table {
+            Some(path) => opts.tool_table = load_tool_table(path, machine_units)?,
+            // LinuxCNC's standalone rs274 runs with its default table when given none; the
+            // other dialects have no tool table (every tool number is taken as it is).
+            None if self.dialect == Dialect::LinuxCnc => {
+                opts.tool_table = ToolTable::rs274_default();
+            }
+            None => {}
         }
         Ok(opts)
     }

@@ -218,6 +218,18 @@ pub enum CanonOp {
         /// Rotation of the arc's plane about machine Z, degrees.
         rotation: f64,
     },
+    /// G5, G5.1, G5.2 … G5.3: a spline in the XY plane, LinuxCNC's `NURBS_FEED` call over
+    /// `control_points` points (the start point included). The curve itself is the next
+    /// `segments` [`CanonOp::StraightFeed`]s of the same line, points on it within the
+    /// program's G64 P tolerance (under G93 each preceded by its own inverse-time
+    /// [`CanonOp::SetFeedRate`]): whatever moves the machine follows them and may pass over
+    /// this operation; whatever prints canonical calls prints it in their place.
+    NurbsFeed {
+        /// Control points of the curve, its start point included.
+        control_points: u32,
+        /// How many straight feeds follow that trace the curve.
+        segments: u32,
+    },
     /// G4: wait this many seconds.
     Dwell(f64),
     /// S: spindle speed, rpm.

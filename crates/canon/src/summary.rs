@@ -99,6 +99,8 @@ pub struct Summarizer {
     /// Spindle speed, rev/min, and inside G33/G33.1/G76 the pitch, mm/rev.
     spindle_rpm: f64,
     sync_pitch: Option<f64>,
+    /// Straight feeds still to come that trace the last spline: one move with it.
+    spline_feeds: u32,
     bound: Box<dyn MoveBound + Send>,
     summary: Summary,
 }
@@ -120,6 +122,7 @@ impl Summarizer {
             feed_mode: FeedMode::UnitsPerMinute,
             spindle_rpm: 0.0,
             sync_pitch: None,
+            spline_feeds: 0,
             bound,
             summary: Summary::default(),
         }
@@ -159,10 +162,19 @@ impl Summarizer {
                     s.feed_extents.add(xyz(&self.pos));
                 }
                 s.feed_extents.add(xyz(to));
-                s.feed_moves += 1;
+                if self.spline_feeds > 0 {
+                    self.spline_feeds -= 1;
+                } else {
+                    s.feed_moves += 1;
+                }
                 s.feed_length += len;
                 self.time_feed(len, to);
                 self.pos = *to;
+            }
+            // A spline is one programmed move; its length and time are its straight feeds'.
+            CanonOp::NurbsFeed { segments, .. } => {
+                s.feed_moves += 1;
+                self.spline_feeds = *segments;
             }
             CanonOp::ArcFeed {
                 plane,
@@ -385,6 +397,25 @@ mod tests {
         assert_eq!(r.feed_extents.min, [5.0, 5.0, -1.0]);
         assert_eq!(r.feed_extents.max, [15.0, 5.0, -1.0]);
         assert!(r.rapid_extents.is_empty());
+    }
+
+    #[test]
+    fn a_spline_is_one_move_as_long_as_the_feeds_that_trace_it() {
+        let mut s = Summarizer::new(Pos::ZERO, [6000.0, 6000.0, 600.0]);
+        s.add(&CanonOp::SetFeedRate(600.0));
+        s.add(&CanonOp::NurbsFeed {
+            control_points: 3,
+            segments: 2,
+        });
+        for to in [(30.0, 40.0, 0.0), (30.0, 50.0, 0.0), (40.0, 50.0, 0.0)] {
+            s.add(&CanonOp::StraightFeed {
+                to: Pos::xyz(to.0, to.1, to.2),
+            });
+        }
+        let r = s.finish();
+        assert_eq!(r.feed_moves, 2, "the spline and the feed after it");
+        assert_eq!(r.feed_length, 70.0);
+        assert!((r.feed_rate_seconds - 7.0).abs() < 1e-9);
     }
 
     #[test]

@@ -165,10 +165,17 @@ pub(crate) fn print_judged(j: &Judged) {
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     check_output("mill", "-o", &args.output, PROGRAM_EXTENSIONS)?;
-    let preview = args
-        .preview
-        .clone()
-        .unwrap_or_else(|| args.output.with_extension("svg"));
+    // The preview beside the program (part.svg for part.nc), or part.preview.svg when that
+    // name is the drawing being milled: the usual `mill part.svg -o part.nc` just works.
+    let preview = args.preview.clone().unwrap_or_else(|| {
+        let beside = args.output.with_extension("svg");
+        match &args.input {
+            Some(input) if oficina_app::same_file(&beside, input) => {
+                args.output.with_extension("preview.svg")
+            }
+            _ => beside,
+        }
+    });
     let stock_png = args.output.with_extension("stock.png");
     if let Some(input) = &args.input {
         oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;

@@ -43,6 +43,7 @@ const MOTION: &[&str] = &[
     "STRAIGHT_TRAVERSE",
     "STRAIGHT_FEED",
     "ARC_FEED",
+    "NURBS_FEED",
     "RIGID_TAP",
     "DWELL",
 ];

@@ -141,13 +141,20 @@ fn mill_never_writes_over_its_drawing_and_says_what_stayed_open() {
         args.extend_from_slice(extra);
         oficina_in(d, &args)
     };
-    // -o part.nc would write its preview over part.svg: refused, the drawing intact.
-    let run = mill("part.nc", &[]);
+    // An output that is the drawing itself is refused, the drawing intact.
+    let run = mill("part.nc", &["--preview", "part.svg"]);
     let (_, err) = text(&run);
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert!(err.contains("part.svg is the input drawing"), "{err}");
     assert_eq!(std::fs::read_to_string(&part).unwrap(), svg);
     assert!(!d.join("part.nc").exists());
+    // -o part.nc's preview would be part.svg, the drawing: it goes to part.preview.svg.
+    let run = mill("part.nc", &["--join-tol", "0.1"]);
+    let (_, err) = text(&run);
+    assert!(run.status.success(), "{err}");
+    assert_eq!(std::fs::read_to_string(&part).unwrap(), svg);
+    assert!(d.join("part.preview.svg").exists());
+    std::fs::remove_file(d.join("part.nc")).unwrap();
     // Nothing closed at the default tolerance: the error says what stayed open, where, and
     // the tolerance that joins it.
     let run = mill("x.nc", &[]);

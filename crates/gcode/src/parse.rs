@@ -737,7 +737,7 @@ fn parse_grbl(c: &Compact, out: &mut Line) -> Result<(), Diagnostic> {
                             span,
                             format!("unsupported command letter '{upper}'"),
                         )
-                        .with_help("grbl 1.1 knows the letters F G I J K L M N P R S T X Y Z")
+                        .with_help(grbl_letter_hint(upper))
                         .with_code(20))
                     }
                 }
@@ -764,6 +764,25 @@ fn parse_grbl(c: &Compact, out: &mut Line) -> Result<(), Diagnostic> {
         }
     }
     Ok(())
+}
+
+/// Why a post-processor writes a letter grbl 1.1 does not know, and what to do.
+fn grbl_letter_hint(letter: char) -> &'static str {
+    match letter {
+        'H' => {
+            "grbl 1.1 knows the letters F G I J K L M N P R S T X Y Z; H is a tool length offset \
+             from a tool table (G43 H, a LinuxCNC or Fanuc post): remove it or choose a grbl post"
+        }
+        'D' => {
+            "grbl 1.1 knows the letters F G I J K L M N P R S T X Y Z; D is a cutter \
+             compensation register (G41/G42 D): let the CAM offset the path or choose a grbl post"
+        }
+        'O' => {
+            "grbl 1.1 knows the letters F G I J K L M N P R S T X Y Z; O is a program number or \
+             subroutine (a Fanuc or LinuxCNC post): remove the line or choose a grbl post"
+        }
+        _ => "grbl 1.1 knows the letters F G I J K L M N P R S T X Y Z",
+    }
 }
 
 #[cfg(test)]

@@ -25,6 +25,9 @@ pub struct Rs274Printer {
     inverse_f: Option<f64>,
     /// The line being built, for the calls printed without `write!` (reused).
     line: decimal::Line,
+    /// Straight feeds still to come that trace the last `NURBS_FEED`: rs274 prints the
+    /// call alone, so they are followed but not printed.
+    spline_feeds: u32,
 }
 
 impl Rs274Printer {
@@ -83,6 +86,15 @@ impl Rs274Printer {
     /// Print one operation (one or more lines; none for an inverse-time feed, which is
     /// printed with the move it times).
     pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
+        // Everything up to the last feed that traces the spline is the spline's (its G93
+        // rates too): rs274 prints the NURBS_FEED alone.
+        if self.spline_feeds > 0 {
+            if let CanonOp::StraightFeed { to } = &canon.op {
+                self.spline_feeds -= 1;
+                self.last = to.to_array();
+            }
+            return Ok(());
+        }
         if let CanonOp::SetFeedRate(f) = canon.op {
             if self.feed_mode == FeedMode::InverseTime {
                 self.inverse_f = Some(f);
@@ -379,6 +391,13 @@ impl Rs274Printer {
             CanonOp::ProgramStop => write!(out, "PROGRAM_STOP()"),
             CanonOp::OptionalProgramStop => write!(out, "OPTIONAL_PROGRAM_STOP()"),
             CanonOp::ProgramEnd => write!(out, "PROGRAM_END()"),
+            CanonOp::NurbsFeed {
+                control_points,
+                segments,
+            } => {
+                self.spline_feeds = *segments;
+                write!(out, "NURBS_FEED({control_points}, ...)")
+            }
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
         }

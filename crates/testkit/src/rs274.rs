@@ -18,6 +18,7 @@ pub const COMPARED: &[&str] = &[
     "STRAIGHT_TRAVERSE",
     "STRAIGHT_FEED",
     "ARC_FEED",
+    "NURBS_FEED",
     "DWELL",
     "SET_FEED_RATE",
     "SET_FEED_MODE",

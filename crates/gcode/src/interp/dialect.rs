@@ -53,9 +53,58 @@ pub(crate) fn grbl_code_for_decode(e: DecodeError) -> Diagnostic {
     grbl_error(e.diag, code)
 }
 
-fn unsupported(d: &Decoded, span: crate::diag::Span, what: String) -> Diagnostic {
-    let _ = d;
-    grbl_error(Diagnostic::error(span, what), 20)
+fn unsupported(span: crate::diag::Span, what: String, hint: Option<&str>) -> Diagnostic {
+    let d = Diagnostic::error(span, what);
+    grbl_error(
+        match hint {
+            Some(h) => d.with_help(h),
+            None => d,
+        },
+        20,
+    )
+}
+
+/// What usually puts a G code grbl refuses (`tenths`, of modal `group`) into a program, and
+/// what to do: most come from a post-processor written for another control.
+fn post_hint_g(group: usize, tenths: u16) -> Option<&'static str> {
+    Some(match (group, tenths) {
+        (G::CONTROL, 640 | 641) => {
+            "a LinuxCNC post; grbl has no path blending mode: remove it or choose a grbl post"
+        }
+        (G::CONTROL, 611) => {
+            "exact-path mode is LinuxCNC's; grbl always follows the path: remove it or choose a grbl post"
+        }
+        (G::TOOL_LENGTH, 430 | 432) => {
+            "tool length offsets from a tool table (a LinuxCNC or Fanuc post); grbl has only G43.1 Z…: remove it and touch off each tool, or choose a grbl post"
+        }
+        (G::CUTTER_COMP, _) => {
+            "grbl has no cutter radius compensation: let the CAM offset the path (compensation \"in computer\") or choose a grbl post"
+        }
+        (G::MOTION, 730..=890) => {
+            "grbl has no canned cycles: have the post expand drilling into G0/G1 moves (a grbl post does)"
+        }
+        (G::MOTION, 50..=53) => "splines are LinuxCNC's: have the CAM write arcs and lines",
+        (G::RETRACT, _) => {
+            "a canned-cycle retract mode (a LinuxCNC or Fanuc post); grbl has no canned cycles: remove it or choose a grbl post"
+        }
+        (G::FEED_MODE, 950) => "feed per revolution is a lathe's; grbl feeds per minute (G94) or inverse time (G93)",
+        (G::NON_MODAL, 520) => "G52 local offsets are LinuxCNC's: use G92 or a work offset G54…G59",
+        (G::DISTANCE, _) | (G::ARC_DISTANCE, 901) => {
+            "grbl takes I J K as offsets from the start (G91.1) only: choose a post with incremental arc centres"
+        }
+        _ => return None,
+    })
+}
+
+/// [`post_hint_g`] for M codes.
+fn post_hint_m(group: usize, code: u16) -> Option<&'static str> {
+    Some(match (group, code) {
+        (M::OVERRIDE, _) => {
+            "override switches are LinuxCNC's; grbl's overrides are real-time commands: remove it"
+        }
+        (M::SPINDLE, 19) => "spindle orientation is LinuxCNC's: remove it",
+        _ => return None,
+    })
 }
 
 /// Reject what grbl 1.1 rejects before the common interpreter sees the block.
@@ -87,9 +136,9 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
         };
         if !ok {
             return Err(unsupported(
-                d,
                 c.span,
                 format!("G{} is not supported by grbl", c.tenths as f64 / 10.0),
+                post_hint_g(group, c.tenths),
             ));
         }
     }
@@ -103,9 +152,9 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
         };
         if !ok {
             return Err(unsupported(
-                d,
                 c.span,
                 format!("M{} is not supported by grbl", c.tenths),
+                post_hint_m(group, c.tenths),
             ));
         }
     }
@@ -141,16 +190,16 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
         }
         if l != 2.0 && l != 20.0 {
             return Err(unsupported(
-                d,
                 d.span_of('L'),
                 "grbl supports G10 L2 and L20 only".into(),
+                None,
             ));
         }
         if l == 2.0 && d.has('R') {
             return Err(unsupported(
-                d,
                 d.span_of('R'),
                 "G10 L2 R (a rotation) is not supported by grbl".into(),
+                None,
             ));
         }
     }
@@ -202,6 +251,13 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
                 ),
                 32,
             ));
+        }
+        // gcode.c consumes I, J and K alike in the offset form (`bit_false(value_words,
+        // I|J|K)`) and uses the two of the plane: the third, which posts such as FreeCAD's
+        // write on every arc (`K0.000` in G17), is read and ignored.
+        if !d.has('R') {
+            let off = ['I', 'J', 'K'][interp.modal.plane.axes().2];
+            d.values[super::words::slot(off)] = None;
         }
     }
     if let Some(probe) = d.g[G::MOTION].filter(|c| (382..=385).contains(&c.tenths)) {

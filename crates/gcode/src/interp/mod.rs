@@ -13,6 +13,7 @@ pub(crate) mod frame;
 mod motion;
 mod offsets;
 mod simple;
+pub(crate) mod splines;
 pub(crate) mod state;
 mod threading;
 pub(crate) mod tool_table;
@@ -96,6 +97,7 @@ pub struct Interpreter {
     machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
+    pub(crate) spline: splines::SplineMemory,
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
@@ -129,6 +131,7 @@ impl Interpreter {
             machine_units: start.machine_units,
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
+            spline: splines::SplineMemory::default(),
             line: 0,
             decoded: None,
         }
@@ -266,6 +269,8 @@ impl Interpreter {
         let moving = d.g[G::MOTION].is_some() || d.any_axis();
         let arc = moving && matches!(motion, Motion::Clockwise | Motion::CounterClockwise);
         let cycle = moving && matches!(motion, Motion::Cycle(_));
+        let spline =
+            |codes: &[u16]| moving && matches!(motion, Motion::Spline(t) if codes.contains(&t));
         let g10 = non_modal == Some(100);
         if let Some(code) = non_modal {
             let uses_axes = matches!(code, 100 | 280 | 300 | 520 | 920);
@@ -325,13 +330,13 @@ impl Interpreter {
         let orient = d.m_in(M::SPINDLE) == Some(19);
         let arcs_and_g10 = arc || g10 || (cycle && motion == Motion::Cycle(870));
         // Static messages: this check runs on every block and must not allocate.
-        if !(arcs_and_g10 || tap || thread) {
+        if !(arcs_and_g10 || tap || thread || spline(&[50, 51])) {
             unused(
                 'I',
                 "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
             )?;
         }
-        if !(arcs_and_g10 || thread) {
+        if !(arcs_and_g10 || thread || spline(&[50, 51])) {
             unused(
                 'J',
                 "J word with no G2, G3, G5, G5.1, G10, G76 or G87 to use it",
@@ -346,7 +351,7 @@ impl Interpreter {
         if !(arc || g10 || cycle || thread || orient) {
             unused('R', "R word with no g code that uses it")?;
         }
-        if !(arc || g10 || cycle || thread) {
+        if !(arc || g10 || cycle || thread || spline(&[52])) {
             unused(
                 'L',
                 "L word with no G10, cutter compensation, canned cycle, digital/analog input, M98 or NURBS code",
@@ -356,6 +361,7 @@ impl Interpreter {
             unused('E', "E word with no G70, G76, M66, M67 or M68 to use it")?;
         }
         let p_users = arc
+            || spline(&[50, 52])
             || thread
             || orient
             || matches!(non_modal, Some(40 | 100))
@@ -369,6 +375,7 @@ impl Interpreter {
             )?;
         }
         let q_users = g10
+            || spline(&[50])
             || thread
             || orient
             || d.g_in(G::CONTROL) == Some(640)
@@ -622,12 +629,21 @@ impl Interpreter {
         }
         // 20. Motion.
         if let Some(t) = d.g_in(G::MOTION) {
-            self.modal.motion = Motion::from_tenths(t);
+            // rs274 runs G5 and G5.1 in their block and keeps the motion mode as it was.
+            if !matches!(t, 50 | 51) {
+                self.modal.motion = Motion::from_tenths(t);
+            }
+            if !matches!(t, 52 | 53) {
+                self.spline.continuing = false;
+            }
         }
-        let needs_words = matches!(
-            self.modal.motion,
-            Motion::Rapid | Motion::Linear | Motion::Off
-        );
+        // rs274 moves on a G0 or G1 without axis words (to where it is: a move of length
+        // zero); grbl and the legacy dialect only set the motion mode.
+        let needs_words = match self.block_motion(d) {
+            Motion::Off => true,
+            Motion::Rapid | Motion::Linear => self.dialect != Dialect::LinuxCnc,
+            _ => false,
+        };
         if !matches!(self.modal.motion, Motion::Cycle(_)) {
             self.cycle.reset();
         }
@@ -647,6 +663,15 @@ impl Interpreter {
         Ok(Flow::Continue)
     }
 
+    /// The motion of this block: G5 / G5.1 when it names one (they are not modal), else the
+    /// motion mode.
+    pub(crate) fn block_motion(&self, d: &Decoded) -> Motion {
+        match d.g_in(G::MOTION) {
+            Some(t @ (50 | 51)) => Motion::Spline(t),
+            _ => self.modal.motion,
+        }
+    }
+
     fn tool_number(&self, v: f64, span: Span, letter: &str) -> Result<u32, Diagnostic> {
         if v < 0.0 {
             return Err(self.fail(span, "Negative tool id (tool not found)", 0));
@@ -662,7 +687,12 @@ impl Interpreter {
                     format!("Requested tool {n} not found in the tool table"),
                     0,
                 )
-                .with_help("add the tool to the tool table or correct the number"));
+                .with_help(if self.tools.is_rs274_default() {
+                    "no tool table was given, so this is rs274's standalone default (tools \
+                     1, 2 and 3): give the machine's table with --tool-table"
+                } else {
+                    "add the tool to the tool table or correct the number"
+                }));
         }
         Ok(n)
     }
@@ -797,6 +827,7 @@ impl Interpreter {
             Motion::SpindleSync => 330.0,
             Motion::RigidTap => 331.0,
             Motion::Threading => 760.0,
+            Motion::Spline(t) => t as f64,
         };
         params.set_system("_motion_mode", motion);
         params.set_system("_line", self.line as f64);

@@ -136,7 +136,7 @@ impl Interpreter {
                 self.modal.feed = f;
             }
         }
-        match self.modal.motion {
+        match self.block_motion(d) {
             Motion::Rapid => self.straight(d, sink, false, end),
             Motion::Linear => {
                 self.check_feed(d, "g1", false)?;
@@ -152,6 +152,8 @@ impl Interpreter {
             Motion::SpindleSync => self.spindle_sync(d, sink, end),
             Motion::RigidTap => self.rigid_tap(d, sink, end),
             Motion::Threading => self.threading_cycle(d, sink),
+            Motion::Spline(t @ (50 | 51)) => self.spline(d, t, sink, end),
+            Motion::Spline(t) => self.nurbs(d, t, sink, end),
             Motion::Off => Ok(()),
         }
     }

@@ -19,6 +19,8 @@ pub enum Motion {
     RigidTap,
     /// G76: the multi-pass threading cycle (lathe).
     Threading,
+    /// G5, G5.1, G5.2, G5.3 by their G number in tenths (50 … 53).
+    Spline(u16),
 }
 
 impl Motion {
@@ -32,6 +34,7 @@ impl Motion {
             330 => Motion::SpindleSync,
             331 => Motion::RigidTap,
             760 => Motion::Threading,
+            50..=53 => Motion::Spline(t),
             other => Motion::Cycle(other),
         }
     }

@@ -28,6 +28,9 @@ pub struct ToolTable {
     tools: BTreeMap<u32, Tool>,
 }
 
+/// The comment of every tool of [`ToolTable::rs274_default`].
+pub(crate) const RS274_DEFAULT_COMMENT: &str = "rs274 standalone default (no tool table given)";
+
 /// Longest line accepted: a tool table line is short; this bounds memory on a wrong file.
 const MAX_LINE: usize = 4096;
 
@@ -35,6 +38,30 @@ impl ToolTable {
     /// An empty table.
     pub fn new() -> ToolTable {
         ToolTable::default()
+    }
+
+    /// The table LinuxCNC's standalone `rs274` runs with when it is given none (no `-t`):
+    /// tools 1, 2 and 3 in pockets 1, 2 and 3, lengths and diameters in inches (measured with
+    /// `rs274 -g` from a fresh `HOME`: `#5403` and `#5410` after `T1 M6 G43` under G20 are
+    /// 0.511 and 0.125; tool 4 is "not found"). Each tool's comment is
+    /// [`RS274_DEFAULT_COMMENT`], so an error can say that no table was given.
+    pub fn rs274_default() -> ToolTable {
+        let mut table = ToolTable::new();
+        for (number, z, d) in [(1, 0.511, 0.125), (2, 0.1, 0.0625), (3, 1.273, 0.201)] {
+            table.insert(Tool {
+                number,
+                pocket: number,
+                offset: [0.0, 0.0, z * Units::Inch.mm(), 0.0, 0.0, 0.0],
+                diameter: d * Units::Inch.mm(),
+                comment: RS274_DEFAULT_COMMENT.to_string(),
+            });
+        }
+        table
+    }
+
+    /// Whether this is [`ToolTable::rs274_default`], the table used when none was given.
+    pub fn is_rs274_default(&self) -> bool {
+        !self.is_empty() && self.iter().all(|t| t.comment == RS274_DEFAULT_COMMENT)
     }
 
     /// The tool with this number.
@@ -198,6 +225,19 @@ mod tests {
         assert_eq!(inch.get(1).unwrap().offset[2], 25.4);
         let back = ToolTable::parse(&t.to_tbl(Units::Mm), Units::Mm).unwrap();
         assert_eq!(back, t);
+    }
+
+    #[test]
+    fn the_standalone_default_holds_three_tools_in_inches() {
+        let t = ToolTable::rs274_default();
+        assert!(t.is_rs274_default());
+        assert_eq!(t.iter().map(|t| t.number).collect::<Vec<_>>(), [1, 2, 3]);
+        assert!((t.get(1).unwrap().offset[2] - 12.9794).abs() < 1e-9);
+        assert!((t.get(3).unwrap().diameter - 5.1054).abs() < 1e-9);
+        assert!(t.get(4).is_none());
+        assert!(!ToolTable::parse("T1 Z1", Units::Mm)
+            .unwrap()
+            .is_rs274_default());
     }
 
     #[test]

@@ -53,8 +53,26 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
     use g_group::*;
     Some(match tenths {
         40 | 100 | 280 | 281 | 300 | 301 | 520 | 530 | 920 | 921 | 922 | 923 => NON_MODAL,
-        0 | 10 | 20 | 30 | 330 | 331 | 730 | 740 | 760 | 800 | 810 | 820 | 830 | 840 | 850
-        | 860 | 870 | 880 | 890 => MOTION,
+        0
+        | 10
+        | 20
+        | 30
+        | 50..=53
+        | 330
+        | 331
+        | 730
+        | 740
+        | 760
+        | 800
+        | 810
+        | 820
+        | 830
+        | 840
+        | 850
+        | 860
+        | 870
+        | 880
+        | 890 => MOTION,
         // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
         // refuse them after decoding (dialect::refuse_probe).
         382..=385 => MOTION,
@@ -374,8 +392,8 @@ fn to_tenths(v: f64) -> Option<u16> {
 
 pub(crate) fn unknown_g(span: Span, value: f64) -> Diagnostic {
     let help = match to_tenths(value) {
-        Some(50 | 51 | 52 | 70 | 80 | 382 | 383 | 384 | 385 | 960 | 970) => {
-            "this LinuxCNC code (splines, lathe, probing, CSS) is not supported by Oficina"
+        Some(70 | 80 | 382 | 383 | 384 | 385 | 960 | 970) => {
+            "this LinuxCNC code (lathe, probing, CSS) is not supported by Oficina"
         }
         _ => "see the list of supported G codes in the user guide",
     };
@@ -422,7 +440,8 @@ mod tests {
         assert_eq!(e.message, "Multiple x words on one line");
         let e = Decoded::from_block(&block(&[('G', 1.5)])).unwrap_err();
         assert!(e.message.starts_with("Unknown g code"));
-        let e = Decoded::from_block(&block(&[('G', 5.0)])).unwrap_err();
+        assert!(Decoded::from_block(&block(&[('G', 5.2)])).is_ok());
+        let e = Decoded::from_block(&block(&[('G', 96.0)])).unwrap_err();
         assert!(e.help.unwrap().contains("not supported"));
         assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
         assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());

@@ -1,0 +1,184 @@
+//! G5 / G5.1 / G5.2…G5.3 downstream: after its `NurbsFeed` each curve is straight feeds
+//! through points on the curve, within the G64 P tolerance (or 0.01 mm), compared here with
+//! the Bézier / rational curve computed independently from the block's words. (The calls
+//! themselves are compared with rs274 by the differential corpus, `tests/corpus/spline_*`.)
+
+use oficina_canon::{Canon, CanonOp};
+use oficina_gcode::{canon_of, Dialect, RunOptions};
+
+fn run(text: &str) -> Vec<Canon> {
+    let (ops, diags) = canon_of(text, &RunOptions::check(Dialect::LinuxCnc));
+    assert!(diags.is_empty(), "{diags:?}");
+    ops
+}
+
+/// The XY points of the feeds that trace each spline, start point first.
+fn curves(ops: &[Canon]) -> Vec<(u32, Vec<[f64; 2]>)> {
+    let mut out = Vec::new();
+    let mut last = [0.0, 0.0];
+    let mut i = 0;
+    while i < ops.len() {
+        match &ops[i].op {
+            CanonOp::NurbsFeed {
+                control_points,
+                segments,
+            } => {
+                let mut pts = vec![last];
+                for op in &ops[i + 1..=i + *segments as usize] {
+                    let CanonOp::StraightFeed { to } = op.op else {
+                        panic!("a spline is traced by straight feeds: {op:?}");
+                    };
+                    pts.push([to.x, to.y]);
+                }
+                last = *pts.last().unwrap();
+                out.push((*control_points, pts));
+                i += *segments as usize + 1;
+                continue;
+            }
+            CanonOp::StraightFeed { to }
+            | CanonOp::StraightTraverse { to }
+            | CanonOp::ArcFeed { end: to, .. } => last = [to.x, to.y],
+            _ => {}
+        }
+        i += 1;
+    }
+    out
+}
+
+fn bezier(p: &[[f64; 2]], t: f64) -> [f64; 2] {
+    // de Casteljau: independent of the interpreter's B-spline evaluation.
+    let mut q = p.to_vec();
+    while q.len() > 1 {
+        q = q
+            .windows(2)
+            .map(|w| {
+                [
+                    w[0][0] + t * (w[1][0] - w[0][0]),
+                    w[0][1] + t * (w[1][1] - w[0][1]),
+                ]
+            })
+            .collect();
+    }
+    q[0]
+}
+
+fn distance_to_polyline(q: [f64; 2], path: &[[f64; 2]]) -> f64 {
+    path.windows(2)
+        .map(|s| {
+            let (a, b) = (s[0], s[1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let l2 = dx * dx + dy * dy;
+            let t = if l2 > 0.0 {
+                (((q[0] - a[0]) * dx + (q[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Every sampled point of the curve is within `tol` of the path, and every path point is on
+/// the curve (not on its control polygon).
+fn assert_follows(path: &[[f64; 2]], curve: impl Fn(f64) -> [f64; 2], tol: f64) {
+    assert_eq!(path[0], curve(0.0));
+    let end = curve(1.0);
+    let last = path.last().unwrap();
+    assert!((last[0] - end[0]).abs() < 1e-9 && (last[1] - end[1]).abs() < 1e-9);
+    for i in 0..=2000 {
+        let q = curve(i as f64 / 2000.0);
+        let d = distance_to_polyline(q, path);
+        assert!(d <= tol * 1.001, "curve point {q:?} is {d} from the path");
+    }
+    let fine: Vec<[f64; 2]> = (0..=20000).map(|i| curve(i as f64 / 20000.0)).collect();
+    for p in path {
+        let d = distance_to_polyline(*p, &fine);
+        assert!(d < 1e-4, "path point {p:?} is off the curve by {d}");
+    }
+}
+
+#[test]
+fn g5_and_g5_1_follow_their_bezier_within_the_default_tolerance() {
+    let ops = run("G21 G17 G90 F300\nG0 X0 Y0\nG5 I0 J10 P0 Q-10 X20 Y0\nG5.1 X30 Y0 I5 J8\nM2\n");
+    let c = curves(&ops);
+    assert_eq!(c.len(), 2);
+    assert_eq!(c[0].0, 4);
+    assert!(c[0].1.len() > 8, "{} points", c[0].1.len());
+    let cubic = [[0.0, 0.0], [0.0, 10.0], [20.0, -10.0], [20.0, 0.0]];
+    assert_follows(&c[0].1, |t| bezier(&cubic, t), 0.01);
+    assert_eq!(c[1].0, 3);
+    let quad = [[20.0, 0.0], [25.0, 8.0], [30.0, 0.0]];
+    assert_follows(&c[1].1, |t| bezier(&quad, t), 0.01);
+}
+
+#[test]
+fn g64_p_is_the_tolerance_and_a_coarser_one_takes_fewer_feeds() {
+    let prog = |p: &str| format!("G21 G17 G90 F300 {p}\nG0 X0 Y0\nG5 I0 J30 P0 Q-30 X50 Y0\nM2\n");
+    let fine = curves(&run(&prog("G64 P0.001")));
+    let coarse = curves(&run(&prog("G64 P0.5")));
+    let cubic = [[0.0, 0.0], [0.0, 30.0], [50.0, -30.0], [50.0, 0.0]];
+    assert_follows(&fine[0].1, |t| bezier(&cubic, t), 0.001);
+    assert_follows(&coarse[0].1, |t| bezier(&cubic, t), 0.5);
+    assert!(coarse[0].1.len() * 4 < fine[0].1.len());
+}
+
+#[test]
+fn a_nurbs_quarter_circle_stays_on_its_circle_and_the_next_move_starts_at_its_end() {
+    // Rational quadratic with weights 1, √½, 1: a quarter of the circle of radius 10.
+    let ops = run(
+        "G21 G17 G90 F300\nG0 X10 Y0\nG5.2 X10 Y10 P0.70710678118654757 L3\nX0 Y10 P1\nG5.3\nG1 X-5\nM2\n",
+    );
+    let c = curves(&ops);
+    assert_eq!(c[0].0, 3);
+    for p in &c[0].1 {
+        assert!((p[0].hypot(p[1]) - 10.0).abs() < 1e-9, "{p:?}");
+    }
+    let CanonOp::StraightFeed { to } = ops.iter().rev().find(|o| o.op.is_motion()).unwrap().op
+    else {
+        panic!()
+    };
+    assert_eq!((to.x, to.y), (-5.0, 10.0));
+}
+
+#[test]
+fn spline_errors_name_their_line_and_word() {
+    let opts = RunOptions::check(Dialect::LinuxCnc);
+    let (_, d) = canon_of("G21 F100\nG5.1 X1 Y1 I1\nM2\n", &opts);
+    assert_eq!(d[0].message, "Must specify both I and J with G5.1");
+    assert_eq!((d[0].span.line, d[0].span.col), (2, 1));
+    let (_, d) = canon_of("G21 F100\nG5 I1 J1 P1 Q1 X1 Y1 Z2\nM2\n", &opts);
+    assert_eq!((d[0].span.line, d[0].span.col), (2, 22));
+    // grbl has no splines: refused with its number and a hint.
+    let (_, d) = canon_of(
+        "G21 F100\nG5.1 X1 Y1 I1 J0\nM2\n",
+        &RunOptions::check(Dialect::Grbl),
+    );
+    assert_eq!(d[0].code, Some(20));
+    assert!(
+        d[0].help.as_deref().unwrap().contains("arcs and lines"),
+        "{d:?}"
+    );
+}
+
+#[test]
+fn under_g93_the_whole_curve_takes_one_over_f_minutes() {
+    let ops = run("G21 G17 G90 G93\nG0 X0 Y0\nG5 I0 J10 P0 Q-10 X20 Y0 F2\nG94 F100 G1 X30\nM2\n");
+    let at = ops
+        .iter()
+        .position(|c| matches!(c.op, CanonOp::NurbsFeed { .. }))
+        .unwrap();
+    let CanonOp::NurbsFeed { segments, .. } = ops[at].op else {
+        unreachable!()
+    };
+    // Each traced feed is preceded by its rate; the minutes 1/rate add up to 1/F.
+    let body = &ops[at + 1..at + 1 + 2 * segments as usize];
+    let mut minutes = 0.0;
+    for pair in body.chunks(2) {
+        let (CanonOp::SetFeedRate(rate), CanonOp::StraightFeed { .. }) = (&pair[0].op, &pair[1].op)
+        else {
+            panic!("{pair:?}");
+        };
+        minutes += 1.0 / rate;
+    }
+    assert!((minutes - 0.5).abs() < 1e-9, "{minutes}");
+}

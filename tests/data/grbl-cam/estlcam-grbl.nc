@@ -1,0 +1,21 @@
+;Project part
+;Created by Estlcam version 11 build 11.245
+;Machining time about 00:01:10 hours
+
+G21
+G90
+G94
+;No tool change (single tool)
+M03 S24000
+G00 Z5.0000
+G00 X0.0000 Y0.0000
+G01 Z-0.5000 F300 ; plunge
+G01 X25.0000 F1200 S24000
+G02 X30.0000 Y5.0000 I0.0000 J5.0000
+G01 Y25.0000
+G01 X0.0000
+G01 Y0.0000
+G00 Z5.0000
+M05
+G00 X0.0000 Y0.0000
+M02
