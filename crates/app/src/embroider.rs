@@ -4,8 +4,8 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    generate, preview_svg, sheet, Format, Generated, HeadSpeed, Hoop, Params, Pauses, Sheet,
-    StitchPlan, Table,
+    generate_inkstitch, preview_svg, read_inkstitch, sheet, Format, Generated, HeadSpeed, Hoop,
+    Inkstitch, Params, Pauses, Sheet, StitchPlan, Table,
 };
 use std::path::Path;
 
@@ -247,11 +247,21 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
                 imported.unsupported.total()
             ));
         }
+        let ink = inkstitch_of(input)?;
+        if ink.is_inkstitch {
+            notes.push(format!(
+                "{}: an Ink/Stitch design: {} element(s) with their own parameters, sewn in document order",
+                input.display(),
+                ink.len()
+            ));
+        }
+        notes.extend(ink.notes.iter().cloned());
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?
+        generate_inkstitch(&imported.drawing, &name, &p.stitch, &ink, &mut tick)
+            .map_err(|e| Error(e.0))?
     };
     fb.stage("writing the file")?;
     let file = p
@@ -279,6 +289,19 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         notes,
         source,
     })
+}
+
+/// Ink/Stitch's parameters of an SVG design (none for other drawings).
+pub fn inkstitch_of(input: &Path) -> Result<Inkstitch, Error> {
+    let svg = input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if !svg {
+        return Ok(Inkstitch::default());
+    }
+    let text =
+        std::fs::read_to_string(input).map_err(|e| Error(format!("{}: {e}", input.display())))?;
+    read_inkstitch(&text, &input.display().to_string()).map_err(|e| Error(e.0))
 }
 
 /// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.
