@@ -273,13 +273,20 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
     let mut order: Vec<usize> = (0..lines.len()).collect();
     order.sort_by(|&i, &j| length(&lines[j]).total_cmp(&length(&lines[i])));
     let (i, j) = (order[0].min(order[1]), order[0].max(order[1]));
-    let a = lines[i].clone();
+    let mut a = lines[i].clone();
     let mut b = lines[j].clone();
-    let closed = |l: &[Point]| l.len() > 3 && l[0].distance(l[l.len() - 1]) < 1e-6;
+    // A ring drawn without closing it (the ends a hair apart) is a ring too.
+    let closed =
+        |l: &[Point]| l.len() > 3 && l[0].distance(l[l.len() - 1]) < (0.01 * length(l)).max(0.05);
     if closed(&a) && closed(&b) {
         // Two rings (a circle of satin): the same turning sense, b starting nearest a's start.
         if signed_area(&a) * signed_area(&b) < 0.0 {
             b.reverse();
+        }
+        for r in [&mut a, &mut b] {
+            if r[0].distance(r[r.len() - 1]) > 1e-9 {
+                r.push(r[0]);
+            }
         }
         let n = b.len() - 1;
         let k = (0..n)
@@ -308,7 +315,11 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
                     (e0, s0)
                 };
             let (sa, sb) = (project(&a, pa).0, project(&b, pb).0);
-            (sa > 1e-6 && sa < la - 1e-6 && sb > 1e-6 && sb < lb - 1e-6).then_some((sa, sb))
+            // A rung far from proportional (a ring's rung at the seam, projected past the
+            // start on one rail and before the end on the other) would fold the column.
+            let apart = (sa / la - sb / lb).abs() > 0.25;
+            (sa > 1e-6 && sa < la - 1e-6 && sb > 1e-6 && sb < lb - 1e-6 && !apart)
+                .then_some((sa, sb))
         })
         .collect();
     rungs.sort_by(|x, y| x.0.total_cmp(&y.0));
