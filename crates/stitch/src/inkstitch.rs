@@ -38,6 +38,22 @@ pub enum FillMethod {
     Contour,
 }
 
+/// Which satin rails are reversed before they are paired (`reverse_rails`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ReverseRails {
+    /// `automatic` (the default): a rail drawn the other way round is reversed.
+    #[default]
+    Automatic,
+    /// `none`: as drawn.
+    None,
+    /// `first`: the first rail.
+    First,
+    /// `second`: the second rail.
+    Second,
+    /// `both`.
+    Both,
+}
+
 /// Lock stitches of an element (`ties`: 0 both, 1 at the start, 2 at the end, 3 none;
 /// Ink/Stitch's older files say `True` / `False`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +78,8 @@ pub struct ElementParams {
     /// `bean_stitch_repeats`: each running stitch sewn again back and forth this many times
     /// (0; 1 is a triple stitch).
     pub bean_stitch_repeats: u32,
+    /// `reverse_rails` (automatic).
+    pub reverse_rails: ReverseRails,
     /// `zigzag_spacing_mm`: peak to peak distance of satin zig-zags (0.4).
     pub zigzag_spacing: f64,
     /// `pull_compensation_mm`: each side of a satin moved outwards by this (0).
@@ -125,6 +143,7 @@ impl Default for ElementParams {
             running_stitch_length: 2.5,
             repeats: 1,
             bean_stitch_repeats: 0,
+            reverse_rails: ReverseRails::Automatic,
             zigzag_spacing: 0.4,
             pull_compensation: 0.0,
             e_stitch: false,
@@ -349,6 +368,19 @@ fn element_params(
             Ties { start: b, end: b }
         }
     };
+    let reverse_rails = match a.get("reverse_rails").copied() {
+        None | Some("automatic") => ReverseRails::Automatic,
+        Some("none") => ReverseRails::None,
+        Some("first") => ReverseRails::First,
+        Some("second") => ReverseRails::Second,
+        Some("both") => ReverseRails::Both,
+        Some(other) => {
+            notes.push(format!(
+                "{at}: reverse_rails \"{other}\" unknown to Oficina, rails paired automatically"
+            ));
+            ReverseRails::Automatic
+        }
+    };
     let fill_len = max_stitch_length.unwrap_or(FILL_STITCH_LENGTH);
     Ok(ElementParams {
         satin_column: flag("satin_column").unwrap_or(false),
@@ -357,6 +389,7 @@ fn element_params(
             .unwrap_or(d.running_stitch_length),
         repeats: count("repeats", 100.0)?.unwrap_or(1).max(1),
         bean_stitch_repeats: count("bean_stitch_repeats", 100.0)?.unwrap_or(0),
+        reverse_rails,
         zigzag_spacing: len("zigzag_spacing_mm", 0.05, 10.0)?.unwrap_or(d.zigzag_spacing),
         pull_compensation: len("pull_compensation_mm", -10.0, 10.0)?.unwrap_or(d.pull_compensation),
         e_stitch: flag("e_stitch").unwrap_or(false) || a.get("satin_method") == Some(&"e_stitch"),

@@ -21,8 +21,8 @@ pub use generate::{
 };
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use inkstitch::{
-    read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, StrokeMethod, Ties,
-    FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
+    read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, ReverseRails,
+    StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
 };
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;

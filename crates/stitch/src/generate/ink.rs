@@ -15,7 +15,7 @@
 use super::fill::{self, FillParams, Run};
 use super::running::{running, straight};
 use super::{satin, Shape, ShapeKind};
-use crate::inkstitch::{ElementParams, FillMethod, StrokeMethod, FILL_STITCH_LENGTH};
+use crate::inkstitch::{ElementParams, FillMethod, ReverseRails, StrokeMethod, FILL_STITCH_LENGTH};
 use crate::{GenerateError, Params};
 use oficina_geom::{offset_regions, Area, Color, Join, Path, Point, Region};
 
@@ -27,9 +27,14 @@ fn shape(
     color: Color,
     kind: ShapeKind,
     e: &ElementParams,
-    underlay: Vec<Run>,
-    top: Vec<Run>,
+    mut underlay: Vec<Run>,
+    mut top: Vec<Run>,
 ) -> Shape {
+    if let Some(min) = e.min_stitch_length.filter(|&m| m > 0.0) {
+        for r in underlay.iter_mut().chain(top.iter_mut()) {
+            r.points = drop_short(&r.points, min);
+        }
+    }
     Shape {
         color,
         kind,
@@ -192,6 +197,21 @@ pub(super) fn element_shapes(
     Ok(out)
 }
 
+/// Stitches shorter than `min` merged into the next (`min_stitch_length_mm`): a needle point
+/// nearer than `min` to the last one kept is left out; the run's last point stays (the
+/// column or line ends where it was drawn to), so a short last stitch may remain.
+fn drop_short(pts: &[Point], min: f64) -> Vec<Point> {
+    let mut out: Vec<Point> = Vec::with_capacity(pts.len());
+    for (i, &q) in pts.iter().enumerate() {
+        let last = i + 1 == pts.len();
+        match out.last() {
+            Some(&k) if k.distance(q) < min && !(last && k.distance(q) > 1e-9) => {}
+            _ => out.push(q),
+        }
+    }
+    out
+}
+
 fn length(l: &[Point]) -> f64 {
     l.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
@@ -276,6 +296,16 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
     let mut a = lines[i].clone();
     let mut b = lines[j].clone();
     // A ring drawn without closing it (the ends a hair apart) is a ring too.
+    match e.reverse_rails {
+        ReverseRails::First => a.reverse(),
+        ReverseRails::Second => b.reverse(),
+        ReverseRails::Both => {
+            a.reverse();
+            b.reverse();
+        }
+        ReverseRails::Automatic | ReverseRails::None => {}
+    }
+    let auto = e.reverse_rails == ReverseRails::Automatic;
     let closed =
         |l: &[Point]| l.len() > 3 && l[0].distance(l[l.len() - 1]) < (0.01 * length(l)).max(0.05);
     if closed(&a) && closed(&b) {
@@ -295,7 +325,7 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
         let mut r: Vec<Point> = b[k..n].to_vec();
         r.extend_from_slice(&b[..=k]);
         b = r;
-    } else if a[0].distance(b[0]) > a[0].distance(b[b.len() - 1]) {
+    } else if auto && a[0].distance(b[0]) > a[0].distance(b[b.len() - 1]) {
         // Rails drawn in opposite directions are paired end to start.
         b.reverse();
     }
@@ -490,6 +520,17 @@ fn contour_fill(region: &Region, spacing: f64, length: f64) -> Result<Vec<Run>, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn short_stitches_are_merged_and_the_end_kept() {
+        let pts: Vec<Point> = [0.0, 0.1, 0.2, 1.0, 1.1, 2.0, 2.05]
+            .iter()
+            .map(|&x| Point::new(x, 0.0))
+            .collect();
+        let out = drop_short(&pts, 0.3);
+        let xs: Vec<f64> = out.iter().map(|q| q.x).collect();
+        assert_eq!(xs, [0.0, 1.0, 2.0, 2.05]);
+    }
 
     #[test]
     fn bean_and_repeats_multiply_the_stitches() {

@@ -132,17 +132,35 @@ pub const MAX_STITCHES: usize = 2_000_000;
 
 /// An upper estimate of the stitches, before any is made: fills by their bounding boxes'
 /// area over (row spacing × stitch length), satins by length over spacing, doubled, running
-/// stitch by length over stitch length.
-fn estimate_stitches(drawing: &Drawing, p: &Params) -> f64 {
+/// stitch by length over stitch length; an Ink/Stitch element with its own spacings, times
+/// its repeats, bean stitches and underlay layers.
+fn estimate_stitches(drawing: &Drawing, p: &Params, ink: &Inkstitch) -> f64 {
     drawing
         .paths()
         .map(|path| {
             let len = path.length();
             let st = path.style;
             let area = path.bounding_box().map_or(0.0, |b| b.area());
-            let mut n = len / p.stitch_length.min(p.satin_spacing) * 2.0;
+            let (line, rows, times) = if ink.is_inkstitch {
+                let e = ink.element(&path.source.element);
+                let line = e
+                    .running_stitch_length
+                    .min(e.zigzag_spacing)
+                    .min(e.center_walk_length)
+                    .min(e.contour_length)
+                    .min(p.stitch_length.min(p.satin_spacing));
+                let rows = e.row_spacing.min(e.fill_underlay_row_spacing);
+                let layers = 1 + e.fill_underlay_angles.len();
+                let times = (e.repeats as usize * (1 + 2 * e.bean_stitch_repeats as usize))
+                    .max(layers)
+                    .max(4) as f64;
+                (line, rows, times)
+            } else {
+                (p.stitch_length.min(p.satin_spacing), p.fill_spacing, 1.0)
+            };
+            let mut n = len / line * 2.0 * times;
             if st.fill.is_some() || p.fill_closed {
-                n += area / (p.fill_spacing * p.fill_stitch_length.min(1.0)) * 2.0;
+                n += area / (rows * p.fill_stitch_length.min(1.0)) * 2.0 * times;
             }
             if n.is_finite() {
                 n
@@ -272,7 +290,7 @@ pub fn generate_inkstitch(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Generated, GenerateError> {
     p.check()?;
-    let estimate = estimate_stitches(drawing, p);
+    let estimate = estimate_stitches(drawing, p, ink);
     if estimate > MAX_STITCHES as f64 {
         return Err(GenerateError(format!(
             "{name}: about {estimate:.0} stitches at these settings, more than the {MAX_STITCHES} \
