@@ -24,6 +24,7 @@ fn run(points: Vec<Point>, sew_into: bool) -> Run {
 }
 
 fn shape(
+    max: f64,
     color: Color,
     kind: ShapeKind,
     e: &ElementParams,
@@ -32,7 +33,7 @@ fn shape(
 ) -> Shape {
     if let Some(min) = e.min_stitch_length.filter(|&m| m > 0.0) {
         for r in underlay.iter_mut().chain(top.iter_mut()) {
-            r.points = drop_short(&r.points, min);
+            r.points = drop_short(&r.points, min, max);
         }
     }
     Shape {
@@ -118,7 +119,14 @@ pub(super) fn element_shapes(
                 }
                 prev = r.points.last().copied().or(prev);
             }
-            out.push(shape(color, ShapeKind::Fill, e, underlay, top));
+            out.push(shape(
+                p.max_stitch,
+                color,
+                ShapeKind::Fill,
+                e,
+                underlay,
+                top,
+            ));
         }
     }
     let Some(color) = style.stroke else {
@@ -167,6 +175,7 @@ pub(super) fn element_shapes(
                         sewn.extend(straight(w[0], w[1], p.max_stitch));
                     }
                     out.push(shape(
+                        p.max_stitch,
                         color,
                         ShapeKind::Running,
                         e,
@@ -185,6 +194,7 @@ pub(super) fn element_shapes(
                     e.bean_stitch_repeats,
                 );
                 out.push(shape(
+                    p.max_stitch,
                     color,
                     ShapeKind::Running,
                     e,
@@ -200,12 +210,14 @@ pub(super) fn element_shapes(
 /// Stitches shorter than `min` merged into the next (`min_stitch_length_mm`): a needle point
 /// nearer than `min` to the last one kept is left out; the run's last point stays (the
 /// column or line ends where it was drawn to), so a short last stitch may remain.
-fn drop_short(pts: &[Point], min: f64) -> Vec<Point> {
+fn drop_short(pts: &[Point], min: f64, max: f64) -> Vec<Point> {
     let mut out: Vec<Point> = Vec::with_capacity(pts.len());
     for (i, &q) in pts.iter().enumerate() {
-        let last = i + 1 == pts.len();
+        let next = pts.get(i + 1);
         match out.last() {
-            Some(&k) if k.distance(q) < min && !(last && k.distance(q) > 1e-9) => {}
+            // Left out only where the stitch to the next point stays within the machine's.
+            Some(&k) if k.distance(q) < min && next.is_some_and(|&n| k.distance(n) <= max) => {}
+            Some(&k) if next.is_none() && k.distance(q) <= 1e-9 => {}
             _ => out.push(q),
         }
     }
@@ -450,6 +462,7 @@ fn column(color: Color, a: Vec<Point>, b: Vec<Point>, e: &ElementParams, p: &Par
         vec![]
     };
     shape(
+        p.max_stitch,
         color,
         ShapeKind::Satin,
         e,
@@ -527,7 +540,7 @@ mod tests {
             .iter()
             .map(|&x| Point::new(x, 0.0))
             .collect();
-        let out = drop_short(&pts, 0.3);
+        let out = drop_short(&pts, 0.3, 12.1);
         let xs: Vec<f64> = out.iter().map(|q| q.x).collect();
         assert_eq!(xs, [0.0, 1.0, 2.0, 2.05]);
     }
