@@ -214,3 +214,75 @@ fn the_style_cascade_file_sews_with_inherited_colours() {
     // the class (green again), blue fill from the group's class with a purple stroke.
     assert_eq!(hex, ["#ff0000", "#008000", "#0000ff", "#800080"], "{hex:?}");
 }
+
+/// A drawing of open strokes, one element each: (id, colour, points).
+fn strokes(items: &[(&str, oficina_geom::Color, &[(f64, f64)])]) -> Drawing {
+    let mut d = Drawing::new();
+    for (id, c, pts) in items {
+        let pts: Vec<oficina_geom::Point> = pts
+            .iter()
+            .map(|&(x, y)| oficina_geom::Point::new(x, y))
+            .collect();
+        let mut p = oficina_geom::Path::polyline(&pts, false);
+        p.source.element = format!("#{id}");
+        p.style.stroke = Some(*c);
+        p.style.stroke_width = 0.1;
+        d.push("0", p);
+    }
+    d
+}
+
+fn ink(body: &str) -> Inkstitch {
+    let svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkstitch="http://inkstitch.org/namespace">{body}</svg>"#
+    );
+    read_inkstitch(&svg, "t.svg").unwrap()
+}
+
+#[test]
+fn document_order_trims_stops_and_ties_per_element() {
+    use oficina_geom::Color;
+    let red = Color::rgb(255, 0, 0);
+    let blue = Color::rgb(0, 0, 255);
+    let d = strokes(&[
+        ("a", red, &[(0.0, 0.0), (10.0, 0.0)]),
+        ("b", blue, &[(10.0, 1.0), (20.0, 1.0)]),
+        ("c", red, &[(20.0, 2.0), (30.0, 2.0)]),
+        ("e", red, &[(30.0, 2.0), (40.0, 2.0)]),
+    ]);
+    let k = ink(
+        r#"<path id="a" inkstitch:trim_after="true" inkstitch:ties="3"/>
+           <path id="b" inkstitch:stop_after="yes" inkstitch:running_stitch_length_mm="1"/>
+           <path id="c" inkstitch:ties="2" inkstitch:repeats="3"/>
+           <path id="e" inkstitch:bean_stitch_repeats="1"/>"#,
+    );
+    let plan = sew(&d, &k);
+    // Document order: red, blue, red (Oficina's own rules group the reds: two blocks).
+    let hex: Vec<String> = plan.blocks.iter().map(|b| b.thread.hex()).collect();
+    assert_eq!(hex, ["#ff0000", "#0000ff", "#ff0000"]);
+    assert_eq!(sew(&d, &Inkstitch::default()).blocks.len(), 2);
+    let kinds = |b: usize| {
+        plan.blocks[b]
+            .stitches
+            .iter()
+            .map(|s| s.kind)
+            .collect::<Vec<_>>()
+    };
+    // a: no ties (ties 3): jump, anchor, 4 stitches of 2.5, then the trim.
+    let a = kinds(0);
+    assert_eq!(a[0], Kind::Jump);
+    assert_eq!(a.iter().filter(|&&k| k == Kind::Stitch).count(), 1 + 4);
+    assert_eq!(*a.last().unwrap(), Kind::Trim);
+    // b: 1 mm stitches, tied in and off (default), a stop after it.
+    let b = kinds(1);
+    assert_eq!(
+        b.iter().filter(|&&k| k == Kind::Stitch).count(),
+        1 + 2 + 10 + 2
+    );
+    assert!(b.contains(&Kind::Stop));
+    // c: tie-off only (ties 2), three passes of 4; then e sewn straight on (no cut), a
+    // triple stitch: 4 stitches × 3; the colour change ties off.
+    let c = kinds(2);
+    let sewn = c.iter().filter(|&&k| k == Kind::Stitch).count();
+    assert_eq!(sewn, 1 + 3 * 4 + 4 * 3 + 2, "{c:?}");
+}
