@@ -384,4 +384,39 @@ mod tests {
         assert_eq!(e.field().as_deref(), Some("stitch_length"), "{e}");
         assert!(e.0.contains("stitch length (mm) 0 is outside"), "{e}");
     }
+
+    #[test]
+    fn an_inkstitch_design_sews_with_its_parameters_and_a_bad_one_is_named() {
+        let dir = std::env::temp_dir().join(format!("oficina-ink-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let svg = |spacing: &str| {
+            format!(
+                r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkstitch="http://inkstitch.org/namespace" width="40mm" height="20mm" viewBox="0 0 40 20">
+                 <path id="col" d="M2 5 L38 5 M2 9 L38 9" fill="none" stroke="black" stroke-width="0.1"
+                       inkstitch:satin_column="true" inkstitch:zigzag_spacing_mm="{spacing}"/></svg>"#
+            )
+        };
+        let good = dir.join("col.svg");
+        std::fs::write(&good, svg("0.5")).unwrap();
+        let out = embroider(&good, &EmbroiderParams::default(), Feedback::none()).unwrap();
+        assert_eq!(out.generated.satins, 1);
+        assert!(
+            out.notes.iter().any(|n| n.contains("Ink/Stitch design")),
+            "{:?}",
+            out.notes
+        );
+        // A 36 mm column at 0.5 mm peak to peak: 73 zig-zags, two needle points each.
+        let n = out.generated.plan.counts().stitches;
+        assert!((146..=160).contains(&n), "{n}");
+        let bad = dir.join("bad.svg");
+        std::fs::write(&bad, svg("dense")).unwrap();
+        let e = embroider(&bad, &EmbroiderParams::default(), Feedback::none())
+            .err()
+            .unwrap();
+        assert!(
+            e.0.contains("bad.svg") && e.0.contains("#col") && e.0.contains("zigzag_spacing_mm"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
