@@ -12,6 +12,7 @@ use oficina_geom::Drawing;
 use oficina_stitch::{
     generate_inkstitch, read_inkstitch, Format, Inkstitch, Kind, Params, StitchPlan,
 };
+use proptest::prelude::*;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -151,6 +152,12 @@ fn the_sampler_sews_as_inkstitch_sews_it() {
     let ratio = no as f64 / nt as f64;
     eprintln!("stitches: ours {no}, Ink/Stitch {nt} (ratio {ratio:.3})");
     assert!((0.85..=1.15).contains(&ratio));
+    eprintln!(
+        "trims: ours {}, Ink/Stitch {} (its JEF's jump runs over 3 mm)",
+        ours.counts().trims,
+        theirs.counts().trims
+    );
+    assert!(ours.counts().trims.abs_diff(theirs.counts().trims) <= 2);
     // Without its parameters (Oficina's own rules: thin satin rails as running lines, wide
     // rows) the sampler is not what its author made.
     let plain = sew(&drawing, &Inkstitch::default());
@@ -285,4 +292,33 @@ fn document_order_trims_stops_and_ties_per_element() {
     let c = kinds(2);
     let sewn = c.iter().filter(|&&k| k == Kind::Stitch).count();
     assert_eq!(sewn, 1 + 3 * 4 + 4 * 3 + 2, "{c:?}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 500, ..ProptestConfig::default() })]
+
+    /// Any value of any attribute: read or refused with the element named, never a panic.
+    #[test]
+    fn any_attribute_value_is_read_or_refused(
+        key in proptest::sample::select(vec![
+            "angle", "row_spacing_mm", "max_stitch_length_mm", "repeats", "bean_stitch_repeats",
+            "zigzag_spacing_mm", "pull_compensation_mm", "fill_underlay_angle", "ties",
+            "stroke_method", "fill_method", "reverse_rails", "satin_column", "staggers",
+            "center_walk_underlay_repeats", "min_stitch_length_mm",
+        ]),
+        value in "[-0-9a-zA-Z ,.eE+]{0,12}",
+    ) {
+        let body = format!(r#"<path id="z" d="M0 0L1 1" inkstitch:{key}="{value}"/>"#);
+        let svg = format!(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkstitch="http://inkstitch.org/namespace">{body}</svg>"#
+        );
+        match read_inkstitch(&svg, "f.svg") {
+            Ok(k) => {
+                let e = k.element("#z");
+                prop_assert!(e.row_spacing > 0.0 && e.repeats >= 1 && e.staggers >= 1);
+                prop_assert!(e.fill_underlay_angles.iter().all(|a| a.is_finite()));
+            }
+            Err(e) => prop_assert!(e.0.contains("f.svg") && e.0.contains("#z") && e.0.contains(key), "{e}"),
+        }
+    }
 }
