@@ -239,7 +239,16 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         }
     } else {
         fb.stage("reading the design")?;
-        let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
+        // Ink/Stitch's parameters first: its command symbols are cut from the text before
+        // the drawing is imported (the importer would make anonymous paths of them).
+        let (ink, text) = inkstitch_of(input)?;
+        let imported = match text.filter(|_| ink.is_inkstitch) {
+            Some(t) => {
+                oficina_io::svg_from_bytes(ink.strip(&t).as_bytes(), &input.display().to_string())
+            }
+            None => oficina_io::load_drawing(input),
+        }
+        .map_err(|e| Error(e.to_string()))?;
         if !imported.unsupported.is_empty() {
             notes.push(format!(
                 "{}: {} element(s) not sewn (text, images: convert them to paths)",
@@ -247,7 +256,6 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
                 imported.unsupported.total()
             ));
         }
-        let ink = inkstitch_of(input)?;
         if ink.is_inkstitch {
             notes.push(format!(
                 "{}: an Ink/Stitch design: {} element(s) with their own parameters, sewn in document order",
@@ -291,17 +299,20 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
     })
 }
 
-/// Ink/Stitch's parameters of an SVG design (none for other drawings).
-pub fn inkstitch_of(input: &Path) -> Result<Inkstitch, Error> {
+/// Ink/Stitch's parameters of an SVG design, with its text (none for other drawings, and
+/// for a file too large to be a drawing, which the importer then refuses).
+pub fn inkstitch_of(input: &Path) -> Result<(Inkstitch, Option<String>), Error> {
     let svg = input
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if !svg {
-        return Ok(Inkstitch::default());
+    let size = std::fs::metadata(input).map_or(u64::MAX, |m| m.len());
+    if !svg || size > oficina_io::MAX_DRAWING_BYTES {
+        return Ok((Inkstitch::default(), None));
     }
     let text =
         std::fs::read_to_string(input).map_err(|e| Error(format!("{}: {e}", input.display())))?;
-    read_inkstitch(&text, &input.display().to_string()).map_err(|e| Error(e.0))
+    let ink = read_inkstitch(&text, &input.display().to_string()).map_err(|e| Error(e.0))?;
+    Ok((ink, Some(text)))
 }
 
 /// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.

@@ -196,6 +196,11 @@ pub struct Inkstitch {
     pub is_inkstitch: bool,
     /// What was read but is sewn differently from Ink/Stitch (ripple stitch, unknown methods).
     pub notes: Vec<String>,
+    /// Elements not sewn: Ink/Stitch's command symbols and their connectors, objects with an
+    /// `ignore_object` command, the objects of a layer with an `ignore_layer` command.
+    ignored: std::collections::HashSet<String>,
+    /// Byte ranges of the source text of the elements not sewn.
+    cut: Vec<std::ops::Range<usize>>,
 }
 
 impl Inkstitch {
@@ -203,6 +208,30 @@ impl Inkstitch {
     /// any.
     pub fn element(&self, id: &str) -> ElementParams {
         self.elements.get(id).cloned().unwrap_or_default()
+    }
+
+    /// Whether element `id` (`#id`) is left out, as Ink/Stitch leaves it out.
+    pub fn ignored(&self, id: &str) -> bool {
+        self.ignored.contains(id)
+    }
+
+    /// The SVG text `svg` (the one read) without the elements Ink/Stitch does not sew: command
+    /// symbols' `<use>`, connectors, ignored objects and layers. (A drawing importer turns a
+    /// `<use>` into anonymous paths, which could not be told apart afterwards.)
+    pub fn strip(&self, svg: &str) -> String {
+        let mut cut = self.cut.clone();
+        cut.sort_by_key(|r| (r.start, std::cmp::Reverse(r.end)));
+        let mut out = String::with_capacity(svg.len());
+        let mut at = 0;
+        for r in cut {
+            if r.start < at || r.end > svg.len() {
+                continue; // inside one already cut
+            }
+            out.push_str(&svg[at..r.start]);
+            at = r.end;
+        }
+        out.push_str(&svg[at..]);
+        out
     }
 
     /// Elements that carry at least one `inkstitch:` parameter.
@@ -255,7 +284,91 @@ pub fn read_inkstitch(svg: &str, file: &str) -> Result<Inkstitch, InkstitchError
             out.elements.entry(format!("#{id}")).or_insert(e);
         }
     }
+    commands(&doc, file, &mut out);
     Ok(out)
+}
+
+const INKSCAPE: &str = "http://www.inkscape.org/namespaces/inkscape";
+const XLINK: &str = "http://www.w3.org/1999/xlink";
+
+/// Ink/Stitch's commands: a `<use>` of a symbol `#inkstitch_<command>` joined to its object by
+/// a connector path (`inkscape:connection-start` / `-end`, one end the `<use>`, the other the
+/// object); `ignore_layer` is a `<use>` standing in its layer. Trim and stop set the object's
+/// `trim_after` / `stop_after`; ignore leaves it out. The symbols and connectors are never
+/// sewn. Start and end positions (fill, satin, running) are noted, not used.
+fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
+    let href = |n: &roxmltree::Node| {
+        n.attribute((XLINK, "href"))
+            .or_else(|| n.attribute("href"))
+            .map(str::to_string)
+    };
+    // Command uses by id, and what they command.
+    let mut uses: HashMap<String, String> = HashMap::new();
+    for n in doc.descendants().filter(|n| n.has_tag_name("use")) {
+        let Some(cmd) = href(&n).and_then(|h| h.strip_prefix("#inkstitch_").map(str::to_string))
+        else {
+            continue;
+        };
+        out.is_inkstitch = true;
+        out.cut.push(n.range());
+        if let Some(id) = n.attribute("id") {
+            out.ignored.insert(format!("#{id}"));
+            uses.insert(format!("#{id}"), cmd.clone());
+        }
+        if cmd == "ignore_layer" {
+            if let Some(layer) = n
+                .ancestors()
+                .find(|a| a.attribute((INKSCAPE, "groupmode")) == Some("layer"))
+            {
+                out.cut.push(layer.range());
+                for d in layer.descendants().filter_map(|d| d.attribute("id")) {
+                    out.ignored.insert(format!("#{d}"));
+                }
+            }
+        }
+    }
+    // Everything inside a command symbol.
+    for n in doc.descendants().filter(|n| {
+        n.has_tag_name("symbol")
+            && n.attribute("id")
+                .is_some_and(|i| i.starts_with("inkstitch_"))
+    }) {
+        for d in n.descendants().filter_map(|d| d.attribute("id")) {
+            out.ignored.insert(format!("#{d}"));
+        }
+    }
+    for c in doc.descendants().filter(|n| n.is_element()) {
+        let (Some(a), Some(b)) = (
+            c.attribute((INKSCAPE, "connection-start")),
+            c.attribute((INKSCAPE, "connection-end")),
+        ) else {
+            continue;
+        };
+        let (cmd, target) = match (uses.get(a), uses.get(b)) {
+            (Some(cmd), _) => (cmd, b),
+            (None, Some(cmd)) => (cmd, a),
+            (None, None) => continue,
+        };
+        out.cut.push(c.range());
+        if let Some(id) = c.attribute("id") {
+            out.ignored.insert(format!("#{id}"));
+        }
+        let e = out.elements.entry(target.to_string()).or_default();
+        match cmd.as_str() {
+            "trim" => e.trim_after = true,
+            "stop" => e.stop_after = true,
+            "ignore_object" => {
+                out.ignored.insert(target.to_string());
+                let id = target.trim_start_matches('#');
+                if let Some(t) = doc.descendants().find(|t| t.attribute("id") == Some(id)) {
+                    out.cut.push(t.range());
+                }
+            }
+            other => out.notes.push(format!(
+                "{file}: {target}: Ink/Stitch command \"{other}\" not used by Oficina"
+            )),
+        }
+    }
 }
 
 fn boolean(v: &str) -> bool {

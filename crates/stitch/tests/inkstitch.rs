@@ -322,3 +322,46 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn commands_trim_and_ignore_and_their_symbols_are_not_sewn() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+        xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+        xmlns:inkstitch="http://inkstitch.org/namespace" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <defs>
+        <symbol id="inkstitch_trim"><path id="inkstitch_circle1" d="M9 0A9 9 0 1 1 -9 0A9 9 0 1 1 9 0Z" style="fill:#fafafa;stroke:#003399"/></symbol>
+        <symbol id="inkstitch_ignore_object"><path id="inkstitch_x" d="M-5 -5L5 5M5 -5L-5 5" style="fill:none;stroke:#ff0000"/></symbol>
+      </defs>
+      <g id="layer1" inkscape:groupmode="layer">
+        <path id="line" d="M10 50L40 50" style="fill:none;stroke:#000000;stroke-width:0.1"/>
+        <g id="command_group1">
+          <path id="command_connector1" d="M70 20L25 50" style="stroke:#000000;stroke-width:1px;fill:none"
+                inkscape:connection-start="#command_use1" inkscape:connection-end="#line"/>
+          <use id="command_use1" xlink:href="#inkstitch_trim" x="70" y="20" width="100%" height="100%"/>
+        </g>
+        <path id="gone" d="M10 80L40 80" style="fill:none;stroke:#000000;stroke-width:0.1"/>
+        <g id="command_group2">
+          <path id="command_connector2" d="M25 80L80 90" style="stroke:#000000;stroke-width:1px;fill:none"
+                inkscape:connection-start="#gone" inkscape:connection-end="#command_use2"/>
+          <use id="command_use2" xlink:href="#inkstitch_ignore_object" x="80" y="90"/>
+        </g>
+      </g>
+    </svg>"##;
+    let k = read_inkstitch(svg, "commands.svg").unwrap();
+    assert!(k.element("#line").trim_after && k.ignored("#gone"));
+    // The importer makes anonymous paths of the symbols: they are cut from the text first.
+    let stripped = k.strip(svg);
+    assert!(!stripped.contains("command_use") && !stripped.contains("\"gone\""));
+    let d = oficina_io::svg_from_bytes(stripped.as_bytes(), "commands.svg")
+        .unwrap()
+        .drawing;
+    let plan = sew(&d, &k);
+    // Only the 30 mm line is sewn, then the thread is trimmed after it.
+    let b = sewn_bounds(&plan);
+    assert!(
+        (b[2] - b[0] - 30.0).abs() < 0.6 && (b[3] - b[1]).abs() < 0.6,
+        "{b:?}"
+    );
+    let last = plan.blocks.last().unwrap().stitches.last().unwrap();
+    assert_eq!(last.kind, Kind::Trim);
+}

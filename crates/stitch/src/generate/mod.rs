@@ -302,6 +302,10 @@ pub fn generate_inkstitch(
     let mut shapes: Vec<Shape> = Vec::new();
     for (n, paths) in groups.iter().enumerate() {
         if ink.is_inkstitch {
+            if ink.ignored(&paths[0].source.element) {
+                progress(n + 1, total);
+                continue;
+            }
             let e = ink.element(&paths[0].source.element);
             shapes.extend(ink::element_shapes(paths, &e, p)?);
         } else {
