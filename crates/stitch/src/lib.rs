@@ -2,6 +2,8 @@
 //! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
 //! sewn on the needle-synchronised table, and written and read as the machines' files (Tajima
 //! DST, Melco EXP, Brother PES/PEC, Janome JEF, Pfaff VP3, Singer XXX, Barudan U01).
+//! Designs made in Ink/Stitch keep their authors' parameters (`inkstitch:` attributes, read by
+//! [`read_inkstitch`], sewn by [`generate_inkstitch`]).
 
 mod format;
 mod generate;

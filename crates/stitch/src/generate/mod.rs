@@ -12,6 +12,10 @@
 //! does not, so the order is chosen here on each shape's two real starts).
 //! Travel: a jump; longer than `trim_length` a trim first. The design is centred on the
 //! hoop centre.
+//!
+//! An Ink/Stitch design ([`generate_inkstitch`] with `crate::inkstitch`'s attributes) is sewn
+//! as Ink/Stitch sews it instead: each element with its own parameters (`ink.rs`), in document
+//! order, a colour change wherever the colour changes, trims, stops and ties per element.
 
 mod fill;
 mod ink;
