@@ -133,6 +133,9 @@ pub struct ElementParams {
     pub ties: Ties,
     /// `min_stitch_length_mm`: shorter stitches are merged away (none).
     pub min_stitch_length: Option<f64>,
+    /// `min_jump_stitch_length_mm` (older files: `collapse_len_mm`): a move to the element
+    /// shorter than this is sewn, not jumped (none: Oficina's own rule, a jump).
+    pub min_jump_length: Option<f64>,
 }
 
 impl Default for ElementParams {
@@ -173,6 +176,7 @@ impl Default for ElementParams {
                 end: true,
             },
             min_stitch_length: None,
+            min_jump_length: None,
         }
     }
 }
@@ -536,7 +540,15 @@ fn element_params(
         trim_after: flag("trim_after").unwrap_or(false),
         stop_after: flag("stop_after").unwrap_or(false),
         ties,
-        min_stitch_length: len("min_stitch_length_mm", 0.0, 10.0)?,
+        // `min_stitch_len_mm` is the older name.
+        min_stitch_length: match len("min_stitch_length_mm", 0.0, 10.0)? {
+            Some(x) => Some(x),
+            None => len("min_stitch_len_mm", 0.0, 10.0)?,
+        },
+        min_jump_length: match len("min_jump_stitch_length_mm", 0.0, 100.0)? {
+            Some(x) => Some(x),
+            None => len("collapse_len_mm", 0.0, 100.0)?,
+        },
     })
 }
 

@@ -365,3 +365,36 @@ fn commands_trim_and_ignore_and_their_symbols_are_not_sewn() {
     let last = plan.blocks.last().unwrap().stitches.last().unwrap();
     assert_eq!(last.kind, Kind::Trim);
 }
+
+#[test]
+fn a_move_shorter_than_the_minimum_jump_is_sewn() {
+    let black = oficina_geom::Color::BLACK;
+    let d = strokes(&[
+        ("a", black, &[(0.0, 0.0), (10.0, 0.0)]),
+        ("b", black, &[(12.0, 0.0), (22.0, 0.0)]),
+    ]);
+    let jumps = |k: &Inkstitch| {
+        sew(&d, k).blocks[0]
+            .stitches
+            .iter()
+            .filter(|s| s.kind == Kind::Jump)
+            .count()
+    };
+    // The design's first jump (to its start), then one to b.
+    assert_eq!(jumps(&ink(r#"<path id="b"/>"#)), 2);
+    assert_eq!(
+        jumps(&ink(
+            r#"<path id="b" inkstitch:min_jump_stitch_length_mm="3"/>"#
+        )),
+        1
+    );
+    // Older files call it collapse_len_mm; 1 mm is shorter than the move.
+    assert_eq!(
+        jumps(&ink(r#"<path id="b" inkstitch:collapse_len_mm="3"/>"#)),
+        1
+    );
+    assert_eq!(
+        jumps(&ink(r#"<path id="b" inkstitch:collapse_len_mm="1"/>"#)),
+        2
+    );
+}

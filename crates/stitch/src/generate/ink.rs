@@ -45,6 +45,7 @@ fn shape(
         ties: e.ties,
         trim_after: e.trim_after,
         stop_after: e.stop_after,
+        min_jump: e.min_jump_length.unwrap_or(0.0),
     }
 }
 

@@ -202,6 +202,8 @@ struct Shape {
     trim_after: bool,
     /// The machine stops after the shape.
     stop_after: bool,
+    /// A move to the shape no longer than this is sewn, not jumped (Ink/Stitch's minimum jump).
+    min_jump: f64,
 }
 
 const BOTH_TIES: Ties = Ties {
@@ -256,6 +258,7 @@ impl Shape {
             ties: self.ties,
             trim_after: self.trim_after,
             stop_after: self.stop_after,
+            min_jump: self.min_jump,
         }
     }
 }
@@ -436,6 +439,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                 ties: BOTH_TIES,
                 trim_after: false,
                 stop_after: false,
+                min_jump: 0.0,
             });
         }
     }
@@ -491,6 +495,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                         ties: BOTH_TIES,
                         trim_after: false,
                         stop_after: false,
+                        min_jump: 0.0,
                     });
                 }
             }
@@ -519,6 +524,7 @@ fn satin_shape(color: Color, centre: &[Point], l: &[Point], r: &[Point], p: &Par
         ties: BOTH_TIES,
         trim_after: false,
         stop_after: false,
+        min_jump: 0.0,
     }
 }
 
@@ -565,7 +571,10 @@ impl Sewer<'_> {
                 continue;
             };
             let at = self.at;
-            if r.sew_into && !self.first_in_plan && !self.cut {
+            // A move shorter than the shape's minimum jump is sewn (Ink/Stitch's collapse).
+            let d = start.distance(at);
+            let short = d > 1e-9 && d <= shape.min_jump;
+            if (r.sew_into || short) && !self.first_in_plan && !self.cut {
                 for q in running::straight(at, start, p.stitch_length) {
                     self.stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
                 }
