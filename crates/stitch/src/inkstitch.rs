@@ -113,6 +113,8 @@ pub struct ElementParams {
     pub row_spacing: f64,
     /// `staggers`: rows before the stitch grid repeats (4).
     pub staggers: u32,
+    /// `expand_mm`: the filled shape grown (or shrunk, negative) by this before it is sewn (0).
+    pub expand: f64,
     /// `fill_method` (auto).
     pub fill_method: FillMethod,
     /// `fill_underlay` (true).
@@ -163,6 +165,7 @@ impl Default for ElementParams {
             angle: 0.0,
             row_spacing: 0.25,
             staggers: 4,
+            expand: 0.0,
             fill_method: FillMethod::Auto,
             fill_underlay: true,
             fill_underlay_angles: vec![90.0],
@@ -529,6 +532,7 @@ fn element_params(
         angle,
         row_spacing,
         staggers: count("staggers", 100.0)?.unwrap_or(d.staggers).max(1),
+        expand: len("expand_mm", -20.0, 20.0)?.unwrap_or(0.0),
         fill_method,
         fill_underlay: flag("fill_underlay").unwrap_or(d.fill_underlay),
         fill_underlay_angles,

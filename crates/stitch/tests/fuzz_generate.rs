@@ -78,7 +78,7 @@ fn ink_attrs(i: usize, c: &[u8; 8], x: f64) -> String {
              inkstitch:fill_underlay_angle="{} {}" inkstitch:fill_underlay_inset_mm="{}"
              inkstitch:trim_after="{}" inkstitch:stop_after="{}" inkstitch:ties="{}"
              inkstitch:min_stitch_length_mm="{}" inkstitch:reverse_rails="{}"
-             inkstitch:max_stitch_length_mm="{}"/>"#,
+             inkstitch:max_stitch_length_mm="{}" inkstitch:expand_mm="{}"/>"#,
         c[0].is_multiple_of(2),
         method[c[1] as usize % 4],
         0.3 + x * 5.0,
@@ -103,6 +103,7 @@ fn ink_attrs(i: usize, c: &[u8; 8], x: f64) -> String {
         x * 0.5,
         rails[c[5] as usize % 5],
         1.0 + x * 20.0,
+        x * 2.0 - 1.0,
     )
 }
 

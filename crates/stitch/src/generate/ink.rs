@@ -64,8 +64,15 @@ pub(super) fn element_shapes(
             .filter(|q| q.closed)
             .map(|q| (*q).clone())
             .collect();
-        for area in Area::from_paths(&closed) {
-            let region = area.to_region(p.tolerance);
+        let mut regions: Vec<Region> = Area::from_paths(&closed)
+            .iter()
+            .map(|a| a.to_region(p.tolerance))
+            .collect();
+        if e.expand.abs() > 1e-9 {
+            regions = offset_regions(&regions, e.expand, Join::Miter { min_angle: 0.5 })
+                .map_err(|m| GenerateError(format!("{}: expand: {m}", whose())))?;
+        }
+        for region in regions {
             let length = e
                 .max_stitch_length
                 .unwrap_or(FILL_STITCH_LENGTH)
@@ -534,6 +541,39 @@ fn contour_fill(region: &Region, spacing: f64, length: f64) -> Result<Vec<Run>, 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn expand_grows_the_filled_shape() {
+        let sq = [
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(0.0, 10.0),
+        ];
+        let mut path = Path::polyline(&sq, true);
+        path.style.fill = Some(Color::BLACK);
+        path.style.stroke = None;
+        let extent = |expand: f64| {
+            let e = ElementParams {
+                expand,
+                fill_underlay: false,
+                ..ElementParams::default()
+            };
+            let shapes = element_shapes(&[&path], &e, &Params::default()).unwrap();
+            let pts: Vec<Point> = shapes[0]
+                .top
+                .iter()
+                .flat_map(|r| r.points.clone())
+                .collect();
+            let (lo, hi) = pts
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(l, h), q| (l.min(q.x), h.max(q.x)));
+            hi - lo
+        };
+        assert!((extent(0.0) - 10.0).abs() < 0.05, "{}", extent(0.0));
+        assert!((extent(1.0) - 12.0).abs() < 0.05, "{}", extent(1.0));
+        assert!((extent(-1.0) - 8.0).abs() < 0.05, "{}", extent(-1.0));
+    }
 
     #[test]
     fn short_stitches_are_merged_and_the_end_kept() {
