@@ -412,7 +412,15 @@ fn inset_rails(a: &[Point], b: &[Point], inset: f64) -> (Vec<Point>, Vec<Point>)
 }
 
 /// A satin column between paired rails `a` and `b`, with its underlays.
-fn column(color: Color, a: Vec<Point>, b: Vec<Point>, e: &ElementParams, p: &Params) -> Shape {
+/// An odd number of centre-walk passes ends at the column's end: the rest (contour, zig-zag,
+/// the satin) then runs from there back to the start, as in Ink/Stitch.
+fn column(
+    color: Color,
+    mut a: Vec<Point>,
+    mut b: Vec<Point>,
+    e: &ElementParams,
+    p: &Params,
+) -> Shape {
     let mut under: Vec<Point> = Vec::new();
     let mut add = |pts: Vec<Point>| {
         if let (Some(&last), Some(&first)) = (under.last(), pts.first()) {
@@ -430,6 +438,10 @@ fn column(color: Color, a: Vec<Point>, b: Vec<Point>, e: &ElementParams, p: &Par
             e.center_walk_repeats,
             0,
         ));
+        if e.center_walk_repeats % 2 == 1 {
+            a.reverse();
+            b.reverse();
+        }
     }
     if e.contour_underlay {
         let (ca, mut cb) = inset_rails(&a, &b, e.contour_inset);
@@ -450,7 +462,6 @@ fn column(color: Color, a: Vec<Point>, b: Vec<Point>, e: &ElementParams, p: &Par
         add(back);
     }
     // Pull compensation: each side of the top outwards (the underlays keep the drawn rails).
-    let (mut a, mut b) = (a, b);
     for k in 0..a.len().min(b.len()) {
         let d = (a[k] - b[k]).normalize();
         if d.is_finite() {
@@ -673,6 +684,28 @@ mod tests {
             "{lo} {hi}"
         );
         assert!(s.top[0].sew_into);
+    }
+
+    #[test]
+    fn an_odd_centre_walk_turns_the_satin_round() {
+        let a = vec![Point::new(0.0, 0.0), Point::new(20.0, 0.0)];
+        let b = vec![Point::new(0.0, 4.0), Point::new(20.0, 4.0)];
+        for (repeats, start_x) in [(1, 20.0), (2, 0.0), (3, 20.0)] {
+            let e = ElementParams {
+                center_walk_underlay: true,
+                center_walk_repeats: repeats,
+                ..ElementParams::default()
+            };
+            let s = rail_satin(
+                Color::BLACK,
+                &[a.clone(), b.clone()],
+                &e,
+                &Params::default(),
+            );
+            let u = &s.underlay[0].points;
+            assert!((u.last().unwrap().x - start_x).abs() < 1e-9, "{repeats}");
+            assert!((s.top[0].points[0].x - start_x).abs() < 1e-9, "{repeats}");
+        }
     }
 
     #[test]
