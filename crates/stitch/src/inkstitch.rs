@@ -86,8 +86,8 @@ pub struct ElementParams {
     pub pull_compensation: f64,
     /// `e_stitch` or `satin_method="e_stitch"`: an E-stitch instead of a satin (false).
     pub e_stitch: bool,
-    /// `max_stitch_length_mm` (3.0): the longest fill stitch; satin zigs longer are split
-    /// (satins: no limit of their own, the machine's).
+    /// `max_stitch_length_mm`: the longest fill stitch (3.0); satin zigs longer are split
+    /// (satins: the machine's longest when not given).
     pub max_stitch_length: Option<f64>,
     /// `center_walk_underlay` (false).
     pub center_walk_underlay: bool,

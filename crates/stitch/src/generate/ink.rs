@@ -469,10 +469,15 @@ fn column(
             b[k] -= d * e.pull_compensation;
         }
     }
+    // `max_stitch_length_mm` on a satin splits its wider zigs (Ink/Stitch's split stitch).
+    let split = e
+        .max_stitch_length
+        .unwrap_or(p.max_stitch)
+        .min(p.max_stitch);
     let top = if e.e_stitch {
-        e_stitch(&a, &b, e.zigzag_spacing, p.max_stitch)
+        e_stitch(&a, &b, e.zigzag_spacing, split)
     } else {
-        satin::satin(&a, &b, e.zigzag_spacing, p.max_stitch)
+        satin::satin(&a, &b, e.zigzag_spacing, split)
     };
     let has_under = !under.is_empty();
     let underlay = if has_under {
@@ -706,6 +711,15 @@ mod tests {
             assert!((u.last().unwrap().x - start_x).abs() < 1e-9, "{repeats}");
             assert!((s.top[0].points[0].x - start_x).abs() < 1e-9, "{repeats}");
         }
+        // A 4 mm column split at 1.5 mm: every zig in three stitches.
+        let e = ElementParams {
+            max_stitch_length: Some(1.5),
+            ..ElementParams::default()
+        };
+        let s = rail_satin(Color::BLACK, &[a, b], &e, &Params::default());
+        let top = &s.top[0].points;
+        assert!(top.windows(2).all(|w| w[0].distance(w[1]) <= 1.5 + 1e-9));
+        assert!(top.len() > 3 * 2 * 50, "{}", top.len());
     }
 
     #[test]
