@@ -4,8 +4,8 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    generate, preview_svg, sheet, Format, Generated, HeadSpeed, Hoop, Params, Pauses, Sheet,
-    StitchPlan, Table,
+    generate_inkstitch, preview_svg, read_inkstitch, sheet, Format, Generated, HeadSpeed, Hoop,
+    Inkstitch, Params, Pauses, Sheet, StitchPlan, Table,
 };
 use std::path::Path;
 
@@ -239,7 +239,16 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         }
     } else {
         fb.stage("reading the design")?;
-        let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
+        // Ink/Stitch's parameters first: its command symbols are cut from the text before
+        // the drawing is imported (the importer would make anonymous paths of them).
+        let (ink, text) = inkstitch_of(input)?;
+        let imported = match text.filter(|_| ink.is_inkstitch) {
+            Some(t) => {
+                oficina_io::svg_from_bytes(ink.strip(&t).as_bytes(), &input.display().to_string())
+            }
+            None => oficina_io::load_drawing(input),
+        }
+        .map_err(|e| Error(e.to_string()))?;
         if !imported.unsupported.is_empty() {
             notes.push(format!(
                 "{}: {} element(s) not sewn (text, images: convert them to paths)",
@@ -247,11 +256,20 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
                 imported.unsupported.total()
             ));
         }
+        if ink.is_inkstitch {
+            notes.push(format!(
+                "{}: an Ink/Stitch design: {} element(s) with their own parameters, sewn in document order",
+                input.display(),
+                ink.len()
+            ));
+        }
+        notes.extend(ink.notes.iter().cloned());
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?
+        generate_inkstitch(&imported.drawing, &name, &p.stitch, &ink, &mut tick)
+            .map_err(|e| Error(e.0))?
     };
     fb.stage("writing the file")?;
     let file = p
@@ -279,6 +297,22 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         notes,
         source,
     })
+}
+
+/// Ink/Stitch's parameters of an SVG design, with its text (none for other drawings, and
+/// for a file too large to be a drawing, which the importer then refuses).
+pub fn inkstitch_of(input: &Path) -> Result<(Inkstitch, Option<String>), Error> {
+    let svg = input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    let size = std::fs::metadata(input).map_or(u64::MAX, |m| m.len());
+    if !svg || size > oficina_io::MAX_DRAWING_BYTES {
+        return Ok((Inkstitch::default(), None));
+    }
+    let text =
+        std::fs::read_to_string(input).map_err(|e| Error(format!("{}: {e}", input.display())))?;
+    let ink = read_inkstitch(&text, &input.display().to_string()).map_err(|e| Error(e.0))?;
+    Ok((ink, Some(text)))
 }
 
 /// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.
@@ -360,5 +394,40 @@ mod tests {
         let e = p.check().unwrap_err();
         assert_eq!(e.field().as_deref(), Some("stitch_length"), "{e}");
         assert!(e.0.contains("stitch length (mm) 0 is outside"), "{e}");
+    }
+
+    #[test]
+    fn an_inkstitch_design_sews_with_its_parameters_and_a_bad_one_is_named() {
+        let dir = std::env::temp_dir().join(format!("oficina-ink-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let svg = |spacing: &str| {
+            format!(
+                r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkstitch="http://inkstitch.org/namespace" width="40mm" height="20mm" viewBox="0 0 40 20">
+                 <path id="col" d="M2 5 L38 5 M2 9 L38 9" fill="none" stroke="black" stroke-width="0.1"
+                       inkstitch:satin_column="true" inkstitch:zigzag_spacing_mm="{spacing}"/></svg>"#
+            )
+        };
+        let good = dir.join("col.svg");
+        std::fs::write(&good, svg("0.5")).unwrap();
+        let out = embroider(&good, &EmbroiderParams::default(), Feedback::none()).unwrap();
+        assert_eq!(out.generated.satins, 1);
+        assert!(
+            out.notes.iter().any(|n| n.contains("Ink/Stitch design")),
+            "{:?}",
+            out.notes
+        );
+        // A 36 mm column at 0.5 mm peak to peak: 73 zig-zags, two needle points each.
+        let n = out.generated.plan.counts().stitches;
+        assert!((146..=160).contains(&n), "{n}");
+        let bad = dir.join("bad.svg");
+        std::fs::write(&bad, svg("dense")).unwrap();
+        let e = embroider(&bad, &EmbroiderParams::default(), Feedback::none())
+            .err()
+            .unwrap();
+        assert!(
+            e.0.contains("bad.svg") && e.0.contains("#col") && e.0.contains("zigzag_spacing_mm"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

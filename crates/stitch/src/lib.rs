@@ -2,10 +2,13 @@
 //! fill stitches; the plan is checked against the hoops, summed up in a production sheet,
 //! sewn on the needle-synchronised table, and written and read as the machines' files (Tajima
 //! DST, Melco EXP, Brother PES/PEC, Janome JEF, Pfaff VP3, Singer XXX, Barudan U01).
+//! Designs made in Ink/Stitch keep their authors' parameters (`inkstitch:` attributes, read by
+//! [`read_inkstitch`], sewn by [`generate_inkstitch`]).
 
 mod format;
 mod generate;
 mod hoop;
+mod inkstitch;
 mod plan;
 mod preview;
 mod sheet;
@@ -15,9 +18,14 @@ mod table;
 pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
 pub use format::{Format, FormatError, Op, Rec};
 pub use generate::{
-    generate, running, GenerateError, Generated, Params, ShapeKind, MAX_STITCHES, TIE,
+    generate, generate_inkstitch, running, GenerateError, Generated, Params, ShapeKind,
+    MAX_STITCHES, TIE,
 };
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
+pub use inkstitch::{
+    read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, ReverseRails,
+    StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
+};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;
 pub use sheet::{duration, sheet, Sheet, ThreadLine};

@@ -12,11 +12,17 @@
 //! does not, so the order is chosen here on each shape's two real starts).
 //! Travel: a jump; longer than `trim_length` a trim first. The design is centred on the
 //! hoop centre.
+//!
+//! An Ink/Stitch design ([`generate_inkstitch`] with `crate::inkstitch`'s attributes) is sewn
+//! as Ink/Stitch sews it instead: each element with its own parameters (`ink.rs`), in document
+//! order, a colour change wherever the colour changes, trims, stops and ties per element.
 
 mod fill;
+mod ink;
 mod running;
 mod satin;
 
+use crate::inkstitch::{Inkstitch, Ties};
 use crate::plan::{ColorBlock, Kind, Stitch, StitchPlan, Thread};
 use oficina_geom::{offset_regions, Area, Color, Drawing, Join, Path, Point};
 
@@ -130,17 +136,35 @@ pub const MAX_STITCHES: usize = 2_000_000;
 
 /// An upper estimate of the stitches, before any is made: fills by their bounding boxes'
 /// area over (row spacing × stitch length), satins by length over spacing, doubled, running
-/// stitch by length over stitch length.
-fn estimate_stitches(drawing: &Drawing, p: &Params) -> f64 {
+/// stitch by length over stitch length; an Ink/Stitch element with its own spacings, times
+/// its repeats, bean stitches and underlay layers.
+fn estimate_stitches(drawing: &Drawing, p: &Params, ink: &Inkstitch) -> f64 {
     drawing
         .paths()
         .map(|path| {
             let len = path.length();
             let st = path.style;
             let area = path.bounding_box().map_or(0.0, |b| b.area());
-            let mut n = len / p.stitch_length.min(p.satin_spacing) * 2.0;
+            let (line, rows, times) = if ink.is_inkstitch {
+                let e = ink.element(&path.source.element);
+                let line = e
+                    .running_stitch_length
+                    .min(e.zigzag_spacing)
+                    .min(e.center_walk_length)
+                    .min(e.contour_length)
+                    .min(p.stitch_length.min(p.satin_spacing));
+                let rows = e.row_spacing.min(e.fill_underlay_row_spacing);
+                let layers = 1 + e.fill_underlay_angles.len();
+                let times = (e.repeats as usize * (1 + 2 * e.bean_stitch_repeats as usize))
+                    .max(layers)
+                    .max(4) as f64;
+                (line, rows, times)
+            } else {
+                (p.stitch_length.min(p.satin_spacing), p.fill_spacing, 1.0)
+            };
+            let mut n = len / line * 2.0 * times;
             if st.fill.is_some() || p.fill_closed {
-                n += area / (p.fill_spacing * p.fill_stitch_length.min(1.0)) * 2.0;
+                n += area / (rows * p.fill_stitch_length.min(1.0)) * 2.0 * times;
             }
             if n.is_finite() {
                 n
@@ -172,7 +196,20 @@ struct Shape {
     /// Whether the backwards shape may sew from its underlay into its top (the forwards
     /// one says it in its first top run).
     rev_link: bool,
+    /// Lock stitches where a cut thread starts it (`start`) and where it is cut after it.
+    ties: Ties,
+    /// The thread is cut after the shape.
+    trim_after: bool,
+    /// The machine stops after the shape.
+    stop_after: bool,
+    /// A move to the shape no longer than this is sewn, not jumped (Ink/Stitch's minimum jump).
+    min_jump: f64,
 }
+
+const BOTH_TIES: Ties = Ties {
+    start: true,
+    end: true,
+};
 
 impl Shape {
     fn runs(&self) -> impl Iterator<Item = &fill::Run> {
@@ -218,6 +255,10 @@ impl Shape {
             underlay: rev(&self.underlay),
             top,
             rev_link: fwd_link,
+            ties: self.ties,
+            trim_after: self.trim_after,
+            stop_after: self.stop_after,
+            min_jump: self.min_jump,
         }
     }
 }
@@ -242,8 +283,21 @@ pub fn generate(
     p: &Params,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Generated, GenerateError> {
+    generate_inkstitch(drawing, name, p, &Inkstitch::default(), progress)
+}
+
+/// Stitches for every path of `drawing`, an Ink/Stitch design when `ink` says so: each
+/// element with its own parameters, sewn in document order (Ink/Stitch's), a colour change
+/// wherever the colour changes from one element to the next. Otherwise as [`generate`].
+pub fn generate_inkstitch(
+    drawing: &Drawing,
+    name: &str,
+    p: &Params,
+    ink: &Inkstitch,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Generated, GenerateError> {
     p.check()?;
-    let estimate = estimate_stitches(drawing, p);
+    let estimate = estimate_stitches(drawing, p, ink);
     if estimate > MAX_STITCHES as f64 {
         return Err(GenerateError(format!(
             "{name}: about {estimate:.0} stitches at these settings, more than the {MAX_STITCHES} \
@@ -254,7 +308,16 @@ pub fn generate(
     let total = groups.len();
     let mut shapes: Vec<Shape> = Vec::new();
     for (n, paths) in groups.iter().enumerate() {
-        shapes.extend(element_shapes(paths, p)?);
+        if ink.is_inkstitch {
+            if ink.ignored(&paths[0].source.element) {
+                progress(n + 1, total);
+                continue;
+            }
+            let e = ink.element(&paths[0].source.element);
+            shapes.extend(ink::element_shapes(paths, &e, p)?);
+        } else {
+            shapes.extend(element_shapes(paths, p)?);
+        }
         progress(n + 1, total);
     }
     shapes.retain(|s| s.start().is_some());
@@ -271,7 +334,7 @@ pub fn generate(
             ShapeKind::Running => g.runnings += 1,
         }
     }
-    let plan = assemble(shapes, name, p);
+    let plan = assemble(shapes, name, p, ink.is_inkstitch);
     // Centre the design on the hoop centre.
     let plan = match plan.bounds().filter(|_| p.center) {
         Some(b) => plan.translated(-(b[0] + b[2]) / 2.0, -(b[1] + b[3]) / 2.0),
@@ -373,6 +436,10 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                 underlay,
                 top,
                 rev_link,
+                ties: BOTH_TIES,
+                trim_after: false,
+                stop_after: false,
+                min_jump: 0.0,
             });
         }
     }
@@ -425,6 +492,10 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                         underlay: vec![],
                         top: vec![run(running(line, p.stitch_length))],
                         rev_link: false,
+                        ties: BOTH_TIES,
+                        trim_after: false,
+                        stop_after: false,
+                        min_jump: 0.0,
                     });
                 }
             }
@@ -450,6 +521,10 @@ fn satin_shape(color: Color, centre: &[Point], l: &[Point], r: &[Point], p: &Par
         underlay,
         top,
         rev_link: p.underlay,
+        ties: BOTH_TIES,
+        trim_after: false,
+        stop_after: false,
+        min_jump: 0.0,
     }
 }
 
@@ -476,25 +551,144 @@ fn tie(stitches: &mut Vec<Stitch>, at: Point) {
     }
 }
 
-/// Orders the shapes and joins them with jumps and trims into colour blocks.
-fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
+/// Sews shapes one after another into colour blocks: jumps, trims and lock stitches.
+struct Sewer<'a> {
+    p: &'a Params,
+    stitches: Vec<Stitch>,
+    at: Point,
+    first_in_plan: bool,
+    /// The thread was cut after the last shape (its `trim_after`).
+    cut: bool,
+    /// The last shape wants a tie-off where the thread is cut after it.
+    tie_end: bool,
+}
+
+impl Sewer<'_> {
+    fn shape(&mut self, shape: &Shape) {
+        let p = self.p;
+        for r in shape.runs() {
+            let Some(&start) = r.points.first() else {
+                continue;
+            };
+            let at = self.at;
+            // A move shorter than the shape's minimum jump is sewn (Ink/Stitch's collapse).
+            let d = start.distance(at);
+            let short = d > 1e-9 && d <= shape.min_jump;
+            if (r.sew_into || short) && !self.first_in_plan && !self.cut {
+                for q in running::straight(at, start, p.stitch_length) {
+                    self.stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                }
+            } else if self.first_in_plan || self.cut || start.distance(at) > 1e-9 {
+                let cut = if self.stitches.is_empty() || self.cut {
+                    true // a new thread: a colour change or a trim cut the last one
+                } else if start.distance(at) > p.trim_length {
+                    if p.ties && self.tie_end {
+                        tie(&mut self.stitches, at);
+                    }
+                    self.stitches.push(Stitch::new(at.x, at.y, Kind::Trim));
+                    true
+                } else {
+                    false
+                };
+                self.stitches
+                    .push(Stitch::new(start.x, start.y, Kind::Jump));
+                // The needle goes down where the jump ends: the run's anchor.
+                self.stitches
+                    .push(Stitch::new(start.x, start.y, Kind::Stitch));
+                if cut && p.ties && shape.ties.start {
+                    if let Some(&next) = r.points.get(1) {
+                        let u = (next - start).normalize();
+                        if u.is_finite() {
+                            let q = start + u * TIE;
+                            self.stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+                            self.stitches
+                                .push(Stitch::new(start.x, start.y, Kind::Stitch));
+                        }
+                    }
+                }
+            }
+            self.first_in_plan = false;
+            self.cut = false;
+            for q in &r.points[1..] {
+                self.stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
+            }
+            self.at = *r.points.last().unwrap();
+        }
+        self.tie_end = shape.ties.end;
+        if shape.trim_after {
+            if p.ties && self.tie_end {
+                tie(&mut self.stitches, self.at);
+            }
+            let at = self.at;
+            self.stitches.push(Stitch::new(at.x, at.y, Kind::Trim));
+            self.cut = true;
+        }
+        if shape.stop_after {
+            let at = self.at;
+            self.stitches.push(Stitch::new(at.x, at.y, Kind::Stop));
+        }
+    }
+
+    /// The block's stitches, tied off (the colour change cuts the thread).
+    fn end_block(&mut self) -> Vec<Stitch> {
+        if self.p.ties && self.tie_end && !self.cut {
+            tie(&mut self.stitches, self.at);
+        }
+        self.cut = false;
+        std::mem::take(&mut self.stitches)
+    }
+}
+
+/// Orders the shapes and joins them with jumps and trims into colour blocks: grouped by
+/// colour and kind, nearest first (a drawing), or in the order given (`ordered`: an
+/// Ink/Stitch design, whose author set the order).
+fn assemble(shapes: Vec<Shape>, name: &str, p: &Params, ordered: bool) -> StitchPlan {
+    let mut sewer = Sewer {
+        p,
+        stitches: Vec::new(),
+        // The design starts where its first shape does (the seed sews in digitising order;
+        // the first object drawn is where the operator expects the needle to begin).
+        at: shapes.first().and_then(Shape::start).unwrap_or(Point::ZERO),
+        first_in_plan: true,
+        cut: false,
+        tie_end: true,
+    };
+    let mut blocks = Vec::new();
+    if ordered {
+        let mut color: Option<Color> = None;
+        for s in &shapes {
+            if color.is_some_and(|c| c != s.color) {
+                blocks.push(ColorBlock {
+                    thread: thread(color.unwrap()),
+                    stitches: sewer.end_block(),
+                });
+            }
+            color = Some(s.color);
+            sewer.shape(s);
+        }
+        if let Some(c) = color {
+            blocks.push(ColorBlock {
+                thread: thread(c),
+                stitches: sewer.end_block(),
+            });
+        }
+        return StitchPlan {
+            name: name.to_string(),
+            blocks,
+        };
+    }
     let mut colors: Vec<Color> = Vec::new();
     for s in &shapes {
         if !colors.contains(&s.color) {
             colors.push(s.color);
         }
     }
-    let mut blocks = Vec::new();
-    // The design starts where its first shape does (the seed sews in digitising order; the
-    // first object drawn is where the operator expects the needle to begin).
-    let mut at = shapes.first().and_then(Shape::start).unwrap_or(Point::ZERO);
-    let mut first_in_plan = true;
     let mut pool: Vec<Option<Shape>> = shapes.into_iter().map(Some).collect();
     for color in colors {
-        let mut stitches: Vec<Stitch> = Vec::new();
         for kind in [ShapeKind::Fill, ShapeKind::Satin, ShapeKind::Running] {
             loop {
                 // Nearest start, forwards or backwards.
+                let at = sewer.at;
                 let mut best: Option<(f64, usize, bool)> = None;
                 for (i, s) in pool.iter().enumerate() {
                     let Some(s) = s.as_ref().filter(|s| s.color == color && s.kind == kind) else {
@@ -511,54 +705,12 @@ fn assemble(shapes: Vec<Shape>, name: &str, p: &Params) -> StitchPlan {
                 let Some((_, i, rev)) = best else { break };
                 let shape = pool[i].take().unwrap();
                 let shape = if rev { shape.reversed() } else { shape };
-                for r in shape.runs() {
-                    let Some(&start) = r.points.first() else {
-                        continue;
-                    };
-                    if r.sew_into && !first_in_plan {
-                        for q in running::straight(at, start, p.stitch_length) {
-                            stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
-                        }
-                    } else if first_in_plan || start.distance(at) > 1e-9 {
-                        let cut = if stitches.is_empty() {
-                            true // a new thread: the colour change cut the last one
-                        } else if start.distance(at) > p.trim_length {
-                            if p.ties {
-                                tie(&mut stitches, at);
-                            }
-                            stitches.push(Stitch::new(at.x, at.y, Kind::Trim));
-                            true
-                        } else {
-                            false
-                        };
-                        stitches.push(Stitch::new(start.x, start.y, Kind::Jump));
-                        // The needle goes down where the jump ends: the run's anchor.
-                        stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
-                        if cut && p.ties {
-                            if let Some(&next) = r.points.get(1) {
-                                let u = (next - start).normalize();
-                                if u.is_finite() {
-                                    let q = start + u * TIE;
-                                    stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
-                                    stitches.push(Stitch::new(start.x, start.y, Kind::Stitch));
-                                }
-                            }
-                        }
-                    }
-                    first_in_plan = false;
-                    for q in &r.points[1..] {
-                        stitches.push(Stitch::new(q.x, q.y, Kind::Stitch));
-                    }
-                    at = *r.points.last().unwrap();
-                }
+                sewer.shape(&shape);
             }
-        }
-        if p.ties {
-            tie(&mut stitches, at);
         }
         blocks.push(ColorBlock {
             thread: thread(color),
-            stitches,
+            stitches: sewer.end_block(),
         });
     }
     StitchPlan {
