@@ -7,7 +7,7 @@ use crate::Error;
 use oficina_gcode::Dialect;
 use oficina_grbl::{
     feed_area, level_stream, level_text, Area, GrblDevice, GridSpec, HeightMap, LevelOptions,
-    LevelReport, MachineProbe, ProbeGrid, ProbeLink, ProbeMotion,
+    LevelReport, MachineProbe, ProbeGrid, ProbeLink, ProbeMotion, ToolChange,
 };
 use oficina_machine::{Machine, MachineInfo};
 use std::path::{Path, PathBuf};
@@ -149,7 +149,9 @@ pub struct LevelledRun {
 }
 
 /// Connects to grbl firmware at `spec`, gets the map (probing it, and saving it when
-/// asked), levels `text` and starts it from `start_line`; `notify` hears each step.
+/// asked), levels `text` and starts it from `start_line` with `tool_change` as the sender's
+/// policy at `M6` (as a plain job's); `notify` hears each step.
+#[allow(clippy::too_many_arguments)]
 pub fn run_levelled(
     spec: &str,
     name: &str,
@@ -157,8 +159,14 @@ pub fn run_levelled(
     start_line: Option<u32>,
     source: &MapSource,
     tuning: &LevelTuning,
+    tool_change: ToolChange,
     notify: &mut dyn FnMut(String),
 ) -> Result<LevelledRun, Error> {
+    tool_change.validate().map_err(Error)?;
+    let options = |map: &HeightMap| LevelOptions {
+        tool_change: Some(tool_change.clone()),
+        ..level_options(map, tuning)
+    };
     if !crate::is_firmware(spec) {
         return Err(Error(format!(
             "--machine {spec}: levelling runs on grbl firmware (grbl:/dev/… or tcp://…); for other machines write a levelled file with `oficina level apply`"
@@ -170,9 +178,10 @@ pub fn run_levelled(
         MapSource::Probe(..) => None,
     };
     if let Some(map) = &loaded {
-        level_stream(name, text, map, &level_options(map, tuning)).map_err(Error)?;
+        level_stream(name, text, map, &options(map)).map_err(Error)?;
     }
     let mut dev = GrblDevice::new(spec).map_err(|e| Error(format!("--machine {spec}: {e}")))?;
+    dev.settings.tool_change = tool_change.clone();
     let info = dev.connect().map_err(Error::from_display)?;
     let map = match (loaded, source) {
         (Some(map), _) => map,
@@ -193,13 +202,8 @@ pub fn run_levelled(
         }
         (None, MapSource::File(path)) => load_map(path)?,
     };
-    let (program, report) = level_stream(
-        &format!("{name}.levelled"),
-        text,
-        &map,
-        &level_options(&map, tuning),
-    )
-    .map_err(Error)?;
+    let (program, report) =
+        level_stream(&format!("{name}.levelled"), text, &map, &options(&map)).map_err(Error)?;
     dev.start_program(program, start_line)
         .map_err(Error::from_display)?;
     Ok(LevelledRun {
