@@ -6,17 +6,7 @@ mod common;
 
 use oficina_grbl::{line_words, HeightMap};
 use std::io::Write;
-use std::process::{Child, Command, Stdio};
-
-/// Kills the emulator when the test ends, however it ends.
-struct Running(Child);
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use std::process::{Command, Stdio};
 
 const PROGRAM: &str = "G21 G90\nG0 Z5\nG0 X0 Y0\nG0 Z1\nG1 Z-0.1 F1500\nG1 X30 Y0 F3000\nG2 X30 Y20 I0 J10\nG1 X0 Y0\nG0 Z5\nM2\n";
 
@@ -32,30 +22,20 @@ fn surface(x: f64, y: f64) -> f64 {
 
 #[test]
 fn probe_apply_and_run_levelled_on_the_emulator() {
-    let (emu, addr, _) = common::emulator(&[
-        "--baud",
-        "0",
-        "--for-seconds",
-        "120",
-        "--probe-block",
-        "-80,-70,20,20,-29.8",
-        "--probe-tilt",
-        "0.006,-0.009",
-        "--set",
-        "110=60000",
-        "--set",
-        "111=60000",
-        "--set",
-        "112=60000",
-        "--set",
-        "120=3000",
-        "--set",
-        "121=3000",
-        "--set",
-        "122=3000",
-    ]);
-    let _emu = Running(emu);
-    let tcp = addr.trim_start_matches("tcp://");
+    let emu = common::emulate_fast(
+        3000,
+        &[
+            "--baud",
+            "0",
+            "--for-seconds",
+            "120",
+            "--probe-block",
+            "-80,-70,20,20,-29.8",
+            "--probe-tilt",
+            "0.006,-0.009",
+        ],
+    );
+    let (addr, tcp) = (emu.uri.clone(), emu.host_port());
     let mut console = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .args(["console", "--tcp", tcp])
         .stdin(Stdio::piped())
