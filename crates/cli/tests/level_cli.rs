@@ -184,14 +184,25 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
         format!("{stdout}{stderr}").contains("line 8: M6 T2 dropped (--tool-change ignore): the whole job is cut with the tool the map was probed with"),
         "{stdout}\n{stderr}"
     );
-    // …and the firmware's own change is refused before anything moves.
-    let out = run_two(&["--tool-change", "firmware"]);
-    let (_, stderr) = common::text(&out);
-    assert!(!out.status.success());
-    assert!(
-        stderr.contains("line 2: M6: with --tool-change firmware the firmware changes the tool"),
-        "{stderr}"
-    );
+    // …and the firmware's own change is refused before anything moves, a map to probe
+    // first included.
+    for map in [
+        ["--level", map_path.to_str().unwrap()],
+        ["--level-probe", "2x2"],
+    ] {
+        let mut args = vec!["run", two.to_str().unwrap(), "--machine", &addr];
+        args.extend(map);
+        args.extend(["--tool-change", "firmware"]);
+        let out = common::oficina(&args);
+        let (_, stderr) = common::text(&out);
+        assert!(!out.status.success());
+        assert!(
+            stderr
+                .contains("line 2: M6: with --tool-change firmware the firmware changes the tool"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("probe 1/"), "{stderr}");
+    }
 
     // A malformed map is refused naming the file, before anything moves.
     let bad = dir.join("bad.map.json");

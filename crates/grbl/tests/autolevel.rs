@@ -411,6 +411,10 @@ fn a_levelled_two_tool_program_stops_at_each_m6_and_both_tools_follow_the_surfac
         .iter()
         .all(|l| !l.text.contains("M6") && !l.text.contains('T')));
 
+    // The area a map must cover is read past the M6s.
+    let area = oficina_grbl::feed_area(TWO_TOOLS, oficina_gcode::Dialect::Grbl).unwrap();
+    assert_eq!((area.min, area.max), ([2.0, 5.0], [38.0, 25.0]));
+
     // The firmware's own change, or a file for another sender: refused, naming the line.
     let e = level_stream("t.nc", TWO_TOOLS, &map, &with_policy(ToolPolicy::Firmware)).unwrap_err();
     assert!(
