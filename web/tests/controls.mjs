@@ -1,81 +1,32 @@
 // Browser tests of the machine panel's controls on real firmware (the grbl emulator as grbl,
 // grblHAL and FluidNC) and on the virtual machine: typed lines, work offsets, home, unlock,
 // soft reset, keyboard jog, macros, and a watching page that may hold and stop but not move.
-// Starts its own `oficina serve` (fresh job folder) and `oficina emulate grbl` per flavour;
-// only the page's visible controls are used (clicks and keys). Prints `controls: N passed,
-// M failed`; screenshots go to web/test-output/.
+// Starts its own `oficina serve` (fresh job folder) and `oficina emulate grbl` per flavour
+// with harness.mjs; only the page's visible controls are used (clicks and keys). Prints
+// `N passed, M failed`; screenshots go to web/test-output/.
 
-import { chromium } from 'playwright-core';
-import { spawn } from 'node:child_process';
-import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
-import { tmpdir } from 'node:os';
-import { fileURLToPath } from 'node:url';
+import { startServer, startEmulator, launch, suite, assert, out, connectBoard, mdi } from './harness.mjs';
 import path from 'node:path';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-const repo = path.join(here, '..', '..');
-const out = process.env.OFICINA_TEST_OUTPUT || path.join(here, '..', 'test-output');
-mkdirSync(out, { recursive: true });
-const bin = process.env.OFICINA_BIN || path.join(process.env.CARGO_TARGET_DIR || path.join(repo, 'target'), 'debug', 'oficina');
-const webDir = process.env.OFICINA_WEB || path.join(repo, 'web', 'dist');
 const flavours = (process.env.OFICINA_FLAVOURS || 'grbl,grblhal,fluidnc').split(',');
 
-const children = [];
-/// Starts `oficina ARGS` and resolves with the first match of `pattern` in its output.
-function start(args, pattern) {
-  const child = spawn(bin, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-  children.push(child);
-  return new Promise((resolve, reject) => {
-    let seen = '';
-    const timer = setTimeout(() => reject(new Error(`oficina ${args.join(' ')}: no ${pattern} within 20 s:\n${seen}`)), 20000);
-    const look = (d) => {
-      seen += d;
-      const m = seen.match(pattern);
-      if (m) { clearTimeout(timer); resolve({ child, found: m[0] }); }
-    };
-    child.stdout.on('data', look);
-    child.stderr.on('data', look);
-    child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`oficina ${args.join(' ')} exited (${code}):\n${seen}`)); });
-  });
-}
-function stop(child) {
-  child.removeAllListeners('exit');
-  child.kill();
-}
-
-const jobs = mkdtempSync(path.join(tmpdir(), 'oficina-controls-'));
-let passed = 0, failed = 0;
-let server, browser, page;
+const { test, state, finish } = suite('controls');
+let server;
 try {
-  server = await start(['serve', '--port', '0', '--jobs', path.join(jobs, 'jobs'), '--web', webDir], /http:\/\/\S+/);
+  server = await startServer();
 } catch (e) {
   console.log(`FAIL the server starts: ${e.message}`);
   console.log('controls: 0 passed, 1 failed');
   process.exit(1);
 }
-const url = server.found;
+const url = server.url;
 
-browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking'],
-});
-page = await browser.newPage({ viewport: { width: 1600, height: 1000 } });
+const browser = await launch();
+const page = await browser.newPage({ viewport: { width: 1600, height: 1000 } });
+state.page = page;
 const pageErrors = [];
 page.on('pageerror', (e) => pageErrors.push(String(e)));
 
-async function test(name, fn) {
-  const t0 = Date.now();
-  try {
-    await fn();
-    passed++;
-    console.log(`ok   ${name} (${Date.now() - t0} ms)`);
-  } catch (e) {
-    failed++;
-    console.log(`FAIL ${name}: ${e.message.split('\n').slice(0, 6).join('\n     ')}`);
-    await page.screenshot({ path: path.join(out, `failed-controls-${name.replace(/\W+/g, '-')}.png`) }).catch(() => {});
-  }
-}
-function assert(cond, msg) { if (!cond) throw new Error(msg); }
 const shot = (p, name) => p.screenshot({ path: path.join(out, `${name}.png`) });
 const num = (p, id) => p.$eval('#' + id, (e) => Number(e.textContent));
 const near = (a, b) => Math.abs(a - b) < 1e-3;
@@ -86,18 +37,6 @@ async function waitDro(p, want, timeout = 20000) {
 }
 async function waitState(p, s, timeout = 20000) {
   await p.waitForFunction((s) => document.body.dataset.state === s, s, { timeout });
-}
-/// Types a line into the MDI input and presses Enter; waits for its reply in the console.
-async function mdi(p, line, reply = 'ok') {
-  const before = (await p.textContent('#console')).length;
-  await p.click('#mdi');
-  await p.keyboard.type(line);
-  await p.keyboard.press('Enter');
-  await p.waitForFunction(([before, line, reply]) => {
-    const c = document.getElementById('console').textContent.slice(before);
-    const at = c.indexOf('> ' + line + '\n');
-    return at >= 0 && c.slice(at).includes('\n' + reply);
-  }, [before, line, reply], { timeout: 20000 });
 }
 /// Presses a key with the focus on the page, outside any text field.
 async function key(p, k) {
@@ -113,22 +52,13 @@ await test('the page opens and controls the machine', async () => {
   assert(await page.isVisible('#mdi') && await page.isVisible('#jog-hint'), 'typed lines and the key hint are shown');
 });
 
-/// Connects the page to `uri` through the machine select's "type an address" entry.
-async function connect(uri) {
-  page.once('dialog', (d) => d.accept(uri));
-  await page.selectOption('#machine-uri', '');
-  await page.waitForFunction((u) => document.getElementById('machine-uri').value === u, uri, { timeout: 5000 });
-  await page.click('#connect');
-  await page.waitForFunction((u) => document.getElementById('machine-name').textContent.includes(u.replace('tcp://', '')), uri, { timeout: 20000 });
-}
-
 for (const flavour of flavours) {
   let emu = null;
   const t = (name, fn) => test(`${flavour}: ${name}`, fn);
   await t('connect to the emulator; a jog moves the DRO', async () => {
-    emu = await start(['emulate', 'grbl', '--tcp', '127.0.0.1:0', '--flavor', flavour,
-      '--set', '110=6000', '--set', '111=6000', '--set', '112=3000', '--set', '120=800', '--set', '121=800', '--set', '122=800'], /tcp:\/\/[0-9.]+:\d+/);
-    await connect(emu.found);
+    emu = await startEmulator(flavour,
+      ['--set', '110=6000', '--set', '111=6000', '--set', '112=3000', '--set', '120=800', '--set', '121=800', '--set', '122=800']);
+    await connectBoard(page, emu.uri);
     await waitDro(page, { mx: 0, my: 0, mz: 0 });
     await page.selectOption('#jog-step', '1');
     await page.fill('#jog-feed', '3000');
@@ -268,7 +198,7 @@ for (const flavour of flavours) {
     if ((await page.evaluate(() => document.body.dataset.state)) === 'alarm') await page.click('#unlock');
     await waitState(page, 'idle');
   });
-  if (emu) stop(emu.child);
+  if (emu) emu.stop();
 }
 
 await test('virtual machine: typed lines, $ refused, offsets in G54 and G55, go to zero, home', async () => {
@@ -356,7 +286,4 @@ await test('no script errors in the page', async () => {
 });
 
 await browser.close();
-for (const c of children) c.removeAllListeners('exit'), c.kill();
-rmSync(jobs, { recursive: true, force: true });
-console.log(`controls: ${passed} passed, ${failed} failed`);
-process.exit(failed > 0 || passed === 0 ? 1 : 0);
+finish();

@@ -69,6 +69,17 @@ const consoleTail = async () => {
   writeFileSync(path.join(out, 'evening-console.txt'), text);
   return text.slice(-400).replace(/\n/g, ' | ');
 };
+/// The machine position sampled from the DRO every 30 ms while the job runs, from
+/// `startSampling()` to `stopSampling()` (which resolves with the [x, y, z] samples).
+const startSampling = () => page.evaluate(() => {
+  const w = window;
+  w.__samples = [];
+  w.__sampler = setInterval(() => {
+    if (document.body.dataset.state !== 'run') return;
+    w.__samples.push(['mx', 'my', 'mz'].map((id) => Number(document.getElementById(id).textContent)));
+  }, 30);
+});
+const stopSampling = () => page.evaluate(() => { clearInterval(window.__sampler); return window.__samples; });
 /// Waits for a probing routine's answer in the Probe section; a failure is thrown in its words.
 async function probed() {
   await page.waitForFunction(() => ['done', 'failed'].includes(document.body.dataset.probe), null, { timeout: 60000 });
@@ -249,20 +260,13 @@ const level = () => test(`${flavour}: a 4 × 4 height map and a levelled engravi
   }
   // Start levelled; the DRO is sampled as it cuts.
   await page.check('#start-levelled');
-  await page.evaluate(() => {
-    const w = window;
-    w.__samples = [];
-    w.__sampler = setInterval(() => {
-      if (document.body.dataset.state !== 'run') return;
-      w.__samples.push(['mx', 'my', 'mz'].map((id) => Number(document.getElementById(id).textContent)));
-    }, 30);
-  });
+  await startSampling();
   await page.click('#start');
   await page.waitForFunction(() => (document.getElementById('console').textContent || '').includes('levelled with level-map.json'), null, { timeout: 15000 });
   await page.waitForFunction(() => document.body.dataset.state === 'run', null, { timeout: 15000 });
   await page.screenshot({ path: shotPath('level') });
   await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 120000 });
-  const samples = await page.evaluate(() => { clearInterval(window.__sampler); return window.__samples; });
+  const samples = await stopSampling();
   // Cutting samples: the tool below 1 mm over the surface, away from the plunge and lift points.
   const ends = [[ENGRAVE.x0, ENGRAVE.y0], [ENGRAVE.x0, ENGRAVE.y0 + 1]];
   let worst = 0, cuts = 0;
@@ -281,6 +285,51 @@ const level = () => test(`${flavour}: a 4 × 4 height map and a levelled engravi
   }
   await page.$eval('#level-map', (e) => e.scrollIntoView());
   await page.screenshot({ path: shotPath('level-done') });
+  await page.uncheck('#start-levelled');
+});
+
+// Two tools inside the map, each cutting 0.1 mm deep: the levelled job stops at each M6 as a
+// plain one does, and tool 2 is re-measured on the setter (the map stays valid).
+const LEVEL_TOOLS_Y = [125, 135];
+const levelledTools = [
+  'G21 G90', 'T1 M6', 'G0 Z3', `G0 X102 Y${LEVEL_TOOLS_Y[0]}`, `G1 Z-${ENGRAVE.depth} F200`, 'G1 X128 F600', 'G0 Z3',
+  'T2 M6', 'G0 Z3', `G0 X102 Y${LEVEL_TOOLS_Y[1]}`, `G1 Z-${ENGRAVE.depth} F200`, 'G1 X128 F600', 'G0 Z3', 'M2',
+].join('\n') + '\n';
+
+const levelTwoTools = () => test(`${flavour}: a levelled two-tool program stops at each M6, re-measures tool 2, and both cut at depth`, async () => {
+  // The remeasure policy and the map of the steps before stay in force.
+  await load(levelledTools);
+  await page.check('#start-levelled');
+  const before = (await page.textContent('#console')).length;
+  await startSampling();
+  await page.click('#start');
+  for (const [tool, line] of [[1, lineOf(levelledTools, 'T1 M6')], [2, lineOf(levelledTools, 'T2 M6')]]) {
+    await page.waitForFunction((t) => document.body.dataset.toolChange === t, `T${tool}@${line}`, { timeout: 60000 })
+      .catch(async () => { throw new Error(`no banner for T${tool} at line ${line}: ${await page.textContent('#level-message')}; console: ${await consoleTail()}`); });
+    await page.click('#toolchange-continue');
+    await page.waitForFunction(() => document.body.dataset.toolChange === '', null, { timeout: 30000 });
+  }
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'completed', null, { timeout: 120000 })
+    .catch(async () => { throw new Error(`the levelled job did not complete: ${await consoleTail()}`); });
+  const samples = await stopSampling();
+  const log = (await page.textContent('#console')).slice(before);
+  assert(log.includes('levelled with level-map.json'), `started levelled: ${log.slice(-300)}`);
+  assert(log.includes('tool T2 in place'), 'the console says tool 2 is in place');
+  const offsets = [...log.matchAll(/tool length offset G43\.1 Z(-?[\d.]+)/g)].map((m) => Number(m[1]));
+  assert(offsets.length >= 1 && Math.abs(offsets[offsets.length - 1]) < 0.01,
+    `tool 2 re-measured on the setter (the same length here: offset 0): ${offsets}`);
+  // Each tool's cut under the true surface, away from its plunge and lift points.
+  const worst = [0, 0], cuts = [0, 0];
+  for (const [mx, my, mz] of samples) {
+    const depth = surface(mx, my) - (mz - TOOL_LENGTH);
+    if (depth < -1 || mx < 102.05 || mx > 127.95) continue;
+    const t = LEVEL_TOOLS_Y.findIndex((y) => Math.abs(my - y) < 1e-3);
+    if (t < 0) continue;
+    cuts[t]++;
+    worst[t] = Math.max(worst[t], Math.abs(depth - ENGRAVE.depth));
+  }
+  assert(cuts[0] >= 10 && cuts[1] >= 10, `both tools seen cutting: ${cuts}`);
+  assert(worst[0] <= 0.02 && worst[1] <= 0.02, `each tool's depth within 0.02 of ${ENGRAVE.depth}: worst ${worst.map((w) => w.toFixed(4))}`);
   await page.uncheck('#start-levelled');
 });
 
@@ -354,7 +403,7 @@ const park = () => test(`${flavour}: the park policy takes the tool to the park 
 
 /// What each flavour's evening covers.
 const PLAN = {
-  grbl: [plate, setter, remeasure, level],
+  grbl: [plate, setter, remeasure, level, levelTwoTools],
   grblhal: [corner, remeasure, park],
   fluidnc: [plate, level],
 };

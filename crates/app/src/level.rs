@@ -7,7 +7,7 @@ use crate::Error;
 use oficina_gcode::Dialect;
 use oficina_grbl::{
     feed_area, level_stream, level_text, Area, GrblDevice, GridSpec, HeightMap, LevelOptions,
-    LevelReport, MachineProbe, ProbeGrid, ProbeLink, ProbeMotion,
+    LevelReport, MachineProbe, ProbeGrid, ProbeLink, ProbeMotion, ToolChange,
 };
 use oficina_machine::{Machine, MachineInfo};
 use std::path::{Path, PathBuf};
@@ -98,16 +98,13 @@ pub fn probe_map<L: ProbeLink + ?Sized>(
 ) -> Result<HeightMap, Error> {
     let grid = probe_grid(program, req)?;
     if let Some(text) = program {
-        let flat = HeightMap::new(
-            grid.origin,
-            grid.spacing,
-            grid.nx,
-            grid.ny,
-            vec![0.0; grid.nx * grid.ny],
-            req.motion.clearance,
-        )
-        .map_err(Error)?;
-        oficina_grbl::level_program(text, &flat, &LevelOptions::default(), &mut |_| {})
+        // M6 is let through here as under the sender's default policy: the run checks the
+        // program again under the machine's own policy before it starts.
+        let opts = LevelOptions {
+            tool_change: Some(ToolChange::default()),
+            ..LevelOptions::default()
+        };
+        oficina_grbl::level_program(text, &flat_map(&grid, req)?, &opts, &mut |_| {})
             .map_err(Error)?;
     }
     let mut probe = MachineProbe::new(machine, req.motion).map_err(Error)?;
@@ -117,6 +114,20 @@ pub fn probe_map<L: ProbeLink + ?Sized>(
         .map_err(Error)?;
     map.wcs = Some(wcs);
     Ok(map)
+}
+
+/// A map of `grid` at height 0 everywhere: what a program is levelled against to be checked
+/// before anything is probed.
+fn flat_map(grid: &ProbeGrid, req: &ProbeRequest) -> Result<HeightMap, Error> {
+    HeightMap::new(
+        grid.origin,
+        grid.spacing,
+        grid.nx,
+        grid.ny,
+        vec![0.0; grid.nx * grid.ny],
+        req.motion.clearance,
+    )
+    .map_err(Error)
 }
 
 /// `program` levelled into the text of a file for any sender, with a header naming the
@@ -149,7 +160,9 @@ pub struct LevelledRun {
 }
 
 /// Connects to grbl firmware at `spec`, gets the map (probing it, and saving it when
-/// asked), levels `text` and starts it from `start_line`; `notify` hears each step.
+/// asked), levels `text` and starts it from `start_line` with `tool_change` as the sender's
+/// policy at `M6` (as a plain job's); `notify` hears each step.
+#[allow(clippy::too_many_arguments)]
 pub fn run_levelled(
     spec: &str,
     name: &str,
@@ -157,22 +170,38 @@ pub fn run_levelled(
     start_line: Option<u32>,
     source: &MapSource,
     tuning: &LevelTuning,
+    tool_change: ToolChange,
     notify: &mut dyn FnMut(String),
 ) -> Result<LevelledRun, Error> {
+    tool_change.validate().map_err(Error)?;
+    let options = |map: &HeightMap| LevelOptions {
+        tool_change: Some(tool_change.clone()),
+        ..level_options(map, tuning)
+    };
     if !crate::is_firmware(spec) {
         return Err(Error(format!(
             "--machine {spec}: levelling runs on grbl firmware (grbl:/dev/… or tcp://…); for other machines write a levelled file with `oficina level apply`"
         )));
     }
-    // A saved map is checked against the program before anything moves.
+    // The program is checked against the map (or a flat one of the grid to probe) under the
+    // tool-change policy before anything moves.
     let loaded = match source {
         MapSource::File(path) => Some(load_map(path)?),
         MapSource::Probe(..) => None,
     };
-    if let Some(map) = &loaded {
-        level_stream(name, text, map, &level_options(map, tuning)).map_err(Error)?;
+    match (&loaded, source) {
+        (Some(map), _) => {
+            level_stream(name, text, map, &options(map)).map_err(Error)?;
+        }
+        // A map to probe: the program checked under this policy against a flat one first.
+        (None, MapSource::Probe(req, _)) => {
+            let flat = flat_map(&probe_grid(Some(text), req)?, req)?;
+            level_stream(name, text, &flat, &options(&flat)).map_err(Error)?;
+        }
+        (None, MapSource::File(_)) => {}
     }
     let mut dev = GrblDevice::new(spec).map_err(|e| Error(format!("--machine {spec}: {e}")))?;
+    dev.settings.tool_change = tool_change.clone();
     let info = dev.connect().map_err(Error::from_display)?;
     let map = match (loaded, source) {
         (Some(map), _) => map,
@@ -193,13 +222,8 @@ pub fn run_levelled(
         }
         (None, MapSource::File(path)) => load_map(path)?,
     };
-    let (program, report) = level_stream(
-        &format!("{name}.levelled"),
-        text,
-        &map,
-        &level_options(&map, tuning),
-    )
-    .map_err(Error)?;
+    let (program, report) =
+        level_stream(&format!("{name}.levelled"), text, &map, &options(&map)).map_err(Error)?;
     dev.start_program(program, start_line)
         .map_err(Error::from_display)?;
     Ok(LevelledRun {

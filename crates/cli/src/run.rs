@@ -104,6 +104,7 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
                 args.from_line,
                 &source,
                 &args.level.tuning(),
+                args.tool_change.settings()?,
                 &mut |m| eprintln!("{m}"),
             )
             .map_err(anyhow::Error::msg)?;

@@ -1,67 +1,34 @@
 //! End-to-end: `oficina emulate grbl` in one process, `oficina console` in another, over
 //! loopback TCP, as a user would run them; and a short `oficina bench stream`.
 
+mod common;
+
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 const BIN: &str = env!("CARGO_BIN_EXE_oficina");
 
-struct Emu(
-    Child,
-    #[allow(dead_code)] BufReader<std::process::ChildStdout>,
-);
+use common::Emulator;
 
-impl Drop for Emu {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn start_emulator() -> (Emu, String) {
+fn start_emulator() -> (Emulator, String) {
     start_emulator_with(&[])
 }
 
-fn start_emulator_with(extra: &[&str]) -> (Emu, String) {
+fn start_emulator_with(extra: &[&str]) -> (Emulator, String) {
     let mut args = vec!["--for-seconds", "60"];
     args.extend_from_slice(extra);
-    args.extend_from_slice(&[
-        "--set",
-        "110=60000",
-        "--set",
-        "111=60000",
-        "--set",
-        "112=60000",
-        // The emulator accelerates: fast ramps keep the jobs short.
-        "--set",
-        "120=20000",
-        "--set",
-        "121=20000",
-        "--set",
-        "122=20000",
-    ]);
-    launch_emulator(&args)
+    launch(common::emulate_fast(20000, &args))
 }
 
 /// `oficina emulate grbl --tcp 127.0.0.1:0 args…`, and the `host:port` it listens on.
-fn launch_emulator(args: &[&str]) -> (Emu, String) {
-    let mut child = Command::new(BIN)
-        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0"])
-        .args(args)
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("start emulator");
-    let mut out = BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
-    out.read_line(&mut line).unwrap();
-    let addr = line
-        .split("tcp://")
-        .nth(1)
-        .expect("emulator prints its address")
-        .trim()
-        .to_string();
-    (Emu(child, out), addr)
+fn launch_emulator(args: &[&str]) -> (Emulator, String) {
+    launch(common::emulate(args))
+}
+
+fn launch(emu: Emulator) -> (Emulator, String) {
+    let addr = emu.host_port().to_string();
+    (emu, addr)
 }
 
 /// `oficina console --tcp addr args…` running, its stdin, stdout and stderr piped (or all

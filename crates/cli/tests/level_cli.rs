@@ -6,19 +6,12 @@ mod common;
 
 use oficina_grbl::{line_words, HeightMap};
 use std::io::Write;
-use std::process::{Child, Command, Stdio};
-
-/// Kills the emulator when the test ends, however it ends.
-struct Running(Child);
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use std::process::{Command, Stdio};
 
 const PROGRAM: &str = "G21 G90\nG0 Z5\nG0 X0 Y0\nG0 Z1\nG1 Z-0.1 F1500\nG1 X30 Y0 F3000\nG2 X30 Y20 I0 J10\nG1 X0 Y0\nG0 Z5\nM2\n";
+
+/// Two tools over the same area, each cutting 0.1 mm deep.
+const TWO_TOOLS: &str = "G21 G90\nT1 M6\nG0 Z5\nG0 X0 Y0\nG1 Z-0.1 F1500\nG1 X30 F3000\nG0 Z5\nT2 M6\nG0 X0 Y20\nG1 Z-0.1 F1500\nG1 X30 F3000\nG0 Z5\nM2\n";
 
 /// The block's top in work coordinates: machine top −29.8 + tilt, work zero at machine
 /// (−50, −40, −30).
@@ -29,30 +22,20 @@ fn surface(x: f64, y: f64) -> f64 {
 
 #[test]
 fn probe_apply_and_run_levelled_on_the_emulator() {
-    let (emu, addr, _) = common::emulator(&[
-        "--baud",
-        "0",
-        "--for-seconds",
-        "120",
-        "--probe-block",
-        "-80,-70,20,20,-29.8",
-        "--probe-tilt",
-        "0.006,-0.009",
-        "--set",
-        "110=60000",
-        "--set",
-        "111=60000",
-        "--set",
-        "112=60000",
-        "--set",
-        "120=3000",
-        "--set",
-        "121=3000",
-        "--set",
-        "122=3000",
-    ]);
-    let _emu = Running(emu);
-    let tcp = addr.trim_start_matches("tcp://");
+    let emu = common::emulate_fast(
+        3000,
+        &[
+            "--baud",
+            "0",
+            "--for-seconds",
+            "120",
+            "--probe-block",
+            "-80,-70,20,20,-29.8",
+            "--probe-tilt",
+            "0.006,-0.009",
+        ],
+    );
+    let (addr, tcp) = (emu.uri.clone(), emu.host_port());
     let mut console = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .args(["console", "--tcp", tcp])
         .stdin(Stdio::piped())
@@ -167,6 +150,59 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
     assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
     let kept = HeightMap::from_json(&std::fs::read_to_string(&again).unwrap()).unwrap();
     assert_eq!((kept.nx, kept.ny), (3, 3));
+
+    // A two-tool program levelled by the same map: M6 goes to the sender's tool-change
+    // policy as in a plain job. Under remeasure, with no terminal to resume from, the run
+    // stops at the first change with its prompt (not refused by the transform)…
+    let two = common::program("two-tools", TWO_TOOLS);
+    let run_two = |policy: &[&str]| {
+        let mut args = vec![
+            "run",
+            two.to_str().unwrap(),
+            "--machine",
+            &addr,
+            "--level",
+            map_path.to_str().unwrap(),
+        ];
+        args.extend(policy);
+        common::oficina(&args)
+    };
+    let out = run_two(&["--tool-change", "remeasure", "--tool-setter", "10,10,-5"]);
+    let (stdout, stderr) = common::text(&out);
+    assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("TOOL CHANGE: change to tool T1 (M6 at line 2), then resume: the sender measures it on the tool setter"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("--from-line 2"), "{stderr}");
+    // …under ignore it runs through, the dropped change noted by the levelling and the sender…
+    let out = run_two(&["--tool-change", "ignore"]);
+    let (stdout, stderr) = common::text(&out);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("done:"), "{stdout}\n{stderr}");
+    assert!(
+        format!("{stdout}{stderr}").contains("line 8: M6 T2 dropped (--tool-change ignore): the whole job is cut with the tool the map was probed with"),
+        "{stdout}\n{stderr}"
+    );
+    // …and the firmware's own change is refused before anything moves, a map to probe
+    // first included.
+    for map in [
+        ["--level", map_path.to_str().unwrap()],
+        ["--level-probe", "2x2"],
+    ] {
+        let mut args = vec!["run", two.to_str().unwrap(), "--machine", &addr];
+        args.extend(map);
+        args.extend(["--tool-change", "firmware"]);
+        let out = common::oficina(&args);
+        let (_, stderr) = common::text(&out);
+        assert!(!out.status.success());
+        assert!(
+            stderr
+                .contains("line 2: M6: with --tool-change firmware the firmware changes the tool"),
+            "{stderr}"
+        );
+        assert!(!stderr.contains("probe 1/"), "{stderr}");
+    }
 
     // A malformed map is refused naming the file, before anything moves.
     let bad = dir.join("bad.map.json");

@@ -4,17 +4,7 @@
 mod common;
 
 use std::io::Write;
-use std::process::{Child, Command, Stdio};
-
-/// Kills the emulator when the test ends, however it ends.
-struct Running(Child);
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use std::process::{Command, Stdio};
 
 /// The console on `addr` with `input` typed, run until the input is used up.
 fn console(addr: &str, input: &str) -> String {
@@ -39,32 +29,22 @@ fn console(addr: &str, input: &str) -> String {
 
 #[test]
 fn console_probe_z_on_the_emulated_plate_prints_the_offset() {
-    let (emu, addr, _) = common::emulator(&[
-        "--baud",
-        "0",
-        "--for-seconds",
-        "60",
-        "--probe-block",
-        "10,20,210,170,-60",
-        "--probe-plate",
-        "100,60,140,100,10",
-        "--probe-setter",
-        "250,50,-80",
-        "--set",
-        "110=60000",
-        "--set",
-        "111=60000",
-        "--set",
-        "112=60000",
-        "--set",
-        "120=2000",
-        "--set",
-        "121=2000",
-        "--set",
-        "122=2000",
-    ]);
-    let _emu = Running(emu);
-    let addr = addr.trim_start_matches("tcp://");
+    let emu = common::emulate_fast(
+        2000,
+        &[
+            "--baud",
+            "0",
+            "--for-seconds",
+            "60",
+            "--probe-block",
+            "10,20,210,170,-60",
+            "--probe-plate",
+            "100,60,140,100,10",
+            "--probe-setter",
+            "250,50,-80",
+        ],
+    );
+    let addr = emu.host_port();
     let out = console(
         addr,
         "G90 G0 X120 Y80 Z-40\n/probe z --plate 10 --feed 1000 --slow 200\n$#\n\

@@ -267,6 +267,15 @@ impl StreamProgram {
         if tc.policy == ToolPolicy::Firmware {
             return Ok(job);
         }
+        job.take_tool_changes(text, tc);
+        Ok(job)
+    }
+
+    /// Each `M6` line of the job rewritten as `tc`'s policy says and its stop recorded;
+    /// `source` is the program as written (its `(T2 …)` comments describe the tools).
+    pub(crate) fn take_tool_changes(&mut self, source: &str, tc: &ToolChange) {
+        let job = self;
+        let text = source;
         let mut described = std::collections::BTreeMap::new();
         for raw in text.lines() {
             if let Some((n, d)) = tool_comment(raw) {
@@ -313,7 +322,6 @@ impl StreamProgram {
         job.lines = lines;
         job.tool_stops = stops;
         job.tool_change = tc.clone();
-        Ok(job)
     }
 
     /// The tool stop before job line `index`, when the policy stops there.

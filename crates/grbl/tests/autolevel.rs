@@ -331,3 +331,99 @@ fn maps_and_grids_built_field_by_field_are_checked_before_use() {
         .unwrap_err();
     assert!(e.contains("2 to 100"), "{e}");
 }
+
+/// Two tools, each cutting 0.1 mm deep across the map; the second one's M6 sits on a line
+/// with its T word, and its tool is described in a CAM comment.
+const TWO_TOOLS: &str = "(T2 D=1 - engraver)\nG21 G90\nT1 M6\nG0 Z5\nG0 X2 Y5\nG1 Z-0.1 F300\nG1 X38\nG0 Z5\nT2 M6\nG0 X2 Y20\nG1 Z-0.1 F300\nG1 X38 Y25\nG0 Z5\nM2\n";
+
+fn with_policy(policy: oficina_grbl::ToolPolicy) -> LevelOptions {
+    LevelOptions {
+        tool_change: Some(oficina_grbl::ToolChange {
+            policy,
+            setter: Some(oficina_grbl::setter_at(0.0, 0.0, -5.0)),
+            park: Some([0.0, 0.0, -1.0]),
+            ..oficina_grbl::ToolChange::default()
+        }),
+        ..LevelOptions::default()
+    }
+}
+
+#[test]
+fn a_levelled_two_tool_program_stops_at_each_m6_and_both_tools_follow_the_surface() {
+    use oficina_grbl::ToolPolicy;
+    let surface = |x: f64, y: f64| 0.01 * x - 0.02 * y + 0.05 * (x / 7.0).sin();
+    let map = map_of(surface);
+    let (job, report) =
+        level_stream("t.nc", TWO_TOOLS, &map, &with_policy(ToolPolicy::Remeasure)).unwrap();
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    assert_eq!(job.tool_change.policy, ToolPolicy::Remeasure);
+    let stops: Vec<_> = job
+        .tool_stops
+        .iter()
+        .map(|s| (s.tool, s.file_line, s.description.clone()))
+        .collect();
+    assert_eq!(
+        stops,
+        [(1, 3, None), (2, 9, Some("T2 D=1 - engraver".to_string()))]
+    );
+    // No M6 goes to grbl: the sender stops before the line it stood on.
+    assert!(job.lines.iter().all(|l| !l.text.contains("M6")));
+    for s in &job.tool_stops {
+        assert!(job.lines[s.index].file_line >= s.file_line, "{s:?}");
+    }
+    // Every cut point of each tool 0.1 mm under the surface (within the map's own error).
+    let mut cuts = [0, 0];
+    for (line, p) in points(&job.lines) {
+        if p[2] < 1.0 {
+            let depth = p[2] - surface(p[0], p[1]);
+            assert!(
+                (depth + 0.1).abs() < 0.02,
+                "line {line}: {p:?} depth {depth}"
+            );
+            cuts[usize::from(line > 9)] += 1;
+        }
+    }
+    assert!(cuts[0] > 30 && cuts[1] > 30, "{cuts:?}");
+
+    // Pause and park: allowed, with the re-zeroing they need said.
+    for policy in [ToolPolicy::Pause, ToolPolicy::ParkPause] {
+        let (job, report) = level_stream("t.nc", TWO_TOOLS, &map, &with_policy(policy)).unwrap();
+        assert_eq!(job.tool_stops.len(), 2);
+        assert_eq!(report.warnings.len(), 2, "{:?}", report.warnings);
+        assert!(
+            report.warnings[1].starts_with("line 9: M6 T2 with --tool-change")
+                && report.warnings[1].contains("zero Z again where it was zeroed before probing"),
+            "{:?}",
+            report.warnings
+        );
+    }
+    // Ignore: the tool is never changed, so the map holds; the note says so.
+    let (job, report) =
+        level_stream("t.nc", TWO_TOOLS, &map, &with_policy(ToolPolicy::Ignore)).unwrap();
+    assert!(job.tool_stop_at(job.tool_stops[1].index).is_none());
+    assert!(
+        report.warnings[1].contains("dropped (--tool-change ignore)"),
+        "{:?}",
+        report.warnings
+    );
+    assert!(job
+        .lines
+        .iter()
+        .all(|l| !l.text.contains("M6") && !l.text.contains('T')));
+
+    // The area a map must cover is read past the M6s.
+    let area = oficina_grbl::feed_area(TWO_TOOLS, oficina_gcode::Dialect::Grbl).unwrap();
+    assert_eq!((area.min, area.max), ([2.0, 5.0], [38.0, 25.0]));
+
+    // The firmware's own change, or a file for another sender: refused, naming the line.
+    let e = level_stream("t.nc", TWO_TOOLS, &map, &with_policy(ToolPolicy::Firmware)).unwrap_err();
+    assert!(
+        e.starts_with("line 3: M6: with --tool-change firmware"),
+        "{e}"
+    );
+    let e = err(TWO_TOOLS, &map);
+    assert!(
+        e.starts_with("line 3: M6: a levelled file for another sender cannot carry a tool change"),
+        "{e}"
+    );
+}

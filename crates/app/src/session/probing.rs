@@ -177,7 +177,8 @@ impl Session {
     }
 
     /// Starts `req`'s program levelled with `map` on grbl firmware: its lines keep their
-    /// source line numbers, so progress names the program's own lines.
+    /// source line numbers, so progress names the program's own lines, and its `M6` stops
+    /// as a plain job's do under the firmware's tool-change policy.
     pub fn start_levelled(
         &mut self,
         req: JobRequest,
@@ -190,7 +191,13 @@ impl Session {
                 req.from_line.unwrap_or(0)
             )));
         }
-        let opts = level_options(map, &LevelTuning::default());
+        // M6 goes to the sender's tool-change policy, as in a plain job (the transform
+        // refuses the policies under which the map would not hold).
+        let tool_change = self.tool_change_policy();
+        let opts = oficina_grbl::LevelOptions {
+            tool_change,
+            ..level_options(map, &LevelTuning::default())
+        };
         let (program, report) =
             level_stream(&format!("{}.levelled", req.name), &req.text, map, &opts)
                 .map_err(Error)?;

@@ -4,7 +4,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, ChildStdout, Command, Output, Stdio};
 
 /// The repository's root (samples, profiles).
 pub(crate) fn root() -> PathBuf {
@@ -55,27 +55,84 @@ pub(crate) fn total_time(out: &str) -> f64 {
         .unwrap()
 }
 
-/// An `oficina emulate grbl …` on a free local TCP port (`extra` before the port options),
-/// with the `tcp://` address and the first line it printed (its banner).
-pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
-    let mut emulator = Command::new(env!("CARGO_BIN_EXE_oficina"))
+/// A running `oficina emulate grbl`, killed when dropped, however the test ends.
+pub(crate) struct Emulator {
+    child: Child,
+    /// Its stdout, kept open: the emulator may still print to it.
+    _stdout: BufReader<ChildStdout>,
+    /// Where it listens: `tcp://127.0.0.1:PORT`.
+    pub(crate) uri: String,
+}
+
+impl Emulator {
+    /// `host:port`, as `oficina console --tcp` takes it.
+    pub(crate) fn host_port(&self) -> &str {
+        self.uri.trim_start_matches("tcp://")
+    }
+}
+
+impl Drop for Emulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Starts `oficina emulate grbl extra…` on a free loopback port: the process, its stdout
+/// after the banner, the `tcp://` address and the banner (its first line).
+fn spawn_emulator(extra: &[&str]) -> (Child, BufReader<ChildStdout>, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_oficina"))
         .args(["emulate", "grbl"])
         .args(extra)
         .args(["--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
-        .unwrap();
+        .expect("the emulator starts");
+    let mut stdout = BufReader::new(child.stdout.take().expect("piped stdout"));
     let mut first = String::new();
-    BufReader::new(emulator.stdout.take().unwrap())
+    stdout
         .read_line(&mut first)
-        .unwrap();
-    let addr = first
+        .expect("the emulator prints its banner");
+    let uri = first
         .split_whitespace()
         .find(|w| w.starts_with("tcp://"))
-        .expect(&first)
+        .unwrap_or_else(|| panic!("no tcp:// address in the banner: {first}"))
         .to_string();
-    (emulator, addr, first)
+    (child, stdout, uri, first)
+}
+
+/// An `oficina emulate grbl …` on a free local TCP port (`extra` before the port options),
+/// with the `tcp://` address and the first line it printed (its banner).
+pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
+    let (child, _, uri, first) = spawn_emulator(extra);
+    (child, uri, first)
+}
+
+/// [`emulator`], stopped when the [`Emulator`] is dropped.
+pub(crate) fn emulate(extra: &[&str]) -> Emulator {
+    let (child, stdout, uri, _) = spawn_emulator(extra);
+    Emulator {
+        child,
+        _stdout: stdout,
+        uri,
+    }
+}
+
+/// [`emulate`] a fast machine: `extra`, then rates of 60000 mm/min and accelerations of
+/// `accel` mm/s² on X, Y and Z (the emulator accelerates: fast ramps keep tests short).
+pub(crate) fn emulate_fast(accel: u32, extra: &[&str]) -> Emulator {
+    let accel = accel.to_string();
+    let mut args = extra.to_vec();
+    let settings: Vec<String> = ["110", "111", "112"]
+        .iter()
+        .map(|n| format!("{n}=60000"))
+        .chain(["120", "121", "122"].iter().map(|n| format!("{n}={accel}")))
+        .collect();
+    for s in &settings {
+        args.extend(["--set", s.as_str()]);
+    }
+    emulate(&args)
 }
 
 /// `oficina run` of `program` (written to a scratch file named `name`) on the machine at

@@ -21,7 +21,10 @@ pub fn feed_area(text: &str, dialect: Dialect) -> Result<Area, String> {
         dialect,
         ..RunOptions::default()
     };
-    let diags = oficina_gcode::run_text(text, &opts, &mut |c| match c.op {
+    // M6 (which grbl's sender handles, never grbl) moves nothing: read without it.
+    let view = crate::sender_view(text.as_bytes(), &crate::ToolChange::default()).0;
+    let text = String::from_utf8_lossy(&view);
+    let diags = oficina_gcode::run_text(&text, &opts, &mut |c| match c.op {
         CanonOp::StraightTraverse { to } => at = Some([to.x, to.y, to.z]),
         CanonOp::StraightFeed { to } => {
             let to = [to.x, to.y, to.z];

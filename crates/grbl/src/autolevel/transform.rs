@@ -7,6 +7,8 @@
 use super::map::HeightMap;
 use super::source::{classify, LineInfo};
 use crate::job::{StreamLine, StreamProgram};
+use crate::toolchange::{m6_words, sender_view};
+use crate::{ToolChange, ToolPolicy};
 use oficina_canon::{Canon, CanonOp, FeedMode, SpindleDir, Units};
 use oficina_gcode::{Dialect, RunOptions, Severity};
 use oficina_geom::{chord_count, Helix};
@@ -31,6 +33,9 @@ pub struct LevelOptions {
     pub outside_allowance: Option<f64>,
     /// The dialect the program is read in (grbl by default: the output goes to grbl).
     pub dialect: Dialect,
+    /// How the sender that streams the output handles `M6` (`None`: the output is a file
+    /// for another sender, or the firmware's own: `M6` is refused, see [`level_program`]).
+    pub tool_change: Option<ToolChange>,
 }
 
 impl Default for LevelOptions {
@@ -41,6 +46,7 @@ impl Default for LevelOptions {
             clearance: None,
             outside_allowance: None,
             dialect: Dialect::Grbl,
+            tool_change: None,
         }
     }
 }
@@ -80,6 +86,36 @@ pub fn level_program(
         ));
     }
     map.check()?;
+    // M6 passes through to the sender's tool-change policy, as in a plain job, where the
+    // map stays valid after the change:
+    // - `remeasure`: the new tool is measured on the setter against the first tool and the
+    //   difference applied with G43.1, so the tip is where the first tool's was: the map,
+    //   probed with the first tool, still describes the surface.
+    // - `pause` / `park`: the operator changes the tool and zeroes Z again on the stock by
+    //   hand. The map holds heights relative to the Z zero it was probed under, so it stays
+    //   valid when Z is zeroed again at that same place (a warning says so).
+    // - `ignore`: the tool is not changed, nor its length: the map holds (a warning says
+    //   the job is cut with the first tool).
+    // - `firmware`, or no sender (a file for another sender): what happens to the tool
+    //   length at M6 is not ours to know, so M6 is refused.
+    let passes = opts
+        .tool_change
+        .as_ref()
+        .filter(|tc| tc.policy != ToolPolicy::Firmware);
+    let viewed;
+    let interpreted = match passes {
+        Some(tc) => {
+            tc.validate()?;
+            // M6 (and T under `ignore`) blanked: the interpreter reads what grbl will
+            // get; the transform writes the M6 back where it stood for the sender.
+            viewed = String::from_utf8_lossy(&sender_view(text.as_bytes(), tc).0).into_owned();
+            viewed.as_str()
+        }
+        None => {
+            refuse_m6(text, opts.tool_change.as_ref())?;
+            text
+        }
+    };
     let clearance = opts.clearance.unwrap_or(map.clearance);
     let (_, top) = map.z_range();
     if !(clearance.is_finite() && clearance > top) {
@@ -115,6 +151,8 @@ pub fn level_program(
         coolant_sent: (false, false),
         coolant_line: 0,
         levelled: false,
+        tool_change: passes.map(|tc| tc.policy),
+        m6_line: 0,
         error: None,
         report: LevelReport {
             offset_range: (f64::INFINITY, f64::NEG_INFINITY),
@@ -125,7 +163,7 @@ pub fn level_program(
         dialect: opts.dialect,
         ..RunOptions::default()
     };
-    let diagnostics = oficina_gcode::run_text(text, &run, &mut |c| l.take(c));
+    let diagnostics = oficina_gcode::run_text(interpreted, &run, &mut |c| l.take(c));
     if let Some(d) = diagnostics.iter().find(|d| d.severity == Severity::Error) {
         return Err(format!("line {}: {}", d.span.line, d.message));
     }
@@ -174,17 +212,39 @@ pub fn level_stream(
 ) -> Result<(StreamProgram, LevelReport), String> {
     let mut lines = Vec::new();
     let report = level_program(text, map, opts, &mut |l| lines.push(l))?;
-    Ok((
-        StreamProgram {
-            name: name.to_string(),
-            lines,
-            // A levelled program goes to the firmware as written: tool changes are refused
-            // by the transform before it gets here.
-            tool_change: crate::ToolChange::as_written(),
-            tool_stops: Vec::new(),
-        },
-        report,
-    ))
+    let mut program = StreamProgram {
+        name: name.to_string(),
+        lines,
+        tool_change: ToolChange::as_written(),
+        tool_stops: Vec::new(),
+    };
+    // The M6 lines the transform wrote back become the sender's tool stops, as in a plain
+    // job (without a policy that passes them, the transform refused them).
+    if let Some(tc) = opts
+        .tool_change
+        .as_ref()
+        .filter(|tc| tc.policy != ToolPolicy::Firmware)
+    {
+        program.take_tool_changes(text, tc);
+    }
+    Ok((program, report))
+}
+
+/// The first `M6` of `text`, refused: no sender policy passes it through.
+fn refuse_m6(text: &str, tc: Option<&ToolChange>) -> Result<(), String> {
+    for (i, raw) in text.lines().enumerate() {
+        let Ok(clean) = crate::gline::clean(raw) else {
+            continue;
+        };
+        if m6_words(clean.as_bytes(), ToolPolicy::Pause).is_some() {
+            let why = match tc {
+                Some(_) => "with --tool-change firmware the firmware changes the tool, and what that does to the tool length the map was probed with is not known: levelling with tool changes needs the sender's remeasure (or pause) policy",
+                None => "a levelled file for another sender cannot carry a tool change (the new tool's length is not the one the map was probed with): run it levelled with oficina's sender (`oficina run --level … --tool-change remeasure`), or level each tool's part on its own",
+            };
+            return Err(format!("line {}: M6: {why}", i + 1));
+        }
+    }
+    Ok(())
 }
 
 /// [`level_program`] as the text of a G-code file (for any sender), opened by a comment
@@ -236,6 +296,10 @@ struct Leveller<'a, 'o> {
     coolant_line: u32,
     /// The move being written was cut into offset pieces.
     levelled: bool,
+    /// The sender's policy for `M6`, when it passes through (`None`: refused before).
+    tool_change: Option<ToolPolicy>,
+    /// The last source line whose `M6` was written back (its `T` went with it).
+    m6_line: u32,
     error: Option<String>,
     report: LevelReport,
 }
@@ -276,6 +340,11 @@ impl Leveller<'_, '_> {
             // Every line, those without operations too: G90 / G91 alone change the mode.
             self.info = classify(text, self.src_line, self.incremental)?;
             self.incremental = self.info.incremental;
+            if let Some(policy) = self.tool_change {
+                if let Some((tool, _)) = m6_words(self.info.clean.as_bytes(), policy) {
+                    self.tool_change(self.src_line, policy, tool);
+                }
+            }
             if self.src_line == line && self.info.machine_move {
                 // Sent as written: no motion word of ours is in force after it.
                 self.motion = None;
@@ -377,11 +446,15 @@ impl Leveller<'_, '_> {
             CanonOp::FloodOn => self.coolant_to(line, (self.coolant.0, true)),
             CanonOp::MistOff => self.coolant_to(line, (false, self.coolant.1)),
             CanonOp::FloodOff => self.coolant_to(line, (self.coolant.0, false)),
+            // An M6 line's T went out with its M6.
+            CanonOp::SelectTool(_) if line == self.m6_line => {}
             CanonOp::SelectTool(t) => self.emit(line, format!("T{t}")),
             CanonOp::ChangeTool(_) => {
+                // The interpreter sees M6 only when no sender policy takes it (refused
+                // before it runs): kept as a guard.
                 return Err(at(
-                    "M6: a new tool changes the tool length the map was probed with; level (and probe) each tool's part on its own",
-                ))
+                    "M6: a new tool changes the tool length the map was probed with; run levelled with --tool-change remeasure, or level each tool's part on its own",
+                ));
             }
             CanonOp::UseToolLengthOffset(p) if p.to_array().iter().any(|v| *v != 0.0) => {
                 return Err(at("a tool length offset changes inside the program"))
@@ -403,6 +476,29 @@ impl Leveller<'_, '_> {
             _ => {}
         }
         Ok(())
+    }
+
+    /// An `M6` the sender handles, written back before the rest of its line (grbl's order:
+    /// the change comes before the line's motion), with its `T` word.
+    fn tool_change(&mut self, line: u32, policy: ToolPolicy, tool: Option<u32>) {
+        let t = tool.map(|t| format!("T{t}")).unwrap_or_default();
+        let name = if t.is_empty() {
+            "M6".to_string()
+        } else {
+            format!("M6 {t}")
+        };
+        match policy {
+            ToolPolicy::Ignore => self.report.warnings.push(format!(
+                "line {line}: {name} dropped (--tool-change ignore): the whole job is cut with the tool the map was probed with"
+            )),
+            ToolPolicy::Pause | ToolPolicy::ParkPause => self.report.warnings.push(format!(
+                "line {line}: {name} with --tool-change {}: zero Z again where it was zeroed before probing (the map's heights are relative to that zero), or use remeasure",
+                policy.name()
+            )),
+            ToolPolicy::Remeasure | ToolPolicy::Firmware => {}
+        }
+        self.m6_line = line;
+        self.emit(line, format!("{t}M6"));
     }
 
     /// The interpreter's opening state: the header of the output.
