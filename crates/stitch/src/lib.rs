@@ -19,7 +19,7 @@ pub use generate::{
 };
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
-pub use preview::preview_svg;
+pub use preview::{preview_svg, render, render_png, Render, RenderError, RenderOptions};
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
 pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
 pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};
