@@ -115,3 +115,19 @@ fn bad_input_is_refused_or_bounded() {
     };
     assert!(matches!(render(&sample(), &bad), Err(RenderError::Invalid(_))));
 }
+
+#[test]
+fn the_sheet_page_prints_on_a4_with_the_render_and_thread_names() {
+    use oficina_stitch::{sheet, HeadSpeed, Pauses, Table};
+    let mut p = sample();
+    p.blocks[0].thread.name = "Madeira 1147 <Red>".into();
+    let s = sheet(&p, None, &Table::embroidery_table(), HeadSpeed::Table, Pauses::default(), 1).unwrap();
+    let png = render(&p, &RenderOptions::default()).unwrap().png();
+    let page = s.html_page(Some(&png));
+    assert!(page.contains("@page{size:A4"), "{page}");
+    assert!(page.contains("src=\"data:image/png;base64,iVBORw0KGgo"), "{page}");
+    assert!(page.contains("Madeira 1147 &lt;Red&gt;"));
+    assert!(page.contains("Colour sequence"));
+    assert!(page.contains("Design size") && page.contains("Hoop") && page.contains("Total per piece"));
+    assert!(s.text().contains("Madeira 1147 <Red>"));
+}
