@@ -50,11 +50,7 @@ pub(crate) fn run(a: Args) -> Result<()> {
         svg.display()
     );
     line("oficina read SVG", o.read_design.wall, None);
-    line(
-        "oficina fill + routing",
-        o.generate.wall,
-        Some(c.stitches),
-    );
+    line("oficina fill + routing", o.generate.wall, Some(c.stitches));
     line("oficina write DST + PES", o.write.wall, None);
     let (dn, pn) = (o.dst_plan.counts().stitches, o.pes_plan.counts().stitches);
     line("oficina read DST + PES", o.read.wall, Some(dn));
@@ -74,7 +70,11 @@ pub(crate) fn run(a: Args) -> Result<()> {
         return Ok(());
     }
     let p = pyembroidery(&a.python, &dst, &pes, &dir.join("pyembroidery-out"))?;
-    line("pyembroidery read DST + PES", p.read_s, Some(p.dst_stitches));
+    line(
+        "pyembroidery read DST + PES",
+        p.read_s,
+        Some(p.dst_stitches),
+    );
     println!("  PES read back: {} stitches", p.pes_stitches);
     line("pyembroidery write DST + PES", p.write_s, None);
     println!(

@@ -9,7 +9,12 @@ fn stitches(text: &str, row: &str) -> usize {
         .find(|l| l.starts_with(row))
         .unwrap_or_else(|| panic!("no row '{row}' in\n{text}"));
     let i = line.find("stitches").unwrap() + "stitches".len();
-    line[i..].split_whitespace().next().unwrap().parse().unwrap()
+    line[i..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
 }
 
 #[test]

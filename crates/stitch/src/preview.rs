@@ -170,7 +170,10 @@ const MIN_PX_PER_MM: f64 = 0.5;
 /// pixels a side is drawn at the dpi that fits.
 pub fn render(plan: &StitchPlan, o: &RenderOptions) -> Result<Render, RenderError> {
     if !(o.dpi.is_finite() && o.dpi > 0.0) {
-        return Err(RenderError::Invalid(format!("dpi {} must be above 0", o.dpi)));
+        return Err(RenderError::Invalid(format!(
+            "dpi {} must be above 0",
+            o.dpi
+        )));
     }
     if !(o.thread_width.is_finite() && o.thread_width > 0.0 && o.thread_width < 10.0) {
         return Err(RenderError::Invalid(format!(
@@ -205,7 +208,12 @@ pub fn render(plan: &StitchPlan, o: &RenderOptions) -> Result<Render, RenderErro
     let mut bb = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
     for (a, c, _) in &segs {
         for p in [a, c] {
-            bb = [bb[0].min(p[0]), bb[1].min(p[1]), bb[2].max(p[0]), bb[3].max(p[1])];
+            bb = [
+                bb[0].min(p[0]),
+                bb[1].min(p[1]),
+                bb[2].max(p[0]),
+                bb[3].max(p[1]),
+            ];
         }
     }
     let m = o.margin + o.thread_width / 2.0;

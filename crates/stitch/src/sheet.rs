@@ -160,7 +160,7 @@ impl Sheet {
             }
         }
         let _ = writeln!(t, "Sewing time      {}", duration(r.sewing_seconds));
-        let _ = writeln!(t, "Jumps (needle stopped) {}", duration(r.jump_seconds));
+        let _ = writeln!(t, "Jumps (needle up)  {}", duration(r.jump_seconds));
         let _ = writeln!(t, "Trims, changes, stops  {}", duration(r.pause_seconds));
         let _ = writeln!(t, "Total per piece  {}", duration(r.total_seconds));
         if self.pieces > 1 {
@@ -173,7 +173,7 @@ impl Sheet {
         }
         let _ = writeln!(
             t,
-            "Table {}: {} stitch(es) the table cannot finish with the needle up",
+            "Table {}:  {} stitch(es) the table cannot finish with the needle up",
             self.table,
             r.faults.len()
         );
@@ -257,7 +257,9 @@ fn base64(b: &[u8]) -> String {
     const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut s = String::with_capacity(b.len().div_ceil(3) * 4);
     for c in b.chunks(3) {
-        let n = (c[0] as u32) << 16 | (*c.get(1).unwrap_or(&0) as u32) << 8 | *c.get(2).unwrap_or(&0) as u32;
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
         for k in 0..4 {
             if k <= c.len() {
                 s.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);

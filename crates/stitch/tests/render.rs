@@ -1,7 +1,9 @@
 //! The thread render's pixels: a stitch's centre in its thread's colour (lit), fabric
 //! elsewhere, jumps not drawn, the size the extents at the dpi, and bounded images.
 
-use oficina_stitch::{render, ColorBlock, Kind, RenderError, RenderOptions, Stitch, StitchPlan, Thread};
+use oficina_stitch::{
+    render, ColorBlock, Kind, RenderError, RenderOptions, Stitch, StitchPlan, Thread,
+};
 
 fn plan(blocks: Vec<(Thread, Vec<Stitch>)>) -> StitchPlan {
     StitchPlan {
@@ -27,7 +29,13 @@ const RED: [u8; 3] = [200, 30, 40];
 fn sample() -> StitchPlan {
     plan(vec![(
         Thread::rgb(RED[0], RED[1], RED[2]),
-        vec![j(0.0, 0.0), s(5.0, 0.0), s(10.0, 0.0), j(30.0, 5.0), s(30.0, 10.0)],
+        vec![
+            j(0.0, 0.0),
+            s(5.0, 0.0),
+            s(10.0, 0.0),
+            j(30.0, 5.0),
+            s(30.0, 10.0),
+        ],
     )])
 }
 
@@ -38,7 +46,10 @@ fn a_stitch_centre_is_its_thread_lit_and_its_edges_darker() {
     let centre = r.at(cx as u32, cy as u32);
     // Red dominates and is brighter than the thread (the highlight), never another hue.
     assert!(centre[0] >= RED[0], "{centre:?}");
-    assert!(centre[0] > centre[1] + 100 && centre[0] > centre[2] + 100, "{centre:?}");
+    assert!(
+        centre[0] > centre[1] + 100 && centre[0] > centre[2] + 100,
+        "{centre:?}"
+    );
     // Near the edge (0.15 mm off the 0.2 mm half-width) the thread is darker than its centre.
     let (ex, ey) = r.pixel_of(2.5, 0.15);
     let edge = r.at(ex as u32, ey as u32);
@@ -98,12 +109,18 @@ fn bad_input_is_refused_or_bounded() {
     let jumps = plan(vec![(Thread::rgb(1, 2, 3), vec![j(0.0, 0.0), j(5.0, 5.0)])]);
     assert_eq!(render(&jumps, &o), Err(RenderError::Empty));
     // A 2 m design is drawn at a lower dpi within max_side.
-    let big = plan(vec![(Thread::rgb(1, 2, 3), vec![s(0.0, 0.0), s(2000.0, 10.0)])]);
+    let big = plan(vec![(
+        Thread::rgb(1, 2, 3),
+        vec![s(0.0, 0.0), s(2000.0, 10.0)],
+    )]);
     let r = render(&big, &o).unwrap();
     assert!(r.width <= o.max_side && r.height <= o.max_side);
     assert!(r.dpi < o.dpi);
     // A kilometre is refused with a message naming the size.
-    let huge = plan(vec![(Thread::rgb(1, 2, 3), vec![s(0.0, 0.0), s(1e6, 10.0)])]);
+    let huge = plan(vec![(
+        Thread::rgb(1, 2, 3),
+        vec![s(0.0, 0.0), s(1e6, 10.0)],
+    )]);
     let e = render(&huge, &o).unwrap_err();
     assert!(matches!(e, RenderError::TooLarge(..)), "{e}");
     assert!(e.to_string().contains("too large"));
@@ -113,7 +130,10 @@ fn bad_input_is_refused_or_bounded() {
         dpi: 0.0,
         ..RenderOptions::default()
     };
-    assert!(matches!(render(&sample(), &bad), Err(RenderError::Invalid(_))));
+    assert!(matches!(
+        render(&sample(), &bad),
+        Err(RenderError::Invalid(_))
+    ));
 }
 
 #[test]
@@ -121,13 +141,26 @@ fn the_sheet_page_prints_on_a4_with_the_render_and_thread_names() {
     use oficina_stitch::{sheet, HeadSpeed, Pauses, Table};
     let mut p = sample();
     p.blocks[0].thread.name = "Madeira 1147 <Red>".into();
-    let s = sheet(&p, None, &Table::embroidery_table(), HeadSpeed::Table, Pauses::default(), 1).unwrap();
+    let s = sheet(
+        &p,
+        None,
+        &Table::embroidery_table(),
+        HeadSpeed::Table,
+        Pauses::default(),
+        1,
+    )
+    .unwrap();
     let png = render(&p, &RenderOptions::default()).unwrap().png();
     let page = s.html_page(Some(&png));
     assert!(page.contains("@page{size:A4"), "{page}");
-    assert!(page.contains("src=\"data:image/png;base64,iVBORw0KGgo"), "{page}");
+    assert!(
+        page.contains("src=\"data:image/png;base64,iVBORw0KGgo"),
+        "{page}"
+    );
     assert!(page.contains("Madeira 1147 &lt;Red&gt;"));
     assert!(page.contains("Colour sequence"));
-    assert!(page.contains("Design size") && page.contains("Hoop") && page.contains("Total per piece"));
+    assert!(
+        page.contains("Design size") && page.contains("Hoop") && page.contains("Total per piece")
+    );
     assert!(s.text().contains("Madeira 1147 <Red>"));
 }

@@ -99,7 +99,8 @@ pub fn ours(svg: &Path, dst: &Path, pes: &Path) -> Result<Ours, BenchError> {
     let (imported, read_design) = measure(|| oficina_io::load_drawing(svg));
     let imported = imported.map_err(|e| failed(format!("{e:#}")))?;
     let p = Params::default();
-    let (generated, gen_cost) = measure(|| generate(&imported.drawing, "bench", &p, &mut |_, _| {}));
+    let (generated, gen_cost) =
+        measure(|| generate(&imported.drawing, "bench", &p, &mut |_, _| {}));
     let generated = generated.map_err(|e| failed(e.0))?;
     let (files, write) = measure(|| {
         Ok::<_, oficina_stitch::FormatError>((
