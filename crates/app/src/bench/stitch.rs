@@ -13,14 +13,19 @@ use std::process::Command;
 /// with the underlay), measured; the design is sized from it.
 const STITCHES_PER_MM2: f64 = 1.14;
 
-/// The design: a 2 × 2 grid of filled shapes (a disc, a frame with a round hole, a star, an
-/// ellipse), each its own colour, sized so that about `stitches` are sewn.
+/// Shapes a side of the design's grid.
+pub const GRID: usize = 6;
+
+/// The design: a 6 × 6 grid of filled shapes (discs, frames with a round hole, stars,
+/// ellipses) in four threads interleaved across the grid, so routing has to group the colours
+/// and order and trim the shapes; sized so that about `stitches` are sewn.
 pub fn design_svg(stitches: usize) -> String {
+    const COLOURS: [&str; 4] = ["#c0392b", "#1f6fb2", "#f1c40f", "#27ae60"];
     // The shapes cover about 0.62 of their cells.
     let area = stitches as f64 / STITCHES_PER_MM2 / 0.62;
-    let cell = (area / 4.0).sqrt();
-    let gap = 5.0;
-    let size = 2.0 * cell + 3.0 * gap;
+    let cell = (area / (GRID * GRID) as f64).sqrt();
+    let gap = (cell * 0.15).max(1.0);
+    let size = GRID as f64 * (cell + gap) + gap;
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -28,50 +33,57 @@ pub fn design_svg(stitches: usize) -> String {
     );
     let c = |i: usize| gap + (i as f64 + 0.5) * cell + i as f64 * gap;
     let r = cell / 2.0;
-    // Disc.
-    let _ = writeln!(
-        s,
-        "<circle cx=\"{:.3}\" cy=\"{:.3}\" r=\"{:.3}\" fill=\"#c0392b\"/>",
-        c(0),
-        c(0),
-        r
-    );
-    // A square frame with a round hole (even-odd).
-    let (x0, y0) = (c(1) - r, c(0) - r);
-    let h = r * 0.45;
-    let _ = writeln!(
-        s,
-        "<path fill-rule=\"evenodd\" fill=\"#1f6fb2\" d=\"M{x0:.3} {y0:.3}h{w:.3}v{w:.3}h{mw:.3}z M{hx:.3} {cy:.3}a{h:.3} {h:.3} 0 1 0 {d:.3} 0a{h:.3} {h:.3} 0 1 0 {md:.3} 0z\"/>",
-        w = 2.0 * r,
-        mw = -2.0 * r,
-        hx = c(1) - h,
-        cy = c(0),
-        d = 2.0 * h,
-        md = -2.0 * h
-    );
-    // A five-pointed star.
-    let mut d = String::new();
-    for k in 0..10 {
-        let a = std::f64::consts::PI * (k as f64 / 5.0 - 0.5);
-        let rr = if k % 2 == 0 { r } else { r * 0.55 };
-        let _ = write!(
-            d,
-            "{}{:.3} {:.3}",
-            if k == 0 { "M" } else { "L" },
-            c(0) + rr * a.cos(),
-            c(1) + rr * a.sin()
-        );
+    for row in 0..GRID {
+        for col in 0..GRID {
+            let (cx, cy) = (c(col), c(row));
+            let fill = COLOURS[(row * 3 + col) % 4];
+            match (row + col) % 4 {
+                0 => {
+                    let _ = writeln!(
+                        s,
+                        "<circle cx=\"{cx:.3}\" cy=\"{cy:.3}\" r=\"{r:.3}\" fill=\"{fill}\"/>"
+                    );
+                }
+                1 => {
+                    // A square frame with a round hole (even-odd).
+                    let h = r * 0.45;
+                    let _ = writeln!(
+                        s,
+                        "<path fill-rule=\"evenodd\" fill=\"{fill}\" d=\"M{x0:.3} {y0:.3}h{w:.3}v{w:.3}h{mw:.3}z M{hx:.3} {cy:.3}a{h:.3} {h:.3} 0 1 0 {d:.3} 0a{h:.3} {h:.3} 0 1 0 {md:.3} 0z\"/>",
+                        x0 = cx - r,
+                        y0 = cy - r,
+                        w = 2.0 * r,
+                        mw = -2.0 * r,
+                        hx = cx - h,
+                        d = 2.0 * h,
+                        md = -2.0 * h
+                    );
+                }
+                2 => {
+                    let mut d = String::new();
+                    for k in 0..10 {
+                        let a = std::f64::consts::PI * (k as f64 / 5.0 - 0.5);
+                        let rr = if k % 2 == 0 { r } else { r * 0.55 };
+                        let _ = write!(
+                            d,
+                            "{}{:.3} {:.3}",
+                            if k == 0 { "M" } else { "L" },
+                            cx + rr * a.cos(),
+                            cy + rr * a.sin()
+                        );
+                    }
+                    let _ = writeln!(s, "<path fill=\"{fill}\" d=\"{d}z\"/>");
+                }
+                _ => {
+                    let _ = writeln!(
+                        s,
+                        "<ellipse cx=\"{cx:.3}\" cy=\"{cy:.3}\" rx=\"{r:.3}\" ry=\"{:.3}\" fill=\"{fill}\"/>",
+                        r * 0.7
+                    );
+                }
+            }
+        }
     }
-    let _ = writeln!(s, "<path fill=\"#f1c40f\" d=\"{d}z\"/>");
-    // Ellipse.
-    let _ = writeln!(
-        s,
-        "<ellipse cx=\"{:.3}\" cy=\"{:.3}\" rx=\"{:.3}\" ry=\"{:.3}\" fill=\"#27ae60\"/>",
-        c(1),
-        c(1),
-        r,
-        r * 0.7
-    );
     s += "</svg>\n";
     s
 }
