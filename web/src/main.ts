@@ -381,10 +381,20 @@ async function embroider(name: string, params: Record<string, unknown>) {
     link.textContent = `Download ${body.name}`;
     const threads = $('threads');
     threads.innerHTML = '';
-    for (const t of sheet.threads as { hex: string; stitches: number; length_m: number }[]) {
+    for (const t of sheet.threads as { hex: string; name?: string; stitches: number; length_m: number }[]) {
       const li = document.createElement('li');
-      li.innerHTML = `<i class="swatch" style="background:${t.hex}"></i> ${t.hex} · ${t.stitches} stitches · ${t.length_m.toFixed(2)} m`;
+      li.innerHTML = `<i class="swatch" style="background:${t.hex}"></i> ${t.hex}${t.name ? ' ' + t.name.replace(/[<>&"]/g, '') : ''} · ${t.stitches} stitches · ${t.length_m.toFixed(2)} m`;
       threads.appendChild(li);
+    }
+    // The design drawn as thread, and the printable sheet with it (files of the job folder).
+    const img = $<HTMLImageElement>('stitch-render');
+    img.hidden = !body.render;
+    if (body.render) img.src = withToken('/api/files/' + encodeURIComponent(body.render) + `?t=${Date.now()}`);
+    const page = $<HTMLAnchorElement>('stitch-sheet');
+    page.hidden = !body.sheet_page;
+    if (body.sheet_page) {
+      page.href = withToken('/api/files/' + encodeURIComponent(body.sheet_page));
+      page.download = body.sheet_page;
     }
     $('embroidery').hidden = false;
     $('sew-status').textContent = '';

@@ -327,6 +327,47 @@ pub fn sheet_document(path: &Path, sheet: &Sheet) -> String {
     }
 }
 
+/// The production sheet as the file `path` wants it, with the design drawn as thread: an A4
+/// HTML page with the render embedded for `.html`/`.htm`, else text.
+pub fn sheet_document_with_render(path: &Path, sheet: &Sheet, plan: &StitchPlan) -> String {
+    let html = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+    if !html {
+        return sheet.text();
+    }
+    // A page's render: 200 dpi is plenty for print and keeps the page small.
+    let o = oficina_stitch::RenderOptions {
+        dpi: 200.0,
+        max_side: 2400,
+        ..Default::default()
+    };
+    let png = oficina_stitch::render_png(plan, &o).ok();
+    sheet.html_page(png.as_deref())
+}
+
+/// The preview file `path` wants: a PNG of the design as thread for `.png` (at `dpi`),
+/// else the SVG preview with the hoop.
+pub fn preview_document(
+    path: &Path,
+    plan: &StitchPlan,
+    hoop: Option<&Hoop>,
+    dpi: f64,
+) -> Result<Vec<u8>, Error> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        let o = oficina_stitch::RenderOptions {
+            dpi,
+            ..Default::default()
+        };
+        oficina_stitch::render_png(plan, &o).map_err(|e| Error(format!("{}: {e}", path.display())))
+    } else {
+        Ok(preview_svg(plan, hoop).into_bytes())
+    }
+}
+
 /// Reads an embroidery file (its format from its content, else its extension), refusing what
 /// is too large to be one. A PES or PEC design is centred on the hoop centre, where Brother
 /// machines sew it (its file's origin is only where its first stitch happens to be).

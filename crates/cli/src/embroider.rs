@@ -5,10 +5,11 @@
 
 use anyhow::Context;
 use oficina_app::embroider::{
-    embroider, output_format, read_stitch_file, sheet_document, sheet_of, EmbroiderParams,
+    embroider, output_format, preview_document, read_stitch_file, sheet_document_with_render,
+    sheet_of, EmbroiderParams,
 };
 use oficina_app::Feedback;
-use oficina_stitch::{duration, preview_svg, Format, Params, RunReport, Sheet};
+use oficina_stitch::{duration, Format, Params, RunReport, Sheet, StitchPlan};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -67,9 +68,13 @@ pub(crate) struct Args {
     /// Write the production sheet (.html for HTML, else text).
     #[arg(long)]
     sheet: Option<PathBuf>,
-    /// Write an SVG preview in the thread colours (jumps dashed, hoop drawn).
+    /// Write a preview: .png draws the design as thread (0.4 mm wide, shaded, jumps not
+    /// drawn) at --preview-dpi; else an SVG in the thread colours (jumps dashed, hoop drawn).
     #[arg(long)]
     preview: Option<PathBuf>,
+    /// The PNG preview's resolution, pixels per inch (a large design is drawn at less).
+    #[arg(long, default_value_t = 254.0)]
+    preview_dpi: f64,
     /// Print the sheet of an existing embroidery file instead.
     #[arg(long, conflicts_with = "input")]
     info: Option<PathBuf>,
@@ -120,8 +125,8 @@ fn params(a: &Args, format: Format) -> EmbroiderParams {
     }
 }
 
-fn write_sheet(path: &Path, s: &Sheet) -> anyhow::Result<()> {
-    std::fs::write(path, sheet_document(path, s))
+fn write_sheet(path: &Path, s: &Sheet, plan: &StitchPlan) -> anyhow::Result<()> {
+    std::fs::write(path, sheet_document_with_render(path, s, plan))
         .with_context(|| format!("writing {}", path.display()))?;
     println!("wrote {}", path.display());
     Ok(())
@@ -174,11 +179,11 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         let s = sheet_of(&plan, &p)?;
         print!("{}", s.text());
         if let Some(path) = &a.sheet {
-            write_sheet(path, &s)?;
+            write_sheet(path, &s, &plan)?;
         }
         if let Some(path) = &a.preview {
-            std::fs::write(path, preview_svg(&plan, s.hoop.as_ref().ok()))
-                .with_context(|| format!("writing {}", path.display()))?;
+            let doc = preview_document(path, &plan, s.hoop.as_ref().ok(), a.preview_dpi)?;
+            std::fs::write(path, doc).with_context(|| format!("writing {}", path.display()))?;
             println!("wrote {}", path.display());
         }
         if a.run {
@@ -241,10 +246,16 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         None => {}
     }
     if let Some(path) = &a.sheet {
-        write_sheet(path, &r.sheet)?;
+        write_sheet(path, &r.sheet, &r.generated.plan)?;
     }
     if let Some(path) = &a.preview {
-        std::fs::write(path, &r.preview).with_context(|| format!("writing {}", path.display()))?;
+        let doc = preview_document(
+            path,
+            &r.generated.plan,
+            r.sheet.hoop.as_ref().ok(),
+            a.preview_dpi,
+        )?;
+        std::fs::write(path, doc).with_context(|| format!("writing {}", path.display()))?;
         println!("wrote {}", path.display());
     }
     if a.run {

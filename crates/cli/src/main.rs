@@ -6,6 +6,7 @@ mod bench_carve;
 mod bench_gcode;
 mod bench_motion;
 mod bench_plot;
+mod bench_stitch;
 mod bench_stream;
 mod carve;
 mod check;
@@ -100,6 +101,9 @@ enum BenchCommand {
     Plot(bench_plot::Args),
     /// 59 offsets of a 10,000-vertex contour beside shapely and pyclipper; pockets of a 1,000-shape DXF.
     Cam(bench_cam::Args),
+    /// Fill and routing of a ~100,000-stitch design to DST and PES, beside pyembroidery
+    /// reading and writing the same stitches.
+    Stitch(bench_stitch::Args),
 }
 
 /// An error already printed in full where it happened (a rendered diagnostic says "error"
@@ -139,6 +143,7 @@ fn main() -> ExitCode {
             BenchCommand::Motion(args) => bench_motion::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Plot(args) => bench_plot::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Cam(args) => bench_cam::run(args).map(|()| ExitCode::SUCCESS),
+            BenchCommand::Stitch(args) => bench_stitch::run(args).map(|()| ExitCode::SUCCESS),
         },
     };
     match result {

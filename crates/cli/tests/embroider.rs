@@ -300,3 +300,41 @@ fn the_seeds_machine_program_is_written_and_read() {
     assert_eq!(field(&info_out, "Stitches"), field(&stdout, "Stitches"));
     assert_eq!(field(&info_out, "Trims"), "0"); // the seed's machine has no trimmer
 }
+
+#[test]
+fn a_png_preview_draws_thread_and_the_html_sheet_embeds_it() {
+    let real = Path::new("/work/shared/data/realworld/embroidery-files/emm_Star.pes");
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let (png, html) = (scratch("sunflower.png"), scratch("sunflower-sheet.html"));
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "-o",
+        scratch("sunflower-r.dst").to_str().unwrap(),
+        "--preview",
+        png.to_str().unwrap(),
+        "--preview-dpi",
+        "100",
+        "--sheet",
+        html.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{:?}", text(&o));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.contains("@page{size:A4") && page.contains("data:image/png;base64,iVBOR"));
+    assert!(page.contains("Colour sequence"));
+    // An embroidery file's sheet (--info) too, where the real file is at hand.
+    if real.exists() {
+        let p2 = scratch("star.png");
+        let o = oficina(&[
+            "embroider",
+            "--info",
+            real.to_str().unwrap(),
+            "--preview",
+            p2.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{:?}", text(&o));
+        assert_eq!(&std::fs::read(&p2).unwrap()[1..4], b"PNG");
+    }
+}

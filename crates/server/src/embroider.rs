@@ -10,7 +10,9 @@ use crate::AppState;
 use axum::extract::State;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use oficina_app::embroider::{embroider, read_stitch_file, sheet_of, EmbroiderParams};
+use oficina_app::embroider::{
+    embroider, read_stitch_file, sheet_document_with_render, sheet_of, EmbroiderParams,
+};
 use oficina_app::Error;
 use oficina_stitch::{Format, Kind, Params, Sheet, StitchPlan};
 use serde::Deserialize;
@@ -168,7 +170,7 @@ fn sheet_json(s: &Sheet) -> Value {
         "stops": c.stops,
         "color_changes": c.color_changes,
         "jump_length": c.jump_length,
-        "threads": s.threads.iter().map(|t| json!({"hex": t.hex, "stitches": t.stitches, "length_m": t.length_m})).collect::<Vec<_>>(),
+        "threads": s.threads.iter().map(|t| json!({"hex": t.hex, "name": t.name, "stitches": t.stitches, "length_m": t.length_m})).collect::<Vec<_>>(),
         "thread_m": s.threads.iter().map(|t| t.length_m).sum::<f64>(),
         "size": s.size,
         "hoop": s.hoop.as_ref().map(|h| h.to_string()).ok(),
@@ -188,6 +190,35 @@ fn sheet_json(s: &Sheet) -> Value {
         },
         "text": s.text(),
     })
+}
+
+/// The design drawn as thread (`NAME.png`) and the printable A4 production sheet with that
+/// render (`NAME.sheet.html`), written beside the stitch file in the job folder; their names,
+/// or null where the render could not be made (the sheet is then written without it).
+async fn render_files(st: &AppState, name: &str, plan: &StitchPlan, sheet: &Sheet) -> Value {
+    let o = oficina_stitch::RenderOptions {
+        dpi: 150.0,
+        max_side: 2400,
+        ..Default::default()
+    };
+    let png = oficina_stitch::render_png(plan, &o).ok();
+    let page = sheet_document_with_render(std::path::Path::new("x.html"), sheet, plan);
+    let mut out = json!({"render": null, "sheet_page": null});
+    if let Some(png) = png {
+        let n = format!("{name}.png");
+        if let Ok(path) = path_in(&st.config.job_dir, &n) {
+            if tokio::fs::write(&path, png).await.is_ok() {
+                out["render"] = json!(n);
+            }
+        }
+    }
+    let n = format!("{name}.sheet.html");
+    if let Ok(path) = path_in(&st.config.job_dir, &n) {
+        if tokio::fs::write(&path, page).await.is_ok() {
+            out["sheet_page"] = json!(n);
+        }
+    }
+    out
 }
 
 /// `POST /api/embroider {file, params}`: the design → stitches → the file in the job folder.
@@ -224,6 +255,7 @@ pub(crate) async fn embroider_job(
         r.sheet.counts.stitches,
         r.sheet.threads.len()
     ));
+    let files = render_files(&st, &name, &plan, &r.sheet).await;
     Ok(Json(json!({
         "name": name,
         "bytes": r.file.len(),
@@ -232,6 +264,8 @@ pub(crate) async fn embroider_job(
         "notes": r.notes,
         "plan": plan_json(&plan),
         "sheet": sheet_json(&r.sheet),
+        "render": files["render"],
+        "sheet_page": files["sheet_page"],
     }))
     .into_response())
 }
@@ -273,10 +307,13 @@ pub(crate) async fn stitch_file(
             )
         }
     ));
+    let files = render_files(&st, &file, &plan, &sheet).await;
     Ok(Json(json!({
         "name": file,
         "plan": plan_json(&plan),
         "sheet": sheet_json(&sheet),
+        "render": files["render"],
+        "sheet_page": files["sheet_page"],
     }))
     .into_response())
 }

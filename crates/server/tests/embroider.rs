@@ -211,3 +211,17 @@ async fn broken_and_empty_designs_and_files_are_named() {
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
 }
+
+#[tokio::test]
+async fn the_design_is_rendered_as_thread_beside_a_printable_sheet() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = with_sunflower(dir.path()).await;
+    let v = embroidered(&st, json!({"format": "pes"})).await;
+    assert_eq!(v["render"], "sunflower.pes.png", "{v}");
+    assert_eq!(v["sheet_page"], "sunflower.pes.sheet.html", "{v}");
+    let png = std::fs::read(dir.path().join("jobs/sunflower.pes.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let page = std::fs::read_to_string(dir.path().join("jobs/sunflower.pes.sheet.html")).unwrap();
+    assert!(page.contains("@page{size:A4") && page.contains("data:image/png;base64,"));
+    assert!(v["sheet"]["threads"][0]["name"].is_string());
+}

@@ -27,7 +27,7 @@ pub use inkstitch::{
     StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
 };
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
-pub use preview::preview_svg;
+pub use preview::{preview_svg, render, render_png, Render, RenderError, RenderOptions};
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
 pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
 pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};

@@ -13,6 +13,8 @@ use std::fmt::Write;
 pub struct ThreadLine {
     /// Its colour, `#rrggbb`.
     pub hex: String,
+    /// Its name or catalogue code as the file or design gives it; empty when none.
+    pub name: String,
     /// Stitches sewn with it.
     pub stitches: usize,
     /// Along the sewn stitches, m.
@@ -58,6 +60,7 @@ pub fn sheet(
         .zip(&counts.per_block)
         .map(|(b, &(n, len))| ThreadLine {
             hex: b.thread.hex(),
+            name: b.thread.name.clone(),
             stitches: n,
             length_m: len / 1000.0,
         })
@@ -129,11 +132,16 @@ impl Sheet {
         for (i, th) in self.threads.iter().enumerate() {
             let _ = writeln!(
                 t,
-                "  {:>2}. {}  {:>7} stitches  {:>7.2} m",
+                "  {:>2}. {}  {:>7} stitches  {:>7.2} m{}",
                 i + 1,
                 th.hex,
                 th.stitches,
-                th.length_m
+                th.length_m,
+                if th.name.is_empty() {
+                    String::new()
+                } else {
+                    format!("  {}", th.name)
+                }
             );
         }
         let r = &self.run;
@@ -152,7 +160,7 @@ impl Sheet {
             }
         }
         let _ = writeln!(t, "Sewing time      {}", duration(r.sewing_seconds));
-        let _ = writeln!(t, "Jumps (needle stopped) {}", duration(r.jump_seconds));
+        let _ = writeln!(t, "Jumps (needle up)  {}", duration(r.jump_seconds));
         let _ = writeln!(t, "Trims, changes, stops  {}", duration(r.pause_seconds));
         let _ = writeln!(t, "Total per piece  {}", duration(r.total_seconds));
         if self.pieces > 1 {
@@ -165,7 +173,7 @@ impl Sheet {
         }
         let _ = writeln!(
             t,
-            "Table {}: {} stitch(es) the table cannot finish with the needle up",
+            "Table {}:  {} stitch(es) the table cannot finish with the needle up",
             self.table,
             r.faults.len()
         );
@@ -175,40 +183,101 @@ impl Sheet {
         t
     }
 
-    /// The sheet as an HTML page.
+    /// The sheet as an HTML page (the printable A4 page without a render).
     pub fn html(&self) -> String {
+        self.html_page(None)
+    }
+
+    /// The sheet as an HTML page that prints on one A4 sheet: the render of the design
+    /// (a PNG, embedded) beside size, hoop, counts and times, then the colour sequence with
+    /// each thread's swatch, name or code, stitches and length.
+    pub fn html_page(&self, render_png: Option<&[u8]>) -> String {
         let esc = |s: &str| {
             s.replace('&', "&amp;")
                 .replace('<', "&lt;")
                 .replace('>', "&gt;")
+                .replace('"', "&quot;")
         };
-        let mut h = String::from("<!doctype html><meta charset=\"utf-8\"><title>Production sheet</title>\n<style>body{font-family:sans-serif}td{padding:2px 8px}.sw{display:inline-block;width:1em;height:1em;border:1px solid #000}</style>\n");
-        let _ = writeln!(h, "<h1>Production sheet: {}</h1>\n<table>", esc(&self.name));
+        let mut h = String::from(concat!(
+            "<!doctype html><meta charset=\"utf-8\"><title>Production sheet</title>\n<style>",
+            "@page{size:A4;margin:12mm}",
+            "body{font-family:sans-serif;font-size:10pt;max-width:186mm;margin:auto}",
+            "h1{font-size:15pt;margin:0 0 3mm}h2{font-size:11pt;margin:4mm 0 1mm}",
+            "td,th{padding:1px 6px;text-align:left;vertical-align:top}",
+            ".num{text-align:right}",
+            ".sw{display:inline-block;width:1.2em;height:1em;border:1px solid #000;",
+            "vertical-align:middle;-webkit-print-color-adjust:exact;print-color-adjust:exact}",
+            ".render{display:block;max-width:100%;max-height:150mm;margin:0 auto 2mm;",
+            "border:1px solid #bbb}",
+            "table.threads{border-collapse:collapse;width:100%}",
+            "table.threads tr{border-bottom:1px solid #ddd;break-inside:avoid}",
+            "</style>\n"
+        ));
+        let _ = writeln!(h, "<h1>Production sheet: {}</h1>", esc(&self.name));
+        if let Some(png) = render_png {
+            let _ = writeln!(
+                h,
+                "<img class=render alt=\"the design as sewn\" src=\"data:image/png;base64,{}\">",
+                base64(png)
+            );
+        }
+        h += "<table>\n";
         for line in self.text().lines().skip(1) {
-            if line.starts_with("  ") {
+            if line.starts_with("  ") || line.starts_with("Threads:") {
                 continue;
             }
             let (k, v) = line.split_at(line.find("  ").unwrap_or(line.len()));
             let _ = writeln!(
                 h,
-                "<tr><th align=left>{}</th><td>{}</td></tr>",
+                "<tr><th>{}</th><td>{}</td></tr>",
                 esc(k.trim()),
                 esc(v.trim())
             );
         }
-        h += "</table>\n<h2>Threads</h2>\n<table><tr><th>#</th><th>colour</th><th>stitches</th><th>thread (m)</th></tr>\n";
+        h += "</table>\n<h2>Colour sequence</h2>\n<table class=threads><tr><th>#</th><th>colour</th><th>thread</th><th class=num>stitches</th><th class=num>thread (m)</th></tr>\n";
         for (i, th) in self.threads.iter().enumerate() {
             let _ = writeln!(
                 h,
-                "<tr><td>{}</td><td><span class=sw style=\"background:{}\"></span> {}</td><td>{}</td><td>{:.2}</td></tr>",
+                "<tr><td>{}</td><td><span class=sw style=\"background:{}\"></span> {}</td><td>{}</td><td class=num>{}</td><td class=num>{:.2}</td></tr>",
                 i + 1,
                 th.hex,
                 th.hex,
+                if th.name.is_empty() { "—".to_string() } else { esc(&th.name) },
                 th.stitches,
                 th.length_m
             );
         }
         h += "</table>\n";
         h
+    }
+}
+
+/// Standard base64 with padding (for the page's embedded render).
+fn base64(b: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::with_capacity(b.len().div_ceil(3) * 4);
+    for c in b.chunks(3) {
+        let n = (c[0] as u32) << 16
+            | (*c.get(1).unwrap_or(&0) as u32) << 8
+            | *c.get(2).unwrap_or(&0) as u32;
+        for k in 0..4 {
+            if k <= c.len() {
+                s.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn base64_pads_as_the_standard_does() {
+        assert_eq!(super::base64(b"Man"), "TWFu");
+        assert_eq!(super::base64(b"Ma"), "TWE=");
+        assert_eq!(super::base64(b"M"), "TQ==");
+        assert_eq!(super::base64(&[0xff, 0xfe, 0xfd, 0x00]), "//79AA==");
     }
 }

@@ -7,6 +7,7 @@ pub mod motion;
 pub mod offsets;
 pub mod plot;
 pub mod programs;
+pub mod stitch;
 pub mod stream;
 
 use std::time::Instant;
