@@ -6,6 +6,7 @@
 mod format;
 mod generate;
 mod hoop;
+mod lettering;
 mod plan;
 mod preview;
 mod sheet;
@@ -18,6 +19,10 @@ pub use generate::{
     generate, running, GenerateError, Generated, Params, ShapeKind, MAX_STITCHES, TIE,
 };
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
+pub use lettering::{
+    letter, Align, Font, Glyph, GlyphPart, Layout, LetteringError, Placed, Text, DEFAULT_FONT,
+    FONTS,
+};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
