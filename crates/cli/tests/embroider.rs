@@ -300,3 +300,52 @@ fn the_seeds_machine_program_is_written_and_read() {
     assert_eq!(field(&info_out, "Stitches"), field(&stdout, "Stitches"));
     assert_eq!(field(&info_out, "Trims"), "0"); // the seed's machine has no trimmer
 }
+
+#[test]
+fn text_is_lettered_alone_or_on_a_design() {
+    let out = scratch("ana.pes");
+    let o = oficina(&[
+        "embroider",
+        "--text",
+        "Ana|Maria",
+        "--text-size",
+        "12",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains(" satin, "), "{stdout}");
+    // Two lines 12 mm high, `leading` (100 units over a 52.6-unit cap height) apart.
+    let size = field(&stdout, "Design size");
+    let h: f64 = size
+        .split(" x ")
+        .nth(1)
+        .unwrap()
+        .trim_end_matches(" mm")
+        .parse()
+        .unwrap();
+    assert!((h - (12.0 + 12.0 * 100.0 / 52.6)).abs() < 1.5, "{size}");
+    assert!(std::fs::metadata(&out).unwrap().len() > 1000);
+
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let out = scratch("sunflower-named.dst");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--text",
+        "Zoë",
+        "--text-at",
+        "0,-60",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("no glyph for \"ë\""), "{stderr}");
+
+    let o = oficina(&["embroider", "--text", " | ", "-o", out.to_str().unwrap()]);
+    let (_, stderr) = text(&o);
+    assert!(!o.status.success());
+    assert!(stderr.contains("the text is empty"), "{stderr}");
+}

@@ -211,3 +211,20 @@ async fn broken_and_empty_designs_and_files_are_named() {
     .await;
     assert_eq!(s, StatusCode::BAD_REQUEST);
 }
+
+#[tokio::test]
+async fn the_forms_text_is_lettered_on_the_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = with_sunflower(dir.path()).await;
+    let plain = embroidered(&st, json!({})).await;
+    let named = embroidered(
+        &st,
+        json!({"text": "Ana", "text_size": 10, "text_y": -60, "text_align": "center"}),
+    )
+    .await;
+    let (a, _) = plan_stitches(&plain["plan"]);
+    let (b, _) = plan_stitches(&named["plan"]);
+    assert!(b > a + 200, "{a} stitches without the text, {b} with it");
+    let (s, v) = embroider(&st, json!({"text": "Ana", "text_align": "middle"})).await;
+    assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+}
