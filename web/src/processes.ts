@@ -88,6 +88,13 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'machine', label: 'Embroidery table', kind: 'select', value: 'embroidery-table', options: ['embroidery-table', 'embroidery-xy'] },
       { name: 'ppm', label: 'Fixed head speed', unit: 'stitches/min', value: '', min: 1, max: 10000, optional: true },
       { name: 'pieces', label: 'Pieces', value: '1', min: 1, max: 1000000 },
+      // Lettering added to the design (`oficina embroider --text`): '|' starts a line.
+      { name: 'text', label: 'Text', kind: 'text', value: '', optional: true, placeholder: 'Ana|Maria' },
+      { name: 'font', label: 'Font', kind: 'select', value: 'masego', options: ['masego'] },
+      { name: 'text_size', label: 'Text height', unit: 'mm', value: '15', min: 0.5, max: 500 },
+      { name: 'text_align', label: 'Text alignment', kind: 'select', value: 'center', options: ['left', 'center', 'right'] },
+      { name: 'text_x', label: 'Text at X', unit: 'mm', value: '0', min: -1000, max: 1000 },
+      { name: 'text_y', label: 'Text at Y', unit: 'mm', value: '0', min: -1000, max: 1000 },
     ],
   },
 };

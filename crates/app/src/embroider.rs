@@ -4,8 +4,8 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    generate_inkstitch, preview_svg, read_inkstitch, sheet, Format, Generated, HeadSpeed, Hoop,
-    Inkstitch, Params, Pauses, Sheet, StitchPlan, Table,
+    generate, generate_inkstitch, letter, preview_svg, read_inkstitch, sheet, Format, Generated,
+    HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet, StitchPlan, Table, Text,
 };
 use std::path::Path;
 
@@ -210,12 +210,43 @@ pub fn sheet_of(plan: &StitchPlan, p: &EmbroiderParams) -> Result<Sheet, Error> 
 /// The whole pipeline for a design file, or for an embroidery file (read as its stitch plan,
 /// then checked, summed up and converted to `p.format`).
 pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embroidered, Error> {
+    embroider_text(Some(input), None, p, fb)
+}
+
+/// [`embroider`] with lettering: `text` set in an embroidery font is added to the design
+/// (or sewn alone when there is no `input`). Text cannot be added to an embroidery file.
+pub fn embroider_text(
+    input: Option<&Path>,
+    text: Option<&Text>,
+    p: &EmbroiderParams,
+    fb: Feedback,
+) -> Result<Embroidered, Error> {
     p.check()?;
+    let Some(input) = input else {
+        let Some(t) = text else {
+            return Err(Error("give a design or a text to embroider".into()));
+        };
+        fb.stage("lettering")?;
+        let (drawing, notes) = letter(t, &p.stitch).map_err(|e| Error(e.0))?;
+        fb.stage("generating stitches")?;
+        let mut tick = |done: usize, total: usize| {
+            (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
+        };
+        let generated =
+            generate(&drawing, "lettering", &p.stitch, &mut tick).map_err(|e| Error(e.0))?;
+        return finish(generated, "lettering", notes, None, p, fb);
+    };
     let name = input
         .file_stem()
         .map_or("design".into(), |s| s.to_string_lossy().to_string());
     let mut notes = Vec::new();
     let source = stitch_format(input);
+    if let (Some(f), Some(_)) = (source, text) {
+        return Err(Error(format!(
+            "{}: text cannot be added to a {f} stitch file; give an SVG/DXF design or no input",
+            input.display()
+        )));
+    }
     let generated = if let Some(format) = source {
         fb.stage("reading the stitch file")?;
         let (plan, _, moved) = read_stitch(input)?;
@@ -241,8 +272,8 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         fb.stage("reading the design")?;
         // Ink/Stitch's parameters first: its command symbols are cut from the text before
         // the drawing is imported (the importer would make anonymous paths of them).
-        let (ink, text) = inkstitch_of(input)?;
-        let imported = match text.filter(|_| ink.is_inkstitch) {
+        let (ink, svg_text) = inkstitch_of(input)?;
+        let imported = match svg_text.filter(|_| ink.is_inkstitch) {
             Some(t) => {
                 oficina_io::svg_from_bytes(ink.strip(&t).as_bytes(), &input.display().to_string())
             }
@@ -264,13 +295,31 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
             ));
         }
         notes.extend(ink.notes.iter().cloned());
+        let mut drawing = imported.drawing;
+        if let Some(t) = text {
+            fb.stage("lettering")?;
+            let (d, n) = letter(t, &p.stitch).map_err(|e| Error(e.0))?;
+            drawing.layers.extend(d.layers);
+            notes.extend(n);
+        }
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        generate_inkstitch(&imported.drawing, &name, &p.stitch, &ink, &mut tick)
-            .map_err(|e| Error(e.0))?
+        generate_inkstitch(&drawing, &name, &p.stitch, &ink, &mut tick).map_err(|e| Error(e.0))?
     };
+    finish(generated, &name, notes, source, p, fb)
+}
+
+/// The file, the sheet and the preview of generated stitches.
+fn finish(
+    generated: Generated,
+    name: &str,
+    notes: Vec<String>,
+    source: Option<Format>,
+    p: &EmbroiderParams,
+    fb: Feedback,
+) -> Result<Embroidered, Error> {
     fb.stage("writing the file")?;
     let file = p
         .format
@@ -278,7 +327,7 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         .map_err(|e| Error(e.to_string()))?;
     let mut back = p
         .format
-        .read(&file, &name)
+        .read(&file, name)
         .map_err(|e| Error(e.to_string()))?;
     if !p.format.stores_colours() {
         // The file carries no colours: the design's threads, block for block.

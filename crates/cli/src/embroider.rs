@@ -5,11 +5,11 @@
 
 use anyhow::Context;
 use oficina_app::embroider::{
-    embroider, output_format, preview_document, read_stitch_file, sheet_document_with_render,
+    embroider_text, output_format, preview_document, read_stitch_file, sheet_document_with_render,
     sheet_of, EmbroiderParams,
 };
 use oficina_app::Feedback;
-use oficina_stitch::{duration, Format, Params, RunReport, Sheet, StitchPlan};
+use oficina_stitch::{duration, Align, Format, Params, RunReport, Sheet, StitchPlan, Text};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -92,6 +92,46 @@ pub(crate) struct Args {
     /// Pieces for the sheet's batch time.
     #[arg(long, default_value_t = 1)]
     pieces: u32,
+    /// Letter this text in an embroidery font (`|` or a newline starts a line); alone, or
+    /// added to the design.
+    #[arg(long)]
+    text: Option<String>,
+    /// The embroidery font of --text (bundled: masego, Ink/Stitch's OFL satin font).
+    #[arg(long, default_value = oficina_stitch::DEFAULT_FONT)]
+    font: String,
+    /// Cap height of --text, mm.
+    #[arg(long, default_value_t = 15.0)]
+    text_size: f64,
+    /// Alignment of the text's lines: left, center, right.
+    #[arg(long, default_value = "center")]
+    text_align: String,
+    /// Where the text's first baseline is anchored, X,Y mm (y up; the design's coordinates).
+    #[arg(long, value_parser = point_arg, allow_hyphen_values = true)]
+    text_at: Option<(f64, f64)>,
+}
+
+fn point_arg(s: &str) -> Result<(f64, f64), String> {
+    let (x, y) = s.split_once(',').ok_or("use X,Y")?;
+    let f = |v: &str| v.trim().parse::<f64>().map_err(|e| format!("{v}: {e}"));
+    Ok((f(x)?, f(y)?))
+}
+
+fn text_of(a: &Args) -> anyhow::Result<Option<Text>> {
+    let Some(text) = &a.text else {
+        return Ok(None);
+    };
+    let align = Align::from_id(&a.text_align).ok_or_else(|| {
+        anyhow::anyhow!("--text-align {}: use left, center or right", a.text_align)
+    })?;
+    let (x, y) = a.text_at.unwrap_or((0.0, 0.0));
+    Ok(Some(Text {
+        text: text.clone(),
+        font: a.font.clone(),
+        size: a.text_size,
+        align,
+        at: oficina_geom::Point::new(x, y),
+        ..Text::default()
+    }))
 }
 
 fn format_arg(s: &str) -> Result<Format, String> {
@@ -191,11 +231,14 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let Some(input) = &a.input else {
+    let text = text_of(&a)?;
+    if a.input.is_none() && text.is_none() {
         anyhow::bail!(
-            "give a design (SVG/DXF) or an embroidery file to embroider, or --info FILE.dst"
+            "give a design (SVG/DXF) or an embroidery file to embroider, a --text, or --info FILE.dst"
         );
-    };
+    }
+    let input = a.input.as_deref();
+    let shown = input.map_or("lettering".into(), |i| i.display().to_string());
     // One line per stage, its percentage updated in place.
     let last = std::sync::Mutex::new(String::new());
     let progress = |stage: &str, f: f64| {
@@ -208,8 +251,9 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
         let _ = write!(e, "\r{stage} {:>3.0}%", f * 100.0);
     };
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let r = embroider(
+    let r = embroider_text(
         input,
+        text.as_ref(),
         &p,
         Feedback {
             progress: &progress,
@@ -222,7 +266,7 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     }
     let g = &r.generated;
     match r.source {
-        Some(f) => println!("read {} ({f})", input.display()),
+        Some(f) => println!("read {shown} ({f})"),
         None => println!(
             "shapes: {} fill, {} satin, {} running",
             g.fills, g.satins, g.runnings

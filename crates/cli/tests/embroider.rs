@@ -337,4 +337,50 @@ fn a_png_preview_draws_thread_and_the_html_sheet_embeds_it() {
         assert!(o.status.success(), "{:?}", text(&o));
         assert_eq!(&std::fs::read(&p2).unwrap()[1..4], b"PNG");
     }
+fn text_is_lettered_alone_or_on_a_design() {
+    let out = scratch("ana.pes");
+    let o = oficina(&[
+        "embroider",
+        "--text",
+        "Ana|Maria",
+        "--text-size",
+        "12",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains(" satin, "), "{stdout}");
+    // Two lines 12 mm high, `leading` (100 units over a 52.6-unit cap height) apart.
+    let size = field(&stdout, "Design size");
+    let h: f64 = size
+        .split(" x ")
+        .nth(1)
+        .unwrap()
+        .trim_end_matches(" mm")
+        .parse()
+        .unwrap();
+    assert!((h - (12.0 + 12.0 * 100.0 / 52.6)).abs() < 1.5, "{size}");
+    assert!(std::fs::metadata(&out).unwrap().len() > 1000);
+
+    let sample = root().join("samples/embroidery/sunflower.svg");
+    let out = scratch("sunflower-named.dst");
+    let o = oficina(&[
+        "embroider",
+        sample.to_str().unwrap(),
+        "--text",
+        "Zoë",
+        "--text-at",
+        "0,-60",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("no glyph for \"ë\""), "{stderr}");
+
+    let o = oficina(&["embroider", "--text", " | ", "-o", out.to_str().unwrap()]);
+    let (_, stderr) = text(&o);
+    assert!(!o.status.success());
+    assert!(stderr.contains("the text is empty"), "{stderr}");
 }

@@ -11,10 +11,10 @@ use axum::extract::State;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use oficina_app::embroider::{
-    embroider, read_stitch_file, sheet_document_with_render, sheet_of, EmbroiderParams,
+    embroider_text, read_stitch_file, sheet_document_with_render, sheet_of, EmbroiderParams,
 };
 use oficina_app::Error;
-use oficina_stitch::{Format, Kind, Params, Sheet, StitchPlan};
+use oficina_stitch::{Align, Format, Kind, Params, Sheet, StitchPlan, Text, DEFAULT_FONT};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -43,6 +43,17 @@ pub(crate) struct EmbroiderForm {
     machine: String,
     ppm: Option<f64>,
     pieces: u32,
+    /// Lettering added to the design (`|` starts a line); empty = none.
+    text: String,
+    /// Its bundled font.
+    font: String,
+    /// Its cap height, mm.
+    text_size: f64,
+    /// left, center or right.
+    text_align: String,
+    /// Where its first baseline is anchored, mm (y up), design coordinates.
+    text_x: f64,
+    text_y: f64,
 }
 
 impl Default for EmbroiderForm {
@@ -66,11 +77,38 @@ impl Default for EmbroiderForm {
             machine: e.table,
             ppm: None,
             pieces: e.pieces,
+            text: String::new(),
+            font: DEFAULT_FONT.into(),
+            text_size: Text::default().size,
+            text_align: "center".into(),
+            text_x: 0.0,
+            text_y: 0.0,
         }
     }
 }
 
 impl EmbroiderForm {
+    /// The lettering of the form, if it has a text.
+    fn text(&self) -> Result<Option<Text>, CamError> {
+        if self.text.trim().is_empty() {
+            return Ok(None);
+        }
+        let align = Align::from_id(&self.text_align).ok_or_else(|| {
+            bad(format!(
+                "--text-align {}: use left, center or right",
+                self.text_align
+            ))
+        })?;
+        Ok(Some(Text {
+            text: self.text.clone(),
+            font: self.font.clone(),
+            size: self.text_size,
+            align,
+            at: oficina_geom::Point::new(self.text_x, self.text_y),
+            ..Text::default()
+        }))
+    }
+
     fn params(self) -> Result<EmbroiderParams, CamError> {
         let format = Format::from_id(&self.format).ok_or_else(|| {
             let ids: Vec<&str> = Format::EVERY.iter().map(|f| f.id()).collect();
@@ -227,11 +265,15 @@ pub(crate) async fn embroider_job(
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {
     let path = input(&st, &req.file)?;
+    let text = req.params.text()?;
     let params = req.params.params()?;
     let file = req.file.clone().unwrap_or_default();
     let name = output_name(&file, params.format.extension())?;
     let p = params.clone();
-    let r = compute(&st, move |fb| embroider(&path, &p, fb)).await?;
+    let r = compute(&st, move |fb| {
+        embroider_text(Some(&path), text.as_ref(), &p, fb)
+    })
+    .await?;
     if let Err(e) = &r.sheet.hoop {
         // As the CLI: nothing written for a design that leaves its hoop.
         return Err(bad(format!(

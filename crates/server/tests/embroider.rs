@@ -224,4 +224,18 @@ async fn the_design_is_rendered_as_thread_beside_a_printable_sheet() {
     let page = std::fs::read_to_string(dir.path().join("jobs/sunflower.pes.sheet.html")).unwrap();
     assert!(page.contains("@page{size:A4") && page.contains("data:image/png;base64,"));
     assert!(v["sheet"]["threads"][0]["name"].is_string());
+async fn the_forms_text_is_lettered_on_the_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = with_sunflower(dir.path()).await;
+    let plain = embroidered(&st, json!({})).await;
+    let named = embroidered(
+        &st,
+        json!({"text": "Ana", "text_size": 10, "text_y": -60, "text_align": "center"}),
+    )
+    .await;
+    let (a, _) = plan_stitches(&plain["plan"]);
+    let (b, _) = plan_stitches(&named["plan"]);
+    assert!(b > a + 200, "{a} stitches without the text, {b} with it");
+    let (s, v) = embroider(&st, json!({"text": "Ana", "text_align": "middle"})).await;
+    assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
 }

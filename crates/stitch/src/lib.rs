@@ -9,6 +9,7 @@ mod format;
 mod generate;
 mod hoop;
 mod inkstitch;
+mod lettering;
 mod plan;
 mod preview;
 mod sheet;
@@ -25,6 +26,10 @@ pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use inkstitch::{
     read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, ReverseRails,
     StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
+};
+pub use lettering::{
+    letter, Align, Font, Glyph, GlyphPart, Layout, LetteringError, Placed, Text, DEFAULT_FONT,
+    FONTS,
 };
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::{preview_svg, render, render_png, Render, RenderError, RenderOptions};
