@@ -13,7 +13,7 @@ mod speed;
 mod table;
 
 pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
-pub use format::{Format, FormatError, Op, Rec};
+pub use format::{read_bor, write_bor, Format, FormatError, Op, Rec};
 pub use generate::{
     generate, running, GenerateError, Generated, Params, ShapeKind, MAX_STITCHES, TIE,
 };
