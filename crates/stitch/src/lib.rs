@@ -3,6 +3,7 @@
 //! sewn on the needle-synchronised table, and written and read as the machines' files (Tajima
 //! DST, Melco EXP, Brother PES/PEC, Janome JEF, Pfaff VP3, Singer XXX, Barudan U01).
 
+mod alter;
 mod format;
 mod generate;
 mod hoop;
@@ -12,6 +13,7 @@ mod sheet;
 mod speed;
 mod table;
 
+pub use alter::{alter, link, Alteration, MirrorAxis};
 pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
 pub use format::{read_bor, write_bor, Format, FormatError, Op, Rec};
 pub use generate::{
