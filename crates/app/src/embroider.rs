@@ -4,8 +4,8 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    generate, preview_svg, sheet, Format, Generated, HeadSpeed, Hoop, Params, Pauses, Sheet,
-    StitchPlan, Table,
+    alter, generate, link, preview_svg, read_bor, sheet, Alteration, Format, Generated, HeadSpeed,
+    Hoop, Params, Pauses, Sheet, StitchPlan, Table,
 };
 use std::path::Path;
 
@@ -28,6 +28,13 @@ pub struct EmbroiderParams {
     pub ppm: Option<f64>,
     /// Pieces for the sheet's batch time.
     pub pieces: u32,
+    /// Shift of the Zero-Peça, rotation, mirror, scale (the seed's ALTER, completed). A
+    /// design is scaled, rotated and mirrored before stitching (stitch lengths kept); a stitch
+    /// file's points are moved as they are.
+    pub alteration: Alteration,
+    /// Stitch files linked after the input, as the seed's LINKA does (the input must be a
+    /// stitch file too).
+    pub link: Vec<std::path::PathBuf>,
 }
 
 impl Default for EmbroiderParams {
@@ -39,6 +46,8 @@ impl Default for EmbroiderParams {
             table: "embroidery-table".into(),
             ppm: None,
             pieces: 1,
+            alteration: Alteration::default(),
+            link: Vec::new(),
         }
     }
 }
@@ -156,6 +165,7 @@ impl EmbroiderParams {
     /// Refuse a head speed or stitch parameter out of range before the job starts; the
     /// message starts with the flag of the field it names, so a form can show it there.
     pub fn check(&self) -> Result<(), Error> {
+        self.alteration.check().map_err(Error)?;
         if let Some(ppm) = self.ppm {
             if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
                 return Err(Error(format!("--ppm {ppm}: use 1..10000 stitches/min")));
@@ -216,9 +226,25 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         .map_or("design".into(), |s| s.to_string_lossy().to_string());
     let mut notes = Vec::new();
     let source = stitch_format(input);
+    if !p.link.is_empty() && source.is_none() {
+        return Err(Error(format!(
+            "{}: --link joins stitch files (.bor .dst …); stitch the design first",
+            input.display()
+        )));
+    }
     let generated = if let Some(format) = source {
         fb.stage("reading the stitch file")?;
-        let (plan, _, moved) = read_stitch(input)?;
+        let (mut plan, _, moved) = read_stitch(input)?;
+        if !p.link.is_empty() {
+            let mut programs = vec![(plan, zero_peca(input, format)?)];
+            for f in &p.link {
+                let (q, qf, _) = read_stitch(f)?;
+                programs.push((q, zero_peca(f, qf)?));
+            }
+            plan = link(&programs);
+            plan.name = name.clone();
+        }
+        let plan = alter(&plan, &p.alteration);
         if plan.is_empty() {
             return Err(Error(format!(
                 "{}: the file holds no stitches",
@@ -239,7 +265,7 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         }
     } else {
         fb.stage("reading the design")?;
-        let imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
+        let mut imported = oficina_io::load_drawing(input).map_err(|e| Error(e.to_string()))?;
         if !imported.unsupported.is_empty() {
             notes.push(format!(
                 "{}: {} element(s) not sewn (text, images: convert them to paths)",
@@ -247,11 +273,27 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
                 imported.unsupported.total()
             ));
         }
+        if !p.alteration.is_identity() {
+            // Scale, rotate and mirror the design itself: the stitches keep their lengths.
+            let [a, b, c, d] = p.alteration.linear();
+            let m = oficina_geom::kurbo::Affine::new([a, b, c, d, 0.0, 0.0]);
+            for layer in &mut imported.drawing.layers {
+                for path in &mut layer.paths {
+                    *path = path.transform(m);
+                }
+            }
+        }
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?
+        let mut g =
+            generate(&imported.drawing, &name, &p.stitch, &mut tick).map_err(|e| Error(e.0))?;
+        let [dx, dy] = p.alteration.shift;
+        if dx != 0.0 || dy != 0.0 {
+            g.plan = g.plan.translated(dx, dy);
+        }
+        g
     };
     fb.stage("writing the file")?;
     let file = p
@@ -279,6 +321,16 @@ pub fn embroider(input: &Path, p: &EmbroiderParams, fb: Feedback) -> Result<Embr
         notes,
         source,
     })
+}
+
+/// A program's Zero-Peça from Zero-Máquina, mm: a `.bor` file's header, else the origin.
+fn zero_peca(path: &Path, format: Format) -> Result<[f64; 2], Error> {
+    if format != Format::Bor {
+        return Ok([0.0, 0.0]);
+    }
+    let bytes = std::fs::read(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    let (_, h) = read_bor(&bytes).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    Ok(h.start)
 }
 
 /// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.

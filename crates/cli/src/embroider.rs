@@ -8,7 +8,9 @@ use oficina_app::embroider::{
     embroider, output_format, read_stitch_file, sheet_document, sheet_of, EmbroiderParams,
 };
 use oficina_app::Feedback;
-use oficina_stitch::{duration, preview_svg, Format, Params, RunReport, Sheet};
+use oficina_stitch::{
+    duration, preview_svg, Alteration, Format, MirrorAxis, Params, RunReport, Sheet,
+};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -17,10 +19,11 @@ use std::process::ExitCode;
 pub(crate) struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
     /// strokes → running stitch), or an embroidery file (.dst .exp .pes .pec .jef .vp3 .xxx
-    /// .u01 .ram) to check and convert.
+    /// .u01 .ram .bor) to check and convert; .pub: the seed's CADTEC public file (style 3
+    /// running, others satin).
     input: Option<PathBuf>,
     /// Where to write the embroidery file; its extension names the format (.dst .exp .pes
-    /// .pec .jef .vp3 .xxx .u01, or .ram: the seed's program).
+    /// .pec .jef .vp3 .xxx .u01, or .ram / .bor: the seed's program, binary / ASCII).
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// File format: dst exp pes pes-v1 pec jef vp3 xxx u01 seed-ram (default: the output's
@@ -87,6 +90,34 @@ pub(crate) struct Args {
     /// Pieces for the sheet's batch time.
     #[arg(long, default_value_t = 1)]
     pieces: u32,
+    /// Shift the Zero-Peça by X,Y mm (the seed's ALTER), e.g. --shift 30,-30.
+    #[arg(long, value_parser = shift_arg, allow_hyphen_values = true)]
+    shift: Option<[f64; 2]>,
+    /// Rotate by this many degrees, counter-clockwise (a design before stitching).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    rotate: f64,
+    /// Mirror about the x axis (y → −y) or the y axis (x → −x).
+    #[arg(long, value_parser = ["x", "y"])]
+    mirror: Option<String>,
+    /// Scale by this factor (a design is scaled before stitching: stitch lengths are kept).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Stitch files to join after the input, as the seed's LINKA: one point from each
+    /// program's last stitch to the next one's start (a .bor's Zero-Peça). Repeatable.
+    #[arg(long)]
+    link: Vec<PathBuf>,
+}
+
+fn shift_arg(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| "give X,Y in mm, e.g. 30,-30".to_string())?;
+    match v.as_slice() {
+        [x, y] => Ok([*x, *y]),
+        _ => Err("give X,Y in mm, e.g. 30,-30".into()),
+    }
 }
 
 fn format_arg(s: &str) -> Result<Format, String> {
@@ -117,6 +148,17 @@ fn params(a: &Args, format: Format) -> EmbroiderParams {
         table: a.machine.clone(),
         ppm: a.ppm,
         pieces: a.pieces,
+        alteration: Alteration {
+            shift: a.shift.unwrap_or([0.0, 0.0]),
+            rotate_deg: a.rotate,
+            mirror: match a.mirror.as_deref() {
+                Some("x") => Some(MirrorAxis::X),
+                Some("y") => Some(MirrorAxis::Y),
+                _ => None,
+            },
+            scale: a.scale,
+        },
+        link: a.link.clone(),
     }
 }
 
