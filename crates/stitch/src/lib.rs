@@ -9,6 +9,7 @@ mod generate;
 mod hoop;
 mod plan;
 mod preview;
+mod seedlink;
 mod sheet;
 mod speed;
 mod table;
@@ -22,6 +23,9 @@ pub use generate::{
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::preview_svg;
+pub use seedlink::{
+    open_seed_port, send, transmission, Received, SeedMachine, Stored, SEED_BAUD, SEED_RAM_BYTES,
+};
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
 pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
 pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};
