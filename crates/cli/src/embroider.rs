@@ -9,7 +9,8 @@ use oficina_app::embroider::{
 };
 use oficina_app::Feedback;
 use oficina_stitch::{
-    duration, preview_svg, Alteration, Format, MirrorAxis, Params, RunReport, Sheet,
+    duration, open_seed_port, preview_svg, send, Alteration, Format, MirrorAxis, Params, RunReport,
+    SeedHeader, Sheet,
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -106,6 +107,14 @@ pub(crate) struct Args {
     /// program's last stitch to the next one's start (a .bor's Zero-Peça). Repeatable.
     #[arg(long)]
     link: Vec<PathBuf>,
+    /// Send the program one way to the seed machine on this serial port (9600 baud, 7 data
+    /// bits, even parity, 2 stop bits: the .BOR text), e.g. the pty `oficina emulate seed
+    /// --pty` prints.
+    #[arg(long, value_name = "PORT")]
+    send: Option<String>,
+    /// The program number the machine stores it under (with --send).
+    #[arg(long, default_value_t = 1, requires = "send")]
+    program: u16,
 }
 
 fn shift_arg(s: &str) -> Result<[f64; 2], String> {
@@ -279,8 +288,22 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
                 r.file.len()
             );
         }
-        None if !a.run => eprintln!("note: no -o given, no file written"),
+        None if !a.run && a.send.is_none() => eprintln!("note: no -o given, no file written"),
         None => {}
+    }
+    if let Some(port) = &a.send {
+        let plan = p.format.read(&r.file, "program")?;
+        let header = SeedHeader {
+            program: a.program,
+            start: [0.0, 0.0],
+            hoop: r.sheet.hoop.as_ref().ok().copied(),
+        };
+        let mut sp = open_seed_port(port)?;
+        let n = send(&mut *sp, &plan, &header).map_err(anyhow::Error::msg)?;
+        println!(
+            "sent program {} to {port} ({n} bytes, 9600 baud 7E2)",
+            a.program
+        );
     }
     if let Some(path) = &a.sheet {
         write_sheet(path, &r.sheet)?;
