@@ -106,14 +106,18 @@ pub(crate) fn write(plan: &StitchPlan, h: &SeedHeader) -> Result<Vec<u8>, Format
             Kind::Stitch => {
                 // The speed of the section this stitch opens: its longest stitch's code.
                 if i == 0 || entries[i - 1].1.kind != Kind::Stitch || entries[i - 1].0 != b {
+                    // Measured on the step grid, as the program holds the stitches, so a
+                    // program read back and written again is the same text.
                     let mut longest: f64 = 0.0;
-                    let mut prev = (cur.0 as f64 * STEP, cur.1 as f64 * STEP);
+                    let mut prev = cur;
                     for (bb, e) in &entries[i..] {
                         if e.kind != Kind::Stitch || *bb != b {
                             break;
                         }
-                        longest = longest.max((e.x - prev.0).hypot(e.y - prev.1));
-                        prev = (e.x, e.y);
+                        let q = (steps(e.x)?, steps(e.y)?);
+                        let d = ((q.0 - prev.0) as f64).hypot((q.1 - prev.1) as f64) * STEP;
+                        longest = longest.max(d);
+                        prev = q;
                     }
                     let code = speed_code(longest.min(12.4)).map_or(4, |c| c.code);
                     if speed != Some(code) {
