@@ -4,8 +4,9 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    generate, generate_inkstitch, letter, preview_svg, read_inkstitch, sheet, Format, Generated,
-    HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet, StitchPlan, Table, Text,
+    alter, generate, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch,
+    sheet, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
+    StitchPlan, Table, Text,
 };
 use std::path::Path;
 
@@ -28,6 +29,13 @@ pub struct EmbroiderParams {
     pub ppm: Option<f64>,
     /// Pieces for the sheet's batch time.
     pub pieces: u32,
+    /// Shift of the Zero-Peça, rotation, mirror, scale (the seed's ALTER, completed). A
+    /// design is scaled, rotated and mirrored before stitching (stitch lengths kept); a stitch
+    /// file's points are moved as they are.
+    pub alteration: Alteration,
+    /// Stitch files linked after the input, as the seed's LINKA does (the input must be a
+    /// stitch file too).
+    pub link: Vec<std::path::PathBuf>,
 }
 
 impl Default for EmbroiderParams {
@@ -39,6 +47,8 @@ impl Default for EmbroiderParams {
             table: "embroidery-table".into(),
             ppm: None,
             pieces: 1,
+            alteration: Alteration::default(),
+            link: Vec::new(),
         }
     }
 }
@@ -156,6 +166,7 @@ impl EmbroiderParams {
     /// Refuse a head speed or stitch parameter out of range before the job starts; the
     /// message starts with the flag of the field it names, so a form can show it there.
     pub fn check(&self) -> Result<(), Error> {
+        self.alteration.check().map_err(Error)?;
         if let Some(ppm) = self.ppm {
             if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
                 return Err(Error(format!("--ppm {ppm}: use 1..10000 stitches/min")));
@@ -247,9 +258,25 @@ pub fn embroider_text(
             input.display()
         )));
     }
+    if !p.link.is_empty() && source.is_none() {
+        return Err(Error(format!(
+            "{}: --link joins stitch files (.bor .dst …); stitch the design first",
+            input.display()
+        )));
+    }
     let generated = if let Some(format) = source {
         fb.stage("reading the stitch file")?;
-        let (plan, _, moved) = read_stitch(input)?;
+        let (mut plan, _, moved) = read_stitch(input)?;
+        if !p.link.is_empty() {
+            let mut programs = vec![(plan, zero_peca(input, format)?)];
+            for f in &p.link {
+                let (q, qf, _) = read_stitch(f)?;
+                programs.push((q, zero_peca(f, qf)?));
+            }
+            plan = link(&programs);
+            plan.name = name.clone();
+        }
+        let plan = alter(&plan, &p.alteration);
         if plan.is_empty() {
             return Err(Error(format!(
                 "{}: the file holds no stitches",
@@ -302,11 +329,27 @@ pub fn embroider_text(
             drawing.layers.extend(d.layers);
             notes.extend(n);
         }
+        if !p.alteration.is_identity() {
+            // Scale, rotate and mirror the design itself: the stitches keep their lengths.
+            let [a, b, c, d] = p.alteration.linear();
+            let m = oficina_geom::kurbo::Affine::new([a, b, c, d, 0.0, 0.0]);
+            for layer in &mut drawing.layers {
+                for path in &mut layer.paths {
+                    *path = path.transform(m);
+                }
+            }
+        }
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        generate_inkstitch(&drawing, &name, &p.stitch, &ink, &mut tick).map_err(|e| Error(e.0))?
+        let mut g = generate_inkstitch(&drawing, &name, &p.stitch, &ink, &mut tick)
+            .map_err(|e| Error(e.0))?;
+        let [dx, dy] = p.alteration.shift;
+        if dx != 0.0 || dy != 0.0 {
+            g.plan = g.plan.translated(dx, dy);
+        }
+        g
     };
     finish(generated, &name, notes, source, p, fb)
 }
@@ -362,6 +405,16 @@ pub fn inkstitch_of(input: &Path) -> Result<(Inkstitch, Option<String>), Error> 
         std::fs::read_to_string(input).map_err(|e| Error(format!("{}: {e}", input.display())))?;
     let ink = read_inkstitch(&text, &input.display().to_string()).map_err(|e| Error(e.0))?;
     Ok((ink, Some(text)))
+}
+
+/// A program's Zero-Peça from Zero-Máquina, mm: a `.bor` file's header, else the origin.
+fn zero_peca(path: &Path, format: Format) -> Result<[f64; 2], Error> {
+    if format != Format::Bor {
+        return Ok([0.0, 0.0]);
+    }
+    let bytes = std::fs::read(path).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    let (_, h) = read_bor(&bytes).map_err(|e| Error(format!("{}: {e}", path.display())))?;
+    Ok(h.start)
 }
 
 /// The production sheet as the file `path` wants it: HTML for `.html`/`.htm`, else text.

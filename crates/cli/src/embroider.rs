@@ -9,7 +9,10 @@ use oficina_app::embroider::{
     sheet_of, EmbroiderParams,
 };
 use oficina_app::Feedback;
-use oficina_stitch::{duration, Align, Format, Params, RunReport, Sheet, StitchPlan, Text};
+use oficina_stitch::{
+    duration, open_seed_port, send, Align, Alteration, Format, MirrorAxis, Params, RunReport,
+    SeedHeader, Sheet, StitchPlan, Text,
+};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -18,10 +21,11 @@ use std::process::ExitCode;
 pub(crate) struct Args {
     /// The design: .svg or .dxf (fills → tatami, strokes ≥ --satin-min-width → satin, thinner
     /// strokes → running stitch), or an embroidery file (.dst .exp .pes .pec .jef .vp3 .xxx
-    /// .u01 .ram) to check and convert.
+    /// .u01 .ram .bor) to check and convert; .pub: the seed's CADTEC public file (style 3
+    /// running, others satin).
     input: Option<PathBuf>,
     /// Where to write the embroidery file; its extension names the format (.dst .exp .pes
-    /// .pec .jef .vp3 .xxx .u01, or .ram: the seed's program).
+    /// .pec .jef .vp3 .xxx .u01, or .ram / .bor: the seed's program, binary / ASCII).
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// File format: dst exp pes pes-v1 pec jef vp3 xxx u01 seed-ram (default: the output's
@@ -108,6 +112,30 @@ pub(crate) struct Args {
     /// Where the text's first baseline is anchored, X,Y mm (y up; the design's coordinates).
     #[arg(long, value_parser = point_arg, allow_hyphen_values = true)]
     text_at: Option<(f64, f64)>,
+    /// Shift the Zero-Peça by X,Y mm (the seed's ALTER), e.g. --shift 30,-30.
+    #[arg(long, value_parser = shift_arg, allow_hyphen_values = true)]
+    shift: Option<[f64; 2]>,
+    /// Rotate by this many degrees, counter-clockwise (a design before stitching).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    rotate: f64,
+    /// Mirror about the x axis (y → −y) or the y axis (x → −x).
+    #[arg(long, value_parser = ["x", "y"])]
+    mirror: Option<String>,
+    /// Scale by this factor (a design is scaled before stitching: stitch lengths are kept).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f64,
+    /// Stitch files to join after the input, as the seed's LINKA: one point from each
+    /// program's last stitch to the next one's start (a .bor's Zero-Peça). Repeatable.
+    #[arg(long)]
+    link: Vec<PathBuf>,
+    /// Send the program one way to the seed machine on this serial port (9600 baud, 7 data
+    /// bits, even parity, 2 stop bits: the .BOR text), e.g. the pty `oficina emulate seed
+    /// --pty` prints.
+    #[arg(long, value_name = "PORT")]
+    send: Option<String>,
+    /// The program number the machine stores it under (with --send).
+    #[arg(long, default_value_t = 1, requires = "send")]
+    program: u16,
 }
 
 fn point_arg(s: &str) -> Result<(f64, f64), String> {
@@ -132,6 +160,18 @@ fn text_of(a: &Args) -> anyhow::Result<Option<Text>> {
         at: oficina_geom::Point::new(x, y),
         ..Text::default()
     }))
+}
+
+fn shift_arg(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| "give X,Y in mm, e.g. 30,-30".to_string())?;
+    match v.as_slice() {
+        [x, y] => Ok([*x, *y]),
+        _ => Err("give X,Y in mm, e.g. 30,-30".into()),
+    }
 }
 
 fn format_arg(s: &str) -> Result<Format, String> {
@@ -162,6 +202,17 @@ fn params(a: &Args, format: Format) -> EmbroiderParams {
         table: a.machine.clone(),
         ppm: a.ppm,
         pieces: a.pieces,
+        alteration: Alteration {
+            shift: a.shift.unwrap_or([0.0, 0.0]),
+            rotate_deg: a.rotate,
+            mirror: match a.mirror.as_deref() {
+                Some("x") => Some(MirrorAxis::X),
+                Some("y") => Some(MirrorAxis::Y),
+                _ => None,
+            },
+            scale: a.scale,
+        },
+        link: a.link.clone(),
     }
 }
 
@@ -286,8 +337,22 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
                 r.file.len()
             );
         }
-        None if !a.run => eprintln!("note: no -o given, no file written"),
+        None if !a.run && a.send.is_none() => eprintln!("note: no -o given, no file written"),
         None => {}
+    }
+    if let Some(port) = &a.send {
+        let plan = p.format.read(&r.file, "program")?;
+        let header = SeedHeader {
+            program: a.program,
+            start: [0.0, 0.0],
+            hoop: r.sheet.hoop.as_ref().ok().copied(),
+        };
+        let mut sp = open_seed_port(port)?;
+        let n = send(&mut *sp, &plan, &header).map_err(anyhow::Error::msg)?;
+        println!(
+            "sent program {} to {port} ({n} bytes, 9600 baud 7E2)",
+            a.program
+        );
     }
     if let Some(path) = &a.sheet {
         write_sheet(path, &r.sheet, &r.generated.plan)?;

@@ -11,6 +11,8 @@ use std::time::Duration;
 pub(crate) enum Firmware {
     /// grbl 1.1h on an ATmega328P: 128-byte RX buffer, 15 planner blocks.
     Grbl,
+    /// The seed 000 embroidery machine: receives .BOR programs (9600 7E2), stores, sews them.
+    Seed,
 }
 
 #[derive(clap::Args, Debug)]
@@ -72,7 +74,9 @@ fn parse_setting(s: &str) -> anyhow::Result<(u16, f64)> {
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let Firmware::Grbl = args.firmware;
+    if let Firmware::Seed = args.firmware {
+        return crate::emulate_seed::run(args.pty);
+    }
     if !args.pty && args.tcp.is_none() {
         bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");
     }

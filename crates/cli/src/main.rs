@@ -15,6 +15,7 @@ mod console_probe;
 mod embroider;
 mod emulate;
 mod emulate_probe;
+mod emulate_seed;
 mod fit;
 mod gcode_canon;
 mod gcode_input;

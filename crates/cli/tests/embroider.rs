@@ -337,6 +337,9 @@ fn a_png_preview_draws_thread_and_the_html_sheet_embeds_it() {
         assert!(o.status.success(), "{:?}", text(&o));
         assert_eq!(&std::fs::read(&p2).unwrap()[1..4], b"PNG");
     }
+}
+
+#[test]
 fn text_is_lettered_alone_or_on_a_design() {
     let out = scratch("ana.pes");
     let o = oficina(&[

@@ -229,11 +229,12 @@ fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
                 ..Imported::default()
             })
         }
+        "pub" => crate::pubfile::pub_from_str(utf8(&bytes, &name)?, &name),
         "dat" | "g01" => crate::seed001::parse_seed001(utf8(&bytes, &name)?, &name)?.to_imported(&name),
         other => Err(ImportError::new(
             &name,
             "file",
-            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .csv/.txt (points), .dat (seed 001) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
+            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .csv/.txt (points), .dat (seed 001), .pub (CADTEC, seed 000) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
         )),
     }
 }

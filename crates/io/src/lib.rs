@@ -29,6 +29,7 @@ mod hpgl;
 mod image_in;
 mod import;
 mod points;
+mod pubfile;
 mod raw;
 mod seed001;
 mod svg;
@@ -47,6 +48,7 @@ pub use import::{
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
+pub use pubfile::{pub_from_str, PUB_COLOURS, PUB_MAX_LEVEL, PUB_SATIN_WIDTH};
 pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
 pub use seed001::{parse_seed001, SeedEntity, SeedFile};
 pub use svg::{read_svg, svg_from_bytes, SvgOptions};

@@ -135,6 +135,7 @@ impl EmbroiderForm {
             table: self.machine,
             ppm: self.ppm,
             pieces: self.pieces,
+            ..EmbroiderParams::default()
         };
         // The ranges, checked before the job starts (the message names the field's flag).
         params.check()?;

@@ -224,6 +224,9 @@ async fn the_design_is_rendered_as_thread_beside_a_printable_sheet() {
     let page = std::fs::read_to_string(dir.path().join("jobs/sunflower.pes.sheet.html")).unwrap();
     assert!(page.contains("@page{size:A4") && page.contains("data:image/png;base64,"));
     assert!(v["sheet"]["threads"][0]["name"].is_string());
+}
+
+#[tokio::test]
 async fn the_forms_text_is_lettered_on_the_design() {
     let dir = tempfile::tempdir().unwrap();
     let st = with_sunflower(dir.path()).await;

@@ -5,6 +5,7 @@
 //! Designs made in Ink/Stitch keep their authors' parameters (`inkstitch:` attributes, read by
 //! [`read_inkstitch`], sewn by [`generate_inkstitch`]).
 
+mod alter;
 mod format;
 mod generate;
 mod hoop;
@@ -12,12 +13,14 @@ mod inkstitch;
 mod lettering;
 mod plan;
 mod preview;
+mod seedlink;
 mod sheet;
 mod speed;
 mod table;
 
+pub use alter::{alter, link, Alteration, MirrorAxis};
 pub use format::seed_ram::{SeedHeader, STEP as SEED_STEP};
-pub use format::{Format, FormatError, Op, Rec};
+pub use format::{read_bor, write_bor, Format, FormatError, Op, Rec};
 pub use generate::{
     generate, generate_inkstitch, running, GenerateError, Generated, Params, ShapeKind,
     MAX_STITCHES, TIE,
@@ -33,6 +36,9 @@ pub use lettering::{
 };
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::{preview_svg, render, render_png, Render, RenderError, RenderOptions};
+pub use seedlink::{
+    open_seed_port, send, transmission, Received, SeedMachine, Stored, SEED_BAUD, SEED_RAM_BYTES,
+};
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
 pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
 pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};

@@ -4,6 +4,7 @@
 //! kind (a sewn stitch into shorter stitches, a jump into jumps). Each format is one file;
 //! pyembroidery (MIT) is the reference reader the tests compare with.
 
+mod bor;
 mod bytes;
 mod dst;
 mod exp;
@@ -47,6 +48,18 @@ pub enum Format {
     /// The seed's machine program (§5.3): 0.2 mm steps, short and long points, colour stops,
     /// head-speed codes. Extension `.ram`.
     SeedRam,
+    /// The seed's ASCII program `.BOR` (§5.2): the same records as decimal text lines.
+    Bor,
+}
+
+/// The seed's `.BOR` program text of `plan` with `header` (program number, Zero-Peça, hoop).
+pub fn write_bor(plan: &StitchPlan, header: &seed_ram::SeedHeader) -> Result<Vec<u8>, FormatError> {
+    bor::write(plan, header)
+}
+
+/// A `.BOR` program's plan (positions from its Zero-Peça) and header.
+pub fn read_bor(bytes: &[u8]) -> Result<(StitchPlan, seed_ram::SeedHeader), FormatError> {
+    bor::read(bytes)
 }
 
 impl Format {
@@ -63,7 +76,7 @@ impl Format {
         Format::U01,
     ];
     /// Every format Oficina writes and reads.
-    pub const EVERY: [Format; 10] = [
+    pub const EVERY: [Format; 11] = [
         Format::Dst,
         Format::Exp,
         Format::Pes,
@@ -74,6 +87,7 @@ impl Format {
         Format::Xxx,
         Format::U01,
         Format::SeedRam,
+        Format::Bor,
     ];
 
     /// The format's name for messages ("DST").
@@ -89,6 +103,7 @@ impl Format {
             Format::Xxx => "XXX",
             Format::U01 => "U01",
             Format::SeedRam => "seed RAM program",
+            Format::Bor => "seed BOR program",
         }
     }
 
@@ -121,6 +136,7 @@ impl Format {
             Format::Xxx => "xxx",
             Format::U01 => "u01",
             Format::SeedRam => "ram",
+            Format::Bor => "bor",
         }
     }
 
@@ -169,7 +185,7 @@ impl Format {
             Format::Xxx => xxx::MAX_STEP,
             Format::U01 => u01::MAX_STEP,
             // 62 steps of 0.2 mm.
-            Format::SeedRam => 124,
+            Format::SeedRam | Format::Bor => 124,
         }
     }
 
@@ -194,6 +210,14 @@ impl Format {
                 };
                 seed_ram::write(plan, &header)?
             }
+            Format::Bor => bor::write(
+                plan,
+                &seed_ram::SeedHeader {
+                    program: 1,
+                    start: [0.0, 0.0],
+                    hoop: crate::hoop::smallest_hoop(plan).ok(),
+                },
+            )?,
         })
     }
 
@@ -201,7 +225,7 @@ impl Format {
     pub fn stores_colours(self) -> bool {
         !matches!(
             self,
-            Format::Dst | Format::Exp | Format::U01 | Format::SeedRam
+            Format::Dst | Format::Exp | Format::U01 | Format::SeedRam | Format::Bor
         )
     }
 
@@ -221,6 +245,11 @@ impl Format {
             Format::U01 => return u01::read(bytes, name),
             Format::SeedRam => {
                 let (mut plan, _) = seed_ram::read(bytes)?;
+                plan.name = name.to_string();
+                return Ok(plan);
+            }
+            Format::Bor => {
+                let (mut plan, _) = bor::read(bytes)?;
                 plan.name = name.to_string();
                 return Ok(plan);
             }
