@@ -154,6 +154,12 @@ impl Driver {
                     if block.line > 0 {
                         self.last_line = block.line;
                     }
+                    if exec.has_notes() {
+                        let notes: Vec<Diagnostic> = exec.take_notes().collect();
+                        for d in notes {
+                            self.report(d);
+                        }
+                    }
                     if exec.has_printed() {
                         for text in exec.take_printed() {
                             self.report(Diagnostic::warning(

@@ -251,7 +251,7 @@ impl Interpreter {
                 dialect::refuse_probe(d)?;
                 dialect::translate_legacy(d)
             }
-            Dialect::LinuxCnc => dialect::refuse_probe(d)?,
+            Dialect::LinuxCnc | Dialect::Marlin => dialect::refuse_probe(d)?,
         }
         self.check_words(d)?;
         let flow = self.run_block(d, block, params, sink)?;
