@@ -50,7 +50,7 @@ pub fn for_each_segment(
     mut emit: impl FnMut(PreviewSegment),
 ) -> Vec<Diag> {
     let mut run = RunOptions::check(dialect);
-    run.initial_params = profile.initial_params();
+    run.initial_params = crate::run_options::initial_params_for(profile, dialect);
     let mut stream = CanonStream::spawn(reader(text), run);
     let [x, y, z] = profile.start;
     let mut at = Pos::xyz(x, y, z);

@@ -8,7 +8,7 @@
 //! - One command per line: the first G or M word; later G/M words are ignored (a warning).
 //! - `M0`/`M1 <text>`, `M117 <text>`, `M118 <text>`: the rest of the line is a message.
 //! - `G4 P` is milliseconds (`G4 S` seconds) — LinuxCNC's P is seconds.
-//! - `G28 [X] [Y] [Z]` homes the named axes (all without one; values are ignored): a rapid to
+//! - `G28 [X] [Y] [Z]` homes the named axes (all without one; values are ignored): a rapid straight to
 //!   the stored home (#5161…, the profile's, else machine 0) of those axes.
 //! - `M280 P<servo> S<angle> [T<ms>]` moves a servo, the pen lift: the first angle of the
 //!   program is taken as pen up (Makelangelo programs start with the pen up), every other angle
@@ -31,6 +31,8 @@ pub(crate) struct MarlinState {
     servo_up: Option<f64>,
     /// G91 is in force (G28 names its intermediate point by it).
     incremental: bool,
+    /// G20 is in force (#5161… are millimetres).
+    inches: bool,
     /// An E word was noted already.
     e_noted: bool,
 }
@@ -319,7 +321,11 @@ pub(crate) fn rewrite(
             e_note(st);
             let _ = write!(out, "{number}{name}{}", plain(&ws));
         }
-        (b'G', 170 | 180 | 190 | 200 | 210) => {
+        (b'G', 200 | 210) => {
+            st.inches = tenths == 200;
+            let _ = write!(out, "{number}{name}");
+        }
+        (b'G', 170 | 180 | 190) => {
             let _ = write!(out, "{number}{name}");
         }
         (b'G', 900) => {
@@ -350,14 +356,27 @@ pub(crate) fn rewrite(
             } else {
                 &named
             };
-            // LinuxCNC's G28 goes through the point its words name, then to #5161…: the
-            // point named is the current one, so the move is Marlin's straight home.
-            let _ = write!(out, "{number}G28");
-            for a in axes {
-                if st.incremental {
+            // A rapid straight to the stored home in machine coordinates. LinuxCNC refuses
+            // G53 under G91: there `G28 X0` (through the current point, then home) is the
+            // same move.
+            if st.incremental {
+                let _ = write!(out, "{number}G28");
+                for a in axes {
                     let _ = write!(out, " {a}0");
-                } else {
-                    let _ = write!(out, " {a}#<_{}>", a.to_ascii_lowercase());
+                }
+            } else {
+                let _ = write!(out, "{number}G53 G0");
+                for a in axes {
+                    let i = match a {
+                        'X' => 1,
+                        'Y' => 2,
+                        _ => 3,
+                    };
+                    if st.inches {
+                        let _ = write!(out, " {a}[#{}/25.4]", 5160 + i);
+                    } else {
+                        let _ = write!(out, " {a}#{}", 5160 + i);
+                    }
                 }
             }
         }

@@ -121,6 +121,21 @@ fn g28_homes_the_named_axes_straight_to_the_stored_home() {
         })
         .unwrap();
     assert_eq!(last, [5.0, 40.0]);
+    // In inches the home stays where it is (the parameters are millimetres).
+    let (ops, diags) = canon_of("G20\nG0 X1 Y1\nG28 Y\n", &opts);
+    assert!(errors(&diags).is_empty(), "{diags:#?}");
+    let last = ops
+        .iter()
+        .rev()
+        .find_map(|c| match &c.op {
+            CanonOp::StraightTraverse { to } => Some([to.x, to.y]),
+            _ => None,
+        })
+        .unwrap();
+    assert!(
+        (last[0] - 25.4).abs() < 1e-9 && (last[1] - 7.0).abs() < 1e-9,
+        "{last:?}"
+    );
 }
 
 #[test]
@@ -183,4 +198,25 @@ fn the_other_dialects_read_marlin_lines_as_before() {
     // `M280` is not LinuxCNC's: the LinuxCNC dialect still refuses it.
     let (_, diags) = canon_of("M280 P0 S90\n", &RunOptions::check(Dialect::LinuxCnc));
     assert!(!errors(&diags).is_empty());
+}
+
+#[test]
+/// The first move of a program: straight from wherever the machine is to home (no detour
+/// through the interpreter's unknown start point).
+fn g28_first_in_a_work_offset() {
+    let mut opts = RunOptions::check(Dialect::Marlin);
+    opts.initial_params = vec![
+        (5221, 500.0),
+        (5222, -400.0),
+        (5161, 500.0),
+        (5162, -400.0),
+        (5163, 5.0),
+    ];
+    let (ops, diags) = canon_of("G28 X Y\nG0 X10 Y10\n", &opts);
+    assert!(errors(&diags).is_empty(), "{diags:#?}");
+    for c in &ops {
+        if let CanonOp::StraightTraverse { to } = &c.op {
+            assert!(to.x > 100.0, "{ops:#?}");
+        }
+    }
 }
