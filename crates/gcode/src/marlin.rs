@@ -211,7 +211,31 @@ pub(crate) fn rewrite(
             "Marlin runs one command per line with plain numbers: expand the program in the CAM or the post",
         ));
     }
+    if letter.is_ascii_alphabetic() && !matches!(letter, b'G' | b'M' | b'T') {
+        // GcodeSuite::process_parsed_command: "Unknown command", and the line is dropped.
+        notes.push(
+            Diagnostic::warning(
+                Span::new(line, col0, body.len() as u32),
+                format!("'{body}' has no G or M command: Marlin answers \"Unknown command\" and ignores the line"),
+            )
+            .with_help(if letter == b'F' {
+                "a feed alone on its line sets nothing on Marlin: put the F on the G0/G1 line"
+            } else {
+                "Marlin does not repeat the last motion for a line of coordinates alone: write G1 (or G0) before them"
+            }),
+        );
+        return Ok(());
+    }
     let (Some(n), b'G' | b'M') = (code_num, letter) else {
+        if letter == b'T' {
+            return Err(marlin_error(
+                line,
+                col0,
+                cmd_len,
+                format!("{body} is not a Marlin command for this machine"),
+                "Marlin's T selects an extruder: for a pen change use M0 with a message",
+            ));
+        }
         return Err(marlin_error(
             line,
             col0,

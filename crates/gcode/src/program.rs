@@ -143,6 +143,12 @@ impl Driver {
                     let interp = &self.interp;
                     let mut refresh = |params: &mut Params| interp.update_named_params(params);
                     let read = exec.read_block_slow(&mut self.params, &mut block, &mut refresh);
+                    if exec.has_notes() {
+                        let notes: Vec<Diagnostic> = exec.take_notes().collect();
+                        for d in notes {
+                            self.report(d);
+                        }
+                    }
                     let result = match read {
                         Ok(false) => break,
                         Ok(true) => {
@@ -153,12 +159,6 @@ impl Driver {
                     };
                     if block.line > 0 {
                         self.last_line = block.line;
-                    }
-                    if exec.has_notes() {
-                        let notes: Vec<Diagnostic> = exec.take_notes().collect();
-                        for d in notes {
-                            self.report(d);
-                        }
                     }
                     if exec.has_printed() {
                         for text in exec.take_printed() {

@@ -168,7 +168,7 @@ fn what_marlin_lacks_is_refused_with_a_hint() {
         ("G1 X[1+2]", "expressions"),
         ("o100 sub", "o-words"),
         ("M30", "program end"),
-        ("X10 Y10", "G1"),
+        ("T1", "not a Marlin command"),
     ] {
         let (_, diags) = marlin(&format!("{line}\n"));
         let e = errors(&diags);
@@ -219,4 +219,26 @@ fn g28_first_in_a_work_offset() {
             assert!(to.x > 100.0, "{ops:#?}");
         }
     }
+}
+
+#[test]
+fn a_line_without_a_command_is_ignored_as_marlin_does() {
+    // Marlin answers "Unknown command" and goes on: F3000 sets nothing, the feed stays
+    // Marlin's power-up 1500 mm/min; X10 Y10 does not move.
+    let (ops, diags) = marlin("F3000\nG1 X5\nX10 Y10\n");
+    assert!(errors(&diags).is_empty(), "{diags:#?}");
+    let warned: Vec<u32> = diags
+        .iter()
+        .filter(|d| d.severity == oficina_gcode::Severity::Warning)
+        .map(|d| d.span.line)
+        .collect();
+    assert_eq!(warned, vec![1, 3]);
+    assert!(ops.iter().any(|c| c.op == CanonOp::SetFeedRate(1500.0)));
+    assert!(!ops.iter().any(|c| c.op == CanonOp::SetFeedRate(3000.0)));
+    assert_eq!(
+        ops.iter()
+            .filter(|c| matches!(c.op, CanonOp::StraightFeed { .. }))
+            .count(),
+        1
+    );
 }
