@@ -189,6 +189,15 @@ pub(crate) fn rewrite(
         return Ok(());
     }
     let b = body.as_bytes();
+    if !b[0].is_ascii() {
+        return Err(marlin_error(
+            line,
+            col0,
+            1,
+            format!("'{body}' has no G or M command; Marlin needs one on every line"),
+            "a Marlin line is a command (G… or M…) and its words",
+        ));
+    }
     let letter = b[0].to_ascii_uppercase();
     let digits_end = body[1..]
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))

@@ -242,3 +242,21 @@ fn a_line_without_a_command_is_ignored_as_marlin_does() {
         1
     );
 }
+
+proptest::proptest! {
+    /// Any line, however odd, is read without a panic and its diagnostics point into it.
+    #[test]
+    fn any_line_is_read_without_panic(line in "[GMNTXYZFEPSIJRO0-9 .;*()#\\[\\]é-]{0,24}") {
+        let (_, diags) = marlin(&format!("{line}\n"));
+        for d in diags {
+            proptest::prop_assert!(d.span.line <= 1, "{d:?}");
+        }
+    }
+}
+
+#[test]
+fn odd_lines_are_refused_not_panicked_on() {
+    for line in ["é", "N", "N1", "N1 *", "*", "G", "M", "G1 X", "M280 P0 S", "(", ";", "N5 é*0", "G4 P-1"] {
+        let _ = marlin(&format!("{line}\n"));
+    }
+}
