@@ -256,7 +256,20 @@ pub(crate) fn rewrite(
     let name = format!("{}{}", letter as char, num(n));
     // The message commands: the rest of the line is text, not words.
     if letter == b'M' && matches!(n as u32, 0 | 1 | 117 | 118) && n.fract() == 0.0 {
-        let msg = comment_text(rest);
+        // `M0 (MSG, text)`, as a post for LinuxCNC writes it: Marlin shows it all; the text
+        // is what matters.
+        let bare = rest.trim();
+        let bare = bare
+            .strip_prefix('(')
+            .and_then(|b| b.strip_suffix(')'))
+            .map(|b| b.trim_start())
+            .and_then(|b| {
+                b.get(..4)
+                    .filter(|m| m.eq_ignore_ascii_case("msg,"))
+                    .map(|_| &b[4..])
+            })
+            .unwrap_or(bare);
+        let msg = comment_text(bare);
         match n as u32 {
             0 | 1 => {
                 let _ = write!(out, "{number}{name}");
@@ -459,6 +472,20 @@ pub(crate) fn rewrite(
                 let _ = write!(out, " G4 P{}", num(t / 1000.0));
             }
         }
+        (b'M', 20 | 300) => {
+            // GcodeSuite: "Unknown command" (M30 deletes an SD file when it names one).
+            notes.push(
+                Diagnostic::warning(
+                    Span::new(line, col0, cmd_len),
+                    format!("{name}: Marlin has no program end; it answers \"Unknown command\" and ignores the line"),
+                )
+                .with_help(if tenths == 300 {
+                    "Marlin's M30 deletes a file on the SD card: remove it; the program ends with the file"
+                } else {
+                    "remove it: the program ends with the file"
+                }),
+            );
+        }
         _ => {
             let hint = match (letter, tenths) {
                 (b'G', 400..=429) => "Marlin has no cutter radius compensation: let the CAM offset the path",
@@ -466,7 +493,6 @@ pub(crate) fn rewrite(
                 (b'G', 730..=890) => "Marlin has no canned cycles: have the post expand them into G0/G1 moves",
                 (b'G', 530..=593) => "work offsets need Marlin's CNC_COORDINATE_SYSTEMS, which plotter builds leave out: use G92",
                 (b'G', 50..=53) => "Marlin's G5 is a Bézier, not LinuxCNC's spline: have the CAM write arcs and lines",
-                (b'M', 20 | 300) => "Marlin has no program end (M30 deletes a file on the SD card): the program ends with the file",
                 (b'M', 60) => "Marlin's tool change is an extruder's: use M0 with a message for a pen change",
                 _ => "Marlin answers \"Unknown command\" and goes on; a plotter program needs G0 G1 G2 G3 G4 G28 G90 G91 G92, M0 M3 M5 M280",
             };

@@ -167,7 +167,7 @@ fn what_marlin_lacks_is_refused_with_a_hint() {
         ("G1 X#1", "parameters"),
         ("G1 X[1+2]", "expressions"),
         ("o100 sub", "o-words"),
-        ("M30", "program end"),
+        ("M6", "pen change"),
         ("T1", "not a Marlin command"),
     ] {
         let (_, diags) = marlin(&format!("{line}\n"));
@@ -256,7 +256,34 @@ proptest::proptest! {
 
 #[test]
 fn odd_lines_are_refused_not_panicked_on() {
-    for line in ["é", "N", "N1", "N1 *", "*", "G", "M", "G1 X", "M280 P0 S", "(", ";", "N5 é*0", "G4 P-1"] {
+    for line in [
+        "é",
+        "N",
+        "N1",
+        "N1 *",
+        "*",
+        "G",
+        "M",
+        "G1 X",
+        "M280 P0 S",
+        "(",
+        ";",
+        "N5 é*0",
+        "G4 P-1",
+    ] {
         let _ = marlin(&format!("{line}\n"));
     }
+}
+
+#[test]
+fn program_ends_are_ignored_with_a_warning_and_msg_comments_unwrapped() {
+    let (ops, diags) = marlin("M0 (MSG, pen 2: red)\nG1 X1 F600\nM30\n");
+    assert!(errors(&diags).is_empty(), "{diags:#?}");
+    assert!(ops
+        .iter()
+        .any(|c| c.op == CanonOp::Message("pen 2: red".into())));
+    assert!(diags.iter().any(|d| d.span.line == 3
+        && d.severity == oficina_gcode::Severity::Warning
+        && d.help.as_deref().unwrap_or("").contains("SD card")));
+    assert!(!ops.iter().any(|c| c.op == CanonOp::ProgramEnd));
 }
