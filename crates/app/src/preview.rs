@@ -174,6 +174,23 @@ mod tests {
         }
     }
 
+    /// A Makelangelo-style Marlin program: G0 travel with the pen up is a rapid, G1 with the
+    /// pen down a feed; the servo lines, the message and the homing read without a diagnostic
+    /// worse than a note.
+    #[test]
+    fn a_marlin_plot_previews_with_its_travel_as_rapids() {
+        let profile = crate::profile::resolve("grbl-router").unwrap();
+        let text = "G28 X Y\nM280 P0 S90 T250\nM0 Ready for pen change\nG0 X10 Y10 F3000.0\nM280 P0 S25 T250\nG1 X20 Y10 F3000.0\nM280 P0 S90 T250\n";
+        let mut out = Vec::new();
+        let diags = for_each_segment(&Arc::new(text.into()), &profile, Dialect::Marlin, |s| {
+            out.push(s)
+        });
+        assert!(diags.iter().all(|d| d.severity == "note"), "{diags:?}");
+        let kinds: Vec<_> = out.iter().map(|s| (s.kind, s.line)).collect();
+        assert!(kinds.contains(&(PathKind::Rapid, 4)), "{kinds:?}");
+        assert!(kinds.contains(&(PathKind::Feed, 6)), "{kinds:?}");
+    }
+
     #[test]
     fn a_full_circle_stays_on_its_radius() {
         let s = segments("G0 X10 Y0 Z0\nG2 X10 Y0 I-10 J0 F100\nM2\n");
