@@ -147,7 +147,7 @@ pub fn check_for_sender(
 ) -> CheckReport {
     let profile = &opts.profile;
     let mut run = RunOptions::check(opts.dialect);
-    run.initial_params = profile.initial_params();
+    run.initial_params = crate::run_options::initial_params_for(profile, run.dialect);
     run.tool_table = tools.clone();
     let [x, y, z] = profile.start;
     let summarizer = Summarizer::new(Pos::xyz(x, y, z), profile.axis_rapid_rates());

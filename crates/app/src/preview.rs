@@ -50,7 +50,7 @@ pub fn for_each_segment(
     mut emit: impl FnMut(PreviewSegment),
 ) -> Vec<Diag> {
     let mut run = RunOptions::check(dialect);
-    run.initial_params = profile.initial_params();
+    run.initial_params = crate::run_options::initial_params_for(profile, dialect);
     let mut stream = CanonStream::spawn(reader(text), run);
     let [x, y, z] = profile.start;
     let mut at = Pos::xyz(x, y, z);
@@ -172,6 +172,23 @@ mod tests {
         for w in s.windows(2) {
             assert_eq!(w[0].to, w[1].from);
         }
+    }
+
+    /// A Makelangelo-style Marlin program: G0 travel with the pen up is a rapid, G1 with the
+    /// pen down a feed; the servo lines, the message and the homing read without a diagnostic
+    /// worse than a note.
+    #[test]
+    fn a_marlin_plot_previews_with_its_travel_as_rapids() {
+        let profile = crate::profile::resolve("grbl-router").unwrap();
+        let text = "G28 X Y\nM280 P0 S90 T250\nM0 Ready for pen change\nG0 X10 Y10 F3000.0\nM280 P0 S25 T250\nG1 X20 Y10 F3000.0\nM280 P0 S90 T250\n";
+        let mut out = Vec::new();
+        let diags = for_each_segment(&Arc::new(text.into()), &profile, Dialect::Marlin, |s| {
+            out.push(s)
+        });
+        assert!(diags.iter().all(|d| d.severity == "note"), "{diags:?}");
+        let kinds: Vec<_> = out.iter().map(|s| (s.kind, s.line)).collect();
+        assert!(kinds.contains(&(PathKind::Rapid, 4)), "{kinds:?}");
+        assert!(kinds.contains(&(PathKind::Feed, 6)), "{kinds:?}");
     }
 
     #[test]

@@ -85,7 +85,7 @@ impl ProgramOptions {
         check_mode: bool,
     ) -> Result<RunOptions, LoadError> {
         let mut opts = self.run_options(check_mode)?;
-        opts.initial_params = profile.initial_params();
+        opts.initial_params = crate::run_options::initial_params_for(profile, opts.dialect);
         if self.tool_table.is_none() {
             if let Some(t) = tool_table_for(None, profile, spec, opts.start.machine_units)? {
                 opts.tool_table = t;

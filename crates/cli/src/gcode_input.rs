@@ -16,7 +16,7 @@ pub(crate) use oficina_app::DEFAULT_MAX_PROGRAM_MB;
 pub(crate) struct ProgramArgs {
     /// The G-code program.
     pub file: PathBuf,
-    /// linuxcnc (default), grbl or legacy-2006.
+    /// linuxcnc (default), grbl, marlin (Marlin 2.x plotters) or legacy-2006.
     #[arg(long, default_value = "linuxcnc")]
     pub dialect: Dialect,
     /// A LinuxCNC tool table (.tbl) for G43 and M6.

@@ -38,7 +38,7 @@ pub(crate) struct Args {
     /// 002's linear and circular DDA on a cartesian machine, no ramps; docs/trace-format.md).
     #[arg(long, value_enum, default_value_t = Interpolator::Exact)]
     interpolator: Interpolator,
-    /// G-code dialect: linuxcnc (default), grbl or legacy-2006 (seed 002's programs).
+    /// G-code dialect: linuxcnc (default), grbl, marlin (Marlin 2.x plotters) or legacy-2006 (seed 002's programs).
     #[arg(long, default_value = "linuxcnc")]
     dialect: Dialect,
     /// Largest output file (--trace, --steps) written, MB: the size is estimated by planning

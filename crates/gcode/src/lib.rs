@@ -42,6 +42,7 @@ pub mod grbl_errors;
 mod header;
 mod interp;
 mod lex;
+mod marlin;
 mod params;
 mod parse;
 mod print;
@@ -74,6 +75,10 @@ pub enum Dialect {
     /// The dialect of seed 002 (2006): G90/G91 are linear feed moves, I/J are absolute arc
     /// centres, motion codes are modal.
     Legacy2006,
+    /// Marlin 2.x as pen plotters and lasers run it (Makelangelo): one command per line,
+    /// `M0`/`M117` messages, `G4 P` in milliseconds, `G28` homing, `M280` servo pen lifts,
+    /// checksums checked.
+    Marlin,
 }
 
 impl std::fmt::Display for Dialect {
@@ -83,6 +88,7 @@ impl std::fmt::Display for Dialect {
             Dialect::LinuxCnc => "linuxcnc",
             Dialect::Grbl => "grbl",
             Dialect::Legacy2006 => "legacy-2006",
+            Dialect::Marlin => "marlin",
         })
     }
 }
@@ -94,8 +100,9 @@ impl std::str::FromStr for Dialect {
             "linuxcnc" | "rs274" | "ngc" => Ok(Dialect::LinuxCnc),
             "grbl" => Ok(Dialect::Grbl),
             "legacy-2006" | "legacy" | "legacy2006" => Ok(Dialect::Legacy2006),
+            "marlin" => Ok(Dialect::Marlin),
             other => Err(format!(
-                "unknown dialect '{other}': use linuxcnc, grbl or legacy-2006"
+                "unknown dialect '{other}': use linuxcnc, grbl, marlin or legacy-2006"
             )),
         }
     }

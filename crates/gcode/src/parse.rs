@@ -19,7 +19,7 @@ pub fn parse_line(c: &Compact, dialect: Dialect, out: &mut Line) -> Result<(), D
     out.clear(c.line);
     match dialect {
         Dialect::Grbl => parse_grbl(c, out),
-        Dialect::LinuxCnc | Dialect::Legacy2006 => Parser {
+        Dialect::LinuxCnc | Dialect::Legacy2006 | Dialect::Marlin => Parser {
             c,
             pos: 0,
             depth: 0,

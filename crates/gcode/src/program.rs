@@ -143,6 +143,12 @@ impl Driver {
                     let interp = &self.interp;
                     let mut refresh = |params: &mut Params| interp.update_named_params(params);
                     let read = exec.read_block_slow(&mut self.params, &mut block, &mut refresh);
+                    if exec.has_notes() {
+                        let notes: Vec<Diagnostic> = exec.take_notes().collect();
+                        for d in notes {
+                            self.report(d);
+                        }
+                    }
                     let result = match read {
                         Ok(false) => break,
                         Ok(true) => {

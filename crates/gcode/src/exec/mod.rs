@@ -92,6 +92,11 @@ pub struct Executor<R> {
     printed: Vec<String>,
     /// Directories where `o<name> call` looks for `name.ngc` (LinuxCNC's SUBROUTINE_PATH).
     subroutine_path: Vec<std::path::PathBuf>,
+    /// Marlin: the state of the line rewriting, the rewritten line, and the notes of the
+    /// last line read.
+    marlin: crate::marlin::MarlinState,
+    marlin_line: Vec<u8>,
+    notes: Vec<Diagnostic>,
 }
 
 impl Executor<Cursor<Vec<u8>>> {
@@ -127,6 +132,9 @@ impl<R: BufRead + Seek> Executor<R> {
             fanuc_subs: true,
             printed: Vec::new(),
             subroutine_path: Vec::new(),
+            marlin: Default::default(),
+            marlin_line: Vec::new(),
+            notes: Vec::new(),
         }
     }
 
@@ -188,6 +196,17 @@ impl<R: BufRead + Seek> Executor<R> {
     /// empty [`Executor::take_printed`].
     pub fn has_printed(&self) -> bool {
         !self.printed.is_empty()
+    }
+
+    /// Notes (and warnings) the dialect gives the lines read since the last take: Marlin's
+    /// pauses, motors, fans, ignored words.
+    pub fn take_notes(&mut self) -> std::vec::Drain<'_, Diagnostic> {
+        self.notes.drain(..)
+    }
+
+    /// Whether [`Executor::take_notes`] has anything.
+    pub fn has_notes(&self) -> bool {
+        !self.notes.is_empty()
     }
 
     /// Depth of subroutine calls in progress.
@@ -292,7 +311,7 @@ impl<R: BufRead + Seek> Executor<R> {
         self.seen_content
             && self.skip.is_none()
             && self.end.is_none()
-            && self.dialect != Dialect::Grbl
+            && matches!(self.dialect, Dialect::LinuxCnc | Dialect::Legacy2006)
     }
 
     /// [`Executor::read_block_with`] for every line but the usual one.
@@ -350,15 +369,33 @@ impl<R: BufRead + Seek> Executor<R> {
                 self.idle_iterations = 0;
                 return Ok(true);
             }
-            if params.system_stale() && names_system_param(self.src.text()) {
+            if self.dialect == Dialect::Marlin {
+                let text = self.src.text();
+                if let Err(e) = crate::marlin::rewrite(
+                    text,
+                    number,
+                    &mut self.marlin,
+                    &mut self.marlin_line,
+                    &mut self.notes,
+                ) {
+                    self.seen_content = true;
+                    return Err(e);
+                }
+            }
+            let text: &[u8] = if self.dialect == Dialect::Marlin {
+                &self.marlin_line
+            } else {
+                self.src.text()
+            };
+            if params.system_stale() && names_system_param(text) {
                 params.take_system_stale();
                 refresh(params);
             }
             let loaded = if self.dialect == Dialect::Grbl {
-                self.compact.load_grbl(self.src.text(), number);
+                self.compact.load_grbl(text, number);
                 Ok(())
             } else {
-                self.compact.load(self.src.text(), number)
+                self.compact.load(text, number)
             };
             if let Err(e) = loaded {
                 if self.skip.is_none() {

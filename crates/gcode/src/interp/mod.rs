@@ -103,6 +103,9 @@ pub struct Interpreter {
     decoded: Option<Box<Decoded>>,
 }
 
+/// Marlin's feed at power-up, mm/min.
+const MARLIN_DEFAULT_FEED: f64 = 1500.0;
+
 /// Axis letters in [`Pos::to_array`] order.
 pub(crate) const AXES: [char; 6] = ['X', 'Y', 'Z', 'A', 'B', 'C'];
 
@@ -121,6 +124,10 @@ impl Interpreter {
             if modal.feed <= 0.0 {
                 modal.feed = LEGACY_DEFAULT_FEED;
             }
+        }
+        if dialect == Dialect::Marlin && modal.feed <= 0.0 {
+            // Marlin starts with a feed (motion.cpp: `feedrate_mm_s = MMM_TO_MMS(1500)`).
+            modal.feed = MARLIN_DEFAULT_FEED;
         }
         Interpreter {
             dialect,
@@ -251,7 +258,7 @@ impl Interpreter {
                 dialect::refuse_probe(d)?;
                 dialect::translate_legacy(d)
             }
-            Dialect::LinuxCnc => dialect::refuse_probe(d)?,
+            Dialect::LinuxCnc | Dialect::Marlin => dialect::refuse_probe(d)?,
         }
         self.check_words(d)?;
         let flow = self.run_block(d, block, params, sink)?;

@@ -1,0 +1,29 @@
+;Generated with Makelangelo (style), written for Oficina's tests
+;FLAVOR:Marlin-polargraph
+;MINX:-20.000
+;MINY:-20.000
+;MAXX:20.000
+;MAXY:20.000
+;Start of user gcode
+
+;End of user gcode
+G28 X Y
+M280 P0 S90 T250
+M0 Ready for pen change
+G0 X-20.000 Y-20.000 F3000.0
+M280 P0 S25 T250
+G1 X20.000 Y-20.000 F3000.0
+G1 X20.000 Y20.000 F3000.0
+G1 X-20.000 Y20.000 F3000.0
+G1 X-20.000 Y-20.000 F3000.0
+M280 P0 S90 T250
+G0 X0.000 Y0.000 F3000.0
+M280 P0 S25 T250
+G2 X10.000 Y0.000 I5.000 J0.000 F3000.0
+G3 X0.000 Y0.000 R5.000
+M280 P0 S90 T250
+M117 Done
+G4 P500
+M400
+M84
+;End of Gcode
