@@ -11,6 +11,15 @@ const COLOURS: [number, number, number][] = [
   [74, 168, 255], // feed
   [240, 209, 79], // plunge
 ];
+/// A thread colour as drawn on the dark background: black and other threads nearly as dark
+/// as the background (a lettered name's usual colour) are lifted well above the dim grey of
+/// jumps, keeping their hue; other threads are drawn as they are.
+function visible(rgb: number[]): number[] {
+  const lum = 0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2];
+  const lift = lum < 60 ? 150 - lum : 0;
+  return rgb.map((c) => Math.min(255, Math.round(c + lift)));
+}
+
 /// Jumps of an embroidery plan: the hoop moves with the needle up, no thread laid.
 const JUMP: [number, number, number] = [96, 96, 110];
 /// Above this many segments, a decimated copy is drawn while the camera moves.
@@ -299,7 +308,7 @@ export class Preview {
     const pos = new Float32Array(n * 6), cols = new Uint8Array(n * 6), kinds = new Uint8Array(n), lines = new Uint32Array(n);
     let k = 0, entry = 0, sewn = 0, px = 0, py = 0;
     for (const b of blocks) {
-      const rgb = [1, 3, 5].map((i) => parseInt(b.thread.slice(i, i + 2), 16) || 0);
+      const rgb = visible([1, 3, 5].map((i) => parseInt(b.thread.slice(i, i + 2), 16) || 0));
       const p = b.points;
       for (let i = 0; i < p.length; i += 3) {
         entry++;
