@@ -89,6 +89,9 @@ for (const format of ['pes', 'jef', 'vp3', 'dst']) {
     assert(img.src.includes('.png') && img.w > 100 && img.h > 100, JSON.stringify(img));
     assert(img.shown > 50, `the render is drawn on the page: ${JSON.stringify(img)}`);
     assert(!(await page.$eval('#stitch-sheet', (a) => a.hidden)), 'the production sheet link');
+    // The printable sheet (A4) carries the same render.
+    const sheetPage = await page.evaluate(async (h) => (await fetch(h)).text(), await page.getAttribute('#stitch-sheet', 'href'));
+    assert(sheetPage.includes('size:A4') && /<img class=render[^>]*src="data:image\/png;base64,/.test(sheetPage), 'the sheet page has the render');
     // The file, downloaded through the page's link.
     const href = await page.getAttribute('#stitch-download', 'href');
     const name = await page.getAttribute('#stitch-download', 'download');
