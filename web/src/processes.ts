@@ -93,8 +93,9 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'font', label: 'Font', kind: 'select', value: 'masego', options: ['masego'] },
       { name: 'text_size', label: 'Text height', unit: 'mm', value: '15', min: 0.5, max: 500 },
       { name: 'text_align', label: 'Text alignment', kind: 'select', value: 'center', options: ['left', 'center', 'right'] },
-      { name: 'text_x', label: 'Text at X', unit: 'mm', value: '0', min: -1000, max: 1000 },
-      { name: 'text_y', label: 'Text at Y', unit: 'mm', value: '0', min: -1000, max: 1000 },
+      // Both empty: under the design, centred on it (or at its edge as aligned).
+      { name: 'text_x', label: 'Text at X', unit: 'mm', value: '', min: -1000, max: 1000, optional: true, placeholder: 'under the design' },
+      { name: 'text_y', label: 'Text at Y', unit: 'mm', value: '', min: -1000, max: 1000, optional: true, placeholder: 'under the design' },
     ],
   },
 };

@@ -62,11 +62,8 @@ await test('the embroidery process opens on its sample design', async () => {
 
 for (const format of ['pes', 'jef', 'vp3', 'dst']) {
   await test(`"Ana" on the sunflower as ${format.toUpperCase()}: report, preview, render, and pyembroidery reads the page's count`, async () => {
+    // Only the name: "Text at" left empty sets it under the design, centred.
     await page.fill('#process-fields input[name="text"]', 'Ana');
-    // Centred below the flower's ground line (the sample spans x 0..70, y 0..80 mm; the
-    // default, the origin, puts the name on the ground line's left end).
-    await page.fill('#process-fields input[name="text_x"]', '35');
-    await page.fill('#process-fields input[name="text_y"]', '-18');
     await page.selectOption('#process-fields select[name="format"]', format);
     await page.$eval('#process-status', (e) => { delete e.dataset.stitches; });
     await page.click('#make');
@@ -78,7 +75,7 @@ for (const format of ['pes', 'jef', 'vp3', 'dst']) {
     const printed = Number((report.match(/Stitches\s+(\d+)/) || [])[1]);
     assert(sheet === drawn && sheet === printed, `sheet ${sheet}, drawn ${drawn}, report ${printed}`);
     assert(sheet > plain + 100, `the name adds stitches: ${sheet} against ${plain}`);
-    // The preview draws the name below the flower: 15 mm letters 18 mm under its origin.
+    // The preview draws the name below the flower: 15 mm letters, 7.5 mm under it.
     const h = await previewHeight();
     assert(h > plainHeight + 15, `the preview is ${h.toFixed(1)} mm tall with the name, ${plainHeight.toFixed(1)} without`);
     const threads = await page.$$eval('#threads li', (l) => l.length);

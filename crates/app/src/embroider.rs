@@ -5,7 +5,7 @@
 use crate::{Error, Feedback};
 use oficina_stitch::{
     alter, generate, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch,
-    sheet, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
+    sheet, Align, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
     StitchPlan, Table, Text,
 };
 use std::path::Path;
@@ -325,7 +325,16 @@ pub fn embroider_text(
         let mut drawing = imported.drawing;
         if let Some(t) = text {
             fb.stage("lettering")?;
-            let (d, n) = letter(t, &p.stitch).map_err(|e| Error(e.0))?;
+            let mut t = t.clone();
+            if let (true, Some(b)) = (t.under_design, drawing.bounding_box()) {
+                let x = match t.align {
+                    Align::Left => b.x0,
+                    Align::Center => (b.x0 + b.x1) / 2.0,
+                    Align::Right => b.x1,
+                };
+                t.at = oficina_geom::Point::new(x, b.y0 - 1.5 * t.size);
+            }
+            let (d, n) = letter(&t, &p.stitch).map_err(|e| Error(e.0))?;
             drawing.layers.extend(d.layers);
             notes.extend(n);
         }

@@ -110,6 +110,8 @@ pub(crate) struct Args {
     #[arg(long, default_value = "center")]
     text_align: String,
     /// Where the text's first baseline is anchored, X,Y mm (y up; the design's coordinates).
+    /// Default: under the design, centred on it (or at its left or right edge as aligned);
+    /// text alone is centred in the hoop.
     #[arg(long, value_parser = point_arg, allow_hyphen_values = true)]
     text_at: Option<(f64, f64)>,
     /// Shift the Zero-Peça by X,Y mm (the seed's ALTER), e.g. --shift 30,-30.
@@ -158,6 +160,7 @@ fn text_of(a: &Args) -> anyhow::Result<Option<Text>> {
         size: a.text_size,
         align,
         at: oficina_geom::Point::new(x, y),
+        under_design: a.text_at.is_none(),
         ..Text::default()
     }))
 }

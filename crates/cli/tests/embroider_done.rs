@@ -166,7 +166,8 @@ fn figure(stdout: &str, key: &str) -> usize {
         .unwrap_or_else(|| panic!("no {key} in {stdout}"))
 }
 
-/// `oficina embroider sunflower.svg [--text Ana --text-at 35,-18] -o OUT`: its stdout.
+/// `oficina embroider sunflower.svg [--text Ana] -o OUT`: its stdout (the name is set under
+/// the design, centred, as `--text-at` is not given).
 fn embroider(out: &Path, lettered: bool) -> String {
     let sample = root().join("samples/embroidery/sunflower.svg");
     let mut args = vec![
@@ -176,7 +177,7 @@ fn embroider(out: &Path, lettered: bool) -> String {
         out.to_str().unwrap(),
     ];
     if lettered {
-        args.extend(["--text", "Ana", "--text-at", "35,-18"]);
+        args.extend(["--text", "Ana"]);
     }
     let o = oficina(&args);
     let (stdout, stderr) = text(&o);
@@ -218,9 +219,9 @@ fn a_lettered_multicolour_design_goes_to_pes_jef_vp3_dst_and_pyembroidery_reads_
         let (info, stderr) = text(&o);
         assert!(o.status.success(), "{info}\n{stderr}");
         assert_eq!(figure(&info, "Stitches"), stitches, "{ext}: --info");
-        // The name, 15 mm high, is set 18 mm below the design's origin, under the flower's
-        // ground line (y 3..5 mm); the files are centred in the hoop. So the lettered design
-        // is at least 15 mm taller, and its lowest 14 mm hold the name's stitches alone.
+        // The name, 15 mm high, is set half its height under the flower's ground line (the
+        // files are centred in the hoop): the lettered design is at least 15 mm taller, and
+        // its lowest 14 mm hold the name's stitches alone.
         let sewn_y = |p: &StitchPlan| -> Vec<f64> {
             p.entries()
                 .filter(|(_, s)| s.kind == Kind::Stitch)
@@ -244,6 +245,18 @@ fn a_lettered_multicolour_design_goes_to_pes_jef_vp3_dst_and_pyembroidery_reads_
         );
         let name = ys.iter().filter(|&&y| y < bottom + 14.0).count();
         assert!(name > 100, "{ext}: {name} stitches of the name");
+        // Centred under the design.
+        let xs = |low: bool| -> Vec<f64> {
+            back.entries()
+                .filter(|(_, s)| s.kind == Kind::Stitch && (!low || s.y < bottom + 14.0))
+                .map(|(_, s)| s.x)
+                .collect()
+        };
+        let ((x0, w), (n0, nw)) = (span(&xs(false)), span(&xs(true)));
+        assert!(
+            ((x0 + w / 2.0) - (n0 + nw / 2.0)).abs() < 3.0,
+            "{ext}: the name spans x {n0:.1}+{nw:.1}, the design {x0:.1}+{w:.1}"
+        );
 
         let Some(py) = &py else { continue };
         let peer = peer_read(py, &named);

@@ -51,9 +51,10 @@ pub(crate) struct EmbroiderForm {
     text_size: f64,
     /// left, center or right.
     text_align: String,
-    /// Where its first baseline is anchored, mm (y up), design coordinates.
-    text_x: f64,
-    text_y: f64,
+    /// Where its first baseline is anchored, mm (y up), design coordinates; both absent:
+    /// under the design, centred on it (or at its edge as aligned).
+    text_x: Option<f64>,
+    text_y: Option<f64>,
 }
 
 impl Default for EmbroiderForm {
@@ -81,8 +82,8 @@ impl Default for EmbroiderForm {
             font: DEFAULT_FONT.into(),
             text_size: Text::default().size,
             text_align: "center".into(),
-            text_x: 0.0,
-            text_y: 0.0,
+            text_x: None,
+            text_y: None,
         }
     }
 }
@@ -104,7 +105,8 @@ impl EmbroiderForm {
             font: self.font.clone(),
             size: self.text_size,
             align,
-            at: oficina_geom::Point::new(self.text_x, self.text_y),
+            at: oficina_geom::Point::new(self.text_x.unwrap_or(0.0), self.text_y.unwrap_or(0.0)),
+            under_design: self.text_x.is_none() && self.text_y.is_none(),
             ..Text::default()
         }))
     }

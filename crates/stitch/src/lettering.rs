@@ -551,6 +551,9 @@ pub struct Text {
     pub align: Align,
     /// Where the first line's baseline starts (left) or is centred / ends, mm, y up.
     pub at: Point,
+    /// Lettering added to a design: `at` is chosen under the design, half the cap height
+    /// below its lowest point, centred on it (or at its left or right edge as aligned).
+    pub under_design: bool,
     /// Thread colour.
     pub color: Color,
 }
@@ -563,6 +566,7 @@ impl Default for Text {
             size: 15.0,
             align: Align::Center,
             at: Point::ZERO,
+            under_design: false,
             color: Color::BLACK,
         }
     }
