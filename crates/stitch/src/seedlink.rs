@@ -47,9 +47,18 @@ pub fn transmission(plan: &StitchPlan, header: &SeedHeader) -> Result<Vec<u8>, S
 /// Sends a program one way (TRANS): writes it and waits until the port has sent it.
 pub fn send(port: &mut dyn Write, plan: &StitchPlan, header: &SeedHeader) -> Result<usize, String> {
     let bytes = transmission(plan, header)?;
-    port.write_all(&bytes)
-        .and_then(|_| port.flush())
-        .map_err(|e| format!("sending program {}: {e}", header.program))?;
+    let failed = |e: std::io::Error| format!("sending program {}: {e}", header.program);
+    port.write_all(&bytes).map_err(failed)?;
+    // Then wait for the bytes to leave (tcdrain). On a pseudo-terminal that wait can fail
+    // (the serial crate says only "flush failed") while the bytes are in the line's buffer and
+    // are read: the written bytes are the transmission, so a failed wait is retried briefly and
+    // then not taken as a failed send.
+    for _ in 0..5 {
+        if port.flush().is_ok() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
     Ok(bytes.len())
 }
 
