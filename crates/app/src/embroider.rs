@@ -300,9 +300,21 @@ pub fn embroider_text(
         // Ink/Stitch's parameters first: its command symbols are cut from the text before
         // the drawing is imported (the importer would make anonymous paths of them).
         let (ink, svg_text) = inkstitch_of(input)?;
-        let imported = match svg_text.filter(|_| ink.is_inkstitch) {
+        // An SVG's <text> is not sewn (Ink/Stitch does not stitch text either; `--text` letters
+        // in an embroidery font): it is counted as not sewn, with the note below.
+        let imported = match svg_text {
             Some(t) => {
-                oficina_io::svg_from_bytes(ink.strip(&t).as_bytes(), &input.display().to_string())
+                let t = if ink.is_inkstitch { ink.strip(&t) } else { t };
+                let no_text = oficina_io::SvgOptions { draw_text: false };
+                oficina_io::read_svg(t.as_bytes(), &input.display().to_string(), &no_text).map(
+                    |mut i| {
+                        // Ink/Stitch's elements keep their own parameters: never chained.
+                        if !ink.is_inkstitch {
+                            i.close(oficina_io::JOIN_TOL);
+                        }
+                        i
+                    },
+                )
             }
             None => oficina_io::load_drawing(input),
         }

@@ -131,7 +131,7 @@ fn the_sampler_sews_as_inkstitch_sews_it() {
     let svg = std::fs::read_to_string(&svg_path).unwrap();
     let ink = read_inkstitch(&svg, "janome_muestraBordado.svg").unwrap();
     assert!(ink.is_inkstitch && ink.len() > 90, "{}", ink.len());
-    let drawing = oficina_io::load_drawing(&svg_path).unwrap().drawing;
+    let drawing = design(&svg_path);
     let later = under(&svg, &["path6", "path8", "path9", "g9"]);
     assert!(later.len() > 30, "{later:?}");
     let drawing = keep(&drawing, |p| !later.contains(&p.source.element));
@@ -214,7 +214,7 @@ fn the_style_cascade_file_sews_with_inherited_colours() {
     let ink = read_inkstitch(&svg, "cascade.svg").unwrap();
     // It declares no Ink/Stitch namespace nor attribute: sewn with Oficina's own rules.
     assert!(!ink.is_inkstitch);
-    let d = oficina_io::load_drawing(&path).unwrap().drawing;
+    let d = design(&path);
     let plan = sew(&d, &ink);
     let hex: Vec<String> = plan.blocks.iter().map(|b| b.thread.hex()).collect();
     // Red from the group's style, green from the CSS class, yellow's group overridden by
@@ -397,4 +397,14 @@ fn a_move_shorter_than_the_minimum_jump_is_sewn() {
         jumps(&ink(r#"<path id="b" inkstitch:collapse_len_mm="1"/>"#)),
         2
     );
+}
+
+/// A design as `oficina embroider` reads an Ink/Stitch design: its `<text>` is not sewn
+/// (Ink/Stitch does not stitch text either), and its elements are not chained into one
+/// another (each has its own parameters).
+fn design(path: &std::path::Path) -> oficina_geom::Drawing {
+    let bytes = std::fs::read(path).unwrap();
+    let no_text = oficina_io::SvgOptions { draw_text: false };
+    let i = oficina_io::read_svg(&bytes, &path.display().to_string(), &no_text).unwrap();
+    i.drawing
 }
