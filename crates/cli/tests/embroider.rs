@@ -303,7 +303,7 @@ fn the_seeds_machine_program_is_written_and_read() {
 
 #[test]
 fn a_png_preview_draws_thread_and_the_html_sheet_embeds_it() {
-    let real = Path::new("/work/shared/data/realworld/embroidery-files/emm_Star.pes");
+    let real = oficina_testkit::realworld("embroidery-files").map(|d| d.join("emm_Star.pes"));
     let sample = root().join("samples/embroidery/sunflower.svg");
     let (png, html) = (scratch("sunflower.png"), scratch("sunflower-sheet.html"));
     let o = oficina(&[
@@ -325,7 +325,7 @@ fn a_png_preview_draws_thread_and_the_html_sheet_embeds_it() {
     assert!(page.contains("@page{size:A4") && page.contains("data:image/png;base64,iVBOR"));
     assert!(page.contains("Colour sequence"));
     // An embroidery file's sheet (--info) too, where the real file is at hand.
-    if real.exists() {
+    if let Some(real) = real.filter(|p| p.exists()) {
         let p2 = scratch("star.png");
         let o = oficina(&[
             "embroider",

@@ -18,15 +18,7 @@ fn repo() -> PathBuf {
 
 /// The shared folder of real-world files (outside the checkout), when this machine has it.
 fn realworld(name: &str) -> Option<PathBuf> {
-    let dirs = [
-        std::env::var_os("OFICINA_REALWORLD").map(PathBuf::from),
-        Some(repo().join("../shared/data/realworld")),
-        Some(PathBuf::from("/work/shared/data/realworld")),
-    ];
-    dirs.into_iter()
-        .flatten()
-        .map(|d| d.join("gcode").join(name))
-        .find(|p| p.is_file())
+    Some(oficina_testkit::realworld("gcode")?.join(name)).filter(|p| p.is_file())
 }
 
 /// The calls that move the machine or set what a move means, `rs274 -g`'s prefix stripped.

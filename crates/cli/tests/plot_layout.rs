@@ -8,10 +8,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn data() -> PathBuf {
-    std::env::var_os("OFICINA_REALWORLD")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/work/shared/data/realworld"))
-        .join("plot-svg")
+    oficina_testkit::realworld("plot-svg").unwrap_or_default()
 }
 
 /// The shared folder's plot files and the HP-GL files kept beside the reader's tests.

@@ -11,20 +11,8 @@ use common::{root, text};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// `shared/data/realworld/mill-dxf-svg` beside the checkout (the main checkout's `../shared`,
-/// or a worktree's `../../shared`).
 fn data() -> Option<PathBuf> {
-    let root = root().canonicalize().ok()?;
-    let found = root
-        .ancestors()
-        .skip(1)
-        .take(3)
-        .map(|a| a.join("shared/data/realworld/mill-dxf-svg"))
-        .find(|d| d.is_dir());
-    if found.is_none() {
-        eprintln!("note: no shared/data/realworld/mill-dxf-svg beside the checkout: skipped");
-    }
-    found
+    oficina_testkit::realworld("mill-dxf-svg")
 }
 
 /// Each part: file, closed loops imported, and what the import summary must say of them.

@@ -33,17 +33,7 @@ fn root() -> PathBuf {
 
 fn files() -> Vec<PathBuf> {
     let mut dirs = vec![Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dxf")];
-    let shared = [
-        std::env::var("OFICINA_REALWORLD").map(PathBuf::from).ok(),
-        Some(root().join("../shared/data/realworld")),
-        Some(root().join("../../shared/data/realworld")),
-    ];
-    match shared.into_iter().flatten().find(|d| d.is_dir()) {
-        Some(d) => dirs.push(d.join("mill-dxf-svg")),
-        None => {
-            eprintln!("note: ../shared/data/realworld is absent: only tests/data/dxf is compared")
-        }
-    }
+    dirs.extend(oficina_testkit::realworld("mill-dxf-svg"));
     let mut out = Vec::new();
     for d in dirs {
         let Ok(rd) = std::fs::read_dir(&d) else {

@@ -14,24 +14,10 @@ use oficina_stitch::{
 };
 use proptest::prelude::*;
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 fn realworld() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let candidates: Vec<PathBuf> = match std::env::var_os("OFICINA_REALWORLD") {
-        Some(d) => vec![PathBuf::from(d)],
-        None => vec![
-            root.join("../shared/data/realworld"),
-            root.join("../../shared/data/realworld"),
-        ],
-    };
-    let found = candidates
-        .into_iter()
-        .find(|d| d.join("embroidery-svg").is_dir());
-    if found.is_none() {
-        eprintln!("note: skipped, no realworld/embroidery-svg folder");
-    }
-    found
+    Some(oficina_testkit::realworld("embroidery-svg")?.join(".."))
 }
 
 /// Ids (`#id`) of the elements at and under the given ids.

@@ -414,25 +414,8 @@ fn we_read_every_stitch_pyembroidery_writes() {
     }
 }
 
-/// The real files of the shared realworld folder (licences in its SOURCES.md): `$OFICINA_REALWORLD`,
-/// else `../shared/data/realworld` beside the checkout (or beside its worktree folder).
 fn realworld() -> Option<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let candidates: Vec<PathBuf> = match std::env::var_os("OFICINA_REALWORLD") {
-        Some(d) => vec![PathBuf::from(d)],
-        None => vec![
-            root.join("../shared/data/realworld"),
-            root.join("../../shared/data/realworld"),
-        ],
-    };
-    let found = candidates
-        .iter()
-        .map(|d| d.join("embroidery-files"))
-        .find(|d| d.is_dir());
-    if found.is_none() {
-        eprintln!("note: skipped, no embroidery-files under {candidates:?}");
-    }
-    found
+    oficina_testkit::realworld("embroidery-files")
 }
 
 #[test]

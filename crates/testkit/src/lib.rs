@@ -6,7 +6,7 @@ pub mod random;
 pub mod rs274;
 pub mod shapes;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -40,4 +40,26 @@ pub fn assert_success(out: &Output) -> String {
         String::from_utf8_lossy(&out.stderr)
     );
     stdout
+}
+
+/// A folder of the shared real-world files (`kind`: `gcode`, `mill-dxf-svg`, `plot-svg`,
+/// `embroidery-files`…; licences in its SOURCES.md), looked for in `$OFICINA_REALWORLD`, then
+/// `shared/data/realworld` beside the checkout (or beside a worktree's folder), then
+/// `/work/shared/data/realworld`. `None`, with a note on stderr saying the test skipped it,
+/// when this machine has none: the files are not the project's to commit.
+pub fn realworld(kind: &str) -> Option<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let candidates: Vec<PathBuf> = match std::env::var_os("OFICINA_REALWORLD") {
+        Some(d) => vec![PathBuf::from(d)],
+        None => vec![
+            root.join("../shared/data/realworld"),
+            root.join("../../shared/data/realworld"),
+            PathBuf::from("/work/shared/data/realworld"),
+        ],
+    };
+    let found = candidates.iter().map(|d| d.join(kind)).find(|d| d.is_dir());
+    if found.is_none() {
+        eprintln!("note: no realworld/{kind} folder in {candidates:?}: skipped");
+    }
+    found
 }
