@@ -5,142 +5,16 @@
 //! lacks it (`python3 -m pip install --user pyembroidery`).
 
 mod common;
+#[path = "../../stitch/tests/common/pyembroidery.rs"]
+mod pyembroidery;
 
 use common::{oficina, root, text};
 use oficina_stitch::{Format, Kind, StitchPlan};
+use pyembroidery::{agree, ours_as, peer_read, python_with_pyembroidery};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn scratch(name: &str) -> PathBuf {
     oficina_testkit::scratch_dir("embroider-done").join(name)
-}
-
-/// Every command of a file as pyembroidery reads it (letter, x, y in 0.1 mm, y down) and the
-/// extents of the points sewn or jumped to.
-const DUMP: &str = r#"
-import sys, pyembroidery as P
-p = P.read(sys.argv[1])
-names = {P.STITCH: 'S', P.JUMP: 'J', P.TRIM: 'T', P.COLOR_CHANGE: 'C', P.STOP: 'P', P.END: 'E'}
-for x, y, c in p.stitches:
-    print(names.get(c & P.COMMAND_MASK, '?'), x, y)
-pts = [(x, y) for x, y, c in p.stitches if c & P.COMMAND_MASK in (P.STITCH, P.JUMP)] or [(0, 0)]
-print('B', min(x for x, _ in pts), min(y for _, y in pts), max(x for x, _ in pts), max(y for _, y in pts))
-"#;
-
-fn python_with_pyembroidery() -> Option<String> {
-    let py = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
-    let ok = Command::new(&py)
-        .args(["-c", "import pyembroidery"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if ok {
-        Some(py)
-    } else {
-        eprintln!(
-            "note: pyembroidery half skipped, {py} lacks pyembroidery (python3 -m pip install --user pyembroidery)"
-        );
-        None
-    }
-}
-
-/// What a reader makes of a file, in the terms both readers share (jumps are not counted:
-/// how a run of them is split is the writer's choice; their end points are in the extents).
-#[derive(Debug, PartialEq)]
-struct Reading {
-    /// Sewn stitches, 0.1 mm, y up.
-    stitches: Vec<(i64, i64)>,
-    trims: usize,
-    color_changes: usize,
-    stops: usize,
-    /// [min x, min y, max x, max y] over the points sewn or jumped to, 0.1 mm, y up.
-    extents: [i64; 4],
-}
-
-fn peer_read(py: &str, path: &Path) -> Reading {
-    let out = Command::new(py)
-        .args(["-c", DUMP, path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    oficina_testkit::assert_success(&out);
-    let n = |s: &str| s.parse::<f64>().unwrap().round() as i64;
-    let mut r = Reading {
-        stitches: Vec::new(),
-        trims: 0,
-        color_changes: 0,
-        stops: 0,
-        extents: [0; 4],
-    };
-    for l in String::from_utf8(out.stdout).unwrap().lines() {
-        let f: Vec<&str> = l.split_whitespace().collect();
-        match f[0] {
-            "S" => r.stitches.push((n(f[1]), -n(f[2]))),
-            "T" => r.trims += 1,
-            "C" => r.color_changes += 1,
-            "P" => r.stops += 1,
-            "B" => r.extents = [n(f[1]), -n(f[4]), n(f[3]), -n(f[2])],
-            _ => {}
-        }
-    }
-    r
-}
-
-/// Our reading in pyembroidery's terms for `format`: VP3's move after a trim, which we read
-/// as a jump, is a stitch to pyembroidery.
-fn ours(plan: &StitchPlan, format: Format) -> Reading {
-    let u = |v: f64| (v * 10.0).round() as i64;
-    let c = plan.counts();
-    let mut stitches = Vec::new();
-    let mut b: Option<[f64; 4]> = None;
-    for block in &plan.blocks {
-        for (i, s) in block.stitches.iter().enumerate() {
-            let sewn = s.kind == Kind::Stitch
-                || (format == Format::Vp3
-                    && s.kind == Kind::Jump
-                    && i > 0
-                    && block.stitches[i - 1].kind == Kind::Trim);
-            if sewn {
-                stitches.push((u(s.x), u(s.y)));
-            }
-            if matches!(s.kind, Kind::Stitch | Kind::Jump) {
-                b = Some(b.map_or([s.x, s.y, s.x, s.y], |[a, b, c, d]| {
-                    [a.min(s.x), b.min(s.y), c.max(s.x), d.max(s.y)]
-                }));
-            }
-        }
-    }
-    Reading {
-        stitches,
-        trims: c.trims,
-        color_changes: c.color_changes,
-        stops: c.stops,
-        extents: b.unwrap_or([0.0; 4]).map(u),
-    }
-}
-
-fn agree(what: &str, mine: &Reading, peer: &Reading) {
-    if let Some(i) = mine
-        .stitches
-        .iter()
-        .zip(&peer.stitches)
-        .position(|(a, b)| a != b)
-    {
-        panic!(
-            "{what}: stitch {i} is {:?} for us, {:?} for pyembroidery",
-            mine.stitches[i], peer.stitches[i]
-        );
-    }
-    assert_eq!(
-        mine.stitches.len(),
-        peer.stitches.len(),
-        "{what}: stitch count"
-    );
-    assert_eq!(mine.trims, peer.trims, "{what}: trims");
-    assert_eq!(
-        mine.color_changes, peer.color_changes,
-        "{what}: colour changes"
-    );
-    assert_eq!(mine.stops, peer.stops, "{what}: stops");
-    assert_eq!(mine.extents, peer.extents, "{what}: extents");
 }
 
 /// `fill, satin, running` from the CLI's "shapes: …" line.
@@ -259,8 +133,8 @@ fn a_lettered_multicolour_design_goes_to_pes_jef_vp3_dst_and_pyembroidery_reads_
         );
 
         let Some(py) = &py else { continue };
-        let peer = peer_read(py, &named);
-        let mine = ours(&back, format);
+        let (peer, _) = peer_read(py, &named);
+        let mine = ours_as(&back, format);
         agree(&format!("{ext} lettered"), &mine, &peer);
         println!(
             "{format}: {} sewn, {} trims, {} colour changes, extents {:?} (0.1 mm): pyembroidery reads the same",
