@@ -164,6 +164,32 @@ fn pe(v: i64) -> Vec<u8> {
 }
 
 #[test]
+fn values_round_trip_through_the_encoding() {
+    // `>f` fractional bits, then a relative pen-down move of (v, 0) from (0, 0), in plotter
+    // units (40 a millimetre); the value read is v rounded to 2^-f units.
+    for f in [0, 1, 5] {
+        for v in [0.0, 1.0, -1.0, 31.0, 32.0, -1000.5, 123456.25, 8.0e8] {
+            let scaled = |v: f64| (v * f64::powi(2.0, f)).round() as i64;
+            let mut b = b"IN;SP1;PA0,0;PE>".to_vec();
+            b.extend(pe(f.into()));
+            b.extend(pe(scaled(v)));
+            b.extend(pe(0));
+            b.extend(b";");
+            let h = hpgl_from_bytes(&b, "t.plt").unwrap_or_else(|e| panic!("{e}"));
+            let want = scaled(v) as f64 / f64::powi(2.0, f) / 40.0;
+            let layers = &h.imported.drawing.layers;
+            let end = layers.first().and_then(|l| l.paths.last()?.end());
+            if v == 0.0 {
+                assert!(end.is_none_or(|e| e.x == 0.0), "{end:?}");
+                continue;
+            }
+            let e = end.unwrap_or_else(|| panic!("{v} with {f} bits: no path"));
+            assert!((e.x - want).abs() < 1e-9 && e.y == 0.0, "{v} with {f} bits: {e:?}");
+        }
+    }
+}
+
+#[test]
 fn polyline_encoded_moves_decode_as_the_hpgl2_reference_encodes_them() {
     // A 100 × 50 mm rectangle: pen-up absolute move to (400, 400), then relative pen-down sides.
     let mut b = b"IN;SP1;PE<=".to_vec();
