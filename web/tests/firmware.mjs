@@ -5,7 +5,7 @@
 // back, and resumes from a line to the end. Clicks and keys only, as a user would.
 
 import { startServer, startEmulator, launch, suite, assert, sleep, out, root } from './harness.mjs';
-import { squareProgram, openPage as open, dro, waitState } from './harness.mjs';
+import { squareProgram, openPage as open, closeAndReopen, dro, waitState } from './harness.mjs';
 import path from 'node:path';
 
 const { test, state, finish } = suite('firmware');
@@ -102,19 +102,7 @@ for (const flavor of ['grbl', 'grblhal', 'fluidnc']) {
   });
 
   await test(`${flavor}: the server answers once the tab is closed, and a new tab finds the board`, async () => {
-    const where = await dro(page);
-    await page.close();
-    await sleep(500);
-    for (let i = 0; i < 3; i++) {
-      const r = await fetch(`${server.origin}/api/info`, { signal: AbortSignal.timeout(5000) });
-      assert(r.ok, `the server answers: ${r.status}`);
-      await sleep(200);
-    }
-    page = await openPage();
-    await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), board.uri.replace('tcp://', ''), { timeout: 15000 });
-    await waitState(page, 'idle');
-    const again = await dro(page);
-    assert(where.every((v, i) => Math.abs(v - again[i]) < 1e-3), `the board is where it was: ${where} vs ${again}`);
+    page = await closeAndReopen(page, server, openPage, board.uri, 'the board');
   });
 
   await test(`${flavor}: resume from a line runs to the end`, async () => {

@@ -125,6 +125,26 @@ export async function openPage(browser, server, state) {
   return page;
 }
 
+/// Closes the tab, checks the server still answers, opens a new one (`reopen()`) and waits
+/// until it names the board at `uri` again, idle and where it was (`what` in the message);
+/// the new page.
+export async function closeAndReopen(page, server, reopen, uri, what) {
+  const where = await dro(page);
+  await page.close();
+  await sleep(500);
+  for (let i = 0; i < 3; i++) {
+    const r = await fetch(`${server.origin}/api/info`, { signal: AbortSignal.timeout(5000) });
+    assert(r.ok, `the server answers: ${r.status}`);
+    await sleep(200);
+  }
+  const again = await reopen();
+  await again.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), uri.replace('tcp://', ''), { timeout: 15000 });
+  await waitState(again, 'idle');
+  const there = await dro(again);
+  assert(where.every((v, i) => Math.abs(v - there[i]) < 1e-3), `${what} is where it was: ${where} vs ${there}`);
+  return again;
+}
+
 /// The DRO's machine (`m`) or work (`w`) position.
 export const dro = (page, kind = 'm') =>
   page.evaluate((k) => ['x', 'y', 'z'].map((a) => Number(document.getElementById(k + a).textContent)), kind);

@@ -11,7 +11,7 @@
 // Without OFICINA_GRBLHAL_SIM it prints SKIPPED and passes.
 
 import { startServer, launch, suite, assert, sleep, out } from './harness.mjs';
-import { squareProgram, openPage as open, dro, waitState } from './harness.mjs';
+import { squareProgram, openPage as open, closeAndReopen, dro, waitState } from './harness.mjs';
 import { writeFileSync } from 'node:fs';
 import path from 'node:path';
 
@@ -160,19 +160,7 @@ await test('start, hold, resume, feed override and stop a program', () => retryi
 }));
 
 await test('the server answers once the tab is closed, and a new tab finds the Simulator where it was', async () => {
-  const where = await dro(page);
-  await page.close();
-  await sleep(500);
-  for (let i = 0; i < 3; i++) {
-    const r = await fetch(`${server.origin}/api/info`, { signal: AbortSignal.timeout(5000) });
-    assert(r.ok, `the server answers: ${r.status}`);
-    await sleep(200);
-  }
-  page = await openPage();
-  await page.waitForFunction((a) => document.getElementById('machine-name').textContent.includes(a), sim.uri.replace('tcp://', ''), { timeout: 15000 });
-  await waitState(page, 'idle');
-  const again = await dro(page);
-  assert(where.every((v, i) => Math.abs(v - again[i]) < 1e-3), `the Simulator is where it was: ${where} vs ${again}`);
+  page = await closeAndReopen(page, server, openPage, sim.uri, 'the Simulator');
 });
 
 await test('resume from a line runs to the end', () => retryingStalls('resume from a line', async () => {
