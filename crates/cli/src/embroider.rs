@@ -11,7 +11,7 @@ use oficina_app::embroider::{
 use oficina_app::Feedback;
 use oficina_stitch::{
     duration, open_seed_port, send, Align, Alteration, Format, MirrorAxis, Params, RunReport,
-    SeedHeader, Sheet, StitchPlan, Text,
+    SeedHeader, Sheet, StitchPlan, Text, Trim,
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -114,6 +114,10 @@ pub(crate) struct Args {
     /// text alone is centred in the hoop.
     #[arg(long, value_parser = point_arg, allow_hyphen_values = true)]
     text_at: Option<(f64, f64)>,
+    /// Cut the thread after each line, word or letter of --text (Ink/Stitch's "Add trims");
+    /// never: only where the font's own jumps are long.
+    #[arg(long, default_value = "never", value_parser = ["never", "line", "word", "letter"])]
+    text_trim: String,
     /// Shift the Zero-Peça by X,Y mm (the seed's ALTER), e.g. --shift 30,-30.
     #[arg(long, value_parser = shift_arg, allow_hyphen_values = true)]
     shift: Option<[f64; 2]>,
@@ -161,6 +165,7 @@ fn text_of(a: &Args) -> anyhow::Result<Option<Text>> {
         align,
         at: oficina_geom::Point::new(x, y),
         under_design: a.text_at.is_none(),
+        trim: Trim::from_id(&a.text_trim).unwrap_or_default(),
         ..Text::default()
     }))
 }
