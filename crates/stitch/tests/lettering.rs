@@ -1,0 +1,293 @@
+//! Lettering sewn as its font demands: the glyphs' satin columns are read back from the
+//! Ink/Stitch document the lettering makes (its paths and `inkstitch:` attributes, parsed here
+//! with roxmltree and svgtypes, rails told from rungs by Ink/Stitch's rule), and the sewn
+//! stitches are checked against that geometry alone: each column is crossed from rail to rail
+//! about twice per `zigzag_spacing_mm` of its length, every crossing near-parallel to the
+//! nearest rung, and the needle stays on the glyphs.
+
+use oficina_stitch::{letter, Align, Kind, Params, Text, Trim};
+
+type P = (f64, f64);
+
+/// The subpaths of an SVG path `d`, y flipped (the document is y down, the stitches y up).
+fn subpaths(d: &str) -> Vec<Vec<P>> {
+    let mut out: Vec<Vec<P>> = Vec::new();
+    for seg in svgtypes::SimplifyingPathParser::from(d).flatten() {
+        match seg {
+            svgtypes::SimplePathSegment::MoveTo { x, y } => out.push(vec![(x, -y)]),
+            svgtypes::SimplePathSegment::LineTo { x, y } => out.last_mut().unwrap().push((x, -y)),
+            svgtypes::SimplePathSegment::ClosePath => {
+                let f = out.last().unwrap()[0];
+                out.last_mut().unwrap().push(f);
+            }
+            s => panic!("the lettering writes polylines, not {s:?}"),
+        }
+    }
+    out
+}
+
+fn dist_seg(p: P, a: P, b: P) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+}
+
+/// The nearest point of `line` to `p`, and its distance.
+fn nearest(p: P, line: &[P]) -> (f64, P) {
+    let mut best = (f64::INFINITY, p);
+    for w in line.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let l2 = dx * dx + dy * dy;
+        let t = if l2 > 0.0 {
+            (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = (a.0 + t * dx, a.1 + t * dy);
+        let d = (p.0 - q.0).hypot(p.1 - q.1);
+        if d < best.0 {
+            best = (d, q);
+        }
+    }
+    best
+}
+
+fn dist(p: P, line: &[P]) -> f64 {
+    line.windows(2)
+        .map(|w| dist_seg(p, w[0], w[1]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn length(line: &[P]) -> f64 {
+    line.windows(2)
+        .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+        .sum()
+}
+
+fn cross(a: &[P], b: &[P]) -> bool {
+    let side = |p: P, q: P, r: P| (q.0 - p.0) * (r.1 - p.1) - (q.1 - p.1) * (r.0 - p.0);
+    a.windows(2).any(|u| {
+        b.windows(2).any(|v| {
+            side(v[0], v[1], u[0]) * side(v[0], v[1], u[1]) <= 0.0
+                && side(u[0], u[1], v[0]) * side(u[0], u[1], v[1]) <= 0.0
+        })
+    })
+}
+
+/// A satin column of the document: rails, rungs, spacing (mm).
+struct Column {
+    id: String,
+    rails: [Vec<P>; 2],
+    rungs: Vec<Vec<P>>,
+    spacing: f64,
+    e_stitch: bool,
+}
+
+/// Ink/Stitch's rule: a rung crosses exactly two other subpaths; the rest are the rails.
+fn column(id: &str, subs: Vec<Vec<P>>, spacing: f64, e_stitch: bool) -> Column {
+    let n = subs.len();
+    let count = |i: usize| {
+        (0..n)
+            .filter(|&j| j != i && cross(&subs[i], &subs[j]))
+            .count()
+    };
+    let mut rails: Vec<usize> = (0..n).filter(|&i| n <= 2 || count(i) != 2).collect();
+    if rails.len() != 2 {
+        rails = (0..n).collect();
+        rails.sort_by(|&i, &j| length(&subs[j]).total_cmp(&length(&subs[i])));
+        rails.truncate(2);
+    }
+    Column {
+        id: id.to_string(),
+        rails: [subs[rails[0]].clone(), subs[rails[1]].clone()],
+        rungs: (0..n)
+            .filter(|i| !rails.contains(i))
+            .map(|i| subs[i].clone())
+            .collect(),
+        spacing,
+        e_stitch,
+    }
+}
+
+struct Doc {
+    columns: Vec<Column>,
+    /// Every subpath of every element (the glyphs' whole geometry).
+    all: Vec<Vec<P>>,
+    trims: usize,
+}
+
+fn read(svg: &str) -> Doc {
+    let ns = "http://inkstitch.org/namespace";
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let mut d = Doc {
+        columns: vec![],
+        all: vec![],
+        trims: 0,
+    };
+    for p in doc.descendants().filter(|n| n.has_tag_name("path")) {
+        let subs = subpaths(p.attribute("d").unwrap());
+        d.all.extend(subs.iter().cloned());
+        d.trims += usize::from(p.attribute((ns, "trim_after")) == Some("true"));
+        if p.attribute((ns, "satin_column")) == Some("True") {
+            let spacing = p
+                .attribute((ns, "zigzag_spacing_mm"))
+                .map_or(0.4, |v| v.parse().unwrap());
+            let e = p.attribute((ns, "e_stitch")) == Some("True");
+            d.columns
+                .push(column(p.attribute("id").unwrap(), subs, spacing, e));
+        }
+    }
+    d
+}
+
+fn angle(u: P, v: P) -> f64 {
+    let c = (u.0 * v.0 + u.1 * v.1).abs() / (u.0.hypot(u.1) * v.0.hypot(v.1));
+    c.min(1.0).acos().to_degrees()
+}
+
+fn text(s: &str) -> Text {
+    Text {
+        text: s.into(),
+        size: 15.0,
+        align: Align::Left,
+        ..Text::default()
+    }
+}
+
+#[test]
+fn satin_zigs_cross_the_rails_along_the_rungs() {
+    let l = letter(&text("Ana|Maria")).unwrap();
+    let doc = read(&l.svg);
+    assert!(
+        doc.columns.len() >= 15,
+        "{} satin columns",
+        doc.columns.len()
+    );
+    assert!(doc.columns.iter().any(|c| !c.rungs.is_empty()));
+    let p = Params {
+        center: false,
+        ..Params::default()
+    };
+    let plan = l.sew(&p, &mut |_, _| {}).unwrap().plan;
+    let entries: Vec<(P, bool)> = plan
+        .entries()
+        .map(|(_, s)| ((s.x, s.y), s.kind == Kind::Stitch))
+        .collect();
+    let pts: Vec<P> = entries.iter().filter(|e| e.1).map(|e| e.0).collect();
+    // Stitches sewn one after the other (a jump between two needle points is no stitch).
+    let sewn: Vec<(P, P)> = entries
+        .windows(2)
+        .filter(|w| w[0].1 && w[1].1)
+        .map(|w| (w[0].0, w[1].0))
+        .collect();
+    let on = 0.02; // mm: Masego has no pull compensation, zigs end on the rails
+    let mut worst = (0.0f64, String::new());
+    for c in &doc.columns {
+        let [a, b] = &c.rails;
+        let zigs: Vec<(P, P)> = sewn
+            .iter()
+            .copied()
+            .filter(|&(p, q)| {
+                (dist(p, a) < on && dist(q, b) < on) || (dist(p, b) < on && dist(q, a) < on)
+            })
+            .filter(|&(p, q)| (p.0 - q.0).hypot(p.1 - q.1) > 0.3)
+            .collect();
+        // About two crossings per spacing of the longer rail (an E-stitch: two per step).
+        let expected = 2.0 * length(a).max(length(b)) / c.spacing;
+        let n = zigs.len() as f64;
+        let (lo, hi) = if c.e_stitch { (0.5, 1.5) } else { (0.6, 1.3) };
+        // A column under a millimetre long: its first and last zigs count for more.
+        assert!(
+            n > lo * expected - 2.0 && n < hi * expected + 5.0,
+            "{}: {n} rail-to-rail stitches, {expected:.0} expected from its length and spacing {}",
+            c.id,
+            c.spacing
+        );
+        if c.rungs.is_empty() {
+            continue;
+        }
+        for (p, q) in zigs {
+            let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0);
+            let rung = c
+                .rungs
+                .iter()
+                .min_by(|r, s| dist(mid, r).total_cmp(&dist(mid, s)))
+                .unwrap();
+            // The rung's part between the rails: from its point nearest one rail to the other.
+            let r0 = rung[0];
+            let r1 = rung[rung.len() - 1];
+            let a = angle((q.0 - p.0, q.1 - p.1), (r1.0 - r0.0, r1.1 - r0.1));
+            if a > worst.0 {
+                worst = (a, c.id.clone());
+            }
+        }
+    }
+    assert!(
+        worst.0 < 25.0,
+        "a zig {:.1}° off its nearest rung in {}",
+        worst.0,
+        worst.1
+    );
+    // The needle stays on the glyphs: near one of their paths, or between a column's rails
+    // (its distances to the nearest points of the two rails add up to their distance apart).
+    let inside = |p: P| {
+        doc.all.iter().any(|l| dist(p, l) < 0.6)
+            || doc.columns.iter().any(|c| {
+                let (da, qa) = nearest(p, &c.rails[0]);
+                let (db, qb) = nearest(p, &c.rails[1]);
+                da + db < (qa.0 - qb.0).hypot(qa.1 - qb.1) + 0.3
+            })
+    };
+    let off: Vec<&P> = pts.iter().filter(|&&p| !inside(p)).collect();
+    assert!(
+        off.len() * 100 < pts.len(),
+        "{} of {} stitches off the glyphs, e.g. {:?}",
+        off.len(),
+        pts.len(),
+        off.first()
+    );
+}
+
+#[test]
+fn trims_fall_after_letters_words_or_lines_as_asked() {
+    // "Ana Maria|Zé": 3 lines' worth of glyphs, 3 words, 2 lines.
+    let glyphs = 10; // A n a M a r i a Z é→o
+    for (trim, marked) in [
+        (Trim::Never, 0),
+        (Trim::Line, 1),
+        (Trim::Word, 2),
+        (Trim::Letter, glyphs),
+    ] {
+        let t = Text {
+            trim,
+            ..text("Ana Maria|Zé")
+        };
+        let l = letter(&t).unwrap();
+        assert_eq!(read(&l.svg).trims, marked, "{trim:?}");
+        let p = Params {
+            center: false,
+            ..Params::default()
+        };
+        let plan = l.sew(&p, &mut |_, _| {}).unwrap().plan;
+        let trims = plan.counts().trims;
+        // Each marked glyph's thread is cut after it (the last one's by the end of the
+        // design); the font's long jumps are trimmed too.
+        assert!(trims >= marked.min(glyphs - 1), "{trim:?}: {trims} trims");
+        if trim == Trim::Letter {
+            let never = letter(&text("Ana Maria|Zé"))
+                .unwrap()
+                .sew(&p, &mut |_, _| {})
+                .unwrap()
+                .plan
+                .counts()
+                .trims;
+            assert!(trims > never, "{trims} trims per letter, {never} without");
+        }
+    }
+}
