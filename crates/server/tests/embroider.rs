@@ -233,7 +233,7 @@ async fn the_forms_text_is_lettered_on_the_design() {
     let plain = embroidered(&st, json!({})).await;
     let named = embroidered(
         &st,
-        json!({"text": "Ana", "text_size": 10, "text_y": -60, "text_align": "center"}),
+        json!({"text": "Ana", "text_size": 14, "text_y": -60, "text_align": "center"}),
     )
     .await;
     let (a, _) = plan_stitches(&plain["plan"]);
