@@ -160,9 +160,18 @@ fn text(s: &str) -> Text {
     }
 }
 
-#[test]
-fn satin_zigs_cross_the_rails_along_the_rungs() {
-    let l = letter(&text("Ana|Maria")).unwrap();
+/// How the stitches of `s` sit on its glyphs' columns.
+struct Fit {
+    /// The largest angle between a zig and its nearest rung or column end, and its column.
+    worst: (f64, String),
+    /// The farthest a zig crossing a rung lies from it (its ends' distance to the rung), mm.
+    at_rung: (f64, String),
+    /// Needle points off the glyphs, of all.
+    off: (usize, usize),
+}
+
+fn fit(s: &str) -> Fit {
+    let l = letter(&text(s)).unwrap();
     let doc = read(&l.svg);
     assert!(
         doc.columns.len() >= 15,
@@ -188,6 +197,7 @@ fn satin_zigs_cross_the_rails_along_the_rungs() {
         .collect();
     let on = 0.02; // mm: Masego has no pull compensation, zigs end on the rails
     let mut worst = (0.0f64, String::new());
+    let mut at_rung = (0.0f64, String::new());
     for c in &doc.columns {
         let [a, b] = &c.rails;
         let zigs: Vec<(P, P)> = sewn
@@ -209,31 +219,44 @@ fn satin_zigs_cross_the_rails_along_the_rungs() {
             c.id,
             c.spacing
         );
-        if c.rungs.is_empty() {
-            continue;
-        }
-        for (p, q) in zigs {
+        // The lines zigs follow: the rungs (between the rails), and the column's two ends.
+        let [a, b] = &c.rails;
+        let (a0, a1) = (a[0], a[a.len() - 1]);
+        let (b0, b1) = if (a0.0 - b[0].0).hypot(a0.1 - b[0].1)
+            <= (a0.0 - b[b.len() - 1].0).hypot(a0.1 - b[b.len() - 1].1)
+        {
+            (b[0], b[b.len() - 1])
+        } else {
+            (b[b.len() - 1], b[0])
+        };
+        let mut guides: Vec<Vec<P>> = c.rungs.clone();
+        guides.push(vec![a0, b0]);
+        guides.push(vec![a1, b1]);
+        for &(p, q) in &zigs {
             let mid = ((p.0 + q.0) / 2.0, (p.1 + q.1) / 2.0);
-            let rung = c
-                .rungs
+            let (d, k, g) = guides
                 .iter()
-                .min_by(|r, s| dist(mid, r).total_cmp(&dist(mid, s)))
+                .enumerate()
+                .map(|(k, r)| (dist(mid, r), k, r))
+                .min_by(|x, y| x.0.total_cmp(&y.0))
                 .unwrap();
-            // The rung's part between the rails: from its point nearest one rail to the other.
-            let r0 = rung[0];
-            let r1 = rung[rung.len() - 1];
-            let a = angle((q.0 - p.0, q.1 - p.1), (r1.0 - r0.0, r1.1 - r0.1));
+            let a = angle(
+                (q.0 - p.0, q.1 - p.1),
+                (g[g.len() - 1].0 - g[0].0, g[g.len() - 1].1 - g[0].1),
+            );
             if a > worst.0 {
                 worst = (a, c.id.clone());
             }
+            // Where a zig crosses a rung it lies along it (the rung pairs the rails there).
+            let on_rung = k < c.rungs.len() && d < 0.25;
+            if on_rung {
+                let off = dist(p, g).max(dist(q, g));
+                if off > at_rung.0 {
+                    at_rung = (off, c.id.clone());
+                }
+            }
         }
     }
-    assert!(
-        worst.0 < 25.0,
-        "a zig {:.1}° off its nearest rung in {}",
-        worst.0,
-        worst.1
-    );
     // The needle stays on the glyphs: near one of their paths, or between a column's rails
     // (its distances to the nearest points of the two rails add up to their distance apart).
     let inside = |p: P| {
@@ -244,14 +267,47 @@ fn satin_zigs_cross_the_rails_along_the_rungs() {
                 da + db < (qa.0 - qb.0).hypot(qa.1 - qb.1) + 0.3
             })
     };
-    let off: Vec<&P> = pts.iter().filter(|&&p| !inside(p)).collect();
-    assert!(
-        off.len() * 100 < pts.len(),
-        "{} of {} stitches off the glyphs, e.g. {:?}",
-        off.len(),
-        pts.len(),
-        off.first()
-    );
+    let off = pts.iter().filter(|&&p| !inside(p)).count();
+    Fit {
+        worst,
+        at_rung,
+        off: (off, pts.len()),
+    }
+}
+
+#[test]
+fn satin_zigs_cross_the_rails_along_the_rungs() {
+    // A name, and every glyph of the alphabet and the digits.
+    for s in [
+        "Ana|Maria",
+        "ABCDEFGHIJKLM|NOPQRSTUVWXYZ|abcdefghijklm|nopqrstuvwxyz|0123456789",
+    ] {
+        let f = fit(s);
+        eprintln!(
+            "{s}: worst zig {:.1}° ({}), at a rung {:.2} mm ({}), {} of {} off",
+            f.worst.0, f.worst.1, f.at_rung.0, f.at_rung.1, f.off.0, f.off.1
+        );
+        assert!(
+            f.worst.0 < 25.0,
+            "{s}: a zig {:.1}° off its nearest rung in {}",
+            f.worst.0,
+            f.worst.1
+        );
+        // Rails paired by proportion alone (no rungs) leave zigs 0.58 to 0.83 mm off some
+        // rungs of these glyphs; paired at the rungs, within 0.54 mm (half a zig's slant).
+        assert!(
+            f.at_rung.0 < 0.6,
+            "{s}: a zig {:.2} mm off the rung it crosses in {}",
+            f.at_rung.0,
+            f.at_rung.1
+        );
+        assert!(
+            f.off.0 * 100 < f.off.1,
+            "{s}: {} of {} stitches off the glyphs",
+            f.off.0,
+            f.off.1
+        );
+    }
 }
 
 #[test]
