@@ -713,7 +713,7 @@ mod tests {
     }
 
     #[test]
-    fn sizes_outside_the_fonts_scales_are_refused() {
+    fn bad_sizes_and_texts_get_clear_errors() {
         for size in [10.0, 25.0, f64::NAN] {
             let t = Text {
                 text: "Ana".into(),
@@ -723,5 +723,17 @@ mod tests {
             let e = letter(&t).unwrap_err();
             assert!(e.0.contains("13.9 to 20.9"), "{e}");
         }
+        let t = Text {
+            text: "a".repeat(5000),
+            ..Text::default()
+        };
+        assert!(letter(&t).unwrap_err().0.contains("at most"));
+        // Characters XML cannot hold are letters the font lacks, not a broken document.
+        let t = Text {
+            text: "A\u{1}<&\"n".into(),
+            ..Text::default()
+        };
+        let l = letter(&t).unwrap();
+        assert!(l.ink.is_inkstitch && !l.notes.is_empty(), "{:?}", l.notes);
     }
 }

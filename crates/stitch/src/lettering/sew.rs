@@ -57,7 +57,12 @@ pub struct Lettered {
     pub notes: Vec<String>,
 }
 
+/// The longest text lettered: thousands of glyphs would only come from a pasted file.
+pub const MAX_CHARS: usize = 2000;
+
+/// `s` as XML attribute text (control characters, which XML cannot hold, left out).
 fn esc(s: &str) -> String {
+    let s: String = s.chars().filter(|c| !c.is_control()).collect();
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
@@ -66,6 +71,12 @@ fn esc(s: &str) -> String {
 
 /// `t` laid out in its font and placed in mm, as an Ink/Stitch document and a drawing.
 pub fn letter(t: &Text) -> Result<Lettered, LetteringError> {
+    let n = t.text.chars().count();
+    if n > MAX_CHARS {
+        return Err(LetteringError(format!(
+            "--text of {n} characters: at most {MAX_CHARS} are lettered (a name, a line or two)"
+        )));
+    }
     let font = Font::bundled(&t.font)?;
     let (lo, hi) = font.sizes();
     // Half a percent of slack: the font's own 14 mm is 13.92 mm of its H.
