@@ -58,7 +58,7 @@ pub struct Lettered {
 }
 
 /// The longest text lettered: thousands of glyphs would only come from a pasted file.
-pub const MAX_CHARS: usize = 2000;
+pub(super) const MAX_CHARS: usize = 2000;
 
 /// `s` as XML attribute text (control characters, which XML cannot hold, left out).
 fn esc(s: &str) -> String {
