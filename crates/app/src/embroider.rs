@@ -247,8 +247,22 @@ pub fn embroider_text(
         let mut generated = l.sew(&p.stitch, &mut tick).map_err(|e| Error(e.0))?;
         let [dx, dy] = p.alteration.shift;
         generated.plan = generated.plan.translated(dx, dy);
+        // The design's name (a DST's label, the sheet's title) is the text itself.
+        let name: String = t
+            .text
+            .split(['|', '\n'])
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join(" ");
+        let name: String = name
+            .trim()
+            .chars()
+            .filter(|c| !c.is_control())
+            .take(40)
+            .collect();
+        generated.plan.name = name.clone();
         let notes = l.notes;
-        return finish(generated, "lettering", notes, None, p, fb);
+        return finish(generated, &name, notes, None, p, fb);
     };
     let name = input
         .file_stem()
