@@ -9,10 +9,11 @@
 //! fills, ties).
 //!
 //! Layout, as Ink/Stitch's lettering does it: lines split at `\n` or `|`, stripped; per line the
-//! pen starts at 0; a space advances by `horiz_adv_x_space` and breaks kerning; before a glyph
-//! the pair's kerning is subtracted (pairs keyed `"A B"` or `"AB"`); the glyph sits at the pen
-//! in its own layer coordinates; the pen then advances by the glyph's `horiz_adv_x` (or the
-//! default, or the glyph's width). A character the font lacks is sewn as its `default_glyph`
+//! pen starts at 0; a space advances by `horiz_adv_x_space` and breaks kerning; a word's first
+//! glyph has its left edge at the pen, a later one its origin at the pen less the pair's
+//! kerning (pairs keyed `"A B"` or `"AB"`); the pen then goes to the glyph's origin plus its
+//! `horiz_adv_x` (or the default, or the glyph's right edge). A line is centred or right
+//! aligned by its drawn width. A character the font lacks is sewn as its `default_glyph`
 //! (noted). Lines are `leading` apart. The baseline is the bottom of the font's `H`, the cap
 //! height the height of `H`: the size asked for is the cap height in mm, held to the scales
 //! the font allows (`min_scale`..`max_scale` of its glyphs at 96 px per inch, as Ink/Stitch's
@@ -153,7 +154,7 @@ pub struct Placed {
 pub struct Layout {
     /// Glyphs in sewing order.
     pub glyphs: Vec<Placed>,
-    /// Each line's advance width (before alignment).
+    /// Each line's drawn width (its glyphs' extent, by which it is aligned).
     pub widths: Vec<f64>,
     /// What could not be set (characters the font lacks).
     pub notes: Vec<String>,
@@ -488,6 +489,7 @@ impl Font {
             let mut x = 0.0;
             let mut last: Option<String> = None;
             let first = out.glyphs.len();
+            let (mut left, mut right) = (f64::INFINITY, f64::NEG_INFINITY);
             for c in line.chars() {
                 let mut ch = c.to_string();
                 if c == ' ' {
@@ -511,31 +513,39 @@ impl Font {
                         }
                     }
                 }
-                if let Some(l) = &last {
-                    x -= self.kern(l, &ch);
-                }
+                let (x0, x1) = self.glyphs[&ch].x_range;
+                // A word's first glyph has its left edge at the pen; the next ones their
+                // origin, the pair's kerning back (Ink/Stitch's `_render_glyph`).
+                let origin = match &last {
+                    Some(l) => x - self.kern(l, &ch),
+                    None => x - x0,
+                };
                 out.glyphs.push(Placed {
                     ch: ch.clone(),
-                    x,
+                    x: origin,
                     y,
                     line: n,
                     word,
                 });
-                x += self.advance_of(&ch);
+                (left, right) = (left.min(origin + x0), right.max(origin + x1));
+                x = origin + self.advance_of(&ch);
                 last = Some(ch);
             }
             if last.is_some() {
                 word += 1;
             }
+            // Aligned by the line's drawn width, its left edge taken at 0 (as Ink/Stitch
+            // shifts the line's group by its bounding box's width).
+            let width = if right > left { right - left } else { 0.0 };
             let shift = match align {
                 Align::Left => 0.0,
-                Align::Center => -x / 2.0,
-                Align::Right => -x,
+                Align::Center => -width / 2.0,
+                Align::Right => -width,
             };
             for g in &mut out.glyphs[first..] {
                 g.x += shift;
             }
-            out.widths.push(x);
+            out.widths.push(width);
         }
         if !missing.is_empty() {
             let s: String = missing.iter().collect();
@@ -638,14 +648,17 @@ mod tests {
     #[test]
     fn advances_and_kerning_come_from_font_json_exactly() {
         let f = masego();
+        let min_x = |c: &str| f.glyphs[c].x_range.0;
         let l = f.layout("Fo", Align::Left).unwrap();
-        assert_eq!(l.glyphs[0].x, 0.0);
-        // 'o' after 'F': F's advance minus the pair's kerning.
-        assert_eq!(l.glyphs[1].x, f.advance_of("F") - 5.0);
+        // The first glyph's left edge at 0.
+        assert_eq!(l.glyphs[0].x, -min_x("F"));
+        // 'o' after 'F': F's origin plus its advance, less the pair's kerning (5).
+        assert_eq!(l.glyphs[1].x, -min_x("F") + f.advance_of("F") - 5.0);
         let l = f.layout("Fa o", Align::Left).unwrap();
-        let x_o = f.advance_of("F") + f.advance_of("a") + f.space;
-        assert_eq!(l.glyphs[2].x, x_o, "a space breaks the pair");
-        assert_eq!(l.widths[0], x_o + f.advance_of("o"));
+        // A space breaks the pair: the next word's first glyph has its left edge at the pen.
+        let pen = -min_x("F") + f.advance_of("F") + f.advance_of("a") + f.space;
+        assert_eq!(l.glyphs[2].x, pen - min_x("o"), "a space breaks the pair");
+        assert_eq!(l.widths[0], pen + f.glyphs["o"].x_range.1 - min_x("o"));
     }
 
     #[test]
@@ -659,10 +672,20 @@ mod tests {
         let m = l.glyphs.iter().find(|g| g.ch == "M").unwrap();
         assert_eq!((a.line, m.line), (0, 1));
         assert_eq!(m.y - a.y, f.leading);
-        assert!((a.x + l.widths[0] / 2.0).abs() < 1e-12);
-        assert!((m.x + l.widths[1] / 2.0).abs() < 1e-12);
+        // Each line's drawn extent centred on 0.
+        for line in 0..2 {
+            let g: Vec<&Placed> = l.glyphs.iter().filter(|g| g.line == line).collect();
+            let lo = g[0].x + f.glyphs[&g[0].ch].x_range.0;
+            let hi = g
+                .iter()
+                .map(|g| g.x + f.glyphs[&g.ch].x_range.1)
+                .fold(f64::MIN, f64::max);
+            assert!((lo + hi).abs() < 1e-9, "line {line}: {lo}..{hi}");
+            assert!((hi - lo - l.widths[line]).abs() < 1e-9);
+        }
         let r = f.layout("Ana|Maria", Align::Right).unwrap();
-        assert!((r.glyphs[0].x + r.widths[0]).abs() < 1e-12);
+        let g = &r.glyphs[0];
+        assert!((g.x + f.glyphs["A"].x_range.0 + r.widths[0]).abs() < 1e-9);
     }
 
     #[test]
