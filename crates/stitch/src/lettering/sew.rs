@@ -2,11 +2,12 @@
 //!
 //! Ink/Stitch's lettering copies each glyph's layer into the document at the pen, scaled,
 //! keeping every element's `inkstitch:` attributes, and adds `trim_after` to the last element
-//! of a letter, word or line as the "Add trims" option asks. The same happens here: the
-//! document's attributes are read by [`read_inkstitch`] and its paths (the same points, in
-//! mm, y up) sewn by [`generate_inkstitch`], so a glyph's satin column is paired by its own
-//! rungs, with its own underlay, spacing and lock stitches, exactly as a satin column of an
-//! Ink/Stitch design.
+//! of a letter, word or line as the "Add trims" option asks (an element without its own
+//! minimum jump then takes the document's: Ink/Stitch's default, 3 mm). The same happens
+//! here: the document's attributes are read by [`read_inkstitch`] and its paths (the same
+//! points, in mm, y up) sewn by [`generate_inkstitch`], so a glyph's satin column is paired by
+//! its own rungs, with its own underlay, spacing and lock stitches, exactly as a satin column
+//! of an Ink/Stitch design.
 
 use super::{Font, LetteringError, Text, INKSCAPE, INKSTITCH, PX_PER_MM};
 use crate::inkstitch::{read_inkstitch, Inkstitch};
@@ -56,6 +57,10 @@ pub struct Lettered {
     /// What was sewn otherwise than asked (characters the font lacks).
     pub notes: Vec<String>,
 }
+
+/// Ink/Stitch's document-wide minimum jump (`collapse_len_mm`, 3 mm unless the document
+/// says otherwise): a shorter move to an element without its own is sewn, not jumped.
+const MIN_JUMP: f64 = 3.0;
 
 /// The longest text lettered: thousands of glyphs would only come from a pasted file.
 pub(super) const MAX_CHARS: usize = 2000;
@@ -148,11 +153,17 @@ pub fn letter(t: &Text) -> Result<Lettered, LetteringError> {
                 layer.paths.push(path);
             }
             let mut attrs = String::new();
+            let mut min_jump = false;
             for (name, value) in &el.params {
-                if k == last && trim && name == "trim_after" {
+                if (k == last && trim && name == "trim_after") || value.trim().is_empty() {
                     continue;
                 }
+                min_jump |= name == "min_jump_stitch_length_mm";
                 let _ = write!(attrs, " inkstitch:{name}=\"{}\"", esc(value));
+            }
+            if !min_jump {
+                // What Ink/Stitch uses for an element without its own: the document's.
+                let _ = write!(attrs, " inkstitch:min_jump_stitch_length_mm=\"{MIN_JUMP}\"");
             }
             if k == last && trim {
                 attrs.push_str(" inkstitch:trim_after=\"true\"");
