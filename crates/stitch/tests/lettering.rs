@@ -3,7 +3,9 @@
 //! with roxmltree and svgtypes, rails told from rungs by Ink/Stitch's rule), and the sewn
 //! stitches are checked against that geometry alone: each column is crossed from rail to rail
 //! about twice per `zigzag_spacing_mm` of its length, every crossing near-parallel to the
-//! nearest rung, and the needle stays on the glyphs.
+//! nearest rung, and the needle stays on the glyphs. And the document itself against the font
+//! file read by Oficina's SVG importer (usvg): every glyph element there, scaled to the cap
+//! height asked for and moved, nothing else.
 
 use oficina_stitch::{letter, Align, Kind, Params, Text, Trim};
 
@@ -345,5 +347,107 @@ fn trims_fall_after_letters_words_or_lines_as_asked() {
                 .trims;
             assert!(trims > never, "{trims} trims per letter, {never} without");
         }
+    }
+}
+
+/// Bounding box [x0, y0, x1, y1] of points.
+fn bbox<'a>(pts: impl Iterator<Item = &'a P>) -> [f64; 4] {
+    pts.fold(
+        [f64::MAX, f64::MAX, f64::MIN, f64::MIN],
+        |[a, b, c, d], p| [a.min(p.0), b.min(p.1), c.max(p.0), d.max(p.1)],
+    )
+}
+
+#[test]
+fn the_document_holds_the_fonts_glyphs_scaled_and_moved_only() {
+    // The font file read by Oficina's SVG importer (usvg), its hidden glyph layers shown: each
+    // glyph element in mm, y up, by its id.
+    let font = include_str!("../fonts/inkstitch_masego/ltr.svg").replace("display:none", "");
+    let imported = oficina_io::read_svg(
+        font.as_bytes(),
+        "ltr.svg",
+        &oficina_io::SvgOptions { draw_text: false },
+    )
+    .unwrap();
+    let mut glyph_bbox: std::collections::HashMap<String, [f64; 4]> = Default::default();
+    for path in imported.drawing.paths() {
+        let pts: Vec<P> = path.flatten(0.001).iter().map(|q| (q.x, q.y)).collect();
+        let b = bbox(pts.iter());
+        let e = glyph_bbox.entry(path.source.element.clone()).or_insert([
+            f64::MAX,
+            f64::MAX,
+            f64::MIN,
+            f64::MIN,
+        ]);
+        *e = [
+            e[0].min(b[0]),
+            e[1].min(b[1]),
+            e[2].max(b[2]),
+            e[3].max(b[3]),
+        ];
+    }
+    let l = letter(&text("Ana|Maria")).unwrap();
+    let doc = roxmltree::Document::parse(&l.svg).unwrap();
+    let mut scales = Vec::new();
+    for g in doc.descendants().filter(|n| {
+        n.has_tag_name("g") && n.attribute("id").is_some_and(|i| i.starts_with("glyph-"))
+    }) {
+        // Per glyph: one scale and one shift take every element's box from the font's to the
+        // document's (the document is y down: its y negated).
+        let mut pairs: Vec<([f64; 4], [f64; 4])> = Vec::new();
+        for p in g.children().filter(|n| n.has_tag_name("path")) {
+            let id = p.attribute("id").unwrap();
+            let font_id = format!("#{}", id.split_once('-').unwrap().1);
+            let ours: Vec<P> = subpaths(p.attribute("d").unwrap()).concat();
+            let theirs = *glyph_bbox
+                .get(&font_id)
+                .unwrap_or_else(|| panic!("{font_id} is not in the font"));
+            pairs.push((theirs, bbox(ours.iter())));
+        }
+        let (f0, d0) = (pairs[0].0, pairs[0].1);
+        let widest = pairs
+            .iter()
+            .max_by(|a, b| (a.0[2] - a.0[0]).total_cmp(&(b.0[2] - b.0[0])))
+            .unwrap();
+        let s = (widest.1[2] - widest.1[0]) / (widest.0[2] - widest.0[0]);
+        let (tx, ty) = (d0[0] - s * f0[0], d0[1] - s * f0[1]);
+        for (theirs, ours) in &pairs {
+            let mapped = [
+                s * theirs[0] + tx,
+                s * theirs[1] + ty,
+                s * theirs[2] + tx,
+                s * theirs[3] + ty,
+            ];
+            let off = mapped
+                .iter()
+                .zip(ours)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            let label = g.attribute(("http://www.inkscape.org/namespaces/inkscape", "label"));
+            assert!(
+                off < 0.05,
+                "{label:?}: an element {off:.3} mm from the font's, scaled by {s}"
+            );
+        }
+        scales.push(s);
+    }
+    assert_eq!(scales.len(), 8, "A n a M a r i a");
+    // One scale for every glyph: 15 mm capitals over the height of the font's H.
+    let h = imported
+        .drawing
+        .layers
+        .iter()
+        .find(|l| l.name.ends_with("GlyphLayer-H"))
+        .expect("the H layer");
+    let pts: Vec<P> = h
+        .paths
+        .iter()
+        .flat_map(|p| p.flatten(0.001))
+        .map(|q| (q.x, q.y))
+        .collect();
+    let b = bbox(pts.iter());
+    let want = 15.0 / (b[3] - b[1]);
+    for s in &scales {
+        assert!((s - want).abs() < 1e-3, "{scales:?}, {want} wanted");
     }
 }
