@@ -103,7 +103,8 @@ pub(crate) struct Args {
     /// The embroidery font of --text (bundled: masego, Ink/Stitch's OFL satin font).
     #[arg(long, default_value = oficina_stitch::DEFAULT_FONT)]
     font: String,
-    /// Cap height of --text, mm.
+    /// Cap height of --text, mm: within the sizes the font is made for (its font.json's
+    /// scales; Masego 13.9 to 20.9).
     #[arg(long, default_value_t = 15.0)]
     text_size: f64,
     /// Alignment of the text's lines: left, center, right.
