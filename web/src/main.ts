@@ -82,6 +82,15 @@ async function runCheck() {
   }
 }
 
+/// The top bar while the preview shows stitches: the stitch file and its figures, not the
+/// editor's program (which stays in the editor, untouched).
+function showStitchBar(name: string, sheet: { stitches: number; threads: unknown[]; size: [number, number]; hoop?: string | null }) {
+  $('program-name').textContent = name;
+  const [w, h] = sheet.size;
+  $('summary').textContent = `${sheet.stitches.toLocaleString()} stitches · ${sheet.threads.length} colour${sheet.threads.length === 1 ? '' : 's'} · ${w.toFixed(1)} × ${h.toFixed(1)} mm${sheet.hoop ? ' · hoop ' + sheet.hoop : ''}`;
+  $('summary').dataset.extents = '';
+}
+
 /// The header above the preview: what it shows, and for which machine it was read.
 function showTitle() {
   const r = stats.lastCheck;
@@ -110,6 +119,8 @@ function showCheck(r: CheckReport) {
   const tools = r.tool_table.map(([n, t]) => t ? `T${n} Ø${t.diameter} L${t.length}` : `T${n} not in the tool table`).join(', ');
   panel.setProgramErrors(r.errors);
   const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
+  // While stitches are shown the bar describes them (showStitchBar), not the program.
+  if (showingStitches) return showTitle();
   $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
   $('summary').dataset.extents = e ? JSON.stringify(e) : '';
   // The view frames the extents the summary names: where the program cuts (its rapids
@@ -271,11 +282,19 @@ function setProcess(p: Process) {
     $('embroidery').hidden = true;
   }
   $('make').textContent = p === 'embroider' ? 'Make the stitches' : 'Make the program';
-  if (isDesign) $('process-input').textContent = design && design.kind === p ? design.name : 'a file (open one)';
+  const hasDesign = !!design && design.kind === p;
+  if (isDesign) $('process-input').textContent = hasDesign ? design!.name : p === 'embroider' ? 'its Text alone (or open a file)' : 'a file (open one)';
+  // Embroidery letters the Text field by itself once the design is put aside.
+  $('text-alone').hidden = p !== 'embroider' || !hasDesign;
   // Plots: rapid moves are the pen up, feeds the pen down; embroidery: jumps and stitches.
   $('legend-rapid').textContent = p === 'plot' ? 'pen up' : p === 'embroider' ? 'jump (grey)' : 'rapid';
   $('legend-feed').textContent = p === 'plot' ? 'pen down' : p === 'embroider' ? 'stitch (thread colour)' : 'feed';
 }
+$('text-alone').onclick = () => {
+  design = null;
+  setProcess('embroider');
+  document.querySelector<HTMLInputElement>('#process-fields input[name="text"]')?.focus();
+};
 $<HTMLSelectElement>('process').onchange = (e) => {
   const p = (e.target as HTMLSelectElement).value as Process;
   if (p === 'relief' && !image) openSample('dome.png');
@@ -287,9 +306,13 @@ $<HTMLSelectElement>('process').onchange = (e) => {
 /// fields, its program loaded into the editor, the preview and the machine.
 async function make() {
   const kind = $<HTMLSelectElement>('process').value as ProcessKind;
-  if (!design || design.kind !== kind) return showFieldError(null, `open a file for ${PROCESSES[kind].title} first`);
   clearFieldErrors();
   const form = readForm(kind);
+  if (!design || design.kind !== kind) {
+    // Embroidery without a design: its Text lettered alone, as `oficina embroider --text`.
+    if (kind === 'embroider' && !('field' in form) && String(form.params.text ?? '').trim()) return embroider(null, form.params);
+    return showFieldError(null, kind === 'embroider' ? 'type a Text to letter, or open a file' : `open a file for ${PROCESSES[kind].title} first`);
+  }
   if ('field' in form) return showFieldError(form.field, form.message);
   if (kind === 'embroider') return embroider(design.name, form.params);
   // The plotter is the job's machine profile, not one of its parameters.
@@ -355,18 +378,19 @@ async function job(path: string, body: unknown): Promise<Record<string, any> | n
 /// Embroidery: a design sewn into a stitch file by the server's pipeline, or a stitch file
 /// read back; either way the plan is drawn in its threads beside its production sheet.
 let stitchFile = '';
-async function embroider(name: string, params: Record<string, unknown>) {
-  const route = STITCH_FILE.test(name) ? '/api/stitches' : '/api/embroider';
+async function embroider(name: string | null, params: Record<string, unknown>) {
+  const route = name && STITCH_FILE.test(name) ? '/api/stitches' : '/api/embroider';
   busy(true);
   $('process-status').textContent = 'working…';
   try {
-    const body = await job(route, { file: name, params });
+    const body = await job(route, name ? { file: name, params } : { params });
     if (!body) return;
     const sheet = body.sheet;
     const sewn = preview.stitches(body.plan.blocks);
     showingStitches = true;
     stitchFile = body.name;
     showTitle();
+    showStitchBar(body.name, sheet);
     preview.setView('xy');
     document.querySelectorAll('#views button').forEach((x) => x.classList.toggle('active', (x as HTMLElement).dataset.view === 'xy'));
     const scrub = $<HTMLInputElement>('scrub');

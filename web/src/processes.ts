@@ -88,11 +88,14 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'machine', label: 'Embroidery table', kind: 'select', value: 'embroidery-table', options: ['embroidery-table', 'embroidery-xy'] },
       { name: 'ppm', label: 'Fixed head speed', unit: 'stitches/min', value: '', min: 1, max: 10000, optional: true },
       { name: 'pieces', label: 'Pieces', value: '1', min: 1, max: 1000000 },
-      // Lettering added to the design (`oficina embroider --text`): '|' starts a line.
+      // Lettering added to the design, or sewn alone ("Text alone"), as `oficina embroider
+      // --text`: '|' starts a line. Masego is made for 14–21 mm capitals (its font.json).
       { name: 'text', label: 'Text', kind: 'text', value: '', optional: true, placeholder: 'Ana|Maria' },
       { name: 'font', label: 'Font', kind: 'select', value: 'masego', options: ['masego'] },
-      { name: 'text_size', label: 'Text height', unit: 'mm', value: '15', min: 0.5, max: 500 },
+      { name: 'text_size', label: 'Text height', unit: 'mm', value: '15', min: 13.9, max: 20.9 },
       { name: 'text_align', label: 'Text alignment', kind: 'select', value: 'center', options: ['left', 'center', 'right'] },
+      // Ink/Stitch's "Add trims": the thread cut after each line, word or letter.
+      { name: 'text_trim', label: 'Trim the text', kind: 'select', value: 'never', options: ['never', 'line', 'word', 'letter'] },
       // Both empty: under the design, centred on it (or at its edge as aligned).
       { name: 'text_x', label: 'Text at X', unit: 'mm', value: '', min: -1000, max: 1000, optional: true, placeholder: 'under the design' },
       { name: 'text_y', label: 'Text at Y', unit: 'mm', value: '', min: -1000, max: 1000, optional: true, placeholder: 'under the design' },

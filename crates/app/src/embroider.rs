@@ -4,8 +4,8 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    alter, generate, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch,
-    sheet, Align, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
+    alter, append, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch, sheet,
+    Align, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
     StitchPlan, Table, Text,
 };
 use std::path::Path;
@@ -238,14 +238,31 @@ pub fn embroider_text(
             return Err(Error("give a design or a text to embroider".into()));
         };
         fb.stage("lettering")?;
-        let (drawing, notes) = letter(t, &p.stitch).map_err(|e| Error(e.0))?;
+        let mut l = letter(t).map_err(|e| Error(e.0))?;
+        transform(&mut l.drawing, p);
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        let generated =
-            generate(&drawing, "lettering", &p.stitch, &mut tick).map_err(|e| Error(e.0))?;
-        return finish(generated, "lettering", notes, None, p, fb);
+        let mut generated = l.sew(&p.stitch, &mut tick).map_err(|e| Error(e.0))?;
+        let [dx, dy] = p.alteration.shift;
+        generated.plan = generated.plan.translated(dx, dy);
+        // The design's name (a DST's label, the sheet's title) is the text itself.
+        let name: String = t
+            .text
+            .split(['|', '\n'])
+            .map(str::trim)
+            .collect::<Vec<_>>()
+            .join(" ");
+        let name: String = name
+            .trim()
+            .chars()
+            .filter(|c| !c.is_control())
+            .take(40)
+            .collect();
+        generated.plan.name = name.clone();
+        let notes = l.notes;
+        return finish(generated, &name, notes, None, p, fb);
     };
     let name = input
         .file_stem()
@@ -335,37 +352,50 @@ pub fn embroider_text(
         }
         notes.extend(ink.notes.iter().cloned());
         let mut drawing = imported.drawing;
-        if let Some(t) = text {
-            fb.stage("lettering")?;
-            let mut t = t.clone();
-            if let (true, Some(b)) = (t.under_design, drawing.bounding_box()) {
-                let x = match t.align {
-                    Align::Left => b.x0,
-                    Align::Center => (b.x0 + b.x1) / 2.0,
-                    Align::Right => b.x1,
-                };
-                t.at = oficina_geom::Point::new(x, b.y0 - 1.5 * t.size);
-            }
-            let (d, n) = letter(&t, &p.stitch).map_err(|e| Error(e.0))?;
-            drawing.layers.extend(d.layers);
-            notes.extend(n);
-        }
-        if !p.alteration.is_identity() {
-            // Scale, rotate and mirror the design itself: the stitches keep their lengths.
-            let [a, b, c, d] = p.alteration.linear();
-            let m = oficina_geom::kurbo::Affine::new([a, b, c, d, 0.0, 0.0]);
-            for layer in &mut drawing.layers {
-                for path in &mut layer.paths {
-                    *path = path.transform(m);
+        // The lettering is sewn as its own Ink/Stitch document after the design.
+        let lettered = match text {
+            Some(t) => {
+                fb.stage("lettering")?;
+                let mut t = t.clone();
+                if let (true, Some(b)) = (t.under_design, drawing.bounding_box()) {
+                    let x = match t.align {
+                        Align::Left => b.x0,
+                        Align::Center => (b.x0 + b.x1) / 2.0,
+                        Align::Right => b.x1,
+                    };
+                    t.at = oficina_geom::Point::new(x, b.y0 - 1.5 * t.size);
                 }
+                let mut l = letter(&t).map_err(|e| Error(e.0))?;
+                notes.extend(l.notes.iter().cloned());
+                transform(&mut l.drawing, p);
+                Some(l)
             }
-        }
+            None => None,
+        };
+        transform(&mut drawing, p);
         fb.stage("generating stitches")?;
         let mut tick = |done: usize, total: usize| {
             (fb.progress)("generating stitches", done as f64 / total.max(1) as f64)
         };
-        let mut g = generate_inkstitch(&drawing, &name, &p.stitch, &ink, &mut tick)
-            .map_err(|e| Error(e.0))?;
+        let alone = Params {
+            center: false,
+            ..p.stitch.clone()
+        };
+        let mut g =
+            generate_inkstitch(&drawing, &name, &alone, &ink, &mut tick).map_err(|e| Error(e.0))?;
+        if let Some(l) = lettered {
+            let lg = l.sew(&alone, &mut |_, _| {}).map_err(|e| Error(e.0))?;
+            append(&mut g.plan, lg.plan);
+            g.satins += lg.satins;
+            g.fills += lg.fills;
+            g.runnings += lg.runnings;
+        }
+        // Centred on the hoop as `generate` centres a design.
+        if let Some(b) = g.plan.bounds().filter(|_| p.stitch.center) {
+            g.plan = g
+                .plan
+                .translated(-(b[0] + b[2]) / 2.0, -(b[1] + b[3]) / 2.0);
+        }
         let [dx, dy] = p.alteration.shift;
         if dx != 0.0 || dy != 0.0 {
             g.plan = g.plan.translated(dx, dy);
@@ -373,6 +403,21 @@ pub fn embroider_text(
         g
     };
     finish(generated, &name, notes, source, p, fb)
+}
+
+/// The alteration's scale, rotation and mirror applied to a design itself (the stitches keep
+/// their lengths).
+fn transform(drawing: &mut oficina_geom::Drawing, p: &EmbroiderParams) {
+    if p.alteration.is_identity() {
+        return;
+    }
+    let [a, b, c, d] = p.alteration.linear();
+    let m = oficina_geom::kurbo::Affine::new([a, b, c, d, 0.0, 0.0]);
+    for layer in &mut drawing.layers {
+        for path in &mut layer.paths {
+            *path = path.transform(m);
+        }
+    }
 }
 
 /// The file, the sheet and the preview of generated stitches.

@@ -11,7 +11,7 @@ use oficina_app::embroider::{
 use oficina_app::Feedback;
 use oficina_stitch::{
     duration, open_seed_port, send, Align, Alteration, Format, MirrorAxis, Params, RunReport,
-    SeedHeader, Sheet, StitchPlan, Text,
+    SeedHeader, Sheet, StitchPlan, Text, Trim,
 };
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -103,7 +103,8 @@ pub(crate) struct Args {
     /// The embroidery font of --text (bundled: masego, Ink/Stitch's OFL satin font).
     #[arg(long, default_value = oficina_stitch::DEFAULT_FONT)]
     font: String,
-    /// Cap height of --text, mm.
+    /// Cap height of --text, mm: within the sizes the font is made for (its font.json's
+    /// scales; Masego 13.9 to 20.9).
     #[arg(long, default_value_t = 15.0)]
     text_size: f64,
     /// Alignment of the text's lines: left, center, right.
@@ -114,6 +115,10 @@ pub(crate) struct Args {
     /// text alone is centred in the hoop.
     #[arg(long, value_parser = point_arg, allow_hyphen_values = true)]
     text_at: Option<(f64, f64)>,
+    /// Cut the thread after each line, word or letter of --text (Ink/Stitch's "Add trims");
+    /// never: only where the font's own jumps are long.
+    #[arg(long, default_value = "never", value_parser = ["never", "line", "word", "letter"])]
+    text_trim: String,
     /// Shift the Zero-Peça by X,Y mm (the seed's ALTER), e.g. --shift 30,-30.
     #[arg(long, value_parser = shift_arg, allow_hyphen_values = true)]
     shift: Option<[f64; 2]>,
@@ -161,6 +166,7 @@ fn text_of(a: &Args) -> anyhow::Result<Option<Text>> {
         align,
         at: oficina_geom::Point::new(x, y),
         under_design: a.text_at.is_none(),
+        trim: Trim::from_id(&a.text_trim).unwrap_or_default(),
         ..Text::default()
     }))
 }

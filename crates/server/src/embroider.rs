@@ -14,7 +14,7 @@ use oficina_app::embroider::{
     embroider_text, read_stitch_file, sheet_document_with_render, sheet_of, EmbroiderParams,
 };
 use oficina_app::Error;
-use oficina_stitch::{Align, Format, Kind, Params, Sheet, StitchPlan, Text, DEFAULT_FONT};
+use oficina_stitch::{Align, Format, Kind, Params, Sheet, StitchPlan, Text, Trim, DEFAULT_FONT};
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::sync::Arc;
@@ -55,6 +55,8 @@ pub(crate) struct EmbroiderForm {
     /// under the design, centred on it (or at its edge as aligned).
     text_x: Option<f64>,
     text_y: Option<f64>,
+    /// never, line, word or letter: where the thread is cut between glyphs.
+    text_trim: String,
 }
 
 impl Default for EmbroiderForm {
@@ -84,6 +86,7 @@ impl Default for EmbroiderForm {
             text_align: "center".into(),
             text_x: None,
             text_y: None,
+            text_trim: "never".into(),
         }
     }
 }
@@ -107,6 +110,12 @@ impl EmbroiderForm {
             align,
             at: oficina_geom::Point::new(self.text_x.unwrap_or(0.0), self.text_y.unwrap_or(0.0)),
             under_design: self.text_x.is_none() && self.text_y.is_none(),
+            trim: Trim::from_id(&self.text_trim).ok_or_else(|| {
+                bad(format!(
+                    "--text-trim {}: use never, line, word or letter",
+                    self.text_trim
+                ))
+            })?,
             ..Text::default()
         }))
     }
@@ -262,19 +271,42 @@ async fn render_files(st: &AppState, name: &str, plan: &StitchPlan, sheet: &Shee
     out
 }
 
+/// The file name of lettering sewn alone: its letters and digits, the rest as `-` ("Ana|Maria"
+/// → "Ana-Maria"), or `lettering`.
+fn lettering_name(text: &str) -> String {
+    let s: String = text
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .take(40)
+        .collect();
+    let s = s.trim_matches('-').to_string();
+    if s.is_empty() {
+        "lettering".into()
+    } else {
+        s
+    }
+}
+
 /// `POST /api/embroider {file, params}`: the design → stitches → the file in the job folder.
 pub(crate) async fn embroider_job(
     State(st): State<Arc<AppState>>,
     Json(req): Json<EmbroiderRequest>,
 ) -> Result<Response, CamError> {
-    let path = input(&st, &req.file)?;
     let text = req.params.text()?;
+    // Text alone (no design file) is lettered by itself, as `oficina embroider --text`.
+    let path = match (&req.file, &text) {
+        (None, Some(_)) => None,
+        _ => Some(input(&st, &req.file)?),
+    };
+    let file = req
+        .file
+        .clone()
+        .unwrap_or_else(|| lettering_name(&req.params.text));
     let params = req.params.params()?;
-    let file = req.file.clone().unwrap_or_default();
     let name = output_name(&file, params.format.extension())?;
     let p = params.clone();
     let r = compute(&st, move |fb| {
-        embroider_text(Some(&path), text.as_ref(), &p, fb)
+        embroider_text(path.as_deref(), text.as_ref(), &p, fb)
     })
     .await?;
     if let Err(e) = &r.sheet.hoop {

@@ -233,7 +233,7 @@ async fn the_forms_text_is_lettered_on_the_design() {
     let plain = embroidered(&st, json!({})).await;
     let named = embroidered(
         &st,
-        json!({"text": "Ana", "text_size": 10, "text_y": -60, "text_align": "center"}),
+        json!({"text": "Ana", "text_size": 14, "text_y": -60, "text_align": "center"}),
     )
     .await;
     let (a, _) = plan_stitches(&plain["plan"]);
@@ -241,4 +241,43 @@ async fn the_forms_text_is_lettered_on_the_design() {
     assert!(b > a + 200, "{a} stitches without the text, {b} with it");
     let (s, v) = embroider(&st, json!({"text": "Ana", "text_align": "middle"})).await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+}
+
+#[tokio::test]
+async fn text_alone_is_lettered_without_a_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    let (s, v) = post(
+        &st,
+        "/api/embroider",
+        json!({"params": {"text": "Ana|Maria", "format": "pes", "text_trim": "word"}}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::OK, "{v}");
+    assert_eq!(v["name"], "Ana-Maria.pes");
+    let (n, _) = plan_stitches(&v["plan"]);
+    assert!(n > 1000, "{n}");
+    assert_eq!(v["sheet"]["stitches"].as_u64().unwrap() as usize, n);
+    assert!(v["shapes"]["satin"].as_u64().unwrap() > 10, "{v}");
+    if let Some(peer) = pyembroidery_stitches(&dir.path().join("jobs/Ana-Maria.pes")) {
+        assert_eq!(peer, n, "pyembroidery's stitches");
+    }
+    // No design and no text: still refused; a size the font is not made for, named.
+    let (s, _) = post(&st, "/api/embroider", json!({"params": {}})).await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
+    let (s, v) = post(
+        &st,
+        "/api/embroider",
+        json!({"params": {"text": "Ana", "text_size": 40}}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+    assert!(v.to_string().contains("--text-size 40"), "{v}");
+    let (s, _) = post(
+        &st,
+        "/api/embroider",
+        json!({"params": {"text": "Ana", "text_trim": "often"}}),
+    )
+    .await;
+    assert_eq!(s, StatusCode::BAD_REQUEST);
 }

@@ -1,28 +1,36 @@
-//! Lettering: text in an Ink/Stitch embroidery font becomes a `Drawing` the generator sews.
+//! Lettering: text in an Ink/Stitch embroidery font, sewn as Ink/Stitch's lettering sews it.
 //!
 //! The bundled font is Ink/Stitch's Masego (`fonts/inkstitch_masego/`, SIL OFL 1.1, from
 //! PyPI's `inkstitch-fonts` 0.1.0; see its `SOURCES.md`). A font is its `font.json`
 //! (`horiz_adv_x`, `horiz_adv_x_default`, `horiz_adv_x_space`, `kerning_pairs`, `leading`, all
-//! in font units = the SVG's user units) and its `ltr.svg`, one glyph per layer
-//! `GlyphLayer-X`; a path with `inkstitch:satin_column="True"` is a satin column (two rails,
-//! any other subpaths rungs), every other path a running stitch.
+//! in font units = the SVG's user units, px; `size`, `min_scale`, `max_scale`,
+//! `default_glyph`) and its `ltr.svg`, one glyph per layer `GlyphLayer-X`, each element a path
+//! with its own `inkstitch:` parameters (satin columns with their rungs, running stitches,
+//! fills, ties).
 //!
-//! Layout, as Ink/Stitch's lettering does it: lines split at `\n` or `|`; per line the pen
-//! starts at 0; a space advances by `horiz_adv_x_space` and breaks kerning; before a glyph
-//! the pair's kerning is subtracted (SVG `hkern` convention, pairs keyed `"AB"` or `"A B"`);
-//! the glyph sits at the pen in its own layer coordinates; the pen then advances by the
-//! glyph's `horiz_adv_x` (or the default, or the glyph's width). Lines are `leading` apart.
-//! The baseline is the bottom of the font's `H`, the cap height the height of `H`: the size
-//! asked for is the cap height in mm.
+//! Layout, as Ink/Stitch's lettering does it: lines split at `\n` or `|`, stripped; per line the
+//! pen starts at 0; a space advances by `horiz_adv_x_space` and breaks kerning; a word's first
+//! glyph has its left edge at the pen, a later one its origin at the pen less the pair's
+//! kerning (pairs keyed `"A B"` or `"AB"`); the pen then goes to the glyph's origin plus its
+//! `horiz_adv_x` (or the default, or the glyph's right edge). A line is centred or right
+//! aligned by its drawn width. A character the font lacks is sewn as its `default_glyph`
+//! (noted). Lines are `leading` apart. The baseline is the bottom of the font's `H`, the cap
+//! height the height of `H`: the size asked for is the cap height in mm, held to the scales
+//! the font allows (`min_scale`..`max_scale` of its glyphs at 96 px per inch, as Ink/Stitch's
+//! lettering dialog holds them).
 //!
-//! Satin columns go to the current generator as Ink/Stitch's two-rail element (two open
-//! subpaths, stroked ≥ `satin_min_width`): the rungs are not passed on, so the rails are paired
-//! by arc length along their whole length (the rungs' finer pairing waits for the rail-satin
-//! generator with rungs).
+//! Sewing (`sew`): the placed glyphs become an Ink/Stitch document, each glyph element
+//! keeping its `inkstitch:` attributes (and `trim_after` where the trims asked for fall), read
+//! back by [`crate::read_inkstitch`] and sewn by [`crate::generate_inkstitch`], the way any
+//! Ink/Stitch SVG is sewn: a satin column's rungs pair its rails, its underlay, spacing and
+//! ties are the font's.
 
-use crate::generate::Params;
-use oficina_geom::{Color, Drawing, Path, Point, SourceRef, Style};
+mod sew;
+
+use oficina_geom::Point;
 use std::collections::HashMap;
+
+pub use sew::{append, letter, Lettered, Trim};
 
 /// Name of the bundled font.
 pub const DEFAULT_FONT: &str = "masego";
@@ -33,28 +41,42 @@ const MASEGO_SVG: &str = include_str!("../fonts/inkstitch_masego/ltr.svg");
 /// Names of the bundled fonts.
 pub const FONTS: &[&str] = &[DEFAULT_FONT];
 
-/// Stroke width given to satin rails so the generator sews them as a satin (mm).
-const RAIL_WIDTH: f64 = 1.0;
+/// SVG user units (px) per mm: a font at scale 1 is sewn at this size (Ink/Stitch's
+/// `PIXELS_PER_MM`).
+pub const PX_PER_MM: f64 = 96.0 / 25.4;
 
 /// A bad font, text or size.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{0}")]
 pub struct LetteringError(pub String);
 
-/// One stitched part of a glyph, in font units, y down (the SVG's).
+/// One element of a glyph as the font draws it: a path, in font units (y down, the SVG's).
 #[derive(Clone, Debug, PartialEq)]
-pub enum GlyphPart {
-    /// A satin column between two rails.
-    Satin([Vec<Point>; 2]),
-    /// A running stitch line.
-    Running(Vec<Point>),
+pub struct GlyphElement {
+    /// The path's id in the font.
+    pub id: String,
+    /// Its subpaths, flattened (a satin column: two rails and its rungs).
+    pub subpaths: Vec<Vec<Point>>,
+    /// Its `inkstitch:` attributes as written (name without prefix, value).
+    pub params: Vec<(String, String)>,
+    /// It is filled (its style's `fill` is a colour).
+    pub filled: bool,
 }
 
-/// A glyph: its parts and its horizontal extent.
+impl GlyphElement {
+    /// `inkstitch:satin_column` is true.
+    pub fn is_satin(&self) -> bool {
+        self.params
+            .iter()
+            .any(|(k, v)| k == "satin_column" && v.eq_ignore_ascii_case("true"))
+    }
+}
+
+/// A glyph: its elements and its extent.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Glyph {
-    /// Satins and running lines in the font's sewing order.
-    pub parts: Vec<GlyphPart>,
+    /// Satins, running lines and fills in the font's sewing order.
+    pub elements: Vec<GlyphElement>,
     /// Leftmost and rightmost x, font units.
     pub x_range: (f64, f64),
     /// Topmost and bottommost y, font units (y down).
@@ -82,6 +104,10 @@ pub struct Font {
     pub baseline: f64,
     /// Cap height, font units (the height of `H`).
     pub cap_height: f64,
+    /// Scales the font is made for (`min_scale`, `max_scale`; 1 = its px at 96 per inch).
+    pub scales: (f64, f64),
+    /// What a missing character is sewn as (`default_glyph`), if the font has it.
+    pub default_glyph: Option<String>,
 }
 
 /// Horizontal alignment of the lines.
@@ -119,6 +145,8 @@ pub struct Placed {
     pub y: f64,
     /// Line number from 0.
     pub line: usize,
+    /// Word number from 0, over the whole text.
+    pub word: usize,
 }
 
 /// The text laid out, in font units.
@@ -126,7 +154,7 @@ pub struct Placed {
 pub struct Layout {
     /// Glyphs in sewing order.
     pub glyphs: Vec<Placed>,
-    /// Each line's advance width (before alignment).
+    /// Each line's drawn width (its glyphs' extent, by which it is aligned).
     pub widths: Vec<f64>,
     /// What could not be set (characters the font lacks).
     pub notes: Vec<String>,
@@ -285,58 +313,6 @@ fn subpaths(d: &str, m: &Affine) -> Vec<Vec<Point>> {
     out
 }
 
-fn cross(a: Point, b: Point, c: Point) -> f64 {
-    (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
-}
-
-fn seg_hit(p: Point, q: Point, r: Point, s: Point) -> bool {
-    let d1 = cross(r, s, p);
-    let d2 = cross(r, s, q);
-    let d3 = cross(p, q, r);
-    let d4 = cross(p, q, s);
-    d1 * d2 <= 0.0 && d3 * d4 <= 0.0 && (d1 != 0.0 || d2 != 0.0)
-}
-
-fn hits(a: &[Point], b: &[Point]) -> bool {
-    a.windows(2)
-        .any(|u| b.windows(2).any(|v| seg_hit(u[0], u[1], v[0], v[1])))
-}
-
-fn length(l: &[Point]) -> f64 {
-    l.windows(2).map(|w| w[0].distance(w[1])).sum()
-}
-
-/// The two rails of a satin column: with two subpaths both; with more, the pair that does
-/// not cross itself and that most other subpaths (rungs) cross both of, the longer pair on a
-/// tie.
-fn rails(subs: &[Vec<Point>]) -> Option<[Vec<Point>; 2]> {
-    match subs.len() {
-        0 | 1 => None,
-        2 => Some([subs[0].clone(), subs[1].clone()]),
-        n => {
-            let crossings: Vec<Vec<bool>> = (0..n)
-                .map(|i| (0..n).map(|j| i != j && hits(&subs[i], &subs[j])).collect())
-                .collect();
-            let mut best: Option<(usize, f64, usize, usize)> = None;
-            for i in 0..n {
-                for j in i + 1..n {
-                    if crossings[i][j] {
-                        continue;
-                    }
-                    let rungs = (0..n)
-                        .filter(|&k| crossings[k][i] && crossings[k][j])
-                        .count();
-                    let len = length(&subs[i]) + length(&subs[j]);
-                    if best.is_none_or(|b| (rungs, len) > (b.0, b.1)) {
-                        best = Some((rungs, len, i, j));
-                    }
-                }
-            }
-            best.map(|(_, _, i, j)| [subs[i].clone(), subs[j].clone()])
-        }
-    }
-}
-
 const INKSTITCH: &str = "http://inkstitch.org/namespace";
 const INKSCAPE: &str = "http://www.inkscape.org/namespaces/inkscape";
 
@@ -375,11 +351,24 @@ impl Font {
             else {
                 continue;
             };
-            let mut parts = Vec::new();
+            let mut elements = Vec::new();
             for path in layer.descendants().filter(|n| n.has_tag_name("path")) {
                 let Some(d) = path.attribute("d") else {
                     continue;
                 };
+                // Hidden paths are not sewn (the layer itself is hidden in the font file).
+                let hidden = |n: &roxmltree::Node| {
+                    n.attribute("style")
+                        .is_some_and(|s| s.replace(' ', "").contains("display:none"))
+                        || n.attribute("display") == Some("none")
+                };
+                if path
+                    .ancestors()
+                    .take_while(|a| *a != layer)
+                    .any(|a| hidden(&a))
+                {
+                    continue;
+                }
                 // Transforms from the layer down to the path.
                 let mut m = [1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
                 let chain: Vec<roxmltree::Node> = path
@@ -390,38 +379,42 @@ impl Font {
                 for a in chain.iter().rev() {
                     m = mul(&m, &transform_of(*a));
                 }
-                let subs = subpaths(d, &m);
-                let satin = path
-                    .attribute((INKSTITCH, "satin_column"))
-                    .is_some_and(|v| v.eq_ignore_ascii_case("true"));
-                if satin {
-                    if let Some(r) = rails(&subs) {
-                        parts.push(GlyphPart::Satin(r));
-                        continue;
-                    }
+                let subpaths = subpaths(d, &m);
+                if subpaths.is_empty() {
+                    continue;
                 }
-                parts.extend(subs.into_iter().map(GlyphPart::Running));
+                let style = path.attribute("style").unwrap_or("");
+                let fill = style
+                    .split(';')
+                    .filter_map(|kv| kv.split_once(':'))
+                    .find(|(k, _)| k.trim() == "fill")
+                    .map(|(_, v)| v.trim().to_string())
+                    .or_else(|| path.attribute("fill").map(str::to_string));
+                elements.push(GlyphElement {
+                    id: path.attribute("id").unwrap_or("path").to_string(),
+                    subpaths,
+                    params: path
+                        .attributes()
+                        .filter(|a| a.namespace() == Some(INKSTITCH))
+                        .map(|a| (a.name().to_string(), a.value().to_string()))
+                        .collect(),
+                    filled: fill.is_some_and(|f| f != "none"),
+                });
             }
-            let pts = || {
-                parts.iter().flat_map(|p| match p {
-                    GlyphPart::Satin([a, b]) => a.iter().chain(b.iter()),
-                    GlyphPart::Running(l) => l.iter().chain([].iter()),
-                })
-            };
             let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-            for p in pts() {
+            for p in elements.iter().flat_map(|e| e.subpaths.iter().flatten()) {
                 x0 = x0.min(p.x);
                 x1 = x1.max(p.x);
                 y0 = y0.min(p.y);
                 y1 = y1.max(p.y);
             }
-            if parts.is_empty() {
+            if elements.is_empty() {
                 (x0, x1, y0, y1) = (0.0, 0.0, 0.0, 0.0);
             }
             glyphs.insert(
                 name.to_string(),
                 Glyph {
-                    parts,
+                    elements,
                     x_range: (x0, x1),
                     y_range: (y0, y1),
                 },
@@ -433,6 +426,8 @@ impl Font {
             .ok_or_else(|| LetteringError("font has no H or I to measure".into()))?;
         let (baseline, cap_height) = (h.y_range.1, h.y_range.1 - h.y_range.0);
         let get = |k: &str| meta.get(k).and_then(num);
+        let names: Vec<String> = glyphs.keys().cloned().collect();
+        let glyphs_has = |g: &str| names.iter().any(|n| n == g);
         Ok(Font {
             name: meta
                 .get("name")
@@ -447,6 +442,15 @@ impl Font {
             glyphs,
             baseline,
             cap_height,
+            scales: (
+                get("min_scale").unwrap_or(1.0),
+                get("max_scale").unwrap_or(1.0),
+            ),
+            default_glyph: meta
+                .get("default_glyph")
+                .and_then(|v| v.as_str())
+                .filter(|g| glyphs_has(g))
+                .map(str::to_string),
         })
     }
 
@@ -469,28 +473,30 @@ impl Font {
             .unwrap_or(0.0)
     }
 
-    /// Lays `text` out in font units: lines at `|` or newlines, aligned.
+    /// Lays `text` out in font units: lines at `|` or newlines (stripped), aligned.
     pub fn layout(&self, text: &str, align: Align) -> Result<Layout, LetteringError> {
-        let lines: Vec<&str> = text
-            .split(['\n', '|'])
-            .map(|l| l.trim_end_matches('\r'))
-            .collect();
-        if lines.iter().all(|l| l.trim().is_empty()) {
+        let lines: Vec<&str> = text.split(['\n', '|']).map(str::trim).collect();
+        if lines.iter().all(|l| l.is_empty()) {
             return Err(LetteringError(
                 "the text is empty: give --text some letters".into(),
             ));
         }
         let mut out = Layout::default();
         let mut missing: Vec<char> = Vec::new();
+        let mut word = 0;
         for (n, line) in lines.iter().enumerate() {
             let y = n as f64 * self.leading;
             let mut x = 0.0;
             let mut last: Option<String> = None;
             let first = out.glyphs.len();
+            let (mut left, mut right) = (f64::INFINITY, f64::NEG_INFINITY);
             for c in line.chars() {
-                let ch = c.to_string();
+                let mut ch = c.to_string();
                 if c == ' ' {
                     x += self.space;
+                    if last.is_some() {
+                        word += 1;
+                    }
                     last = None;
                     continue;
                 }
@@ -498,35 +504,58 @@ impl Font {
                     if !missing.contains(&c) {
                         missing.push(c);
                     }
-                    last = None;
-                    continue;
+                    // Ink/Stitch sews the font's default glyph in its place.
+                    match &self.default_glyph {
+                        Some(d) => ch = d.clone(),
+                        None => {
+                            last = None;
+                            continue;
+                        }
+                    }
                 }
-                if let Some(l) = &last {
-                    x -= self.kern(l, &ch);
-                }
+                let (x0, x1) = self.glyphs[&ch].x_range;
+                // A word's first glyph has its left edge at the pen; the next ones their
+                // origin, the pair's kerning back (Ink/Stitch's `_render_glyph`).
+                let origin = match &last {
+                    Some(l) => x - self.kern(l, &ch),
+                    None => x - x0,
+                };
                 out.glyphs.push(Placed {
                     ch: ch.clone(),
-                    x,
+                    x: origin,
                     y,
                     line: n,
+                    word,
                 });
-                x += self.advance_of(&ch);
+                (left, right) = (left.min(origin + x0), right.max(origin + x1));
+                x = origin + self.advance_of(&ch);
                 last = Some(ch);
             }
+            if last.is_some() {
+                word += 1;
+            }
+            // Aligned by the line's drawn width, its left edge taken at 0 (as Ink/Stitch
+            // shifts the line's group by its bounding box's width).
+            let width = if right > left { right - left } else { 0.0 };
             let shift = match align {
                 Align::Left => 0.0,
-                Align::Center => -x / 2.0,
-                Align::Right => -x,
+                Align::Center => -width / 2.0,
+                Align::Right => -width,
             };
             for g in &mut out.glyphs[first..] {
                 g.x += shift;
             }
-            out.widths.push(x);
+            out.widths.push(width);
         }
         if !missing.is_empty() {
             let s: String = missing.iter().collect();
-            out.notes
-                .push(format!("font {}: no glyph for {s:?}: left out", self.name));
+            out.notes.push(match &self.default_glyph {
+                Some(d) => format!(
+                    "font {}: no glyph for {s:?}: sewn as its default glyph {d:?}, as Ink/Stitch does",
+                    self.name
+                ),
+                None => format!("font {}: no glyph for {s:?}: left out", self.name),
+            });
         }
         if out.glyphs.is_empty() {
             return Err(LetteringError(format!(
@@ -535,6 +564,12 @@ impl Font {
             )));
         }
         Ok(out)
+    }
+
+    /// Cap heights (mm) the font may be sewn at: its `min_scale`..`max_scale`.
+    pub fn sizes(&self) -> (f64, f64) {
+        let mm = self.cap_height / PX_PER_MM;
+        (self.scales.0 * mm, self.scales.1 * mm)
     }
 }
 
@@ -545,7 +580,7 @@ pub struct Text {
     pub text: String,
     /// The bundled font's name.
     pub font: String,
-    /// Cap height, mm.
+    /// Cap height, mm (within the font's [`Font::sizes`]).
     pub size: f64,
     /// Alignment of the lines.
     pub align: Align,
@@ -555,7 +590,9 @@ pub struct Text {
     /// below its lowest point, centred on it (or at its left or right edge as aligned).
     pub under_design: bool,
     /// Thread colour.
-    pub color: Color,
+    pub color: oficina_geom::Color,
+    /// Where the thread is cut (Ink/Stitch's "Add trims").
+    pub trim: Trim,
 }
 
 impl Default for Text {
@@ -567,70 +604,16 @@ impl Default for Text {
             align: Align::Center,
             at: Point::ZERO,
             under_design: false,
-            color: Color::BLACK,
+            color: oficina_geom::Color::BLACK,
+            trim: Trim::Never,
         }
     }
-}
-
-/// The text as a drawing in mm, y up, and notes on what was left out. Satin columns are
-/// two-rail elements stroked wide enough for `p.satin_min_width`; the rest thin strokes.
-pub fn letter(t: &Text, p: &Params) -> Result<(Drawing, Vec<String>), LetteringError> {
-    if !(t.size.is_finite() && t.size > 0.5 && t.size <= 500.0) {
-        return Err(LetteringError(format!(
-            "text size {} mm is outside 0.5..500",
-            t.size
-        )));
-    }
-    let font = Font::bundled(&t.font)?;
-    let layout = font.layout(&t.text, t.align)?;
-    let s = t.size / font.cap_height;
-    let mut d = Drawing::new();
-    let layer = d.layer_mut("lettering");
-    let mut id = 0usize;
-    for g in &layout.glyphs {
-        let glyph = &font.glyphs[&g.ch];
-        let to_mm = |q: &Point| {
-            Point::new(
-                t.at.x + (g.x + q.x) * s,
-                t.at.y - (g.y + q.y - font.baseline) * s,
-            )
-        };
-        for part in &glyph.parts {
-            id += 1;
-            let src = SourceRef::new("lettering", format!("{}-{id}", g.ch));
-            match part {
-                GlyphPart::Satin(r) => {
-                    for rail in r {
-                        let pts: Vec<Point> = rail.iter().map(to_mm).collect();
-                        let mut path = Path::polyline(&pts, false).with_source(src.clone());
-                        path.style = Style {
-                            stroke: Some(t.color),
-                            stroke_width: RAIL_WIDTH.max(p.satin_min_width),
-                            fill: None,
-                        };
-                        layer.paths.push(path);
-                    }
-                }
-                GlyphPart::Running(l) => {
-                    let pts: Vec<Point> = l.iter().map(to_mm).collect();
-                    let mut path = Path::polyline(&pts, false).with_source(src);
-                    path.style = Style {
-                        stroke: Some(t.color),
-                        stroke_width: 0.0,
-                        fill: None,
-                    };
-                    layer.paths.push(path);
-                }
-            }
-        }
-    }
-    Ok((d, layout.notes))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::generate::generate;
+    use crate::Params;
 
     fn masego() -> Font {
         Font::bundled("masego").unwrap()
@@ -650,23 +633,32 @@ mod tests {
         let satins = f
             .glyphs
             .values()
-            .flat_map(|g| &g.parts)
-            .filter(|p| matches!(p, GlyphPart::Satin(_)))
+            .flat_map(|g| &g.elements)
+            .filter(|e| e.is_satin())
             .count();
         assert!(satins > 100, "{satins} satin columns");
+        // font.json: size 14 mm at scale 1, scales 1.0..1.5.
+        let (lo, hi) = f.sizes();
+        assert!(
+            (lo - 14.0).abs() < 0.2 && (hi - 21.0).abs() < 0.3,
+            "{lo}..{hi}"
+        );
     }
 
     #[test]
     fn advances_and_kerning_come_from_font_json_exactly() {
         let f = masego();
+        let min_x = |c: &str| f.glyphs[c].x_range.0;
         let l = f.layout("Fo", Align::Left).unwrap();
-        assert_eq!(l.glyphs[0].x, 0.0);
-        // 'o' after 'F': F's advance minus the pair's kerning.
-        assert_eq!(l.glyphs[1].x, f.advance_of("F") - 5.0);
+        // The first glyph's left edge at 0.
+        assert_eq!(l.glyphs[0].x, -min_x("F"));
+        // 'o' after 'F': F's origin plus its advance, less the pair's kerning (5).
+        assert_eq!(l.glyphs[1].x, -min_x("F") + f.advance_of("F") - 5.0);
         let l = f.layout("Fa o", Align::Left).unwrap();
-        let x_o = f.advance_of("F") + f.advance_of("a") + f.space;
-        assert_eq!(l.glyphs[2].x, x_o, "a space breaks the pair");
-        assert_eq!(l.widths[0], x_o + f.advance_of("o"));
+        // A space breaks the pair: the next word's first glyph has its left edge at the pen.
+        let pen = -min_x("F") + f.advance_of("F") + f.advance_of("a") + f.space;
+        assert_eq!(l.glyphs[2].x, pen - min_x("o"), "a space breaks the pair");
+        assert_eq!(l.widths[0], pen + f.glyphs["o"].x_range.1 - min_x("o"));
     }
 
     #[test]
@@ -680,17 +672,29 @@ mod tests {
         let m = l.glyphs.iter().find(|g| g.ch == "M").unwrap();
         assert_eq!((a.line, m.line), (0, 1));
         assert_eq!(m.y - a.y, f.leading);
-        assert!((a.x + l.widths[0] / 2.0).abs() < 1e-12);
-        assert!((m.x + l.widths[1] / 2.0).abs() < 1e-12);
+        // Each line's drawn extent centred on 0.
+        for line in 0..2 {
+            let g: Vec<&Placed> = l.glyphs.iter().filter(|g| g.line == line).collect();
+            let lo = g[0].x + f.glyphs[&g[0].ch].x_range.0;
+            let hi = g
+                .iter()
+                .map(|g| g.x + f.glyphs[&g.ch].x_range.1)
+                .fold(f64::MIN, f64::max);
+            assert!((lo + hi).abs() < 1e-9, "line {line}: {lo}..{hi}");
+            assert!((hi - lo - l.widths[line]).abs() < 1e-9);
+        }
         let r = f.layout("Ana|Maria", Align::Right).unwrap();
-        assert!((r.glyphs[0].x + r.widths[0]).abs() < 1e-12);
+        let g = &r.glyphs[0];
+        assert!((g.x + f.glyphs["A"].x_range.0 + r.widths[0]).abs() < 1e-9);
     }
 
     #[test]
     fn an_unknown_glyph_is_noted_and_empty_text_refused() {
         let f = masego();
+        // Masego's default glyph is "o": "Zoë" is sewn "Zoo", with a note.
         let l = f.layout("Zoë", Align::Left).unwrap();
-        assert_eq!(l.glyphs.len(), 2);
+        assert_eq!(l.glyphs.len(), 3);
+        assert_eq!(l.glyphs[2].ch, "o");
         assert!(l.notes[0].contains('ë'), "{:?}", l.notes);
         let e = f.layout(" | ", Align::Left).unwrap_err();
         assert!(e.0.contains("empty"), "{e}");
@@ -709,14 +713,15 @@ mod tests {
             align: Align::Left,
             ..Text::default()
         };
-        let (d, notes) = letter(&t, &p).unwrap();
-        assert!(notes.is_empty(), "{notes:?}");
-        let g = generate(&d, "Oficina", &p, &mut |_, _| {}).unwrap();
+        let l = letter(&t).unwrap();
+        assert!(l.notes.is_empty(), "{:?}", l.notes);
+        assert!(l.ink.is_inkstitch);
+        let g = l.sew(&p, &mut |_, _| {}).unwrap();
         assert!(g.satins > 10, "{} satins", g.satins);
         assert!(g.plan.counts().stitches > 1000);
         let b = g.plan.bounds().unwrap();
-        // Height: the cap height plus the satin's pull compensation (no descenders in
-        // "Oficina"; the i's dot and f's top reach a little above the caps).
+        // Height: the cap height (Masego has no pull compensation); the i's dot and the f's
+        // top reach a little above the caps.
         let h = b[3] - b[1];
         assert!((h - 15.0).abs() < 1.5, "height {h}");
         // Baseline at y = 0: nothing sews much below it.
@@ -728,5 +733,30 @@ mod tests {
             sewn < w + 1.0 && sewn > w * 0.85,
             "width {sewn} vs advance {w}"
         );
+    }
+
+    #[test]
+    fn bad_sizes_and_texts_get_clear_errors() {
+        for size in [10.0, 25.0, f64::NAN] {
+            let t = Text {
+                text: "Ana".into(),
+                size,
+                ..Text::default()
+            };
+            let e = letter(&t).unwrap_err();
+            assert!(e.0.contains("13.9 to 20.9"), "{e}");
+        }
+        let t = Text {
+            text: "a".repeat(5000),
+            ..Text::default()
+        };
+        assert!(letter(&t).unwrap_err().0.contains("at most"));
+        // Characters XML cannot hold are letters the font lacks, not a broken document.
+        let t = Text {
+            text: "A\u{1}<&\"n".into(),
+            ..Text::default()
+        };
+        let l = letter(&t).unwrap();
+        assert!(l.ink.is_inkstitch && !l.notes.is_empty(), "{:?}", l.notes);
     }
 }

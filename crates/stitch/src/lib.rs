@@ -31,8 +31,8 @@ pub use inkstitch::{
     StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
 };
 pub use lettering::{
-    letter, Align, Font, Glyph, GlyphPart, Layout, LetteringError, Placed, Text, DEFAULT_FONT,
-    FONTS,
+    append, letter, Align, Font, Glyph, GlyphElement, Layout, Lettered, LetteringError, Placed,
+    Text, Trim, DEFAULT_FONT, FONTS, PX_PER_MM,
 };
 pub use plan::{ColorBlock, Counts, Kind, Stitch, StitchPlan, Thread};
 pub use preview::{preview_svg, render, render_png, Render, RenderError, RenderOptions};

@@ -3,7 +3,8 @@
 //! - a fill → rows at its `angle`, `row_spacing_mm`, `max_stitch_length_mm`, `staggers`
 //!   (or a contour fill: rings parallel to the outline), over a fill underlay of one layer per
 //!   `fill_underlay_angle`, inset by `fill_underlay_inset_mm`;
-//! - a `satin_column` → a satin between its two rails (the two longest subpaths), the other
+//! - a `satin_column` → a satin between its two rails (told from the rungs as Ink/Stitch
+//!   does: a rung crosses exactly two subpaths; else the two longest), the other
 //!   subpaths rungs that pair the rails' points; each side pushed out by the pull
 //!   compensation; underlays in Ink/Stitch's order: centre walk (there and back), contour
 //!   (along one rail and back along the other), zig-zag (forward and back, crossing); then
@@ -307,11 +308,59 @@ fn piece(line: &[Point], s0: f64, s1: f64, m: usize) -> Vec<Point> {
     satin::resample(&pts, m)
 }
 
-/// A satin between the two longest subpaths (rails) with the others as rungs: rail points
+/// Subpath indices, the two rails first, as Ink/Stitch tells them: a rung crosses exactly
+/// two other subpaths; when exactly two subpaths are not rungs they are the rails, otherwise
+/// (a `#`, or no ladder at all) the two longest. A short wide column (a letter's foot) has
+/// rungs longer than its rails, so length alone would take a rung for a rail.
+pub(crate) fn rails_first(lines: &[Vec<Point>]) -> Vec<usize> {
+    let n = lines.len();
+    let mut by_length: Vec<usize> = (0..n).collect();
+    by_length.sort_by(|&i, &j| length(&lines[j]).total_cmp(&length(&lines[i])));
+    if n <= 2 {
+        return by_length;
+    }
+    let crosses = |i: usize| {
+        (0..n)
+            .filter(|&j| j != i && polylines_cross(&lines[i], &lines[j]))
+            .count()
+    };
+    let rails: Vec<usize> = (0..n).filter(|&i| crosses(i) != 2).collect();
+    if rails.len() != 2 {
+        return by_length;
+    }
+    let mut out = rails.clone();
+    out.extend(by_length.into_iter().filter(|i| !rails.contains(i)));
+    out
+}
+
+/// Whether two polylines meet (touching counts, as Shapely's `intersects`).
+fn polylines_cross(a: &[Point], b: &[Point]) -> bool {
+    let side = |p: Point, q: Point, r: Point| (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+    let on = |p: Point, q: Point, r: Point| {
+        r.x >= p.x.min(q.x) - 1e-9
+            && r.x <= p.x.max(q.x) + 1e-9
+            && r.y >= p.y.min(q.y) - 1e-9
+            && r.y <= p.y.max(q.y) + 1e-9
+    };
+    a.windows(2).any(|u| {
+        b.windows(2).any(|v| {
+            let (d1, d2) = (side(v[0], v[1], u[0]), side(v[0], v[1], u[1]));
+            let (d3, d4) = (side(u[0], u[1], v[0]), side(u[0], u[1], v[1]));
+            if d1 * d2 < 0.0 && d3 * d4 < 0.0 {
+                return true;
+            }
+            (d1 == 0.0 && on(v[0], v[1], u[0]))
+                || (d2 == 0.0 && on(v[0], v[1], u[1]))
+                || (d3 == 0.0 && on(u[0], u[1], v[0]))
+                || (d4 == 0.0 && on(u[0], u[1], v[1]))
+        })
+    })
+}
+
+/// A satin between its two rails with the others as rungs: rail points
 /// are paired section by section between the rungs, so the zigs follow them.
 fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params) -> Shape {
-    let mut order: Vec<usize> = (0..lines.len()).collect();
-    order.sort_by(|&i, &j| length(&lines[j]).total_cmp(&length(&lines[i])));
+    let order = rails_first(lines);
     let (i, j) = (order[0].min(order[1]), order[0].max(order[1]));
     let mut a = lines[i].clone();
     let mut b = lines[j].clone();
