@@ -32,6 +32,17 @@ pub(super) struct Run {
 const MIN_END: f64 = 0.25;
 
 pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
+    tatami_between(region, p, None, None)
+}
+
+/// Tatami whose first stitch is the row end nearest `start` and whose last is the row end
+/// nearest `end` (Ink/Stitch's `fill_start` / `fill_end` commands), when given.
+pub(super) fn tatami_between(
+    region: &Region,
+    p: &FillParams,
+    start: Option<Point>,
+    end: Option<Point>,
+) -> Vec<Run> {
     let (c, s) = (p.angle.cos(), p.angle.sin());
     // Into the row frame (rows horizontal) and back.
     let to_row = |q: &[f64; 2]| Point::new(q[0] * c + q[1] * s, -q[0] * s + q[1] * c);
@@ -75,7 +86,7 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
     }
     let overlaps = |a: (f64, f64), b: (f64, f64)| a.0 < b.1 && b.0 < a.1;
     let mut used: Vec<Vec<bool>> = rows.iter().map(|r| vec![false; r.len()]).collect();
-    let mut sections: Vec<Vec<Point>> = Vec::new();
+    let mut sections: Vec<Vec<(usize, usize)>> = Vec::new();
     let first_free = |used: &Vec<Vec<bool>>| {
         (0..used.len()).find_map(|k| used[k].iter().position(|u| !u).map(|i| (k, i)))
     };
@@ -102,10 +113,13 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
             section.push((k + 1, j));
             (k, i) = (k + 1, j);
         }
+        sections.push(section);
+    }
+    let sew = |rows_of: &[(usize, usize)], flip: bool| -> Vec<Point> {
         let mut pts: Vec<Point> = Vec::new();
-        for (n, &(k, i)) in section.iter().enumerate() {
+        for (n, &(k, i)) in rows_of.iter().enumerate() {
             let y = y0 + (k as f64 + 0.5) * p.spacing;
-            let row = row_points(rows[k][i], k, n % 2 == 1, p);
+            let row = row_points(rows[k][i], k, (n % 2 == 1) != flip, p);
             let first = Point::new(row[0], y);
             if let Some(&prev) = pts.last() {
                 pts.extend(straight(prev, first, p.length));
@@ -114,33 +128,90 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
             }
             pts.extend(row[1..].iter().map(|&x| Point::new(x, y)));
         }
-        sections.push(pts.into_iter().map(from_row).collect());
-    }
-    join_sections(sections, region, p.length)
-}
-
-/// Sews the sections nearest-first from the first one's start, each forwards or backwards
-/// (a serpentine reads the same both ways); the line to the next section is stitched where it
-/// stays inside (the fill covers it), else the next section starts a new run.
-fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) -> Vec<Run> {
-    let mut runs: Vec<Run> = Vec::new();
-    let mut at: Option<Point> = None;
-    while !sections.is_empty() {
-        let (mut best, mut rev, mut best_d) = (0, false, f64::INFINITY);
-        if let Some(a) = at {
-            for (i, sec) in sections.iter().enumerate() {
-                for (end, r) in [(sec[0], false), (sec[sec.len() - 1], true)] {
-                    let d = a.distance(end);
-                    if d < best_d {
-                        (best, rev, best_d) = (i, r, d);
-                    }
+        pts.into_iter().map(from_row).collect()
+    };
+    // A start (end) command: the section holding the row end nearest it is cut there, so
+    // that row begins (ends) a piece, sewn first (last) from (to) that row end.
+    let ends = |&(k, i): &(usize, usize)| {
+        let y = y0 + (k as f64 + 0.5) * p.spacing;
+        [rows[k][i].0, rows[k][i].1].map(|x| from_row(Point::new(x, y)))
+    };
+    let nearest = |sections: &[Vec<(usize, usize)>], q: Point| {
+        let mut best = (f64::INFINITY, 0, 0);
+        for (s, sec) in sections.iter().enumerate() {
+            for (j, r) in sec.iter().enumerate() {
+                let d = ends(r)
+                    .iter()
+                    .map(|e| e.distance(q))
+                    .fold(f64::INFINITY, f64::min);
+                if d < best.0 {
+                    best = (d, s, j);
                 }
             }
         }
-        let mut pts = sections.swap_remove(best);
-        if rev {
-            pts.reverse();
+        (best.1, best.2)
+    };
+    // Cuts section `s` at row `j` into the piece from `j` to the nearer end of the section
+    // (row `j` first) and the rest (put back).
+    let split = |sections: &mut Vec<Vec<(usize, usize)>>, s: usize, j: usize| {
+        let mut sec = sections.remove(s);
+        let (piece, rest) = if j < sec.len() - 1 - j {
+            let rest = sec.split_off(j + 1);
+            sec.reverse();
+            (sec, rest)
+        } else {
+            let piece = sec.split_off(j);
+            (piece, sec)
+        };
+        if !rest.is_empty() {
+            sections.insert(s, rest);
         }
+        piece
+    };
+    let flip_for = |piece: &[(usize, usize)], q: Point, first: bool| {
+        let variant = |flip: bool| {
+            let pts = sew(piece, flip);
+            let at = if first { pts[0] } else { pts[pts.len() - 1] };
+            (at.distance(q), pts)
+        };
+        let (a, b) = (variant(false), variant(true));
+        if a.0 <= b.0 {
+            a.1
+        } else {
+            b.1
+        }
+    };
+    let first = start.filter(|_| !sections.is_empty()).map(|q| {
+        let (s, j) = nearest(&sections, q);
+        let piece = split(&mut sections, s, j);
+        flip_for(&piece, q, true)
+    });
+    let last = end.filter(|_| !sections.is_empty()).map(|q| {
+        let (s, j) = nearest(&sections, q);
+        let mut piece = split(&mut sections, s, j);
+        piece.reverse(); // the row nearest the end last
+        flip_for(&piece, q, false)
+    });
+    let middle: Vec<Vec<Point>> = sections.iter().map(|sec| sew(sec, false)).collect();
+    join_sections(first, middle, last, region, p.length)
+}
+
+/// Sews `first` (when given), then the sections nearest-first from where the needle is (the
+/// first one's start when nothing came before), each forwards or backwards (a serpentine
+/// reads the same both ways), then `last`; the line to the next section is stitched where it
+/// stays inside (the fill covers it) or travels along the edge, else the next section starts
+/// a new run.
+pub(super) fn join_sections(
+    first: Option<Vec<Point>>,
+    mut sections: Vec<Vec<Point>>,
+    last: Option<Vec<Point>>,
+    region: &Region,
+    length: f64,
+) -> Vec<Run> {
+    sections.retain(|s| !s.is_empty());
+    let mut runs: Vec<Run> = Vec::new();
+    let mut at: Option<Point> = None;
+    let mut sew = |pts: Vec<Point>, at: &mut Option<Point>| {
         let link = at.and_then(|e| {
             if inside_line(e, pts[0], region) {
                 Some(straight(e, pts[0], length))
@@ -158,7 +229,31 @@ fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) ->
                 sew_into: false,
             }),
         }
-        at = runs.last().and_then(|r| r.points.last().copied());
+        *at = runs.last().and_then(|r| r.points.last().copied());
+    };
+    if let Some(f) = first.filter(|f| !f.is_empty()) {
+        sew(f, &mut at);
+    }
+    while !sections.is_empty() {
+        let (mut best, mut rev, mut best_d) = (0, false, f64::INFINITY);
+        if let Some(a) = at {
+            for (i, sec) in sections.iter().enumerate() {
+                for (end, r) in [(sec[0], false), (sec[sec.len() - 1], true)] {
+                    let d = a.distance(end);
+                    if d < best_d {
+                        (best, rev, best_d) = (i, r, d);
+                    }
+                }
+            }
+        }
+        let mut pts = sections.swap_remove(best);
+        if rev {
+            pts.reverse();
+        }
+        sew(pts, &mut at);
+    }
+    if let Some(l) = last.filter(|l| !l.is_empty()) {
+        sew(l, &mut at);
     }
     runs
 }
@@ -237,7 +332,7 @@ fn edge_travel(a: Point, b: Point, region: &Region, length: f64) -> Option<Vec<P
 }
 
 /// The x of the needle points of one row segment, from its start end to its other end.
-fn row_points(seg: (f64, f64), row: usize, reverse: bool, p: &FillParams) -> Vec<f64> {
+pub(super) fn row_points(seg: (f64, f64), row: usize, reverse: bool, p: &FillParams) -> Vec<f64> {
     let (a, b) = seg;
     let offset = (row as u32 % p.stagger.max(1)) as f64 / p.stagger.max(1) as f64 * p.length;
     let mut xs = vec![a];

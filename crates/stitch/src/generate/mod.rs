@@ -18,7 +18,9 @@
 //! order, a colour change wherever the colour changes, trims, stops and ties per element.
 
 mod fill;
+mod guided;
 mod ink;
+mod ripple;
 mod running;
 mod satin;
 
@@ -306,6 +308,13 @@ pub fn generate_inkstitch(
     }
     let groups = elements(drawing);
     let total = groups.len();
+    // Where Ink/Stitch's commands and guide lines place things, per element.
+    let placed = if ink.is_inkstitch {
+        ink.placed(drawing)
+    } else {
+        Default::default()
+    };
+    let nowhere = crate::inkstitch::Placement::default();
     let mut shapes: Vec<Shape> = Vec::new();
     for (n, paths) in groups.iter().enumerate() {
         if ink.is_inkstitch {
@@ -313,8 +322,10 @@ pub fn generate_inkstitch(
                 progress(n + 1, total);
                 continue;
             }
-            let e = ink.element(&paths[0].source.element);
-            shapes.extend(ink::element_shapes(paths, &e, p)?);
+            let id = &paths[0].source.element;
+            let e = ink.element(id);
+            let at = placed.get(id).unwrap_or(&nowhere);
+            shapes.extend(ink::element_shapes(paths, &e, at, p)?);
         } else {
             shapes.extend(element_shapes(paths, p)?);
         }
