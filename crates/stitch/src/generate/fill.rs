@@ -181,19 +181,65 @@ pub(super) fn tatami_between(
             b.1
         }
     };
-    let first = start.filter(|_| !sections.is_empty()).map(|q| {
+    let mut start_piece = start.filter(|_| !sections.is_empty()).map(|q| {
         let (s, j) = nearest(&sections, q);
-        let piece = split(&mut sections, s, j);
-        flip_for(&piece, q, true)
+        split(&mut sections, s, j)
     });
-    let last = end.filter(|_| !sections.is_empty()).map(|q| {
-        let (s, j) = nearest(&sections, q);
-        let mut piece = split(&mut sections, s, j);
-        piece.reverse(); // the row nearest the end last
-        flip_for(&piece, q, false)
-    });
+    let mut end_piece = None;
+    if let Some(q) = end {
+        // The end's row may lie in the start piece: that piece is cut before it, and the
+        // rest of it (from its far end to that row) is sewn last.
+        let mut all = sections.clone();
+        all.extend(start_piece.iter().cloned());
+        if !all.is_empty() {
+            let (s, j) = nearest(&all, q);
+            if s == sections.len() && j > 0 {
+                let piece = start_piece.as_mut().unwrap();
+                let mut tail = piece.split_off(j);
+                tail.reverse();
+                end_piece = Some(tail);
+            } else if s < sections.len() {
+                let mut piece = split(&mut sections, s, j);
+                piece.reverse(); // the row nearest the end last
+                end_piece = Some(piece);
+            }
+        }
+    }
+    let first = start_piece
+        .zip(start)
+        .map(|(piece, q)| approach(q, flip_for(&piece, q, true), region, p));
+    let last = end_piece
+        .zip(end)
+        .map(|(piece, q)| leave(flip_for(&piece, q, false), q, region, p));
     let middle: Vec<Vec<Point>> = sections.iter().map(|sec| sew(sec, false)).collect();
     join_sections(first, middle, last, region, p.length)
+}
+
+/// A fill's first stitches from a start command at `q` on the outline: along the edge to the
+/// first row's end when that is more than a row away (Ink/Stitch travels so too).
+pub(super) fn approach(q: Point, pts: Vec<Point>, region: &Region, p: &FillParams) -> Vec<Point> {
+    match pts.first() {
+        Some(&a) if a.distance(q) > p.spacing => match edge_travel(q, a, region, p.length) {
+            Some(travel) => {
+                let mut out = vec![q];
+                out.extend(travel);
+                out.extend(pts.into_iter().skip(1));
+                out
+            }
+            None => pts,
+        },
+        _ => pts,
+    }
+}
+
+/// A fill's last stitches to an end command at `q` on the outline (see [`approach`]).
+pub(super) fn leave(mut pts: Vec<Point>, q: Point, region: &Region, p: &FillParams) -> Vec<Point> {
+    if let Some(&z) = pts.last().filter(|z| z.distance(q) > p.spacing) {
+        if let Some(travel) = edge_travel(z, q, region, p.length) {
+            pts.extend(travel);
+        }
+    }
+    pts
 }
 
 /// Sews `first` (when given), then the sections nearest-first from where the needle is (the

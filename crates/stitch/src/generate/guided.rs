@@ -6,7 +6,7 @@
 //! points along it every stitch length from a grid that shifts row by row (the tatami's
 //! stagger), corners kept; the pieces are then joined as tatami sections are.
 
-use super::fill::{join_sections, row_points, FillParams, Run};
+use super::fill::{approach, join_sections, leave, row_points, FillParams, Run};
 use oficina_geom::{Point, Region, Vec2};
 
 /// A corner of a row sharper than this (radians) is a needle point.
@@ -70,10 +70,10 @@ pub(super) fn guided(
     }
     // The piece with the end nearest the start command first, oriented from there; the one
     // nearest the end command last.
-    let first = start.map(|q| take(&mut pieces, q, true));
+    let first = start.map(|q| approach(q, take(&mut pieces, q, true), region, p));
     let last = end
         .filter(|_| !pieces.is_empty())
-        .map(|q| take(&mut pieces, q, false));
+        .map(|q| leave(take(&mut pieces, q, false), q, region, p));
     Some(join_sections(first, pieces, last, region, p.length))
 }
 

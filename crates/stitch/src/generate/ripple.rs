@@ -202,7 +202,10 @@ fn hull_centroid(pts: &[Point]) -> Point {
         cy += (u.y + v.y) * c;
     }
     if a.abs() < 1e-12 {
-        return hull[0];
+        // Points on a line: the middle of the line (a line's centroid).
+        let n = hull.len() as f64;
+        let s = hull.iter().fold((0.0, 0.0), |s, q| (s.0 + q.x, s.1 + q.y));
+        return Point::new(s.0 / n, s.1 / n);
     }
     Point::new(cx / (3.0 * a), cy / (3.0 * a))
 }
