@@ -1,0 +1,347 @@
+//! Ink/Stitch's ripple stitch and guided fill, from SVGs written as Ink/Stitch writes them
+//! and read through `oficina embroider`'s path (strip, import, sew). Checked against the
+//! geometry the SVG draws, computed here independently: a ripple of a circle is a spiral of
+//! `line_count` turns round the centre, its radius falling by r / line_count a turn; a
+//! ripple between two rails is copies on the lines between them; a guided fill's rows are
+//! concentric with an arc guide (parallel offset) or shifted copies of a wavy guide (copy),
+//! a row spacing apart, and cover the shape.
+
+use oficina_stitch::{generate_inkstitch, read_inkstitch, Kind, Params, StitchPlan};
+use std::f64::consts::PI;
+
+fn doc(body: &str) -> String {
+    format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+        xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+        xmlns:inkstitch="http://inkstitch.org/namespace" width="100mm" height="100mm" viewBox="0 0 100 100">
+        <defs><marker id="inkstitch-guide-line-marker" orient="auto" refX="0" refY="0" style="overflow:visible">
+          <circle id="guide-dot" r="4" style="fill:#fffffd;stroke:#9d9d9d"/></marker></defs>
+        <g id="layer1" inkscape:groupmode="layer">{body}</g></svg>"##
+    )
+}
+
+fn sew(svg: &str) -> StitchPlan {
+    let ink = read_inkstitch(svg, "t.svg").unwrap();
+    let text = ink.strip(svg);
+    let no_text = oficina_io::SvgOptions { draw_text: false };
+    let d = oficina_io::read_svg(text.as_bytes(), "t.svg", &no_text)
+        .unwrap()
+        .drawing;
+    let p = Params {
+        center: false,
+        ties: false,
+        ..Params::default()
+    };
+    generate_inkstitch(&d, "t", &p, &ink, &mut |_, _| {})
+        .unwrap()
+        .plan
+}
+
+fn sewn(plan: &StitchPlan) -> Vec<(f64, f64)> {
+    plan.entries()
+        .filter(|(_, s)| s.kind == Kind::Stitch)
+        .map(|(_, s)| (s.x, s.y))
+        .collect()
+}
+
+fn jumps(plan: &StitchPlan) -> usize {
+    plan.entries()
+        .filter(|(_, s)| matches!(s.kind, Kind::Jump | Kind::Trim))
+        .count()
+}
+
+fn longest(pts: &[(f64, f64)]) -> f64 {
+    pts.windows(2)
+        .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+        .fold(0.0, f64::max)
+}
+
+fn ripple_circle(extra: &str) -> String {
+    format!(
+        r#"<circle id="c" cx="50" cy="50" r="20" style="fill:none;stroke:#000;stroke-width:0.1"
+           inkstitch:stroke_method="ripple_stitch" inkstitch:running_stitch_length_mm="2" {extra}/>"#
+    )
+}
+
+/// Turns round (50, 50) swept by the path, and each point's radius.
+fn turns(pts: &[(f64, f64)]) -> (f64, Vec<f64>) {
+    let ang = |p: &(f64, f64)| (p.1 - 50.0).atan2(p.0 - 50.0);
+    let mut total = 0.0;
+    for w in pts.windows(2) {
+        let mut d = ang(&w[1]) - ang(&w[0]);
+        if d > PI {
+            d -= 2.0 * PI;
+        } else if d < -PI {
+            d += 2.0 * PI;
+        }
+        total += d;
+    }
+    let r = pts.iter().map(|p| (p.0 - 50.0).hypot(p.1 - 50.0)).collect();
+    (total.abs() / (2.0 * PI), r)
+}
+
+#[test]
+fn a_closed_ripple_is_a_spiral_of_line_count_turns() {
+    let plan = sew(&doc(&ripple_circle(r#"inkstitch:line_count="6""#)));
+    let pts = sewn(&plan);
+    // One connected run: the jump to its start, nothing else.
+    assert_eq!(jumps(&plan), 1);
+    assert!(longest(&pts) <= 2.0 + 1e-6, "{}", longest(&pts));
+    let (n, r) = turns(&pts);
+    assert!((n - 6.0).abs() < 0.05, "{n} turns");
+    // Nested: the radius never grows (each loop inside the one before), from 20 to 0.
+    assert!(r.windows(2).all(|w| w[1] <= w[0] + 0.05), "radius grows");
+    assert!(
+        (r[0] - 20.0).abs() < 0.05 && r[r.len() - 1] < 0.05,
+        "{} {}",
+        r[0],
+        r[r.len() - 1]
+    );
+    // A turn later the radius is 20 / 6 smaller: compare each point with the one a turn on.
+    let ang = |p: &(f64, f64)| (p.1 - 50.0).atan2(p.0 - 50.0);
+    let mut swept = vec![0.0];
+    for w in pts.windows(2) {
+        let d = (ang(&w[1]) - ang(&w[0]) + 3.0 * PI).rem_euclid(2.0 * PI) - PI;
+        swept.push(swept.last().unwrap() + d.abs());
+    }
+    let mut checked = 0;
+    for i in 0..pts.len() {
+        if let Some(j) = (i + 1..pts.len()).find(|&j| swept[j] >= swept[i] + 2.0 * PI) {
+            // The radius exactly a turn on, between the stitches either side of it.
+            let t = (swept[i] + 2.0 * PI - swept[j - 1]) / (swept[j] - swept[j - 1]);
+            let drop = r[i] - (r[j - 1] + t * (r[j] - r[j - 1]));
+            assert!((drop - 20.0 / 6.0).abs() < 0.15, "at {i}: {drop}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked}");
+}
+
+#[test]
+fn skips_and_reverse_change_where_the_ripple_runs() {
+    let pts = sewn(&sew(&doc(&ripple_circle(
+        r#"inkstitch:line_count="6" inkstitch:skip_start="2" inkstitch:skip_end="1""#,
+    ))));
+    let (n, r) = turns(&pts);
+    assert!((n - 3.0).abs() < 0.05, "{n} turns");
+    assert!((r[0] - 20.0 * 4.0 / 6.0).abs() < 0.05, "{}", r[0]);
+    assert!(
+        (r[r.len() - 1] - 20.0 / 6.0).abs() < 0.05,
+        "{}",
+        r[r.len() - 1]
+    );
+    let pts = sewn(&sew(&doc(&ripple_circle(
+        r#"inkstitch:line_count="4" inkstitch:reverse="true""#,
+    ))));
+    let (_, r) = turns(&pts);
+    assert!(r[0] < 0.05 && (r[r.len() - 1] - 20.0).abs() < 0.05);
+    // min_line_dist_mm 5: 20 / 5 = 4 turns (even, as the line count 10).
+    let pts = sewn(&sew(&doc(&ripple_circle(
+        r#"inkstitch:min_line_dist_mm="5""#,
+    ))));
+    let (n, _) = turns(&pts);
+    assert!((n - 4.0).abs() < 0.05, "{n} turns");
+}
+
+#[test]
+fn a_ripple_between_two_rails_sews_copies_back_and_forth() {
+    // Rails at SVG y 40 and 60 (drawing y 60 and 40), x 10..70; five copies 5 mm apart.
+    let body = r#"<path id="r" d="M10,40 H70 M10,60 H70" style="fill:none;stroke:#000;stroke-width:0.1"
+        inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="5" inkstitch:running_stitch_length_mm="2.5"/>"#;
+    let plan = sew(&doc(body));
+    let pts = sewn(&plan);
+    assert_eq!(jumps(&plan), 1);
+    assert!(longest(&pts) <= 2.5 + 1e-6);
+    let mut ys: Vec<i64> = pts
+        .iter()
+        .filter(|p| p.0 > 10.5 && p.0 < 69.5)
+        .map(|p| (p.1 * 100.0).round() as i64)
+        .collect();
+    ys.sort();
+    ys.dedup();
+    assert_eq!(ys, [4000, 4500, 5000, 5500, 6000]);
+    // Back and forth: the copies start at alternate ends.
+    let mut ends: Vec<f64> = pts
+        .windows(2)
+        .filter(|w| (w[0].1 - w[1].1).abs() > 1e-6)
+        .map(|w| w[0].0)
+        .collect();
+    ends.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    assert!(
+        ends.len() >= 4 && ends.windows(2).all(|w| (w[0] - w[1]).abs() > 50.0),
+        "{ends:?}"
+    );
+}
+
+/// A 40 × 30 mm rectangle (SVG x 10..50, y 20..50) with a guide line in its group.
+fn guided(strategy: u32, guide_d: &str) -> String {
+    format!(
+        r#"<g id="g1">
+          <path id="shape" d="M10,20 H50 V50 H10 Z" style="fill:#00aa00;stroke:none"
+                inkstitch:fill_method="guided_fill" inkstitch:guided_fill_strategy="{strategy}"
+                inkstitch:row_spacing_mm="0.5" inkstitch:fill_underlay="false"/>
+          <path id="guide" d="{guide_d}" style="fill:none;stroke:#000000;stroke-width:0.2;marker-start:url(#inkstitch-guide-line-marker)"/>
+        </g>"#
+    )
+}
+
+/// Whether a stitch touches the rectangle's outline: row ends lie on it, and what joins
+/// rows (a turn, or travel along the outline as Ink/Stitch travels) runs from there; the
+/// stitches with both ends inside are the rows' own.
+fn on_edge(w: &[(f64, f64)]) -> bool {
+    let near = |p: &(f64, f64)| {
+        (p.0 - 10.0)
+            .abs()
+            .min((p.0 - 50.0).abs())
+            .min((p.1 - 50.0).abs())
+            .min((p.1 - 80.0).abs())
+            < 0.05
+    };
+    near(&w[0]) || near(&w[1])
+}
+
+/// Distance from `p` to the segments of `line`.
+fn to_line(line: &[(f64, f64)], p: (f64, f64)) -> f64 {
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let (vx, vy) = (b.0 - a.0, b.1 - a.1);
+            let l2 = vx * vx + vy * vy;
+            let t = (((p.0 - a.0) * vx + (p.1 - a.1) * vy) / l2).clamp(0.0, 1.0);
+            (p.0 - a.0 - t * vx).hypot(p.1 - a.1 - t * vy)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Share of the rectangle's points (a 0.5 mm grid, 0.3 mm in from the edge) within a row
+/// spacing of the thread.
+fn coverage(pts: &[(f64, f64)]) -> f64 {
+    let mut hit = 0;
+    let mut all = 0;
+    let mut y = 50.3;
+    while y < 80.0 - 0.3 {
+        let mut x = 10.3;
+        while x < 50.0 - 0.3 {
+            all += 1;
+            if to_line(pts, (x, y)) <= 0.5 {
+                hit += 1;
+            }
+            x += 0.5;
+        }
+        y += 0.5;
+    }
+    hit as f64 / all as f64
+}
+
+#[test]
+fn parallel_offset_rows_keep_their_distance_from_an_arc_guide() {
+    // An arc about (60, 60) of radius 60 (SVG); in the drawing about (60, 40), y up.
+    let plan = sew(&doc(&guided(1, "M 0,60 A 60,60 0 0 1 60,0")));
+    let pts = sewn(&plan);
+    // The guide and its marker are not sewn: the thread stays on the rectangle.
+    let b = plan.bounds().unwrap();
+    assert!(
+        b[0] > 9.9 && b[2] < 50.1 && b[1] > 49.9 && b[3] < 80.1,
+        "{b:?}"
+    );
+    let off = |p: &(f64, f64)| 60.0 - (p.0 - 60.0).hypot(p.1 - 40.0);
+    // Every row stitch (the long ones: rows are sewn in 3 mm stitches, turns are 0.5 mm)
+    // runs at a whole number of row spacings from the guide.
+    let mut rows = std::collections::BTreeSet::new();
+    let mut long = 0;
+    for w in pts.windows(2) {
+        if (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) < 1.0 || on_edge(w) {
+            continue;
+        }
+        long += 1;
+        let (d0, d1) = (off(&w[0]), off(&w[1]));
+        let k = (d0 / 0.5).round();
+        assert!(
+            (d0 - 0.5 * k).abs() < 0.03 && (d1 - 0.5 * k).abs() < 0.03,
+            "{w:?}: {d0} {d1}"
+        );
+        rows.insert(k as i64);
+    }
+    assert!(long > 500, "{long}");
+    // Rows one spacing apart, none missing, from the guide's side of the shape to the other.
+    let (lo, hi) = (*rows.first().unwrap(), *rows.last().unwrap());
+    assert_eq!(rows.len() as i64, hi - lo + 1);
+    // The rectangle reaches from 60 − 64.03 to 60 − 14.14 mm off the arc: rows to 0.5 mm.
+    assert!(hi - lo > 80, "{lo}..{hi}");
+    // The thread reaches the rectangle's corners nearest and farthest from the arc: 60 −
+    // 64.03 and 60 − 14.14 mm off it.
+    let (near, far) = pts
+        .iter()
+        .map(off)
+        .fold((f64::MAX, f64::MIN), |(a, b), d| (a.min(d), b.max(d)));
+    assert!(
+        (near + 4.03).abs() < 0.5 && (far - 45.86).abs() < 0.5,
+        "{near} {far}"
+    );
+    let c = coverage(&pts);
+    assert!(c >= 0.95, "coverage {c}");
+}
+
+#[test]
+fn copy_rows_are_the_guide_shifted_across_its_chord() {
+    // A wavy guide from (0, 35) to (60, 35) (SVG): its chord is level, so each row is the
+    // guide moved straight up or down by whole row spacings.
+    let guide = "M 0,35 C 15,25 25,45 30,35 C 35,25 45,45 60,35";
+    let wave: Vec<(f64, f64)> = {
+        // The same curve, sampled finely, in the drawing's coordinates (y up).
+        let cubic = |p: [(f64, f64); 4], t: f64| {
+            let u = 1.0 - t;
+            let f = |i: usize| [p[0], p[1], p[2], p[3]].map(|q| if i == 0 { q.0 } else { q.1 });
+            let c = |v: [f64; 4]| {
+                u * u * u * v[0]
+                    + 3.0 * u * u * t * v[1]
+                    + 3.0 * u * t * t * v[2]
+                    + t * t * t * v[3]
+            };
+            (c(f(0)), 100.0 - c(f(1)))
+        };
+        let a = [(0.0, 35.0), (15.0, 25.0), (25.0, 45.0), (30.0, 35.0)];
+        let b = [(30.0, 35.0), (35.0, 25.0), (45.0, 45.0), (60.0, 35.0)];
+        (0..=400)
+            .map(|i| cubic(a, i as f64 / 400.0))
+            .chain((1..=400).map(|i| cubic(b, i as f64 / 400.0)))
+            .collect()
+    };
+    let plan = sew(&doc(&guided(0, guide)));
+    let pts = sewn(&plan);
+    let (mut long, mut off) = (0, 0);
+    for w in pts.windows(2) {
+        if (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) < 1.0 || on_edge(w) {
+            continue;
+        }
+        long += 1;
+        // Some whole number of spacings down puts both ends of the stitch back on the guide
+        // (a stitch is a chord of its row: 0.1 mm of sag allowed).
+        let on = (-120..=120).any(|k| {
+            let dy = k as f64 * 0.5;
+            to_line(&wave, (w[0].0, w[0].1 - dy)) < 0.1
+                && to_line(&wave, (w[1].0, w[1].1 - dy)) < 0.1
+        });
+        if !on {
+            off += 1;
+            eprintln!("{w:?} is on no shifted copy of the guide");
+        }
+    }
+    // Where a row meets the outline at a glancing angle, the turn to the next row is a long
+    // stitch across (Ink/Stitch's too): a few, no more.
+    eprintln!("{off} of {long} stitches inside the shape off the rows");
+    assert!(
+        long > 500 && (off as f64) < 0.02 * long as f64,
+        "{off} of {long}"
+    );
+    let c = coverage(&pts);
+    assert!(c >= 0.95, "coverage {c}");
+}
+
+#[test]
+fn a_guided_fill_without_a_guide_is_sewn_as_rows() {
+    let body = r#"<path id="shape" d="M10,20 H50 V50 H10 Z" style="fill:#00aa00;stroke:none"
+        inkstitch:fill_method="guided_fill" inkstitch:row_spacing_mm="0.5" inkstitch:fill_underlay="false"/>"#;
+    let pts = sewn(&sew(&doc(body)));
+    assert!(coverage(&pts) >= 0.95);
+}
