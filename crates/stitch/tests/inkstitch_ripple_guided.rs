@@ -345,3 +345,65 @@ fn a_guided_fill_without_a_guide_is_sewn_as_rows() {
     let pts = sewn(&sew(&doc(body)));
     assert!(coverage(&pts) >= 0.95);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig { cases: 60, ..Default::default() })]
+
+    /// Any ripple parameters, target, guide and fill start/end: sewn or refused with the
+    /// element named, never a panic; no stitch longer than the machine's.
+    #[test]
+    fn any_ripple_or_guided_fill_is_sewn_or_refused(
+        count in 0u32..40, skip in 0u32..12, exponent in 0.1f64..4.0,
+        min_dist in proptest::option::of(0.01f64..30.0),
+        tx in -50.0f64..150.0, ty in -50.0f64..150.0,
+        g in proptest::collection::vec((-20.0f64..120.0, -20.0f64..120.0), 1..5),
+        strategy in 0u32..2, spacing in 0.2f64..3.0,
+    ) {
+        let guide: String = g.iter().enumerate()
+            .map(|(i, (x, y))| format!("{}{x:.3},{y:.3} ", if i == 0 { "M" } else { "L" }))
+            .collect();
+        let min = min_dist.map(|d| format!(r#"inkstitch:min_line_dist_mm="{d}""#)).unwrap_or_default();
+        let body = format!(
+            r##"<g id="g1">
+              <path id="shape" d="M10,20 H50 V50 H10 Z" style="fill:#00aa00;stroke:none"
+                inkstitch:fill_method="guided_fill" inkstitch:guided_fill_strategy="{strategy}"
+                inkstitch:row_spacing_mm="{spacing}"/>
+              <path id="c" d="M 60,60 C 90,50 95,90 70,95 L 60,60 Z" style="fill:none;stroke:#000;stroke-width:0.1"
+                inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="{count}" inkstitch:skip_start="{skip}"
+                inkstitch:skip_end="{skip}" inkstitch:exponent="{exponent}" {min}/>
+              <path id="guide" d="{guide}" style="fill:none;stroke:#000;marker-start:url(#inkstitch-guide-line-marker)"/>
+              <path id="conn" d="M 0,0 {tx},{ty}" inkscape:connection-start="#use1" inkscape:connection-end="#shape"/>
+              <use id="use1" xlink:href="#inkstitch_fill_start" x="0" y="0"/>
+              <path id="conn2" d="M 0,0 {ty},{tx}" inkscape:connection-start="#use2" inkscape:connection-end="#c"/>
+              <use id="use2" xlink:href="#inkstitch_ripple_target" x="{tx}" y="{ty}"/>
+            </g>"##
+        );
+        let svg = doc(&body);
+        let ink = read_inkstitch(&svg, "t.svg").unwrap();
+        let text = ink.strip(&svg);
+        let no_text = oficina_io::SvgOptions { draw_text: false };
+        let d = oficina_io::read_svg(text.as_bytes(), "t.svg", &no_text).unwrap().drawing;
+        let p = Params { center: false, ..Params::default() };
+        match generate_inkstitch(&d, "t", &p, &ink, &mut |_, _| {}) {
+            Ok(g) => {
+                let pts = sewn(&g.plan);
+                proptest::prop_assert!(!pts.is_empty());
+                // Stitches within a colour block, not across a jump.
+                for b in &g.plan.blocks {
+                    let mut prev: Option<(f64, f64)> = None;
+                    for s in &b.stitches {
+                        if s.kind == Kind::Stitch {
+                            if let Some(q) = prev {
+                                proptest::prop_assert!((s.x - q.0).hypot(s.y - q.1) <= p.max_stitch + 1e-6);
+                            }
+                            prev = Some((s.x, s.y));
+                        } else {
+                            prev = None;
+                        }
+                    }
+                }
+            }
+            Err(e) => proptest::prop_assert!(e.0.contains("stitches"), "{e}"),
+        }
+    }
+}

@@ -28,6 +28,10 @@ pub(super) fn guided(
     }
     let (lo, hi) = bounds(region)?;
     let diag = lo.distance(hi);
+    if !(diag > 0.0 && diag.is_finite()) || g.iter().any(|q| !(q.x.is_finite() && q.y.is_finite()))
+    {
+        return None;
+    }
     // Lengthened along its end directions so every row crosses the whole shape.
     let (u0, u1) = (
         (g[1] - g[0]).normalize(),
@@ -43,14 +47,40 @@ pub(super) fn guided(
         u0.turn_90()
     };
     let normals = normals(&line);
-    // Rows far enough either way to reach every corner of the shape's box.
-    let reach = [lo, hi, Point::new(lo.x, hi.y), Point::new(hi.x, lo.y)]
+    // The rows that may cross the shape. Parallel offsets: from the shape's nearest to its
+    // farthest point from the guide (a guide far away makes no rows on the way). Copies: the
+    // shifts that bring some point of the guide onto some point of the shape.
+    let vertices: Vec<Point> = region
+        .outer
         .iter()
-        .map(|c| distance_to(&line, *c))
-        .fold(0.0, f64::max);
-    let k_max = (reach / p.spacing).ceil() as i64 + 1;
+        .map(|q| Point::new(q[0], q[1]))
+        .collect();
+    let ks: Vec<i64> = if parallel {
+        let d: Vec<f64> = vertices.iter().map(|c| distance_to(&line, *c)).collect();
+        let reach = d.iter().copied().fold(0.0, f64::max);
+        let near = if line.iter().any(|&q| contains(region, q)) {
+            0.0
+        } else {
+            d.iter().copied().fold(f64::INFINITY, f64::min)
+        };
+        let k_max = (reach / p.spacing).ceil() as i64 + 1;
+        let k_min = ((near / p.spacing).floor() as i64 - 1).max(0);
+        (-k_max..=-k_min).chain(k_min.max(1)..=k_max).collect()
+    } else {
+        let span = |pts: &[Point]| {
+            pts.iter()
+                .map(|q| q.to_vec2().dot(side))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                    (a.min(x), b.max(x))
+                })
+        };
+        let ((v0, v1), (q0, q1)) = (span(&vertices), span(&line));
+        ((((v0 - q1) / p.spacing).floor() as i64 - 1)..=(((v1 - q0) / p.spacing).ceil() as i64 + 1))
+            .collect()
+    };
+    let k_off = ks.iter().copied().min().unwrap_or(0);
     let mut pieces: Vec<Vec<Point>> = Vec::new();
-    for k in -k_max..=k_max {
+    for k in ks {
         let d = k as f64 * p.spacing;
         let row: Vec<Point> = if parallel {
             line.iter()
@@ -61,7 +91,7 @@ pub(super) fn guided(
             line.iter().map(|&q| q + side * d).collect()
         };
         for piece in clip(&row, region) {
-            pieces.push(stitch(&piece, (k + k_max) as usize, p));
+            pieces.push(stitch(&piece, (k - k_off) as usize, p));
         }
     }
     pieces.retain(|q| q.len() >= 2);

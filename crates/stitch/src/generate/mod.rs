@@ -157,9 +157,21 @@ fn estimate_stitches(drawing: &Drawing, p: &Params, ink: &Inkstitch) -> f64 {
                     .min(p.stitch_length.min(p.satin_spacing));
                 let rows = e.row_spacing.min(e.fill_underlay_row_spacing);
                 let layers = 1 + e.fill_underlay_angles.len();
+                // A ripple sews its line once per copy (the copies are no longer than it).
+                let copies = match (e.stroke_method, e.ripple.min_line_dist) {
+                    (crate::StrokeMethod::Ripple, Some(d)) => {
+                        path.bounding_box()
+                            .map_or(0.0, |b| b.width().hypot(b.height()))
+                            / d
+                            + 2.0
+                    }
+                    (crate::StrokeMethod::Ripple, None) => e.ripple.line_count as f64 + 2.0,
+                    _ => 1.0,
+                };
                 let times = (e.repeats as usize * (1 + 2 * e.bean_stitch_repeats as usize))
                     .max(layers)
-                    .max(4) as f64;
+                    .max(4) as f64
+                    * copies;
                 (line, rows, times)
             } else {
                 (p.stitch_length.min(p.satin_spacing), p.fill_spacing, 1.0)

@@ -95,7 +95,8 @@ fn count(r: &RippleParams, shortest: f64, closed: bool) -> usize {
             n = n.saturating_sub(1);
         }
     }
-    n.max(1) + usize::from(closed)
+    // As many as Ink/Stitch's dialog allows (the design's stitch estimate bounds the rest).
+    n.clamp(1, 10_000) + usize::from(closed)
 }
 
 /// Copies between two rails, from the first to the second (the rails paired point by point).
