@@ -229,3 +229,22 @@ fn placing_symbols_and_connectors_are_not_sewn() {
         "{b:?}"
     );
 }
+
+#[test]
+fn without_a_start_command_a_fill_starts_where_the_needle_is() {
+    // A blue line ending on the red rectangle's right edge, then the fill: it starts there
+    // (as Ink/Stitch starts a fill at the last stitch), not at a corner.
+    let line = r#"<path id="l" d="M90,30 H50" style="fill:none;stroke:#0000ff;stroke-width:0.1"/>"#;
+    let body = format!("{line}{}", rect(r#"inkstitch:fill_underlay="false""#));
+    let plan = sew(&doc(&body));
+    assert_eq!(plan.blocks.len(), 2);
+    let first = plan.blocks[1]
+        .stitches
+        .iter()
+        .find(|s| s.kind == Kind::Stitch)
+        .unwrap();
+    assert!(dist((first.x, first.y), (50.0, 70.0)) <= 0.25, "{first:?}");
+    // Alone, it starts at a corner.
+    let alone = sewn(&sew(&doc(&rect(r#"inkstitch:fill_underlay="false""#))));
+    assert!(dist(alone[0], (50.0, 70.0)) > 5.0);
+}

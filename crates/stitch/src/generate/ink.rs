@@ -56,6 +56,7 @@ pub(super) fn element_shapes(
     paths: &[&Path],
     e: &ElementParams,
     at: &Placement,
+    needle: Option<Point>,
     p: &Params,
 ) -> Result<Vec<Shape>, GenerateError> {
     let style = paths[0].style;
@@ -88,9 +89,10 @@ pub(super) fn element_shapes(
                 pull_compensation: 0.0,
             };
             let mut underlay = Vec::new();
-            // With a start command the underlay starts there, each layer and then the top
-            // where the one before ended (Ink/Stitch's order); the top ends at the end command.
-            let mut from = at.fill_start;
+            // The underlay starts at the start command, else where the needle is (the last
+            // element's end), each layer and then the top where the one before ended
+            // (Ink/Stitch's order); the top ends at the end command.
+            let mut from = at.fill_start.or(needle);
             if e.fill_underlay {
                 let inset = if e.fill_underlay_inset.abs() > 1e-9 {
                     offset_regions(
@@ -661,8 +663,14 @@ mod tests {
                 fill_underlay: false,
                 ..ElementParams::default()
             };
-            let shapes =
-                element_shapes(&[&path], &e, &Placement::default(), &Params::default()).unwrap();
+            let shapes = element_shapes(
+                &[&path],
+                &e,
+                &Placement::default(),
+                None,
+                &Params::default(),
+            )
+            .unwrap();
             let pts: Vec<Point> = shapes[0]
                 .top
                 .iter()

@@ -337,7 +337,11 @@ pub fn generate_inkstitch(
             let id = &paths[0].source.element;
             let e = ink.element(id);
             let at = placed.get(id).unwrap_or(&nowhere);
-            shapes.extend(ink::element_shapes(paths, &e, at, p)?);
+            // Ink/Stitch starts a fill where the needle is (without a start command).
+            let needle = shapes
+                .last()
+                .and_then(|s| s.runs().filter_map(|r| r.points.last().copied()).last());
+            shapes.extend(ink::element_shapes(paths, &e, at, needle, p)?);
         } else {
             shapes.extend(element_shapes(paths, p)?);
         }
