@@ -173,6 +173,8 @@ pub struct RippleParams {
     pub scale_start: f64,
     /// See `scale_start`.
     pub scale_end: f64,
+    /// `rotate_ripples`: copies along a guide turn as the guide turns (true).
+    pub rotate: bool,
 }
 
 impl Default for RippleParams {
@@ -188,6 +190,7 @@ impl Default for RippleParams {
             flip_copies: true,
             scale_start: 100.0,
             scale_end: 0.0,
+            rotate: true,
         }
     }
 }
@@ -812,6 +815,7 @@ fn element_params(
         flip_copies: flag("flip_copies").unwrap_or(rd.flip_copies),
         scale_start: len("scale_start", 0.0, 10_000.0)?.unwrap_or(rd.scale_start),
         scale_end: len("scale_end", 0.0, 10_000.0)?.unwrap_or(rd.scale_end),
+        rotate: flag("rotate_ripples").unwrap_or(rd.rotate),
     };
     Ok(ElementParams {
         satin_column: flag("satin_column").unwrap_or(false),

@@ -173,6 +173,41 @@ fn a_ripple_between_two_rails_sews_copies_back_and_forth() {
     );
 }
 
+#[test]
+fn ripple_copies_follow_a_guide_line_and_turn_with_it() {
+    // A 10 mm upright line at the start of an L-shaped guide (right 20 mm, then up 20 mm):
+    // three copies, at the start, the corner and the end (y up: the guide runs (10, 60) →
+    // (30, 60) → (30, 80)). The last copy turns a quarter left about the guide's end.
+    let body = |rotate: &str| {
+        format!(
+            r#"<g id="g1">
+              <path id="l" d="M 10,40 V 30" style="fill:none;stroke:#000;stroke-width:0.1"
+                inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="3"
+                inkstitch:scale_start="100" inkstitch:scale_end="100" inkstitch:rotate_ripples="{rotate}"/>
+              <path id="guide" d="M 10,40 H 30 V 20" style="fill:none;stroke:#000;stroke-width:0.2;marker-start:url(#inkstitch-guide-line-marker)"/>
+            </g>"#
+        )
+    };
+    let has =
+        |pts: &[(f64, f64)], q: (f64, f64)| pts.iter().any(|p| (p.0 - q.0).hypot(p.1 - q.1) < 0.01);
+    let pts = sewn(&sew(&doc(&body("true"))));
+    for q in [
+        (10.0, 60.0),
+        (10.0, 70.0),
+        (30.0, 60.0),
+        (30.0, 70.0),
+        (30.0, 80.0),
+        (20.0, 80.0),
+    ] {
+        assert!(has(&pts, q), "{q:?} not sewn: {pts:?}");
+    }
+    let pts = sewn(&sew(&doc(&body("false"))));
+    assert!(
+        has(&pts, (30.0, 90.0)) && !has(&pts, (20.0, 80.0)),
+        "{pts:?}"
+    );
+}
+
 /// A 40 × 30 mm rectangle (SVG x 10..50, y 20..50) with a guide line in its group.
 fn guided(strategy: u32, guide_d: &str) -> String {
     format!(

@@ -120,7 +120,8 @@ fn between_rails(a: &[Point], b: &[Point], r: &RippleParams) -> Vec<Vec<Point>> 
 }
 
 /// Copies of `outline` moved along the guide from its start, each scaled about its place on
-/// the guide from `scale_start` to `scale_end` percent.
+/// the guide from `scale_start` to `scale_end` percent and, with `rotate_ripples`, turned
+/// about it by the guide's direction there (from the copy before) against its start's.
 fn along_guide(outline: &[Point], g: &[Point], r: &RippleParams, closed: bool) -> Vec<Vec<Point>> {
     let total: f64 = g.windows(2).map(|w| w[0].distance(w[1])).sum();
     let n = count(r, total, closed);
@@ -135,18 +136,29 @@ fn along_guide(outline: &[Point], g: &[Point], r: &RippleParams, closed: bool) -
         }
         g[g.len() - 1]
     };
+    let dir = |a: Point, b: Point| (b.y - a.y).atan2(b.x - a.x);
+    let start = dir(g[0], at(0.1_f64.min(total)));
     let k = n.max(2);
-    steps(n, r)
+    let places: Vec<Point> = steps(n, r).iter().map(|&s| at(s * total)).collect();
+    places
         .iter()
         .enumerate()
-        .map(|(i, &s)| {
-            let c = at(s * total);
+        .map(|(i, &c)| {
             let shift = c - g[0];
             let f = i as f64 / (k - 1) as f64;
             let scale = (r.scale_start + (r.scale_end - r.scale_start) * f) / 100.0;
+            let turn = if r.rotate && i > 0 && places[i - 1].distance(c) > 1e-9 {
+                dir(places[i - 1], c) - start
+            } else {
+                0.0
+            };
+            let (sin, cos) = turn.sin_cos();
             outline
                 .iter()
-                .map(|&q| c + (q + shift - c) * scale)
+                .map(|&q| {
+                    let v = (q + shift - c) * scale;
+                    c + oficina_geom::Vec2::new(v.x * cos - v.y * sin, v.x * sin + v.y * cos)
+                })
                 .collect()
         })
         .collect()
