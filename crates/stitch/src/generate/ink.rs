@@ -76,6 +76,8 @@ pub(super) fn element_shapes(
             regions = offset_regions(&regions, e.expand, Join::Miter { min_angle: 0.5 })
                 .map_err(|m| GenerateError(format!("{}: expand: {m}", whose())))?;
         }
+        // Each part of the fill starts where the one before ended (Ink/Stitch's order).
+        let mut needle = needle;
         for region in regions {
             let length = e
                 .max_stitch_length
@@ -145,6 +147,7 @@ pub(super) fn element_shapes(
                 }
                 prev = r.points.last().copied().or(prev);
             }
+            needle = prev.or(needle);
             out.push(shape(
                 p.max_stitch,
                 color,
