@@ -488,6 +488,11 @@ fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
         if cmd == "ripple_target" {
             continue; // cut below, with its connector: it becomes the marker of its point
         }
+        if matches!(cmd.as_str(), "origin" | "stop_position") {
+            out.notes.push(format!(
+                "{file}: Ink/Stitch command \"{cmd}\" not used by Oficina (the design is centred in the hoop)"
+            ));
+        }
         out.cut.push((n.range(), String::new()));
         if cmd == "ignore_layer" {
             if let Some(layer) = n
