@@ -19,6 +19,9 @@ pub(crate) struct FillParams {
     pub stagger: u32,
     /// Each row is lengthened by this in total (half at each end).
     pub pull_compensation: f64,
+    /// A long way from one section to the next goes along the edge where it can, not
+    /// straight across rows already sewn (Ink/Stitch's travel; Oficina's own fills go straight).
+    pub along_edge: bool,
 }
 
 /// A run of stitches and whether the needle may sew straight to its first point from the
@@ -212,7 +215,7 @@ pub(super) fn tatami_between(
         .zip(end)
         .map(|(piece, q)| leave(flip_for(&piece, q, false), q, region, p));
     let middle: Vec<Vec<Point>> = sections.iter().map(|sec| sew(sec, false)).collect();
-    join_sections(first, middle, last, region, p.length)
+    join_sections(first, middle, last, region, p)
 }
 
 /// A fill's first stitches from a start command at `q` on the outline: along the edge to the
@@ -252,17 +255,24 @@ pub(super) fn join_sections(
     mut sections: Vec<Vec<Point>>,
     last: Option<Vec<Point>>,
     region: &Region,
-    length: f64,
+    p: &FillParams,
 ) -> Vec<Run> {
+    let length = p.length;
     sections.retain(|s| !s.is_empty());
     let mut runs: Vec<Run> = Vec::new();
     let mut at: Option<Point> = None;
     let mut sew = |pts: Vec<Point>, at: &mut Option<Point>| {
         let link = at.and_then(|e| {
+            // A long way across would lie on rows already sewn: along the edge instead
+            // when it can (as Ink/Stitch travels along the outline).
+            let long = p.along_edge && e.distance(pts[0]) > 2.0 * length;
+            let along = || edge_travel(e, pts[0], region, length);
             if inside_line(e, pts[0], region) {
-                Some(straight(e, pts[0], length))
+                long.then(along)
+                    .flatten()
+                    .or_else(|| Some(straight(e, pts[0], length)))
             } else {
-                edge_travel(e, pts[0], region, length)
+                along()
             }
         });
         match (link, runs.last_mut()) {
@@ -451,6 +461,7 @@ mod tests {
             angle: 0.0,
             stagger: 4,
             pull_compensation: 0.0,
+            along_edge: false,
         }
     }
 

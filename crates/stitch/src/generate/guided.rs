@@ -104,7 +104,7 @@ pub(super) fn guided(
     let last = end
         .filter(|_| !pieces.is_empty())
         .map(|q| leave(take(&mut pieces, q, false), q, region, p));
-    Some(join_sections(first, pieces, last, region, p.length))
+    Some(join_sections(first, pieces, last, region, p))
 }
 
 /// Takes the piece with an end nearest `q`, oriented to start there (`first`) or end there.

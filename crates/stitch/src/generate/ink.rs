@@ -89,6 +89,7 @@ pub(super) fn element_shapes(
                 angle: e.angle.to_radians(),
                 stagger: e.staggers,
                 pull_compensation: 0.0,
+                along_edge: true,
             };
             let mut underlay = Vec::new();
             // The underlay starts at the start command, else where the needle is (the last
@@ -116,6 +117,7 @@ pub(super) fn element_shapes(
                                 angle: angle.to_radians(),
                                 stagger: 1,
                                 pull_compensation: 0.0,
+                                along_edge: true,
                             },
                             from,
                             None,

@@ -422,6 +422,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                     angle,
                     stagger: p.stagger,
                     pull_compensation: p.pull_compensation,
+                    along_edge: false,
                 },
             );
             let mut underlay = Vec::new();
@@ -442,6 +443,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                             angle: angle + std::f64::consts::FRAC_PI_2,
                             stagger: 1,
                             pull_compensation: 0.0,
+                            along_edge: false,
                         },
                     ));
                 }
