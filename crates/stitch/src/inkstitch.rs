@@ -175,6 +175,11 @@ pub struct RippleParams {
     pub scale_end: f64,
     /// `rotate_ripples`: copies along a guide turn as the guide turns (true).
     pub rotate: bool,
+    /// `grid_size_mm`: when not 0, the line is cut every this much and the joins across the
+    /// copies are sewn too, after the copies (a grid).
+    pub grid_size: f64,
+    /// `grid_first`: the grid first, then the copies (false).
+    pub grid_first: bool,
 }
 
 impl Default for RippleParams {
@@ -191,6 +196,8 @@ impl Default for RippleParams {
             scale_start: 100.0,
             scale_end: 0.0,
             rotate: true,
+            grid_size: 0.0,
+            grid_first: false,
         }
     }
 }
@@ -796,11 +803,6 @@ fn element_params(
         }
     };
     let fill_len = max_stitch_length.unwrap_or(FILL_STITCH_LENGTH);
-    if num("grid_size_mm")?.is_some_and(|g| g != 0.0) {
-        notes.push(format!(
-            "{at}: ripple grid not sewn by Oficina (the ripple lines are)"
-        ));
-    }
     if num("join_style")?.is_some_and(|j| j == 1.0) && stroke_method == StrokeMethod::Ripple {
         notes.push(format!(
             "{at}: ripple join style \"point\" sewn as \"flat\""
@@ -821,6 +823,8 @@ fn element_params(
         scale_start: len("scale_start", 0.0, 10_000.0)?.unwrap_or(rd.scale_start),
         scale_end: len("scale_end", 0.0, 10_000.0)?.unwrap_or(rd.scale_end),
         rotate: flag("rotate_ripples").unwrap_or(rd.rotate),
+        grid_size: len("grid_size_mm", -100.0, 100.0)?.map_or(0.0, f64::abs),
+        grid_first: flag("grid_first").unwrap_or(false),
     };
     Ok(ElementParams {
         satin_column: flag("satin_column").unwrap_or(false),

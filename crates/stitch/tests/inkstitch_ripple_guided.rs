@@ -144,6 +144,53 @@ fn skips_and_reverse_change_where_the_ripple_runs() {
 }
 
 #[test]
+fn a_ripple_grid_adds_the_joins_across_the_copies() {
+    // Two rails (SVG y 40 and 60, x 10..70), three copies; a 10 mm grid: the rails cut every
+    // 10 mm (x = 10, 20, .., 70) and seven lines across the copies, x constant along each.
+    let body = |grid: &str| {
+        format!(
+            r#"<path id="r" d="M10,40 H70 M10,60 H70" style="fill:none;stroke:#000;stroke-width:0.1"
+            inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="3" {grid}/>"#
+        )
+    };
+    let plain = sewn(&sew(&doc(&body(""))));
+    let plan = sew(&doc(&body(r#"inkstitch:grid_size_mm="10""#)));
+    let pts = sewn(&plan);
+    assert_eq!(jumps(&plan), 1);
+    assert!(longest(&pts) <= 2.5 + 1e-6);
+    // The copies first (as many needle points as without the grid's cut points and more),
+    // then the grid: stitches running across (y changes, x does not) at x = 10, 20, .. 70.
+    let across: std::collections::BTreeSet<i64> = pts
+        .windows(2)
+        .filter(|w| (w[0].0 - w[1].0).abs() < 1e-6 && (w[0].1 - w[1].1).abs() > 1e-6)
+        .map(|w| w[0].0.round() as i64)
+        .collect();
+    assert_eq!(
+        across.into_iter().collect::<Vec<_>>(),
+        [10, 20, 30, 40, 50, 60, 70]
+    );
+    // The grid's length: seven lines of 20 mm and the six 10 mm steps between them.
+    let len = |p: &[(f64, f64)]| {
+        p.windows(2)
+            .map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1))
+            .sum::<f64>()
+    };
+    let extra = len(&pts) - len(&plain);
+    assert!((extra - (7.0 * 20.0 + 6.0 * 10.0)).abs() < 1.0, "{extra}");
+    // grid_first: the same stitches the other way round.
+    let first = sewn(&sew(&doc(&body(
+        r#"inkstitch:grid_size_mm="10" inkstitch:grid_first="true""#,
+    ))));
+    let mut back = pts.clone();
+    back.reverse();
+    assert_eq!(first.len(), back.len());
+    assert!(first
+        .iter()
+        .zip(&back)
+        .all(|(a, b)| (a.0 - b.0).hypot(a.1 - b.1) < 1e-6));
+}
+
+#[test]
 fn a_ripple_between_two_rails_sews_copies_back_and_forth() {
     // Rails at SVG y 40 and 60 (drawing y 60 and 40), x 10..70; five copies 5 mm apart.
     let body = r#"<path id="r" d="M10,40 H70 M10,60 H70" style="fill:none;stroke:#000;stroke-width:0.1"

@@ -29,12 +29,18 @@ pub(super) fn ripple(
     target: Option<Point>,
     guide: Option<&[Point]>,
 ) -> Vec<Point> {
+    // With a grid the line is cut at the grid's size (the grid's lines join those points).
+    let step = if r.grid_size > 0.0 {
+        r.grid_size.max(0.1)
+    } else {
+        len
+    };
     let (copies, linear) = if lines.len() >= 2 {
         (between_rails(&lines[0], &lines[1], r), true)
     } else {
         let line = &lines[0];
         let closed = line.len() > 2 && line[0].distance(line[line.len() - 1]) < 0.05;
-        let outline = running(line, len);
+        let outline = running(line, step);
         let mut copies = match guide.filter(|g| g.len() >= 2) {
             Some(g) => along_guide(&outline, g, r, closed),
             None => {
@@ -70,7 +76,54 @@ pub(super) fn ripple(
     if r.reverse {
         out.reverse();
     }
+    if r.grid_size > 0.0 {
+        let g = grid(&copies[a..copies.len() - b], out.last().copied());
+        out.extend(g);
+    }
+    if r.grid_first {
+        out.reverse();
+    }
     out
+}
+
+/// The grid: through each point of the line, across the copies; every other one reversed,
+/// starting at the corner nearest `from` (where the copies ended).
+fn grid(copies: &[Vec<Point>], from: Option<Point>) -> Vec<Point> {
+    let n = copies.iter().map(Vec::len).min().unwrap_or(0);
+    let mut lines: Vec<Vec<Point>> = (0..n)
+        .map(|i| copies.iter().map(|c| c[i]).collect())
+        .collect();
+    if lines.is_empty() || lines[0].is_empty() {
+        return Vec::new();
+    }
+    if let Some(q) = from {
+        let (first, last) = (&lines[0], &lines[lines.len() - 1]);
+        let corners = [
+            first[0],
+            first[first.len() - 1],
+            last[0],
+            last[last.len() - 1],
+        ];
+        let k = (0..4)
+            .min_by(|&i, &j| corners[i].distance(q).total_cmp(&corners[j].distance(q)))
+            .unwrap_or(0);
+        if k == 2 || k == 3 {
+            lines.reverse();
+        }
+        if k == 1 || k == 3 {
+            lines.iter_mut().for_each(|l| l.reverse());
+        }
+    }
+    lines
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, mut l)| {
+            if i % 2 == 1 {
+                l.reverse();
+            }
+            l
+        })
+        .collect()
 }
 
 /// `n` steps from 0 to 1 (both included), raised to the exponent, mirrored when flipped.
@@ -103,7 +156,13 @@ fn count(r: &RippleParams, shortest: f64, closed: bool) -> usize {
 fn between_rails(a: &[Point], b: &[Point], r: &RippleParams) -> Vec<Vec<Point>> {
     let la: f64 = a.windows(2).map(|w| w[0].distance(w[1])).sum();
     let lb: f64 = b.windows(2).map(|w| w[0].distance(w[1])).sum();
-    let m = ((la.max(lb) / 0.2).ceil() as usize).clamp(2, 100_000);
+    // Pairs every 0.2 mm, or at the grid's size (its lines join the pairs).
+    let step = if r.grid_size > 0.0 {
+        r.grid_size.max(0.1)
+    } else {
+        0.2
+    };
+    let m = ((la.max(lb) / step - 1e-6).ceil() as usize + 1).clamp(2, 100_000);
     let (a, mut b) = (satin::resample(a, m), satin::resample(b, m));
     if a[0].distance(b[0]) > a[0].distance(b[m - 1]) {
         b.reverse(); // drawn the other way round
