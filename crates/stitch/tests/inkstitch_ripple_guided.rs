@@ -439,7 +439,7 @@ proptest::proptest! {
         min_dist in proptest::option::of(0.01f64..30.0),
         tx in -50.0f64..150.0, ty in -50.0f64..150.0,
         g in proptest::collection::vec((-20.0f64..120.0, -20.0f64..120.0), 1..5),
-        strategy in 0u32..2, spacing in 0.2f64..3.0,
+        strategy in 0u32..2, spacing in 0.2f64..3.0, grid in 0.0f64..8.0,
     ) {
         let guide: String = g.iter().enumerate()
             .map(|(i, (x, y))| format!("{}{x:.3},{y:.3} ", if i == 0 { "M" } else { "L" }))
@@ -452,7 +452,7 @@ proptest::proptest! {
                 inkstitch:row_spacing_mm="{spacing}"/>
               <path id="c" d="M 60,60 C 90,50 95,90 70,95 L 60,60 Z" style="fill:none;stroke:#000;stroke-width:0.1"
                 inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="{count}" inkstitch:skip_start="{skip}"
-                inkstitch:skip_end="{skip}" inkstitch:exponent="{exponent}" {min}/>
+                inkstitch:skip_end="{skip}" inkstitch:exponent="{exponent}" inkstitch:grid_size_mm="{grid}" {min}/>
               <path id="guide" d="{guide}" style="fill:none;stroke:#000;marker-start:url(#inkstitch-guide-line-marker)"/>
               <path id="conn" d="M 0,0 {tx},{ty}" inkscape:connection-start="#use1" inkscape:connection-end="#shape"/>
               <use id="use1" xlink:href="#inkstitch_fill_start" x="0" y="0"/>

@@ -168,6 +168,16 @@ fn estimate_stitches(drawing: &Drawing, p: &Params, ink: &Inkstitch) -> f64 {
                     (crate::StrokeMethod::Ripple, None) => e.ripple.line_count as f64 + 2.0,
                     _ => 1.0,
                 };
+                // Its grid: a line across the copies (no longer than the box) per grid step.
+                let diag = path
+                    .bounding_box()
+                    .map_or(0.0, |b| b.width().hypot(b.height()));
+                let copies =
+                    if e.stroke_method == crate::StrokeMethod::Ripple && e.ripple.grid_size > 0.0 {
+                        copies + diag / e.ripple.grid_size.max(0.1)
+                    } else {
+                        copies
+                    };
                 let times = (e.repeats as usize * (1 + 2 * e.bean_stitch_repeats as usize))
                     .max(layers)
                     .max(4) as f64
