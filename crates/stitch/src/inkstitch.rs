@@ -617,27 +617,43 @@ fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
             out.cut.push((n.range(), String::new()));
         }
     }
-    guides(doc, out);
+    guides(doc, file, out);
 }
 
 /// Guide lines: a path whose style starts with Ink/Stitch's guide-line marker guides the
 /// other elements of its group (Ink/Stitch looks for it among the element's siblings). It is
-/// not sewn; the first one counts.
-fn guides(doc: &roxmltree::Document, out: &mut Inkstitch) {
-    let is_guide = |n: &roxmltree::Node| {
+/// not sewn; the first one counts. A pattern (the pattern marker) is not sewn either.
+fn guides(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
+    let marked = |n: &roxmltree::Node, what: &str| {
         n.attribute("style")
-            .is_some_and(|s| s.contains("marker-start:url(#inkstitch-guide-line-marker"))
+            .is_some_and(|s| s.contains(&format!("marker-start:url(#inkstitch-{what}-marker")))
     };
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        // Marked objects are never sewn themselves (Ink/Stitch's marker objects).
+        let Some(id) = n.attribute("id") else {
+            continue;
+        };
+        if marked(&n, "guide-line") {
+            out.ignored.insert(format!("#{id}"));
+        } else if marked(&n, "pattern") {
+            out.ignored.insert(format!("#{id}"));
+            out.notes.push(format!(
+                "{file}: #{id}: an Ink/Stitch pattern, not applied by Oficina (not sewn)"
+            ));
+        }
+    }
     for g in doc.descendants().filter(|n| n.is_element()) {
         let Some(guide) = g
             .children()
-            .find(|c| c.is_element() && is_guide(c))
+            .find(|c| c.is_element() && marked(c, "guide-line"))
             .and_then(|c| c.attribute("id"))
         else {
             continue;
         };
-        out.ignored.insert(format!("#{guide}"));
-        for c in g.children().filter(|c| c.is_element() && !is_guide(c)) {
+        for c in g
+            .children()
+            .filter(|c| c.is_element() && !marked(c, "guide-line"))
+        {
             if let Some(id) = c.attribute("id") {
                 out.guides.insert(format!("#{id}"), format!("#{guide}"));
             }

@@ -489,3 +489,38 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn marked_objects_are_not_sewn_and_the_first_guide_counts() {
+    // A second guide (down the page) and a pattern, both far outside the rectangle.
+    let body = r#"<g id="g1">
+          <path id="shape" d="M10,20 H50 V50 H10 Z" style="fill:#00aa00;stroke:none"
+                inkstitch:fill_method="guided_fill" inkstitch:guided_fill_strategy="1"
+                inkstitch:row_spacing_mm="0.5" inkstitch:fill_underlay="false"/>
+          <path id="guide" d="M 0,35 H 90" style="fill:none;stroke:#000;marker-start:url(#inkstitch-guide-line-marker)"/>
+          <path id="guide2" d="M 95,0 V 95" style="fill:none;stroke:#000;marker-start:url(#inkstitch-guide-line-marker)"/>
+          <path id="pat" d="M 70,70 H 95" style="fill:none;stroke:#000;marker-start:url(#inkstitch-pattern-marker)"/>
+        </g>"#;
+    let svg = doc(body);
+    let ink = read_inkstitch(&svg, "t.svg").unwrap();
+    assert!(
+        ink.notes
+            .iter()
+            .any(|n| n.contains("#pat") && n.contains("pattern")),
+        "{:?}",
+        ink.notes
+    );
+    let plan = sew(&svg);
+    let b = plan.bounds().unwrap();
+    assert!(
+        b[0] > 9.9 && b[2] < 50.1 && b[1] > 49.9 && b[3] < 80.1,
+        "{b:?}"
+    );
+    // The first guide is level: every row stitch inside the shape is level too.
+    let pts = sewn(&plan);
+    let level = pts
+        .windows(2)
+        .filter(|w| !on_edge(w) && (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1) > 1.0)
+        .all(|w| (w[0].1 - w[1].1).abs() < 1e-6);
+    assert!(level);
+}
