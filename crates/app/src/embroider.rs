@@ -639,4 +639,47 @@ mod tests {
         );
         let _ = std::fs::remove_dir_all(&dir);
     }
+
+    #[test]
+    fn inkstitch_commands_and_ripples_reach_the_stitches() {
+        let dir = std::env::temp_dir().join(format!("oficina-ink-cmd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        // A column from x 2 to 38 with a satin_start command at its right end, and a ripple
+        // circle: the design starts at the column's right end (centred: x = +18).
+        let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"
+              xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+              xmlns:inkstitch="http://inkstitch.org/namespace" width="40mm" height="40mm" viewBox="0 0 40 40">
+            <defs><symbol id="inkstitch_satin_start"><circle r="3"/></symbol></defs>
+            <path id="col" d="M2 5 L38 5 M2 9 L38 9" fill="none" stroke="black" stroke-width="0.1"
+                  inkstitch:satin_column="true"/>
+            <circle id="rip" cx="20" cy="26" r="10" fill="none" stroke="black" stroke-width="0.1"
+                  inkstitch:stroke_method="ripple_stitch" inkstitch:line_count="4"/>
+            <path id="cc" d="M 45,7 38,7" inkscape:connection-start="#cu" inkscape:connection-end="#col"/>
+            <use id="cu" xlink:href="#inkstitch_satin_start" x="45" y="7"/>
+          </svg>"##;
+        let path = dir.join("cmd.svg");
+        std::fs::write(&path, svg).unwrap();
+        let out = embroider(&path, &EmbroiderParams::default(), Feedback::none()).unwrap();
+        let first = out
+            .generated
+            .plan
+            .entries()
+            .find(|(_, s)| s.kind == oficina_stitch::Kind::Stitch)
+            .unwrap()
+            .1;
+        assert!(first.x > 17.0, "{first:?}");
+        // The ripple is a ripple now (no note that it is sewn as a running line), and the
+        // command's symbol is not sewn: the design is the column and the circle, 36 × 31 mm.
+        assert!(
+            !out.notes.iter().any(|n| n.contains("ripple")),
+            "{:?}",
+            out.notes
+        );
+        let b = out.generated.plan.bounds().unwrap();
+        assert!(
+            (b[2] - b[0] - 36.0).abs() < 1.0 && (b[3] - b[1] - 31.0).abs() < 1.0,
+            "{b:?}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -9,6 +9,7 @@
 //! `true`, `t`, `1` in any case are true. A value that is not a number where one is needed is
 //! refused with the file, the element and the attribute.
 
+use oficina_geom::{Drawing, Path, Point};
 use std::collections::HashMap;
 
 /// The namespace of Ink/Stitch's attributes.
@@ -24,18 +25,25 @@ pub enum StrokeMethod {
     Manual,
     /// `zigzag_stitch`: a zig-zag of the stroke's width.
     Zigzag,
-    /// `ripple_stitch`: sewn by Oficina as a running stitch (noted).
+    /// `ripple_stitch`: copies of the line shrinking to a target (a spiral for a closed
+    /// line), between two rails, or along a guide line (`generate/ripple.rs`).
     Ripple,
 }
 
 /// How a filled shape is sewn (`fill_method`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FillMethod {
-    /// `auto_fill` (the default), also `legacy_fill` and `guided_fill`: rows of tatami.
+    /// `auto_fill` (the default), also `legacy_fill`: rows of tatami.
     #[default]
     Auto,
     /// `contour_fill`: rings parallel to the outline, inwards.
     Contour,
+    /// `guided_fill`: rows that follow the element's guide line (`generate/guided.rs`);
+    /// `parallel` is `guided_fill_strategy` 1 (parallel offsets) against 0 (shifted copies).
+    Guided {
+        /// Rows are parallel offsets of the guide, not shifted copies of it.
+        parallel: bool,
+    },
 }
 
 /// Which satin rails are reversed before they are paired (`reverse_rails`).
@@ -138,6 +146,60 @@ pub struct ElementParams {
     /// `min_jump_stitch_length_mm` (older files: `collapse_len_mm`): a move to the element
     /// shorter than this is sewn, not jumped (none: Oficina's own rule, a jump).
     pub min_jump_length: Option<f64>,
+    /// Ripple stitch (`stroke_method="ripple_stitch"`).
+    pub ripple: RippleParams,
+}
+
+/// A ripple stitch's parameters (Ink/Stitch's names and defaults).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RippleParams {
+    /// `line_count`: copies of the line from start to finish (10).
+    pub line_count: u32,
+    /// `min_line_dist_mm`: when given, the count comes from this spacing instead (none).
+    pub min_line_dist: Option<f64>,
+    /// `skip_start` / `skip_end`: copies left out at the start and the end (0).
+    pub skip_start: u32,
+    /// See `skip_start`.
+    pub skip_end: u32,
+    /// `exponent`: copies bunched towards one end when not 1 (1).
+    pub exponent: f64,
+    /// `flip_exponent`: the bunching at the other end (false).
+    pub flip_exponent: bool,
+    /// `reverse`: sewn from the other end (false).
+    pub reverse: bool,
+    /// `flip_copies`: open ripples go back and forth, every other copy reversed (true).
+    pub flip_copies: bool,
+    /// `scale_start` / `scale_end`: size of the first and last copy along a guide line, % (100, 0).
+    pub scale_start: f64,
+    /// See `scale_start`.
+    pub scale_end: f64,
+    /// `rotate_ripples`: copies along a guide turn as the guide turns (true).
+    pub rotate: bool,
+    /// `grid_size_mm`: when not 0, the line is cut every this much and the joins across the
+    /// copies are sewn too, after the copies (a grid).
+    pub grid_size: f64,
+    /// `grid_first`: the grid first, then the copies (false).
+    pub grid_first: bool,
+}
+
+impl Default for RippleParams {
+    fn default() -> RippleParams {
+        RippleParams {
+            line_count: 10,
+            min_line_dist: None,
+            skip_start: 0,
+            skip_end: 0,
+            exponent: 1.0,
+            flip_exponent: false,
+            reverse: false,
+            flip_copies: true,
+            scale_start: 100.0,
+            scale_end: 0.0,
+            rotate: true,
+            grid_size: 0.0,
+            grid_first: false,
+        }
+    }
 }
 
 impl Default for ElementParams {
@@ -180,6 +242,7 @@ impl Default for ElementParams {
             },
             min_stitch_length: None,
             min_jump_length: None,
+            ripple: RippleParams::default(),
         }
     }
 }
@@ -206,8 +269,69 @@ pub struct Inkstitch {
     /// Elements not sewn: Ink/Stitch's command symbols and their connectors, objects with an
     /// `ignore_object` command, the objects of a layer with an `ignore_layer` command.
     ignored: std::collections::HashSet<String>,
-    /// Byte ranges of the source text of the elements not sewn.
-    cut: Vec<std::ops::Range<usize>>,
+    /// Byte ranges of the source text of the elements not sewn, each with what replaces it
+    /// (empty, or a marker path standing where a command points).
+    cut: Vec<(std::ops::Range<usize>, String)>,
+    /// Where positional commands point, found in the drawing by their marker's id.
+    positions: Vec<Position>,
+    /// The guide line (`#id`) of an element (`#id`).
+    guides: HashMap<String, String>,
+}
+
+/// Ink/Stitch's commands that place something: where a fill, a satin or a running line
+/// starts or ends, and where a ripple shrinks to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Place {
+    FillStart,
+    FillEnd,
+    RunStart,
+    RunEnd,
+    SatinStart,
+    SatinEnd,
+    RippleTarget,
+}
+
+impl Place {
+    fn of(cmd: &str) -> Option<Place> {
+        Some(match cmd {
+            "fill_start" => Place::FillStart,
+            "fill_end" => Place::FillEnd,
+            "run_start" => Place::RunStart,
+            "run_end" => Place::RunEnd,
+            "satin_start" => Place::SatinStart,
+            "satin_end" => Place::SatinEnd,
+            "ripple_target" => Place::RippleTarget,
+            _ => return None,
+        })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+struct Position {
+    target: String,
+    place: Place,
+    /// The id (`#id`) of the path whose start (or end) is the point: the marker left by
+    /// [`Inkstitch::strip`], or the connector itself in a drawing read unstripped.
+    marker: String,
+    at_start: bool,
+}
+
+/// What an element's commands and guide line place, in the drawing's coordinates (mm).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Placement {
+    /// `fill_start`: the fill's first stitch nearest here.
+    pub fill_start: Option<Point>,
+    /// `fill_end`: the fill's last stitch nearest here.
+    pub fill_end: Option<Point>,
+    /// `run_start` / `satin_start`: the line or column starts at its end nearest here.
+    pub start: Option<Point>,
+    /// `run_end` / `satin_end`: the line or column ends at its end nearest here.
+    pub end: Option<Point>,
+    /// `ripple_target`: where a ripple shrinks to.
+    pub ripple_target: Option<Point>,
+    /// The guide line (a path marked `marker-start:url(#inkstitch-guide-line-marker)` in
+    /// the element's group): guided fill rows and ripple copies follow it.
+    pub guide: Option<Path>,
 }
 
 impl Inkstitch {
@@ -227,17 +351,61 @@ impl Inkstitch {
     /// `<use>` into anonymous paths, which could not be told apart afterwards.)
     pub fn strip(&self, svg: &str) -> String {
         let mut cut = self.cut.clone();
-        cut.sort_by_key(|r| (r.start, std::cmp::Reverse(r.end)));
+        cut.sort_by_key(|(r, _)| (r.start, std::cmp::Reverse(r.end)));
         let mut out = String::with_capacity(svg.len());
         let mut at = 0;
-        for r in cut {
+        for (r, with) in cut {
             if r.start < at || r.end > svg.len() {
                 continue; // inside one already cut
             }
             out.push_str(&svg[at..r.start]);
+            out.push_str(&with);
             at = r.end;
         }
         out.push_str(&svg[at..]);
+        out
+    }
+
+    /// What commands and guide lines place, per element (`#id`), read from `drawing` (the
+    /// design imported from [`Inkstitch::strip`]'s text, where each command left a marker).
+    pub fn placed(&self, drawing: &Drawing) -> HashMap<String, Placement> {
+        let mut first: HashMap<&str, &Path> = HashMap::new();
+        for p in drawing.paths() {
+            first.entry(p.source.element.as_str()).or_insert(p);
+        }
+        let mut out: HashMap<String, Placement> = HashMap::new();
+        for pos in &self.positions {
+            let Some(path) = first.get(pos.marker.as_str()) else {
+                continue;
+            };
+            let at = if pos.at_start {
+                path.start()
+            } else {
+                path.end()
+            };
+            let e = out.entry(pos.target.clone()).or_default();
+            let slot = match pos.place {
+                Place::FillStart => &mut e.fill_start,
+                Place::FillEnd => &mut e.fill_end,
+                Place::RunStart | Place::SatinStart => &mut e.start,
+                Place::RunEnd | Place::SatinEnd => &mut e.end,
+                Place::RippleTarget => &mut e.ripple_target,
+            };
+            *slot = slot.or(at);
+        }
+        for (target, guide) in &self.guides {
+            let paths: Vec<&Path> = drawing
+                .paths()
+                .filter(|p| p.source.element == *guide)
+                .collect();
+            // The longest subpath of the guide (Ink/Stitch takes the first line).
+            if let Some(g) = paths
+                .iter()
+                .max_by(|a, b| a.length().total_cmp(&b.length()))
+            {
+                out.entry(target.clone()).or_default().guide = Some((*g).clone());
+            }
+        }
         out
     }
 
@@ -302,7 +470,10 @@ const XLINK: &str = "http://www.w3.org/1999/xlink";
 /// a connector path (`inkscape:connection-start` / `-end`, one end the `<use>`, the other the
 /// object); `ignore_layer` is a `<use>` standing in its layer. Trim and stop set the object's
 /// `trim_after` / `stop_after`; ignore leaves it out. The symbols and connectors are never
-/// sewn. Start and end positions (fill, satin, running) are noted, not used.
+/// sewn. A command that places something points where its connector ends on the object (a
+/// `ripple_target` where its symbol stands), as Ink/Stitch reads it: that point is left in the
+/// stripped text as a tiny marker path with the connector's (or symbol's) id and transform,
+/// so the importer puts it in the drawing's coordinates ([`Inkstitch::placed`]).
 fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
     let href = |n: &roxmltree::Node| {
         n.attribute((XLINK, "href"))
@@ -310,40 +481,53 @@ fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
             .map(str::to_string)
     };
     // Command uses by id, and what they command.
-    let mut uses: HashMap<String, String> = HashMap::new();
+    let mut uses: HashMap<String, (String, roxmltree::Node)> = HashMap::new();
     for n in doc.descendants().filter(|n| n.has_tag_name("use")) {
         let Some(cmd) = href(&n).and_then(|h| h.strip_prefix("#inkstitch_").map(str::to_string))
         else {
             continue;
         };
         out.is_inkstitch = true;
-        out.cut.push(n.range());
         if let Some(id) = n.attribute("id") {
             out.ignored.insert(format!("#{id}"));
-            uses.insert(format!("#{id}"), cmd.clone());
+            uses.insert(format!("#{id}"), (cmd.clone(), n));
         }
+        if cmd == "ripple_target" {
+            continue; // cut below, with its connector: it becomes the marker of its point
+        }
+        if matches!(cmd.as_str(), "origin" | "stop_position") {
+            out.notes.push(format!(
+                "{file}: Ink/Stitch command \"{cmd}\" not used by Oficina (the design is centred in the hoop)"
+            ));
+        }
+        out.cut.push((n.range(), String::new()));
         if cmd == "ignore_layer" {
             if let Some(layer) = n
                 .ancestors()
                 .find(|a| a.attribute((INKSCAPE, "groupmode")) == Some("layer"))
             {
-                out.cut.push(layer.range());
+                out.cut.push((layer.range(), String::new()));
                 for d in layer.descendants().filter_map(|d| d.attribute("id")) {
                     out.ignored.insert(format!("#{d}"));
                 }
             }
         }
     }
-    // Everything inside a command symbol.
+    // Everything inside a command symbol, and Ink/Stitch's markers (the importer would draw
+    // the guide line's marker as paths of its own).
     for n in doc.descendants().filter(|n| {
-        n.has_tag_name("symbol")
+        (n.has_tag_name("symbol") || n.has_tag_name("marker"))
             && n.attribute("id")
-                .is_some_and(|i| i.starts_with("inkstitch_"))
+                .is_some_and(|i| i.starts_with("inkstitch_") || i.starts_with("inkstitch-"))
     }) {
+        if n.has_tag_name("marker") {
+            out.cut.push((n.range(), String::new()));
+        }
         for d in n.descendants().filter_map(|d| d.attribute("id")) {
             out.ignored.insert(format!("#{d}"));
         }
     }
+    let mut placed_uses: Vec<&str> = Vec::new();
     for c in doc.descendants().filter(|n| n.is_element()) {
         let (Some(a), Some(b)) = (
             c.attribute((INKSCAPE, "connection-start")),
@@ -351,15 +535,65 @@ fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
         ) else {
             continue;
         };
-        let (cmd, target) = match (uses.get(a), uses.get(b)) {
-            (Some(cmd), _) => (cmd, b),
-            (None, Some(cmd)) => (cmd, a),
+        let (cmd, use_node, target, at_start) = match (uses.get(a), uses.get(b)) {
+            (Some((cmd, u)), _) => (cmd, u, b, false),
+            (None, Some((cmd, u))) => (cmd, u, a, true),
             (None, None) => continue,
         };
-        out.cut.push(c.range());
-        if let Some(id) = c.attribute("id") {
-            out.ignored.insert(format!("#{id}"));
-        }
+        let id = c.attribute("id").map_or_else(
+            || format!("oficina-command-{}", c.range().start),
+            str::to_string,
+        );
+        out.ignored.insert(format!("#{id}"));
+        let place = Place::of(cmd);
+        let marker = match place {
+            Some(Place::RippleTarget) => {
+                // The symbol's own position: its x, y under its transform.
+                let uid = use_node.attribute("id").unwrap_or_default();
+                if !placed_uses.contains(&uid) {
+                    placed_uses.push(uid);
+                    let num = |k: &str| {
+                        use_node
+                            .attribute(k)
+                            .and_then(|v| v.trim().parse::<f64>().ok())
+                            .unwrap_or(0.0)
+                    };
+                    let m = marker_path(
+                        uid,
+                        use_node.attribute("transform"),
+                        (num("x"), num("y")),
+                        true,
+                    );
+                    out.cut.push((use_node.range(), m));
+                }
+                out.positions.push(Position {
+                    target: target.to_string(),
+                    place: Place::RippleTarget,
+                    marker: format!("#{uid}"),
+                    at_start: true,
+                });
+                String::new()
+            }
+            Some(place) => {
+                out.positions.push(Position {
+                    target: target.to_string(),
+                    place,
+                    marker: format!("#{id}"),
+                    at_start,
+                });
+                match connector_end(c.attribute("d").unwrap_or(""), at_start) {
+                    Some(q) => marker_path(&id, c.attribute("transform"), q, at_start),
+                    None => {
+                        out.notes.push(format!(
+                            "{file}: #{id}: the connector of command \"{cmd}\" has no path; not used"
+                        ));
+                        String::new()
+                    }
+                }
+            }
+            None => String::new(),
+        };
+        out.cut.push((c.range(), marker));
         let e = out.elements.entry(target.to_string()).or_default();
         match cmd.as_str() {
             "trim" => e.trim_after = true,
@@ -368,13 +602,98 @@ fn commands(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
                 out.ignored.insert(target.to_string());
                 let id = target.trim_start_matches('#');
                 if let Some(t) = doc.descendants().find(|t| t.attribute("id") == Some(id)) {
-                    out.cut.push(t.range());
+                    out.cut.push((t.range(), String::new()));
                 }
             }
+            _ if place.is_some() => {}
             other => out.notes.push(format!(
                 "{file}: {target}: Ink/Stitch command \"{other}\" not used by Oficina"
             )),
         }
+    }
+    // A ripple target without a connector is no command of any object.
+    for (id, (cmd, n)) in &uses {
+        if cmd == "ripple_target" && !placed_uses.contains(&id.trim_start_matches('#')) {
+            out.cut.push((n.range(), String::new()));
+        }
+    }
+    guides(doc, file, out);
+}
+
+/// Guide lines: a path whose style starts with Ink/Stitch's guide-line marker guides the
+/// other elements of its group (Ink/Stitch looks for it among the element's siblings). It is
+/// not sewn; the first one counts. A pattern (the pattern marker) is not sewn either.
+fn guides(doc: &roxmltree::Document, file: &str, out: &mut Inkstitch) {
+    let marked = |n: &roxmltree::Node, what: &str| {
+        n.attribute("style")
+            .is_some_and(|s| s.contains(&format!("marker-start:url(#inkstitch-{what}-marker")))
+    };
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        // Marked objects are never sewn themselves (Ink/Stitch's marker objects).
+        let Some(id) = n.attribute("id") else {
+            continue;
+        };
+        if marked(&n, "guide-line") {
+            out.ignored.insert(format!("#{id}"));
+        } else if marked(&n, "pattern") {
+            out.ignored.insert(format!("#{id}"));
+            out.notes.push(format!(
+                "{file}: #{id}: an Ink/Stitch pattern, not applied by Oficina (not sewn)"
+            ));
+        }
+    }
+    for g in doc.descendants().filter(|n| n.is_element()) {
+        let Some(guide) = g
+            .children()
+            .find(|c| c.is_element() && marked(c, "guide-line"))
+            .and_then(|c| c.attribute("id"))
+        else {
+            continue;
+        };
+        for c in g
+            .children()
+            .filter(|c| c.is_element() && !marked(c, "guide-line"))
+        {
+            if let Some(id) = c.attribute("id") {
+                out.guides.insert(format!("#{id}"), format!("#{guide}"));
+            }
+        }
+    }
+}
+
+/// A marker: a path a hair long that starts (`at_start`) or ends at (x, y) under
+/// `transform`, as the connector it replaces did (it stands in the same group, so the
+/// importer applies the same transforms).
+fn marker_path(id: &str, transform: Option<&str>, (x, y): (f64, f64), at_start: bool) -> String {
+    let t = transform
+        .map(|t| format!(r#" transform="{}""#, t.replace('"', "&quot;")))
+        .unwrap_or_default();
+    let x0 = if at_start { x } else { x - 0.001 };
+    format!(
+        r#"<path id="{id}"{t} d="M {x0} {y} h 0.001" style="fill:none;stroke:#000000;stroke-width:0.01"/>"#
+    )
+}
+
+/// The connector's point on its object: the first point of its path (`at_start`) or the
+/// last point of its first subpath, as Ink/Stitch takes it.
+fn connector_end(d: &str, at_start: bool) -> Option<(f64, f64)> {
+    use svgtypes::SimplePathSegment as S;
+    let mut first: Option<(f64, f64)> = None;
+    let mut last: Option<(f64, f64)> = None;
+    for seg in svgtypes::SimplifyingPathParser::from(d) {
+        let p = match seg.ok()? {
+            S::MoveTo { .. } if first.is_some() => break,
+            S::MoveTo { x, y } | S::LineTo { x, y } => (x, y),
+            S::Quadratic { x, y, .. } | S::CurveTo { x, y, .. } => (x, y),
+            S::ClosePath => first?,
+        };
+        first = first.or(Some(p));
+        last = Some(p);
+    }
+    if at_start {
+        first
+    } else {
+        last
     }
 }
 
@@ -446,12 +765,7 @@ fn element_params(
         None | Some("running_stitch") => StrokeMethod::Running,
         Some("manual_stitch") => StrokeMethod::Manual,
         Some("zigzag_stitch") => StrokeMethod::Zigzag,
-        Some("ripple_stitch") => {
-            notes.push(format!(
-                "{at}: ripple stitch is sewn as a running stitch along the path"
-            ));
-            StrokeMethod::Ripple
-        }
+        Some("ripple_stitch") => StrokeMethod::Ripple,
         Some(other) => {
             notes.push(format!(
                 "{at}: stroke method \"{other}\" unknown to Oficina, sewn as a running stitch"
@@ -461,7 +775,10 @@ fn element_params(
     };
     let fill_method = match a.get("fill_method").copied() {
         Some("contour_fill") => FillMethod::Contour,
-        None | Some("auto_fill" | "legacy_fill" | "guided_fill") => FillMethod::Auto,
+        Some("guided_fill") => FillMethod::Guided {
+            parallel: count("guided_fill_strategy", 1.0)? == Some(1),
+        },
+        None | Some("auto_fill" | "legacy_fill") => FillMethod::Auto,
         Some(other) => {
             notes.push(format!(
                 "{at}: fill method \"{other}\" unknown to Oficina, sewn as rows (auto fill)"
@@ -502,6 +819,29 @@ fn element_params(
         }
     };
     let fill_len = max_stitch_length.unwrap_or(FILL_STITCH_LENGTH);
+    if num("join_style")?.is_some_and(|j| j == 1.0) && stroke_method == StrokeMethod::Ripple {
+        notes.push(format!(
+            "{at}: ripple join style \"point\" sewn as \"flat\""
+        ));
+    }
+    let rd = RippleParams::default();
+    let ripple = RippleParams {
+        line_count: count("line_count", 10_000.0)?
+            .unwrap_or(rd.line_count)
+            .max(1),
+        min_line_dist: len("min_line_dist_mm", 0.0, 100.0)?.filter(|&d| d > 0.0),
+        skip_start: count("skip_start", 10_000.0)?.unwrap_or(0),
+        skip_end: count("skip_end", 10_000.0)?.unwrap_or(0),
+        exponent: len("exponent", 0.1, 100.0)?.unwrap_or(rd.exponent),
+        flip_exponent: flag("flip_exponent").unwrap_or(false),
+        reverse: flag("reverse").unwrap_or(false),
+        flip_copies: flag("flip_copies").unwrap_or(rd.flip_copies),
+        scale_start: len("scale_start", 0.0, 10_000.0)?.unwrap_or(rd.scale_start),
+        scale_end: len("scale_end", 0.0, 10_000.0)?.unwrap_or(rd.scale_end),
+        rotate: flag("rotate_ripples").unwrap_or(rd.rotate),
+        grid_size: len("grid_size_mm", -100.0, 100.0)?.map_or(0.0, f64::abs),
+        grid_first: flag("grid_first").unwrap_or(false),
+    };
     Ok(ElementParams {
         satin_column: flag("satin_column").unwrap_or(false),
         stroke_method,
@@ -553,6 +893,7 @@ fn element_params(
             Some(x) => Some(x),
             None => len("collapse_len_mm", 0.0, 100.0)?,
         },
+        ripple,
     })
 }
 

@@ -27,8 +27,8 @@ pub use generate::{
 };
 pub use hoop::{smallest_hoop, Hoop, HoopError, HoopShape, CLEARANCE, HOOPS};
 pub use inkstitch::{
-    read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, ReverseRails,
-    StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
+    read_inkstitch, ElementParams, FillMethod, Inkstitch, InkstitchError, Placement, ReverseRails,
+    RippleParams, StrokeMethod, Ties, FILL_STITCH_LENGTH, NAMESPACE as INKSTITCH_NAMESPACE,
 };
 pub use lettering::{
     append, letter, Align, Font, Glyph, GlyphElement, Layout, Lettered, LetteringError, Placed,

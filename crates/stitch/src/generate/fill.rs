@@ -19,6 +19,9 @@ pub(crate) struct FillParams {
     pub stagger: u32,
     /// Each row is lengthened by this in total (half at each end).
     pub pull_compensation: f64,
+    /// A long way from one section to the next goes along the edge where it can, not
+    /// straight across rows already sewn (Ink/Stitch's travel; Oficina's own fills go straight).
+    pub along_edge: bool,
 }
 
 /// A run of stitches and whether the needle may sew straight to its first point from the
@@ -32,6 +35,17 @@ pub(super) struct Run {
 const MIN_END: f64 = 0.25;
 
 pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
+    tatami_between(region, p, None, None)
+}
+
+/// Tatami whose first stitch is the row end nearest `start` and whose last is the row end
+/// nearest `end` (Ink/Stitch's `fill_start` / `fill_end` commands), when given.
+pub(super) fn tatami_between(
+    region: &Region,
+    p: &FillParams,
+    start: Option<Point>,
+    end: Option<Point>,
+) -> Vec<Run> {
     let (c, s) = (p.angle.cos(), p.angle.sin());
     // Into the row frame (rows horizontal) and back.
     let to_row = |q: &[f64; 2]| Point::new(q[0] * c + q[1] * s, -q[0] * s + q[1] * c);
@@ -75,7 +89,7 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
     }
     let overlaps = |a: (f64, f64), b: (f64, f64)| a.0 < b.1 && b.0 < a.1;
     let mut used: Vec<Vec<bool>> = rows.iter().map(|r| vec![false; r.len()]).collect();
-    let mut sections: Vec<Vec<Point>> = Vec::new();
+    let mut sections: Vec<Vec<(usize, usize)>> = Vec::new();
     let first_free = |used: &Vec<Vec<bool>>| {
         (0..used.len()).find_map(|k| used[k].iter().position(|u| !u).map(|i| (k, i)))
     };
@@ -102,10 +116,13 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
             section.push((k + 1, j));
             (k, i) = (k + 1, j);
         }
+        sections.push(section);
+    }
+    let sew = |rows_of: &[(usize, usize)], flip: bool| -> Vec<Point> {
         let mut pts: Vec<Point> = Vec::new();
-        for (n, &(k, i)) in section.iter().enumerate() {
+        for (n, &(k, i)) in rows_of.iter().enumerate() {
             let y = y0 + (k as f64 + 0.5) * p.spacing;
-            let row = row_points(rows[k][i], k, n % 2 == 1, p);
+            let row = row_points(rows[k][i], k, (n % 2 == 1) != flip, p);
             let first = Point::new(row[0], y);
             if let Some(&prev) = pts.last() {
                 pts.extend(straight(prev, first, p.length));
@@ -114,17 +131,165 @@ pub(super) fn tatami(region: &Region, p: &FillParams) -> Vec<Run> {
             }
             pts.extend(row[1..].iter().map(|&x| Point::new(x, y)));
         }
-        sections.push(pts.into_iter().map(from_row).collect());
+        pts.into_iter().map(from_row).collect()
+    };
+    // A start (end) command: the section holding the row end nearest it is cut there, so
+    // that row begins (ends) a piece, sewn first (last) from (to) that row end.
+    let ends = |&(k, i): &(usize, usize)| {
+        let y = y0 + (k as f64 + 0.5) * p.spacing;
+        [rows[k][i].0, rows[k][i].1].map(|x| from_row(Point::new(x, y)))
+    };
+    let nearest = |sections: &[Vec<(usize, usize)>], q: Point| {
+        let mut best = (f64::INFINITY, 0, 0);
+        for (s, sec) in sections.iter().enumerate() {
+            for (j, r) in sec.iter().enumerate() {
+                let d = ends(r)
+                    .iter()
+                    .map(|e| e.distance(q))
+                    .fold(f64::INFINITY, f64::min);
+                if d < best.0 {
+                    best = (d, s, j);
+                }
+            }
+        }
+        (best.1, best.2)
+    };
+    // Cuts section `s` at row `j` into the piece from `j` to the nearer end of the section
+    // (row `j` first) and the rest (put back).
+    let split = |sections: &mut Vec<Vec<(usize, usize)>>, s: usize, j: usize| {
+        let mut sec = sections.remove(s);
+        let (piece, rest) = if j < sec.len() - 1 - j {
+            let rest = sec.split_off(j + 1);
+            sec.reverse();
+            (sec, rest)
+        } else {
+            let piece = sec.split_off(j);
+            (piece, sec)
+        };
+        if !rest.is_empty() {
+            sections.insert(s, rest);
+        }
+        piece
+    };
+    let flip_for = |piece: &[(usize, usize)], q: Point, first: bool| {
+        let variant = |flip: bool| {
+            let pts = sew(piece, flip);
+            let at = if first { pts[0] } else { pts[pts.len() - 1] };
+            (at.distance(q), pts)
+        };
+        let (a, b) = (variant(false), variant(true));
+        if a.0 <= b.0 {
+            a.1
+        } else {
+            b.1
+        }
+    };
+    let mut start_piece = start.filter(|_| !sections.is_empty()).map(|q| {
+        let (s, j) = nearest(&sections, q);
+        split(&mut sections, s, j)
+    });
+    let mut end_piece = None;
+    if let Some(q) = end {
+        // The end's row may lie in the start piece: that piece is cut before it, and the
+        // rest of it (from its far end to that row) is sewn last.
+        let mut all = sections.clone();
+        all.extend(start_piece.iter().cloned());
+        if !all.is_empty() {
+            let (s, j) = nearest(&all, q);
+            if s == sections.len() && j > 0 {
+                let piece = start_piece.as_mut().unwrap();
+                let mut tail = piece.split_off(j);
+                tail.reverse();
+                end_piece = Some(tail);
+            } else if s < sections.len() {
+                let mut piece = split(&mut sections, s, j);
+                piece.reverse(); // the row nearest the end last
+                end_piece = Some(piece);
+            }
+        }
     }
-    join_sections(sections, region, p.length)
+    let first = start_piece
+        .zip(start)
+        .map(|(piece, q)| approach(q, flip_for(&piece, q, true), region, p));
+    let last = end_piece
+        .zip(end)
+        .map(|(piece, q)| leave(flip_for(&piece, q, false), q, region, p));
+    let middle: Vec<Vec<Point>> = sections.iter().map(|sec| sew(sec, false)).collect();
+    join_sections(first, middle, last, region, p)
 }
 
-/// Sews the sections nearest-first from the first one's start, each forwards or backwards
-/// (a serpentine reads the same both ways); the line to the next section is stitched where it
-/// stays inside (the fill covers it), else the next section starts a new run.
-fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) -> Vec<Run> {
+/// A fill's first stitches from a start command at `q` on the outline: along the edge to the
+/// first row's end when that is more than a row away (Ink/Stitch travels so too).
+pub(super) fn approach(q: Point, pts: Vec<Point>, region: &Region, p: &FillParams) -> Vec<Point> {
+    match pts.first() {
+        Some(&a) if a.distance(q) > p.spacing => match edge_travel(q, a, region, p.length) {
+            Some(travel) => {
+                let mut out = vec![q];
+                out.extend(travel);
+                out.extend(pts.into_iter().skip(1));
+                out
+            }
+            None => pts,
+        },
+        _ => pts,
+    }
+}
+
+/// A fill's last stitches to an end command at `q` on the outline (see [`approach`]).
+pub(super) fn leave(mut pts: Vec<Point>, q: Point, region: &Region, p: &FillParams) -> Vec<Point> {
+    if let Some(&z) = pts.last().filter(|z| z.distance(q) > p.spacing) {
+        if let Some(travel) = edge_travel(z, q, region, p.length) {
+            pts.extend(travel);
+        }
+    }
+    pts
+}
+
+/// Sews `first` (when given), then the sections nearest-first from where the needle is (the
+/// first one's start when nothing came before), each forwards or backwards (a serpentine
+/// reads the same both ways), then `last`; the line to the next section is stitched where it
+/// stays inside (the fill covers it) or travels along the edge, else the next section starts
+/// a new run.
+pub(super) fn join_sections(
+    first: Option<Vec<Point>>,
+    mut sections: Vec<Vec<Point>>,
+    last: Option<Vec<Point>>,
+    region: &Region,
+    p: &FillParams,
+) -> Vec<Run> {
+    let length = p.length;
+    sections.retain(|s| !s.is_empty());
     let mut runs: Vec<Run> = Vec::new();
     let mut at: Option<Point> = None;
+    let mut sew = |pts: Vec<Point>, at: &mut Option<Point>| {
+        let link = at.and_then(|e| {
+            // A long way across would lie on rows already sewn: along the edge instead
+            // when it can (as Ink/Stitch travels along the outline).
+            let long = p.along_edge && e.distance(pts[0]) > 2.0 * length;
+            let along = || edge_travel(e, pts[0], region, length);
+            if inside_line(e, pts[0], region) {
+                long.then(along)
+                    .flatten()
+                    .or_else(|| Some(straight(e, pts[0], length)))
+            } else {
+                along()
+            }
+        });
+        match (link, runs.last_mut()) {
+            (Some(travel), Some(prev)) => {
+                prev.points.extend(travel);
+                prev.points.extend(pts[1..].iter().copied());
+            }
+            _ => runs.push(Run {
+                points: pts,
+                sew_into: false,
+            }),
+        }
+        *at = runs.last().and_then(|r| r.points.last().copied());
+    };
+    if let Some(f) = first.filter(|f| !f.is_empty()) {
+        sew(f, &mut at);
+    }
     while !sections.is_empty() {
         let (mut best, mut rev, mut best_d) = (0, false, f64::INFINITY);
         if let Some(a) = at {
@@ -141,24 +306,10 @@ fn join_sections(mut sections: Vec<Vec<Point>>, region: &Region, length: f64) ->
         if rev {
             pts.reverse();
         }
-        let link = at.and_then(|e| {
-            if inside_line(e, pts[0], region) {
-                Some(straight(e, pts[0], length))
-            } else {
-                edge_travel(e, pts[0], region, length)
-            }
-        });
-        match (link, runs.last_mut()) {
-            (Some(travel), Some(prev)) => {
-                prev.points.extend(travel);
-                prev.points.extend(pts[1..].iter().copied());
-            }
-            _ => runs.push(Run {
-                points: pts,
-                sew_into: false,
-            }),
-        }
-        at = runs.last().and_then(|r| r.points.last().copied());
+        sew(pts, &mut at);
+    }
+    if let Some(l) = last.filter(|l| !l.is_empty()) {
+        sew(l, &mut at);
     }
     runs
 }
@@ -237,7 +388,7 @@ fn edge_travel(a: Point, b: Point, region: &Region, length: f64) -> Option<Vec<P
 }
 
 /// The x of the needle points of one row segment, from its start end to its other end.
-fn row_points(seg: (f64, f64), row: usize, reverse: bool, p: &FillParams) -> Vec<f64> {
+pub(super) fn row_points(seg: (f64, f64), row: usize, reverse: bool, p: &FillParams) -> Vec<f64> {
     let (a, b) = seg;
     let offset = (row as u32 % p.stagger.max(1)) as f64 / p.stagger.max(1) as f64 * p.length;
     let mut xs = vec![a];
@@ -310,6 +461,7 @@ mod tests {
             angle: 0.0,
             stagger: 4,
             pull_compensation: 0.0,
+            along_edge: false,
         }
     }
 

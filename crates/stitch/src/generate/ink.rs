@@ -15,8 +15,10 @@
 
 use super::fill::{self, FillParams, Run};
 use super::running::{running, straight};
-use super::{satin, Shape, ShapeKind};
-use crate::inkstitch::{ElementParams, FillMethod, ReverseRails, StrokeMethod, FILL_STITCH_LENGTH};
+use super::{guided, ripple, satin, Shape, ShapeKind};
+use crate::inkstitch::{
+    ElementParams, FillMethod, Placement, ReverseRails, StrokeMethod, FILL_STITCH_LENGTH,
+};
 use crate::{GenerateError, Params};
 use oficina_geom::{offset_regions, Area, Color, Join, Path, Point, Region};
 
@@ -54,6 +56,8 @@ fn shape(
 pub(super) fn element_shapes(
     paths: &[&Path],
     e: &ElementParams,
+    at: &Placement,
+    needle: Option<Point>,
     p: &Params,
 ) -> Result<Vec<Shape>, GenerateError> {
     let style = paths[0].style;
@@ -73,26 +77,26 @@ pub(super) fn element_shapes(
             regions = offset_regions(&regions, e.expand, Join::Miter { min_angle: 0.5 })
                 .map_err(|m| GenerateError(format!("{}: expand: {m}", whose())))?;
         }
+        // Each part of the fill starts where the one before ended (Ink/Stitch's order).
+        let mut needle = needle;
         for region in regions {
             let length = e
                 .max_stitch_length
                 .unwrap_or(FILL_STITCH_LENGTH)
                 .min(p.max_stitch);
-            let top = match e.fill_method {
-                FillMethod::Auto => fill::tatami(
-                    &region,
-                    &FillParams {
-                        spacing: e.row_spacing,
-                        length,
-                        angle: e.angle.to_radians(),
-                        stagger: e.staggers,
-                        pull_compensation: 0.0,
-                    },
-                ),
-                FillMethod::Contour => contour_fill(&region, e.row_spacing, length)
-                    .map_err(|m| GenerateError(format!("{}: contour fill: {m}", whose())))?,
+            let fp = FillParams {
+                spacing: e.row_spacing,
+                length,
+                angle: e.angle.to_radians(),
+                stagger: e.staggers,
+                pull_compensation: 0.0,
+                along_edge: true,
             };
             let mut underlay = Vec::new();
+            // The underlay starts at the start command, else where the needle is (the last
+            // element's end), each layer and then the top where the one before ended
+            // (Ink/Stitch's order); the top ends at the end command.
+            let mut from = at.fill_start.or(needle);
             if e.fill_underlay {
                 let inset = if e.fill_underlay_inset.abs() > 1e-9 {
                     offset_regions(
@@ -106,7 +110,7 @@ pub(super) fn element_shapes(
                 };
                 for angle in &e.fill_underlay_angles {
                     for r in &inset {
-                        underlay.extend(fill::tatami(
+                        let layer = fill::tatami_between(
                             r,
                             &FillParams {
                                 spacing: e.fill_underlay_row_spacing,
@@ -114,11 +118,29 @@ pub(super) fn element_shapes(
                                 angle: angle.to_radians(),
                                 stagger: 1,
                                 pull_compensation: 0.0,
+                                along_edge: true,
                             },
-                        ));
+                            from,
+                            None,
+                        );
+                        if from.is_some() {
+                            from = layer.iter().rev().find_map(|r| r.points.last().copied());
+                        }
+                        underlay.extend(layer);
                     }
                 }
             }
+            let guide = at.guide.as_ref().map(|g| g.flatten(p.tolerance));
+            let top = match (e.fill_method, guide) {
+                (FillMethod::Guided { parallel }, Some(g)) => {
+                    guided::guided(&region, &g, &fp, parallel, from, at.fill_end)
+                        .unwrap_or_else(|| fill::tatami_between(&region, &fp, from, at.fill_end))
+                }
+                (FillMethod::Contour, _) => contour_fill(&region, e.row_spacing, length, from)
+                    .map_err(|m| GenerateError(format!("{}: contour fill: {m}", whose())))?,
+                // A guided fill without its guide: rows at the fill angle (Ink/Stitch warns).
+                _ => fill::tatami_between(&region, &fp, from, at.fill_end),
+            };
             let mut top = top;
             // Layers follow one another inside the shape: sewn into where the line stays in.
             let mut prev: Option<Point> = None;
@@ -128,6 +150,7 @@ pub(super) fn element_shapes(
                 }
                 prev = r.points.last().copied().or(prev);
             }
+            needle = prev.or(needle);
             out.push(shape(
                 p.max_stitch,
                 color,
@@ -156,15 +179,36 @@ pub(super) fn element_shapes(
         return Ok(out);
     }
     if e.satin_column {
-        if lines.len() >= 2 {
-            out.push(rail_satin(color, &lines, e, p));
+        let mut s = if lines.len() >= 2 {
+            rail_satin(color, &lines, e, p)
         } else {
             // One subpath: Ink/Stitch asks for two rails; sewn as a satin of the stroke width.
             let (l, r) = satin::rails(&lines[0], style.stroke_width / 2.0);
-            out.push(column(color, l, r, e, p));
+            column(color, l, r, e, p)
+        };
+        // `satin_start` / `satin_end`: sewn from the end nearer the start (or to the end
+        // nearer the end) command; the same column backwards otherwise.
+        if let (Some(a), Some(b)) = (s.start(), s.reversed_start()) {
+            let flip = match (at.start, at.end) {
+                (Some(q), _) => b.distance(q) < a.distance(q),
+                (None, Some(q)) => {
+                    let last = s.runs().filter_map(|r| r.points.last().copied()).last();
+                    last.is_some_and(|z| a.distance(q) < z.distance(q))
+                }
+                (None, None) => false,
+            };
+            if flip {
+                s = s.reversed();
+            }
         }
+        out.push(s);
         return Ok(out);
     }
+    // `run_start` / `run_end`: each line starts (ends) at its point nearest the command.
+    let lines: Vec<Vec<Point>> = lines
+        .into_iter()
+        .map(|l| oriented(l, at.start, at.end))
+        .collect();
     match e.stroke_method {
         StrokeMethod::Zigzag => {
             for line in &lines {
@@ -194,7 +238,21 @@ pub(super) fn element_shapes(
                 }
             }
         }
-        StrokeMethod::Running | StrokeMethod::Ripple => {
+        StrokeMethod::Ripple => {
+            let guide = at.guide.as_ref().map(|g| g.flatten(p.tolerance));
+            let len = e.running_stitch_length.min(p.max_stitch);
+            let line = ripple::ripple(&lines, &e.ripple, len, at.ripple_target, guide.as_deref());
+            let pts = running_passes(&line, len, e.repeats, e.bean_stitch_repeats);
+            out.push(shape(
+                p.max_stitch,
+                color,
+                ShapeKind::Running,
+                e,
+                vec![],
+                vec![run(pts, false)],
+            ));
+        }
+        StrokeMethod::Running => {
             for line in &lines {
                 let pts = running_passes(
                     line,
@@ -214,6 +272,32 @@ pub(super) fn element_shapes(
         }
     }
     Ok(out)
+}
+
+/// A line from its end (or, closed, its point) nearest `start`, or to the one nearest `end`.
+fn oriented(mut l: Vec<Point>, start: Option<Point>, end: Option<Point>) -> Vec<Point> {
+    let n = l.len();
+    let closed = n > 3 && l[0].distance(l[n - 1]) < 1e-6;
+    match (start, end) {
+        (Some(q), _) if closed => {
+            let i = (0..n - 1)
+                .min_by(|&i, &j| l[i].distance(q).total_cmp(&l[j].distance(q)))
+                .unwrap_or(0);
+            let mut r: Vec<Point> = l[i..n - 1].to_vec();
+            r.extend_from_slice(&l[..=i]);
+            r
+        }
+        (Some(q), _) if l[n - 1].distance(q) < l[0].distance(q) => {
+            l.reverse();
+            l
+        }
+        (None, Some(q)) if closed => oriented(l, Some(q), None),
+        (None, Some(q)) if l[0].distance(q) < l[n - 1].distance(q) => {
+            l.reverse();
+            l
+        }
+        _ => l,
+    }
 }
 
 /// Stitches shorter than `min` merged into the next (`min_stitch_length_mm`): a needle point
@@ -563,7 +647,12 @@ fn e_stitch(a: &[Point], b: &[Point], spacing: f64, max: f64) -> Vec<Point> {
 
 /// Contour fill: rings parallel to the outline `spacing` apart, inwards, each sewn along and
 /// the next one reached straight across (inside the shape).
-fn contour_fill(region: &Region, spacing: f64, length: f64) -> Result<Vec<Run>, String> {
+fn contour_fill(
+    region: &Region,
+    spacing: f64,
+    length: f64,
+    from: Option<Point>,
+) -> Result<Vec<Run>, String> {
     let mut rings: Vec<Vec<Point>> = Vec::new();
     let mut current = vec![region.clone()];
     let mut k = 0;
@@ -583,8 +672,11 @@ fn contour_fill(region: &Region, spacing: f64, length: f64) -> Result<Vec<Run>, 
     }
     let mut runs: Vec<Run> = Vec::new();
     for ring in rings {
-        // Start each ring where the needle is nearest.
-        let start = runs.last().and_then(|r: &Run| r.points.last().copied());
+        // Start each ring where the needle is nearest (the first at the start command).
+        let start = runs
+            .last()
+            .and_then(|r: &Run| r.points.last().copied())
+            .or(from);
         let ring = match start {
             Some(at) if ring.len() > 2 => {
                 let n = ring.len() - 1;
@@ -597,7 +689,8 @@ fn contour_fill(region: &Region, spacing: f64, length: f64) -> Result<Vec<Run>, 
             }
             _ => ring,
         };
-        let sew = start.is_some_and(|at| fill::inside_line(at, ring[0], region));
+        let sew =
+            !runs.is_empty() && start.is_some_and(|at| fill::inside_line(at, ring[0], region));
         runs.push(run(ring, sew));
     }
     Ok(runs)
@@ -624,7 +717,14 @@ mod tests {
                 fill_underlay: false,
                 ..ElementParams::default()
             };
-            let shapes = element_shapes(&[&path], &e, &Params::default()).unwrap();
+            let shapes = element_shapes(
+                &[&path],
+                &e,
+                &Placement::default(),
+                None,
+                &Params::default(),
+            )
+            .unwrap();
             let pts: Vec<Point> = shapes[0]
                 .top
                 .iter()
@@ -777,7 +877,7 @@ mod tests {
             outer: vec![[0.0, 0.0], [20.0, 0.0], [20.0, 10.0], [0.0, 10.0]],
             holes: vec![],
         };
-        let runs = contour_fill(&r, 0.5, 3.0).unwrap();
+        let runs = contour_fill(&r, 0.5, 3.0, None).unwrap();
         let pts: Vec<Point> = runs.iter().flat_map(|r| r.points.iter().copied()).collect();
         assert!(pts
             .iter()

@@ -18,7 +18,9 @@
 //! order, a colour change wherever the colour changes, trims, stops and ties per element.
 
 mod fill;
+mod guided;
 mod ink;
+mod ripple;
 mod running;
 mod satin;
 
@@ -155,9 +157,31 @@ fn estimate_stitches(drawing: &Drawing, p: &Params, ink: &Inkstitch) -> f64 {
                     .min(p.stitch_length.min(p.satin_spacing));
                 let rows = e.row_spacing.min(e.fill_underlay_row_spacing);
                 let layers = 1 + e.fill_underlay_angles.len();
+                // A ripple sews its line once per copy (the copies are no longer than it).
+                let copies = match (e.stroke_method, e.ripple.min_line_dist) {
+                    (crate::StrokeMethod::Ripple, Some(d)) => {
+                        path.bounding_box()
+                            .map_or(0.0, |b| b.width().hypot(b.height()))
+                            / d
+                            + 2.0
+                    }
+                    (crate::StrokeMethod::Ripple, None) => e.ripple.line_count as f64 + 2.0,
+                    _ => 1.0,
+                };
+                // Its grid: a line across the copies (no longer than the box) per grid step.
+                let diag = path
+                    .bounding_box()
+                    .map_or(0.0, |b| b.width().hypot(b.height()));
+                let copies =
+                    if e.stroke_method == crate::StrokeMethod::Ripple && e.ripple.grid_size > 0.0 {
+                        copies + diag / e.ripple.grid_size.max(0.1)
+                    } else {
+                        copies
+                    };
                 let times = (e.repeats as usize * (1 + 2 * e.bean_stitch_repeats as usize))
                     .max(layers)
-                    .max(4) as f64;
+                    .max(4) as f64
+                    * copies;
                 (line, rows, times)
             } else {
                 (p.stitch_length.min(p.satin_spacing), p.fill_spacing, 1.0)
@@ -306,6 +330,13 @@ pub fn generate_inkstitch(
     }
     let groups = elements(drawing);
     let total = groups.len();
+    // Where Ink/Stitch's commands and guide lines place things, per element.
+    let placed = if ink.is_inkstitch {
+        ink.placed(drawing)
+    } else {
+        Default::default()
+    };
+    let nowhere = crate::inkstitch::Placement::default();
     let mut shapes: Vec<Shape> = Vec::new();
     for (n, paths) in groups.iter().enumerate() {
         if ink.is_inkstitch {
@@ -313,8 +344,14 @@ pub fn generate_inkstitch(
                 progress(n + 1, total);
                 continue;
             }
-            let e = ink.element(&paths[0].source.element);
-            shapes.extend(ink::element_shapes(paths, &e, p)?);
+            let id = &paths[0].source.element;
+            let e = ink.element(id);
+            let at = placed.get(id).unwrap_or(&nowhere);
+            // Ink/Stitch starts a fill where the needle is (without a start command).
+            let needle = shapes
+                .last()
+                .and_then(|s| s.runs().filter_map(|r| r.points.last().copied()).last());
+            shapes.extend(ink::element_shapes(paths, &e, at, needle, p)?);
         } else {
             shapes.extend(element_shapes(paths, p)?);
         }
@@ -395,6 +432,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                     angle,
                     stagger: p.stagger,
                     pull_compensation: p.pull_compensation,
+                    along_edge: false,
                 },
             );
             let mut underlay = Vec::new();
@@ -415,6 +453,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                             angle: angle + std::f64::consts::FRAC_PI_2,
                             stagger: 1,
                             pull_compensation: 0.0,
+                            along_edge: false,
                         },
                     ));
                 }
