@@ -262,6 +262,9 @@ fn knots(n_points: usize, k: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Orders up to this are evaluated in a buffer on the stack (G5 is 4, G5.1 and G5.2 3).
+const STACK_ORDER: usize = 8;
+
 /// The point of the rational B-spline at parameter `u` (de Boor in homogeneous coordinates);
 /// `None` where the weights cancel.
 fn point_at(points: &[[f64; 3]], k: usize, knots: &[f64], u: f64) -> Option<[f64; 2]> {
@@ -271,12 +274,18 @@ fn point_at(points: &[[f64; 3]], k: usize, knots: &[f64], u: f64) -> Option<[f64
     while s < n && u >= knots[s + 1] {
         s += 1;
     }
-    let mut d: Vec<[f64; 3]> = (0..k)
-        .map(|j| {
-            let [x, y, w] = points[j + s + 1 - k];
-            [x * w, y * w, w]
-        })
-        .collect();
+    let mut stack = [[0.0; 3]; STACK_ORDER];
+    let mut heap = Vec::new();
+    let d: &mut [[f64; 3]] = if k <= STACK_ORDER {
+        &mut stack[..k]
+    } else {
+        heap.resize(k, [0.0; 3]);
+        &mut heap
+    };
+    for (j, dj) in d.iter_mut().enumerate() {
+        let [x, y, w] = points[j + s + 1 - k];
+        *dj = [x * w, y * w, w];
+    }
     for r in 1..k {
         for j in (r..k).rev() {
             let i = j + s + 1 - k;
@@ -310,12 +319,21 @@ pub(crate) fn flatten(points: &[[f64; 3]], order: u32, tolerance: f64) -> Vec<[f
         return vec![end];
     }
     let knots = knots(points.len(), k);
+    let curve = Curve {
+        points,
+        k,
+        knots: &knots,
+        tolerance2: tolerance * tolerance,
+    };
     let mut out = Vec::new();
     let spans = (points.len() - k + 1) as u32;
     let mut prev = [points[0][0], points[0][1]];
     for span in 0..spans {
         let (u0, u1) = (f64::from(span), f64::from(span + 1));
-        refine(&knots, points, k, u0, prev, u1, tolerance, 0, &mut out);
+        if let Some(p1) = curve.at(u1) {
+            let mid = curve.at(0.5 * (u0 + u1));
+            curve.refine(u0, prev, u1, p1, mid, 0, &mut out);
+        }
         if let Some(p) = out.last() {
             prev = *p;
         }
@@ -328,37 +346,59 @@ pub(crate) fn flatten(points: &[[f64; 3]], order: u32, tolerance: f64) -> Vec<[f
     out
 }
 
-#[allow(clippy::too_many_arguments)]
-fn refine(
-    knots: &[f64],
-    points: &[[f64; 3]],
+/// A curve being flattened: its control points, order, knots and squared tolerance.
+struct Curve<'a> {
+    points: &'a [[f64; 3]],
     k: usize,
-    u0: f64,
-    p0: [f64; 2],
-    u1: f64,
-    tolerance: f64,
-    depth: u32,
-    out: &mut Vec<[f64; 2]>,
-) {
-    let Some(p1) = point_at(points, k, knots, u1) else {
-        return;
-    };
-    let far = depth < MAX_DEPTH
-        && [0.25, 0.5, 0.75].iter().any(|t| {
-            point_at(points, k, knots, u0 + (u1 - u0) * t)
-                .is_none_or(|q| distance_to_segment(q, p0, p1) > tolerance)
-        });
-    if far {
+    knots: &'a [f64],
+    tolerance2: f64,
+}
+
+impl Curve<'_> {
+    fn at(&self, u: f64) -> Option<[f64; 2]> {
+        point_at(self.points, self.k, self.knots, u)
+    }
+
+    /// Pushes the end of the piece u0…u1 (p0 to p1, `mid` its point at the middle) once the
+    /// chord p0–p1 lies within the tolerance of the curve at a quarter, half and three
+    /// quarters; else the two halves, each reusing the points found here (its end and its
+    /// middle), so every level costs two evaluations, not four.
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        u0: f64,
+        p0: [f64; 2],
+        u1: f64,
+        p1: [f64; 2],
+        mid: Option<[f64; 2]>,
+        depth: u32,
+        out: &mut Vec<[f64; 2]>,
+    ) {
+        let q1 = self.at(u0 + (u1 - u0) * 0.25);
+        let q3 = self.at(u0 + (u1 - u0) * 0.75);
+        let far = depth < MAX_DEPTH
+            && [q1, mid, q3].iter().any(|q| {
+                q.is_none_or(|q| distance2_to_segment(q, p0, p1) > self.tolerance2)
+            });
+        if !far {
+            out.push(p1);
+            return;
+        }
         let um = 0.5 * (u0 + u1);
-        refine(knots, points, k, u0, p0, um, tolerance, depth + 1, out);
-        let pm = out.last().copied().unwrap_or(p0);
-        refine(knots, points, k, um, pm, u1, tolerance, depth + 1, out);
-    } else {
-        out.push(p1);
+        // Where the weights cancel at the middle, the first half has no end to go to.
+        let pm = match mid {
+            Some(pm) => {
+                self.refine(u0, p0, um, pm, q1, depth + 1, out);
+                out.last().copied().unwrap_or(p0)
+            }
+            None => p0,
+        };
+        self.refine(um, pm, u1, p1, q3, depth + 1, out);
     }
 }
 
-fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// Squared distance from q to the segment a–b.
+fn distance2_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
     let t = if len2 > 0.0 {
@@ -366,7 +406,13 @@ fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
+    let (ex, ey) = (q[0] - a[0] - t * dx, q[1] - a[1] - t * dy);
+    ex * ex + ey * ey
+}
+
+#[cfg(test)]
+fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    distance2_to_segment(q, a, b).sqrt()
 }
 
 #[cfg(test)]
