@@ -324,6 +324,7 @@ pub(crate) fn flatten(points: &[[f64; 3]], order: u32, tolerance: f64) -> Vec<[f
         k,
         knots: &knots,
         tolerance2: tolerance * tolerance,
+        bezier: (points.len() == k && k <= STACK_ORDER).then(|| power_basis(points)),
     };
     let mut out = Vec::new();
     let spans = (points.len() - k + 1) as u32;
@@ -352,11 +353,56 @@ struct Curve<'a> {
     k: usize,
     knots: &'a [f64],
     tolerance2: f64,
+    /// A curve of one knot span (G5, G5.1, a G5.2 of as many points as its order) is a
+    /// rational Bézier over u ∈ [0, 1]: its homogeneous coordinates in the power basis.
+    bezier: Option<PowerBasis>,
+}
+
+/// Coefficients c_0 … c_d of x·w, y·w and w as polynomials in u (Horner's rule: d
+/// multiply-adds per coordinate, where de Boor takes d(d+1)/2 interpolations and divisions).
+struct PowerBasis {
+    c: [[f64; 3]; STACK_ORDER],
+    n: usize,
+}
+
+/// The power basis of the Bézier of `points` (x, y, weight): with homogeneous points
+/// P_i = (x·w, y·w, w) and degree d, c_j = C(d, j) · Σ_{i ≤ j} (−1)^{j−i} C(j, i) P_i
+/// (the binomial expansion of Σ C(d, i) (1−u)^{d−i} u^i P_i).
+fn power_basis(points: &[[f64; 3]]) -> PowerBasis {
+    let d = points.len() - 1;
+    let binom =
+        |n: usize, r: usize| (0..r).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64);
+    let mut c = [[0.0; 3]; STACK_ORDER];
+    for (j, cj) in c.iter_mut().enumerate().take(d + 1) {
+        for (i, p) in points.iter().enumerate().take(j + 1) {
+            let sign = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
+            let f = sign * binom(j, i);
+            let h = [p[0] * p[2], p[1] * p[2], p[2]];
+            for a in 0..3 {
+                cj[a] += f * h[a];
+            }
+        }
+        let b = binom(d, j);
+        for v in cj.iter_mut() {
+            *v *= b;
+        }
+    }
+    PowerBasis { c, n: d + 1 }
 }
 
 impl Curve<'_> {
     fn at(&self, u: f64) -> Option<[f64; 2]> {
-        point_at(self.points, self.k, self.knots, u)
+        let Some(b) = &self.bezier else {
+            return point_at(self.points, self.k, self.knots, u);
+        };
+        let mut h = b.c[b.n - 1];
+        for cj in b.c[..b.n - 1].iter().rev() {
+            for a in 0..3 {
+                h[a] = h[a] * u + cj[a];
+            }
+        }
+        let p = [h[0] / h[2], h[1] / h[2]];
+        (h[2] != 0.0 && p[0].is_finite() && p[1].is_finite()).then_some(p)
     }
 
     /// Pushes the end of the piece u0…u1 (p0 to p1, `mid` its point at the middle) once the
@@ -377,9 +423,9 @@ impl Curve<'_> {
         let q1 = self.at(u0 + (u1 - u0) * 0.25);
         let q3 = self.at(u0 + (u1 - u0) * 0.75);
         let far = depth < MAX_DEPTH
-            && [q1, mid, q3].iter().any(|q| {
-                q.is_none_or(|q| distance2_to_segment(q, p0, p1) > self.tolerance2)
-            });
+            && [q1, mid, q3]
+                .iter()
+                .any(|q| q.is_none_or(|q| distance2_to_segment(q, p0, p1) > self.tolerance2));
         if !far {
             out.push(p1);
             return;
@@ -426,6 +472,40 @@ mod tests {
             (0..4).map(|i| b[i] * p[i][0]).sum(),
             (0..4).map(|i| b[i] * p[i][1]).sum(),
         ]
+    }
+
+    #[test]
+    fn the_power_basis_is_de_boors_curve_on_one_span() {
+        // Rational, orders 2 to 6: Horner on the power basis against de Boor's recursion.
+        for k in 2..=6usize {
+            let pts: Vec<[f64; 3]> = (0..k)
+                .map(|i| {
+                    let f = i as f64;
+                    [
+                        f * 3.0 - (f * 1.7).sin() * 5.0,
+                        (f * 0.9).cos() * 7.0,
+                        0.5 + f * 0.4,
+                    ]
+                })
+                .collect();
+            let knots = knots(k, k);
+            let curve = Curve {
+                points: &pts,
+                k,
+                knots: &knots,
+                tolerance2: 1e-4,
+                bezier: Some(power_basis(&pts)),
+            };
+            for i in 0..=20 {
+                let u = i as f64 / 20.0;
+                let a = curve.at(u).unwrap();
+                let b = point_at(&pts, k, &knots, u).unwrap();
+                assert!(
+                    (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9,
+                    "{k} {u}"
+                );
+            }
+        }
     }
 
     #[test]
