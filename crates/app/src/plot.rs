@@ -184,6 +184,20 @@ pub fn pen_machine(p: &PlotParams, profile: &Profile) -> Result<PenMachine, Erro
     if !(p.servo_up.is_finite() && p.servo_down.is_finite()) {
         return Err(Error("--servo-up and --servo-down must be numbers".into()));
     }
+    // M280 takes a hobby servo's angle, 0° to 180°.
+    let angle = |a: f64| (0.0..=180.0).contains(&a);
+    if p.format == PlotFormat::Marlin && !(angle(p.servo_up) && angle(p.servo_down)) {
+        return Err(Error(format!(
+            "--servo-up {} / --servo-down {}: Marlin's M280 takes servo angles from 0 to 180 degrees",
+            p.servo_up, p.servo_down
+        )));
+    }
+    if !(p.pen_dwell.is_finite() && p.pen_dwell >= 0.0) {
+        return Err(Error(format!(
+            "--pen-dwell {}: use 0 s or more",
+            p.pen_dwell
+        )));
+    }
     m.servo_up = p.servo_up;
     m.lift_dwell = p.pen_dwell;
     Ok(m)

@@ -24,7 +24,7 @@ pub(crate) struct Args {
     /// Program format: gcode (Cartesian, grbl family), joint (X/Y = the two joints, for
     /// polar and hanging plotters driven by a plain controller), hpgl (vintage plotters),
     /// marlin (Marlin 2.x: M280 servo pen lift, G28 home, one command per line).
-    #[arg(long, value_enum, default_value_t = PlotFormat::Gcode)]
+    #[arg(long, alias = "dialect", value_enum, default_value_t = PlotFormat::Gcode)]
     format: PlotFormat,
     /// Write an SVG preview with the pen-up moves dashed.
     #[arg(long)]

@@ -178,3 +178,28 @@ fn marlin_servo_angles_and_dwell_are_the_options() {
     // Lifted before homing and after every stroke.
     assert_eq!(ups, downs + 1);
 }
+
+#[test]
+fn marlin_refuses_servo_angles_a_servo_cannot_take() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.gcode");
+    let o = oficina_in(
+        &root(),
+        &[
+            "plot",
+            "samples/plot/design.svg",
+            "--machine",
+            "pen-plotter",
+            "--dialect",
+            "marlin",
+            "--servo-up",
+            "200",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    let (_, err) = text(&o);
+    assert!(!o.status.success());
+    assert!(err.contains("0 to 180"), "{err}");
+    assert!(!out.exists(), "nothing written");
+}
