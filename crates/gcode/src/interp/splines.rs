@@ -229,9 +229,11 @@ impl Interpreter {
             0.0
         };
         for p in on_curve {
-            let len = (p[0] - from[0]).hypot(p[1] - from[1]);
-            if timed && len > 0.0 && total > 0.0 {
-                self.emit(sink, CanonOp::SetFeedRate(inverse_f * total / len));
+            if timed {
+                let len = (p[0] - from[0]).hypot(p[1] - from[1]);
+                if len > 0.0 && total > 0.0 {
+                    self.emit(sink, CanonOp::SetFeedRate(inverse_f * total / len));
+                }
             }
             from = p;
             let mut to = self.pos;
