@@ -81,6 +81,13 @@ fn survey(dir: &Path) -> (usize, usize, Vec<String>) {
                 format!("REFUSED {why}")
             }
             Outcome::BothRefused(theirs, ours) => {
+                // The same reason: rs274's message opens Oficina's (after its place).
+                let reason: String = theirs.chars().take(20).collect();
+                if !ours.contains(&reason) {
+                    failures.push(format!(
+                        "{name}: rs274 refuses «{theirs}», oficina «{ours}»"
+                    ));
+                }
                 format!("both refuse: rs274 «{theirs}», oficina «{}»", ours.trim())
             }
             Outcome::OnlyRs274Refused(theirs) => {
@@ -112,6 +119,7 @@ fn own_programs_in_the_stress_styles_stay_on_rs274s_path() {
     let (clean, accepted, failures) = survey(&dir);
     assert!(accepted >= 10, "only {accepted} programs ran");
     assert_eq!(clean, accepted, "{}", failures.join("\n"));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 /// LinuxCNC's stress programs: `LCNC_TRAJECTORY_SRC=DIR` (scripts/lcnc-trajectory).
@@ -131,6 +139,12 @@ fn linuxcnc_stress_programs() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(0.98);
     assert!(share >= want, "{clean}/{accepted} below {want}");
+    // What rs274 refuses, Oficina refuses for the same reason.
+    let refusals: Vec<_> = failures
+        .iter()
+        .filter(|f| f.contains("rs274 refuses"))
+        .collect();
+    assert!(refusals.is_empty(), "{refusals:?}");
 }
 
 /// The checker can fail: motion planned on a machine with three times the acceleration
