@@ -203,3 +203,21 @@ fn marlin_refuses_servo_angles_a_servo_cannot_take() {
     assert!(err.contains("0 to 180"), "{err}");
     assert!(!out.exists(), "nothing written");
 }
+
+#[test]
+fn marlin_with_a_z_lift_is_clean_too_and_draws_the_same_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = plot(&dir.path().join("plain.nc"), &[]);
+    let path = dir.path().join("z.gcode");
+    let z = plot(&path, &["--format", "marlin", "--pen", "z"]);
+    let o = oficina_in(
+        &root(),
+        &["check", "--dialect", "marlin", path.to_str().unwrap()],
+    );
+    let (out, err) = text(&o);
+    assert!(out.contains(" 0 errors, 0 warnings"), "{out}\n{err}");
+    assert!(!z.contains("M280"), "a Z lift, no servo");
+    let by_z =
+        |l: &str| (l.starts_with("G1 Z") || l.starts_with("G0 Z")).then(|| l.starts_with("G1"));
+    assert_eq!(pen_down_path(&plain, by_z), pen_down_path(&z, by_z));
+}
