@@ -16,7 +16,9 @@ pub const HPGL_EXTENSIONS: &[&str] = &["hpgl", "plt", "hpg", "hgl"];
 pub fn plot_extensions(format: crate::PlotFormat) -> &'static [&'static str] {
     match format {
         crate::PlotFormat::Hpgl => HPGL_EXTENSIONS,
-        crate::PlotFormat::Gcode | crate::PlotFormat::Joint => PROGRAM_EXTENSIONS,
+        crate::PlotFormat::Gcode | crate::PlotFormat::Joint | crate::PlotFormat::Marlin => {
+            PROGRAM_EXTENSIONS
+        }
     }
 }
 

@@ -24,6 +24,9 @@ pub enum PlotFormat {
     Joint,
     /// HPGL (vintage plotters).
     Hpgl,
+    /// Cartesian G-code for Marlin 2.x plotters: `M280 P0 S…` servo pen lift, `G28`, one
+    /// command per line.
+    Marlin,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -44,7 +47,7 @@ pub enum PensBy {
 pub enum Lift {
     /// A Z axis.
     Z,
-    /// A servo: M3 S<servo_down> / M5.
+    /// A servo: M3 S<servo_down> / M5 (grbl), M280 P0 S<servo_down> / S<servo_up> (Marlin).
     Servo,
     /// The pen-down and pen-up command lines as given.
     Command,
@@ -66,6 +69,8 @@ pub struct PlotParams {
     pub pen: Lift,
     /// Servo value for pen down (S word).
     pub servo_down: f64,
+    /// Servo angle for pen up (Marlin's `M280 P0 S…`), degrees.
+    pub servo_up: f64,
     /// Pen-down command (with `Lift::Command`).
     pub pen_down_cmd: Option<String>,
     /// Pen-up command (with `Lift::Command`).
@@ -120,6 +125,7 @@ impl Default for PlotParams {
             pens: PensBy::Color,
             pen: Lift::Z,
             servo_down: 30.0,
+            servo_up: 90.0,
             pen_down_cmd: None,
             pen_up_cmd: None,
             pen_dwell: 0.0,
@@ -175,6 +181,24 @@ pub fn pen_machine(p: &PlotParams, profile: &Profile) -> Result<PenMachine, Erro
         }
         m.draw_feed = f;
     }
+    if !(p.servo_up.is_finite() && p.servo_down.is_finite()) {
+        return Err(Error("--servo-up and --servo-down must be numbers".into()));
+    }
+    // M280 takes a hobby servo's angle, 0° to 180°.
+    let angle = |a: f64| (0.0..=180.0).contains(&a);
+    if p.format == PlotFormat::Marlin && !(angle(p.servo_up) && angle(p.servo_down)) {
+        return Err(Error(format!(
+            "--servo-up {} / --servo-down {}: Marlin's M280 takes servo angles from 0 to 180 degrees",
+            p.servo_up, p.servo_down
+        )));
+    }
+    if !(p.pen_dwell.is_finite() && p.pen_dwell >= 0.0) {
+        return Err(Error(format!(
+            "--pen-dwell {}: use 0 s or more",
+            p.pen_dwell
+        )));
+    }
+    m.servo_up = p.servo_up;
     m.lift_dwell = p.pen_dwell;
     Ok(m)
 }
@@ -338,6 +362,7 @@ pub fn plot(
             PlotFormat::Gcode => Format::Gcode,
             PlotFormat::Joint => Format::Joint,
             PlotFormat::Hpgl => Format::Hpgl,
+            PlotFormat::Marlin => Format::Marlin,
         },
         joint_piece: 1.0,
     };

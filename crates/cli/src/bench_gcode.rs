@@ -60,6 +60,21 @@ fn print_ratio(label: &str, ours: &Timing, peer: &Timing) {
     }
 }
 
+/// CPU seconds, their ratio and peak memory of Oficina (counting) and rs274, on one line.
+fn print_side_by_side(ours: &Timing, peer: &Timing, own_kb: Option<u64>, peer_kb: Option<u64>) {
+    let (Timing::Took { cpu: o, .. }, Timing::Took { cpu: p, .. }) = (ours, peer) else {
+        return;
+    };
+    let mb =
+        |kb: Option<u64>| kb.map_or("?".to_string(), |k| format!("{:.1} MB", k as f64 / 1024.0));
+    println!(
+        "  CPU: oficina {o:.3} s, rs274 {p:.3} s, ratio {:.1}x | peak memory: oficina {} (whole bench), rs274 {} (largest run so far)",
+        p / o.max(1e-9),
+        mb(own_kb),
+        mb(peer_kb)
+    );
+}
+
 pub(crate) fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
     if args.blocks < 10 {
         bail!("--blocks {} is too small: use at least 10", args.blocks);
@@ -99,6 +114,7 @@ pub(crate) fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
         print_row("rs274 -g, printing", &peer, args.blocks, bytes);
         print_ratio("counting", &counting, &peer);
         print_ratio("printing", &printing, &peer);
+        print_side_by_side(&counting, &peer, c.own_peak_kb, c.peer_peak_kb);
         println!("  ({ops} canonical operations)");
     }
     if let Some(kept) = &args.keep {

@@ -22,8 +22,9 @@ pub(crate) struct Args {
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Program format: gcode (Cartesian, grbl family), joint (X/Y = the two joints, for
-    /// polar and hanging plotters driven by a plain controller), hpgl (vintage plotters).
-    #[arg(long, value_enum, default_value_t = PlotFormat::Gcode)]
+    /// polar and hanging plotters driven by a plain controller), hpgl (vintage plotters),
+    /// marlin (Marlin 2.x: M280 servo pen lift, G28 home, one command per line).
+    #[arg(long, alias = "dialect", value_enum, default_value_t = PlotFormat::Gcode)]
     format: PlotFormat,
     /// Write an SVG preview with the pen-up moves dashed.
     #[arg(long)]
@@ -37,18 +38,22 @@ pub(crate) struct Args {
     /// One pen per stroke colour or per layer (DXF layers, HPGL pens).
     #[arg(long, value_enum, default_value_t = PensBy::Color)]
     pens: PensBy,
-    /// Pen lift: z (a Z axis), servo (M3 S<--pen-down> / M5), or command (--pen-down-cmd /
-    /// --pen-up-cmd lines as given).
-    #[arg(long, value_enum, default_value_t = Lift::Z)]
-    pen: Lift,
-    /// Servo value for pen down (S word).
+    /// Pen lift: z (a Z axis), servo (M3 S<--servo-down> / M5; with --format marlin
+    /// M280 P0 S<--servo-down> / S<--servo-up>), or command (--pen-down-cmd / --pen-up-cmd
+    /// lines as given). Default: servo with --format marlin, else z.
+    #[arg(long, value_enum)]
+    pen: Option<Lift>,
+    /// Servo value for pen down (S word; degrees on Marlin).
     #[arg(long, default_value_t = 30.0)]
     servo_down: f64,
+    /// Servo angle for pen up on Marlin (M280 P0 S…), degrees.
+    #[arg(long, default_value_t = 90.0)]
+    servo_up: f64,
     #[arg(long)]
     pen_down_cmd: Option<String>,
     #[arg(long)]
     pen_up_cmd: Option<String>,
-    /// Seconds to wait after each pen move.
+    /// Seconds to wait after each pen move (Marlin: 0.15 s where 0, written as G4 P<ms>).
     #[arg(long, default_value_t = 0.0)]
     pen_dwell: f64,
     /// Drawing feed, mm/min (default: the profile's default feed).
@@ -133,8 +138,12 @@ fn params(a: &Args) -> PlotParams {
         text: a.text.clone(),
         text_height: a.text_height,
         pens: a.pens,
-        pen: a.pen,
+        pen: a.pen.unwrap_or(match a.format {
+            PlotFormat::Marlin => Lift::Servo,
+            _ => Lift::Z,
+        }),
         servo_down: a.servo_down,
+        servo_up: a.servo_up,
         pen_down_cmd: a.pen_down_cmd.clone(),
         pen_up_cmd: a.pen_up_cmd.clone(),
         pen_dwell: a.pen_dwell,

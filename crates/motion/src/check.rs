@@ -55,7 +55,10 @@ struct OpInfo {
     /// Highest path speed allowed by the program, mm/s (∞ for rapids).
     feed_cap: f64,
     stop_before: bool,
+    /// Corner deviation at the op's start: the previous op's, as the planner's end rule.
     deviation: f64,
+    /// Corner deviation between its own chords.
+    chord_deviation: f64,
 }
 
 /// Figures measured by the checker over a program.
@@ -288,7 +291,12 @@ pub fn check(
             ));
         }
         if let Some(p) = prev {
-            let bound = junction_bound(p, whole[k - 1], s, whole[k], op.deviation, profile);
+            let dev = if at_op_start {
+                op.deviation
+            } else {
+                op.chord_deviation
+            };
+            let bound = junction_bound(p, whole[k - 1], s, whole[k], dev, profile);
             if v_j > bound * (1.0 + 1e-5) + 1e-9 {
                 fail(format!(
                     "{tag}: corner taken at {v_j} mm/s, the junction allows {bound} mm/s"
@@ -531,20 +539,32 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
         0.0_f64,
     );
     let mut stop = true;
+    // The mode and deviation in force when the last moving op was issued: LinuxCNC applies
+    // them at that op's end, the next op's start (G61.1 stops after its move).
+    let mut end_rule = (PathControlMode::Continuous, profile.junction_deviation);
     let mut override_on = true;
     // Spindle speed (rev/min) and, inside G33/G33.1/G76, the pitch (mm/rev): a synchronised
     // move's cap is pitch × rpm, no override.
     let (mut rpm, mut sync) = (0.0_f64, None::<f64>);
+    // G95: feed in mm per revolution.
+    let mut per_rev = false;
     for c in ops {
         let deviation = match mode {
             PathControlMode::ExactPath => 0.0,
             _ if tol > 0.0 => tol.min(profile.junction_deviation),
             _ => profile.junction_deviation,
         };
+        let chord_deviation = match mode {
+            PathControlMode::Continuous => deviation,
+            _ => profile.junction_deviation,
+        };
         let factor = if override_on { feed_override } else { 1.0 };
         match &c.op {
-            CanonOp::SetFeedRate(f) => feed = if inverse { *f } else { f / 60.0 },
-            CanonOp::SetFeedMode(m) => inverse = *m == FeedMode::InverseTime,
+            CanonOp::SetFeedRate(f) => feed = if inverse || per_rev { *f } else { f / 60.0 },
+            CanonOp::SetFeedMode(m) => {
+                inverse = *m == FeedMode::InverseTime;
+                per_rev = *m == FeedMode::UnitsPerRev;
+            }
             CanonOp::SetMotionControlMode { mode: m, tolerance } => {
                 mode = *m;
                 tol = *tolerance;
@@ -565,6 +585,8 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     pitch * rpm / 60.0
                 } else if inverse {
                     len * feed / 60.0 * factor
+                } else if per_rev {
+                    feed * rpm / 60.0 * factor
                 } else {
                     feed * factor
                 };
@@ -574,11 +596,13 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     rot_a: rot,
                     rot_b: rb,
                     feed_cap: cap,
-                    stop_before: moving && (stop || mode == PathControlMode::ExactStop),
-                    deviation,
+                    stop_before: moving && (stop || end_rule.0 == PathControlMode::ExactStop),
+                    deviation: end_rule.1,
+                    chord_deviation,
                 });
                 if moving {
                     stop = false;
+                    end_rule = (mode, deviation);
                 }
                 pos = b;
                 rot = rb;
@@ -606,6 +630,8 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                 let len = (sweep.abs() * 0.5 * (r0 + r1)).hypot(b[axes.2] - pa[axes.2]);
                 let cap = if inverse {
                     len * feed / 60.0 * factor
+                } else if per_rev {
+                    feed * rpm / 60.0 * factor
                 } else {
                     feed * factor
                 };
@@ -624,10 +650,12 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     rot_a: rot,
                     rot_b: rb,
                     feed_cap: cap,
-                    stop_before: stop || mode == PathControlMode::ExactStop,
-                    deviation,
+                    stop_before: stop || end_rule.0 == PathControlMode::ExactStop,
+                    deviation: end_rule.1,
+                    chord_deviation,
                 });
                 stop = false;
+                end_rule = (mode, deviation);
                 pos = b_machine;
                 rot = rb;
             }
@@ -648,8 +676,10 @@ fn read_ops(ops: &[Canon], profile: &Profile, feed_override: f64) -> Vec<OpInfo>
                     feed_cap: sync.unwrap_or(0.0) * rpm / 60.0,
                     stop_before: dist3(pos, b) >= 1e-9,
                     deviation,
+                    chord_deviation,
                 });
                 stop = true;
+                end_rule = (mode, deviation);
             }
             CanonOp::SetSpindleSpeed(s) => {
                 rpm = *s;

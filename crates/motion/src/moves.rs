@@ -173,6 +173,20 @@ struct Current {
     sub_from: f64,
     sub_step: f64,
     first: bool,
+    /// How the junction at the op's start is passed: the previous op's rule ([`EndRule`]).
+    start_rule: EndRule,
+    /// Deviation at the corners between its own chords.
+    chord_deviation: f64,
+}
+
+/// How a programmed move's end is passed, fixed when the move is issued: LinuxCNC's planner
+/// gives each move the termination condition in force when it was queued and applies it at
+/// that move's end, so `G64 … G1 … G61.1 G1 …` blends the first corner and stops after the
+/// second move. The mode, and the corner deviation at that end (mm).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct EndRule {
+    mode: PathControlMode,
+    deviation: f64,
 }
 
 /// The lazy canon → pieces stream.
@@ -186,6 +200,8 @@ pub(crate) struct MoveStream<'p, I> {
     rot: [f64; 3],
     feed: f64,
     inverse_time: bool,
+    /// G95: `feed` is mm per spindle revolution.
+    per_rev: bool,
     mode: PathControlMode,
     tolerance: f64,
     overrides: Overrides,
@@ -207,6 +223,8 @@ pub(crate) struct MoveStream<'p, I> {
     /// XY plane is rotated (G10 L2 R), where a plain difference would mislead.
     offsets: [[f64; 3]; 3],
     origin: Option<[f64; 3]>,
+    /// The end rule of the last programmed move: the next move's start junction.
+    end_rule: EndRule,
 }
 
 impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
@@ -233,6 +251,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             rot: [0.0; 3],
             feed: profile.default_feed,
             inverse_time: false,
+            per_rev: false,
             mode: PathControlMode::Continuous,
             tolerance: 0.0,
             overrides,
@@ -247,6 +266,10 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             origin: Some([0.0; 3]),
             tap_return: None,
             after_tap: false,
+            end_rule: EndRule {
+                mode: PathControlMode::Continuous,
+                deviation: profile.junction_deviation,
+            },
         })
     }
 
@@ -272,6 +295,15 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
+    /// Corner deviation between the chords of one arc: one programmed move to LinuxCNC,
+    /// which G61/G61.1 never stop inside.
+    fn chord_deviation(&self) -> f64 {
+        match self.mode {
+            PathControlMode::Continuous => self.deviation(),
+            _ => self.profile.junction_deviation,
+        }
+    }
+
     fn start_op(
         &mut self,
         line: u32,
@@ -285,6 +317,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             // Synchronised: `pitch` mm per revolution at `spindle_rpm` rev/min, in mm/s.
             (_, Some(pitch)) => pitch * self.spindle_rpm / 60.0,
             _ if self.inverse_time => length * self.feed / 60.0,
+            // G95: F mm per revolution at the programmed spindle speed (rev/min).
+            _ if self.per_rev => self.feed * self.spindle_rpm / 60.0,
             _ => self.feed,
         };
         // The feed override does not apply to spindle-synchronised motion.
@@ -296,6 +330,11 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                 let r = helix.arc.radius.max(r1);
                 chord_count(r, helix.arc.sweep, self.profile.arc_tolerance) as u64
             }
+        };
+        let start_rule = self.end_rule;
+        self.end_rule = EndRule {
+            mode: self.mode,
+            deviation: self.deviation(),
         };
         self.current = Some(Current {
             line,
@@ -311,6 +350,8 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             sub_from: 0.0,
             sub_step: 1.0,
             first: true,
+            start_rule,
+            chord_deviation: self.chord_deviation(),
         });
         self.op_count += 1;
     }
@@ -322,8 +363,16 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
         }
     }
 
-    /// A synchronised move needs a turning spindle: its speed is pitch × rpm.
+    /// A synchronised move needs a turning spindle: its speed is pitch × rpm; so does a
+    /// G95 feed, F × rpm.
     fn check_sync(&self, line: u32) -> Result<(), MotionError> {
+        let turning = self.spindle_rpm > 0.0 && self.spindle_rpm.is_finite();
+        if self.per_rev && self.sync_pitch.is_none() && !turning {
+            return Err(self.bad(
+                line,
+                "G95 feed per revolution with no spindle speed: its feed is F × spindle speed; set S before it",
+            ));
+        }
         if self.sync_pitch.is_some() && !(self.spindle_rpm > 0.0 && self.spindle_rpm.is_finite()) {
             return Err(self.bad(
                 line,
@@ -367,17 +416,16 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
                     if !(f.is_finite() && f >= 0.0) {
                         return Some(Err(self.bad(line, format!("feed rate F{f} must be >= 0"))));
                     }
-                    // Inverse-time F is 1/min; otherwise mm/min.
-                    self.feed = if self.inverse_time { f } else { f / 60.0 };
+                    // Inverse-time F is 1/min, G95's mm/rev; otherwise mm/min.
+                    self.feed = if self.inverse_time || self.per_rev {
+                        f
+                    } else {
+                        f / 60.0
+                    };
                 }
                 CanonOp::SetFeedMode(m) => {
                     self.inverse_time = m == FeedMode::InverseTime;
-                    if m == FeedMode::UnitsPerRev {
-                        return Some(Err(self.bad(
-                            line,
-                            "G95 feed per revolution needs a spindle-synchronised machine",
-                        )));
-                    }
+                    self.per_rev = m == FeedMode::UnitsPerRev;
                 }
                 CanonOp::SetMotionControlMode { mode, tolerance } => {
                     self.mode = mode;
@@ -664,6 +712,7 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             (cur.line, cur.op, cur.kind, cur.speed * factor, cur.first);
         let (rot_a, rot_b) = (cur.rot_a, cur.rot_b);
         let feed_scaled = cur.feed_scaled;
+        let (start_rule, chord_deviation) = (cur.start_rule, cur.chord_deviation);
         cur.first = false;
         // Fraction of the op where this piece ends: the rotary joints follow it linearly.
         let (a, b, f_end) = if linear {
@@ -749,10 +798,14 @@ impl<'p, I: Iterator<Item = Canon>> MoveStream<'p, I> {
             whole: path_length(a, b, self.rot, rot1),
             speed,
             feed_scaled,
-            // G61 stops at the ends of programmed moves, not between an arc's chords.
+            // G61.1 stops at the ends of programmed moves, not between an arc's chords.
             stop_before: std::mem::take(&mut self.stop_next)
-                || (first && self.mode == PathControlMode::ExactStop),
-            deviation: self.deviation(),
+                || (first && start_rule.mode == PathControlMode::ExactStop),
+            deviation: if first {
+                start_rule.deviation
+            } else {
+                chord_deviation
+            },
         };
         self.pos = b;
         self.q = q1;

@@ -124,3 +124,28 @@ fn a_synchronised_move_without_spindle_speed_is_refused() {
         assert!(e.contains("line 4") && e.contains("spindle speed"), "{e}");
     }
 }
+
+#[test]
+fn a_g95_feed_runs_at_f_times_spindle_speed_and_needs_one() {
+    let p = resolve("grbl-router").unwrap();
+    // 0.2 mm/rev at 600 rev/min: 120 mm/min, 2 mm/s; the feed override does apply.
+    let ops = canon(vec![
+        CanonOp::SetSpindleSpeed(600.0),
+        CanonOp::StartSpindle(oficina_canon::SpindleDir::Clockwise),
+        CanonOp::SetFeedMode(oficina_canon::FeedMode::UnitsPerRev),
+        CanonOp::SetFeedRate(0.2),
+        CanonOp::StraightFeed {
+            to: Pos::xyz(50.0, 0.0, 0.0),
+        },
+    ]);
+    let segs = planned(&ops).unwrap();
+    let m = moves(&segs);
+    assert_eq!(m.len(), 1);
+    assert!((peak(m[0]) - 2.0).abs() < 1e-6, "{}", peak(m[0]));
+    check(&ops, &segs, &p, VelocityProfile::Trapezoid, 1.0).unwrap();
+
+    let mut no_speed = ops.clone();
+    no_speed.remove(0);
+    let e = planned(&no_speed).unwrap_err().to_string();
+    assert!(e.contains("G95") && e.contains("set S"), "{e}");
+}

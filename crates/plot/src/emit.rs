@@ -91,6 +91,88 @@ pub fn gcode(plot: &Plot, m: &PenMachine, profile: &Profile) -> String {
     out
 }
 
+/// Marlin 2.x G-code for a servo pen lift, as Marlin reads it: one command per line, `;`
+/// comments, a feed on every move that changes it (Marlin shares one feed between G0 and
+/// G1, so every travel and the first line of every stroke carry theirs), `G4 P` in
+/// milliseconds, `M0 <message>` for a pen change and no program end code (Marlin has none).
+/// The pen: `M280 P0 S<up>` / `S<down>` (servo 0, angles in degrees; a Z lift or command
+/// lines where the machine has those), each followed by a dwell of `m.lift_dwell` (0.15 s
+/// where that is 0: a hobby servo's travel). The program homes (`G28`) with the pen up and
+/// ends with the motors off (`M84`).
+pub fn marlin(plot: &Plot, m: &PenMachine, profile: &Profile) -> String {
+    let travel_feed = profile.joints[..2]
+        .iter()
+        .flatten()
+        .map(|j| j.max_rate * 60.0)
+        .fold(f64::INFINITY, f64::min);
+    let travel_feed = if travel_feed.is_finite() {
+        travel_feed
+    } else {
+        m.draw_feed
+    };
+    let dwell_ms = if m.lift_dwell > 0.0 {
+        m.lift_dwell * 1000.0
+    } else {
+        MARLIN_SERVO_MS
+    };
+    // The pen moves, then the dwell: a servo by M280, a Z axis by G0/G1 Z, or the lines given.
+    let lift = |out: &mut String, down: bool| {
+        match &m.lift {
+            PenLift::Servo { down: angle } => {
+                let a = if down { *angle } else { m.servo_up };
+                let _ = writeln!(out, "M280 P0 S{}", num(a));
+            }
+            PenLift::Z { down: zd, up: zu } => {
+                let (g, z) = if down { (1, zd) } else { (0, zu) };
+                let _ = writeln!(out, "G{g} Z{} F{}", num(*z), num(m.draw_feed));
+            }
+            PenLift::Command { down: d, up: u } => {
+                let _ = writeln!(out, "{}", if down { d } else { u });
+            }
+        }
+        let _ = writeln!(out, "G4 P{}", num(dwell_ms.round()));
+    };
+    let travel = |out: &mut String, p: Point| {
+        let _ = writeln!(out, "G0 X{} Y{} F{}", num(p.x), num(p.y), num(travel_feed));
+    };
+    let mut out = String::from("; oficina plot (Marlin)\nG21\nG90\n");
+    lift(&mut out, false);
+    out.push_str("G28\n");
+    travel(&mut out, m.home);
+    for (pi, pen) in plot.pens.iter().enumerate() {
+        if pi > 0 && m.pause_between_pens {
+            travel(&mut out, m.home);
+            let _ = writeln!(out, "M0 Pen {}: {}", pi + 1, marlin_text(&pen.name));
+        } else {
+            let _ = writeln!(out, "; pen {}: {}", pi + 1, marlin_text(&pen.name));
+        }
+        for s in &pen.strokes {
+            let feed = arm_limited_feed(profile, s, m.draw_feed);
+            travel(&mut out, s[0]);
+            lift(&mut out, true);
+            for (i, p) in s[1..].iter().enumerate() {
+                let _ = write!(out, "G1 X{} Y{}", num(p.x), num(p.y));
+                if i == 0 {
+                    let _ = write!(out, " F{}", num(feed));
+                }
+                out.push('\n');
+            }
+            lift(&mut out, false);
+        }
+    }
+    travel(&mut out, m.home);
+    out.push_str("M84\n");
+    out
+}
+
+/// Servo settling time where the machine gives none, ms.
+const MARLIN_SERVO_MS: f64 = 150.0;
+
+/// A name made safe on a Marlin line: `;` would start a comment and `*` a checksum.
+fn marlin_text(s: &str) -> String {
+    s.replace([';', '*', '\n', '\r'], " ")
+}
+
 /// Joint-space G-code: X and Y carry the two joints (θ in degrees and R in mm for the polar
 /// arm; the two cord lengths for a hanging plotter), for a controller that knows only
 /// Cartesian axes. Lines are cut into pieces of at most `piece` mm (the seed's elementary

@@ -20,6 +20,8 @@ pub enum Format {
     Joint,
     /// HPGL for vintage plotters.
     Hpgl,
+    /// G-code for Marlin 2.x plotters (servo pen lift, `M280`).
+    Marlin,
 }
 
 /// Everything a plot job is made with besides the drawing and the machine.
@@ -121,6 +123,7 @@ pub fn prepare(
         Format::Gcode => crate::emit::gcode(&plot, m, profile),
         Format::Joint => crate::emit::joint_gcode(&plot, m, profile, s.joint_piece)?,
         Format::Hpgl => crate::emit::hpgl(&plot),
+        Format::Marlin => crate::emit::marlin(&plot, m, profile),
     };
     let preview = crate::preview::svg(&plot, m.home);
     let bounds = plot.bounds().ok_or(PlotError::Empty)?;

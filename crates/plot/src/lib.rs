@@ -39,7 +39,7 @@ mod text;
 
 pub use canon::to_canon;
 pub use clean::{dedupe, simplify};
-pub use emit::{gcode, hpgl, joint_gcode};
+pub use emit::{gcode, hpgl, joint_gcode, marlin};
 pub use hatch::{hatch, load_gray, Gray, HatchError, Hatching};
 pub use job::{prepare, Format, Prepared, Settings};
 pub use layout::{layout, page_size, Layout, Placed, PAGE_SIZES};

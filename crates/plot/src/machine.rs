@@ -44,6 +44,8 @@ pub struct PenMachine {
     pub home: Point,
     /// Pause (M0) between pens so the operator can change it.
     pub pause_between_pens: bool,
+    /// Servo angle that lifts the pen, degrees (Marlin's `M280 P0 S…`).
+    pub servo_up: f64,
 }
 
 impl PenMachine {
@@ -59,6 +61,7 @@ impl PenMachine {
             lift_dwell: 0.0,
             home: Point::new(p.start[0] - p.work_offset[0], p.start[1] - p.work_offset[1]),
             pause_between_pens: true,
+            servo_up: 90.0,
         }
     }
 }

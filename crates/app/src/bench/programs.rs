@@ -31,6 +31,8 @@ fn r4(v: f64) -> f64 {
 
 /// Writes the mixed program: `blocks` lines in all, ending with M2. Arcs are built from the
 /// current (rounded) point so their end radius matches the start radius within rounding.
+/// One block in twenty is a spline: a G5 cubic, a G5.1 quadratic or a G5.2 … G5.3 NURBS of
+/// four weighted points (five lines), which rs274 reads and Oficina also flattens into feeds.
 pub fn write_mixed_program(out: &mut impl Write, blocks: u64) -> std::io::Result<()> {
     let mut rng = SplitMix(0x0f1c_1a00);
     writeln!(out, "G21 G17 G90 G94 F1500")?;
@@ -40,7 +42,9 @@ pub fn write_mixed_program(out: &mut impl Write, blocks: u64) -> std::io::Result
     )?;
     writeln!(out, "#<scale> = 1")?;
     let (mut x, mut y) = (0.0f64, 0.0f64);
-    for n in 3..blocks.saturating_sub(1) {
+    let last = blocks.saturating_sub(1);
+    let mut n = 3;
+    while n < last {
         let kind = rng.next() % 10;
         // Pull the walk back towards the origin so coordinates stay small.
         let bias = |v: f64| {
@@ -82,10 +86,64 @@ pub fn write_mixed_program(out: &mut impl Write, blocks: u64) -> std::io::Result
                 x = ex;
                 y = ey;
             }
+            _ if n % 2 == 1 => {
+                let lines = write_spline(out, &mut rng, &mut x, &mut y, n, last - n)?;
+                n += lines - 1;
+            }
             _ => writeln!(out, "#<scale> = [ABS[SIN[{}]] * 0 + 1]", n % 360)?,
         }
+        n += 1;
     }
     writeln!(out, "M2")
+}
+
+/// One spline from (x, y), which it moves to the curve's end; the lines written (at most
+/// `room`). The curve stays within about 6 mm of its start; every point is rounded as
+/// written, so the next block starts exactly where the interpreter is.
+fn write_spline(
+    out: &mut impl Write,
+    rng: &mut SplitMix,
+    x: &mut f64,
+    y: &mut f64,
+    n: u64,
+    room: u64,
+) -> std::io::Result<u64> {
+    let step = |v: f64, rng: &mut SplitMix| r4(v + rng.range(-5.0, 5.0) - v.signum() * 0.5);
+    let (ex, ey) = (step(*x, rng), step(*y, rng));
+    let (i, j) = (r4(rng.range(-3.0, 3.0)), r4(rng.range(-3.0, 3.0)));
+    let lines = match n % 3 {
+        0 => {
+            let (p, q) = (r4(rng.range(-3.0, 3.0)), r4(rng.range(-3.0, 3.0)));
+            writeln!(out, "G5 X{ex:.4} Y{ey:.4} I{i:.4} J{j:.4} P{p:.4} Q{q:.4}")?;
+            (*x, *y) = (ex, ey);
+            1
+        }
+        1 => {
+            writeln!(out, "G5.1 X{ex:.4} Y{ey:.4} I{i:.4} J{j:.4}")?;
+            (*x, *y) = (ex, ey);
+            1
+        }
+        _ if room >= 5 => {
+            // Four control points after the start, order 3, one heavier weight.
+            for k in 0..4 {
+                let (px, py) = (step(*x, rng), step(*y, rng));
+                let w = if k == 1 { 2.0 } else { 1.0 };
+                match k {
+                    0 => writeln!(out, "G5.2 X{px:.4} Y{py:.4} P{w} L3")?,
+                    _ => writeln!(out, "X{px:.4} Y{py:.4} P{w}")?,
+                }
+                (*x, *y) = (px, py);
+            }
+            writeln!(out, "G5.3")?;
+            5
+        }
+        _ => {
+            writeln!(out, "G5.1 X{ex:.4} Y{ey:.4} I{i:.4} J{j:.4}")?;
+            (*x, *y) = (ex, ey);
+            1
+        }
+    };
+    Ok(lines)
 }
 
 /// Writes `blocks` plain `G1 X… Y…` lines (first line sets units and feed, last is M2).

@@ -229,9 +229,11 @@ impl Interpreter {
             0.0
         };
         for p in on_curve {
-            let len = (p[0] - from[0]).hypot(p[1] - from[1]);
-            if timed && len > 0.0 && total > 0.0 {
-                self.emit(sink, CanonOp::SetFeedRate(inverse_f * total / len));
+            if timed {
+                let len = (p[0] - from[0]).hypot(p[1] - from[1]);
+                if len > 0.0 && total > 0.0 {
+                    self.emit(sink, CanonOp::SetFeedRate(inverse_f * total / len));
+                }
             }
             from = p;
             let mut to = self.pos;
@@ -262,6 +264,9 @@ fn knots(n_points: usize, k: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Orders up to this are evaluated in a buffer on the stack (G5 is 4, G5.1 and G5.2 3).
+const STACK_ORDER: usize = 8;
+
 /// The point of the rational B-spline at parameter `u` (de Boor in homogeneous coordinates);
 /// `None` where the weights cancel.
 fn point_at(points: &[[f64; 3]], k: usize, knots: &[f64], u: f64) -> Option<[f64; 2]> {
@@ -271,12 +276,18 @@ fn point_at(points: &[[f64; 3]], k: usize, knots: &[f64], u: f64) -> Option<[f64
     while s < n && u >= knots[s + 1] {
         s += 1;
     }
-    let mut d: Vec<[f64; 3]> = (0..k)
-        .map(|j| {
-            let [x, y, w] = points[j + s + 1 - k];
-            [x * w, y * w, w]
-        })
-        .collect();
+    let mut stack = [[0.0; 3]; STACK_ORDER];
+    let mut heap = Vec::new();
+    let d: &mut [[f64; 3]] = if k <= STACK_ORDER {
+        &mut stack[..k]
+    } else {
+        heap.resize(k, [0.0; 3]);
+        &mut heap
+    };
+    for (j, dj) in d.iter_mut().enumerate() {
+        let [x, y, w] = points[j + s + 1 - k];
+        *dj = [x * w, y * w, w];
+    }
     for r in 1..k {
         for j in (r..k).rev() {
             let i = j + s + 1 - k;
@@ -310,12 +321,22 @@ pub(crate) fn flatten(points: &[[f64; 3]], order: u32, tolerance: f64) -> Vec<[f
         return vec![end];
     }
     let knots = knots(points.len(), k);
+    let curve = Curve {
+        points,
+        k,
+        knots: &knots,
+        tolerance2: tolerance * tolerance,
+        bezier: (points.len() == k && k <= STACK_ORDER).then(|| power_basis(points)),
+    };
     let mut out = Vec::new();
     let spans = (points.len() - k + 1) as u32;
     let mut prev = [points[0][0], points[0][1]];
     for span in 0..spans {
         let (u0, u1) = (f64::from(span), f64::from(span + 1));
-        refine(&knots, points, k, u0, prev, u1, tolerance, 0, &mut out);
+        if let Some(p1) = curve.at(u1) {
+            let mid = curve.at(0.5 * (u0 + u1));
+            curve.refine(u0, prev, u1, p1, mid, 0, &mut out);
+        }
         if let Some(p) = out.last() {
             prev = *p;
         }
@@ -328,37 +349,104 @@ pub(crate) fn flatten(points: &[[f64; 3]], order: u32, tolerance: f64) -> Vec<[f
     out
 }
 
-#[allow(clippy::too_many_arguments)]
-fn refine(
-    knots: &[f64],
-    points: &[[f64; 3]],
+/// A curve being flattened: its control points, order, knots and squared tolerance.
+struct Curve<'a> {
+    points: &'a [[f64; 3]],
     k: usize,
-    u0: f64,
-    p0: [f64; 2],
-    u1: f64,
-    tolerance: f64,
-    depth: u32,
-    out: &mut Vec<[f64; 2]>,
-) {
-    let Some(p1) = point_at(points, k, knots, u1) else {
-        return;
-    };
-    let far = depth < MAX_DEPTH
-        && [0.25, 0.5, 0.75].iter().any(|t| {
-            point_at(points, k, knots, u0 + (u1 - u0) * t)
-                .is_none_or(|q| distance_to_segment(q, p0, p1) > tolerance)
-        });
-    if far {
+    knots: &'a [f64],
+    tolerance2: f64,
+    /// A curve of one knot span (G5, G5.1, a G5.2 of as many points as its order) is a
+    /// rational Bézier over u ∈ [0, 1]: its homogeneous coordinates in the power basis.
+    bezier: Option<PowerBasis>,
+}
+
+/// Coefficients c_0 … c_d of x·w, y·w and w as polynomials in u (Horner's rule: d
+/// multiply-adds per coordinate, where de Boor takes d(d+1)/2 interpolations and divisions).
+struct PowerBasis {
+    c: [[f64; 3]; STACK_ORDER],
+    n: usize,
+}
+
+/// The power basis of the Bézier of `points` (x, y, weight): with homogeneous points
+/// P_i = (x·w, y·w, w) and degree d, c_j = C(d, j) · Σ_{i ≤ j} (−1)^{j−i} C(j, i) P_i
+/// (the binomial expansion of Σ C(d, i) (1−u)^{d−i} u^i P_i).
+fn power_basis(points: &[[f64; 3]]) -> PowerBasis {
+    let d = points.len() - 1;
+    let binom =
+        |n: usize, r: usize| (0..r).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64);
+    let mut c = [[0.0; 3]; STACK_ORDER];
+    for (j, cj) in c.iter_mut().enumerate().take(d + 1) {
+        for (i, p) in points.iter().enumerate().take(j + 1) {
+            let sign = if (j - i) % 2 == 0 { 1.0 } else { -1.0 };
+            let f = sign * binom(j, i);
+            let h = [p[0] * p[2], p[1] * p[2], p[2]];
+            for a in 0..3 {
+                cj[a] += f * h[a];
+            }
+        }
+        let b = binom(d, j);
+        for v in cj.iter_mut() {
+            *v *= b;
+        }
+    }
+    PowerBasis { c, n: d + 1 }
+}
+
+impl Curve<'_> {
+    fn at(&self, u: f64) -> Option<[f64; 2]> {
+        let Some(b) = &self.bezier else {
+            return point_at(self.points, self.k, self.knots, u);
+        };
+        let mut h = b.c[b.n - 1];
+        for cj in b.c[..b.n - 1].iter().rev() {
+            for a in 0..3 {
+                h[a] = h[a] * u + cj[a];
+            }
+        }
+        let p = [h[0] / h[2], h[1] / h[2]];
+        (h[2] != 0.0 && p[0].is_finite() && p[1].is_finite()).then_some(p)
+    }
+
+    /// Pushes the end of the piece u0…u1 (p0 to p1, `mid` its point at the middle) once the
+    /// chord p0–p1 lies within the tolerance of the curve at a quarter, half and three
+    /// quarters; else the two halves, each reusing the points found here (its end and its
+    /// middle), so every level costs two evaluations, not four.
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        u0: f64,
+        p0: [f64; 2],
+        u1: f64,
+        p1: [f64; 2],
+        mid: Option<[f64; 2]>,
+        depth: u32,
+        out: &mut Vec<[f64; 2]>,
+    ) {
+        let q1 = self.at(u0 + (u1 - u0) * 0.25);
+        let q3 = self.at(u0 + (u1 - u0) * 0.75);
+        let far = depth < MAX_DEPTH
+            && [q1, mid, q3]
+                .iter()
+                .any(|q| q.is_none_or(|q| distance2_to_segment(q, p0, p1) > self.tolerance2));
+        if !far {
+            out.push(p1);
+            return;
+        }
         let um = 0.5 * (u0 + u1);
-        refine(knots, points, k, u0, p0, um, tolerance, depth + 1, out);
-        let pm = out.last().copied().unwrap_or(p0);
-        refine(knots, points, k, um, pm, u1, tolerance, depth + 1, out);
-    } else {
-        out.push(p1);
+        // Where the weights cancel at the middle, the first half has no end to go to.
+        let pm = match mid {
+            Some(pm) => {
+                self.refine(u0, p0, um, pm, q1, depth + 1, out);
+                out.last().copied().unwrap_or(p0)
+            }
+            None => p0,
+        };
+        self.refine(um, pm, u1, p1, q3, depth + 1, out);
     }
 }
 
-fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// Squared distance from q to the segment a–b.
+fn distance2_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let len2 = dx * dx + dy * dy;
     let t = if len2 > 0.0 {
@@ -366,7 +454,13 @@ fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (q[0] - a[0] - t * dx).hypot(q[1] - a[1] - t * dy)
+    let (ex, ey) = (q[0] - a[0] - t * dx, q[1] - a[1] - t * dy);
+    ex * ex + ey * ey
+}
+
+#[cfg(test)]
+fn distance_to_segment(q: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    distance2_to_segment(q, a, b).sqrt()
 }
 
 #[cfg(test)]
@@ -380,6 +474,40 @@ mod tests {
             (0..4).map(|i| b[i] * p[i][0]).sum(),
             (0..4).map(|i| b[i] * p[i][1]).sum(),
         ]
+    }
+
+    #[test]
+    fn the_power_basis_is_de_boors_curve_on_one_span() {
+        // Rational, orders 2 to 6: Horner on the power basis against de Boor's recursion.
+        for k in 2..=6usize {
+            let pts: Vec<[f64; 3]> = (0..k)
+                .map(|i| {
+                    let f = i as f64;
+                    [
+                        f * 3.0 - (f * 1.7).sin() * 5.0,
+                        (f * 0.9).cos() * 7.0,
+                        0.5 + f * 0.4,
+                    ]
+                })
+                .collect();
+            let knots = knots(k, k);
+            let curve = Curve {
+                points: &pts,
+                k,
+                knots: &knots,
+                tolerance2: 1e-4,
+                bezier: Some(power_basis(&pts)),
+            };
+            for i in 0..=20 {
+                let u = i as f64 / 20.0;
+                let a = curve.at(u).unwrap();
+                let b = point_at(&pts, k, &knots, u).unwrap();
+                assert!(
+                    (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9,
+                    "{k} {u}"
+                );
+            }
+        }
     }
 
     #[test]
