@@ -88,6 +88,8 @@ pub struct ElementParams {
     pub bean_stitch_repeats: u32,
     /// `reverse_rails` (automatic).
     pub reverse_rails: ReverseRails,
+    /// `swap_satin_rails`: the zig-zag starts on the other rail (false).
+    pub swap_rails: bool,
     /// `zigzag_spacing_mm`: peak to peak distance of satin zig-zags (0.4).
     pub zigzag_spacing: f64,
     /// `pull_compensation_mm`: each side of a satin moved outwards by this (0).
@@ -141,6 +143,8 @@ pub struct ElementParams {
     pub stop_after: bool,
     /// `ties` (both).
     pub ties: Ties,
+    /// `force_lock_stitches`: tied off at its end even when no trim follows (false).
+    pub force_lock: bool,
     /// `min_stitch_length_mm`: shorter stitches are merged away (none).
     pub min_stitch_length: Option<f64>,
     /// `min_jump_stitch_length_mm` (older files: `collapse_len_mm`): a move to the element
@@ -211,6 +215,7 @@ impl Default for ElementParams {
             repeats: 1,
             bean_stitch_repeats: 0,
             reverse_rails: ReverseRails::Automatic,
+            swap_rails: false,
             zigzag_spacing: 0.4,
             pull_compensation: 0.0,
             e_stitch: false,
@@ -240,6 +245,7 @@ impl Default for ElementParams {
                 start: true,
                 end: true,
             },
+            force_lock: false,
             min_stitch_length: None,
             min_jump_length: None,
             ripple: RippleParams::default(),
@@ -850,6 +856,7 @@ fn element_params(
         repeats: count("repeats", 100.0)?.unwrap_or(1).max(1),
         bean_stitch_repeats: count("bean_stitch_repeats", 100.0)?.unwrap_or(0),
         reverse_rails,
+        swap_rails: flag("swap_satin_rails").unwrap_or(false),
         zigzag_spacing: len("zigzag_spacing_mm", 0.05, 10.0)?.unwrap_or(d.zigzag_spacing),
         pull_compensation: len("pull_compensation_mm", -10.0, 10.0)?.unwrap_or(d.pull_compensation),
         e_stitch: flag("e_stitch").unwrap_or(false) || a.get("satin_method") == Some(&"e_stitch"),
@@ -884,6 +891,7 @@ fn element_params(
         trim_after: flag("trim_after").unwrap_or(false),
         stop_after: flag("stop_after").unwrap_or(false),
         ties,
+        force_lock: flag("force_lock_stitches").unwrap_or(false),
         // `min_stitch_len_mm` is the older name.
         min_stitch_length: match len("min_stitch_length_mm", 0.0, 10.0)? {
             Some(x) => Some(x),

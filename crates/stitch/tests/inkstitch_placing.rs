@@ -248,3 +248,59 @@ fn without_a_start_command_a_fill_starts_where_the_needle_is() {
     let alone = sewn(&sew(&doc(&rect(r#"inkstitch:fill_underlay="false""#))));
     assert!(dist(alone[0], (50.0, 70.0)) > 5.0);
 }
+
+/// `swap_satin_rails` (Ink/Stitch's "swap rails"): the first zig lands on the other rail.
+#[test]
+fn swapped_rails_start_the_satin_on_the_other_rail() {
+    // Rails at SVG y 40 (drawing y 60, the first subpath) and y 50 (drawing y 50); no underlay.
+    let column = |extra: &str| {
+        format!(
+            r#"<path id="col" d="M 10,40 L 60,40 M 10,50 L 60,50" style="fill:none;stroke:#0000ff;stroke-width:0.5" inkstitch:satin_column="True" {extra}/>"#
+        )
+    };
+    let first = |extra: &str| sewn(&sew(&doc(&column(extra))))[0];
+    let (plain, swapped) = (first(""), first(r#"inkstitch:swap_satin_rails="True""#));
+    let rail = |p: (f64, f64)| {
+        [60.0, 50.0]
+            .into_iter()
+            .find(|y| (p.1 - y).abs() < 0.3)
+            .unwrap_or_else(|| panic!("{p:?} on neither rail"))
+    };
+    assert_ne!(rail(plain), rail(swapped), "{plain:?} / {swapped:?}");
+    // The same end of the column: only the rail changes.
+    assert!((plain.0 - swapped.0).abs() < 0.5, "{plain:?} / {swapped:?}");
+}
+
+/// `force_lock_stitches`: a running line is tied off at its end although the next one, 2 mm on,
+/// is reached without cutting the thread (no tie there otherwise).
+#[test]
+fn forced_lock_stitches_tie_off_where_no_trim_follows() {
+    let lines = |extra: &str| {
+        format!(
+            r#"<path id="a" d="M 10,50 L 40,50" style="fill:none;stroke:#000000;stroke-width:0.1" {extra}/>
+               <path id="b" d="M 42,50 L 70,50" style="fill:none;stroke:#000000;stroke-width:0.1"/>"#
+        )
+    };
+    // Stitches where the needle goes back (towards smaller x) between the lines' ends.
+    let back = |extra: &str| {
+        let plan = sew(&doc(&lines(extra)));
+        assert_eq!(plan.counts().trims, 0, "{extra}");
+        let pts = sewn(&plan);
+        let end = pts
+            .iter()
+            .position(|p| dist(*p, (40.0, 50.0)) < 1e-4)
+            .unwrap_or_else(|| panic!("{pts:?}"));
+        pts.windows(2)
+            .skip(end)
+            .take_while(|w| w[0].0 <= 40.0 + 1e-4)
+            .filter(|w| w[1].0 < w[0].0 - 1e-6)
+            .count()
+    };
+    assert_eq!(back(""), 0);
+    assert_eq!(back(r#"inkstitch:force_lock_stitches="True""#), 1);
+    // Lock stitches not allowed (`ties` 3): none, forced or not.
+    assert_eq!(
+        back(r#"inkstitch:force_lock_stitches="True" inkstitch:ties="3""#),
+        0
+    );
+}

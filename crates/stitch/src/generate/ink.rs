@@ -46,6 +46,7 @@ fn shape(
         top,
         rev_link: false,
         ties: e.ties,
+        force_lock: e.force_lock,
         trim_after: e.trim_after,
         stop_after: e.stop_after,
         min_jump: e.min_jump_length.unwrap_or(0.0),
@@ -441,6 +442,17 @@ fn polylines_cross(a: &[Point], b: &[Point]) -> bool {
     })
 }
 
+/// Whether rail `b` runs against `a`, as Ink/Stitch's automatic `reverse_rails` decides:
+/// ten points spread evenly along each, paired in order, lie farther apart in all than when
+/// `b`'s are taken backwards. (Comparing only the first ends misjudges a short, wide column,
+/// whose ends are all about as far apart, and depends on which rail comes first.)
+fn drawn_opposite(a: &[Point], b: &[Point]) -> bool {
+    let (sa, sb) = (satin::resample(a, 10), satin::resample(b, 10));
+    let along: f64 = sa.iter().zip(&sb).map(|(p, q)| p.distance(*q)).sum();
+    let against: f64 = sa.iter().zip(sb.iter().rev()).map(|(p, q)| p.distance(*q)).sum();
+    against < along
+}
+
 /// A satin between its two rails with the others as rungs: rail points
 /// are paired section by section between the rungs, so the zigs follow them.
 fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params) -> Shape {
@@ -448,6 +460,11 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
     let (i, j) = (order[0].min(order[1]), order[0].max(order[1]));
     let mut a = lines[i].clone();
     let mut b = lines[j].clone();
+    if e.swap_rails {
+        // Ink/Stitch's "swap rails": the first zig starts on the other rail; `reverse_rails`
+        // then names the rails in the swapped order, as Ink/Stitch's `rails` property does.
+        std::mem::swap(&mut a, &mut b);
+    }
     // A ring drawn without closing it (the ends a hair apart) is a ring too.
     match e.reverse_rails {
         ReverseRails::First => a.reverse(),
@@ -478,7 +495,7 @@ fn rail_satin(color: Color, lines: &[Vec<Point>], e: &ElementParams, p: &Params)
         let mut r: Vec<Point> = b[k..n].to_vec();
         r.extend_from_slice(&b[..=k]);
         b = r;
-    } else if auto && a[0].distance(b[0]) > a[0].distance(b[b.len() - 1]) {
+    } else if auto && drawn_opposite(&a, &b) {
         // Rails drawn in opposite directions are paired end to start.
         b.reverse();
     }

@@ -222,6 +222,8 @@ struct Shape {
     rev_link: bool,
     /// Lock stitches where a cut thread starts it (`start`) and where it is cut after it.
     ties: Ties,
+    /// Tied off at its end even when the thread goes on to the next shape uncut.
+    force_lock: bool,
     /// The thread is cut after the shape.
     trim_after: bool,
     /// The machine stops after the shape.
@@ -280,6 +282,7 @@ impl Shape {
             top,
             rev_link: fwd_link,
             ties: self.ties,
+            force_lock: self.force_lock,
             trim_after: self.trim_after,
             stop_after: self.stop_after,
             min_jump: self.min_jump,
@@ -476,6 +479,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                 top,
                 rev_link,
                 ties: BOTH_TIES,
+                force_lock: false,
                 trim_after: false,
                 stop_after: false,
                 min_jump: 0.0,
@@ -532,6 +536,7 @@ fn element_shapes(paths: &[&Path], p: &Params) -> Result<Vec<Shape>, GenerateErr
                         top: vec![run(running(line, p.stitch_length))],
                         rev_link: false,
                         ties: BOTH_TIES,
+                        force_lock: false,
                         trim_after: false,
                         stop_after: false,
                         min_jump: 0.0,
@@ -561,6 +566,7 @@ fn satin_shape(color: Color, centre: &[Point], l: &[Point], r: &[Point], p: &Par
         top,
         rev_link: p.underlay,
         ties: BOTH_TIES,
+        force_lock: false,
         trim_after: false,
         stop_after: false,
         min_jump: 0.0,
@@ -654,6 +660,11 @@ impl Sewer<'_> {
             self.at = *r.points.last().unwrap();
         }
         self.tie_end = shape.ties.end;
+        if shape.force_lock && p.ties && self.tie_end {
+            // Tied off here already: a trim after it, or later, needs no second knot.
+            tie(&mut self.stitches, self.at);
+            self.tie_end = false;
+        }
         if shape.trim_after {
             if p.ties && self.tie_end {
                 tie(&mut self.stitches, self.at);
