@@ -22,6 +22,7 @@ mod gcode_input;
 mod level;
 mod machine_profile;
 mod mill;
+mod mill_job;
 mod peak_memory;
 mod plan;
 mod plot;

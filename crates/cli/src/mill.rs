@@ -11,8 +11,15 @@ use std::path::PathBuf;
 #[derive(ClapArgs, Debug)]
 pub(crate) struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
-    #[arg(required_unless_present = "text")]
+    #[arg(required_unless_present_any = ["text", "job"])]
     pub input: Option<PathBuf>,
+    /// A job file (TOML): the drawing, stock, tool library and operations in order →
+    /// one program with its tool changes (docs/cam-jobs.md). Replaces INPUT, --op, --tool…
+    #[arg(long, conflicts_with_all = ["input", "text", "op"])]
+    pub job: Option<PathBuf>,
+    /// With --job: one program per tool (OUTPUT.T1.nc, …) instead of one with tool changes.
+    #[arg(long, requires = "job")]
+    pub per_tool: bool,
     /// Rest machining after a pocket or profile-in: this smaller tool (number
     /// --tool-number + 1) cuts what the first could not reach (flat:1, …).
     #[arg(long)]
@@ -27,16 +34,16 @@ pub(crate) struct Args {
     /// floors, mm (sets the spacing of the passes).
     #[arg(long, default_value_t = 0.05)]
     pub leftover: f64,
-    #[arg(long, value_enum)]
-    pub op: MillOpKind,
+    #[arg(long, value_enum, required_unless_present = "job")]
+    pub op: Option<MillOpKind>,
     /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
     #[arg(long, default_value = "flat:6")]
     pub tool: String,
     #[arg(long, default_value_t = 1)]
     pub tool_number: u32,
     /// Depth below the stock top, mm.
-    #[arg(long)]
-    pub depth: f64,
+    #[arg(long, required_unless_present = "job")]
+    pub depth: Option<f64>,
     /// Largest depth per pass, mm (default: half the tool diameter).
     #[arg(long)]
     pub stepdown: Option<f64>,
@@ -165,6 +172,12 @@ pub(crate) fn print_judged(j: &Judged) {
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     check_output("mill", "-o", &args.output, PROGRAM_EXTENSIONS)?;
+    if let Some(job) = &args.job {
+        return crate::mill_job::run(job, &args);
+    }
+    let (Some(op), Some(depth)) = (args.op, args.depth) else {
+        anyhow::bail!("mill: --op and --depth are needed without --job");
+    };
     // The preview beside the program (part.svg for part.nc), or part.preview.svg when that
     // name is the drawing being milled: the usual `mill part.svg -o part.nc` just works.
     let preview = args.preview.clone().unwrap_or_else(|| {
@@ -181,10 +194,10 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
         oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;
     }
     let params = MillParams {
-        op: args.op,
+        op,
         tool: args.tool.clone(),
         tool_number: args.tool_number,
-        depth: args.depth,
+        depth,
         stepdown: args.stepdown,
         stepover: args.stepover,
         strategy: if args.strategy == "zigzag" {

@@ -5,6 +5,7 @@
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
 //! - [`drill`]: canned cycles at circle centres;
+//! - [`chamfer`]: a V bit along the top edge of parts (outside) and holes (inside);
 //! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
 //!   single-line strokes;
@@ -14,6 +15,7 @@
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
 mod chain;
+mod chamfer;
 mod drill;
 mod entry;
 mod mill;
@@ -25,6 +27,7 @@ mod sole;
 mod vcarve;
 
 pub use chain::{Chain, Piece};
+pub use chamfer::{chamfer, chamfer_regions, ChamferParams};
 pub use drill::{drill, DrillParams};
 pub use entry::Entry;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};

@@ -7,7 +7,7 @@ use super::chain::{inside, max_profile, Chain, Piece, P};
 use super::entry::enter_open;
 use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::{CompSide, Move, Operation};
-use oficina_geom::{offset_areas, Area, Path};
+use oficina_geom::{offset_areas, oriented, Area, Path};
 
 /// Which side of the line the tool cuts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,12 +75,24 @@ pub const DEFAULT_LEAD_IN: f64 = 1.0;
 pub(super) const OFFSET_TOL: f64 = 0.001;
 
 /// The tool-centre loops for `side` at wall distance `d` (≥ 0) from the contours.
+/// Inside and outside follow the nesting (Estlcam's part mode): cutting a part out
+/// (`Outside`) runs outside its outline and inside the holes it contains, outside the
+/// islands in those holes again; `Inside` is the mirror. Loops come innermost first, so a
+/// hole is cut while its part is still held by the stock.
 pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
+    Ok(nested_loops(paths, side, d)?
+        .into_iter()
+        .map(|(_, c)| c)
+        .collect())
+}
+
+/// [`contour_loops`] with each loop's nesting depth (how many loops contain it).
+fn nested_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<(usize, Chain)>, OpError> {
     match side {
         Side::On => Ok(paths
             .iter()
-            .map(Chain::from_path)
-            .filter(|c| !c.pieces.is_empty())
+            .map(|p| (0, Chain::from_path(p)))
+            .filter(|(_, c)| !c.pieces.is_empty())
             .collect()),
         Side::Inside | Side::Outside => {
             let areas = Area::from_paths(paths);
@@ -92,20 +104,46 @@ pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Ch
             let dist = if side == Side::Outside { d } else { -d };
             let out = offset_areas(&areas, dist, OFFSET_TOL)
                 .map_err(|e| OpError::Geometry(e.to_string()))?;
-            Ok(out
-                .iter()
-                .map(|a| {
-                    let c = Chain::from_path(&a.outer);
-                    if side == Side::Outside {
-                        c.reversed()
-                    } else {
-                        c
-                    }
-                })
-                .filter(|c| !c.pieces.is_empty())
-                .collect())
+            // Climb milling: the tool runs clockwise round material inside the loop and
+            // counter-clockwise round waste inside it.
+            let mut loops: Vec<(usize, Chain)> = Vec::new();
+            for a in &out {
+                loops.push((0, Chain::from_path(&oriented(&a.outer, side == Side::Inside))));
+                for h in &a.holes {
+                    loops.push((0, Chain::from_path(&oriented(h, side == Side::Outside))));
+                }
+            }
+            loops.retain(|(_, c)| !c.pieces.is_empty());
+            let rings: Vec<Vec<P>> = loops.iter().map(|(_, c)| c.polygon(OFFSET_TOL)).collect();
+            for (k, (depth, c)) in loops.iter_mut().enumerate() {
+                let probe = c.start();
+                *depth = rings
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, r)| j != k && inside(std::slice::from_ref(r), probe))
+                    .count();
+            }
+            // Deepest first; the stable sort keeps the drawing's order within a depth.
+            loops.sort_by_key(|(depth, _)| std::cmp::Reverse(*depth));
+            Ok(loops)
         }
     }
+}
+
+/// Deepest loops first, nearest-neighbour order from `from` within each depth.
+fn order_nested(mut loops: Vec<(usize, Chain)>, mut from: [f64; 2]) -> Vec<Chain> {
+    let mut out = Vec::with_capacity(loops.len());
+    loops.sort_by_key(|(depth, _)| std::cmp::Reverse(*depth));
+    while let Some(&(depth, _)) = loops.first() {
+        let n = loops.iter().take_while(|(d, _)| *d == depth).count();
+        let group: Vec<Chain> = loops.drain(..n).map(|(_, c)| c).collect();
+        let ordered = order_nearest(group, from);
+        if let Some(last) = ordered.last() {
+            from = last.end();
+        }
+        out.extend(ordered);
+    }
+    out
 }
 
 /// Nearest-neighbour order from `from`.
@@ -171,20 +209,20 @@ pub fn profile(
             cut.tool.diameter
         )));
     }
-    let rough = contour_loops(paths, p.side, shift + p.allowance)?;
+    let rough = order_nested(nested_loops(paths, p.side, shift + p.allowance)?, [0.0, 0.0]);
     let mut b = Builder::new(cut.clear_z);
     let rings = loop_rings(&rough);
     let hints = comp_hints(paths, p, r + p.allowance)?;
-    for chain in order_nearest(rough, [0.0, 0.0]) {
+    for chain in rough {
         let centre = hint_for(&chain, &hints);
         let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
         passes(&mut b, &chain, centre, lead, cut, p, &cut.levels())?;
     }
     if finishing {
-        let finish = contour_loops(paths, p.side, shift)?;
+        let finish = order_nested(nested_loops(paths, p.side, shift)?, [b.at[0], b.at[1]]);
         let rings = loop_rings(&finish);
         let hints = comp_hints(paths, p, r)?;
-        for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
+        for chain in finish {
             // One pass at full depth, ramping down along the wall: only the allowance
             // is left there.
             let centre = hint_for(&chain, &hints);
