@@ -33,6 +33,7 @@ mod check;
 mod controls;
 pub mod embroider;
 mod error;
+mod feeds;
 mod job;
 mod jog;
 mod judge;
@@ -63,6 +64,7 @@ pub use check::{
 };
 pub use controls::MdiReply;
 pub use error::{Error, CANCELLED};
+pub use feeds::{tool_feeds, FeedsAnswer, FeedsQuery};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
 pub use level::{
