@@ -47,24 +47,34 @@ pub fn tool_feeds(q: &FeedsQuery) -> Result<FeedsAnswer, Error> {
     let entry = match &q.library {
         Some((path, n)) => {
             let lib = Library::load(Path::new(path)).map_err(|e| Error(e.to_string()))?;
-            let t = lib.get(*n).cloned().ok_or_else(|| {
-                Error(format!("{}: no tool number {n}", path.display()))
-            })?;
+            let t = lib
+                .get(*n)
+                .cloned()
+                .ok_or_else(|| Error(format!("{}: no tool number {n}", path.display())))?;
             Some(t)
         }
         None => None,
     };
     let name = entry.as_ref().map_or("the tool".to_string(), |t| {
-        format!("T{} {}", t.number, if t.name.is_empty() { "" } else { &t.name })
-            .trim()
-            .to_string()
+        format!(
+            "T{} {}",
+            t.number,
+            if t.name.is_empty() { "" } else { &t.name }
+        )
+        .trim()
+        .to_string()
     });
     let diameter = q.diameter.or(entry.as_ref().map(|t| t.diameter));
     let flutes = q.flutes.or(entry.as_ref().and_then(|t| t.flutes));
     let rpm = q.rpm.or(entry.as_ref().and_then(|t| t.spindle_rpm));
     let chip_load = q.chip_load.or_else(|| {
         let m = q.material.as_deref()?;
-        entry.as_ref()?.chip_load.iter().find(|(k, _)| k.eq_ignore_ascii_case(m)).map(|(_, v)| *v)
+        entry
+            .as_ref()?
+            .chip_load
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(m))
+            .map(|(_, v)| *v)
     });
     let missing = |what: &str| Error(format!("{name}: no {what}: give --{what}"));
     let diameter = diameter.ok_or_else(|| missing("diameter"))?;
@@ -76,12 +86,20 @@ pub fn tool_feeds(q: &FeedsQuery) -> Result<FeedsAnswer, Error> {
             let known: Vec<&str> = t.chip_load.keys().map(String::as_str).collect();
             return Err(Error(format!(
                 "{name}: no chip load for {m:?} in the library (it has {}): give --chip-load",
-                if known.is_empty() { "none".into() } else { known.join(", ") }
+                if known.is_empty() {
+                    "none".into()
+                } else {
+                    known.join(", ")
+                }
             )));
         }
         _ => return Err(missing("chip-load")),
     };
-    for (what, v) in [("diameter", diameter), ("rpm", rpm), ("chip-load", chip_load)] {
+    for (what, v) in [
+        ("diameter", diameter),
+        ("rpm", rpm),
+        ("chip-load", chip_load),
+    ] {
         if !(v.is_finite() && v > 0.0) {
             return Err(Error(format!("--{what} {v}: must be above 0")));
         }

@@ -176,7 +176,9 @@ impl Library {
                     return Err(LibraryError::Tool {
                         path: path.into(),
                         number: t.number,
-                        message: format!("chip_load.{material} must be above 0 and below 5 mm, got {load}"),
+                        message: format!(
+                            "chip_load.{material} must be above 0 and below 5 mm, got {load}"
+                        ),
                     });
                 }
             }

@@ -11,8 +11,12 @@ use std::process::ExitCode;
 
 /// `part.nc` → `part.T2.nc` for tool 2's program.
 fn per_tool_name(output: &Path, tool: u32) -> PathBuf {
-    let stem = output.file_stem().map_or("program".into(), |s| s.to_string_lossy().to_string());
-    let ext = output.extension().map_or(String::new(), |e| format!(".{}", e.to_string_lossy()));
+    let stem = output
+        .file_stem()
+        .map_or("program".into(), |s| s.to_string_lossy().to_string());
+    let ext = output
+        .extension()
+        .map_or(String::new(), |e| format!(".{}", e.to_string_lossy()));
     output.with_file_name(format!("{stem}.T{tool}{ext}"))
 }
 

@@ -41,7 +41,10 @@ pub(crate) fn feeds(a: FeedsArgs) -> Result<ExitCode> {
         chip_load: a.chip_load,
     };
     let r = tool_feeds(&q).map_err(|e| anyhow::anyhow!(e.0))?;
-    println!("tool:          {} (Ø{} mm, {} flutes)", r.tool, r.diameter, r.flutes);
+    println!(
+        "tool:          {} (Ø{} mm, {} flutes)",
+        r.tool, r.diameter, r.flutes
+    );
     println!("spindle:       {:.0} rpm", r.rpm);
     println!("chip load:     {} mm/tooth", r.chip_load);
     println!(

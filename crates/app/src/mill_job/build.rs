@@ -160,8 +160,16 @@ fn build_chamfer(name: &str, op: &JobOp, shapes: &[&Shape], mut cut: Cut) -> Res
         Some(ChamferSide::Out) => false,
         None => s.depth % 2 == 1,
     };
-    let holes: Vec<Path> = closed.iter().filter(|s| is_hole(s)).map(|s| s.path.clone()).collect();
-    let parts: Vec<Path> = closed.iter().filter(|s| !is_hole(s)).map(|s| s.path.clone()).collect();
+    let holes: Vec<Path> = closed
+        .iter()
+        .filter(|s| is_hole(s))
+        .map(|s| s.path.clone())
+        .collect();
+    let parts: Vec<Path> = closed
+        .iter()
+        .filter(|s| !is_hole(s))
+        .map(|s| s.path.clone())
+        .collect();
     let depth = p.depth(&cut).map_err(|e| e.to_string())?;
     let slope = 1.0 / half_tan(&cut).map_err(|e| e.to_string())?;
     let mut operation = chamfer(name, &parts, &holes, &cut, &p).map_err(|e| e.to_string())?;

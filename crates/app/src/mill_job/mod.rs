@@ -119,7 +119,13 @@ fn rect_path(s: &JobShape) -> Result<Path, String> {
 /// A name safe inside a G-code comment.
 fn comment_safe(s: &str) -> String {
     s.chars()
-        .map(|c| if c.is_alphanumeric() || " -_.:/#".contains(c) { c } else { '_' })
+        .map(|c| {
+            if c.is_alphanumeric() || " -_.:/#".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 
@@ -142,10 +148,18 @@ fn resolve_tool(
                 let have: Vec<String> = lib.tools.iter().map(|t| t.number.to_string()).collect();
                 format!(
                     "tool = {n}: not in the library {lib_name} (it has {})",
-                    if have.is_empty() { "no tools".into() } else { have.join(", ") }
+                    if have.is_empty() {
+                        "no tools".into()
+                    } else {
+                        have.join(", ")
+                    }
                 )
             })?;
-            (*n, t.tool().map_err(|e| format!("tool = {n}: {e}"))?, Some(t))
+            (
+                *n,
+                t.tool().map_err(|e| format!("tool = {n}: {e}"))?,
+                Some(t),
+            )
         }
         ToolRef::Spec(s) => {
             let tool: Tool = s.parse().map_err(|e| format!("tool = {s:?}: {e}"))?;
@@ -163,7 +177,10 @@ fn resolve_tool(
         }
     };
     let base = from_lib.and_then(|t| t.feeds(material));
-    let rpm = op.rpm.or(base.as_ref().map(|f| f.rpm)).unwrap_or(DEFAULT_RPM);
+    let rpm = op
+        .rpm
+        .or(base.as_ref().map(|f| f.rpm))
+        .unwrap_or(DEFAULT_RPM);
     let feeds = match (op.feed, base) {
         (Some(feed), _) => ToolFeeds {
             rpm,
@@ -237,7 +254,10 @@ pub fn mill_job(
     }
     let shapes = number_shapes(layers);
     if shapes.is_empty() {
-        return Err(Error(format!("{name}: the drawing {} has no paths", drawing.display())));
+        return Err(Error(format!(
+            "{name}: the drawing {} has no paths",
+            drawing.display()
+        )));
     }
     let clear_z = job.clear_z.unwrap_or(5.0);
     let safe_z = job.safe_z.unwrap_or(20.0);
@@ -254,7 +274,13 @@ pub fn mill_job(
         .as_ref()
         .and_then(|(_, l)| l.tools.iter().map(|t| t.number).max())
         .unwrap_or(0)
-        .max(job.op.iter().filter_map(|o| o.get_ref().tool_number).max().unwrap_or(0))
+        .max(
+            job.op
+                .iter()
+                .filter_map(|o| o.get_ref().tool_number)
+                .max()
+                .unwrap_or(0),
+        )
         + 1;
     let mut specs = Vec::new();
     let mut built: Vec<(Built, JobOpReport, bool)> = Vec::new();
@@ -286,7 +312,9 @@ pub fn mill_job(
         let op_name = comment_safe(&format!(
             "op {} {}",
             k + 1,
-            op.name.clone().unwrap_or_else(|| format!("{:?}", op.kind).to_lowercase())
+            op.name
+                .clone()
+                .unwrap_or_else(|| format!("{:?}", op.kind).to_lowercase())
         ));
         let b = build(&op_name, op, &picked, number, &tool, &feeds, &frame).map_err(err)?;
         let cut_out = op.kind == OpKind::ProfileOut && b.depth >= job.stock.thickness - 1e-9;
@@ -296,7 +324,12 @@ pub fn mill_job(
             tool_number: number,
             tool: tool.spec(),
             shapes: picked.iter().map(|s| s.id).collect(),
-            moves: b.operation.moves.iter().filter(|m| m.end().is_some()).count(),
+            moves: b
+                .operation
+                .moves
+                .iter()
+                .filter(|m| m.end().is_some())
+                .count(),
             depth: b.depth,
             feeds,
         };
@@ -386,7 +419,8 @@ pub fn mill_job(
     if let Some([w, h]) = job.stock.size {
         let [cx, cy] = job.stock.corner;
         if let Some(b) = toolpath_box(&whole) {
-            if b[0] < cx - 1e-6 || b[1] < cy - 1e-6 || b[2] > cx + w + 1e-6 || b[3] > cy + h + 1e-6 {
+            if b[0] < cx - 1e-6 || b[1] < cy - 1e-6 || b[2] > cx + w + 1e-6 || b[3] > cy + h + 1e-6
+            {
                 warnings.push(format!(
                     "the tool centre reaches ({:.2}, {:.2})–({:.2}, {:.2}), beyond the stock ({cx}, {cy})–({}, {})",
                     b[0], b[1], b[2], b[3], cx + w, cy + h

@@ -90,17 +90,30 @@ mod tests {
 
     fn respects(ops: &[(u32, bool)], order: &[usize]) -> bool {
         let pos = |k: usize| order.iter().position(|&x| x == k).unwrap();
-        (0..ops.len()).all(|a| {
-            (0..ops.len()).all(|b| !(a < b && (ops[a].1 || ops[b].1)) || pos(a) < pos(b))
-        })
+        (0..ops.len())
+            .all(|a| (0..ops.len()).all(|b| !(a < b && (ops[a].1 || ops[b].1)) || pos(a) < pos(b)))
     }
 
     #[test]
     fn grouping_is_as_good_as_any_order_that_keeps_the_cut_outs() {
         let cases: &[&[(u32, bool)]] = &[
             &[(1, false), (2, false), (1, false), (1, true)],
-            &[(1, false), (2, false), (1, false), (2, false), (1, true), (2, false)],
-            &[(3, false), (1, false), (3, false), (2, true), (1, false), (2, false)],
+            &[
+                (1, false),
+                (2, false),
+                (1, false),
+                (2, false),
+                (1, true),
+                (2, false),
+            ],
+            &[
+                (3, false),
+                (1, false),
+                (3, false),
+                (2, true),
+                (1, false),
+                (2, false),
+            ],
             &[(1, true), (2, false), (1, false), (2, false)],
         ];
         for ops in cases {

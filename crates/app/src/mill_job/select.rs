@@ -37,7 +37,10 @@ impl Shape {
     pub(crate) fn describe(&self) -> String {
         let what = match (self.path.closed, self.circle) {
             (true, Some(d)) => {
-                let c = self.path.fit_circle().map_or([0.0, 0.0], |c| [c.center.x, c.center.y]);
+                let c = self
+                    .path
+                    .fit_circle()
+                    .map_or([0.0, 0.0], |c| [c.center.x, c.center.y]);
                 format!("closed circle Ø{d:.2} at ({:.2}, {:.2})", c[0], c[1])
             }
             (closed, _) => {
@@ -79,9 +82,7 @@ pub(crate) fn number_shapes(layers: Vec<(String, Path)>) -> Vec<Shape> {
         .collect();
     let rings: Vec<Option<Vec<[f64; 2]>>> = shapes
         .iter()
-        .map(|s| {
-            (s.path.closed && !s.path.is_empty()).then(|| to_ring(&s.path.flatten(1e-3)))
-        })
+        .map(|s| (s.path.closed && !s.path.is_empty()).then(|| to_ring(&s.path.flatten(1e-3))))
         .collect();
     for k in 0..shapes.len() {
         let Some(probe) = shapes[k].path.segments.first().map(|s| s.eval(0.5)) else {
@@ -101,7 +102,9 @@ fn in_ring(p: [f64; 2], r: &[[f64; 2]]) -> bool {
     let mut inside = false;
     for i in 0..r.len() {
         let (a, b) = (r[i], r[(i + 1) % r.len()]);
-        if (a[1] > p[1]) != (b[1] > p[1]) && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0])
+        {
             inside = !inside;
         }
     }
@@ -165,7 +168,12 @@ pub(crate) fn select<'a>(shapes: &'a [Shape], sel: &Select) -> Result<Vec<&'a Sh
             sel.layer
                 .as_ref()
                 .is_none_or(|l| l.names().iter().any(|n| s.layer.eq_ignore_ascii_case(n)))
-                && colour.is_none_or(|c| s.path.style.stroke.is_some_and(|k| (k.r, k.g, k.b) == (c.r, c.g, c.b)))
+                && colour.is_none_or(|c| {
+                    s.path
+                        .style
+                        .stroke
+                        .is_some_and(|k| (k.r, k.g, k.b) == (c.r, c.g, c.b))
+                })
                 && sel.ids.as_ref().is_none_or(|ids| ids.contains(&s.id))
                 && sel.diameter_under.is_none_or(|d| s.size() < d)
                 && sel.diameter_over.is_none_or(|d| s.size() > d)

@@ -73,10 +73,18 @@ pub fn chamfer(
     let mut tips = Vec::new();
     // Climb milling: clockwise round a part, counter-clockwise inside a hole.
     for part in parts.iter().filter(|q| q.closed) {
-        tips.extend(moved(part, p.tip_offset)?.iter().map(|q| oriented(q, false)));
+        tips.extend(
+            moved(part, p.tip_offset)?
+                .iter()
+                .map(|q| oriented(q, false)),
+        );
     }
     for hole in holes.iter().filter(|q| q.closed) {
-        tips.extend(moved(hole, -p.tip_offset)?.iter().map(|q| oriented(q, true)));
+        tips.extend(
+            moved(hole, -p.tip_offset)?
+                .iter()
+                .map(|q| oriented(q, true)),
+        );
     }
     if tips.is_empty() {
         return Err(OpError::Empty(

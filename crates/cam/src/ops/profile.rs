@@ -108,7 +108,10 @@ fn nested_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<(usize, Chain)
             // counter-clockwise round waste inside it.
             let mut loops: Vec<(usize, Chain)> = Vec::new();
             for a in &out {
-                loops.push((0, Chain::from_path(&oriented(&a.outer, side == Side::Inside))));
+                loops.push((
+                    0,
+                    Chain::from_path(&oriented(&a.outer, side == Side::Inside)),
+                ));
                 for h in &a.holes {
                     loops.push((0, Chain::from_path(&oriented(h, side == Side::Outside))));
                 }
@@ -209,7 +212,10 @@ pub fn profile(
             cut.tool.diameter
         )));
     }
-    let rough = order_nested(nested_loops(paths, p.side, shift + p.allowance)?, [0.0, 0.0]);
+    let rough = order_nested(
+        nested_loops(paths, p.side, shift + p.allowance)?,
+        [0.0, 0.0],
+    );
     let mut b = Builder::new(cut.clear_z);
     let rings = loop_rings(&rough);
     let hints = comp_hints(paths, p, r + p.allowance)?;
