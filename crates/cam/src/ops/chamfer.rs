@@ -23,9 +23,11 @@ impl ChamferParams {
     /// Depth of the tip below the top for `cut`'s V bit, mm.
     pub fn depth(&self, cut: &Cut) -> Result<f64, OpError> {
         let t = half_tan(cut)?;
-        if !(self.width.is_finite() && self.width > 0.0)
-            || !(self.tip_offset.is_finite() && self.tip_offset >= 0.0)
-        {
+        let valid = self.width.is_finite()
+            && self.width > 0.0
+            && self.tip_offset.is_finite()
+            && self.tip_offset >= 0.0;
+        if !valid {
             return Err(OpError::Invalid(format!(
                 "chamfer width must be above 0 and tip offset 0 or more (got {} and {})",
                 self.width, self.tip_offset
