@@ -80,14 +80,21 @@ pub(super) const OFFSET_TOL: f64 = 0.001;
 /// islands in those holes again; `Inside` is the mirror. Loops come innermost first, so a
 /// hole is cut while its part is still held by the stock.
 pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
-    Ok(nested_loops(paths, side, d)?
+    Ok(nested_loops(paths, side, d, true)?
         .into_iter()
         .map(|(_, c)| c)
         .collect())
 }
 
-/// [`contour_loops`] with each loop's nesting depth (how many loops contain it).
-fn nested_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<(usize, Chain)>, OpError> {
+/// [`contour_loops`] with each loop's nesting depth (how many loops contain it); only the
+/// outermost loop of each area unless `nested` (under cutter compensation the control's
+/// entry and exit moves need more room than a hole of a part usually has).
+fn nested_loops(
+    paths: &[Path],
+    side: Side,
+    d: f64,
+    nested: bool,
+) -> Result<Vec<(usize, Chain)>, OpError> {
     match side {
         Side::On => Ok(paths
             .iter()
@@ -112,7 +119,7 @@ fn nested_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<(usize, Chain)
                     0,
                     Chain::from_path(&oriented(&a.outer, side == Side::Inside)),
                 ));
-                for h in &a.holes {
+                for h in a.holes.iter().filter(|_| nested) {
                     loops.push((0, Chain::from_path(&oriented(h, side == Side::Outside))));
                 }
             }
@@ -213,7 +220,7 @@ pub fn profile(
         )));
     }
     let rough = order_nested(
-        nested_loops(paths, p.side, shift + p.allowance)?,
+        nested_loops(paths, p.side, shift + p.allowance, !control)?,
         [0.0, 0.0],
     );
     let mut b = Builder::new(cut.clear_z);
@@ -222,10 +229,21 @@ pub fn profile(
     for chain in rough {
         let centre = hint_for(&chain, &hints);
         let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
-        passes(&mut b, &chain, centre, lead, cut, p, &cut.levels())?;
+        passes(
+            &mut b,
+            &chain,
+            centre,
+            (lead, &rings),
+            cut,
+            p,
+            &cut.levels(),
+        )?;
     }
     if finishing {
-        let finish = order_nested(nested_loops(paths, p.side, shift)?, [b.at[0], b.at[1]]);
+        let finish = order_nested(
+            nested_loops(paths, p.side, shift, !control)?,
+            [b.at[0], b.at[1]],
+        );
         let rings = loop_rings(&finish);
         let hints = comp_hints(paths, p, r)?;
         for chain in finish {
@@ -233,7 +251,15 @@ pub fn profile(
             // is left there.
             let centre = hint_for(&chain, &hints);
             let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
-            passes(&mut b, &chain, centre, lead, cut, p, &[cut.bottom()])?;
+            passes(
+                &mut b,
+                &chain,
+                centre,
+                (lead, &rings),
+                cut,
+                p,
+                &[cut.bottom()],
+            )?;
         }
     }
     Ok(cut.operation(name, b.finish(cut.clear_z)))
@@ -291,8 +317,9 @@ fn comp_hints(paths: &[Path], p: &ProfileParams, d: f64) -> Result<Vec<Chain>, O
     if p.comp == Comp::Computer {
         return Ok(vec![]);
     }
-    Ok(contour_loops(paths, p.side, d)?
+    Ok(nested_loops(paths, p.side, d, false)?
         .iter()
+        .map(|(_, c)| c)
         .map(|c| c.rotated(preferred_start(c)))
         .collect())
 }
@@ -330,8 +357,11 @@ pub(super) fn lead_in_arc(
         return None;
     }
     let waste_inside = p.side == Side::Inside;
-    let mut radius = p.lead_in + extra;
+    // Under compensation only the tool centre's part of the radius is halved: the control
+    // refuses an arc no wider than the tool on the side the tool runs.
+    let mut lead = p.lead_in;
     for _ in 0..4 {
+        let radius = lead + extra;
         let c = [s[0] - t[1] * radius, s[1] + t[0] * radius];
         // Angle of C − R·t seen from C is atan2(−t); a quarter turn counter-clockwise.
         let arc = Piece::Arc {
@@ -345,7 +375,7 @@ pub(super) fn lead_in_arc(
         if fits {
             return Some(arc);
         }
-        radius /= 2.0;
+        lead /= 2.0;
     }
     None
 }
@@ -359,7 +389,7 @@ fn passes(
     b: &mut Builder,
     chain: &Chain,
     centre: Option<&Chain>,
-    lead: Option<Piece>,
+    (lead, rings): (Option<Piece>, &[Vec<P>]),
     cut: &Cut,
     p: &ProfileParams,
     levels: &[f64],
@@ -463,7 +493,7 @@ fn passes(
     let ended = chain.rotated(to_outline(s));
     if p.lead_out > 0.0 {
         let extra = if comp { cut.radius() } else { 0.0 };
-        lead_out(b, &ended, p.lead_out + extra, cut.feed);
+        lead_out(b, &ended, p.lead_out + extra, cut.feed, (rings, p.side));
     }
     if comp {
         // Straight off along the left normal at the loop's end (where a lead-out arc ends
@@ -532,8 +562,17 @@ fn tab_profile(t: Tabs, cut: &Cut, len: f64, base: &[(f64, f64)], angle: f64) ->
     res
 }
 
-/// A quarter arc off the wall to the left of travel (the waste side when climb milling).
-fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
+/// A quarter arc off the wall to the left of travel (the waste side when climb milling),
+/// halved up to three times until every point of it lies on the waste side of `rings`
+/// (outside them for `Side::Outside`, inside for `Side::Inside`): in a small hole a full
+/// arc would swing the tool into the far wall. Left out if even an eighth does not fit.
+fn lead_out(
+    b: &mut Builder,
+    chain: &Chain,
+    radius: f64,
+    feed: f64,
+    (rings, side): (&[Vec<P>], Side),
+) {
     let Some(last) = chain.pieces.last() else {
         return;
     };
@@ -542,13 +581,30 @@ fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
     if tx == 0.0 && ty == 0.0 {
         return;
     }
-    // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
-    let centre = [end[0] - ty * radius, end[1] + tx * radius];
-    let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];
-    b.push(Move::Arc {
-        to,
-        center: centre,
-        ccw: true,
-        feed,
-    });
+    let mut radius = radius;
+    for _ in 0..4 {
+        // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
+        let centre = [end[0] - ty * radius, end[1] + tx * radius];
+        let arc = Piece::Arc {
+            c: centre,
+            r: radius,
+            a0: ty.atan2(tx) - std::f64::consts::FRAC_PI_2,
+            sweep: std::f64::consts::FRAC_PI_2,
+        };
+        let n = 32;
+        let fits = side == Side::On
+            || (1..=n)
+                .all(|k| inside(rings, arc.at(k as f64 / n as f64)) == (side == Side::Inside));
+        if fits {
+            let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];
+            b.push(Move::Arc {
+                to,
+                center: centre,
+                ccw: true,
+                feed,
+            });
+            return;
+        }
+        radius /= 2.0;
+    }
 }
