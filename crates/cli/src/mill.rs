@@ -244,6 +244,9 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
         for l in &r.imported {
             println!("imported: {l}");
         }
+        for l in &r.shapes {
+            println!("shape:    {l}");
+        }
     });
     std::fs::write(&args.output, &r.judged.program)
         .with_context(|| format!("{}: cannot write the program", args.output.display()))?;

@@ -387,3 +387,44 @@ fn the_feeds_calculator_multiplies_chip_load_flutes_and_rpm() {
         "{err}"
     );
 }
+
+#[test]
+fn plain_mill_lists_the_shape_ids_a_job_selects_by() {
+    let dir = job_dir("job-ids", &["nested-plate.svg", "nested-plate.toml"]);
+    let (code, job_out, err) =
+        oficina_in(&dir, &["mill", "--job", "nested-plate.toml", "-o", "a.nc"]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, out, err) = oficina_in(
+        &dir,
+        &[
+            "mill",
+            "nested-plate.svg",
+            "--op",
+            "pocket",
+            "--depth",
+            "1",
+            "-o",
+            "b.nc",
+        ],
+    );
+    assert_eq!(code, Some(0), "{err}");
+    let ids = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| l.starts_with("shape:"))
+            .map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(" "))
+            .collect()
+    };
+    // Five shapes in the SVG's order, the same numbers in both reports.
+    assert_eq!(
+        ids(&out),
+        [
+            "shape: #1",
+            "shape: #2",
+            "shape: #3",
+            "shape: #4",
+            "shape: #5"
+        ]
+    );
+    assert_eq!(ids(&out), ids(&job_out));
+    assert!(out.contains("#4 CUTS #ff0000 closed circle Ø6.00"), "{out}");
+}

@@ -80,6 +80,33 @@ pub struct JobResult {
     pub preview_svg: String,
 }
 
+/// Most shapes the import report of `oficina mill` lists one by one.
+const LISTED: usize = 50;
+
+/// The import report's shape lines (`#3 HOLES #000000 closed circle Ø3.60 at …`): the ids
+/// a job's selections name; beyond [`LISTED`] shapes a count of the rest.
+pub(crate) fn shape_lines(drawing: &oficina_geom::Drawing) -> Vec<String> {
+    let layers: Vec<(String, Path)> = drawing
+        .layers
+        .iter()
+        .flat_map(|l| l.paths.iter().map(|p| (l.name.clone(), p.clone())))
+        .collect();
+    let n = layers.len();
+    let mut lines: Vec<String> = number_shapes(layers)
+        .iter()
+        .take(LISTED)
+        .map(Shape::describe)
+        .collect();
+    if n > LISTED {
+        lines.push(format!(
+            "… and {} more (#{} to #{n})",
+            n - LISTED,
+            LISTED + 1
+        ));
+    }
+    lines
+}
+
 /// A rectangle `[x0, y0, x1, y1]` with corners rounded to `r`, counter-clockwise.
 fn rect_path(s: &JobShape) -> Result<Path, String> {
     let [x0, y0, x1, y1] = s.rect;
