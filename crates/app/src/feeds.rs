@@ -117,3 +117,41 @@ pub fn tool_feeds(q: &FeedsQuery) -> Result<FeedsAnswer, Error> {
         surface_speed: surface_speed(diameter, rpm),
     })
 }
+
+/// A library tool for `oficina mill --library … --tool N`: its spec (with flutes and
+/// shank) and its feeds for `material`, if the library has them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LibraryChoice {
+    /// The tool as a spec `oficina mill --tool` takes.
+    pub spec: String,
+    /// Spindle speed and feeds, when the library gives them.
+    pub feeds: Option<oficina_cam::ToolFeeds>,
+}
+
+/// Tool `number` of the library at `path`, or why not (the numbers it has).
+pub fn library_tool(
+    path: &Path,
+    number: u32,
+    material: Option<&str>,
+) -> Result<LibraryChoice, Error> {
+    let lib = Library::load(path).map_err(|e| Error(e.to_string()))?;
+    let t = lib.get(number).ok_or_else(|| {
+        let have: Vec<String> = lib.tools.iter().map(|t| t.number.to_string()).collect();
+        Error(format!(
+            "--tool {number}: not in the library {} (it has {})",
+            path.display(),
+            if have.is_empty() {
+                "no tools".into()
+            } else {
+                have.join(", ")
+            }
+        ))
+    })?;
+    let tool = t
+        .tool()
+        .map_err(|e| Error(format!("{}: tool {number}: {e}", path.display())))?;
+    Ok(LibraryChoice {
+        spec: tool.spec(),
+        feeds: t.feeds(material),
+    })
+}

@@ -64,7 +64,7 @@ pub use check::{
 };
 pub use controls::MdiReply;
 pub use error::{Error, CANCELLED};
-pub use feeds::{tool_feeds, FeedsAnswer, FeedsQuery};
+pub use feeds::{library_tool, tool_feeds, FeedsAnswer, FeedsQuery, LibraryChoice};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
 pub use level::{

@@ -36,9 +36,16 @@ pub(crate) struct Args {
     pub leftover: f64,
     #[arg(long, value_enum, required_unless_present = "job")]
     pub op: Option<MillOpKind>,
-    /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
+    /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D], or with --library its number.
     #[arg(long, default_value = "flat:6")]
     pub tool: String,
+    /// Tool library (TOML [[tool]] tables): --tool N is its tool N, whose number, rpm and
+    /// feeds (chip load × flutes × rpm for --material) the program takes unless given.
+    #[arg(long)]
+    pub library: Option<PathBuf>,
+    /// Material for the library's chip loads (aluminium, wood, … as the library names them).
+    #[arg(long, requires = "library")]
+    pub material: Option<String>,
     #[arg(long, default_value_t = 1)]
     pub tool_number: u32,
     /// Depth below the stock top, mm.
@@ -56,14 +63,15 @@ pub(crate) struct Args {
     /// Stock left by the depth passes for one finishing pass at full depth, mm.
     #[arg(long, default_value_t = 0.2)]
     pub allowance: f64,
-    /// Cutting feed, mm/min.
-    #[arg(long, default_value_t = 800.0)]
-    pub feed: f64,
+    /// Cutting feed, mm/min (default: the library's, else 800).
+    #[arg(long)]
+    pub feed: Option<f64>,
     /// Ramp, helix and plunge feed, mm/min (default: a third of --feed).
     #[arg(long)]
     pub plunge_feed: Option<f64>,
-    #[arg(long, default_value_t = 12000.0)]
-    pub rpm: f64,
+    /// Spindle speed, rev/min (default: the library's, else 12000).
+    #[arg(long)]
+    pub rpm: Option<f64>,
     /// How cuts go down into material. `plunge` only for tools that cut under their centre.
     #[arg(long, value_enum, default_value = "ramp")]
     pub entry: EntryKind,
@@ -193,10 +201,25 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     if let Some(input) = &args.input {
         oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;
     }
+    // A library tool: its spec, number and feeds, each unless given on the line.
+    let (tool, tool_number, feeds) = match &args.library {
+        Some(lib) => {
+            let n: u32 = args.tool.parse().map_err(|_| {
+                anyhow::anyhow!(
+                    "--tool {}: with --library give the tool's number",
+                    args.tool
+                )
+            })?;
+            let c = oficina_app::library_tool(lib, n, args.material.as_deref())
+                .map_err(|e| anyhow::anyhow!(e.0))?;
+            (c.spec, n, c.feeds)
+        }
+        None => (args.tool.clone(), args.tool_number, None),
+    };
     let params = MillParams {
         op,
-        tool: args.tool.clone(),
-        tool_number: args.tool_number,
+        tool,
+        tool_number,
         depth,
         stepdown: args.stepdown,
         stepover: args.stepover,
@@ -206,9 +229,15 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
             PocketStrategy::Offset
         },
         allowance: args.allowance,
-        feed: args.feed,
-        plunge_feed: args.plunge_feed,
-        rpm: args.rpm,
+        feed: args
+            .feed
+            .or(feeds.as_ref().map(|f| f.feed))
+            .unwrap_or(800.0),
+        plunge_feed: args.plunge_feed.or(feeds.as_ref().map(|f| f.plunge_feed)),
+        rpm: args
+            .rpm
+            .or(feeds.as_ref().map(|f| f.rpm))
+            .unwrap_or(12000.0),
         entry: args.entry,
         ramp_angle: args.ramp_angle,
         helix_radius: args.helix_radius,

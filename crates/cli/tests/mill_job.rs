@@ -428,3 +428,49 @@ fn plain_mill_lists_the_shape_ids_a_job_selects_by() {
     assert_eq!(ids(&out), ids(&job_out));
     assert!(out.contains("#4 CUTS #ff0000 closed circle Ø6.00"), "{out}");
 }
+
+#[test]
+fn plain_mill_takes_a_library_tool_by_number_with_its_feeds() {
+    let dir = job_dir("job-lib", &["nested-plate.svg", "tools.toml"]);
+    let args = [
+        "mill",
+        "nested-plate.svg",
+        "--op",
+        "profile-out",
+        "--depth",
+        "2",
+        "--library",
+        "tools.toml",
+        "--tool",
+        "3",
+        "--material",
+        "wood",
+        "-o",
+        "c.nc",
+    ];
+    let (code, out, err) = oficina_in(&dir, &args);
+    assert_eq!(code, Some(0), "{out}\n{err}");
+    let program = std::fs::read_to_string(dir.join("c.nc")).unwrap();
+    // Tool 3 of tools.toml: 3 mm, 2 flutes, 18000 rpm, 0.04 mm/tooth in wood → 1440 mm/min.
+    assert!(
+        program.contains("T3 M6") && program.contains("S18000"),
+        "{program}"
+    );
+    assert!(program.contains("F1440"), "chip load × flutes × rpm");
+    // No chip load for the material: the library's own feed (900 mm/min).
+    let mut args = args.to_vec();
+    args[11] = "steel";
+    let (code, _, err) = oficina_in(&dir, &args);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(std::fs::read_to_string(dir.join("c.nc"))
+        .unwrap()
+        .contains("F900"));
+    // A number the library lacks.
+    args[9] = "7";
+    let (code, _, err) = oficina_in(&dir, &args);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("--tool 7: not in the library tools.toml (it has 1, 2, 3)"),
+        "{err}"
+    );
+}
