@@ -11,11 +11,13 @@ CANON.txt is `rs274 -g PROGRAM` (LinuxCNC's canonical calls). spec.json:
    "dxf": "file.dxf",                  optional: its closed polylines added to the rings (ezdxf)
    "rounded_rects": [[x0, y0, x1, y1, r]],   optional: rectangles with rounded corners
    "probes": [[x, y], …],              points of waste regions (inside a hole, outside the part)
+   "points": [[x, y], …],              optional: corners the cut should reach
    "below": -0.05}                     only moves below this Z cut
 
 Prints JSON: {"samples": n, "min_distance": the least distance from a cutting centre point
 to the part, "near": for each probe's waste region (the connected piece of the complement
-holding it), how many samples lie in it}.
+holding it), how many samples lie in it, "reach": for each point, the least distance from a
+cutting centre point to it}.
 """
 import json
 import math
@@ -94,6 +96,10 @@ def main():
         part = part.symmetric_difference(p)
     pts = samples(canon, spec["ops"], spec.get("below", -0.05))
     geoms = [Point(p[0], p[1]) for p in pts]
+    reach = [min((math.dist(p[:2], q) for p in pts), default=None) for q in spec.get("points", [])]
+    if part.is_empty:
+        print(json.dumps({"samples": len(pts), "min_distance": None, "near": [], "reach": reach}))
+        return
     min_d = min((part.distance(g) for g in geoms), default=None)
     # The waste: everything within a large box that is not part, split into its pieces.
     x0, y0, x1, y1 = part.bounds
@@ -104,7 +110,7 @@ def main():
     for probe in spec.get("probes", []):
         piece = next((w for w in pieces if w.contains(Point(probe))), None)
         near.append(0 if piece is None else sum(1 for g in geoms if piece.contains(g)))
-    print(json.dumps({"samples": len(pts), "min_distance": min_d, "near": near}))
+    print(json.dumps({"samples": len(pts), "min_distance": min_d, "near": near, "reach": reach}))
 
 
 if __name__ == "__main__":

@@ -72,6 +72,18 @@ fn op_order(program: &str) -> Vec<usize> {
 
 /// shapely's figures (scripts/job_cut_sides.py) for the operations `ops` of the canon.
 fn cut_sides(canon: &Path, spec: &str) -> (f64, Vec<usize>) {
+    let v = sides_json(canon, spec);
+    let near = v["near"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_u64().unwrap() as usize)
+        .collect();
+    (v["min_distance"].as_f64().unwrap(), near)
+}
+
+/// scripts/job_cut_sides.py's answer.
+fn sides_json(canon: &Path, spec: &str) -> serde_json::Value {
     let mut child = Command::new("python3")
         .arg(root().join("scripts/job_cut_sides.py"))
         .arg(canon)
@@ -90,14 +102,7 @@ fn cut_sides(canon: &Path, spec: &str) -> (f64, Vec<usize>) {
     let out = child.wait_with_output().unwrap();
     let (stdout, stderr) = text(&out);
     assert!(out.status.success(), "job_cut_sides.py: {stderr}");
-    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let near = v["near"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|n| n.as_u64().unwrap() as usize)
-        .collect();
-    (v["min_distance"].as_f64().unwrap(), near)
+    serde_json::from_str(&stdout).unwrap()
 }
 
 /// rs274's canon of `program`, written beside it.
@@ -473,4 +478,46 @@ fn plain_mill_takes_a_library_tool_by_number_with_its_feeds() {
         err.contains("--tool 7: not in the library tools.toml (it has 1, 2, 3)"),
         "{err}"
     );
+}
+
+#[test]
+fn dogbones_carry_the_tool_into_every_inside_corner() {
+    let dir = job_dir("job-dogbone", &["tenon-slots.svg", "tenon-slots.toml"]);
+    let (code, out, err) = oficina_in(
+        &dir,
+        &["mill", "--job", "tenon-slots.toml", "-o", "part.nc"],
+    );
+    assert_eq!(code, Some(0), "{out}\n{err}");
+    assert!(out.contains("gouge:    none"), "{out}");
+    let canon = canon_of(&dir.join("part.nc"));
+    // The eight corners of the two sockets (the SVG is symmetric about y = 15, so a reader
+    // flipping y sees the same). A 4 mm mill without dogbones keeps its centre 2·√2 mm
+    // from a square corner; with them its edge reaches the corner: centre within 2 mm.
+    let corners = "[[5, 10], [25, 10], [25, 20], [5, 20], [35, 9], [47, 9], [47, 21], [35, 21]]";
+    let v = sides_json(
+        &canon,
+        &format!(r#"{{"ops": ["op 1 "], "rings": [], "points": {corners}}}"#),
+    );
+    for (k, d) in v["reach"].as_array().unwrap().iter().enumerate() {
+        let d = d.as_f64().unwrap();
+        assert!(
+            d <= 2.0 + 1e-3,
+            "corner {k}: the centre comes only {d} mm near"
+        );
+    }
+    // Without dogbones the same job leaves the corners (the check can fail).
+    let plain = std::fs::read_to_string(dir.join("tenon-slots.toml"))
+        .unwrap()
+        .replace("dogbone = true", "dogbone = false");
+    std::fs::write(dir.join("plain.toml"), plain).unwrap();
+    let (code, _, err) = oficina_in(&dir, &["mill", "--job", "plain.toml", "-o", "plain.nc"]);
+    assert_eq!(code, Some(0), "{err}");
+    let canon = canon_of(&dir.join("plain.nc"));
+    let v = sides_json(
+        &canon,
+        &format!(r#"{{"ops": ["op 1 "], "rings": [], "points": {corners}}}"#),
+    );
+    let d = v["reach"][0].as_f64().unwrap();
+    assert!((d - 2.0 * 2f64.sqrt()).abs() < 0.05, "{d}");
+    runs_on_the_vm(&dir, "part.nc");
 }

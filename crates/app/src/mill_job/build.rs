@@ -5,9 +5,9 @@ use super::model::{ChamferSide, JobOp, OpKind};
 use super::select::Shape;
 use crate::mill::{EntryKind, PocketStrategy};
 use oficina_cam::ops::{
-    allowed_region, chamfer, chamfer_regions, half_tan, operation, ChamferParams, Comp, Cut,
-    DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
-    DEFAULT_LEAD_IN,
+    allowed_region, chamfer, chamfer_regions, dogbones, half_tan, operation, ChamferParams, Comp,
+    Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs,
+    VCarveParams, DEFAULT_LEAD_IN,
 };
 use oficina_cam::{Operation, Tool, ToolFeeds};
 use oficina_geom::Path;
@@ -78,7 +78,13 @@ pub(crate) fn build(
         clear_z: frame.clear_z,
         entry,
     };
-    let paths: Vec<Path> = shapes.iter().map(|s| s.path.clone()).collect();
+    let mut paths: Vec<Path> = shapes.iter().map(|s| s.path.clone()).collect();
+    if op.dogbone {
+        if !matches!(op.kind, OpKind::Pocket | OpKind::ProfileIn) {
+            return Err("dogbone: only pocket and profile-in have inside corners to notch".into());
+        }
+        paths = dogbones(&paths, d / 2.0).map_err(|e| format!("dogbone: {e}"))?;
+    }
     let allowance = op.allowance.unwrap_or(0.2);
     let profile = |side| {
         MillOp::Profile(ProfileParams {

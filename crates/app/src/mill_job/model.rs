@@ -232,6 +232,9 @@ pub(crate) struct JobOp {
     pub tip_offset: Option<f64>,
     /// Chamfer side, instead of the nesting's.
     pub side: Option<ChamferSide>,
+    /// Pocket and profile-in: a notch of the tool's radius in every inside corner.
+    #[serde(default)]
+    pub dogbone: bool,
 }
 
 /// Line (from 1) of byte offset `at` in `text`.

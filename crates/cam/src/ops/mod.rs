@@ -6,6 +6,7 @@
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
 //! - [`drill`]: canned cycles at circle centres;
 //! - [`chamfer`]: a V bit along the top edge of parts (outside) and holes (inside);
+//! - [`dogbones`]: notches of the tool's radius in the inside corners of pockets and holes;
 //! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
 //!   single-line strokes;
@@ -16,6 +17,7 @@
 
 mod chain;
 mod chamfer;
+mod dogbone;
 mod drill;
 mod entry;
 mod mill;
@@ -28,6 +30,7 @@ mod vcarve;
 
 pub use chain::{Chain, Piece};
 pub use chamfer::{chamfer, chamfer_regions, ChamferParams};
+pub use dogbone::dogbones;
 pub use drill::{drill, DrillParams};
 pub use entry::Entry;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
