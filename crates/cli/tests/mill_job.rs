@@ -521,3 +521,51 @@ fn dogbones_carry_the_tool_into_every_inside_corner() {
     assert!((d - 2.0 * 2f64.sqrt()).abs() < 0.05, "{d}");
     runs_on_the_vm(&dir, "part.nc");
 }
+
+/// The least X and Y of the feed moves in rs274's canon.
+fn feed_min_xy(canon: &Path) -> [f64; 2] {
+    let text = std::fs::read_to_string(canon).unwrap();
+    let mut m = [f64::INFINITY; 2];
+    for l in text.lines().filter(|l| l.contains("STRAIGHT_FEED(")) {
+        let args: Vec<f64> = l
+            .split('(')
+            .nth(1)
+            .unwrap()
+            .trim_end_matches(')')
+            .split(',')
+            .map(|v| v.trim().parse().unwrap())
+            .collect();
+        m = [m[0].min(args[0]), m[1].min(args[1])];
+    }
+    m
+}
+
+#[test]
+fn origin_at_the_stock_corner_moves_the_program_by_the_corner() {
+    let dir = job_dir("job-origin", &["nested-plate.svg", "nested-plate.toml"]);
+    let job = std::fs::read_to_string(dir.join("nested-plate.toml")).unwrap();
+    assert!(job.contains("corner = [-5, -5]"));
+    std::fs::write(
+        dir.join("corner.toml"),
+        job.replace(
+            "corner = [-5, -5]",
+            "corner = [-5, -5]\norigin = \"stock-corner\"",
+        ),
+    )
+    .unwrap();
+    for (file, out) in [("nested-plate.toml", "a.nc"), ("corner.toml", "b.nc")] {
+        let (code, o, err) = oficina_in(&dir, &["mill", "--job", file, "-o", out]);
+        assert_eq!(code, Some(0), "{o}\n{err}");
+        assert!(o.contains("gouge:    none"), "{o}");
+    }
+    let a = feed_min_xy(&canon_of(&dir.join("a.nc")));
+    let b = feed_min_xy(&canon_of(&dir.join("b.nc")));
+    assert!(
+        (b[0] - a[0] - 5.0).abs() < 1e-3 && (b[1] - a[1] - 5.0).abs() < 1e-3,
+        "{a:?} {b:?}"
+    );
+    assert!(
+        b[0] > 0.0 && b[1] > 0.0,
+        "the part sits on the stock: {b:?}"
+    );
+}

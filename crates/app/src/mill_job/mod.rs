@@ -11,7 +11,7 @@ mod select;
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use build::{build, Built, Frame};
-use model::{line_of, parse_job, JobOp, JobShape, OpKind, Order, ToolRef};
+use model::{line_of, parse_job, JobOp, JobShape, OpKind, Order, Origin, ToolRef};
 use oficina_cam::ops::preview_svg;
 use oficina_cam::{Library, Tool, ToolFeeds, Toolpath};
 use oficina_geom::{Arc, Path, Point, Segment};
@@ -279,6 +279,17 @@ pub fn mill_job(
             .map_err(|e| Error(format!("{name}: line {line}: [[shape]]: {e}")))?;
         layers.push((s.get_ref().layer.clone(), path));
     }
+    // Program zero at the stock's corner: every shape moves by −corner (the stock too).
+    let shift = match job.stock.origin {
+        Origin::Drawing => [0.0, 0.0],
+        Origin::StockCorner => job.stock.corner,
+    };
+    if shift != [0.0, 0.0] {
+        let m = oficina_geom::kurbo::Affine::translate((-shift[0], -shift[1]));
+        for (_, p) in layers.iter_mut() {
+            *p = p.transform(m);
+        }
+    }
     let shapes = number_shapes(layers);
     if shapes.is_empty() {
         return Err(Error(format!(
@@ -444,7 +455,10 @@ pub fn mill_job(
         });
     }
     if let Some([w, h]) = job.stock.size {
-        let [cx, cy] = job.stock.corner;
+        let [cx, cy] = [
+            job.stock.corner[0] - shift[0],
+            job.stock.corner[1] - shift[1],
+        ];
         if let Some(b) = toolpath_box(&whole) {
             if b[0] < cx - 1e-6 || b[1] < cy - 1e-6 || b[2] > cx + w + 1e-6 || b[3] > cy + h + 1e-6
             {

@@ -59,6 +59,20 @@ pub(crate) struct Stock {
     /// Lower-left corner in drawing coordinates, mm.
     #[serde(default)]
     pub corner: [f64; 2],
+    /// Where the program's X0 Y0 is.
+    #[serde(default)]
+    pub origin: Origin,
+}
+
+/// The program's XY zero.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum Origin {
+    /// The drawing's zero.
+    #[default]
+    Drawing,
+    /// The stock's lower-left corner (the drawing moves by −corner).
+    StockCorner,
 }
 
 /// A shape the job adds: a rectangle, rounded if asked (a plate around a drawing of
