@@ -92,7 +92,7 @@ pub(crate) fn shape_lines(drawing: &oficina_geom::Drawing) -> Vec<String> {
         .flat_map(|l| l.paths.iter().map(|p| (l.name.clone(), p.clone())))
         .collect();
     let n = layers.len();
-    let mut lines: Vec<String> = number_shapes(layers)
+    let mut lines: Vec<String> = number_shapes(layers, LISTED)
         .iter()
         .take(LISTED)
         .map(Shape::describe)
@@ -290,7 +290,7 @@ pub fn mill_job(
             *p = p.transform(m);
         }
     }
-    let shapes = number_shapes(layers);
+    let shapes = number_shapes(layers, usize::MAX);
     if shapes.is_empty() {
         return Err(Error(format!(
             "{name}: the drawing {} has no paths",

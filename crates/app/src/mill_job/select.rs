@@ -67,8 +67,9 @@ impl Shape {
     }
 }
 
-/// The shapes of `layers` (name, paths) numbered from 1, with their nesting.
-pub(crate) fn number_shapes(layers: Vec<(String, Path)>) -> Vec<Shape> {
+/// The shapes of `layers` (name, paths) numbered from 1, with their nesting (for the first
+/// `nest_limit` of them: a report that lists only so many need not test the rest).
+pub(crate) fn number_shapes(layers: Vec<(String, Path)>, nest_limit: usize) -> Vec<Shape> {
     let mut shapes: Vec<Shape> = layers
         .into_iter()
         .enumerate()
@@ -80,18 +81,26 @@ pub(crate) fn number_shapes(layers: Vec<(String, Path)>) -> Vec<Shape> {
             depth: 0,
         })
         .collect();
-    let rings: Vec<Option<Vec<[f64; 2]>>> = shapes
+    // Each closed ring with its box: a point outside the box is outside the ring.
+    let rings: Vec<Option<(Vec<[f64; 2]>, oficina_geom::Rect)>> = shapes
         .iter()
-        .map(|s| (s.path.closed && !s.path.is_empty()).then(|| to_ring(&s.path.flatten(1e-3))))
+        .map(|s| {
+            let b = s.path.bounding_box()?;
+            (s.path.closed && !s.path.is_empty()).then(|| (to_ring(&s.path.flatten(1e-3)), b))
+        })
         .collect();
-    for k in 0..shapes.len() {
+    for k in 0..shapes.len().min(nest_limit) {
         let Some(probe) = shapes[k].path.segments.first().map(|s| s.eval(0.5)) else {
             continue;
         };
         shapes[k].depth = rings
             .iter()
             .enumerate()
-            .filter(|(j, r)| *j != k && r.as_ref().is_some_and(|r| in_ring([probe.x, probe.y], r)))
+            .filter(|(j, r)| {
+                *j != k
+                    && r.as_ref()
+                        .is_some_and(|(r, b)| b.contains(probe) && in_ring([probe.x, probe.y], r))
+            })
             .count();
     }
     shapes
