@@ -263,6 +263,27 @@ flute_length = 15.0
     }
 
     #[test]
+    fn feeds_from_the_chip_load_else_the_tools_feed() {
+        let lib = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 1\nshape = \"flat\"\ndiameter = 6.0\nflutes = 3\nspindle_rpm = 10000.0\nfeed = 700.0\nchip_load = { Wood = 0.05 }\n",
+        )
+        .unwrap();
+        let t = lib.get(1).unwrap();
+        // 0.05 mm × 3 teeth × 10000 rev/min; the material's case does not matter.
+        let f = t.feeds(Some("wood")).unwrap();
+        assert!((f.feed - 1500.0).abs() < 1e-9 && (f.plunge_feed - 500.0).abs() < 1e-9);
+        assert_eq!(t.feeds(Some("steel")).unwrap().feed, 700.0);
+        assert_eq!(t.feeds(None).unwrap().feed, 700.0);
+        let err = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 2\nshape = \"flat\"\ndiameter = 6.0\nchip_load = { wood = -1.0 }\n",
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("chip_load.wood"), "{err}");
+    }
+
+    #[test]
     fn bad_entries_name_the_tool() {
         let err = Library::parse(
             "t.toml",
