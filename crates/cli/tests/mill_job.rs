@@ -569,3 +569,32 @@ fn origin_at_the_stock_corner_moves_the_program_by_the_corner() {
         "the part sits on the stock: {b:?}"
     );
 }
+
+#[test]
+fn an_engraving_is_checked_within_its_tool_radius_of_the_line() {
+    let dir = job_dir("job-engrave", &["nested-plate.svg", "nested-plate.toml"]);
+    let job = std::fs::read_to_string(dir.join("nested-plate.toml")).unwrap();
+    let mark = "\n[[op]]\nname = \"mark\"\nkind = \"engrave\"\nselect = { color = \"blue\" }\n\
+        tool = \"flat:1\"\ndepth = 0.5\nfeed = 600\nrpm = 18000\n";
+    std::fs::write(dir.join("mark.toml"), format!("{job}{mark}")).unwrap();
+    let (code, out, err) = oficina_in(&dir, &["mill", "--job", "mark.toml", "-o", "m.nc"]);
+    assert_eq!(code, Some(0), "{out}\n{err}");
+    assert!(
+        out.contains("gouge:    none") && !err.contains("not checked"),
+        "{out}\n{err}"
+    );
+    rs274::accepts_file(&dir.join("m.nc"), None);
+    // Alone (no cut-out around it to allow the waste), a lead-out arc swings the 1 mm mill
+    // 3 mm off the outline, whichever way the outline runs: the check sees it.
+    let solo = "drawing = \"nested-plate.svg\"\n[stock]\nthickness = 5\n\
+        [[op]]\nkind = \"engrave\"\nselect = { ids = [1] }\ntool = \"flat:1\"\n\
+        depth = 0.5\nfeed = 600\nrpm = 18000\n";
+    std::fs::write(dir.join("solo.toml"), solo).unwrap();
+    let (code, out, _) = oficina_in(&dir, &["mill", "--job", "solo.toml", "-o", "s.nc"]);
+    assert_eq!(code, Some(0), "{out}");
+    assert!(out.contains("gouge:    none"), "{out}");
+    std::fs::write(dir.join("off.toml"), format!("{solo}lead_out = 3\n")).unwrap();
+    let (code, out, _) = oficina_in(&dir, &["mill", "--job", "off.toml", "-o", "o.nc"]);
+    assert_eq!(code, Some(2), "{out}");
+    assert!(out.contains("← cut outside the drawing"), "{out}");
+}

@@ -5,9 +5,9 @@ use super::model::{ChamferSide, JobOp, OpKind};
 use super::select::Shape;
 use crate::mill::{EntryKind, PocketStrategy};
 use oficina_cam::ops::{
-    allowed_region, chamfer, chamfer_regions, dogbones, half_tan, operation, ChamferParams, Comp,
-    Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs,
-    VCarveParams, DEFAULT_LEAD_IN,
+    allowed_region, chamfer, chamfer_regions, dogbones, groove_region, half_tan, operation,
+    ChamferParams, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side,
+    Strategy, Tabs, VCarveParams, DEFAULT_LEAD_IN,
 };
 use oficina_cam::{Operation, Tool, ToolFeeds};
 use oficina_geom::Path;
@@ -131,17 +131,23 @@ pub(crate) fn build(
         _ => 0.0,
     };
     cut.depth = depth;
-    let designs = allowed_region(&paths, &mill_op)
-        .map_err(|e| e.to_string())?
-        .map(|(rings, cut_inside)| {
-            vec![Design {
-                rings,
-                cut_inside,
-                top: 0.0,
-                floor: cut.bottom(),
-                slope,
-            }]
-        });
+    let region = match op.kind {
+        // On the line: within the tool radius of it.
+        OpKind::ProfileOn | OpKind::Engrave => Some((
+            groove_region(&paths, d / 2.0).map_err(|e| e.to_string())?,
+            true,
+        )),
+        _ => allowed_region(&paths, &mill_op).map_err(|e| e.to_string())?,
+    };
+    let designs = region.map(|(rings, cut_inside)| {
+        vec![Design {
+            rings,
+            cut_inside,
+            top: 0.0,
+            floor: cut.bottom(),
+            slope,
+        }]
+    });
     Ok(Built {
         operation,
         designs,

@@ -393,8 +393,7 @@ pub fn mill_job(
     let checked = built.iter().all(|(b, _, _)| b.designs.is_some());
     if !checked {
         warnings.push(
-            "a cut on the line (profile-on, engrave) is its own design: the stock was not checked"
-                .into(),
+            "a V-carving of open strokes is its own design: the stock was not checked".into(),
         );
     }
     // The programs: all operations, or each tool's.
