@@ -520,6 +520,45 @@ fn dogbones_carry_the_tool_into_every_inside_corner() {
     let d = v["reach"][0].as_f64().unwrap();
     assert!((d - 2.0 * 2f64.sqrt()).abs() < 0.05, "{d}");
     runs_on_the_vm(&dir, "part.nc");
+    // The slot (x 5…25) with dogbones: the centre stays a radius/√2 inside its end wall.
+    assert!(slot_max_x(&dir.join("part.canon.txt")) < 24.0);
+    // T-bones: along the slot's long sides, so the centre comes level with the end wall
+    // (the notch runs past it) and the edge still reaches every corner.
+    let tbone = std::fs::read_to_string(dir.join("tenon-slots.toml"))
+        .unwrap()
+        .replace("dogbone = true", "dogbone = \"t-bone\"");
+    std::fs::write(dir.join("tbone.toml"), tbone).unwrap();
+    let (code, out, err) = oficina_in(&dir, &["mill", "--job", "tbone.toml", "-o", "t.nc"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.contains("gouge:    none"), "{out}");
+    let canon = canon_of(&dir.join("t.nc"));
+    let v = sides_json(
+        &canon,
+        &format!(r#"{{"ops": ["op 1 "], "rings": [], "points": {corners}}}"#),
+    );
+    for d in v["reach"].as_array().unwrap() {
+        assert!(d.as_f64().unwrap() <= 2.0 + 1e-3, "{d}");
+    }
+    assert!(slot_max_x(&canon) > 25.0 - 1e-3);
+}
+
+/// The largest X of the cutting feed moves' ends over the slot (x < 30) in rs274's canon.
+fn slot_max_x(canon: &Path) -> f64 {
+    let text = std::fs::read_to_string(canon).unwrap();
+    text.lines()
+        .filter(|l| l.contains("STRAIGHT_FEED(") || l.contains("ARC_FEED("))
+        .filter_map(|l| {
+            let a: Vec<f64> = l
+                .split('(')
+                .nth(1)?
+                .trim_end_matches(')')
+                .split(',')
+                .map(|v| v.trim().parse().unwrap())
+                .collect();
+            let z = if l.contains("ARC_FEED(") { a[5] } else { a[2] };
+            (a[0] < 30.0 && z < 0.0).then_some(a[0])
+        })
+        .fold(f64::MIN, f64::max)
 }
 
 /// The least X and Y of the feed moves in rs274's canon.

@@ -1,12 +1,12 @@
 //! One job operation → its cam operation and the region it may cut (for the stock check),
 //! reusing the single-operation ops of `oficina mill`.
 
-use super::model::{ChamferSide, JobOp, OpKind};
+use super::model::{ChamferSide, Dogbone, JobOp, OpKind};
 use super::select::Shape;
 use crate::mill::{EntryKind, PocketStrategy};
 use oficina_cam::ops::{
     allowed_region, chamfer, chamfer_regions, dogbones, groove_region, half_tan, operation,
-    ChamferParams, Comp, Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side,
+    ChamferParams, Comp, Cut, DrillParams, Entry, MillOp, Notch, PocketParams, ProfileParams, Side,
     Strategy, Tabs, VCarveParams, DEFAULT_LEAD_IN,
 };
 use oficina_cam::{Operation, Tool, ToolFeeds};
@@ -79,11 +79,19 @@ pub(crate) fn build(
         entry,
     };
     let mut paths: Vec<Path> = shapes.iter().map(|s| s.path.clone()).collect();
-    if op.dogbone {
+    let notch = match &op.dogbone {
+        None | Some(Dogbone::On(false)) => None,
+        Some(Dogbone::On(true)) => Some(Notch::Bisector),
+        Some(Dogbone::Style(s)) if s == "t-bone" => Some(Notch::LongerSide),
+        Some(Dogbone::Style(s)) => {
+            return Err(format!("dogbone = {s:?}: write true, false or \"t-bone\""))
+        }
+    };
+    if let Some(notch) = notch {
         if !matches!(op.kind, OpKind::Pocket | OpKind::ProfileIn) {
             return Err("dogbone: only pocket and profile-in have inside corners to notch".into());
         }
-        paths = dogbones(&paths, d / 2.0).map_err(|e| format!("dogbone: {e}"))?;
+        paths = dogbones(&paths, d / 2.0, notch).map_err(|e| format!("dogbone: {e}"))?;
     }
     let allowance = op.allowance.unwrap_or(0.2);
     let profile = |side| {

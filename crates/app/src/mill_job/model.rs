@@ -121,6 +121,16 @@ pub(crate) enum ChamferSide {
     Out,
 }
 
+/// `dogbone = true | false | "t-bone"`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub(crate) enum Dogbone {
+    /// On the bisector, or none.
+    On(bool),
+    /// A named style.
+    Style(String),
+}
+
 /// A tool by library number or by spec (`flat:3`).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(untagged)]
@@ -246,9 +256,9 @@ pub(crate) struct JobOp {
     pub tip_offset: Option<f64>,
     /// Chamfer side, instead of the nesting's.
     pub side: Option<ChamferSide>,
-    /// Pocket and profile-in: a notch of the tool's radius in every inside corner.
-    #[serde(default)]
-    pub dogbone: bool,
+    /// Pocket and profile-in: a notch of the tool's radius in every inside corner
+    /// (`true`: on the bisector; `"t-bone"`: along the longer side).
+    pub dogbone: Option<Dogbone>,
 }
 
 /// Line (from 1) of byte offset `at` in `text`.

@@ -15,9 +15,19 @@ const NOTCH_SCALE: f64 = 1.1;
 /// Sides of each notch's polygon.
 const NOTCH_SIDES: usize = 64;
 
+/// Where a corner's notch goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Notch {
+    /// On the corner's bisector (a dogbone).
+    Bisector,
+    /// Along the longer side past the corner (a T-bone): the short side's wall stays
+    /// straight all along, for a tenon seen from that side.
+    LongerSide,
+}
+
 /// `paths`' closed shapes (nested: islands are material) with a notch of `tool_radius` at
 /// every inside corner of the region between them, as closed polylines.
-pub fn dogbones(paths: &[Path], tool_radius: f64) -> Result<Vec<Path>, OpError> {
+pub fn dogbones(paths: &[Path], tool_radius: f64, notch: Notch) -> Result<Vec<Path>, OpError> {
     if !(tool_radius.is_finite() && tool_radius > 0.0) {
         return Err(OpError::Invalid(format!(
             "dogbones need a tool radius above 0 (got {tool_radius})"
@@ -34,6 +44,10 @@ pub fn dogbones(paths: &[Path], tool_radius: f64) -> Result<Vec<Path>, OpError> 
             let n = ring.len();
             for i in 0..n {
                 let (a, v, b) = (ring[(i + n - 1) % n], ring[i], ring[(i + 1) % n]);
+                let (l1, l2) = (
+                    (v[0] - a[0]).hypot(v[1] - a[1]),
+                    (b[0] - v[0]).hypot(b[1] - v[1]),
+                );
                 let d1 = unit([v[0] - a[0], v[1] - a[1]]);
                 let d2 = unit([b[0] - v[0], b[1] - v[1]]);
                 let (Some(d1), Some(d2)) = (d1, d2) else {
@@ -44,8 +58,17 @@ pub fn dogbones(paths: &[Path], tool_radius: f64) -> Result<Vec<Path>, OpError> 
                 if turn < MIN_TURN_DEG {
                     continue;
                 }
-                let Some(bis) = unit([d2[0] - d1[0], d2[1] - d1[1]]) else {
-                    continue;
+                // The centre: a tool radius in along the bisector, or on the longer side's
+                // offset line level with the corner (left normal: the region's side).
+                let bis = match notch {
+                    Notch::Bisector => match unit([d2[0] - d1[0], d2[1] - d1[1]]) {
+                        Some(b) => b,
+                        None => continue,
+                    },
+                    Notch::LongerSide => {
+                        let d = if l1 >= l2 { d1 } else { d2 };
+                        [-d[1], d[0]]
+                    }
                 };
                 let c = [v[0] + bis[0] * tool_radius, v[1] + bis[1] * tool_radius];
                 notches.push(circle(c, tool_radius * NOTCH_SCALE));

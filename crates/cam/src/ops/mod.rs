@@ -31,7 +31,7 @@ mod vcarve;
 
 pub use chain::{Chain, Piece};
 pub use chamfer::{chamfer, chamfer_regions, ChamferParams};
-pub use dogbone::dogbones;
+pub use dogbone::{dogbones, Notch};
 pub use drill::{drill, DrillParams};
 pub use entry::Entry;
 pub use groove::groove_region;
