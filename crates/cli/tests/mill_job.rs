@@ -334,6 +334,16 @@ fn bad_jobs_say_which_file_line_and_key() {
             ],
         ),
         (
+            "a chamfer without a V bit",
+            good.replace("tool = \"v:6:90\"", "tool = \"flat:3\""),
+            &[
+                "bad.toml",
+                "op 2 (deburr)",
+                "a chamfer needs a V bit",
+                "flat:3",
+            ],
+        ),
+        (
             "unknown kind",
             good.replace("kind = \"chamfer\"", "kind = \"chamfre\""),
             &["bad.toml", "chamfre", "chamfer"],

@@ -166,6 +166,12 @@ pub(crate) fn build(
 /// A chamfer: parts (even nesting depth) from outside, holes (odd) from inside, unless the
 /// op says which side.
 fn build_chamfer(name: &str, op: &JobOp, shapes: &[&Shape], mut cut: Cut) -> Result<Built, String> {
+    if !matches!(cut.tool.shape, oficina_cam::CutterShape::V { .. }) {
+        return Err(format!(
+            "tool: a chamfer needs a V bit (v:DIAMETER:ANGLE), not {}",
+            cut.tool.spec()
+        ));
+    }
     // Passes of half the bit's diameter unless asked: a chamfer is usually one pass.
     cut.stepdown = op.stepdown.unwrap_or(cut.tool.diameter / 2.0);
     let p = ChamferParams {
