@@ -33,6 +33,7 @@ mod check;
 mod controls;
 pub mod embroider;
 mod error;
+mod feeds;
 mod job;
 mod jog;
 mod judge;
@@ -40,6 +41,7 @@ mod level;
 mod machine_uri;
 mod macros;
 mod mill;
+mod mill_job;
 mod offsets;
 mod output;
 mod plan;
@@ -62,6 +64,7 @@ pub use check::{
 };
 pub use controls::MdiReply;
 pub use error::{Error, CANCELLED};
+pub use feeds::{library_tool, tool_feeds, FeedsAnswer, FeedsQuery, LibraryChoice};
 pub use job::{Feedback, ProgressFn};
 pub use judge::{Judged, GOUGE_REPORTED};
 pub use level::{
@@ -73,6 +76,7 @@ pub use machine_uri::{
 };
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
+pub use mill_job::{mill_job, JobOpReport, JobOptions, JobProgram, JobResult};
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
 pub use output::{
     check_output, check_output_dir, plot_extensions, refuse_overwriting_drawing, same_file,

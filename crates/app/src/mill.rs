@@ -174,6 +174,9 @@ pub struct MillResult {
     /// What was imported: paths, layers, units, loops and what stayed open (empty for
     /// `--text`).
     pub imported: Vec<String>,
+    /// The drawing's shapes with the ids a job's selections name them by (empty for
+    /// `--text`).
+    pub shapes: Vec<String>,
     /// The operation's name.
     pub op_name: &'static str,
     /// Moves in the toolpath.
@@ -205,8 +208,8 @@ pub fn mill(
     within("check-pixel", p.check_pixel, 0.01, 10.0)?;
     within("join-tol", p.join_tol, 0.0, oficina_io::MAX_JOIN_TOL)?;
     fb.stage("reading the drawing")?;
-    let (paths, warning, summary, closure) = match &p.text {
-        Some(text) => (text_paths(text, p.text_height)?, None, vec![], None),
+    let (paths, warning, summary, closure, shapes) = match &p.text {
+        Some(text) => (text_paths(text, p.text_height)?, None, vec![], None, vec![]),
         None => {
             let imported =
                 oficina_io::load_drawing_with(input, p.join_tol).map_err(|e| Error::chain(&e))?;
@@ -214,7 +217,8 @@ pub fn mill(
                 .then(|| format!("{}: {}", input.display(), imported.unsupported));
             let paths: Vec<oficina_geom::Path> = imported.drawing.paths().cloned().collect();
             let summary = imported.summary();
-            (paths, warning, summary, Some(imported.closure))
+            let shapes = crate::mill_job::shape_lines(&imported.drawing);
+            (paths, warning, summary, Some(imported.closure), shapes)
         }
     };
     if paths.is_empty() {
@@ -355,6 +359,7 @@ pub fn mill(
     Ok(MillResult {
         warning,
         imported: summary,
+        shapes,
         op_name: op.name(),
         moves: tp.move_count(),
         // Under G41/G42 the moves are the outline: show the compensated path the

@@ -40,7 +40,7 @@ mod surface;
 mod tool;
 mod toolpath;
 
-pub use library::Library;
+pub use library::{feed_rate, surface_speed, Library, LibraryTool, ToolFeeds};
 pub use raster::Feeds;
 pub use stock::{apply_moves, sweep_arc, sweep_line};
 pub use surface::{surface_grid, surface_rows, Kernel};

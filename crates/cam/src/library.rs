@@ -11,26 +11,68 @@
 //! feed = 2000.0          # mm/min
 //! plunge_feed = 500.0    # mm/min
 //! spindle_rpm = 18000.0
+//! flutes = 2
+//! chip_load = { aluminium = 0.03, wood = 0.1 }   # mm per tooth, per material
 //! ```
+//!
+//! With flutes and a chip load for the material, the feed is chip load × flutes × rpm
+//! ([`feed_rate`]); the library's `feed` is the fallback.
 
 use crate::tool::{CutterShape, Tool};
 use serde::{Deserialize, Serialize};
 
+/// One tool of the library.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LibraryTool {
+    /// Its number: the T word, and how jobs name it.
     pub number: u32,
+    /// What the workshop calls it.
     #[serde(default)]
     pub name: String,
+    /// The cutting end.
     #[serde(flatten)]
     pub shape: CutterShape,
+    /// Cutting diameter, mm.
     pub diameter: f64,
+    /// Flute length, mm.
     pub flute_length: Option<f64>,
+    /// Shank diameter, mm.
     pub shank_diameter: Option<f64>,
-    /// mm/min
+    /// Cutting feed, mm/min.
     pub feed: Option<f64>,
-    /// mm/min
+    /// Plunge feed, mm/min.
     pub plunge_feed: Option<f64>,
+    /// Spindle speed, rev/min.
     pub spindle_rpm: Option<f64>,
+    /// Cutting edges, for the feed from the chip load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flutes: Option<u32>,
+    /// Chip load (mm per tooth) by material name.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub chip_load: std::collections::BTreeMap<String, f64>,
+}
+
+/// Feed (mm/min) that gives each of `flutes` edges a chip of `chip_load` mm at `rpm`.
+pub fn feed_rate(chip_load: f64, flutes: u32, rpm: f64) -> f64 {
+    chip_load * flutes as f64 * rpm
+}
+
+/// Cutting speed at the edge (m/min) of a `diameter` mm tool at `rpm`.
+pub fn surface_speed(diameter: f64, rpm: f64) -> f64 {
+    std::f64::consts::PI * diameter * rpm / 1000.0
+}
+
+/// Spindle speed, feed and plunge feed for one tool and material, and where they came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ToolFeeds {
+    /// rev/min.
+    pub rpm: f64,
+    /// mm/min.
+    pub feed: f64,
+    /// mm/min.
+    pub plunge_feed: f64,
+    /// How the feed was found, for reports.
+    pub source: String,
 }
 
 /// The workshop's tools by number, with their feeds and speeds.
@@ -59,6 +101,35 @@ pub enum LibraryError {
 }
 
 impl LibraryTool {
+    /// The feeds for `material`: chip load × flutes × rpm when the library has a chip load
+    /// for it, else the tool's own feed; `None` when it has neither (or no rpm).
+    pub fn feeds(&self, material: Option<&str>) -> Option<ToolFeeds> {
+        let rpm = self.spindle_rpm?;
+        let from_chip = material.and_then(|m| {
+            let load = self
+                .chip_load
+                .iter()
+                .find(|(k, _)| k.eq_ignore_ascii_case(m))?
+                .1;
+            let flutes = self.flutes?;
+            Some((
+                feed_rate(*load, flutes, rpm),
+                format!("{load} mm/tooth × {flutes} flutes × {rpm} rpm ({m})"),
+            ))
+        });
+        let (feed, source) = match from_chip {
+            Some(f) => f,
+            None => (self.feed?, "the library's feed".to_string()),
+        };
+        Some(ToolFeeds {
+            rpm,
+            feed,
+            plunge_feed: self.plunge_feed.unwrap_or(feed / 3.0),
+            source,
+        })
+    }
+
+    /// The cutter this entry describes.
     pub fn tool(&self) -> Result<Tool, crate::tool::ToolError> {
         let mut tool = Tool::new(self.shape, self.diameter)?;
         if let Some(l) = self.flute_length {
@@ -93,6 +164,24 @@ impl Library {
                 number: t.number,
                 message: e.to_string(),
             })?;
+            if t.flutes == Some(0) {
+                return Err(LibraryError::Tool {
+                    path: path.into(),
+                    number: t.number,
+                    message: "flutes must be 1 or more".into(),
+                });
+            }
+            for (material, load) in &t.chip_load {
+                if !(load.is_finite() && *load > 0.0 && *load < 5.0) {
+                    return Err(LibraryError::Tool {
+                        path: path.into(),
+                        number: t.number,
+                        message: format!(
+                            "chip_load.{material} must be above 0 and below 5 mm, got {load}"
+                        ),
+                    });
+                }
+            }
             for (what, v) in [
                 ("feed", t.feed),
                 ("plunge_feed", t.plunge_feed),
@@ -171,6 +260,27 @@ flute_length = 15.0
         assert_eq!(lib.get(3).unwrap().tool().unwrap().flute_length, 15.0);
         let again = Library::parse("again", &lib.to_toml()).unwrap();
         assert_eq!(again, lib);
+    }
+
+    #[test]
+    fn feeds_from_the_chip_load_else_the_tools_feed() {
+        let lib = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 1\nshape = \"flat\"\ndiameter = 6.0\nflutes = 3\nspindle_rpm = 10000.0\nfeed = 700.0\nchip_load = { Wood = 0.05 }\n",
+        )
+        .unwrap();
+        let t = lib.get(1).unwrap();
+        // 0.05 mm × 3 teeth × 10000 rev/min; the material's case does not matter.
+        let f = t.feeds(Some("wood")).unwrap();
+        assert!((f.feed - 1500.0).abs() < 1e-9 && (f.plunge_feed - 500.0).abs() < 1e-9);
+        assert_eq!(t.feeds(Some("steel")).unwrap().feed, 700.0);
+        assert_eq!(t.feeds(None).unwrap().feed, 700.0);
+        let err = Library::parse(
+            "t.toml",
+            "[[tool]]\nnumber = 2\nshape = \"flat\"\ndiameter = 6.0\nchip_load = { wood = -1.0 }\n",
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("chip_load.wood"), "{err}");
     }
 
     #[test]

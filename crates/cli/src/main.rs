@@ -22,6 +22,7 @@ mod gcode_input;
 mod level;
 mod machine_profile;
 mod mill;
+mod mill_job;
 mod peak_memory;
 mod plan;
 mod plot;
@@ -30,6 +31,7 @@ mod run;
 mod serve;
 mod sole;
 mod tool_change;
+mod tools_cmd;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -80,6 +82,15 @@ enum Command {
     Serve(serve::Args),
     /// Embroidery: SVG/DXF → running/satin/fill stitches → hoop, sheet, DST/EXP, table run.
     Embroider(embroider::Args),
+    /// The tool library: feeds and speeds from chip load × flutes × rpm.
+    #[command(subcommand)]
+    Tools(ToolsCommand),
+}
+
+#[derive(Subcommand)]
+enum ToolsCommand {
+    /// Feed and cutting speed of a library tool for a material, or of numbers given by hand.
+    Feeds(tools_cmd::FeedsArgs),
 }
 
 #[derive(Subcommand)]
@@ -137,6 +148,7 @@ fn main() -> ExitCode {
         Command::Plot(args) => plot::run(args),
         Command::Serve(args) => serve::run(args),
         Command::Embroider(args) => embroider::run(args),
+        Command::Tools(ToolsCommand::Feeds(args)) => tools_cmd::feeds(args),
         Command::Bench(which) => match which {
             BenchCommand::Gcode(args) => bench_gcode::run(args).map(|()| ExitCode::SUCCESS),
             BenchCommand::Stream(args) => bench_stream::run(args).map(|()| ExitCode::SUCCESS),

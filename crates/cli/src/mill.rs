@@ -11,8 +11,15 @@ use std::path::PathBuf;
 #[derive(ClapArgs, Debug)]
 pub(crate) struct Args {
     /// Drawing: SVG or DXF (closed paths are contours; circles are holes for --op drill).
-    #[arg(required_unless_present = "text")]
+    #[arg(required_unless_present_any = ["text", "job"])]
     pub input: Option<PathBuf>,
+    /// A job file (TOML): the drawing, stock, tool library and operations in order →
+    /// one program with its tool changes (docs/cam-jobs.md). Replaces INPUT, --op, --tool…
+    #[arg(long, conflicts_with_all = ["input", "text", "op"])]
+    pub job: Option<PathBuf>,
+    /// With --job: one program per tool (OUTPUT.T1.nc, …) instead of one with tool changes.
+    #[arg(long, requires = "job")]
+    pub per_tool: bool,
     /// Rest machining after a pocket or profile-in: this smaller tool (number
     /// --tool-number + 1) cuts what the first could not reach (flat:1, …).
     #[arg(long)]
@@ -27,16 +34,23 @@ pub(crate) struct Args {
     /// floors, mm (sets the spacing of the passes).
     #[arg(long, default_value_t = 0.05)]
     pub leftover: f64,
-    #[arg(long, value_enum)]
-    pub op: MillOpKind,
-    /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D].
+    #[arg(long, value_enum, required_unless_present = "job")]
+    pub op: Option<MillOpKind>,
+    /// Tool: flat:D, ball:D, v:D:ANGLE … [,flute=L,shank=D], or with --library its number.
     #[arg(long, default_value = "flat:6")]
     pub tool: String,
+    /// Tool library (TOML [[tool]] tables): --tool N is its tool N, whose number, rpm and
+    /// feeds (chip load × flutes × rpm for --material) the program takes unless given.
+    #[arg(long)]
+    pub library: Option<PathBuf>,
+    /// Material for the library's chip loads (aluminium, wood, … as the library names them).
+    #[arg(long, requires = "library")]
+    pub material: Option<String>,
     #[arg(long, default_value_t = 1)]
     pub tool_number: u32,
     /// Depth below the stock top, mm.
-    #[arg(long)]
-    pub depth: f64,
+    #[arg(long, required_unless_present = "job")]
+    pub depth: Option<f64>,
     /// Largest depth per pass, mm (default: half the tool diameter).
     #[arg(long)]
     pub stepdown: Option<f64>,
@@ -49,14 +63,15 @@ pub(crate) struct Args {
     /// Stock left by the depth passes for one finishing pass at full depth, mm.
     #[arg(long, default_value_t = 0.2)]
     pub allowance: f64,
-    /// Cutting feed, mm/min.
-    #[arg(long, default_value_t = 800.0)]
-    pub feed: f64,
+    /// Cutting feed, mm/min (default: the library's, else 800).
+    #[arg(long)]
+    pub feed: Option<f64>,
     /// Ramp, helix and plunge feed, mm/min (default: a third of --feed).
     #[arg(long)]
     pub plunge_feed: Option<f64>,
-    #[arg(long, default_value_t = 12000.0)]
-    pub rpm: f64,
+    /// Spindle speed, rev/min (default: the library's, else 12000).
+    #[arg(long)]
+    pub rpm: Option<f64>,
     /// How cuts go down into material. `plunge` only for tools that cut under their centre.
     #[arg(long, value_enum, default_value = "ramp")]
     pub entry: EntryKind,
@@ -165,6 +180,12 @@ pub(crate) fn print_judged(j: &Judged) {
 
 pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     check_output("mill", "-o", &args.output, PROGRAM_EXTENSIONS)?;
+    if let Some(job) = &args.job {
+        return crate::mill_job::run(job, &args);
+    }
+    let (Some(op), Some(depth)) = (args.op, args.depth) else {
+        anyhow::bail!("mill: --op and --depth are needed without --job");
+    };
     // The preview beside the program (part.svg for part.nc), or part.preview.svg when that
     // name is the drawing being milled: the usual `mill part.svg -o part.nc` just works.
     let preview = args.preview.clone().unwrap_or_else(|| {
@@ -180,11 +201,26 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     if let Some(input) = &args.input {
         oficina_app::refuse_overwriting_drawing(input, &[&args.output, &preview, &stock_png])?;
     }
+    // A library tool: its spec, number and feeds, each unless given on the line.
+    let (tool, tool_number, feeds) = match &args.library {
+        Some(lib) => {
+            let n: u32 = args.tool.parse().map_err(|_| {
+                anyhow::anyhow!(
+                    "--tool {}: with --library give the tool's number",
+                    args.tool
+                )
+            })?;
+            let c = oficina_app::library_tool(lib, n, args.material.as_deref())
+                .map_err(|e| anyhow::anyhow!(e.0))?;
+            (c.spec, n, c.feeds)
+        }
+        None => (args.tool.clone(), args.tool_number, None),
+    };
     let params = MillParams {
-        op: args.op,
-        tool: args.tool.clone(),
-        tool_number: args.tool_number,
-        depth: args.depth,
+        op,
+        tool,
+        tool_number,
+        depth,
         stepdown: args.stepdown,
         stepover: args.stepover,
         strategy: if args.strategy == "zigzag" {
@@ -193,9 +229,15 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
             PocketStrategy::Offset
         },
         allowance: args.allowance,
-        feed: args.feed,
-        plunge_feed: args.plunge_feed,
-        rpm: args.rpm,
+        feed: args
+            .feed
+            .or(feeds.as_ref().map(|f| f.feed))
+            .unwrap_or(800.0),
+        plunge_feed: args.plunge_feed.or(feeds.as_ref().map(|f| f.plunge_feed)),
+        rpm: args
+            .rpm
+            .or(feeds.as_ref().map(|f| f.rpm))
+            .unwrap_or(12000.0),
         entry: args.entry,
         ramp_angle: args.ramp_angle,
         helix_radius: args.helix_radius,
@@ -230,6 +272,9 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     bar.suspend(|| {
         for l in &r.imported {
             println!("imported: {l}");
+        }
+        for l in &r.shapes {
+            println!("shape:    {l}");
         }
     });
     std::fs::write(&args.output, &r.judged.program)

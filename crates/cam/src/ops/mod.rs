@@ -5,6 +5,8 @@
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
 //! - [`drill`]: canned cycles at circle centres;
+//! - [`chamfer`]: a V bit along the top edge of parts (outside) and holes (inside);
+//! - [`dogbones`]: notches of the tool's radius in the inside corners of pockets and holes;
 //! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
 //!   single-line strokes;
@@ -14,8 +16,11 @@
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
 mod chain;
+mod chamfer;
+mod dogbone;
 mod drill;
 mod entry;
+mod groove;
 mod mill;
 mod pocket;
 mod preview;
@@ -25,8 +30,11 @@ mod sole;
 mod vcarve;
 
 pub use chain::{Chain, Piece};
+pub use chamfer::{chamfer, chamfer_regions, ChamferParams};
+pub use dogbone::{dogbones, Notch};
 pub use drill::{drill, DrillParams};
 pub use entry::Entry;
+pub use groove::groove_region;
 pub use mill::{allowed_region, operation, toolpath, MillOp, GOUGE_TOL};
 pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::{preview_canon_svg, preview_svg};

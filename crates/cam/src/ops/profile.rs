@@ -7,7 +7,7 @@ use super::chain::{inside, max_profile, Chain, Piece, P};
 use super::entry::enter_open;
 use super::{Builder, Cut, OpError, RAPID_GAP};
 use crate::{CompSide, Move, Operation};
-use oficina_geom::{offset_areas, Area, Path};
+use oficina_geom::{offset_areas, oriented, Area, Path};
 
 /// Which side of the line the tool cuts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,12 +75,31 @@ pub const DEFAULT_LEAD_IN: f64 = 1.0;
 pub(super) const OFFSET_TOL: f64 = 0.001;
 
 /// The tool-centre loops for `side` at wall distance `d` (≥ 0) from the contours.
+/// Inside and outside follow the nesting (Estlcam's part mode): cutting a part out
+/// (`Outside`) runs outside its outline and inside the holes it contains, outside the
+/// islands in those holes again; `Inside` is the mirror. Loops come innermost first, so a
+/// hole is cut while its part is still held by the stock.
 pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Chain>, OpError> {
+    Ok(nested_loops(paths, side, d, true)?
+        .into_iter()
+        .map(|(_, c)| c)
+        .collect())
+}
+
+/// [`contour_loops`] with each loop's nesting depth (how many loops contain it); only the
+/// outermost loop of each area unless `nested` (under cutter compensation the control's
+/// entry and exit moves need more room than a hole of a part usually has).
+fn nested_loops(
+    paths: &[Path],
+    side: Side,
+    d: f64,
+    nested: bool,
+) -> Result<Vec<(usize, Chain)>, OpError> {
     match side {
         Side::On => Ok(paths
             .iter()
-            .map(Chain::from_path)
-            .filter(|c| !c.pieces.is_empty())
+            .map(|p| (0, Chain::from_path(p)))
+            .filter(|(_, c)| !c.pieces.is_empty())
             .collect()),
         Side::Inside | Side::Outside => {
             let areas = Area::from_paths(paths);
@@ -92,20 +111,49 @@ pub(super) fn contour_loops(paths: &[Path], side: Side, d: f64) -> Result<Vec<Ch
             let dist = if side == Side::Outside { d } else { -d };
             let out = offset_areas(&areas, dist, OFFSET_TOL)
                 .map_err(|e| OpError::Geometry(e.to_string()))?;
-            Ok(out
-                .iter()
-                .map(|a| {
-                    let c = Chain::from_path(&a.outer);
-                    if side == Side::Outside {
-                        c.reversed()
-                    } else {
-                        c
-                    }
-                })
-                .filter(|c| !c.pieces.is_empty())
-                .collect())
+            // Climb milling: the tool runs clockwise round material inside the loop and
+            // counter-clockwise round waste inside it.
+            let mut loops: Vec<(usize, Chain)> = Vec::new();
+            for a in &out {
+                loops.push((
+                    0,
+                    Chain::from_path(&oriented(&a.outer, side == Side::Inside)),
+                ));
+                for h in a.holes.iter().filter(|_| nested) {
+                    loops.push((0, Chain::from_path(&oriented(h, side == Side::Outside))));
+                }
+            }
+            loops.retain(|(_, c)| !c.pieces.is_empty());
+            let rings: Vec<Vec<P>> = loops.iter().map(|(_, c)| c.polygon(OFFSET_TOL)).collect();
+            for (k, (depth, c)) in loops.iter_mut().enumerate() {
+                let probe = c.start();
+                *depth = rings
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, r)| j != k && inside(std::slice::from_ref(r), probe))
+                    .count();
+            }
+            // Deepest first; the stable sort keeps the drawing's order within a depth.
+            loops.sort_by_key(|(depth, _)| std::cmp::Reverse(*depth));
+            Ok(loops)
         }
     }
+}
+
+/// Deepest loops first, nearest-neighbour order from `from` within each depth.
+fn order_nested(mut loops: Vec<(usize, Chain)>, mut from: [f64; 2]) -> Vec<Chain> {
+    let mut out = Vec::with_capacity(loops.len());
+    loops.sort_by_key(|(depth, _)| std::cmp::Reverse(*depth));
+    while let Some(&(depth, _)) = loops.first() {
+        let n = loops.iter().take_while(|(d, _)| *d == depth).count();
+        let group: Vec<Chain> = loops.drain(..n).map(|(_, c)| c).collect();
+        let ordered = order_nearest(group, from);
+        if let Some(last) = ordered.last() {
+            from = last.end();
+        }
+        out.extend(ordered);
+    }
+    out
 }
 
 /// Nearest-neighbour order from `from`.
@@ -171,25 +219,47 @@ pub fn profile(
             cut.tool.diameter
         )));
     }
-    let rough = contour_loops(paths, p.side, shift + p.allowance)?;
+    let rough = order_nested(
+        nested_loops(paths, p.side, shift + p.allowance, !control)?,
+        [0.0, 0.0],
+    );
     let mut b = Builder::new(cut.clear_z);
     let rings = loop_rings(&rough);
     let hints = comp_hints(paths, p, r + p.allowance)?;
-    for chain in order_nearest(rough, [0.0, 0.0]) {
+    for chain in rough {
         let centre = hint_for(&chain, &hints);
         let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
-        passes(&mut b, &chain, centre, lead, cut, p, &cut.levels())?;
+        passes(
+            &mut b,
+            &chain,
+            centre,
+            (lead, &rings),
+            cut,
+            p,
+            &cut.levels(),
+        )?;
     }
     if finishing {
-        let finish = contour_loops(paths, p.side, shift)?;
+        let finish = order_nested(
+            nested_loops(paths, p.side, shift, !control)?,
+            [b.at[0], b.at[1]],
+        );
         let rings = loop_rings(&finish);
         let hints = comp_hints(paths, p, r)?;
-        for chain in order_nearest(finish, [b.at[0], b.at[1]]) {
+        for chain in finish {
             // One pass at full depth, ramping down along the wall: only the allowance
             // is left there.
             let centre = hint_for(&chain, &hints);
             let (chain, lead) = lead_in(chain, p, &rings, r - shift, centre.map(Chain::start));
-            passes(&mut b, &chain, centre, lead, cut, p, &[cut.bottom()])?;
+            passes(
+                &mut b,
+                &chain,
+                centre,
+                (lead, &rings),
+                cut,
+                p,
+                &[cut.bottom()],
+            )?;
         }
     }
     Ok(cut.operation(name, b.finish(cut.clear_z)))
@@ -247,8 +317,9 @@ fn comp_hints(paths: &[Path], p: &ProfileParams, d: f64) -> Result<Vec<Chain>, O
     if p.comp == Comp::Computer {
         return Ok(vec![]);
     }
-    Ok(contour_loops(paths, p.side, d)?
+    Ok(nested_loops(paths, p.side, d, false)?
         .iter()
+        .map(|(_, c)| c)
         .map(|c| c.rotated(preferred_start(c)))
         .collect())
 }
@@ -286,8 +357,11 @@ pub(super) fn lead_in_arc(
         return None;
     }
     let waste_inside = p.side == Side::Inside;
-    let mut radius = p.lead_in + extra;
+    // Under compensation only the tool centre's part of the radius is halved: the control
+    // refuses an arc no wider than the tool on the side the tool runs.
+    let mut lead = p.lead_in;
     for _ in 0..4 {
+        let radius = lead + extra;
         let c = [s[0] - t[1] * radius, s[1] + t[0] * radius];
         // Angle of C − R·t seen from C is atan2(−t); a quarter turn counter-clockwise.
         let arc = Piece::Arc {
@@ -301,7 +375,7 @@ pub(super) fn lead_in_arc(
         if fits {
             return Some(arc);
         }
-        radius /= 2.0;
+        lead /= 2.0;
     }
     None
 }
@@ -315,7 +389,7 @@ fn passes(
     b: &mut Builder,
     chain: &Chain,
     centre: Option<&Chain>,
-    lead: Option<Piece>,
+    (lead, rings): (Option<Piece>, &[Vec<P>]),
     cut: &Cut,
     p: &ProfileParams,
     levels: &[f64],
@@ -419,7 +493,7 @@ fn passes(
     let ended = chain.rotated(to_outline(s));
     if p.lead_out > 0.0 {
         let extra = if comp { cut.radius() } else { 0.0 };
-        lead_out(b, &ended, p.lead_out + extra, cut.feed);
+        lead_out(b, &ended, p.lead_out + extra, cut.feed, (rings, p.side));
     }
     if comp {
         // Straight off along the left normal at the loop's end (where a lead-out arc ends
@@ -488,8 +562,17 @@ fn tab_profile(t: Tabs, cut: &Cut, len: f64, base: &[(f64, f64)], angle: f64) ->
     res
 }
 
-/// A quarter arc off the wall to the left of travel (the waste side when climb milling).
-fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
+/// A quarter arc off the wall to the left of travel (the waste side when climb milling),
+/// halved up to three times until every point of it lies on the waste side of `rings`
+/// (outside them for `Side::Outside`, inside for `Side::Inside`): in a small hole a full
+/// arc would swing the tool into the far wall. Left out if even an eighth does not fit.
+fn lead_out(
+    b: &mut Builder,
+    chain: &Chain,
+    radius: f64,
+    feed: f64,
+    (rings, side): (&[Vec<P>], Side),
+) {
     let Some(last) = chain.pieces.last() else {
         return;
     };
@@ -498,13 +581,30 @@ fn lead_out(b: &mut Builder, chain: &Chain, radius: f64, feed: f64) {
     if tx == 0.0 && ty == 0.0 {
         return;
     }
-    // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
-    let centre = [end[0] - ty * radius, end[1] + tx * radius];
-    let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];
-    b.push(Move::Arc {
-        to,
-        center: centre,
-        ccw: true,
-        feed,
-    });
+    let mut radius = radius;
+    for _ in 0..4 {
+        // Left normal (−ty, tx); the arc turns left: counter-clockwise about the centre.
+        let centre = [end[0] - ty * radius, end[1] + tx * radius];
+        let arc = Piece::Arc {
+            c: centre,
+            r: radius,
+            a0: ty.atan2(tx) - std::f64::consts::FRAC_PI_2,
+            sweep: std::f64::consts::FRAC_PI_2,
+        };
+        let n = 32;
+        let fits = side == Side::On
+            || (1..=n)
+                .all(|k| inside(rings, arc.at(k as f64 / n as f64)) == (side == Side::Inside));
+        if fits {
+            let to = [centre[0] + tx * radius, centre[1] + ty * radius, b.at[2]];
+            b.push(Move::Arc {
+                to,
+                center: centre,
+                ccw: true,
+                feed,
+            });
+            return;
+        }
+        radius /= 2.0;
+    }
 }
