@@ -337,6 +337,16 @@ good('spline_inverse_time', '(G93: a spline takes its F like an arc; rs274 print
 bad('spline_inverse_time_without_f', 'G21 G17 G90 G93\nG1 X1 F2\nG5.1 X30 Y0 I5 J5\nM2\n')
 
 
+# Classes found on LinuxCNC's own tests/interp, tests/ccomp, tests/oword and nc_files
+# (issue 27 item 1, measured by scripts/lcnc-agreement). Written here, not copied.
+good('lcnc_exists_numbered', prog('(EXISTS on a numbered parameter: 1 for #1 to #5601, the number may be an expression)', '#1 = 2', '#2 = 99999', 'G0 X[EXISTS[#1]] Y[EXISTS[#99999]] Z[EXISTS[##1]]', 'G0 A[EXISTS[##2]] B[EXISTS[#[2+3]]] C[EXISTS[#5601] + EXISTS[#5602]]'))
+bad('lcnc_exists_numbered_out_of_range', 'G21 G17 G90\n#1 = 2\n#2 = 99999\nG0 X[EXISTS[###1]]\nG0 Y[EXISTS[##2]] Z[EXISTS[###2]]\nM2\n')
+good('lcnc_comment_leading_blanks', prog('(   three blanks before the text)', '(\ta tab before it)', 'G0 X1 (  inline, blanks first)', '(MSG,  a message keeps its blanks)'))
+good('lcnc_oword_call_comments_indirect', '(comments between the arguments of a call; o#<name> and o[expr] as the label)\nG21 G17 G90 G94 G40 G49 G80 G54\no<s> sub\nG0 X#1 Y#2\no<s> endsub\no<s> call [1] (between the arguments) [2] (and after)\n#<sub> = 7\no7 sub\nG0 X7 Z#1\no7 endsub\no#<sub> call [3]\no[#<sub>] call [4]\nM2\n')
+good('lcnc_fanuc_named_program', '%\n(a Fanuc-style program named O<name>: a program number, nothing to run)\nO<Part_One>\nG21 G0 X1\nM30\n%\n')
+good('lcnc_oword_return_other_label', '(return inside an if of a subroutine: the label is the if\'s, rs274 returns from the subroutine)\nG21 G17 G90 G94 G40 G49 G80 G54\no100 sub\no110 if [#1 GT 0]\no110   return [10*#1]\no110 endif\no120 if [#1 LT 0]\no120   return\no120 endif\no100 endsub [99]\no100 call [2]\nG0 X#<_value> Y#<_value_returned>\no100 call [-1]\nG0 X#<_value> Y#<_value_returned>\no100 call [0]\nG0 X#<_value> Y#<_value_returned>\nM2\n')
+good('lcnc_comp_queued_calls', '(under cutter compensation rs274 queues comments, feed, coolant, spindle and dwell behind the held move; M2 issues what is held)\nG21 G17 G90 G94 G40 G49 G80 G54\nT1 M6\nG0 X-10 Y-10 Z5\nG41 G1 X0 Y0 F100\nX20 (along the bottom)\nF150\nM8\nS1000 M3\nG4 P0.5\n(MSG, messages are not held)\nY20\nM9 M5\nX0 (back)\nG0 Z2\nM2\n')
+
 def write_all():
     for sub in ("", "bad"):
         d = os.path.join(ROOT, sub)
@@ -353,5 +363,20 @@ def write_all():
     print(f"wrote {len(GOOD)} good and {len(BAD)} bad programs under {os.path.normpath(ROOT)}")
 
 
+def write_only(prefix):
+    """Write the programs whose name starts with `prefix`, leaving the rest of the corpus
+    (hand-written programs included) as it is."""
+    for sub, progs in (("", GOOD), ("bad", BAD)):
+        for name, text in progs.items():
+            if name.startswith(prefix):
+                with open(os.path.join(ROOT, sub, name + ".ngc"), "w") as f:
+                    f.write(text)
+
+
 if __name__ == "__main__":
-    write_all()
+    import sys
+
+    if len(sys.argv) > 2 and sys.argv[1] == "--only":
+        write_only(sys.argv[2])
+    else:
+        write_all()

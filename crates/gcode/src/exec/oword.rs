@@ -471,7 +471,9 @@ impl<R: BufRead + Seek> Executor<R> {
 
     fn return_from(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
-        let Some(frame) = self.calls.last() else {
+        // rs274 2.9 returns from the running subroutine whatever the label: `o1010 return`
+        // inside `o1010 if` of `o1000 sub` returns from o1000 (execute_return on the frame).
+        if self.calls.is_empty() {
             return Err(self
                 .err(
                     o,
@@ -481,16 +483,6 @@ impl<R: BufRead + Seek> Executor<R> {
                     "{name} {} belongs between {name} sub and {name} endsub",
                     o.keyword.name()
                 )));
-        };
-        if frame.label != o.label {
-            return Err(self.err(
-                o,
-                format!(
-                    "{name} {} inside subroutine {}",
-                    o.keyword.name(),
-                    OWord::display_label(&frame.label)
-                ),
-            ));
         }
         let value = match o.args.first() {
             Some(e) => Some(eval(e, params)?),

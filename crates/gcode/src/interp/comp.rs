@@ -9,7 +9,8 @@ use super::state::Side;
 use super::words::{g_group as G, slot, Decoded};
 use super::{Interpreter, Sink};
 use crate::diag::Diagnostic;
-use oficina_canon::Plane;
+use oficina_canon::{Canon, CanonOp, Plane};
+use std::cell::RefCell;
 
 type P2 = [f64; 2];
 
@@ -65,10 +66,57 @@ pub(crate) struct CompState {
     /// The next move is the entry move.
     entry: bool,
     pending: Option<Seg>,
-    /// Moves without XY motion that came after `pending`: they run at its (final) XY end.
-    tail: Vec<([f64; 6], bool)>,
+    /// What came after `pending`, in program order: moves without XY motion (they run at
+    /// its final XY end) and the calls rs274 queues behind a held move (see [`queued`]).
+    /// A RefCell because [`Interpreter::emit`] takes `&self`.
+    tail: RefCell<Vec<Held>>,
     /// The plane's two axes (indices into positions): X Y under G17, Z X under G18.
     axes: Axes,
+}
+
+/// One entry of [`CompState::tail`].
+#[derive(Clone, Debug)]
+enum Held {
+    Move([f64; 6], bool),
+    Op(Canon),
+}
+
+/// Whether rs274 queues this call behind a move held by cutter compensation rather than
+/// issuing it at once (interp_queue.cc: the `enqueue_*` functions; MESSAGE and the others
+/// go out at once).
+fn queued(op: &CanonOp) -> bool {
+    matches!(
+        op,
+        CanonOp::SetFeedRate(_)
+            | CanonOp::SetFeedMode(_)
+            | CanonOp::Dwell(_)
+            | CanonOp::MistOn
+            | CanonOp::MistOff
+            | CanonOp::FloodOn
+            | CanonOp::FloodOff
+            | CanonOp::StartSpindle(_)
+            | CanonOp::StopSpindle
+            | CanonOp::OrientSpindle { .. }
+            | CanonOp::WaitOrientComplete(_)
+            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::Comment(_)
+    )
+}
+
+/// Most entries held behind a segment; more are issued at once (bounded memory).
+const MAX_HELD: usize = 4096;
+
+impl CompState {
+    /// Hold `op` behind the held segment if rs274 would; gives it back otherwise.
+    pub(crate) fn hold(&self, op: Canon) -> Option<Canon> {
+        let mut tail = self.tail.borrow_mut();
+        if self.pending.is_some() && queued(&op.op) && tail.len() < MAX_HELD {
+            tail.push(Held::Op(op));
+            None
+        } else {
+            Some(op)
+        }
+    }
 }
 
 impl Default for CompState {
@@ -77,7 +125,7 @@ impl Default for CompState {
             point: [0.0; 2],
             entry: false,
             pending: None,
-            tail: Vec::new(),
+            tail: RefCell::new(Vec::new()),
             axes: (0, 1),
         }
     }
@@ -278,7 +326,7 @@ impl Interpreter {
             axes,
             entry: true,
             pending: None,
-            tail: Vec::new(),
+            tail: RefCell::new(Vec::new()),
         };
         Ok(())
     }
@@ -294,10 +342,15 @@ impl Interpreter {
     /// Emit the held XY-less moves at the XY of `at`; returns the last point.
     fn emit_tail(&mut self, sink: Sink, at: [f64; 6]) -> [f64; 6] {
         let mut last = at;
-        for (mut p, feed) in std::mem::take(&mut self.comp.tail) {
-            put2(&mut p, self.comp.axes, get2(&at, self.comp.axes));
-            self.emit_straight(sink, feed, p);
-            last = p;
+        for held in self.comp.tail.take() {
+            match held {
+                Held::Move(mut p, feed) => {
+                    put2(&mut p, self.comp.axes, get2(&at, self.comp.axes));
+                    self.emit_straight(sink, feed, p);
+                    last = p;
+                }
+                Held::Op(op) => sink(op),
+            }
         }
         last
     }
@@ -450,8 +503,9 @@ impl Interpreter {
         if len(sub(target, prog)) < 1e-12 {
             // No XY motion: keep the tool centre where it is, move the other axes.
             put2(&mut out, ax, self.comp.point);
-            if self.comp.pending.is_some() && self.comp.tail.len() < MAX_TAIL {
-                self.comp.tail.push((out, feed));
+            let moves = self.comp.tail.borrow().iter().filter(|h| matches!(h, Held::Move(..))).count();
+            if self.comp.pending.is_some() && moves < MAX_TAIL {
+                self.comp.tail.borrow_mut().push(Held::Move(out, feed));
             } else {
                 self.comp_flush(sink);
                 self.emit_straight(sink, feed, out);

@@ -179,10 +179,13 @@ impl Interpreter {
     }
 
     pub(crate) fn emit(&self, sink: Sink, op: CanonOp) {
-        sink(Canon {
+        let op = Canon {
             line: self.line,
             op,
-        });
+        };
+        if let Some(op) = self.comp.hold(op) {
+            sink(op);
+        }
     }
 
     /// An error at `span`; in the grbl dialect it carries grbl's error number.
@@ -735,6 +738,8 @@ impl Interpreter {
 
     /// M2 / M30: LinuxCNC's end-of-program resets, then the end itself.
     fn end_program(&mut self, params: &mut Params, sink: Sink) {
+        // rs274 issues what cutter compensation holds before it resets anything.
+        self.comp_flush(sink);
         self.modal.coord_system = 1;
         self.load_coord_system(params, 1);
         self.emit_coord_system(sink, false);
