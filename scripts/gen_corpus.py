@@ -346,6 +346,8 @@ good('lcnc_oword_call_comments_indirect', '(comments between the arguments of a 
 good('lcnc_fanuc_named_program', '%\n(a Fanuc-style program named O<name>: a program number, nothing to run)\nO<Part_One>\nG21 G0 X1\nM30\n%\n')
 good('lcnc_oword_return_other_label', '(return inside an if of a subroutine: the label is the if\'s, rs274 returns from the subroutine)\nG21 G17 G90 G94 G40 G49 G80 G54\no100 sub\no110 if [#1 GT 0]\no110   return [10*#1]\no110 endif\no120 if [#1 LT 0]\no120   return\no120 endif\no100 endsub [99]\no100 call [2]\nG0 X#<_value> Y#<_value_returned>\no100 call [-1]\nG0 X#<_value> Y#<_value_returned>\no100 call [0]\nG0 X#<_value> Y#<_value_returned>\nM2\n')
 good('lcnc_comp_queued_calls', '(under cutter compensation rs274 queues comments, feed, coolant, spindle and dwell behind the held move; M2 issues what is held)\nG21 G17 G90 G94 G40 G49 G80 G54\nT1 M6\nG0 X-10 Y-10 Z5\nG41 G1 X0 Y0 F100\nX20 (along the bottom)\nF150\nM8\nS1000 M3\nG4 P0.5\n(MSG, messages are not held)\nY20\nM9 M5\nX0 (back)\nG0 Z2\nM2\n')
+good('lcnc_cycle_polar_g91_repeats', '(G91 polar words on a canned cycle with L: each repeat adds @ to the radius and ^ to the angle of the hole before)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X30 Y0 Z5\nG91 G81 R2 Z-8 ^45 L8 F200\nG90 G0 @10 ^30\nG91 G81 @5 R2 Z-8 L4\nG90 G0 X20 Y10\nG91 G81 @-2 ^-20 R2 Z-8 L3\nG90 G80 G0 Z20\nM2\n')
+good('lcnc_cycle_tap_g18_g19', '(G84 and G74 in G18 and G19: rs274 2.9 feeds the tap with G19\'s axis order in G18 and G18\'s in G19; matched)\nG21 G90 G94 G40 G49 G80 G54\nS500 M3\nG18 G0 X10 Y5 Z5\nG98 G84 X10 Y-10 Z0 R2 F150\nG91 G99 X2 Y-4 R-1 L2\nG90 G80\nG19 M4 G0 X5 Y0 Z0\nG98 G74 Y1 Z2 X-1 R1\nG80 M5\nM2\n')
 
 def write_all():
     for sub in ("", "bad"):
