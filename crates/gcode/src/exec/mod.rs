@@ -387,9 +387,14 @@ impl<R: BufRead + Seek> Executor<R> {
             } else {
                 self.src.text()
             };
-            if params.system_stale() && names_system_param(text) {
-                params.take_system_stale();
-                refresh(params);
+            if names_system_param(text) {
+                if params.system_stale() {
+                    params.take_system_stale();
+                    refresh(params);
+                }
+                // rs274's #<_line> is the line being read (its sequence_number), in the
+                // file being read; the interpreter only knows the last block it ran.
+                params.set_system("_line", number as f64);
             }
             let loaded = if self.dialect == Dialect::Grbl {
                 self.compact.load_grbl(text, number);

@@ -481,6 +481,7 @@ impl Interpreter {
             self.emit(sink, CanonOp::StopSpindle);
             self.modal.spindle = None;
             self.modal.tool_in_spindle = self.modal.tool_selected;
+            self.set_tool_params(params);
             self.emit(sink, CanonOp::ChangeTool(self.modal.tool_selected));
         }
         // 7. Spindle.
@@ -792,6 +793,22 @@ impl Interpreter {
         }
         let _ = params.set(param::COORD_SYSTEM, self.modal.coord_system as f64);
         let _ = params.set(param::TOOL_NUMBER, self.modal.tool_in_spindle as f64);
+    }
+
+    /// `#5401`…`#5413`: the loaded tool's table entry (X Y Z A B C U V W offsets, diameter,
+    /// front and back angle, orientation) in machine units, zero without a tool. rs274 sets
+    /// them (set_tool_parameters) on a tool change and when G10 L1/L10/L11 changes a tool.
+    pub(crate) fn set_tool_params(&self, params: &mut Params) {
+        let mk = self.mk();
+        let mut v = [0.0; 13];
+        let loaded = self.modal.tool_in_spindle;
+        if let Some(t) = self.tools.get(loaded).filter(|_| loaded > 0) {
+            for (i, o) in t.offset.iter().enumerate() {
+                v[i] = if i < 3 { o / mk } else { *o };
+            }
+            v[9] = t.diameter / mk;
+        }
+        let _ = params.set_run(param::TOOL_NUMBER + 1, &v);
     }
 
     /// Named parameters (`#<_x>`, `#<_metric>` …) as LinuxCNC defines them. They cost a

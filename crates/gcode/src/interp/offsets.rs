@@ -327,6 +327,7 @@ impl Interpreter {
                     tool.diameter = 2.0 * r * k;
                 }
                 self.tools.insert(tool);
+                self.set_tool_params(params);
                 Ok(())
             }
             _ => Err(self.fail(
