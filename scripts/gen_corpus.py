@@ -354,6 +354,8 @@ good('lcnc_comp_reversal_at_arcs', '(a reversal onto or off an arc the tool runs
 good('lcnc_comp_arc_end_radius', '(under compensation rs274 offsets an arc by its radius at the end, which may differ slightly from the start)\nG21 G17 G90 G94 G40 G49 G80 G54 F300\nG0 X-10 Y0\nG42.1 D2\nG1 X0 Y0\nG2 X20.004 Y0 I10 J0\nG2 X10 Y-10.003 I-10 J0\nG1 X-10 Y-10\nG40 G0 X-20 Y0\nM2\n')
 good('lcnc_param_line', '(#<_line> is the line being read, also inside a subroutine)\nG21 G17 G90 G94 G40 G49 G80 G54\n\no1 sub\n(debug, in the sub: #<_line>)\nG0 X#<_line>\no1 endsub\n\n(debug, main: #<_line>)\nG0 Y#<_line>\no1 call\nG0 Z[#<_line> + 1]\nM2\n')
 good('lcnc_param_tool_entry', '(#5401-#5410 hold the loaded tool\'s table entry in machine units, changed by M6 and by G10 L1/L10/L11 on it)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, none: #5400 #5401 #5403 #5410)\nT2 M6\n(debug, T2: #5400 #5401 #5403 #5410)\nG10 L1 P2 X1.27 Z25.4 R3\n(debug, after L1: #5400 #5401 #5402 #5403 #5410)\nG0 X0 Y0 Z0\nG10 L10 P2 Z5\n(debug, after L10: #5403)\nG10 L1 P1 Z10\n(debug, another tool changed: #5403)\nT1 M6\n(debug, T1: #5400 #5403 #5410)\nM2\n')
+good('lcnc_debug_formats', '(%d, %f and %.Nf in a DEBUG set how the parameters after them print)\nG21 G17 G90 G94 G40 G49 G80 G54\n#<v> = 2.71828182\n#1 = -0.5\n(debug, plain #<v> then %d#<v> and #1)\n(debug, %f four: #<v> #1 %.2f two: #<v>)\n(debug, 50%. %.x and %% stay)\nM2\n')
+good('lcnc_comment_last_wins', '(rs274 keeps the last comment of a line only)\nG21 G17 G90 G94 G40 G49 G80 G54\n(first)(second)\nG0 X1 (during) Y2 (after the words)\n(MSG, not shown)(shown as a comment)\n(a comment)(MSG, the message wins)\n(debug, not shown #<_x>)(debug, shown #<_y>)\nM2\n')
 
 def write_all():
     for sub in ("", "bad"):
