@@ -356,6 +356,7 @@ good('lcnc_param_line', '(#<_line> is the line being read, also inside a subrout
 good('lcnc_param_tool_entry', '(#5401-#5410 hold the loaded tool\'s table entry in machine units, changed by M6 and by G10 L1/L10/L11 on it)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, none: #5400 #5401 #5403 #5410)\nT2 M6\n(debug, T2: #5400 #5401 #5403 #5410)\nG10 L1 P2 X1.27 Z25.4 R3\n(debug, after L1: #5400 #5401 #5402 #5403 #5410)\nG0 X0 Y0 Z0\nG10 L10 P2 Z5\n(debug, after L10: #5403)\nG10 L1 P1 Z10\n(debug, another tool changed: #5403)\nT1 M6\n(debug, T1: #5400 #5403 #5410)\nM2\n')
 good('lcnc_debug_formats', '(%d, %f and %.Nf in a DEBUG set how the parameters after them print)\nG21 G17 G90 G94 G40 G49 G80 G54\n#<v> = 2.71828182\n#1 = -0.5\n(debug, plain #<v> then %d#<v> and #1)\n(debug, %f four: #<v> #1 %.2f two: #<v>)\n(debug, 50%. %.x and %% stay)\nM2\n')
 good('lcnc_comment_last_wins', '(rs274 keeps the last comment of a line only)\nG21 G17 G90 G94 G40 G49 G80 G54\n(first)(second)\nG0 X1 (during) Y2 (after the words)\n(MSG, not shown)(shown as a comment)\n(a comment)(MSG, the message wins)\n(debug, not shown #<_x>)(debug, shown #<_y>)\nM2\n')
+good('lcnc_comp_entry_one_radius', '(an entry move exactly one tool radius long is taken by rs274)\nG20 G17 G90 G94 G40 G49 G80 G54 F10\nT1 M6\nG0 X0.0625 Y0\nG41 G1 X0 Y0\nG1 Y1\nX1\nG40 G0 X2 Y2\nG21 G0 X0 Y0\nG42 G1 X1.5875\nY20\nG40 G0 X30\nM2\n')
 
 def write_all():
     for sub in ("", "bad"):

@@ -554,8 +554,11 @@ impl Interpreter {
         if self.comp.entry {
             // Entry (as rs274): the held segment lies on the programmed line shifted by r,
             // and the tool reaches it from wherever it stands.
+            // rs274 (`distance <= radius`) takes an entry move exactly one radius long:
+            // its radius and position come out a hair apart (measured in G20 and G21, with
+            // and without D); one a micron shorter is refused.
             let dist = len(sub(target, self.comp.point));
-            if dist <= r {
+            if dist < r * (1.0 - 1e-9) {
                 return Err(self.comp_fail(
                     d,
                     "Length of cutter compensation entry move is not greater than the tool radius",
