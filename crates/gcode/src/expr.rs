@@ -26,7 +26,11 @@ pub(crate) fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
         Expr::Exists(name) => Ok(if p.exists_named(name) { 1.0 } else { 0.0 }),
         Expr::ExistsNumbered(index, span) => {
             let n = integer(index, *span, p)?;
-            Ok(if (1..=LAST_NUMBERED).contains(&n) { 1.0 } else { 0.0 })
+            Ok(if (1..=LAST_NUMBERED).contains(&n) {
+                1.0
+            } else {
+                0.0
+            })
         }
         Expr::Neg(inner) => Ok(-eval(inner, p)?),
         Expr::Call(f, arg, span) => call(*f, eval(arg, p)?, *span),

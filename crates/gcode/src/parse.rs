@@ -531,7 +531,9 @@ impl<'a> Parser<'a> {
             FuncName::Exists => {
                 self.pos += 1;
                 if self.peek() != Some(b'#') {
-                    return Err(self.err_here("EXISTS takes a parameter: EXISTS[#<name>] or EXISTS[#1]"));
+                    return Err(
+                        self.err_here("EXISTS takes a parameter: EXISTS[#<name>] or EXISTS[#1]")
+                    );
                 }
                 self.pos += 1;
                 if self.peek() == Some(b'<') {

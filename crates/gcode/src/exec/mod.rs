@@ -722,7 +722,9 @@ pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
                     decimals = 4;
                     &after[1..]
                 }
-                Some(b'.') if b.get(1).is_some_and(u8::is_ascii_digit) && b.get(2) == Some(&b'f') => {
+                Some(b'.')
+                    if b.get(1).is_some_and(u8::is_ascii_digit) && b.get(2) == Some(&b'f') =>
+                {
                     decimals = usize::from(b[1] - b'0');
                     &after[3..]
                 }

@@ -371,7 +371,10 @@ impl<R: BufRead + Seek> Executor<R> {
                     }
                     // A program opened with % ends at the next %: rs274 does not look past
                     // it ("Failed to find sub … before EOF").
-                    if self.opened_with_percent && self.src.in_main() && scratch.bytes.as_slice() == b"%" {
+                    if self.opened_with_percent
+                        && self.src.in_main()
+                        && scratch.bytes.as_slice() == b"%"
+                    {
                         break None;
                     }
                     let fanuc = match oword_head(&scratch) {

@@ -267,7 +267,11 @@ impl Interpreter {
         let arc_radius = if inside { ends_at + r } else { ends_at - r };
         let theta = t1[1].atan2(t1[0]);
         let delta = (center[1] - corner[1]).atan2(center[0] - corner[0]);
-        let alpha = if turns > 0 { delta - FRAC_PI_2 } else { delta + FRAC_PI_2 };
+        let alpha = if turns > 0 {
+            delta - FRAC_PI_2
+        } else {
+            delta + FRAC_PI_2
+        };
         let mut beta = if left { theta - alpha } else { alpha - theta };
         if beta > 1.5 * PI {
             beta -= 2.0 * PI;
@@ -455,8 +459,8 @@ impl Interpreter {
                     (Seg::Arc { turns, .. }, Seg::Line { .. }) => outside(*turns),
                     _ => false,
                 };
-            let convex = !h_shape
-                && (phi > SMALL_CORNER || phi < -std::f64::consts::PI + SMALL_CORNER);
+            let convex =
+                !h_shape && !(-std::f64::consts::PI + SMALL_CORNER..=SMALL_CORNER).contains(&phi);
             let tangent = !convex && !h_shape && phi >= -SMALL_CORNER;
             let prev_end = prev.end();
             let next_start = match next {
@@ -497,12 +501,19 @@ impl Interpreter {
                     }
                 };
                 let best = match (&prev, &next) {
-                    (Seg::Line { .. }, Seg::Arc { end, center, turns, .. }) => {
+                    (
+                        Seg::Line { .. },
+                        Seg::Arc {
+                            end, center, turns, ..
+                        },
+                    ) => {
                         let ends_at = len(sub(get2(end, ax), *center));
                         self.line_arc_corner(d, t1, corner, *center, ends_at, *turns)?
                     }
                     _ => cands.into_iter().min_by(|a, b| {
-                        key(a).partial_cmp(&key(b)).unwrap_or(std::cmp::Ordering::Equal)
+                        key(a)
+                            .partial_cmp(&key(b))
+                            .unwrap_or(std::cmp::Ordering::Equal)
                     }),
                 };
                 // A line gouges when the corner point falls behind its start; an arc's
@@ -590,7 +601,13 @@ impl Interpreter {
         if len(sub(target, prog)) < 1e-12 {
             // No XY motion: keep the tool centre where it is, move the other axes.
             put2(&mut out, ax, self.comp.point);
-            let moves = self.comp.tail.borrow().iter().filter(|h| matches!(h, Held::Move(..))).count();
+            let moves = self
+                .comp
+                .tail
+                .borrow()
+                .iter()
+                .filter(|h| matches!(h, Held::Move(..)))
+                .count();
             if self.comp.pending.is_some() && moves < MAX_TAIL {
                 self.comp.tail.borrow_mut().push(Held::Move(out, feed));
             } else {

@@ -821,7 +821,10 @@ impl Interpreter {
             ("_vminor", 0.0),
             ("_ccomp", ccomp),
             ("_inverse_time", b(m.feed_mode == FeedMode::InverseTime)),
-            ("_units_per_minute", b(m.feed_mode == FeedMode::UnitsPerMinute)),
+            (
+                "_units_per_minute",
+                b(m.feed_mode == FeedMode::UnitsPerMinute),
+            ),
             ("_units_per_rev", b(m.feed_mode == FeedMode::UnitsPerRev)),
             ("_tool_offset", b(self.frame.tool.iter().any(|&t| t != 0.0))),
             ("_retract_r_plane", b(!m.retract_to_old_z)),
