@@ -337,6 +337,31 @@ good('spline_inverse_time', '(G93: a spline takes its F like an arc; rs274 print
 bad('spline_inverse_time_without_f', 'G21 G17 G90 G93\nG1 X1 F2\nG5.1 X30 Y0 I5 J5\nM2\n')
 
 
+# Classes found on LinuxCNC's own tests/interp, tests/ccomp, tests/oword and nc_files
+# (issue 27 item 1, measured by scripts/lcnc-agreement). Written here, not copied.
+good('lcnc_exists_numbered', prog('(EXISTS on a numbered parameter: 1 for #1 to #5601, the number may be an expression)', '#1 = 2', '#2 = 99999', 'G0 X[EXISTS[#1]] Y[EXISTS[#99999]] Z[EXISTS[##1]]', 'G0 A[EXISTS[##2]] B[EXISTS[#[2+3]]] C[EXISTS[#5601] + EXISTS[#5602]]'))
+bad('lcnc_exists_numbered_out_of_range', 'G21 G17 G90\n#1 = 2\n#2 = 99999\nG0 X[EXISTS[###1]]\nG0 Y[EXISTS[##2]] Z[EXISTS[###2]]\nM2\n')
+good('lcnc_comment_leading_blanks', prog('(   three blanks before the text)', '(\ta tab before it)', 'G0 X1 (  inline, blanks first)', '(MSG,  a message keeps its blanks)'))
+good('lcnc_oword_call_comments_indirect', '(comments between the arguments of a call; o#<name> and o[expr] as the label)\nG21 G17 G90 G94 G40 G49 G80 G54\no<s> sub\nG0 X#1 Y#2\no<s> endsub\no<s> call [1] (between the arguments) [2] (and after)\n#<sub> = 7\no7 sub\nG0 X7 Z#1\no7 endsub\no#<sub> call [3]\no[#<sub>] call [4]\nM2\n')
+good('lcnc_fanuc_named_program', '%\n(a Fanuc-style program named O<name>: a program number, nothing to run)\nO<Part_One>\nG21 G0 X1\nM30\n%\n')
+good('lcnc_oword_return_other_label', '(return inside an if of a subroutine: the label is the if\'s, rs274 returns from the subroutine)\nG21 G17 G90 G94 G40 G49 G80 G54\no100 sub\no110 if [#1 GT 0]\no110   return [10*#1]\no110 endif\no120 if [#1 LT 0]\no120   return\no120 endif\no100 endsub [99]\no100 call [2]\nG0 X#<_value> Y#<_value_returned>\no100 call [-1]\nG0 X#<_value> Y#<_value_returned>\no100 call [0]\nG0 X#<_value> Y#<_value_returned>\nM2\n')
+good('lcnc_comp_queued_calls', '(under cutter compensation rs274 queues comments, feed, coolant, spindle and dwell behind the held move; M2 issues what is held)\nG21 G17 G90 G94 G40 G49 G80 G54\nT1 M6\nG0 X-10 Y-10 Z5\nG41 G1 X0 Y0 F100\nX20 (along the bottom)\nF150\nM8\nS1000 M3\nG4 P0.5\n(MSG, messages are not held)\nY20\nM9 M5\nX0 (back)\nG0 Z2\nM2\n')
+good('lcnc_cycle_polar_g91_repeats', '(G91 polar words on a canned cycle with L: each repeat adds @ to the radius and ^ to the angle of the hole before)\nG21 G17 G90 G94 G40 G49 G80 G54\nG0 X30 Y0 Z5\nG91 G81 R2 Z-8 ^45 L8 F200\nG90 G0 @10 ^30\nG91 G81 @5 R2 Z-8 L4\nG90 G0 X20 Y10\nG91 G81 @-2 ^-20 R2 Z-8 L3\nG90 G80 G0 Z20\nM2\n')
+good('lcnc_cycle_tap_g18_g19', '(G84 and G74 in G18 and G19: rs274 2.9 feeds the tap with G19\'s axis order in G18 and G18\'s in G19; matched)\nG21 G90 G94 G40 G49 G80 G54\nS500 M3\nG18 G0 X10 Y5 Z5\nG98 G84 X10 Y-10 Z0 R2 F150\nG91 G99 X2 Y-4 R-1 L2\nG90 G80\nG19 M4 G0 X5 Y0 Z0\nG98 G74 Y1 Z2 X-1 R1\nG80 M5\nM2\n')
+good('lcnc_comp_zero_radius', '(compensation with a zero radius runs the moves as programmed: no entry check, no corners)\nG21 G17 G90 G94 G40 G49 G80 G54 F300\nG0 X0 Y0\nG41.1 D0\nG1 X0 Y0\nX20\nY10\nX10 Y2\nG3 X5 Y7 R5\nG1 X0 Y0\nG40 G0 X-5\nG42.1 D0\nG1 X10\nG2 X20 Y0 R5\nG40 G0 X30\nM2\n')
+good('lcnc_comp_shallow_corners', '(corners turning less than 0.05 rad get no arc and no endpoint change under compensation)\nG21 G17 G90 G94 G40 G49 G80 G54 F300\nG0 X-10 Y-10\nG41.1 D4\nG1 X0 Y0\nX20 Y0.5\nX40 Y0\nX60 Y-0.8\nX80 Y-0.8\nG3 X100 Y-0.4 R100\nG1 X120 Y0\nG40 G0 X130 Y-10\nM2\n')
+good('lcnc_comp_reversal_at_arcs', '(a reversal onto or off an arc the tool runs outside of is a concave corner for rs274: the tool stays outside)\nG21 G17 G90 G94 G40 G49 G80 G54 F300\nG0 X-10 Y-5\nG41.1 D1\nG1 X0 Y0\nG2 X10 Y0 I5 J0\nG1 X10.2 Y8\nG1 X20 Y-10\nG2 X21.998 Y-3.222 I4.39 J2.39\nG1 X40 Y-10\nG40 G0 X50 Y0\nM2\n')
+good('lcnc_comp_arc_end_radius', '(under compensation rs274 offsets an arc by its radius at the end, which may differ slightly from the start)\nG21 G17 G90 G94 G40 G49 G80 G54 F300\nG0 X-10 Y0\nG42.1 D2\nG1 X0 Y0\nG2 X20.004 Y0 I10 J0\nG2 X10 Y-10.003 I-10 J0\nG1 X-10 Y-10\nG40 G0 X-20 Y0\nM2\n')
+good('lcnc_param_line', '(#<_line> is the line being read, also inside a subroutine)\nG21 G17 G90 G94 G40 G49 G80 G54\n\no1 sub\n(debug, in the sub: #<_line>)\nG0 X#<_line>\no1 endsub\n\n(debug, main: #<_line>)\nG0 Y#<_line>\no1 call\nG0 Z[#<_line> + 1]\nM2\n')
+good('lcnc_param_tool_entry', '(#5401-#5410 hold the loaded tool\'s table entry in machine units, changed by M6 and by G10 L1/L10/L11 on it)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, none: #5400 #5401 #5403 #5410)\nT2 M6\n(debug, T2: #5400 #5401 #5403 #5410)\nG10 L1 P2 X1.27 Z25.4 R3\n(debug, after L1: #5400 #5401 #5402 #5403 #5410)\nG0 X0 Y0 Z0\nG10 L10 P2 Z5\n(debug, after L10: #5403)\nG10 L1 P1 Z10\n(debug, another tool changed: #5403)\nT1 M6\n(debug, T1: #5400 #5403 #5410)\nM2\n')
+good('lcnc_debug_formats', '(%d, %f and %.Nf in a DEBUG set how the parameters after them print)\nG21 G17 G90 G94 G40 G49 G80 G54\n#<v> = 2.71828182\n#1 = -0.5\n(debug, plain #<v> then %d#<v> and #1)\n(debug, %f four: #<v> #1 %.2f two: #<v>)\n(debug, 50%. %.x and %% stay)\nM2\n')
+good('lcnc_comment_last_wins', '(rs274 keeps the last comment of a line only)\nG21 G17 G90 G94 G40 G49 G80 G54\n(first)(second)\nG0 X1 (during) Y2 (after the words)\n(MSG, not shown)(shown as a comment)\n(a comment)(MSG, the message wins)\n(debug, not shown #<_x>)(debug, shown #<_y>)\nM2\n')
+good('lcnc_comp_entry_one_radius', '(an entry move exactly one tool radius long is taken by rs274)\nG20 G17 G90 G94 G40 G49 G80 G54 F10\nT1 M6\nG0 X0.0625 Y0\nG41 G1 X0 Y0\nG1 Y1\nX1\nG40 G0 X2 Y2\nG21 G0 X0 Y0\nG42 G1 X1.5875\nY20\nG40 G0 X30\nM2\n')
+good('lcnc_param_modes', '(the read-only mode parameters of rs274 2.9)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, start: #<_vmajor> #<_vminor> #<_ccomp> #<_units_per_minute> #<_tool_offset> #<_retract_r_plane> #<_spindle_rpm_mode> #<_ijk_absolute_mode> #<_lathe_radius_mode>)\n(debug, switches: #<_spindle_on> #<_mist> #<_flood> #<_speed_override> #<_feed_override> #<_adaptive_feed> #<_feed_hold> #<_u>)\nT1 M6\nG43 G98 G90.1 G7 G93 S1000 M3 M7\nM8 M51 P0\nM52 P1\nM53 P0\n(debug, changed: #<_tool_offset> #<_retract_old_z> #<_ijk_absolute_mode> #<_lathe_diameter_mode> #<_inverse_time> #<_spindle_cw> #<_mist> #<_flood>)\n(debug, switches: #<_speed_override> #<_adaptive_feed> #<_feed_hold>)\nG8 G91.1 G95 G49 G99 M4 M9\nM48\nM52 P0\nM53\n(debug, back: #<_units_per_rev> #<_spindle_on> #<_spindle_cw> #<_speed_override> #<_feed_override> #<_adaptive_feed> #<_feed_hold> #<_tool_offset>)\nG94 G0 X-10 Y0\nG41 G1 X0 F100\n(debug, comp: #<_ccomp>)\nG40\nG42 G1 X10\n(debug, comp: #<_ccomp>)\nG40 G0 X20\nM2\n')
+good('oword_lib_lcnc_nested_sub', '(oword_lib/lcnc_nested.ngc defines o100 inside o<lcnc_nested>: rs274 2.9 runs the inner sub line as part of the call and its endsub returns)\nG21 G17 G90 G94 G40 G49 G80 G54\no<lcnc_nested> call [1] [2] [3]\nG0 X10\no<lcnc_nested> call [4] [5] [6]\nM2\n')
+bad('lcnc_oword_sub_after_percent', '%\nG21 G0 X1\no2 call\n%\no2 sub\nG0 Z3\no2 endsub\n')
+good('lcnc_g10_l10_rotated', '(G10 L10/L11 X or Y under a rotated coordinate system: rs274 turns the tool offset through the rotation, keeping the old offset along the other axis)\nG21 G17 G90 G94 G40 G49 G80 G54\nG10 L2 P1 X10 Y5 R30\nG10 L2 P9 R-20\nG0 X5 Y3 Z0\nT1 M6\nG43\nG10 L10 P1 X1\n(debug, L10 X: #5401 #5402)\nG10 L10 P1 Y2\n(debug, L10 Y: #5401 #5402)\nG43\nG0 X0 Y0\nG10 L10 P1 X0 Y0 Z-1\n(debug, L10 XY: #5401 #5402 #5403)\nG10 L11 P1 X2\n(debug, L11 X: #5401 #5402)\nG43\nG0 X1 Y1\nG49\nG10 L2 P1 R0\nM2\n')
+
 def write_all():
     for sub in ("", "bad"):
         d = os.path.join(ROOT, sub)
@@ -353,5 +378,20 @@ def write_all():
     print(f"wrote {len(GOOD)} good and {len(BAD)} bad programs under {os.path.normpath(ROOT)}")
 
 
+def write_only(prefix):
+    """Write the programs whose name starts with `prefix`, leaving the rest of the corpus
+    (hand-written programs included) as it is."""
+    for sub, progs in (("", GOOD), ("bad", BAD)):
+        for name, text in progs.items():
+            if name.startswith(prefix):
+                with open(os.path.join(ROOT, sub, name + ".ngc"), "w") as f:
+                    f.write(text)
+
+
 if __name__ == "__main__":
-    write_all()
+    import sys
+
+    if len(sys.argv) > 2 and sys.argv[1] == "--only":
+        write_only(sys.argv[2])
+    else:
+        write_all()

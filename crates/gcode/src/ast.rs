@@ -82,6 +82,9 @@ pub enum Expr {
     Named(String, Span),
     /// `EXISTS[#<name>]`
     Exists(String),
+    /// `EXISTS[#expr]`: 1 when the number is a parameter's (1 to 5601), as rs274's
+    /// `read_parameter` answers it; the number must still be an integer.
+    ExistsNumbered(Box<Expr>, Span),
     Neg(Box<Expr>),
     Call(Func, Box<Expr>, Span),
     /// `ATAN[y]/[x]`

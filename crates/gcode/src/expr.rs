@@ -24,6 +24,14 @@ pub(crate) fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
         }
         Expr::Named(name, span) => p.get_named(name).map_err(|err| param_error(err, *span)),
         Expr::Exists(name) => Ok(if p.exists_named(name) { 1.0 } else { 0.0 }),
+        Expr::ExistsNumbered(index, span) => {
+            let n = integer(index, *span, p)?;
+            Ok(if (1..=LAST_NUMBERED).contains(&n) {
+                1.0
+            } else {
+                0.0
+            })
+        }
         Expr::Neg(inner) => Ok(-eval(inner, p)?),
         Expr::Call(f, arg, span) => call(*f, eval(arg, p)?, *span),
         Expr::Atan(y, x) => Ok(degrees(eval(y, p)?.atan2(eval(x, p)?))),
@@ -41,6 +49,15 @@ pub(crate) fn eval(e: &Expr, p: &Params) -> Result<f64, Diagnostic> {
 
 /// Evaluate the number of a numbered parameter (`#expr`): an integer within 1e-4.
 pub(crate) fn param_number(index: &Expr, span: Span, p: &Params) -> Result<i64, Diagnostic> {
+    let n = integer(index, span, p)?;
+    if !(1..=LAST_NUMBERED).contains(&n) {
+        return Err(param_error(ParamError::OutOfRange(n), span));
+    }
+    Ok(n)
+}
+
+/// A parameter number before its range is checked: an integer within 1e-4.
+fn integer(index: &Expr, span: Span, p: &Params) -> Result<i64, Diagnostic> {
     let v = eval(index, p)?;
     let r = v.round();
     if (v - r).abs() > INTEGER_TOLERANCE || !r.is_finite() {
@@ -50,11 +67,7 @@ pub(crate) fn param_number(index: &Expr, span: Span, p: &Params) -> Result<i64, 
             ),
         );
     }
-    let n = r.clamp(i64::MIN as f64, i64::MAX as f64) as i64;
-    if !(1..=LAST_NUMBERED).contains(&n) {
-        return Err(param_error(ParamError::OutOfRange(n), span));
-    }
-    Ok(n)
+    Ok(r.clamp(i64::MIN as f64, i64::MAX as f64) as i64)
 }
 
 pub(crate) fn param_error(err: ParamError, span: Span) -> Diagnostic {

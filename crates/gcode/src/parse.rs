@@ -118,7 +118,7 @@ impl<'a> Parser<'a> {
             out.n = Some(self.line_number()?);
         }
         if self.peek() == Some(b'o') {
-            out.oword = Some(self.oword()?);
+            out.oword = Some(self.oword(out)?);
             return self.comments_only(out);
         }
         while let Some(b) = self.peek() {
@@ -237,13 +237,14 @@ impl<'a> Parser<'a> {
         }
     }
 
-    fn oword(&mut self) -> Result<OWord, Diagnostic> {
+    fn oword(&mut self, out: &mut Line) -> Result<OWord, Diagnostic> {
         let start = self.pos;
         self.pos += 1;
         let mut label_expr = None;
         let label = match self.peek() {
             Some(b'<') => self.angle_name()?,
-            Some(b'[') => {
+            // rs274 reads the number with read_integer_value: `o#<sub> call` as `o[#<sub>]`.
+            Some(b'[' | b'#') => {
                 label_expr = Some(self.real_value()?);
                 String::new()
             }
@@ -294,7 +295,15 @@ impl<'a> Parser<'a> {
                 args.push(self.real_value()?);
             }
             Keyword::Call | Keyword::Return | Keyword::EndSub => {
-                while self.peek() == Some(b'[') {
+                // rs274 reads comments between a call's arguments (read_o: read_comment).
+                while matches!(self.peek(), Some(b'[' | b'(')) {
+                    if self.peek() == Some(b'(') {
+                        if keyword != Keyword::Call {
+                            break;
+                        }
+                        self.comment(out);
+                        continue;
+                    }
                     if args.len() == crate::params::CALL_ARGS {
                         return Err(self.err_here(format!(
                             "too many arguments: at most {} (#1 to #{})",
@@ -521,13 +530,20 @@ impl<'a> Parser<'a> {
             }
             FuncName::Exists => {
                 self.pos += 1;
-                if !self.rest().starts_with(b"#<") {
-                    return Err(self.err_here("EXISTS takes a named parameter: EXISTS[#<name>]"));
+                if self.peek() != Some(b'#') {
+                    return Err(
+                        self.err_here("EXISTS takes a parameter: EXISTS[#<name>] or EXISTS[#1]")
+                    );
                 }
                 self.pos += 1;
-                let name = self.angle_name()?;
+                if self.peek() == Some(b'<') {
+                    let name = self.angle_name()?;
+                    self.close_bracket(start)?;
+                    return Ok(Expr::Exists(name));
+                }
+                let inner = self.real_value()?;
                 self.close_bracket(start)?;
-                Ok(Expr::Exists(name))
+                Ok(Expr::ExistsNumbered(Box::new(inner), self.span(start)))
             }
             FuncName::Unary(f) => {
                 let arg = self.real_value()?;
@@ -590,6 +606,14 @@ pub(crate) fn bare_oword(c: &Compact) -> Option<String> {
         return None;
     }
     let start = i + 1;
+    // `O<name>`: a named program, as rs274 reads a bare o-word with a name.
+    if b.get(start) == Some(&b'<') {
+        let close = start + b[start..].iter().position(|&x| x == b'>')?;
+        if close == start + 1 || !matches!(b.get(close + 1), None | Some(b'(' | b';')) {
+            return None;
+        }
+        return Some(String::from_utf8_lossy(&b[start + 1..close]).into_owned());
+    }
     let end = start + b[start..].iter().take_while(|d| d.is_ascii_digit()).count();
     if end == start || !matches!(b.get(end), None | Some(b'(' | b';')) {
         return None;
@@ -609,9 +633,10 @@ fn numeric_label(digits: &[u8]) -> String {
 const KEYWORD_HELP: &str = "o-word keywords: sub endsub call return if elseif else endif do while endwhile repeat endrepeat break continue";
 
 /// `(MSG,…)`, `(DEBUG,…)`, `(PRINT,…)` (case-insensitive, blanks allowed before the keyword)
-/// become messages; the text after the comma is kept as written.
+/// become messages; the text after the comma is kept as written. A plain comment loses its
+/// leading blanks, as rs274's `convert_comment` steps over them (`( note)` is `COMMENT("note")`).
 fn classify_comment(text: String) -> (CommentKind, String) {
-    let trimmed = text.trim_start_matches([' ', '\t']);
+    let trimmed = text.trim_start_matches(|c: char| c.is_ascii_whitespace());
     for (key, kind) in [
         ("msg,", CommentKind::Message),
         ("debug,", CommentKind::Debug),
@@ -624,7 +649,7 @@ fn classify_comment(text: String) -> (CommentKind, String) {
             return (kind, trimmed[key.len()..].to_string());
         }
     }
-    (CommentKind::Plain, text)
+    (CommentKind::Plain, trimmed.to_string())
 }
 
 /// grbl 1.1's reader: comments and blanks dropped, `/` ignored, then letter + number pairs.

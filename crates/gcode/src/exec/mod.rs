@@ -387,9 +387,14 @@ impl<R: BufRead + Seek> Executor<R> {
             } else {
                 self.src.text()
             };
-            if params.system_stale() && names_system_param(text) {
-                params.take_system_stale();
-                refresh(params);
+            if names_system_param(text) {
+                if params.system_stale() {
+                    params.take_system_stale();
+                    refresh(params);
+                }
+                // rs274's #<_line> is the line being read (its sequence_number), in the
+                // file being read; the interpreter only knows the last block it ran.
+                params.set_system("_line", number as f64);
             }
             let loaded = if self.dialect == Dialect::Grbl {
                 self.compact.load_grbl(text, number);
@@ -554,8 +559,16 @@ impl<R: BufRead + Seek> Executor<R> {
         block.assignments.clear();
         self.pending.clear();
         let mut debug_at = Vec::new();
-        for item in &self.line.items {
+        // rs274 keeps one comment per block, the last (read_comment overwrites it): only
+        // that one is a COMMENT, a message, a DEBUG, a PRINT or an ABORT.
+        let last_comment = self
+            .line
+            .items
+            .iter()
+            .rposition(|i| matches!(i, Item::Comment { .. }));
+        for (at, item) in self.line.items.iter().enumerate() {
             match item {
+                Item::Comment { .. } if Some(at) != last_comment => {}
                 Item::Word {
                     letter,
                     value,
@@ -691,10 +704,42 @@ fn resolve_label(o: &mut OWord, params: &Params) -> Result<(), Diagnostic> {
 /// decimals), `######` for a parameter that cannot be read.
 pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
     let mut out = String::with_capacity(text.len());
+    // rs274's convert_param_comment: `%d`, `%f` and `%.Nf` set how the parameters after
+    // them print (`%.0f`, `%.4f`, `%.Nf`; `%lf` until then) and are not printed.
+    let mut decimals = 6;
     let mut rest = text;
-    while let Some(i) = rest.find('#') {
+    while let Some(i) = rest.find(['#', '%']) {
         out.push_str(&rest[..i]);
         let after = &rest[i + 1..];
+        if rest.as_bytes()[i] == b'%' {
+            let b = after.as_bytes();
+            rest = match b.first() {
+                Some(b'd') => {
+                    decimals = 0;
+                    &after[1..]
+                }
+                Some(b'f') => {
+                    decimals = 4;
+                    &after[1..]
+                }
+                Some(b'.')
+                    if b.get(1).is_some_and(u8::is_ascii_digit) && b.get(2) == Some(&b'f') =>
+                {
+                    decimals = usize::from(b[1] - b'0');
+                    &after[3..]
+                }
+                // rs274 drops the '%' of `%.` that is no format, keeping the '.'.
+                Some(b'.') => {
+                    out.push('.');
+                    &after[1..]
+                }
+                _ => {
+                    out.push('%');
+                    after
+                }
+            };
+            continue;
+        }
         if let Some(stripped) = after.strip_prefix('<') {
             if let Some(end) = stripped.find('>') {
                 let name: String = stripped[..end]
@@ -702,7 +747,7 @@ pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
                     .filter(|c| !c.is_whitespace())
                     .collect();
                 match params.get_named(&name) {
-                    Ok(v) => out.push_str(&format!("{v:.6}")),
+                    Ok(v) => out.push_str(&format!("{v:.decimals$}")),
                     Err(_) => out.push_str("######"),
                 }
                 rest = &stripped[end + 1..];
@@ -717,7 +762,7 @@ pub(crate) fn substitute_params(text: &str, params: &Params) -> String {
                 .filter(|n| (1..=crate::expr::LAST_NUMBERED).contains(n))
                 .and_then(|n| params.get(n).ok());
             match value {
-                Some(v) => out.push_str(&format!("{v:.6}")),
+                Some(v) => out.push_str(&format!("{v:.decimals$}")),
                 None => out.push_str("######"),
             }
             rest = &after[digits..];

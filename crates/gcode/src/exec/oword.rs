@@ -261,19 +261,14 @@ impl<R: BufRead + Seek> Executor<R> {
     fn define_sub(&mut self, o: &OWord) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
         let line = self.line.line;
-        // The body is skipped in any case: never run a definition as main-line code.
-        self.start_skip(&o.label, &[Keyword::EndSub], Arrival::Consume, true);
-        if let Some(frame) = self.calls.last() {
-            return Err(self
-                .err(
-                    o,
-                    format!(
-                        "subroutine {name} defined inside subroutine {} while it runs",
-                        OWord::display_label(&frame.label)
-                    ),
-                )
-                .with_help("subroutine definitions cannot be nested"));
+        // rs274 2.9 takes a `sub` line met while a subroutine runs as part of the call
+        // (convert_control_functions, O_sub at call_level != 0): it goes on into the body,
+        // whose endsub returns from the running call. LinuxCNC 2.10 refuses it.
+        if !self.calls.is_empty() {
+            return Ok(());
         }
+        // The body is skipped: never run a definition as main-line code.
+        self.start_skip(&o.label, &[Keyword::EndSub], Arrival::Consume, true);
         match self.subs.get(&o.label) {
             Some(def) if def.line != line => Err(self
                 .err(o, format!("subroutine {name} is defined twice (first at line {})", def.line))
@@ -374,6 +369,14 @@ impl<R: BufRead + Seek> Executor<R> {
                     if scratch.load(self.src.text(), number).is_err() {
                         continue;
                     }
+                    // A program opened with % ends at the next %: rs274 does not look past
+                    // it ("Failed to find sub … before EOF").
+                    if self.opened_with_percent
+                        && self.src.in_main()
+                        && scratch.bytes.as_slice() == b"%"
+                    {
+                        break None;
+                    }
                     let fanuc = match oword_head(&scratch) {
                         Some((label, Keyword::Sub)) if label == wanted => false,
                         Some(_) => continue,
@@ -471,7 +474,9 @@ impl<R: BufRead + Seek> Executor<R> {
 
     fn return_from(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
-        let Some(frame) = self.calls.last() else {
+        // rs274 2.9 returns from the running subroutine whatever the label: `o1010 return`
+        // inside `o1010 if` of `o1000 sub` returns from o1000 (execute_return on the frame).
+        if self.calls.is_empty() {
             return Err(self
                 .err(
                     o,
@@ -481,16 +486,6 @@ impl<R: BufRead + Seek> Executor<R> {
                     "{name} {} belongs between {name} sub and {name} endsub",
                     o.keyword.name()
                 )));
-        };
-        if frame.label != o.label {
-            return Err(self.err(
-                o,
-                format!(
-                    "{name} {} inside subroutine {}",
-                    o.keyword.name(),
-                    OWord::display_label(&frame.label)
-                ),
-            ));
         }
         let value = match o.args.first() {
             Some(e) => Some(eval(e, params)?),

@@ -9,7 +9,8 @@ use super::state::Side;
 use super::words::{g_group as G, slot, Decoded};
 use super::{Interpreter, Sink};
 use crate::diag::Diagnostic;
-use oficina_canon::Plane;
+use oficina_canon::{Canon, CanonOp, Plane};
+use std::cell::RefCell;
 
 type P2 = [f64; 2];
 
@@ -65,10 +66,57 @@ pub(crate) struct CompState {
     /// The next move is the entry move.
     entry: bool,
     pending: Option<Seg>,
-    /// Moves without XY motion that came after `pending`: they run at its (final) XY end.
-    tail: Vec<([f64; 6], bool)>,
+    /// What came after `pending`, in program order: moves without XY motion (they run at
+    /// its final XY end) and the calls rs274 queues behind a held move (see [`queued`]).
+    /// A RefCell because [`Interpreter::emit`] takes `&self`.
+    tail: RefCell<Vec<Held>>,
     /// The plane's two axes (indices into positions): X Y under G17, Z X under G18.
     axes: Axes,
+}
+
+/// One entry of [`CompState::tail`].
+#[derive(Clone, Debug)]
+enum Held {
+    Move([f64; 6], bool),
+    Op(Canon),
+}
+
+/// Whether rs274 queues this call behind a move held by cutter compensation rather than
+/// issuing it at once (interp_queue.cc: the `enqueue_*` functions; MESSAGE and the others
+/// go out at once).
+fn queued(op: &CanonOp) -> bool {
+    matches!(
+        op,
+        CanonOp::SetFeedRate(_)
+            | CanonOp::SetFeedMode(_)
+            | CanonOp::Dwell(_)
+            | CanonOp::MistOn
+            | CanonOp::MistOff
+            | CanonOp::FloodOn
+            | CanonOp::FloodOff
+            | CanonOp::StartSpindle(_)
+            | CanonOp::StopSpindle
+            | CanonOp::OrientSpindle { .. }
+            | CanonOp::WaitOrientComplete(_)
+            | CanonOp::SetSpindleSpeed(_)
+            | CanonOp::Comment(_)
+    )
+}
+
+/// Most entries held behind a segment; more are issued at once (bounded memory).
+const MAX_HELD: usize = 4096;
+
+impl CompState {
+    /// Hold `op` behind the held segment if rs274 would; gives it back otherwise.
+    pub(crate) fn hold(&self, op: Canon) -> Option<Canon> {
+        let mut tail = self.tail.borrow_mut();
+        if self.pending.is_some() && queued(&op.op) && tail.len() < MAX_HELD {
+            tail.push(Held::Op(op));
+            None
+        } else {
+            Some(op)
+        }
+    }
 }
 
 impl Default for CompState {
@@ -77,7 +125,7 @@ impl Default for CompState {
             point: [0.0; 2],
             entry: false,
             pending: None,
-            tail: Vec::new(),
+            tail: RefCell::new(Vec::new()),
             axes: (0, 1),
         }
     }
@@ -146,9 +194,9 @@ fn arc_tangent(p: P2, center: P2, ccw: bool) -> P2 {
     }
 }
 
-/// Corners turning less than this (radians) are treated as straight (LinuxCNC: 0.05 rad
-/// only for convex corners, where the arc would be tiny).
-const SMALL_CORNER: f64 = 1e-9;
+/// Corners turning less than this (radians) either way are tangent: no arc, no endpoint
+/// moved (rs274's TOLERANCE_CONCAVE_CORNER, 0.05, the `small` of convert_*_comp2).
+const SMALL_CORNER: f64 = 0.05;
 
 /// Intersections of segment-carrying circles/lines near `near`: line through (p, dir) or
 /// circle (center, radius).
@@ -197,6 +245,66 @@ impl Interpreter {
     /// A compensation error at the block's motion word, with advice on what to change.
     fn comp_fail(&self, d: &Decoded, message: &str, help: impl Into<String>) -> Diagnostic {
         self.fail(d.g_span(G::MOTION), message, 0).with_help(help)
+    }
+
+    /// Where a line meets the arc after it at a concave corner, by rs274's formula
+    /// (convert_arc_comp2, "line->arc"): it takes the programmed corner to lie at the arc's
+    /// end radius, so the point is off the exact intersection when the start radius differs.
+    /// `ends_at`: the compensated radius at the arc's end; `t1`: the line's direction.
+    fn line_arc_corner(
+        &self,
+        d: &Decoded,
+        t1: P2,
+        corner: P2,
+        center: P2,
+        ends_at: f64,
+        turns: i32,
+    ) -> Result<Option<P2>, Diagnostic> {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let r = self.modal.comp_radius;
+        let left = self.modal.comp == Some(Side::Left);
+        let inside = left == (turns > 0);
+        let arc_radius = if inside { ends_at + r } else { ends_at - r };
+        let theta = t1[1].atan2(t1[0]);
+        let delta = (center[1] - corner[1]).atan2(center[0] - corner[0]);
+        let alpha = if turns > 0 {
+            delta - FRAC_PI_2
+        } else {
+            delta + FRAC_PI_2
+        };
+        let mut beta = if left { theta - alpha } else { alpha - theta };
+        if beta > 1.5 * PI {
+            beta -= 2.0 * PI;
+        } else if beta < -FRAC_PI_2 {
+            beta += 2.0 * PI;
+        }
+        let cy = arc_radius * (beta - FRAC_PI_2).sin();
+        let (dist, l) = if inside {
+            (arc_radius - r, (cy + r) / (arc_radius - r))
+        } else {
+            (arc_radius + r, (cy - r) / (arc_radius + r))
+        };
+        if !(-1.0..=1.0).contains(&l) {
+            return Err(self.comp_fail(
+                d,
+                "Arc move in concave corner cannot be reached by the tool without gouging",
+                "open the corner or use a smaller tool",
+            ));
+        }
+        let angle = match (inside, turns > 0) {
+            (true, true) => theta + l.asin(),
+            (true, false) => theta - l.asin(),
+            (false, true) => theta + PI - l.asin(),
+            (false, false) => theta + PI + l.asin(),
+        };
+        Ok(Some(add(center, [dist * angle.cos(), dist * angle.sin()])))
+    }
+
+    /// Whether moves are offset: compensation on with a radius above zero. rs274 runs the
+    /// moves of a zero radius (`D0`, `G41.1 D0`) as programmed, without the entry-move and
+    /// corner logic (convert_straight, convert_arc: `cutter_comp_radius > 0`).
+    pub(crate) fn comp_offsets(&self) -> bool {
+        self.modal.comp.is_some() && self.modal.comp_radius > 0.0
     }
 
     fn comp_side_sign(&self) -> f64 {
@@ -278,7 +386,7 @@ impl Interpreter {
             axes,
             entry: true,
             pending: None,
-            tail: Vec::new(),
+            tail: RefCell::new(Vec::new()),
         };
         Ok(())
     }
@@ -294,10 +402,15 @@ impl Interpreter {
     /// Emit the held XY-less moves at the XY of `at`; returns the last point.
     fn emit_tail(&mut self, sink: Sink, at: [f64; 6]) -> [f64; 6] {
         let mut last = at;
-        for (mut p, feed) in std::mem::take(&mut self.comp.tail) {
-            put2(&mut p, self.comp.axes, get2(&at, self.comp.axes));
-            self.emit_straight(sink, feed, p);
-            last = p;
+        for held in self.comp.tail.take() {
+            match held {
+                Held::Move(mut p, feed) => {
+                    put2(&mut p, self.comp.axes, get2(&at, self.comp.axes));
+                    self.emit_straight(sink, feed, p);
+                    last = p;
+                }
+                Held::Op(op) => sink(op),
+            }
         }
         last
     }
@@ -332,14 +445,28 @@ impl Interpreter {
                     ..
                 } => arc_tangent(start, center, turns > 0),
             };
-            let turn = cross(t1, t2);
-            let convex = turn * self.comp_side_sign() < -SMALL_CORNER
-                || (turn.abs() <= SMALL_CORNER && dot(t1, t2) < 0.0);
+            // The turn, positive away from the tool's side (convex). rs274 takes it in
+            // (−π/2, 3π/2]: a reversal (near ±π) is convex.
+            let phi = -self.comp_side_sign() * cross(t1, t2).atan2(dot(t1, t2));
+            // A reversal onto or off an arc the tool runs outside of (the "h" and "m"
+            // shapes of rs274's convert_*_comp2) is taken as concave: the tool stays on the
+            // outside instead of looping round the corner.
+            let reversal = phi.abs() > std::f64::consts::PI - SMALL_CORNER;
+            let outside = |turns: i32| (self.modal.comp == Some(Side::Left)) != (turns > 0);
+            let h_shape = reversal
+                && match (&prev, &next) {
+                    (_, Seg::Arc { turns, .. }) => outside(*turns),
+                    (Seg::Arc { turns, .. }, Seg::Line { .. }) => outside(*turns),
+                    _ => false,
+                };
+            let convex =
+                !h_shape && !(-std::f64::consts::PI + SMALL_CORNER..=SMALL_CORNER).contains(&phi);
+            let tangent = !convex && !h_shape && phi >= -SMALL_CORNER;
             let prev_end = prev.end();
             let next_start = match next {
                 Seg::Line { start, .. } | Seg::Arc { start, .. } => start,
             };
-            if len(sub(next_start, get2(&prev_end, ax))) < 1e-9 {
+            if tangent || len(sub(next_start, get2(&prev_end, ax))) < 1e-9 {
                 self.emit_seg(sink, prev);
                 self.emit_tail(sink, prev_end);
             } else if convex {
@@ -357,17 +484,38 @@ impl Interpreter {
             } else {
                 let curve = |s: &Seg| match *s {
                     Seg::Line { start, dir, .. } => Curve::Line { p: start, dir },
-                    Seg::Arc { start, center, .. } => Curve::Circle {
+                    // rs274 intersects with the radius at the arc's (compensated) end.
+                    Seg::Arc { end, center, .. } => Curve::Circle {
                         c: center,
-                        r: len(sub(start, center)),
+                        r: len(sub(get2(&end, ax), center)),
                     },
                 };
                 let cands = intersections(curve(&prev), curve(&next));
-                let best = cands.into_iter().min_by(|a, b| {
-                    len(sub(*a, corner))
-                        .partial_cmp(&len(sub(*b, corner)))
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                });
+                // The intersection nearest the corner; on a reversal both are as near, and
+                // rs274 takes the one ahead along the new move.
+                let key = |x: &P2| {
+                    if h_shape {
+                        -dot(sub(*x, corner), t2)
+                    } else {
+                        len(sub(*x, corner))
+                    }
+                };
+                let best = match (&prev, &next) {
+                    (
+                        Seg::Line { .. },
+                        Seg::Arc {
+                            end, center, turns, ..
+                        },
+                    ) => {
+                        let ends_at = len(sub(get2(end, ax), *center));
+                        self.line_arc_corner(d, t1, corner, *center, ends_at, *turns)?
+                    }
+                    _ => cands.into_iter().min_by(|a, b| {
+                        key(a)
+                            .partial_cmp(&key(b))
+                            .unwrap_or(std::cmp::Ordering::Equal)
+                    }),
+                };
                 // A line gouges when the corner point falls behind its start; an arc's
                 // candidates all lie on the arc itself (the nearest to the corner was kept).
                 let gouge = match best {
@@ -417,8 +565,11 @@ impl Interpreter {
         if self.comp.entry {
             // Entry (as rs274): the held segment lies on the programmed line shifted by r,
             // and the tool reaches it from wherever it stands.
+            // rs274 (`distance <= radius`) takes an entry move exactly one radius long:
+            // its radius and position come out a hair apart (measured in G20 and G21, with
+            // and without D); one a micron shorter is refused.
             let dist = len(sub(target, self.comp.point));
-            if dist <= r {
+            if dist < r * (1.0 - 1e-9) {
                 return Err(self.comp_fail(
                     d,
                     "Length of cutter compensation entry move is not greater than the tool radius",
@@ -450,8 +601,15 @@ impl Interpreter {
         if len(sub(target, prog)) < 1e-12 {
             // No XY motion: keep the tool centre where it is, move the other axes.
             put2(&mut out, ax, self.comp.point);
-            if self.comp.pending.is_some() && self.comp.tail.len() < MAX_TAIL {
-                self.comp.tail.push((out, feed));
+            let moves = self
+                .comp
+                .tail
+                .borrow()
+                .iter()
+                .filter(|h| matches!(h, Held::Move(..)))
+                .count();
+            if self.comp.pending.is_some() && moves < MAX_TAIL {
+                self.comp.tail.borrow_mut().push(Held::Move(out, feed));
             } else {
                 self.comp_flush(sink);
                 self.emit_straight(sink, feed, out);
@@ -490,7 +648,9 @@ impl Interpreter {
         let center = self.arc_center(d, prog, target)?;
         let turns = self.arc_turns(d)?;
         let ccw = turns > 0;
-        let radius = len(sub(prog, center));
+        // rs274 offsets the radius at the end (arc_radius in convert_arc_comp*), which may
+        // differ from the start's within the arc tolerance.
+        let radius = len(sub(target, center));
         // Left of a CCW arc is towards the centre.
         let inside = (self.modal.comp == Some(Side::Left)) == ccw;
         let new_r = if inside { radius - r } else { radius + r };
@@ -512,7 +672,10 @@ impl Interpreter {
         if self.comp.entry {
             return self.comp_entry_arc(d, sink, end, out, center, turns);
         }
-        let start = on(prog);
+        // The start stays one tool radius from the programmed start (rs274's corner arc
+        // ends at `op + tool_radius·(cos δ, sin δ)`), whatever the radius at the end.
+        let toward = if inside { -r } else { r };
+        let start = add(prog, scale(unit(sub(prog, center)), toward));
         self.comp_push(
             sink,
             d,

@@ -55,6 +55,25 @@ impl Interpreter {
         p
     }
 
+    /// A G84/G74 feed as rs274 2.9 makes it: `convert_cycle_g74_g84` orders the plane's
+    /// coordinates for G18/G19 and `cycle_feed` orders them again, so a G18 tap feeds along
+    /// G19's axes and a G19 tap along G18's (away from the hole; LinuxCNC's own
+    /// tests/interp/g84 expect it). Matched, deliberately: docs/linuxcnc-differences.md.
+    fn tap_feed(&mut self, sink: Sink, aa: f64, bb: f64, cc: f64) {
+        use oficina_canon::Plane;
+        let (a0, a1, a2) = match self.modal.plane {
+            Plane::XY => Plane::XY.axes(),
+            Plane::XZ => Plane::YZ.axes(),
+            Plane::YZ => Plane::XZ.axes(),
+        };
+        let mut p = self.pos;
+        p[a0] = aa;
+        p[a1] = bb;
+        p[a2] = cc;
+        self.emit_straight(sink, true, p);
+        self.pos = p;
+    }
+
     fn cycle_move(&mut self, sink: Sink, feed: bool, aa: f64, bb: f64, cc: f64) {
         let p = self.cycle_point(aa, bb, cc);
         self.emit_straight(sink, feed, p);
@@ -136,8 +155,16 @@ impl Interpreter {
         let mut old_cc = *self.cycle.initial_level.get_or_insert(current_cc);
         // Hole positions from the axis words, or from polar words (an XY point, mm).
         let polar = (d.has('@') || d.has('^')).then(|| self.polar_target(d));
+        // Under G91, rs274 (CYCLE_MACRO) adds @ to the radius and ^ to the angle of the
+        // hole before, on every repeat: L6 ^60 goes round a circle.
+        let polar_step = (polar.is_some() && self.modal.incremental).then(|| {
+            (
+                d.get('@').unwrap_or(0.0) * k,
+                d.get('^').unwrap_or(0.0).to_radians(),
+            )
+        });
         let inc_word = |ax: usize| match polar {
-            Some(p) if ax < 2 => p[ax] - self.pos[ax],
+            Some(_) if ax < 2 => 0.0,
             _ => d.get(axes[ax]).unwrap_or(0.0) * k,
         };
         let abs_word = |ax: usize| match polar {
@@ -205,6 +232,17 @@ impl Interpreter {
         for _ in 0..repeats {
             aa += inc_a;
             bb += inc_b;
+            if let Some((dr, dt)) = polar_step {
+                if aa == 0.0 && bb == 0.0 && (dr != 0.0 || dt != 0.0) {
+                    return Err(self.fail(
+                        span,
+                        "Incremental motion with polar coordinates is indeterminate when at the origin",
+                        0,
+                    ));
+                }
+                let (radius, theta) = (aa.hypot(bb) + dr, bb.atan2(aa) + dt);
+                (aa, bb) = (radius * theta.cos(), radius * theta.sin());
+            }
             // rs274 crosses at the old Z under G98; under G99 at the current height, or at
             // R when below it.
             let cross_height = if self.modal.retract_to_old_z {
@@ -347,9 +385,8 @@ impl Interpreter {
             }
             740 | 840 => {
                 // Tapping (G84 right hand, G74 left hand): overrides off, feed in, reverse,
-                // dwell, feed out to the clear height, spindle forward again. The moves are
-                // on the plane's own axes in G18/G19 too (rs274 2.9 permutes them twice
-                // there: docs/linuxcnc-differences.md).
+                // dwell, feed out to the clear height, spindle forward again. In G18/G19
+                // the two feeds go where rs274 2.9 sends them (see `tap_feed`).
                 let (forward, reverse) = if code == 840 {
                     (SpindleDir::Clockwise, SpindleDir::CounterClockwise)
                 } else {
@@ -357,11 +394,11 @@ impl Interpreter {
                 };
                 self.emit(sink, CanonOp::EnableFeedOverride(false));
                 self.emit(sink, CanonOp::EnableSpeedOverride(false));
-                self.cycle_move(sink, true, aa, bb, h.bottom);
+                self.tap_feed(sink, aa, bb, h.bottom);
                 self.emit(sink, CanonOp::StopSpindle);
                 self.emit(sink, CanonOp::StartSpindle(reverse));
                 self.emit(sink, CanonOp::Dwell(p));
-                self.cycle_move(sink, true, aa, bb, h.clear);
+                self.tap_feed(sink, aa, bb, h.clear);
                 self.emit(sink, CanonOp::StopSpindle);
                 self.emit(sink, CanonOp::StartSpindle(forward));
                 self.emit(sink, CanonOp::EnableFeedOverride(true));

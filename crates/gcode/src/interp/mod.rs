@@ -25,7 +25,7 @@ use crate::params::Params;
 use crate::Dialect;
 use frame::Frame;
 use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
-use state::{Modal, Motion};
+use state::{Modal, Motion, Side};
 use tool_table::ToolTable;
 use words::{g_group as G, m_group as M, Decoded};
 
@@ -179,10 +179,13 @@ impl Interpreter {
     }
 
     pub(crate) fn emit(&self, sink: Sink, op: CanonOp) {
-        sink(Canon {
+        let op = Canon {
             line: self.line,
             op,
-        });
+        };
+        if let Some(op) = self.comp.hold(op) {
+            sink(op);
+        }
     }
 
     /// An error at `span`; in the grbl dialect it carries grbl's error number.
@@ -478,6 +481,7 @@ impl Interpreter {
             self.emit(sink, CanonOp::StopSpindle);
             self.modal.spindle = None;
             self.modal.tool_in_spindle = self.modal.tool_selected;
+            self.set_tool_params(params);
             self.emit(sink, CanonOp::ChangeTool(self.modal.tool_selected));
         }
         // 7. Spindle.
@@ -512,6 +516,7 @@ impl Interpreter {
             match m {
                 48 | 49 => {
                     self.modal.feed_override = m == 48;
+                    self.modal.speed_override = m == 48;
                     self.emit(sink, CanonOp::EnableFeedOverride(m == 48));
                     self.emit(sink, CanonOp::EnableSpeedOverride(m == 48));
                 }
@@ -519,9 +524,18 @@ impl Interpreter {
                     self.modal.feed_override = on;
                     self.emit(sink, CanonOp::EnableFeedOverride(on))
                 }
-                51 => self.emit(sink, CanonOp::EnableSpeedOverride(on)),
-                52 => self.emit(sink, CanonOp::EnableAdaptiveFeed(on)),
-                _ => self.emit(sink, CanonOp::EnableFeedHold(on)),
+                51 => {
+                    self.modal.speed_override = on;
+                    self.emit(sink, CanonOp::EnableSpeedOverride(on))
+                }
+                52 => {
+                    self.modal.adaptive_feed = on;
+                    self.emit(sink, CanonOp::EnableAdaptiveFeed(on))
+                }
+                _ => {
+                    self.modal.feed_hold = on;
+                    self.emit(sink, CanonOp::EnableFeedHold(on))
+                }
             }
         }
         // 10. Dwell.
@@ -735,6 +749,8 @@ impl Interpreter {
 
     /// M2 / M30: LinuxCNC's end-of-program resets, then the end itself.
     fn end_program(&mut self, params: &mut Params, sink: Sink) {
+        // rs274 issues what cutter compensation holds before it resets anything.
+        self.comp_flush(sink);
         self.modal.coord_system = 1;
         self.load_coord_system(params, 1);
         self.emit_coord_system(sink, false);
@@ -789,6 +805,67 @@ impl Interpreter {
         let _ = params.set(param::TOOL_NUMBER, self.modal.tool_in_spindle as f64);
     }
 
+    /// The rest of rs274 2.9's read-only named parameters (interp_namedparams.cc): modes as
+    /// 0/1 flags or G-code numbers ×10, and the version of the LinuxCNC Oficina follows
+    /// (`_vmajor` 2.9, `_vminor` 0, as rs274 2.9.0 reads its own version).
+    fn update_mode_params(&self, params: &mut Params) {
+        let b = |v: bool| if v { 1.0 } else { 0.0 };
+        let ccomp = match self.modal.comp {
+            Some(Side::Left) => 410.0,
+            Some(Side::Right) => 420.0,
+            None => 400.0,
+        };
+        let m = &self.modal;
+        for (name, value) in [
+            ("_vmajor", 2.9),
+            ("_vminor", 0.0),
+            ("_ccomp", ccomp),
+            ("_inverse_time", b(m.feed_mode == FeedMode::InverseTime)),
+            (
+                "_units_per_minute",
+                b(m.feed_mode == FeedMode::UnitsPerMinute),
+            ),
+            ("_units_per_rev", b(m.feed_mode == FeedMode::UnitsPerRev)),
+            ("_tool_offset", b(self.frame.tool.iter().any(|&t| t != 0.0))),
+            ("_retract_r_plane", b(!m.retract_to_old_z)),
+            ("_retract_old_z", b(m.retract_to_old_z)),
+            ("_spindle_rpm_mode", 1.0),
+            ("_spindle_css_mode", 0.0),
+            ("_ijk_absolute_mode", b(!m.arc_incremental)),
+            ("_lathe_diameter_mode", b(m.diameter_mode)),
+            ("_lathe_radius_mode", b(!m.diameter_mode)),
+            ("_spindle_on", b(m.spindle.is_some())),
+            ("_spindle_cw", b(m.spindle == Some(SpindleDir::Clockwise))),
+            ("_mist", b(m.mist)),
+            ("_flood", b(m.flood)),
+            ("_speed_override", b(m.speed_override)),
+            ("_feed_override", b(m.feed_override)),
+            ("_adaptive_feed", b(m.adaptive_feed)),
+            ("_feed_hold", b(m.feed_hold)),
+            ("_u", 0.0),
+            ("_v", 0.0),
+            ("_w", 0.0),
+        ] {
+            params.set_system(name, value);
+        }
+    }
+
+    /// `#5401`…`#5413`: the loaded tool's table entry (X Y Z A B C U V W offsets, diameter,
+    /// front and back angle, orientation) in machine units, zero without a tool. rs274 sets
+    /// them (set_tool_parameters) on a tool change and when G10 L1/L10/L11 changes a tool.
+    pub(crate) fn set_tool_params(&self, params: &mut Params) {
+        let mk = self.mk();
+        let mut v = [0.0; 13];
+        let loaded = self.modal.tool_in_spindle;
+        if let Some(t) = self.tools.get(loaded).filter(|_| loaded > 0) {
+            for (i, o) in t.offset.iter().enumerate() {
+                v[i] = if i < 3 { o / mk } else { *o };
+            }
+            v[9] = t.diameter / mk;
+        }
+        let _ = params.set_run(param::TOOL_NUMBER + 1, &v);
+    }
+
     /// Named parameters (`#<_x>`, `#<_metric>` …) as LinuxCNC defines them. They cost a
     /// map update each, so the driver refreshes them only for programs that read them.
     pub fn update_named_params(&self, params: &mut Params) {
@@ -837,6 +914,7 @@ impl Interpreter {
             Motion::Spline(t) => t as f64,
         };
         params.set_system("_motion_mode", motion);
+        self.update_mode_params(params);
         params.set_system("_line", self.line as f64);
     }
 }

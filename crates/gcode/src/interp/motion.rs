@@ -173,7 +173,7 @@ impl Interpreter {
         feed: bool,
         end: [f64; 6],
     ) -> Result<(), Diagnostic> {
-        if self.modal.comp.is_some() {
+        if self.comp_offsets() {
             return self.comp_straight(d, sink, feed, end);
         }
         self.emit_straight(sink, feed, end);
@@ -345,7 +345,7 @@ impl Interpreter {
         let (a0, a1, _) = self.modal.plane.axes();
         let start2 = [self.pos[a0], self.pos[a1]];
         let end2 = [end[a0], end[a1]];
-        if self.modal.comp.is_some() {
+        if self.comp_offsets() {
             return self.comp_arc(d, sink, end);
         }
         let center = self.arc_center(d, start2, end2)?;

@@ -307,10 +307,10 @@ impl Interpreter {
                         ..self.frame
                     }
                 };
-                let mut m = self.frame.to_machine(self.pos);
-                for (v, t) in m.iter_mut().zip(self.frame.tool) {
-                    *v -= t;
-                }
+                // The machine point itself: read through a frame without the tool offset it
+                // is rs274's "current position in the system without TLO".
+                let m = self.frame.to_machine(self.pos);
+                let old_xy = [tool.offset[0], tool.offset[1]];
                 for (i, &axis) in AXES.iter().enumerate() {
                     if let Some(v) = d.get(axis) {
                         let s = if i < 3 { k } else { 1.0 };
@@ -323,10 +323,18 @@ impl Interpreter {
                         };
                     }
                 }
+                if l.v != 1.0 && reading.rotation != 0.0 {
+                    let here = reading.to_program(m);
+                    let [x, y] = [d.get('X').map(|v| v * k), d.get('Y').map(|v| v * k)];
+                    if let Some(o) = rotated_tool_xy(old_xy, here, x, y, reading.rotation) {
+                        [tool.offset[0], tool.offset[1]] = o;
+                    }
+                }
                 if let Some(r) = d.get('R') {
                     tool.diameter = 2.0 * r * k;
                 }
                 self.tools.insert(tool);
+                self.set_tool_params(params);
                 Ok(())
             }
             _ => Err(self.fail(
@@ -350,4 +358,30 @@ impl Interpreter {
         f.rotation = params.get(base + 9).unwrap_or(0.0);
         f
     }
+}
+
+/// G10 L10/L11 X and Y under a rotated coordinate system, as rs274 2.9 sets them
+/// (convert_setup_tool): the offset is the current point's distance from the value asked,
+/// turned by the rotation; with one of X and Y, the old offset keeps its component along
+/// the other (rotated) axis. `here`: the current point read in the system, mm.
+fn rotated_tool_xy(
+    old: [f64; 2],
+    here: [f64; 6],
+    x: Option<f64>,
+    y: Option<f64>,
+    degrees: f64,
+) -> Option<[f64; 2]> {
+    let (s, c) = degrees.to_radians().sin_cos();
+    let turn = |v: [f64; 2], s: f64| [v[0] * c - v[1] * s, v[0] * s + v[1] * c];
+    let (t, keep) = match (x, y) {
+        (Some(x), Some(y)) => return Some(turn([here[0] - x, here[1] - y], s)),
+        (Some(x), None) => ([here[0] - x, 0.0], 1),
+        (None, Some(y)) => ([0.0, here[1] - y], 0),
+        (None, None) => return None,
+    };
+    let mut o = turn(old, -s);
+    o[1 - keep] = 0.0;
+    let o = turn(o, s);
+    let t = turn(t, s);
+    Some([t[0] + o[0], t[1] + o[1]])
 }

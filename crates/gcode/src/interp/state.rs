@@ -75,6 +75,12 @@ pub struct Modal {
     pub tool_length_on: bool,
     /// M48/M50: the feed override switch (M2 turns it back on).
     pub feed_override: bool,
+    /// M48/M51: the spindle speed override switch.
+    pub speed_override: bool,
+    /// M52: adaptive feed.
+    pub adaptive_feed: bool,
+    /// M53: the feed hold switch.
+    pub feed_hold: bool,
     pub comp: Option<Side>,
     /// Radius of compensation, mm.
     pub comp_radius: f64,
@@ -106,6 +112,9 @@ impl Modal {
             tool_in_spindle: 0,
             tool_length_on: false,
             feed_override: true,
+            speed_override: true,
+            adaptive_feed: false,
+            feed_hold: true,
             comp: None,
             comp_radius: 0.0,
             diameter_mode: false,
