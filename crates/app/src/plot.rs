@@ -301,7 +301,37 @@ fn draw(
     shade(d, by, p.tolerance, &shading, &|path| {
         even_odd.contains(&path.source.element)
     })
-    .map_err(|e| Error(format!("--fill/--occult: {e}")))
+    .map_err(|e| {
+        if e.contains("spacing") {
+            Error(format!("--fill-spacing {}: {e}", p.fill_spacing))
+        } else {
+            Error(format!("fill/occult: {e}"))
+        }
+    })
+}
+
+/// The fill and passes settings, refused with the flag they came from.
+fn check_shading(p: &PlotParams) -> Result<(), Error> {
+    if p.fill && !(p.fill_spacing.is_finite() && p.fill_spacing > 0.0) {
+        return Err(Error(format!(
+            "--fill-spacing {}: must be > 0 mm",
+            p.fill_spacing
+        )));
+    }
+    if p.fill && !p.fill_angle.is_finite() {
+        return Err(Error(format!(
+            "--fill-angle {}: must be a number of degrees",
+            p.fill_angle
+        )));
+    }
+    if !(1..=oficina_plot::MAX_PASSES).contains(&p.passes) {
+        return Err(Error(format!(
+            "--passes {}: use 1 to {}",
+            p.passes,
+            oficina_plot::MAX_PASSES
+        )));
+    }
+    Ok(())
 }
 
 /// Reads the design into pens of strokes; notes what was left out.
@@ -446,6 +476,7 @@ pub fn plot(
             Some(l)
         }
     };
+    check_shading(p)?;
     fb.stage("reading the design")?;
     let mut plot = match input {
         Some(path) => load(path, p, layout.as_ref(), &mut notes)?,
