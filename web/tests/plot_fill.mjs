@@ -65,7 +65,8 @@ await test('a real plot SVG: plain, then hatch fill + occult through the form', 
   const n = await page.evaluate(() => window.__oficina.stats.previews);
   const filled = await plotted(page, n + 1);
   const f = await report(page);
-  assert(filled.feed > plain.feed * 5, `the preview shows the hatch lines: ${JSON.stringify({ plain, filled })}`);
+  // Each hatch line is one pen-down stroke of one segment: the preview's pen-downs multiply.
+  assert(filled.plunge > plain.plunge * 5 && filled.feed > plain.feed, `the preview shows the hatch lines: ${JSON.stringify({ plain, filled })}`);
   // Hatch lines 2 mm apart over the shapes: area / 2 of line, less what occult hides of
   // outlines (the shapes here do not overlap much: within 5 %).
   const hatch = f.down - p.down;
