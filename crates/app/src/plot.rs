@@ -312,10 +312,11 @@ fn draw(
 
 /// The fill and passes settings, refused with the flag they came from.
 fn check_shading(p: &PlotParams) -> Result<(), Error> {
-    if p.fill && !(p.fill_spacing.is_finite() && p.fill_spacing > 0.0) {
+    if p.fill && !(p.fill_spacing.is_finite() && p.fill_spacing >= oficina_plot::MIN_FILL_SPACING) {
         return Err(Error(format!(
-            "--fill-spacing {}: must be > 0 mm",
-            p.fill_spacing
+            "--fill-spacing {}: must be at least {} mm (no pen draws lines closer)",
+            p.fill_spacing,
+            oficina_plot::MIN_FILL_SPACING
         )));
     }
     if p.fill && !p.fill_angle.is_finite() {

@@ -279,8 +279,8 @@ fn bad_settings_are_refused_with_a_reason() {
     };
     let f = f.to_str().unwrap();
     for (args, why) in [
-        (vec!["--fill", "--fill-spacing", "1e-9"], "larger spacing"),
-        (vec!["--fill", "--fill-spacing", "0"], "must be > 0"),
+        (vec!["--fill", "--fill-spacing", "1e-9"], "at least 0.01 mm"),
+        (vec!["--fill", "--fill-spacing", "0"], "--fill-spacing 0"),
         (vec!["--fill", "--fill-angle", "NaN"], "degrees"),
         (vec!["--passes", "0"], "--passes 0"),
         (vec!["--passes", "100000"], "--passes 100000"),

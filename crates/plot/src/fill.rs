@@ -6,6 +6,8 @@ use oficina_geom::{offset_regions, Join, Point, Region, Ring, Vec2};
 
 use crate::strokes::Stroke;
 
+/// Hatch spacings below this are refused: no pen draws lines that close apart, mm.
+pub const MIN_FILL_SPACING: f64 = 0.01;
 /// More hatch lines than this for one plot are refused (bounded memory and time).
 pub const MAX_FILL_LINES: f64 = 1.0e6;
 
@@ -36,8 +38,11 @@ impl Default for FillStyle {
 impl FillStyle {
     /// Refuses settings that cannot be drawn: says which.
     pub fn check(&self) -> Result<(), String> {
-        if !(self.spacing.is_finite() && self.spacing > 0.0) {
-            return Err(format!("fill spacing {} mm: must be > 0", self.spacing));
+        if !(self.spacing.is_finite() && self.spacing >= MIN_FILL_SPACING) {
+            return Err(format!(
+                "fill spacing {} mm: must be at least {MIN_FILL_SPACING} mm (no pen draws lines closer)",
+                self.spacing
+            ));
         }
         if !self.angle.is_finite() {
             return Err(format!(
@@ -74,7 +79,9 @@ pub fn fill_regions(
     tol: f64,
     budget: &mut f64,
 ) -> Result<Vec<Stroke>, String> {
-    style.check()?;
+    if !(style.spacing.is_finite() && style.spacing > 0.0) {
+        return Err(format!("fill spacing {} must be > 0", style.spacing));
+    }
     let n = line_count(regions, style.spacing) * if style.cross { 2.0 } else { 1.0 };
     if n > *budget {
         return Err(format!(

@@ -46,7 +46,7 @@ pub use canon::to_canon;
 pub use clean::{dedupe, simplify};
 pub use crop::crop;
 pub use emit::{gcode, hpgl, joint_gcode};
-pub use fill::{fill_regions, FillStyle, MAX_FILL_LINES};
+pub use fill::{fill_regions, FillStyle, MAX_FILL_LINES, MIN_FILL_SPACING};
 pub use hatch::{hatch, load_gray, Gray, HatchError, Hatching};
 pub use job::{prepare, Crop, Format, Prepared, Settings};
 pub use layout::{layout, page_size, Layout, Placed, PAGE_SIZES};
