@@ -27,7 +27,9 @@ fn has_python(module: &str) -> bool {
         .output()
         .is_ok_and(|o| o.status.success());
     if !ok {
-        eprintln!("python3 module '{module}' is not installed (pip install it): comparison not run");
+        eprintln!(
+            "python3 module '{module}' is not installed (pip install it): comparison not run"
+        );
     }
     ok
 }
@@ -48,7 +50,16 @@ fn plot(file: &Path, name: &str, extra: &[&str]) -> String {
     let out = tmp(name);
     let f = file.to_str().unwrap();
     let mut args = vec![
-        "plot", f, "--layout", "a3", "--landscape", "--no-fit", "--pens", "layer", "-o", &out,
+        "plot",
+        f,
+        "--layout",
+        "a3",
+        "--landscape",
+        "--no-fit",
+        "--pens",
+        "layer",
+        "-o",
+        &out,
     ];
     args.extend_from_slice(extra);
     let o = oficina(&args);
@@ -188,7 +199,12 @@ fn fill_hatches_the_area_of_each_shape_holes_left_empty() {
     ] {
         let mut a = vec!["--fill", "--filled", "closed", "--fill-spacing", s];
         a.extend(extra.iter().copied());
-        let v = peer(&["fill", &plot(&f, "fill.nc", &a), &plain, f.to_str().unwrap()]);
+        let v = peer(&[
+            "fill",
+            &plot(&f, "fill.nc", &a),
+            &plain,
+            f.to_str().unwrap(),
+        ]);
         // Hatch lines `s` apart cover the area: length ≈ area / s per set of lines.
         let want = num(&v, "area") / 0.5 * sets;
         let got = num(&v, "hatch");
@@ -196,7 +212,11 @@ fn fill_hatches_the_area_of_each_shape_holes_left_empty() {
     }
     let v = peer(&[
         "fill",
-        &plot(&f, "conc.nc", &["--fill", "--filled", "closed", "--fill-concentric"]),
+        &plot(
+            &f,
+            "conc.nc",
+            &["--fill", "--filled", "closed", "--fill-concentric"],
+        ),
         &plain,
         f.to_str().unwrap(),
     ]);
@@ -255,7 +275,14 @@ fn crop_keeps_what_shapely_keeps_and_nothing_outside() {
     // The paper: a sheet smaller than the drawing is refused, unless cropped to it.
     let on = |extra: &[&str]| {
         let out = tmp("paper.nc");
-        let mut a = vec!["plot", f.to_str().unwrap(), "--paper", "100,80", "--at", "0,0"];
+        let mut a = vec![
+            "plot",
+            f.to_str().unwrap(),
+            "--paper",
+            "100,80",
+            "--at",
+            "0,0",
+        ];
         a.extend_from_slice(&["-o", &out]);
         a.extend_from_slice(extra);
         oficina(&a)
