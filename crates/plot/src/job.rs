@@ -9,7 +9,7 @@ use crate::machine::{
     check_paper, check_ramps, check_reach, snap_to_travel, PenMachine, PlotError, Ramp,
 };
 use crate::optimise::{optimise, Optimise, Report};
-use crate::passes::{multipass, reloop};
+use crate::passes::{multipass, reloop, reorder};
 use crate::strokes::Plot;
 
 /// Crops `plot` to the box or the sheet; an empty result is an error that says why.
@@ -161,11 +161,18 @@ pub fn prepare(
     snap_to_travel(&mut plot, profile);
     let ramps = check_ramps(profile, s.min_ramp_steps)?;
     let mut report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
-    // After ordering (which picks where open strokes start) and before the passes.
+    multipass(&mut plot, s.passes).map_err(PlotError::Settings)?;
+    if s.passes % 2 == 0 {
+        // Open strokes now end where they begin: order them for that.
+        if let Some(o) = s.optimise.as_ref().filter(|o| o.reorder) {
+            reorder(&mut plot, o, m.home);
+        }
+    }
+    // After ordering: each closed stroke (all of them, after even passes) begins nearest
+    // the pen.
     if s.reloop {
         reloop(&mut plot, m.home);
     }
-    multipass(&mut plot, s.passes).map_err(PlotError::Settings)?;
     if let Some(r) = report.as_mut() {
         // What is drawn: with the passes and the reloop's seams.
         r.after = plot.lengths();

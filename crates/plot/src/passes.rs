@@ -3,7 +3,33 @@
 
 use oficina_geom::Point;
 
+use crate::optimise::Optimise;
+use crate::order::{apply, nearest_neighbour, two_opt};
 use crate::strokes::{Plot, Stroke};
+
+/// Orders each pen's strokes again (after an even number of passes an open stroke ends
+/// where it began, so the order made for its old end no longer holds).
+pub(crate) fn reorder(plot: &mut Plot, o: &Optimise, home: Point) {
+    let mut at = home;
+    for pen in &mut plot.pens {
+        if !pen.strokes.is_empty() {
+            let mut tour = nearest_neighbour(&pen.strokes, at);
+            if o.two_opt_window > 0 {
+                two_opt(
+                    &pen.strokes,
+                    &mut tour,
+                    at,
+                    o.two_opt_window,
+                    o.two_opt_passes,
+                );
+            }
+            pen.strokes = apply(std::mem::take(&mut pen.strokes), &tour);
+        }
+        if let Some(&p) = pen.strokes.last().and_then(|s| s.last()) {
+            at = p;
+        }
+    }
+}
 
 /// More passes than this are refused.
 pub const MAX_PASSES: usize = 100;
