@@ -162,7 +162,7 @@ pub fn prepare(
     let ramps = check_ramps(profile, s.min_ramp_steps)?;
     let mut report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
     multipass(&mut plot, s.passes).map_err(PlotError::Settings)?;
-    if s.passes % 2 == 0 {
+    if s.passes.is_multiple_of(2) {
         // Open strokes now end where they begin: order them for that.
         if let Some(o) = s.optimise.as_ref().filter(|o| o.reorder) {
             reorder(&mut plot, o, m.home);
