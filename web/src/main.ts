@@ -345,6 +345,8 @@ async function make() {
       // Where the drawing lands (after the form's layout): what the page and margin did.
       const [x0, y0, x1, y1] = body.bounds as number[];
       lines.push(`drawing: ${(x1 - x0).toFixed(1)} × ${(y1 - y0).toFixed(1)} mm at (${x0.toFixed(1)}, ${y0.toFixed(1)})`);
+      const l = body.lengths as { pen_down: number; pen_up: number } | undefined;
+      if (l) lines.push(`pen-down ${l.pen_down.toFixed(1)} mm, pen-up ${l.pen_up.toFixed(1)} mm`);
       lines.push(`planned time: ${hms(body.seconds as number)}`, ...(body.notes as string[]));
     }
     $('process-report').textContent = lines.join('\n');

@@ -65,6 +65,20 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'merge_tol', label: 'Join ends within', unit: 'mm', value: '0.05', min: 0, max: 10 },
       { name: 'text', label: 'Text', kind: 'text', value: '', optional: true },
       { name: 'no_optimise', label: 'Draw as given', kind: 'check', value: '' },
+      // `oficina plot --fill/--fill-angle/--fill-spacing/--fill-cross/--fill-concentric/--filled`.
+      { name: 'fill', label: 'Hatch fills', kind: 'check', value: '' },
+      { name: 'fill_angle', label: 'Hatch angle', unit: '°', value: '45', min: -360, max: 360 },
+      { name: 'fill_spacing', label: 'Hatch spacing', unit: 'mm', value: '1', min: 0.05, max: 100 },
+      { name: 'fill_cross', label: 'Cross-hatch', kind: 'check', value: '' },
+      { name: 'fill_concentric', label: 'Concentric', kind: 'check', value: '' },
+      // svg: a fill colour; closed: every closed outline; loops: every closed subpath (vpype-occult).
+      { name: 'filled', label: 'Filled shapes', kind: 'select', value: 'svg', options: ['svg', 'closed', 'loops'] },
+      // `--occult` / `--occult-across`: later filled shapes hide what was drawn under them.
+      { name: 'occult', label: 'Hide lines under shapes', kind: 'check', value: '' },
+      { name: 'occult_across', label: '… across pens', kind: 'check', value: '' },
+      { name: 'passes', label: 'Passes', value: '1', min: 1, max: 100 },
+      { name: 'reloop', label: 'Start loops near the pen', kind: 'check', value: '' },
+      { name: 'crop', label: 'Crop', kind: 'text', value: '', optional: true, placeholder: 'none: paper, or X0,Y0,X1,Y1 mm' },
     ],
   },
   // Names and ranges are `oficina embroider`'s flags and the stitch crate's Params::check.

@@ -83,7 +83,7 @@ pub use output::{
     HPGL_EXTENSIONS, PROGRAM_EXTENSIONS,
 };
 pub use plan::{plan_program, Interpolator, PlanOutcome, PlanOutputs, PlanRequest, PlanSummary};
-pub use plot::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
+pub use plot::{pen_machine, plot, FilledBy, Lift, PensBy, PlotFormat, PlotParams, PlotResult};
 pub use post_params::PostParams;
 pub use preview::{for_each_segment, PathKind, PreviewSegment};
 pub use program::{

@@ -7,8 +7,8 @@ use oficina_geom::Point;
 use oficina_motion::estimate_with;
 use oficina_motion::{PlanOptions, Profile};
 use oficina_plot::{
-    prepare, text_strokes, Format, Gray, Hatching, Optimise, PenBy, PenLift, PenMachine, Plot,
-    Prepared, Settings,
+    prepare, shade, text_strokes, Crop, FillStyle, Filled, Format, Gray, Hatching, Occult,
+    Optimise, PenBy, PenLift, PenMachine, Plot, Prepared, Settings, Shading,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -114,6 +114,64 @@ pub struct PlotParams {
     /// Ends of a drawing's paths that meet within this distance are joined (closed as
     /// drawn, open pieces chained), mm.
     pub join_tol: f64,
+    /// Hatch the filled shapes (for an image: its hatching takes `fill_angle` and
+    /// `fill_spacing`).
+    pub fill: bool,
+    /// Hatch direction, degrees from +X.
+    pub fill_angle: f64,
+    /// Distance between hatch lines on paper, mm.
+    pub fill_spacing: f64,
+    /// A second hatch at right angles.
+    pub fill_cross: bool,
+    /// Concentric rings instead of parallel lines.
+    pub fill_concentric: bool,
+    /// What counts as filled: `svg` (a fill colour), `closed` (every closed outline) or
+    /// `loops` (every closed subpath on its own).
+    pub filled: FilledBy,
+    /// Hidden-line removal: filled shapes hide what their pen drew before them.
+    pub occult: bool,
+    /// … and what every pen drew before them.
+    pub occult_across: bool,
+    /// Closed strokes start at the vertex nearest the pen.
+    pub reloop: bool,
+    /// Draw every stroke this many times.
+    pub passes: usize,
+    /// Crop to `paper` or to a box `X0,Y0,X1,Y1` (work coordinates, mm).
+    pub crop: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+/// What counts as a filled shape for `fill` and `occult`.
+pub enum FilledBy {
+    /// A fill colour in the design.
+    Svg,
+    /// Every closed outline (as AxiDraw's Hatch Fill takes them), an element's subpaths one
+    /// shape with holes.
+    Closed,
+    /// Every closed subpath a shape of its own (vpype-occult's rule).
+    Loops,
+}
+
+/// `paper` or `X0,Y0,X1,Y1`.
+fn parse_crop(s: &str) -> Result<Crop, Error> {
+    if s.trim().eq_ignore_ascii_case("paper") {
+        return Ok(Crop::Paper);
+    }
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| Error(format!("--crop '{s}': use paper or X0,Y0,X1,Y1 in mm")))?;
+    match v.as_slice() {
+        [x0, y0, x1, y1] if v.iter().all(|v| v.is_finite()) && x1 > x0 && y1 > y0 => {
+            Ok(Crop::Box([*x0, *y0, *x1, *y1]))
+        }
+        _ => Err(Error(format!(
+            "--crop '{s}': use paper or X0,Y0,X1,Y1 in mm with X0 < X1, Y0 < Y1"
+        ))),
+    }
 }
 
 impl Default for PlotParams {
@@ -146,6 +204,17 @@ impl Default for PlotParams {
             min_ramp_steps: 100.0,
             tolerance: 0.02,
             join_tol: oficina_io::JOIN_TOL,
+            fill: false,
+            fill_angle: 45.0,
+            fill_spacing: 1.0,
+            fill_cross: false,
+            fill_concentric: false,
+            filled: FilledBy::Svg,
+            occult: false,
+            occult_across: false,
+            reloop: false,
+            passes: 1,
+            crop: None,
         }
     }
 }
@@ -203,8 +272,100 @@ pub fn pen_machine(p: &PlotParams, profile: &Profile) -> Result<PenMachine, Erro
     Ok(m)
 }
 
+/// The drawing's strokes, its filled shapes hatched and hiding what lies under them when
+/// asked. The hatch spacing is on paper: divided by the scale the layout will give.
+fn draw(
+    d: &oficina_geom::Drawing,
+    by: PenBy,
+    p: &PlotParams,
+    layout: Option<&oficina_plot::Layout>,
+    even_odd: &std::collections::HashSet<String>,
+) -> Result<Plot, Error> {
+    let outline = Plot::from_drawing(d, by, p.tolerance);
+    if !p.fill && !p.occult && !p.occult_across {
+        return Ok(outline);
+    }
+    let mut k = p.scale;
+    if let (Some(l), Some(b)) = (layout.filter(|l| l.fit), outline.bounds()) {
+        let (pw, ph) = l.oriented();
+        let (w, h) = (b[2] - b[0], b[3] - b[1]);
+        let fit = |page: f64, size: f64| {
+            if size > 0.0 {
+                (page - 2.0 * l.margin) / size
+            } else {
+                f64::INFINITY
+            }
+        };
+        let f = fit(pw, w).min(fit(ph, h));
+        if f.is_finite() && f > 0.0 {
+            k = f;
+        }
+    }
+    let shading = Shading {
+        fill: p.fill.then_some(FillStyle {
+            angle: p.fill_angle,
+            spacing: p.fill_spacing,
+            cross: p.fill_cross,
+            concentric: p.fill_concentric,
+        }),
+        filled: match p.filled {
+            FilledBy::Svg => Filled::Svg,
+            FilledBy::Closed => Filled::Closed,
+            FilledBy::Loops => Filled::Loops,
+        },
+        occult: if p.occult_across {
+            Occult::Across
+        } else if p.occult {
+            Occult::PerPen
+        } else {
+            Occult::Off
+        },
+        units_per_mm: 1.0 / k,
+    };
+    shade(d, by, p.tolerance, &shading, &|path| {
+        even_odd.contains(&path.source.element)
+    })
+    .map_err(|e| {
+        if e.contains("spacing") {
+            Error(format!("--fill-spacing {}: {e}", p.fill_spacing))
+        } else {
+            Error(format!("fill/occult: {e}"))
+        }
+    })
+}
+
+/// The fill and passes settings, refused with the flag they came from.
+fn check_shading(p: &PlotParams) -> Result<(), Error> {
+    if p.fill && !(p.fill_spacing.is_finite() && p.fill_spacing >= oficina_plot::MIN_FILL_SPACING) {
+        return Err(Error(format!(
+            "--fill-spacing {}: must be at least {} mm (no pen draws lines closer)",
+            p.fill_spacing,
+            oficina_plot::MIN_FILL_SPACING
+        )));
+    }
+    if p.fill && !p.fill_angle.is_finite() {
+        return Err(Error(format!(
+            "--fill-angle {}: must be a number of degrees",
+            p.fill_angle
+        )));
+    }
+    if !(1..=oficina_plot::MAX_PASSES).contains(&p.passes) {
+        return Err(Error(format!(
+            "--passes {}: use 1 to {}",
+            p.passes,
+            oficina_plot::MAX_PASSES
+        )));
+    }
+    Ok(())
+}
+
 /// Reads the design into pens of strokes; notes what was left out.
-fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Error> {
+fn load(
+    path: &Path,
+    p: &PlotParams,
+    layout: Option<&oficina_plot::Layout>,
+    notes: &mut Vec<String>,
+) -> Result<Plot, Error> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -225,7 +386,13 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
                 notes.push(h.imported.unsupported.to_string());
             }
             // HPGL pens are layers whatever `pens` says.
-            let mut plot = Plot::from_drawing(&h.imported.drawing, PenBy::Layer, p.tolerance);
+            let mut plot = draw(
+                &h.imported.drawing,
+                PenBy::Layer,
+                p,
+                layout,
+                &h.imported.even_odd,
+            )?;
             for l in &h.labels {
                 let strokes = text_strokes(&l.text, l.at, l.height, l.angle);
                 plot.pen_mut(&l.layer).strokes.extend(strokes);
@@ -242,8 +409,10 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
                 },
                 &Hatching {
                     pixel: p.pixel,
-                    pitch: p.pitch,
+                    // --fill sets the picture's hatching as it sets a shape's.
+                    pitch: if p.fill { p.fill_spacing } else { p.pitch },
                     layers: p.hatch_layers,
+                    angle: if p.fill { p.fill_angle } else { 0.0 },
                 },
             )
             .map_err(|e| Error::chain(&e))?;
@@ -258,7 +427,7 @@ fn load(path: &Path, p: &PlotParams, notes: &mut Vec<String>) -> Result<Plot, Er
             if !imported.unsupported.is_empty() {
                 notes.push(imported.unsupported.to_string());
             }
-            Ok(Plot::from_drawing(&imported.drawing, by, p.tolerance))
+            draw(&imported.drawing, by, p, layout, &imported.even_odd)
         }
     }
 }
@@ -284,22 +453,7 @@ pub fn plot(
             oficina_io::MAX_JOIN_TOL
         )));
     }
-    fb.stage("reading the design")?;
     let mut notes = Vec::new();
-    let mut plot = match input {
-        Some(path) => load(path, p, &mut notes)?,
-        None => Plot::default(),
-    };
-    if let Some(t) = &p.text {
-        let below = plot.bounds().map_or(0.0, |b| b[1] - 2.0 * p.text_height);
-        let strokes = text_strokes(t, Point::new(0.0, below), p.text_height, 0.0);
-        plot.pen_mut("#000000").strokes.extend(strokes);
-    }
-    if input.is_none() && p.text.is_none() {
-        return Err(Error(
-            "nothing to plot: give a design file or --text".into(),
-        ));
-    }
     let layout = match &p.layout {
         None => None,
         Some(name) => {
@@ -347,6 +501,22 @@ pub fn plot(
             Some(l)
         }
     };
+    check_shading(p)?;
+    fb.stage("reading the design")?;
+    let mut plot = match input {
+        Some(path) => load(path, p, layout.as_ref(), &mut notes)?,
+        None => Plot::default(),
+    };
+    if let Some(t) = &p.text {
+        let below = plot.bounds().map_or(0.0, |b| b[1] - 2.0 * p.text_height);
+        let strokes = text_strokes(t, Point::new(0.0, below), p.text_height, 0.0);
+        plot.pen_mut("#000000").strokes.extend(strokes);
+    }
+    if input.is_none() && p.text.is_none() {
+        return Err(Error(
+            "nothing to plot: give a design file or --text".into(),
+        ));
+    }
     let settings = Settings {
         scale: p.scale,
         at: p.at.map(|[x, y]| Point::new(x, y)),
@@ -365,6 +535,9 @@ pub fn plot(
             PlotFormat::Marlin => Format::Marlin,
         },
         joint_piece: 1.0,
+        crop: p.crop.as_deref().map(parse_crop).transpose()?,
+        reloop: p.reloop,
+        passes: p.passes,
     };
     fb.stage("placing, optimising, writing the program")?;
     let prepared = prepare(plot, profile, &m, &settings).map_err(|e| match e {

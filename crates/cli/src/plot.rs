@@ -5,7 +5,7 @@
 use crate::machine_profile;
 use anyhow::Context;
 use oficina_app::Feedback;
-use oficina_app::{pen_machine, plot, Lift, PensBy, PlotFormat, PlotParams};
+use oficina_app::{pen_machine, plot, FilledBy, Lift, PensBy, PlotFormat, PlotParams};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -110,6 +110,44 @@ pub(crate) struct Args {
     /// on its start is closed; open pieces of a layer are chained).
     #[arg(long, default_value_t = oficina_io::JOIN_TOL)]
     join_tol: f64,
+    /// Hatch the filled shapes (of an image: its hatching takes --fill-angle and
+    /// --fill-spacing).
+    #[arg(long)]
+    fill: bool,
+    /// Hatch direction, degrees counter-clockwise from +X.
+    #[arg(long, default_value_t = 45.0, allow_hyphen_values = true)]
+    fill_angle: f64,
+    /// Distance between hatch lines on paper, mm.
+    #[arg(long, default_value_t = 1.0)]
+    fill_spacing: f64,
+    /// Cross-hatch: a second set of lines at right angles.
+    #[arg(long)]
+    fill_cross: bool,
+    /// Concentric rings instead of parallel lines.
+    #[arg(long, conflicts_with = "fill_cross")]
+    fill_concentric: bool,
+    /// What counts as filled, for --fill and --occult: svg (a fill colour, holes by the fill
+    /// rule), closed (every closed outline, as AxiDraw's Hatch Fill; an element's subpaths one
+    /// shape with holes) or loops (every closed subpath a shape of its own, as vpype-occult).
+    #[arg(long, value_enum, default_value_t = FilledBy::Svg)]
+    filled: FilledBy,
+    /// Hidden-line removal: a filled shape hides what its pen drew before it (vpype occult).
+    #[arg(long)]
+    occult: bool,
+    /// Hidden-line removal across pens: a filled shape hides what any pen drew before it.
+    #[arg(long)]
+    occult_across: bool,
+    /// Start each closed stroke at its vertex nearest the pen (after ordering).
+    #[arg(long)]
+    reloop: bool,
+    /// Draw every stroke N times, the pen down between passes (closed strokes go round,
+    /// open ones back and forth).
+    #[arg(long, default_value_t = 1)]
+    passes: usize,
+    /// Crop to the paper (--paper or --layout) or to a box X0,Y0,X1,Y1 in mm (work
+    /// coordinates); a stroke leaving the box is cut, the pen lifted between the pieces.
+    #[arg(long, allow_hyphen_values = true)]
+    crop: Option<String>,
     /// Print seed 003's test (squares, triangles, hexagons at five places) planned on
     /// --machine beside the seed's measured times, and exit.
     #[arg(long)]
@@ -164,6 +202,17 @@ fn params(a: &Args) -> PlotParams {
         min_ramp_steps: a.min_ramp_steps,
         tolerance: a.tolerance,
         join_tol: a.join_tol,
+        fill: a.fill,
+        fill_angle: a.fill_angle,
+        fill_spacing: a.fill_spacing,
+        fill_cross: a.fill_cross,
+        fill_concentric: a.fill_concentric,
+        filled: a.filled,
+        occult: a.occult,
+        occult_across: a.occult_across,
+        reloop: a.reloop,
+        passes: a.passes,
+        crop: a.crop.clone(),
     }
 }
 

@@ -76,6 +76,9 @@ pub struct Imported {
     pub mm_per_unit: f64,
     /// What closing and chaining found: loops, and what stayed open per layer.
     pub closure: Closure,
+    /// Elements (their `SourceRef::element`) filled by the even-odd rule; the others fill
+    /// nonzero (SVG's default). Hatch fills and hidden-line removal read holes by it.
+    pub even_odd: std::collections::HashSet<String>,
 }
 
 impl Default for Imported {
@@ -87,6 +90,7 @@ impl Default for Imported {
             units: String::new(),
             mm_per_unit: 1.0,
             closure: Closure::default(),
+            even_odd: Default::default(),
         }
     }
 }

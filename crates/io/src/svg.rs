@@ -153,6 +153,9 @@ impl Walker<'_> {
         } else {
             format!("#{}", p.id())
         };
+        if p.fill().map(|f| f.rule()) == Some(usvg::FillRule::EvenOdd) {
+            self.out.even_odd.insert(id.clone());
+        }
         let pt = |q: usvg::tiny_skia_path::Point| Point::new(q.x as f64, q.y as f64);
         let mut segs: Vec<Segment> = Vec::new();
         let mut start = Point::ORIGIN;

@@ -19,6 +19,8 @@ pub struct Hatching {
     pub pitch: f64,
     /// Layers of hatching (1…4): darkness above k/(layers+1) gets layer k.
     pub layers: usize,
+    /// Direction of the first layer, degrees from +X; the others at +90°, +45°, +135°.
+    pub angle: f64,
 }
 
 /// Why a picture could not be hatched.
@@ -79,6 +81,12 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
             h.pixel, h.pitch
         )));
     }
+    if !h.angle.is_finite() {
+        return Err(HatchError::Settings(format!(
+            "angle {}: must be a number of degrees",
+            h.angle
+        )));
+    }
     if !(1..=4).contains(&h.layers) {
         return Err(HatchError::Settings(format!(
             "layers must be 1…4, got {}",
@@ -113,7 +121,12 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
     // Sample along a line at half a pixel so no pixel is skipped.
     let step = h.pixel * 0.5;
     let mut out = Vec::new();
-    for (k, a) in angles.iter().take(h.layers).enumerate() {
+    for (k, a) in angles
+        .iter()
+        .map(|a| a + h.angle)
+        .take(h.layers)
+        .enumerate()
+    {
         let threshold = (k + 1) as f64 / (h.layers + 1) as f64;
         let u = Vec2::from_angle(a.to_radians());
         let nrm = Vec2::new(-u.y, u.x);
@@ -182,6 +195,7 @@ mod tests {
                 pixel: 1.0,
                 pitch: 1.0,
                 layers: 2,
+                angle: 0.0,
             },
         )
         .unwrap();
@@ -206,7 +220,8 @@ mod tests {
             &Hatching {
                 pixel: 1.0,
                 pitch: 0.5,
-                layers: 1
+                layers: 1,
+                angle: 0.0,
             }
         )
         .is_ok());
@@ -215,7 +230,8 @@ mod tests {
             &Hatching {
                 pixel: 1.0,
                 pitch: 0.0,
-                layers: 1
+                layers: 1,
+                angle: 0.0,
             }
         )
         .is_err());

@@ -9,7 +9,26 @@ use crate::machine::{
     check_paper, check_ramps, check_reach, snap_to_travel, PenMachine, PlotError, Ramp,
 };
 use crate::optimise::{optimise, Optimise, Report};
+use crate::passes::{multipass, reloop, reorder};
 use crate::strokes::Plot;
+
+/// Crops `plot` to the box or the sheet; an empty result is an error that says why.
+fn crop_to(plot: &mut Plot, c: Option<Crop>, sheet: Option<[f64; 4]>) -> Result<(), PlotError> {
+    let b = match c {
+        None => return Ok(()),
+        Some(Crop::Box(b)) => b,
+        Some(Crop::Paper) => sheet.ok_or_else(|| {
+            PlotError::Settings("--crop paper needs a sheet: give --paper or --layout".into())
+        })?,
+    };
+    crate::crop::crop(plot, b).map_err(PlotError::Settings)?;
+    if plot.bounds().is_none() {
+        return Err(PlotError::Settings(format!(
+            "nothing of the drawing lies inside the crop box {b:?}"
+        )));
+    }
+    Ok(())
+}
 
 /// Which program to write.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,6 +64,21 @@ pub struct Settings {
     pub format: Format,
     /// Sub-segment length for joint-space programs, mm.
     pub joint_piece: f64,
+    /// Crop the placed strokes to the paper or a box; `None` keeps them all.
+    pub crop: Option<Crop>,
+    /// After ordering, start each closed stroke at its vertex nearest the pen.
+    pub reloop: bool,
+    /// Draw every stroke this many times (1: once).
+    pub passes: usize,
+}
+
+/// What the strokes are cropped to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Crop {
+    /// The sheet of `paper` or of the `layout`.
+    Paper,
+    /// This box in work coordinates: min x, min y, max x, max y, mm.
+    Box([f64; 4]),
 }
 
 impl Default for Settings {
@@ -58,6 +92,9 @@ impl Default for Settings {
             min_ramp_steps: 100.0,
             format: Format::Gcode,
             joint_piece: 1.0,
+            crop: None,
+            reloop: false,
+            passes: 1,
         }
     }
 }
@@ -92,17 +129,31 @@ pub fn prepare(
     let b = plot.bounds().ok_or(PlotError::Empty)?;
     let scale = s.scale;
     let mut placed = None;
+    // The sheet in work coordinates, for cropping to it.
+    let mut sheet: Option<[f64; 4]> = None;
     if let Some(l) = &s.layout {
         plot.map_points(|p| Point::new(p.x * scale, p.y * scale));
         let corner = s.at.unwrap_or(Point::new(
             profile.travel[0][0] - profile.work_offset[0],
             profile.travel[1][0] - profile.work_offset[1],
         ));
-        placed = Some(layout(&mut plot, l, corner)?);
+        let pl = layout(&mut plot, l, corner)?;
+        sheet = Some([
+            corner.x,
+            corner.y,
+            corner.x + pl.page.0,
+            corner.y + pl.page.1,
+        ]);
+        placed = Some(pl);
+        crop_to(&mut plot, s.crop, sheet)?;
     } else {
         let origin = s.at.unwrap_or(Point::new(b[0] * scale, b[1] * scale));
         let shift = origin - Point::new(b[0] * scale, b[1] * scale);
         plot.map_points(|p| Point::new(p.x * scale, p.y * scale) + shift);
+        if let Some((w, h)) = s.paper {
+            sheet = Some([origin.x, origin.y, origin.x + w, origin.y + h]);
+        }
+        crop_to(&mut plot, s.crop, sheet)?;
         if let Some((w, h)) = s.paper {
             let mut on_paper = plot.clone();
             on_paper.map_points(|p| p - origin.to_vec2());
@@ -111,7 +162,23 @@ pub fn prepare(
     }
     snap_to_travel(&mut plot, profile);
     let ramps = check_ramps(profile, s.min_ramp_steps)?;
-    let report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
+    let mut report = s.optimise.as_ref().map(|o| optimise(&mut plot, o, m.home));
+    multipass(&mut plot, s.passes).map_err(PlotError::Settings)?;
+    if s.passes.is_multiple_of(2) {
+        // Open strokes now end where they begin: order them for that.
+        if let Some(o) = s.optimise.as_ref().filter(|o| o.reorder) {
+            reorder(&mut plot, o, m.home);
+        }
+    }
+    // After ordering: each closed stroke (all of them, after even passes) begins nearest
+    // the pen.
+    if s.reloop {
+        reloop(&mut plot, m.home);
+    }
+    if let Some(r) = report.as_mut() {
+        // What is drawn: with the passes and the reloop's seams.
+        r.after = plot.lengths();
+    }
     // Straight lines stay straight in joint space on linear machines: their ends suffice.
     let step = if for_profile(profile).is_linear() {
         f64::INFINITY

@@ -24,7 +24,10 @@
 
 mod canon;
 mod clean;
+mod clip;
+mod crop;
 mod emit;
+mod fill;
 mod hatch;
 mod job;
 mod layout;
@@ -32,16 +35,20 @@ mod machine;
 mod merge;
 mod optimise;
 mod order;
+mod passes;
 mod preview;
 mod seed_check;
+mod shade;
 mod strokes;
 mod text;
 
 pub use canon::to_canon;
 pub use clean::{dedupe, simplify};
+pub use crop::crop;
 pub use emit::{gcode, hpgl, joint_gcode, marlin};
+pub use fill::{fill_regions, FillStyle, MAX_FILL_LINES, MIN_FILL_SPACING};
 pub use hatch::{hatch, load_gray, Gray, HatchError, Hatching};
-pub use job::{prepare, Format, Prepared, Settings};
+pub use job::{prepare, Crop, Format, Prepared, Settings};
 pub use layout::{layout, page_size, Layout, Placed, PAGE_SIZES};
 pub use machine::{
     arm_limited_feed, check_paper, check_ramps, check_reach, ramps, snap_to_travel, PenLift,
@@ -50,10 +57,12 @@ pub use machine::{
 pub use merge::merge;
 pub use optimise::{optimise, Optimise, Report};
 pub use order::{nearest_neighbour, two_opt};
+pub use passes::{multipass, reloop, MAX_PASSES};
 pub use preview::svg as preview_svg;
 pub use seed_check::{
     figures, seed_check, stop_start_seconds, Row as SeedRow, FIGURES, PLACES, SEED_SECONDS,
     STOP_PIECE,
 };
+pub use shade::{shade, Filled, Occult, Shading};
 pub use strokes::{polyline_length, Lengths, Pen, PenBy, Plot, Stroke};
 pub use text::text_strokes;

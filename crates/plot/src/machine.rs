@@ -115,6 +115,9 @@ pub enum PlotError {
     /// The page layout cannot be made.
     #[error("layout: {0}")]
     Layout(String),
+    /// A drawing setting (crop, passes, fill) out of range; says which.
+    #[error("{0}")]
+    Settings(String),
 }
 
 /// How far outside the travel a point may lie and still be on its edge, mm: a micron, far

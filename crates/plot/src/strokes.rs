@@ -43,12 +43,22 @@ pub struct Lengths {
     pub pen_up: f64,
 }
 
+/// The stroke that draws `path`, chords within `tol`; a closed path ends where it starts
+/// (`flatten` leaves the return out; the pen draws it). `None` below two points.
+pub(crate) fn path_stroke(path: &oficina_geom::Path, tol: f64) -> Option<Stroke> {
+    let mut pts = path.flatten(tol);
+    if path.closed && pts.len() > 1 {
+        pts.push(pts[0]);
+    }
+    (pts.len() >= 2).then_some(pts)
+}
+
 /// Length of a polyline, mm.
 pub fn polyline_length(s: &[Point]) -> f64 {
     s.windows(2).map(|w| w[0].distance(w[1])).sum()
 }
 
-fn color_name(c: Option<Color>) -> String {
+pub(crate) fn color_name(c: Option<Color>) -> String {
     match c {
         Some(c) => format!("#{:02x}{:02x}{:02x}", c.r, c.g, c.b),
         None => "#000000".into(),
@@ -62,10 +72,9 @@ impl Plot {
         let mut plot = Plot::default();
         for layer in &d.layers {
             for path in &layer.paths {
-                let pts = path.flatten(tol);
-                if pts.len() < 2 {
+                let Some(pts) = path_stroke(path, tol) else {
                     continue;
-                }
+                };
                 let name = match by {
                     PenBy::Layer => layer.name.clone(),
                     PenBy::Color => color_name(path.style.stroke.or(path.style.fill)),
@@ -74,6 +83,20 @@ impl Plot {
             }
         }
         plot
+    }
+
+    /// Index of the pen named `name`, added at the end if new.
+    pub fn pen_index(&mut self, name: &str) -> usize {
+        match self.pens.iter().position(|p| p.name == name) {
+            Some(i) => i,
+            None => {
+                self.pens.push(Pen {
+                    name: name.to_string(),
+                    strokes: Vec::new(),
+                });
+                self.pens.len() - 1
+            }
+        }
     }
 
     /// The pen named `name`, added at the end if new.

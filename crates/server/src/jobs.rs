@@ -261,6 +261,7 @@ pub(crate) async fn plot_job(
         .iter()
         .map(|p| json!({"name": p.name, "strokes": p.strokes.len()}))
         .collect();
+    let l = r.prepared.plot.lengths();
     Ok(Json(json!({
         "name": name,
         "text": r.prepared.program,
@@ -268,6 +269,8 @@ pub(crate) async fn plot_job(
         "pens": pens,
         "bounds": b,
         "seconds": r.seconds,
+        // What is drawn (after fills, occult, crop and passes), mm.
+        "lengths": {"pen_down": l.pen_down, "pen_up": l.pen_up, "strokes": l.strokes},
         "preview_svg": r.prepared.preview,
         // The virtual machine to run it on: the plotter it was made for.
         "machine": format!("virtual:{resolved}"),
