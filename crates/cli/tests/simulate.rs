@@ -193,7 +193,7 @@ fn real_programs_from_other_cam_render_down_to_their_lowest_z() {
             eprintln!("note: {name} is absent; skipped");
             continue;
         }
-        let prog = oficina_testkit::scratch_file(name, &std::fs::read_to_string(&src).unwrap());
+        let prog = oficina_testkit::scratch_file(name, std::fs::read(&src).unwrap());
         let mut args = vec!["--stock", "auto", "--dialect", dialect];
         args.extend_from_slice(tools);
         let r = simulate(&prog, &args);
