@@ -186,9 +186,16 @@ pub fn simulate(req: &SimulateRequest) -> Result<Simulation, Error> {
     let survey = survey(&text, &run, &profile);
     let s = &survey.summary;
     if s.feed_extents.is_empty() && s.rapid_extents.is_empty() {
-        return Err(Error("the program makes no move: nothing to simulate".into()));
+        return Err(Error(
+            "the program makes no move: nothing to simulate".into(),
+        ));
     }
-    let (tools, uses) = tool_shapes(&survey.tool_numbers, &req.tools, &run.tool_table, &mut notes);
+    let (tools, uses) = tool_shapes(
+        &survey.tool_numbers,
+        &req.tools,
+        &run.tool_table,
+        &mut notes,
+    );
     let stock = stock_box(req, s, &uses, &tools, &mut notes)?;
     stock.validate().map_err(Error)?;
     let budget = req.memory_mb.saturating_mul(1_000_000);
@@ -204,7 +211,10 @@ pub fn simulate(req: &SimulateRequest) -> Result<Simulation, Error> {
         work,
     )
     .map_err(Error)?;
-    let smallest = tools.values().map(|t| t.diameter).fold(f64::INFINITY, f64::min);
+    let smallest = tools
+        .values()
+        .map(|t| t.diameter)
+        .fold(f64::INFINITY, f64::min);
     if grid.pixel > smallest / 2.0 {
         notes.push(format!(
             "the {} mm cell is coarser than half the smallest tool ({smallest} mm): the stock is rough",
@@ -219,7 +229,9 @@ pub fn simulate(req: &SimulateRequest) -> Result<Simulation, Error> {
     };
     let mut stream = CanonStream::spawn(Cursor::new(text.as_bytes().to_vec()), run);
     // The tool starts over the program's origin, above the stock and every move.
-    let high = s.rapid_extents.max[2].max(s.feed_extents.max[2]).max(stock.top);
+    let high = s.rapid_extents.max[2]
+        .max(s.feed_extents.max[2])
+        .max(stock.top);
     let sim = stock_box::simulate(
         std::iter::once(preload).chain(stream.by_ref()),
         &tools,
@@ -334,7 +346,11 @@ fn tool_shapes(
         .unwrap_or_else(|| Tool::new(CutterShape::Flat, 3.0).expect("a 3 mm flat is a tool"));
     let mut map = HashMap::new();
     let mut uses = Vec::new();
-    let wanted = if numbers.is_empty() { vec![0] } else { numbers.to_vec() };
+    let wanted = if numbers.is_empty() {
+        vec![0]
+    } else {
+        numbers.to_vec()
+    };
     for n in wanted {
         let (tool, from) = if let Some((_, t)) = choice.by_number.iter().find(|(k, _)| *k == n) {
             (t.clone(), format!("--tool {n}=…"))
@@ -406,7 +422,10 @@ fn from_table(t: &oficina_gcode::Tool) -> (Tool, String) {
         CutterShape::Flat
     };
     match Tool::new(shape, t.diameter) {
-        Ok(tool) => (tool, "tool table (shape from its comment, else flat)".into()),
+        Ok(tool) => (
+            tool,
+            "tool table (shape from its comment, else flat)".into(),
+        ),
         Err(_) => (
             Tool::new(CutterShape::Flat, t.diameter).unwrap_or_else(|_| {
                 Tool::new(CutterShape::Flat, 3.0).expect("a 3 mm flat is a tool")
@@ -454,7 +473,11 @@ fn stock_box(
                 .fold(0.0, f64::max);
             let m = margin.max(0.0) + reach;
             let depth = (top - e.min[2]).max(0.0);
-            let size = [x1 - x0 + 2.0 * m, y1 - y0 + 2.0 * m, depth + margin.max(1.0)];
+            let size = [
+                x1 - x0 + 2.0 * m,
+                y1 - y0 + 2.0 * m,
+                depth + margin.max(1.0),
+            ];
             notes.push(format!(
                 "stock auto: the cuts' extents plus {m:.3} mm (margin + tool radius), {:.3} mm \
                  thick (the deepest cut + {:.3} mm)",

@@ -139,7 +139,13 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
 fn print_report(file: &std::path::Path, r: &SimulationReport, machine: &str) {
     println!("{}: simulated on stock", file.display());
     for e in &r.errors {
-        eprintln!("{}:{}:{}: error: {}", file.display(), e.line, e.col, e.message);
+        eprintln!(
+            "{}:{}:{}: error: {}",
+            file.display(),
+            e.line,
+            e.col,
+            e.message
+        );
     }
     let [w, h, t] = r.stock_size;
     println!(
@@ -162,7 +168,10 @@ fn print_report(file: &std::path::Path, r: &SimulationReport, machine: &str) {
             .map_or("none".into(), |z| format!("{z:.3}"))
     );
     if r.through_mm2 > 0.0 {
-        println!("  cut through             {:.1} mm² down to the bottom", r.through_mm2);
+        println!(
+            "  cut through             {:.1} mm² down to the bottom",
+            r.through_mm2
+        );
     }
     match &r.machine_seconds {
         Ok(s) => println!(

@@ -118,7 +118,10 @@ fn bad_stocks_grids_and_tools_are_refused_by_name() {
             vec!["--stock", "5000x5000x10", "--resolution", "0.001"],
             "--memory-mb",
         ),
-        (vec!["--stock", "60x40x10", "--tool", "spoon:3"], "unknown shape"),
+        (
+            vec!["--stock", "60x40x10", "--tool", "spoon:3"],
+            "unknown shape",
+        ),
     ] {
         let mut all = vec!["simulate", p, "-o", "/tmp/oficina-sim-bad.png"];
         all.extend(args.iter().copied());
@@ -174,11 +177,23 @@ fn real_programs_from_other_cam_render_down_to_their_lowest_z() {
         (
             "camotics_botomata_bottom.nc",
             "linuxcnc",
-            &["--tool", "1=flat:6.35", "--tool", "2=flat:3.175", "--tool", "3=flat:1.5875"],
+            &[
+                "--tool",
+                "1=flat:6.35",
+                "--tool",
+                "2=flat:3.175",
+                "--tool",
+                "3=flat:1.5875",
+            ],
             0.0,
         ),
         ("bcnc_sample.gcode", "grbl", &["--tool", "flat:3"], 0.0),
-        ("camotics_vcarve.ngc", "linuxcnc", &["--tool", "v:6:60"], 1.74),
+        (
+            "camotics_vcarve.ngc",
+            "linuxcnc",
+            &["--tool", "v:6:60"],
+            1.74,
+        ),
         (
             "ugs_ShapeOko_Calibration_Pattern_01b.ngc",
             "linuxcnc",
@@ -212,9 +227,70 @@ fn real_programs_from_other_cam_render_down_to_their_lowest_z() {
         let (w, h) = image::image_dimensions(prog.with_extension("png")).unwrap();
         let size = r["stock_size"].as_array().unwrap();
         let (sw, sh) = (size[0].as_f64().unwrap(), size[1].as_f64().unwrap());
-        assert!(((w as f64) * pixel - sw).abs() <= pixel, "{name}: {w} px for {sw} mm");
-        assert!(((h as f64) * pixel - sh).abs() <= pixel, "{name}: {h} px for {sh} mm");
+        assert!(
+            ((w as f64) * pixel - sw).abs() <= pixel,
+            "{name}: {w} px for {sw} mm"
+        );
+        assert!(
+            ((h as f64) * pixel - sh).abs() <= pixel,
+            "{name}: {h} px for {sh} mm"
+        );
         ran += 1;
     }
     eprintln!("{ran} real programs simulated");
+}
+
+#[test]
+fn a_design_image_gives_gouge_and_leftover() {
+    // The design: a 60 × 40 mm picture (0.1 mm a pixel), white = the top, a black rectangle
+    // X6.9–53.1 Y16.9–23.1 around the 6 mm flat slot (X7–53 with its round ends, Y17.025–
+    // 23.025). Symmetric about Y20, so the picture's row order does not matter.
+    let img = image::GrayImage::from_fn(600, 400, |x, y| {
+        let inside = (69..531).contains(&x) && (169..231).contains(&y);
+        image::Luma([if inside { 0 } else { 255 }])
+    });
+    let design = oficina_testkit::scratch_dir("sim-design").join("slot.png");
+    img.save(&design).unwrap();
+    let prog = slot("sim_design", 2.0);
+    let mut args = STOCK.to_vec();
+    args.extend(["--tool", "flat:6", "--design", design.to_str().unwrap()]);
+    // Black 2 mm deep: the slot stays inside the design, whose square corners it cannot
+    // reach (its ends are round): no gouge, 2 mm left in the corners.
+    let mut deep = args.clone();
+    deep.extend(["--design-depth", "2"]);
+    let r = simulate(&prog, &deep);
+    let d = &r["design"];
+    assert!(num(d, "max_gouge") < 1e-3, "{d}");
+    assert!((num(d, "leftover_max") - 2.0).abs() < 1e-3, "{d}");
+    // Black 1 mm deep: the 2 mm slot is 1 mm below the design.
+    let mut shallow = args.clone();
+    shallow.extend(["--design-depth", "1"]);
+    let r = simulate(&prog, &shallow);
+    let d = &r["design"];
+    assert!((num(d, "max_gouge") - 1.0).abs() < 1e-3, "{d}");
+    let at = d["gouge_at"].as_array().unwrap();
+    let (x, y) = (at[0].as_f64().unwrap(), at[1].as_f64().unwrap());
+    assert!(
+        (7.0..=53.0).contains(&x) && (17.0..=23.1).contains(&y),
+        "{d}"
+    );
+}
+
+#[test]
+fn a_tool_tables_diameter_and_the_shape_its_comment_names_are_used() {
+    let table = oficina_testkit::scratch_file("sim.tbl", "T1 P1 D6 Z0 ;6 mm ball nose\n");
+    let prog = slot("sim_table", 2.0);
+    let mut args = STOCK.to_vec();
+    args.extend(["--tool-table", table.to_str().unwrap()]);
+    let r = simulate(&prog, &args);
+    assert_eq!(r["tools"][0]["spec"], "ball:6", "{r}");
+    assert!(r["notes"].to_string().matches("T1").count() == 0, "{r}");
+    // The same circular segment and cap as the ball given by --tool.
+    let (rad, d) = (3.0f64, 2.0f64);
+    let segment = rad * rad * ((rad - d) / rad).acos() - (rad - d) * (2.0 * rad * d - d * d).sqrt();
+    let volume = 40.0 * segment + PI * d * d * (3.0 * rad - d) / 3.0;
+    assert!(
+        (num(&r, "removed_mm3") - volume).abs() < 0.03 * volume,
+        "{r}"
+    );
 }

@@ -180,7 +180,11 @@ impl ProgramQuery {
         }
     }
 
-    pub(crate) fn text(&self, st: &AppState, body: Bytes) -> Result<Arc<String>, (StatusCode, String)> {
+    pub(crate) fn text(
+        &self,
+        st: &AppState,
+        body: Bytes,
+    ) -> Result<Arc<String>, (StatusCode, String)> {
         if let Some(name) = &self.file {
             return program_text(st, name);
         }
@@ -195,7 +199,9 @@ impl ProgramQuery {
 
 /// The machine profile the check and the preview use: the connected virtual machine's, or
 /// the default profile when the machine is real firmware.
-pub(crate) fn current_profile(st: &AppState) -> Result<oficina_app::profile::Profile, (StatusCode, String)> {
+pub(crate) fn current_profile(
+    st: &AppState,
+) -> Result<oficina_app::profile::Profile, (StatusCode, String)> {
     let p = st.with_session(|s| Ok(s.profile().cloned())).map_err(bad)?;
     match p {
         Some(p) => Ok(p),

@@ -128,8 +128,7 @@ pub fn choose_grid(
             let by_memory = (w * h / max_cells).sqrt();
             // Stamps per mm (4 per pixel) × cells per stamp (π r² / p²) × path: ∝ 1 / p³.
             let r = work.tool_radius.max(0.5);
-            let by_work =
-                (4.0 * work.path_mm * std::f64::consts::PI * r * r / WORK_BUDGET).cbrt();
+            let by_work = (4.0 * work.path_mm * std::f64::consts::PI * r * r / WORK_BUDGET).cbrt();
             let p = FINEST_AUTO_MM.max(by_memory).max(by_work);
             let p = (p * 1000.0).ceil() / 1000.0;
             let reason = if p <= FINEST_AUTO_MM + 1e-9 {
@@ -234,7 +233,13 @@ pub fn simulate<B: Borrow<Canon>>(
     replay_watched(ops, tools, &mut stock, start, cell_origin, |m, s| {
         let low = m.from[2].min(m.to[2]);
         if low < bottom - 1e-6 {
-            keep(Finding::BelowBottom { line: m.line, z: low }, 1);
+            keep(
+                Finding::BelowBottom {
+                    line: m.line,
+                    z: low,
+                },
+                1,
+            );
         }
         let end = [m.to[0] + cell_origin[0], m.to[1] + cell_origin[1]];
         if low < top - 1e-6 && !stock_box.covers(end[0], end[1]) {
