@@ -164,6 +164,33 @@ fn check_lowest_z(prog: &Path, dialect: &str) -> f64 {
     cells[2].split_whitespace().last().unwrap().parse().unwrap()
 }
 
+/// The lowest feed Z LinuxCNC's `rs274 -g` reports (its canon is in the program's units:
+/// only asked of metric programs), or `None` without rs274.
+fn rs274_lowest_z(prog: &Path) -> Option<f64> {
+    let out = std::process::Command::new("rs274")
+        .arg("-g")
+        .arg(prog)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let mut low: Option<f64> = None;
+    for line in text.lines() {
+        // STRAIGHT_FEED(x, y, z, …) and ARC_FEED(e1, e2, c1, c2, turns, z, …).
+        let (name, at) = if line.contains("STRAIGHT_FEED(") {
+            ("STRAIGHT_FEED(", 2)
+        } else if line.contains("ARC_FEED(") {
+            ("ARC_FEED(", 5)
+        } else {
+            continue;
+        };
+        let args = line.split(name).nth(1)?.trim_end_matches(')');
+        let z: f64 = args.split(',').nth(at)?.trim().parse().ok()?;
+        low = Some(low.map_or(z, |l: f64| l.min(z)));
+    }
+    low
+}
+
 #[test]
 fn real_programs_from_other_cam_render_down_to_their_lowest_z() {
     let Some(dir) = oficina_testkit::realworld("gcode") else {
@@ -213,6 +240,16 @@ fn real_programs_from_other_cam_render_down_to_their_lowest_z() {
         args.extend_from_slice(tools);
         let r = simulate(&prog, &args);
         let want = check_lowest_z(&src, dialect);
+        // LinuxCNC's reading of the metric ones says the same.
+        let text = std::fs::read_to_string(&src).unwrap();
+        if text.contains("G21") && !text.contains("G20") {
+            match rs274_lowest_z(&src) {
+                Some(z) => assert!((z - want).abs() < 1e-3, "{name}: rs274 {z}, check {want}"),
+                None => {
+                    eprintln!("note: rs274 gave no feed moves for {name}; check's figure alone")
+                }
+            }
+        }
         let got = num(&r, "lowest_z");
         let pixel = num(&r, "pixel");
         let tol = 1e-3 + cells * pixel;
