@@ -140,9 +140,9 @@ pub fn choose_grid(
                 )
             } else {
                 format!(
-                    "the finest that keeps {:.0} m of moves with a {:.1} mm tool to seconds of \
-                     stamping (--resolution overrides)",
-                    work.path_mm / 1000.0,
+                    "the finest that keeps {:.0} mm of feed moves with a {:.1} mm tool to \
+                     seconds of stamping (--resolution overrides)",
+                    work.path_mm,
                     2.0 * work.tool_radius
                 )
             };
@@ -320,4 +320,45 @@ fn engagement(m: &Move, stock: &Heightmap) -> f64 {
         }
     }
     worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stock(w: f64, h: f64) -> StockBox {
+        StockBox {
+            origin: [0.0, 0.0],
+            top: 0.0,
+            size: [w, h, 10.0],
+        }
+    }
+
+    #[test]
+    fn the_automatic_grid_fits_the_budget_whatever_the_stock() {
+        let work = Workload {
+            path_mm: 1e5,
+            tool_radius: 3.0,
+        };
+        let budget = 256_000_000;
+        for (w, h) in [
+            (10.0, 10.0),
+            (600.0, 400.0),
+            (10_000.0, 10_000.0),
+            (0.1, 9000.0),
+        ] {
+            let g = choose_grid(&stock(w, h), None, budget, bytes_per_cell(true), work).unwrap();
+            let bytes = (g.width * g.height) as u64 * bytes_per_cell(true);
+            assert!(bytes <= budget, "{w} x {h}: {bytes} bytes ({g:?})");
+            assert!(g.pixel >= FINEST_AUTO_MM, "{g:?}");
+        }
+    }
+
+    #[test]
+    fn stocks_that_are_not_ones_are_refused_by_their_side() {
+        assert!(stock(0.0, 10.0).validate().unwrap_err().contains("width 0"));
+        assert!(stock(10.0, 1e9).validate().unwrap_err().contains("height"));
+        assert!(stock(f64::NAN, 10.0).validate().is_err());
+        assert!(stock(100.0, 100.0).validate().is_ok());
+    }
 }
