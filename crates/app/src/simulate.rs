@@ -158,6 +158,15 @@ pub struct Simulation {
     pub stock: Heightmap,
 }
 
+/// The program's text shared by both passes (no copy of a large program per pass).
+struct Shared(Arc<String>);
+
+impl AsRef<[u8]> for Shared {
+    fn as_ref(&self) -> &[u8] {
+        self.0.as_bytes()
+    }
+}
+
 /// First pass: extents, tools, time, errors.
 struct Survey {
     summary: Summary,
@@ -227,7 +236,7 @@ pub fn simulate(req: &SimulateRequest) -> Result<Simulation, Error> {
         line: 0,
         op: CanonOp::ChangeTool(first),
     };
-    let mut stream = CanonStream::spawn(Cursor::new(text.as_bytes().to_vec()), run);
+    let mut stream = CanonStream::spawn(Cursor::new(Shared(text.clone())), run);
     // The tool starts over the program's origin, above the stock and every move.
     let high = s.rapid_extents.max[2]
         .max(s.feed_extents.max[2])
@@ -280,7 +289,7 @@ fn survey(text: &Arc<String>, run: &RunOptions, profile: &Profile) -> Survey {
             order.push(n);
         }
     };
-    let mut stream = CanonStream::spawn(Cursor::new(text.as_bytes().to_vec()), run.clone());
+    let mut stream = CanonStream::spawn(Cursor::new(Shared(text.clone())), run.clone());
     let mut see = |c: &Canon| {
         summarizer.add(&c.op);
         if let CanonOp::ChangeTool(n) | CanonOp::SelectTool(n) = c.op {
