@@ -331,3 +331,28 @@ fn a_tool_tables_diameter_and_the_shape_its_comment_names_are_used() {
         "{r}"
     );
 }
+
+#[test]
+fn cuts_off_the_stock_are_listed_by_line() {
+    // The stock 30 mm wide from X0: the slot's feed to X50 (line 5) ends off it.
+    let prog = slot("sim_off", 1.0);
+    let r = simulate(
+        &prog,
+        &[
+            "--stock",
+            "30x40x10",
+            "--stock-origin",
+            "0,0,0",
+            "--tool",
+            "flat:6",
+        ],
+    );
+    assert_eq!(r["counts"][2], 1, "{r}");
+    assert_eq!(r["off_stock"][0][0], 5, "{r}");
+    // What is on the stock is still cut: 20 mm of the slot plus the entry's half disc.
+    let volume = 20.0 * 6.0 + PI * 9.0 / 2.0;
+    assert!(
+        (num(&r, "removed_mm3") - volume).abs() < 0.03 * volume,
+        "{r}"
+    );
+}

@@ -178,7 +178,7 @@ pub enum Finding {
         /// Lowest tip Z, program mm.
         z: f64,
     },
-    /// A cutting move (tip below the stock top) whose end lies off the stock.
+    /// A move that ends below the stock top and off the stock.
     OffStock {
         /// Source line.
         line: u32,
@@ -242,7 +242,8 @@ pub fn simulate<B: Borrow<Canon>>(
             );
         }
         let end = [m.to[0] + cell_origin[0], m.to[1] + cell_origin[1]];
-        if low < top - 1e-6 && !stock_box.covers(end[0], end[1]) {
+        // Only where the move ends below the top: a retract from there is not another cut.
+        if m.to[2] < top - 1e-6 && !stock_box.covers(end[0], end[1]) {
             keep(
                 Finding::OffStock {
                     line: m.line,
