@@ -7,6 +7,7 @@ import { Preview, View } from './preview';
 import type { WorkerOut } from './worker';
 import { MachinePanel } from './machine';
 import { setupWorkshop } from './workshop';
+import { setupSimulate } from './simulate';
 import { setupProfileEditor, setupToolEditor } from './profile';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
@@ -544,6 +545,7 @@ async function carve() {
   }
 }
 $('carve').onclick = carve;
+setupSimulate(source);
 
 // Views and the timeline.
 for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#views button'))) {

@@ -53,6 +53,7 @@ mod program;
 mod relief;
 mod run_options;
 mod session;
+pub mod simulate;
 mod sole;
 mod text;
 mod tools;

@@ -29,6 +29,7 @@ mod plot;
 mod progress;
 mod run;
 mod serve;
+mod simulate;
 mod sole;
 mod tool_change;
 mod tools_cmd;
@@ -78,6 +79,9 @@ enum Command {
     Sole(sole::Args),
     /// Pen plotting: SVG / DXF / HPGL / image / text → optimised G-code, joint-space or HPGL.
     Plot(plot::Args),
+    /// Simulate any program on a box of stock with its tools' shapes: render, removed
+    /// volume, rapids into material, cuts below the bottom, gouge against a design.
+    Simulate(simulate::Args),
     /// The web workbench: editor, preview and machine panel in the browser (127.0.0.1:7878).
     Serve(serve::Args),
     /// Embroidery: SVG/DXF → running/satin/fill stitches → hoop, sheet, DST/EXP, table run.
@@ -147,6 +151,7 @@ fn main() -> ExitCode {
         Command::Sole(args) => sole::run(args),
         Command::Plot(args) => plot::run(args),
         Command::Serve(args) => serve::run(args),
+        Command::Simulate(args) => simulate::run(args),
         Command::Embroider(args) => embroider::run(args),
         Command::Tools(ToolsCommand::Feeds(args)) => tools_cmd::feeds(args),
         Command::Bench(which) => match which {

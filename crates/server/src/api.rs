@@ -35,6 +35,7 @@ pub(crate) fn routes(state: Arc<AppState>) -> Router {
         .route("/api/files/{name}", get(read_file).put(write_file))
         .route("/api/check", post(check))
         .route("/api/preview", post(preview))
+        .route("/api/simulate", post(crate::simulate::simulate_stock))
         .route("/api/carve", post(jobs::carve))
         .route("/api/mill", post(jobs::mill_job))
         .route("/api/sole", post(jobs::sole_job))
@@ -154,7 +155,7 @@ async fn write_file(
 }
 
 #[derive(Deserialize)]
-struct ProgramQuery {
+pub(crate) struct ProgramQuery {
     dialect: Option<String>,
     /// A file of the job folder (or a sample) instead of the body.
     file: Option<String>,
@@ -163,7 +164,7 @@ struct ProgramQuery {
 impl ProgramQuery {
     /// The dialect asked, else the one of the machine the program will run on: grbl's for
     /// real firmware (where a program without M2 is normal), LinuxCNC's for the virtual one.
-    fn dialect(&self, st: &AppState) -> Result<Dialect, (StatusCode, String)> {
+    pub(crate) fn dialect(&self, st: &AppState) -> Result<Dialect, (StatusCode, String)> {
         match &self.dialect {
             None => {
                 let firmware = st
@@ -179,7 +180,11 @@ impl ProgramQuery {
         }
     }
 
-    fn text(&self, st: &AppState, body: Bytes) -> Result<Arc<String>, (StatusCode, String)> {
+    pub(crate) fn text(
+        &self,
+        st: &AppState,
+        body: Bytes,
+    ) -> Result<Arc<String>, (StatusCode, String)> {
         if let Some(name) = &self.file {
             return program_text(st, name);
         }
@@ -194,7 +199,9 @@ impl ProgramQuery {
 
 /// The machine profile the check and the preview use: the connected virtual machine's, or
 /// the default profile when the machine is real firmware.
-fn current_profile(st: &AppState) -> Result<oficina_app::profile::Profile, (StatusCode, String)> {
+pub(crate) fn current_profile(
+    st: &AppState,
+) -> Result<oficina_app::profile::Profile, (StatusCode, String)> {
     let p = st.with_session(|s| Ok(s.profile().cloned())).map_err(bad)?;
     match p {
         Some(p) => Ok(p),

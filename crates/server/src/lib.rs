@@ -37,6 +37,7 @@ mod page;
 mod probing;
 mod profiles;
 mod samples;
+mod simulate;
 mod state;
 mod ws;
 

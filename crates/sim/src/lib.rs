@@ -33,10 +33,11 @@ mod mill;
 mod render;
 mod replay;
 mod report;
+pub mod stock_box;
 
 pub use carve::to_machine;
 pub use estimate::feed_only_estimate;
 pub use mill::{check_mill, Design, MillCheck};
-pub use render::{render_png, shade};
-pub use replay::{replay, SimError};
+pub use render::{png_bytes, render_png, shade};
+pub use replay::{replay, replay_watched, Move, MoveKind, SimError};
 pub use report::{compare, ideal_surface, Report};

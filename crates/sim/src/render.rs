@@ -39,3 +39,18 @@ pub fn render_png(map: &Heightmap, path: &std::path::Path) -> Result<(), String>
     )
     .map_err(|e| format!("{}: cannot write the preview: {e}", path.display()))
 }
+
+/// The shaded preview as PNG bytes (for a page).
+pub fn png_bytes(map: &Heightmap) -> Result<Vec<u8>, String> {
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::write_buffer_with_format(
+        &mut out,
+        &shade(map),
+        map.width as u32,
+        map.height as u32,
+        image::ExtendedColorType::L8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| format!("cannot encode the preview: {e}"))?;
+    Ok(out.into_inner())
+}

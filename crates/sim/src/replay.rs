@@ -5,6 +5,7 @@ use oficina_cam::{sweep_arc, sweep_line};
 use oficina_canon::{from_arc_frame, to_arc_frame, Canon, CanonOp, Plane};
 use oficina_geom::{chord_count, Helix};
 use oficina_io::Heightmap;
+use std::borrow::Borrow;
 use std::collections::HashMap;
 
 /// Why the simulator cannot replay a program.
@@ -32,19 +33,70 @@ pub enum SimError {
 /// The tool in the spindle: `M6` loads it; without a changer (grbl) the operator loads the
 /// first tool named by `T` before starting and each later one at the program stop (`M0`,
 /// `M1`) that follows its `T`.
-pub fn replay<'a>(
-    ops: impl IntoIterator<Item = &'a Canon>,
+pub fn replay<B: Borrow<Canon>>(
+    ops: impl IntoIterator<Item = B>,
     tools: &HashMap<u32, Tool>,
     stock: &mut Heightmap,
     start: [f64; 3],
 ) -> Result<[f64; 3], SimError> {
-    let mut pos = start;
+    replay_watched(ops, tools, stock, start, [0.0, 0.0], |_, _| {})
+}
+
+/// What a move is, for a watcher of [`replay_watched`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MoveKind {
+    /// `G0`.
+    Rapid,
+    /// A straight feed.
+    Feed,
+    /// An arc (any plane).
+    Arc,
+    /// A rigid tap, in and back out.
+    Tap,
+}
+
+/// A move about to be cut, in grid coordinates (program XY minus the grid's origin).
+#[derive(Clone, Copy, Debug)]
+pub struct Move<'a> {
+    /// Source line.
+    pub line: u32,
+    /// What kind of move.
+    pub kind: MoveKind,
+    /// The tool in the spindle.
+    pub tool: &'a Tool,
+    /// Tool tip before the move.
+    pub from: [f64; 3],
+    /// Tool tip after it.
+    pub to: [f64; 3],
+}
+
+/// [`replay`] on a grid whose point (0, 0) is at program XY `origin`; `watch` sees each
+/// move and the stock just before the move is cut (how a rapid into material is caught
+/// without a second material-removal).
+pub fn replay_watched<B: Borrow<Canon>>(
+    ops: impl IntoIterator<Item = B>,
+    tools: &HashMap<u32, Tool>,
+    stock: &mut Heightmap,
+    start: [f64; 3],
+    origin: [f64; 2],
+    mut watch: impl FnMut(&Move, &Heightmap),
+) -> Result<[f64; 3], SimError> {
+    let grid = |p: [f64; 3]| [p[0] - origin[0], p[1] - origin[1], p[2]];
+    let mut pos = grid(start);
     // Stock only goes down: its highest point now bounds it for the whole replay.
     let ceiling = stock.z.iter().copied().fold(f32::MIN, f32::max) as f64;
     let mut tool: Option<&Tool> = None;
     let mut selected: Option<u32> = None;
     let lookup = |n: u32, line: u32| tools.get(&n).ok_or(SimError::UnknownTool { line, tool: n });
     for c in ops {
+        let c = c.borrow();
+        let seen = |kind, tool, to| Move {
+            line: c.line,
+            kind,
+            tool,
+            from: pos,
+            to,
+        };
         match &c.op {
             CanonOp::ChangeTool(n) => {
                 tool = Some(lookup(*n, c.line)?);
@@ -59,7 +111,12 @@ pub fn replay<'a>(
             }
             CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
-                let to = [to.x, to.y, to.z];
+                let kind = match c.op {
+                    CanonOp::StraightTraverse { .. } => MoveKind::Rapid,
+                    _ => MoveKind::Feed,
+                };
+                let to = grid([to.x, to.y, to.z]);
+                watch(&seen(kind, t, to), stock);
                 if let Some(t) = touching(t, ceiling - pos[2].min(to[2]), stock.pixel) {
                     sweep_line(stock, &t, pos, to);
                 }
@@ -73,7 +130,8 @@ pub fn replay<'a>(
                 rotation,
             } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
-                let to = [end.x, end.y, end.z];
+                let to = grid([end.x, end.y, end.z]);
+                watch(&seen(MoveKind::Arc, t, to), stock);
                 // An XZ/YZ arc may dip below both ends: no narrowing for those.
                 let below = match plane {
                     Plane::XY => ceiling - pos[2].min(to[2]),
@@ -85,13 +143,19 @@ pub fn replay<'a>(
                 };
                 let t = &t;
                 if *plane == Plane::XY {
-                    sweep_arc(stock, t, pos, to, *center, *turns > 0);
+                    let center = [center[0] - origin[0], center[1] - origin[1]];
+                    sweep_arc(stock, t, pos, to, center, *turns > 0);
                 } else {
-                    // Chords in the arc's own frame, swept in the machine's.
-                    let (a, b) = (to_arc_frame(pos, *rotation), to_arc_frame(to, *rotation));
+                    // Chords in the arc's own frame (from program coordinates, where its
+                    // centre is given), swept on the grid.
+                    let program = |p: [f64; 3]| [p[0] + origin[0], p[1] + origin[1], p[2]];
+                    let (a, b) = (
+                        to_arc_frame(program(pos), *rotation),
+                        to_arc_frame(program(to), *rotation),
+                    );
                     let mut from = pos;
                     for p in arc_chords(*plane, a, b, *center, *turns, CHORD_TOLERANCE) {
-                        let p = from_arc_frame(p, *rotation);
+                        let p = grid(from_arc_frame(p, *rotation));
                         sweep_line(stock, t, from, p);
                         from = p;
                     }
@@ -101,14 +165,15 @@ pub fn replay<'a>(
             // A rigid tap cuts in to its end and back out along the same line.
             CanonOp::RigidTap { to } => {
                 let t = tool.ok_or(SimError::NoTool { line: c.line })?;
-                let to = [to.x, to.y, to.z];
+                let to = grid([to.x, to.y, to.z]);
+                watch(&seen(MoveKind::Tap, t, to), stock);
                 sweep_line(stock, t, pos, to);
                 sweep_line(stock, t, to, pos);
             }
             _ => {}
         }
     }
-    Ok(pos)
+    Ok([pos[0] + origin[0], pos[1] + origin[1], pos[2]])
 }
 
 /// The part of `tool` that can touch stock when its tip is at most `below` mm under the

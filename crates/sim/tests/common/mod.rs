@@ -13,7 +13,7 @@ pub(crate) fn replay_on_fresh_stock(design: &Heightmap, planned: &Planned) -> He
     let tools = planned.toolpath.tools();
     let mut stock = Heightmap::flat(design.width, design.height, design.pixel, 0.0);
     replay(
-        &planned.toolpath.canon(),
+        planned.toolpath.canon(),
         &tools,
         &mut stock,
         [0.0, 0.0, 5.0],
