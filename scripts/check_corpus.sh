@@ -8,7 +8,8 @@ for f in *.ngc; do
     # oword_lib_* programs call subroutine files: rs274 finds them through the INI's
     # SUBROUTINE_PATH, as the differential test runs them.
     ini=""
-    case "$f" in oword_lib_*) ini="-i oword_lib/paths.ini" ;; esac
+    # ini_* programs read ini/settings.ini (ORIENT_OFFSET, #<_ini[...]...> values).
+    case "$f" in oword_lib_*) ini="-i oword_lib/paths.ini" ;; ini_*) ini="-i ini/settings.ini" ;; esac
     # shellcheck disable=SC2086
     err=$(rs274 $ini -g -t tool.tbl "$f" 2>&1 >/dev/null)
     rc=$?
@@ -19,7 +20,10 @@ for f in *.ngc; do
     fi
 done
 for f in bad/*.ngc; do
-    if rs274 -g -t tool.tbl "$f" >/dev/null 2>&1; then
+    ini=""
+    case "$f" in bad/ini_*) ini="-i ini/settings.ini" ;; esac
+    # shellcheck disable=SC2086
+    if rs274 $ini -g -t tool.tbl "$f" >/dev/null 2>&1; then
         echo "BAD ACCEPTED: $f"
         fail=1
     fi

@@ -362,6 +362,12 @@ good('oword_lib_lcnc_nested_sub', '(oword_lib/lcnc_nested.ngc defines o100 insid
 bad('lcnc_oword_sub_after_percent', '%\nG21 G0 X1\no2 call\n%\no2 sub\nG0 Z3\no2 endsub\n')
 good('lcnc_g10_l10_rotated', '(G10 L10/L11 X or Y under a rotated coordinate system: rs274 turns the tool offset through the rotation, keeping the old offset along the other axis)\nG21 G17 G90 G94 G40 G49 G80 G54\nG10 L2 P1 X10 Y5 R30\nG10 L2 P9 R-20\nG0 X5 Y3 Z0\nT1 M6\nG43\nG10 L10 P1 X1\n(debug, L10 X: #5401 #5402)\nG10 L10 P1 Y2\n(debug, L10 Y: #5401 #5402)\nG43\nG0 X0 Y0\nG10 L10 P1 X0 Y0 Z-1\n(debug, L10 XY: #5401 #5402 #5403)\nG10 L11 P1 X2\n(debug, L11 X: #5401 #5402)\nG43\nG0 X1 Y1\nG49\nG10 L2 P1 R0\nM2\n')
 
+# INI settings (ini/settings.ini, read by rs274 -i and oficina --ini): ORIENT_OFFSET added to
+# every M19 angle, numeric entries as read-only #<_ini[section]name> (any case).
+good('ini_orient_offset_and_values', '(ORIENT_OFFSET 10 is added to M19 R, or taken alone with P; INI entries read as parameters)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, depth #<_ini[vars]depth> safe #<_ini[VARS]SAFE>)\nG0 Z#<_ini[vars]safe>\nG1 Z#<_ini[vars]depth> F100\nM19 R30\nM19 P1\nM19 R350 P2\nM3 S100\nM2\n')
+bad('ini_assign_read_only', '(an INI value is a read-only parameter)\nG21 G17 G90 G94\n#<_ini[vars]depth> = 1\nM2\n')
+
+
 def write_all():
     for sub in ("", "bad"):
         d = os.path.join(ROOT, sub)

@@ -186,6 +186,9 @@ fn run_rs274_once(file: &Path) -> Run {
     if uses_subroutine_path(file) {
         cmd.arg("-i").arg(SUBROUTINE_INI);
     }
+    if uses_settings_ini(file) {
+        cmd.arg("-i").arg(SETTINGS_INI);
+    }
     cmd.current_dir(corpus_dir())
         .arg("-g")
         .arg("-t")
@@ -213,6 +216,9 @@ fn run_oficina(file: &Path) -> Run {
     if uses_subroutine_path(file) {
         cmd.arg("--subroutine-path").arg(SUBROUTINE_DIR);
     }
+    if uses_settings_ini(file) {
+        cmd.arg("--ini").arg(SETTINGS_INI);
+    }
     run_command(cmd)
 }
 
@@ -227,6 +233,16 @@ fn uses_subroutine_path(file: &Path) -> bool {
     file.file_name()
         .and_then(|n| n.to_str())
         .is_some_and(|n| n.starts_with("oword_lib_"))
+}
+
+/// Programs named `ini_*.ngc` (good and bad) read LinuxCNC INI settings (ORIENT_OFFSET,
+/// `#<_ini[section]name>`) from [`SETTINGS_INI`]: rs274 with `-i`, Oficina with `--ini`.
+const SETTINGS_INI: &str = "ini/settings.ini";
+
+fn uses_settings_ini(file: &Path) -> bool {
+    file.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("ini_"))
 }
 
 /// rs274's stderr without its "executing" banner, or None when nothing else was said.

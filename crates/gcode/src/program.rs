@@ -37,6 +37,8 @@ pub struct RunOptions {
     pub disable_fanuc_subs: bool,
     /// Directories searched for `name.ngc` by `o<name> call` (LinuxCNC's SUBROUTINE_PATH).
     pub subroutine_path: Vec<std::path::PathBuf>,
+    /// What a LinuxCNC INI file sets: M19's ORIENT_OFFSET, `#<_ini[section]name>` values.
+    pub ini: crate::IniSettings,
 }
 
 impl RunOptions {
@@ -74,6 +76,11 @@ impl Driver {
             // ignored rather than aborting a run before it starts.
             let _ = params.set(n, v);
         }
+        // INI values are read-only globals, as rs274 caches them (PA_READONLY).
+        for (name, v) in &opts.ini.values {
+            params.set_system(name, *v);
+        }
+        interp.orient_offset = opts.ini.orient_offset;
         interp.begin(&mut params, sink);
         interp.update_named_params(&mut params);
         Driver {

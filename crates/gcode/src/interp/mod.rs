@@ -94,6 +94,8 @@ pub struct Interpreter {
     pub frame: Frame,
     /// The tools the machine knows.
     pub tools: ToolTable,
+    /// Degrees added to every M19 angle (LinuxCNC's `[RS274NGC]ORIENT_OFFSET`).
+    pub orient_offset: f64,
     machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
@@ -135,6 +137,7 @@ impl Interpreter {
             pos: [0.0; 6],
             frame: Frame::default(),
             tools,
+            orient_offset: 0.0,
             machine_units: start.machine_units,
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
