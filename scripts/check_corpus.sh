@@ -10,9 +10,12 @@ for f in *.ngc; do
     ini=""
     # ini_* programs read ini/settings.ini (ORIENT_OFFSET, #<_ini[...]...> values).
     case "$f" in oword_lib_*) ini="-i oword_lib/paths.ini" ;; ini_*) ini="-i ini/settings.ini" ;; esac
+    # var_* programs start from a copy of var/start.var (rs274 -v writes the file back).
+    case "$f" in var_*) tmpvar=$(mktemp); cp var/start.var "$tmpvar"; ini="-v $tmpvar" ;; esac
     # shellcheck disable=SC2086
     err=$(rs274 $ini -g -t tool.tbl "$f" 2>&1 >/dev/null)
     rc=$?
+    case "$f" in var_*) rm -f "$tmpvar" "$tmpvar.bak" ;; esac
     extra=$(printf '%s\n' "$err" | grep -v '^executing$' | grep -v '^$')
     if [ $rc -ne 0 ] || [ -n "$extra" ]; then
         echo "GOOD FAILS: $f (exit $rc): $extra"

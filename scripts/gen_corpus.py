@@ -367,6 +367,10 @@ good('lcnc_g10_l10_rotated', '(G10 L10/L11 X or Y under a rotated coordinate sys
 good('ini_orient_offset_and_values', '(ORIENT_OFFSET 10 is added to M19 R, or taken alone with P; INI entries read as parameters)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, depth #<_ini[vars]depth> safe #<_ini[VARS]SAFE>)\nG0 Z#<_ini[vars]safe>\nG1 Z#<_ini[vars]depth> F100\nM19 R30\nM19 P1\nM19 R350 P2\nM3 S100\nM2\n')
 bad('ini_assign_read_only', '(an INI value is a read-only parameter)\nG21 G17 G90 G94\n#<_ini[vars]depth> = 1\nM2\n')
 
+# A parameter file (var/start.var, a copy read by rs274 -v and oficina --var-file): a G92
+# offset saved with #5210 set is in force from the start; #5221 moves G54.
+good('var_g92_persistence', '(a G92 offset saved in the parameter file is in force at start)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, g92 #5210 #5211 #5212 #5213 #5214)\nG0 X0 Y0 Z0 A0\nG1 X10 F100\nG92.1\nG0 X0 Y0 Z0\nM2\n')
+
 
 def write_all():
     for sub in ("", "bad"):

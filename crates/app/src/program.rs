@@ -62,6 +62,8 @@ pub struct ProgramOptions {
     pub subroutine_path: Vec<PathBuf>,
     /// A LinuxCNC INI file: its ORIENT_OFFSET and `#<_ini[section]name>` values.
     pub ini: Option<PathBuf>,
+    /// A LinuxCNC parameter file (.var) read before the program starts (never written).
+    pub var_file: Option<PathBuf>,
     /// Machine units; `None` is mm in check mode and inch otherwise (LinuxCNC's `rs274`).
     pub machine_units: Option<Units>,
     /// Longest line accepted, bytes.
@@ -113,6 +115,11 @@ impl ProgramOptions {
             let bytes = std::fs::read(path)
                 .map_err(|e| Error(format!("cannot read INI file {}: {e}", path.display())))?;
             opts.ini = oficina_gcode::IniSettings::parse(&oficina_gcode::text::decode(&bytes));
+        }
+        if let Some(path) = &self.var_file {
+            let bytes = std::fs::read(path)
+                .map_err(|e| Error(format!("cannot read parameter file {}: {e}", path.display())))?;
+            opts.initial_params = oficina_gcode::parse_var_file(&oficina_gcode::text::decode(&bytes));
         }
         opts.max_line_len = self.max_line_len;
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);

@@ -8,6 +8,9 @@
 pub struct IniSettings {
     /// Degrees added to M19's R (or taken alone when R is absent).
     pub orient_offset: f64,
+    /// `[RS274NGC]DISABLE_G92_PERSISTENCE`: the saved G92 parameters (#5210–#5219) are
+    /// cleared at start instead of put back in force.
+    pub disable_g92_persistence: bool,
     /// `(name, value)`: names as `_ini[section]name`, lower-case (parameter names are
     /// compared lower-case; rs274 upper-cases both parts before its look-up).
     pub values: Vec<(String, f64)>,
@@ -41,7 +44,8 @@ impl IniSettings {
             if section == "RS274NGC" {
                 match name.as_str() {
                     "ORIENT_OFFSET" => out.orient_offset = number.unwrap_or(0.0),
-                    "INI_VARS" => ini_vars = !matches!(value, "0" | "false" | "FALSE" | "no" | "NO"),
+                    "INI_VARS" => ini_vars = truth(value),
+                    "DISABLE_G92_PERSISTENCE" => out.disable_g92_persistence = truth(value),
                     _ => {}
                 }
             }
@@ -58,6 +62,24 @@ impl IniSettings {
         }
         out
     }
+}
+
+/// An INI boolean as IniFile::findBoolV reads it: 1/true/yes/on, any case.
+fn truth(value: &str) -> bool {
+    matches!(value.to_ascii_lowercase().as_str(), "1" | "true" | "yes" | "on")
+}
+
+/// A LinuxCNC parameter file (`.var`): lines `NUMBER VALUE`, anything else ignored (as
+/// rs274's `read_parameter_file` skips lines it cannot read as two numbers).
+pub fn parse_var_file(text: &str) -> Vec<(i64, f64)> {
+    text.lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let n = it.next()?.parse::<i64>().ok()?;
+            let v = it.next()?.parse::<f64>().ok().filter(|v| v.is_finite())?;
+            (1..=5601).contains(&n).then_some((n, v))
+        })
+        .collect()
 }
 
 #[cfg(test)]

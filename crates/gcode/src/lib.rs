@@ -56,7 +56,7 @@ pub use block::{Block, Note, Word};
 pub use diag::{Diagnostic, Severity, Span};
 pub use exec::{Executor, Limits, ProgramEnd, DEFAULT_MAX_LINE_LEN};
 pub use header::{machine_hint, MachineHint};
-pub use ini::IniSettings;
+pub use ini::{parse_var_file, IniSettings};
 pub use interp::tool_table::{Tool, ToolTable};
 pub use interp::{Flow, Interpreter, StartState};
 pub use lex::Compact;

@@ -76,6 +76,12 @@ impl Driver {
             // ignored rather than aborting a run before it starts.
             let _ = params.set(n, v);
         }
+        if opts.ini.disable_g92_persistence {
+            // rs274 clears the saved G92 parameters before reading them.
+            for n in 5210..5220 {
+                let _ = params.set(n, 0.0);
+            }
+        }
         // INI values are read-only globals, as rs274 caches them (PA_READONLY).
         for (name, v) in &opts.ini.values {
             params.set_system(name, *v);

@@ -153,6 +153,14 @@ impl Interpreter {
         let emit = &mut |op| sink(Canon { line, op });
         emit(CanonOp::UseLengthUnits(self.modal.units));
         self.load_coord_system(params, self.modal.coord_system);
+        // A G92 offset in force when the parameters were saved (#5210 set) is in force again
+        // (rs274ngc_pre.cc init; DISABLE_G92_PERSISTENCE has zeroed #5210–#5219 before).
+        if params.get(param::G92_ENABLED).unwrap_or(0.0) != 0.0 {
+            for i in 0..6 {
+                let s = if i < 3 { self.mk() } else { 1.0 };
+                self.frame.g92[i] = params.get(param::G92_OFFSET + i as i64).unwrap_or(0.0) * s;
+            }
+        }
         emit(CanonOp::SetG5xOffset {
             index: 1,
             offset: Pos::from_array(self.frame.g5x),
