@@ -371,6 +371,13 @@ bad('ini_assign_read_only', '(an INI value is a read-only parameter)\nG21 G17 G9
 # offset saved with #5210 set is in force from the start; #5221 moves G54.
 good('var_g92_persistence', '(a G92 offset saved in the parameter file is in force at start)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, g92 #5210 #5211 #5212 #5213 #5214)\nG0 X0 Y0 Z0 A0\nG1 X10 F100\nG92.1\nG0 X0 Y0 Z0\nM2\n')
 
+# M70-M73 modal state save/restore (interp_convert.cc save_settings/restore_settings): the
+# restore runs the units first, then F (rounded to 0.1) S and the G codes that differ, then
+# one M code per differing M group.
+good('modal_m70_m72_restore', '(M70 saves the state, M72 brings units, feed, speed, distance, plane, feed mode, path mode, spindle and coolant back)\nG21 G17 G90 G94 G40 G49 G80 G54 G64 P0.05\nF123.456 S1500 M3 M8\nG0 X1 Y1 Z1\nM70\nG20 G91 G18 G93 G61 G55 F2 S300 M4 M9\nM7\nG1 X0.1 F10\nM72\nG1 X5 Y5\nM72\nG0 X0\nM71\nM2\n')
+good('modal_m73_restore_on_return', '(M73 in a subroutine: the caller state comes back on endsub and on return)\nG21 G17 G90 G94 G40 G49 G80 G54\no<sub1> sub\nM73\nG20 G91 F3 S200\nG1 X0.5\no<inner> if [#1 GT 0]\no<sub1> return\no<inner> endif\nG1 Y0.5\no<sub1> endsub\nF250 S1000 M3\nG0 X0 Y0 Z0\no<sub1> call [0]\nG1 X10\no<sub1> call [1]\nG1 Y10\nM2\n')
+bad('modal_m72_after_m71', '(M71 forgets the saved state: M72 has nothing to restore)\nG21 G17 G90 G94\nM70\nF100\nM71\nM72\nM2\n')
+
 
 def write_all():
     for sub in ("", "bad"):

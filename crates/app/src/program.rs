@@ -117,9 +117,14 @@ impl ProgramOptions {
             opts.ini = oficina_gcode::IniSettings::parse(&oficina_gcode::text::decode(&bytes));
         }
         if let Some(path) = &self.var_file {
-            let bytes = std::fs::read(path)
-                .map_err(|e| Error(format!("cannot read parameter file {}: {e}", path.display())))?;
-            opts.initial_params = oficina_gcode::parse_var_file(&oficina_gcode::text::decode(&bytes));
+            let bytes = std::fs::read(path).map_err(|e| {
+                Error(format!(
+                    "cannot read parameter file {}: {e}",
+                    path.display()
+                ))
+            })?;
+            opts.initial_params =
+                oficina_gcode::parse_var_file(&oficina_gcode::text::decode(&bytes));
         }
         opts.max_line_len = self.max_line_len;
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);

@@ -51,7 +51,11 @@ impl IniSettings {
             }
             if let Some(v) = number {
                 // The first entry of a name wins, as IniFile::Find returns the first.
-                let key = format!("_ini[{}]{}", section.to_ascii_lowercase(), name.to_ascii_lowercase());
+                let key = format!(
+                    "_ini[{}]{}",
+                    section.to_ascii_lowercase(),
+                    name.to_ascii_lowercase()
+                );
                 if !out.values.iter().any(|(k, _)| *k == key) {
                     out.values.push((key, v));
                 }
@@ -66,7 +70,10 @@ impl IniSettings {
 
 /// An INI boolean as IniFile::findBoolV reads it: 1/true/yes/on, any case.
 fn truth(value: &str) -> bool {
-    matches!(value.to_ascii_lowercase().as_str(), "1" | "true" | "yes" | "on")
+    matches!(
+        value.to_ascii_lowercase().as_str(),
+        "1" | "true" | "yes" | "on"
+    )
 }
 
 /// A LinuxCNC parameter file (`.var`): lines `NUMBER VALUE`, anything else ignored (as
@@ -92,7 +99,9 @@ mod tests {
             "[RS274NGC]\nORIENT_OFFSET = 42.0\n# c\n[VARS]\nTOOLCHANGE_X = 10\nname = text\n",
         );
         assert_eq!(s.orient_offset, 42.0);
-        assert!(s.values.contains(&("_ini[vars]toolchange_x".to_string(), 10.0)));
+        assert!(s
+            .values
+            .contains(&("_ini[vars]toolchange_x".to_string(), 10.0)));
         assert!(!s.values.iter().any(|(k, _)| k == "_ini[vars]name"));
     }
 

@@ -7,6 +7,7 @@
 
 pub(crate) mod arcs;
 pub(crate) mod comp;
+mod context;
 pub(crate) mod cycles;
 pub(crate) mod dialect;
 pub(crate) mod frame;
@@ -100,6 +101,7 @@ pub struct Interpreter {
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
     pub(crate) spline: splines::SplineMemory,
+    contexts: context::Contexts,
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
@@ -142,6 +144,7 @@ impl Interpreter {
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
             spline: splines::SplineMemory::default(),
+            contexts: context::Contexts::default(),
             line: 0,
             decoded: None,
         }
@@ -501,6 +504,11 @@ impl Interpreter {
             Some(4) => self.spindle(sink, Some(SpindleDir::CounterClockwise)),
             Some(5) => self.spindle(sink, None),
             Some(19) => self.orient_spindle(d, sink)?,
+            // M70–M73 share rs274's modal group 7 with the spindle codes.
+            Some(70) => self.save_context(params, false),
+            Some(71) => self.invalidate_context(params),
+            Some(72) => self.restore_context(params, d.m_span(M::SPINDLE), sink)?,
+            Some(73) => self.save_context(params, true),
             _ => {}
         }
         // 8. Coolant.
