@@ -8,10 +8,14 @@ for f in *.ngc; do
     # oword_lib_* programs call subroutine files: rs274 finds them through the INI's
     # SUBROUTINE_PATH, as the differential test runs them.
     ini=""
-    case "$f" in oword_lib_*) ini="-i oword_lib/paths.ini" ;; esac
+    # ini_* programs read ini/settings.ini (ORIENT_OFFSET, #<_ini[...]...> values).
+    case "$f" in oword_lib_*) ini="-i oword_lib/paths.ini" ;; ini_*) ini="-i ini/settings.ini" ;; esac
+    # var_* programs start from a copy of var/start.var (rs274 -v writes the file back).
+    case "$f" in var_*) tmpvar=$(mktemp); cp var/start.var "$tmpvar"; ini="-v $tmpvar" ;; esac
     # shellcheck disable=SC2086
     err=$(rs274 $ini -g -t tool.tbl "$f" 2>&1 >/dev/null)
     rc=$?
+    case "$f" in var_*) rm -f "$tmpvar" "$tmpvar.bak" ;; esac
     extra=$(printf '%s\n' "$err" | grep -v '^executing$' | grep -v '^$')
     if [ $rc -ne 0 ] || [ -n "$extra" ]; then
         echo "GOOD FAILS: $f (exit $rc): $extra"
@@ -19,7 +23,10 @@ for f in *.ngc; do
     fi
 done
 for f in bad/*.ngc; do
-    if rs274 -g -t tool.tbl "$f" >/dev/null 2>&1; then
+    ini=""
+    case "$f" in bad/ini_*) ini="-i ini/settings.ini" ;; esac
+    # shellcheck disable=SC2086
+    if rs274 $ini -g -t tool.tbl "$f" >/dev/null 2>&1; then
         echo "BAD ACCEPTED: $f"
         fail=1
     fi

@@ -362,6 +362,23 @@ good('oword_lib_lcnc_nested_sub', '(oword_lib/lcnc_nested.ngc defines o100 insid
 bad('lcnc_oword_sub_after_percent', '%\nG21 G0 X1\no2 call\n%\no2 sub\nG0 Z3\no2 endsub\n')
 good('lcnc_g10_l10_rotated', '(G10 L10/L11 X or Y under a rotated coordinate system: rs274 turns the tool offset through the rotation, keeping the old offset along the other axis)\nG21 G17 G90 G94 G40 G49 G80 G54\nG10 L2 P1 X10 Y5 R30\nG10 L2 P9 R-20\nG0 X5 Y3 Z0\nT1 M6\nG43\nG10 L10 P1 X1\n(debug, L10 X: #5401 #5402)\nG10 L10 P1 Y2\n(debug, L10 Y: #5401 #5402)\nG43\nG0 X0 Y0\nG10 L10 P1 X0 Y0 Z-1\n(debug, L10 XY: #5401 #5402 #5403)\nG10 L11 P1 X2\n(debug, L11 X: #5401 #5402)\nG43\nG0 X1 Y1\nG49\nG10 L2 P1 R0\nM2\n')
 
+# INI settings (ini/settings.ini, read by rs274 -i and oficina --ini): ORIENT_OFFSET added to
+# every M19 angle, numeric entries as read-only #<_ini[section]name> (any case).
+good('ini_orient_offset_and_values', '(ORIENT_OFFSET 10 is added to M19 R, or taken alone with P; INI entries read as parameters)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, depth #<_ini[vars]depth> safe #<_ini[VARS]SAFE>)\nG0 Z#<_ini[vars]safe>\nG1 Z#<_ini[vars]depth> F100\nM19 R30\nM19 P1\nM19 R350 P2\nM3 S100\nM2\n')
+bad('ini_assign_read_only', '(an INI value is a read-only parameter)\nG21 G17 G90 G94\n#<_ini[vars]depth> = 1\nM2\n')
+
+# A parameter file (var/start.var, a copy read by rs274 -v and oficina --var-file): a G92
+# offset saved with #5210 set is in force from the start; #5221 moves G54.
+good('var_g92_persistence', '(a G92 offset saved in the parameter file is in force at start)\nG21 G17 G90 G94 G40 G49 G80 G54\n(debug, g92 #5210 #5211 #5212 #5213 #5214)\nG0 X0 Y0 Z0 A0\nG1 X10 F100\nG92.1\nG0 X0 Y0 Z0\nM2\n')
+
+# M70-M73 modal state save/restore (interp_convert.cc save_settings/restore_settings): the
+# restore runs the units first, then F (rounded to 0.1) S and the G codes that differ, then
+# one M code per differing M group.
+good('modal_m70_m72_restore', '(M70 saves the state, M72 brings units, feed, speed, distance, plane, feed mode, path mode, spindle and coolant back)\nG21 G17 G90 G94 G40 G49 G80 G54 G64 P0.05\nF123.456 S1500 M3 M8\nG0 X1 Y1 Z1\nM70\nG20 G91 G18 G93 G61 G55 F2 S300 M4 M9\nM7\nG1 X0.1 F10\nM72\nG1 X5 Y5\nM72\nG0 X0\nM71\nM2\n')
+good('modal_m73_restore_on_return', '(M73 in a subroutine: the caller state comes back on endsub and on return)\nG21 G17 G90 G94 G40 G49 G80 G54\no<sub1> sub\nM73\nG20 G91 F3 S200\nG1 X0.5\no<inner> if [#1 GT 0]\no<sub1> return\no<inner> endif\nG1 Y0.5\no<sub1> endsub\nF250 S1000 M3\nG0 X0 Y0 Z0\no<sub1> call [0]\nG1 X10\no<sub1> call [1]\nG1 Y10\nM2\n')
+bad('modal_m72_after_m71', '(M71 forgets the saved state: M72 has nothing to restore)\nG21 G17 G90 G94\nM70\nF100\nM71\nM72\nM2\n')
+
+
 def write_all():
     for sub in ("", "bad"):
         d = os.path.join(ROOT, sub)

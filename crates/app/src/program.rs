@@ -60,6 +60,10 @@ pub struct ProgramOptions {
     pub disable_fanuc_subs: bool,
     /// Where `o<name> call` finds `name.ngc`, searched in order.
     pub subroutine_path: Vec<PathBuf>,
+    /// A LinuxCNC INI file: its ORIENT_OFFSET and `#<_ini[section]name>` values.
+    pub ini: Option<PathBuf>,
+    /// A LinuxCNC parameter file (.var) read before the program starts (never written).
+    pub var_file: Option<PathBuf>,
     /// Machine units; `None` is mm in check mode and inch otherwise (LinuxCNC's `rs274`).
     pub machine_units: Option<Units>,
     /// Longest line accepted, bytes.
@@ -107,6 +111,21 @@ impl ProgramOptions {
         opts.block_delete = self.block_delete;
         opts.disable_fanuc_subs = self.disable_fanuc_subs;
         opts.subroutine_path = self.subroutine_path.clone();
+        if let Some(path) = &self.ini {
+            let bytes = std::fs::read(path)
+                .map_err(|e| Error(format!("cannot read INI file {}: {e}", path.display())))?;
+            opts.ini = oficina_gcode::IniSettings::parse(&oficina_gcode::text::decode(&bytes));
+        }
+        if let Some(path) = &self.var_file {
+            let bytes = std::fs::read(path).map_err(|e| {
+                Error(format!(
+                    "cannot read parameter file {}: {e}",
+                    path.display()
+                ))
+            })?;
+            opts.initial_params =
+                oficina_gcode::parse_var_file(&oficina_gcode::text::decode(&bytes));
+        }
         opts.max_line_len = self.max_line_len;
         opts.max_diagnostics = KEPT_DIAGNOSTICS.max(self.max_errors);
         let machine_units = self.units(check_mode);

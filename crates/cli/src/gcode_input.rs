@@ -33,6 +33,14 @@ pub(crate) struct ProgramArgs {
     /// repeat for several, searched in order.
     #[arg(long, value_name = "DIR")]
     pub subroutine_path: Vec<PathBuf>,
+    /// A LinuxCNC INI file: `[RS274NGC]ORIENT_OFFSET` for M19 and, unless `INI_VARS = 0`,
+    /// every numeric entry as the read-only `#<_ini[section]name>`.
+    #[arg(long, value_name = "FILE")]
+    pub ini: Option<PathBuf>,
+    /// A LinuxCNC parameter file (.var, lines `NUMBER VALUE`): the parameters the program
+    /// starts with (a saved G92 offset is put in force, as rs274 `-v` does). Only read.
+    #[arg(long, value_name = "FILE")]
+    pub var_file: Option<PathBuf>,
     /// Machine units: the unit of the tool table and of the offset parameters (#5161…,
     /// #5211…, #5221…). `gcode canon` defaults to inch like LinuxCNC's standalone `rs274`;
     /// `check` to mm.
@@ -109,6 +117,8 @@ impl ProgramArgs {
             block_delete: self.block_delete,
             disable_fanuc_subs: self.disable_fanuc_subs,
             subroutine_path: self.subroutine_path.clone(),
+            ini: self.ini.clone(),
+            var_file: self.var_file.clone(),
             machine_units: self.machine_units.map(Units::from),
             max_line_len: self.limits.bytes(),
             max_errors: self.max_errors,

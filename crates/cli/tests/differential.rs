@@ -186,6 +186,19 @@ fn run_rs274_once(file: &Path) -> Run {
     if uses_subroutine_path(file) {
         cmd.arg("-i").arg(SUBROUTINE_INI);
     }
+    if uses_settings_ini(file) {
+        cmd.arg("-i").arg(SETTINGS_INI);
+    }
+    // rs274 writes its parameter file back at the end: it gets a copy.
+    let var_copy = uses_var_file(file).then(|| {
+        // A short name: rs274 keeps the file's name in a short buffer.
+        let copy = home.join("start.var");
+        std::fs::copy(corpus_dir().join(VAR_FILE), &copy).expect("copy var/start.var");
+        copy
+    });
+    if let Some(copy) = &var_copy {
+        cmd.arg("-v").arg(copy);
+    }
     cmd.current_dir(corpus_dir())
         .arg("-g")
         .arg("-t")
@@ -213,6 +226,12 @@ fn run_oficina(file: &Path) -> Run {
     if uses_subroutine_path(file) {
         cmd.arg("--subroutine-path").arg(SUBROUTINE_DIR);
     }
+    if uses_settings_ini(file) {
+        cmd.arg("--ini").arg(SETTINGS_INI);
+    }
+    if uses_var_file(file) {
+        cmd.arg("--var-file").arg(VAR_FILE);
+    }
     run_command(cmd)
 }
 
@@ -227,6 +246,26 @@ fn uses_subroutine_path(file: &Path) -> bool {
     file.file_name()
         .and_then(|n| n.to_str())
         .is_some_and(|n| n.starts_with("oword_lib_"))
+}
+
+/// Programs named `ini_*.ngc` (good and bad) read LinuxCNC INI settings (ORIENT_OFFSET,
+/// `#<_ini[section]name>`) from [`SETTINGS_INI`]: rs274 with `-i`, Oficina with `--ini`.
+const SETTINGS_INI: &str = "ini/settings.ini";
+
+fn uses_settings_ini(file: &Path) -> bool {
+    file.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("ini_"))
+}
+
+/// Programs named `var_*.ngc` start from the parameter file [`VAR_FILE`] (a saved G92
+/// offset, G54): rs274 with `-v` on a copy (it writes the file back), Oficina `--var-file`.
+const VAR_FILE: &str = "var/start.var";
+
+fn uses_var_file(file: &Path) -> bool {
+    file.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with("var_"))
 }
 
 /// rs274's stderr without its "executing" banner, or None when nothing else was said.

@@ -37,6 +37,8 @@ pub struct RunOptions {
     pub disable_fanuc_subs: bool,
     /// Directories searched for `name.ngc` by `o<name> call` (LinuxCNC's SUBROUTINE_PATH).
     pub subroutine_path: Vec<std::path::PathBuf>,
+    /// What a LinuxCNC INI file sets: M19's ORIENT_OFFSET, `#<_ini[section]name>` values.
+    pub ini: crate::IniSettings,
 }
 
 impl RunOptions {
@@ -62,6 +64,25 @@ pub struct Driver {
     ended: bool,
     /// Line of the last block read: where an unterminated program is reported.
     last_line: u32,
+    /// The subroutine call depth when the last block ran (a drop is a return: M73).
+    call_depth: usize,
+}
+
+/// Before a block: if a subroutine returned since the last one, the state its M73 saved
+/// comes back (rs274 restores it in `leave_context`, at the return).
+fn returned(
+    interp: &mut Interpreter,
+    params: &mut Params,
+    depth: &mut usize,
+    sink: &mut dyn FnMut(Canon),
+) -> Result<(), Diagnostic> {
+    let now = params.call_depth();
+    let dropped = now < *depth;
+    *depth = now;
+    if dropped && interp.has_saved_contexts() {
+        interp.left_call(params, sink)?;
+    }
+    Ok(())
 }
 
 impl Driver {
@@ -74,6 +95,17 @@ impl Driver {
             // ignored rather than aborting a run before it starts.
             let _ = params.set(n, v);
         }
+        if opts.ini.disable_g92_persistence {
+            // rs274 clears the saved G92 parameters before reading them.
+            for n in 5210..5220 {
+                let _ = params.set(n, 0.0);
+            }
+        }
+        // INI values are read-only globals, as rs274 caches them (PA_READONLY).
+        for (name, v) in &opts.ini.values {
+            params.set_system(name, *v);
+        }
+        interp.orient_offset = opts.ini.orient_offset;
         interp.begin(&mut params, sink);
         interp.update_named_params(&mut params);
         Driver {
@@ -88,6 +120,7 @@ impl Driver {
             },
             ended: false,
             last_line: 1,
+            call_depth: 0,
         }
     }
 
@@ -122,8 +155,13 @@ impl Driver {
             // does not simply continue the program.
             let interp = &mut self.interp;
             let mut stopped = None;
+            let depth = &mut self.call_depth;
             let last = exec.read_fast_lines(&mut self.params, &mut block, |block, params| {
                 params.mark_system_stale();
+                if let Err(e) = returned(interp, params, depth, sink) {
+                    stopped = Some(Err(e));
+                    return false;
+                }
                 match interp.execute(block, params, sink) {
                     Ok(Flow::Continue) => true,
                     other => {
@@ -153,7 +191,13 @@ impl Driver {
                         Ok(false) => break,
                         Ok(true) => {
                             self.params.mark_system_stale();
-                            self.interp.execute(&block, &mut self.params, sink)
+                            returned(
+                                &mut self.interp,
+                                &mut self.params,
+                                &mut self.call_depth,
+                                sink,
+                            )
+                            .and_then(|()| self.interp.execute(&block, &mut self.params, sink))
                         }
                         Err(e) => Err(e),
                     };

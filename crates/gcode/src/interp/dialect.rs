@@ -146,7 +146,7 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
         let Some(c) = code else { continue };
         let ok = match group {
             M::STOP => matches!(c.tenths, 0 | 1 | 2 | 30),
-            M::SPINDLE => c.tenths != 19,
+            M::SPINDLE => matches!(c.tenths, 3..=5),
             M::COOLANT => true,
             _ => false,
         };

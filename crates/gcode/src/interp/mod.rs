@@ -7,6 +7,7 @@
 
 pub(crate) mod arcs;
 pub(crate) mod comp;
+mod context;
 pub(crate) mod cycles;
 pub(crate) mod dialect;
 pub(crate) mod frame;
@@ -94,10 +95,13 @@ pub struct Interpreter {
     pub frame: Frame,
     /// The tools the machine knows.
     pub tools: ToolTable,
+    /// Degrees added to every M19 angle (LinuxCNC's `[RS274NGC]ORIENT_OFFSET`).
+    pub orient_offset: f64,
     machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
     pub(crate) spline: splines::SplineMemory,
+    contexts: context::Contexts,
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
@@ -135,10 +139,12 @@ impl Interpreter {
             pos: [0.0; 6],
             frame: Frame::default(),
             tools,
+            orient_offset: 0.0,
             machine_units: start.machine_units,
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
             spline: splines::SplineMemory::default(),
+            contexts: context::Contexts::default(),
             line: 0,
             decoded: None,
         }
@@ -150,6 +156,14 @@ impl Interpreter {
         let emit = &mut |op| sink(Canon { line, op });
         emit(CanonOp::UseLengthUnits(self.modal.units));
         self.load_coord_system(params, self.modal.coord_system);
+        // A G92 offset in force when the parameters were saved (#5210 set) is in force again
+        // (rs274ngc_pre.cc init; DISABLE_G92_PERSISTENCE has zeroed #5210–#5219 before).
+        if params.get(param::G92_ENABLED).unwrap_or(0.0) != 0.0 {
+            for i in 0..6 {
+                let s = if i < 3 { self.mk() } else { 1.0 };
+                self.frame.g92[i] = params.get(param::G92_OFFSET + i as i64).unwrap_or(0.0) * s;
+            }
+        }
         emit(CanonOp::SetG5xOffset {
             index: 1,
             offset: Pos::from_array(self.frame.g5x),
@@ -490,6 +504,11 @@ impl Interpreter {
             Some(4) => self.spindle(sink, Some(SpindleDir::CounterClockwise)),
             Some(5) => self.spindle(sink, None),
             Some(19) => self.orient_spindle(d, sink)?,
+            // M70–M73 share rs274's modal group 7 with the spindle codes.
+            Some(70) => self.save_context(params, false),
+            Some(71) => self.invalidate_context(params),
+            Some(72) => self.restore_context(params, d.m_span(M::SPINDLE), sink)?,
+            Some(73) => self.save_context(params, true),
             _ => {}
         }
         // 8. Coolant.

@@ -51,7 +51,8 @@ impl Interpreter {
             self.emit(
                 sink,
                 CanonOp::OrientSpindle {
-                    angle: angle.unwrap_or(0.0),
+                    // rs274 adds ORIENT_OFFSET to R, or takes it alone without R.
+                    angle: angle.unwrap_or(0.0) + self.orient_offset,
                     dir: dir.unwrap_or_default(),
                 },
             );

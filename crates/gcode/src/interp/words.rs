@@ -97,7 +97,7 @@ pub(crate) fn group_of_m(code: u16) -> Option<usize> {
     Some(match code {
         0 | 1 | 2 | 30 | 60 => STOP,
         6 => TOOL_CHANGE,
-        3..=5 | 19 => SPINDLE,
+        3..=5 | 19 | 70..=73 => SPINDLE,
         7..=9 => COOLANT,
         48..=53 => OVERRIDE,
         _ => return None,
