@@ -128,15 +128,9 @@ function draw() {
   const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
   const s = Math.min((W - 2 * PAD) / Math.max(x1 - x0, 1e-6), (H - 2 * PAD) / Math.max(y1 - y0, 1e-6));
   view = { x0, y0, s };
-  const showOps = built ? built.ops : [];
-  for (const o of showOps) {
-    const on = shownOp === null || shownOp === o.index;
-    const colour = COLOURS[(o.index - 1) % COLOURS.length];
-    for (const line of o.path) {
-      el('polyline', { points: line.map((p) => `${sx(p[0]).toFixed(2)},${sy(p[1]).toFixed(2)}`).join(' '), fill: 'none', stroke: colour, 'stroke-width': on ? 1.2 : 0.5, opacity: on ? 0.95 : 0.2, class: `cj-toolpath op-${o.index}` }, svg);
-    }
-  }
-  for (const sh of shapes) {
+  // Large shapes first: a small hole inside a plate stays on top, where a click finds it.
+  const area = (sh: Shape) => { const b = box(sh); return (b[2] - b[0]) * (b[3] - b[1]); };
+  for (const sh of [...shapes].sort((a, b) => area(b) - area(a))) {
     const d = sh.points.map((p, k) => `${k ? 'L' : 'M'}${sx(p[0]).toFixed(2)} ${sy(p[1]).toFixed(2)}`).join(' ') + (sh.closed ? ' Z' : '');
     const sel = selected.has(sh.id);
     const path = el('path', { d, fill: sel ? 'rgba(240,180,90,0.25)' : 'rgba(0,0,0,0)', stroke: sel ? '#f0b45a' : '#c8d0dc', 'stroke-width': sel ? 2.5 : 1.2, 'data-id': sh.id, class: 'cj-shape' + (sel ? ' selected' : '') }, svg);
@@ -146,6 +140,15 @@ function draw() {
     const b = box(sh);
     const label = el('text', { x: sx(b[0]) + 2, y: sy(b[3]) + 11, fill: sel ? '#f0b45a' : '#8a93a3', 'font-size': 11, class: 'cj-id' }, svg);
     label.textContent = `#${sh.id}`;
+  }
+  // The toolpaths over the shapes; the picked operation's bright, the others faint.
+  const showOps = built ? built.ops : [];
+  for (const o of showOps) {
+    const on = shownOp === null || shownOp === o.index;
+    const colour = COLOURS[(o.index - 1) % COLOURS.length];
+    for (const line of o.path) {
+      el('polyline', { points: line.map((p) => `${sx(p[0]).toFixed(2)},${sy(p[1]).toFixed(2)}`).join(' '), fill: 'none', stroke: colour, 'stroke-width': on ? 1.2 : 0.5, opacity: on ? 0.95 : 0.2, class: `cj-toolpath op-${o.index}`, 'pointer-events': 'none' }, svg);
+    }
   }
   $('cj-selection').textContent = selected.size ? `selected: ${[...selected].sort((a, b) => a - b).map((i) => '#' + i).join(' ')}` : 'nothing selected: click a shape, shift-click to add, drag a box';
 }

@@ -523,7 +523,7 @@ pub struct JobShapeView {
 pub fn job_shapes(job_file: &FsPath) -> Result<(Vec<JobShapeView>, Vec<String>), Error> {
     let name = job_file.display().to_string();
     let text = std::fs::read_to_string(job_file).map_err(|e| Error(format!("{name}: {e}")))?;
-    let job = parse_job(&name, &text)?;
+    let job = model::parse_job_shapes(&name, &text)?;
     let base = job_file.parent().unwrap_or(FsPath::new("."));
     let mut warnings = Vec::new();
     let (_, _, shapes, _) = load_shapes(&name, &text, &job, base, &mut warnings)?;
