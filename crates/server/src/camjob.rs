@@ -51,7 +51,8 @@ pub(crate) async fn build(
     Json(req): Json<JobText>,
 ) -> Result<Response, CamError> {
     let path = write_job(&st, &req).await?;
-    let spec = crate::profiles::profile_spec(&st, req.profile.as_deref().unwrap_or(profile::DEFAULT));
+    let spec =
+        crate::profiles::profile_spec(&st, req.profile.as_deref().unwrap_or(profile::DEFAULT));
     let machine = spec.and_then(|s| profile::resolve(&s).map_err(|e| e.to_string()));
     let opts = JobOptions::default();
     let r = compute(&st, move |fb| mill_job(&path, &opts, &machine, fb)).await?;

@@ -447,6 +447,14 @@ pub fn mill_job(
     })
 }
 
+/// The drawing's path, its import, the numbered shapes and the shift to the program origin.
+type Loaded = (
+    std::path::PathBuf,
+    oficina_io::Imported,
+    Vec<Shape>,
+    [f64; 2],
+);
+
 /// The job's drawing with its own shapes added, moved to the program's origin and numbered
 /// as selections name them: (the drawing's path, the import, the shapes, the shift).
 fn load_shapes(
@@ -455,7 +463,7 @@ fn load_shapes(
     job: &model::Job,
     base: &FsPath,
     warnings: &mut Vec<String>,
-) -> Result<(std::path::PathBuf, oficina_io::Imported, Vec<Shape>, [f64; 2]), Error> {
+) -> Result<Loaded, Error> {
     let drawing = base.join(&job.drawing);
     let join_tol = job.join_tol.unwrap_or(oficina_io::JOIN_TOL);
     let imported = oficina_io::load_drawing_with(&drawing, join_tol)
@@ -586,7 +594,11 @@ fn feed_polylines(o: &oficina_cam::Operation) -> Vec<Vec<[f64; 3]>> {
                 if sweep < 1e-9 {
                     sweep = tau;
                 }
-                let step = if r > 0.05 { 2.0 * (1.0 - 0.05 / r).acos() } else { tau };
+                let step = if r > 0.05 {
+                    2.0 * (1.0 - 0.05 / r).acos()
+                } else {
+                    tau
+                };
                 let n = ((sweep / step.max(1e-3)).ceil() as usize).clamp(1, 720);
                 for i in 1..=n {
                     let f = i as f64 / n as f64;
