@@ -13,7 +13,7 @@ interface Shape {
 }
 interface Op {
   name: string; kind: string; ids: number[]; tool: string; depth: string; stepdown: string;
-  feed: string; width: string; tip_offset: string; tabs: string; tab_width: string; tab_height: string;
+  feed: string; rpm: string; width: string; tip_offset: string; tabs: string; tab_width: string; tab_height: string;
 }
 interface BuiltOp { index: number; name: string; tool_number: number; tool: string; shapes: number[]; moves: number; depth: number; feed: number; feed_source: string; path: [number, number, number][][]; }
 interface Built {
@@ -66,6 +66,7 @@ export function jobToml(withOps = true): string {
     } else if (o.depth) l.push(`depth = ${num(o.depth)}`);
     if (o.stepdown) l.push(`stepdown = ${num(o.stepdown)}`);
     if (o.feed) l.push(`feed = ${num(o.feed)}`);
+    if (o.rpm) l.push(`rpm = ${num(o.rpm)}`);
     if ((o.kind === 'profile-out' || o.kind === 'profile-in') && o.tabs && Number(o.tabs) > 0) {
       l.push(`tabs = { count = ${num(o.tabs)}, width = ${num(o.tab_width || '4')}, height = ${num(o.tab_height || '1')} }`);
     }
@@ -178,7 +179,8 @@ function setupView() {
     rubber?.remove();
     rubber = el('rect', { x: Math.min(sx(start[0]), sx(p[0])), y: Math.min(sy(start[1]), sy(p[1])), width: Math.abs(sx(p[0]) - sx(start[0])), height: Math.abs(sy(p[1]) - sy(start[1])), fill: 'rgba(90,209,240,0.1)', stroke: '#5ad1f0', 'stroke-dasharray': '4 3' }, svg);
   });
-  svg.addEventListener('mouseup', (e) => {
+  // On the window: a box may end outside the view.
+  window.addEventListener('mouseup', (e) => {
     if (!start || !startEvent) return;
     const moved = Math.hypot(e.clientX - startEvent.clientX, e.clientY - startEvent.clientY) >= 4;
     const p = at(e);
@@ -192,7 +194,7 @@ function setupView() {
         if (b[0] >= bx0 && b[2] <= bx1 && b[1] >= by0 && b[3] <= by1) selected.add(sh.id);
       }
     } else {
-      const target = (e.target as Element).closest('[data-id]');
+      const target = (e.target as Element).closest?.('#cj-view [data-id]');
       const id = target ? Number(target.getAttribute('data-id')) : nearest(p);
       if (id !== null) {
         if (e.shiftKey && selected.has(id)) selected.delete(id);
@@ -269,7 +271,7 @@ function addOp() {
   const kind = field('cj-kind');
   const o: Op = {
     name: field('cj-name') || kind, kind, ids: [...selected].sort((a, b) => a - b), tool: field('cj-tool'),
-    depth: field('cj-depth'), stepdown: field('cj-stepdown'), feed: field('cj-feed'), width: field('cj-width'),
+    depth: field('cj-depth'), stepdown: field('cj-stepdown'), feed: field('cj-feed'), rpm: field('cj-rpm'), width: field('cj-width'),
     tip_offset: field('cj-tip'), tabs: field('cj-tabs'), tab_width: field('cj-tab-width'), tab_height: field('cj-tab-height'),
   };
   if (!o.tool) return status('give a tool: a library number or a spec such as flat:2, v:6:90', true);
@@ -313,6 +315,7 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
       <label>Depth <input id="cj-depth" type="number" value="4.2" step="any"> mm</label>
       <label>Step-down <input id="cj-stepdown" type="number" value="1" step="any"> mm</label>
       <label>Feed <input id="cj-feed" type="number" step="any" placeholder="library/default"> mm/min</label>
+      <label>Spindle <input id="cj-rpm" type="number" step="any" placeholder="library/default"> rpm</label>
       <label>Chamfer width <input id="cj-width" type="number" value="0.5" step="any"> mm</label>
       <label>tip offset <input id="cj-tip" type="number" value="0.2" step="any"> mm</label>
       <label>Tabs <input id="cj-tabs" type="number" value="0" min="0" step="1"></label>

@@ -55,6 +55,7 @@ const drawnShapes = (page) => page.$$eval('#cj-view .cj-shape', (els) => els.map
 const selectedIds = (page) => page.$$eval('#cj-view .cj-shape.selected', (els) => els.map((e) => Number(e.dataset.id)).sort((a, b) => a - b));
 
 async function clickShape(page, id, shift = false) {
+  await page.locator('#cj-view').scrollIntoViewIfNeeded();
   const b = await page.locator(`#cj-view .cj-shape[data-id="${id}"]`).boundingBox();
   if (shift) await page.keyboard.down('Shift');
   await page.mouse.click(b.x + b.width / 2, b.y + b.height / 2);
@@ -117,6 +118,7 @@ await test('the NEMA 17 mount built by clicking shapes gives the CLI program', a
   assert(JSON.stringify(await selectedIds(page)) === JSON.stringify(small), `circles under 10: ${await selectedIds(page)}`);
   await addOp(page, { kind: 'profile-in', name: 'M3 holes', tool: '1', fields: { depth: 4.2, stepdown: 1 } });
   // The chamfer on everything: a box around the whole drawing.
+  await page.locator('#cj-view').scrollIntoViewIfNeeded();
   const v = await page.locator('#cj-view').boundingBox();
   await page.mouse.move(v.x + 3, v.y + 3);
   await page.mouse.down();
@@ -177,14 +179,15 @@ await test('a self-contained SVG part: tools by spec, saved job gives the same p
   await page.click('#cj-circles');
   const holes = await selectedIds(page);
   assert(holes.length > 0, 'small circles');
-  await addOp(page, { kind: 'profile-in', name: 'small holes', tool: 'flat:3', fields: { depth: 5.3, stepdown: 1.5, feed: 900 } });
+  await addOp(page, { kind: 'profile-in', name: 'small holes', tool: 'flat:3', fields: { depth: 5.3, stepdown: 1.5, feed: 900, rpm: 18000 } });
   await page.click('#cj-all');
-  await addOp(page, { kind: 'profile-out', name: 'cut-out', tool: 'flat:3', fields: { depth: 5.3, stepdown: 1.5, feed: 900, tabs: 3, 'tab-width': 4, 'tab-height': 1.2 } });
+  await addOp(page, { kind: 'profile-out', name: 'cut-out', tool: 'flat:3', fields: { depth: 5.3, stepdown: 1.5, feed: 900, rpm: 18000, tabs: 3, 'tab-width': 4, 'tab-height': 1.2 } });
   const { report, program, saved } = await makeAndSave(page, dir);
   assert(/2 operations, 1 tool loads .* no gouge/.test(report), report);
   await page.locator('#cj-view').scrollIntoViewIfNeeded();
   await page.screenshot({ path: path.join(shots, 'workbench-camjob-svg.png') });
   sameProgram(program.text, cli(saved).program, 'the page vs its saved job');
+  assert(program.text.includes('S18000 M3'), 'the spindle speed given');
 });
 
 await test('a bad job is a clear message in the page', async () => {
