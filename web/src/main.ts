@@ -9,6 +9,7 @@ import { MachinePanel } from './machine';
 import { setupWorkshop } from './workshop';
 import { setupSimulate } from './simulate';
 import { setupProfileEditor, setupToolEditor } from './profile';
+import { initCamJob } from './camjob';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -267,11 +268,12 @@ $<HTMLSelectElement>('sample').onchange = (e) => {
 
 // Processes: a G-code program as it is, a relief carved from an image, or a design milled,
 // made into sole molds or plotted.
-type Process = 'gcode' | 'relief' | ProcessKind;
+type Process = 'gcode' | 'relief' | 'camjob' | ProcessKind;
 let shownForm: ProcessKind | null = null;
 function setProcess(p: Process) {
   $<HTMLSelectElement>('process').value = p;
   $('relief-form').hidden = p !== 'relief';
+  $('camjob').hidden = p !== 'camjob';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
   const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider';
   $('process-form').hidden = !isDesign;
@@ -638,6 +640,7 @@ async function init() {
   setupProfileEditor(info.profiles);
   setupToolEditor(() => { if (program.text) runCheck(); });
 }
+initCamJob({ loadProgram });
 init().catch((e) => error(String(e.message || e)));
 
 // For the browser tests and the benchmark: the page's state, read-only.

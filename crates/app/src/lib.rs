@@ -77,7 +77,9 @@ pub use machine_uri::{
 };
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
-pub use mill_job::{mill_job, JobOpReport, JobOptions, JobProgram, JobResult};
+pub use mill_job::{
+    job_shapes, mill_job, JobOpReport, JobOptions, JobProgram, JobResult, JobShapeView,
+};
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
 pub use output::{
     check_output, check_output_dir, plot_extensions, refuse_overwriting_drawing, same_file,

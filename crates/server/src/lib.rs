@@ -29,6 +29,7 @@
 
 mod api;
 mod auth;
+mod camjob;
 mod embroider;
 mod files;
 mod jobs;

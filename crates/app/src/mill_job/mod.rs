@@ -52,6 +52,8 @@ pub struct JobOpReport {
     pub depth: f64,
     /// Feed, mm/min, spindle rpm, and where they came from.
     pub feeds: ToolFeeds,
+    /// The tool centre's feed moves, polylines of X, Y, Z (for drawing the toolpath).
+    pub path: Vec<Vec<[f64; 3]>>,
 }
 
 /// One program of the job.
@@ -260,43 +262,7 @@ pub fn mill_job(
         None => None,
     };
     fb.stage("reading the drawing")?;
-    let drawing = base.join(&job.drawing);
-    let join_tol = job.join_tol.unwrap_or(oficina_io::JOIN_TOL);
-    let imported = oficina_io::load_drawing_with(&drawing, join_tol)
-        .map_err(|e| Error(format!("{name}: drawing: {}", Error::chain(&e).0)))?;
-    if !imported.unsupported.is_empty() {
-        warnings.push(format!("{}: {}", drawing.display(), imported.unsupported));
-    }
-    let mut layers: Vec<(String, Path)> = imported
-        .drawing
-        .layers
-        .iter()
-        .flat_map(|l| l.paths.iter().map(|p| (l.name.clone(), p.clone())))
-        .collect();
-    for s in &job.shape {
-        let line = line_of(&text, s.span().start);
-        let path = rect_path(s.get_ref())
-            .map_err(|e| Error(format!("{name}: line {line}: [[shape]]: {e}")))?;
-        layers.push((s.get_ref().layer.clone(), path));
-    }
-    // Program zero at the stock's corner: every shape moves by −corner (the stock too).
-    let shift = match job.stock.origin {
-        Origin::Drawing => [0.0, 0.0],
-        Origin::StockCorner => job.stock.corner,
-    };
-    if shift != [0.0, 0.0] {
-        let m = oficina_geom::kurbo::Affine::translate((-shift[0], -shift[1]));
-        for (_, p) in layers.iter_mut() {
-            *p = p.transform(m);
-        }
-    }
-    let shapes = number_shapes(layers, usize::MAX);
-    if shapes.is_empty() {
-        return Err(Error(format!(
-            "{name}: the drawing {} has no paths",
-            drawing.display()
-        )));
-    }
+    let (drawing, imported, shapes, shift) = load_shapes(&name, &text, &job, base, &mut warnings)?;
     let clear_z = job.clear_z.unwrap_or(5.0);
     let safe_z = job.safe_z.unwrap_or(20.0);
     if !(clear_z > 0.0 && safe_z >= clear_z && safe_z.is_finite()) {
@@ -370,6 +336,7 @@ pub fn mill_job(
                 .count(),
             depth: b.depth,
             feeds,
+            path: feed_polylines(&b.operation),
         };
         built.push((b, report, cut_out));
     }
@@ -478,6 +445,187 @@ pub fn mill_job(
         preview_svg: preview_svg(&all_paths, &whole),
         programs,
     })
+}
+
+/// The drawing's path, its import, the numbered shapes and the shift to the program origin.
+type Loaded = (
+    std::path::PathBuf,
+    oficina_io::Imported,
+    Vec<Shape>,
+    [f64; 2],
+);
+
+/// The job's drawing with its own shapes added, moved to the program's origin and numbered
+/// as selections name them: (the drawing's path, the import, the shapes, the shift).
+fn load_shapes(
+    name: &str,
+    text: &str,
+    job: &model::Job,
+    base: &FsPath,
+    warnings: &mut Vec<String>,
+) -> Result<Loaded, Error> {
+    let drawing = base.join(&job.drawing);
+    let join_tol = job.join_tol.unwrap_or(oficina_io::JOIN_TOL);
+    let imported = oficina_io::load_drawing_with(&drawing, join_tol)
+        .map_err(|e| Error(format!("{name}: drawing: {}", Error::chain(&e).0)))?;
+    if !imported.unsupported.is_empty() {
+        warnings.push(format!("{}: {}", drawing.display(), imported.unsupported));
+    }
+    let mut layers: Vec<(String, Path)> = imported
+        .drawing
+        .layers
+        .iter()
+        .flat_map(|l| l.paths.iter().map(|p| (l.name.clone(), p.clone())))
+        .collect();
+    for s in &job.shape {
+        let line = line_of(text, s.span().start);
+        let path = rect_path(s.get_ref())
+            .map_err(|e| Error(format!("{name}: line {line}: [[shape]]: {e}")))?;
+        layers.push((s.get_ref().layer.clone(), path));
+    }
+    // Program zero at the stock's corner: every shape moves by −corner (the stock too).
+    let shift = match job.stock.origin {
+        Origin::Drawing => [0.0, 0.0],
+        Origin::StockCorner => job.stock.corner,
+    };
+    if shift != [0.0, 0.0] {
+        let m = oficina_geom::kurbo::Affine::translate((-shift[0], -shift[1]));
+        for (_, p) in layers.iter_mut() {
+            *p = p.transform(m);
+        }
+    }
+    let shapes = number_shapes(layers, usize::MAX);
+    if shapes.is_empty() {
+        return Err(Error(format!(
+            "{name}: the drawing {} has no paths",
+            drawing.display()
+        )));
+    }
+    Ok((drawing, imported, shapes, shift))
+}
+
+/// One shape of a job as the workbench draws it: its id (the import report's), layer,
+/// report line, and its outline flattened to 0.02 mm.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct JobShapeView {
+    /// The id selections name.
+    pub id: usize,
+    /// Its layer.
+    pub layer: String,
+    /// The stroke colour, `#rrggbb`, when the drawing gives one.
+    pub color: Option<String>,
+    /// Closed.
+    pub closed: bool,
+    /// A circle's diameter, mm.
+    pub circle: Option<f64>,
+    /// Inside an odd number of closed shapes.
+    pub hole: bool,
+    /// The import report's line (`#3 HOLES closed circle Ø3.60 at …`).
+    pub describe: String,
+    /// The outline, X Y in program coordinates.
+    pub points: Vec<[f64; 2]>,
+}
+
+/// The shapes of the job in `job_file` (its drawing and `[[shape]]`s, its operations not
+/// built): what the workbench draws and selects from.
+pub fn job_shapes(job_file: &FsPath) -> Result<(Vec<JobShapeView>, Vec<String>), Error> {
+    let name = job_file.display().to_string();
+    let text = std::fs::read_to_string(job_file).map_err(|e| Error(format!("{name}: {e}")))?;
+    let job = model::parse_job_shapes(&name, &text)?;
+    let base = job_file.parent().unwrap_or(FsPath::new("."));
+    let mut warnings = Vec::new();
+    let (_, _, shapes, _) = load_shapes(&name, &text, &job, base, &mut warnings)?;
+    let views = shapes
+        .iter()
+        .map(|s| JobShapeView {
+            id: s.id,
+            layer: s.layer.clone(),
+            color: s
+                .path
+                .style
+                .stroke
+                .map(|c| format!("#{:02x}{:02x}{:02x}", c.r, c.g, c.b)),
+            closed: s.path.closed,
+            circle: s.circle,
+            hole: s.path.closed && s.depth % 2 == 1,
+            describe: s.describe(),
+            points: s.path.flatten(0.02).iter().map(|p| [p.x, p.y]).collect(),
+        })
+        .collect();
+    Ok((views, warnings))
+}
+
+/// The tool centre's feed moves as polylines (X, Y, Z), arcs flattened to about 0.05 mm;
+/// a rapid or a drilled hole starts a new one (a hole is its own two-point line).
+fn feed_polylines(o: &oficina_cam::Operation) -> Vec<Vec<[f64; 3]>> {
+    use oficina_cam::Move;
+    let mut out: Vec<Vec<[f64; 3]>> = Vec::new();
+    let mut cur: Vec<[f64; 3]> = Vec::new();
+    let mut at: Option<[f64; 3]> = None;
+    for m in &o.moves {
+        match m {
+            Move::Rapid { to } => {
+                if cur.len() > 1 {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur.clear();
+                at = Some(*to);
+            }
+            Move::Line { to, .. } => {
+                if cur.is_empty() {
+                    cur.extend(at);
+                }
+                cur.push(*to);
+                at = Some(*to);
+            }
+            Move::Arc {
+                to, center, ccw, ..
+            } => {
+                let from = at.unwrap_or(*to);
+                if cur.is_empty() {
+                    cur.push(from);
+                }
+                let r = (from[0] - center[0]).hypot(from[1] - center[1]);
+                let a0 = (from[1] - center[1]).atan2(from[0] - center[0]);
+                let a1 = (to[1] - center[1]).atan2(to[0] - center[0]);
+                let tau = std::f64::consts::TAU;
+                let mut sweep = if *ccw { a1 - a0 } else { a0 - a1 };
+                sweep = sweep.rem_euclid(tau);
+                if sweep < 1e-9 {
+                    sweep = tau;
+                }
+                let step = if r > 0.05 {
+                    2.0 * (1.0 - 0.05 / r).acos()
+                } else {
+                    tau
+                };
+                let n = ((sweep / step.max(1e-3)).ceil() as usize).clamp(1, 720);
+                for i in 1..=n {
+                    let f = i as f64 / n as f64;
+                    let a = if *ccw { a0 + sweep * f } else { a0 - sweep * f };
+                    cur.push([
+                        center[0] + r * a.cos(),
+                        center[1] + r * a.sin(),
+                        from[2] + (to[2] - from[2]) * f,
+                    ]);
+                }
+                at = Some(*to);
+            }
+            Move::Drill(d) => {
+                if cur.len() > 1 {
+                    out.push(std::mem::take(&mut cur));
+                }
+                cur.clear();
+                let [x, y] = d.at;
+                out.push(vec![[x, y, d.r], [x, y, d.bottom]]);
+            }
+            _ => {}
+        }
+    }
+    if cur.len() > 1 {
+        out.push(cur);
+    }
+    out
 }
 
 /// Box of the tool centre's cutting moves [x0, y0, x1, y1] (rapids at clearance left out).

@@ -268,12 +268,19 @@ pub(crate) fn line_of(text: &str, at: usize) -> usize {
 
 /// Reads the job `text` of file `name`; a syntax error or unknown key names the line.
 pub(crate) fn parse_job(name: &str, text: &str) -> Result<Job, Error> {
-    let job: Job = toml::from_str(text).map_err(|e| Error(format!("{name}: {e}")))?;
+    let job = parse_job_shapes(name, text)?;
     if job.op.is_empty() {
         return Err(Error(format!(
             "{name}: no [[op]]: a job needs at least one operation"
         )));
     }
+    Ok(job)
+}
+
+/// Reads the job `text` as [`parse_job`] does, with no operation needed yet (the page asks
+/// for a drawing's shapes before it has any).
+pub(crate) fn parse_job_shapes(name: &str, text: &str) -> Result<Job, Error> {
+    let job: Job = toml::from_str(text).map_err(|e| Error(format!("{name}: {e}")))?;
     if !(job.stock.thickness.is_finite() && job.stock.thickness > 0.0) {
         return Err(Error(format!(
             "{name}: [stock] thickness = {}: must be above 0 mm",
