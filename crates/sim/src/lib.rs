@@ -28,6 +28,7 @@
 
 // `carve` stays a namespace: `carve::evaluate`, `carve::Settings` read well only behind it.
 pub mod carve;
+mod engagement;
 mod estimate;
 mod mill;
 mod render;
@@ -35,6 +36,7 @@ mod replay;
 mod report;
 
 pub use carve::to_machine;
+pub use engagement::{engagement, Engagement, EngagementStock};
 pub use estimate::feed_only_estimate;
 pub use mill::{check_mill, Design, MillCheck};
 pub use render::{render_png, shade};

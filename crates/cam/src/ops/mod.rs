@@ -4,6 +4,8 @@
 //!   depth, tabs, a tangent lead-out;
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
+//! - [`adaptive`]: clearing at a bounded engagement angle (material model, trochoidal
+//!   loops where a wall or neck needs them);
 //! - [`drill`]: canned cycles at circle centres;
 //! - [`rest`]: a smaller tool pockets what a larger one could not reach;
 //! - [`vcarve`]: V-carving of closed shapes (depth from the distance to the outline) and
@@ -13,6 +15,8 @@
 //!
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
+mod adaptive;
+mod adaptive_model;
 mod chain;
 mod drill;
 mod entry;
@@ -24,6 +28,7 @@ mod rest;
 mod sole;
 mod vcarve;
 
+pub use adaptive::{adaptive, AdaptiveParams};
 pub use chain::{Chain, Piece};
 pub use drill::{drill, DrillParams};
 pub use entry::Entry;
