@@ -41,9 +41,13 @@ const STEP: f64 = 1.0 / 8.0;
 /// Steps without meeting material (below [`IDLE_DEG`]) that end a pass.
 const IDLE_STEPS: usize = 24;
 const IDLE_DEG: f64 = 2.0;
-/// Sharpest right turn per step, and the direction search's increment.
-const TURN_RIGHT: f64 = 40.0;
+/// Steps over which a pass must make progress.
+const WINDOW: usize = 48;
+/// Sharpest turn per step while cutting, the direction search's increment, and the turn per
+/// step while seeking material again (a loop of radius step / (2 sin(turn/2)) ≈ 0.7 r).
+const TURN: f64 = 45.0;
 const TURN_INC: f64 = 5.0;
+const SEEK_TURN: f64 = 10.0;
 /// Cells of the model at most (a 100 mm pocket with a 6 mm tool is 1.2 M).
 const MAX_CELLS: usize = 16_000_000;
 
@@ -167,7 +171,7 @@ fn plan(model: &mut Model, target: f64, helix_max: f64) -> Result<Vec<Piece>, Op
             let Some(start) = start_beside(model, m) else {
                 continue;
             };
-            let feed = model.clear_line(here, start);
+            let feed = model.link(here, start, target);
             let heading = (m[1] - start[1]).atan2(m[0] - start[0]);
             let (pts, cut) = pass(model, start, heading, target, step, &mut budget);
             if cut == 0 {
@@ -245,24 +249,30 @@ fn pass(
     let mut pts = vec![start];
     let (mut at, mut heading) = (start, heading);
     let (mut cut, mut idle, mut last_cut_len) = (0, 0, 1);
-    let tries = ((180.0 + TURN_RIGHT) / TURN_INC) as usize;
+    // A pass that loops without progress ends: over the last WINDOW steps it must cut a
+    // tenth of what straight steps at the target would (step × radial depth / cell²).
+    let radial = model.r * (1.0 - target.to_radians().cos());
+    let least = (0.1 * step * radial / (model.px * model.px)).max(1.0) * WINDOW as f64;
+    let mut recent: std::collections::VecDeque<usize> = Default::default();
     while *budget > 0 {
         *budget -= 1;
-        let mut next = None;
-        for k in 0..=tries {
-            let h = heading - (TURN_RIGHT - k as f64 * TURN_INC).to_radians();
-            let q = [at[0] + step * h.cos(), at[1] + step * h.sin()];
-            if !model.allowed(q) {
-                continue;
-            }
-            let e = model.engagement(q, h);
-            if e <= target {
-                next = Some((q, h, e));
+        // The most material within the target, turning least; where nothing within a
+        // gentle turn meets material, curve right to find it again (the loop back of a
+        // trochoid); where nothing is allowed ahead, turn back.
+        let mut next = best_turn(model, at, heading, step, target, TURN, idle > 0);
+        if next.is_none() {
+            next = best_turn(model, at, heading, step, target, 180.0, false);
+        }
+        let Some((q, h, e)) = next else { break };
+        let n = model.stamp(q);
+        cut += n;
+        recent.push_back(n);
+        if recent.len() > WINDOW {
+            recent.pop_front();
+            if (recent.iter().sum::<usize>() as f64) < least {
                 break;
             }
         }
-        let Some((q, h, e)) = next else { break };
-        cut += model.stamp(q);
         pts.push(q);
         (at, heading) = (q, h.rem_euclid(TAU));
         if e < IDLE_DEG {
@@ -278,6 +288,52 @@ fn pass(
     // The idle tail cut nothing: leave it out.
     pts.truncate(last_cut_len.max(2).min(pts.len()));
     (simplify(&pts, 0.002 * model.r), cut)
+}
+
+/// The step from `at` within `turn` degrees of `heading` that engages most without passing
+/// `target` (ties: the smallest turn); when `seek` and none engages, the gentle right turn.
+fn best_turn(
+    model: &Model,
+    at: [f64; 2],
+    heading: f64,
+    step: f64,
+    target: f64,
+    turn: f64,
+    seek: bool,
+) -> Option<([f64; 2], f64, f64)> {
+    let n = (turn / TURN_INC).round() as i32;
+    let mut best: Option<([f64; 2], f64, f64, f64)> = None;
+    for k in -n..=n {
+        let dev = k as f64 * TURN_INC;
+        let h = heading + dev.to_radians();
+        let q = [at[0] + step * h.cos(), at[1] + step * h.sin()];
+        if !model.allowed(q) {
+            continue;
+        }
+        let e = model.engagement(q, h);
+        if e > target {
+            continue;
+        }
+        let better = match best {
+            None => true,
+            Some((_, _, be, bd)) => e > be + 0.5 || (e > be - 0.5 && dev.abs() < bd.abs()),
+        };
+        if better {
+            best = Some((q, h, e, dev));
+        }
+    }
+    let (q, h, e, _) = best?;
+    if seek && e < IDLE_DEG {
+        let h2 = heading - SEEK_TURN.to_radians();
+        let q2 = [at[0] + step * h2.cos(), at[1] + step * h2.sin()];
+        if model.allowed(q2) {
+            let e2 = model.engagement(q2, h2);
+            if e2 <= target {
+                return Some((q2, h2, e2));
+            }
+        }
+    }
+    Some((q, h, e))
 }
 
 /// Drops points within `tol` of the chord through their neighbours (greedy, in order).

@@ -299,15 +299,37 @@ impl Model {
             })
     }
 
-    /// Whether the tool can feed along `a`→`b` touching no material, its centre allowed.
-    pub(super) fn clear_line(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+    /// Whether the tool can feed along `a`→`b`, its centre allowed, engaged at most
+    /// `target` degrees all along; if so the material it meets is cut.
+    pub(super) fn link(&mut self, a: [f64; 2], b: [f64; 2], target: f64) -> bool {
         let len = (b[0] - a[0]).hypot(b[1] - a[1]);
         let n = (len / self.px).ceil().max(1.0) as usize;
-        (0..=n).all(|k| {
-            let t = k as f64 / n as f64;
-            let p = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-            self.allowed(p) && self.free(p)
-        })
+        let h = (b[1] - a[1]).atan2(b[0] - a[0]);
+        let pts: Vec<[f64; 2]> = (1..=n)
+            .map(|k| {
+                let t = k as f64 / n as f64;
+                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+            })
+            .collect();
+        // Engagement only grows as material is met and cut along the way, never shrinks
+        // behind: measure on a copy of the model, then keep the cut.
+        let mut trial = self.material.clone();
+        std::mem::swap(&mut trial, &mut self.material);
+        let (mut ok, left) = (true, self.left);
+        for &p in &pts {
+            if !self.allowed(p) || self.engagement(p, h) > target {
+                ok = false;
+                break;
+            }
+            self.stamp(p);
+        }
+        std::mem::swap(&mut trial, &mut self.material);
+        if ok {
+            self.material = trial;
+        } else {
+            self.left = left;
+        }
+        ok
     }
 }
 
