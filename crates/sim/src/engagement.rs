@@ -61,19 +61,7 @@ impl EngagementStock {
             let y = oy + (j as f64 + 0.5) * px;
             for i in 0..nx {
                 let x = ox + (i as f64 + 0.5) * px;
-                let mut inside = false;
-                for ring in rings {
-                    let n = ring.len();
-                    for k in 0..n {
-                        let (a, b) = (ring[k], ring[(k + 1) % n]);
-                        if (a[1] > y) != (b[1] > y)
-                            && x < a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0])
-                        {
-                            inside = !inside;
-                        }
-                    }
-                }
-                if inside {
+                if inside(rings, x, y) {
                     z[j * nx + i] = top as f32;
                 }
             }
@@ -100,15 +88,18 @@ impl EngagementStock {
         self.z.iter().filter(|&&h| f64::from(h) > z).count() as f64 * self.px * self.px
     }
 
-    /// Side (mm) of the largest square of cells standing above `z`: the biggest leftover.
-    pub fn largest_leftover(&self, z: f64) -> f64 {
-        // Largest all-material square by dynamic programming over the grid.
+    /// Side (mm) of the largest square of cells standing above `z` with their centres
+    /// inside `within` (even–odd): the biggest leftover where the tool could reach.
+    pub fn largest_leftover_within(&self, z: f64, within: &[Vec<[f64; 2]>]) -> f64 {
         let mut best = 0usize;
         let mut prev = vec![0usize; self.nx + 1];
         let mut row = vec![0usize; self.nx + 1];
         for j in 0..self.ny {
+            let y = self.oy + (j as f64 + 0.5) * self.px;
             for i in 0..self.nx {
-                row[i + 1] = if f64::from(self.z[j * self.nx + i]) > z {
+                let x = self.ox + (i as f64 + 0.5) * self.px;
+                let left = f64::from(self.z[j * self.nx + i]) > z && inside(within, x, y);
+                row[i + 1] = if left {
                     1 + prev[i].min(prev[i + 1]).min(row[i])
                 } else {
                     0
@@ -143,6 +134,21 @@ impl EngagementStock {
             }
         }
     }
+}
+
+/// Whether (x, y) is inside `rings`, even–odd.
+fn inside(rings: &[Vec<[f64; 2]>], x: f64, y: f64) -> bool {
+    let mut inside = false;
+    for ring in rings {
+        let n = ring.len();
+        for k in 0..n {
+            let (a, b) = (ring[k], ring[(k + 1) % n]);
+            if (a[1] > y) != (b[1] > y) && x < a[0] + (y - a[1]) / (b[1] - a[1]) * (b[0] - a[0]) {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// What the walk found.

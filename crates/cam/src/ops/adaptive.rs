@@ -106,9 +106,11 @@ pub fn adaptive(
             cut.tool.diameter
         )));
     }
-    // The steering keeps a cell inside the tool-centre region (the grid cannot say more
-    // finely where it ends); the contour pass then runs on the region's edge.
-    let centres = offset_areas(&wall, -px, OFFSET_TOL).map_err(geo)?;
+    // The model holds no material within 1.5 cells of the wall (a grid would count the
+    // wall the tool runs along as contact); the steering keeps the tool's edge 2.5 cells
+    // off the wall, so the circle it samples half a cell out still sees all the material
+    // next to that band. The contour pass then runs on the tool-centre region's edge.
+    let centres = offset_areas(&wall, -2.5 * px, OFFSET_TOL).map_err(geo)?;
     let pocket = offset_areas(&areas, -(p.stock_to_leave + 1.5 * px), OFFSET_TOL).map_err(geo)?;
     let (pocket, centres, wall) = (rings(&pocket), rings(&centres), rings(&wall));
     let extent = extent_cells(&pocket, r, px);
@@ -171,10 +173,13 @@ fn plan(model: &mut Model, target: f64, helix_max: f64) -> Result<Vec<Piece>, Op
             let Some(start) = start_beside(model, m) else {
                 continue;
             };
+            // A pass that cuts nothing is dropped with its link, and so is what the link cut.
+            let before = model.snapshot();
             let feed = model.link(here, start, target);
             let heading = (m[1] - start[1]).atan2(m[0] - start[0]);
             let (pts, cut) = pass(model, start, heading, target, step, &mut budget);
             if cut == 0 {
+                model.restore(before);
                 model.ban(c);
                 continue;
             }
@@ -266,6 +271,9 @@ fn pass(
         let Some((q, h, e)) = next else { break };
         let n = model.stamp(q);
         cut += n;
+        if n > 0 {
+            last_cut_len = pts.len() + 1;
+        }
         recent.push_back(n);
         if recent.len() > WINDOW {
             recent.pop_front();
@@ -282,10 +290,9 @@ fn pass(
             }
         } else {
             idle = 0;
-            last_cut_len = pts.len();
         }
     }
-    // The idle tail cut nothing: leave it out.
+    // The tail after the last step that cut a cell cut nothing: leave it out.
     pts.truncate(last_cut_len.max(2).min(pts.len()));
     (simplify(&pts, 0.002 * model.r), cut)
 }
@@ -310,7 +317,7 @@ fn best_turn(
         if !model.allowed(q) {
             continue;
         }
-        let e = model.engagement(q, h);
+        let e = step_engagement(model, at, h, step);
         if e > target {
             continue;
         }
@@ -327,13 +334,27 @@ fn best_turn(
         let h2 = heading - SEEK_TURN.to_radians();
         let q2 = [at[0] + step * h2.cos(), at[1] + step * h2.sin()];
         if model.allowed(q2) {
-            let e2 = model.engagement(q2, h2);
+            let e2 = step_engagement(model, at, h2, step);
             if e2 <= target {
                 return Some((q2, h2, e2));
             }
         }
     }
     Some((q, h, e))
+}
+
+/// Engagement along a step from `at` heading `h`: at its start (a turn swings the leading
+/// half onto material the last step passed beside), middle and end. The material cut along
+/// the step lies within r of it, behind every leading half-circle sampled, so none of
+/// it needs cutting first.
+fn step_engagement(model: &Model, at: [f64; 2], h: f64, step: f64) -> f64 {
+    [0.0, 0.5, 1.0]
+        .iter()
+        .map(|t| {
+            let q = [at[0] + t * step * h.cos(), at[1] + t * step * h.sin()];
+            model.engagement(q, h)
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Drops points within `tol` of the chord through their neighbours (greedy, in order).

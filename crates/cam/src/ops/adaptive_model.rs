@@ -23,8 +23,10 @@ pub(super) struct Model {
     ny: usize,
     /// Tool radius, mm.
     pub(super) r: f64,
-    /// Uncut material that some allowed tool position can reach.
+    /// Uncut material (what the tool meets).
     material: Vec<bool>,
+    /// Cells some allowed tool position can cut (what passes seek).
+    reach: Vec<bool>,
     /// Cells whose centre the tool centre may occupy.
     allowed: Vec<bool>,
     /// Material cells a pass could not start from (left over).
@@ -67,8 +69,8 @@ fn raster(rings: &Rings, ox: f64, oy: f64, px: f64, nx: usize, ny: usize) -> Vec
 impl Model {
     /// Material inside `pocket` (the drawn region shrunk by the stock to leave and a cell,
     /// so the tool passing along the wall does not count the wall as material), the tool
-    /// centre within `centres`; material no allowed centre comes within `r` of is dropped
-    /// (it is out of the tool's reach, left for a smaller one).
+    /// centre within `centres`. Material no allowed centre comes within `r` − a cell of is
+    /// not sought (it is out of the tool's reach, left for a smaller one) but still met.
     pub(super) fn new(pocket: &Rings, centres: &Rings, r: f64, px: f64) -> Model {
         let pts = pocket.iter().flatten();
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -81,7 +83,7 @@ impl Model {
         let (ox, oy) = (lo[0] - r - 2.0 * px, lo[1] - r - 2.0 * px);
         let nx = ((hi[0] - lo[0] + 2.0 * r) / px).ceil() as usize + 5;
         let ny = ((hi[1] - lo[1] + 2.0 * r) / px).ceil() as usize + 5;
-        let mut material = raster(pocket, ox, oy, px, nx, ny);
+        let material = raster(pocket, ox, oy, px, nx, ny);
         let allowed = raster(centres, ox, oy, px, nx, ny);
         let mut m = Model {
             ox,
@@ -91,6 +93,7 @@ impl Model {
             ny,
             r,
             material: vec![false; nx * ny],
+            reach: vec![],
             allowed,
             banned: vec![false; nx * ny],
             left: 0,
@@ -112,11 +115,9 @@ impl Model {
                 }
             }
         }
-        for (c, mat) in material.iter_mut().enumerate() {
-            *mat &= reach[c];
-        }
-        m.left = material.iter().filter(|&&b| b).count();
+        m.left = material.iter().zip(&reach).filter(|(a, b)| **a && **b).count();
         m.material = material;
+        m.reach = reach;
         m
     }
 
@@ -187,7 +188,7 @@ impl Model {
         for c in cut {
             if self.material[c] {
                 self.material[c] = false;
-                n += 1;
+                n += usize::from(self.reach[c]);
             }
         }
         self.left -= n;
@@ -205,7 +206,7 @@ impl Model {
     pub(super) fn nearest_material(&self, p: [f64; 2], n: usize) -> Vec<(usize, [f64; 2])> {
         let mut best: Vec<(f64, usize)> = Vec::with_capacity(n + 1);
         for c in 0..self.material.len() {
-            if !self.material[c] || self.banned[c] {
+            if !self.material[c] || !self.reach[c] || self.banned[c] {
                 continue;
             }
             let (x, y) = self.centre(c);
@@ -224,6 +225,17 @@ impl Model {
             .collect()
     }
 
+    /// The material state, to go back to.
+    pub(super) fn snapshot(&self) -> (Vec<bool>, usize) {
+        (self.material.clone(), self.left)
+    }
+
+    /// Back to a state [`Model::snapshot`] took.
+    pub(super) fn restore(&mut self, (material, left): (Vec<bool>, usize)) {
+        self.material = material;
+        self.left = left;
+    }
+
     /// Marks material cell `c` as one no pass could start from.
     pub(super) fn ban(&mut self, c: usize) {
         self.banned[c] = true;
@@ -231,10 +243,8 @@ impl Model {
 
     /// Material cells left that no pass could start from, and not banned.
     pub(super) fn open_left(&self) -> usize {
-        self.material
-            .iter()
-            .zip(&self.banned)
-            .filter(|(m, b)| **m && !**b)
+        (0..self.material.len())
+            .filter(|&c| self.material[c] && self.reach[c] && !self.banned[c])
             .count()
     }
 
