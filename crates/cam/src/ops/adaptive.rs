@@ -106,13 +106,14 @@ pub fn adaptive(
             cut.tool.diameter
         )));
     }
-    // The model holds no material within 1.5 cells of the wall (a grid would count the
-    // wall the tool runs along as contact); the steering keeps the tool's edge 2.5 cells
-    // off the wall, so the circle it samples half a cell out still sees all the material
-    // next to that band. The contour pass then runs on the tool-centre region's edge.
-    let centres = offset_areas(&wall, -2.5 * px, OFFSET_TOL).map_err(geo)?;
-    let pocket = offset_areas(&areas, -(p.stock_to_leave + 1.5 * px), OFFSET_TOL).map_err(geo)?;
-    let (pocket, centres, wall) = (rings(&pocket), rings(&centres), rings(&wall));
+    // The model holds no material within half a cell of the wall (a grid would count the
+    // wall the tool runs along as contact); the steering keeps the tool's edge 1.5 cells
+    // off the wall, so the circle it samples half a cell out sees the material left
+    // between. The contour pass then runs on the tool-centre region's edge.
+    let centres = offset_areas(&wall, -1.5 * px, OFFSET_TOL).map_err(geo)?;
+    let pocket = offset_areas(&areas, -(p.stock_to_leave + 0.5 * px), OFFSET_TOL).map_err(geo)?;
+    let contours = [rings(&wall)];
+    let (pocket, centres) = (rings(&pocket), rings(&centres));
     let extent = extent_cells(&pocket, r, px);
     if extent > MAX_CELLS as f64 {
         return Err(OpError::Invalid(format!(
@@ -131,7 +132,7 @@ pub fn adaptive(
     };
     let mut model = Model::new(&pocket, &centres, r, px);
     let plan = plan(&mut model, target, helix_max)?;
-    Ok(cut.operation(name, emit(&plan, &wall, cut)?))
+    Ok(cut.operation(name, emit(&plan, &contours, cut)?))
 }
 
 /// Cells the model of `rings` would have.
@@ -215,7 +216,7 @@ fn helix(model: &mut Model, helix_max: f64, plan: &mut Vec<Piece>) -> Option<[f6
     let mut cut = 0;
     for k in 0..=n {
         let a = TAU * k as f64 / n as f64;
-        cut += model.stamp([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]);
+        cut += model.stamp([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]).0;
     }
     if cut == 0 {
         // Cannot happen for an uncut centre cell, but never loop on it.
@@ -269,9 +270,10 @@ fn pass(
             next = best_turn(model, at, heading, step, target, 180.0, false);
         }
         let Some((q, h, e)) = next else { break };
-        let n = model.stamp(q);
+        let (n, all) = model.stamp(q);
         cut += n;
-        if n > 0 {
+        // Steps that cut anything are kept, the material out of reach included.
+        if all > 0 {
             last_cut_len = pts.len() + 1;
         }
         recent.push_back(n);
@@ -394,9 +396,9 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
-/// The moves: the plan at every depth level, then a climb contour pass on each ring of the
-/// tool-centre boundary `wall`.
-fn emit(plan: &[Piece], wall: &Rings, cut: &Cut) -> Result<Vec<Move>, OpError> {
+/// The moves: the plan at every depth level, then a climb contour pass on each ring of
+/// `contours` (the last the tool-centre boundary).
+fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpError> {
     let mut b = Builder::new(cut.clear_z);
     let (feed, slow) = (cut.feed, cut.plunge_feed);
     let angle = cut.entry.angle().unwrap_or(3f64.to_radians());
@@ -444,7 +446,7 @@ fn emit(plan: &[Piece], wall: &Rings, cut: &Cut) -> Result<Vec<Move>, OpError> {
                 }
             }
         }
-        for ring in wall {
+        for ring in contours.iter().flatten() {
             contour(&mut b, ring, z, cut)?;
         }
         z_prev = z;
@@ -452,18 +454,23 @@ fn emit(plan: &[Piece], wall: &Rings, cut: &Cut) -> Result<Vec<Move>, OpError> {
     Ok(b.finish(cut.clear_z))
 }
 
-/// One climb pass round `ring` at `z`, from its vertex nearest the tool.
+/// One climb pass round `ring` at `z`, from the middle of its longest edge (a corner would
+/// meet the material of both its walls at once).
 fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), OpError> {
     if ring.len() < 3 {
         return Ok(());
     }
-    let at = [b.at[0], b.at[1]];
-    let k0 = (0..ring.len())
-        .min_by(|&i, &j| {
-            let d = |p: [f64; 2]| (p[0] - at[0]).hypot(p[1] - at[1]);
-            d(ring[i]).total_cmp(&d(ring[j]))
-        })
-        .unwrap_or(0);
+    let n = ring.len();
+    let edge = |i: usize| {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        (b[0] - a[0]).hypot(b[1] - a[1])
+    };
+    let longest = (0..n).max_by(|&i, &j| edge(i).total_cmp(&edge(j))).unwrap_or(0);
+    let (a, c) = (ring[longest], ring[(longest + 1) % n]);
+    let mid = [(a[0] + c[0]) / 2.0, (a[1] + c[1]) / 2.0];
+    let mut ring: Vec<[f64; 2]> = ring.to_vec();
+    ring.insert(longest + 1, mid);
+    let k0 = longest + 1;
     // Outer rings run counter-clockwise, holes clockwise: reversed, the wall is on the
     // tool's right (climb).
     let order: Vec<[f64; 2]> = (0..=ring.len())

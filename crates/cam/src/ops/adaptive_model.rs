@@ -180,19 +180,21 @@ impl Model {
         n as f64 * 180.0 / SAMPLES as f64
     }
 
-    /// Removes the material under the tool at `p`; returns how many cells it cut.
-    pub(super) fn stamp(&mut self, p: [f64; 2]) -> usize {
+    /// Removes the material under the tool at `p`; returns how many cells it cut that
+    /// passes seek, and how many in all.
+    pub(super) fn stamp(&mut self, p: [f64; 2]) -> (usize, usize) {
         let mut cut = Vec::new();
         self.for_disc(p, self.r, |c| cut.push(c));
-        let mut n = 0;
+        let (mut n, mut all) = (0, 0);
         for c in cut {
             if self.material[c] {
                 self.material[c] = false;
                 n += usize::from(self.reach[c]);
+                all += 1;
             }
         }
         self.left -= n;
-        n
+        (n, all)
     }
 
     /// Whether the tool at `p` touches no material (nor within a cell of it).
