@@ -4,8 +4,9 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    adaptive, allowed_region, AdaptiveParams, half_tan, preview_canon_svg, preview_svg, toolpath, Cut, DrillParams, Entry,
-    MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
+    adaptive, allowed_region, half_tan, preview_canon_svg, preview_svg, toolpath, AdaptiveParams,
+    Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs,
+    VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;

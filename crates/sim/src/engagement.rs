@@ -335,7 +335,10 @@ mod tests {
         // Beside it, radial depth a: acos(1 − a/3) for the run in full material.
         for a in [0.75f64, 1.5, 3.0] {
             let mut s = EngagementStock::from_rings(&block, 0.0, 0.05, 5.0, 10_000_000).unwrap();
-            let e = walk(&[[-5.0, 40.0 + 3.0 - a, -2.0], [65.0, 43.0 - a, -2.0]], &mut s);
+            let e = walk(
+                &[[-5.0, 40.0 + 3.0 - a, -2.0], [65.0, 43.0 - a, -2.0]],
+                &mut s,
+            );
             let want = (1.0 - a / 3.0).acos().to_degrees();
             assert!((e.peak - want).abs() < 3.0, "a {a}: {} vs {want}", e.peak);
         }

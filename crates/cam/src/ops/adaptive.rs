@@ -77,7 +77,10 @@ pub fn adaptive(
             p.max_engagement
         )));
     }
-    if !(p.stepover.is_finite() && p.stepover >= 0.02 * cut.tool.diameter && p.stepover <= cut.tool.diameter) {
+    if !(p.stepover.is_finite()
+        && p.stepover >= 0.02 * cut.tool.diameter
+        && p.stepover <= cut.tool.diameter)
+    {
         return Err(OpError::Invalid(format!(
             "step-over {} mm: use 2 % to 100 % of the tool diameter {} mm",
             p.stepover, cut.tool.diameter
@@ -95,7 +98,11 @@ pub fn adaptive(
     let geo = |e: oficina_geom::PolygonError| OpError::Geometry(e.to_string());
     let rings = |a: &[Area]| -> Rings {
         a.iter()
-            .flat_map(|a| a.paths().map(|p| to_ring(&p.flatten(OFFSET_TOL))).collect::<Vec<_>>())
+            .flat_map(|a| {
+                a.paths()
+                    .map(|p| to_ring(&p.flatten(OFFSET_TOL)))
+                    .collect::<Vec<_>>()
+            })
             .collect()
     };
     let px = r * CELL;
@@ -124,7 +131,9 @@ pub fn adaptive(
     // Target: the maximum less the model's margin, and no more than a straight cut at the
     // step-over engages, acos(1 − a/r) (a ≥ 2r: a slot, 180°).
     let by_stepover = (1.0 - (p.stepover / r).min(2.0)).acos().to_degrees();
-    let target = (p.max_engagement - MARGIN).min(by_stepover).max(IDLE_DEG * 2.0);
+    let target = (p.max_engagement - MARGIN)
+        .min(by_stepover)
+        .max(IDLE_DEG * 2.0);
     let helix_max = match cut.entry {
         Entry::Plunge => 0.0,
         Entry::Helix { radius, .. } => radius,
@@ -216,11 +225,16 @@ fn helix(model: &mut Model, helix_max: f64, plan: &mut Vec<Piece>) -> Option<[f6
     let mut cut = 0;
     for k in 0..=n {
         let a = TAU * k as f64 / n as f64;
-        cut += model.stamp([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]).0;
+        cut += model
+            .stamp([centre[0] + radius * a.cos(), centre[1] + radius * a.sin()])
+            .0;
     }
     if cut == 0 {
         // Cannot happen for an uncut centre cell, but never loop on it.
-        model.nearest_material(centre, 1).iter().for_each(|&(c, _)| model.ban(c));
+        model
+            .nearest_material(centre, 1)
+            .iter()
+            .for_each(|&(c, _)| model.ban(c));
     }
     plan.push(Piece::Helix { centre, radius });
     Some([centre[0] + radius, centre[1]])
@@ -422,7 +436,11 @@ fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpEr
                         let zk = (above - (above - z) * k as f64 / halves as f64).max(z);
                         let a = -PI * k as f64;
                         b.push(Move::Arc {
-                            to: [centre[0] + radius * a.cos(), centre[1] + radius * a.sin(), zk],
+                            to: [
+                                centre[0] + radius * a.cos(),
+                                centre[1] + radius * a.sin(),
+                                zk,
+                            ],
                             center: *centre,
                             ccw: false,
                             feed: slow,
@@ -465,7 +483,9 @@ fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), 
         let (a, b) = (ring[i], ring[(i + 1) % n]);
         (b[0] - a[0]).hypot(b[1] - a[1])
     };
-    let longest = (0..n).max_by(|&i, &j| edge(i).total_cmp(&edge(j))).unwrap_or(0);
+    let longest = (0..n)
+        .max_by(|&i, &j| edge(i).total_cmp(&edge(j)))
+        .unwrap_or(0);
     let (a, c) = (ring[longest], ring[(longest + 1) % n]);
     let mid = [(a[0] + c[0]) / 2.0, (a[1] + c[1]) / 2.0];
     let mut ring: Vec<[f64; 2]> = ring.to_vec();

@@ -115,7 +115,11 @@ impl Model {
                 }
             }
         }
-        m.left = material.iter().zip(&reach).filter(|(a, b)| **a && **b).count();
+        m.left = material
+            .iter()
+            .zip(&reach)
+            .filter(|(a, b)| **a && **b)
+            .count();
         m.material = material;
         m.reach = reach;
         m
