@@ -4,8 +4,9 @@
 use crate::judge::{judge, Judged};
 use crate::{Error, Feedback, PostParams};
 use oficina_cam::ops::{
-    allowed_region, half_tan, preview_canon_svg, preview_svg, toolpath, Cut, DrillParams, Entry,
-    MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams,
+    adaptive, allowed_region, half_tan, preview_canon_svg, preview_svg, toolpath, AdaptiveParams,
+    Cut, DrillParams, Entry, MillOp, PocketParams, ProfileParams, Side, Strategy, Tabs,
+    VCarveParams,
 };
 use oficina_cam::Tool;
 use oficina_sim::Design;
@@ -19,6 +20,9 @@ use std::path::Path;
 pub enum MillOpKind {
     /// Clear the inside of each closed shape.
     Pocket,
+    /// Clear the inside of each closed shape at a bounded engagement angle
+    /// (--max-engagement, --stepover caps the radial depth).
+    Adaptive,
     /// Cut along each contour, inside it.
     ProfileIn,
     /// Cut along each contour, outside it.
@@ -76,6 +80,12 @@ pub struct MillParams {
     pub strategy: PocketStrategy,
     /// Stock left by the depth passes for one finishing pass at full depth.
     pub allowance: f64,
+    /// Adaptive clearing: largest engagement angle, degrees.
+    #[serde(default = "default_max_engagement")]
+    pub max_engagement: f64,
+    /// Adaptive clearing: stock left on the walls, mm.
+    #[serde(default)]
+    pub stock_to_leave: f64,
     /// Cutting feed.
     pub feed: f64,
     /// Ramp, helix and plunge feed (default: a third of the feed).
@@ -140,6 +150,8 @@ impl Default for MillParams {
             stepover: None,
             strategy: PocketStrategy::Offset,
             allowance: 0.2,
+            max_engagement: default_max_engagement(),
+            stock_to_leave: 0.0,
             feed: 800.0,
             plunge_feed: None,
             rpm: 12000.0,
@@ -165,6 +177,10 @@ impl Default for MillParams {
             post: PostParams::default(),
         }
     }
+}
+
+fn default_max_engagement() -> f64 {
+    90.0
 }
 
 /// A milling job's output.
@@ -279,7 +295,8 @@ pub fn mill(
         })
     };
     let op = match p.op {
-        MillOpKind::Pocket => MillOp::Pocket(PocketParams {
+        // Adaptive clearing may cut what an offset pocket may: it is judged as one.
+        MillOpKind::Pocket | MillOpKind::Adaptive => MillOp::Pocket(PocketParams {
             strategy: match p.strategy {
                 PocketStrategy::Zigzag => Strategy::ZigZag,
                 PocketStrategy::Offset => Strategy::Offset,
@@ -304,8 +321,27 @@ pub fn mill(
             p.safe_z, p.clear_z
         )));
     }
-    fb.stage(&format!("{} with {}", op.name(), cut.tool.spec()))?;
-    let mut tp = toolpath(&paths, &cut, &op, p.safe_z).map_err(|e| {
+    let op_name = match p.op {
+        MillOpKind::Adaptive => "adaptive",
+        _ => op.name(),
+    };
+    fb.stage(&format!("{op_name} with {}", cut.tool.spec()))?;
+    let made = match p.op {
+        MillOpKind::Adaptive => {
+            let params = AdaptiveParams {
+                max_engagement: p.max_engagement,
+                // No step-over given: the engagement alone bounds the cut.
+                stepover: p.stepover.unwrap_or(d),
+                stock_to_leave: p.stock_to_leave,
+            };
+            adaptive(op_name, &paths, &cut, &params).map(|o| oficina_cam::Toolpath {
+                safe_z: p.safe_z,
+                operations: vec![o],
+            })
+        }
+        _ => toolpath(&paths, &cut, &op, p.safe_z),
+    };
+    let mut tp = made.map_err(|e| {
         // Nothing closed to cut is often an outline whose ends miss by more than the join
         // tolerance: say what stayed open and what tolerance would join it.
         let mut err = Error::chain(&e);
@@ -328,7 +364,7 @@ pub fn mill(
     }
     let settings = vec![
         ("input".into(), input.display().to_string()),
-        ("operation".into(), op.name().into()),
+        ("operation".into(), op_name.into()),
         (
             "tool".into(),
             format!("T{} {}", cut.tool_number, cut.tool.spec()),
@@ -360,7 +396,7 @@ pub fn mill(
         warning,
         imported: summary,
         shapes,
-        op_name: op.name(),
+        op_name,
         moves: tp.move_count(),
         // Under G41/G42 the moves are the outline: show the compensated path the
         // interpreter read back instead, the tool centre as the control will move it.

@@ -57,6 +57,12 @@ pub(crate) struct Args {
     /// Pocket step-over, mm (default 0.6 × tool diameter; 0.5–0.75 × D is usual).
     #[arg(long)]
     pub stepover: Option<f64>,
+    /// Adaptive clearing: largest engagement angle of the tool in material, degrees.
+    #[arg(long, default_value_t = 90.0)]
+    pub max_engagement: f64,
+    /// Adaptive clearing: stock left on the walls, mm.
+    #[arg(long, default_value_t = 0.0)]
+    pub stock_to_leave: f64,
     /// Pocket strategy.
     #[arg(long, default_value = "offset", value_parser = ["offset", "zigzag"])]
     pub strategy: String,
@@ -229,6 +235,8 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
             PocketStrategy::Offset
         },
         allowance: args.allowance,
+        max_engagement: args.max_engagement,
+        stock_to_leave: args.stock_to_leave,
         feed: args
             .feed
             .or(feeds.as_ref().map(|f| f.feed))

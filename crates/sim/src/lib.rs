@@ -28,6 +28,7 @@
 
 // `carve` stays a namespace: `carve::evaluate`, `carve::Settings` read well only behind it.
 pub mod carve;
+mod engagement;
 mod estimate;
 mod mill;
 mod render;
@@ -36,6 +37,7 @@ mod report;
 pub mod stock_box;
 
 pub use carve::to_machine;
+pub use engagement::{engagement, Engagement, EngagementStock};
 pub use estimate::feed_only_estimate;
 pub use mill::{check_mill, Design, MillCheck};
 pub use render::{png_bytes, render_png, shade};

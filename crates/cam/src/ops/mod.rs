@@ -4,6 +4,8 @@
 //!   depth, tabs, a tangent lead-out;
 //! - [`pocket`]: contour-parallel from the centre out (seed 001 §4.4) or zig-zag, islands and
 //!   pockets that split, pre-finish allowance, finishing pass at the tool radius;
+//! - [`adaptive`]: clearing at a bounded engagement angle (material model, trochoidal
+//!   loops where a wall or neck needs them);
 //! - [`drill`]: canned cycles at circle centres;
 //! - [`chamfer`]: a V bit along the top edge of parts (outside) and holes (inside);
 //! - [`dogbones`]: notches of the tool's radius in the inside corners of pockets and holes;
@@ -15,6 +17,8 @@
 //!
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
+mod adaptive;
+mod adaptive_model;
 mod chain;
 mod chamfer;
 mod dogbone;
@@ -29,6 +33,7 @@ mod rest;
 mod sole;
 mod vcarve;
 
+pub use adaptive::{adaptive, AdaptiveParams};
 pub use chain::{Chain, Piece};
 pub use chamfer::{chamfer, chamfer_regions, ChamferParams};
 pub use dogbone::{dogbones, Notch};
