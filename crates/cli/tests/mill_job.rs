@@ -15,17 +15,7 @@ use std::process::{Command, Stdio};
 /// `shared/data/realworld/mill-dxf-svg` beside the checkout (main's `../shared` or a
 /// worktree's `../../shared`).
 fn realworld() -> Option<PathBuf> {
-    let root = root().canonicalize().ok()?;
-    let found = root
-        .ancestors()
-        .skip(1)
-        .take(3)
-        .map(|a| a.join("shared/data/realworld/mill-dxf-svg"))
-        .find(|d| d.is_dir());
-    if found.is_none() {
-        eprintln!("note: no shared/data/realworld/mill-dxf-svg beside the checkout: skipped");
-    }
-    found
+    oficina_testkit::realworld("mill-dxf-svg")
 }
 
 /// Copies the job files `names` from tests/data/jobs into a scratch folder.
@@ -646,4 +636,41 @@ fn an_engraving_is_checked_within_its_tool_radius_of_the_line() {
     let (code, out, _) = oficina_in(&dir, &["mill", "--job", "off.toml", "-o", "o.nc"]);
     assert_eq!(code, Some(2), "{out}");
     assert!(out.contains("← cut outside the drawing"), "{out}");
+}
+
+#[test]
+fn an_adaptive_op_clears_the_window_round_its_island() {
+    let dir = job_dir("job-adaptive", &["nested-plate.svg"]);
+    std::fs::write(
+        dir.join("adaptive.toml"),
+        r#"drawing = "nested-plate.svg"
+[stock]
+thickness = 5
+[[op]]
+name = "window"
+kind = "adaptive"
+select = { layer = "CUTS", diameter_over = 10 }
+tool = "flat:6"
+depth = 3
+stepdown = 1.5
+max_engagement = 90
+feed = 900
+rpm = 18000
+"#,
+    )
+    .unwrap();
+    let (code, out, err) = oficina_in(&dir, &["mill", "--job", "adaptive.toml", "-o", "a.nc"]);
+    assert_eq!(code, Some(0), "{out}\n{err}");
+    assert!(out.contains("gouge:    none"), "{out}");
+    let canon = canon_of(&dir.join("a.nc"));
+    assert!((deepest(&canon, "op 1 window") + 3.0).abs() < 1e-6, "{out}");
+    runs_on_the_vm(&dir, "a.nc");
+    // A misspelt parameter is named.
+    let bad = std::fs::read_to_string(dir.join("adaptive.toml"))
+        .unwrap()
+        .replace("max_engagement", "max_engagment");
+    std::fs::write(dir.join("bad.toml"), bad).unwrap();
+    let (code, _, err) = oficina_in(&dir, &["mill", "--job", "bad.toml", "-o", "b.nc"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("max_engagment"), "{err}");
 }

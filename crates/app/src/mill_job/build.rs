@@ -5,9 +5,9 @@ use super::model::{ChamferSide, Dogbone, JobOp, OpKind};
 use super::select::Shape;
 use crate::mill::{EntryKind, PocketStrategy};
 use oficina_cam::ops::{
-    allowed_region, chamfer, chamfer_regions, dogbones, groove_region, half_tan, operation,
-    ChamferParams, Comp, Cut, DrillParams, Entry, MillOp, Notch, PocketParams, ProfileParams, Side,
-    Strategy, Tabs, VCarveParams, DEFAULT_LEAD_IN,
+    adaptive, allowed_region, chamfer, chamfer_regions, dogbones, groove_region, half_tan,
+    operation, AdaptiveParams, ChamferParams, Comp, Cut, DrillParams, Entry, MillOp, Notch,
+    PocketParams, ProfileParams, Side, Strategy, Tabs, VCarveParams, DEFAULT_LEAD_IN,
 };
 use oficina_cam::{Operation, Tool, ToolFeeds};
 use oficina_geom::Path;
@@ -128,11 +128,27 @@ pub(crate) fn build(
             leftover: op.leftover.unwrap_or(0.05),
         }),
         OpKind::Chamfer => return build_chamfer(name, op, shapes, cut),
+        // Cleared like a pocket (the same region may be cut), at a bounded engagement.
+        OpKind::Adaptive => MillOp::Pocket(PocketParams {
+            strategy: Strategy::Offset,
+            stepover: op.stepover.unwrap_or(d),
+            allowance: op.stock_to_leave.unwrap_or(0.0),
+        }),
     };
     if op.tabs.is_some() && !matches!(op.kind, OpKind::ProfileOut | OpKind::ProfileIn) {
         return Err("tabs: only profile-out and profile-in leave tabs".into());
     }
-    let mut operation = operation(&paths, &cut, &mill_op).map_err(|e| e.to_string())?;
+    let made = if op.kind == OpKind::Adaptive {
+        let params = AdaptiveParams {
+            max_engagement: op.max_engagement.unwrap_or(90.0),
+            stepover: op.stepover.unwrap_or(d),
+            stock_to_leave: op.stock_to_leave.unwrap_or(0.0),
+        };
+        adaptive(name, &paths, &cut, &params)
+    } else {
+        operation(&paths, &cut, &mill_op)
+    };
+    let mut operation = made.map_err(|e| e.to_string())?;
     operation.name = name.to_string();
     let slope = match mill_op {
         MillOp::VCarve(_) => 1.0 / half_tan(&cut).map_err(|e| e.to_string())?,

@@ -103,6 +103,8 @@ pub(crate) enum OpKind {
     Engrave,
     /// Clear the inside.
     Pocket,
+    /// Clear the inside at a bounded engagement (`max_engagement`, `stock_to_leave`).
+    Adaptive,
     /// Canned cycles at circle centres.
     Drill,
     /// V-carve.
@@ -228,6 +230,10 @@ pub(crate) struct JobOp {
     pub strategy: Option<PocketStrategy>,
     /// Stock left for a finishing pass.
     pub allowance: Option<f64>,
+    /// Adaptive: largest engagement angle, degrees (90).
+    pub max_engagement: Option<f64>,
+    /// Adaptive: stock left on the walls (0).
+    pub stock_to_leave: Option<f64>,
     /// Cutting feed.
     pub feed: Option<f64>,
     /// Plunge and ramp feed.
