@@ -28,6 +28,7 @@ mod heightmap;
 mod hpgl;
 mod image_in;
 mod import;
+mod mesh;
 mod points;
 mod pubfile;
 mod raw;
@@ -47,6 +48,7 @@ pub use import::{
 };
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
+pub use mesh::{load_mesh, mesh_from_bytes, Mesh, MeshError, BYTES_PER_TRIANGLE};
 pub use points::{load_points, parse_points, write_points_csv};
 pub use pubfile::{pub_from_str, PUB_COLOURS, PUB_MAX_LEVEL, PUB_SATIN_WIDTH};
 pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
