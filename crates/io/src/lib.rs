@@ -46,9 +46,9 @@ pub use image_in::{
 pub use import::{
     load_drawing, load_drawing_with, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES,
 };
+pub use mesh::{load_mesh, mesh_from_bytes, Mesh, MeshError, BYTES_PER_TRIANGLE};
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
-pub use mesh::{load_mesh, mesh_from_bytes, Mesh, MeshError, BYTES_PER_TRIANGLE};
 pub use points::{load_points, parse_points, write_points_csv};
 pub use pubfile::{pub_from_str, PUB_COLOURS, PUB_MAX_LEVEL, PUB_SATIN_WIDTH};
 pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};

@@ -67,6 +67,21 @@ impl Mesh {
         [lo, hi]
     }
 
+    /// The mesh as ASCII STL text (normals left at 0: readers recompute them).
+    pub fn to_ascii_stl(&self, name: &str) -> String {
+        use std::fmt::Write;
+        let mut s = format!("solid {name}\n");
+        for t in &self.triangles {
+            s.push_str(" facet normal 0 0 0\n  outer loop\n");
+            for p in t {
+                let _ = writeln!(s, "   vertex {:?} {:?} {:?}", p[0], p[1], p[2]);
+            }
+            s.push_str("  endloop\n endfacet\n");
+        }
+        let _ = writeln!(s, "endsolid {name}");
+        s
+    }
+
     /// Applies `f` to every corner.
     pub fn map(&mut self, f: impl Fn([f64; 3]) -> [f64; 3]) {
         for t in &mut self.triangles {
@@ -219,12 +234,12 @@ fn parse_ascii(bytes: &[u8], name: &str, budget: u64) -> Result<Mesh, MeshError>
                 number(words.next(), name, i + 1)?,
             ];
             corners.push(p);
-            if corners.len() % 3_000_000 == 0 {
+            if corners.len().is_multiple_of(3_000_000) {
                 check_budget(name, corners.len() as u64 / 3, bytes.len() as u64, budget)?;
             }
         }
     }
-    if corners.len() % 3 != 0 {
+    if !corners.len().is_multiple_of(3) {
         return Err(MeshError::Format {
             path: name.into(),
             problem: format!(
@@ -278,7 +293,7 @@ fn parse_obj(bytes: &[u8], name: &str, budget: u64) -> Result<Mesh, MeshError> {
                 for j in 1..idx.len().saturating_sub(1) {
                     triangles.push([vertices[idx[0]], vertices[idx[j]], vertices[idx[j + 1]]]);
                 }
-                if triangles.len() % 1_000_000 == 0 {
+                if triangles.len().is_multiple_of(1_000_000) {
                     check_budget(name, triangles.len() as u64, bytes.len() as u64, budget)?;
                 }
             }
