@@ -29,6 +29,7 @@
 // behind it (motion has its own `resolve`).
 pub mod bench;
 pub mod carve;
+pub mod carve_mesh;
 mod check;
 mod controls;
 pub mod embroider;

@@ -29,6 +29,7 @@
 mod lane_max;
 mod library;
 pub mod memory;
+pub mod mesh;
 pub mod ops;
 mod raster;
 mod regions;

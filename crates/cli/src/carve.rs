@@ -13,7 +13,8 @@ use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
 pub(crate) struct Args {
-    /// Elevation image (PNG, JPEG, TIFF; white = stock top, black = deepest) or raw f32 (.f32).
+    /// Elevation image (PNG, JPEG, TIFF; white = stock top, black = deepest), raw f32 (.f32),
+    /// or a 3D model (STL binary or ASCII, OBJ; in mm, carved in its own coordinates).
     pub image: Option<PathBuf>,
     /// mm per pixel on the workpiece.
     #[arg(long)]
@@ -93,6 +94,27 @@ pub(crate) struct Args {
     /// Memory budget for the whole job (image, toolpaths, program, simulation, preview), MB.
     #[arg(long, default_value_t = 2048)]
     pub memory_mb: u64,
+    /// Model: uniform scale applied first (25.4 for a model in inches).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Model: turn about Z, degrees (after --scale).
+    #[arg(long, default_value_t = 0.0)]
+    pub rotate: f64,
+    /// Model: scale so its largest dimension is this many mm.
+    #[arg(long)]
+    pub size: Option<f64>,
+    /// Model: stock top, mm (default: the model's top).
+    #[arg(long, allow_hyphen_values = true)]
+    pub stock_top: Option<f64>,
+    /// Model: stock bottom, the lowest the tool goes, mm (default: the model's bottom).
+    #[arg(long, allow_hyphen_values = true)]
+    pub stock_bottom: Option<f64>,
+    /// Model: finishing raster angle from +X, degrees (instead of --direction).
+    #[arg(long, allow_hyphen_values = true)]
+    pub angle: Option<f64>,
+    /// Model: largest gap between a finishing feed and the exact cutter location, mm.
+    #[arg(long, default_value_t = 0.002)]
+    pub tolerance: f64,
     /// Reproduce seed 004's hemisphere experiment and print the comparison table.
     #[arg(long)]
     pub seed_comparison: bool,
@@ -114,6 +136,12 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
     };
     oficina_app::check_output("carve", "-o", output, oficina_app::PROGRAM_EXTENSIONS)?;
     let profile = machine_profile::resolve(&args.profile)?;
+    let is_model = image
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("stl") || e.eq_ignore_ascii_case("obj"));
+    if is_model {
+        return carve_model(&args, image, output, &profile);
+    }
     let source = DesignSource {
         image: image.clone(),
         pixel_size: args.pixel_size,
@@ -251,4 +279,115 @@ fn seed_comparison(args: &Args) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `oficina carve MODEL.stl`: the same job and report on a triangle mesh.
+fn carve_model(
+    args: &Args,
+    model: &std::path::Path,
+    output: &std::path::Path,
+    profile: &oficina_motion::Profile,
+) -> Result<std::process::ExitCode> {
+    use oficina_app::carve_mesh::{evaluate_mesh, MeshOptions, MeshSource};
+    let source = MeshSource {
+        path: model.to_path_buf(),
+        scale: args.scale,
+        rotate: args.rotate,
+        size: args.size,
+    };
+    let mesh = source.load(budget(args))?;
+    let [lo, hi] = mesh.bounds();
+    let settings = settings(args)?;
+    let opts = MeshOptions {
+        angle: args.angle,
+        pixel: args.pixel_size,
+        stock_top: args.stock_top,
+        stock_bottom: args.stock_bottom,
+        tolerance: args.tolerance,
+    };
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let mut header = vec![
+        ("command".to_string(), command),
+        ("model".into(), model.display().to_string()),
+        (
+            "model box".into(),
+            format!(
+                "X {:.3}..{:.3} Y {:.3}..{:.3} Z {:.3}..{:.3} mm, {} triangles",
+                lo[0],
+                hi[0],
+                lo[1],
+                hi[1],
+                lo[2],
+                hi[2],
+                mesh.triangles.len()
+            ),
+        ),
+    ];
+    header.extend(settings.describe());
+    header.push(("machine profile".into(), args.profile.clone()));
+    let preview = args
+        .preview
+        .clone()
+        .unwrap_or_else(|| output.with_extension("preview.png"));
+    refuse_overwriting(model, &[output, &preview])?;
+    let bar = progress_bar();
+    let eval = evaluate_mesh(
+        &mesh,
+        &settings,
+        &opts,
+        profile,
+        &relief_post(&args.post, args.allow_m6, header)?,
+        budget(args),
+        &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
+    );
+    bar.finish_and_clear();
+    let e = eval?;
+    std::fs::write(output, &e.program)
+        .with_context(|| format!("{}: cannot write the program", output.display()))?;
+    render_png(&e.stock, &preview).map_err(anyhow::Error::msg)?;
+    println!(
+        "model: {} ({} triangles, X {:.3}..{:.3} Y {:.3}..{:.3} Z {:.3}..{:.3} mm)",
+        model.display(),
+        e.triangles,
+        lo[0],
+        hi[0],
+        lo[1],
+        hi[1],
+        lo[2],
+        hi[2]
+    );
+    println!(
+        "program: {} ({} lines)",
+        output.display(),
+        e.program.lines().count()
+    );
+    println!("preview: {}", preview.display());
+    println!("moves: {}", e.toolpath.move_count());
+    for op in &e.toolpath.operations {
+        println!(
+            "  {}: T{} {}, {} moves",
+            op.name,
+            op.tool_number,
+            op.tool.spec(),
+            op.moves.len()
+        );
+    }
+    let r = &e.report;
+    println!(
+        "stock grid: {} x {} at {} mm",
+        e.stock.width, e.stock.height, e.stock.pixel
+    );
+    println!("max gouge: {:.4} mm   leftover vs model: max {:.3} mean {:.4} mm   scallop vs ideal: max {:.3} mean {:.4} mm", r.max_gouge, r.leftover_max, r.leftover_mean, r.scallop_max, r.scallop_mean);
+    match &e.planner {
+        Ok(p) => println!(
+            "time: planner {}   feed-only {}",
+            format_hms(*p, 0),
+            format_hms(e.feed_only_s, 0)
+        ),
+        Err(err) => println!(
+            "time: feed-only {} (planner unavailable: {err})",
+            format_hms(e.feed_only_s, 0)
+        ),
+    }
+    Ok(std::process::ExitCode::SUCCESS)
 }

@@ -28,6 +28,7 @@ mod heightmap;
 mod hpgl;
 mod image_in;
 mod import;
+mod mesh;
 mod points;
 mod pubfile;
 mod raw;
@@ -45,6 +46,7 @@ pub use image_in::{
 pub use import::{
     load_drawing, load_drawing_with, ImportError, Imported, Unsupported, MAX_DRAWING_BYTES,
 };
+pub use mesh::{load_mesh, mesh_from_bytes, Mesh, MeshError, BYTES_PER_TRIANGLE};
 /// The geometry crate the drawings are made of, for callers that only depend on `io`.
 pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};

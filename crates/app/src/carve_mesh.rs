@@ -1,0 +1,357 @@
+//! `oficina carve MODEL.stl`: the relief job on a triangle mesh. Roughing (and rest
+//! machining) run the relief planner on the height field that drop-cutter gives; the finish
+//! is an exact drop-cutter raster on the triangles. The program is then read back by the
+//! interpreter, simulated on the stock and timed exactly as a picture's carving is.
+
+use crate::Error;
+use oficina_cam::memory::{self, Budget, Lever};
+use oficina_cam::mesh::{finishing_moves, raster, DropCutter, Raster};
+use oficina_cam::relief::{plan_within, Direction, Progress};
+use oficina_cam::{CutterShape, Move, Operation, Tool, Toolpath};
+use oficina_canon::{Canon, CanonOp, Pos};
+use oficina_io::{Heightmap, Mesh};
+use oficina_motion::Profile;
+use oficina_post::{program_text, PostOptions};
+use oficina_sim::carve::{bytes_per_move, interpret, to_machine, Settings};
+use oficina_sim::{compare, feed_only_estimate, ideal_surface, replay, Report};
+use std::path::PathBuf;
+
+/// Where the model comes from and how it is placed (mm, degrees).
+#[derive(Clone, Debug)]
+pub struct MeshSource {
+    /// STL (binary or ASCII) or OBJ file.
+    pub path: PathBuf,
+    /// Uniform scale applied first (e.g. 25.4 for a model in inches).
+    pub scale: f64,
+    /// Turn about Z, degrees, after scaling.
+    pub rotate: f64,
+    /// Scale (again) so the largest dimension is this many mm.
+    pub size: Option<f64>,
+}
+
+impl MeshSource {
+    /// Reads and places the model within `budget` bytes; it keeps its own coordinates
+    /// unless scaled or turned (both about the origin).
+    pub fn load(&self, budget: u64) -> Result<Mesh, Error> {
+        let mut mesh = oficina_io::load_mesh(&self.path, budget).map_err(|e| Error::chain(&e))?;
+        let name = self.path.display();
+        if !(self.scale.is_finite() && self.scale > 0.0 && self.scale <= 1e4) {
+            return Err(Error(format!(
+                "--scale {}: must be above 0 and at most 10000",
+                self.scale
+            )));
+        }
+        if !self.rotate.is_finite() {
+            return Err(Error(format!("--rotate {}: not a number", self.rotate)));
+        }
+        let (s, c) = self.rotate.to_radians().sin_cos();
+        let k = self.scale;
+        mesh.map(|p| {
+            let (x, y) = (p[0] * k, p[1] * k);
+            [c * x - s * y, s * x + c * y, p[2] * k]
+        });
+        if let Some(size) = self.size {
+            if !(size.is_finite() && size > 0.0 && size <= 1e4) {
+                return Err(Error(format!(
+                    "--size {size}: must be above 0 and at most 10000 mm"
+                )));
+            }
+            let [lo, hi] = mesh.bounds();
+            let big = (0..3).map(|i| hi[i] - lo[i]).fold(0.0, f64::max);
+            if big <= 0.0 {
+                return Err(Error(format!("{name}: the model has no extent to scale")));
+            }
+            mesh.map(|p| p.map(|v| v * size / big));
+        }
+        let [lo, hi] = mesh.bounds();
+        if hi[0] - lo[0] <= 0.0 || hi[1] - lo[1] <= 0.0 {
+            return Err(Error(format!(
+                "{name}: the model is flat in X or Y: nothing to carve"
+            )));
+        }
+        if (0..3).any(|i| hi[i] - lo[i] > oficina_cam::relief::MAX_EXTENT_MM) {
+            return Err(Error(format!(
+                "{name}: the model spans {:.0} x {:.0} x {:.0} mm, larger than any machine (--scale, --size)",
+                hi[0] - lo[0],
+                hi[1] - lo[1],
+                hi[2] - lo[2]
+            )));
+        }
+        Ok(mesh)
+    }
+}
+
+/// The mesh job's own options beside the relief [`Settings`] (mm, degrees).
+#[derive(Clone, Debug)]
+pub struct MeshOptions {
+    /// Finishing raster angle from +X; `None`: the settings' direction (X, Y or both).
+    pub angle: Option<f64>,
+    /// Grid of the roughing height field and the stock simulation; `None`: about 600
+    /// samples across the model.
+    pub pixel: Option<f64>,
+    /// Stock top; `None`: the model's top.
+    pub stock_top: Option<f64>,
+    /// Stock bottom, the lowest the tool goes; `None`: the model's bottom.
+    pub stock_bottom: Option<f64>,
+    /// Largest gap between a straight finishing feed and the exact cutter location.
+    pub tolerance: f64,
+}
+
+/// What a mesh job gives: the program, its simulated stock and figures.
+pub struct MeshEvaluation {
+    /// The toolpath, in the model's coordinates.
+    pub toolpath: Toolpath,
+    /// The G-code program.
+    pub program: String,
+    /// The simulated stock (grid frame: origin at `origin`, z 0 at `top`).
+    pub stock: Heightmap,
+    /// The model's top surface on the same grid.
+    pub design: Heightmap,
+    /// Grid origin (X, Y) in model coordinates, mm.
+    pub origin: [f64; 2],
+    /// Stock top in model coordinates, mm.
+    pub top: f64,
+    /// Stock vs model.
+    pub report: Report,
+    /// Feed-only time, s.
+    pub feed_only_s: f64,
+    /// Planner's time, s, or why there is none.
+    pub planner: Result<f64, String>,
+    /// Triangles in the model.
+    pub triangles: usize,
+}
+
+/// Grids held at once after planning: stock, design, rough design, ideal surface
+/// (dilation, erosion and their copies) and the preview.
+const GRIDS: u64 = 14;
+
+/// Plans, posts, reads back, simulates and times the job on `mesh` within `budget` bytes.
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_mesh(
+    mesh: &Mesh,
+    settings: &Settings,
+    opts: &MeshOptions,
+    profile: &Profile,
+    post: &PostOptions,
+    budget: u64,
+    progress: Progress,
+) -> Result<MeshEvaluation, Error> {
+    let job = settings.job().map_err(|e| Error::chain(&e))?;
+    let finish = job
+        .passes
+        .last()
+        .cloned()
+        .ok_or_else(|| Error("no finishing pass".into()))?;
+    let tool = finish.cutter.tool.clone();
+    let [lo, hi] = mesh.bounds();
+    let top = opts.stock_top.unwrap_or(hi[2]);
+    let bottom = opts.stock_bottom.unwrap_or(lo[2]);
+    if !(top.is_finite() && bottom.is_finite() && bottom < top) {
+        return Err(Error(format!(
+            "stock bottom {bottom} must be below the stock top {top}"
+        )));
+    }
+    if !(opts.tolerance.is_finite() && opts.tolerance > 0.0 && opts.tolerance <= 1.0) {
+        return Err(Error(format!(
+            "--tolerance {}: between 0 and 1 mm",
+            opts.tolerance
+        )));
+    }
+    // The grid covers the model and the ring the tool's centre sweeps around it.
+    let reach = tool.cutting_radius();
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]) + 2.0 * reach;
+    let pixel = opts.pixel.unwrap_or((span / 600.0).max(0.02));
+    if !(pixel.is_finite() && pixel > 0.0) {
+        return Err(Error(format!("--pixel-size {pixel}: must be above 0")));
+    }
+    let origin = [lo[0] - reach, lo[1] - reach];
+    let width = ((hi[0] - lo[0] + 2.0 * reach) / pixel).ceil() as usize + 1;
+    let height = ((hi[1] - lo[1] + 2.0 * reach) / pixel).ceil() as usize + 1;
+    let fixed = memory::grid_bytes(width, height)
+        .saturating_mul(GRIDS)
+        .saturating_add(DropCutter::bytes_estimate(mesh.triangles.len()).saturating_mul(3));
+    memory::check(
+        || format!("the {width} x {height} grid of the model and its stock"),
+        fixed,
+        budget,
+        Lever::PixelSize,
+    )
+    .map_err(|e| Error(format!("{e} (options: --pixel-size, --memory-mb)")))?;
+
+    progress("model height field", 0.0);
+    // The model's top (a 1 µm flat tool) for the report, and a conservative one for the
+    // relief planner: the highest point within the pixel's circumscribed circle.
+    let point = DropCutter::new(
+        mesh,
+        &Tool::new(CutterShape::Flat, 0.002).map_err(Error::from_display)?,
+    );
+    let design = point.height_field(origin, pixel, width, height, bottom, top);
+    let mut operations = Vec::new();
+    let rough_passes: Vec<_> = job.passes[..job.passes.len() - 1].to_vec();
+    if !rough_passes.is_empty() {
+        let cover = Tool::new(CutterShape::Flat, pixel * std::f64::consts::SQRT_2)
+            .map_err(Error::from_display)?;
+        let rough_design =
+            DropCutter::new(mesh, &cover).height_field(origin, pixel, width, height, bottom, top);
+        let rough_job = oficina_cam::relief::ReliefJob {
+            passes: rough_passes,
+            ..job.clone()
+        };
+        let b = Budget {
+            bytes: budget,
+            reserved: fixed,
+            per_move: bytes_per_move(),
+        };
+        let planned = plan_within(&rough_design, &rough_job, b, progress).map_err(|e| {
+            Error(format!(
+                "{e} (options: --pixel-size, --stepdown, --memory-mb)"
+            ))
+        })?;
+        for mut op in planned.toolpath.operations {
+            for m in &mut op.moves {
+                shift_move(m, [origin[0], origin[1], top]);
+            }
+            operations.push(op);
+        }
+    }
+
+    progress("finishing drop-cutter", 0.0);
+    let dc = DropCutter::new(mesh, &tool);
+    let angles: Vec<f64> = match (opts.angle, finish.direction) {
+        (Some(a), _) => vec![a],
+        (None, Direction::X) => vec![0.0],
+        (None, Direction::Y) => vec![90.0],
+        (None, Direction::Both) => vec![0.0, 90.0],
+    };
+    let safe = top + job.safe_z;
+    let mut moves = Vec::new();
+    for angle in angles {
+        let r = Raster {
+            angle,
+            stepover: finish.stepover,
+            step: (pixel / 2.0).min(finish.stepover).min(0.25),
+            tolerance: opts.tolerance,
+            floor: bottom,
+            region: [lo[0] - reach, lo[1] - reach, hi[0] + reach, hi[1] + reach],
+        };
+        let rows = raster(&dc, &r);
+        moves.extend(finishing_moves(
+            &dc,
+            &r,
+            &rows,
+            safe,
+            finish.cutter.feeds.cut,
+            finish.cutter.feeds.plunge,
+        ));
+    }
+    let count: usize = operations
+        .iter()
+        .map(|o: &Operation| o.moves.len())
+        .sum::<usize>()
+        + moves.len();
+    memory::check(
+        || format!("{count} moves"),
+        fixed.saturating_add((count as u64).saturating_mul(bytes_per_move())),
+        budget,
+        Lever::Moves,
+    )
+    .map_err(|e| {
+        Error(format!(
+            "{e} (options: --stepover or --scallop, --tolerance, --memory-mb)"
+        ))
+    })?;
+    operations.push(Operation {
+        name: "finishing (mesh drop-cutter raster)".into(),
+        tool_number: finish.cutter.number,
+        tool: tool.clone(),
+        spindle_rpm: finish.cutter.spindle_rpm,
+        moves,
+    });
+    let toolpath = Toolpath {
+        safe_z: safe,
+        operations,
+    };
+
+    progress("writing G-code", 0.0);
+    let program = program_text(&toolpath, post).map_err(Error::from_display)?;
+    progress("interpreting the program", 0.0);
+    let canon = interpret(&program, post).map_err(|e| Error::chain(&e))?;
+    let local: Vec<Canon> = canon
+        .iter()
+        .map(|c| shift_canon(c, [-origin[0], -origin[1], -top]))
+        .collect();
+    progress("simulating the stock", 0.0);
+    let mut stock = Heightmap::flat(width, height, pixel, 0.0);
+    let start = [0.0, 0.0, job.safe_z];
+    replay(&local, &toolpath.tools(), &mut stock, start).map_err(|e| Error::chain(&e))?;
+    let report = compare(&stock, &design, &ideal_surface(&design, &tool));
+    progress("estimating time", 0.0);
+    let feed_only_s = feed_only_estimate(&local, start, 6000.0);
+    let planner = oficina_motion::estimate(to_machine(&local, job.safe_z + 1.0), profile)
+        .map(|e| e.seconds)
+        .map_err(|e| e.to_string());
+    Ok(MeshEvaluation {
+        toolpath,
+        program,
+        stock,
+        design,
+        origin,
+        top,
+        report,
+        feed_only_s,
+        planner,
+        triangles: mesh.triangles.len(),
+    })
+}
+
+fn shift_move(m: &mut Move, d: [f64; 3]) {
+    let add = |p: &mut [f64; 3]| {
+        for k in 0..3 {
+            p[k] += d[k];
+        }
+    };
+    match m {
+        Move::Rapid { to } | Move::Line { to, .. } => add(to),
+        Move::Arc { to, center, .. } => {
+            add(to);
+            center[0] += d[0];
+            center[1] += d[1];
+        }
+        _ => {}
+    }
+}
+
+fn shift_canon(c: &Canon, d: [f64; 3]) -> Canon {
+    let shift = |mut p: Pos| {
+        p.x += d[0];
+        p.y += d[1];
+        p.z += d[2];
+        p
+    };
+    let op = match &c.op {
+        CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
+        CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
+        CanonOp::ArcFeed {
+            plane,
+            end,
+            center,
+            turns,
+            rotation,
+        } => {
+            let (a0, a1, _) = plane.axes();
+            let mut center = *center;
+            for (i, axis) in [a0, a1].into_iter().enumerate() {
+                center[i] += d[axis];
+            }
+            CanonOp::ArcFeed {
+                plane: *plane,
+                end: shift(*end),
+                center,
+                turns: *turns,
+                rotation: *rotation,
+            }
+        }
+        other => other.clone(),
+    };
+    Canon { line: c.line, op }
+}
