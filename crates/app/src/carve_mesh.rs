@@ -8,7 +8,7 @@ use oficina_cam::memory::{self, Budget, Lever};
 use oficina_cam::mesh::{finishing_moves, raster, DropCutter, Raster};
 use oficina_cam::relief::{plan_within, Direction, Progress};
 use oficina_cam::{CutterShape, Move, Operation, Tool, Toolpath};
-use oficina_canon::{Canon, CanonOp, Pos};
+use oficina_canon::Canon;
 use oficina_io::{Heightmap, Mesh};
 use oficina_motion::Profile;
 use oficina_post::{program_text, PostOptions};
@@ -278,7 +278,7 @@ pub fn evaluate_mesh(
     let canon = interpret(&program, post).map_err(|e| Error::chain(&e))?;
     let local: Vec<Canon> = canon
         .iter()
-        .map(|c| shift_canon(c, [-origin[0], -origin[1], -top]))
+        .map(|c| c.translated([-origin[0], -origin[1], -top]))
         .collect();
     progress("simulating the stock", 0.0);
     let mut stock = Heightmap::flat(width, height, pixel, 0.0);
@@ -319,39 +319,4 @@ fn shift_move(m: &mut Move, d: [f64; 3]) {
         }
         _ => {}
     }
-}
-
-fn shift_canon(c: &Canon, d: [f64; 3]) -> Canon {
-    let shift = |mut p: Pos| {
-        p.x += d[0];
-        p.y += d[1];
-        p.z += d[2];
-        p
-    };
-    let op = match &c.op {
-        CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
-        CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
-        CanonOp::ArcFeed {
-            plane,
-            end,
-            center,
-            turns,
-            rotation,
-        } => {
-            let (a0, a1, _) = plane.axes();
-            let mut center = *center;
-            for (i, axis) in [a0, a1].into_iter().enumerate() {
-                center[i] += d[axis];
-            }
-            CanonOp::ArcFeed {
-                plane: *plane,
-                end: shift(*end),
-                center,
-                turns: *turns,
-                rotation: *rotation,
-            }
-        }
-        other => other.clone(),
-    };
-    Canon { line: c.line, op }
 }

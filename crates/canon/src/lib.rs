@@ -325,6 +325,50 @@ pub struct Canon {
     pub op: CanonOp,
 }
 
+impl Canon {
+    /// The same operation with every position moved by `d` (X, Y, Z, mm): straight moves'
+    /// ends, an arc's end and centre (the centre given in the arc's frame, so `d` is turned
+    /// into it first). Operations without a position are unchanged.
+    pub fn translated(&self, d: [f64; 3]) -> Canon {
+        let shift = |mut p: Pos| {
+            p.x += d[0];
+            p.y += d[1];
+            p.z += d[2];
+            p
+        };
+        let op = match &self.op {
+            CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
+            CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
+            CanonOp::ArcFeed {
+                plane,
+                end,
+                center,
+                turns,
+                rotation,
+            } => {
+                let framed = to_arc_frame(d, *rotation);
+                let (a0, a1, _) = plane.axes();
+                let mut center = *center;
+                for (i, axis) in [a0, a1].into_iter().enumerate() {
+                    center[i] += framed[axis];
+                }
+                CanonOp::ArcFeed {
+                    plane: *plane,
+                    end: shift(*end),
+                    center,
+                    turns: *turns,
+                    rotation: *rotation,
+                }
+            }
+            other => other.clone(),
+        };
+        Canon {
+            line: self.line,
+            op,
+        }
+    }
+}
+
 impl CanonOp {
     /// True for operations that move the machine.
     pub fn is_motion(&self) -> bool {
@@ -335,5 +379,56 @@ impl CanonOp {
                 | CanonOp::ArcFeed { .. }
                 | CanonOp::RigidTap { .. }
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Translating moves every point by `d`: an arc's end and centre stay the same distance
+    /// apart in the arc's own frame, and the centre, taken back to the machine, moves by `d`.
+    #[test]
+    fn a_translated_arc_keeps_its_radius_vector_in_its_frame() {
+        let d = [3.0, -2.0, 0.5];
+        for rotation in [0.0, 30.0, 90.0] {
+            for plane in [Plane::XY, Plane::XZ, Plane::YZ] {
+                let arc = Canon {
+                    line: 7,
+                    op: CanonOp::ArcFeed {
+                        plane,
+                        end: Pos::xyz(4.0, 1.0, -1.0),
+                        center: [1.5, -0.5],
+                        turns: 1,
+                        rotation,
+                    },
+                };
+                let moved = arc.translated(d);
+                let radius = |c: &Canon| match &c.op {
+                    CanonOp::ArcFeed { end, center, .. } => {
+                        let e = to_arc_frame([end.x, end.y, end.z], rotation);
+                        let (a0, a1, _) = plane.axes();
+                        [e[a0] - center[0], e[a1] - center[1]]
+                    }
+                    _ => unreachable!(),
+                };
+                let (r0, r1) = (radius(&arc), radius(&moved));
+                assert!(
+                    (r0[0] - r1[0]).abs() < 1e-12 && (r0[1] - r1[1]).abs() < 1e-12,
+                    "{plane:?} at {rotation}°: {r0:?} / {r1:?}"
+                );
+                assert_eq!(moved.line, 7);
+            }
+        }
+        let feed = Canon {
+            line: 1,
+            op: CanonOp::StraightFeed {
+                to: Pos::xyz(1.0, 1.0, 1.0),
+            },
+        };
+        match feed.translated(d).op {
+            CanonOp::StraightFeed { to } => assert_eq!([to.x, to.y, to.z], [4.0, -1.0, 1.5]),
+            other => panic!("{other:?}"),
+        }
     }
 }

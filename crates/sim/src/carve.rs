@@ -11,7 +11,7 @@ use oficina_cam::memory::{self, Budget, Lever, OverBudget};
 use oficina_cam::relief::{plan_within, Cutter, Direction, Pass, Planned, ReliefError, ReliefJob};
 use oficina_cam::Feeds;
 use oficina_cam::{Move, ToolError};
-use oficina_canon::{Canon, CanonOp};
+use oficina_canon::Canon;
 use oficina_io::Heightmap;
 use oficina_post::{program_text, PostDialect, PostOptions};
 
@@ -443,40 +443,5 @@ pub fn interpret(program: &str, post: &PostOptions) -> Result<Vec<Canon>, CarveE
 /// times do not depend on where the work zero is. (The planner takes the F0 that G94 sets
 /// before any F word as legal, as it is; feed moves check their own feed.)
 pub fn to_machine(canon: &[Canon], drop: f64) -> impl Iterator<Item = Canon> + '_ {
-    let shift = move |mut p: oficina_canon::Pos| {
-        p.z -= drop;
-        p
-    };
-    canon.iter().map(move |c| {
-        let op = match &c.op {
-            CanonOp::StraightTraverse { to } => CanonOp::StraightTraverse { to: shift(*to) },
-            CanonOp::StraightFeed { to } => CanonOp::StraightFeed { to: shift(*to) },
-            CanonOp::ArcFeed {
-                plane,
-                end,
-                center,
-                turns,
-                rotation,
-            } => {
-                // A centre coordinate along Z (XZ and YZ arcs) drops with the program; a
-                // turn about Z leaves Z alone, so this holds in the arc's frame too.
-                let (a0, a1, _) = plane.axes();
-                let mut center = *center;
-                for (i, axis) in [a0, a1].into_iter().enumerate() {
-                    if axis == 2 {
-                        center[i] -= drop;
-                    }
-                }
-                CanonOp::ArcFeed {
-                    plane: *plane,
-                    end: shift(*end),
-                    center,
-                    turns: *turns,
-                    rotation: *rotation,
-                }
-            }
-            other => other.clone(),
-        };
-        Canon { line: c.line, op }
-    })
+    canon.iter().map(move |c| c.translated([0.0, 0.0, -drop]))
 }
