@@ -284,7 +284,12 @@ pub fn evaluate_mesh(
     let mut stock = Heightmap::flat(width, height, pixel, 0.0);
     let start = [0.0, 0.0, job.safe_z];
     replay(&local, &toolpath.tools(), &mut stock, start).map_err(|e| Error::chain(&e))?;
-    let report = compare(&stock, &design, &ideal_surface(&design, &tool));
+    // A vertical wall of the model falls between two grid points: the one on the wall takes
+    // the wall's top, and a tool running down the wall's face (tangent to it) is counted as
+    // cutting that top away. The model is known to a grid step, so a cut is a gouge only
+    // where it is below the model at every point within one step (a real gouge is wider).
+    let known = lowest_within_a_step(&design);
+    let report = compare(&stock, &known, &ideal_surface(&design, &tool));
     progress("estimating time", 0.0);
     let feed_only_s = feed_only_estimate(&local, start, 6000.0);
     let planner = oficina_motion::estimate(to_machine(&local, job.safe_z + 1.0), profile)
@@ -318,5 +323,62 @@ fn shift_move(m: &mut Move, d: [f64; 3]) {
             center[1] += d[1];
         }
         _ => {}
+    }
+}
+
+/// Each grid point's height lowered to the lowest of it and its eight neighbours.
+fn lowest_within_a_step(map: &Heightmap) -> Heightmap {
+    let (w, h) = (map.width, map.height);
+    Heightmap::from_fn(w, h, map.pixel, |x, y| {
+        let (ix, iy) = (
+            (x / map.pixel).round() as usize,
+            (y / map.pixel).round() as usize,
+        );
+        let mut low = f32::INFINITY;
+        for jy in iy.saturating_sub(1)..=(iy + 1).min(h - 1) {
+            for jx in ix.saturating_sub(1)..=(ix + 1).min(w - 1) {
+                low = low.min(map.at(jx, jy));
+            }
+        }
+        f64::from(low)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wall between grid points is not a gouge; a groove three points wide still is.
+    #[test]
+    fn the_gouge_check_forgives_a_wall_point_not_a_groove() {
+        let px = 0.1;
+        // The model: 10 mm high for x < 1.0, 0 beyond (the wall's top sits on x = 1.0).
+        let design =
+            Heightmap::from_fn(41, 5, px, |x, _| if x <= 1.0 + 1e-9 { 0.0 } else { -10.0 });
+        // A tool running down the wall's face took the wall's top point down to −8.
+        let wall = Heightmap::from_fn(41, 5, px, |x, _| {
+            if (x - 1.0).abs() < 1e-9 {
+                -8.0
+            } else if x <= 1.0 {
+                0.0
+            } else {
+                -10.0
+            }
+        });
+        let known = lowest_within_a_step(&design);
+        assert_eq!(compare(&wall, &known, &design).max_gouge, 0.0);
+        assert!(compare(&wall, &design, &design).max_gouge > 7.9);
+        // A groove 0.3 mm wide and 2 mm deep into the top.
+        let groove = Heightmap::from_fn(41, 5, px, |x, _| {
+            if (0.3..0.55).contains(&x) {
+                -2.0
+            } else if x <= 1.0 + 1e-9 {
+                0.0
+            } else {
+                -10.0
+            }
+        });
+        let g = compare(&groove, &known, &design).max_gouge;
+        assert!((g - 2.0).abs() < 1e-6, "{g}");
     }
 }
