@@ -120,9 +120,8 @@ fn meshes() -> Vec<(String, PathBuf)> {
     if let Some(dir) = oficina_testkit::realworld("stl") {
         // The peer takes minutes per cutter on ktoolcav and sphere_on_plate (dense meshes):
         // those two are carved and gouge-checked by the carve test instead.
-        for name in ["ocl_cone_on_side.stl"] {
-            out.push((name.into(), dir.join(name)));
-        }
+        let name = "ocl_cone_on_side.stl";
+        out.push((name.into(), dir.join(name)));
     }
     out
 }

@@ -184,7 +184,10 @@ fn values_round_trip_through_the_encoding() {
                 continue;
             }
             let e = end.unwrap_or_else(|| panic!("{v} with {f} bits: no path"));
-            assert!((e.x - want).abs() < 1e-9 && e.y == 0.0, "{v} with {f} bits: {e:?}");
+            assert!(
+                (e.x - want).abs() < 1e-9 && e.y == 0.0,
+                "{v} with {f} bits: {e:?}"
+            );
         }
     }
 }

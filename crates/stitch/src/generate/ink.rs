@@ -449,7 +449,11 @@ fn polylines_cross(a: &[Point], b: &[Point]) -> bool {
 fn drawn_opposite(a: &[Point], b: &[Point]) -> bool {
     let (sa, sb) = (satin::resample(a, 10), satin::resample(b, 10));
     let along: f64 = sa.iter().zip(&sb).map(|(p, q)| p.distance(*q)).sum();
-    let against: f64 = sa.iter().zip(sb.iter().rev()).map(|(p, q)| p.distance(*q)).sum();
+    let against: f64 = sa
+        .iter()
+        .zip(sb.iter().rev())
+        .map(|(p, q)| p.distance(*q))
+        .sum();
     against < along
 }
 
