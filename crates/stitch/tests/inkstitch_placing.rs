@@ -5,7 +5,10 @@
 //! imported, sewn. The points expected are worked out from the SVG by hand (a 100 mm page,
 //! one user unit a millimetre, y up in the drawing: y = 100 − SVG y).
 
-use oficina_stitch::{generate_inkstitch, read_inkstitch, Kind, Params, StitchPlan};
+mod common;
+
+use common::sewn;
+use oficina_stitch::{Kind, Params, StitchPlan};
 
 /// The symbols Ink/Stitch puts in `<defs>` (their drawing does not matter here).
 const DEFS: &str = r#"<defs>
@@ -46,26 +49,11 @@ fn command(
 }
 
 fn sew(svg: &str) -> StitchPlan {
-    let ink = read_inkstitch(svg, "t.svg").unwrap();
-    let text = ink.strip(svg);
-    let no_text = oficina_io::SvgOptions { draw_text: false };
-    let d = oficina_io::read_svg(text.as_bytes(), "t.svg", &no_text)
-        .unwrap()
-        .drawing;
     let p = Params {
         center: false,
         ..Params::default()
     };
-    generate_inkstitch(&d, "t", &p, &ink, &mut |_, _| {})
-        .unwrap()
-        .plan
-}
-
-fn sewn(plan: &StitchPlan) -> Vec<(f64, f64)> {
-    plan.entries()
-        .filter(|(_, s)| s.kind == Kind::Stitch)
-        .map(|(_, s)| (s.x, s.y))
-        .collect()
+    common::sew_inkstitch(svg, &p)
 }
 
 fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {

@@ -6,6 +6,9 @@
 //! concentric with an arc guide (parallel offset) or shifted copies of a wavy guide (copy),
 //! a row spacing apart, and cover the shape.
 
+mod common;
+
+use common::sewn;
 use oficina_stitch::{generate_inkstitch, read_inkstitch, Kind, Params, StitchPlan};
 use std::f64::consts::PI;
 
@@ -21,27 +24,12 @@ fn doc(body: &str) -> String {
 }
 
 fn sew(svg: &str) -> StitchPlan {
-    let ink = read_inkstitch(svg, "t.svg").unwrap();
-    let text = ink.strip(svg);
-    let no_text = oficina_io::SvgOptions { draw_text: false };
-    let d = oficina_io::read_svg(text.as_bytes(), "t.svg", &no_text)
-        .unwrap()
-        .drawing;
     let p = Params {
         center: false,
         ties: false,
         ..Params::default()
     };
-    generate_inkstitch(&d, "t", &p, &ink, &mut |_, _| {})
-        .unwrap()
-        .plan
-}
-
-fn sewn(plan: &StitchPlan) -> Vec<(f64, f64)> {
-    plan.entries()
-        .filter(|(_, s)| s.kind == Kind::Stitch)
-        .map(|(_, s)| (s.x, s.y))
-        .collect()
+    common::sew_inkstitch(svg, &p)
 }
 
 fn jumps(plan: &StitchPlan) -> usize {
