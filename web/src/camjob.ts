@@ -18,7 +18,14 @@ interface Op {
 interface BuiltOp { index: number; name: string; tool_number: number; tool: string; shapes: number[]; moves: number; depth: number; feed: number; feed_source: string; path: [number, number, number][][]; }
 interface Built {
   name: string; text: string; report: string[]; gouged: boolean; ops: BuiltOp[]; tool_loads: number;
-  warnings: string[]; imported: string[]; stock_per_op: boolean;
+  warnings: string[]; imported: string[];
+}
+/// The stock after the first `upto` operations of the cutting order (`/api/mill-job/stock`).
+interface StockAfter {
+  upto: number; last: string; ops: number[]; judged: string[]; gouged: boolean; png: string;
+  report: { stock_origin: [number, number]; stock_size: [number, number, number]; pixel: number; removed_mm3: number;
+    lowest_z: number; machine_seconds: { Ok?: number; Err?: string }; tools: { number: number; spec: string }[];
+    counts: [number, number, number] };
 }
 interface Plate { layer: string; rect: [number, number, number, number]; r: number; }
 
@@ -35,6 +42,7 @@ const plates: Plate[] = [];
 let ops: Op[] = [];
 let built: Built | null = null;
 let shownOp: number | null = null;
+let stockAfter: StockAfter | null = null;
 let view = { x0: 0, y0: 0, s: 1 };
 
 const safe = (n: string) => n.replace(/[^A-Za-z0-9._-]/g, '_').replace(/^\.+/, '').slice(0, 100);
@@ -125,16 +133,23 @@ function draw() {
   svg.innerHTML = '';
   const pts = shapes.flatMap((s) => s.points);
   if (!pts.length) return;
+  const st = stockAfter?.report;
+  if (st) pts.push(st.stock_origin, [st.stock_origin[0] + st.stock_size[0], st.stock_origin[1] + st.stock_size[1]]);
   const xs = pts.map((p) => p[0]), ys = pts.map((p) => p[1]);
   const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
   const s = Math.min((W - 2 * PAD) / Math.max(x1 - x0, 1e-6), (H - 2 * PAD) / Math.max(y1 - y0, 1e-6));
   view = { x0, y0, s };
+  // The simulated stock under the shapes, over its own box (the picture's top is its max Y).
+  if (st && stockAfter) {
+    const [ox, oy] = st.stock_origin, [w, h] = st.stock_size;
+    el('image', { href: stockAfter.png, x: sx(ox), y: sy(oy + h), width: w * s, height: h * s, preserveAspectRatio: 'none', id: 'cj-stock-image', 'pointer-events': 'none' }, svg);
+  }
   // Large shapes first: a small hole inside a plate stays on top, where a click finds it.
   const area = (sh: Shape) => { const b = box(sh); return (b[2] - b[0]) * (b[3] - b[1]); };
   for (const sh of [...shapes].sort((a, b) => area(b) - area(a))) {
     const d = sh.points.map((p, k) => `${k ? 'L' : 'M'}${sx(p[0]).toFixed(2)} ${sy(p[1]).toFixed(2)}`).join(' ') + (sh.closed ? ' Z' : '');
     const sel = selected.has(sh.id);
-    const path = el('path', { d, fill: sel ? 'rgba(240,180,90,0.25)' : 'rgba(0,0,0,0)', stroke: sel ? '#f0b45a' : '#c8d0dc', 'stroke-width': sel ? 2.5 : 1.2, 'data-id': sh.id, class: 'cj-shape' + (sel ? ' selected' : '') }, svg);
+    const path = el('path', { d, fill: sel ? `rgba(240,180,90,${stockAfter ? 0.08 : 0.25})` : 'rgba(0,0,0,0)', stroke: sel ? '#f0b45a' : '#c8d0dc', 'stroke-width': sel ? 2.5 : 1.2, 'data-id': sh.id, class: 'cj-shape' + (sel ? ' selected' : '') }, svg);
     const t = document.createElementNS(SVG, 'title');
     t.textContent = sh.describe;
     path.appendChild(t);
@@ -253,15 +268,54 @@ function renderOps() {
       shownOp = shownOp === k + 1 ? null : k + 1;
       selected = new Set(o.ids);
       renderOps(); draw();
+      // With a program made: the stock after this operation (its place in the cutting order).
+      const at = built ? built.ops.findIndex((x) => x.index === k + 1) + 1 : 0;
+      if (shownOp !== null && at > 0) { $<HTMLInputElement>('cj-upto').value = String(at); showStock(at); }
     };
     tb.appendChild(tr);
   });
 }
 
+/// Asks for the stock after the first `upto` operations of the cutting order and shows it
+/// under the drawing with its report; a newer request wins over a slower older one.
+let stockAsked = 0;
+async function showStock(upto: number) {
+  if (!built) return;
+  const ask = ++stockAsked;
+  const op = built.ops[upto - 1];
+  $('cj-upto-label').textContent = `after ${upto} of ${built.ops.length}: ${op.name}`;
+  $('cj-stock-report').textContent = 'simulating…';
+  delete document.body.dataset.cjStock;
+  const cell = Number(field('cj-cell'));
+  try {
+    const v = await post<StockAfter>('/api/mill-job/stock', { name: jobName(), toml: jobToml(), upto, resolution: cell > 0 ? cell : null });
+    if (ask !== stockAsked) return;
+    stockAfter = v;
+    shownOp = op.index;
+    const r = v.report;
+    const time = r.machine_seconds.Ok != null ? `, ${(r.machine_seconds.Ok / 60).toFixed(1)} min on the machine (planner)` : '';
+    $('cj-stock-report').textContent = [
+      `stock after op ${v.ops.join(', op ')} (cutting order): ${r.removed_mm3.toFixed(1)} mm³ removed · ${v.gouged ? 'GOUGE' : 'no gouge'}${time}`,
+      `stock ${r.stock_size.map((x) => x.toFixed(1)).join(' × ')} mm at (${r.stock_origin.map((x) => x.toFixed(2)).join(', ')}) · cell ${r.pixel} mm · lowest Z ${r.lowest_z.toFixed(3)} · tools ${r.tools.map((t) => `T${t.number} ${t.spec}`).join(', ')}`,
+      ...(r.counts[0] ? [`RAPID INTO MATERIAL ×${r.counts[0]}`] : []),
+      ...v.judged,
+    ].join('\n');
+    $('cj-stock-report').dataset.removed = String(r.removed_mm3);
+    document.body.dataset.cjStock = String(upto);
+    renderOps(); draw();
+  } catch (e) {
+    if (ask !== stockAsked) return;
+    $('cj-stock-report').textContent = `stock after op ${op.index}: ${(e as Error).message}`;
+    document.body.dataset.cjStock = 'failed';
+  }
+}
+
 /// The job changed: the toolpaths made before no longer answer it.
 function changed() {
-  built = null; shownOp = null;
+  built = null; shownOp = null; stockAfter = null; stockAsked++;
   $('cj-report').textContent = '';
+  $('cj-stock-report').textContent = '';
+  $('cj-stock-ctl').hidden = true;
   renderOps(); draw();
 }
 
@@ -302,6 +356,12 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
       <button id="cj-add-rect">Add shape</button>
     </div>
     <svg id="cj-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}"></svg>
+    <div id="cj-stock-ctl" class="form" hidden>
+      <label>Stock after operation <input id="cj-upto" type="range" min="1" max="1" step="1" value="1"></label>
+      <span id="cj-upto-label" class="muted"></span>
+      <label>cell <input id="cj-cell" type="number" value="0.1" min="0" step="any" title="grid cell of the simulation, mm (0: chosen from the memory budget)"> mm</label>
+    </div>
+    <pre id="cj-stock-report"></pre>
     <div><span id="cj-selection" class="muted"></span></div>
     <div class="form">
       <button id="cj-all">Select all</button>
@@ -328,6 +388,8 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
     <span id="cj-status" class="muted"></span>
     <pre id="cj-report"></pre>`;
   setupView();
+  $('cj-upto').addEventListener('change', () => showStock(Number(field('cj-upto'))));
+  $('cj-cell').addEventListener('change', () => { if (stockAfter) showStock(stockAfter.upto); });
   $<HTMLInputElement>('cj-drawing').onchange = async (e) => {
     const f = (e.target as HTMLInputElement).files?.[0];
     if (!f) return;
@@ -384,10 +446,13 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
         'cutting order:',
         ...b.ops.map((o) => `  ${o.index}. ${o.name}: T${o.tool_number} ${o.tool}, ${o.shapes.length} shapes, depth ${o.depth.toFixed(2)} mm, ${o.moves} moves, feed ${o.feed.toFixed(0)} mm/min (${o.feed_source})`),
         ...b.report, ...b.warnings.map((w) => 'warning: ' + w),
-        b.stock_per_op ? '' : 'The stock is simulated for the whole program (its gouge check above), not shown after each operation.',
+        'The stock after an operation: click its row or move the slider under the buttons.',
       ];
       $('cj-report').textContent = lines.join('\n');
       status(`${b.name}: ${b.text.split('\n').length} lines`);
+      const upto = $<HTMLInputElement>('cj-upto');
+      upto.max = String(b.ops.length); upto.value = String(b.ops.length);
+      $('cj-stock-ctl').hidden = false;
       renderOps(); draw();
       hooks.loadProgram(b.name, b.text, true, false, `a CAM job on ${drawing}`);
     } catch (e) {

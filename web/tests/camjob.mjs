@@ -82,6 +82,9 @@ async function makeAndSave(page, dir) {
   return { report, program, saved };
 }
 
+/// What the NEMA 17 test made: its page (the job still open) and program, for the stock test.
+let nema = null;
+
 await test('the NEMA 17 mount built by clicking shapes gives the CLI program', async () => {
   if (!existsSync(NEMA)) { console.log(`note: ${NEMA} is absent: the NEMA 17 test is skipped`); return; }
   const dir = mkdtempSync(path.join(os.tmpdir(), 'oficina-camjob-'));
@@ -161,6 +164,60 @@ await test('the NEMA 17 mount built by clicking shapes gives the CLI program', a
   const mine = cli(saved);
   sameProgram(program.text, mine.program, 'the page vs its saved job');
   assert(JSON.stringify(mine.shapes) === JSON.stringify(hand.shapes), 'saved job: same shapes');
+  nema = { page, program: program.text, dir };
+});
+
+/// `oficina simulate` on `program` cut before its (k+1)-th `(operation: …)` comment, each tool
+/// with the shape the program's own operation comments name (`… with T2 v:6:90 …`).
+function cliRemoved(program, k, dir, stockArgs) {
+  const lines = program.split('\n');
+  const starts = lines.flatMap((l, i) => (l.startsWith('(operation: ') ? [i] : []));
+  const cut = lines.slice(0, k < starts.length ? starts[k] : lines.length).join('\n') + '\n';
+  const file = path.join(dir, `upto-${k}.nc`);
+  writeFileSync(file, cut);
+  const tools = [...new Set([...program.matchAll(/^\(operation: .* with T(\d+) ([a-z]+:[0-9.:]+)/gm)].map((m) => `${m[1]}=${m[2]}`))];
+  const json = execFileSync(bin, ['simulate', file, ...stockArgs, ...tools.flatMap((t) => ['--tool', t]), '--json', '-o', path.join(dir, `upto-${k}.png`)], { encoding: 'utf8' });
+  return { report: JSON.parse(json), tools };
+}
+
+await test('the stock after each operation: removed volume grows and is oficina simulate\'s on the program cut there', async () => {
+  if (!nema) { console.log('note: the NEMA 17 job was not made: the stock test is skipped'); return; }
+  const { page, program, dir } = nema;
+  state.page = page;
+  assert(await page.isVisible('#cj-upto'), 'the stock slider is visible after Make');
+  const n = Number(await page.getAttribute('#cj-upto', 'max'));
+  assert(n === 4, `the slider runs over the 4 operations: max ${n}`);
+  const stockAfter = async (k, how) => {
+    await how();
+    await page.waitForFunction((k) => document.body.dataset.cjStock === String(k) || document.body.dataset.cjStock === 'failed', k, { timeout: 120000 });
+    const report = await page.textContent('#cj-stock-report');
+    const shown = await page.evaluate(() => document.body.dataset.cjStock);
+    assert(shown === String(k) && report.includes('removed'), `after ${k}: ${shown}: ${report}`);
+    return { removed: Number(await page.getAttribute('#cj-stock-report', 'data-removed')), report };
+  };
+  let before = 0;
+  for (let k = 1; k <= n; k++) {
+    const got = await stockAfter(k, () => page.$eval('#cj-upto', (e, k) => { e.value = String(k); e.dispatchEvent(new Event('change')); }, k));
+    assert(/no gouge/.test(got.report) && /gouge:\s+none/.test(got.report), `after ${k}: ${got.report}`);
+    assert(got.removed > before + 1, `after ${k}: ${got.removed} mm³ removed, not more than ${before} after ${k - 1}`);
+    const cell = Number(got.report.match(/cell ([\d.]+) mm/)[1]);
+    const cli = cliRemoved(program, k, dir, ['--stock', '50x50x4', '--stock-origin=-4,-4,0', '--resolution', String(cell)]);
+    assert(cli.tools.length === 2, `tools from the program's comments: ${cli.tools}`);
+    assert(Math.abs(cli.report.removed_mm3 - got.removed) < 1e-6 * got.removed, `after ${k}: page ${got.removed} mm³, oficina simulate ${cli.report.removed_mm3} mm³`);
+    console.log(`  after ${k}: ${got.removed.toFixed(1)} mm³ removed (oficina simulate: ${cli.report.removed_mm3.toFixed(1)})`);
+    if (k === 2) {
+      // The view, the slider and the report under it.
+      await page.locator('#cj-view').scrollIntoViewIfNeeded();
+      const [v, r] = [await page.locator('#cj-view').boundingBox(), await page.locator('#cj-stock-report').boundingBox()];
+      await page.screenshot({ path: path.join(shots, 'workbench-camjob-stock-after-2.png'), clip: { x: v.x, y: v.y, width: Math.max(v.width, r.width), height: r.y + r.height - v.y } });
+    }
+    before = got.removed;
+  }
+  // A click on an operation's row shows the stock after it: the boss bore is third in the
+  // cutting order (the chamfer's T2 first, then T1's holes, bore, outline).
+  const bore = await stockAfter(3, () => page.click('#cj-ops tr:nth-child(3)'));
+  assert(bore.report.includes('op 2, op 1, op 3 ') && Number(await page.inputValue('#cj-upto')) === 3, bore.report);
+  assert(await page.$('#cj-stock-image'), 'the stock drawn under the shapes');
 });
 
 await test('a self-contained SVG part: tools by spec, saved job gives the same program', async () => {

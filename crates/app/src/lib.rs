@@ -79,7 +79,8 @@ pub use machine_uri::{
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};
 pub use mill_job::{
-    job_shapes, mill_job, JobOpReport, JobOptions, JobProgram, JobResult, JobShapeView,
+    job_shapes, mill_job, mill_job_upto, JobOpReport, JobOptions, JobProgram, JobResult,
+    JobShapeView, JobStock,
 };
 pub use offsets::{system_index, Probe, WorkOffsets, SYSTEMS};
 pub use output::{

@@ -2,6 +2,9 @@
 //! `oficina mill --job` reads; it is saved into the job folder beside the drawing and built
 //! by `oficina_app::mill_job`, the CLI's own call. `/api/mill-job/shapes` answers the
 //! drawing's shapes with the ids the import report gives, for the page to draw and select.
+//! `/api/mill-job/stock` answers the stock after an operation: the job stopped there
+//! (`oficina_app::mill_job_upto`, judged for gouge) and its program simulated as
+//! `oficina simulate` does, each tool with its shape.
 
 use crate::files::path_in;
 use crate::jobs::{bad, compute, output_name, CamError};
@@ -9,7 +12,9 @@ use crate::AppState;
 use axum::extract::State;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use oficina_app::{job_shapes, mill_job, profile, JobOptions};
+use base64::Engine;
+use oficina_app::simulate::{simulate, SimulateRequest, StockSize, ToolChoice};
+use oficina_app::{job_shapes, mill_job, mill_job_upto, profile, JobOptions, JobResult};
 use serde::Deserialize;
 use serde_json::json;
 use std::sync::Arc;
@@ -37,6 +42,97 @@ async fn write_job(st: &AppState, req: &JobText) -> Result<std::path::PathBuf, C
     Ok(path)
 }
 
+/// The stock after an operation: the job, how far into its cutting order, the grid cell.
+#[derive(Deserialize)]
+pub(crate) struct StockAfter {
+    #[serde(flatten)]
+    job: JobText,
+    /// The number of operations cut, in cutting order (1 = the first).
+    upto: usize,
+    /// Grid cell, mm; default: the finest the memory budget allows for the whole job's path.
+    resolution: Option<f64>,
+}
+
+/// The memory budget of one stock simulation from the page, MB.
+const STOCK_MEMORY_MB: u64 = 128;
+
+/// The machine profile the page names (default: the bundled default).
+fn machine(st: &AppState, name: Option<&str>) -> Result<profile::Profile, String> {
+    let spec = crate::profiles::profile_spec(st, name.unwrap_or(profile::DEFAULT));
+    spec.and_then(|s| profile::resolve(&s).map_err(|e| e.to_string()))
+}
+
+/// The simulation of a job's (first) program on its stock, each tool as the job gives it.
+fn simulate_job(
+    r: &JobResult,
+    machine: &Result<profile::Profile, String>,
+    resolution: Option<f64>,
+) -> Result<oficina_app::simulate::Simulation, oficina_app::Error> {
+    let program = r
+        .programs
+        .first()
+        .ok_or_else(|| oficina_app::Error("the job made no program".into()))?;
+    let mut tools = ToolChoice::default();
+    for o in &r.ops {
+        let tool = o.tool.parse().map_err(oficina_app::Error::from_display)?;
+        tools.by_number.push((o.tool_number, tool));
+    }
+    let (stock, stock_origin) = match r.stock.size {
+        Some([w, h]) => (
+            StockSize::Given([w, h, r.stock.thickness]),
+            Some([r.stock.corner[0], r.stock.corner[1], 0.0]),
+        ),
+        None => (StockSize::Auto { margin: 2.0 }, None),
+    };
+    let profile = match machine {
+        Ok(p) => p.clone(),
+        Err(_) => profile::resolve(profile::DEFAULT).map_err(oficina_app::Error::from_display)?,
+    };
+    simulate(&SimulateRequest {
+        text: Arc::new(program.judged.program.clone()),
+        run: oficina_gcode::RunOptions::check(oficina_gcode::Dialect::LinuxCnc),
+        profile,
+        tools,
+        stock,
+        stock_origin,
+        resolution,
+        memory_mb: STOCK_MEMORY_MB,
+        design: None,
+    })
+}
+
+pub(crate) async fn stock(
+    State(st): State<Arc<AppState>>,
+    Json(req): Json<StockAfter>,
+) -> Result<Response, CamError> {
+    let path = write_job(&st, &req.job).await?;
+    let machine = machine(&st, req.job.profile.as_deref());
+    let (upto, resolution) = (req.upto, req.resolution);
+    let (r, sim, png) = compute(&st, move |fb| {
+        let r = mill_job_upto(&path, &JobOptions::default(), &machine, Some(upto), fb)?;
+        let sim = simulate_job(&r, &machine, resolution)?;
+        let png = oficina_sim::png_bytes(&sim.stock).map_err(oficina_app::Error)?;
+        Ok((r, sim, png))
+    })
+    .await?;
+    let judged = &r.programs[0].judged;
+    let last = r.ops.last().map_or(String::new(), |o| o.name.clone());
+    let png = format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png)
+    );
+    Ok(Json(json!({
+        "upto": upto,
+        "last": last,
+        "ops": r.ops.iter().map(|o| o.index).collect::<Vec<_>>(),
+        "report": sim.report,
+        "judged": judged.summary_lines(),
+        "gouged": judged.gouged(),
+        "png": png,
+    }))
+    .into_response())
+}
+
 pub(crate) async fn shapes(
     State(st): State<Arc<AppState>>,
     Json(req): Json<JobText>,
@@ -51,9 +147,7 @@ pub(crate) async fn build(
     Json(req): Json<JobText>,
 ) -> Result<Response, CamError> {
     let path = write_job(&st, &req).await?;
-    let spec =
-        crate::profiles::profile_spec(&st, req.profile.as_deref().unwrap_or(profile::DEFAULT));
-    let machine = spec.and_then(|s| profile::resolve(&s).map_err(|e| e.to_string()));
+    let machine = machine(&st, req.profile.as_deref());
     let opts = JobOptions::default();
     let r = compute(&st, move |fb| mill_job(&path, &opts, &machine, fb)).await?;
     let stem = req.name.trim_end_matches(".toml").trim_end_matches(".job");
@@ -106,8 +200,7 @@ pub(crate) async fn build(
         "imported": r.imported,
         "shapes": r.shapes,
         "preview_svg": r.preview_svg,
-        // The stock after each operation is not simulated apart: only the whole program's.
-        "stock_per_op": false,
+        "stock": r.stock,
     }))
     .into_response())
 }

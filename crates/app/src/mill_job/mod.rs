@@ -80,6 +80,19 @@ pub struct JobResult {
     pub programs: Vec<JobProgram>,
     /// SVG preview of every toolpath over the drawing.
     pub preview_svg: String,
+    /// The stock in program coordinates.
+    pub stock: JobStock,
+}
+
+/// The job's stock where the program sees it.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct JobStock {
+    /// Lower-left X, Y in program coordinates, mm (top at Z 0).
+    pub corner: [f64; 2],
+    /// Width and height, mm, when the job gives them.
+    pub size: Option<[f64; 2]>,
+    /// Thickness, mm.
+    pub thickness: f64,
 }
 
 /// Most shapes the import report of `oficina mill` lists one by one.
@@ -247,6 +260,19 @@ pub fn mill_job(
     profile: &Result<oficina_motion::Profile, String>,
     fb: Feedback,
 ) -> Result<JobResult, Error> {
+    mill_job_upto(job_file, opts, profile, None, fb)
+}
+
+/// The job stopped after the first `upto` operations of its cutting order (all when
+/// `None`): the program as far as that operation, judged as the whole job is (the stock
+/// after each operation, its gouge against those operations' designs).
+pub fn mill_job_upto(
+    job_file: &FsPath,
+    opts: &JobOptions,
+    profile: &Result<oficina_motion::Profile, String>,
+    upto: Option<usize>,
+    fb: Feedback,
+) -> Result<JobResult, Error> {
     let name = job_file.display().to_string();
     fb.stage("reading the job")?;
     let text = std::fs::read_to_string(job_file).map_err(|e| Error(format!("{name}: {e}")))?;
@@ -356,6 +382,16 @@ pub fn mill_job(
         Order::ByTool => order::order_by_tool(&keys),
         Order::AsWritten => (0..keys.len()).collect(),
     };
+    let order = match upto {
+        Some(n) if n == 0 || n > order.len() => {
+            return Err(Error(format!(
+                "{name}: up to operation {n}: the job has operations 1 to {}",
+                order.len()
+            )))
+        }
+        Some(n) => order[..n].to_vec(),
+        None => order,
+    };
     let tool_loads = order::changes(&keys, &order);
     let checked = built.iter().all(|(b, _, _)| b.designs.is_some());
     if !checked {
@@ -436,7 +472,16 @@ pub fn mill_job(
         }
     }
     let summary = imported.summary();
+    let stock = JobStock {
+        corner: [
+            job.stock.corner[0] - shift[0],
+            job.stock.corner[1] - shift[1],
+        ],
+        size: job.stock.size,
+        thickness: job.stock.thickness,
+    };
     Ok(JobResult {
+        stock,
         warnings,
         imported: summary,
         shapes: shapes.iter().map(Shape::describe).collect(),
