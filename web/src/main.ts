@@ -10,6 +10,7 @@ import { setupWorkshop } from './workshop';
 import { setupSimulate } from './simulate';
 import { setupProfileEditor, setupToolEditor } from './profile';
 import { initCamJob } from './camjob';
+import { Carved, carvedReport, clearCarved, hideModel, showModel } from './carve_model';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -275,7 +276,7 @@ function setProcess(p: Process) {
   $('relief-form').hidden = p !== 'relief';
   $('camjob').hidden = p !== 'camjob';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
-  const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider';
+  const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider' || p === 'model';
   $('process-form').hidden = !isDesign;
   if (isDesign && shownForm !== p) {
     renderForm(p);
@@ -287,12 +288,27 @@ function setProcess(p: Process) {
   $('make').textContent = p === 'embroider' ? 'Make the stitches' : 'Make the program';
   const hasDesign = !!design && design.kind === p;
   if (isDesign) $('process-input').textContent = hasDesign ? design!.name : p === 'embroider' ? 'its Text alone (or open a file)' : 'a file (open one)';
+  // A model is drawn in the 3D view while its process is shown.
+  if (p === 'model' && hasDesign) drawModel(); else hideModel(preview);
   // Embroidery letters the Text field by itself once the design is put aside.
   $('text-alone').hidden = p !== 'embroider' || !hasDesign;
   // Plots: rapid moves are the pen up, feeds the pen down; embroidery: jumps and stitches.
   $('legend-rapid').textContent = p === 'plot' ? 'pen up' : p === 'embroider' ? 'jump (grey)' : 'rapid';
   $('legend-feed').textContent = p === 'plot' ? 'pen down' : p === 'embroider' ? 'stitch (thread colour)' : 'feed';
 }
+/// The model of the model process drawn as its placement fields place it.
+function drawModel() {
+  if (!design || design.kind !== 'model') return;
+  const form = readForm('model');
+  const place = 'field' in form ? {} : form.params;
+  showModel(preview, design.name, place)
+    .then((what) => { if (what) $('process-status').textContent = what; })
+    .catch((e) => showFieldError(null, `model: ${(e as Error).message}`));
+}
+$('process-fields').addEventListener('change', (e) => {
+  const name = (e.target as HTMLInputElement).name;
+  if ($<HTMLSelectElement>('process').value === 'model' && ['scale', 'rotate', 'size'].includes(name)) drawModel();
+});
 $('text-alone').onclick = () => {
   design = null;
   setProcess('embroider');
@@ -322,6 +338,7 @@ async function make() {
   const { machine: profile, ...params } = form.params as Record<string, unknown> & { machine?: string };
   busy(true);
   $('process-status').textContent = 'working…';
+  clearCarved();
   try {
     const r = await fetch(withToken('/api/' + kind), {
       method: 'POST', headers: { 'content-type': 'application/json' },
@@ -352,9 +369,11 @@ async function make() {
       if (l) lines.push(`pen-down ${l.pen_down.toFixed(1)} mm, pen-up ${l.pen_up.toFixed(1)} mm`);
       lines.push(`planned time: ${hms(body.seconds as number)}`, ...(body.notes as string[]));
     }
+    if (kind === 'model') lines.push(...carvedReport(body as unknown as Carved));
     $('process-report').textContent = lines.join('\n');
     $('process-status').textContent = `${body.name}: ${body.text!.split('\n').length} lines`;
-    loadProgram(body.name!, body.text!, true, kind === 'plot', `${kind === 'plot' ? 'a plot' : kind === 'mill' ? 'milled' : 'a sole mold'} of ${design.name}`);
+    const made = { plot: 'a plot', mill: 'milled', sole: 'a sole mold', model: 'a carving' }[kind as string] ?? kind;
+    loadProgram(body.name!, body.text!, true, kind === 'plot', `${made} of ${design.name}`);
     // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
     if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
   } catch (e) {

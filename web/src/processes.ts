@@ -4,9 +4,11 @@
 // other. The forms carry no CAM knowledge: names and defaults are those of `oficina mill`,
 // `oficina sole` and `oficina plot`, whose pipelines the server runs.
 
+// A 3D model (.stl/.obj) is carved as `oficina carve MODEL` carves it (/api/model): its mesh
+// drawn in the 3D view (carve_model.ts), its stock simulated.
 // Embroidery takes a design (.svg/.dxf) to /api/embroider, or a stitch file (.dst/.exp/.pes/.pec/.jef/.vp3/.xxx/.u01/.ram)
 // to /api/stitches; its answer is drawn in thread colours, not loaded as a program.
-export type ProcessKind = 'mill' | 'sole' | 'plot' | 'embroider';
+export type ProcessKind = 'mill' | 'sole' | 'plot' | 'embroider' | 'model';
 /// Stitch files: read back and shown as they are.
 export const STITCH_FILE = /\.(dst|exp|pes|pec|jef|vp3|xxx|u01|ram)$/i;
 
@@ -79,6 +81,36 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'passes', label: 'Passes', value: '1', min: 1, max: 100 },
       { name: 'reloop', label: 'Start loops near the pen', kind: 'check', value: '' },
       { name: 'crop', label: 'Crop', kind: 'text', value: '', optional: true, placeholder: 'none: paper, or X0,Y0,X1,Y1 mm' },
+    ],
+  },
+  // Names and defaults are `oficina carve MODEL`'s flags (the CLI checks the ranges alike).
+  model: {
+    title: 'Carve a 3D model (STL/OBJ)', accept: /\.(stl|obj)$/i, sample: '',
+    fields: [
+      { name: 'tool', label: 'Finishing tool', kind: 'text', value: 'ball:6' },
+      { name: 'rough_tool', label: 'Roughing tool', kind: 'text', value: '', optional: true, placeholder: 'none: flat:6' },
+      { name: 'size', label: 'Largest dimension', unit: 'mm', value: '', min: 0.001, max: 10000, optional: true },
+      { name: 'scale', label: 'Scale', unit: '×', value: '1', min: 0.0001, max: 10000 },
+      { name: 'rotate', label: 'Turn about Z', unit: '°', value: '0', min: -360, max: 360 },
+      { name: 'stock_top', label: 'Stock top Z', unit: 'mm', value: '', min: -10000, max: 10000, optional: true, placeholder: "model's top" },
+      { name: 'stock_bottom', label: 'Stock bottom Z', unit: 'mm', value: '', min: -10000, max: 10000, optional: true, placeholder: "model's bottom" },
+      { name: 'scallop', label: 'Scallop', unit: 'mm', value: '0.02', min: 0.0001, max: 10 },
+      { name: 'stepover', label: 'Step-over', unit: 'mm', value: '', min: 0.001, max: 100, optional: true },
+      { name: 'rough_stepover', label: 'Roughing step-over', unit: '× Ø', value: '0.8', min: 0.01, max: 1 },
+      { name: 'stepdown', label: 'Step-down', unit: 'mm', value: '5', min: 0.01, max: 100 },
+      { name: 'allowance', label: 'Allowance', unit: 'mm', value: '0.5', min: 0, max: 100 },
+      { name: 'direction', label: 'Raster', kind: 'select', value: 'x', options: ['x', 'y', 'both'] },
+      { name: 'angle', label: 'Raster angle', unit: '°', value: '', min: -360, max: 360, optional: true },
+      { name: 'one_way', label: 'One way', kind: 'check', value: '' },
+      { name: 'no_rest', label: 'No rest machining', kind: 'check', value: '' },
+      { name: 'feed', label: 'Feed', unit: 'mm/min', value: '2000', min: 1, max: 100000 },
+      { name: 'plunge_feed', label: 'Plunge feed', unit: 'mm/min', value: '500', min: 1, max: 100000 },
+      { name: 'rpm', label: 'Spindle', unit: 'rpm', value: '18000', min: 0, max: 100000 },
+      { name: 'safe_z', label: 'Safe Z', unit: 'mm', value: '5', min: 0, max: 1000 },
+      { name: 'tolerance', label: 'Tolerance', unit: 'mm', value: '0.002', min: 0.0001, max: 1 },
+      { name: 'pixel_size', label: 'Grid', unit: 'mm', value: '', min: 0.001, max: 100, optional: true },
+      { name: 'post', label: 'Post', kind: 'select', value: 'grbl', options: ['grbl', 'linuxcnc'] },
+      { name: 'allow_m6', label: 'Machine takes M6', kind: 'check', value: '' },
     ],
   },
   // Names and ranges are `oficina embroider`'s flags and the stitch crate's Params::check.

@@ -344,6 +344,36 @@ fn lowest_within_a_step(map: &Heightmap) -> Heightmap {
     })
 }
 
+/// The program header of a mesh carving after its first line (`command`): the model, its
+/// placed box and triangles, the settings and the machine profile (the CLI's and the page's).
+pub fn model_header(
+    model: &str,
+    mesh: &Mesh,
+    settings: &Settings,
+    profile: &str,
+) -> Vec<(String, String)> {
+    let [lo, hi] = mesh.bounds();
+    let mut header = vec![
+        ("model".to_string(), model.to_string()),
+        (
+            "model box".into(),
+            format!(
+                "X {:.3}..{:.3} Y {:.3}..{:.3} Z {:.3}..{:.3} mm, {} triangles",
+                lo[0],
+                hi[0],
+                lo[1],
+                hi[1],
+                lo[2],
+                hi[2],
+                mesh.triangles.len()
+            ),
+        ),
+    ];
+    header.extend(settings.describe());
+    header.push(("machine profile".into(), profile.to_string()));
+    header
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -288,7 +288,7 @@ fn carve_model(
     output: &std::path::Path,
     profile: &oficina_motion::Profile,
 ) -> Result<std::process::ExitCode> {
-    use oficina_app::carve_mesh::{evaluate_mesh, MeshOptions, MeshSource};
+    use oficina_app::carve_mesh::{evaluate_mesh, model_header, MeshOptions, MeshSource};
     let source = MeshSource {
         path: model.to_path_buf(),
         scale: args.scale,
@@ -306,25 +306,13 @@ fn carve_model(
         tolerance: args.tolerance,
     };
     let command = std::env::args().collect::<Vec<_>>().join(" ");
-    let mut header = vec![
-        ("command".to_string(), command),
-        ("model".into(), model.display().to_string()),
-        (
-            "model box".into(),
-            format!(
-                "X {:.3}..{:.3} Y {:.3}..{:.3} Z {:.3}..{:.3} mm, {} triangles",
-                lo[0],
-                hi[0],
-                lo[1],
-                hi[1],
-                lo[2],
-                hi[2],
-                mesh.triangles.len()
-            ),
-        ),
-    ];
-    header.extend(settings.describe());
-    header.push(("machine profile".into(), args.profile.clone()));
+    let mut header = vec![("command".to_string(), command)];
+    header.extend(model_header(
+        &model.display().to_string(),
+        &mesh,
+        &settings,
+        &args.profile,
+    ));
     let preview = args
         .preview
         .clone()

@@ -41,6 +41,8 @@ pub(crate) fn routes(state: Arc<AppState>) -> Router {
         .route("/api/mill-job", post(crate::camjob::build))
         .route("/api/mill-job/shapes", post(crate::camjob::shapes))
         .route("/api/mill-job/stock", post(crate::camjob::stock))
+        .route("/api/model", post(crate::carve_model::carve))
+        .route("/api/model/mesh", post(crate::carve_model::mesh))
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
         .route("/api/embroider", post(crate::embroider::embroider_job))

@@ -30,6 +30,7 @@
 mod api;
 mod auth;
 mod camjob;
+mod carve_model;
 mod embroider;
 mod files;
 mod jobs;
