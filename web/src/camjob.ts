@@ -446,7 +446,7 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
         'cutting order:',
         ...b.ops.map((o) => `  ${o.index}. ${o.name}: T${o.tool_number} ${o.tool}, ${o.shapes.length} shapes, depth ${o.depth.toFixed(2)} mm, ${o.moves} moves, feed ${o.feed.toFixed(0)} mm/min (${o.feed_source})`),
         ...b.report, ...b.warnings.map((w) => 'warning: ' + w),
-        'The stock after an operation: click its row or move the slider under the buttons.',
+        'The stock after an operation: click its row, or move the slider under the drawing.',
       ];
       $('cj-report').textContent = lines.join('\n');
       status(`${b.name}: ${b.text.split('\n').length} lines`);

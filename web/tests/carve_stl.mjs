@@ -6,17 +6,13 @@
 // CLI's, and the mesh it draws trimesh's (triangles and box). Without the shared data it
 // prints SKIPPED and passes. Starts its own `oficina serve`. Prints `N passed, M failed`.
 
-import { startServer, launch, suite, assert, root } from './harness.mjs';
+import { startServer, launch, suite, assert, root, realworld } from './harness.mjs';
 import { execFileSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 
-const candidates = [
-  process.env.OFICINA_REALWORLD && path.join(process.env.OFICINA_REALWORLD, 'stl'),
-  '/work/shared/data/realworld/stl',
-].filter(Boolean);
-const dir = candidates.find((d) => existsSync(path.join(d, 'ocl_cone_on_side.stl')));
+const dir = realworld('stl', 'ocl_cone_on_side.stl');
 if (!dir) {
   console.log('SKIPPED carve_stl: realworld/stl/ocl_cone_on_side.stl is absent');
   console.log('0 passed, 0 failed');
@@ -168,6 +164,19 @@ await test('a mold cavity turned and scaled, finish only, LinuxCNC post: the CLI
   sameProgram(got.program, ref.program);
   sameFigures(got.report, ref.stdout);
   assert(got.report.includes(`${faces.toLocaleString('en-US')} triangles carved in 1 operations`), got.report);
+});
+
+await test('the cone as OBJ (trimesh writes it): drawn and carved as the CLI carves the OBJ', async () => {
+  const obj = path.join(scratch, 'cone.obj');
+  execFileSync('python3', ['-c', 'import sys, trimesh\ntrimesh.load(sys.argv[1], process=False).export(sys.argv[2])', path.join(dir, 'ocl_cone_on_side.stl'), obj]);
+  const { faces } = await open(obj);
+  assert(faces === 676, `${faces} faces`);
+  await fillForm({ size: '', rotate: 0 });
+  await page.dispatchEvent('#process-fields [name="rotate"]', 'change');
+  const got = await carve({ tool: 'ball:6', rough_tool: '', pixel_size: 0.2, post: 'grbl', direction: 'x', scallop: 0.02 });
+  const ref = cli(obj, ['--tool', 'ball:6', '--pixel-size', '0.2']);
+  sameProgram(got.program, ref.program);
+  sameFigures(got.report, ref.stdout);
 });
 
 await test('a bad tool is a clear message beside its field', async () => {

@@ -4,7 +4,7 @@
 
 import { chromium } from 'playwright-core';
 import { spawn } from 'node:child_process';
-import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { existsSync, mkdirSync, mkdtempSync, rmSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import os from 'node:os';
 import path from 'node:path';
@@ -172,4 +172,14 @@ export async function mdi(page, line, reply = 'ok') {
     const at = c.indexOf('> ' + line + '\n');
     return at >= 0 && c.slice(at).includes('\n' + reply);
   }, [before, line, reply], { timeout: 20000 });
+}
+
+/// The folder of real users' files of `kind` (`$OFICINA_REALWORLD/KIND`, else the shared
+/// data's) that holds `file`; null when neither does (the test then prints SKIPPED).
+export function realworld(kind, file) {
+  const dirs = [
+    process.env.OFICINA_REALWORLD && path.join(process.env.OFICINA_REALWORLD, kind),
+    path.join('/work/shared/data/realworld', kind),
+  ].filter(Boolean);
+  return dirs.find((d) => existsSync(path.join(d, file))) ?? null;
 }

@@ -4,15 +4,10 @@
 // stock's proportions and the report the program's lowest Z as the stock's lowest point.
 // Without the shared data it prints SKIPPED and passes.
 
-import { startServer, launch, suite, assert, out } from './harness.mjs';
-import { existsSync } from 'node:fs';
+import { startServer, launch, suite, assert, out, realworld } from './harness.mjs';
 import path from 'node:path';
 
-const candidates = [
-  process.env.OFICINA_REALWORLD && path.join(process.env.OFICINA_REALWORLD, 'gcode'),
-  '/work/shared/data/realworld/gcode',
-].filter(Boolean);
-const dir = candidates.find((d) => existsSync(path.join(d, 'camotics_botomata_bottom.nc')));
+const dir = realworld('gcode', 'camotics_botomata_bottom.nc');
 if (!dir) {
   console.log('SKIPPED simulate_stock: realworld/gcode/camotics_botomata_bottom.nc is absent');
   console.log('0 passed, 0 failed');

@@ -1,13 +1,15 @@
-//! The CAM job endpoints of the page (`/api/mill-job`, `/api/mill-job/shapes`) through the
-//! router: the shapes the page draws carry the import report's ids; a job written with those
-//! ids gives the program of the hand-written job that selects by colour and size; bad names
-//! and keys are clear errors; the token guards them as every /api route.
+//! The CAM job endpoints of the page (`/api/mill-job`, `/api/mill-job/shapes`,
+//! `/api/mill-job/stock`) through the router: the shapes the page draws carry the import
+//! report's ids; a job written with those ids gives the program of the hand-written job that
+//! selects by colour and size; the stock after each operation is the job's program up to the
+//! next operation, removing more at each; bad names and keys are clear errors; the token
+//! guards them as every /api route.
 
 mod common;
 
 use axum::http::StatusCode;
 use common::{call, config, post_json, put, state};
-use oficina_app::{mill_job, Feedback, JobOptions};
+use oficina_app::{mill_job, mill_job_upto, Feedback, JobOptions};
 use oficina_server::AppState;
 use serde_json::json;
 use std::sync::atomic::AtomicBool;
@@ -170,6 +172,84 @@ async fn a_job_on_the_shapes_ids_gives_the_hand_written_jobs_program() {
     }
 }
 
+/// A program's lines but its comments (which name the operations written).
+fn cutting<'a>(lines: &[&'a str]) -> Vec<&'a str> {
+    lines
+        .iter()
+        .copied()
+        .filter(|l| !l.starts_with('('))
+        .collect()
+}
+
+#[tokio::test]
+async fn the_stock_after_each_operation_is_the_program_up_to_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let st = state(dir.path());
+    put(
+        &st,
+        "nested-plate.svg",
+        std::fs::read(jobs_dir().join("nested-plate.svg")).unwrap(),
+    )
+    .await;
+    let toml = std::fs::read_to_string(jobs_dir().join("nested-plate.toml")).unwrap();
+    let job = json!({"name": "plate.job.toml", "toml": toml});
+    let (s, whole) = call(&st, post_json("/api/mill-job", job.clone())).await;
+    assert_eq!(s, StatusCode::OK, "{whole}");
+    let full = whole["text"].as_str().unwrap();
+    let n = whole["ops"].as_array().unwrap().len();
+    // Where each operation starts in the whole program (its comment line).
+    let lines: Vec<&str> = full.lines().collect();
+    let starts: Vec<usize> = (0..lines.len())
+        .filter(|&i| lines[i].starts_with("(operation: "))
+        .collect();
+    assert_eq!(starts.len(), n);
+    let mut removed = 0.0;
+    for upto in 1..=n {
+        let mut req = job.clone();
+        req["upto"] = json!(upto);
+        req["resolution"] = json!(0.25);
+        let (s, v) = call(&st, post_json("/api/mill-job/stock", req)).await;
+        assert_eq!(s, StatusCode::OK, "{v}");
+        assert_eq!(v["ops"].as_array().unwrap().len(), upto);
+        assert_eq!(v["gouged"], false, "{v}");
+        let r = v["report"]["removed_mm3"].as_f64().unwrap();
+        assert!(
+            r > removed,
+            "after {upto}: {r} mm³, not more than {removed}"
+        );
+        removed = r;
+        assert!(v["png"]
+            .as_str()
+            .unwrap()
+            .starts_with("data:image/png;base64,"));
+        // The job stopped there (what the stock is simulated on) is the whole program cut
+        // before the next operation, then the end (retract, M5, M30).
+        let stopped = mill_job_upto(
+            &dir.path().join("jobs/plate.job.toml"),
+            &JobOptions::default(),
+            &Err("no profile".into()),
+            Some(upto),
+            Feedback::none(),
+        )
+        .unwrap();
+        let stopped = &stopped.programs[0].judged.program;
+        let end = starts.get(upto).copied().unwrap_or(lines.len());
+        let want = cutting(&lines[..end]);
+        let got = cutting(&stopped.lines().collect::<Vec<_>>());
+        assert_eq!(&got[..want.len()], &want[..], "after {upto}");
+        let tail = &got[want.len()..];
+        assert!(
+            tail.len() <= 4
+                && !tail
+                    .iter()
+                    .any(|l| l.starts_with("G1") || l.starts_with("G2") || l.starts_with("G3")),
+            "after {upto}: the end is {tail:?}"
+        );
+    }
+    // The job's stock as its file gives it, for the page.
+    assert_eq!(whole["stock"]["size"], json!([90.0, 60.0]), "{whole}");
+}
+
 #[tokio::test]
 async fn bad_jobs_are_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
@@ -194,6 +274,25 @@ async fn bad_jobs_are_clear_errors() {
     let (s, v) = call(&st, post_json("/api/mill-job", json!({"name": "plate.toml", "toml": "drawing = \"nested-plate.svg\"\n[stock]\nthickness = 5\n"}))).await;
     assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
     assert!(v["error"].as_str().unwrap().contains("no [[op]]"), "{v}");
+    // The stock after an operation the job does not have.
+    let toml = std::fs::read_to_string(jobs_dir().join("nested-plate.toml")).unwrap();
+    for upto in [0, 4] {
+        let (s, v) = call(
+            &st,
+            post_json(
+                "/api/mill-job/stock",
+                json!({"name": "plate.toml", "toml": toml, "upto": upto}),
+            ),
+        )
+        .await;
+        assert_eq!(s, StatusCode::BAD_REQUEST, "{v}");
+        assert!(
+            v["error"].as_str().unwrap().contains(&format!(
+                "up to operation {upto}: the job has operations 1 to 3"
+            )),
+            "{v}"
+        );
+    }
 }
 
 #[tokio::test]
@@ -204,7 +303,11 @@ async fn the_token_guards_the_job_endpoints() {
         ..config(dir.path())
     })
     .unwrap();
-    for uri in ["/api/mill-job", "/api/mill-job/shapes"] {
+    for uri in [
+        "/api/mill-job",
+        "/api/mill-job/shapes",
+        "/api/mill-job/stock",
+    ] {
         let (s, _) = call(&st, post_json(uri, json!({"name": "a.toml", "toml": ""}))).await;
         assert_eq!(s, StatusCode::UNAUTHORIZED, "{uri}");
     }
