@@ -20,6 +20,10 @@ pub(crate) struct Args {
     /// With --job: one program per tool (OUTPUT.T1.nc, …) instead of one with tool changes.
     #[arg(long, requires = "job")]
     pub per_tool: bool,
+    /// With --job: stop after the first N operations of the cutting order (what the
+    /// workbench's "stock after an operation" simulates; `oficina simulate` shows it).
+    #[arg(long, requires = "job", value_name = "N")]
+    pub upto: Option<usize>,
     /// Rest machining after a pocket or profile-in: this smaller tool (number
     /// --tool-number + 1) cuts what the first could not reach (flat:1, …).
     #[arg(long)]

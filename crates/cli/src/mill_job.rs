@@ -4,7 +4,7 @@
 use crate::mill::{estimate_profile, print_judged, Args};
 use crate::progress::with_bar;
 use anyhow::{Context, Result};
-use oficina_app::{mill_job, JobOptions};
+use oficina_app::{mill_job_upto, JobOptions};
 use oficina_sim::render_png;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -26,7 +26,7 @@ pub(crate) fn run(job: &Path, args: &Args) -> Result<ExitCode> {
         per_tool: args.per_tool,
     };
     let profile = estimate_profile(&args.profile);
-    let (result, bar) = with_bar(|fb| mill_job(job, &opts, &profile, fb));
+    let (result, bar) = with_bar(|fb| mill_job_upto(job, &opts, &profile, args.upto, fb));
     let r = result?;
     bar.finish_and_clear();
     for w in &r.warnings {
