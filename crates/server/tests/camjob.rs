@@ -18,6 +18,18 @@ fn jobs_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/jobs")
 }
 
+/// A server on `dir` with tests/data/jobs/nested-plate.svg in its job folder.
+async fn with_plate(dir: &std::path::Path) -> std::sync::Arc<AppState> {
+    let st = state(dir);
+    put(
+        &st,
+        "nested-plate.svg",
+        std::fs::read(jobs_dir().join("nested-plate.svg")).unwrap(),
+    )
+    .await;
+    st
+}
+
 /// The page's job for tests/data/jobs/nested-plate.toml: the same ops on shape ids.
 fn page_job(holes: &[u64], red: &[u64]) -> String {
     let ids = |v: &[u64]| {
@@ -78,13 +90,7 @@ fn body(p: &str) -> Vec<&str> {
 #[tokio::test]
 async fn a_job_on_the_shapes_ids_gives_the_hand_written_jobs_program() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(
-        &st,
-        "nested-plate.svg",
-        std::fs::read(jobs_dir().join("nested-plate.svg")).unwrap(),
-    )
-    .await;
+    let st = with_plate(dir.path()).await;
     let head = "drawing = \"nested-plate.svg\"\n[stock]\nthickness = 5\n";
     let (s, v) = call(
         &st,
@@ -184,13 +190,7 @@ fn cutting<'a>(lines: &[&'a str]) -> Vec<&'a str> {
 #[tokio::test]
 async fn the_stock_after_each_operation_is_the_program_up_to_it() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(
-        &st,
-        "nested-plate.svg",
-        std::fs::read(jobs_dir().join("nested-plate.svg")).unwrap(),
-    )
-    .await;
+    let st = with_plate(dir.path()).await;
     let toml = std::fs::read_to_string(jobs_dir().join("nested-plate.toml")).unwrap();
     let job = json!({"name": "plate.job.toml", "toml": toml});
     let (s, whole) = call(&st, post_json("/api/mill-job", job.clone())).await;
@@ -253,13 +253,7 @@ async fn the_stock_after_each_operation_is_the_program_up_to_it() {
 #[tokio::test]
 async fn bad_jobs_are_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let st = state(dir.path());
-    put(
-        &st,
-        "nested-plate.svg",
-        std::fs::read(jobs_dir().join("nested-plate.svg")).unwrap(),
-    )
-    .await;
+    let st = with_plate(dir.path()).await;
     for (uri, name, toml, says) in [
         ("/api/mill-job", "plate.nc", "drawing = \"nested-plate.svg\"\n[stock]\nthickness = 5\n", "ends in .toml"),
         ("/api/mill-job/shapes", "../plate.toml", "drawing = \"nested-plate.svg\"\n[stock]\nthickness = 5\n", "file name"),
