@@ -277,8 +277,10 @@ function renderOps() {
 }
 
 /// Asks for the stock after the first `upto` operations of the cutting order and shows it
-/// under the drawing with its report; a newer request wins over a slower older one.
+/// under the drawing with its report. One request at a time (the server computes one job
+/// at a time): a click while one runs waits for it, and only the newest is sent.
 let stockAsked = 0;
+let stockRunning: Promise<void> = Promise.resolve();
 async function showStock(upto: number) {
   if (!built) return;
   const ask = ++stockAsked;
@@ -287,6 +289,11 @@ async function showStock(upto: number) {
   $('cj-stock-report').textContent = 'simulating…';
   delete document.body.dataset.cjStock;
   const cell = Number(field('cj-cell'));
+  const before = stockRunning;
+  let finished = () => {};
+  stockRunning = new Promise((done) => { finished = done; });
+  await before;
+  if (ask !== stockAsked) return finished();
   try {
     const v = await post<StockAfter>('/api/mill-job/stock', { name: jobName(), toml: jobToml(), upto, resolution: cell > 0 ? cell : null });
     if (ask !== stockAsked) return;
@@ -307,6 +314,8 @@ async function showStock(upto: number) {
     if (ask !== stockAsked) return;
     $('cj-stock-report').textContent = `stock after op ${op.index}: ${(e as Error).message}`;
     document.body.dataset.cjStock = 'failed';
+  } finally {
+    finished();
   }
 }
 

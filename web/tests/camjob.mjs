@@ -218,6 +218,11 @@ await test('the stock after each operation: removed volume grows and is oficina 
   const bore = await stockAfter(3, () => page.click('#cj-ops tr:nth-child(3)'));
   assert(bore.report.includes('op 2, op 1, op 3 ') && Number(await page.inputValue('#cj-upto')) === 3, bore.report);
   assert(await page.$('#cj-stock-image'), 'the stock drawn under the shapes');
+  // Two clicks in a row: the second waits for the first (the server computes one job at a
+  // time) and is the one shown, the whole job's stock.
+  await page.click('#cj-ops tr:nth-child(1)');
+  const last = await stockAfter(4, () => page.click('#cj-ops tr:nth-child(4)'));
+  assert(last.removed === before, `after two quick clicks: ${last.removed} mm³, the whole job's ${before}`);
 });
 
 await test('a self-contained SVG part: tools by spec, saved job gives the same program', async () => {
