@@ -99,7 +99,10 @@ pub(crate) async fn mesh(
     let offset = crate::api::current_profile(&st)
         .map(|p| p.work_offset)
         .map_err(|(_, e)| bad(e))?;
-    let mesh = compute(&st, move |_| source.load(budget())).await?;
+    // Not one of the computed jobs: drawing a model while a carving runs is no conflict.
+    let mesh = tokio::task::spawn_blocking(move || source.load(budget()))
+        .await
+        .map_err(|e| bad(e.to_string()))??;
     let mut bytes = Vec::with_capacity(mesh.triangles.len() * 36);
     for v in mesh.triangles.iter().flatten().flatten() {
         bytes.extend_from_slice(&(*v as f32).to_le_bytes());
