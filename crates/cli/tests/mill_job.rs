@@ -674,3 +674,93 @@ rpm = 18000
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("max_engagment"), "{err}");
 }
+
+/// `--upto N`: the job stopped after N operations of its cutting order is the whole program
+/// cut before the next operation's comment, then its end; LinuxCNC's rs274 accepts it; an
+/// operation the job has not is refused with the range, and `--upto` needs `--job`.
+#[test]
+fn upto_stops_the_job_after_n_operations() {
+    let dir = job_dir("mill-job-upto", &["nested-plate.toml", "nested-plate.svg"]);
+    let (code, _, err) = oficina_in(
+        &dir,
+        &["mill", "--job", "nested-plate.toml", "-o", "all.nc"],
+    );
+    assert_eq!(code, Some(0), "{err}");
+    let all = std::fs::read_to_string(dir.join("all.nc")).unwrap();
+    let lines: Vec<&str> = all.lines().collect();
+    let starts: Vec<usize> = (0..lines.len())
+        .filter(|&i| lines[i].starts_with("(operation: "))
+        .collect();
+    assert_eq!(starts.len(), 3);
+    let moves = |ls: &[&str]| -> Vec<String> {
+        ls.iter()
+            .filter(|l| !l.starts_with('('))
+            .map(|l| l.to_string())
+            .collect()
+    };
+    for n in 1..=2 {
+        let out = format!("upto{n}.nc");
+        let (code, stdout, err) = oficina_in(
+            &dir,
+            &[
+                "mill",
+                "--job",
+                "nested-plate.toml",
+                "--upto",
+                &n.to_string(),
+                "-o",
+                &out,
+            ],
+        );
+        assert_eq!(code, Some(0), "{err}");
+        assert!(
+            stdout.contains(&format!("job:      {n} operations")),
+            "{stdout}"
+        );
+        let stopped = std::fs::read_to_string(dir.join(&out)).unwrap();
+        rs274::accepts_file(&dir.join(&out), None);
+        let want = moves(&lines[..starts[n]]);
+        let got = moves(&stopped.lines().collect::<Vec<_>>());
+        assert_eq!(got[..want.len()], want[..], "--upto {n}");
+        let tail = &got[want.len()..];
+        assert!(
+            tail.len() <= 4
+                && tail
+                    .iter()
+                    .all(|l| !l.starts_with("G1") && !l.starts_with("G2") && !l.starts_with("G3")),
+            "--upto {n}: the end is {tail:?}"
+        );
+    }
+    let (code, _, err) = oficina_in(
+        &dir,
+        &[
+            "mill",
+            "--job",
+            "nested-plate.toml",
+            "--upto",
+            "4",
+            "-o",
+            "x.nc",
+        ],
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("up to operation 4: the job has operations 1 to 3"),
+        "{err}"
+    );
+    let (code, _, err) = oficina_in(
+        &dir,
+        &[
+            "mill",
+            "nested-plate.svg",
+            "--op",
+            "pocket",
+            "--upto",
+            "1",
+            "-o",
+            "x.nc",
+        ],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--job"), "{err}");
+}
