@@ -173,3 +173,43 @@ pub(crate) fn mill(args: &[&str], out: &Path) -> Output {
     all.extend_from_slice(&["-o", out.to_str().unwrap()]);
     oficina_in(&root(), &all)
 }
+
+/// The number after `letter` on a line (words may be glued: `G1X1Y2`).
+pub(crate) fn word(line: &str, letter: char) -> Option<f64> {
+    let i = line.find(letter)? + 1;
+    let rest = &line[i..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .unwrap_or(rest.len());
+    rest[..end].parse().ok()
+}
+
+/// The strokes drawn: polylines of the points visited with the pen down. `down(line)` says
+/// whether a line puts the pen down (Some(true)), lifts it (Some(false)) or neither.
+pub(crate) fn pen_down_path(
+    program: &str,
+    down: impl Fn(&str) -> Option<bool>,
+) -> Vec<Vec<[f64; 2]>> {
+    let (mut at, mut pen) = ([0.0, 0.0], false);
+    let mut strokes: Vec<Vec<[f64; 2]>> = Vec::new();
+    for line in program.lines() {
+        let code = line.split(';').next().unwrap_or("").trim();
+        if let Some(d) = down(code) {
+            if d && !pen {
+                strokes.push(vec![at]);
+            }
+            pen = d;
+            continue;
+        }
+        if code.starts_with("G0") || code.starts_with("G1") {
+            at = [
+                word(code, 'X').unwrap_or(at[0]),
+                word(code, 'Y').unwrap_or(at[1]),
+            ];
+            if pen {
+                strokes.last_mut().unwrap().push(at);
+            }
+        }
+    }
+    strokes
+}

@@ -10,7 +10,11 @@
 use super::program::model;
 use crate::job::StreamProgram;
 use crate::journal::JournalState;
-use crate::resume::{locate, replay};
+use crate::resume::{locate_within, replay};
+
+/// How far the `M114` position may be from the path: it prints two decimals, so each axis
+/// is off by up to 0.005 mm and a point in the plane by up to 0.005·√2 ≈ 0.0071 mm.
+const M114_TOLERANCE: f64 = 0.0075;
 
 /// Marlin's planner depth plus the line in flight.
 const PLANNED_LINES: usize = 16 + 1;
@@ -41,12 +45,13 @@ pub fn plan_resume(
     let certain = journal
         .completed
         .max(journal.acked_end.saturating_sub(PLANNED_LINES));
-    let at = locate(
+    let at = locate_within(
         &motion,
         certain,
         journal.sent_end,
         journal.acked_end,
         position,
+        M114_TOLERANCE,
     );
     let state = replay(&motion, at.index);
     let target = at.entry.unwrap_or(state.pos);
