@@ -78,11 +78,14 @@ impl Drop for Emulator {
     }
 }
 
-/// Starts `oficina emulate grbl extra…` on a free loopback port: the process, its stdout
-/// after the banner, the `tcp://` address and the banner (its first line).
-fn spawn_emulator(extra: &[&str]) -> (Child, BufReader<ChildStdout>, String, String) {
+/// Starts `oficina emulate FIRMWARE extra…` on a free loopback port: the process, its
+/// stdout after the banner, the `tcp://` address and the banner (its first line).
+fn spawn_emulator(
+    firmware: &str,
+    extra: &[&str],
+) -> (Child, BufReader<ChildStdout>, String, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(["emulate", "grbl"])
+        .args(["emulate", firmware])
         .args(extra)
         .args(["--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
@@ -105,13 +108,18 @@ fn spawn_emulator(extra: &[&str]) -> (Child, BufReader<ChildStdout>, String, Str
 /// An `oficina emulate grbl …` on a free local TCP port (`extra` before the port options),
 /// with the `tcp://` address and the first line it printed (its banner).
 pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
-    let (child, _, uri, first) = spawn_emulator(extra);
+    let (child, _, uri, first) = spawn_emulator("grbl", extra);
     (child, uri, first)
 }
 
 /// [`emulator`], stopped when the [`Emulator`] is dropped.
 pub(crate) fn emulate(extra: &[&str]) -> Emulator {
-    let (child, stdout, uri, _) = spawn_emulator(extra);
+    emulate_firmware("grbl", extra)
+}
+
+/// `oficina emulate FIRMWARE extra…` (grbl, marlin), stopped when dropped.
+pub(crate) fn emulate_firmware(firmware: &str, extra: &[&str]) -> Emulator {
+    let (child, stdout, uri, _) = spawn_emulator(firmware, extra);
     Emulator {
         child,
         _stdout: stdout,

@@ -92,7 +92,13 @@ impl MarlinDevice {
         })
     }
 
+    /// A job holds the link: its worker took it and has not given it back (it gives it
+    /// back before announcing the end, so a start right after the end finds it).
     fn job_running(&self) -> bool {
+        lock(&self.idle).is_none() && self.worker_alive()
+    }
+
+    fn worker_alive(&self) -> bool {
         self.worker.as_ref().is_some_and(|w| !w.is_finished())
     }
 
@@ -316,7 +322,8 @@ impl Machine for MarlinDevice {
     fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
         let mut guard = lock(&self.idle);
         let link = guard.as_mut().ok_or_else(|| {
-            if self.job_running() {
+            // (The lock is held: ask the worker directly.)
+            if self.worker_alive() {
                 MachineError::Busy("a job is running".into())
             } else {
                 MachineError::NotConnected
