@@ -142,7 +142,7 @@ impl MarlinCore {
         if number.is_some() {
             self.numbered_seen += 1;
             if let Some(k) = self.config.drop_every.filter(|k| *k > 0) {
-                if self.numbered_seen % k as u64 == 0 {
+                if self.numbered_seen.is_multiple_of(k as u64) {
                     self.stats.dropped += 1;
                     return None;
                 }
@@ -178,7 +178,7 @@ impl MarlinCore {
         self.stats.lines_received += 1;
         let mut n = None;
         let mut body = command;
-        if command.starts_with('N') {
+        if let Some(after_letter) = command.strip_prefix('N') {
             let is_m110 = command.contains("M110");
             let npos = match command.get(4..).and_then(|t| t.find('N')) {
                 Some(i) if is_m110 => i + 4,
@@ -201,7 +201,7 @@ impl MarlinCore {
             self.last_n = gcode_n;
             n = Some(gcode_n as u32);
             // The parser skips the N word; the checksum ends the command.
-            let after_n = command[1..].trim_start_matches(|c: char| c.is_ascii_digit() || c == '-');
+            let after_n = after_letter.trim_start_matches(|c: char| c.is_ascii_digit() || c == '-');
             body = after_n[..after_n.rfind('*').unwrap_or(after_n.len())].trim();
         }
         Some(self.execute(n, body.trim()))

@@ -277,7 +277,7 @@ impl MarlinLink {
             }
         };
         st.report.end = end;
-        if let Some(j) = journal.as_deref_mut() {
+        if let Some(j) = journal {
             if st.report.end == MarlinEnd::Completed {
                 let _ = j.completed(job.len());
             }
