@@ -38,6 +38,16 @@ fn plot_marlin(svg: &Path, dir: &Path) -> PathBuf {
     out
 }
 
+/// A real drawing plotted for Marlin: its scratch folder (kept while it lives), file and
+/// text; `None` (skipped, with a note) where the real-world files are absent.
+fn real_plot(svg: &str) -> Option<(tempfile::TempDir, PathBuf, String)> {
+    let dir = oficina_testkit::realworld("plot-svg")?;
+    let scratch = tempfile::tempdir().unwrap();
+    let file = plot_marlin(&dir.join(svg), scratch.path());
+    let text = std::fs::read_to_string(&file).unwrap();
+    Some((scratch, file, text))
+}
+
 fn fast() -> MarlinOptions {
     MarlinOptions {
         reply_timeout: Duration::from_millis(400),
@@ -90,12 +100,9 @@ fn assert_same_path(a: &[[[f64; 2]; 2]], b: &[[[f64; 2]; 2]]) {
 
 #[test]
 fn a_real_plot_streams_through_a_corrupted_and_a_lost_line() {
-    let Some(dir) = oficina_testkit::realworld("plot-svg") else {
+    let Some((_scratch, _, text)) = real_plot("axidraw_AxiDraw_First.svg") else {
         return;
     };
-    let scratch = tempfile::tempdir().unwrap();
-    let file = plot_marlin(&dir.join("axidraw_AxiDraw_First.svg"), scratch.path());
-    let text = std::fs::read_to_string(&file).unwrap();
     let job = marlin_program("plot.gcode", &text).unwrap();
     assert!(job.len() > 1000, "{} lines", job.len());
 
@@ -256,12 +263,9 @@ fn run_to_end(m: &mut dyn Machine, stop_at_line: Option<u32>) -> bool {
 
 #[test]
 fn a_stopped_plot_resumes_from_its_journal_and_draws_each_segment_once() {
-    let Some(dir) = oficina_testkit::realworld("plot-svg") else {
+    let Some((_scratch, file, text)) = real_plot("axidraw_AxiDraw_First.svg") else {
         return;
     };
-    let scratch = tempfile::tempdir().unwrap();
-    let file = plot_marlin(&dir.join("axidraw_AxiDraw_First.svg"), scratch.path());
-    let text = std::fs::read_to_string(&file).unwrap();
     let emu = MarlinEmulator::start(MarlinConfig::default());
     let pty = emu.serve_pty().unwrap();
     let mut device = oficina_grbl::MarlinDevice::new(&format!("marlin:{pty}")).unwrap();
@@ -319,12 +323,9 @@ fn a_stopped_plot_resumes_from_its_journal_and_draws_each_segment_once() {
 
 #[test]
 fn oficina_run_draws_on_oficina_emulate_marlin_past_a_pen_change() {
-    let Some(dir) = oficina_testkit::realworld("plot-svg") else {
+    let Some((_scratch, _, program)) = real_plot("vpype_two_layers_a4.svg") else {
         return;
     };
-    let scratch = tempfile::tempdir().unwrap();
-    let file = plot_marlin(&dir.join("vpype_two_layers_a4.svg"), scratch.path());
-    let program = std::fs::read_to_string(&file).unwrap();
     assert!(program.contains("\nM0 Pen 2"), "two pens, a pause between");
     let emu = emulate_firmware("marlin", &["--corrupt-line", "30", "--keepalive-ms", "100"]);
     let machine = format!("marlin+{}", emu.uri);

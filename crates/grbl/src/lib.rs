@@ -69,6 +69,7 @@ mod status;
 mod toolchange;
 mod track;
 mod transport;
+mod worker;
 
 pub use autolevel::{
     feed_area, level_program, level_stream, level_text, Area, GridSpec, HeightMap, LevelOptions,

@@ -234,16 +234,14 @@ impl MarlinCore {
                 .map(|w| w.1)
         };
         let scale = if self.inches { 25.4 } else { 1.0 };
+        // The X, Y, Z words, in mm.
+        let axes = ['X', 'Y', 'Z'].map(|letter| value(letter).map(|v| v * scale));
         match marlin_code(command) {
             Some(('G', 0 | 1)) => {
                 let from = self.pos;
-                for (a, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-                    if let Some(v) = value(letter) {
-                        self.pos[a] = if self.absolute {
-                            v * scale
-                        } else {
-                            self.pos[a] + v * scale
-                        };
+                for (a, v) in axes.iter().enumerate() {
+                    if let Some(v) = v {
+                        self.pos[a] = if self.absolute { *v } else { self.pos[a] + v };
                     }
                 }
                 self.moved(from);
@@ -276,9 +274,9 @@ impl MarlinCore {
                 Action::Reply(ok())
             }
             Some(('G', 92)) => {
-                for (a, letter) in ['X', 'Y', 'Z'].into_iter().enumerate() {
-                    if let Some(v) = value(letter) {
-                        self.pos[a] = v * scale;
+                for (a, v) in axes.iter().enumerate() {
+                    if let Some(v) = v {
+                        self.pos[a] = *v;
                     }
                 }
                 Action::Reply(ok())

@@ -10,15 +10,13 @@ use crate::eta;
 use crate::interp::Interp;
 use crate::journal::Journal;
 use crate::transport::Endpoint;
+use crate::worker::{lock, Worker};
 use oficina_machine::{
     Command, Event, Job, JobReport, Machine, MachineError, MachineInfo, RawReply, ResumePoint,
     State, Status,
 };
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Arc, Mutex, MutexGuard};
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// Marlin 2.x's default `BAUDRATE` (Configuration.h), used when the URI names none.
@@ -49,10 +47,6 @@ pub fn marlin_endpoint(uri: &str) -> Result<Endpoint, String> {
     with_baud.parse()
 }
 
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
-
 /// A Marlin board as an [`oficina_machine::Machine`].
 pub struct MarlinDevice {
     /// Where the board is.
@@ -63,50 +57,20 @@ pub struct MarlinDevice {
     pub journal: Option<PathBuf>,
     /// Start the next job where its journal says the last run stopped.
     pub resume: bool,
-    idle: Arc<Mutex<Option<MarlinLink>>>,
-    status: Arc<Mutex<Status>>,
-    events_tx: Sender<Event>,
-    events_rx: Receiver<Event>,
-    control: Option<Sender<MarlinControl>>,
-    worker: Option<JoinHandle<()>>,
-    report: Arc<Mutex<Option<JobReport>>>,
+    /// The link while no job runs, the job's thread, its events and report.
+    jobs: Worker<MarlinLink, MarlinControl>,
 }
 
 impl MarlinDevice {
     /// `uri`: see [`marlin_endpoint`]. Nothing is opened until [`Machine::connect`].
     pub fn new(uri: &str) -> Result<MarlinDevice, String> {
-        let endpoint = marlin_endpoint(uri)?;
-        let (events_tx, events_rx) = mpsc::channel();
         Ok(MarlinDevice {
-            endpoint,
+            endpoint: marlin_endpoint(uri)?,
             options: MarlinOptions::default(),
             journal: None,
             resume: false,
-            idle: Arc::new(Mutex::new(None)),
-            status: Arc::new(Mutex::new(Status::idle([0.0; 3]))),
-            events_tx,
-            events_rx,
-            control: None,
-            worker: None,
-            report: Arc::new(Mutex::new(None)),
+            jobs: Worker::new(),
         })
-    }
-
-    /// A job holds the link: its worker took it and has not given it back (it gives it
-    /// back before announcing the end, so a start right after the end finds it).
-    fn job_running(&self) -> bool {
-        lock(&self.idle).is_none() && self.worker_alive()
-    }
-
-    fn worker_alive(&self) -> bool {
-        self.worker.as_ref().is_some_and(|w| !w.is_finished())
-    }
-
-    fn send(&self, c: MarlinControl) -> Result<(), MachineError> {
-        match (&self.control, self.job_running()) {
-            (Some(tx), true) => tx.send(c).map_err(|_| MachineError::NotConnected),
-            _ => Err(MachineError::Refused("no job is running".into())),
-        }
     }
 }
 
@@ -115,29 +79,23 @@ impl Machine for MarlinDevice {
         let mut link = MarlinLink::connect(&self.endpoint, self.options.clone())
             .map_err(|e| MachineError::Refused(format!("cannot talk to Marlin: {e}")))?;
         if let Ok(p) = link.position() {
-            *lock(&self.status) = Status::idle(p);
+            *lock(&self.jobs.status) = Status::idle(p);
         }
         let info = MachineInfo {
             name: format!("Marlin at {}", self.endpoint),
             firmware: link.firmware.clone(),
         };
-        *lock(&self.idle) = Some(link);
+        *lock(&self.jobs.idle) = Some(link);
         Ok(info)
     }
 
     fn start(&mut self, job: Job) -> Result<(), MachineError> {
-        if self.job_running() {
-            return Err(MachineError::Busy("a job is running".into()));
-        }
-        if let Some(w) = self.worker.take() {
-            let _ = w.join();
-        }
         let program = marlin_program(&job.name, &job.text).map_err(MachineError::Refused)?;
         let journal_path = self
             .journal
             .clone()
             .unwrap_or_else(|| format!("{}.journal", job.name).into());
-        let mut link = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
+        let (mut link, ctl_rx) = self.jobs.take_link("a job is running")?;
         let mut from = match job.start_line {
             Some(n) => program
                 .index_of_file_line(n as usize)
@@ -155,7 +113,7 @@ impl Machine for MarlinDevice {
             });
             match resumed {
                 Ok(plan) => {
-                    let _ = self.events_tx.send(Event::Message(format!(
+                    let _ = self.jobs.events_tx.send(Event::Message(format!(
                         "resuming at file line {}: {}",
                         program.lines.get(plan.index).map_or(0, |l| l.file_line),
                         plan.reason
@@ -163,7 +121,7 @@ impl Machine for MarlinDevice {
                     from = plan.index;
                 }
                 Err(e) => {
-                    *lock(&self.idle) = Some(link);
+                    *lock(&self.jobs.idle) = Some(link);
                     return Err(MachineError::Refused(format!("cannot resume: {e}")));
                 }
             }
@@ -178,14 +136,12 @@ impl Machine for MarlinDevice {
         let motion = model(&program);
         let no_caps: BTreeMap<u16, f64> = [(110, 1e9), (111, 1e9), (112, 1e9)].into();
         let cumulative = eta::cumulative_seconds(&motion, &no_caps);
-        let (ctl_tx, ctl_rx) = mpsc::channel();
-        self.control = Some(ctl_tx);
-        *lock(&self.report) = None;
+        *lock(&self.jobs.report) = None;
         let (idle, status, events, report) = (
-            self.idle.clone(),
-            self.status.clone(),
-            self.events_tx.clone(),
-            self.report.clone(),
+            self.jobs.idle.clone(),
+            self.jobs.status.clone(),
+            self.jobs.events_tx.clone(),
+            self.jobs.report.clone(),
         );
         {
             let mut s = lock(&status);
@@ -193,7 +149,7 @@ impl Machine for MarlinDevice {
             s.total = cumulative.last().copied().unwrap_or(0.0);
             s.elapsed = 0.0;
         }
-        self.worker = Some(std::thread::spawn(move || {
+        self.jobs.thread = Some(std::thread::spawn(move || {
             let start = Instant::now();
             // The motion model follows the acknowledged lines: the position shown.
             let mut tracked = crate::resume::replay(&motion, from);
@@ -294,9 +250,9 @@ impl Machine for MarlinDevice {
 
     fn command(&mut self, cmd: Command) -> Result<(), MachineError> {
         match cmd {
-            Command::Hold => self.send(MarlinControl::Hold),
-            Command::Resume => self.send(MarlinControl::Resume),
-            Command::Stop => self.send(MarlinControl::Stop),
+            Command::Hold => self.jobs.send(MarlinControl::Hold),
+            Command::Resume => self.jobs.send(MarlinControl::Resume),
+            Command::Stop => self.jobs.send(MarlinControl::Stop),
             other => Err(MachineError::Refused(format!(
                 "{other:?}: not over Marlin's serial link (hold, resume and stop are)"
             ))),
@@ -304,26 +260,22 @@ impl Machine for MarlinDevice {
     }
 
     fn next_event(&mut self, timeout: Duration) -> Option<Event> {
-        self.events_rx.recv_timeout(timeout).ok()
+        self.jobs.events_rx.recv_timeout(timeout).ok()
     }
 
     fn status(&self) -> Status {
-        lock(&self.status).clone()
+        lock(&self.jobs.status).clone()
     }
 
     fn disconnect(&mut self) {
-        let _ = self.send(MarlinControl::Stop);
-        if let Some(w) = self.worker.take() {
-            let _ = w.join();
-        }
-        lock(&self.idle).take();
+        self.jobs.close(MarlinControl::Stop);
     }
 
     fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
-        let mut guard = lock(&self.idle);
+        let mut guard = lock(&self.jobs.idle);
         let link = guard.as_mut().ok_or_else(|| {
             // (The lock is held: ask the worker directly.)
-            if self.worker_alive() {
+            if self.jobs.alive() {
                 MachineError::Busy("a job is running".into())
             } else {
                 MachineError::NotConnected
@@ -340,14 +292,14 @@ impl Machine for MarlinDevice {
 
     /// `M112`: Marlin halts at once and must be reset (there is no soft reset).
     fn soft_reset(&mut self) -> Result<(), MachineError> {
-        if self.job_running() {
-            return self.send(MarlinControl::Kill);
+        if self.jobs.job_running() {
+            return self.jobs.send(MarlinControl::Kill);
         }
         self.raw_line("M112").map(|_| ())
     }
 
     fn job_report(&mut self) -> Option<JobReport> {
-        lock(&self.report).clone()
+        lock(&self.jobs.report).clone()
     }
 
     fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
