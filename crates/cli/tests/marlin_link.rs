@@ -342,3 +342,37 @@ fn oficina_run_draws_on_oficina_emulate_marlin_past_a_pen_change() {
         "{stderr}"
     );
 }
+
+#[test]
+fn oficina_run_stopped_at_the_pen_change_resumes_from_the_journal() {
+    let Some((scratch, file, program)) = real_plot("vpype_two_layers_a4.svg") else {
+        return;
+    };
+    let emu = MarlinEmulator::start(MarlinConfig::default());
+    let machine = format!("marlin+tcp://{}", emu.serve_tcp("127.0.0.1:0").unwrap());
+    let run = |extra: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_oficina"))
+            .args(["run", file.to_str().unwrap(), "--machine", &machine, extra])
+            .stdin(std::process::Stdio::null())
+            .output()
+            .unwrap()
+    };
+    let o = run("--stop-at-pauses");
+    let (stdout, stderr) = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{stdout}\n{stderr}");
+    assert!(stdout.contains("--resume"), "{stdout}");
+    assert!(scratch.path().join("plot.gcode.journal").is_file());
+    let first = drawn_segments(&emu.moves()).len();
+    let o = run("--resume");
+    let (stdout, stderr) = text(&o);
+    assert!(o.status.success(), "{stdout}\n{stderr}");
+    assert!(stderr.contains("resuming at file line"), "{stderr}");
+    // Stopped with the pen up at the change: the two runs draw the program's path once.
+    let drawn = drawn_segments(&emu.moves());
+    assert!(
+        first > 100 && drawn.len() > first,
+        "{first} then {}",
+        drawn.len()
+    );
+    assert_same_path(&program_segments(&program), &drawn);
+}

@@ -248,12 +248,8 @@ impl MarlinCore {
                 Action::Reply(ok())
             }
             Some(('G', 4)) => Action::Reply(ok()),
-            Some(('G', 20)) => {
-                self.inches = true;
-                Action::Reply(ok())
-            }
-            Some(('G', 21)) => {
-                self.inches = false;
+            Some(('G', g @ (20 | 21))) => {
+                self.inches = g == 20;
                 Action::Reply(ok())
             }
             Some(('G', 28)) => {
@@ -265,12 +261,8 @@ impl MarlinCore {
                     then: ok(),
                 }
             }
-            Some(('G', 90)) => {
-                self.absolute = true;
-                Action::Reply(ok())
-            }
-            Some(('G', 91)) => {
-                self.absolute = false;
+            Some(('G', g @ (90 | 91))) => {
+                self.absolute = g == 90;
                 Action::Reply(ok())
             }
             Some(('G', 92)) => {
