@@ -376,3 +376,42 @@ fn oficina_run_stopped_at_the_pen_change_resumes_from_the_journal() {
     );
     assert_same_path(&program_segments(&program), &drawn);
 }
+
+#[test]
+fn a_hold_sends_no_new_line_until_resumed() {
+    let emu = MarlinEmulator::start(MarlinConfig {
+        busy_ms: 300,
+        keepalive_ms: 50,
+        ..Default::default()
+    });
+    let pty = emu.serve_pty().unwrap();
+    let mut device = oficina_grbl::MarlinDevice::new(&format!("marlin:{pty}")).unwrap();
+    device.options = fast();
+    let scratch = tempfile::tempdir().unwrap();
+    device.journal = Some(scratch.path().join("hold.journal"));
+    device.connect().unwrap();
+    let text = "G28\nG1 X1 F3000\nG1 X2\nG1 X3\n";
+    device
+        .start(Job {
+            name: "hold".into(),
+            text: Arc::new(text.into()),
+            start_line: None,
+            pace: Pace::Instant,
+        })
+        .unwrap();
+    // Held while G28 (busy for 300 ms) runs: it finishes, nothing follows.
+    let until = Instant::now() + Duration::from_secs(5);
+    while !emu.executed().iter().any(|e| e.command == "G28") {
+        assert!(Instant::now() < until, "G28 never arrived");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    device.command(Command::Hold).unwrap();
+    std::thread::sleep(Duration::from_millis(900));
+    assert_eq!(device.status().state, oficina_machine::State::Hold);
+    let ran = |emu: &MarlinEmulator| emu.executed().iter().filter(|e| e.n.is_some()).count();
+    assert_eq!(ran(&emu), 1, "{:?}", emu.executed());
+    device.command(Command::Resume).unwrap();
+    assert!(run_to_end(&mut device, None));
+    assert_eq!(ran(&emu), 4);
+    assert_eq!(emu.moves().last().unwrap().to[0], 3.0);
+}

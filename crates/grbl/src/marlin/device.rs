@@ -17,6 +17,8 @@ use oficina_machine::{
 };
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Marlin 2.x's default `BAUDRATE` (Configuration.h), used when the URI names none.
@@ -57,6 +59,8 @@ pub struct MarlinDevice {
     pub journal: Option<PathBuf>,
     /// Start the next job where its journal says the last run stopped.
     pub resume: bool,
+    /// The operator held the job: no new line goes out (shown as [`State::Hold`]).
+    held: Arc<AtomicBool>,
     /// The link while no job runs, the job's thread, its events and report.
     jobs: Worker<MarlinLink, MarlinControl>,
 }
@@ -69,6 +73,7 @@ impl MarlinDevice {
             options: MarlinOptions::default(),
             journal: None,
             resume: false,
+            held: Arc::new(AtomicBool::new(false)),
             jobs: Worker::new(),
         })
     }
@@ -137,6 +142,8 @@ impl Machine for MarlinDevice {
         let no_caps: BTreeMap<u16, f64> = [(110, 1e9), (111, 1e9), (112, 1e9)].into();
         let cumulative = eta::cumulative_seconds(&motion, &no_caps);
         *lock(&self.jobs.report) = None;
+        self.held.store(false, Ordering::Relaxed);
+        let held = self.held.clone();
         let (idle, status, events, report) = (
             self.jobs.idle.clone(),
             self.jobs.status.clone(),
@@ -162,7 +169,11 @@ impl Machine for MarlinDevice {
                     }
                     let s = {
                         let mut s = lock(&status);
-                        s.state = State::Run;
+                        s.state = if held.load(Ordering::Relaxed) {
+                            State::Hold
+                        } else {
+                            State::Run
+                        };
                         s.line = motion.lines[acked - 1].file_line as u32;
                         s.machine_pos = tracked.pos;
                         s.work_pos = work(&tracked);
@@ -250,8 +261,18 @@ impl Machine for MarlinDevice {
 
     fn command(&mut self, cmd: Command) -> Result<(), MachineError> {
         match cmd {
-            Command::Hold => self.jobs.send(MarlinControl::Hold),
-            Command::Resume => self.jobs.send(MarlinControl::Resume),
+            Command::Hold | Command::Resume => {
+                let hold = cmd == Command::Hold;
+                self.jobs.send(if hold {
+                    MarlinControl::Hold
+                } else {
+                    MarlinControl::Resume
+                })?;
+                self.held.store(hold, Ordering::Relaxed);
+                let mut s = lock(&self.jobs.status);
+                s.state = if hold { State::Hold } else { State::Run };
+                Ok(())
+            }
             Command::Stop => self.jobs.send(MarlinControl::Stop),
             other => Err(MachineError::Refused(format!(
                 "{other:?}: not over Marlin's serial link (hold, resume and stop are)"
