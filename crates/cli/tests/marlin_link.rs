@@ -191,12 +191,19 @@ fn checksums_agree_with_python() {
 #[test]
 fn keep_alives_longer_than_the_timeout_do_not_abort() {
     let emu = MarlinEmulator::start(MarlinConfig {
-        busy_ms: 1500,
-        keepalive_ms: 100,
+        busy_ms: 2000,
+        keepalive_ms: 50,
         ..Default::default()
     });
     let pty = emu.serve_pty().unwrap();
-    let mut link = connect(&pty, fast());
+    // Each busy wait is 2.5 reply timeouts; keep-alives come 16 times a timeout.
+    let mut link = connect(
+        &pty,
+        MarlinOptions {
+            reply_timeout: Duration::from_millis(800),
+            ..fast()
+        },
+    );
     let job = marlin_program("busy", "G28\nG1 X10 Y5 F3000\nM400\nG1 X0\n").unwrap();
     let report = link.stream(&job, 0, None, None, &mut |_| {});
     assert_eq!(report.end, MarlinEnd::Completed, "{report:?}");
