@@ -178,7 +178,7 @@ pub fn run_levelled(
         tool_change: Some(tool_change.clone()),
         ..level_options(map, tuning)
     };
-    if !crate::is_firmware(spec) {
+    if !crate::is_firmware(spec) || crate::is_marlin(spec) {
         return Err(Error(format!(
             "--machine {spec}: levelling runs on grbl firmware (grbl:/dev/… or tcp://…); for other machines write a levelled file with `oficina level apply`"
         )));

@@ -74,7 +74,7 @@ pub use level::{
     LevelTuning, LevelledRun, MapSource, ProbeRequest,
 };
 pub use machine_uri::{
-    is_firmware, open_firmware, open_machine, open_machine_with, open_machine_with_tools,
+    is_firmware, is_marlin, open_firmware, open_machine, open_machine_with, open_machine_with_tools,
 };
 pub use macros::{check_macros, expand as expand_macro, Macro, MacroValues, MACROS_FILE};
 pub use mill::{mill, EntryKind, MillOpKind, MillParams, MillResult, PocketStrategy};

@@ -1,5 +1,6 @@
-//! Machines named by a URI: real grbl-family firmware by its link address, anything else a
-//! profile of the built-in virtual machine.
+//! Machines named by a URI: real grbl-family firmware by its link address, Marlin by
+//! `marlin:PORT[@baud]` or `marlin+tcp://HOST:PORT`, anything else a profile of the built-in
+//! virtual machine.
 
 use crate::{profile, Error};
 use oficina_gcode::ToolTable;
@@ -7,7 +8,15 @@ use oficina_machine::{Machine, VirtualMachine};
 
 /// Real firmware is named by a link address; anything else is a virtual machine profile.
 pub fn is_firmware(machine: &str) -> bool {
-    machine.starts_with("grbl:") || machine.starts_with("tcp://") || machine.starts_with("/dev/")
+    machine.starts_with("grbl:")
+        || machine.starts_with("tcp://")
+        || machine.starts_with("/dev/")
+        || is_marlin(machine)
+}
+
+/// Marlin firmware (a Makelangelo): `marlin:/dev/ttyUSB0[@baud]`, `marlin+tcp://HOST:PORT`.
+pub fn is_marlin(machine: &str) -> bool {
+    machine.starts_with("marlin:") || machine.starts_with("marlin+")
 }
 
 /// Open the machine `spec` names (`virtual` is the default profile); the work offset applies
@@ -38,6 +47,12 @@ pub fn open_firmware(
     tool_change: oficina_grbl::ToolChange,
 ) -> Result<Box<dyn Machine>, Error> {
     tool_change.validate().map_err(Error)?;
+    if is_marlin(spec) {
+        // Marlin interprets M6 itself (or refuses it): no tool-change policy to apply.
+        let device = oficina_grbl::MarlinDevice::new(spec)
+            .map_err(|e| Error(format!("--machine {spec}: {e}")))?;
+        return Ok(Box::new(device));
+    }
     let mut device =
         oficina_grbl::GrblDevice::new(spec).map_err(|e| Error(format!("--machine {spec}: {e}")))?;
     device.settings.tool_change = tool_change;
@@ -88,6 +103,8 @@ mod tests {
     fn uris_pick_the_machine_kind() {
         assert!(is_firmware("grbl:/dev/ttyUSB0@115200"));
         assert!(is_firmware("tcp://127.0.0.1:2323"));
+        assert!(is_firmware("marlin:/dev/ttyUSB0") && is_marlin("marlin+tcp://10.0.0.2:23"));
+        assert!(!is_marlin("grbl:/dev/ttyUSB0"));
         assert!(!is_firmware("virtual"));
         assert_eq!(virtual_name("virtual"), profile::DEFAULT);
         assert_eq!(virtual_name("virtual:hotwire-xy"), "hotwire-xy");

@@ -1,5 +1,6 @@
 //! `oficina emulate grbl`: a grbl 1.1 emulator on a pseudo-terminal and/or a TCP port, to
-//! dry-run jobs and senders (ours or any other) against the exact protocol.
+//! dry-run jobs and senders (ours or any other) against the exact protocol; `oficina emulate
+//! marlin`: a Marlin 2.x board (a Makelangelo) with faults injected on the wire.
 
 use anyhow::{bail, Context};
 use oficina_grbl_emu::{Config, Emulator};
@@ -13,6 +14,8 @@ pub(crate) enum Firmware {
     Grbl,
     /// The seed 000 embroidery machine: receives .BOR programs (9600 7E2), stores, sews them.
     Seed,
+    /// Marlin 2.x as a Makelangelo runs it: numbered, checksummed lines, Resend, keep-alives.
+    Marlin,
 }
 
 #[derive(clap::Args, Debug)]
@@ -49,6 +52,20 @@ pub(crate) struct Args {
     /// ($132), then fails with ALARM:9, as a machine without switches does.
     #[arg(long)]
     pub no_limit_switches: bool,
+    /// marlin: the first time line N arrives, one of its bytes is changed on the wire
+    /// (Marlin answers `Error:checksum mismatch` and `Resend: N`).
+    #[arg(long, value_name = "N")]
+    pub corrupt_line: Option<u32>,
+    /// marlin: every K-th numbered line is lost on the wire (no reply: the host must time
+    /// out and send it again).
+    #[arg(long, value_name = "K")]
+    pub drop_every: Option<u32>,
+    /// marlin: G28 and M400 take this long, printing `busy: processing` keep-alives, ms.
+    #[arg(long, default_value_t = 0, value_name = "MS")]
+    pub busy_ms: u64,
+    /// marlin: keep-alive period (Marlin's M113; 2 s by default), ms.
+    #[arg(long, default_value_t = 2000, value_name = "MS")]
+    pub keepalive_ms: u64,
     /// Stop after this many seconds (for scripts); default: run until interrupted.
     #[arg(long, value_name = "SECONDS")]
     pub for_seconds: Option<f64>,
@@ -79,6 +96,9 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     if !args.pty && args.tcp.is_none() {
         bail!("say where to serve the emulator: --pty, --tcp 127.0.0.1:PORT, or both");
+    }
+    if let Firmware::Marlin = args.firmware {
+        return run_marlin(&args);
     }
     let mut settings = match &args.profile {
         Some(spec) => {
@@ -136,6 +156,56 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     say(&format!(
         "emulator stats: {} bytes received, {} lines executed, {} errors sent, {} RX overflows",
         st.bytes_received, st.lines_executed, st.errors_sent, st.rx_overflows
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `oficina emulate marlin`: serves until `--for-seconds` pass, then prints what it did.
+fn run_marlin(args: &Args) -> anyhow::Result<ExitCode> {
+    if args.drop_every == Some(1) {
+        bail!("--drop-every 1 would lose every line: use 2 or more");
+    }
+    let emu = oficina_grbl_emu::MarlinEmulator::start(oficina_grbl_emu::MarlinConfig {
+        corrupt_line: args.corrupt_line,
+        drop_every: args.drop_every,
+        busy_ms: args.busy_ms,
+        keepalive_ms: args.keepalive_ms.max(1),
+        ..Default::default()
+    });
+    if args.pty {
+        let path = emu.serve_pty().context("cannot open a pseudo-terminal")?;
+        say(&format!(
+            "marlin emulator on pty {path} (use --machine marlin:{path})"
+        ));
+    }
+    if let Some(addr) = &args.tcp {
+        let local = emu
+            .serve_tcp(addr)
+            .with_context(|| format!("cannot listen on {addr}"))?;
+        say(&format!(
+            "marlin emulator on tcp://{local} (use --machine marlin+tcp://{local})"
+        ));
+    }
+    let start = std::time::Instant::now();
+    while args
+        .for_seconds
+        .is_none_or(|limit| start.elapsed().as_secs_f64() < limit)
+    {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let st = emu.stats();
+    let at = emu.moves().last().map_or([0.0; 3], |m| m.to);
+    say(&format!(
+        "emulator stats: {} lines received, {} executed, {} refused by checksum, {} by line number, {} dropped, {} corrupted; at X{:.3} Y{:.3} Z{:.3}",
+        st.lines_received,
+        st.lines_executed,
+        st.checksum_errors,
+        st.line_number_errors,
+        st.dropped,
+        st.corrupted,
+        at[0],
+        at[1],
+        at[2]
     ));
     Ok(ExitCode::SUCCESS)
 }

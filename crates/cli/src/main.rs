@@ -62,7 +62,7 @@ enum Command {
     Carve(carve::Args),
     /// Terminal to grbl-family firmware, and the job runner with hold/resume/stop and resume-from-line.
     Console(console::Args),
-    /// Emulate a grbl 1.1 board on a pseudo-terminal or TCP port, for dry runs.
+    /// Emulate a grbl 1.1 (or Marlin 2.x) board on a pseudo-terminal or TCP port, for dry runs.
     Emulate(emulate::Args),
     /// Fit a digitised contour by every method: blocks and deviation of each.
     Fit(fit::Args),

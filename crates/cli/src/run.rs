@@ -22,8 +22,9 @@ pub(crate) struct Args {
     /// The machine: a profile of the built-in virtual machine (a TOML file or a bundled name:
     /// grbl-router, hotwire-xy, polar-plotter, polargraph-wall, embroidery-xy; `virtual` is
     /// grbl-router), or real grbl-family firmware: `grbl:/dev/ttyUSB0[@baud]`,
-    /// `tcp://HOST:PORT` (grblHAL, FluidNC). Default: the program's `(machine: NAME)` opening
-    /// comment, else grbl-router.
+    /// `tcp://HOST:PORT` (grblHAL, FluidNC), or Marlin (a Makelangelo):
+    /// `marlin:/dev/ttyUSB0[@baud]` (250000 unless given), `marlin+tcp://HOST:PORT`.
+    /// Default: the program's `(machine: NAME)` opening comment, else grbl-router.
     #[arg(long)]
     machine: Option<String>,
     /// Run faster than real time, e.g. `10x` or `2.5`.
@@ -36,6 +37,10 @@ pub(crate) struct Args {
     /// modes and the tool they set are kept; rapids take the tool there).
     #[arg(long)]
     from_line: Option<u32>,
+    /// On firmware (grbl, Marlin): continue where the job's journal (FILE.journal) says
+    /// the last run stopped.
+    #[arg(long, conflicts_with = "from_line")]
+    resume: bool,
     /// Without a terminal to press resume on, a program pause (M0/M1) is passed by itself;
     /// this stops the run there instead.
     #[arg(long)]
@@ -128,6 +133,9 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
                     tools,
                 )?
             };
+            if args.resume {
+                resume_from_journal(vm.as_mut())?;
+            }
             let info = vm.connect().map_err(|e| anyhow::anyhow!("{e}"))?;
             vm.start(Job {
                 name: name.clone(),
@@ -226,10 +234,27 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
                     println!("stopped after {} of machine time", clock(seconds));
                     result = ExitCode::from(2);
                 }
+                if !completed && oficina_app::is_firmware(&machine) {
+                    println!("to continue: oficina run {name} --machine {machine} --resume");
+                }
                 return Ok(result);
             }
         }
     }
+}
+
+/// Makes firmware start the next job where its journal says the last run stopped.
+fn resume_from_journal(vm: &mut dyn oficina_machine::Machine) -> anyhow::Result<()> {
+    let refused = "--resume reads a firmware job's journal (grbl, Marlin); the virtual machine keeps none: use --from-line";
+    let any = vm.as_any_mut().context(refused)?;
+    if let Some(m) = any.downcast_mut::<oficina_grbl::MarlinDevice>() {
+        m.resume = true;
+    } else if let Some(g) = any.downcast_mut::<oficina_grbl::GrblDevice>() {
+        g.settings.start = oficina_grbl::Start::Journal;
+    } else {
+        bail!(refused);
+    }
+    Ok(())
 }
 
 /// The progress and the status line: line, ETA, work position, feed and any non-Run state.

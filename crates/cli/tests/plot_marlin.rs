@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{oficina_in, root, text};
+use common::{oficina_in, pen_down_path, root, text, word};
 use oficina_testkit::assert_success;
 use std::path::Path;
 
@@ -23,43 +23,6 @@ fn plot(out: &Path, extra: &[&str]) -> String {
     args.extend_from_slice(extra);
     assert_success(&oficina_in(&root(), &args));
     std::fs::read_to_string(out).unwrap()
-}
-
-/// The number after `letter` on a line (words may be glued: `G1X1Y2`).
-fn word(line: &str, letter: char) -> Option<f64> {
-    let i = line.find(letter)? + 1;
-    let rest = &line[i..];
-    let end = rest
-        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
-        .unwrap_or(rest.len());
-    rest[..end].parse().ok()
-}
-
-/// The strokes drawn: polylines of the points visited with the pen down. `down(line)` says
-/// whether a line puts the pen down (Some(true)), lifts it (Some(false)) or neither.
-fn pen_down_path(program: &str, down: impl Fn(&str) -> Option<bool>) -> Vec<Vec<[f64; 2]>> {
-    let (mut at, mut pen) = ([0.0, 0.0], false);
-    let mut strokes: Vec<Vec<[f64; 2]>> = Vec::new();
-    for line in program.lines() {
-        let code = line.split(';').next().unwrap_or("").trim();
-        if let Some(d) = down(code) {
-            if d && !pen {
-                strokes.push(vec![at]);
-            }
-            pen = d;
-            continue;
-        }
-        if code.starts_with("G0") || code.starts_with("G1") {
-            at = [
-                word(code, 'X').unwrap_or(at[0]),
-                word(code, 'Y').unwrap_or(at[1]),
-            ];
-            if pen {
-                strokes.last_mut().unwrap().push(at);
-            }
-        }
-    }
-    strokes
 }
 
 #[test]

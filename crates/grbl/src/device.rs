@@ -11,13 +11,11 @@ use crate::realtime::Realtime;
 use crate::sender::{Control, Mode, Notice, SenderOptions, StreamEnd};
 use crate::status::{GrblState, StatusReport};
 use crate::transport::Endpoint;
+use crate::worker::{lock, Worker};
 use oficina_machine::{
     Command, Event, Job, JobReport, Machine, MachineError, MachineInfo, RawReply, ResumePoint,
     State, Status,
 };
-use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Arc, Mutex, MutexGuard};
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 mod routine;
@@ -31,15 +29,8 @@ pub struct GrblDevice {
     pub settings: RunSettings,
     /// How the link streams (character counting or send-response).
     pub options: SenderOptions,
-    /// The link while no job runs; a running job's worker holds it.
-    idle: Arc<Mutex<Option<GrblMachine>>>,
-    status: Arc<Mutex<Status>>,
-    events_tx: Sender<Event>,
-    events_rx: Receiver<Event>,
-    control: Option<Sender<Control>>,
-    worker: Option<JoinHandle<()>>,
-    /// How the last job ended ([`Machine::job_report`]).
-    report: Arc<Mutex<Option<JobReport>>>,
+    /// The link while no job runs, the job's thread, its events and report.
+    jobs: Worker<GrblMachine, Control>,
     /// When the idle firmware was last asked for its status ([`Machine::next_event`]).
     last_idle_poll: Option<Instant>,
 }
@@ -48,10 +39,6 @@ pub struct GrblDevice {
 /// board always has a fresh status, and a caller draining events until none is left (the
 /// server's pump) would never stop.
 const IDLE_POLL_PERIOD: Duration = Duration::from_millis(50);
-
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|p| p.into_inner())
-}
 
 impl GrblDevice {
     /// `uri`: `grbl:/dev/ttyUSB0`, `/dev/ttyACM0@250000`, `tcp://192.168.1.5:23`. Nothing is
@@ -63,18 +50,11 @@ impl GrblDevice {
     /// A device at `endpoint` whose link streams with `options`; nothing is opened until
     /// [`Machine::connect`].
     pub fn at(endpoint: Endpoint, options: SenderOptions) -> GrblDevice {
-        let (events_tx, events_rx) = mpsc::channel();
         GrblDevice {
             endpoint,
             settings: RunSettings::default(),
             options,
-            idle: Arc::new(Mutex::new(None)),
-            status: Arc::new(Mutex::new(Status::idle([0.0; 3]))),
-            events_tx,
-            events_rx,
-            control: None,
-            worker: None,
-            report: Arc::new(Mutex::new(None)),
+            jobs: Worker::new(),
             last_idle_poll: None,
         }
     }
@@ -82,13 +62,13 @@ impl GrblDevice {
     /// How the connected link streams, `None` before [`Machine::connect`] and while a job
     /// holds the link.
     pub fn link_mode(&self) -> Option<Mode> {
-        lock(&self.idle).as_ref().map(|m| m.sender.mode)
+        lock(&self.jobs.idle).as_ref().map(|m| m.sender.mode)
     }
 
     /// Hands the idle link over to a caller that talks to the firmware itself (a raw
     /// terminal); the device is then disconnected.
     pub fn take_link(&mut self) -> Option<GrblMachine> {
-        lock(&self.idle).take()
+        lock(&self.jobs.idle).take()
     }
 
     /// One of grbl's real-time keys the trait's [`Command`]s do not name (rapid overrides,
@@ -96,7 +76,11 @@ impl GrblDevice {
     /// the idle firmware.
     pub fn realtime(&mut self, key: Realtime) -> Result<(), MachineError> {
         if self.job_running() {
-            let control = self.control.as_ref().ok_or(MachineError::NotConnected)?;
+            let control = self
+                .jobs
+                .control
+                .as_ref()
+                .ok_or(MachineError::NotConnected)?;
             return control
                 .send(Control::Realtime(key))
                 .map_err(|_| MachineError::NotConnected);
@@ -113,14 +97,7 @@ impl GrblDevice {
         grbl_job: StreamProgram,
         start_line: Option<u32>,
     ) -> Result<(), MachineError> {
-        if self.job_running() {
-            return Err(MachineError::Busy("a job is running".into()));
-        }
-        if let Some(w) = self.worker.take() {
-            // The previous job gave the link back; its thread is ending.
-            let _ = w.join();
-        }
-        let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
+        let (mut machine, ctl_rx) = self.jobs.take_link("a job is running")?;
         let cumulative = eta::cumulative_seconds(&grbl_job, &machine.sender.settings);
         let mut settings = self.settings.clone();
         settings.start = match start_line {
@@ -131,16 +108,14 @@ impl GrblDevice {
             .journal
             .clone()
             .unwrap_or_else(|| format!("{}.journal", grbl_job.name).into());
-        let (ctl_tx, ctl_rx) = mpsc::channel();
-        self.control = Some(ctl_tx);
-        *lock(&self.report) = None;
+        *lock(&self.jobs.report) = None;
         let (idle, status, events, last_report) = (
-            self.idle.clone(),
-            self.status.clone(),
-            self.events_tx.clone(),
-            self.report.clone(),
+            self.jobs.idle.clone(),
+            self.jobs.status.clone(),
+            self.jobs.events_tx.clone(),
+            self.jobs.report.clone(),
         );
-        self.worker = Some(std::thread::spawn(move || {
+        self.jobs.thread = Some(std::thread::spawn(move || {
             let start = Instant::now();
             let mut wco = vec![0.0; 3];
             // (first acknowledged line of this run, last acknowledged line)
@@ -283,7 +258,7 @@ impl GrblDevice {
 
     /// A job holds the link: the worker took it and has not given it back.
     fn job_running(&self) -> bool {
-        lock(&self.idle).is_none() && self.worker.as_ref().is_some_and(|w| !w.is_finished())
+        self.jobs.job_running()
     }
 
     /// Runs `f` on the idle link, or says why it cannot.
@@ -291,13 +266,11 @@ impl GrblDevice {
         &self,
         f: impl FnOnce(&mut GrblMachine) -> Result<R, String>,
     ) -> Result<R, MachineError> {
-        let mut guard = lock(&self.idle);
+        let mut guard = lock(&self.jobs.idle);
         match guard.as_mut() {
             Some(m) => f(m).map_err(MachineError::Refused),
             // (The lock is held: ask the worker directly rather than through job_running.)
-            None if self.worker.as_ref().is_some_and(|w| !w.is_finished()) => {
-                Err(MachineError::Busy("a job is running".into()))
-            }
+            None if self.jobs.alive() => Err(MachineError::Busy("a job is running".into())),
             None => Err(MachineError::NotConnected),
         }
     }
@@ -433,7 +406,7 @@ impl Machine for GrblDevice {
             name: format!("grbl at {}", self.endpoint),
             firmware: format!("grbl {}", m.sender.firmware),
         };
-        *lock(&self.idle) = Some(m);
+        *lock(&self.jobs.idle) = Some(m);
         Ok(info)
     }
 
@@ -446,7 +419,11 @@ impl Machine for GrblDevice {
 
     fn command(&mut self, cmd: Command) -> Result<(), MachineError> {
         if self.job_running() {
-            let control = self.control.as_ref().ok_or(MachineError::NotConnected)?;
+            let control = self
+                .jobs
+                .control
+                .as_ref()
+                .ok_or(MachineError::NotConnected)?;
             let send = |c: Control| control.send(c).map_err(|_| MachineError::NotConnected);
             return match cmd {
                 Command::Hold => send(Control::Hold),
@@ -517,7 +494,7 @@ impl Machine for GrblDevice {
     }
 
     fn next_event(&mut self, timeout: Duration) -> Option<Event> {
-        match self.events_rx.recv_timeout(timeout) {
+        match self.jobs.events_rx.recv_timeout(timeout) {
             Ok(e) => Some(e),
             Err(_) => {
                 // Idle: poll the firmware so status keeps flowing between jobs.
@@ -531,10 +508,10 @@ impl Machine for GrblDevice {
                     return None;
                 }
                 self.last_idle_poll = Some(Instant::now());
-                let mut guard = lock(&self.idle);
+                let mut guard = lock(&self.jobs.idle);
                 let m = guard.as_mut()?;
                 let st = m.sender.status().ok()?;
-                let mut s = lock(&self.status);
+                let mut s = lock(&self.jobs.status);
                 // grbl sends `WCO:` only every so many reports: the last one it sent holds.
                 let wco = st
                     .wco
@@ -548,7 +525,7 @@ impl Machine for GrblDevice {
     }
 
     fn status(&self) -> Status {
-        lock(&self.status).clone()
+        lock(&self.jobs.status).clone()
     }
 
     fn raw_line(&mut self, line: &str) -> Result<RawReply, MachineError> {
@@ -579,7 +556,7 @@ impl Machine for GrblDevice {
 
     fn job_report(&mut self) -> Option<JobReport> {
         // (Cleared when a job starts, set just before its summary goes out.)
-        lock(&self.report).clone()
+        lock(&self.jobs.report).clone()
     }
 
     fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
@@ -587,13 +564,7 @@ impl Machine for GrblDevice {
     }
 
     fn disconnect(&mut self) {
-        if let Some(c) = self.control.take() {
-            let _ = c.send(Control::Stop);
-        }
-        if let Some(w) = self.worker.take() {
-            let _ = w.join();
-        }
-        *lock(&self.idle) = None;
+        self.jobs.close(Control::Stop);
     }
 }
 

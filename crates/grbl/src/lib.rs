@@ -37,6 +37,9 @@
 //! - tool changes at `M6` for firmware without a changer: [`ToolChange`] ([`ToolPolicy`],
 //!   [`setter_at`]) in [`RunSettings`], the [`ToolStop`]s of a [`StreamProgram`].
 //!
+//! - Marlin 2.x (Makelangelo): [`MarlinLink`] streams numbered, checksummed lines, one in
+//!   flight, over the same transports and journal; [`MarlinDevice`] is its `Machine`.
+//!
 //! The emulator and the fault proxy live in `oficina-grbl-emu`, which depends on this crate.
 
 // What other crates do not use is `pub(crate)`: the API is the list below.
@@ -52,6 +55,7 @@ mod jog;
 mod journal;
 mod link;
 mod machine;
+mod marlin;
 mod messages;
 mod probe;
 mod realtime;
@@ -65,6 +69,7 @@ mod status;
 mod toolchange;
 mod track;
 mod transport;
+mod worker;
 
 pub use autolevel::{
     feed_area, level_program, level_stream, level_text, Area, GridSpec, HeightMap, LevelOptions,
@@ -77,6 +82,12 @@ pub use job::{StreamLine, StreamProgram};
 pub use jog::{parse_request as parse_jog, step_line as jog_step_line, ContinuousJog, JogRequest};
 pub use link::{Link, LinkEvent};
 pub use machine::{GrblMachine, RunOutcome, RunSettings, Start};
+pub use marlin::{
+    checksum as marlin_checksum, code_of as marlin_code, frame as marlin_frame, marlin_endpoint,
+    marlin_program, plan_resume as plan_marlin_resume, strip_comment as marlin_command,
+    MarlinControl, MarlinDevice, MarlinEnd, MarlinLink, MarlinNotice, MarlinOptions, MarlinReport,
+    MarlinResume, Reply as MarlinReply, MAX_CMD_SIZE as MARLIN_MAX_CMD_SIZE,
+};
 pub use messages::{describe_alarm, describe_error, setting_info, SettingInfo, SETTINGS};
 pub use probe::{run_corner, run_tool_setter, run_z_plate, Approach, Corner, ProbeError};
 pub use probe::{ProbeLink, ProbeResult, SetterResult, ToolSetter, ZPlate};

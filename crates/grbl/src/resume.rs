@@ -83,6 +83,26 @@ pub(crate) fn locate(
     acked_end: usize,
     work_pos: [f64; 3],
 ) -> Located {
+    locate_within(
+        job,
+        certain,
+        sent_end,
+        acked_end,
+        work_pos,
+        POSITION_TOLERANCE,
+    )
+}
+
+/// [`locate`] for a position known to within `tolerance` mm (Marlin's `M114` prints two
+/// decimals).
+pub(crate) fn locate_within(
+    job: &StreamProgram,
+    certain: usize,
+    sent_end: usize,
+    acked_end: usize,
+    work_pos: [f64; 3],
+    tolerance: f64,
+) -> Located {
     let mut st = replay(job, certain);
     let end = sent_end.min(job.len());
     for j in certain..end {
@@ -98,9 +118,9 @@ pub(crate) fn locate(
         let mut from = to_work(start);
         for (k, s) in effect.segments.iter().enumerate() {
             let to = to_work(s.to);
-            if point_segment_distance(work_pos, from, to) <= POSITION_TOLERANCE {
-                let at_end = k + 1 == effect.segments.len()
-                    && interp::dist(&work_pos, &to) <= POSITION_TOLERANCE;
+            if point_segment_distance(work_pos, from, to) <= tolerance {
+                let at_end =
+                    k + 1 == effect.segments.len() && interp::dist(&work_pos, &to) <= tolerance;
                 let l = &job.lines[j];
                 return if at_end {
                     let mut next = j + 1;

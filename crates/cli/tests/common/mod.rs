@@ -78,11 +78,14 @@ impl Drop for Emulator {
     }
 }
 
-/// Starts `oficina emulate grbl extra…` on a free loopback port: the process, its stdout
-/// after the banner, the `tcp://` address and the banner (its first line).
-fn spawn_emulator(extra: &[&str]) -> (Child, BufReader<ChildStdout>, String, String) {
+/// Starts `oficina emulate FIRMWARE extra…` on a free loopback port: the process, its
+/// stdout after the banner, the `tcp://` address and the banner (its first line).
+fn spawn_emulator(
+    firmware: &str,
+    extra: &[&str],
+) -> (Child, BufReader<ChildStdout>, String, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(["emulate", "grbl"])
+        .args(["emulate", firmware])
         .args(extra)
         .args(["--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
@@ -105,13 +108,18 @@ fn spawn_emulator(extra: &[&str]) -> (Child, BufReader<ChildStdout>, String, Str
 /// An `oficina emulate grbl …` on a free local TCP port (`extra` before the port options),
 /// with the `tcp://` address and the first line it printed (its banner).
 pub(crate) fn emulator(extra: &[&str]) -> (Child, String, String) {
-    let (child, _, uri, first) = spawn_emulator(extra);
+    let (child, _, uri, first) = spawn_emulator("grbl", extra);
     (child, uri, first)
 }
 
 /// [`emulator`], stopped when the [`Emulator`] is dropped.
 pub(crate) fn emulate(extra: &[&str]) -> Emulator {
-    let (child, stdout, uri, _) = spawn_emulator(extra);
+    emulate_firmware("grbl", extra)
+}
+
+/// `oficina emulate FIRMWARE extra…` (grbl, marlin), stopped when dropped.
+pub(crate) fn emulate_firmware(firmware: &str, extra: &[&str]) -> Emulator {
+    let (child, stdout, uri, _) = spawn_emulator(firmware, extra);
     Emulator {
         child,
         _stdout: stdout,
@@ -172,4 +180,44 @@ pub(crate) fn mill(args: &[&str], out: &Path) -> Output {
     all.extend_from_slice(args);
     all.extend_from_slice(&["-o", out.to_str().unwrap()]);
     oficina_in(&root(), &all)
+}
+
+/// The number after `letter` on a line (words may be glued: `G1X1Y2`).
+pub(crate) fn word(line: &str, letter: char) -> Option<f64> {
+    let i = line.find(letter)? + 1;
+    let rest = &line[i..];
+    let end = rest
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+        .unwrap_or(rest.len());
+    rest[..end].parse().ok()
+}
+
+/// The strokes drawn: polylines of the points visited with the pen down. `down(line)` says
+/// whether a line puts the pen down (Some(true)), lifts it (Some(false)) or neither.
+pub(crate) fn pen_down_path(
+    program: &str,
+    down: impl Fn(&str) -> Option<bool>,
+) -> Vec<Vec<[f64; 2]>> {
+    let (mut at, mut pen) = ([0.0, 0.0], false);
+    let mut strokes: Vec<Vec<[f64; 2]>> = Vec::new();
+    for line in program.lines() {
+        let code = line.split(';').next().unwrap_or("").trim();
+        if let Some(d) = down(code) {
+            if d && !pen {
+                strokes.push(vec![at]);
+            }
+            pen = d;
+            continue;
+        }
+        if code.starts_with("G0") || code.starts_with("G1") {
+            at = [
+                word(code, 'X').unwrap_or(at[0]),
+                word(code, 'Y').unwrap_or(at[1]),
+            ];
+            if pen {
+                strokes.last_mut().unwrap().push(at);
+            }
+        }
+    }
+    strokes
 }

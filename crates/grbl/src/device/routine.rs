@@ -42,26 +42,18 @@ impl GrblDevice {
         T: Send + 'static,
         F: FnOnce(&mut dyn ProbeLink) -> Result<T, String> + Send + 'static,
     {
-        if self.job_running() {
-            return Err(MachineError::Busy("a job or a routine is running".into()));
-        }
-        if let Some(w) = self.worker.take() {
-            let _ = w.join();
-        }
-        let mut machine = lock(&self.idle).take().ok_or(MachineError::NotConnected)?;
-        let (ctl_tx, ctl_rx) = mpsc::channel();
-        self.control = Some(ctl_tx);
+        let (mut machine, ctl_rx) = self.jobs.take_link("a job or a routine is running")?;
         let (tx, rx) = mpsc::channel();
         let (idle, status, events) = (
-            self.idle.clone(),
-            self.status.clone(),
-            self.events_tx.clone(),
+            self.jobs.idle.clone(),
+            self.jobs.status.clone(),
+            self.jobs.events_tx.clone(),
         );
         let wco = machine.sender.last_wco.clone().unwrap_or_else(|| {
             let s = lock(&status);
             std::array::from_fn::<f64, 3, _>(|i| s.machine_pos[i] - s.work_pos[i]).to_vec()
         });
-        self.worker = Some(std::thread::spawn(move || {
+        self.jobs.thread = Some(std::thread::spawn(move || {
             let mut link = Watched {
                 machine: &mut machine,
                 status: &status,
