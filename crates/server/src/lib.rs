@@ -30,6 +30,7 @@
 mod api;
 mod auth;
 mod camjob;
+mod design;
 mod embroider;
 mod files;
 mod jobs;

@@ -1,0 +1,81 @@
+//! `oficina design`: the design editor's file (`*.oficina.json`) from the command line —
+//! export it as SVG / DXF, offset its closed contours. (Every drawing command, `mill`,
+//! `plot`, `embroider`, reads the design file itself like an SVG or a DXF.)
+
+use anyhow::Context;
+use oficina_app::design;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Subcommand)]
+pub(crate) enum Command {
+    /// Write the design as SVG and/or DXF (the importers read both back as the same geometry).
+    Export(ExportArgs),
+    /// Offset closed contours by a distance; the new contours are added to the design.
+    Offset(OffsetArgs),
+}
+
+#[derive(clap::Args)]
+pub(crate) struct ExportArgs {
+    /// The design file.
+    file: PathBuf,
+    /// Write SVG here.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Write DXF here.
+    #[arg(long)]
+    dxf: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+pub(crate) struct OffsetArgs {
+    /// The design file.
+    file: PathBuf,
+    /// Entity ids to offset, e.g. 1,4.
+    #[arg(long, value_delimiter = ',', required = true)]
+    ids: Vec<u64>,
+    /// Distance, mm: > 0 outwards, < 0 inwards.
+    #[arg(long, allow_hyphen_values = true)]
+    distance: f64,
+    /// Write the design with the new contours here (default: the file itself).
+    #[arg(long, short)]
+    output: Option<PathBuf>,
+}
+
+pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
+    match cmd {
+        Command::Export(a) => {
+            let d = design::read(&a.file)?;
+            if a.svg.is_none() && a.dxf.is_none() {
+                anyhow::bail!("give --svg OUT and/or --dxf OUT");
+            }
+            for (out, format) in [(a.svg, "svg"), (a.dxf, "dxf")] {
+                if let Some(out) = out {
+                    std::fs::write(&out, design::export(&d, format)?)
+                        .with_context(|| format!("writing {}", out.display()))?;
+                    println!(
+                        "{}: {} entities → {}",
+                        a.file.display(),
+                        d.entities.len(),
+                        out.display()
+                    );
+                }
+            }
+        }
+        Command::Offset(a) => {
+            let mut d = design::read(&a.file)?;
+            let added = design::offset(&d, &a.ids, a.distance)?;
+            for e in &added {
+                println!(
+                    "entity {} on layer {}: offset {} mm",
+                    e.id, e.layer, a.distance
+                );
+            }
+            d.entities.extend(added);
+            let out = a.output.unwrap_or(a.file);
+            std::fs::write(&out, design::design_to_string(&d))
+                .with_context(|| format!("writing {}", out.display()))?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
