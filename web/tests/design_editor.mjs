@@ -1,0 +1,182 @@
+// Browser test of the Design tab, as a new user: through the tool buttons and the typed
+// command line, draw a closed 60 × 40 contour from typed coordinates (absolute and
+// relative), fillet a corner, offset the contour inwards, undo twice and redo, save, reload
+// the page, open the saved file and compare the geometry with numbers derived here by hand
+// (tangent points, bulge tan(90°/4), the offset's area from the shoelace formula plus the
+// arcs' circular segments). Then Send to CAM, pocket it, and run the program on the
+// virtual machine to its end. Starts its own `oficina serve`. Prints `N passed, M failed`.
+
+import { startServer, launch, suite, assert, root } from './harness.mjs';
+import { execFileSync } from 'node:child_process';
+import { mkdtempSync, readFileSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+
+const bin = path.resolve(process.env.OFICINA_BIN || path.join(root, 'target', 'debug', 'oficina'));
+const shots = path.join(root, 'docs', 'screenshots');
+const server = await startServer();
+const browser = await launch();
+const { test, state, finish } = suite('design editor');
+const dir = mkdtempSync(path.join(os.tmpdir(), 'oficina-design-'));
+
+const ctx = await browser.newContext({ viewport: { width: 1600, height: 1000 }, acceptDownloads: true });
+let page = await ctx.newPage();
+state.page = page;
+
+async function open() {
+  await page.goto(server.url);
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  await page.selectOption('#process', 'design');
+  assert(await page.isVisible('#de-view'), 'the design view is visible');
+}
+/// Types one entry into the command line and presses Enter.
+async function type(text) {
+  await page.fill('#de-cmd', text);
+  await page.press('#de-cmd', 'Enter');
+}
+const entities = () => page.evaluate(() => window.__design.design().entities);
+const statusText = () => page.textContent('#de-status');
+
+// Hand-derived expectations. The corner (60, 40) of the counter-clockwise 60 × 40 box,
+// filleted with r = 5: the pieces meet at 90°, so the tangent points are r / tan(45°) = 5
+// from the corner, (60, 35) and (55, 40), and the arc turns 90°: bulge tan(90°/4) = √2 − 1.
+const BULGE = Math.SQRT2 - 1;
+const FILLETED = [[0, 0], [60, 0], [60, 35, BULGE], [55, 40], [0, 40]];
+// Offset 3 inwards: the box 3..57 × 3..37 whose fillet keeps its centre (55, 35) with
+// radius 5 − 3 = 2: tangent points (57, 35) and (55, 37), the same bulge.
+const OFFSET = [[3, 3], [57, 3], [57, 35, BULGE], [55, 37], [3, 37]];
+const OFFSET_AREA = 54 * 34 - (2 * 2 - (Math.PI * 2 * 2) / 4);
+
+/// Area of a closed polyline with bulges: the shoelace area of its vertices plus, for each
+/// bulged piece (chord c, sweep θ = 4·atan(b), radius r = c / (2 sin(θ/2))), the circular
+/// segment r²/2 · (θ − sin θ), signed with θ.
+function area(vertices) {
+  let a = 0;
+  for (let k = 0; k < vertices.length; k++) {
+    const [x0, y0, b = 0] = vertices[k], [x1, y1] = vertices[(k + 1) % vertices.length];
+    a += (x0 * y1 - x1 * y0) / 2;
+    if (b) {
+      const th = 4 * Math.atan(b), c = Math.hypot(x1 - x0, y1 - y0), r = c / (2 * Math.sin(th / 2));
+      a += (r * r / 2) * (th - Math.sin(th));
+    }
+  }
+  return a;
+}
+
+/// The polyline's vertices match `want` within `tol` (the same start and order).
+function sameVertices(got, want, what, tol = 1e-9) {
+  const ok = got.length === want.length && got.every((v, k) => v.length === want[k].length && v.every((x, i) => Math.abs(x - want[k][i]) < tol));
+  assert(ok, `${what}: ${JSON.stringify(got)} ≠ ${JSON.stringify(want)}`);
+}
+
+/// The offset contour as the server gave it, rotated to start at its lower-left corner.
+function fromCorner(v) {
+  const k = v.findIndex((p) => Math.abs(p[0] - 3) < 1e-9 && Math.abs(p[1] - 3) < 1e-9);
+  return k < 0 ? v : [...v.slice(k), ...v.slice(0, k)];
+}
+
+function checkDesign(es, what) {
+  assert(es.length === 2, `${what}: two contours, got ${es.length}`);
+  const [outer, inner] = es;
+  assert(outer.type === 'polyline' && outer.closed, `${what}: the contour is a closed polyline`);
+  sameVertices(outer.vertices, FILLETED, `${what}: the filleted contour`);
+  assert(inner.type === 'polyline' && inner.closed, `${what}: the offset is a closed polyline`);
+  // The server joins the offset line to the offset arc where they touch: a tangent
+  // crossing, whose position moves with the square root of rounding (6e-8 mm here).
+  sameVertices(fromCorner(inner.vertices), OFFSET, `${what}: the offset contour`, 1e-6);
+  const a = area(inner.vertices);
+  assert(Math.abs(a - OFFSET_AREA) < 1e-5, `${what}: offset area ${a} vs ${OFFSET_AREA}`);
+}
+
+let saved = null;
+
+await test('draw a closed contour from typed coordinates, fillet, offset, undo twice, redo', async () => {
+  await open();
+  await page.click('#de-tool-polyline');
+  for (const t of ['0,0', '@60,0', '@40<90', '@-60,0']) await type(t);
+  await type('close');
+  let es = await entities();
+  assert(es.length === 1, `one contour: ${JSON.stringify(es)}`);
+  sameVertices(es[0].vertices, [[0, 0], [60, 0], [60, 40], [0, 40]], 'the typed box');
+  assert(es[0].closed, 'closed');
+
+  await page.click('#de-tool-fillet');
+  await type('5');
+  await type('60,40');
+  es = await entities();
+  sameVertices(es[0].vertices, FILLETED, 'after the fillet');
+
+  await page.click('#de-tool-offset');
+  await type('-3');
+  await type('30,0'); // a point on the contour picks it
+  await page.waitForFunction(() => window.__design.design().entities.length === 2, null, { timeout: 20000 }).catch(async () => { throw new Error(await statusText()); });
+  checkDesign(await entities(), 'after the offset');
+
+  await page.click('#de-undo');
+  await page.click('#de-undo');
+  es = await entities();
+  assert(es.length === 1, 'two undos leave one contour');
+  sameVertices(es[0].vertices, [[0, 0], [60, 0], [60, 40], [0, 40]], 'undone twice: the box as typed');
+  await page.click('#de-redo');
+  await type('redo');
+  checkDesign(await entities(), 'redone twice');
+  await page.click('#de-fit');
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: path.join(shots, 'workbench-design-editor.png') });
+});
+
+await test('save, reload the page, open the file: the same geometry', async () => {
+  await page.fill('#de-name', 'plate');
+  await page.dispatchEvent('#de-name', 'change');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#de-save')]);
+  assert(download.suggestedFilename() === 'plate.oficina.json', download.suggestedFilename());
+  saved = path.join(dir, 'plate.oficina.json');
+  await download.saveAs(saved);
+  checkDesign(JSON.parse(readFileSync(saved, 'utf8')).entities, 'the saved file');
+  await page.reload();
+  await page.waitForFunction(() => document.getElementById('summary').textContent.includes('errors'), null, { timeout: 30000 });
+  await page.selectOption('#process', 'design');
+  assert((await entities()).length === 0, 'a reloaded page starts empty');
+  await page.setInputFiles('#de-open', saved);
+  await page.waitForFunction(() => window.__design.design().entities.length === 2, null, { timeout: 10000 });
+  checkDesign(await entities(), 'reopened');
+});
+
+await test('the saved file is a drawing for the CLI: its DXF export agrees', async () => {
+  const dxf = path.join(dir, 'plate.dxf');
+  execFileSync(bin, ['design', 'export', saved, '--dxf', dxf]);
+  const text = readFileSync(dxf, 'utf8');
+  // The fillet's bulge and the offset's tangent point, as written in the DXF.
+  assert(text.includes(`42\n${BULGE}\n`) || text.includes('42\n0.41421356237309'), 'the bulge in the DXF');
+  assert((text.match(/\nPOLYLINE\n/g) || []).length === 2, 'two POLYLINEs');
+});
+
+await test('Send to CAM, pocket, run on the virtual machine', async () => {
+  await page.click('#de-cam');
+  await page.waitForFunction(() => document.querySelectorAll('#cj-view .cj-shape').length === 2, null, { timeout: 30000 });
+  assert(await page.isVisible('#camjob'), 'the CAM job page is shown');
+  await page.click('#cj-all');
+  await page.selectOption('#cj-kind', 'pocket');
+  await page.fill('#cj-name', 'pocket');
+  await page.fill('#cj-tool', 'flat:3');
+  await page.fill('#cj-depth', '2');
+  await page.click('#cj-add-op');
+  await page.click('#cj-make');
+  await page.waitForFunction(() => /operations, \d+ tool loads/.test(document.getElementById('cj-report').textContent) || document.getElementById('cj-status').classList.contains('error'), null, { timeout: 120000 });
+  const report = await page.textContent('#cj-report');
+  assert(/no gouge/.test(report), report || await page.textContent('#cj-status'));
+  await page.selectOption('#speed', '0');
+  await page.click('#start');
+  await page.waitForFunction(() => {
+    const c = document.getElementById('console').textContent;
+    const started = c.lastIndexOf('started plate');
+    return started >= 0 && c.lastIndexOf('job finished') > started && document.body.dataset.jobDone;
+  }, null, { timeout: 180000 });
+  const done = await page.evaluate(() => document.body.dataset.jobDone);
+  assert(done === 'completed', `the job ${done}`);
+  const program = await page.evaluate(() => window.__oficina.program());
+  assert(/plate/.test(program.name) && program.text.split('\n').length > 50, `the pocket program ran: ${program.name}`);
+});
+
+await browser.close();
+finish();
