@@ -368,7 +368,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
       <input id="de-new-layer" placeholder="new layer" size="8"><button id="de-add-layer">Add layer</button> <button id="de-to-layer">Selection to layer</button>
       <label><input id="de-grid-on" type="checkbox" checked> grid</label> <input id="de-grid" type="number" value="5" min="0" step="any" style="width:4em"> mm
     </div>
-    <svg id="de-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#141820;cursor:crosshair"></svg>
+    <svg id="de-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#141820;cursor:crosshair;width:100%"></svg>
     <div><span id="de-xy" class="muted"></span> · <span id="de-count" class="muted"></span></div>
     <div class="form"><label><span id="de-prompt"></span> <input id="de-cmd" size="28" placeholder="10,20  @30<45  5  fillet" autocomplete="off"></label></div>
     <span id="de-status" class="muted"></span>`;
