@@ -222,7 +222,7 @@ impl Shape {
             Shape::Circle { center, radius } => {
                 point(center, "centre").and(positive(*radius, "radius"))
             }
-            Shape::Polyline { vertices, closed } => {
+            Shape::Polyline { vertices, .. } => {
                 if vertices.len() < 2 {
                     return Err(format!("{} vertices: a polyline needs 2", vertices.len()));
                 }
@@ -242,7 +242,6 @@ impl Shape {
                         return Err(format!("vertex {k}: bulge {} is beyond ±1000", v[2]));
                     }
                 }
-                let _ = closed;
                 Ok(())
             }
             Shape::Spline { points } => {
