@@ -178,5 +178,79 @@ await test('Send to CAM, pocket, run on the virtual machine', async () => {
   assert(/plate/.test(program.name) && program.text.split('\n').length > 50, `the pocket program ran: ${program.name}`);
 });
 
+await test('circle, rect, chamfer, rotate, mirror, arc, polygon, explode, join, text; ezdxf reads the export', async () => {
+  await page.selectOption('#process', 'design');
+  await page.click('#de-new');
+  const byType = async (t) => (await entities()).filter((e) => e.type === t);
+  await page.click('#de-tool-circle');
+  for (const t of ['10,10', '5']) await type(t);
+  for (const t of ['rect', '20,0', '@30,20']) await type(t);
+  // Chamfer 4 at (50, 20): 4 along each piece, (50, 16) and (46, 20).
+  await page.click('#de-tool-chamfer');
+  for (const t of ['4', '50,20']) await type(t);
+  let [rect] = await byType('polyline');
+  sameVertices(rect.vertices, [[20, 0], [50, 0], [50, 16], [46, 20], [20, 20]], 'the chamfered rect');
+  // Select the rect by a point on its bottom edge; turn it 90° about (20, 0):
+  // (x, y) → (20 − y, x − 20).
+  await type('esc'); await type('35,0');
+  for (const t of ['rotate', '20,0', '90']) await type(t);
+  [rect] = await byType('polyline');
+  sameVertices(rect.vertices, [[20, 0], [20, 30], [4, 30], [0, 26], [0, 0]], 'the turned rect');
+  // Mirror the circle about the y axis: its centre (10, 10) → (−10, 10).
+  await type('none'); await type('15,10');
+  for (const t of ['mirror', '0,0', '0,1']) await type(t);
+  const [circle] = await byType('circle');
+  assert(Math.abs(circle.center[0] + 10) < 1e-9 && Math.abs(circle.center[1] - 10) < 1e-9 && circle.radius === 5, JSON.stringify(circle));
+  // The arc through (10, −20), (20, −10), (10, 0): centre (10, −10), radius 10, from −90°
+  // sweeping 180° counter-clockwise (the three points turn left).
+  for (const t of ['arc', '10,-20', '20,-10', '10,0']) await type(t);
+  const [arc] = await byType('arc');
+  assert(Math.hypot(arc.center[0] - 10, arc.center[1] + 10) < 1e-9 && Math.abs(arc.radius - 10) < 1e-9 && Math.abs(arc.start + 90) < 1e-9 && Math.abs(arc.sweep - 180) < 1e-9, JSON.stringify(arc));
+  // A hexagon of radius 10 about (0, 40): area 3√3/2 · r².
+  for (const t of ['polygon', '0,40', '6', '10']) await type(t);
+  const hex = (await byType('polyline')).find((e) => e.vertices.length === 6);
+  assert(hex && Math.abs(area(hex.vertices) - 1.5 * Math.sqrt(3) * 100) < 1e-9, JSON.stringify(hex));
+  // Explode the rect into its 5 lines; join them back into one closed polyline.
+  await type('none'); await type('10,0');
+  await page.click('#de-explode');
+  assert((await byType('line')).length === 5, 'five lines from the rect');
+  // Shift-click the five lines on the view (at their middles), then join.
+  await type('none');
+  await page.click('#de-fit');
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  for (const l of await byType('line')) {
+    const [x, y] = await page.evaluate((p) => window.__design.screen(p), [(l.a[0] + l.b[0]) / 2, (l.a[1] + l.b[1]) / 2]);
+    await page.keyboard.down('Shift');
+    await page.mouse.click(x, y);
+    await page.keyboard.up('Shift');
+  }
+  await page.click('#de-join');
+  const joinedRect = (await byType('polyline')).find((e) => e.vertices.length === 5);
+  assert(joinedRect && joinedRect.closed && (await byType('line')).length === 0, `joined: ${await statusText()} ${JSON.stringify(await entities())}`);
+  // The same corners, whatever vertex the chain starts at.
+  const want = [[20, 0], [20, 30], [4, 30], [0, 26], [0, 0]];
+  assert(want.every((w) => joinedRect.vertices.some((v) => Math.hypot(v[0] - w[0], v[1] - w[1]) < 1e-9)), JSON.stringify(joinedRect.vertices));
+  assert(Math.abs(Math.abs(area(joinedRect.vertices)) - (30 * 20 - 8)) < 1e-9, `area ${area(joinedRect.vertices)}`);
+  for (const t of ['text', '0,-30', '5', 'Hi 2']) await type(t);
+  const [txt] = await byType('text');
+  assert(txt && txt.text === 'Hi 2' && txt.height === 5, JSON.stringify(txt));
+  // The DXF export, read by ezdxf.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#de-dxf')]);
+  const dxf = path.join(dir, 'shapes.dxf');
+  await download.saveAs(dxf);
+  const py = `import sys, ezdxf, json
+doc = ezdxf.readfile(sys.argv[1])
+print(json.dumps([[e.dxftype()] + ([e.dxf.center.x, e.dxf.center.y, e.dxf.radius] if e.dxftype() in ('CIRCLE', 'ARC') else []) + ([e.dxf.start_angle, e.dxf.end_angle] if e.dxftype() == 'ARC' else []) for e in doc.modelspace()]))`;
+  let rows;
+  try { rows = JSON.parse(execFileSync('python3', ['-c', py, dxf], { encoding: 'utf8' })); } catch (e) {
+    if (/No module named 'ezdxf'/.test(String(e.stderr))) { console.log('note: no ezdxf: the DXF check is skipped'); return; }
+    throw e;
+  }
+  const c = rows.find((r) => r[0] === 'CIRCLE'), a = rows.find((r) => r[0] === 'ARC');
+  assert(c && Math.abs(c[1] + 10) < 1e-9 && Math.abs(c[2] - 10) < 1e-9 && c[3] === 5, JSON.stringify(c));
+  assert(a && Math.abs(a[1] - 10) < 1e-9 && Math.abs(a[2] + 10) < 1e-9 && Math.abs(((a[4] % 360) + 360) % 360 - 270) < 1e-9 && Math.abs(a[5] - 90) < 1e-9, JSON.stringify(a));
+  assert(rows.filter((r) => r[0] === 'POLYLINE').length >= 2 && rows.filter((r) => r[0] === 'LINE').length === 0, JSON.stringify(rows.map((r) => r[0])));
+});
+
 await browser.close();
 finish();

@@ -6,7 +6,7 @@
 
 import { putFile, withToken } from '../api';
 import { el, segDist, ViewMap, Pt } from '../view2d';
-import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner } from './model';
+import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon } from './model';
 import { readTyped } from './input';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -14,9 +14,9 @@ const W = 760, H = 480;
 /// Snaps within this many pixels.
 const SNAP_PX = 10;
 
-type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'fillet' | 'chamfer' | 'offset' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
-const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'fillet', 'chamfer', 'offset', 'move', 'copy', 'rotate', 'scale', 'mirror'];
-const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
+type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
+const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'move', 'copy', 'rotate', 'scale', 'mirror'];
+const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
 
 let design: Design = emptyDesign();
 let name = 'part';
@@ -69,12 +69,15 @@ function add(shape: Shape) {
 /// What the current tool asks for next.
 function prompt(): string {
   switch (tool) {
-    case null: return 'click to select (shift adds) · type a command: line, polyline, rect, circle, arc, fillet, chamfer, offset, move, copy, rotate, scale, mirror, delete, undo, redo';
+    case null: return 'click to select (shift adds) · type a command: line, polyline, rect, circle, arc, polygon, spline, text, fillet, chamfer, offset, move, copy, rotate, scale, mirror, explode, join, delete, undo, redo';
     case 'line': return pts.length ? 'next point (Enter ends)' : 'first point';
     case 'polyline': return pts.length ? `next point · close · Enter ends (${pts.length} points)` : 'first point';
     case 'rect': return pts.length ? 'opposite corner' : 'first corner';
     case 'circle': return pts.length ? 'radius or a point on it' : 'centre';
     case 'arc': return ['start point', 'a point on the arc', 'end point'][pts.length];
+    case 'polygon': return !pts.length ? 'centre' : num === null ? 'number of sides' : 'radius to the vertices, or a vertex';
+    case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
+    case 'text': return !pts.length ? 'start of the baseline' : num === null ? 'capital height' : 'the text';
     case 'fillet': case 'chamfer': return num === null ? (tool === 'fillet' ? 'radius' : 'distance') : `corner (a point near it) · ${tool} ${num}`;
     case 'offset': return num === null ? 'distance (> 0 outwards, < 0 inwards)' : 'contour (a point on it) if none is selected';
     case 'move': case 'copy': return pts.length ? 'to point' : 'base point';
@@ -93,6 +96,7 @@ function setTool(t: ToolName | null) {
 
 /// Ends the current tool's input: a polyline or a chain of lines ends here.
 function finish(close = false) {
+  if (tool === 'spline' && pts.length >= 2) add({ type: 'spline', points: pts });
   if (tool === 'polyline' && pts.length >= 2) add({ type: 'polyline', vertices: pts.map((p) => [p[0], p[1]]), closed: close && pts.length >= 3 });
   setTool(null);
 }
@@ -141,7 +145,9 @@ function takePoint(p: Pt, shift = false) {
       break;
     }
     case 'line': if (pts.length) add({ type: 'line', a: pts[pts.length - 1], b: p }); pts.push(p); break;
-    case 'polyline': pts.push(p); break;
+    case 'polyline': case 'spline': pts.push(p); break;
+    case 'polygon': if (pts.length && num !== null) return takeNumber(Math.hypot(p[0] - pts[0][0], p[1] - pts[0][1])); if (!pts.length) pts.push(p); break;
+    case 'text': if (!pts.length) pts.push(p); break;
     case 'rect': if (pts.length) { const a = pts[0]; add({ type: 'polyline', closed: true, vertices: [[a[0], a[1]], [p[0], a[1]], [p[0], p[1]], [a[0], p[1]]] }); setTool(null); return; } pts.push(p); break;
     case 'circle': if (pts.length) return takeNumber(Math.hypot(p[0] - pts[0][0], p[1] - pts[0][1])); pts.push(p); break;
     case 'arc': {
@@ -186,6 +192,15 @@ function takeNumber(n: number) {
     case 'circle': if (!pts.length) return status('give the centre first', true);
       if (!(n > 0)) return status('a radius above 0', true);
       add({ type: 'circle', center: pts[0], radius: n }); setTool(null); return;
+    case 'polygon':
+      if (!pts.length) return status('give the centre first', true);
+      if (num === null) { if (!(Number.isInteger(n) && n >= 3 && n <= 1000)) return status('sides: a whole number from 3 to 1000', true); num = n; break; }
+      if (!(n > 0)) return status('a radius above 0', true);
+      add(polygon(pts[0], n, num)); setTool(null); return;
+    case 'text':
+      if (!pts.length) return status('give the start of the baseline first', true);
+      if (num === null) { if (!(n > 0)) return status('a height above 0', true); num = n; break; }
+      return takeText(String(n));
     case 'fillet': case 'chamfer': if (!(n > 0)) return status(`a ${tool} size above 0`, true); num = n; break;
     case 'offset':
       if (!n) return status('a non-zero distance', true);
@@ -199,6 +214,12 @@ function takeNumber(n: number) {
     default: return status(`${tool ?? 'no tool'}: not a number here — ${prompt()}`, true);
   }
   $('de-prompt').textContent = prompt();
+}
+
+function takeText(t: string) {
+  if (tool !== 'text' || !pts.length || num === null) return;
+  add({ type: 'text', at: pts[0], height: num, angle: 0, text: t });
+  setTool(null);
 }
 
 /// The arc from `a` through `b` to `c`: its centre is the circumcentre; it turns
@@ -219,6 +240,8 @@ function arcThrough(a: Pt, b: Pt, c: Pt): Shape | string {
 /// The command line: a point, a number or a word.
 function command(text: string) {
   if (!text.trim()) return finish();
+  // The text tool's last entry is the words themselves, whatever they look like.
+  if (tool === 'text' && pts.length && num !== null) return takeText(text.trim());
   const last = pts.length ? pts[pts.length - 1] : null;
   const t = readTyped(text, last);
   if ('error' in t) return status(t.error, true);
@@ -229,10 +252,44 @@ function command(text: string) {
   if (w === 'redo') return redo();
   if (w === 'close' || (w === 'c' && tool === 'polyline')) return finish(true);
   if (w === 'delete' || w === 'del' || w === 'erase') return del();
+  if (w === 'all') { selected = new Set(design.entities.map((e) => e.id)); status(`selected: ${selected.size}`); return draw(); }
+  if (w === 'none') { selected.clear(); return draw(); }
+  if (w === 'explode' || w === 'x') return explode();
+  if (w === 'join' || w === 'j') return join();
   if (w === 'esc' || w === 'cancel') return setTool(null);
   const next = (TOOLS as string[]).includes(w) ? (w as ToolName) : ALIASES[w];
   if (!next) return status(`'${w}' is not a command`, true);
   setTool(next);
+}
+
+/// The selected polylines become their lines and arcs.
+function explode() {
+  const sel = targets();
+  if (typeof sel === 'string') return status(sel, true);
+  if (!sel.some((e) => e.type === 'polyline')) return status('explode: select polylines', true);
+  commit((d) => {
+    let id = nextId(d);
+    d.entities = d.entities.flatMap((e) => {
+      const parts = selected.has(e.id) ? exploded(e) : null;
+      return parts ? parts.map((s) => ({ ...s, id: id++, layer: e.layer } as Entity)) : [e];
+    });
+  }, 'exploded');
+  selected.clear(); draw();
+}
+
+/// The selected lines, arcs and open polylines become one polyline where their ends meet.
+function join() {
+  const sel = targets();
+  if (typeof sel === 'string') return status(sel, true);
+  const j = joined(sel);
+  if (!j) return status('join: the selection is not one chain of lines, arcs and open polylines meeting end to end', true);
+  commit((d) => {
+    const first = d.entities.findIndex((e) => selected.has(e.id));
+    const e = { ...j, id: nextId(d), layer: d.entities[first].layer } as Entity;
+    d.entities = d.entities.filter((x) => !selected.has(x.id));
+    d.entities.splice(first, 0, e);
+  }, `joined ${sel.length} into a ${(j as { closed: boolean }).closed ? 'closed' : 'open'} polyline`);
+  selected.clear(); draw();
 }
 
 function del() {
@@ -360,7 +417,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     </div>
     <div id="de-tools" class="form">
       ${TOOLS.map((t) => `<button data-tool="${t}" id="de-tool-${t}">${t}</button>`).join('')}
-      <button id="de-delete">delete</button> <button id="de-undo" title="undo (Ctrl+Z)">undo</button> <button id="de-redo" title="redo (Ctrl+Y)">redo</button>
+      <button id="de-explode">explode</button> <button id="de-join">join</button> <button id="de-delete">delete</button> <button id="de-undo" title="undo (Ctrl+Z)">undo</button> <button id="de-redo" title="redo (Ctrl+Y)">redo</button>
       <button id="de-fit">fit</button>
     </div>
     <div class="form">
@@ -391,7 +448,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     else if ((e.ctrlKey || e.metaKey) && e.key === 'y' && !cmd.value) { e.preventDefault(); redo(); }
   });
   document.querySelectorAll<HTMLButtonElement>('#de-tools button[data-tool]').forEach((b) => { b.onclick = () => { setTool(b.dataset.tool as ToolName); cmd.focus(); }; });
-  $('de-delete').onclick = del; $('de-undo').onclick = undo; $('de-redo').onclick = redo; $('de-fit').onclick = fit;
+  $('de-delete').onclick = del; $('de-explode').onclick = explode; $('de-join').onclick = join; $('de-undo').onclick = undo; $('de-redo').onclick = redo; $('de-fit').onclick = fit;
   $<HTMLInputElement>('de-name').onchange = (e) => { name = (e.target as HTMLInputElement).value.trim() || 'part'; };
   $('de-new').onclick = () => { past.push(JSON.stringify(design)); future = []; design = emptyDesign(); selected.clear(); renderLayers(); fit(); };
   $<HTMLSelectElement>('de-layer').onchange = (e) => { layer = (e.target as HTMLSelectElement).value; renderLayers(); };
@@ -423,6 +480,10 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     try { await putFile(fileName(), text()); } catch (err) { return status(`send: ${(err as Error).message}`, true); }
     hooks.openInCam(fileName());
   };
-  (window as unknown as { __design: unknown }).__design = { design: () => design };
+  // For the browser test: the design, and where a drawing point is on the screen.
+  (window as unknown as { __design: unknown }).__design = {
+    design: () => design,
+    screen: (p: Pt) => { const r = svg.getBoundingClientRect(); return [r.left + (view.sx(p[0]) * r.width) / W, r.top + (view.sy(p[1]) * r.height) / H]; },
+  };
   renderLayers(); setTool(null); fit();
 }

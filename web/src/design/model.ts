@@ -167,3 +167,59 @@ export function nearestCorner(d: Design, p: Pt): [number, number, number] | null
   });
   return best;
 }
+
+/// A polyline as its pieces: lines and arcs (the arc of a bulge, see `bulgeArc`).
+export function exploded(e: Entity): Shape[] | null {
+  if (e.type !== 'polyline') return null;
+  const v = e.vertices, n = v.length, out: Shape[] = [];
+  for (let k = 0; k < (e.closed ? n : n - 1); k++) {
+    const a: Pt = [v[k][0], v[k][1]], b: Pt = [v[(k + 1) % n][0], v[(k + 1) % n][1]];
+    if (v[k][2]) {
+      const arc = bulgeArc(a, b, v[k][2]);
+      out.push({ type: 'arc', center: arc.center, radius: arc.radius, start: (arc.start * 180) / Math.PI, sweep: (arc.sweep * 180) / Math.PI });
+    } else out.push({ type: 'line', a, b });
+  }
+  return out;
+}
+
+/// Lines, arcs and open polylines whose ends meet (within `tol`) chained into one polyline,
+/// closed when the chain comes back to its start. A piece run backwards keeps its arc with
+/// the bulge negated. Null when the pieces do not form one chain.
+export function joined(es: Entity[], tol = 1e-6): Shape | null {
+  type Piece = { a: Pt; b: Pt; bulge: number }[];
+  const pieces: Piece[] = [];
+  for (const e of es) {
+    if (e.type === 'line') pieces.push([{ a: e.a, b: e.b, bulge: 0 }]);
+    else if (e.type === 'arc') {
+      const s = rad(e.start), t = rad(e.start + e.sweep), c = e.center, r = e.radius;
+      pieces.push([{ a: [c[0] + r * Math.cos(s), c[1] + r * Math.sin(s)], b: [c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)], bulge: Math.tan(rad(e.sweep) / 4) }]);
+    } else if (e.type === 'polyline' && !e.closed) {
+      const v = e.vertices;
+      pieces.push(v.slice(0, -1).map((q, k) => ({ a: [q[0], q[1]] as Pt, b: [v[k + 1][0], v[k + 1][1]] as Pt, bulge: q[2] ?? 0 })));
+    } else return null;
+  }
+  const near = (p: Pt, q: Pt) => Math.hypot(p[0] - q[0], p[1] - q[1]) <= tol;
+  const rev = (p: Piece): Piece => p.slice().reverse().map((s) => ({ a: s.b, b: s.a, bulge: -s.bulge }));
+  let chain = pieces.shift()!;
+  while (pieces.length) {
+    const end = chain[chain.length - 1].b, start = chain[0].a;
+    const k = pieces.findIndex((p) => near(p[0].a, end) || near(p[p.length - 1].b, end) || near(p[p.length - 1].b, start) || near(p[0].a, start));
+    if (k < 0) return null;
+    const p = pieces.splice(k, 1)[0];
+    if (near(p[0].a, end)) chain = [...chain, ...p];
+    else if (near(p[p.length - 1].b, end)) chain = [...chain, ...rev(p)];
+    else if (near(p[p.length - 1].b, start)) chain = [...p, ...chain];
+    else chain = [...rev(p), ...chain];
+  }
+  const closed = chain.length > 1 && near(chain[chain.length - 1].b, chain[0].a);
+  const vertices = chain.map((s) => (s.bulge ? [s.a[0], s.a[1], s.bulge] : [s.a[0], s.a[1]]));
+  if (!closed) vertices.push([chain[chain.length - 1].b[0], chain[chain.length - 1].b[1]]);
+  return { type: 'polyline', vertices, closed };
+}
+
+/// A regular polygon of `sides` about `c` with its vertices on the circle of radius `r`,
+/// the first at angle `a0` degrees.
+export function polygon(c: Pt, r: number, sides: number, a0 = 90): Shape {
+  const vertices = Array.from({ length: sides }, (_, k) => { const t = rad(a0 + (360 * k) / sides); return [c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)]; });
+  return { type: 'polyline', vertices, closed: true };
+}
