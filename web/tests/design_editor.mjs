@@ -252,5 +252,18 @@ print(json.dumps([[e.dxftype()] + ([e.dxf.center.x, e.dxf.center.y, e.dxf.radius
   assert(rows.filter((r) => r[0] === 'POLYLINE').length >= 2 && rows.filter((r) => r[0] === 'LINE').length === 0, JSON.stringify(rows.map((r) => r[0])));
 });
 
+await test('trim a line between its crossings with a line and a circle', async () => {
+  await page.click('#de-new');
+  for (const t of ['line', '-20,-40', '@40,0', '']) await type(t);
+  for (const t of ['line', '0,-50', '@0,20', '']) await type(t);
+  for (const t of ['circle', '15,-40', '2']) await type(t);
+  // The circle crosses y = −40 at x = 15 ± 2; picked at x = 7, the piece from the vertical
+  // line (x = 0) to the circle (x = 13) goes.
+  await page.click('#de-tool-trim');
+  await type('7,-40');
+  const lines = (await entities()).filter((e) => e.type === 'line' && e.a[1] === -40 && e.b[1] === -40).map((e) => [e.a[0], e.b[0]]).sort((p, q) => p[0] - q[0]);
+  assert(lines.length === 2 && Math.abs(lines[0][0] + 20) < 1e-9 && Math.abs(lines[0][1]) < 1e-9 && Math.abs(lines[1][0] - 13) < 1e-9 && Math.abs(lines[1][1] - 20) < 1e-9, `${JSON.stringify(lines)} ${await statusText()}`);
+});
+
 await browser.close();
 finish();

@@ -6,7 +6,7 @@
 
 import { putFile, withToken } from '../api';
 import { el, segDist, ViewMap, Pt } from '../view2d';
-import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon } from './model';
+import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon, trimmedLine } from './model';
 import { readTyped } from './input';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -14,9 +14,9 @@ const W = 760, H = 480;
 /// Snaps within this many pixels.
 const SNAP_PX = 10;
 
-type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
-const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'move', 'copy', 'rotate', 'scale', 'mirror'];
-const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
+type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
+const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror'];
+const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
 
 let design: Design = emptyDesign();
 let name = 'part';
@@ -69,7 +69,7 @@ function add(shape: Shape) {
 /// What the current tool asks for next.
 function prompt(): string {
   switch (tool) {
-    case null: return 'click to select (shift adds) · type a command: line, polyline, rect, circle, arc, polygon, spline, text, fillet, chamfer, offset, move, copy, rotate, scale, mirror, explode, join, delete, undo, redo';
+    case null: return 'click to select (shift adds) · type a command: line, polyline, rect, circle, arc, polygon, spline, text, fillet, chamfer, trim, offset, move, copy, rotate, scale, mirror, explode, join, delete, undo, redo';
     case 'line': return pts.length ? 'next point (Enter ends)' : 'first point';
     case 'polyline': return pts.length ? `next point · close · Enter ends (${pts.length} points)` : 'first point';
     case 'rect': return pts.length ? 'opposite corner' : 'first corner';
@@ -79,6 +79,7 @@ function prompt(): string {
     case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
     case 'text': return !pts.length ? 'start of the baseline' : num === null ? 'capital height' : 'the text';
     case 'fillet': case 'chamfer': return num === null ? (tool === 'fillet' ? 'radius' : 'distance') : `corner (a point near it) · ${tool} ${num}`;
+    case 'trim': return 'the part of a line to cut away (a point on it)';
     case 'offset': return num === null ? 'distance (> 0 outwards, < 0 inwards)' : 'contour (a point on it) if none is selected';
     case 'move': case 'copy': return pts.length ? 'to point' : 'base point';
     case 'rotate': return pts.length ? 'angle, degrees' : 'centre';
@@ -166,6 +167,20 @@ function takePoint(p: Pt, shift = false) {
       const corner = (design.entities[c[0]] as { vertices: number[][] }).vertices[c[1]];
       const what = `${tool} ${num} at ${corner[0]},${corner[1]}`;
       commit((d) => { d.entities[c[0]] = r; }, what);
+      break;
+    }
+    case 'trim': {
+      const e = pick(p);
+      if (!e || e.type !== 'line') return status('trim: pick a line (explode a polyline first)', true);
+      const len2 = (e.b[0] - e.a[0]) ** 2 + (e.b[1] - e.a[1]) ** 2;
+      const tc = ((p[0] - e.a[0]) * (e.b[0] - e.a[0]) + (p[1] - e.a[1]) * (e.b[1] - e.a[1])) / len2;
+      const r = trimmedLine(e, design.entities.filter((o) => o.id !== e.id), tc);
+      if (typeof r === 'string') return status(r, true);
+      commit((d) => {
+        let id = nextId(d);
+        const k = d.entities.findIndex((o) => o.id === e.id);
+        d.entities.splice(k, 1, ...r.map((s) => ({ ...s, id: id++, layer: e.layer } as Entity)));
+      }, `trimmed: ${r.length} piece${r.length === 1 ? '' : 's'} left`);
       break;
     }
     case 'offset': {

@@ -223,3 +223,62 @@ export function polygon(c: Pt, r: number, sides: number, a0 = 90): Shape {
   const vertices = Array.from({ length: sides }, (_, k) => { const t = rad(a0 + (360 * k) / sides); return [c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)]; });
   return { type: 'polyline', vertices, closed: true };
 }
+
+/// Where the line a → b meets the entity `e`: parameters t ∈ [0, 1] along a → b. Exact for
+/// every piece but splines and text (their display points are used). Lines: the 2 × 2
+/// solve; circles and arcs: |a + t·d − c|² = r², a quadratic in t, kept where an arc
+/// covers the angle.
+export function crossings(a: Pt, b: Pt, e: Shape): number[] {
+  const d: Pt = [b[0] - a[0], b[1] - a[1]], out: number[] = [];
+  const withLine = (p: Pt, q: Pt) => {
+    const den = d[0] * (q[1] - p[1]) - d[1] * (q[0] - p[0]);
+    if (Math.abs(den) < 1e-12) return;
+    const t = ((p[0] - a[0]) * (q[1] - p[1]) - (p[1] - a[1]) * (q[0] - p[0])) / den;
+    const u = ((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]) / den;
+    if (t >= -1e-12 && t <= 1 + 1e-12 && u >= -1e-12 && u <= 1 + 1e-12) out.push(t);
+  };
+  const withCircle = (c: Pt, r: number, start?: number, sweep?: number) => {
+    const fx = a[0] - c[0], fy = a[1] - c[1], A = d[0] * d[0] + d[1] * d[1], B = 2 * (fx * d[0] + fy * d[1]), C = fx * fx + fy * fy - r * r;
+    const disc = B * B - 4 * A * C;
+    if (disc < 0 || A === 0) return;
+    for (const t of [(-B - Math.sqrt(disc)) / (2 * A), (-B + Math.sqrt(disc)) / (2 * A)]) {
+      if (t < -1e-12 || t > 1 + 1e-12) continue;
+      if (sweep !== undefined && start !== undefined) {
+        const ang = Math.atan2(a[1] + t * d[1] - c[1], a[0] + t * d[0] - c[0]);
+        const rel = ((((ang - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
+        if (rel > Math.abs(sweep) + 1e-12) continue;
+      }
+      out.push(t);
+    }
+  };
+  switch (e.type) {
+    case 'line': withLine(e.a, e.b); break;
+    case 'circle': withCircle(e.center, e.radius); break;
+    case 'arc': withCircle(e.center, e.radius, rad(e.start), rad(e.sweep)); break;
+    case 'polyline': {
+      const v = e.vertices, n = v.length;
+      for (let k = 0; k < (e.closed ? n : n - 1); k++) {
+        const p: Pt = [v[k][0], v[k][1]], q: Pt = [v[(k + 1) % n][0], v[(k + 1) % n][1]];
+        if (v[k][2]) { const arc = bulgeArc(p, q, v[k][2]); withCircle(arc.center, arc.radius, arc.start, arc.sweep); } else withLine(p, q);
+      }
+      break;
+    }
+    default: for (const line of outline(e)) for (let k = 1; k < line.length; k++) withLine(line[k - 1], line[k]);
+  }
+  return out;
+}
+
+/// The line `e` trimmed where it is picked at parameter `tc`: the piece between the
+/// crossings with `others` on either side of `tc` is removed (to the line's end where there
+/// is none on that side). Returns the lines that stay (none, one or two), or a message.
+export function trimmedLine(e: Entity, others: Shape[], tc: number): Shape[] | string {
+  if (e.type !== 'line') return 'trim works on lines (explode a polyline first)';
+  const ts = others.flatMap((o) => crossings(e.a, e.b, o)).filter((t) => t > 1e-9 && t < 1 - 1e-9);
+  if (!ts.length) return 'nothing crosses this line: delete it instead';
+  const before = Math.max(0, ...ts.filter((t) => t < tc)), after = Math.min(1, ...ts.filter((t) => t > tc));
+  const at = (t: number): Pt => [e.a[0] + t * (e.b[0] - e.a[0]), e.a[1] + t * (e.b[1] - e.a[1])];
+  const keep: Shape[] = [];
+  if (before > 0) keep.push({ type: 'line', a: e.a, b: at(before) });
+  if (after < 1) keep.push({ type: 'line', a: at(after), b: e.b });
+  return keep;
+}
