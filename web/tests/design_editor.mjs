@@ -8,7 +8,7 @@
 
 import { startServer, launch, suite, assert, root } from './harness.mjs';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, readFileSync } from 'node:fs';
+import { mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 
@@ -263,6 +263,50 @@ await test('trim a line between its crossings with a line and a circle', async (
   await type('7,-40');
   const lines = (await entities()).filter((e) => e.type === 'line' && e.a[1] === -40 && e.b[1] === -40).map((e) => [e.a[0], e.b[0]]).sort((p, q) => p[0] - q[0]);
   assert(lines.length === 2 && Math.abs(lines[0][0] + 20) < 1e-9 && Math.abs(lines[0][1]) < 1e-9 && Math.abs(lines[1][0] - 13) < 1e-9 && Math.abs(lines[1][1] - 20) < 1e-9, `${JSON.stringify(lines)} ${await statusText()}`);
+});
+
+await test('digitise 12 points on a calibrated image and fit them', async () => {
+  await page.click('#de-new');
+  // A 400 × 300 px scan: an ellipse of radii 120 × 80 px about (200, 150) and two marks
+  // 200 px apart that the user knows are 100 mm apart.
+  const scan = path.join(dir, 'scan.svg');
+  writeFileSync(scan, '<svg xmlns="http://www.w3.org/2000/svg" width="400" height="300"><rect width="400" height="300" fill="#fff"/><ellipse cx="200" cy="150" rx="120" ry="80" fill="none" stroke="#000" stroke-width="2"/><circle cx="100" cy="280" r="3"/><circle cx="300" cy="280" r="3"/></svg>');
+  await page.setInputFiles('#de-bg-file', scan);
+  await page.waitForFunction(() => window.__design.background(), null, { timeout: 10000 });
+  // One pixel a millimetre, y up: the pixel (u, v) is at (u, 300 − v); the marks at
+  // (100, 20) and (300, 20). Calibrated to 100 mm about the first: ×0.5, the image's corner
+  // moves to (100 − 100·0.5, 20 − 20·0.5) = (50, 10), its size to 200 × 150 mm.
+  for (const t of ['calibrate', '100,20', '300,20', '100']) await type(t);
+  const bg = await page.evaluate(() => window.__design.background());
+  assert(Math.abs(bg.x - 50) < 1e-9 && Math.abs(bg.y - 10) < 1e-9 && Math.abs(bg.w - 200) < 1e-9 && Math.abs(bg.h - 150) < 1e-9, JSON.stringify({ ...bg, href: '' }));
+  // The ellipse is now about (50 + 200·0.5, 10 + 150·0.5) = (150, 85) with radii 60 × 40 mm.
+  const [cx, cy, a, b] = [150, 85, 60, 40];
+  await page.click('#de-tool-digitise');
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  for (let k = 0; k < 12; k++) {
+    const t = (2 * Math.PI * k) / 12;
+    const [x, y] = await page.evaluate((p) => window.__design.screen(p), [cx + a * Math.cos(t), cy + b * Math.sin(t)]);
+    await page.mouse.click(x, y);
+  }
+  await page.waitForFunction(() => /from 12 points/.test(document.getElementById('de-fit-report').textContent), null, { timeout: 20000 })
+    .catch(async () => { throw new Error(`${await statusText()} · ${await page.textContent('#de-fit-report')} · ${await page.locator('.de-picked').count()} picked`); });
+  const report = await page.textContent('#de-fit-report');
+  const dev = Number(report.match(/deviation ([\d.]+) mm/)[1]);
+  assert(dev <= 0.3, report);
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: path.join(shots, 'workbench-design-digitise.png') });
+  await type('');
+  const [contour] = (await entities()).filter((e) => e.type === 'polyline');
+  assert(contour && contour.closed, `a closed contour: ${await statusText()}`);
+  // Against the true ellipse: its area πab within 1 %, and every vertex within the fit's
+  // tolerance plus two screen pixels of it (a click lands on a whole pixel).
+  const [p0, p1] = await page.evaluate(() => [window.__design.screen([0, 0]), window.__design.screen([100, 0])]);
+  const mmPerPx = 100 / (p1[0] - p0[0]);
+  const A = Math.abs(area(contour.vertices));
+  assert(Math.abs(A - Math.PI * a * b) < 0.01 * Math.PI * a * b, `area ${A} vs ${Math.PI * a * b}`);
+  const onEllipse = Array.from({ length: 7200 }, (_, k) => [cx + a * Math.cos(k * Math.PI / 3600), cy + b * Math.sin(k * Math.PI / 3600)]);
+  const far = Math.max(...contour.vertices.map((v) => Math.min(...onEllipse.map((q) => Math.hypot(v[0] - q[0], v[1] - q[1])))));
+  assert(far < 0.3 + 2 * mmPerPx, `a vertex ${far} mm from the ellipse (${mmPerPx} mm a pixel)`);
 });
 
 await browser.close();

@@ -87,3 +87,46 @@ fn kind(s: &Shape) -> &'static str {
         Shape::Text { .. } => "text",
     }
 }
+
+/// A digitised contour fitted by one of `oficina fit`'s methods.
+pub struct Fitted {
+    /// The fitted contour as a closed polyline (every method gives lines and arcs).
+    pub shape: Shape,
+    /// Largest distance from a picked point to the contour, mm.
+    pub max_deviation: f64,
+    /// Lines and arcs: NC blocks.
+    pub blocks: usize,
+}
+
+/// Fits the closed contour through `points` (mm) by `method` (a name `oficina fit`
+/// prints: `biarc`, `tangent circles`, …) within `tol` mm.
+pub fn fit(points: &[[f64; 2]], method: &str, tol: f64) -> Result<Fitted, Error> {
+    use oficina_io::geom::fit::{fit_method, Method};
+    if !(tol > 0.0 && tol.is_finite()) {
+        return Err(Error(format!(
+            "fit tolerance {tol}: a number of mm above 0"
+        )));
+    }
+    if points.len() > 100_000 || points.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(Error("fit: up to 100000 finite points".into()));
+    }
+    let m = Method::ALL
+        .into_iter()
+        .find(|m| m.name() == method || m.name().starts_with(method))
+        .ok_or_else(|| {
+            let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
+            Error(format!(
+                "fit method '{method}': one of {}",
+                names.join(", ")
+            ))
+        })?;
+    let pts: Vec<_> = points.iter().map(|p| (p[0], p[1]).into()).collect();
+    let f = fit_method(m, &pts, tol).map_err(|e| Error(format!("fit ({}): {e}", m.name())))?;
+    let shape = oficina_io::path_to_polyline(&f.path)
+        .ok_or_else(|| Error(format!("fit ({}): Bézier pieces", m.name())))?;
+    Ok(Fitted {
+        shape,
+        max_deviation: f.max_deviation,
+        blocks: f.blocks,
+    })
+}

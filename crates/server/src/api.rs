@@ -42,6 +42,7 @@ pub(crate) fn routes(state: Arc<AppState>) -> Router {
         .route("/api/mill-job/shapes", post(crate::camjob::shapes))
         .route("/api/design/offset", post(crate::design::offset))
         .route("/api/design/export", post(crate::design::export))
+        .route("/api/design/fit", post(crate::design::fit))
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
         .route("/api/embroider", post(crate::embroider::embroider_job))

@@ -41,3 +41,20 @@ pub(crate) async fn export(Json(req): Json<ExportRequest>) -> Result<Response, C
     let text = export_design(&design, &req.format).map_err(|e| bad(e.to_string()))?;
     Ok(Json(json!({ "text": text })).into_response())
 }
+
+#[derive(Deserialize)]
+pub(crate) struct FitRequest {
+    points: Vec<[f64; 2]>,
+    method: String,
+    tol: f64,
+}
+
+/// `{points, method, tol}` → `{shape, max_deviation, blocks}`: a digitised contour fitted.
+pub(crate) async fn fit(Json(req): Json<FitRequest>) -> Result<Response, CamError> {
+    let f = oficina_app::design::fit(&req.points, &req.method, req.tol)
+        .map_err(|e| bad(e.to_string()))?;
+    Ok(
+        Json(json!({ "shape": f.shape, "max_deviation": f.max_deviation, "blocks": f.blocks }))
+            .into_response(),
+    )
+}

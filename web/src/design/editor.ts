@@ -14,9 +14,9 @@ const W = 760, H = 480;
 /// Snaps within this many pixels.
 const SNAP_PX = 10;
 
-type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
-const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror'];
-const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
+type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'calibrate' | 'digitise' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
+const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror', 'calibrate', 'digitise'];
+const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', cal: 'calibrate', dig: 'digitise', digitize: 'digitise', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
 
 let design: Design = emptyDesign();
 let name = 'part';
@@ -29,6 +29,10 @@ let num: number | null = null;
 let cursor: Pt | null = null;
 let snapped: { p: Pt; kind: string } | null = null;
 let layer = '0';
+/// The background photo or scan: its lower-left corner and size in drawing mm.
+let bg: { href: string; x: number; y: number; w: number; h: number } | null = null;
+/// The live fit of the digitised points: the contour and its deviation.
+let fitted: { shape: Shape; max_deviation: number; blocks: number } | null = null;
 const view = new ViewMap(W, H);
 let hooks: { openInCam: (file: string) => void } = { openInCam: () => {} };
 
@@ -79,6 +83,8 @@ function prompt(): string {
     case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
     case 'text': return !pts.length ? 'start of the baseline' : num === null ? 'capital height' : 'the text';
     case 'fillet': case 'chamfer': return num === null ? (tool === 'fillet' ? 'radius' : 'distance') : `corner (a point near it) · ${tool} ${num}`;
+    case 'calibrate': return pts.length < 2 ? `${pts.length ? 'second' : 'first'} point of a known distance on the background` : 'the distance between them, mm';
+    case 'digitise': return `pick points around the contour (${pts.length}${fitted ? `, fitted: ${fitted.blocks} blocks, deviation ${fitted.max_deviation.toFixed(3)} mm` : ', 8 or more to fit'}) · Enter keeps the fit`;
     case 'trim': return 'the part of a line to cut away (a point on it)';
     case 'offset': return num === null ? 'distance (> 0 outwards, < 0 inwards)' : 'contour (a point on it) if none is selected';
     case 'move': case 'copy': return pts.length ? 'to point' : 'base point';
@@ -89,7 +95,7 @@ function prompt(): string {
 }
 
 function setTool(t: ToolName | null) {
-  tool = t; pts = []; num = null;
+  tool = t; pts = []; num = null; fitted = null;
   document.querySelectorAll('#de-tools button').forEach((b) => b.classList.toggle('on', (b as HTMLElement).dataset.tool === t));
   $('de-prompt').textContent = prompt();
   draw();
@@ -97,6 +103,7 @@ function setTool(t: ToolName | null) {
 
 /// Ends the current tool's input: a polyline or a chain of lines ends here.
 function finish(close = false) {
+  if (tool === 'digitise' && fitted) add(fitted.shape);
   if (tool === 'spline' && pts.length >= 2) add({ type: 'spline', points: pts });
   if (tool === 'polyline' && pts.length >= 2) add({ type: 'polyline', vertices: pts.map((p) => [p[0], p[1]]), closed: close && pts.length >= 3 });
   setTool(null);
@@ -147,6 +154,8 @@ function takePoint(p: Pt, shift = false) {
     }
     case 'line': if (pts.length) add({ type: 'line', a: pts[pts.length - 1], b: p }); pts.push(p); break;
     case 'polyline': case 'spline': pts.push(p); break;
+    case 'calibrate': if (!bg) return status('open a background image first', true); if (pts.length < 2) pts.push(p); break;
+    case 'digitise': pts.push(p); if (pts.length >= 8) refit(); break;
     case 'polygon': if (pts.length && num !== null) return takeNumber(Math.hypot(p[0] - pts[0][0], p[1] - pts[0][1])); if (!pts.length) pts.push(p); break;
     case 'text': if (!pts.length) pts.push(p); break;
     case 'rect': if (pts.length) { const a = pts[0]; add({ type: 'polyline', closed: true, vertices: [[a[0], a[1]], [p[0], a[1]], [p[0], p[1]], [a[0], p[1]]] }); setTool(null); return; } pts.push(p); break;
@@ -216,6 +225,16 @@ function takeNumber(n: number) {
       if (!pts.length) return status('give the start of the baseline first', true);
       if (num === null) { if (!(n > 0)) return status('a height above 0', true); num = n; break; }
       return takeText(String(n));
+    case 'calibrate': {
+      if (pts.length < 2 || !bg) return status('pick the two points first', true);
+      const d = Math.hypot(pts[1][0] - pts[0][0], pts[1][1] - pts[0][1]);
+      if (!(n > 0) || !(d > 0)) return status('a distance above 0 between two different points', true);
+      // Scale the background about the first point: x' = p₁ + (x − p₁)·k, k = known / measured.
+      const k = n / d, [px, py] = pts[0];
+      bg = { ...bg, x: px + (bg.x - px) * k, y: py + (bg.y - py) * k, w: bg.w * k, h: bg.h * k };
+      status(`calibrated: ${d.toFixed(3)} → ${n} mm (×${k.toFixed(6)})`);
+      setTool(null); fit(); return;
+    }
     case 'fillet': case 'chamfer': if (!(n > 0)) return status(`a ${tool} size above 0`, true); num = n; break;
     case 'offset':
       if (!n) return status('a non-zero distance', true);
@@ -235,6 +254,22 @@ function takeText(t: string) {
   if (tool !== 'text' || !pts.length || num === null) return;
   add({ type: 'text', at: pts[0], height: num, angle: 0, text: t });
   setTool(null);
+}
+
+/// Fits the digitised points on the server (`oficina fit`'s methods) and shows the contour
+/// and its deviation.
+async function refit() {
+  const points = pts.slice();
+  try {
+    const r = await fetch(withToken('/api/design/fit'), { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ points, method: $<HTMLSelectElement>('de-fit-method').value, tol: Number($<HTMLInputElement>('de-fit-tol').value) }) });
+    const v = await r.json();
+    if (!r.ok) throw new Error(v.error ?? r.statusText);
+    if (tool !== 'digitise' || pts.length !== points.length) return; // a newer point is on its way
+    fitted = v;
+    $('de-prompt').textContent = prompt();
+    $('de-fit-report').textContent = `${v.blocks} blocks, largest deviation ${v.max_deviation.toFixed(3)} mm from ${points.length} points`;
+    draw();
+  } catch (e) { status(`fit: ${(e as Error).message}`, true); }
 }
 
 /// The arc from `a` through `b` to `c`: its centre is the circumcentre; it turns
@@ -357,6 +392,11 @@ function draw() {
     for (let x = x0; view.sx(x) < W; x += g) el('line', { x1: view.sx(x), y1: 0, x2: view.sx(x), y2: H, stroke: Math.abs(x) < 1e-9 ? '#4a5568' : '#232a35' }, svg);
     for (let y = y0; view.sy(y) > 0; y += g) el('line', { x1: 0, y1: view.sy(y), x2: W, y2: view.sy(y), stroke: Math.abs(y) < 1e-9 ? '#4a5568' : '#232a35' }, svg);
   }
+  if (bg) el('image', { href: bg.href, x: view.sx(bg.x), y: view.sy(bg.y + bg.h), width: bg.w * view.s, height: bg.h * view.s, preserveAspectRatio: 'none', opacity: 0.55, id: 'de-bg', 'pointer-events': 'none' }, svg);
+  if (tool === 'digitise') {
+    for (const p of pts) el('circle', { cx: view.sx(p[0]), cy: view.sy(p[1]), r: 3, fill: '#f05ad1', class: 'de-picked' }, svg);
+    if (fitted) for (const line of outline(fitted.shape)) el('polyline', { points: line.map((p) => `${view.sx(p[0])},${view.sy(p[1])}`).join(' '), fill: 'none', stroke: '#f05ad1', 'stroke-dasharray': '5 3', class: 'de-fit' }, svg);
+  }
   const colour = (n: string) => shown(design.layers.find((l) => l.name === n)?.color ?? '#000000');
   for (const e of design.entities) {
     const sel = selected.has(e.id);
@@ -382,6 +422,7 @@ function draw() {
 
 function fit() {
   const all = design.entities.flatMap((e) => outline(e).flat());
+  if (bg) all.push([bg.x, bg.y], [bg.x + bg.w, bg.y + bg.h]);
   if (!all.length) { view.fit([-10, -10, 100, 70]); return draw(); }
   const xs = all.map((p) => p[0]), ys = all.map((p) => p[1]);
   view.fit([Math.min(...xs), Math.min(...ys), Math.max(...xs), Math.max(...ys)], 30);
@@ -440,8 +481,13 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
       <input id="de-new-layer" placeholder="new layer" size="8"><button id="de-add-layer">Add layer</button> <button id="de-to-layer">Selection to layer</button>
       <label><input id="de-grid-on" type="checkbox" checked> grid</label> <input id="de-grid" type="number" value="5" min="0" step="any" style="width:4em"> mm
     </div>
+    <div class="form">
+      <label class="btn">Background… <input id="de-bg-file" type="file" accept="image/*" hidden></label>
+      <label>Fit <select id="de-fit-method"><option>biarc</option><option>tangent circles</option><option>B-spline (clamped cubic)</option><option>Bezier (seed)</option><option>interpolation (local cubic)</option></select></label>
+      <label>within <input id="de-fit-tol" type="number" value="0.3" min="0.001" step="any"> mm</label>
+    </div>
     <svg id="de-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#141820;cursor:crosshair;width:100%"></svg>
-    <div><span id="de-xy" class="muted"></span> · <span id="de-count" class="muted"></span></div>
+    <div><span id="de-xy" class="muted"></span> · <span id="de-count" class="muted"></span> <span id="de-fit-report" class="muted"></span></div>
     <div class="form"><label><span id="de-prompt"></span> <input id="de-cmd" size="28" placeholder="10,20  @30<45  5  fillet" autocomplete="off"></label></div>
     <span id="de-status" class="muted"></span>`;
   const svg = $('de-view') as unknown as SVGSVGElement;
@@ -453,7 +499,8 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
   svg.addEventListener('mousedown', (e) => { if (e.button === 1 || e.button === 2) { panFrom = [e.clientX, e.clientY]; e.preventDefault(); } });
   window.addEventListener('mouseup', () => { panFrom = null; });
   svg.addEventListener('contextmenu', (e) => e.preventDefault());
-  svg.addEventListener('click', (e) => { const p = view.at(e, svg); takePoint(snap(p)?.p ?? p, e.shiftKey); $('de-cmd').focus(); });
+  // Digitising and calibrating take the point under the cursor as it is (no snapping).
+  svg.addEventListener('click', (e) => { const p = view.at(e, svg); takePoint(tool === 'digitise' || tool === 'calibrate' ? p : snap(p)?.p ?? p, e.shiftKey); $('de-cmd').focus({ preventScroll: true }); });
   svg.addEventListener('wheel', (e) => { e.preventDefault(); view.zoom(e.deltaY < 0 ? 1.2 : 1 / 1.2, view.at(e, svg)); draw(); }, { passive: false });
   const cmd = $<HTMLInputElement>('de-cmd');
   cmd.addEventListener('keydown', (e) => {
@@ -476,6 +523,22 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     layer = n; renderLayers();
   };
   $('de-to-layer').onclick = () => { const sel = targets(); if (typeof sel === 'string') return status(sel, true); commit((d) => d.entities.forEach((e) => { if (selected.has(e.id)) e.layer = layer; }), `${sel.length} to layer ${layer}`); };
+  $<HTMLInputElement>('de-bg-file').onchange = (e) => {
+    const f = (e.target as HTMLInputElement).files?.[0];
+    if (!f) return;
+    const reader = new FileReader();
+    reader.onload = () => {
+      const img = new Image();
+      img.onload = () => {
+        // One pixel a millimetre until `calibrate` says otherwise.
+        bg = { href: String(reader.result), x: 0, y: 0, w: img.naturalWidth, h: img.naturalHeight };
+        status(`${f.name}: ${img.naturalWidth} × ${img.naturalHeight} px, 1 px = 1 mm until calibrated`); fit();
+      };
+      img.onerror = () => status(`${f.name}: not an image the browser reads`, true);
+      img.src = String(reader.result);
+    };
+    reader.readAsDataURL(f);
+  };
   $<HTMLInputElement>('de-open').onchange = async (e) => { const f = (e.target as HTMLInputElement).files?.[0]; if (f) load(await f.text(), f.name); };
   $('de-save').onclick = async () => {
     download(text(), fileName(), 'application/json');
@@ -498,6 +561,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
   // For the browser test: the design, and where a drawing point is on the screen.
   (window as unknown as { __design: unknown }).__design = {
     design: () => design,
+    background: () => bg,
     screen: (p: Pt) => { const r = svg.getBoundingClientRect(); return [r.left + (view.sx(p[0]) * r.width) / W, r.top + (view.sy(p[1]) * r.height) / H]; },
   };
   renderLayers(); setTool(null); fit();
