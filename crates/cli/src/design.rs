@@ -13,6 +13,24 @@ pub(crate) enum Command {
     Export(ExportArgs),
     /// Offset closed contours by a distance; the new contours are added to the design.
     Offset(OffsetArgs),
+    /// Fit a digitised closed contour (a point list) by one of `oficina fit`'s methods and add
+    /// it to a design (made when missing).
+    Fit(FitArgs),
+}
+
+#[derive(clap::Args)]
+pub(crate) struct FitArgs {
+    /// Point list: x,y per line (CSV or whitespace), header optional.
+    points: PathBuf,
+    /// biarc, tangent circles, B-spline, Bezier or interpolation.
+    #[arg(long, default_value = "biarc")]
+    method: String,
+    /// Fitting tolerance, mm.
+    #[arg(long, default_value_t = 0.3)]
+    tol: f64,
+    /// The design to add the contour to (made when missing).
+    #[arg(long, short)]
+    output: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -75,6 +93,34 @@ pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
             let out = a.output.unwrap_or(a.file);
             std::fs::write(&out, design::design_to_string(&d))
                 .with_context(|| format!("writing {}", out.display()))?;
+        }
+        Command::Fit(a) => {
+            let pts = oficina_io::load_points(&a.points).context("reading the points")?;
+            let xy: Vec<[f64; 2]> = pts.iter().map(|p| [p.x, p.y]).collect();
+            let f = design::fit(&xy, &a.method, a.tol)?;
+            let mut d = if a.output.exists() {
+                design::read(&a.output)?
+            } else {
+                design::Design::new()
+            };
+            let id = d.entities.iter().map(|e| e.id).max().unwrap_or(0) + 1;
+            let layer = d
+                .layers
+                .first()
+                .map_or_else(|| "0".to_string(), |l| l.name.clone());
+            println!(
+                "{} points → entity {id}: {} blocks, largest deviation {:.4} mm",
+                pts.len(),
+                f.blocks,
+                f.max_deviation
+            );
+            d.entities.push(design::Entity {
+                id,
+                layer,
+                shape: f.shape,
+            });
+            std::fs::write(&a.output, design::design_to_string(&d))
+                .with_context(|| format!("writing {}", a.output.display()))?;
         }
     }
     Ok(ExitCode::SUCCESS)

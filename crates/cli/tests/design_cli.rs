@@ -156,3 +156,48 @@ fn a_bad_design_names_the_place() {
     );
     assert!(!out.status.success());
 }
+
+#[test]
+fn design_fit_adds_the_contour_oficina_fit_reports() {
+    let dir = scratch_dir("design-cli-fit");
+    // 24 points of the ellipse of radii 60 × 40 about (150, 85).
+    let pts: String = (0..24)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 24.0;
+            format!("{},{}\n", 150.0 + 60.0 * t.cos(), 85.0 + 40.0 * t.sin())
+        })
+        .collect();
+    std::fs::write(dir.join("e.csv"), pts).unwrap();
+    let said = assert_success(&oficina(
+        &dir,
+        &[
+            "design",
+            "fit",
+            "e.csv",
+            "--tol",
+            "0.1",
+            "-o",
+            "e.oficina.json",
+        ],
+    ));
+    // `oficina fit`'s biarc row: the same blocks and deviation.
+    let table = assert_success(&oficina(&dir, &["fit", "e.csv", "--tol", "0.1"]));
+    let row: Vec<&str> = table
+        .lines()
+        .find(|l| l.starts_with("biarc"))
+        .unwrap()
+        .split_whitespace()
+        .collect();
+    assert!(
+        said.contains(&format!(
+            "{} blocks, largest deviation {} mm",
+            row[2], row[5]
+        )),
+        "{said}\n{table}"
+    );
+    // The contour, read as a drawing, encloses the ellipse's area πab within 0.5 %.
+    let d = oficina_io::load_drawing(&dir.join("e.oficina.json")).unwrap();
+    let area = d.drawing.paths().next().unwrap().area().abs();
+    let want = std::f64::consts::PI * 60.0 * 40.0;
+    assert!((area - want).abs() < 0.005 * want, "{area} vs {want}");
+}
