@@ -11,9 +11,10 @@ const PLATE: &str = r##"{"format": "oficina-design", "version": 1,
   "entities": [{"id": 1, "layer": "0", "type": "polyline", "closed": true,
     "vertices": [[0, 0], [60, 0], [60, 35, 0.41421356237309503], [55, 40], [0, 40]]}]}"##;
 
-fn oficina(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+/// `oficina ARGS` (split at spaces) in `dir`.
+fn oficina(dir: &std::path::Path, args: &str) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_oficina"))
-        .args(args)
+        .args(args.split_whitespace())
         .current_dir(dir)
         .output()
         .unwrap()
@@ -25,33 +26,12 @@ fn offset_then_pocket_the_design_file() {
     std::fs::write(dir.join("plate.oficina.json"), PLATE).unwrap();
     let said = assert_success(&oficina(
         &dir,
-        &[
-            "design",
-            "offset",
-            "plate.oficina.json",
-            "--ids",
-            "1",
-            "--distance",
-            "-3",
-            "-o",
-            "ring.oficina.json",
-        ],
+        "design offset plate.oficina.json --ids 1 --distance -3 -o ring.oficina.json",
     ));
     assert!(said.contains("entity 2 on layer 0"), "{said}");
     assert_success(&oficina(
         &dir,
-        &[
-            "mill",
-            "ring.oficina.json",
-            "--op",
-            "pocket",
-            "--tool",
-            "flat:3",
-            "--depth",
-            "1",
-            "-o",
-            "ring.ngc",
-        ],
+        "mill ring.oficina.json --op pocket --tool flat:3 --depth 1 -o ring.ngc",
     ));
     let canon = rs274::accepts_file(&dir.join("ring.ngc"), None);
     // The pocket is the ring between the wall and the island 3 mm inside it; a 3 mm cutter
@@ -85,22 +65,11 @@ fn offset_then_pocket_the_design_file() {
     // Exported as DXF, the CLI's own DXF reader mills the same program.
     assert_success(&oficina(
         &dir,
-        &["design", "export", "ring.oficina.json", "--dxf", "ring.dxf"],
+        "design export ring.oficina.json --dxf ring.dxf",
     ));
     assert_success(&oficina(
         &dir,
-        &[
-            "mill",
-            "ring.dxf",
-            "--op",
-            "pocket",
-            "--tool",
-            "flat:3",
-            "--depth",
-            "1",
-            "-o",
-            "ring-dxf.ngc",
-        ],
+        "mill ring.dxf --op pocket --tool flat:3 --depth 1 -o ring-dxf.ngc",
     ));
     let moves = |f: &str| {
         std::fs::read_to_string(dir.join(f))
@@ -123,18 +92,7 @@ fn a_bad_design_names_the_place() {
     .unwrap();
     let out = oficina(
         &dir,
-        &[
-            "mill",
-            "bad.oficina.json",
-            "--op",
-            "pocket",
-            "--tool",
-            "flat:3",
-            "--depth",
-            "1",
-            "-o",
-            "x.ngc",
-        ],
+        "mill bad.oficina.json --op pocket --tool flat:3 --depth 1 -o x.ngc",
     );
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
@@ -142,18 +100,7 @@ fn a_bad_design_names_the_place() {
         err.contains("bad.oficina.json") && err.contains("line 4 column"),
         "{err}"
     );
-    let out = oficina(
-        &dir,
-        &[
-            "design",
-            "offset",
-            "bad.oficina.json",
-            "--ids",
-            "1",
-            "--distance",
-            "1",
-        ],
-    );
+    let out = oficina(&dir, "design offset bad.oficina.json --ids 1 --distance 1");
     assert!(!out.status.success());
 }
 
@@ -170,18 +117,10 @@ fn design_fit_adds_the_contour_oficina_fit_reports() {
     std::fs::write(dir.join("e.csv"), pts).unwrap();
     let said = assert_success(&oficina(
         &dir,
-        &[
-            "design",
-            "fit",
-            "e.csv",
-            "--tol",
-            "0.1",
-            "-o",
-            "e.oficina.json",
-        ],
+        "design fit e.csv --tol 0.1 -o e.oficina.json",
     ));
     // `oficina fit`'s biarc row: the same blocks and deviation.
-    let table = assert_success(&oficina(&dir, &["fit", "e.csv", "--tol", "0.1"]));
+    let table = assert_success(&oficina(&dir, "fit e.csv --tol 0.1"));
     let row: Vec<&str> = table
         .lines()
         .find(|l| l.starts_with("biarc"))
