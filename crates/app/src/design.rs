@@ -3,8 +3,9 @@
 //! call these; the design file itself is `oficina_io`'s.
 
 use crate::Error;
+use oficina_io::design_from_paths;
+pub use oficina_io::entity_paths;
 use oficina_io::geom::{offset_areas, Area, Path};
-use oficina_io::{design_from_paths, entity_paths};
 pub use oficina_io::{
     design_to_dxf, design_to_string, design_to_svg, parse_design, Design, DesignLayer, Entity,
     Shape,
