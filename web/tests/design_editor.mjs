@@ -265,6 +265,24 @@ await test('trim a line between its crossings with a line and a circle', async (
   assert(lines.length === 2 && Math.abs(lines[0][0] + 20) < 1e-9 && Math.abs(lines[0][1]) < 1e-9 && Math.abs(lines[1][0] - 13) < 1e-9 && Math.abs(lines[1][1] - 20) < 1e-9, `${JSON.stringify(lines)} ${await statusText()}`);
 });
 
+await test('a line snapped tangent to a circle', async () => {
+  await page.click('#de-new');
+  for (const t of ['circle', '0,0', '10']) await type(t);
+  await page.click('#de-fit');
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  await page.click('#de-tool-line');
+  await type('20,0');
+  // From (20, 0), 20 from the centre, the tangent radii make acos(10/20) = 60° with the
+  // x axis: the touching point above is (10 cos 60°, 10 sin 60°) = (5, 8.660…).
+  const want = [5, 10 * Math.sin(Math.PI / 3)];
+  const [x, y] = await page.evaluate((p) => window.__design.screen(p), [want[0] + 0.1, want[1] + 0.1]);
+  await page.mouse.move(x, y);
+  assert((await page.textContent('#de-xy')).includes('(tangent)'), await page.textContent('#de-xy'));
+  await page.mouse.click(x, y);
+  const line = (await entities()).find((e) => e.type === 'line');
+  assert(line && Math.hypot(line.b[0] - want[0], line.b[1] - want[1]) < 1e-9, JSON.stringify(line));
+});
+
 await test('digitise 12 points on a calibrated image and fit them', async () => {
   await page.click('#de-new');
   // A 400 × 300 px scan: an ellipse of radii 120 × 80 px about (200, 150) and two marks

@@ -354,7 +354,9 @@ function del() {
 function snap(p: Pt): { p: Pt; kind: string } | null {
   const r = SNAP_PX / view.s;
   let best: { p: Pt; kind: string } | null = null, bd = r;
-  for (const e of design.entities) for (const s of snapPoints(e)) {
+  const candidates = design.entities.flatMap((e) => snapPoints(e) as { p: Pt; kind: string }[]);
+  if (tool && pts.length) for (const e of design.entities) for (const q of tangentPoints(pts[pts.length - 1], e)) candidates.push({ p: q, kind: 'tangent' });
+  for (const s of candidates) {
     const d = Math.hypot(s.p[0] - p[0], s.p[1] - p[1]);
     if (d < bd) { bd = d; best = s; }
   }
@@ -369,6 +371,29 @@ function snap(p: Pt): { p: Pt; kind: string } | null {
   if ($<HTMLInputElement>('de-grid-on').checked && g > 0) return { p: [Math.round(p[0] / g) * g, Math.round(p[1] / g) * g], kind: 'grid' };
   return null;
 }
+/// Where a line from `from` touches the circle or arc `e` (arcs: within their sweep): with d
+/// the distance to the centre C, the touching radii make α = acos(r/d) with C → from, so
+/// the points are C + r·(from − C)/d turned by ±α.
+function tangentPoints(from: Pt, e: Shape): Pt[] {
+  const circles: { c: Pt; r: number; a0?: number; sw?: number }[] = [];
+  if (e.type === 'circle') circles.push({ c: e.center, r: e.radius });
+  if (e.type === 'arc') circles.push({ c: e.center, r: e.radius, a0: (e.start * Math.PI) / 180, sw: (e.sweep * Math.PI) / 180 });
+  const out: Pt[] = [];
+  for (const { c, r, a0, sw } of circles) {
+    const dx = from[0] - c[0], dy = from[1] - c[1], d = Math.hypot(dx, dy);
+    if (d <= r) continue;
+    const base = Math.atan2(dy, dx), al = Math.acos(r / d);
+    for (const t of [base + al, base - al]) {
+      if (sw !== undefined && a0 !== undefined) {
+        const rel = ((((t - a0) * Math.sign(sw)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
+        if (rel > Math.abs(sw)) continue;
+      }
+      out.push([c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)]);
+    }
+  }
+  return out;
+}
+
 function cross([a, b]: [Pt, Pt], [c, d]: [Pt, Pt]): Pt | null {
   const den = (b[0] - a[0]) * (d[1] - c[1]) - (b[1] - a[1]) * (d[0] - c[0]);
   if (Math.abs(den) < 1e-12) return null;
@@ -412,7 +437,7 @@ function draw() {
   }
   if (snapped) {
     const [x, y] = [view.sx(snapped.p[0]), view.sy(snapped.p[1])];
-    const m = snapped.kind === 'centre' ? el('circle', { cx: x, cy: y, r: 6 }, svg) : snapped.kind === 'mid' ? el('polygon', { points: `${x},${y - 7} ${x - 6},${y + 5} ${x + 6},${y + 5}` }, svg) : snapped.kind === 'intersection' ? el('path', { d: `M${x - 6} ${y - 6}L${x + 6} ${y + 6}M${x - 6} ${y + 6}L${x + 6} ${y - 6}` }, svg) : el('rect', { x: x - 5, y: y - 5, width: 10, height: 10 }, svg);
+    const m = snapped.kind === 'centre' ? el('circle', { cx: x, cy: y, r: 6 }, svg) : snapped.kind === 'mid' ? el('polygon', { points: `${x},${y - 7} ${x - 6},${y + 5} ${x + 6},${y + 5}` }, svg) : snapped.kind === 'tangent' ? el('path', { d: `M${x - 7} ${y + 6}L${x + 7} ${y + 6}M${x + 6} ${y}A6 6 0 1 0 ${x - 6} ${y}A6 6 0 1 0 ${x + 6} ${y}` }, svg) : snapped.kind === 'intersection' ? el('path', { d: `M${x - 6} ${y - 6}L${x + 6} ${y + 6}M${x - 6} ${y + 6}L${x + 6} ${y - 6}` }, svg) : el('rect', { x: x - 5, y: y - 5, width: 10, height: 10 }, svg);
     m.setAttribute('fill', 'none'); m.setAttribute('stroke', '#9af05a'); m.setAttribute('class', `de-snap de-snap-${snapped.kind}`);
   }
   const xy = snapped?.p ?? cursor;
