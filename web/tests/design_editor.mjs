@@ -265,7 +265,7 @@ await test('trim a line between its crossings with a line and a circle', async (
   assert(lines.length === 2 && Math.abs(lines[0][0] + 20) < 1e-9 && Math.abs(lines[0][1]) < 1e-9 && Math.abs(lines[1][0] - 13) < 1e-9 && Math.abs(lines[1][1] - 20) < 1e-9, `${JSON.stringify(lines)} ${await statusText()}`);
 });
 
-await test('a line snapped tangent to a circle', async () => {
+await test('a line snapped tangent to a circle; an arc by centre, start and end', async () => {
   await page.click('#de-new');
   for (const t of ['circle', '0,0', '10']) await type(t);
   await page.click('#de-fit');
@@ -281,6 +281,12 @@ await test('a line snapped tangent to a circle', async () => {
   await page.mouse.click(x, y);
   const line = (await entities()).find((e) => e.type === 'line');
   assert(line && Math.hypot(line.b[0] - want[0], line.b[1] - want[1]) < 1e-9, JSON.stringify(line));
+  // An arc by centre, start and end: about (0, 0) from (0, 15) to the direction of (−1, −1),
+  // counter-clockwise: radius 15, from 90° sweeping 225 − 90 = 135°.
+  await type('esc');
+  for (const t of ['arcc', '0,0', '0,15', '-1,-1']) await type(t);
+  const arc = (await entities()).find((e) => e.type === 'arc');
+  assert(arc && Math.abs(arc.radius - 15) < 1e-9 && Math.abs(arc.start - 90) < 1e-9 && Math.abs(arc.sweep - 135) < 1e-9, JSON.stringify(arc));
 });
 
 await test('digitise 12 points on a calibrated image and fit them', async () => {

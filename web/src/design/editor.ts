@@ -14,8 +14,8 @@ const W = 760, H = 480;
 /// Snaps within this many pixels.
 const SNAP_PX = 10;
 
-type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'calibrate' | 'digitise' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
-const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror', 'calibrate', 'digitise'];
+type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'arcc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'calibrate' | 'digitise' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
+const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'arcc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror', 'calibrate', 'digitise'];
 const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', cal: 'calibrate', dig: 'digitise', digitize: 'digitise', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
 
 let design: Design = emptyDesign();
@@ -79,6 +79,7 @@ function prompt(): string {
     case 'rect': return pts.length ? 'opposite corner' : 'first corner';
     case 'circle': return pts.length ? 'radius or a point on it' : 'centre';
     case 'arc': return ['start point', 'a point on the arc', 'end point'][pts.length];
+    case 'arcc': return ['centre', 'start point (sets the radius)', 'end point (its angle; the arc runs counter-clockwise)'][pts.length];
     case 'polygon': return !pts.length ? 'centre' : num === null ? 'number of sides' : 'radius to the vertices, or a vertex';
     case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
     case 'text': return !pts.length ? 'start of the baseline' : num === null ? 'capital height' : 'the text';
@@ -154,6 +155,17 @@ function takePoint(p: Pt, shift = false) {
     }
     case 'line': if (pts.length) add({ type: 'line', a: pts[pts.length - 1], b: p }); pts.push(p); break;
     case 'polyline': case 'spline': pts.push(p); break;
+    case 'arcc': {
+      pts.push(p);
+      if (pts.length < 3) break;
+      // Counter-clockwise from the start's angle to the end's, radius |start − centre|.
+      const [c, a, b] = pts, ang = (q: Pt) => (Math.atan2(q[1] - c[1], q[0] - c[0]) * 180) / Math.PI;
+      const r = Math.hypot(a[0] - c[0], a[1] - c[1]);
+      let sweep = ang(b) - ang(a);
+      if (sweep <= 0) sweep += 360;
+      if (!(r > 0)) status('the start is on the centre', true); else add({ type: 'arc', center: c, radius: r, start: ang(a), sweep });
+      setTool(null); return;
+    }
     case 'calibrate': if (!bg) return status('open a background image first', true); if (pts.length < 2) pts.push(p); break;
     case 'digitise': pts.push(p); if (pts.length >= 8) refit(); break;
     case 'polygon': if (pts.length && num !== null) return takeNumber(Math.hypot(p[0] - pts[0][0], p[1] - pts[0][1])); if (!pts.length) pts.push(p); break;
@@ -497,7 +509,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
       <button id="de-cam">Send to CAM</button>
     </div>
     <div id="de-tools" class="form">
-      ${TOOLS.map((t) => `<button data-tool="${t}" id="de-tool-${t}">${t}</button>`).join('')}
+      ${TOOLS.map((t) => `<button data-tool="${t}" id="de-tool-${t}"${t === 'arcc' ? ' title="arc by centre, start, end"' : ''}>${t}</button>`).join('')}
       <button id="de-explode">explode</button> <button id="de-join">join</button> <button id="de-delete">delete</button> <button id="de-undo" title="undo (Ctrl+Z)">undo</button> <button id="de-redo" title="redo (Ctrl+Y)">redo</button>
       <button id="de-fit">fit</button>
     </div>
