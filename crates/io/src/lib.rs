@@ -40,8 +40,8 @@ mod svg_text;
 pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
 pub use design::{
     design_from_bytes, design_from_paths, design_to_dxf, design_to_string, design_to_svg,
-    entity_paths, looks_like_design, parse_design, path_to_polyline, Design, DesignLayer, Entity,
-    Shape, DESIGN_FORMAT, DESIGN_VERSION,
+    entity_paths, parse_design, path_to_polyline, Design, DesignLayer, Entity, Shape,
+    DESIGN_FORMAT, DESIGN_VERSION,
 };
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;

@@ -55,7 +55,7 @@ export function outline(e: Shape): Pt[][] {
       }
       return [o];
     }
-    // Display: a centripetal-free Catmull–Rom through the points; the file's curve is the
+    // Display: a uniform Catmull–Rom through the points; the file's curve is the
     // server's natural cubic (crates/io/src/dxf/spline.rs), within a fraction of a mm.
     case 'spline': {
       const p = e.points, o: Pt[] = [p[0]];

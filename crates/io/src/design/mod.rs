@@ -41,13 +41,6 @@ pub fn design_to_string(design: &Design) -> String {
     s
 }
 
-/// Is this text a design file (a JSON object whose `format` is [`DESIGN_FORMAT`])?
-pub fn looks_like_design(bytes: &[u8]) -> bool {
-    let head = &bytes[..bytes.len().min(4096)];
-    let head = String::from_utf8_lossy(head);
-    head.trim_start().starts_with('{') && head.contains(&format!("\"{DESIGN_FORMAT}\""))
-}
-
 /// A design file as every importer returns a drawing.
 pub fn design_from_bytes(bytes: &[u8], file: &str) -> Result<Imported, ImportError> {
     let text = crate::import::utf8(bytes, file)?;
