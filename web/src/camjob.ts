@@ -6,6 +6,7 @@
 // builds, orders, checks and times.
 
 import { withToken, putFile } from './api';
+import { SVG, el, segDist } from './view2d';
 
 interface Shape {
   id: number; layer: string; color: string | null; closed: boolean; circle: number | null;
@@ -117,13 +118,6 @@ async function loadShapes() {
   draw();
 }
 
-const SVG = 'http://www.w3.org/2000/svg';
-function el(tag: string, attrs: Record<string, string | number>, parent: Element): SVGElement {
-  const e = document.createElementNS(SVG, tag);
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
-  parent.appendChild(e);
-  return e;
-}
 const W = 560, H = 420, PAD = 16;
 const sx = (x: number) => (x - view.x0) * view.s + PAD;
 const sy = (y: number) => H - ((y - view.y0) * view.s + PAD);
@@ -231,12 +225,6 @@ function nearest(p: [number, number]): number | null {
     }
   }
   return best;
-}
-function segDist(p: [number, number], a: [number, number], b: [number, number]): number {
-  const dx = b[0] - a[0], dy = b[1] - a[1];
-  const l = dx * dx + dy * dy;
-  const t = l ? Math.max(0, Math.min(1, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l)) : 0;
-  return Math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
 }
 
 function renderOps() {
@@ -346,11 +334,18 @@ function addOp() {
   changed();
 }
 
+/// Opens a drawing already in the job folder (the file control's, the design editor's Send to CAM).
+export async function openDrawing(name: string) {
+  drawing = name; selected.clear(); ops = []; plates.length = 0;
+  changed();
+  await loadShapes();
+}
+
 export function initCamJob(hooks: { loadProgram: (name: string, text: string, saved: boolean, plot: boolean, from: string) => void }) {
   $('camjob').innerHTML = `
     <h3>CAM job <span class="muted">— shapes → operations → one program (as <code>oficina mill --job</code>)</span></h3>
     <div class="form cj-files">
-      <label>Drawing <input id="cj-drawing" type="file" accept=".svg,.dxf"></label>
+      <label>Drawing <input id="cj-drawing" type="file" accept=".svg,.dxf,.json"></label>
       <label>Tool library <input id="cj-library" type="file" accept=".toml"></label>
       <label>Material <input id="cj-material" placeholder="aluminium" size="9"></label>
       <label>Stock thickness <input id="cj-thickness" type="number" value="4" min="0.01" step="any"> mm</label>
@@ -404,9 +399,7 @@ export function initCamJob(hooks: { loadProgram: (name: string, text: string, sa
     if (!f) return;
     const name = safe(f.name);
     try { await putFile(name, f); } catch (err) { return status(`upload ${f.name}: ${(err as Error).message}`, true); }
-    drawing = name; selected.clear(); ops = []; plates.length = 0;
-    changed();
-    await loadShapes();
+    await openDrawing(name);
   };
   $<HTMLInputElement>('cj-library').onchange = async (e) => {
     const f = (e.target as HTMLInputElement).files?.[0];

@@ -9,8 +9,9 @@ import { MachinePanel } from './machine';
 import { setupWorkshop } from './workshop';
 import { setupSimulate } from './simulate';
 import { setupProfileEditor, setupToolEditor } from './profile';
-import { initCamJob } from './camjob';
+import { initCamJob, openDrawing } from './camjob';
 import { Carved, carvedReport, clearCarved, hideModel, showModel } from './carve_model';
+import { initDesignEditor } from './design/editor';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -269,12 +270,13 @@ $<HTMLSelectElement>('sample').onchange = (e) => {
 
 // Processes: a G-code program as it is, a relief carved from an image, or a design milled,
 // made into sole molds or plotted.
-type Process = 'gcode' | 'relief' | 'camjob' | ProcessKind;
+type Process = 'gcode' | 'relief' | 'camjob' | 'design' | ProcessKind;
 let shownForm: ProcessKind | null = null;
 function setProcess(p: Process) {
   $<HTMLSelectElement>('process').value = p;
   $('relief-form').hidden = p !== 'relief';
   $('camjob').hidden = p !== 'camjob';
+  $('design').hidden = p !== 'design';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
   const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider' || p === 'model';
   $('process-form').hidden = !isDesign;
@@ -660,6 +662,8 @@ async function init() {
   setupToolEditor(() => { if (program.text) runCheck(); });
 }
 initCamJob({ loadProgram });
+// Send to CAM: the saved design opened in the CAM job page.
+initDesignEditor({ openInCam: (file) => { setProcess('camjob'); openDrawing(file); } });
 init().catch((e) => error(String(e.message || e)));
 
 // For the browser tests and the benchmark: the page's state, read-only.

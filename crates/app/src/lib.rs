@@ -32,6 +32,7 @@ pub mod carve;
 pub mod carve_mesh;
 mod check;
 mod controls;
+pub mod design;
 pub mod embroider;
 mod error;
 mod feeds;

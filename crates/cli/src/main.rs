@@ -12,6 +12,7 @@ mod carve;
 mod check;
 mod console;
 mod console_probe;
+mod design;
 mod embroider;
 mod emulate;
 mod emulate_probe;
@@ -62,6 +63,9 @@ enum Command {
     Carve(carve::Args),
     /// Terminal to grbl-family firmware, and the job runner with hold/resume/stop and resume-from-line.
     Console(console::Args),
+    /// The design editor's file (`*.oficina.json`): export as SVG/DXF, offset contours.
+    #[command(subcommand)]
+    Design(design::Command),
     /// Emulate a grbl 1.1 (or Marlin 2.x) board on a pseudo-terminal or TCP port, for dry runs.
     Emulate(emulate::Args),
     /// Fit a digitised contour by every method: blocks and deviation of each.
@@ -142,6 +146,7 @@ fn main() -> ExitCode {
         Command::Gcode(GcodeCommand::Canon(args)) => gcode_canon::run(args),
         Command::Carve(args) => carve::run(args),
         Command::Console(args) => console::run(args),
+        Command::Design(cmd) => design::run(cmd),
         Command::Emulate(args) => emulate::run(args),
         Command::Fit(args) => fit::run(args),
         Command::Run(args) => run::run(args),

@@ -201,7 +201,7 @@ pub fn load_drawing_with(path: &Path, join_tol: f64) -> Result<Imported, ImportE
 }
 
 /// Reads a drawing by its extension: HP-GL (`.plt`, `.hpgl`, `.hpg`, `.hp`, … or any file whose
-/// content is HP-GL), `.svg`, `.dxf`, `.csv`/`.txt`/`.xy`/`.pts` (a point list, taken as one
+/// content is HP-GL), `.svg`, `.dxf`, `.json` (a design file, `*.oficina.json`), `.csv`/`.txt`/`.xy`/`.pts` (a point list, taken as one
 /// closed contour) or `.dat`/`.g01` (the seed 001 graphic file), as the file has it (nothing
 /// closed or chained).
 fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
@@ -220,6 +220,8 @@ fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
     match ext.as_str() {
         "svg" => crate::svg::svg_from_bytes(&bytes, &name),
         "dxf" => crate::dxf::dxf_from_bytes(&bytes, &name),
+        // The design editor's file, `*.oficina.json`.
+        "json" => crate::design::design_from_bytes(&bytes, &name),
         "csv" | "txt" | "xy" | "pts" => {
             let text = utf8(&bytes, &name)?;
             let pts = crate::points::parse_points(text, &name)?;
@@ -238,7 +240,7 @@ fn read_drawing(path: &Path) -> Result<Imported, ImportError> {
         other => Err(ImportError::new(
             &name,
             "file",
-            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .csv/.txt (points), .dat (seed 001), .pub (CADTEC, seed 000) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
+            format!("unknown drawing type '.{other}' (and not HP-GL by its content): use .svg, .dxf, .oficina.json (design), .csv/.txt (points), .dat (seed 001), .pub (CADTEC, seed 000) or HP-GL (.plt, .hpgl, .hpg, .hp)"),
         )),
     }
 }

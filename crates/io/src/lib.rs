@@ -23,6 +23,7 @@
 //! ```
 
 mod closure;
+mod design;
 mod dxf;
 mod heightmap;
 mod hpgl;
@@ -37,6 +38,11 @@ mod svg;
 mod svg_text;
 
 pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
+pub use design::{
+    design_from_bytes, design_from_paths, design_to_dxf, design_to_string, design_to_svg,
+    entity_paths, parse_design, path_to_polyline, Design, DesignLayer, Entity, Shape,
+    DESIGN_FORMAT, DESIGN_VERSION,
+};
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;
 pub use hpgl::{hpgl_from_bytes, is_hpgl_file, load_hpgl, looks_like_hpgl, Hpgl, HPGL_EXTENSIONS};

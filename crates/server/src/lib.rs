@@ -31,6 +31,7 @@ mod api;
 mod auth;
 mod camjob;
 mod carve_model;
+mod design;
 mod embroider;
 mod files;
 mod jobs;

@@ -21,6 +21,7 @@
 mod draw;
 mod entity;
 mod spline;
+pub(crate) use spline::through_fit_points;
 mod tokens;
 
 use crate::import::{ImportError, Imported};

@@ -185,7 +185,7 @@ fn approximate(
 
 /// The CAD interpolating cubic through `pts` (see the module notes); `tangents` are the
 /// file's start and end tangent directions, if it has them.
-pub(super) fn through_fit_points(pts: &[Point], tangents: Option<(Vec2, Vec2)>) -> Vec<CubicBez> {
+pub(crate) fn through_fit_points(pts: &[Point], tangents: Option<(Vec2, Vec2)>) -> Vec<CubicBez> {
     // Repeated points give no parameter step: drop them.
     let mut p: Vec<Point> = Vec::with_capacity(pts.len());
     for &q in pts {
