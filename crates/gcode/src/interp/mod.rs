@@ -201,7 +201,11 @@ impl Interpreter {
             line: self.line,
             op,
         };
-        if let Some(op) = self.comp.hold(op) {
+        // Usually nothing is held (no cutter compensation): straight to the sink, without
+        // the tail's borrow and the operation's moves in and out of `hold`.
+        if !self.comp.is_holding() {
+            sink(op);
+        } else if let Some(op) = self.comp.hold(op) {
             sink(op);
         }
     }
