@@ -75,13 +75,14 @@ impl Interpreter {
             ));
         }
         let k = self.k();
-        let start = [self.pos[0], self.pos[1]];
-        let stop = [end[0], end[1]];
+        // Control points X, Y and weight (G5 and G5.1 weigh each 1).
+        let start = [self.pos[0], self.pos[1], 1.0];
+        let stop = [end[0], end[1], 1.0];
         let points = if tenths == 51 {
             let (Some(i), Some(j)) = (d.get('I'), d.get('J')) else {
                 return Err(self.fail(span, "Must specify both I and J with G5.1", 0));
             };
-            vec![start, [start[0] + i * k, start[1] + j * k], stop]
+            vec![start, [start[0] + i * k, start[1] + j * k, 1.0], stop]
         } else {
             let first = match (d.get('I'), d.get('J')) {
                 (Some(i), Some(j)) => [i * k, j * k],
@@ -97,15 +98,14 @@ impl Interpreter {
             self.spline.last_pq = [-p, -q];
             vec![
                 start,
-                [start[0] + first[0], start[1] + first[1]],
-                [stop[0] + p, stop[1] + q],
+                [start[0] + first[0], start[1] + first[1], 1.0],
+                [stop[0] + p, stop[1] + q, 1.0],
                 stop,
             ]
         };
         self.inverse_time_rate(d, sink);
-        let weighted: Vec<[f64; 3]> = points.iter().map(|p| [p[0], p[1], 1.0]).collect();
-        let order = weighted.len() as u32;
-        self.emit_nurbs(sink, &weighted, order, d.get('F'));
+        let order = points.len() as u32;
+        self.emit_nurbs(sink, points, order, d.get('F'));
         Ok(())
     }
 
@@ -134,7 +134,7 @@ impl Interpreter {
                     0,
                 ));
             }
-            self.emit_nurbs(sink, &points, order, d.get('F'));
+            self.emit_nurbs(sink, points, order, d.get('F'));
             return Ok(());
         }
         let (x, y) = (d.has('X'), d.has('Y'));
@@ -191,13 +191,14 @@ impl Interpreter {
     /// The curve from the current point, whole or traced (see the module); the current
     /// point becomes the last control point (X and Y only, as in LinuxCNC). Under G93 the
     /// block's F (else the last one) times the whole curve.
-    fn emit_nurbs(&mut self, sink: Sink, points: &[[f64; 3]], order: u32, f: Option<f64>) {
+    /// `points` (program coordinates, weighted) become the curve's, in machine coordinates.
+    fn emit_nurbs(&mut self, sink: Sink, mut points: Vec<[f64; 3]>, order: u32, f: Option<f64>) {
         let tolerance = if self.modal.blend_tolerance > 0.0 {
             self.modal.blend_tolerance
         } else {
             DEFAULT_TOLERANCE
         };
-        let Some(last) = points.last() else {
+        let Some(&[last_x, last_y, _]) = points.last() else {
             return;
         };
         let at = |x: f64, y: f64| {
@@ -205,17 +206,16 @@ impl Interpreter {
             [p[0], p[1]] = [x, y];
             self.machine(p)
         };
+        // In place: the points' vector becomes the curve's, no copy.
+        for p in &mut points {
+            let m = at(p[0], p[1]);
+            [p[0], p[1]] = [m.x, m.y];
+        }
         let curve = Nurbs {
-            points: points
-                .iter()
-                .map(|&[x, y, w]| {
-                    let m = at(x, y);
-                    [m.x, m.y, w]
-                })
-                .collect(),
+            points,
             order,
             tolerance,
-            end: at(last[0], last[1]),
+            end: at(last_x, last_y),
             inverse_time: (self.modal.feed_mode == FeedMode::InverseTime)
                 .then(|| f.unwrap_or(self.modal.feed)),
         };
@@ -224,7 +224,7 @@ impl Interpreter {
         } else {
             curve.trace(|op| self.emit(sink, op));
         }
-        self.pos[0] = last[0];
-        self.pos[1] = last[1];
+        self.pos[0] = last_x;
+        self.pos[1] = last_y;
     }
 }
