@@ -291,6 +291,14 @@ mod tests {
                 // About one block in twenty is a spline, each a NURBS_FEED to rs274.
                 let splines = calls.matches("NURBS_FEED(").count();
                 assert!(splines > 60, "{splines} splines");
+                // Oficina's counted run makes one operation of each, as rs274 one call.
+                let mut whole = 0;
+                let input = BufReader::new(open(&path).unwrap());
+                let diagnostics = oficina_gcode::run(input, &options(), &mut |c| {
+                    whole += usize::from(matches!(c.op, oficina_canon::CanonOp::Spline(_)));
+                });
+                assert!(diagnostics.is_empty(), "{diagnostics:?}");
+                assert_eq!(whole, splines);
             }
         }
     }
