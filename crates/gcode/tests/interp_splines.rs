@@ -266,3 +266,38 @@ fn a_spline_kept_whole_prints_the_same_rs274_text() {
     assert_eq!(text.matches("NURBS_FEED(").count(), 2);
     assert_eq!(print(&whole), text);
 }
+
+#[test]
+fn the_time_estimate_of_a_whole_spline_is_that_of_its_trace_and_of_the_curve() {
+    // 600 mm/min along the cubic: its length (sampled finely here, independently of the
+    // flattening) over 10 mm/s, whichever form of the spline the estimate is given.
+    let text = "G21 G17 G90 F600\nG0 X0 Y0\nG5 I0 J10 P0 Q-10 X20 Y0\nM2\n";
+    let (traced, whole) = traced_and_whole(text);
+    let summary = |ops: &[Canon]| {
+        let mut s = oficina_canon::Summarizer::new(oficina_canon::Pos::ZERO, [6000.0; 3]);
+        for c in ops {
+            s.add(&c.op);
+        }
+        s.finish()
+    };
+    let (t, w) = (summary(&traced), summary(&whole));
+    assert_eq!((w.feed_moves, w.feed_length), (t.feed_moves, t.feed_length));
+    assert_eq!(w.feed_moves, 1);
+    let cubic = [[0.0, 0.0], [0.0, 10.0], [20.0, -10.0], [20.0, 0.0]];
+    let length: f64 = (0..100_000)
+        .map(|i| {
+            let (a, b) = (
+                bezier(&cubic, i as f64 / 1e5),
+                bezier(&cubic, (i + 1) as f64 / 1e5),
+            );
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum();
+    // Chords within 0.01 mm of the curve are at most a little shorter than it.
+    assert!(
+        w.feed_length <= length && w.feed_length > length * 0.999,
+        "{} / {length}",
+        w.feed_length
+    );
+    assert!((w.feed_rate_seconds - w.feed_length / 10.0).abs() < 1e-9);
+}
