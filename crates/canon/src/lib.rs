@@ -22,8 +22,10 @@
 //! degrees, feeds in mm/min (or 1/min in inverse time mode), times in seconds. The offset
 //! records are still emitted so that a printer can reconstruct program coordinates.
 
+mod spline;
 mod summary;
 
+pub use spline::{flatten, Nurbs};
 pub use summary::{Extents, MoveBound, Summarizer, Summary};
 
 /// A point in the six-axis machine space: X Y Z in mm, A B C in degrees.
@@ -230,6 +232,12 @@ pub enum CanonOp {
         /// How many straight feeds follow that trace the curve.
         segments: u32,
     },
+    /// The same spline kept whole, as rs274's `NURBS_FEED` is: only in the operations of a
+    /// run that asks for it (`RunOptions::whole_splines` of the interpreter), for readers
+    /// that need no points on the curve (printing rs274's text, counting). Whatever moves
+    /// along it traces it with [`Nurbs::trace`] into the [`CanonOp::NurbsFeed`] and straight
+    /// feeds above, the ones every other run gets in its place.
+    Spline(Box<Nurbs>),
     /// G4: wait this many seconds.
     Dwell(f64),
     /// S: spindle speed, rpm.
@@ -327,7 +335,7 @@ pub struct Canon {
 
 impl Canon {
     /// The same operation with every position moved by `d` (X, Y, Z, mm): straight moves'
-    /// ends, an arc's end and centre (the centre given in the arc's frame, so `d` is turned
+    /// ends, a whole spline's control points and end, an arc's end and centre (the centre given in the arc's frame, so `d` is turned
     /// into it first). Operations without a position are unchanged.
     pub fn translated(&self, d: [f64; 3]) -> Canon {
         let shift = |mut p: Pos| {
@@ -360,6 +368,15 @@ impl Canon {
                     rotation: *rotation,
                 }
             }
+            CanonOp::Spline(n) => {
+                let mut n = n.clone();
+                for p in &mut n.points {
+                    p[0] += d[0];
+                    p[1] += d[1];
+                }
+                n.end = shift(n.end);
+                CanonOp::Spline(n)
+            }
             other => other.clone(),
         };
         Canon {
@@ -378,6 +395,7 @@ impl CanonOp {
                 | CanonOp::StraightFeed { .. }
                 | CanonOp::ArcFeed { .. }
                 | CanonOp::RigidTap { .. }
+                | CanonOp::Spline(_)
         )
     }
 }

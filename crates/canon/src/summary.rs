@@ -130,6 +130,11 @@ impl Summarizer {
 
     /// Folds one more op into the summary.
     pub fn add(&mut self, op: &CanonOp) {
+        // A spline kept whole is summed as the feeds that trace it.
+        if let CanonOp::Spline(curve) = op {
+            curve.trace(|traced| self.add(&traced));
+            return;
+        }
         self.fold(op);
         self.moved |= matches!(
             op,

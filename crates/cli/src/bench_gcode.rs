@@ -85,6 +85,13 @@ pub(crate) fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
         load_average().unwrap_or_else(|| "unknown".into()),
         std::thread::available_parallelism().map_or(0, |n| n.get())
     );
+    println!(
+        "both sides read the whole program into canonical operations (text, parameters, \
+         expressions, modal state, offsets): oficina into a sink that counts them (\"counting\") \
+         and printing rs274's text to a file (\"printing\"), rs274 -g printing its calls to a file; \
+         a spline is one operation on both sides (rs274's NURBS_FEED, oficina's with its control \
+         points), traced into feeds only where something moves along it"
+    );
     let dir = tempfile::tempdir().context("cannot create a temporary directory")?;
     let mixed = args
         .keep
@@ -94,7 +101,7 @@ pub(crate) fn run(args: BenchGcodeArgs) -> anyhow::Result<()> {
 
     for (label, path, writer) in [
         (
-            "mixed G1/G2/G3 with parameters and expressions",
+            "mixed G1/G2/G3 with parameters and expressions, G5/G5.1/G5.2 splines in 1 block of 20",
             &mixed,
             write_mixed_program as fn(&mut BufWriter<File>, u64) -> _,
         ),

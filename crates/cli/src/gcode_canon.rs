@@ -20,7 +20,9 @@ pub(crate) struct Args {
 }
 
 pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let opts = args.program.run_options(false)?;
+    let mut opts = args.program.run_options(false)?;
+    // rs274 prints one NURBS_FEED per spline: no points on the curve are needed here.
+    opts.whole_splines = true;
     let source = args.program.open()?;
     let stdout = std::io::stdout();
     let mut out = BufWriter::new(stdout.lock());

@@ -22,7 +22,11 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let opts = RunOptions::default();
+    // As `oficina bench gcode` runs it: splines whole, as rs274 reads them.
+    let opts = RunOptions {
+        whole_splines: true,
+        ..RunOptions::default()
+    };
     let mut ops = 0u64;
     let diagnostics = match mode.as_str() {
         "count" => oficina_gcode::run(

@@ -398,6 +398,10 @@ impl Rs274Printer {
                 self.spline_feeds = *segments;
                 write!(out, "NURBS_FEED({control_points}, ...)")
             }
+            CanonOp::Spline(curve) => {
+                self.last = curve.end.to_array();
+                write!(out, "NURBS_FEED({}, ...)", curve.points.len())
+            }
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),
         }

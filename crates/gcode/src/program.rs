@@ -39,6 +39,10 @@ pub struct RunOptions {
     pub subroutine_path: Vec<std::path::PathBuf>,
     /// What a LinuxCNC INI file sets: M19's ORIENT_OFFSET, `#<_ini[section]name>` values.
     pub ini: crate::IniSettings,
+    /// Each spline as one [`oficina_canon::CanonOp::Spline`], as rs274 reads it, for
+    /// readers that need no points on it (printing rs274's text, counting); otherwise
+    /// (the default) traced into the straight feeds that move along it.
+    pub whole_splines: bool,
 }
 
 impl RunOptions {
@@ -106,6 +110,7 @@ impl Driver {
             params.set_system(name, *v);
         }
         interp.orient_offset = opts.ini.orient_offset;
+        interp.whole_splines = opts.whole_splines;
         interp.begin(&mut params, sink);
         interp.update_named_params(&mut params);
         Driver {

@@ -3,7 +3,7 @@
 //! the Bézier / rational curve computed independently from the block's words. (The calls
 //! themselves are compared with rs274 by the differential corpus, `tests/corpus/spline_*`.)
 
-use oficina_canon::{Canon, CanonOp};
+use oficina_canon::{Canon, CanonOp, FeedMode};
 use oficina_gcode::{canon_of, Dialect, RunOptions};
 
 fn run(text: &str) -> Vec<Canon> {
@@ -181,4 +181,123 @@ fn under_g93_the_whole_curve_takes_one_over_f_minutes() {
         minutes += 1.0 / rate;
     }
     assert!((minutes - 0.5).abs() < 1e-9, "{minutes}");
+}
+
+/// The program run with splines traced (the default) and kept whole.
+fn traced_and_whole(text: &str) -> (Vec<Canon>, Vec<Canon>) {
+    let mut opts = RunOptions::check(Dialect::LinuxCnc);
+    let (traced, d) = canon_of(text, &opts);
+    assert!(d.is_empty(), "{d:?}");
+    opts.whole_splines = true;
+    let (whole, d) = canon_of(text, &opts);
+    assert!(d.is_empty(), "{d:?}");
+    (traced, whole)
+}
+
+#[test]
+fn a_spline_kept_whole_traces_to_the_feeds_of_a_traced_run_under_rotation_and_g93() {
+    // Rotated work offset, G92 shift, inverse time: the whole curve is in machine
+    // coordinates, its trace follows the Bézier of the machine images of the control points.
+    let text = "G21 G17 G90\nG10 L2 P1 X5 Y-3 R30\nG54 G92 X1 Y1\nG0 X1 Y1\n\
+                G5 I0 J10 P0 Q-10 X21 Y1 F400\nG93 G5.1 X30 Y1 I5 J8 F3\n\
+                G94 F500 G5.2 X30 Y10 P0.7 L3\nX40 Y10 P1\nX45 Y0 P2\nG5.3\nG1 X50\nM2\n";
+    let (traced, whole) = traced_and_whole(text);
+    let mut expanded = Vec::new();
+    for c in &whole {
+        match &c.op {
+            CanonOp::Spline(curve) => curve.trace(|op| expanded.push(Canon { line: c.line, op })),
+            _ => expanded.push(c.clone()),
+        }
+    }
+    let splines = whole
+        .iter()
+        .filter(|c| matches!(c.op, CanonOp::Spline(_)))
+        .count();
+    assert_eq!(splines, 3);
+    assert!(!whole
+        .iter()
+        .any(|c| matches!(c.op, CanonOp::NurbsFeed { .. })));
+    assert_eq!(expanded.len(), traced.len());
+    for (a, b) in expanded.iter().zip(&traced) {
+        assert_eq!(a.line, b.line);
+        match (&a.op, &b.op) {
+            (CanonOp::StraightFeed { to: p }, CanonOp::StraightFeed { to: q }) => {
+                assert!(p.dist_xyz(q) < 1e-9 && p.a == q.a, "{p:?} / {q:?}");
+            }
+            (CanonOp::SetFeedRate(f), CanonOp::SetFeedRate(g)) => {
+                assert!((f - g).abs() <= 1e-9 * g.abs(), "{f} / {g}")
+            }
+            (x, y) => assert_eq!(x, y),
+        }
+    }
+    // G92 made program (1, 1) the machine origin, so the control points (1,1) (1,11)
+    // (21,-9) (21,1) are, in the machine, (0,0) (0,10) (20,-10) (20,0) turned by 30°.
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let machine = |p: [f64; 2]| [p[0] * c - p[1] * s, p[0] * s + p[1] * c];
+    let mut cubic = [[0.0, 0.0], [0.0, 10.0], [20.0, -10.0], [20.0, 0.0]].map(machine);
+    let g93 = traced
+        .iter()
+        .position(|c| c.op == CanonOp::SetFeedMode(FeedMode::InverseTime))
+        .unwrap();
+    let c0 = &curves(&traced[..g93])[0];
+    let start = c0.1[0];
+    assert!(
+        (start[0] - cubic[0][0]).hypot(start[1] - cubic[0][1]) < 1e-9,
+        "{start:?}"
+    );
+    cubic[0] = start; // the machine origin within rounding of the G92 chain
+    assert_follows(&c0.1, |t| bezier(&cubic, t), 0.01);
+}
+
+#[test]
+fn a_spline_kept_whole_prints_the_same_rs274_text() {
+    let text = "G20 G17 G90 F20\nG10 L2 P1 X0.2 R15\nG54 G0 X1 Y1\nG5 I0 J1 P0 Q-1 X2 Y1\n\
+                G93 G5.1 X3 Y1 I0.5 J0.8 F4\nG1 X4 F2\nM2\n";
+    let (traced, whole) = traced_and_whole(text);
+    let print = |ops: &[Canon]| {
+        let mut printer = oficina_gcode::Rs274Printer::new();
+        let mut out = Vec::new();
+        for c in ops {
+            printer.print(c, &mut out).unwrap();
+        }
+        String::from_utf8(out).unwrap()
+    };
+    let text = print(&traced);
+    assert_eq!(text.matches("NURBS_FEED(").count(), 2);
+    assert_eq!(print(&whole), text);
+}
+
+#[test]
+fn the_time_estimate_of_a_whole_spline_is_that_of_its_trace_and_of_the_curve() {
+    // 600 mm/min along the cubic: its length (sampled finely here, independently of the
+    // flattening) over 10 mm/s, whichever form of the spline the estimate is given.
+    let text = "G21 G17 G90 F600\nG0 X0 Y0\nG5 I0 J10 P0 Q-10 X20 Y0\nM2\n";
+    let (traced, whole) = traced_and_whole(text);
+    let summary = |ops: &[Canon]| {
+        let mut s = oficina_canon::Summarizer::new(oficina_canon::Pos::ZERO, [6000.0; 3]);
+        for c in ops {
+            s.add(&c.op);
+        }
+        s.finish()
+    };
+    let (t, w) = (summary(&traced), summary(&whole));
+    assert_eq!((w.feed_moves, w.feed_length), (t.feed_moves, t.feed_length));
+    assert_eq!(w.feed_moves, 1);
+    let cubic = [[0.0, 0.0], [0.0, 10.0], [20.0, -10.0], [20.0, 0.0]];
+    let length: f64 = (0..100_000)
+        .map(|i| {
+            let (a, b) = (
+                bezier(&cubic, i as f64 / 1e5),
+                bezier(&cubic, (i + 1) as f64 / 1e5),
+            );
+            (b[0] - a[0]).hypot(b[1] - a[1])
+        })
+        .sum();
+    // Chords within 0.01 mm of the curve are at most a little shorter than it.
+    assert!(
+        w.feed_length <= length && w.feed_length > length * 0.999,
+        "{} / {length}",
+        w.feed_length
+    );
+    assert!((w.feed_rate_seconds - w.feed_length / 10.0).abs() < 1e-9);
 }

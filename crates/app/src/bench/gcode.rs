@@ -51,6 +51,16 @@ const IO_BUFFER: usize = 256 * 1024;
 /// How often Oficina's runs are repeated; the fastest run counts (the machine is shared).
 pub const REPEATS: usize = 3;
 
+/// Oficina's options in both runs: what rs274 does, every block read, evaluated and
+/// interpreted into canonical operations, each spline one operation with its control points
+/// (rs274's one `NURBS_FEED`), not traced into feeds (that is for whoever moves along it).
+fn options() -> RunOptions {
+    RunOptions {
+        whole_splines: true,
+        ..RunOptions::default()
+    }
+}
+
 fn own_cpu() -> f64 {
     cpu_seconds(CpuOf::Process)
 }
@@ -115,7 +125,7 @@ fn time_oficina_counting(program: &Path) -> Result<(Timing, u64), Error> {
     let mut ops = 0u64;
     let (started, cpu) = (Instant::now(), own_cpu());
     let input = BufReader::with_capacity(IO_BUFFER, file);
-    let diagnostics = oficina_gcode::run(input, &RunOptions::default(), &mut |_| ops += 1);
+    let diagnostics = oficina_gcode::run(input, &options(), &mut |_| ops += 1);
     Ok((finish_timing(started, cpu, &diagnostics), ops))
 }
 
@@ -130,7 +140,7 @@ fn time_oficina_printing(program: &Path, output: &Path) -> Result<Timing, Error>
     let mut write_error = None;
     let (started, cpu) = (Instant::now(), own_cpu());
     let input = BufReader::with_capacity(IO_BUFFER, file);
-    let diagnostics = oficina_gcode::run(input, &RunOptions::default(), &mut |c| {
+    let diagnostics = oficina_gcode::run(input, &options(), &mut |c| {
         if write_error.is_none() {
             write_error = printer.print(&c, &mut out).err();
         }
@@ -281,6 +291,14 @@ mod tests {
                 // About one block in twenty is a spline, each a NURBS_FEED to rs274.
                 let splines = calls.matches("NURBS_FEED(").count();
                 assert!(splines > 60, "{splines} splines");
+                // Oficina's counted run makes one operation of each, as rs274 one call.
+                let mut whole = 0;
+                let input = BufReader::new(open(&path).unwrap());
+                let diagnostics = oficina_gcode::run(input, &options(), &mut |c| {
+                    whole += usize::from(matches!(c.op, oficina_canon::CanonOp::Spline(_)));
+                });
+                assert!(diagnostics.is_empty(), "{diagnostics:?}");
+                assert_eq!(whole, splines);
             }
         }
     }

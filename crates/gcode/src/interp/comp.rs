@@ -107,6 +107,11 @@ fn queued(op: &CanonOp) -> bool {
 const MAX_HELD: usize = 4096;
 
 impl CompState {
+    /// Whether a segment is held (then [`CompState::hold`] may hold what follows it).
+    pub(crate) fn is_holding(&self) -> bool {
+        self.pending.is_some()
+    }
+
     /// Hold `op` behind the held segment if rs274 would; gives it back otherwise.
     pub(crate) fn hold(&self, op: Canon) -> Option<Canon> {
         let mut tail = self.tail.borrow_mut();

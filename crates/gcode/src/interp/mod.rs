@@ -97,6 +97,9 @@ pub struct Interpreter {
     pub tools: ToolTable,
     /// Degrees added to every M19 angle (LinuxCNC's `[RS274NGC]ORIENT_OFFSET`).
     pub orient_offset: f64,
+    /// Emit each spline whole, as one [`CanonOp::Spline`], instead of traced into feeds
+    /// (see `splines.rs`); off by default.
+    pub whole_splines: bool,
     machine_units: Units,
     pub(crate) cycle: cycles::CycleMemory,
     pub(crate) comp: comp::CompState,
@@ -140,6 +143,7 @@ impl Interpreter {
             frame: Frame::default(),
             tools,
             orient_offset: 0.0,
+            whole_splines: false,
             machine_units: start.machine_units,
             cycle: cycles::CycleMemory::default(),
             comp: comp::CompState::default(),
@@ -197,7 +201,11 @@ impl Interpreter {
             line: self.line,
             op,
         };
-        if let Some(op) = self.comp.hold(op) {
+        // Usually nothing is held (no cutter compensation): straight to the sink, without
+        // the tail's borrow and the operation's moves in and out of `hold`.
+        if !self.comp.is_holding() {
+            sink(op);
+        } else if let Some(op) = self.comp.hold(op) {
             sink(op);
         }
     }
