@@ -53,6 +53,10 @@ struct Measured {
 fn measure(file: &Path, p: &MillParams) -> Measured {
     let profile = oficina_app::profile::resolve(oficina_app::profile::DEFAULT).map_err(|e| e.0);
     let result = mill(file, p, &profile, Feedback::none()).expect("mill");
+    if let Ok(d) = std::env::var("ADAPTIVE_DUMP") {
+        let n = file.file_stem().unwrap().to_string_lossy();
+        std::fs::write(format!("{d}/{n}-{}.nc", p.max_engagement), &result.judged.program).unwrap();
+    }
     let (engagement, leftover) = walk(file, &result.judged.canon, p.depth);
     Measured {
         result,
@@ -385,4 +389,35 @@ fn bad_parameters_are_refused_with_a_reason() {
     .err()
     .expect("refused");
     assert!(err.0.contains("narrower"), "{}", err.0);
+}
+
+#[test]
+#[ignore]
+fn dbg_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = svg(dir.path(), "l.svg", SHAPES[1].1);
+    let text = std::fs::read_to_string("/tmp/adump/l-shape-90.nc").unwrap();
+    let opts = oficina_post::PostOptions {
+        dialect: oficina_post::PostDialect::LinuxCnc,
+        allow_m6: false,
+        title: String::new(),
+        settings: vec![],
+    };
+    let canon = oficina_post::read_back(&text, &opts).unwrap();
+    let upto: u32 = std::env::var("UPTO").unwrap().parse().unwrap();
+    let c: Vec<f64> = std::env::var("AT").unwrap().split(',').map(|v| v.parse().unwrap()).collect();
+    let canon: Vec<_> = canon.into_iter().filter(|k| k.line < upto).collect();
+    let areas = drawn(&f);
+    let region = offset_areas(&areas, -WALL_BAND, 1e-3).unwrap();
+    let mut stock = EngagementStock::from_rings(&rings(&region), 0.0, PX, 2.0 * R, 20_000_000).unwrap();
+    engagement(&canon, R, &mut stock, [0.0, 0.0, 30.0], MIN_AXIAL, 200_000_000).unwrap();
+    let mut s = String::new();
+    for k in (-180..180).step_by(3) {
+        let a = (k as f64).to_radians();
+        let p = [c[0] + 3.06 * a.cos(), c[1] + 3.06 * a.sin()];
+        let sq = vec![vec![[p[0] - 0.061, p[1] - 0.061], [p[0] + 0.061, p[1] - 0.061], [p[0] + 0.061, p[1] + 0.061], [p[0] - 0.061, p[1] + 0.061]]];
+        let m = stock.largest_leftover_within(-3.0 + MIN_AXIAL, &sq) > 0.0;
+        s.push_str(&format!("{k}:{} ", if m { "#" } else { "." }));
+    }
+    eprintln!("{s}");
 }
