@@ -55,7 +55,11 @@ fn measure(file: &Path, p: &MillParams) -> Measured {
     let result = mill(file, p, &profile, Feedback::none()).expect("mill");
     if let Ok(d) = std::env::var("ADAPTIVE_DUMP") {
         let n = file.file_stem().unwrap().to_string_lossy();
-        std::fs::write(format!("{d}/{n}-{}.nc", p.max_engagement), &result.judged.program).unwrap();
+        std::fs::write(
+            format!("{d}/{n}-{}.nc", p.max_engagement),
+            &result.judged.program,
+        )
+        .unwrap();
     }
     let (engagement, leftover) = walk(file, &result.judged.canon, p.depth);
     Measured {
@@ -116,6 +120,7 @@ fn holds(name: &str, m: &Measured, max: f64, leftover_max: f64) {
         "{name}: peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, entry {:.0} mm, leftover {:.2} mm, planner {:?} s",
         e.peak,
         e.peak_at,
+        e.peak_at,
         e.mean(),
         e.cutting_length(),
         e.entry_length,
@@ -145,7 +150,7 @@ fn holds(name: &str, m: &Measured, max: f64, leftover_max: f64) {
     );
 }
 
-const SHAPES: [(&str, &str); 4] = [
+const SHAPES: [(&str, &str); 5] = [
     (
         "islands",
         r#"<path d="M5 5 H65 V50 H5 Z"/><circle cx="22" cy="27" r="6"/><rect x="42" y="15" width="10" height="18"/>"#,
@@ -156,6 +161,10 @@ const SHAPES: [(&str, &str); 4] = [
         r#"<path d="M5 5 H27 V13 H41 V5 H63 V27 H41 V22 H27 V27 H5 Z"/>"#,
     ),
     ("circle", r#"<circle cx="30" cy="30" r="16"/>"#),
+    (
+        "rounded",
+        r#"<rect x="5" y="5" width="50" height="30" rx="6" ry="6"/>"#,
+    ),
 ];
 
 /// The shapes `which` at `max`; all are measured before any failure is reported.
@@ -174,25 +183,41 @@ fn shapes_hold(max: f64, which: &[&str]) {
 }
 
 #[test]
-fn pocket_with_islands_and_circle_hold_90_degrees() {
-    shapes_hold(90.0, &["islands", "circle"]);
+fn islands_neck_circle_and_rounded_hold_90_degrees() {
+    shapes_hold(90.0, &["islands", "neck", "circle", "rounded"]);
 }
 
-/// Known to fail by about a degree (96° against 95°): the L's closing contour at its
-/// convex corner, and a step in the neck beside its wall.
+/// Known to fail by two degrees (97° against 95°): a step of the second plan going into the
+/// L's convex corner at (55, 20), where the model's grid and the walk's disagree on the
+/// strip left beside the wall.
 #[test]
-#[ignore = "96° against the 95° bound: contour corner (L), a step beside the neck's wall"]
-fn l_shape_and_neck_hold_90_degrees() {
-    shapes_hold(90.0, &["l-shape", "neck"]);
+#[ignore = "97° against the 95° bound: a step into the L's convex corner"]
+fn l_shape_holds_90_degrees() {
+    shapes_hold(90.0, &["l-shape"]);
 }
 
-/// Known to fail: the contour pass that ends each level wraps the pocket's convex corners
-/// at about 85° whatever the maximum (the steering keeps the tool 1.5 cells off the wall,
-/// and the corner left between is met on two sides at once).
 #[test]
-#[ignore = "the closing contour pass meets ~85° at convex corners"]
-fn the_same_shapes_hold_60_degrees() {
-    shapes_hold(60.0, &["islands", "l-shape", "neck", "circle"]);
+fn islands_circle_and_rounded_hold_60_degrees() {
+    shapes_hold(60.0, &["islands", "circle", "rounded"]);
+}
+
+/// Known to fail (68° against 65°): the contour pass arriving in a convex corner of the L
+/// and of the neck. Whatever cleared the corner before, the last position there (the
+/// circle touching both walls) meets the arc between the walls uncut: for a point c + r·u
+/// between the wall normals and any earlier centre q in the region, |c + r·u − q|² =
+/// r² − 2r·u·(q − c) + |q − c|² > r² since u·(q − c) ≤ 0. The walk sees that arc from
+/// acos((r − 0.1)/(r + 0.06)) = 18.6° off each wall, 53°, before the strips beside it.
+#[test]
+#[ignore = "68° against the 65° bound: the contour pass in a sharp convex corner"]
+fn sharp_corners_hold_60_degrees() {
+    shapes_hold(60.0, &["l-shape", "neck"]);
+}
+
+/// Sharp corners cannot hold 45° (53° at least, above); a pocket whose corners are rounded
+/// wider than the tool, and the circle, do.
+#[test]
+fn rounded_pockets_hold_45_degrees() {
+    shapes_hold(45.0, &["circle", "rounded"]);
 }
 
 #[test]
@@ -275,12 +300,12 @@ fn judge_program(file: &Path, text: &str, depth: f64) -> (Option<f64>, Engagemen
     (check.time.ok().map(|t| t.seconds), e, leftover)
 }
 
-/// FreeCAD's adaptive on the L through our interpreter, planner and walk: both clear the
+/// FreeCAD's adaptive on the neck through our interpreter, planner and walk: both clear the
 /// pocket (nothing bigger than 0.5 mm left where the tool reaches), ours within the bound.
 #[test]
 fn freecad_adaptive_through_the_same_walk() {
     let dir = tempfile::tempdir().unwrap();
-    let f = svg(dir.path(), "l.svg", SHAPES[1].1);
+    let f = svg(dir.path(), "neck.svg", SHAPES[2].1);
     let p = params(MillOpKind::Adaptive, 90.0);
     let Some(text) = freecad(&f, &p) else {
         eprintln!("skipped: no freecadcmd on this machine");
@@ -288,7 +313,7 @@ fn freecad_adaptive_through_the_same_walk() {
     };
     let (secs, e, leftover) = judge_program(&f, &text, p.depth);
     eprintln!(
-        "FreeCAD adaptive on the L: planner {secs:?} s, peak {:.0}°, mean {:.1}°, cutting {:.0} mm, leftover {leftover:.2} mm",
+        "FreeCAD adaptive on the neck: planner {secs:?} s, peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, leftover {leftover:.2} mm",
         e.peak,
         e.mean(),
         e.cutting_length()
@@ -296,7 +321,7 @@ fn freecad_adaptive_through_the_same_walk() {
     assert!(e.cutting_length() > 100.0, "the walk met no material");
     assert!(leftover <= 0.5, "FreeCAD left a {leftover:.2} mm patch");
     assert!(secs.is_some_and(|s| s > 10.0), "no planner time: {secs:?}");
-    holds("ours on the L", &measure(&f, &p), 90.0, 0.5);
+    holds("ours on the neck", &measure(&f, &p), 90.0, 0.5);
 }
 
 /// Adaptive against an offset pocket (0.6 D step-over, no allowance) and, where
@@ -389,35 +414,4 @@ fn bad_parameters_are_refused_with_a_reason() {
     .err()
     .expect("refused");
     assert!(err.0.contains("narrower"), "{}", err.0);
-}
-
-#[test]
-#[ignore]
-fn dbg_probe() {
-    let dir = tempfile::tempdir().unwrap();
-    let f = svg(dir.path(), "l.svg", SHAPES[1].1);
-    let text = std::fs::read_to_string("/tmp/adump/l-shape-90.nc").unwrap();
-    let opts = oficina_post::PostOptions {
-        dialect: oficina_post::PostDialect::LinuxCnc,
-        allow_m6: false,
-        title: String::new(),
-        settings: vec![],
-    };
-    let canon = oficina_post::read_back(&text, &opts).unwrap();
-    let upto: u32 = std::env::var("UPTO").unwrap().parse().unwrap();
-    let c: Vec<f64> = std::env::var("AT").unwrap().split(',').map(|v| v.parse().unwrap()).collect();
-    let canon: Vec<_> = canon.into_iter().filter(|k| k.line < upto).collect();
-    let areas = drawn(&f);
-    let region = offset_areas(&areas, -WALL_BAND, 1e-3).unwrap();
-    let mut stock = EngagementStock::from_rings(&rings(&region), 0.0, PX, 2.0 * R, 20_000_000).unwrap();
-    engagement(&canon, R, &mut stock, [0.0, 0.0, 30.0], MIN_AXIAL, 200_000_000).unwrap();
-    let mut s = String::new();
-    for k in (-180..180).step_by(3) {
-        let a = (k as f64).to_radians();
-        let p = [c[0] + 3.06 * a.cos(), c[1] + 3.06 * a.sin()];
-        let sq = vec![vec![[p[0] - 0.061, p[1] - 0.061], [p[0] + 0.061, p[1] - 0.061], [p[0] + 0.061, p[1] + 0.061], [p[0] - 0.061, p[1] + 0.061]]];
-        let m = stock.largest_leftover_within(-3.0 + MIN_AXIAL, &sq) > 0.0;
-        s.push_str(&format!("{k}:{} ", if m { "#" } else { "." }));
-    }
-    eprintln!("{s}");
 }

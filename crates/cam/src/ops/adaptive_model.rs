@@ -120,13 +120,17 @@ impl Model {
         let (nx, ny, r) = (self.nx, self.ny, self.r);
         let (ox, oy, px) = (self.ox, self.oy, self.px);
         self.allowed = raster(centres, ox, oy, px, nx, ny);
-        let reach_from = exact.map_or_else(|| self.allowed.clone(), |e| raster(e, ox, oy, px, nx, ny));
+        let reach_from =
+            exact.map_or_else(|| self.allowed.clone(), |e| raster(e, ox, oy, px, nx, ny));
         self.exact = exact.map(|e| {
             let mut near = reach_from.clone();
             for j in 1..ny - 1 {
                 for i in 1..nx - 1 {
                     let c = j * nx + i;
-                    near[c] |= reach_from[c - 1] || reach_from[c + 1] || reach_from[c - nx] || reach_from[c + nx];
+                    near[c] |= reach_from[c - 1]
+                        || reach_from[c + 1]
+                        || reach_from[c - nx]
+                        || reach_from[c + nx];
                 }
             }
             (e.clone(), near)
