@@ -120,7 +120,6 @@ fn holds(name: &str, m: &Measured, max: f64, leftover_max: f64) {
         "{name}: peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, entry {:.0} mm, leftover {:.2} mm, planner {:?} s",
         e.peak,
         e.peak_at,
-        e.peak_at,
         e.mean(),
         e.cutting_length(),
         e.entry_length,
@@ -315,6 +314,7 @@ fn freecad_adaptive_through_the_same_walk() {
     eprintln!(
         "FreeCAD adaptive on the neck: planner {secs:?} s, peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, leftover {leftover:.2} mm",
         e.peak,
+        e.peak_at,
         e.mean(),
         e.cutting_length()
     );
