@@ -32,8 +32,9 @@ pub struct AdaptiveParams {
 }
 
 /// Margin (degrees) the steering keeps below the target: the model's grid measures the
-/// engagement to about a cell's angle, px / r rad ≈ 2.9° at r / 20.
-const MARGIN: f64 = 3.0;
+/// engagement to about a cell's angle, px / r rad ≈ 2.9° at r / 20, and a grid of other
+/// cells walking the written moves differs by a degree more beside the walls.
+const MARGIN: f64 = 4.0;
 /// Model cell as a fraction of the tool radius.
 const CELL: f64 = 1.0 / 20.0;
 /// Step along a pass as a fraction of the tool radius.
@@ -385,11 +386,12 @@ fn best_turn(
 }
 
 /// Engagement along a step from `at` heading `h`: at its start (a turn swings the leading
-/// half onto material the last step passed beside), middle and end. The material cut along
+/// half onto material the last step passed beside), quarters and end (going into a corner
+/// it rises within half a step). The material cut along
 /// the step lies within r of it, behind every leading half-circle sampled, so none of
 /// it needs cutting first.
 fn step_engagement(model: &Model, at: [f64; 2], h: f64, step: f64) -> f64 {
-    [0.0, 0.5, 1.0]
+    [0.0, 0.25, 0.5, 0.75, 1.0]
         .iter()
         .map(|t| {
             let q = [at[0] + t * step * h.cos(), at[1] + t * step * h.sin()];
