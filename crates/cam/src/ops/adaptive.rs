@@ -262,7 +262,7 @@ fn helix(model: &mut Model, helix_max: f64, plan: &mut Vec<Piece>) -> Option<[f6
             .for_each(|&(c, _)| model.ban(c));
     }
     plan.push(Piece::Helix { centre, radius });
-    Some([centre[0] + radius, centre[1]])
+    plan.last().and_then(Piece::end)
 }
 
 /// A tool-centre position beside material cell `m`, touching nothing: on circles just

@@ -412,4 +412,19 @@ mod tests {
             assert!((e - want).abs() < 3.0, "a {a}: {e}° against {want}°");
         }
     }
+
+    #[test]
+    fn material_just_outside_a_stamp_is_met_within_its_cells() {
+        // Cells of 0.2 mm against a 3 mm disc: some of the points 0.05 mm outside it lie
+        // in cells whose centre it covers (a point inside it may lie in a cell left whole:
+        // the model errs towards material).
+        let pocket = vec![square(-20.0, -20.0, 40.0)];
+        let mut m = Model::new(&pocket, &pocket, 3.0, 0.2);
+        m.stamp([0.1, 0.05]);
+        for k in 0..360 {
+            let a = (k as f64).to_radians();
+            let p = [0.1 + 3.05 * a.cos(), 0.05 + 3.05 * a.sin()];
+            assert!(m.is_material(p), "{k}°: 0.05 mm outside");
+        }
+    }
 }
