@@ -32,8 +32,9 @@ pub struct AdaptiveParams {
 }
 
 /// Margin (degrees) the steering keeps below the target: the model's grid measures the
-/// engagement to about a cell's angle, px / r rad ≈ 2.9° at r / 20.
-const MARGIN: f64 = 3.0;
+/// engagement to about a cell's angle, px / r rad ≈ 2.9° at r / 20, and a grid of other
+/// cells walking the written moves differs by a degree more beside the walls.
+const MARGIN: f64 = 4.0;
 /// Model cell as a fraction of the tool radius.
 const CELL: f64 = 1.0 / 20.0;
 /// Step along a pass as a fraction of the tool radius.
@@ -114,13 +115,19 @@ pub fn adaptive(
         )));
     }
     // The model holds no material within half a cell of the wall (a grid would count the
-    // wall the tool runs along as contact); the steering keeps the tool's edge 1.5 cells
-    // off the wall, so the circle it samples half a cell out sees the material left
-    // between. The contour pass then runs on the tool-centre region's edge.
+    // wall the tool runs along as contact). Clearing keeps the tool's edge 1.5 cells off
+    // the wall, so the circle it samples half a cell out sees the material left between;
+    // then a second plan, the centre let up to the tool-centre boundary itself (tested
+    // exactly within 0.75 cell of it: a position whose cell centre is further in is
+    // inside, √2/2 cell), takes that strip and nibbles the corners the first left, under
+    // the same bound. The contour pass then runs on the boundary and meets next to
+    // nothing (a strip thinner than a cell, left beside the wall, would be met along the
+    // circle's tangent over tens of degrees).
     let centres = offset_areas(&wall, -1.5 * px, OFFSET_TOL).map_err(geo)?;
+    let near_wall = offset_areas(&wall, -0.75 * px, OFFSET_TOL).map_err(geo)?;
     let pocket = offset_areas(&areas, -(p.stock_to_leave + 0.5 * px), OFFSET_TOL).map_err(geo)?;
     let contours = [rings(&wall)];
-    let (pocket, centres) = (rings(&pocket), rings(&centres));
+    let (pocket, centres, near_wall) = (rings(&pocket), rings(&centres), rings(&near_wall));
     let extent = extent_cells(&pocket, r, px);
     if extent > MAX_CELLS as f64 {
         return Err(OpError::Invalid(format!(
@@ -140,7 +147,10 @@ pub fn adaptive(
         Entry::Ramp { .. } => r / 2.0,
     };
     let mut model = Model::new(&pocket, &centres, r, px);
-    let plan = plan(&mut model, target, helix_max)?;
+    let mut plan = self::plan(&mut model, target, helix_max, None)?;
+    model.allow(&near_wall, Some(&contours[0]));
+    let last = plan.iter().rev().find_map(Piece::end);
+    plan.extend(self::plan(&mut model, target, helix_max, last)?);
     Ok(cut.operation(name, emit(&plan, &contours, cut)?))
 }
 
@@ -156,13 +166,28 @@ fn extent_cells(rings: &Rings, r: f64, px: f64) -> f64 {
     ((hi[0] - lo[0] + 2.0 * r) / px + 5.0) * ((hi[1] - lo[1] + 2.0 * r) / px + 5.0)
 }
 
-/// The plan in the plane: helices, links and passes until no material is left that a
-/// pass can start on.
-fn plan(model: &mut Model, target: f64, helix_max: f64) -> Result<Vec<Piece>, OpError> {
+impl Piece {
+    /// Where the tool is after this piece.
+    fn end(&self) -> Option<[f64; 2]> {
+        match self {
+            Piece::Helix { centre, radius } => Some([centre[0] + radius, centre[1]]),
+            Piece::Link { to, .. } => Some(*to),
+            Piece::Pass(pts) => pts.last().copied(),
+        }
+    }
+}
+
+/// The plan in the plane from `at` (`None`: above the stock): helices, links and passes
+/// until no material is left that a pass can start on.
+fn plan(
+    model: &mut Model,
+    target: f64,
+    helix_max: f64,
+    mut at: Option<[f64; 2]>,
+) -> Result<Vec<Piece>, OpError> {
     let r = model.r;
     let step = r * STEP;
     let mut plan = Vec::new();
-    let mut at: Option<[f64; 2]> = None;
     // Bounded work: every pass or helix must cut a cell, or bans one; steps in all passes
     // are bounded by the cells times a generous factor.
     let mut budget = 64 * (model.left + 1000);
@@ -237,7 +262,7 @@ fn helix(model: &mut Model, helix_max: f64, plan: &mut Vec<Piece>) -> Option<[f6
             .for_each(|&(c, _)| model.ban(c));
     }
     plan.push(Piece::Helix { centre, radius });
-    Some([centre[0] + radius, centre[1]])
+    plan.last().and_then(Piece::end)
 }
 
 /// A tool-centre position beside material cell `m`, touching nothing: on circles just
@@ -284,11 +309,13 @@ fn pass(
             next = best_turn(model, at, heading, step, target, 180.0, false);
         }
         let Some((q, h, e)) = next else { break };
+        // Every step the model cuts is a move of the program, the one that ends a pass too.
         let (n, all) = model.stamp(q);
+        pts.push(q);
         cut += n;
         // Steps that cut anything are kept, the material out of reach included.
         if all > 0 {
-            last_cut_len = pts.len() + 1;
+            last_cut_len = pts.len();
         }
         recent.push_back(n);
         if recent.len() > WINDOW {
@@ -297,7 +324,6 @@ fn pass(
                 break;
             }
         }
-        pts.push(q);
         (at, heading) = (q, h.rem_euclid(TAU));
         if e < IDLE_DEG {
             idle += 1;
@@ -360,11 +386,12 @@ fn best_turn(
 }
 
 /// Engagement along a step from `at` heading `h`: at its start (a turn swings the leading
-/// half onto material the last step passed beside), middle and end. The material cut along
+/// half onto material the last step passed beside), quarters and end (going into a corner
+/// it rises within half a step). The material cut along
 /// the step lies within r of it, behind every leading half-circle sampled, so none of
 /// it needs cutting first.
 fn step_engagement(model: &Model, at: [f64; 2], h: f64, step: f64) -> f64 {
-    [0.0, 0.5, 1.0]
+    [0.0, 0.25, 0.5, 0.75, 1.0]
         .iter()
         .map(|t| {
             let q = [at[0] + t * step * h.cos(), at[1] + t * step * h.sin()];

@@ -14,6 +14,9 @@ pub(super) type Rings = Vec<Vec<[f64; 2]>>;
 /// Samples on the leading half-circle: one per degree.
 const SAMPLES: usize = 180;
 
+/// A material state of a [`Model`] to go back to.
+pub(super) struct Snapshot(Vec<bool>, Vec<[f64; 2]>, usize);
+
 pub(super) struct Model {
     ox: f64,
     oy: f64,
@@ -25,10 +28,17 @@ pub(super) struct Model {
     pub(super) r: f64,
     /// Uncut material (what the tool meets).
     material: Vec<bool>,
+    /// For each cut cell, the stamp nearest its centre (NaN: never material): a point of
+    /// the cell outside that stamp's disc is still material. Cells alone would erase a
+    /// strip thinner than a cell that the tool's circle meets along its tangent.
+    cutter: Vec<[f64; 2]>,
     /// Cells some allowed tool position can cut (what passes seek).
     reach: Vec<bool>,
     /// Cells whose centre the tool centre may occupy.
     allowed: Vec<bool>,
+    /// Where the tool centre may go up to exactly, and the cells within one of it, where a
+    /// position is tested against it.
+    exact: Option<(Rings, Vec<bool>)>,
     /// Material cells a pass could not start from (left over).
     banned: Vec<bool>,
     /// Material cells left.
@@ -83,8 +93,6 @@ impl Model {
         let (ox, oy) = (lo[0] - r - 2.0 * px, lo[1] - r - 2.0 * px);
         let nx = ((hi[0] - lo[0] + 2.0 * r) / px).ceil() as usize + 5;
         let ny = ((hi[1] - lo[1] + 2.0 * r) / px).ceil() as usize + 5;
-        let material = raster(pocket, ox, oy, px, nx, ny);
-        let allowed = raster(centres, ox, oy, px, nx, ny);
         let mut m = Model {
             ox,
             oy,
@@ -92,37 +100,63 @@ impl Model {
             nx,
             ny,
             r,
-            material: vec![false; nx * ny],
+            material: raster(pocket, ox, oy, px, nx, ny),
+            cutter: vec![[f64::NAN; 2]; nx * ny],
             reach: vec![],
-            allowed,
-            banned: vec![false; nx * ny],
+            allowed: vec![],
+            exact: None,
+            banned: vec![],
             left: 0,
         };
-        // Reachable: allowed cells, and discs of radius r − px about the allowed cells on
-        // the edge of the allowed region.
-        let mut reach = m.allowed.clone();
+        m.allow(centres, None);
+        m
+    }
+
+    /// Lets the tool centre within `centres` from now on, and, given `exact`, wherever
+    /// inside `exact` (tested point by point near its edge, so the tool can run along it
+    /// while a cell's centre would stand outside): what passes seek is what a centre
+    /// there can cut, and no cell is banned any more.
+    pub(super) fn allow(&mut self, centres: &Rings, exact: Option<&Rings>) {
+        let (nx, ny, r) = (self.nx, self.ny, self.r);
+        let (ox, oy, px) = (self.ox, self.oy, self.px);
+        self.allowed = raster(centres, ox, oy, px, nx, ny);
+        let reach_from =
+            exact.map_or_else(|| self.allowed.clone(), |e| raster(e, ox, oy, px, nx, ny));
+        self.exact = exact.map(|e| {
+            let mut near = reach_from.clone();
+            for j in 1..ny - 1 {
+                for i in 1..nx - 1 {
+                    let c = j * nx + i;
+                    near[c] |= reach_from[c - 1]
+                        || reach_from[c + 1]
+                        || reach_from[c - nx]
+                        || reach_from[c + nx];
+                }
+            }
+            (e.clone(), near)
+        });
+        // Reachable: the cells whose centre a centre may occupy, and discs of radius
+        // r − px about those on the edge of that region.
+        let mut reach = reach_from.clone();
         for j in 1..ny - 1 {
             for i in 1..nx - 1 {
                 let c = j * nx + i;
-                let edge = m.allowed[c]
-                    && !(m.allowed[c - 1]
-                        && m.allowed[c + 1]
-                        && m.allowed[c - nx]
-                        && m.allowed[c + nx]);
+                let a = &reach_from;
+                let edge = a[c] && !(a[c - 1] && a[c + 1] && a[c - nx] && a[c + nx]);
                 if edge {
-                    let (x, y) = m.centre(c);
-                    m.for_disc([x, y], r - px, |k| reach[k] = true);
+                    let (x, y) = self.centre(c);
+                    self.for_disc([x, y], r - self.px, |k| reach[k] = true);
                 }
             }
         }
-        m.left = material
+        self.left = self
+            .material
             .iter()
             .zip(&reach)
             .filter(|(a, b)| **a && **b)
             .count();
-        m.material = material;
-        m.reach = reach;
-        m
+        self.reach = reach;
+        self.banned = vec![false; nx * ny];
     }
 
     fn centre(&self, c: usize) -> (f64, f64) {
@@ -164,11 +198,21 @@ impl Model {
 
     /// Whether the tool centre may be at `p`.
     pub(super) fn allowed(&self, p: [f64; 2]) -> bool {
-        self.cell(p).is_some_and(|c| self.allowed[c])
+        self.cell(p).is_some_and(|c| {
+            self.allowed[c]
+                || self
+                    .exact
+                    .as_ref()
+                    .is_some_and(|(rings, near)| near[c] && super::chain::inside(rings, p))
+        })
     }
 
     fn is_material(&self, p: [f64; 2]) -> bool {
-        self.cell(p).is_some_and(|c| self.material[c])
+        self.cell(p).is_some_and(|c| {
+            let s = self.cutter[c];
+            // NaN compares false: never material.
+            self.material[c] || (p[0] - s[0]).hypot(p[1] - s[1]) > self.r
+        })
     }
 
     /// Engagement (degrees) of the tool at `q` heading `heading` (radians): the part of the
@@ -191,8 +235,14 @@ impl Model {
         self.for_disc(p, self.r, |c| cut.push(c));
         let (mut n, mut all) = (0, 0);
         for c in cut {
+            let (x, y) = self.centre(c);
+            let s = self.cutter[c];
+            if (x - p[0]).hypot(y - p[1]) < (x - s[0]).hypot(y - s[1]) {
+                self.cutter[c] = p;
+            }
             if self.material[c] {
                 self.material[c] = false;
+                self.cutter[c] = p;
                 n += usize::from(self.reach[c]);
                 all += 1;
             }
@@ -232,13 +282,14 @@ impl Model {
     }
 
     /// The material state, to go back to.
-    pub(super) fn snapshot(&self) -> (Vec<bool>, usize) {
-        (self.material.clone(), self.left)
+    pub(super) fn snapshot(&self) -> Snapshot {
+        Snapshot(self.material.clone(), self.cutter.clone(), self.left)
     }
 
     /// Back to a state [`Model::snapshot`] took.
-    pub(super) fn restore(&mut self, (material, left): (Vec<bool>, usize)) {
+    pub(super) fn restore(&mut self, Snapshot(material, cutter, left): Snapshot) {
         self.material = material;
+        self.cutter = cutter;
         self.left = left;
     }
 
@@ -327,25 +378,17 @@ impl Model {
                 [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
             })
             .collect();
-        // Engagement only grows as material is met and cut along the way, never shrinks
-        // behind: measure on a copy of the model, then keep the cut.
-        let mut trial = self.material.clone();
-        std::mem::swap(&mut trial, &mut self.material);
-        let (mut ok, left) = (true, self.left);
+        // Cut as it goes (engagement only grows as material is met, never shrinks
+        // behind), back to the state before where it fails.
+        let before = self.snapshot();
         for &p in &pts {
             if !self.allowed(p) || self.engagement(p, h) > target {
-                ok = false;
-                break;
+                self.restore(before);
+                return false;
             }
             self.stamp(p);
         }
-        std::mem::swap(&mut trial, &mut self.material);
-        if ok {
-            self.material = trial;
-        } else {
-            self.left = left;
-        }
-        ok
+        true
     }
 }
 
@@ -367,6 +410,21 @@ mod tests {
             let e = m.engagement([-25.0, 3.0 - a], 0.0);
             let want = (1.0f64 - a / 3.0).acos().to_degrees();
             assert!((e - want).abs() < 3.0, "a {a}: {e}° against {want}°");
+        }
+    }
+
+    #[test]
+    fn material_just_outside_a_stamp_is_met_within_its_cells() {
+        // Cells of 0.2 mm against a 3 mm disc: some of the points 0.05 mm outside it lie
+        // in cells whose centre it covers (a point inside it may lie in a cell left whole:
+        // the model errs towards material).
+        let pocket = vec![square(-20.0, -20.0, 40.0)];
+        let mut m = Model::new(&pocket, &pocket, 3.0, 0.2);
+        m.stamp([0.1, 0.05]);
+        for k in 0..360 {
+            let a = (k as f64).to_radians();
+            let p = [0.1 + 3.05 * a.cos(), 0.05 + 3.05 * a.sin()];
+            assert!(m.is_material(p), "{k}°: 0.05 mm outside");
         }
     }
 }
