@@ -2,6 +2,7 @@
 //! and the measurements. The CLI parses options, calls these and prints the tables.
 
 pub mod carve;
+pub mod carve_mesh;
 pub mod gcode;
 pub mod motion;
 pub mod offsets;
