@@ -67,7 +67,7 @@ pub fn waterline_pieces(
         for lp in loops_at(dc, g, z, tolerance) {
             match min_slope {
                 None => level.push(lp),
-                Some(s) => level.extend(split(&lp, |p| g.slope_at(p, floor) >= s)),
+                Some(s) => level.extend(split(&lp, g.step(), |p| g.slope_at(p, floor) >= s)),
             }
         }
         out.extend(nearest_first(
@@ -79,16 +79,32 @@ pub fn waterline_pieces(
     out
 }
 
-/// The stretches of each polyline where `keep` holds at both ends of a move.
-pub fn split(path: &[[f64; 3]], keep: impl Fn([f64; 2]) -> bool) -> Vec<Vec<[f64; 3]>> {
+/// The stretches of a polyline where `keep` holds, judged every `step` mm along each move
+/// (a thinned row may cross a whole flat in one move): a move is cut where `keep` changes,
+/// at a point on the move itself, so the pieces trace the same safe chords.
+pub fn split(path: &[[f64; 3]], step: f64, keep: impl Fn([f64; 2]) -> bool) -> Vec<Vec<[f64; 3]>> {
     let mut out = Vec::new();
     let mut cur: Vec<[f64; 3]> = Vec::new();
-    for p in path {
+    let mut visit = |p: [f64; 3], fresh: bool| {
         if keep([p[0], p[1]]) {
-            cur.push(*p);
+            if fresh || cur.last() != Some(&p) {
+                cur.push(p);
+            }
         } else if !cur.is_empty() {
             out.push(std::mem::take(&mut cur));
         }
+    };
+    if let Some(&first) = path.first() {
+        visit(first, true);
+    }
+    for w in path.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / step).ceil().max(1.0) as usize;
+        for i in 1..n {
+            let t = i as f64 / n as f64;
+            visit(std::array::from_fn(|k| a[k] + t * (b[k] - a[k])), false);
+        }
+        visit(b, false);
     }
     out.push(cur);
     out.retain(|p| p.len() >= 2);
@@ -103,7 +119,7 @@ pub fn flat_pieces(
     max_slope: f64,
 ) -> Vec<Vec<[f64; 3]>> {
     rows.iter()
-        .flat_map(|r| split(r, |p| g.slope_at(p, floor) <= max_slope))
+        .flat_map(|r| split(r, g.step(), |p| g.slope_at(p, floor) <= max_slope))
         .collect()
 }
 

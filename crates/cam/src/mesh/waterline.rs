@@ -60,6 +60,11 @@ impl ContactGrid {
         }
     }
 
+    /// The spacing of the nodes, mm.
+    pub fn step(&self) -> f64 {
+        self.step
+    }
+
     fn at(&self, i: usize, j: usize) -> f64 {
         self.d[j * self.nx + i]
     }
