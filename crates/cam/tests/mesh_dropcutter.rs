@@ -200,15 +200,18 @@ fn brute_force(mesh: &Mesh, tool: &Tool, c: [f64; 2]) -> f64 {
     search(coarse.1, r / 2000.0, 50).0.max(coarse.0).max(edges)
 }
 
+/// The cutters both comparisons use (shape, diameter, corner radius or angle).
+const COMMON: [(&str, f64, f64); 3] = [("ball", 3.0, 0.0), ("flat", 3.0, 0.0), ("bull", 3.0, 0.5)];
+
 #[test]
 fn tip_heights_match_opencamlib_within_a_micron() {
     if !peer_available() {
         return;
     }
     let specs = [
-        ("ball", 3.0, 0.0),
-        ("flat", 3.0, 0.0),
-        ("bull", 3.0, 0.5),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
         ("v", 3.0, 90.0),
         ("v", 6.0, 60.0),
         ("taper", 1.0, 10.0),
@@ -317,20 +320,12 @@ fn ocl_waterline(mesh: &Path, spec: (&str, f64, f64), z: f64, sampling: f64) -> 
 
 /// Distance from `p` to the nearest closed polyline of `loops`.
 fn to_loops(p: [f64; 2], loops: &[Vec<[f64; 2]>]) -> f64 {
-    let seg = |a: [f64; 2], b: [f64; 2]| {
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let l2 = dx * dx + dy * dy;
-        let t = if l2 > 0.0 {
-            (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
-    };
+    use oficina_geom::kurbo::{Line, ParamCurveNearest, Point};
+    let pt = |q: [f64; 2]| Point::new(q[0], q[1]);
     loops
         .iter()
-        .flat_map(|lp| (0..lp.len()).map(move |i| (lp[i], lp[(i + 1) % lp.len()])))
-        .map(|(a, b)| seg(a, b))
+        .flat_map(|lp| (0..lp.len()).map(move |i| Line::new(pt(lp[i]), pt(lp[(i + 1) % lp.len()]))))
+        .map(|l| l.nearest(pt(p), 1e-12).distance_sq.sqrt())
         .fold(f64::INFINITY, f64::min)
 }
 
@@ -339,12 +334,7 @@ fn waterline_loops_match_opencamlib() {
     if !peer_available() {
         return;
     }
-    let specs = [
-        ("ball", 3.0, 0.0),
-        ("flat", 3.0, 0.0),
-        ("bull", 3.0, 0.5),
-        ("v", 6.0, 90.0),
-    ];
+    let specs = [COMMON[0], COMMON[1], COMMON[2], ("v", 6.0, 90.0)];
     // OpenCAMLib's fibers are exact where they cross the curve; between them (0.05 mm apart)
     // its chords and ours differ by the sagitta, s²/8ρ < 0.001 mm for loop radii ρ ≥ 0.5 mm.
     let tol = 0.005;

@@ -60,14 +60,7 @@ pub fn peer_cutter(tool: &Tool) -> Result<(&'static str, f64, f64), BenchError> 
 
 /// The driver script: `given`, else the repository's `crates/cam/tests/peer/ocl_drop.py`.
 pub fn peer_script(given: Option<&Path>) -> PathBuf {
-    given.map(Path::to_path_buf).unwrap_or_else(|| {
-        let local = PathBuf::from("crates/cam/tests/peer/ocl_drop.py");
-        if local.exists() {
-            local
-        } else {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../cam/tests/peer/ocl_drop.py")
-        }
-    })
+    super::repo_file(given, "crates/cam/tests/peer/ocl_drop.py")
 }
 
 /// Our drop: the buckets and every point, on all cores.
@@ -116,13 +109,7 @@ pub fn drop_peer(
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| {
-            failed(format!(
-                "cannot run {} {}: {e}",
-                python.display(),
-                script.display()
-            ))
-        })?;
+        .map_err(|e| super::cannot_run(python, script, e))?;
     let mut input = String::with_capacity(points.len() * 24);
     for p in points {
         input.push_str(&format!("{:?} {:?}\n", p[0], p[1]));
