@@ -5,7 +5,10 @@
 
 use crate::Error;
 use oficina_cam::memory::{self, Budget, Lever};
-use oficina_cam::mesh::{finishing_moves, raster, DropCutter, Raster};
+use oficina_cam::mesh::{
+    finishing_moves, flat_pieces, level_spacing, raster, waterline_pieces, ContactGrid, DropCutter,
+    Raster, Strategy, OVERLAP,
+};
 use oficina_cam::relief::{plan_within, Direction, Progress};
 use oficina_cam::{CutterShape, Move, Operation, Tool, Toolpath};
 use oficina_canon::Canon;
@@ -97,6 +100,25 @@ pub struct MeshOptions {
     pub tolerance: f64,
 }
 
+/// How the mesh job's finishing pass covers the model.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshFinish {
+    /// Raster, waterline, or raster on the flats and waterline on the steeps.
+    pub strategy: Strategy,
+    /// The slope, degrees from horizontal, above which `Mix` uses waterline; also sets the
+    /// waterline's level spacing (stepover · sin(limit)).
+    pub limit: f64,
+}
+
+impl Default for MeshFinish {
+    fn default() -> MeshFinish {
+        MeshFinish {
+            strategy: Strategy::Raster,
+            limit: 45.0,
+        }
+    }
+}
+
 /// What a mesh job gives: the program, its simulated stock and figures.
 pub struct MeshEvaluation {
     /// The toolpath, in the model's coordinates.
@@ -125,7 +147,8 @@ pub struct MeshEvaluation {
 /// (dilation, erosion and their copies) and the preview.
 const GRIDS: u64 = 14;
 
-/// Plans, posts, reads back, simulates and times the job on `mesh` within `budget` bytes.
+/// Plans, posts, reads back, simulates and times the job on `mesh` within `budget` bytes,
+/// finishing with a raster.
 #[allow(clippy::too_many_arguments)]
 pub fn evaluate_mesh(
     mesh: &Mesh,
@@ -136,6 +159,36 @@ pub fn evaluate_mesh(
     budget: u64,
     progress: Progress,
 ) -> Result<MeshEvaluation, Error> {
+    evaluate_mesh_with(
+        mesh,
+        settings,
+        opts,
+        &MeshFinish::default(),
+        profile,
+        post,
+        budget,
+        progress,
+    )
+}
+
+/// [`evaluate_mesh`] with the finishing strategy `finish`.
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_mesh_with(
+    mesh: &Mesh,
+    settings: &Settings,
+    opts: &MeshOptions,
+    finish_with: &MeshFinish,
+    profile: &Profile,
+    post: &PostOptions,
+    budget: u64,
+    progress: Progress,
+) -> Result<MeshEvaluation, Error> {
+    if !(finish_with.limit.is_finite() && (10.0..=80.0).contains(&finish_with.limit)) {
+        return Err(Error(format!(
+            "--steep {}: between 10 and 80 degrees",
+            finish_with.limit
+        )));
+    }
     let job = settings.job().map_err(|e| Error::chain(&e))?;
     let finish = job
         .passes
@@ -167,9 +220,17 @@ pub fn evaluate_mesh(
     let origin = [lo[0] - reach, lo[1] - reach];
     let width = ((hi[0] - lo[0] + 2.0 * reach) / pixel).ceil() as usize + 1;
     let height = ((hi[1] - lo[1] + 2.0 * reach) / pixel).ceil() as usize + 1;
+    let region = [lo[0] - reach, lo[1] - reach, hi[0] + reach, hi[1] + reach];
+    // The waterline's contact grid: finer than the rows, so loops are found between them.
+    let contact_step = (finish.stepover / 2.0).min(pixel).min(0.25);
+    let contact_bytes = match finish_with.strategy {
+        Strategy::Raster => 0,
+        _ => ContactGrid::bytes_estimate(region, contact_step),
+    };
     let fixed = memory::grid_bytes(width, height)
         .saturating_mul(GRIDS)
-        .saturating_add(DropCutter::bytes_estimate(mesh.triangles.len()).saturating_mul(3));
+        .saturating_add(DropCutter::bytes_estimate(mesh.triangles.len()).saturating_mul(3))
+        .saturating_add(contact_bytes);
     memory::check(
         || format!("the {width} x {height} grid of the model and its stock"),
         fixed,
@@ -224,21 +285,40 @@ pub fn evaluate_mesh(
         (None, Direction::Both) => vec![0.0, 90.0],
     };
     let safe = top + job.safe_z;
+    let grid = (finish_with.strategy != Strategy::Raster).then(|| {
+        progress("waterline contact grid", 0.0);
+        ContactGrid::new(&dc, region, contact_step)
+    });
     let mut moves = Vec::new();
-    for angle in angles {
+    for (k, angle) in angles.iter().enumerate() {
         let r = Raster {
-            angle,
+            angle: *angle,
             stepover: finish.stepover,
             step: (pixel / 2.0).min(finish.stepover).min(0.25),
             tolerance: opts.tolerance,
             floor: bottom,
-            region: [lo[0] - reach, lo[1] - reach, hi[0] + reach, hi[1] + reach],
+            region,
         };
-        let rows = raster(&dc, &r);
+        let rows = match (&grid, finish_with.strategy) {
+            (_, Strategy::Raster) => raster(&dc, &r),
+            (Some(g), Strategy::Mix) => {
+                flat_pieces(&raster(&dc, &r), g, bottom, finish_with.limit + OVERLAP)
+            }
+            _ => Vec::new(),
+        };
+        // The waterline once, after the first direction's rows.
+        let mut paths = rows;
+        if let (Some(g), 0) = (&grid, k) {
+            progress("waterline loops", 0.0);
+            let dz = level_spacing(finish.stepover, finish_with.limit);
+            let steep =
+                (finish_with.strategy == Strategy::Mix).then_some(finish_with.limit - OVERLAP);
+            paths.extend(waterline_pieces(&dc, g, bottom, dz, opts.tolerance, steep));
+        }
         moves.extend(finishing_moves(
             &dc,
             &r,
-            &rows,
+            &paths,
             safe,
             finish.cutter.feeds.cut,
             finish.cutter.feeds.plunge,
@@ -261,7 +341,12 @@ pub fn evaluate_mesh(
         ))
     })?;
     operations.push(Operation {
-        name: "finishing (mesh drop-cutter raster)".into(),
+        name: match finish_with.strategy {
+            Strategy::Raster => "finishing (mesh drop-cutter raster)",
+            Strategy::Waterline => "finishing (mesh waterline)",
+            Strategy::Mix => "finishing (mesh raster on flats, waterline on steeps)",
+        }
+        .into(),
         tool_number: finish.cutter.number,
         tool: tool.clone(),
         spindle_rpm: finish.cutter.spindle_rpm,

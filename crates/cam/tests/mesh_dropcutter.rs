@@ -3,7 +3,7 @@
 //! ball cutters: the same points must give the same tip heights within 0.001 mm. Skips with
 //! a note when python3 or opencamlib is missing.
 
-use oficina_cam::mesh::{sphere_on_plate, DropCutter};
+use oficina_cam::mesh::{loops_at, sphere_on_plate, ContactGrid, DropCutter};
 use oficina_cam::{CutterShape, Tool};
 use oficina_io::{load_mesh, Mesh};
 use std::io::Write;
@@ -200,15 +200,18 @@ fn brute_force(mesh: &Mesh, tool: &Tool, c: [f64; 2]) -> f64 {
     search(coarse.1, r / 2000.0, 50).0.max(coarse.0).max(edges)
 }
 
+/// The cutters both comparisons use (shape, diameter, corner radius or angle).
+const COMMON: [(&str, f64, f64); 3] = [("ball", 3.0, 0.0), ("flat", 3.0, 0.0), ("bull", 3.0, 0.5)];
+
 #[test]
 fn tip_heights_match_opencamlib_within_a_micron() {
     if !peer_available() {
         return;
     }
     let specs = [
-        ("ball", 3.0, 0.0),
-        ("flat", 3.0, 0.0),
-        ("bull", 3.0, 0.5),
+        COMMON[0],
+        COMMON[1],
+        COMMON[2],
         ("v", 3.0, 90.0),
         ("v", 6.0, 60.0),
         ("taper", 1.0, 10.0),
@@ -280,4 +283,100 @@ fn tip_heights_match_opencamlib_within_a_micron() {
         }
     }
     println!("largest difference from OpenCAMLib: {worst_all:.2e} mm");
+}
+
+/// OpenCAMLib's waterline loops at tip height `z`, sampled every `sampling` mm.
+fn ocl_waterline(mesh: &Path, spec: (&str, f64, f64), z: f64, sampling: f64) -> Vec<Vec<[f64; 2]>> {
+    let out = Command::new("python3")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/peer/ocl_waterline.py"))
+        .arg(mesh)
+        .args([spec.0.to_string(), spec.1.to_string(), spec.2.to_string()])
+        .args([z.to_string(), sampling.to_string()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut loops: Vec<Vec<[f64; 2]>> = Vec::new();
+    for l in String::from_utf8(out.stdout).unwrap().lines() {
+        if l.trim().is_empty() {
+            continue;
+        }
+        if l == "loop" {
+            loops.push(Vec::new());
+        } else if let Some(lp) = loops.last_mut() {
+            let v: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
+            assert!(
+                (v[2] - z).abs() < 1e-9,
+                "OpenCAMLib's loop point off its level: {l}"
+            );
+            lp.push([v[0], v[1]]);
+        }
+    }
+    loops
+}
+
+/// Distance from `p` to the nearest closed polyline of `loops`.
+fn to_loops(p: [f64; 2], loops: &[Vec<[f64; 2]>]) -> f64 {
+    use oficina_geom::kurbo::{Line, ParamCurveNearest, Point};
+    let pt = |q: [f64; 2]| Point::new(q[0], q[1]);
+    loops
+        .iter()
+        .flat_map(|lp| (0..lp.len()).map(move |i| Line::new(pt(lp[i]), pt(lp[(i + 1) % lp.len()]))))
+        .map(|l| l.nearest(pt(p), 1e-12).distance_sq.sqrt())
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn waterline_loops_match_opencamlib() {
+    if !peer_available() {
+        return;
+    }
+    let specs = [COMMON[0], COMMON[1], COMMON[2], ("v", 6.0, 90.0)];
+    // OpenCAMLib's fibers are exact where they cross the curve; between them (0.05 mm apart)
+    // its chords and ours differ by the sagitta, s²/8ρ < 0.001 mm for loop radii ρ ≥ 0.5 mm.
+    let tol = 0.005;
+    for (name, path) in meshes() {
+        let mesh = load_mesh(&path, 1 << 30).unwrap();
+        let [lo, hi] = mesh.bounds();
+        for spec in specs {
+            let t = tool(spec);
+            let dc = DropCutter::new(&mesh, &t);
+            let r = dc.radius();
+            let region = [lo[0] - r, lo[1] - r, hi[0] + r, hi[1] + r];
+            let grid = ContactGrid::new(&dc, region, 0.2);
+            for f in [0.3, 0.6] {
+                let z = lo[2] + f * (hi[2] - lo[2]) + 0.0123;
+                let ours: Vec<Vec<[f64; 2]>> = loops_at(&dc, &grid, z, 0.0005)
+                    .iter()
+                    .map(|l| l.iter().map(|p| [p[0], p[1]]).collect())
+                    .collect();
+                let peer = ocl_waterline(&path, spec, z, 0.05);
+                let worst_ours = ours
+                    .iter()
+                    .flatten()
+                    .map(|&p| to_loops(p, &peer))
+                    .fold(0.0, f64::max);
+                let worst_peer = peer
+                    .iter()
+                    .flatten()
+                    .map(|&p| to_loops(p, &ours))
+                    .fold(0.0, f64::max);
+                let n: usize = ours.iter().map(Vec::len).sum();
+                println!(
+                    "{name:<28} {:<16} z {z:8.3}: {} loops ({n} points) vs OpenCAMLib's {}; farthest from the other's loops: ours {worst_ours:.4} mm, OpenCAMLib's {worst_peer:.4} mm",
+                    format!("{spec:?}"),
+                    ours.len(),
+                    peer.len()
+                );
+                assert_eq!(ours.len(), peer.len(), "{name} {spec:?} z {z}: loop count");
+                assert!(
+                    worst_ours <= tol && worst_peer <= tol,
+                    "{name} {spec:?} z {z}: ours {worst_ours} OpenCAMLib {worst_peer} mm apart"
+                );
+            }
+        }
+    }
 }

@@ -39,6 +39,21 @@ pub(crate) struct Args {
     /// Memory budget for the generated relief, the toolpath and its G-code text, MB.
     #[arg(long, default_value_t = 4096)]
     pub memory_mb: u64,
+    /// The mesh case instead: drop-cutter on this STL/OBJ beside OpenCAMLib's BatchDropCutter.
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+    /// Mesh case: the tool (flat:D, ball:D, bull:D:CORNER, v:D:ANGLE).
+    #[arg(long, default_value = "ball:3")]
+    pub mesh_tool: String,
+    /// Mesh case: spacing of the grid of drop points, mm.
+    #[arg(long, default_value_t = 0.1)]
+    pub grid_step: f64,
+    /// Mesh case: Python 3 with opencamlib.
+    #[arg(long, default_value = "python3")]
+    pub ocl_python: PathBuf,
+    /// Mesh case: the OpenCAMLib driver script (default crates/cam/tests/peer/ocl_drop.py).
+    #[arg(long)]
+    pub ocl_script: Option<PathBuf>,
 }
 
 /// A memory refusal names the options that change it.
@@ -63,6 +78,9 @@ fn time_ours(map: &Heightmap, args: &Args) -> Result<Ours> {
 }
 
 pub(crate) fn run(args: Args) -> Result<()> {
+    if let Some(mesh) = &args.mesh {
+        return run_mesh(&args, mesh);
+    }
     if !(64..=MAX_SIZE).contains(&args.size) {
         bail!(
             "--size must be between 64 and {MAX_SIZE} pixels, got {}",
@@ -244,6 +262,82 @@ pub(crate) fn run(args: Args) -> Result<()> {
         peer.diagnostics.len()
     );
     print_peak_memory();
+    Ok(())
+}
+
+/// The mesh case: the same points dropped by both, time, memory and agreement side by side.
+fn run_mesh(args: &Args, path: &std::path::Path) -> Result<()> {
+    use oficina_app::bench::carve_mesh::{
+        agreement, drop_ours, drop_peer, grid_points, peer_cutter,
+    };
+    let tool: oficina_cam::Tool = args
+        .mesh_tool
+        .parse()
+        .map_err(|e| anyhow::anyhow!("--mesh-tool {}: {e}", args.mesh_tool))?;
+    let cutter = peer_cutter(&tool).map_err(explain)?;
+    let before_kb = bench::peak_memory_kb();
+    let mesh = oficina_io::load_mesh(path, budget(args))
+        .map_err(|e| anyhow::anyhow!("{}", oficina_app::Error::chain(&e)))?;
+    let points = grid_points(&mesh, tool.radius(), args.grid_step).map_err(explain)?;
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    println!(
+        "Mesh drop-cutter benchmark: {} ({} triangles), tool {}, {} points every {} mm over the \
+         model's box grown by the tool radius; {cores} cores, load {}",
+        path.display(),
+        mesh.triangles.len(),
+        tool.spec(),
+        points.len(),
+        args.grid_step,
+        bench::load_average().unwrap_or_else(|| "?".into())
+    );
+    let ours = drop_ours(&mesh, &tool, &points);
+    let ours_kb = bench::peak_memory_kb();
+    let script = oficina_app::bench::carve_mesh::peer_script(args.ocl_script.as_deref());
+    let peer = drop_peer(&args.ocl_python, &script, path, cutter, &points).map_err(explain)?;
+    let a = agreement(&points, &ours.z, &peer.z);
+    println!(
+        "Time: building the search structure + dropping at every point (OpenCAMLib: setSTL, \
+         setCutter, appendPoint, run). CPU from getrusage / process_time, all threads."
+    );
+    println!(
+        "{:<34} {:>9} {:>9} {:>12} {:>14} {:>16}",
+        "", "wall s", "CPU s", "us/pt CPU", "peak MB", "peak - base MB"
+    );
+    let mb = |kb: u64| kb as f64 / 1024.0;
+    let n = points.len() as f64;
+    let row = |name: &str, c: oficina_app::bench::Cost, peak: Option<u64>, base: Option<u64>| {
+        let show = |v: Option<f64>| v.map_or("?".to_string(), |v| format!("{v:.1}"));
+        println!(
+            "{:<34} {:>9.3} {:>9.3} {:>12.2} {:>14} {:>16}",
+            name,
+            c.wall,
+            c.cpu,
+            c.cpu / n * 1e6,
+            show(peak.map(mb)),
+            show(peak.zip(base).map(|(p, b)| mb(p.saturating_sub(b))))
+        )
+    };
+    row("oficina DropCutter", ours.cost, ours_kb, before_kb);
+    row(
+        "OpenCAMLib BatchDropCutter",
+        peer.cost,
+        Some(peer.peak_kb),
+        Some(peer.base_kb),
+    );
+    println!(
+        "(base: oficina before reading the mesh; OpenCAMLib after importing it, before reading \
+         the mesh. Each side's peak includes its copy of the points.)"
+    );
+    println!(
+        "speed-up: {:.1}x wall, {:.1}x CPU",
+        peer.cost.wall / ours.cost.wall,
+        peer.cost.cpu / ours.cost.cpu
+    );
+    println!(
+        "agreement: max |dz| {:.6} mm at X{:.3} Y{:.3} over {} points both touch; {} above \
+         0.001 mm; {} touched by one only (the rim of the reach)",
+        a.max_dz, a.at[0], a.at[1], a.both, a.over_micron, a.one_only
+    );
     Ok(())
 }
 

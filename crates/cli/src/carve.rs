@@ -112,6 +112,14 @@ pub(crate) struct Args {
     /// Model: finishing raster angle from +X, degrees (instead of --direction).
     #[arg(long, allow_hyphen_values = true)]
     pub angle: Option<f64>,
+    /// Model: finishing strategy: raster, waterline (loops at levels), or mix (raster on the
+    /// flats, waterline on slopes steeper than --steep).
+    #[arg(long, default_value = "raster")]
+    pub strategy: String,
+    /// Model: the slope, degrees, above which mix uses waterline; waterline levels are
+    /// stepover x sin(steep) apart.
+    #[arg(long, default_value_t = 45.0)]
+    pub steep: f64,
     /// Model: largest gap between a finishing feed and the exact cutter location, mm.
     #[arg(long, default_value_t = 0.002)]
     pub tolerance: f64,
@@ -288,7 +296,18 @@ fn carve_model(
     output: &std::path::Path,
     profile: &oficina_motion::Profile,
 ) -> Result<std::process::ExitCode> {
+<<<<<<< HEAD
     use oficina_app::carve_mesh::{evaluate_mesh, model_header, MeshOptions, MeshSource};
+=======
+    use oficina_app::carve_mesh::{evaluate_mesh_with, MeshFinish, MeshOptions, MeshSource};
+    let finish = MeshFinish {
+        strategy: args
+            .strategy
+            .parse()
+            .map_err(|e: String| anyhow::anyhow!("--strategy: {e}"))?,
+        limit: args.steep,
+    };
+>>>>>>> s10-carve
     let source = MeshSource {
         path: model.to_path_buf(),
         scale: args.scale,
@@ -319,10 +338,11 @@ fn carve_model(
         .unwrap_or_else(|| output.with_extension("preview.png"));
     refuse_overwriting(model, &[output, &preview])?;
     let bar = progress_bar();
-    let eval = evaluate_mesh(
+    let eval = evaluate_mesh_with(
         &mesh,
         &settings,
         &opts,
+        &finish,
         profile,
         &relief_post(&args.post, args.allow_m6, header)?,
         budget(args),

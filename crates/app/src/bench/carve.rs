@@ -219,14 +219,7 @@ pub struct Peer {
 
 /// The driver script: `given`, else the repository's `scripts/image_to_gcode_peer.py`.
 pub fn peer_script(given: Option<&Path>) -> PathBuf {
-    given.map(Path::to_path_buf).unwrap_or_else(|| {
-        let local = PathBuf::from("scripts/image_to_gcode_peer.py");
-        if local.exists() {
-            local
-        } else {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scripts/image_to_gcode_peer.py")
-        }
-    })
+    super::repo_file(given, "scripts/image_to_gcode_peer.py")
 }
 
 /// Runs image-to-gcode (through `python` and `script`) on the `c` × `c` picture `gray`,
@@ -249,13 +242,7 @@ pub fn run_peer(
         .arg(STEP_PX.to_string())
         .arg(&out)
         .output()
-        .map_err(|e| {
-            failed(format!(
-                "cannot run {} {}: {e}",
-                python.display(),
-                script.display()
-            ))
-        })?;
+        .map_err(|e| super::cannot_run(python, script, e))?;
     if !run.status.success() {
         return Err(failed(format!(
             "image-to-gcode failed: {}",

@@ -2,6 +2,7 @@
 //! and the measurements. The CLI parses options, calls these and prints the tables.
 
 pub mod carve;
+pub mod carve_mesh;
 pub mod gcode;
 pub mod motion;
 pub mod offsets;
@@ -79,6 +80,21 @@ pub fn peak_memory_kb() -> Option<u64> {
     l.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// `given`, else the repository's file at `relative` (from the working directory when it is
+/// the checkout, else from this crate's source).
+pub fn repo_file(given: Option<&std::path::Path>, relative: &str) -> std::path::PathBuf {
+    given.map(std::path::Path::to_path_buf).unwrap_or_else(|| {
+        let local = std::path::PathBuf::from(relative);
+        if local.exists() {
+            local
+        } else {
+            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../..")
+                .join(relative)
+        }
+    })
+}
+
 /// The 1-minute load average, to say how busy the machine was.
 pub fn load_average() -> Option<String> {
     let text = std::fs::read_to_string("/proc/loadavg").ok()?;
@@ -104,6 +120,15 @@ impl std::fmt::Display for BenchError {
 }
 
 impl std::error::Error for BenchError {}
+
+/// A peer's interpreter that would not start, named with its script.
+fn cannot_run(python: &std::path::Path, script: &std::path::Path, e: std::io::Error) -> BenchError {
+    failed(format!(
+        "cannot run {} {}: {e}",
+        python.display(),
+        script.display()
+    ))
+}
 
 fn failed(e: impl std::fmt::Display) -> BenchError {
     BenchError::Failed(e.to_string())

@@ -1,12 +1,17 @@
 //! CAM on triangle meshes: exact drop-cutter for every tool shape ([`DropCutter`]), the
-//! height field it gives for roughing ([`DropCutter::height_field`]) and raster finishing
-//! that follows the cutter-location surface between samples ([`raster`]).
+//! height field it gives for roughing ([`DropCutter::height_field`]), raster finishing
+//! that follows the cutter-location surface between samples ([`raster`]), waterline loops
+//! ([`loops_at`]) and the two mixed by slope ([`Strategy`]).
 
 mod drop;
 mod finish;
 mod grid;
+mod mix;
+mod waterline;
 
 pub use finish::{finishing_moves, raster, Raster};
+pub use mix::{flat_pieces, level_spacing, split, waterline_pieces, Strategy, OVERLAP};
+pub use waterline::{loops_at, ContactGrid};
 
 use crate::Tool;
 use drop::Shape;
