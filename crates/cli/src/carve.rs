@@ -296,10 +296,9 @@ fn carve_model(
     output: &std::path::Path,
     profile: &oficina_motion::Profile,
 ) -> Result<std::process::ExitCode> {
-<<<<<<< HEAD
-    use oficina_app::carve_mesh::{evaluate_mesh, model_header, MeshOptions, MeshSource};
-=======
-    use oficina_app::carve_mesh::{evaluate_mesh_with, MeshFinish, MeshOptions, MeshSource};
+    use oficina_app::carve_mesh::{
+        evaluate_mesh_with, model_header, MeshFinish, MeshOptions, MeshSource,
+    };
     let finish = MeshFinish {
         strategy: args
             .strategy
@@ -307,7 +306,6 @@ fn carve_model(
             .map_err(|e: String| anyhow::anyhow!("--strategy: {e}"))?,
         limit: args.steep,
     };
->>>>>>> s10-carve
     let source = MeshSource {
         path: model.to_path_buf(),
         scale: args.scale,
