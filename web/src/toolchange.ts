@@ -59,7 +59,8 @@ export function setupToolChange(hooks: WorkshopHooks): Section {
   };
   /// The policy to the connected board (firmware only).
   const apply = () => {
-    if (!last || last.is_virtual) return;
+    // Marlin interprets M6 itself (or refuses it): the sender has no policy to apply.
+    if (!last || last.is_virtual || /^marlin[:+]/.test(last.uri)) return;
     try {
       hooks.send(policy());
       message.textContent = `${root.querySelector<HTMLSelectElement>('[name=policy]')!.selectedOptions[0].text} (given to ${last.uri})`;
