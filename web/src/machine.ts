@@ -24,6 +24,9 @@ function hms(s: number | null): string {
   return `${Math.floor(s / 3600)}:${String(Math.floor(s / 60) % 60).padStart(2, '0')}:${String(s % 60).padStart(2, '0')}`;
 }
 
+/// A Marlin board's URI (`marlin:PORT[@baud]`, `marlin+tcp://…`), as the server's `is_marlin`.
+export const isMarlin = (uri: string) => /^marlin[:+]/.test(uri);
+
 /// The machine list's entry that asks for a Marlin plotter's address.
 const MARLIN_ENTRY = '?marlin';
 
@@ -271,7 +274,7 @@ export class MachinePanel {
   /// On a Marlin plotter what its link cannot do is off, its tooltip saying why (and back
   /// on, without the tooltip, on another machine).
   private marlinLimits() {
-    const marlin = /^marlin[:+]/.test(this.last?.uri ?? '');
+    const marlin = isMarlin(this.last?.uri ?? '');
     document.body.dataset.marlin = marlin ? 'yes' : '';
     const byId = (...ids: string[]) => ids.map((id) => document.getElementById(id));
     const groups: [string, (HTMLElement | null)[]][] = [

@@ -107,8 +107,18 @@ await test('start, hold during G28, resume: the job runs to the end, every line 
   assert(m, `the job's summary is in the console: ${c.slice(-600)}`);
   assert(m[1] === m[2] && Number(m[2]) === lines, `every one of the ${lines} command lines acknowledged: ${m[0]}`);
   assert(Number(m[3]) >= 1, `the corrupted line was sent again: ${m[0]}`);
+  console.log(`     the link: ${m[0]}`);
   await page.screenshot({ path: path.join(root, 'docs', 'screenshots', 'workbench-plot-marlin.png') });
   await page.screenshot({ path: path.join(out, 'plot-marlin.png') });
+});
+
+await test('back on the virtual machine, jog and overrides are on again, grbl tooltips back', async () => {
+  await page.selectOption('#machine-uri', 'virtual');
+  await page.click('#connect');
+  await page.waitForFunction(() => document.getElementById('machine-name').textContent.includes('virtual machine'), null, { timeout: 15000 });
+  await waitState(page, 'idle');
+  for (const sel of ['#jog button[data-jog="1,0,0"]', '#fo', '#so', '#jog-step']) assert(!(await page.isDisabled(sel)), `${sel} is on again`);
+  assert(await page.getAttribute('#home', 'title') === 'grbl: $H', `Home's own tooltip: ${await page.getAttribute('#home', 'title')}`);
 });
 
 await browser.close();
