@@ -3,7 +3,8 @@
 // be exactly `oficina plot … --format marlin` for the same options; the page connects to
 // `oficina emulate marlin` (which corrupts line 50 once and makes G28 take 2 s) through the
 // machine list's Marlin entry, holds during G28, resumes, and the job runs to the end with
-// every line acknowledged. Starts its own server and emulator. Prints `N passed, M failed`.
+// every line acknowledged; a second start is stopped during G28; back on the virtual machine
+// the controls are on again. Starts its own server and emulator. Prints `N passed, M failed`.
 
 import { startServer, launch, suite, assert, openPage, waitState, realworld, out, root } from './harness.mjs';
 import { spawn, execFileSync } from 'node:child_process';
@@ -110,6 +111,16 @@ await test('start, hold during G28, resume: the job runs to the end, every line 
   console.log(`     the link: ${m[0]}`);
   await page.screenshot({ path: path.join(root, 'docs', 'screenshots', 'workbench-plot-marlin.png') });
   await page.screenshot({ path: path.join(out, 'plot-marlin.png') });
+});
+
+await test('Stop during G28 ends the job stopped, the board idle', async () => {
+  await page.click('#start');
+  await waitState(page, 'run');
+  await page.click('#stop');
+  await page.waitForFunction(() => document.body.dataset.jobDone === 'stopped', null, { timeout: 60000 });
+  await waitState(page, 'idle');
+  const c = await page.textContent('#console');
+  assert(/job stopped/.test(c), `the console says it stopped: ${c.slice(-400)}`);
 });
 
 await test('back on the virtual machine, jog and overrides are on again, grbl tooltips back', async () => {
