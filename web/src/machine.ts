@@ -24,6 +24,30 @@ function hms(s: number | null): string {
   return `${Math.floor(s / 3600)}:${String(Math.floor(s / 60) % 60).padStart(2, '0')}:${String(s % 60).padStart(2, '0')}`;
 }
 
+/// A Marlin board's URI (`marlin:PORT[@baud]`, `marlin+tcp://…`), as the server's `is_marlin`.
+export const isMarlin = (uri: string) => /^marlin[:+]/.test(uri);
+
+/// The machine list's entry that asks for a Marlin plotter's address.
+const MARLIN_ENTRY = '?marlin';
+
+/// A Marlin machine URI from what was typed: a port becomes `marlin:PORT`, `tcp://…`
+/// becomes `marlin+tcp://…`, a `marlin…` URI stays; '' stays ''.
+function marlinUri(typed: string): string {
+  const a = typed.trim();
+  if (a === '' || a.startsWith('marlin')) return a;
+  return a.startsWith('tcp://') ? 'marlin+' + a : 'marlin:' + a;
+}
+
+/// Why a control is off on Marlin: its serial link carries G-code lines, hold
+/// (no new line sent), resume and stop; none of grbl's real-time commands.
+const ON_MARLIN: Record<string, string> = {
+  jog: "Marlin has no jog over its link (grbl's $J): type G0/G91 moves in the console",
+  home: 'Marlin homes with G28: the plot program starts with it, or type it in the console',
+  unlock: "Marlin has no alarm lock to clear (grbl's $X); Reset sends M112, after which the board must be restarted",
+  override: "Marlin takes no real-time feed or spindle override over its link (grbl's override bytes)",
+  offsets: "work offsets here are grbl's (G10 L20, $#): Marlin's link has none; a plot starts from G28's home",
+};
+
 export class MachinePanel {
   private controls = false;
   private client = 0;
@@ -89,11 +113,14 @@ export class MachinePanel {
     custom.textContent = 'grbl: or tcp://… (type)';
     custom.value = '';
     sel.appendChild(custom);
+    // A Makelangelo or other Marlin 2.x plotter: its serial port or network bridge.
+    const marlin = new Option('Marlin plotter: port or marlin+tcp://… (type)', MARLIN_ENTRY);
+    sel.appendChild(marlin);
     sel.onchange = () => {
-      if (sel.value === '') {
-        const uri = prompt('Machine address: grbl:/dev/ttyUSB0, tcp://HOST:PORT', 'tcp://127.0.0.1:2323');
-        if (uri) { const o = document.createElement('option'); o.textContent = uri; sel.insertBefore(o, custom); sel.value = uri; }
-      }
+      const typed = sel.value === '' ? prompt('Machine address: grbl:/dev/ttyUSB0, tcp://HOST:PORT', 'tcp://127.0.0.1:2323')
+        : sel.value === MARLIN_ENTRY ? marlinUri(prompt('Marlin plotter: a serial port (/dev/ttyUSB0, @baud for other than 250000) or marlin+tcp://HOST:PORT', '/dev/ttyUSB0') ?? '')
+          : null;
+      if (typed) { sel.insertBefore(new Option(typed, typed), custom); sel.value = typed; }
     };
   }
 
@@ -241,5 +268,34 @@ export class MachinePanel {
     set('mdi-send', true);
     this.macros.refresh();
     for (const b of Array.from(document.querySelectorAll<HTMLButtonElement>('#jog button'))) b.disabled = !(c && idle);
+    this.marlinLimits();
+  }
+
+  /// On a Marlin plotter what its link cannot do is off, its tooltip saying why (and back
+  /// on, without the tooltip, on another machine).
+  private marlinLimits() {
+    const marlin = isMarlin(this.last?.uri ?? '');
+    document.body.dataset.marlin = marlin ? 'yes' : '';
+    const byId = (...ids: string[]) => ids.map((id) => document.getElementById(id));
+    const groups: [string, (HTMLElement | null)[]][] = [
+      ['jog', [...byId('jog-step'), ...Array.from(document.querySelectorAll<HTMLElement>('#jog button'))]],
+      ['home', byId('home')], ['unlock', byId('unlock')], ['override', byId('fo', 'so')],
+      ['offsets', byId('zero-x', 'zero-y', 'zero-z', 'zero', 'goto-zero', 'read-offsets', 'wcs')],
+    ];
+    for (const [why, els] of groups) {
+      for (const el of els) {
+        if (!(el instanceof HTMLButtonElement || el instanceof HTMLInputElement || el instanceof HTMLSelectElement)) continue;
+        if (marlin) {
+          el.dataset.titleBefore ??= el.title;
+          el.disabled = true;
+          el.title = ON_MARLIN[why];
+        } else if (el.dataset.titleBefore !== undefined) {
+          el.title = el.dataset.titleBefore;
+          delete el.dataset.titleBefore;
+          // The rest are set by updateButtons on every status; these by nobody else.
+          if (why === 'override' || el.id === 'jog-step') el.disabled = false;
+        }
+      }
+    }
   }
 }

@@ -98,7 +98,7 @@ function showStitchBar(name: string, sheet: { stitches: number; threads: unknown
 /// The header above the preview: what it shows, and for which machine it was read.
 function showTitle() {
   const r = stats.lastCheck;
-  const reading = r ? ` · read as ${r.dialect === 'grbl' ? 'grbl' : 'LinuxCNC'}${machineName ? ` · ${machineName}` : ''}` : '';
+  const reading = r ? ` · read as ${({ grbl: 'grbl', marlin: 'Marlin' } as Record<string, string>)[r.dialect ?? ''] ?? 'LinuxCNC'}${machineName ? ` · ${machineName}` : ''}` : '';
   const title = showingStitches ? `stitches of ${stitchFile}`
     : !program.text.trim() ? 'nothing loaded'
       : `${program.name}${program.from ? ` (${program.from})` : ''}${reading}`;
@@ -122,7 +122,7 @@ function showCheck(r: CheckReport) {
   const time = r.time.Ok ? hms(r.time.Ok.seconds) : `no estimate (${r.time.Err})`;
   const tools = r.tool_table.map(([n, t]) => t ? `T${n} Ø${t.diameter} L${t.length}` : `T${n} not in the tool table`).join(', ');
   panel.setProgramErrors(r.errors);
-  const reading = r.dialect === 'grbl' ? ' · read as grbl reads it' : '';
+  const reading = r.dialect === 'grbl' || r.dialect === 'marlin' ? ` · read as ${r.dialect === 'grbl' ? 'grbl' : 'Marlin'} reads it` : '';
   // While stitches are shown the bar describes them (showStitchBar), not the program.
   if (showingStitches) return showTitle();
   $('summary').textContent = `${r.errors} errors · ${r.warnings} warnings${reading} · extents ${size} · feed ${r.feed_length.toFixed(0)} mm · time ${time}${tools ? ' · ' + tools : ''}`;
@@ -377,7 +377,9 @@ async function make() {
     const made = { plot: 'a plot', mill: 'milled', sole: 'a sole mold', model: 'a carving' }[kind as string] ?? kind;
     loadProgram(body.name!, body.text!, true, kind === 'plot', `${made} of ${design.name}`);
     // A plot runs on the virtual plotter it was made for (pen heights, travel, kinematics).
-    if (kind === 'plot' && typeof body.machine === 'string') panel.useVirtual(body.machine);
+    // A Marlin program is for a Marlin board (connected in the machine panel): the virtual
+    // machine does not read M280.
+    if (kind === 'plot' && typeof body.machine === 'string' && params.format !== 'marlin') panel.useVirtual(body.machine);
   } catch (e) {
     $('process-status').textContent = '';
     error(`${kind}: ${(e as Error).message}`);

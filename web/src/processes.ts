@@ -55,6 +55,10 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
     fields: [
       // Not a plot parameter: the plotter profile the job is made for (and run on).
       { name: 'machine', label: 'Plotter', kind: 'select', value: 'pen-plotter', options: ['pen-plotter', 'polar-plotter', 'polargraph-wall'] },
+      // `oficina plot --format`: gcode (grbl family), joint (polar plotters on a plain
+      // controller), marlin (Marlin 2.x: M280 servo pen, G28). HP-GL is the CLI's only: the
+      // page loads and runs G-code.
+      { name: 'format', label: 'Output', kind: 'select', value: 'gcode', options: ['gcode', 'joint', 'marlin'] },
       { name: 'scale', label: 'Scale', unit: '×', value: '1', min: 0.001, max: 10000 },
       // `oficina plot --layout/--landscape/--margin/--no-fit`: vpype's layout on a page.
       { name: 'layout', label: 'Page (layout)', kind: 'text', value: '', optional: true, placeholder: 'none: a4, a3, letter, 300x200, 8.5x11in' },
@@ -188,6 +192,14 @@ export function renderForm(kind: ProcessKind) {
     label.appendChild(err);
     form.appendChild(label);
   }
+  if (kind === 'plot') penFollowsFormat();
+}
+
+/// As `oficina plot`: the pen lift defaults to a servo with --format marlin, else Z.
+function penFollowsFormat() {
+  const format = document.querySelector<HTMLSelectElement>('#process-fields [name="format"]')!;
+  const pen = document.querySelector<HTMLSelectElement>('#process-fields [name="pen"]')!;
+  format.addEventListener('change', () => { pen.value = format.value === 'marlin' ? 'servo' : 'z'; });
 }
 
 /// The form's values as the server's parameters, or the first field the browser refuses.

@@ -5,6 +5,7 @@
 
 import type { LiveMessage, Snapshot } from './api';
 import { Section, WorkshopHooks, addSection, num, remember } from './workshop';
+import { isMarlin } from './machine';
 
 const FORM = `
 <div class="form">
@@ -59,7 +60,8 @@ export function setupToolChange(hooks: WorkshopHooks): Section {
   };
   /// The policy to the connected board (firmware only).
   const apply = () => {
-    if (!last || last.is_virtual) return;
+    // Marlin interprets M6 itself (or refuses it): the sender has no policy to apply.
+    if (!last || last.is_virtual || isMarlin(last.uri)) return;
     try {
       hooks.send(policy());
       message.textContent = `${root.querySelector<HTMLSelectElement>('[name=policy]')!.selectedOptions[0].text} (given to ${last.uri})`;

@@ -342,6 +342,11 @@ impl Session {
                     // of the virtual machine runs as a small job of its own, and is no news.
                     if let Some(j) = self.job.as_mut().filter(|j| j.completed.is_none()) {
                         j.completed = Some(completed);
+                        // Firmware links say how the lines went (Marlin: acknowledged,
+                        // resent); the console shows it as `oficina run` prints it.
+                        if let Some(r) = self.machine.job_report().filter(|_| completed) {
+                            out.push(SessionEvent::Message { text: r.summary });
+                        }
                         out.push(SessionEvent::JobEnd { completed, seconds });
                     }
                 }

@@ -170,18 +170,24 @@ pub(crate) struct ProgramQuery {
 }
 
 impl ProgramQuery {
-    /// The dialect asked, else the one of the machine the program will run on: grbl's for
-    /// real firmware (where a program without M2 is normal), LinuxCNC's for the virtual one.
+    /// The dialect asked, else the one of the machine the program will run on: Marlin's on a
+    /// Marlin board (M280 pen lifts, G4 P in ms), grbl's for other firmware (where a program
+    /// without M2 is normal), LinuxCNC's for the virtual one.
     pub(crate) fn dialect(&self, st: &AppState) -> Result<Dialect, (StatusCode, String)> {
         match &self.dialect {
             None => {
-                let firmware = st
-                    .with_session(|s| Ok(s.profile().is_none()))
+                let (firmware, marlin) = st
+                    .with_session(|s| {
+                        Ok((
+                            s.profile().is_none(),
+                            oficina_app::is_marlin(&s.snapshot().uri),
+                        ))
+                    })
                     .map_err(bad)?;
-                Ok(if firmware {
-                    Dialect::Grbl
-                } else {
-                    Dialect::LinuxCnc
+                Ok(match (firmware, marlin) {
+                    (_, true) => Dialect::Marlin,
+                    (true, false) => Dialect::Grbl,
+                    (false, false) => Dialect::LinuxCnc,
                 })
             }
             Some(d) => d.parse().map_err(|e| bad(format!("dialect {d:?}: {e}"))),
