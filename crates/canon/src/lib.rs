@@ -230,6 +230,18 @@ pub enum CanonOp {
         /// How many straight feeds follow that trace the curve.
         segments: u32,
     },
+    /// G38.2–G38.5: a straight probing move towards `to`, LinuxCNC's `TURN_PROBE_ON`,
+    /// `STRAIGHT_PROBE`, `TURN_PROBE_OFF`. Oficina's machines have no probe input, so the
+    /// probe never trips: the motion itself is the next `feeds` [`CanonOp::StraightFeed`]s of
+    /// the same line (to `to`, then back to where the probe leaves the tool). Whatever moves
+    /// the machine follows them and may pass over this operation; whatever prints canonical
+    /// calls prints it in their place.
+    StraightProbe {
+        /// The probe's target, machine coordinates.
+        to: Pos,
+        /// How many straight feeds follow that make the probing move.
+        feeds: u32,
+    },
     /// G4: wait this many seconds.
     Dwell(f64),
     /// S: spindle speed, rpm.

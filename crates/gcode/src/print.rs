@@ -25,9 +25,9 @@ pub struct Rs274Printer {
     inverse_f: Option<f64>,
     /// The line being built, for the calls printed without `write!` (reused).
     line: decimal::Line,
-    /// Straight feeds still to come that trace the last `NURBS_FEED`: rs274 prints the
-    /// call alone, so they are followed but not printed.
-    spline_feeds: u32,
+    /// Straight feeds still to come that make the last `NURBS_FEED` or `STRAIGHT_PROBE`:
+    /// rs274 prints the call alone, so they are followed but not printed.
+    part_feeds: u32,
 }
 
 impl Rs274Printer {
@@ -87,10 +87,10 @@ impl Rs274Printer {
     /// printed with the move it times).
     pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
         // Everything up to the last feed that traces the spline is the spline's (its G93
-        // rates too): rs274 prints the NURBS_FEED alone.
-        if self.spline_feeds > 0 {
+        // rates too): rs274 prints the NURBS_FEED alone; so for a probing move.
+        if self.part_feeds > 0 {
             if let CanonOp::StraightFeed { to } = &canon.op {
-                self.spline_feeds -= 1;
+                self.part_feeds -= 1;
                 self.last = to.to_array();
             }
             return Ok(());
@@ -395,8 +395,18 @@ impl Rs274Printer {
                 control_points,
                 segments,
             } => {
-                self.spline_feeds = *segments;
+                self.part_feeds = *segments;
                 write!(out, "NURBS_FEED({control_points}, ...)")
+            }
+            CanonOp::StraightProbe { to, feeds } => {
+                self.part_feeds = *feeds;
+                let p = self.program(to);
+                writeln!(out, "TURN_PROBE_ON()")?;
+                self.start_line(out)?;
+                write_call(out, "STRAIGHT_PROBE(", &p)?;
+                writeln!(out)?;
+                self.start_line(out)?;
+                write!(out, "TURN_PROBE_OFF()")
             }
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),

@@ -604,6 +604,9 @@ impl<R: BufRead + Seek> Executor<R> {
                     self.pending.push((target, v, *span));
                 }
                 Item::Comment { kind, text } => match kind {
+                    // rs274 writes (LOG,…) and its file commands to a log file, not as a
+                    // comment; Oficina keeps no log file.
+                    CommentKind::Plain if is_log_command(text) => {}
                     CommentKind::Plain => block.notes.push(Note::Comment(text.clone())),
                     CommentKind::Message => block.notes.push(Note::Message(text.clone())),
                     CommentKind::Debug => {
@@ -644,6 +647,16 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         Ok(())
     }
+}
+
+/// rs274's log file commands (`convert_comment`): `(LOG,…)`, `(LOGOPEN,…)`,
+/// `(LOGAPPEND,…)`, `(LOGCLOSE)`, any case (the leading blanks are already gone).
+fn is_log_command(text: &str) -> bool {
+    let lower = text.to_ascii_lowercase();
+    ["log,", "logopen,", "logappend,"]
+        .iter()
+        .any(|k| lower.starts_with(k))
+        || lower == "logclose"
 }
 
 /// The block the full path makes of the source line `src` (number `line`), reading and

@@ -321,7 +321,7 @@ fn check_grbl_probe(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic>
     Ok(())
 }
 
-/// LinuxCNC and the legacy dialect: probing is not supported (the machines have no probe),
+/// The legacy and Marlin dialects: probing is not supported (seed 002 has no G38),
 /// with the message an unknown code gets.
 pub(crate) fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
     match d.g[G::MOTION] {

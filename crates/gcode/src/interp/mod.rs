@@ -11,8 +11,10 @@ mod context;
 pub(crate) mod cycles;
 pub(crate) mod dialect;
 pub(crate) mod frame;
+mod inputs;
 mod motion;
 mod offsets;
+mod probe;
 mod simple;
 pub(crate) mod splines;
 pub(crate) mod state;
@@ -80,6 +82,8 @@ pub(crate) mod param {
     pub(crate) const G5X_BASE: i64 = 5221;
     pub(crate) const TOOL_NUMBER: i64 = 5400;
     pub(crate) const POSITION: i64 = 5420;
+    /// #5061–#5069: the last probed point (X … W), #5070: whether the probe tripped.
+    pub(crate) const PROBE_POSITION: i64 = 5061;
 }
 
 /// The modal interpreter: turns blocks into canonical operations, keeping the modal state
@@ -102,6 +106,8 @@ pub struct Interpreter {
     pub(crate) comp: comp::CompState,
     pub(crate) spline: splines::SplineMemory,
     contexts: context::Contexts,
+    /// The target of a probing move of this block, for #5061… (set after the block).
+    probed: Option<[f64; 6]>,
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
@@ -145,6 +151,7 @@ impl Interpreter {
             comp: comp::CompState::default(),
             spline: splines::SplineMemory::default(),
             contexts: context::Contexts::default(),
+            probed: None,
             line: 0,
             decoded: None,
         }
@@ -275,7 +282,8 @@ impl Interpreter {
                 dialect::refuse_probe(d)?;
                 dialect::translate_legacy(d)
             }
-            Dialect::LinuxCnc | Dialect::Marlin => dialect::refuse_probe(d)?,
+            Dialect::Marlin => dialect::refuse_probe(d)?,
+            Dialect::LinuxCnc => {}
         }
         self.check_words(d)?;
         let flow = self.run_block(d, block, params, sink)?;
@@ -375,13 +383,14 @@ impl Interpreter {
         if !(arc || g10 || cycle || thread || orient) {
             unused('R', "R word with no g code that uses it")?;
         }
-        if !(arc || g10 || cycle || thread || spline(&[52])) {
+        if !(arc || g10 || cycle || thread || spline(&[52]) || d.m_in(M::IO) == Some(66)) {
             unused(
                 'L',
                 "L word with no G10, cutter compensation, canned cycle, digital/analog input, M98 or NURBS code",
             )?;
         }
-        if !thread {
+        let input = d.m_in(M::IO) == Some(66);
+        if !(thread || input) {
             unused('E', "E word with no G70, G76, M66, M67 or M68 to use it")?;
         }
         let p_users = arc
@@ -391,6 +400,7 @@ impl Interpreter {
             || matches!(non_modal, Some(40 | 100))
             || d.g_in(G::CONTROL) == Some(640)
             || matches!(d.m_in(M::OVERRIDE), Some(50..=53))
+            || input
             || (cycle && matches!(motion, Motion::Cycle(740 | 820 | 840 | 860 | 880 | 890)));
         if !p_users {
             unused(
@@ -402,6 +412,7 @@ impl Interpreter {
             || spline(&[50])
             || thread
             || orient
+            || input
             || d.g_in(G::CONTROL) == Some(640)
             || (cycle && matches!(motion, Motion::Cycle(730 | 830 | 870)));
         if !q_users {
@@ -557,6 +568,10 @@ impl Interpreter {
                 }
             }
         }
+        // 9b. Waiting on an input.
+        if d.m_in(M::IO) == Some(66) {
+            self.wait_input(d, params)?;
+        }
         // 10. Dwell.
         if d.g_in(G::NON_MODAL) == Some(40) {
             let p = d.values[words::slot('P')].ok_or_else(|| {
@@ -689,6 +704,7 @@ impl Interpreter {
         }
         if !motion_done && (d.any_axis() || (d.g[G::MOTION].is_some() && !needs_words)) {
             self.motion(d, sink)?;
+            self.set_probe_params(params);
         }
         // 21. Stop.
         match d.m_in(M::STOP) {
@@ -931,6 +947,7 @@ impl Interpreter {
             Motion::RigidTap => 331.0,
             Motion::Threading => 760.0,
             Motion::Spline(t) => t as f64,
+            Motion::Probe(t) => t as f64,
         };
         params.set_system("_motion_mode", motion);
         self.update_mode_params(params);

@@ -154,6 +154,7 @@ impl Interpreter {
             Motion::Threading => self.threading_cycle(d, sink),
             Motion::Spline(t @ (50 | 51)) => self.spline(d, t, sink, end),
             Motion::Spline(t) => self.nurbs(d, t, sink, end),
+            Motion::Probe(t) => self.probe(d, t, sink, end),
             Motion::Off => Ok(()),
         }
     }

@@ -21,6 +21,8 @@ pub enum Motion {
     Threading,
     /// G5, G5.1, G5.2, G5.3 by their G number in tenths (50 … 53).
     Spline(u16),
+    /// G38.2 … G38.5 (straight probing) by their G number in tenths (382 … 385).
+    Probe(u16),
 }
 
 impl Motion {
@@ -35,6 +37,7 @@ impl Motion {
             331 => Motion::RigidTap,
             760 => Motion::Threading,
             50..=53 => Motion::Spline(t),
+            382..=385 => Motion::Probe(t),
             other => Motion::Cycle(other),
         }
     }

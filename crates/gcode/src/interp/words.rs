@@ -41,6 +41,8 @@ pub(crate) mod g_group {
 /// The M modal groups.
 pub(crate) mod m_group {
     pub(crate) const STOP: usize = 4;
+    /// M66: inputs.
+    pub(crate) const IO: usize = 5;
     pub(crate) const TOOL_CHANGE: usize = 6;
     pub(crate) const SPINDLE: usize = 7;
     pub(crate) const COOLANT: usize = 8;
@@ -74,7 +76,7 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
         | 880
         | 890 => MOTION,
         // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
-        // refuse them after decoding (dialect::refuse_probe).
+        // refuse them after decoding (dialect::refuse_probe); LinuxCNC runs them (probe.rs).
         382..=385 => MOTION,
         170 | 180 | 190 => PLANE,
         900 | 910 => DISTANCE,
@@ -100,6 +102,7 @@ pub(crate) fn group_of_m(code: u16) -> Option<usize> {
         3..=5 | 19 | 70..=73 => SPINDLE,
         7..=9 => COOLANT,
         48..=53 => OVERRIDE,
+        66 => IO,
         _ => return None,
     })
 }
