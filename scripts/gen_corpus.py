@@ -369,6 +369,9 @@ bad('lcnc_probe_feed_per_rev', 'G21 G90\nG0 X0 Y0 Z0\nG95 S100 F1\nG38.2 Z-5\nM2
 bad('lcnc_probe_to_start', 'G21 G90\nG0 X0 Y0 Z0\nF100\nG38.2 Z0\nM2\n')
 bad('lcnc_m66_digital_and_analog', 'G21 G90\nG0 X0 Y0 Z0\nM66 P1 E1\nM2\n')
 bad('lcnc_m66_no_input', 'G21 G90\nG0 X0 Y0 Z0\nM66 L0\nM2\n')
+# G96/G97: rs274's SET_SPINDLE_MODE.
+good('lcnc_spindle_css', '(G96 constant surface speed with and without a D limit, G97 back to rev/min: rs274 prints SET_SPINDLE_MODE)\nG21 G18 G90 G94 G40 G49 G80 G54\nG96 D2500 S100 M3\nG0 X10 Z1\nG1 Z-5 F200\nG97 S500\nG0 X20\nG96 S50\nG1 X5\nG20 G96 S300 D-1200\nG1 X0.5 Z0\nM2\n')
+bad('lcnc_spindle_css_without_s', 'G21 G18 G90\nG96 D2000 M3\nM2\n')
 
 # INI settings (ini/settings.ini, read by rs274 -i and oficina --ini): ORIENT_OFFSET added to
 # every M19 angle, numeric entries as read-only #<_ini[section]name> (any case).

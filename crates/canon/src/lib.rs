@@ -145,6 +145,20 @@ pub enum SpindleDir {
     CounterClockwise,
 }
 
+/// How the spindle speed is read (G96 / G97).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum SpindleMode {
+    /// G97: S is the spindle speed, rev/min.
+    #[default]
+    Rpm,
+    /// G96: S is the cutting surface speed (m/min under G21, ft/min under G20); the
+    /// control turns the spindle at S / (2π·|X|) and at most `max_rpm` (G96's D word).
+    SurfaceSpeed {
+        /// The D word, rev/min; `None`: no limit.
+        max_rpm: Option<f64>,
+    },
+}
+
 /// How M19 turns the spindle to its orientation angle (its P word).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum OrientDir {
@@ -244,8 +258,10 @@ pub enum CanonOp {
     },
     /// G4: wait this many seconds.
     Dwell(f64),
-    /// S: spindle speed, rpm.
+    /// S: spindle speed, rpm (under [`SpindleMode::SurfaceSpeed`], the surface speed).
     SetSpindleSpeed(f64),
+    /// G96 / G97: how [`CanonOp::SetSpindleSpeed`] is read from here on.
+    SetSpindleMode(SpindleMode),
     /// M3 / M4.
     StartSpindle(SpindleDir),
     /// M5.

@@ -5,7 +5,8 @@
 use crate::decimal;
 use crate::interp::frame::Frame;
 use oficina_canon::{
-    Canon, CanonOp, FeedMode, OrientDir, PathControlMode, Plane, Pos, SpindleDir, Units,
+    Canon, CanonOp, FeedMode, OrientDir, PathControlMode, Plane, Pos, SpindleDir, SpindleMode,
+    Units,
 };
 use std::io::{self, Write};
 
@@ -344,6 +345,14 @@ impl Rs274Printer {
             }
             CanonOp::Dwell(s) => write!(out, "DWELL({s:.4})"),
             CanonOp::SetSpindleSpeed(s) => write!(out, "SET_SPINDLE_SPEED(0, {s:.4})"),
+            // rs274's argument: 0 for G97, the D limit (1e30 without one) for G96.
+            CanonOp::SetSpindleMode(mode) => {
+                let arg = match mode {
+                    SpindleMode::Rpm => 0.0,
+                    SpindleMode::SurfaceSpeed { max_rpm } => max_rpm.unwrap_or(1e30),
+                };
+                write!(out, "SET_SPINDLE_MODE(0 {arg:.4})")
+            }
             CanonOp::StartSpindle(SpindleDir::Clockwise) => {
                 write!(out, "START_SPINDLE_CLOCKWISE(0)")
             }

@@ -118,7 +118,7 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
             G::FEED_MODE => matches!(c.tenths, 930 | 940),
             G::CUTTER_COMP => c.tenths == 400,
             G::TOOL_LENGTH => matches!(c.tenths, 431 | 490),
-            G::RETRACT => false,
+            G::RETRACT | G::SPINDLE_MODE => false,
             G::CONTROL => c.tenths == 610,
             G::COORD_SYSTEM => {
                 if c.tenths > 590 {

@@ -16,6 +16,7 @@ mod motion;
 mod offsets;
 mod probe;
 mod simple;
+mod spindle_mode;
 pub(crate) mod splines;
 pub(crate) mod state;
 mod threading;
@@ -27,7 +28,9 @@ use crate::diag::{Diagnostic, Span};
 use crate::params::Params;
 use crate::Dialect;
 use frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{
+    Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, SpindleMode, Units,
+};
 use state::{Modal, Motion, Side};
 use tool_table::ToolTable;
 use words::{g_group as G, m_group as M, Decoded};
@@ -421,7 +424,9 @@ impl Interpreter {
                 "Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, M68 or user M code that uses it",
             )?;
         }
-        if !matches!(d.g_in(G::CUTTER_COMP), Some(410 | 420 | 411 | 421)) {
+        if !matches!(d.g_in(G::CUTTER_COMP), Some(410 | 420 | 411 | 421))
+            && d.g_in(G::SPINDLE_MODE) != Some(960)
+        {
             unused(
                 'D',
                 "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it",
@@ -448,6 +453,10 @@ impl Interpreter {
                 // rs274 shows (DEBUG,…) to the operator like (MSG,…).
                 Note::Debug(m) => self.emit(sink, CanonOp::Message(m.clone())),
             }
+        }
+        // 1b. Spindle mode (rs274 sets it before the feed mode).
+        if let Some(t) = d.g_in(G::SPINDLE_MODE) {
+            self.set_spindle_mode(d, t, sink)?;
         }
         // 2. Feed rate mode.
         if let Some(t) = d.g_in(G::FEED_MODE) {
@@ -809,6 +818,10 @@ impl Interpreter {
         self.comp = comp::CompState::default();
         self.modal.spindle = None;
         self.emit(sink, CanonOp::StopSpindle);
+        if self.modal.spindle_mode != SpindleMode::Rpm {
+            self.modal.spindle_mode = SpindleMode::Rpm;
+            self.emit(sink, CanonOp::SetSpindleMode(SpindleMode::Rpm));
+        }
         self.modal.motion = Motion::Linear;
         // rs274 turns off only what is on.
         if self.modal.mist {
@@ -864,8 +877,8 @@ impl Interpreter {
             ("_tool_offset", b(self.frame.tool.iter().any(|&t| t != 0.0))),
             ("_retract_r_plane", b(!m.retract_to_old_z)),
             ("_retract_old_z", b(m.retract_to_old_z)),
-            ("_spindle_rpm_mode", 1.0),
-            ("_spindle_css_mode", 0.0),
+            ("_spindle_rpm_mode", b(m.spindle_mode == SpindleMode::Rpm)),
+            ("_spindle_css_mode", b(m.spindle_mode != SpindleMode::Rpm)),
             ("_ijk_absolute_mode", b(!m.arc_incremental)),
             ("_lathe_diameter_mode", b(m.diameter_mode)),
             ("_lathe_radius_mode", b(!m.diameter_mode)),

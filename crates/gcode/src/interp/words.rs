@@ -30,6 +30,8 @@ pub(crate) mod g_group {
     pub(crate) const UNITS: usize = 6;
     pub(crate) const CUTTER_COMP: usize = 7;
     pub(crate) const TOOL_LENGTH: usize = 8;
+    /// G96 / G97: constant surface speed or rev/min (LinuxCNC's group 14).
+    pub(crate) const SPINDLE_MODE: usize = 9;
     pub(crate) const RETRACT: usize = 10;
     /// G7 / G8: lathe diameter or radius mode (LinuxCNC's group 15).
     pub(crate) const LATHE_DIAMETER: usize = 11;
@@ -86,6 +88,7 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
         400 | 410 | 411 | 420 | 421 => CUTTER_COMP,
         430 | 431 | 490 => TOOL_LENGTH,
         980 | 990 => RETRACT,
+        960 | 970 => SPINDLE_MODE,
         70 | 80 => LATHE_DIAMETER,
         540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => COORD_SYSTEM,
         610 | 611 | 640 => CONTROL,
@@ -395,8 +398,9 @@ fn to_tenths(v: f64) -> Option<u16> {
 
 pub(crate) fn unknown_g(span: Span, value: f64) -> Diagnostic {
     let help = match to_tenths(value) {
-        Some(70 | 80 | 382 | 383 | 384 | 385 | 960 | 970) => {
-            "this LinuxCNC code (lathe, probing, CSS) is not supported by Oficina"
+        Some(700 | 710..=712 | 720..=722 | 382..=385) => {
+            "this LinuxCNC code (the G70–G72 lathe cycles; probing outside the LinuxCNC \
+             dialect) is not supported by Oficina"
         }
         _ => "see the list of supported G codes in the user guide",
     };
@@ -444,7 +448,7 @@ mod tests {
         let e = Decoded::from_block(&block(&[('G', 1.5)])).unwrap_err();
         assert!(e.message.starts_with("Unknown g code"));
         assert!(Decoded::from_block(&block(&[('G', 5.2)])).is_ok());
-        let e = Decoded::from_block(&block(&[('G', 96.0)])).unwrap_err();
+        let e = Decoded::from_block(&block(&[('G', 71.0)])).unwrap_err();
         assert!(e.help.unwrap().contains("not supported"));
         assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
         assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());
