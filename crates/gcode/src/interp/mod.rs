@@ -12,6 +12,7 @@ pub(crate) mod cycles;
 pub(crate) mod dialect;
 pub(crate) mod frame;
 mod inputs;
+mod lathe_cycle;
 mod motion;
 mod offsets;
 mod probe;
@@ -42,6 +43,10 @@ pub enum Flow {
     Continue,
     /// M2 / M30: the program ended.
     End,
+    /// A G70–G72 lathe cycle: the caller reads the profile subroutine
+    /// ([`Interpreter::lathe_profile_call`]) into [`Interpreter::profile_block`], then
+    /// calls [`Interpreter::finish_lathe_cycle`].
+    ReadProfile,
 }
 
 /// How a run starts.
@@ -114,6 +119,8 @@ pub struct Interpreter {
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
+    /// The G7x cycle whose profile is being read.
+    lathe: Option<Box<lathe_cycle::Pending>>,
 }
 
 /// Marlin's feed at power-up, mm/min.
@@ -157,6 +164,7 @@ impl Interpreter {
             probed: None,
             line: 0,
             decoded: None,
+            lathe: None,
         }
     }
 
@@ -303,7 +311,9 @@ impl Interpreter {
         let non_modal = d.g_in(G::NON_MODAL);
         let moving = d.g[G::MOTION].is_some() || d.any_axis();
         let arc = moving && matches!(motion, Motion::Clockwise | Motion::CounterClockwise);
-        let cycle = moving && matches!(motion, Motion::Cycle(_));
+        let lathe = d.g[G::MOTION].is_some()
+            && matches!(motion, Motion::Cycle(c) if lathe_cycle::is_lathe_cycle(c));
+        let cycle = moving && !lathe && matches!(motion, Motion::Cycle(_));
         let spline =
             |codes: &[u16]| moving && matches!(motion, Motion::Spline(t) if codes.contains(&t));
         let g10 = non_modal == Some(100);
@@ -365,7 +375,9 @@ impl Interpreter {
         let orient = d.m_in(M::SPINDLE) == Some(19);
         let arcs_and_g10 = arc || g10 || (cycle && motion == Motion::Cycle(870));
         // Static messages: this check runs on every block and must not allocate.
-        if !(arcs_and_g10 || tap || thread || spline(&[50, 51])) {
+        let g70 = lathe && motion == Motion::Cycle(700);
+        let roughing = lathe && !g70;
+        if !(arcs_and_g10 || tap || thread || spline(&[50, 51]) || roughing) {
             unused(
                 'I',
                 "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
@@ -383,7 +395,7 @@ impl Interpreter {
                 "K word with no G2, G3, G33, G33.1, G76, or G87 to use it",
             )?;
         }
-        if !(arc || g10 || cycle || thread || orient) {
+        if !(arc || g10 || cycle || thread || orient || roughing) {
             unused('R', "R word with no g code that uses it")?;
         }
         if !(arc || g10 || cycle || thread || spline(&[52]) || d.m_in(M::IO) == Some(66)) {
@@ -393,7 +405,7 @@ impl Interpreter {
             )?;
         }
         let input = d.m_in(M::IO) == Some(66);
-        if !(thread || input) {
+        if !(thread || input || g70) {
             unused('E', "E word with no G70, G76, M66, M67 or M68 to use it")?;
         }
         let p_users = arc
@@ -404,6 +416,7 @@ impl Interpreter {
             || d.g_in(G::CONTROL) == Some(640)
             || matches!(d.m_in(M::OVERRIDE), Some(50..=53))
             || input
+            || g70
             || (cycle && matches!(motion, Motion::Cycle(740 | 820 | 840 | 860 | 880 | 890)));
         if !p_users {
             unused(
@@ -416,6 +429,7 @@ impl Interpreter {
             || thread
             || orient
             || input
+            || lathe
             || d.g_in(G::CONTROL) == Some(640)
             || (cycle && matches!(motion, Motion::Cycle(730 | 830 | 870)));
         if !q_users {
@@ -426,6 +440,7 @@ impl Interpreter {
         }
         if !matches!(d.g_in(G::CUTTER_COMP), Some(410 | 420 | 411 | 421))
             && d.g_in(G::SPINDLE_MODE) != Some(960)
+            && !lathe
         {
             unused(
                 'D',
@@ -725,7 +740,11 @@ impl Interpreter {
             }
             _ => {}
         }
-        Ok(Flow::Continue)
+        Ok(if self.lathe.is_some() {
+            Flow::ReadProfile
+        } else {
+            Flow::Continue
+        })
     }
 
     /// The motion of this block: G5 / G5.1 when it names one (they are not modal), else the

@@ -148,6 +148,13 @@ impl Interpreter {
                 self.inverse_time_rate(d, sink);
                 self.arc(d, sink, end)
             }
+            Motion::Cycle(code) if super::lathe_cycle::is_lathe_cycle(code) => {
+                if self.dialect != Dialect::LinuxCnc {
+                    let span = d.g_span(G::MOTION);
+                    return Err(words::unknown_g(span, f64::from(code) / 10.0));
+                }
+                self.start_lathe_cycle(d, code, sink)
+            }
             Motion::Cycle(code) => self.canned_cycle(d, code, sink),
             Motion::SpindleSync => self.spindle_sync(d, sink, end),
             Motion::RigidTap => self.rigid_tap(d, sink, end),

@@ -77,6 +77,8 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
         | 870
         | 880
         | 890 => MOTION,
+        // G70–G72 lathe cycles (lathe_cycle/), LinuxCNC only.
+        700 | 710..=712 | 720..=722 => MOTION,
         // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
         // refuse them after decoding (dialect::refuse_probe); LinuxCNC runs them (probe.rs).
         382..=385 => MOTION,
@@ -399,8 +401,8 @@ fn to_tenths(v: f64) -> Option<u16> {
 pub(crate) fn unknown_g(span: Span, value: f64) -> Diagnostic {
     let help = match to_tenths(value) {
         Some(700 | 710..=712 | 720..=722 | 382..=385) => {
-            "this LinuxCNC code (the G70–G72 lathe cycles; probing outside the LinuxCNC \
-             dialect) is not supported by Oficina"
+            "this LinuxCNC code (the G70–G72 lathe cycles, probing) runs in the LinuxCNC \
+             dialect only"
         }
         _ => "see the list of supported G codes in the user guide",
     };
