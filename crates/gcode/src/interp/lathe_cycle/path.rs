@@ -231,6 +231,8 @@ impl Path {
         out: &mut Vec<Move>,
     ) -> Geo<()> {
         let n = self.segs.len();
+        // rs274 2.9 loops for ever on some profiles (its interp/g71-endless-loop): bounded.
+        let mut steps = 0usize;
         'pocket: loop {
             let mut x = self.pocket_starts.last().map_or(0.0, |s| s.im);
             if cycle == 2 {
@@ -244,7 +246,8 @@ impl Path {
                 cycle = 3;
             }
             while p < n {
-                if out.len() > MAX_MOVES {
+                steps += 1;
+                if out.len() > MAX_MOVES || steps > 10 * MAX_MOVES {
                     return Err(format!("more than {MAX_MOVES} moves"));
                 }
                 while x - TOLERANCE > location.im {
