@@ -361,6 +361,17 @@ good('lcnc_param_modes', '(the read-only mode parameters of rs274 2.9)\nG21 G17 
 good('oword_lib_lcnc_nested_sub', '(oword_lib/lcnc_nested.ngc defines o100 inside o<lcnc_nested>: rs274 2.9 runs the inner sub line as part of the call and its endsub returns)\nG21 G17 G90 G94 G40 G49 G80 G54\no<lcnc_nested> call [1] [2] [3]\nG0 X10\no<lcnc_nested> call [4] [5] [6]\nM2\n')
 bad('lcnc_oword_sub_after_percent', '%\nG21 G0 X1\no2 call\n%\no2 sub\nG0 Z3\no2 endsub\n')
 good('lcnc_g10_l10_rotated', '(G10 L10/L11 X or Y under a rotated coordinate system: rs274 turns the tool offset through the rotation, keeping the old offset along the other axis)\nG21 G17 G90 G94 G40 G49 G80 G54\nG10 L2 P1 X10 Y5 R30\nG10 L2 P9 R-20\nG0 X5 Y3 Z0\nT1 M6\nG43\nG10 L10 P1 X1\n(debug, L10 X: #5401 #5402)\nG10 L10 P1 Y2\n(debug, L10 Y: #5401 #5402)\nG43\nG0 X0 Y0\nG10 L10 P1 X0 Y0 Z-1\n(debug, L10 XY: #5401 #5402 #5403)\nG10 L11 P1 X2\n(debug, L11 X: #5401 #5402)\nG43\nG0 X1 Y1\nG49\nG10 L2 P1 R0\nM2\n')
+# G38.x probing as the standalone rs274 runs it (never tripped), M66 with no inputs, LOG comments.
+good('lcnc_probe_straight', '(G38.2 to G38.5 as rs274 runs them: the standalone probe never trips,)\n(reports its target in #5061-#5066 and leaves the tool 0.254 mm back)\nG21 G90 G17\nG0 X10 Y5 Z20\nF100\nG38.2 Z-5\n(MSG, probed Z #5063 tripped #5070)\nG91 G1 Z2\nG90\nG38.3 X30 Y15\nG1 X#5061 Y#5062\nG92 X0 Y0\nG38.4 X-8 Z10\nG38.5 Z10\nG91 G38.2 X3 Y-4\nG90 G92.1\nG20 F4\nG38.2 Z-0.5\nG0 Z1\n(LOG, a log line rs274 writes to its log file, not a comment)\nM66 P0 L1 Q5\nM66 E1\nM2\n')
+bad('lcnc_probe_zero_feed', 'G21 G90\nG0 X0 Y0 Z0\nF0\nG38.2 Z-5\nM2\n')
+bad('lcnc_probe_with_comp', 'G21 G90\nG0 X0 Y0 Z0\nF100\nG41.1 D1\nG1 X5\nG38.2 Z-5\nM2\n')
+bad('lcnc_probe_feed_per_rev', 'G21 G90\nG0 X0 Y0 Z0\nG95 S100 F1\nG38.2 Z-5\nM2\n')
+bad('lcnc_probe_to_start', 'G21 G90\nG0 X0 Y0 Z0\nF100\nG38.2 Z0\nM2\n')
+bad('lcnc_m66_digital_and_analog', 'G21 G90\nG0 X0 Y0 Z0\nM66 P1 E1\nM2\n')
+bad('lcnc_m66_no_input', 'G21 G90\nG0 X0 Y0 Z0\nM66 L0\nM2\n')
+# G96/G97: rs274's SET_SPINDLE_MODE.
+good('lcnc_spindle_css', '(G96 constant surface speed with and without a D limit, G97 back to rev/min: rs274 prints SET_SPINDLE_MODE)\nG21 G18 G90 G94 G40 G49 G80 G54\nG96 D2500 S100 M3\nG0 X10 Z1\nG1 Z-5 F200\nG97 S500\nG0 X20\nG96 S50\nG1 X5\nG20 G96 S300 D-1200\nG1 X0.5 Z0\nM2\n')
+bad('lcnc_spindle_css_without_s', 'G21 G18 G90\nG96 D2000 M3\nM2\n')
 
 # INI settings (ini/settings.ini, read by rs274 -i and oficina --ini): ORIENT_OFFSET added to
 # every M19 angle, numeric entries as read-only #<_ini[section]name> (any case).

@@ -147,6 +147,20 @@ pub enum SpindleDir {
     CounterClockwise,
 }
 
+/// How the spindle speed is read (G96 / G97).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum SpindleMode {
+    /// G97: S is the spindle speed, rev/min.
+    #[default]
+    Rpm,
+    /// G96: S is the cutting surface speed (m/min under G21, ft/min under G20); the
+    /// control turns the spindle at S / (2π·|X|) and at most `max_rpm` (G96's D word).
+    SurfaceSpeed {
+        /// The D word, rev/min; `None`: no limit.
+        max_rpm: Option<f64>,
+    },
+}
+
 /// How M19 turns the spindle to its orientation angle (its P word).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum OrientDir {
@@ -238,10 +252,24 @@ pub enum CanonOp {
     /// along it traces it with [`Nurbs::trace`] into the [`CanonOp::NurbsFeed`] and straight
     /// feeds above, the ones every other run gets in its place.
     Spline(Box<Nurbs>),
+    /// G38.2–G38.5: a straight probing move towards `to`, LinuxCNC's `TURN_PROBE_ON`,
+    /// `STRAIGHT_PROBE`, `TURN_PROBE_OFF`. Oficina's machines have no probe input, so the
+    /// probe never trips: the motion itself is the next `feeds` [`CanonOp::StraightFeed`]s of
+    /// the same line (to `to`, then back to where the probe leaves the tool). Whatever moves
+    /// the machine follows them and may pass over this operation; whatever prints canonical
+    /// calls prints it in their place.
+    StraightProbe {
+        /// The probe's target, machine coordinates.
+        to: Pos,
+        /// How many straight feeds follow that make the probing move.
+        feeds: u32,
+    },
     /// G4: wait this many seconds.
     Dwell(f64),
-    /// S: spindle speed, rpm.
+    /// S: spindle speed, rpm (under [`SpindleMode::SurfaceSpeed`], the surface speed).
     SetSpindleSpeed(f64),
+    /// G96 / G97: how [`CanonOp::SetSpindleSpeed`] is read from here on.
+    SetSpindleMode(SpindleMode),
     /// M3 / M4.
     StartSpindle(SpindleDir),
     /// M5.

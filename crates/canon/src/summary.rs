@@ -99,8 +99,9 @@ pub struct Summarizer {
     /// Spindle speed, rev/min, and inside G33/G33.1/G76 the pitch, mm/rev.
     spindle_rpm: f64,
     sync_pitch: Option<f64>,
-    /// Straight feeds still to come that trace the last spline: one move with it.
-    spline_feeds: u32,
+    /// Straight feeds still to come that make the last spline or probing move: one move
+    /// with it.
+    part_feeds: u32,
     bound: Box<dyn MoveBound + Send>,
     summary: Summary,
 }
@@ -122,7 +123,7 @@ impl Summarizer {
             feed_mode: FeedMode::UnitsPerMinute,
             spindle_rpm: 0.0,
             sync_pitch: None,
-            spline_feeds: 0,
+            part_feeds: 0,
             bound,
             summary: Summary::default(),
         }
@@ -167,8 +168,8 @@ impl Summarizer {
                     s.feed_extents.add(xyz(&self.pos));
                 }
                 s.feed_extents.add(xyz(to));
-                if self.spline_feeds > 0 {
-                    self.spline_feeds -= 1;
+                if self.part_feeds > 0 {
+                    self.part_feeds -= 1;
                 } else {
                     s.feed_moves += 1;
                 }
@@ -179,7 +180,12 @@ impl Summarizer {
             // A spline is one programmed move; its length and time are its straight feeds'.
             CanonOp::NurbsFeed { segments, .. } => {
                 s.feed_moves += 1;
-                self.spline_feeds = *segments;
+                self.part_feeds = *segments;
+            }
+            // So is a probing move (in and back off): its feeds follow.
+            CanonOp::StraightProbe { feeds, .. } => {
+                s.feed_moves += 1;
+                self.part_feeds = *feeds;
             }
             CanonOp::ArcFeed {
                 plane,

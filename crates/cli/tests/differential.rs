@@ -351,6 +351,7 @@ const INITIAL_STATE: &[&str] = &[
     "SELECT_PLANE(CANON_PLANE_XY)",
     "USE_TOOL_LENGTH_OFFSET(0 0 0, 0 0 0, 0 0 0)",
     "SET_SPINDLE_SPEED(0, 0)",
+    "SET_SPINDLE_MODE(0 0)",
     "STOP_SPINDLE_TURNING(0)",
     "MIST_OFF()",
     "FLOOD_OFF()",
@@ -371,6 +372,7 @@ fn state_key(name: &str) -> Option<&'static str> {
         "SET_MOTION_CONTROL_MODE" => "motion control mode",
         "SET_NAIVECAM_TOLERANCE" => "naivecam tolerance",
         "SET_SPINDLE_SPEED" => "spindle speed",
+        "SET_SPINDLE_MODE" => "spindle mode",
         // M19 stops the spindle (rs274 starts it again on the next M3/M4).
         "START_SPINDLE_CLOCKWISE"
         | "START_SPINDLE_COUNTERCLOCKWISE"

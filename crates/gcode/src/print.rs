@@ -5,7 +5,8 @@
 use crate::decimal;
 use crate::interp::frame::Frame;
 use oficina_canon::{
-    Canon, CanonOp, FeedMode, OrientDir, PathControlMode, Plane, Pos, SpindleDir, Units,
+    Canon, CanonOp, FeedMode, OrientDir, PathControlMode, Plane, Pos, SpindleDir, SpindleMode,
+    Units,
 };
 use std::io::{self, Write};
 
@@ -25,9 +26,9 @@ pub struct Rs274Printer {
     inverse_f: Option<f64>,
     /// The line being built, for the calls printed without `write!` (reused).
     line: decimal::Line,
-    /// Straight feeds still to come that trace the last `NURBS_FEED`: rs274 prints the
-    /// call alone, so they are followed but not printed.
-    spline_feeds: u32,
+    /// Straight feeds still to come that make the last `NURBS_FEED` or `STRAIGHT_PROBE`:
+    /// rs274 prints the call alone, so they are followed but not printed.
+    part_feeds: u32,
 }
 
 impl Rs274Printer {
@@ -87,10 +88,10 @@ impl Rs274Printer {
     /// printed with the move it times).
     pub fn print(&mut self, canon: &Canon, out: &mut impl Write) -> io::Result<()> {
         // Everything up to the last feed that traces the spline is the spline's (its G93
-        // rates too): rs274 prints the NURBS_FEED alone.
-        if self.spline_feeds > 0 {
+        // rates too): rs274 prints the NURBS_FEED alone; so for a probing move.
+        if self.part_feeds > 0 {
             if let CanonOp::StraightFeed { to } = &canon.op {
-                self.spline_feeds -= 1;
+                self.part_feeds -= 1;
                 self.last = to.to_array();
             }
             return Ok(());
@@ -344,6 +345,14 @@ impl Rs274Printer {
             }
             CanonOp::Dwell(s) => write!(out, "DWELL({s:.4})"),
             CanonOp::SetSpindleSpeed(s) => write!(out, "SET_SPINDLE_SPEED(0, {s:.4})"),
+            // rs274's argument: 0 for G97, the D limit (1e30 without one) for G96.
+            CanonOp::SetSpindleMode(mode) => {
+                let arg = match mode {
+                    SpindleMode::Rpm => 0.0,
+                    SpindleMode::SurfaceSpeed { max_rpm } => max_rpm.unwrap_or(1e30),
+                };
+                write!(out, "SET_SPINDLE_MODE(0 {arg:.4})")
+            }
             CanonOp::StartSpindle(SpindleDir::Clockwise) => {
                 write!(out, "START_SPINDLE_CLOCKWISE(0)")
             }
@@ -395,12 +404,22 @@ impl Rs274Printer {
                 control_points,
                 segments,
             } => {
-                self.spline_feeds = *segments;
+                self.part_feeds = *segments;
                 write!(out, "NURBS_FEED({control_points}, ...)")
             }
             CanonOp::Spline(curve) => {
                 self.last = curve.end.to_array();
                 write!(out, "NURBS_FEED({}, ...)", curve.points.len())
+            }
+            CanonOp::StraightProbe { to, feeds } => {
+                self.part_feeds = *feeds;
+                let p = self.program(to);
+                writeln!(out, "TURN_PROBE_ON()")?;
+                self.start_line(out)?;
+                write_call(out, "STRAIGHT_PROBE(", &p)?;
+                writeln!(out)?;
+                self.start_line(out)?;
+                write!(out, "TURN_PROBE_OFF()")
             }
             CanonOp::Message(m) => write!(out, "MESSAGE(\"{m}\")"),
             CanonOp::Comment(c) => write!(out, "COMMENT(\"{c}\")"),

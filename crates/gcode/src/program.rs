@@ -147,6 +147,54 @@ impl Driver {
         }
     }
 
+    /// A G70–G72 cycle: its profile subroutine read block by block, then cut.
+    fn lathe_cycle<R: BufRead + Seek>(
+        &mut self,
+        exec: &mut Executor<R>,
+        sink: &mut dyn FnMut(Canon),
+    ) -> Result<(), Diagnostic> {
+        let read = self.read_profile(exec);
+        self.call_depth = self.params.call_depth();
+        match read {
+            Ok(()) => self.interp.finish_lathe_cycle(sink),
+            Err(e) => {
+                self.interp.abort_lathe_cycle();
+                Err(e)
+            }
+        }
+    }
+
+    fn read_profile<R: BufRead + Seek>(
+        &mut self,
+        exec: &mut Executor<R>,
+    ) -> Result<(), Diagnostic> {
+        let Some((label, line)) = self.interp.lathe_profile_call() else {
+            return Ok(());
+        };
+        exec.call_for_profile(&label, line, &mut self.params)?;
+        let mut block = Block::default();
+        loop {
+            let interp = &self.interp;
+            let mut refresh = |params: &mut Params| interp.update_named_params(params);
+            let read = exec.read_block_slow(&mut self.params, &mut block, &mut refresh);
+            let notes: Vec<Diagnostic> = exec.take_notes().collect();
+            for d in notes {
+                self.report(d);
+            }
+            if !read? {
+                if exec.take_profile_returned() {
+                    return Ok(());
+                }
+                return Err(Diagnostic::error(
+                    Span::line(line),
+                    format!("the program ended inside the profile o{label} of this cycle"),
+                ));
+            }
+            self.interp.profile_block(&block)?;
+            self.params.mark_system_stale();
+        }
+    }
+
     /// Run the whole program from `exec`.
     pub fn run<R: BufRead + Seek>(
         mut self,
@@ -220,7 +268,12 @@ impl Driver {
                     result
                 }
             };
+            let result = match result {
+                Ok(Flow::ReadProfile) => self.lathe_cycle(exec, sink).map(|()| Flow::Continue),
+                other => other,
+            };
             match result {
+                Ok(Flow::ReadProfile) => unreachable!("the profile was read above"),
                 Ok(Flow::End) => {
                     self.ended = true;
                     break;

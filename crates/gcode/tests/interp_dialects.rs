@@ -235,21 +235,59 @@ fn grbl_probes_feed_straight_to_the_target() {
 }
 
 #[test]
-fn linuxcnc_and_legacy_still_refuse_probing() {
-    for dialect in [Dialect::LinuxCnc, Dialect::Legacy2006] {
-        let r = run_with(
-            "G21 G90 F100\nG38.2 Z-5\n",
-            dialect,
-            Default::default(),
-            StartState::default(),
-        );
-        assert_eq!(r.errors.len(), 1, "{dialect:?}");
-        let e = &r.errors[0];
-        assert_eq!(e.message, "Unknown g code used: G38.2", "{dialect:?}");
-        assert_eq!(e.span.line, 2);
-        assert!(
-            e.help.as_deref().unwrap().contains("probing"),
-            "{dialect:?}"
-        );
-    }
+fn the_legacy_dialect_still_refuses_probing() {
+    let r = run_with(
+        "G21 G90 F100\nG38.2 Z-5\n",
+        Dialect::Legacy2006,
+        Default::default(),
+        StartState::default(),
+    );
+    assert_eq!(r.errors.len(), 1);
+    let e = &r.errors[0];
+    assert_eq!(e.message, "Unknown g code used: G38.2");
+    assert_eq!(e.span.line, 2);
+    assert!(e.help.as_deref().unwrap().contains("probing"));
+}
+
+/// LinuxCNC's dialect probes as the standalone rs274 does (the corpus program
+/// `lcnc_probe_straight` compares the printed calls): one `StraightProbe` to the target, then
+/// the feeds the machine makes, to the target and back 0.254 mm (saicanon's 0.01 in) towards
+/// the start, where the next move begins.
+#[test]
+fn linuxcnc_probes_to_the_target_and_backs_off() {
+    let r = run_with(
+        "G21 G90 F100\nG0 X3 Z4\nG38.2 Z-5\nG91 G1 X1\n",
+        Dialect::LinuxCnc,
+        Default::default(),
+        StartState::default(),
+    );
+    assert!(r.errors.is_empty(), "{:?}", r.errors);
+    let probe: Vec<&CanonOp> = r
+        .ops
+        .iter()
+        .filter(|c| c.line == 3)
+        .map(|c| &c.op)
+        .collect();
+    assert_eq!(
+        probe,
+        [
+            &CanonOp::StraightProbe {
+                to: Pos::xyz(3.0, 0.0, -5.0),
+                feeds: 2
+            },
+            &CanonOp::StraightFeed {
+                to: Pos::xyz(3.0, 0.0, -5.0)
+            },
+            &CanonOp::StraightFeed {
+                to: Pos::xyz(3.0, 0.0, -5.0 + 0.254)
+            },
+        ]
+    );
+    let next = r.ops.iter().find(|c| c.line == 4).map(|c| &c.op);
+    assert_eq!(
+        next,
+        Some(&CanonOp::StraightFeed {
+            to: Pos::xyz(4.0, 0.0, -5.0 + 0.254)
+        })
+    );
 }

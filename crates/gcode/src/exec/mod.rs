@@ -22,6 +22,7 @@ mod fast;
 mod flow;
 mod oword;
 mod plain;
+mod profile;
 mod source;
 
 pub use flow::Limits;
@@ -97,6 +98,8 @@ pub struct Executor<R> {
     marlin: crate::marlin::MarlinState,
     marlin_line: Vec<u8>,
     notes: Vec<Diagnostic>,
+    /// A G7x profile being read (see profile.rs).
+    profile: profile::ProfileCall,
 }
 
 impl Executor<Cursor<Vec<u8>>> {
@@ -135,6 +138,7 @@ impl<R: BufRead + Seek> Executor<R> {
             marlin: Default::default(),
             marlin_line: Vec::new(),
             notes: Vec::new(),
+            profile: Default::default(),
         }
     }
 
@@ -460,6 +464,9 @@ impl<R: BufRead + Seek> Executor<R> {
                 let result = resolve_label(&mut o, params).and_then(|_| self.run_oword(&o, params));
                 self.line.oword = Some(o);
                 result?;
+                if self.profile_returned() {
+                    return Ok(false);
+                }
                 continue;
             }
             if self.line.items.is_empty() && self.line.n.is_none() {
@@ -604,6 +611,9 @@ impl<R: BufRead + Seek> Executor<R> {
                     self.pending.push((target, v, *span));
                 }
                 Item::Comment { kind, text } => match kind {
+                    // rs274 writes (LOG,…) and its file commands to a log file, not as a
+                    // comment; Oficina keeps no log file.
+                    CommentKind::Plain if is_log_command(text) => {}
                     CommentKind::Plain => block.notes.push(Note::Comment(text.clone())),
                     CommentKind::Message => block.notes.push(Note::Message(text.clone())),
                     CommentKind::Debug => {
@@ -644,6 +654,16 @@ impl<R: BufRead + Seek> Executor<R> {
         }
         Ok(())
     }
+}
+
+/// rs274's log file commands (`convert_comment`): `(LOG,…)`, `(LOGOPEN,…)`,
+/// `(LOGAPPEND,…)`, `(LOGCLOSE)`, any case (the leading blanks are already gone).
+fn is_log_command(text: &str) -> bool {
+    let lower = text.to_ascii_lowercase();
+    ["log,", "logopen,", "logappend,"]
+        .iter()
+        .any(|k| lower.starts_with(k))
+        || lower == "logclose"
 }
 
 /// The block the full path makes of the source line `src` (number `line`), reading and

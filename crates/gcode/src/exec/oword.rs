@@ -288,7 +288,7 @@ impl<R: BufRead + Seek> Executor<R> {
         }
     }
 
-    fn call(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
+    pub(super) fn call(&mut self, o: &OWord, params: &mut Params) -> Result<(), Diagnostic> {
         let name = OWord::display_label(&o.label);
         let mut args = [0.0; crate::params::CALL_ARGS];
         for (slot, e) in args.iter_mut().zip(&o.args) {

@@ -118,7 +118,7 @@ pub(crate) fn check_grbl(interp: &Interpreter, d: &mut Decoded) -> Result<(), Di
             G::FEED_MODE => matches!(c.tenths, 930 | 940),
             G::CUTTER_COMP => c.tenths == 400,
             G::TOOL_LENGTH => matches!(c.tenths, 431 | 490),
-            G::RETRACT => false,
+            G::RETRACT | G::SPINDLE_MODE => false,
             G::CONTROL => c.tenths == 610,
             G::COORD_SYSTEM => {
                 if c.tenths > 590 {
@@ -321,7 +321,7 @@ fn check_grbl_probe(interp: &Interpreter, d: &Decoded) -> Result<(), Diagnostic>
     Ok(())
 }
 
-/// LinuxCNC and the legacy dialect: probing is not supported (the machines have no probe),
+/// The legacy and Marlin dialects: probing is not supported (seed 002 has no G38),
 /// with the message an unknown code gets.
 pub(crate) fn refuse_probe(d: &Decoded) -> Result<(), Diagnostic> {
     match d.g[G::MOTION] {

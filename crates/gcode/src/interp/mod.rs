@@ -11,9 +11,13 @@ mod context;
 pub(crate) mod cycles;
 pub(crate) mod dialect;
 pub(crate) mod frame;
+mod inputs;
+mod lathe_cycle;
 mod motion;
 mod offsets;
+mod probe;
 mod simple;
+mod spindle_mode;
 pub(crate) mod splines;
 pub(crate) mod state;
 mod threading;
@@ -25,7 +29,9 @@ use crate::diag::{Diagnostic, Span};
 use crate::params::Params;
 use crate::Dialect;
 use frame::Frame;
-use oficina_canon::{Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, Units};
+use oficina_canon::{
+    Canon, CanonOp, FeedMode, PathControlMode, Plane, Pos, SpindleDir, SpindleMode, Units,
+};
 use state::{Modal, Motion, Side};
 use tool_table::ToolTable;
 use words::{g_group as G, m_group as M, Decoded};
@@ -37,6 +43,10 @@ pub enum Flow {
     Continue,
     /// M2 / M30: the program ended.
     End,
+    /// A G70–G72 lathe cycle: the caller reads the profile subroutine
+    /// ([`Interpreter::lathe_profile_call`]) into [`Interpreter::profile_block`], then
+    /// calls [`Interpreter::finish_lathe_cycle`].
+    ReadProfile,
 }
 
 /// How a run starts.
@@ -80,6 +90,8 @@ pub(crate) mod param {
     pub(crate) const G5X_BASE: i64 = 5221;
     pub(crate) const TOOL_NUMBER: i64 = 5400;
     pub(crate) const POSITION: i64 = 5420;
+    /// #5061–#5069: the last probed point (X … W), #5070: whether the probe tripped.
+    pub(crate) const PROBE_POSITION: i64 = 5061;
 }
 
 /// The modal interpreter: turns blocks into canonical operations, keeping the modal state
@@ -105,9 +117,13 @@ pub struct Interpreter {
     pub(crate) comp: comp::CompState,
     pub(crate) spline: splines::SplineMemory,
     contexts: context::Contexts,
+    /// The target of a probing move of this block, for #5061… (set after the block).
+    probed: Option<[f64; 6]>,
     line: u32,
     /// Scratch for the block being run (see [`Interpreter::execute`]).
     decoded: Option<Box<Decoded>>,
+    /// The G7x cycle whose profile is being read.
+    lathe: Option<Box<lathe_cycle::Pending>>,
 }
 
 /// Marlin's feed at power-up, mm/min.
@@ -149,8 +165,10 @@ impl Interpreter {
             comp: comp::CompState::default(),
             spline: splines::SplineMemory::default(),
             contexts: context::Contexts::default(),
+            probed: None,
             line: 0,
             decoded: None,
+            lathe: None,
         }
     }
 
@@ -283,7 +301,8 @@ impl Interpreter {
                 dialect::refuse_probe(d)?;
                 dialect::translate_legacy(d)
             }
-            Dialect::LinuxCnc | Dialect::Marlin => dialect::refuse_probe(d)?,
+            Dialect::Marlin => dialect::refuse_probe(d)?,
+            Dialect::LinuxCnc => {}
         }
         self.check_words(d)?;
         let flow = self.run_block(d, block, params, sink)?;
@@ -300,7 +319,9 @@ impl Interpreter {
         let non_modal = d.g_in(G::NON_MODAL);
         let moving = d.g[G::MOTION].is_some() || d.any_axis();
         let arc = moving && matches!(motion, Motion::Clockwise | Motion::CounterClockwise);
-        let cycle = moving && matches!(motion, Motion::Cycle(_));
+        let lathe = d.g[G::MOTION].is_some()
+            && matches!(motion, Motion::Cycle(c) if lathe_cycle::is_lathe_cycle(c));
+        let cycle = moving && !lathe && matches!(motion, Motion::Cycle(_));
         let spline =
             |codes: &[u16]| moving && matches!(motion, Motion::Spline(t) if codes.contains(&t));
         let g10 = non_modal == Some(100);
@@ -362,7 +383,9 @@ impl Interpreter {
         let orient = d.m_in(M::SPINDLE) == Some(19);
         let arcs_and_g10 = arc || g10 || (cycle && motion == Motion::Cycle(870));
         // Static messages: this check runs on every block and must not allocate.
-        if !(arcs_and_g10 || tap || thread || spline(&[50, 51])) {
+        let g70 = lathe && motion == Motion::Cycle(700);
+        let roughing = lathe && !g70;
+        if !(arcs_and_g10 || tap || thread || spline(&[50, 51]) || roughing) {
             unused(
                 'I',
                 "I word with no G2, G3, G5, G5.1, G10, G33.1, G76, or G87 to use it",
@@ -380,16 +403,17 @@ impl Interpreter {
                 "K word with no G2, G3, G33, G33.1, G76, or G87 to use it",
             )?;
         }
-        if !(arc || g10 || cycle || thread || orient) {
+        if !(arc || g10 || cycle || thread || orient || roughing) {
             unused('R', "R word with no g code that uses it")?;
         }
-        if !(arc || g10 || cycle || thread || spline(&[52])) {
+        if !(arc || g10 || cycle || thread || spline(&[52]) || d.m_in(M::IO) == Some(66)) {
             unused(
                 'L',
                 "L word with no G10, cutter compensation, canned cycle, digital/analog input, M98 or NURBS code",
             )?;
         }
-        if !thread {
+        let input = d.m_in(M::IO) == Some(66);
+        if !(thread || input || g70) {
             unused('E', "E word with no G70, G76, M66, M67 or M68 to use it")?;
         }
         let p_users = arc
@@ -399,6 +423,8 @@ impl Interpreter {
             || matches!(non_modal, Some(40 | 100))
             || d.g_in(G::CONTROL) == Some(640)
             || matches!(d.m_in(M::OVERRIDE), Some(50..=53))
+            || input
+            || g70
             || (cycle && matches!(motion, Motion::Cycle(740 | 820 | 840 | 860 | 880 | 890)));
         if !p_users {
             unused(
@@ -410,6 +436,8 @@ impl Interpreter {
             || spline(&[50])
             || thread
             || orient
+            || input
+            || lathe
             || d.g_in(G::CONTROL) == Some(640)
             || (cycle && matches!(motion, Motion::Cycle(730 | 830 | 870)));
         if !q_users {
@@ -418,7 +446,10 @@ impl Interpreter {
                 "Q word with no G5, G10, G64, G73, G76, G83, M19, M66, M67, M68 or user M code that uses it",
             )?;
         }
-        if !matches!(d.g_in(G::CUTTER_COMP), Some(410 | 420 | 411 | 421)) {
+        if !matches!(d.g_in(G::CUTTER_COMP), Some(410 | 420 | 411 | 421))
+            && d.g_in(G::SPINDLE_MODE) != Some(960)
+            && !lathe
+        {
             unused(
                 'D',
                 "D word with no G41, G41.1, G42, G42.1, G71, G71.1, G71.2 or G96 to use it",
@@ -445,6 +476,10 @@ impl Interpreter {
                 // rs274 shows (DEBUG,…) to the operator like (MSG,…).
                 Note::Debug(m) => self.emit(sink, CanonOp::Message(m.clone())),
             }
+        }
+        // 1b. Spindle mode (rs274 sets it before the feed mode).
+        if let Some(t) = d.g_in(G::SPINDLE_MODE) {
+            self.set_spindle_mode(d, t, sink)?;
         }
         // 2. Feed rate mode.
         if let Some(t) = d.g_in(G::FEED_MODE) {
@@ -564,6 +599,10 @@ impl Interpreter {
                     self.emit(sink, CanonOp::EnableFeedHold(on))
                 }
             }
+        }
+        // 9b. Waiting on an input.
+        if d.m_in(M::IO) == Some(66) {
+            self.wait_input(d, params)?;
         }
         // 10. Dwell.
         if d.g_in(G::NON_MODAL) == Some(40) {
@@ -697,6 +736,7 @@ impl Interpreter {
         }
         if !motion_done && (d.any_axis() || (d.g[G::MOTION].is_some() && !needs_words)) {
             self.motion(d, sink)?;
+            self.set_probe_params(params);
         }
         // 21. Stop.
         match d.m_in(M::STOP) {
@@ -708,7 +748,11 @@ impl Interpreter {
             }
             _ => {}
         }
-        Ok(Flow::Continue)
+        Ok(if self.lathe.is_some() {
+            Flow::ReadProfile
+        } else {
+            Flow::Continue
+        })
     }
 
     /// The motion of this block: G5 / G5.1 when it names one (they are not modal), else the
@@ -801,6 +845,10 @@ impl Interpreter {
         self.comp = comp::CompState::default();
         self.modal.spindle = None;
         self.emit(sink, CanonOp::StopSpindle);
+        if self.modal.spindle_mode != SpindleMode::Rpm {
+            self.modal.spindle_mode = SpindleMode::Rpm;
+            self.emit(sink, CanonOp::SetSpindleMode(SpindleMode::Rpm));
+        }
         self.modal.motion = Motion::Linear;
         // rs274 turns off only what is on.
         if self.modal.mist {
@@ -856,8 +904,8 @@ impl Interpreter {
             ("_tool_offset", b(self.frame.tool.iter().any(|&t| t != 0.0))),
             ("_retract_r_plane", b(!m.retract_to_old_z)),
             ("_retract_old_z", b(m.retract_to_old_z)),
-            ("_spindle_rpm_mode", 1.0),
-            ("_spindle_css_mode", 0.0),
+            ("_spindle_rpm_mode", b(m.spindle_mode == SpindleMode::Rpm)),
+            ("_spindle_css_mode", b(m.spindle_mode != SpindleMode::Rpm)),
             ("_ijk_absolute_mode", b(!m.arc_incremental)),
             ("_lathe_diameter_mode", b(m.diameter_mode)),
             ("_lathe_radius_mode", b(!m.diameter_mode)),
@@ -939,6 +987,7 @@ impl Interpreter {
             Motion::RigidTap => 331.0,
             Motion::Threading => 760.0,
             Motion::Spline(t) => t as f64,
+            Motion::Probe(t) => t as f64,
         };
         params.set_system("_motion_mode", motion);
         self.update_mode_params(params);

@@ -148,12 +148,20 @@ impl Interpreter {
                 self.inverse_time_rate(d, sink);
                 self.arc(d, sink, end)
             }
+            Motion::Cycle(code) if super::lathe_cycle::is_lathe_cycle(code) => {
+                if self.dialect != Dialect::LinuxCnc {
+                    let span = d.g_span(G::MOTION);
+                    return Err(words::unknown_g(span, f64::from(code) / 10.0));
+                }
+                self.start_lathe_cycle(d, code, sink)
+            }
             Motion::Cycle(code) => self.canned_cycle(d, code, sink),
             Motion::SpindleSync => self.spindle_sync(d, sink, end),
             Motion::RigidTap => self.rigid_tap(d, sink, end),
             Motion::Threading => self.threading_cycle(d, sink),
             Motion::Spline(t @ (50 | 51)) => self.spline(d, t, sink, end),
             Motion::Spline(t) => self.nurbs(d, t, sink, end),
+            Motion::Probe(t) => self.probe(d, t, sink, end),
             Motion::Off => Ok(()),
         }
     }

@@ -1,6 +1,6 @@
 //! The modal state the interpreter carries from block to block.
 
-use oficina_canon::{FeedMode, PathControlMode, Plane, SpindleDir, Units};
+use oficina_canon::{FeedMode, PathControlMode, Plane, SpindleDir, SpindleMode, Units};
 
 /// The active motion of group 1 (G0 G1 G2 G3 G73 G80–G89).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,6 +21,8 @@ pub enum Motion {
     Threading,
     /// G5, G5.1, G5.2, G5.3 by their G number in tenths (50 … 53).
     Spline(u16),
+    /// G38.2 … G38.5 (straight probing) by their G number in tenths (382 … 385).
+    Probe(u16),
 }
 
 impl Motion {
@@ -35,6 +37,7 @@ impl Motion {
             331 => Motion::RigidTap,
             760 => Motion::Threading,
             50..=53 => Motion::Spline(t),
+            382..=385 => Motion::Probe(t),
             other => Motion::Cycle(other),
         }
     }
@@ -59,6 +62,8 @@ pub struct Modal {
     pub units: Units,
     pub feed: f64,
     pub speed: f64,
+    /// G96 / G97.
+    pub spindle_mode: SpindleMode,
     /// M3/M4 turning, or `None`: stopped (M5) or held at an orientation (M19).
     pub spindle: Option<SpindleDir>,
     pub mist: bool,
@@ -99,6 +104,7 @@ impl Modal {
             units,
             feed: 0.0,
             speed: 0.0,
+            spindle_mode: SpindleMode::Rpm,
             spindle: None,
             mist: false,
             flood: false,

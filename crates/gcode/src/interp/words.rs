@@ -30,6 +30,8 @@ pub(crate) mod g_group {
     pub(crate) const UNITS: usize = 6;
     pub(crate) const CUTTER_COMP: usize = 7;
     pub(crate) const TOOL_LENGTH: usize = 8;
+    /// G96 / G97: constant surface speed or rev/min (LinuxCNC's group 14).
+    pub(crate) const SPINDLE_MODE: usize = 9;
     pub(crate) const RETRACT: usize = 10;
     /// G7 / G8: lathe diameter or radius mode (LinuxCNC's group 15).
     pub(crate) const LATHE_DIAMETER: usize = 11;
@@ -41,6 +43,8 @@ pub(crate) mod g_group {
 /// The M modal groups.
 pub(crate) mod m_group {
     pub(crate) const STOP: usize = 4;
+    /// M66: inputs.
+    pub(crate) const IO: usize = 5;
     pub(crate) const TOOL_CHANGE: usize = 6;
     pub(crate) const SPINDLE: usize = 7;
     pub(crate) const COOLANT: usize = 8;
@@ -73,8 +77,10 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
         | 870
         | 880
         | 890 => MOTION,
+        // G70–G72 lathe cycles (lathe_cycle/), LinuxCNC only.
+        700 | 710..=712 | 720..=722 => MOTION,
         // G38.2–G38.5 (probing) decode so that grbl can run them; the other dialects
-        // refuse them after decoding (dialect::refuse_probe).
+        // refuse them after decoding (dialect::refuse_probe); LinuxCNC runs them (probe.rs).
         382..=385 => MOTION,
         170 | 180 | 190 => PLANE,
         900 | 910 => DISTANCE,
@@ -84,6 +90,7 @@ pub(crate) fn group_of_g(tenths: u16) -> Option<usize> {
         400 | 410 | 411 | 420 | 421 => CUTTER_COMP,
         430 | 431 | 490 => TOOL_LENGTH,
         980 | 990 => RETRACT,
+        960 | 970 => SPINDLE_MODE,
         70 | 80 => LATHE_DIAMETER,
         540 | 550 | 560 | 570 | 580 | 590 | 591 | 592 | 593 => COORD_SYSTEM,
         610 | 611 | 640 => CONTROL,
@@ -100,6 +107,7 @@ pub(crate) fn group_of_m(code: u16) -> Option<usize> {
         3..=5 | 19 | 70..=73 => SPINDLE,
         7..=9 => COOLANT,
         48..=53 => OVERRIDE,
+        66 => IO,
         _ => return None,
     })
 }
@@ -392,8 +400,9 @@ fn to_tenths(v: f64) -> Option<u16> {
 
 pub(crate) fn unknown_g(span: Span, value: f64) -> Diagnostic {
     let help = match to_tenths(value) {
-        Some(70 | 80 | 382 | 383 | 384 | 385 | 960 | 970) => {
-            "this LinuxCNC code (lathe, probing, CSS) is not supported by Oficina"
+        Some(700 | 710..=712 | 720..=722 | 382..=385) => {
+            "this LinuxCNC code (the G70–G72 lathe cycles, probing) runs in the LinuxCNC \
+             dialect only"
         }
         _ => "see the list of supported G codes in the user guide",
     };
@@ -441,7 +450,7 @@ mod tests {
         let e = Decoded::from_block(&block(&[('G', 1.5)])).unwrap_err();
         assert!(e.message.starts_with("Unknown g code"));
         assert!(Decoded::from_block(&block(&[('G', 5.2)])).is_ok());
-        let e = Decoded::from_block(&block(&[('G', 96.0)])).unwrap_err();
+        let e = Decoded::from_block(&block(&[('G', 71.0)])).unwrap_err();
         assert!(e.help.unwrap().contains("not supported"));
         assert!(Decoded::from_block(&block(&[('G', 81.0)])).is_ok());
         assert!(Decoded::from_block(&block(&[('G', 81.5)])).is_err());
