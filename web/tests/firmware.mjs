@@ -20,6 +20,8 @@ const openPage = () => open(browser, server, state);
 /// Opens a drawing and makes a plot of it (the *Plot* process, its default plotter).
 async function plot(page) {
   await page.setInputFiles('#file-input', path.join(root, 'samples', 'mill', 'plate.svg'));
+  // The drawing is read before the form is used: a click on Make before that makes nothing.
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'plate.svg', null, { timeout: 20000 });
   await page.selectOption('#process', 'plot');
   await page.click('#make');
   await page.waitForFunction(() => document.getElementById('program-name').textContent.endsWith('.plot.ngc'), null, { timeout: 60000 });
