@@ -90,6 +90,9 @@ pub(crate) fn run_with(text: &str, dialect: Dialect, tools: ToolTable, start: St
         match interp.execute(&b, &mut params, &mut |c| ops.push(c)) {
             Ok(Flow::End) => break,
             Ok(Flow::Continue) => {}
+            // A G70–G72 cycle reads its profile through the program driver (`program.rs`),
+            // which this block-by-block helper does not have.
+            Ok(Flow::ReadProfile) => panic!("lathe cycles run through the program driver"),
             Err(e) => {
                 errors.push(e);
                 break;
