@@ -52,6 +52,10 @@ pub(crate) struct Args {
     /// ($132), then fails with ALARM:9, as a machine without switches does.
     #[arg(long)]
     pub no_limit_switches: bool,
+    /// grbl: run the machine's clock N times faster than real time (motion and dwells; the
+    /// wire is unchanged), e.g. to dry-run a long program to its end.
+    #[arg(long, default_value_t = 1.0, value_name = "N")]
+    pub time_scale: f64,
     /// marlin: the first time line N arrives, one of its bytes is changed on the wire
     /// (Marlin answers `Error:checksum mismatch` and `Resend: N`).
     #[arg(long, value_name = "N")]
@@ -113,11 +117,15 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map(|s| parse_setting(s))
         .collect::<anyhow::Result<Vec<_>>>()?;
     settings.extend(overrides);
+    if !(args.time_scale.is_finite() && (0.01..=10_000.0).contains(&args.time_scale)) {
+        anyhow::bail!("--time-scale {}: between 0.01 and 10000", args.time_scale);
+    }
     let base = Config::flavored(args.flavor);
     let config = Config {
         probe: crate::emulate_probe::model(&args.probe)?,
         baud: (args.baud > 0).then_some(args.baud),
         limit_switches: !args.no_limit_switches,
+        time_scale: args.time_scale,
         settings: base.settings.iter().copied().chain(settings).collect(),
         ..base
     };

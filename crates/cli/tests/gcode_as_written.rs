@@ -295,3 +295,67 @@ fn what_grbl_refuses_keeps_its_number_and_names_the_post_that_wrote_it() {
         assert!(stderr.contains(hint), "{program}: {hint} in {stderr}");
     }
 }
+
+/// `oficina emulate grbl` on a free TCP port, its machine clock `scale` times real time;
+/// the child and its address.
+fn grbl_emulator(scale: u32) -> (std::process::Child, String) {
+    use std::io::{BufRead, BufReader};
+    let mut child = oficina()
+        .args(["emulate", "grbl", "--tcp", "127.0.0.1:0", "--baud", "0"])
+        .args(["--time-scale", &scale.to_string()])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let uri = line
+        .split_whitespace()
+        .find(|w| w.starts_with("tcp://"))
+        .unwrap_or_else(|| panic!("no address in {line:?}"))
+        .to_string();
+    (child, uri)
+}
+
+/// A grbl-dialect program of the shared folder run to its end on the grbl emulator as a user
+/// runs it (single tool: `--tool-change ignore`), from a copy (the journal is written beside).
+fn runs_to_the_end_on_grbl(name: &str) {
+    let Some(file) = realworld(name) else {
+        eprintln!("note: {name} is not on this machine; skipped");
+        return;
+    };
+    let copy = scratch_file(name, &std::fs::read_to_string(&file).unwrap());
+    let (mut emu, uri) = grbl_emulator(200);
+    let out = oficina()
+        .arg("run")
+        .arg(&copy)
+        .args(["--machine", &uri, "--tool-change", "ignore"])
+        .output()
+        .unwrap();
+    let _ = emu.kill();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && stdout.contains("done:"),
+        "{name} did not run to its end:\n{stdout}\n{stderr}"
+    );
+}
+
+#[test]
+fn grbl_programs_of_senders_run_to_the_end_on_the_grbl_emulator() {
+    for name in [
+        "bcnc_sample.gcode",
+        "cncjs_jsdc.gcode",
+        "ugs_ShapeOko_Calibration_Pattern_01b.ngc",
+        "ugs_arc_rword_test.gcode",
+    ] {
+        runs_to_the_end_on_grbl(name);
+    }
+}
+
+#[test]
+#[ignore = "the run ends with the sender expecting the machine 101.6 mm (the program's G10 L2 P2 Y-101.6) from where the emulator is: one of the two applies G10 L2 at another time; not yet found which"]
+fn camotics_botomata_runs_to_the_end_on_the_grbl_emulator() {
+    runs_to_the_end_on_grbl("camotics_botomata_bottom.nc");
+}

@@ -61,6 +61,10 @@ pub struct Config {
     pub probe: ProbeModel,
     /// Homing finds its switches; without them `$H` searches, then fails with `ALARM:9`.
     pub limit_switches: bool,
+    /// The machine's clock runs this many times faster than the wall clock (1: real time),
+    /// so a test can run a long real program to its end; the wire and the replies are
+    /// unchanged, only motion and dwells are quicker.
+    pub time_scale: f64,
 }
 
 impl Config {
@@ -96,6 +100,7 @@ impl Default for Config {
             record_motion: false,
             probe: ProbeModel::default(),
             limit_switches: true,
+            time_scale: 1.0,
         }
     }
 }

@@ -22,6 +22,8 @@ const CATCH_UP: Duration = Duration::from_millis(20);
 struct Shared {
     core: Mutex<Core>,
     start: Instant,
+    /// [`Config::time_scale`](super::core::Config::time_scale).
+    time_scale: f64,
     stop: AtomicBool,
     /// The connection that owns the wire now; older ones end when this moves on.
     generation: AtomicU64,
@@ -91,20 +93,32 @@ impl Pacer {
     }
 }
 
+impl Shared {
+    /// The machine's time, s: the wall clock since start, scaled.
+    fn clock(&self) -> f64 {
+        self.start.elapsed().as_secs_f64() * self.time_scale
+    }
+}
+
 impl Emulator {
     /// Starts the emulator on a pseudo-terminal or TCP port as `config` says.
     pub fn start(config: Config) -> Emulator {
+        let time_scale = if config.time_scale > 0.0 {
+            config.time_scale
+        } else {
+            1.0
+        };
         let shared = Arc::new(Shared {
             core: Mutex::new(Core::new(config)),
             start: Instant::now(),
+            time_scale,
             stop: AtomicBool::new(false),
             generation: AtomicU64::new(0),
         });
         let s = shared.clone();
         let ticker = thread::spawn(move || {
             while !s.stop.load(Ordering::Relaxed) {
-                let now = s.start.elapsed().as_secs_f64();
-                lock(&s.core).tick(now);
+                lock(&s.core).tick(s.clock());
                 thread::sleep(TICK);
             }
         });
@@ -243,7 +257,7 @@ impl EmuHandle {
                             if b == b'\n' {
                                 // grbl's main loop picks a completed line up within
                                 // microseconds; do not wait for the next tick.
-                                core.tick(s.start.elapsed().as_secs_f64());
+                                core.tick(s.clock());
                             }
                         }
                     }
