@@ -325,7 +325,7 @@ fn runs_to_the_end_on_grbl(name: &str) {
         eprintln!("note: {name} is not on this machine; skipped");
         return;
     };
-    let copy = scratch_file(name, &std::fs::read_to_string(&file).unwrap());
+    let copy = scratch_file(name, std::fs::read(&file).unwrap());
     let (mut emu, uri) = grbl_emulator(200);
     let out = oficina()
         .arg("run")
