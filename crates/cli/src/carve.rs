@@ -229,18 +229,7 @@ fn print_evaluation(e: &Evaluation) {
             op.moves.len()
         );
     }
-    println!("max gouge: {:.4} mm   leftover vs design: max {:.3} mean {:.4} mm   scallop vs ideal: max {:.3} mean {:.4} mm", r.max_gouge, r.leftover_max, r.leftover_mean, r.scallop_max, r.scallop_mean);
-    match &e.planner {
-        Ok(p) => println!(
-            "time: planner {}   feed-only {}",
-            format_hms(*p, 0),
-            format_hms(e.feed_only_s, 0)
-        ),
-        Err(err) => println!(
-            "time: feed-only {} (planner unavailable: {err})",
-            format_hms(e.feed_only_s, 0)
-        ),
-    }
+    print_quality(r, "design", &e.planner, e.feed_only_s);
 }
 
 fn seed_comparison(args: &Args) -> Result<()> {
@@ -383,17 +372,28 @@ fn carve_model(
         "stock grid: {} x {} at {} mm",
         e.stock.width, e.stock.height, e.stock.pixel
     );
-    println!("max gouge: {:.4} mm   leftover vs model: max {:.3} mean {:.4} mm   scallop vs ideal: max {:.3} mean {:.4} mm", r.max_gouge, r.leftover_max, r.leftover_mean, r.scallop_max, r.scallop_mean);
-    match &e.planner {
+    print_quality(r, "model", &e.planner, e.feed_only_s);
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+/// The carving's gouge, leftover against `against` (the design or the model), scallop, and
+/// its times: the last lines of the picture's and the model's reports alike.
+fn print_quality<E: std::fmt::Display>(
+    r: &oficina_sim::Report,
+    against: &str,
+    planner: &Result<f64, E>,
+    feed_only_s: f64,
+) {
+    println!("max gouge: {:.4} mm   leftover vs {against}: max {:.3} mean {:.4} mm   scallop vs ideal: max {:.3} mean {:.4} mm", r.max_gouge, r.leftover_max, r.leftover_mean, r.scallop_max, r.scallop_mean);
+    match planner {
         Ok(p) => println!(
             "time: planner {}   feed-only {}",
             format_hms(*p, 0),
-            format_hms(e.feed_only_s, 0)
+            format_hms(feed_only_s, 0)
         ),
         Err(err) => println!(
             "time: feed-only {} (planner unavailable: {err})",
-            format_hms(e.feed_only_s, 0)
+            format_hms(feed_only_s, 0)
         ),
     }
-    Ok(std::process::ExitCode::SUCCESS)
 }
