@@ -151,8 +151,10 @@ impl Design {
                 ),
             );
         }
+        // Sets, not pairwise scans: a file of many layers or entities stays linear.
+        let mut names = std::collections::HashSet::new();
         for (i, l) in self.layers.iter().enumerate() {
-            if self.layers[..i].iter().any(|o| o.name == l.name) {
+            if !names.insert(l.name.as_str()) {
                 return err(format!("layers[{i}]"), format!("layer '{}' twice", l.name));
             }
             if parse_color(&l.color).is_none() {
@@ -168,7 +170,7 @@ impl Design {
             if !ids.insert(e.id) {
                 return err(loc(), format!("id {} is used twice", e.id));
             }
-            if !self.layers.iter().any(|l| l.name == e.layer) {
+            if !names.contains(e.layer.as_str()) {
                 return err(loc(), format!("layer '{}' is not in the layers", e.layer));
             }
             e.shape.check().or_else(|m| err(loc(), m))?;
