@@ -167,7 +167,8 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut result = ExitCode::SUCCESS;
     let mut passed_pause = false;
     // A tool change waits for the operator's resume; with no terminal it stops the job.
-    let mut tool_wait = false;
+    // It is over once the machine, paused for it, runs again.
+    let (mut tool_wait, mut tool_paused) = (false, false);
     loop {
         if _raw.0 {
             while event::poll(Duration::ZERO).unwrap_or(false) {
@@ -188,21 +189,33 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             }
         }
         // A pause waits for the operator; with no terminal there is none, so pass it (or stop).
+        // The state is read before the events are drained: a tool change queues its event
+        // before it pauses, so a pause seen here has its reason queued by then, and is taken
+        // for an M0 only once the queue is empty.
         let paused = vm.status().state == State::Paused;
-        tool_wait &= paused;
-        let paused = paused && !tool_wait;
-        if paused && !interactive && !passed_pause {
-            if args.stop_at_pauses {
-                let _ = vm.command(Command::Stop);
-            } else {
-                bar.suspend(|| {
-                    eprintln!("(no terminal to resume from: going on; --stop-at-pauses stops here)")
-                });
-                let _ = vm.command(Command::Resume);
-            }
+        tool_paused |= tool_wait && paused;
+        if tool_paused && !paused {
+            (tool_wait, tool_paused) = (false, false);
         }
-        passed_pause = paused;
-        match vm.next_event(Duration::from_millis(50)) {
+        let event = vm.next_event(Duration::from_millis(50));
+        let drained = event.is_none();
+        if drained {
+            let m0 = paused && !tool_wait;
+            if m0 && !interactive && !passed_pause {
+                if args.stop_at_pauses {
+                    let _ = vm.command(Command::Stop);
+                } else {
+                    bar.suspend(|| {
+                        eprintln!(
+                            "(no terminal to resume from: going on; --stop-at-pauses stops here)"
+                        )
+                    });
+                    let _ = vm.command(Command::Resume);
+                }
+            }
+            passed_pause = m0;
+        }
+        match event {
             Some(Event::Status(s)) => show_status(&bar, &s, factor),
             // The bar draws at most ~20 times a second, so the last updates before a hold
             // (decelerating takes milliseconds) can be dropped; with no events while held the
@@ -210,13 +223,13 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             None => show_status(&bar, &vm.status(), factor),
             // Through stderr: a hidden bar (no terminal) would swallow println.
             Some(Event::Message(m)) => bar.suspend(|| eprintln!("{m}")),
-            Some(Event::ToolChange { line, prompt, .. }) => {
+            Some(Event::ToolChange { prompt, .. }) => {
                 tool_wait = true;
                 if interactive {
                     bar.suspend(|| eprintln!("TOOL CHANGE: {prompt}  [~/r resume · q stop]\r"));
                 } else {
                     bar.suspend(|| {
-                        eprintln!("TOOL CHANGE: {prompt}\n(no terminal to resume from: stopping; change the tool, then run again with --from-line {line})")
+                        eprintln!("TOOL CHANGE: {prompt}\n(no terminal to answer it: stopping here; change the tool, then continue with --resume as below, or run with --tool-change ignore if one tool does it all)")
                     });
                     let _ = vm.command(Command::Stop);
                 }
@@ -228,10 +241,17 @@ pub(crate) fn run(args: Args) -> anyhow::Result<ExitCode> {
             Some(Event::JobEnd { completed, seconds }) => {
                 bar.finish_and_clear();
                 drop(_raw);
+                // A board's job time is the stream's wall time (an emulator may run its
+                // clock faster); the virtual machine's is its own clock.
+                let of = if oficina_app::is_firmware(&machine) {
+                    "streaming"
+                } else {
+                    "machine time"
+                };
                 if completed {
-                    println!("done: {} of machine time", clock(seconds));
+                    println!("done: {} of {of}", clock(seconds));
                 } else if result == ExitCode::SUCCESS {
-                    println!("stopped after {} of machine time", clock(seconds));
+                    println!("stopped after {} of {of}", clock(seconds));
                     result = ExitCode::from(2);
                 }
                 if !completed && oficina_app::is_firmware(&machine) {

@@ -355,7 +355,6 @@ fn grbl_programs_of_senders_run_to_the_end_on_the_grbl_emulator() {
 }
 
 #[test]
-#[ignore = "the run ends with the sender expecting the machine 101.6 mm (the program's G10 L2 P2 Y-101.6) from where the emulator is: one of the two applies G10 L2 at another time; not yet found which"]
 fn camotics_botomata_runs_to_the_end_on_the_grbl_emulator() {
     runs_to_the_end_on_grbl("camotics_botomata_bottom.nc");
 }

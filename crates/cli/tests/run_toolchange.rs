@@ -1,6 +1,6 @@
 //! `oficina run FILE --machine tcp://…` on a program with tool changes, against `oficina
 //! emulate grbl`, with no terminal: under `pause` it stops at the first M6 (nobody is there
-//! to change the tool) and names the line to continue from; under `ignore` it runs through.
+//! to change the tool), says so once and names the line to continue from; under `ignore` it runs through.
 
 mod common;
 use common::*;
@@ -34,7 +34,11 @@ fn without_a_terminal_a_tool_change_stops_the_run_and_ignore_runs_through() {
         ),
         "{stderr}"
     );
-    assert!(stderr.contains("--from-line 5"), "{stderr}");
+    // One story: it stops (never "going on" past the M6), and says how to continue.
+    assert!(stderr.contains("stopping here"), "{stderr}");
+    assert!(!stderr.contains("going on"), "{stderr}");
+    assert!(stderr.contains("two-tools.nc:5 (M6 T1)"), "{stderr}");
+    assert!(stdout.contains("--resume"), "{stdout}");
     let _ = emu.kill();
     let _ = emu.wait();
 

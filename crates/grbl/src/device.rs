@@ -174,14 +174,17 @@ impl GrblDevice {
                 } => {
                     tool_wait = true;
                     let line = file_line as u32;
+                    // The event is queued under the status lock, before the pause: whoever
+                    // sees the pause finds its reason queued (not an M0), and whoever gets
+                    // the event and asks finds the machine paused.
                     let s = {
                         let mut s = lock(&status);
+                        let _ = events.send(Event::ToolChange { tool, line, prompt });
                         s.state = State::Paused;
                         s.line = line;
                         s.clone()
                     };
                     let _ = events.send(Event::Status(s));
-                    let _ = events.send(Event::ToolChange { tool, line, prompt });
                 }
                 Notice::ToolChangeDone { tool } => {
                     tool_wait = false;

@@ -207,6 +207,10 @@ pub struct Core {
     starving: Option<f64>,
     clock: f64,
     report_counter: u32,
+    /// The work offset the last `WCO:` field carried: grbl reports the next one at once
+    /// when the offset changes (G10, G92, G54–G59, G43.1, M2's return to G54 all call
+    /// `system_flag_wco_change`), or a sender's cached WCO goes stale.
+    reported_wco: Option<[f64; 3]>,
     startup_lines: [String; 2],
     /// FluidNC's named settings (`$Config/Filename`, …).
     fluid: fluidnc::Named,
@@ -265,6 +269,7 @@ impl Core {
             starving: None,
             clock: 0.0,
             report_counter: 0,
+            reported_wco: None,
             startup_lines: [String::new(), String::new()],
             fluid: fluidnc::Named::default(),
             jogging: false,
@@ -1012,7 +1017,11 @@ impl Core {
         if self.config.probe.touching(self.mpos) {
             s += "|Pn:P";
         }
+        if self.reported_wco != Some(wco) {
+            self.report_counter = 0;
+        }
         if self.report_counter == 0 {
+            self.reported_wco = Some(wco);
             s += &format!("|WCO:{}", f(wco, a.map(|_| 0.0)));
             self.report_counter = if self.state == GrblState::Idle {
                 10
@@ -1100,6 +1109,35 @@ mod tests {
             baud: None,
             settings: vec![(110, 6000.0), (111, 6000.0), (112, 6000.0)],
             ..Config::default()
+        }
+    }
+
+    /// grbl reports `WCO:` every 10–30 reports, but at once after the offset changes
+    /// (`system_flag_wco_change`): M2 going back to G54 included, or a sender's cached
+    /// offset turns the end of a G55 program into a false position mismatch.
+    #[test]
+    fn a_changed_work_offset_is_reported_at_once() {
+        let mut c = Core::new(cfg());
+        let wco = |c: &mut Core| {
+            let r = c.status_report();
+            r.split("|WCO:")
+                .nth(1)
+                .map(|w| w.trim_end_matches('>').to_string())
+        };
+        assert_eq!(wco(&mut c).as_deref(), Some("0.000,0.000,0.000"));
+        assert_eq!(wco(&mut c), None);
+        for (line, expect) in [
+            ("G10 L2 P2 Y-101.6\n", None),
+            ("G55\n", Some("0.000,-101.600,0.000")),
+            ("M2\n", Some("0.000,0.000,0.000")),
+            ("G92 X1\n", Some("-1.000,0.000,0.000")),
+        ] {
+            take_out(&mut c);
+            feed(&mut c, line);
+            c.tick(0.0);
+            assert!(take_out(&mut c).contains("ok"), "{line}");
+            assert_eq!(wco(&mut c).as_deref(), expect, "{line}");
+            assert_eq!(wco(&mut c), None, "{line}: once");
         }
     }
 
