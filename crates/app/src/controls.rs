@@ -27,6 +27,40 @@ const HOME_FEED: f64 = 3000.0;
 /// of travel once homed (grbl's convention), machine mm. Never lower than Z is already.
 const FIRMWARE_CLEAR_Z: f64 = -1.0;
 
+/// A typed `G10 L2 P…` (origin given) or `G10 L20 P…` (the current point named).
+#[derive(Debug, PartialEq)]
+struct TypedG10 {
+    /// 0 = G54 … 5 = G59; `None` for P0, the active one.
+    system: Option<usize>,
+    /// L20: the values are the current point's new work coordinates.
+    relative_to_here: bool,
+    /// X, Y, Z as given, in mm (a G20 in the line converts).
+    values: [Option<f64>; 3],
+}
+
+/// The G10 origin setting of a cleaned line the interpreter accepted, if it is one.
+fn typed_g10(clean: &str) -> Option<TypedG10> {
+    let words = oficina_grbl::line_words(clean).ok()?;
+    let has = |l: char, v: f64| words.iter().any(|&(c, x)| c == l && x == v);
+    let l20 = has('L', 20.0);
+    if !has('G', 10.0) || !(has('L', 2.0) || l20) {
+        return None;
+    }
+    let unit = if has('G', 20.0) { 25.4 } else { 1.0 };
+    let p = words.iter().find(|w| w.0 == 'P').map_or(0.0, |w| w.1);
+    let mut values = [None; 3];
+    for &(c, v) in &words {
+        if let Some(i) = "XYZ".find(c) {
+            values[i] = Some(v * unit);
+        }
+    }
+    Some(TypedG10 {
+        system: (p >= 1.0).then(|| p as usize - 1),
+        relative_to_here: l20,
+        values,
+    })
+}
+
 /// What a typed line got: the firmware's lines before its acknowledgement and the error it
 /// gave instead of `ok`, explained.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -138,8 +172,20 @@ impl Session {
                 "`{line}`: the virtual machine has no firmware $ commands (its profile says how it moves); Home, Unlock and the offsets table work without them"
             )));
         }
+        let clean = oficina_grbl::clean_line(line).unwrap_or_default();
+        if clean.contains("G92") {
+            return Err(Error(format!(
+                "`{line}`: on the virtual machine a typed line is a job of its own, so a G92 offset would end with it; set the work zero with Zero or G10 L20 instead"
+            )));
+        }
         let text = format!("{}{line}\nM2\n", self.virtual_preamble());
         let error = self.run_virtual(line, text, Pace::Instant)?;
+        if error.is_none() {
+            // The job's interpreter ends with the line: its G10 goes to the session's table.
+            if let Some(set) = typed_g10(&clean) {
+                self.set_virtual_origin(set)?;
+            }
+        }
         Ok(MdiReply {
             line: line.to_string(),
             lines: Vec::new(),
@@ -307,6 +353,28 @@ impl Session {
         for i in (0..3).filter(|i| axes[*i]) {
             // The work position is 0 there: the origin is the machine position less G92.
             self.offsets.systems[n][i] = status.machine_pos[i] - self.offsets.g92[i];
+        }
+        profile.work_offset = self.offsets.systems[0];
+        profile.start = status.machine_pos;
+        self.rebuild(profile)
+    }
+
+    /// A typed `G10 L2`/`L20` on the virtual machine, kept in the session's table (the VM
+    /// is rebuilt with it, as [`Session::zero`] does).
+    fn set_virtual_origin(&mut self, set: TypedG10) -> Result<(), Error> {
+        let Some(mut profile) = self.profile().cloned() else {
+            return Ok(());
+        };
+        let status = self.machine.status();
+        let n = set.system.unwrap_or(self.offsets.active);
+        for (i, v) in set.values.iter().enumerate() {
+            let Some(v) = v else { continue };
+            self.offsets.systems[n][i] = if set.relative_to_here {
+                // L20: the current point gets work coordinate v (G92 stays on top).
+                status.machine_pos[i] - self.offsets.g92[i] - v
+            } else {
+                *v
+            };
         }
         profile.work_offset = self.offsets.systems[0];
         profile.start = status.machine_pos;

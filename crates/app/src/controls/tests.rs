@@ -307,3 +307,26 @@ fn the_virtual_machine_runs_typed_lines_and_keeps_six_work_systems() {
     s.soft_reset().unwrap();
     s.home().unwrap();
 }
+
+/// A typed G10 on the virtual machine sets the session's table (it was answered ok and
+/// forgotten with its one-line job), and the next lines move in it.
+#[test]
+fn typed_g10_on_the_virtual_machine_sets_the_offsets_table() {
+    let mut s = Session::open("virtual").unwrap();
+    let z = s.snapshot().offsets.systems[1][2];
+    assert_eq!(s.mdi("G10 L2 P2 X60 Y40").unwrap().error, None);
+    let o = s.snapshot().offsets;
+    assert_eq!(o.systems[1], [60.0, 40.0, z], "{o:?}");
+    s.select_system(1).unwrap();
+    s.mdi("G0 X1 Y2").unwrap();
+    let m = s.snapshot().machine_pos;
+    assert!(near([m[0], m[1], 0.0], [61.0, 42.0, 0.0]), "{m:?}");
+    // L20: here becomes X5 of G55; P0 is the active system; inches convert.
+    assert_eq!(s.mdi("G10 L20 P0 X5").unwrap().error, None);
+    assert!((s.snapshot().offsets.systems[1][0] - 56.0).abs() < 1e-9);
+    assert!((s.snapshot().work_pos[0] - 5.0).abs() < 1e-9);
+    assert_eq!(s.mdi("G20 G10 L2 P3 X1").unwrap().error, None);
+    assert!((s.snapshot().offsets.systems[2][0] - 25.4).abs() < 1e-9);
+    let e = s.mdi("G92 X0").unwrap_err().0;
+    assert!(e.contains("G92"), "{e}");
+}
