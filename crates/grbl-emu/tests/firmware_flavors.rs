@@ -192,6 +192,14 @@ fn done_means_at_rest_when_status_queries_are_lost() {
 }
 
 #[test]
+fn wco_is_reported_when_it_changes_on_every_flavor() {
+    for f in [Flavor::Grbl, Flavor::GrblHal, Flavor::FluidNc] {
+        let (_emu, ep) = start(f);
+        scenarios::wco_reported_when_it_changes(&ep);
+    }
+}
+
+#[test]
 fn hold_resume_override_stop_work_until_idle() {
     let (_emu, ep) = start(Flavor::GrblHal);
     scenarios::controls_work_until_idle(&ep);

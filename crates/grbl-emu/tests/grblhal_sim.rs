@@ -91,6 +91,14 @@ fn sim_done_means_at_rest_when_status_queries_are_lost() {
 }
 
 #[test]
+fn sim_wco_is_reported_when_it_changes() {
+    let Some(sim) = grblhal_sim::start("wco", None) else {
+        return;
+    };
+    scenarios::wco_reported_when_it_changes(&sim.endpoint);
+}
+
+#[test]
 fn sim_hold_resume_override_stop_work_until_idle() {
     let Some(sim) = grblhal_sim::start("controls", None) else {
         return;

@@ -248,3 +248,30 @@ pub(crate) fn stop_and_resume(
         report,
     )
 }
+
+/// The work offset is reported (`WCO:`) in the first status after it changes: selecting
+/// G55 with an offset, and M2 going back to G54. A sender that kept the old WCO would see
+/// the end of a G55 program 101.6 mm off (CAMotics' Botomata). A G10 on a system not in
+/// use changes nothing reported. Quiet reports first: grbl repeats WCO every 10–30.
+pub(crate) fn wco_reported_when_it_changes(ep: &Endpoint) {
+    let mut s = connect(ep);
+    let mut quiet = false;
+    for _ in 0..40 {
+        if s.status().expect("status").wco.is_none() {
+            quiet = true;
+            break;
+        }
+    }
+    assert!(quiet, "a report without WCO within 40 queries");
+    for (line, expect) in [
+        ("G10 L2 P2 Y-101.6", None),
+        ("G55", Some(vec![0.0, -101.6, 0.0])),
+        ("M2", Some(vec![0.0, 0.0, 0.0])),
+    ] {
+        let reply = s.command(line).expect(line);
+        assert_eq!(reply.error, None, "{line}");
+        let wco = s.status().expect("status").wco;
+        let wco = wco.map(|w| w[..3].to_vec());
+        assert_eq!(wco, expect, "after {line}");
+    }
+}
