@@ -211,7 +211,7 @@ function draw() {
           run.push(`${x},${y}`);
         } else {
           flush();
-          if (kind === JUMP && prev) el('line', { x1: prev[0], y1: prev[1], x2: x, y2: y, stroke: '#888', 'stroke-dasharray': '4 3', 'stroke-width': 1 }, g);
+          if (kind === JUMP && prev) el('line', { x1: prev[0], y1: prev[1], x2: x, y2: y, stroke: '#333', 'stroke-dasharray': '4 3', 'stroke-width': 1 }, g);
           if (kind === TRIM) el('path', { d: `M${x - 4},${y - 4}L${x + 4},${y + 4}M${x - 4},${y + 4}L${x + 4},${y - 4}`, stroke: '#f55', 'stroke-width': 2, class: 'se-trim' }, g);
           if (kind === STOP) el('rect', { x: x - 4, y: y - 4, width: 8, height: 8, fill: 'none', stroke: '#fc3', 'stroke-width': 2, class: 'se-stop' }, g);
         }
@@ -220,7 +220,7 @@ function draw() {
       flush();
     });
     const bb = bounds(d.plan, d.at);
-    if (bb) el('text', { x: view.sx(bb[0]), y: view.sy(bb[3]) - 4, fill: di === active ? '#fff' : '#999', 'font-size': 11 }, svg).textContent = `${di + 1}. ${d.plan.name}`;
+    if (bb) el('text', { x: view.sx(bb[0]), y: view.sy(bb[3]) - 4, fill: di === active ? '#000' : '#333', 'font-size': 11 }, svg).textContent = `${di + 1}. ${d.plan.name}`;
   });
   const d = cur();
   if (d) {
@@ -263,7 +263,13 @@ function info() {
 export function initStitchEditor() {
   const codes = [12, 11, 10, 9, 8, 7, 6, 5, 4].map((c) => `<option>${c}</option>`).join('');
   const formats = ['pes', 'dst', 'jef', 'exp', 'vp3', 'xxx', 'u01', 'pec'].map((f) => `<option>${f}</option>`).join('');
+  // Its rows flow like the design editor's (the page's .form is a two-column grid).
   $('stitch-editor').innerHTML = `
+    <style>
+      #stitch-editor .form { display: flex; flex-wrap: wrap; gap: 3px 6px; align-items: center; }
+      #stitch-editor .form label { display: inline-flex; align-items: center; gap: 3px; }
+      #stitch-editor .form button { padding: 2px 7px; }
+    </style>
     <h3>Stitch editor <span class="muted">— embroidery files stitch by stitch; alter, link and save by the library</span></h3>
     <div class="form">
       <label class="btn">Open… <input id="se-open" type="file" accept=".pes,.dst,.jef,.exp,.vp3,.xxx,.u01,.pec,.ram,.bor" multiple hidden></label>
@@ -287,7 +293,7 @@ export function initStitchEditor() {
       <button id="se-alter">Alter design</button>
       <label>save as <input id="se-name" value="edited" size="10"></label><select id="se-format">${formats}</select><button id="se-save">Save</button><span id="se-saved"></span>
     </div>
-    <svg id="se-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#141820;cursor:crosshair;width:100%"></svg>
+    <svg id="se-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#80858e;cursor:crosshair;width:100%"></svg>
     <div id="se-info" class="muted"></div>
     <span id="se-status" class="muted"></span>`;
   const svg = $('se-view');
