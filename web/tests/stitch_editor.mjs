@@ -6,7 +6,7 @@
 // `oficina embroider A.jef --rotate 90` (the library's rotation) read by pyembroidery, less
 // the deleted stitch, then the DST read by pyembroidery moved to where the page placed it:
 // the same sewn stitches in order (within 0.1 mm, the files' unit), 4 threads, 3 colour
-// changes. Skipped with a note when the files or pyembroidery are missing. Starts its own
+// changes. The Embroidery process's plan opens in it too. Skipped with a note when the files or pyembroidery are missing. Starts its own
 // `oficina serve`. Prints `N passed, M failed`. With OFICINA_DOCS_SCREENSHOTS=1 its
 // screenshot replaces docs/screenshots/workbench-stitch-editor.png.
 
@@ -179,6 +179,20 @@ await test('link the two and save a PES; pyembroidery reads the library\'s rotat
   assert(bad < 0, `stitch ${bad}: ${got.stitches[bad]} in the PES, ${want[bad]} expected (0.1 mm)`);
   assert(got.threads === 4 && got.changes === 3, `threads ${got.threads}, colour changes ${got.changes}`);
   console.log(`     linked.pes: ${got.stitches.length} stitches (${a.length} + ${moved.length}${joint.length ? ' + 1 joint' : ''}), ${got.threads} threads, every stitch within 0.1 mm of pyembroidery's reading of the library's rotation`);
+});
+
+await test('the plan the Embroidery process makes opens in the editor with its stitch count', async () => {
+  await page.selectOption('#process', 'embroider');
+  await page.waitForFunction(() => document.getElementById('process-input').textContent === 'sunflower.svg', null, { timeout: 20000 });
+  await page.click('#make');
+  await page.waitForFunction(() => document.getElementById('process-status').dataset.stitches, null, { timeout: 120000 });
+  const made = Number(await page.$eval('#process-status', (e) => e.dataset.stitches));
+  await page.click('#edit-stitches');
+  await page.waitForFunction(() => document.getElementById('se-view').dataset.designs === '2', null, { timeout: 15000 });
+  assert(await page.isVisible('#se-view'), 'the stitch editor is shown');
+  // The editor counts every entry (jumps, trims too): at least the sewn stitches the sheet counts.
+  const entries = await data('entries');
+  assert(entries >= made && made > 100, `${entries} entries for ${made} stitches made`);
 });
 
 await test('bad input is refused by name: a plan with a bad kind, a bad save name', async () => {
