@@ -74,7 +74,7 @@ impl PlanIn {
             }
             let mut stitches = Vec::with_capacity(block.points.len() / 3);
             for (i, e) in block.points.chunks_exact(3).enumerate() {
-                let kind = match e[2] as i64 {
+                let kind = match if e[2].fract() == 0.0 { e[2] as i64 } else { -1 } {
                     0 => Kind::Stitch,
                     1 => Kind::Jump,
                     2 => Kind::Trim,
