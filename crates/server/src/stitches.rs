@@ -277,3 +277,68 @@ pub(crate) async fn save(
                "stitches": c.stitches, "colours": back.blocks.len()}),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(v: Value) -> Result<StitchPlan, String> {
+        serde_json::from_value::<PlanIn>(v)
+            .map_err(|e| e.to_string())?
+            .plan()
+            .map_err(|e| String::from_utf8_lossy(&body_of(e.into_response())).into_owned())
+    }
+
+    fn message(v: Value) -> String {
+        let Err(e) = serde_json::from_value::<PlanIn>(v).unwrap().plan() else {
+            panic!("accepted");
+        };
+        let r = e.into_response();
+        let body = body_of(r);
+        serde_json::from_slice::<Value>(&body).unwrap()["error"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    }
+
+    fn body_of(r: Response) -> Vec<u8> {
+        let rt = tokio::runtime::Builder::new_current_thread()
+            .build()
+            .unwrap();
+        rt.block_on(http_body_util::BodyExt::collect(r.into_body()))
+            .unwrap()
+            .to_bytes()
+            .to_vec()
+    }
+
+    #[test]
+    fn the_pages_plan_reads_back_as_sent_and_bad_entries_are_named() {
+        let plan = StitchPlan {
+            name: "p".into(),
+            blocks: vec![
+                ColorBlock {
+                    thread: Thread::rgb(200, 10, 0),
+                    stitches: vec![
+                        Stitch::new(1.25, -3.5, Kind::Jump),
+                        Stitch::new(2.0, 0.0, Kind::Stitch),
+                        Stitch::new(2.0, 0.0, Kind::Trim),
+                    ],
+                },
+                ColorBlock {
+                    thread: Thread::rgb(0, 0, 255),
+                    stitches: vec![Stitch::new(-7.5, 4.0, Kind::Stop)],
+                },
+            ],
+        };
+        assert_eq!(parse(plan_json(&plan)).unwrap(), plan);
+        let one = |thread: &str, points: Value| {
+            json!({"blocks": [{"thread": "#000000", "points": [0, 0, 0]},
+                              {"thread": thread, "points": points}]})
+        };
+        assert!(message(one("red", json!([0, 0, 0]))).contains("block 2: thread \"red\""));
+        assert!(message(one("#ff0000", json!([0, 0]))).contains("block 2: 2 numbers"));
+        assert!(message(one("#ff0000", json!([0, 0, 0, 1, 1, 0.5])))
+            .contains("block 2, entry 2: kind 0.5"));
+        assert!(message(one("#ff0000", json!([0, 1e6, 0]))).contains("block 2, entry 1"));
+    }
+}
