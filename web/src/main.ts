@@ -12,6 +12,7 @@ import { setupProfileEditor, setupToolEditor } from './profile';
 import { initCamJob, openDrawing } from './camjob';
 import { Carved, carvedReport, clearCarved, hideModel, showModel } from './carve_model';
 import { initDesignEditor } from './design/editor';
+import { initStitchEditor, openPlan } from './stitches/editor';
 import { PROCESSES, ProcessKind, STITCH_FILE, clearFieldErrors, readForm, renderForm, showFieldError } from './processes';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -270,13 +271,14 @@ $<HTMLSelectElement>('sample').onchange = (e) => {
 
 // Processes: a G-code program as it is, a relief carved from an image, or a design milled,
 // made into sole molds or plotted.
-type Process = 'gcode' | 'relief' | 'camjob' | 'design' | ProcessKind;
+type Process = 'gcode' | 'relief' | 'camjob' | 'design' | 'stitches' | ProcessKind;
 let shownForm: ProcessKind | null = null;
 function setProcess(p: Process) {
   $<HTMLSelectElement>('process').value = p;
   $('relief-form').hidden = p !== 'relief';
   $('camjob').hidden = p !== 'camjob';
   $('design').hidden = p !== 'design';
+  $('stitch-editor').hidden = p !== 'stitches';
   $('relief-image').textContent = image ? image.name : 'an image (open one)';
   const isDesign = p === 'mill' || p === 'sole' || p === 'plot' || p === 'embroider' || p === 'model';
   $('process-form').hidden = !isDesign;
@@ -406,6 +408,8 @@ async function job(path: string, body: unknown): Promise<Record<string, any> | n
 /// Embroidery: a design sewn into a stitch file by the server's pipeline, or a stitch file
 /// read back; either way the plan is drawn in its threads beside its production sheet.
 let stitchFile = '';
+/// The plan last made or read, for the stitch editor's "Edit the stitches".
+let lastPlan: { name: string; plan: Parameters<typeof openPlan>[1] } | null = null;
 async function embroider(name: string | null, params: Record<string, unknown>) {
   const route = name && STITCH_FILE.test(name) ? '/api/stitches' : '/api/embroider';
   busy(true);
@@ -417,6 +421,7 @@ async function embroider(name: string | null, params: Record<string, unknown>) {
     const sewn = preview.stitches(body.plan.blocks);
     showingStitches = true;
     stitchFile = body.name;
+    lastPlan = { name: body.name, plan: body.plan };
     showTitle();
     showStitchBar(body.name, sheet);
     preview.setView('xy');
@@ -665,6 +670,8 @@ async function init() {
 }
 initCamJob({ loadProgram });
 // Send to CAM: the saved design opened in the CAM job page.
+initStitchEditor();
+$('edit-stitches').onclick = () => { if (lastPlan) { setProcess('stitches'); openPlan(lastPlan.name, lastPlan.plan); } };
 initDesignEditor({ openInCam: (file) => { setProcess('camjob'); openDrawing(file); } });
 init().catch((e) => error(String(e.message || e)));
 

@@ -4,9 +4,9 @@
 
 use crate::{Error, Feedback};
 use oficina_stitch::{
-    alter, append, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch, sheet,
-    Align, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params, Pauses, Sheet,
-    StitchPlan, Table, Text,
+    alter, append, generate_inkstitch, letter, link, preview_svg, read_bor, read_inkstitch,
+    sew_at_speed, sheet, Align, Alteration, Format, Generated, HeadSpeed, Hoop, Inkstitch, Params,
+    Pauses, Sheet, StitchPlan, Table, Text,
 };
 use std::path::Path;
 
@@ -36,6 +36,12 @@ pub struct EmbroiderParams {
     /// Stitch files linked after the input, as the seed's LINKA does (the input must be a
     /// stitch file too).
     pub link: Vec<std::path::PathBuf>,
+    /// Where each linked file's origin goes, mm, in the order of `link` (the stitch editor
+    /// places designs so); a file without one starts at its own Zero-Peça.
+    pub link_at: Vec<[f64; 2]>,
+    /// Sections sewn at a faster head-speed code: (an entry of the section, counted over the
+    /// altered plan in sewing order; the code), as `oficina_stitch::sew_at_speed` does.
+    pub section_speed: Vec<(usize, u8)>,
 }
 
 impl Default for EmbroiderParams {
@@ -49,6 +55,8 @@ impl Default for EmbroiderParams {
             pieces: 1,
             alteration: Alteration::default(),
             link: Vec::new(),
+            link_at: Vec::new(),
+            section_speed: Vec::new(),
         }
     }
 }
@@ -167,6 +175,13 @@ impl EmbroiderParams {
     /// message starts with the flag of the field it names, so a form can show it there.
     pub fn check(&self) -> Result<(), Error> {
         self.alteration.check().map_err(Error)?;
+        if self.link_at.len() > self.link.len() {
+            return Err(Error(format!(
+                "--link-at: {} offsets for {} --link file(s); give one per file",
+                self.link_at.len(),
+                self.link.len()
+            )));
+        }
         if let Some(ppm) = self.ppm {
             if !(ppm.is_finite() && ppm > 0.0 && ppm <= 10_000.0) {
                 return Err(Error(format!("--ppm {ppm}: use 1..10000 stitches/min")));
@@ -275,6 +290,12 @@ pub fn embroider_text(
             input.display()
         )));
     }
+    if !p.section_speed.is_empty() && source.is_none() {
+        return Err(Error(format!(
+            "{}: --section-speed changes a stitch file's stitches; stitch the design first",
+            input.display()
+        )));
+    }
     if !p.link.is_empty() && source.is_none() {
         return Err(Error(format!(
             "{}: --link joins stitch files (.bor .dst …); stitch the design first",
@@ -286,14 +307,22 @@ pub fn embroider_text(
         let (mut plan, _, moved) = read_stitch(input)?;
         if !p.link.is_empty() {
             let mut programs = vec![(plan, zero_peca(input, format)?)];
-            for f in &p.link {
+            for (i, f) in p.link.iter().enumerate() {
                 let (q, qf, _) = read_stitch(f)?;
-                programs.push((q, zero_peca(f, qf)?));
+                let at = match p.link_at.get(i) {
+                    Some(at) => *at,
+                    None => zero_peca(f, qf)?,
+                };
+                programs.push((q, at));
             }
             plan = link(&programs);
             plan.name = name.clone();
         }
-        let plan = alter(&plan, &p.alteration);
+        let mut plan = alter(&plan, &p.alteration);
+        for &(entry, code) in &p.section_speed {
+            plan = sew_at_speed(&plan, entry, code)
+                .map_err(|e| Error(format!("--section-speed {entry}:{code}: {e}")))?;
+        }
         if plan.is_empty() {
             return Err(Error(format!(
                 "{}: the file holds no stitches",

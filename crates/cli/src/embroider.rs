@@ -135,6 +135,15 @@ pub(crate) struct Args {
     /// program's last stitch to the next one's start (a .bor's Zero-Peça). Repeatable.
     #[arg(long)]
     link: Vec<PathBuf>,
+    /// Where the origin of each --link file goes, X,Y mm from the input's origin, in the
+    /// order of the --link files (the page's stitch editor places designs so); repeatable.
+    #[arg(long, value_parser = shift_arg, allow_hyphen_values = true, requires = "link")]
+    link_at: Vec<[f64; 2]>,
+    /// Sew the section (consecutive stitches of one colour) holding entry ENTRY (counted from
+    /// 0 over the altered, linked design) at the faster speed code CODE (4–12): its stitches
+    /// longer than the code allows are split. Repeatable.
+    #[arg(long, value_name = "ENTRY:CODE", value_parser = section_speed_arg)]
+    section_speed: Vec<(usize, u8)>,
     /// Send the program one way to the seed machine on this serial port (9600 baud, 7 data
     /// bits, even parity, 2 stop bits: the .BOR text), e.g. the pty `oficina emulate seed
     /// --pty` prints.
@@ -183,6 +192,15 @@ fn shift_arg(s: &str) -> Result<[f64; 2], String> {
     }
 }
 
+fn section_speed_arg(s: &str) -> Result<(usize, u8), String> {
+    let usage = || "give ENTRY:CODE, e.g. 120:12".to_string();
+    let (e, c) = s.split_once(':').ok_or_else(usage)?;
+    Ok((
+        e.trim().parse().map_err(|_| usage())?,
+        c.trim().parse().map_err(|_| usage())?,
+    ))
+}
+
 fn format_arg(s: &str) -> Result<Format, String> {
     Format::from_id(s).ok_or_else(|| {
         let ids: Vec<&str> = Format::EVERY.iter().map(|f| f.id()).collect();
@@ -222,6 +240,8 @@ fn params(a: &Args, format: Format) -> EmbroiderParams {
             scale: a.scale,
         },
         link: a.link.clone(),
+        link_at: a.link_at.clone(),
+        section_speed: a.section_speed.clone(),
     }
 }
 

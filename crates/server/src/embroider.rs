@@ -177,7 +177,7 @@ fn drawable(plan: &StitchPlan, file: &str) -> Result<(), CamError> {
 
 /// The plan in sewing order: per colour block its thread and its points as flat
 /// `[x, y, kind, …]` (kind 0 stitch, 1 jump, 2 trim, 3 stop), mm.
-fn plan_json(plan: &StitchPlan) -> Value {
+pub(crate) fn plan_json(plan: &StitchPlan) -> Value {
     let blocks: Vec<Value> = plan
         .blocks
         .iter()

@@ -42,6 +42,7 @@ mod profiles;
 mod samples;
 mod simulate;
 mod state;
+mod stitches;
 mod ws;
 
 pub use state::{AppState, Config};

@@ -40,5 +40,5 @@ pub use seedlink::{
     open_seed_port, send, transmission, Received, SeedMachine, Stored, SEED_BAUD, SEED_RAM_BYTES,
 };
 pub use sheet::{duration, sheet, Sheet, ThreadLine};
-pub use speed::{speed_code, SpeedCode, MAX_SEWN, SPEED_CODES};
+pub use speed::{sections, sew_at_speed, speed_code, Section, SpeedCode, MAX_SEWN, SPEED_CODES};
 pub use table::{run, Fault, HeadSpeed, Pauses, RunReport, Table};

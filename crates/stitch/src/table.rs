@@ -14,7 +14,7 @@
 //! operator's fixed speed (the seed ran EMC and PATO at 350 ppm).
 
 use crate::plan::{Kind, StitchPlan};
-use crate::speed::{speed_code, SPEED_CODES};
+use crate::speed::{sections, speed_code, SPEED_CODES};
 
 /// An XY embroidery table with its needle.
 #[derive(Clone, Debug, PartialEq)]
@@ -165,6 +165,7 @@ pub fn run(
         lengths.push((s.x - prev.0).hypot(s.y - prev.1));
         prev = (s.x, s.y);
     }
+    let mut secs = sections(plan).into_iter();
     let mut counts: Vec<usize> = vec![0; SPEED_CODES.len()];
     let mut i = 0;
     while i < entries.len() {
@@ -181,15 +182,11 @@ pub fn run(
             Kind::Trim => r.pause_seconds += pauses.trim,
             Kind::Stop => r.pause_seconds += pauses.stop,
             Kind::Stitch => {
-                // A section: consecutive stitches of one block.
-                let mut j = i;
-                while j < entries.len()
-                    && entries[j].1.kind == Kind::Stitch
-                    && entries[j].0 == block
-                {
-                    j += 1;
-                }
-                let longest = lengths[i..j].iter().cloned().fold(0.0, f64::max);
+                // The section this stitch opens (consecutive stitches of one block).
+                let Some(sec) = secs.next().filter(|s| s.start == i) else {
+                    return Err(format!("entry {i}: a stitch outside the plan's sections"));
+                };
+                let (j, longest) = (sec.end, sec.longest);
                 let (ppm, code) = match speed {
                     HeadSpeed::Fixed(ppm) => (ppm, None),
                     HeadSpeed::Table => match speed_code(longest) {
