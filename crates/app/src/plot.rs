@@ -138,6 +138,9 @@ pub struct PlotParams {
     pub passes: usize,
     /// Crop to `paper` or to a box `X0,Y0,X1,Y1` (work coordinates, mm).
     pub crop: Option<String>,
+    /// The profile is a default nobody chose: a drawing larger than its travel is written
+    /// at its size, as vpype writes it, with a note (a named machine refuses it).
+    pub default_machine: bool,
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -215,8 +218,52 @@ impl Default for PlotParams {
             reloop: false,
             passes: 1,
             crop: None,
+            default_machine: false,
         }
     }
+}
+
+/// The default profile's travel grown to hold the drawing where it will be drawn (its own
+/// coordinates × scale, or from `--at`), when it does not fit; Cartesian machines only (a
+/// polar arm's reach is its geometry). `None` when it fits.
+fn travel_for_drawing(
+    plot: &Plot,
+    s: &Settings,
+    profile: &Profile,
+    notes: &mut Vec<String>,
+) -> Option<Profile> {
+    use oficina_motion::KinematicsKind::{Cartesian, CoreXy};
+    if !matches!(profile.kinematics, Cartesian | CoreXy) {
+        return None;
+    }
+    let b = plot.bounds()?;
+    let (w, h) = ((b[2] - b[0]) * s.scale, (b[3] - b[1]) * s.scale);
+    let lo =
+        s.at.map_or(Point::new(b[0] * s.scale, b[1] * s.scale), |a| a);
+    let (span, off) = ([[lo.x, lo.x + w], [lo.y, lo.y + h]], profile.work_offset);
+    let mut grown = profile.clone();
+    for i in 0..2 {
+        let t = &mut grown.travel[i];
+        t[0] = t[0].min(span[i][0] + off[i]);
+        t[1] = t[1].max(span[i][1] + off[i]);
+    }
+    if grown.travel == profile.travel {
+        return None;
+    }
+    let [tx, ty] = [profile.travel[0], profile.travel[1]];
+    notes.push(format!(
+        "no --machine named: the drawing (X {:.1} … {:.1}, Y {:.1} … {:.1} mm on the machine) lies beyond the default {}'s travel (X {} … {}, Y {} … {}) and is written where it is; name your plotter with --machine to check that it fits, or place it on a page with --layout",
+        span[0][0] + off[0],
+        span[0][1] + off[0],
+        span[1][0] + off[1],
+        span[1][1] + off[1],
+        profile.name,
+        tx[0],
+        tx[1],
+        ty[0],
+        ty[1]
+    ));
+    Some(grown)
 }
 
 /// A plot's output.
@@ -540,6 +587,12 @@ pub fn plot(
         passes: p.passes,
     };
     fb.stage("placing, optimising, writing the program")?;
+    let stretched = if p.default_machine && settings.layout.is_none() {
+        travel_for_drawing(&plot, &settings, profile, &mut notes)
+    } else {
+        None
+    };
+    let profile = stretched.as_ref().unwrap_or(profile);
     let prepared = prepare(plot, profile, &m, &settings).map_err(|e| match e {
         // Nothing drawn: say what the file held instead (fills, labels of no pen, …).
         oficina_plot::PlotError::Empty if !notes.is_empty() => Error(format!(

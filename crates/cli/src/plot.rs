@@ -16,8 +16,10 @@ pub(crate) struct Args {
     input: Option<PathBuf>,
     /// Machine profile: a TOML file or a bundled name (pen-plotter, polar-plotter,
     /// polargraph-wall, …).
-    #[arg(long, default_value = "pen-plotter")]
-    machine: String,
+    /// Without it: pen-plotter, and a drawing larger than its travel is written at its
+    /// size with a note (a named machine refuses what it cannot reach).
+    #[arg(long)]
+    machine: Option<String>,
     /// Where to write the program.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -170,8 +172,12 @@ fn parse_xy(s: &str) -> Result<[f64; 2], String> {
 }
 
 /// The form the application layer takes.
+/// The profile a plot uses when no --machine is named.
+const DEFAULT_MACHINE: &str = "pen-plotter";
+
 fn params(a: &Args) -> PlotParams {
     PlotParams {
+        default_machine: a.machine.is_none(),
         format: a.format,
         text: a.text.clone(),
         text_height: a.text_height,
@@ -217,7 +223,7 @@ fn params(a: &Args) -> PlotParams {
 }
 
 fn seed_check(a: &Args) -> anyhow::Result<ExitCode> {
-    let profile = machine_profile::resolve(&a.machine)?;
+    let profile = machine_profile::resolve(a.machine.as_deref().unwrap_or(DEFAULT_MACHINE))?;
     let m = pen_machine(&params(a), &profile)?;
     let rows = oficina_plot::seed_check(&profile, &m)?;
     println!(
@@ -279,7 +285,7 @@ pub(crate) fn run(a: Args) -> anyhow::Result<ExitCode> {
     if let Some(out) = &a.output {
         oficina_app::check_output("plot", "-o", out, oficina_app::plot_extensions(a.format))?;
     }
-    let profile = machine_profile::resolve(&a.machine)?;
+    let profile = machine_profile::resolve(a.machine.as_deref().unwrap_or(DEFAULT_MACHINE))?;
     let r = plot(a.input.as_deref(), &params(&a), &profile, Feedback::none())?;
     for n in &r.notes {
         eprintln!("note: {n}");

@@ -166,6 +166,33 @@ fn a_drawing_off_the_machine_is_refused_before_drawing() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("does not fit the paper"));
 }
 
+/// With no machine named, a drawing beyond the default plotter's travel is written where it
+/// lies, as vpype writes it, with a note naming the span; the program's moves reach there.
+#[test]
+fn a_drawing_beyond_the_default_plotter_is_written_with_a_note() {
+    let dir = oficina_testkit::scratch_dir("plot-far");
+    let out = dir.join("far.gcode");
+    let o = oficina(&[
+        "plot",
+        "samples/plot/design.svg",
+        "--at",
+        "400,0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("no --machine named"), "{stderr}");
+    assert!(stderr.contains("X 400.0"), "{stderr}");
+    let program = std::fs::read_to_string(&out).unwrap();
+    let max_x = program
+        .lines()
+        .filter_map(|l| l.split_whitespace().find_map(|w| w.strip_prefix('X')))
+        .filter_map(|v| v.parse::<f64>().ok())
+        .fold(f64::MIN, f64::max);
+    assert!(max_x > 420.0, "the drawing was moved or cut: max X {max_x}");
+}
+
 #[test]
 fn the_seed_check_prints_five_places() {
     let out = plot(&["--seed-check", "--machine", "polar-plotter"]);
