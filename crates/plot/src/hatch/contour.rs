@@ -11,8 +11,10 @@ use super::Gray;
 /// (bounded memory: the outlines hold at most two points a cell).
 pub(crate) const MAX_CELLS: usize = 4_000_000;
 
-/// The darkness (0 white … 1 black) on a grid of cell centres, framed by white points on the
-/// picture's edges so every outline closes inside the picture.
+/// The darkness (0 white … 1 black) on a grid of cell centres. Around it, on the picture's
+/// edges, a copy of the border cells and then white points at the same place: every outline
+/// closes, and along an edge it runs on the edge (the step to white has no width) instead of
+/// leaving a strip of every lighter band there.
 pub(crate) struct Field {
     nx: usize,
     ny: usize,
@@ -27,21 +29,7 @@ impl Field {
     pub(crate) fn new(img: &Gray, pixel: f64, f: usize) -> Field {
         let f = f.max(1);
         let (cw, ch) = (img.width.div_ceil(f), img.height.div_ceil(f));
-        let (nx, ny) = (cw + 2, ch + 2);
-        let hmm = img.height as f64 * pixel;
-        // A block's centre: the middle of its pixels (the last block may be narrower).
-        let mid = |c: usize, n: usize| (c * f + ((c + 1) * f).min(n)) as f64 * 0.5 * pixel;
-        let mut xs = vec![0.0; nx];
-        xs[nx - 1] = img.width as f64 * pixel;
-        let mut ys = vec![hmm; ny];
-        ys[ny - 1] = 0.0;
-        for c in 0..cw {
-            xs[c + 1] = mid(c, img.width);
-        }
-        for r in 0..ch {
-            ys[r + 1] = hmm - mid(r, img.height);
-        }
-        let mut dark = vec![0.0f32; nx * ny];
+        let mut cells = vec![0.0f32; cw * ch];
         for r in 0..ch {
             for c in 0..cw {
                 let (mut sum, mut n) = (0u64, 0u64);
@@ -52,7 +40,28 @@ impl Field {
                         n += 1;
                     }
                 }
-                dark[(r + 1) * nx + c + 1] = sum as f32 / (n as f32 * 255.0);
+                cells[r * cw + c] = sum as f32 / (n as f32 * 255.0);
+            }
+        }
+        let (nx, ny) = (cw + 4, ch + 4);
+        let (wmm, hmm) = (img.width as f64 * pixel, img.height as f64 * pixel);
+        // A block's centre: the middle of its pixels (the last block may be narrower).
+        let mid = |c: usize, n: usize| (c * f + ((c + 1) * f).min(n)) as f64 * 0.5 * pixel;
+        // Grid column i: 0 and 1 on the left edge, cells from 2, the last two on the right.
+        let place = |i: usize, n: usize, cells: usize, size: f64| match i {
+            0 | 1 => 0.0,
+            _ if i >= cells + 2 => size,
+            _ => mid(i - 2, n),
+        };
+        let xs: Vec<f64> = (0..nx).map(|i| place(i, img.width, cw, wmm)).collect();
+        let ys: Vec<f64> = (0..ny)
+            .map(|j| hmm - place(j, img.height, ch, hmm))
+            .collect();
+        let mut dark = vec![0.0f32; nx * ny];
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                let (c, r) = ((i.max(2) - 2).min(cw - 1), (j.max(2) - 2).min(ch - 1));
+                dark[j * nx + i] = cells[r * cw + c];
             }
         }
         Field {
@@ -162,5 +171,45 @@ impl Field {
             }
         }
         rings
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outlines_of_a_radial_ramp_are_its_circles() {
+        // Darkness 1 − r/40 about the centre of 100 × 100 mm (1 mm pixels): the level t is
+        // the circle of radius 40·(1 − t), within the 8-bit rounding (40/510 mm) and the
+        // chords' sag between pixel centres.
+        let (w, c) = (100usize, 50.0);
+        let px: Vec<u8> = (0..w * w)
+            .map(|i| {
+                let (x, y) = ((i % w) as f64 + 0.5, (w - i / w) as f64 - 0.5);
+                let d = (1.0 - (x - c).hypot(y - c) / 40.0).max(0.0);
+                (255.0 * (1.0 - d)).round() as u8
+            })
+            .collect();
+        let img = Gray {
+            width: w,
+            height: w,
+            pixels: &px,
+        };
+        for f in [1, 2] {
+            let field = Field::new(&img, 1.0, f);
+            for t in [0.25, 0.5, 0.75] {
+                let rings = field.outlines(t);
+                assert_eq!(rings.len(), 1, "level {t}");
+                let want = 40.0 * (1.0 - t);
+                for p in &rings[0] {
+                    let r = (p[0] - c).hypot(p[1] - c);
+                    assert!(
+                        (r - want).abs() < 0.15 * f as f64,
+                        "f {f} level {t}: {r} vs {want}"
+                    );
+                }
+            }
+        }
     }
 }
