@@ -293,3 +293,22 @@ fn darkness_bands_go_to_their_pens_and_bad_pens_are_refused() {
         assert!(e.contains(flag), "{args:?}: {e}");
     }
 }
+
+#[test]
+fn a_noisy_picture_is_drawn_or_refused_by_its_flag() {
+    // White noise: every band a maze of specks and holes. Detail under a
+    // spacing square is dropped, so it is drawn (or refused by the spacing), never a panic.
+    let mut rng = oficina_testkit::random::Xorshift::new(7);
+    let img =
+        image::GrayImage::from_fn(200, 200, |_, _| image::Luma([(rng.next_u64() % 256) as u8]));
+    let path = oficina_testkit::scratch_dir("plot_image_noise").join("noise.png");
+    img.save(&path).unwrap();
+    for mode in [&[][..], &["--fill-concentric"][..]] {
+        let mut args = vec!["--fill", "--fill-spacing", "0.3"];
+        args.extend_from_slice(mode);
+        match plot(&path, &args) {
+            Ok(program) => assert!(!ink(&program).is_empty()),
+            Err(e) => assert!(e.contains("--fill-spacing"), "{mode:?}: {e}"),
+        }
+    }
+}

@@ -5,7 +5,7 @@
 //! overlaid layers of the layered hatching do; bands do not overlap, so lines of two bands
 //! never coincide.
 
-use oficina_geom::{simplify, Fill, Region};
+use oficina_geom::{ring_area, simplify, Fill, Region};
 
 use super::contour::{Field, MAX_CELLS};
 use super::{Gray, HatchError};
@@ -80,12 +80,27 @@ pub fn fill_bands(
     let mut out = Vec::with_capacity(bands.len());
     for (i, regions) in bands.iter().enumerate() {
         let spacing = style.spacing / (i + 1) as f64;
-        let mut kept: Vec<Region> = regions.clone();
-        if style.concentric {
-            // A ring inset by s needs a disc of radius s inside: smaller regions get none.
-            let least = std::f64::consts::PI * spacing * spacing;
-            kept.retain(|r| r.area() >= least);
-        }
+        // Detail under a spacing square cannot be drawn at that spacing: such regions and
+        // holes are dropped (a noisy picture's specks, which would cost rings and budget).
+        // Concentric: a ring inset by s needs a disc of radius s inside, area π·s².
+        let least = if style.concentric {
+            std::f64::consts::PI * spacing * spacing
+        } else {
+            spacing * spacing
+        };
+        let kept: Vec<Region> = regions
+            .iter()
+            .filter(|r| r.area() >= least)
+            .map(|r| Region {
+                outer: r.outer.clone(),
+                holes: r
+                    .holes
+                    .iter()
+                    .filter(|h| ring_area(h).abs() >= spacing * spacing)
+                    .cloned()
+                    .collect(),
+            })
+            .collect();
         let s = FillStyle { spacing, ..*style };
         out.push(fill_regions(&kept, &s, tol, &mut budget).map_err(HatchError::Settings)?);
     }

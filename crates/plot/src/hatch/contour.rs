@@ -9,7 +9,7 @@ use super::Gray;
 
 /// At most this many grid points: a larger picture is averaged over blocks of pixels first
 /// (bounded memory: the outlines hold at most two points a cell).
-pub(crate) const MAX_CELLS: usize = 4_000_000;
+pub(crate) const MAX_CELLS: usize = 1_000_000;
 
 /// The darkness (0 white … 1 black) on a grid of cell centres. Around it, on the picture's
 /// edges, a copy of the border cells and then white points at the same place: every outline
