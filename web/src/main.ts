@@ -222,9 +222,12 @@ async function openDesign(name: string, body: Blob | string, kind: ProcessKind) 
   if (kind === 'embroider' && STITCH_FILE.test(saved)) await make();
 }
 
+/// A picture goes to the relief form unless Plot (which hatches pictures) is chosen.
+const toRelief = (name: string) => IMAGE.test(name) && $<HTMLSelectElement>('process').value !== 'plot';
+
 async function openFile(f: File) {
   const kind = processFor(f.name);
-  if (IMAGE.test(f.name)) {
+  if (toRelief(f.name)) {
     image = { name: safeName(f.name), bytes: await f.arrayBuffer() };
     setProcess('relief');
   } else if (kind) {
@@ -254,11 +257,11 @@ async function openSample(name: string) {
   const r = await fetch(withToken('/api/samples/' + encodeURIComponent(name)));
   if (!r.ok) return error(await r.text());
   const kind = processFor(name);
-  if (IMAGE.test(name)) {
+  if (toRelief(name)) {
     image = { name, bytes: await r.arrayBuffer() };
     setProcess('relief');
   } else if (kind) {
-    await openDesign(name, await r.text(), kind);
+    await openDesign(name, IMAGE.test(name) ? await r.blob() : await r.text(), kind);
   } else {
     setProcess('gcode');
     loadProgram(name, await r.text());

@@ -51,7 +51,9 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
   },
   plot: {
     // HP-GL is read by its content on the server; these are the extensions plotter files carry.
-    title: 'Plot', accept: /\.(svg|dxf|hpgl|hpgl2|plt|hpg|hp|hgl|gl|gl2|prn)$/i, sample: 'design.svg',
+    // Pictures (.png/.jpg) are hatched; opened while Plot is chosen they come here, else to
+    // the relief form.
+    title: 'Plot', accept: /\.(svg|dxf|hpgl|hpgl2|plt|hpg|hp|hgl|gl|gl2|prn|png|jpe?g)$/i, sample: 'design.svg',
     fields: [
       // Not a plot parameter: the plotter profile the job is made for (and run on).
       { name: 'machine', label: 'Plotter', kind: 'select', value: 'pen-plotter', options: ['pen-plotter', 'polar-plotter', 'polargraph-wall'] },
@@ -77,6 +79,13 @@ export const PROCESSES: Record<ProcessKind, { title: string; accept: RegExp; sam
       { name: 'fill_spacing', label: 'Hatch spacing', unit: 'mm', value: '1', min: 0.05, max: 100 },
       { name: 'fill_cross', label: 'Cross-hatch', kind: 'check', value: '' },
       { name: 'fill_concentric', label: 'Concentric', kind: 'check', value: '' },
+      // A picture: `--pixel/--pitch/--hatch-layers/--image-pens`. Without "Hatch fills" its
+      // layers are lines at 0/90/45/135° `pitch` apart; with it, its darkness bands are filled
+      // by the hatch fields above, band k at spacing/k.
+      { name: 'pixel', label: 'Picture pixel', unit: 'mm', value: '0.5', min: 0.001, max: 100 },
+      { name: 'pitch', label: 'Picture line pitch', unit: 'mm', value: '1', min: 0.01, max: 100 },
+      { name: 'hatch_layers', label: 'Picture layers', value: '3', min: 1, max: 8 },
+      { name: 'image_pens', label: 'Picture pens', kind: 'text', value: '', optional: true, placeholder: 'one: #999999,#000000 (lightest first)' },
       // svg: a fill colour; closed: every closed outline; loops: every closed subpath (vpype-occult).
       { name: 'filled', label: 'Filled shapes', kind: 'select', value: 'svg', options: ['svg', 'closed', 'loops'] },
       // `--occult` / `--occult-across`: later filled shapes hide what was drawn under them.

@@ -99,8 +99,11 @@ pub struct PlotParams {
     pub pixel: f64,
     /// Image hatching: distance between hatch lines.
     pub pitch: f64,
-    /// Image hatching: layers, 1…4.
+    /// Image hatching: layers, 1…4 (with `fill`: darkness bands, 1…8).
     pub hatch_layers: usize,
+    /// Image hatching: the pens of the layers (bands), lightest first, comma-separated; the
+    /// darker layers share the last (default: one pen, `#000000`).
+    pub image_pens: Option<String>,
     /// Largest gap between stroke ends that are merged.
     pub merge_tol: f64,
     /// Largest deviation when simplifying strokes.
@@ -114,8 +117,7 @@ pub struct PlotParams {
     /// Ends of a drawing's paths that meet within this distance are joined (closed as
     /// drawn, open pieces chained), mm.
     pub join_tol: f64,
-    /// Hatch the filled shapes (for an image: its hatching takes `fill_angle` and
-    /// `fill_spacing`).
+    /// Hatch the filled shapes (an image: its darkness bands, filled alike).
     pub fill: bool,
     /// Hatch direction, degrees from +X.
     pub fill_angle: f64,
@@ -201,6 +203,7 @@ impl Default for PlotParams {
             pixel: 0.5,
             pitch: 1.0,
             hatch_layers: 3,
+            image_pens: None,
             merge_tol: 0.05,
             simplify_tol: 0.01,
             no_optimise: false,
@@ -319,6 +322,33 @@ pub fn pen_machine(p: &PlotParams, profile: &Profile) -> Result<PenMachine, Erro
     Ok(m)
 }
 
+/// Paper mm per drawing unit: the scale `layout` will fit a drawing of `bounds` to, else
+/// `p.scale`.
+fn paper_scale(
+    p: &PlotParams,
+    layout: Option<&oficina_plot::Layout>,
+    bounds: Option<[f64; 4]>,
+) -> f64 {
+    let (Some(l), Some(b)) = (layout.filter(|l| l.fit), bounds) else {
+        return p.scale;
+    };
+    let (pw, ph) = l.oriented();
+    let (w, h) = (b[2] - b[0], b[3] - b[1]);
+    let fit = |page: f64, size: f64| {
+        if size > 0.0 {
+            (page - 2.0 * l.margin) / size
+        } else {
+            f64::INFINITY
+        }
+    };
+    let f = fit(pw, w).min(fit(ph, h));
+    if f.is_finite() && f > 0.0 {
+        f
+    } else {
+        p.scale
+    }
+}
+
 /// The drawing's strokes, its filled shapes hatched and hiding what lies under them when
 /// asked. The hatch spacing is on paper: divided by the scale the layout will give.
 fn draw(
@@ -332,22 +362,7 @@ fn draw(
     if !p.fill && !p.occult && !p.occult_across {
         return Ok(outline);
     }
-    let mut k = p.scale;
-    if let (Some(l), Some(b)) = (layout.filter(|l| l.fit), outline.bounds()) {
-        let (pw, ph) = l.oriented();
-        let (w, h) = (b[2] - b[0], b[3] - b[1]);
-        let fit = |page: f64, size: f64| {
-            if size > 0.0 {
-                (page - 2.0 * l.margin) / size
-            } else {
-                f64::INFINITY
-            }
-        };
-        let f = fit(pw, w).min(fit(ph, h));
-        if f.is_finite() && f > 0.0 {
-            k = f;
-        }
-    }
+    let k = paper_scale(p, layout, outline.bounds());
     let shading = Shading {
         fill: p.fill.then_some(FillStyle {
             angle: p.fill_angle,
@@ -406,6 +421,85 @@ fn check_shading(p: &PlotParams) -> Result<(), Error> {
     Ok(())
 }
 
+/// `--image-pens`: the pen names, lightest layer first, at most one a layer.
+fn image_pens(p: &PlotParams) -> Result<Vec<String>, Error> {
+    let Some(list) = &p.image_pens else {
+        return Ok(vec!["#000000".into()]);
+    };
+    let pens: Vec<String> = list.split(',').map(|s| s.trim().to_string()).collect();
+    if pens.iter().any(String::is_empty) {
+        return Err(Error(format!(
+            "--image-pens '{list}': name every pen (e.g. #999999,#000000), none empty"
+        )));
+    }
+    if pens.len() > p.hatch_layers {
+        return Err(Error(format!(
+            "--image-pens '{list}': {} pens for {} layers (--hatch-layers): at most one pen a layer",
+            pens.len(),
+            p.hatch_layers
+        )));
+    }
+    Ok(pens)
+}
+
+/// A picture hatched: layers of lines at 0/90/45/135° (`--pitch`), or with `fill` its
+/// darkness bands filled as shapes are (spacing on paper, as for shapes). Layer k goes to
+/// the k-th of `--image-pens`, the darker layers to the last.
+fn hatch_image(
+    path: &Path,
+    p: &PlotParams,
+    layout: Option<&oficina_plot::Layout>,
+) -> Result<Plot, Error> {
+    let pens = image_pens(p)?;
+    let (w, h, px) = oficina_plot::load_gray(path).map_err(|e| Error::chain(&e))?;
+    let img = Gray {
+        width: w,
+        height: h,
+        pixels: &px,
+    };
+    let layers = if p.fill {
+        let finest = p.fill_spacing / p.hatch_layers.max(1) as f64;
+        // The spacing is on paper: the scale is the one the layout will give the picture's
+        // dark part (the lightest band's regions).
+        let bands = oficina_plot::band_regions(&img, p.pixel, p.hatch_layers, finest / p.scale)
+            .map_err(|e| Error(format!("--hatch-layers/--pixel: {e}")))?;
+        let bounds = oficina_geom::bounds(
+            bands
+                .first()
+                .into_iter()
+                .flatten()
+                .flat_map(|r| r.outer.iter().copied()),
+        )
+        .map(|r| [r.x0, r.y0, r.x1, r.y1]);
+        let k = paper_scale(p, layout, bounds);
+        let style = FillStyle {
+            angle: p.fill_angle,
+            spacing: p.fill_spacing / k,
+            cross: p.fill_cross,
+            concentric: p.fill_concentric,
+        };
+        oficina_plot::fill_bands(&bands, &style, p.tolerance / k)
+            .map_err(|e| Error(format!("--fill-spacing {}: {e}", p.fill_spacing)))?
+    } else {
+        oficina_plot::hatch(
+            &img,
+            &Hatching {
+                pixel: p.pixel,
+                pitch: p.pitch,
+                layers: p.hatch_layers,
+                angle: 0.0,
+            },
+        )
+        .map_err(|e| Error::chain(&e))?
+    };
+    let mut plot = Plot::default();
+    for (i, strokes) in layers.into_iter().enumerate() {
+        let pen = &pens[i.min(pens.len() - 1)];
+        plot.pen_mut(pen).strokes.extend(strokes);
+    }
+    Ok(plot)
+}
+
 /// Reads the design into pens of strokes; notes what was left out.
 fn load(
     path: &Path,
@@ -446,27 +540,7 @@ fn load(
             }
             Ok(plot)
         }
-        "png" | "jpg" | "jpeg" => {
-            let (w, h, px) = oficina_plot::load_gray(path).map_err(|e| Error::chain(&e))?;
-            let strokes = oficina_plot::hatch(
-                &Gray {
-                    width: w,
-                    height: h,
-                    pixels: &px,
-                },
-                &Hatching {
-                    pixel: p.pixel,
-                    // --fill sets the picture's hatching as it sets a shape's.
-                    pitch: if p.fill { p.fill_spacing } else { p.pitch },
-                    layers: p.hatch_layers,
-                    angle: if p.fill { p.fill_angle } else { 0.0 },
-                },
-            )
-            .map_err(|e| Error::chain(&e))?;
-            let mut plot = Plot::default();
-            plot.pen_mut("#000000").strokes = strokes;
-            Ok(plot)
-        }
+        "png" | "jpg" | "jpeg" => hatch_image(path, p, layout),
         _ => {
             let imported =
                 oficina_io::load_drawing_with(path, p.join_tol).map_err(|e| Error::chain(&e))?;

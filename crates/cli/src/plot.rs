@@ -90,9 +90,13 @@ pub(crate) struct Args {
     /// Image hatching: distance between hatch lines, mm.
     #[arg(long, default_value_t = 1.0)]
     pitch: f64,
-    /// Image hatching: layers of hatching, 1…4.
+    /// Image hatching: layers of hatching, 1…4 (with --fill: darkness bands, 1…8).
     #[arg(long, default_value_t = 3)]
     hatch_layers: usize,
+    /// Image hatching: the layers' (bands') pens, lightest first, e.g. '#999999,#000000';
+    /// the darker layers share the last pen.
+    #[arg(long)]
+    image_pens: Option<String>,
     /// Join strokes whose ends are this close, mm (0: no merging).
     #[arg(long, default_value_t = 0.05)]
     merge_tol: f64,
@@ -112,8 +116,8 @@ pub(crate) struct Args {
     /// on its start is closed; open pieces of a layer are chained).
     #[arg(long, default_value_t = oficina_io::JOIN_TOL)]
     join_tol: f64,
-    /// Hatch the filled shapes (of an image: its hatching takes --fill-angle and
-    /// --fill-spacing).
+    /// Hatch the filled shapes; of an image, its darkness bands (--hatch-layers of them)
+    /// filled alike, band k at --fill-spacing/k.
     #[arg(long)]
     fill: bool,
     /// Hatch direction, degrees counter-clockwise from +X.
@@ -202,6 +206,7 @@ fn params(a: &Args) -> PlotParams {
         pixel: a.pixel,
         pitch: a.pitch,
         hatch_layers: a.hatch_layers,
+        image_pens: a.image_pens.clone(),
         merge_tol: a.merge_tol,
         simplify_tol: a.simplify_tol,
         no_optimise: a.no_optimise,

@@ -47,7 +47,9 @@ pub use clean::{dedupe, simplify};
 pub use crop::crop;
 pub use emit::{gcode, hpgl, joint_gcode, marlin};
 pub use fill::{fill_regions, FillStyle, MAX_FILL_LINES, MIN_FILL_SPACING};
-pub use hatch::{hatch, load_gray, Gray, HatchError, Hatching};
+pub use hatch::{
+    band_regions, fill_bands, hatch, load_gray, Gray, HatchError, Hatching, MAX_BANDS,
+};
 pub use job::{prepare, Crop, Format, Prepared, Settings};
 pub use layout::{layout, page_size, Layout, Placed, PAGE_SIZES};
 pub use machine::{

@@ -1,5 +1,11 @@
 //! Images → hatching: darker pixels get more layers of parallel lines (0°, 90°, 45°, 135°),
-//! each layer drawn where the darkness passes its threshold.
+//! each layer drawn where the darkness passes its threshold; or (`bands`) darkness bands
+//! filled as shapes are.
+
+mod bands;
+mod contour;
+
+pub use bands::{band_regions, fill_bands, MAX_BANDS};
 
 use oficina_geom::{Point, Vec2};
 
@@ -73,12 +79,27 @@ pub fn load_gray(path: &std::path::Path) -> Result<(usize, usize, Vec<u8>), Hatc
     Ok((g.width() as usize, g.height() as usize, g.into_raw()))
 }
 
-/// Hatch strokes of the picture, its lower-left corner at the origin, Y up.
-pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
-    if !(h.pixel.is_finite() && h.pixel > 0.0 && h.pitch.is_finite() && h.pitch > 0.0) {
+/// Refuses a pixel size that is not a length and a picture without its pixels.
+fn check_picture(img: &Gray, pixel: f64) -> Result<(), HatchError> {
+    if !(pixel.is_finite() && pixel > 0.0) {
         return Err(HatchError::Settings(format!(
-            "pixel size {} mm and pitch {} mm must be > 0",
-            h.pixel, h.pitch
+            "pixel size {pixel} mm must be > 0"
+        )));
+    }
+    if img.width == 0 || img.height == 0 || img.pixels.len() < img.width * img.height {
+        return Err(HatchError::Settings("the image has no pixels".into()));
+    }
+    Ok(())
+}
+
+/// Hatch strokes of the picture, its lower-left corner at the origin, Y up: one list per
+/// layer, lightest (first drawn everywhere darkness passes 1/(layers+1)) first.
+pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Vec<Stroke>>, HatchError> {
+    check_picture(img, h.pixel)?;
+    if !(h.pitch.is_finite() && h.pitch > 0.0) {
+        return Err(HatchError::Settings(format!(
+            "pitch {} mm must be > 0",
+            h.pitch
         )));
     }
     if !h.angle.is_finite() {
@@ -92,9 +113,6 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
             "layers must be 1…4, got {}",
             h.layers
         )));
-    }
-    if img.width == 0 || img.height == 0 || img.pixels.len() < img.width * img.height {
-        return Err(HatchError::Settings("the image has no pixels".into()));
     }
     let (wmm, hmm) = (img.width as f64 * h.pixel, img.height as f64 * h.pixel);
     if wmm.hypot(hmm) / h.pitch > MAX_LINES {
@@ -120,7 +138,7 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
     ];
     // Sample along a line at half a pixel so no pixel is skipped.
     let step = h.pixel * 0.5;
-    let mut out = Vec::new();
+    let mut layers = Vec::with_capacity(h.layers);
     for (k, a) in angles
         .iter()
         .map(|a| a + h.angle)
@@ -128,6 +146,7 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
         .enumerate()
     {
         let threshold = (k + 1) as f64 / (h.layers + 1) as f64;
+        let mut out = Vec::new();
         let u = Vec2::from_angle(a.to_radians());
         let nrm = Vec2::new(-u.y, u.x);
         let proj = |v: Vec2| corners.iter().map(move |c| c.to_vec2().dot(v));
@@ -167,8 +186,9 @@ pub fn hatch(img: &Gray, h: &Hatching) -> Result<Vec<Stroke>, HatchError> {
             }
             t += h.pitch;
         }
+        layers.push(out);
     }
-    Ok(out)
+    Ok(layers)
 }
 
 #[cfg(test)]
@@ -198,7 +218,8 @@ mod tests {
                 angle: 0.0,
             },
         )
-        .unwrap();
+        .unwrap()
+        .concat();
         assert!(!s.is_empty());
         for p in s.iter().flatten() {
             assert!(p.x <= 10.0 + 1e-9, "hatch in the white half at {p:?}");
