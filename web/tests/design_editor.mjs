@@ -337,8 +337,9 @@ await test('digitise a sole, grade it to 3 sizes and mirror it: the same contour
   await page.click('#de-new');
   // A 300 × 600 px scan of an egg-shaped sole, 2 px a mm once calibrated: the marks 200 px
   // apart are 100 mm. As above, the pixel (u, v) ends at (25 + u/2, 10 + (600 − v)/2) mm.
-  // The sole in mm: (100 + (35 + 10 sin t) cos t, 160 + 120 sin t), wider at the toe.
-  const sole = (t) => [100 + (35 + 10 * Math.sin(t)) * Math.cos(t), 160 + 120 * Math.sin(t)];
+  // The sole in mm: (95 + (35 + 10 sin t) cos t + 10 sin² t, 160 + 120 sin t), wider at
+  // the toe, its heel and toe bent 10 mm the same way (a left foot's curve).
+  const sole = (t) => [95 + (35 + 10 * Math.sin(t)) * Math.cos(t) + 10 * Math.sin(t) ** 2, 160 + 120 * Math.sin(t)];
   const px = ([x, y]) => [2 * (x - 25), 600 - 2 * (y - 10)];
   const outlinePx = Array.from({ length: 180 }, (_, k) => px(sole((2 * Math.PI * k) / 180)).join(',')).join(' ');
   const scan = path.join(dir, 'sole.svg');

@@ -172,7 +172,7 @@ async function grade() {
     if (!r.ok) throw new Error(v.error ?? r.statusText);
     const report = (v.sizes as { size: number; method: string; blocks: number; max_deviation: number }[]).map((g) => `${g.size}: ${g.method}, ${g.blocks} blocks, ${g.max_deviation.toFixed(3)} mm`).join(' · ');
     commit((d) => { d.layers = v.design.layers; d.entities = v.design.entities; }, `graded and mirrored from ${points.length} points — ${report}`);
-    renderLayers();
+    renderLayers(); fit();
   } catch (err) { status(`grade: ${(err as Error).message}`, true); }
 }
 
