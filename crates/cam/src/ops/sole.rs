@@ -253,21 +253,16 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
     if !(job.insert_clearance >= 0.0 && job.insert_clearance < 1.0) {
         return Err(bad("insert clearance (0–1 mm)", job.insert_clearance));
     }
-    let GradedFeet {
-        grading,
-        factors,
-        fit,
-        fallback,
-        left,
-        right,
-        axis,
-    } = graded_feet(points, job)?;
-    let tread_left = graded_tread(&job.tread, &grading, job.to_size)?;
-    let tread_right: Vec<Path> = tread_left.iter().map(|p| mirror_path(p, axis)).collect();
+    let feet = graded_feet(points, job)?;
+    let tread_left = graded_tread(&job.tread, &feet.grading, job.to_size)?;
+    let tread_right: Vec<Path> = tread_left
+        .iter()
+        .map(|p| mirror_path(p, feet.axis))
+        .collect();
     let mut programs = Vec::new();
     for (foot, contour, tread) in [
-        (Foot::Left, &left, &tread_left),
-        (Foot::Right, &right, &tread_right),
+        (Foot::Left, &feet.left, &tread_left),
+        (Foot::Right, &feet.right, &tread_right),
     ] {
         let b = contour.bounding_box().expect("not empty");
         let shift = Vec2::new(job.margin - b.x0, job.margin - b.y0);
@@ -296,12 +291,12 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
         });
     }
     Ok(SoleResult {
-        grading,
-        factors,
-        fit,
-        fallback,
+        grading: feet.grading,
+        factors: feet.factors,
+        fit: feet.fit,
+        fallback: feet.fallback,
         programs,
-        feet: [left, right],
+        feet: [feet.left, feet.right],
     })
 }
 
