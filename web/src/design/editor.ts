@@ -80,7 +80,7 @@ function add(shape: Shape) {
 /// What the current tool asks for next.
 function prompt(): string {
   switch (tool) {
-    case null: return 'click to select (shift adds), drag a box (rightwards: inside it, leftwards: touching it) · type a command: line, polyline, rect, circle, arc, tarc, point, polygon, spline, text, fillet, chamfer, trim, extend, offset, grade, move, copy, rotate, scale, mirror, explode, join, delete, undo, redo';
+    case null: return 'click to select (shift adds), drag a box (rightwards: inside it, leftwards: touching it) · type a tool\'s name, or explode, join, delete, grade, fit, all, none, undo, redo';
     case 'line': return pts.length ? 'next point (Enter ends)' : 'first point';
     case 'polyline': return pts.length ? `next point · close · Enter ends (${pts.length} points)` : 'first point';
     case 'rect': return pts.length ? 'opposite corner' : 'first corner';
