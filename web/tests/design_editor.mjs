@@ -333,5 +333,192 @@ await test('digitise 12 points on a calibrated image and fit them', async () => 
   assert(far < 0.3 + 2 * mmPerPx, `a vertex ${far} mm from the ellipse (${mmPerPx} mm a pixel)`);
 });
 
+await test('digitise a sole, grade it to 3 sizes and mirror it: the same contours as oficina sole', async () => {
+  await page.click('#de-new');
+  // A 300 × 600 px scan of an egg-shaped sole, 2 px a mm once calibrated: the marks 200 px
+  // apart are 100 mm. As above, the pixel (u, v) ends at (25 + u/2, 10 + (600 − v)/2) mm.
+  // The sole in mm: (95 + (35 + 10 sin t) cos t + 10 sin² t, 160 + 120 sin t), wider at
+  // the toe, its heel and toe bent 10 mm the same way (a left foot's curve).
+  const sole = (t) => [95 + (35 + 10 * Math.sin(t)) * Math.cos(t) + 10 * Math.sin(t) ** 2, 160 + 120 * Math.sin(t)];
+  const px = ([x, y]) => [2 * (x - 25), 600 - 2 * (y - 10)];
+  const outlinePx = Array.from({ length: 180 }, (_, k) => px(sole((2 * Math.PI * k) / 180)).join(',')).join(' ');
+  const scan = path.join(dir, 'sole.svg');
+  writeFileSync(scan, `<svg xmlns="http://www.w3.org/2000/svg" width="300" height="600"><rect width="300" height="600" fill="#fff"/><polygon points="${outlinePx}" fill="none" stroke="#000" stroke-width="2"/><circle cx="50" cy="580" r="3"/><circle cx="250" cy="580" r="3"/></svg>`);
+  await page.setInputFiles('#de-bg-file', scan);
+  await page.waitForFunction(() => window.__design.background(), null, { timeout: 10000 });
+  for (const t of ['calibrate', '50,20', '250,20', '100']) await type(t);
+  const bg = await page.evaluate(() => window.__design.background());
+  assert(Math.abs(bg.x - 25) < 1e-9 && Math.abs(bg.y - 10) < 1e-9 && Math.abs(bg.w - 150) < 1e-9 && Math.abs(bg.h - 300) < 1e-9, JSON.stringify({ ...bg, href: '' }));
+  await page.click('#de-tool-digitise');
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  for (let k = 0; k < 16; k++) {
+    const [x, y] = await page.evaluate((p) => window.__design.screen(p), sole((2 * Math.PI * k) / 16));
+    await page.mouse.click(x, y);
+  }
+  await page.waitForFunction(() => /from 16 points/.test(document.getElementById('de-fit-report').textContent), null, { timeout: 20000 });
+  await type('');
+  const [contour] = await entities();
+  assert(contour?.type === 'polyline' && contour.closed, JSON.stringify(contour));
+  const picked = await page.evaluate((id) => window.__design.digitised(id), contour.id);
+  assert(picked?.length === 16, `16 digitised points kept: ${JSON.stringify(picked)}`);
+  await type('all');
+  await page.fill('#de-from-size', '37');
+  await page.fill('#de-sizes', '38,39,40');
+  await page.click('#de-grade');
+  await page.waitForFunction(() => window.__design.design().entities.length === 7, null, { timeout: 60000 })
+    .catch(async () => { throw new Error(await statusText()); });
+  const graded = await entities();
+  // The peer run: `oficina sole` on the same points (written exactly: JS prints the shortest
+  // decimal that reads back to the same double), its contours written for each size.
+  const csv = path.join(dir, 'sole.csv');
+  writeFileSync(csv, picked.map((p) => `${p[0]},${p[1]}`).join('\n') + '\n');
+  const contours = path.join(dir, 'sole-contours.oficina.json');
+  for (const size of [38, 39, 40]) {
+    execFileSync(bin, ['sole', csv, '--from-size', '37', '--to-size', String(size), '--contours', contours, '-o', path.join(dir, `sole-${size}`)], { stdio: 'pipe' });
+  }
+  const peer = JSON.parse(readFileSync(contours, 'utf8')).entities;
+  let worst = 0;
+  for (const size of [38, 39, 40]) for (const foot of ['left', 'right']) {
+    const layer = `size ${size} ${foot}`;
+    const mine = graded.filter((e) => e.layer === layer), theirs = peer.filter((e) => e.layer === layer);
+    assert(mine.length === 1 && theirs.length === 1, `${layer}: ${mine.length} in the page, ${theirs.length} from oficina sole`);
+    const [a, b] = [mine[0].vertices, theirs[0].vertices];
+    assert(a.length === b.length, `${layer}: ${a.length} vertices vs ${b.length}`);
+    a.forEach((v, k) => v.forEach((x, i) => { worst = Math.max(worst, Math.abs(x - (b[k][i] ?? 0))); }));
+  }
+  assert(worst < 1e-6, `the page's graded contours are ${worst} from oficina sole's`);
+  // Hand checks: a size up in the Brazilian system is 6.66 mm longer, and 2 % shrinkage is
+  // added to the scale: the graded length is L·(1 + n·6.66/L + 0.02) = L·1.02 + 6.66·n for
+  // the digitised length L (the fit's vertices lie within its 0.3 mm tolerance of the
+  // graded points). The right foot is the left mirrored across a vertical line: every right
+  // vertex is a left vertex with x → c − x for one c.
+  const ys = picked.map((p) => p[1]), L = Math.max(...ys) - Math.min(...ys);
+  for (const size of [38, 39, 40]) {
+    const left = graded.find((e) => e.layer === `size ${size} left`).vertices, right = graded.find((e) => e.layer === `size ${size} right`).vertices;
+    const ly = left.map((v) => v[1]), len = Math.max(...ly) - Math.min(...ly), want = L * 1.02 + 6.66 * (size - 37);
+    assert(Math.abs(len - want) < 0.6, `size ${size}: length ${len} vs ${want}`);
+    // c: the sum of x over the pair at the right's first vertex (2× the axis).
+    const pair = (v) => left.filter((w) => Math.abs(w[1] - v[1]) < 1e-9).map((w) => w[0] + v[0]);
+    const c = pair(right[0])[0];
+    const unmatched = right.filter((v) => !pair(v).some((sum) => Math.abs(sum - c) < 1e-6));
+    assert(unmatched.length === 0, `size ${size}: ${unmatched.length} right vertices are not left ones mirrored`);
+  }
+  const layers = (await page.evaluate(() => window.__design.design().layers)).map((l) => l.name);
+  assert(layers.includes('size 38 left') && layers.includes('size 40 right'), layers.join(', '));
+  await page.locator('#de-view').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: path.join(shots, 'workbench-design-sole-graded.png') });
+  // The graded layers export with the rest: the DXF holds the six contours.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#de-dxf')]);
+  const dxf = path.join(dir, 'graded.dxf');
+  await download.saveAs(dxf);
+  const polylines = readFileSync(dxf, 'utf8').split('\n').filter((l) => l.trim() === 'POLYLINE').length;
+  assert(polylines === 7, `7 polylines in the DXF (the digitised contour and six graded), ${polylines}`);
+});
+
+await test("seed 001's graphic file: exported, opened again, the same entities and numbers", async () => {
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['line', '0,0', '30,10', '']) await type(t);
+  for (const t of ['arcc', '50,0', '60,0', '50,10']) await type(t);
+  for (const t of ['circle', '80,20', '7.5']) await type(t);
+  for (const t of ['rect', '0,30', '25,45']) await type(t);
+  for (const t of ['polyline', '40,30', '55,40', '70,32', '']) await type(t);
+  for (const t of ['point', '12.5,-3.25', 'esc']) await type(t);
+  const before = await entities();
+  assert(before.length === 6, JSON.stringify(before.map((e) => e.type)));
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#de-seed001')]);
+  assert(download.suggestedFilename().endsWith('.dat'), download.suggestedFilename());
+  const dat = path.join(dir, 'shapes.dat');
+  await download.saveAs(dat);
+  // The file by hand (seed digest §5.3): NI = 5 entities (the point goes to the point list),
+  // the line a code 4 of its two ends, the arc code 1 (centre, start, end, (radius, +1)),
+  // and the last numbers NS = 1 and the point.
+  const nums = readFileSync(dat, 'utf8').trim().split(/\s+/).map(Number);
+  assert(nums[0] === 5, `NI ${nums[0]}`);
+  assert(JSON.stringify(nums.slice(5, 15)) === JSON.stringify([4, 0, 0, 30, 10, 2, 0, 0, 30, 10]), nums.slice(5, 15).join(' '));
+  assert(JSON.stringify(nums.slice(15, 28).map((x) => Math.round(x * 1e9) / 1e9)) === JSON.stringify([1, 50, 0, 60, 10, 4, 50, 0, 60, 0, 50, 10, 10]) && nums[28] === 1, nums.slice(15, 29).join(' '));
+  assert(JSON.stringify(nums.slice(-3)) === JSON.stringify([1, 12.5, -3.25]), nums.slice(-3).join(' '));
+  await page.click('#de-new');
+  await page.setInputFiles('#de-open', dat);
+  await page.waitForFunction(() => window.__design.design().entities.length === 6, null, { timeout: 10000 })
+    .catch(async () => { throw new Error(await statusText()); });
+  const after = await entities();
+  assert(JSON.stringify(after.map((e) => e.type)) === JSON.stringify(before.map((e) => e.type)), `${after.map((e) => e.type)} vs ${before.map((e) => e.type)}`);
+  // Numbers equal within the file's precision (Rust's shortest exact decimals: the same
+  // doubles; arc angles recomputed from the end points within 1e-9°).
+  const flat = (e) => JSON.stringify(Object.keys(e).filter((k) => k !== 'id').sort().map((k) => [k, e[k]]), (k, v) => (typeof v === 'number' ? Math.round(v * 1e9) / 1e9 + 0 : v));
+  before.forEach((e, k) => assert(flat(e) === flat(after[k]), `${flat(e)} vs ${flat(after[k])}`));
+  // The command line writes the same file from the saved design.
+  const [saved] = await Promise.all([page.waitForEvent('download'), page.click('#de-save')]);
+  const json = path.join(dir, 'shapes-again.oficina.json');
+  await saved.saveAs(json);
+  execFileSync(bin, ['design', 'export', json, '--seed001', path.join(dir, 'cli.dat')]);
+  const [again] = await Promise.all([page.waitForEvent('download'), page.click('#de-seed001')]);
+  const pageDat = path.join(dir, 'page-again.dat');
+  await again.saveAs(pageDat);
+  assert(readFileSync(path.join(dir, 'cli.dat'), 'utf8') === readFileSync(pageDat, 'utf8'), 'the CLI and the page write the same seed 001 file');
+});
+
+await test('point, tangent arc, extend and box selection against hand-derived numbers', async () => {
+  await page.click('#de-new');
+  await type('esc');
+  // Point.
+  for (const t of ['point', '3,4', '-1,2.5', 'esc']) await type(t);
+  let es = await entities();
+  assert(JSON.stringify(es.map((e) => e.at)) === JSON.stringify([[3, 4], [-1, 2.5]]), JSON.stringify(es));
+  // Tangent arc: from the end (10, 0) of the line (0, 0)–(10, 0), heading +x, to (20, 10):
+  // d = (10, 10), t × d = 10, r = |d|²/(2·10) = 10, centre (10, 0) + 10·(0, 1) = (10, 10);
+  // the sweep is twice the 45° between t and d: 90° from −90°. Chained on to (10, 20): it
+  // leaves (20, 10) heading +y, d = (−10, 10), t × d = 10, r = 10, centre (10, 10) again,
+  // from 0° sweeping 2·45° = 90°.
+  await page.click('#de-new');
+  for (const t of ['line', '0,0', '10,0', '']) await type(t);
+  for (const t of ['tarc', '10,0', '20,10', '10,20', '']) await type(t);
+  es = (await entities()).filter((e) => e.type === 'arc');
+  const near = (a, b) => Math.abs(a - b) < 1e-9;
+  assert(es.length === 2, JSON.stringify(es));
+  assert(near(es[0].center[0], 10) && near(es[0].center[1], 10) && near(es[0].radius, 10) && near(es[0].start, -90) && near(es[0].sweep, 90), JSON.stringify(es[0]));
+  assert(near(es[1].center[0], 10) && near(es[1].center[1], 10) && near(es[1].radius, 10) && near(es[1].start, 0) && near(es[1].sweep, 90), JSON.stringify(es[1]));
+  // Extend: the line (0, 0)–(10, 0) to the line x = 25 ((25, −5)–(25, 30)) ends at (25, 0);
+  // the arc about (10, 10) r 10 from 0° to 180° (after the chain) is extended past 180° to
+  // the line y = 4: 10 + 10 sin θ = 4, sin θ = −0.6, θ = 180° + asin 0.6 = 216.8699°.
+  await page.click('#de-new');
+  for (const t of ['line', '0,0', '10,0', '']) await type(t);
+  for (const t of ['line', '25,-5', '25,30', '']) await type(t);
+  for (const t of ['extend', '9,0']) await type(t);
+  es = await entities();
+  assert(near(es[0].b[0], 25) && near(es[0].b[1], 0) && near(es[0].a[0], 0), JSON.stringify(es[0]));
+  await type('esc');
+  for (const t of ['arcc', '10,10', '20,10', '0,10']) await type(t);
+  for (const t of ['line', '-5,4', '15,4', '']) await type(t);
+  for (const t of ['extend', '0.5,12']) await type(t);
+  const arc = (await entities()).find((e) => e.type === 'arc');
+  const want = 180 + (Math.asin(0.6) * 180) / Math.PI;
+  assert(arc && near(arc.start, 0) && Math.abs(arc.start + arc.sweep - want) < 1e-9, `${JSON.stringify(arc)} vs end ${want}`);
+  // Box selection: a line (0, 0)–(10, 0), a circle r 5 about (30, 0), a square 50..60.
+  // Dragged rightwards from (−2, −8) to (32, 8) (a window): only the line lies inside;
+  // dragged leftwards over the same box (crossing): the line and the circle it cuts.
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['line', '0,0', '10,0', '']) await type(t);
+  for (const t of ['circle', '30,0', '5']) await type(t);
+  for (const t of ['rect', '50,-5', '60,5']) await type(t);
+  await type('fit');
+  const ids = (await entities()).map((e) => e.id);
+  const drag = async (from, to) => {
+    const [a, b] = await page.evaluate(([p, q]) => [window.__design.screen(p), window.__design.screen(q)], [from, to]);
+    await page.mouse.move(a[0], a[1]);
+    await page.mouse.down();
+    await page.mouse.move((a[0] + b[0]) / 2, (a[1] + b[1]) / 2);
+    await page.mouse.move(b[0], b[1]);
+    await page.mouse.up();
+    return (await statusText()).match(/selected: ([\d ]+)/)?.[1].trim().split(' ').map(Number) ?? [];
+  };
+  let sel = await drag([-2, -8], [32, 8]);
+  assert(JSON.stringify(sel) === JSON.stringify([ids[0]]), `window: ${sel} (${await statusText()})`);
+  sel = await drag([32, 8], [-2, -8]);
+  assert(JSON.stringify(sel.sort()) === JSON.stringify([ids[0], ids[1]]), `crossing: ${sel} (${await statusText()})`);
+});
+
 await browser.close();
 finish();

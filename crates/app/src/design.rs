@@ -3,12 +3,12 @@
 //! call these; the design file itself is `oficina_io`'s.
 
 use crate::Error;
-use oficina_io::design_from_paths;
 pub use oficina_io::entity_paths;
 use oficina_io::geom::{offset_areas, Area, Path};
+use oficina_io::{design_from_paths, path_to_polyline};
 pub use oficina_io::{
-    design_to_dxf, design_to_string, design_to_svg, parse_design, Design, DesignLayer, Entity,
-    Shape,
+    design_from_seed001, design_to_dxf, design_to_seed001, design_to_string, design_to_svg,
+    parse_design, Design, DesignLayer, Entity, Shape,
 };
 
 /// Offset contours are within this of the exact offset, mm (lines and arcs are rebuilt
@@ -54,12 +54,15 @@ pub fn offset(design: &Design, ids: &[u64], distance: f64) -> Result<Vec<Entity>
         .map_err(|e| Error(format!("offset: {e}")))
 }
 
-/// The design as `format` (`svg` or `dxf`).
+/// The design as `format` (`svg`, `dxf` or `seed001`, seed 001's graphic file).
 pub fn export(design: &Design, format: &str) -> Result<String, Error> {
     match format {
         "svg" => Ok(design_to_svg(design)),
         "dxf" => Ok(design_to_dxf(design)),
-        other => Err(Error(format!("export: '{other}' is not svg or dxf"))),
+        "seed001" => Ok(design_to_seed001(design)),
+        other => Err(Error(format!(
+            "export: '{other}' is not svg, dxf or seed001"
+        ))),
     }
 }
 
@@ -86,6 +89,7 @@ fn kind(s: &Shape) -> &'static str {
         Shape::Polyline { .. } => "polyline",
         Shape::Spline { .. } => "spline",
         Shape::Text { .. } => "text",
+        Shape::Point { .. } => "point",
     }
 }
 
@@ -130,4 +134,120 @@ pub fn fit(points: &[[f64; 2]], method: &str, tol: f64) -> Result<Fitted, Error>
         max_deviation: f.max_deviation,
         blocks: f.blocks,
     })
+}
+
+/// How to grade a digitised sole contour, as `oficina sole` does.
+pub struct GradeParams {
+    /// The size the points were digitised at.
+    pub from_size: f64,
+    /// The sizes to make.
+    pub sizes: Vec<f64>,
+    /// `br` or `us`.
+    pub system: String,
+    /// Material shrinkage, percent.
+    pub shrink: f64,
+    /// Fitting tolerance, mm.
+    pub tol: f64,
+}
+
+/// Most sizes one grading makes (a size run, with room).
+const MAX_SIZES: usize = 40;
+
+/// One graded size: the fitted contour of each foot.
+pub struct GradedSize {
+    /// The size.
+    pub size: f64,
+    /// Left then right foot, closed polylines in the points' frame.
+    pub feet: [Shape; 2],
+    /// `tangent circles` or `biarc`.
+    pub method: String,
+    /// Lines and arcs of one foot.
+    pub blocks: usize,
+    /// Largest distance of the fit from the graded points, mm.
+    pub max_deviation: f64,
+}
+
+/// The digitised points graded to each size, fitted and mirrored by the mold job's own
+/// `graded_feet` (`oficina sole`): about the heel, α on the width and β on the length.
+pub fn grade(points: &[[f64; 2]], p: &GradeParams) -> Result<Vec<GradedSize>, Error> {
+    use oficina_cam::ops::{graded_feet, SoleJob};
+    use oficina_geom::SizeSystem;
+    let system = SizeSystem::parse(&p.system).ok_or_else(|| {
+        Error(format!(
+            "grade: system '{}': br (Brazilian/French) or us (English/American)",
+            p.system
+        ))
+    })?;
+    if p.sizes.is_empty() || p.sizes.len() > MAX_SIZES {
+        return Err(Error(format!(
+            "grade: {} sizes: give 1 to {MAX_SIZES}",
+            p.sizes.len()
+        )));
+    }
+    if let Some(s) = [p.from_size]
+        .iter()
+        .chain(&p.sizes)
+        .find(|s| !(s.is_finite() && (0.0..=100.0).contains(*s)))
+    {
+        return Err(Error(format!("grade: size {s}: a number from 0 to 100")));
+    }
+    if !(0.0..=20.0).contains(&p.shrink) {
+        return Err(Error(format!("grade: shrink {} %: use 0 to 20", p.shrink)));
+    }
+    if !(p.tol > 0.0 && p.tol.is_finite()) {
+        return Err(Error(format!("grade: tolerance {}: above 0 mm", p.tol)));
+    }
+    if points.len() < 3 || points.len() > 100_000 || points.iter().flatten().any(|v| !v.is_finite())
+    {
+        return Err(Error(format!(
+            "grade: {} points: 3 to 100000 finite points",
+            points.len()
+        )));
+    }
+    let pts: Vec<_> = points.iter().map(|q| (q[0], q[1]).into()).collect();
+    p.sizes
+        .iter()
+        .map(|&size| {
+            let job = SoleJob {
+                system,
+                shrink: p.shrink / 100.0,
+                fit_tolerance: p.tol,
+                ..SoleJob::seed(p.from_size, size)
+            };
+            let g = graded_feet(&pts, &job).map_err(|e| Error(format!("grade to {size}: {e}")))?;
+            Ok(GradedSize {
+                size,
+                feet: feet_shapes(&[g.left, g.right])
+                    .map_err(|e| Error(format!("grade to {size}: {}", e.0)))?,
+                method: g.fit.method.name().to_string(),
+                blocks: g.fit.blocks,
+                max_deviation: g.fit.max_deviation,
+            })
+        })
+        .collect()
+}
+
+/// The two feet's contours (lines and arcs) as closed polylines.
+pub fn feet_shapes(feet: &[Path; 2]) -> Result<[Shape; 2], Error> {
+    let shape = |p: &Path| {
+        path_to_polyline(p).ok_or_else(|| Error("a foot's contour has Bézier pieces".into()))
+    };
+    Ok([shape(&feet[0])?, shape(&feet[1])?])
+}
+
+/// Adds each foot of a graded size to `design` on its own layer (`size 40 left`, `size 40
+/// right`, made when missing), ids after the design's largest.
+pub fn add_graded(design: &mut Design, size: f64, feet: [Shape; 2]) {
+    for (foot, shape) in ["left", "right"].into_iter().zip(feet) {
+        let layer = format!("size {size} {foot}");
+        if !design.layers.iter().any(|l| l.name == layer) {
+            let color = if foot == "left" { "#2f7fd8" } else { "#d8782f" };
+            design.layers.push(DesignLayer {
+                name: layer.clone(),
+                color: color.into(),
+            });
+        }
+        let id = design.entities.iter().map(|e| e.id).max().unwrap_or(0) + 1;
+        design.entities.push(Entity { id, layer, shape });
+    }
 }

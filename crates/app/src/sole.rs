@@ -73,6 +73,8 @@ pub struct SoleResult {
     pub summary: Vec<String>,
     /// One program a part and foot.
     pub programs: Vec<SoleOutput>,
+    /// The graded, fitted contour of the left and right foot in the points' frame.
+    pub feet: [oficina_geom::Path; 2],
 }
 
 impl SoleResult {
@@ -248,5 +250,9 @@ pub fn sole(
         });
     }
     summary.extend(tread_summary);
-    Ok(SoleResult { summary, programs })
+    Ok(SoleResult {
+        summary,
+        programs,
+        feet: result.feet,
+    })
 }

@@ -16,6 +16,33 @@ pub(crate) enum Command {
     /// Fit a digitised closed contour (a point list) by one of `oficina fit`'s methods and add
     /// it to a design (made when missing).
     Fit(FitArgs),
+    /// Grade a digitised sole contour (a point list) to sizes and mirror it for the other
+    /// foot, as `oficina sole` does; each size's feet are added on layers `size N left|right`.
+    Grade(GradeArgs),
+}
+
+#[derive(clap::Args)]
+pub(crate) struct GradeArgs {
+    /// Point list: x,y per line (CSV or whitespace), header optional.
+    points: PathBuf,
+    /// The size the points were digitised at.
+    #[arg(long)]
+    from_size: f64,
+    /// The sizes to make, e.g. 38,39,40.
+    #[arg(long, value_delimiter = ',', required = true)]
+    to_size: Vec<f64>,
+    /// Size system: br (Brazilian/French, Paris point) or us (English/American).
+    #[arg(long, default_value = "br")]
+    system: String,
+    /// Material shrinkage, percent.
+    #[arg(long, default_value_t = 2.0)]
+    shrink: f64,
+    /// Fitting tolerance, mm.
+    #[arg(long, default_value_t = 0.3)]
+    fit_tolerance: f64,
+    /// The design to add the contours to (made when missing).
+    #[arg(long, short)]
+    output: PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -43,6 +70,9 @@ pub(crate) struct ExportArgs {
     /// Write DXF here.
     #[arg(long)]
     dxf: Option<PathBuf>,
+    /// Write seed 001's graphic file here.
+    #[arg(long)]
+    seed001: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -64,10 +94,10 @@ pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
     match cmd {
         Command::Export(a) => {
             let d = design::read(&a.file)?;
-            if a.svg.is_none() && a.dxf.is_none() {
-                anyhow::bail!("give --svg OUT and/or --dxf OUT");
+            if a.svg.is_none() && a.dxf.is_none() && a.seed001.is_none() {
+                anyhow::bail!("give --svg OUT, --dxf OUT and/or --seed001 OUT");
             }
-            for (out, format) in [(a.svg, "svg"), (a.dxf, "dxf")] {
+            for (out, format) in [(a.svg, "svg"), (a.dxf, "dxf"), (a.seed001, "seed001")] {
                 if let Some(out) = out {
                     std::fs::write(&out, design::export(&d, format)?)
                         .with_context(|| format!("writing {}", out.display()))?;
@@ -94,15 +124,33 @@ pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
             std::fs::write(&out, design::design_to_string(&d))
                 .with_context(|| format!("writing {}", out.display()))?;
         }
+        Command::Grade(a) => {
+            let xy = read_points(&a.points)?;
+            let graded = design::grade(
+                &xy,
+                &design::GradeParams {
+                    from_size: a.from_size,
+                    sizes: a.to_size,
+                    system: a.system,
+                    shrink: a.shrink,
+                    tol: a.fit_tolerance,
+                },
+            )?;
+            let mut d = read_or_new(&a.output)?;
+            for g in graded {
+                println!(
+                    "size {}: {} with {} blocks, largest deviation {:.4} mm, left and right",
+                    g.size, g.method, g.blocks, g.max_deviation
+                );
+                design::add_graded(&mut d, g.size, g.feet);
+            }
+            std::fs::write(&a.output, design::design_to_string(&d))
+                .with_context(|| format!("writing {}", a.output.display()))?;
+        }
         Command::Fit(a) => {
-            let pts = oficina_io::load_points(&a.points).context("reading the points")?;
-            let xy: Vec<[f64; 2]> = pts.iter().map(|p| [p.x, p.y]).collect();
+            let xy = read_points(&a.points)?;
             let f = design::fit(&xy, &a.method, a.tol)?;
-            let mut d = if a.output.exists() {
-                design::read(&a.output)?
-            } else {
-                design::Design::new()
-            };
+            let mut d = read_or_new(&a.output)?;
             let id = d.entities.iter().map(|e| e.id).max().unwrap_or(0) + 1;
             let layer = d
                 .layers
@@ -110,7 +158,7 @@ pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
                 .map_or_else(|| "0".to_string(), |l| l.name.clone());
             println!(
                 "{} points → entity {id}: {} blocks, largest deviation {:.4} mm",
-                pts.len(),
+                xy.len(),
                 f.blocks,
                 f.max_deviation
             );
@@ -124,4 +172,18 @@ pub(crate) fn run(cmd: Command) -> anyhow::Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn read_points(file: &std::path::Path) -> anyhow::Result<Vec<[f64; 2]>> {
+    let pts = oficina_io::load_points(file).context("reading the points")?;
+    Ok(pts.iter().map(|p| [p.x, p.y]).collect())
+}
+
+/// The design in `file`, or a new one when there is no such file.
+fn read_or_new(file: &std::path::Path) -> anyhow::Result<design::Design> {
+    Ok(if file.exists() {
+        design::read(file)?
+    } else {
+        design::Design::new()
+    })
 }

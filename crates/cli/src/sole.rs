@@ -34,6 +34,10 @@ pub(crate) struct Args {
     /// Output directory.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Also add the graded contour of each foot (before placing on the block) to this design
+    /// file (`*.oficina.json`, made when missing) on layers `size N left` / `size N right`.
+    #[arg(long)]
+    pub contours: Option<PathBuf>,
     #[command(flatten)]
     pub out: PostArgs,
     /// Grid of the stock simulation, mm.
@@ -87,6 +91,18 @@ pub(crate) fn run(args: Args) -> Result<std::process::ExitCode> {
         });
     }
     bar.finish_and_clear();
+    if let Some(file) = &args.contours {
+        let feet = oficina_app::design::feet_shapes(&result.feet)?;
+        let mut d = if file.exists() {
+            oficina_app::design::read(file)?
+        } else {
+            oficina_app::design::Design::new()
+        };
+        oficina_app::design::add_graded(&mut d, args.to_size, feet);
+        std::fs::write(file, oficina_app::design::design_to_string(&d))
+            .with_context(|| format!("{}: cannot write", file.display()))?;
+        println!("{}: size {} left and right", file.display(), args.to_size);
+    }
     for l in &result.summary {
         println!("{l}");
     }

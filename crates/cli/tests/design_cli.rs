@@ -140,3 +140,54 @@ fn design_fit_adds_the_contour_oficina_fit_reports() {
     let want = std::f64::consts::PI * 60.0 * 40.0;
     assert!((area - want).abs() < 0.005 * want, "{area} vs {want}");
 }
+
+#[test]
+fn design_grade_gives_oficina_soles_contours() {
+    let dir = scratch_dir("design-cli-grade");
+    let pts =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../samples/sole/size34.csv");
+    let pts = pts.display();
+    let said = assert_success(&oficina(
+        &dir,
+        &format!("design grade {pts} --from-size 34 --to-size 36,40 -o g.oficina.json"),
+    ));
+    assert!(said.contains("size 40:"), "{said}");
+    for size in [36, 40] {
+        assert_success(&oficina(
+            &dir,
+            &format!(
+                "sole {pts} --from-size 34 --to-size {size} --contours s.oficina.json -o out{size}"
+            ),
+        ));
+    }
+    let read = |f: &str| {
+        oficina_io::parse_design(&std::fs::read_to_string(dir.join(f)).unwrap(), f).unwrap()
+    };
+    let (mine, theirs) = (read("g.oficina.json"), read("s.oficina.json"));
+    let graded: Vec<_> = mine.entities.iter().map(|e| (&e.layer, &e.shape)).collect();
+    let peer: Vec<_> = theirs
+        .entities
+        .iter()
+        .map(|e| (&e.layer, &e.shape))
+        .collect();
+    assert_eq!(graded.len(), 4);
+    assert_eq!(graded, peer);
+    // By hand: size 34 → 40 in the Brazilian system is 6 · 6.66 mm longer, and the 2 %
+    // shrinkage scales the length too: L·1.02 + 39.96 (vertices within the 0.3 mm fit).
+    let ys = |s: &oficina_io::Shape| match s {
+        oficina_io::Shape::Polyline { vertices, .. } => {
+            let y = vertices.iter().map(|v| v[1]);
+            y.clone().fold(f64::MIN, f64::max) - y.fold(f64::MAX, f64::min)
+        }
+        _ => panic!("a polyline"),
+    };
+    let base = oficina_io::load_points(std::path::Path::new(&pts.to_string())).unwrap();
+    let l = base.iter().map(|p| p.y).fold(f64::MIN, f64::max)
+        - base.iter().map(|p| p.y).fold(f64::MAX, f64::min);
+    let len = ys(graded[2].1);
+    assert!(
+        (len - (l * 1.02 + 6.0 * 6.66)).abs() < 0.6,
+        "{len} vs {}",
+        l * 1.02 + 39.96
+    );
+}

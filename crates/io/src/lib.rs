@@ -39,9 +39,9 @@ mod svg_text;
 
 pub use closure::{close_and_chain, Closure, OpenLayer, JOIN_TOL, MAX_JOIN_TOL};
 pub use design::{
-    design_from_bytes, design_from_paths, design_to_dxf, design_to_string, design_to_svg,
-    entity_paths, parse_design, path_to_polyline, Design, DesignLayer, Entity, Shape,
-    DESIGN_FORMAT, DESIGN_VERSION,
+    design_from_bytes, design_from_paths, design_from_seed001, design_to_dxf, design_to_seed001,
+    design_to_string, design_to_svg, entity_paths, parse_design, path_to_polyline, Design,
+    DesignLayer, Entity, Shape, DESIGN_FORMAT, DESIGN_VERSION,
 };
 pub use dxf::{dxf_from_bytes, read_dxf, DxfOptions, DxfRead, DxfText};
 pub use heightmap::Heightmap;
@@ -58,5 +58,5 @@ pub use oficina_geom as geom;
 pub use points::{load_points, parse_points, write_points_csv};
 pub use pubfile::{pub_from_str, PUB_COLOURS, PUB_MAX_LEVEL, PUB_SATIN_WIDTH};
 pub use raw::{load_raw_f32, raw_f32_from_bytes, RawError};
-pub use seed001::{parse_seed001, SeedEntity, SeedFile};
+pub use seed001::{parse_seed001, path_entities, SeedEntity, SeedFile};
 pub use svg::{read_svg, svg_from_bytes, SvgOptions};

@@ -494,59 +494,10 @@ impl SeedFile {
         })
     }
 
-    /// A file of a drawing: closed all-arc paths as code 19, lines-only paths as code 4,
-    /// other paths piece by piece (arcs code 1, lines code 4, Béziers flattened to 0.01 mm).
+    /// A file of a drawing: each path as [`path_entities`] writes it.
     pub fn from_drawing(d: &Drawing) -> SeedFile {
-        let mut entities = Vec::new();
-        for path in d.paths() {
-            let (lines, arcs, cubics) = path.counts();
-            if path.is_empty() {
-                continue;
-            }
-            if arcs > 0 && lines == 0 && cubics == 0 && path.closed {
-                let chain = path
-                    .segments
-                    .iter()
-                    .filter_map(|s| match s {
-                        Segment::Arc(a) => Some((a.start(), a.center, a.radius, a.sweep.signum())),
-                        _ => None,
-                    })
-                    .collect();
-                entities.push((
-                    SeedEntity::ArcChain {
-                        arcs: chain,
-                        close: path.end().unwrap(),
-                    },
-                    0,
-                ));
-            } else if arcs == 0 {
-                let mut pts = path.flatten(0.01);
-                if path.closed {
-                    pts.push(pts[0]);
-                }
-                entities.push((SeedEntity::Polyline(pts), 0));
-            } else {
-                for s in &path.segments {
-                    let e = match s {
-                        Segment::Arc(a) => SeedEntity::Arc {
-                            center: a.center,
-                            start: a.start(),
-                            end: a.end(),
-                            radius: a.radius,
-                            sign: a.sweep.signum(),
-                        },
-                        other => {
-                            let mut v = vec![other.start()];
-                            other.flatten_into(0.01, &mut v);
-                            SeedEntity::Polyline(v)
-                        }
-                    };
-                    entities.push((e, 0));
-                }
-            }
-        }
         SeedFile {
-            entities,
+            entities: d.paths().flat_map(path_entities).map(|e| (e, 0)).collect(),
             unknown: vec![],
             points: vec![],
         }
@@ -592,6 +543,54 @@ impl SeedFile {
         }
         s
     }
+}
+
+/// One path as the file's entities: a closed all-arc path as code 19, a path without arcs
+/// as one code 4 polyline (Béziers flattened to 0.01 mm), other paths piece by piece (arcs
+/// code 1, other pieces code 4).
+pub fn path_entities(path: &Path) -> Vec<SeedEntity> {
+    let (lines, arcs, cubics) = path.counts();
+    if path.is_empty() {
+        return vec![];
+    }
+    if arcs > 0 && lines == 0 && cubics == 0 && path.closed {
+        let chain = path
+            .segments
+            .iter()
+            .filter_map(|s| match s {
+                Segment::Arc(a) => Some((a.start(), a.center, a.radius, a.sweep.signum())),
+                _ => None,
+            })
+            .collect();
+        return vec![SeedEntity::ArcChain {
+            arcs: chain,
+            close: path.end().unwrap(),
+        }];
+    }
+    if arcs == 0 {
+        let mut pts = path.flatten(0.01);
+        if path.closed {
+            pts.push(pts[0]);
+        }
+        return vec![SeedEntity::Polyline(pts)];
+    }
+    path.segments
+        .iter()
+        .map(|s| match s {
+            Segment::Arc(a) => SeedEntity::Arc {
+                center: a.center,
+                start: a.start(),
+                end: a.end(),
+                radius: a.radius,
+                sign: a.sweep.signum(),
+            },
+            other => {
+                let mut v = vec![other.start()];
+                other.flatten_into(0.01, &mut v);
+                SeedEntity::Polyline(v)
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

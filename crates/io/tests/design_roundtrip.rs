@@ -5,8 +5,8 @@
 
 use oficina_io::geom::{Drawing, Path, Point};
 use oficina_io::{
-    design_from_bytes, design_to_dxf, design_to_string, design_to_svg, dxf_from_bytes,
-    parse_design, svg_from_bytes, Design,
+    design_from_bytes, design_from_seed001, design_to_dxf, design_to_seed001, design_to_string,
+    design_to_svg, dxf_from_bytes, parse_design, svg_from_bytes, Design, Entity, Shape,
 };
 use oficina_testkit::scratch_file;
 use std::process::Command;
@@ -243,4 +243,78 @@ fn bad_files_name_the_place() {
         assert!(e.location.contains(place), "{e}");
         assert!(e.to_string().contains(what), "{e}");
     }
+}
+
+/// Largest distance from points along every path of `a` to the nearest path of `b`.
+fn to_any(a: &Drawing, b: &Drawing) -> f64 {
+    a.paths()
+        .flat_map(|p| p.segments.iter())
+        .flat_map(|s| (0..=16).map(move |k| s.eval(k as f64 / 16.0)))
+        .map(|q| {
+            b.paths()
+                .map(|p| p.distance(q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn seed001_export_reads_back_as_the_same_entities() {
+    let mut d = design();
+    d.entities.push(Entity {
+        id: 8,
+        layer: "holes".into(),
+        shape: Shape::Point { at: [12.5, -3.25] },
+    });
+    let text = design_to_seed001(&d);
+    // The point goes to the point list: NS = 1 and the point last; NI counts the rest.
+    let nums: Vec<f64> = text
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(&nums[nums.len() - 3..], &[1.0, 12.5, -3.25]);
+    let back = design_from_seed001(&text, "t.dat").unwrap();
+    assert_eq!(nums[0] as usize + 1, back.entities.len());
+    let find = |s: &Shape| back.entities.iter().any(|e| close(&e.shape, s));
+    // What the format holds keeps its kind and numbers: the line, both arcs, the circle, the
+    // point.
+    for e in d.entities.iter().filter(|e| {
+        matches!(
+            e.shape,
+            Shape::Line { .. } | Shape::Arc { .. } | Shape::Circle { .. } | Shape::Point { .. }
+        )
+    }) {
+        assert!(find(&e.shape), "{e:?} is not read back");
+    }
+    // And all of it is the same geometry (splines and text flattened to 0.01 mm).
+    let (a, b) = (d.to_drawing("a"), back.to_drawing("b"));
+    let gap = to_any(&a, &b).max(to_any(&b, &a));
+    assert!(gap < 0.01, "{gap} mm apart");
+    // A bad file names its line.
+    let e = design_from_seed001("1\n0 0 1 1\n4 0 0 1 1\n2\n0 0\n1 x\n", "b.dat").unwrap_err();
+    assert!(e.to_string().contains("line 6"), "{e}");
+}
+
+/// The same shape within 1e-9 in every number.
+fn close(a: &Shape, b: &Shape) -> bool {
+    let nums = |s: &Shape| -> Vec<f64> {
+        let v = serde_json::to_value(s).unwrap();
+        let mut out = vec![];
+        fn walk(v: &serde_json::Value, out: &mut Vec<f64>) {
+            match v {
+                serde_json::Value::Number(n) => out.push(n.as_f64().unwrap()),
+                serde_json::Value::Array(a) => a.iter().for_each(|x| walk(x, out)),
+                serde_json::Value::Object(o) => o.values().for_each(|x| walk(x, out)),
+                _ => {}
+            }
+        }
+        walk(&v, &mut out);
+        out
+    };
+    std::mem::discriminant(a) == std::mem::discriminant(b)
+        && nums(a).len() == nums(b).len()
+        && nums(a)
+            .iter()
+            .zip(nums(b))
+            .all(|(x, y)| (x - y).abs() < 1e-9)
 }

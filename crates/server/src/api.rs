@@ -46,6 +46,8 @@ pub(crate) fn routes(state: Arc<AppState>) -> Router {
         .route("/api/design/offset", post(crate::design::offset))
         .route("/api/design/export", post(crate::design::export))
         .route("/api/design/fit", post(crate::design::fit))
+        .route("/api/design/grade", post(crate::design::grade))
+        .route("/api/design/import", post(crate::design::import))
         .route("/api/sole", post(jobs::sole_job))
         .route("/api/plot", post(jobs::plot_job))
         .route("/api/embroider", post(crate::embroider::embroider_job))

@@ -58,3 +58,52 @@ pub(crate) async fn fit(Json(req): Json<FitRequest>) -> Result<Response, CamErro
             .into_response(),
     )
 }
+
+#[derive(Deserialize)]
+pub(crate) struct GradeRequest {
+    design: serde_json::Value,
+    points: Vec<[f64; 2]>,
+    from_size: f64,
+    sizes: Vec<f64>,
+    system: String,
+    shrink: f64,
+    tol: f64,
+}
+
+/// `{design, points, from_size, sizes, system, shrink, tol}` → `{design, sizes}`: the
+/// digitised points graded to each size and mirrored as `oficina sole` does, each foot
+/// added on its layer (`size 40 left`, …); `sizes` reports each size's fit.
+pub(crate) async fn grade(Json(req): Json<GradeRequest>) -> Result<Response, CamError> {
+    let mut design = design_of(&req.design)?;
+    let params = oficina_app::design::GradeParams {
+        from_size: req.from_size,
+        sizes: req.sizes,
+        system: req.system,
+        shrink: req.shrink,
+        tol: req.tol,
+    };
+    let graded =
+        tokio::task::spawn_blocking(move || oficina_app::design::grade(&req.points, &params))
+            .await
+            .map_err(|e| bad(e.to_string()))?
+            .map_err(|e| bad(e.to_string()))?;
+    let mut report = Vec::new();
+    for g in graded {
+        report.push(json!({"size": g.size, "method": g.method, "blocks": g.blocks, "max_deviation": g.max_deviation}));
+        oficina_app::design::add_graded(&mut design, g.size, g.feet);
+    }
+    Ok(Json(json!({ "design": design, "sizes": report })).into_response())
+}
+
+#[derive(Deserialize)]
+pub(crate) struct ImportRequest {
+    text: String,
+    name: String,
+}
+
+/// `{text, name}` → `{design}`: seed 001's graphic file as a design.
+pub(crate) async fn import(Json(req): Json<ImportRequest>) -> Result<Response, CamError> {
+    let design = oficina_app::design::design_from_seed001(&req.text, &req.name)
+        .map_err(|e| bad(e.to_string()))?;
+    Ok(Json(json!({ "design": design })).into_response())
+}

@@ -6,7 +6,7 @@
 
 import { putFile, withToken } from '../api';
 import { el, segDist, ViewMap, Pt } from '../view2d';
-import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon, trimmedLine } from './model';
+import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon, trimmedLine, endHeading, tangentArc, extended } from './model';
 import { readTyped } from './input';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -14,9 +14,9 @@ const W = 760, H = 480;
 /// Snaps within this many pixels.
 const SNAP_PX = 10;
 
-type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'arcc' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'calibrate' | 'digitise' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
-const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'arcc', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'move', 'copy', 'rotate', 'scale', 'mirror', 'calibrate', 'digitise'];
-const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', cal: 'calibrate', dig: 'digitise', digitize: 'digitise', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror' };
+type ToolName = 'line' | 'polyline' | 'rect' | 'circle' | 'arc' | 'arcc' | 'tarc' | 'point' | 'extend' | 'polygon' | 'spline' | 'text' | 'fillet' | 'chamfer' | 'offset' | 'trim' | 'calibrate' | 'digitise' | 'move' | 'copy' | 'rotate' | 'scale' | 'mirror';
+const TOOLS: ToolName[] = ['line', 'polyline', 'rect', 'circle', 'arc', 'arcc', 'tarc', 'point', 'polygon', 'spline', 'text', 'fillet', 'chamfer', 'offset', 'trim', 'extend', 'move', 'copy', 'rotate', 'scale', 'mirror', 'calibrate', 'digitise'];
+const ALIASES: Record<string, ToolName> = { l: 'line', pl: 'polyline', rec: 'rect', rectangle: 'rect', c: 'circle', a: 'arc', pol: 'polygon', spl: 'spline', t: 'text', tr: 'trim', cal: 'calibrate', dig: 'digitise', digitize: 'digitise', f: 'fillet', cha: 'chamfer', o: 'offset', m: 'move', co: 'copy', ro: 'rotate', sc: 'scale', mi: 'mirror', po: 'point', ex: 'extend', arct: 'tarc' };
 
 let design: Design = emptyDesign();
 let name = 'part';
@@ -33,6 +33,13 @@ let layer = '0';
 let bg: { href: string; x: number; y: number; w: number; h: number } | null = null;
 /// The live fit of the digitised points: the contour and its deviation.
 let fitted: { shape: Shape; max_deviation: number; blocks: number } | null = null;
+/// The picked points of each contour kept from `digitise` (by entity id): what grading
+/// scales, as `oficina sole` scales its point list.
+const digitised = new Map<number, Pt[]>();
+/// The tangent arc's heading at its current point.
+let heading: Pt | null = null;
+/// Box selection: where the drag started (drawing mm) and where it is.
+let box: { from: Pt; to: Pt } | null = null;
 const view = new ViewMap(W, H);
 let hooks: { openInCam: (file: string) => void } = { openInCam: () => {} };
 
@@ -73,12 +80,15 @@ function add(shape: Shape) {
 /// What the current tool asks for next.
 function prompt(): string {
   switch (tool) {
-    case null: return 'click to select (shift adds) · type a command: line, polyline, rect, circle, arc, polygon, spline, text, fillet, chamfer, trim, offset, move, copy, rotate, scale, mirror, explode, join, delete, undo, redo';
+    case null: return 'click to select (shift adds), drag a box (rightwards: inside it, leftwards: touching it) · type a tool\'s name, or explode, join, delete, grade, fit, all, none, undo, redo';
     case 'line': return pts.length ? 'next point (Enter ends)' : 'first point';
     case 'polyline': return pts.length ? `next point · close · Enter ends (${pts.length} points)` : 'first point';
     case 'rect': return pts.length ? 'opposite corner' : 'first corner';
     case 'circle': return pts.length ? 'radius or a point on it' : 'centre';
     case 'arc': return ['start point', 'a point on the arc', 'end point'][pts.length];
+    case 'tarc': return pts.length ? 'end of the arc (it leaves tangent to the piece before) · Enter ends' : 'the end of a line, arc or open polyline to continue from';
+    case 'point': return 'where (each click a point)';
+    case 'extend': return 'the end of a line or arc to extend (a point on it near that end)';
     case 'arcc': return ['centre', 'start point (sets the radius)', 'end point (its angle; the arc runs counter-clockwise)'][pts.length];
     case 'polygon': return !pts.length ? 'centre' : num === null ? 'number of sides' : 'radius to the vertices, or a vertex';
     case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
@@ -96,7 +106,7 @@ function prompt(): string {
 }
 
 function setTool(t: ToolName | null) {
-  tool = t; pts = []; num = null; fitted = null;
+  tool = t; pts = []; num = null; fitted = null; heading = null;
   document.querySelectorAll('#de-tools button').forEach((b) => b.classList.toggle('on', (b as HTMLElement).dataset.tool === t));
   $('de-prompt').textContent = prompt();
   draw();
@@ -104,7 +114,7 @@ function setTool(t: ToolName | null) {
 
 /// Ends the current tool's input: a polyline or a chain of lines ends here.
 function finish(close = false) {
-  if (tool === 'digitise' && fitted) add(fitted.shape);
+  if (tool === 'digitise' && fitted) { digitised.set(nextId(design), pts.slice()); add(fitted.shape); }
   if (tool === 'spline' && pts.length >= 2) add({ type: 'spline', points: pts });
   if (tool === 'polyline' && pts.length >= 2) add({ type: 'polyline', vertices: pts.map((p) => [p[0], p[1]]), closed: close && pts.length >= 3 });
   setTool(null);
@@ -143,6 +153,46 @@ async function offset(ids: number[], distance: number) {
   } catch (e) { status(`offset: ${(e as Error).message}`, true); }
 }
 
+/// Grades the selected closed contour to the sizes asked and mirrors it for the other foot,
+/// by the server's `oficina sole` grading (`/api/design/grade`): the points graded are the
+/// ones digitised for it, or else its outline's points. Each size's feet come back on their
+/// own layers.
+async function grade() {
+  const sel = targets();
+  if (typeof sel === 'string') return status('grade: select the digitised contour first', true);
+  const e = sel[0];
+  if (sel.length !== 1 || e.type !== 'polyline' || !e.closed) return status('grade: select one closed contour', true);
+  const points = digitised.get(e.id) ?? outline(e)[0].slice(0, -1);
+  const sizes = $<HTMLInputElement>('de-sizes').value.split(/[\s,;]+/).filter(Boolean).map(Number);
+  const body = { design, points, from_size: Number($<HTMLInputElement>('de-from-size').value), sizes, system: $<HTMLSelectElement>('de-system').value, shrink: Number($<HTMLInputElement>('de-shrink').value), tol: Number($<HTMLInputElement>('de-fit-tol').value) };
+  status('grading…');
+  try {
+    const r = await fetch(withToken('/api/design/grade'), { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify(body) });
+    const v = await r.json();
+    if (!r.ok) throw new Error(v.error ?? r.statusText);
+    const report = (v.sizes as { size: number; method: string; blocks: number; max_deviation: number }[]).map((g) => `${g.size}: ${g.method}, ${g.blocks} blocks, ${g.max_deviation.toFixed(3)} mm`).join(' · ');
+    commit((d) => { d.layers = v.design.layers; d.entities = v.design.entities; }, `graded and mirrored from ${points.length} points — ${report}`);
+    renderLayers(); fit();
+  } catch (err) { status(`grade: ${(err as Error).message}`, true); }
+}
+
+/// Selects by the box `box`: dragged rightwards (a window) what lies wholly inside it,
+/// leftwards (crossing) what has a point inside it or a piece crossing its edges.
+function selectBox(b: { from: Pt; to: Pt }, add: boolean) {
+  const x0 = Math.min(b.from[0], b.to[0]), x1 = Math.max(b.from[0], b.to[0]), y0 = Math.min(b.from[1], b.to[1]), y1 = Math.max(b.from[1], b.to[1]);
+  const inside = (p: Pt) => p[0] >= x0 && p[0] <= x1 && p[1] >= y0 && p[1] <= y1;
+  const edges: [Pt, Pt][] = [[[x0, y0], [x1, y0]], [[x1, y0], [x1, y1]], [[x1, y1], [x0, y1]], [[x0, y1], [x0, y0]]];
+  const inWindow = b.to[0] >= b.from[0];
+  if (!add) selected.clear();
+  for (const e of design.entities) {
+    const lines = outline(e);
+    const hit = inWindow ? lines.every((l) => l.every(inside))
+      : lines.some((l) => l.some(inside) || l.some((p, k) => k > 0 && edges.some((g) => cross([l[k - 1], p], g) !== null)));
+    if (hit) selected.add(e.id);
+  }
+  status(`${inWindow ? 'window' : 'crossing'}: ${selected.size ? `selected: ${[...selected].join(' ')}` : 'nothing selected'}`);
+}
+
 /// A point (clicked or typed) for the current tool.
 function takePoint(p: Pt, shift = false) {
   switch (tool) {
@@ -155,6 +205,27 @@ function takePoint(p: Pt, shift = false) {
     }
     case 'line': if (pts.length) add({ type: 'line', a: pts[pts.length - 1], b: p }); pts.push(p); break;
     case 'polyline': case 'spline': pts.push(p); break;
+    case 'point': add({ type: 'point', at: p }); break;
+    case 'tarc': {
+      if (!pts.length) {
+        const end = endHeading(design, p, SNAP_PX / view.s);
+        if (!end) return status('tarc: start at the end of a line, arc or open polyline', true);
+        pts.push(end.at); heading = end.heading; break;
+      }
+      const r = tangentArc(pts[pts.length - 1], heading!, p);
+      if (typeof r === 'string') return status(r, true);
+      add(r.arc); pts.push(p); heading = r.heading; break;
+    }
+    case 'extend': {
+      const e = pick(p);
+      if (!e || (e.type !== 'line' && e.type !== 'arc')) return status('extend: pick a line or an arc near the end to extend', true);
+      const [a, b] = e.type === 'line' ? [e.a, e.b] : ((o) => [o[0], o[o.length - 1]])(outline(e)[0]);
+      const atEnd = Math.hypot(p[0] - b[0], p[1] - b[1]) < Math.hypot(p[0] - a[0], p[1] - a[1]);
+      const r = extended(e, design.entities.filter((o) => o.id !== e.id), atEnd);
+      if (typeof r === 'string') return status(r, true);
+      commit((d) => { d.entities = d.entities.map((o) => (o.id === e.id ? r : o)); }, `extended ${e.type} ${e.id}`);
+      break;
+    }
     case 'arcc': {
       pts.push(p);
       if (pts.length < 3) break;
@@ -318,6 +389,8 @@ function command(text: string) {
   if (w === 'none') { selected.clear(); return draw(); }
   if (w === 'explode' || w === 'x') return explode();
   if (w === 'join' || w === 'j') return join();
+  if (w === 'grade') { void grade(); return; }
+  if (w === 'fit') return fit();
   if (w === 'esc' || w === 'cancel') return setTool(null);
   const next = (TOOLS as string[]).includes(w) ? (w as ToolName) : ALIASES[w];
   if (!next) return status(`'${w}' is not a command`, true);
@@ -437,9 +510,18 @@ function draw() {
   const colour = (n: string) => shown(design.layers.find((l) => l.name === n)?.color ?? '#000000');
   for (const e of design.entities) {
     const sel = selected.has(e.id);
+    if (e.type === 'point') {
+      const [x, y] = [view.sx(e.at[0]), view.sy(e.at[1])];
+      el('path', { d: `M${x - 4} ${y}L${x + 4} ${y}M${x} ${y - 4}L${x} ${y + 4}`, stroke: sel ? '#f0b45a' : colour(e.layer), 'stroke-width': sel ? 2.5 : 1.4, 'data-id': e.id, class: 'de-entity de-point' + (sel ? ' selected' : '') }, svg);
+      continue;
+    }
     for (const line of outline(e)) {
       el('polyline', { points: line.map((p) => `${view.sx(p[0]).toFixed(2)},${view.sy(p[1]).toFixed(2)}`).join(' '), fill: 'none', stroke: sel ? '#f0b45a' : colour(e.layer), 'stroke-width': sel ? 2.5 : 1.4, 'data-id': e.id, class: 'de-entity' + (sel ? ' selected' : '') }, svg);
     }
+  }
+  if (box) {
+    const inWindow = box.to[0] >= box.from[0];
+    el('rect', { x: Math.min(view.sx(box.from[0]), view.sx(box.to[0])), y: Math.min(view.sy(box.from[1]), view.sy(box.to[1])), width: Math.abs(view.sx(box.to[0]) - view.sx(box.from[0])), height: Math.abs(view.sy(box.to[1]) - view.sy(box.from[1])), fill: inWindow ? 'rgba(90,160,240,.12)' : 'rgba(90,240,140,.12)', stroke: inWindow ? '#5aa0f0' : '#5af08c', 'stroke-dasharray': inWindow ? '' : '5 3', class: 'de-box' }, svg);
   }
   // The tool's rubber band from its last point to the cursor.
   if (cursor && pts.length && tool) {
@@ -490,7 +572,7 @@ function load(t: string, file: string) {
   if (d?.format !== 'oficina-design' || !Array.isArray(d.entities) || !Array.isArray(d.layers)) return status(`${file}: not an Oficina design file (format "oficina-design")`, true);
   past.push(JSON.stringify(design)); future = [];
   design = d; selected.clear();
-  name = file.replace(/\.oficina\.json$|\.json$/i, '');
+  name = file.replace(/\.oficina\.json$|\.json$|\.dat$|\.g01$/i, '');
   $<HTMLInputElement>('de-name').value = name;
   renderLayers(); fit();
   status(`${file}: ${d.entities.length} entities on ${d.layers.length} layers`);
@@ -503,9 +585,9 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     <div class="form">
       <label>Name <input id="de-name" value="${name}" size="10"></label>
       <button id="de-new">New</button>
-      <label class="btn">Open… <input id="de-open" type="file" accept=".json" hidden></label>
+      <label class="btn">Open… <input id="de-open" type="file" accept=".json,.dat,.g01" hidden></label>
       <button id="de-save">Save</button>
-      <button id="de-svg">Export SVG</button> <button id="de-dxf">Export DXF</button>
+      <button id="de-svg">Export SVG</button> <button id="de-dxf">Export DXF</button> <button id="de-seed001" title="seed 001's graphic file (.dat)">Export seed 001</button>
       <button id="de-cam">Send to CAM</button>
     </div>
     <div id="de-tools" class="form">
@@ -523,6 +605,13 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
       <label>Fit <select id="de-fit-method"><option>biarc</option><option>tangent circles</option><option>B-spline (clamped cubic)</option><option>Bezier (seed)</option><option>interpolation (local cubic)</option></select></label>
       <label>within <input id="de-fit-tol" type="number" value="0.3" min="0.001" step="any"> mm</label>
     </div>
+    <div class="form" title="grade the selected digitised sole to sizes and mirror it, as oficina sole does">
+      <label>Sole size <input id="de-from-size" type="number" value="37" step="any"></label>
+      <label>to sizes <input id="de-sizes" value="38,39,40" size="10"></label>
+      <label>System <select id="de-system"><option value="br">br (Paris point)</option><option value="us">us</option></select></label>
+      <label>shrink <input id="de-shrink" type="number" value="2" min="0" max="20" step="any"> %</label>
+      <button id="de-grade">Grade + mirror</button>
+    </div>
     <svg id="de-view" viewBox="0 0 ${W} ${H}" width="${W}" height="${H}" style="background:#141820;cursor:crosshair;width:100%"></svg>
     <div><span id="de-xy" class="muted"></span> · <span id="de-count" class="muted"></span> <span id="de-fit-report" class="muted"></span></div>
     <div class="form"><label><span id="de-prompt"></span> <input id="de-cmd" size="28" placeholder="10,20  @30<45  5  fillet" autocomplete="off"></label></div>
@@ -531,13 +620,27 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
   let panFrom: [number, number] | null = null;
   svg.addEventListener('mousemove', (e) => {
     if (panFrom) { view.pan((e.clientX - panFrom[0]) * (W / svg.getBoundingClientRect().width), (e.clientY - panFrom[1]) * (W / svg.getBoundingClientRect().width)); panFrom = [e.clientX, e.clientY]; }
-    cursor = view.at(e, svg); snapped = snap(cursor); draw();
+    cursor = view.at(e, svg); snapped = snap(cursor);
+    if (box) box.to = cursor;
+    draw();
   });
-  svg.addEventListener('mousedown', (e) => { if (e.button === 1 || e.button === 2) { panFrom = [e.clientX, e.clientY]; e.preventDefault(); } });
-  window.addEventListener('mouseup', () => { panFrom = null; });
+  // A left drag with no tool draws a selection box; the click that ends it selects nothing more.
+  let boxed = false;
+  svg.addEventListener('mousedown', (e) => {
+    if (e.button === 1 || e.button === 2) { panFrom = [e.clientX, e.clientY]; e.preventDefault(); }
+    if (e.button === 0 && tool === null) { const p = view.at(e, svg); box = { from: p, to: p }; }
+  });
+  window.addEventListener('mouseup', (e) => {
+    panFrom = null;
+    if (!box) return;
+    const b = box; box = null;
+    // A drag of at least 4 pixels is a box; less is a click, and the view is not redrawn
+    // here: the click goes only where the press's element still is.
+    if (Math.hypot(b.to[0] - b.from[0], b.to[1] - b.from[1]) * view.s >= 4) { selectBox(b, e.shiftKey); boxed = true; draw(); }
+  });
   svg.addEventListener('contextmenu', (e) => e.preventDefault());
   // Digitising and calibrating take the point under the cursor as it is (no snapping).
-  svg.addEventListener('click', (e) => { const p = view.at(e, svg); takePoint(tool === 'digitise' || tool === 'calibrate' ? p : snap(p)?.p ?? p, e.shiftKey); $('de-cmd').focus({ preventScroll: true }); });
+  svg.addEventListener('click', (e) => { if (boxed) { boxed = false; return; } const p = view.at(e, svg); takePoint(tool === 'digitise' || tool === 'calibrate' ? p : snap(p)?.p ?? p, e.shiftKey); $('de-cmd').focus({ preventScroll: true }); });
   svg.addEventListener('wheel', (e) => { e.preventDefault(); view.zoom(e.deltaY < 0 ? 1.2 : 1 / 1.2, view.at(e, svg)); draw(); }, { passive: false });
   const cmd = $<HTMLInputElement>('de-cmd');
   cmd.addEventListener('keydown', (e) => {
@@ -547,6 +650,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     else if ((e.ctrlKey || e.metaKey) && e.key === 'y' && !cmd.value) { e.preventDefault(); redo(); }
   });
   document.querySelectorAll<HTMLButtonElement>('#de-tools button[data-tool]').forEach((b) => { b.onclick = () => { setTool(b.dataset.tool as ToolName); cmd.focus(); }; });
+  $('de-grade').onclick = () => { void grade(); };
   $('de-delete').onclick = del; $('de-explode').onclick = explode; $('de-join').onclick = join; $('de-undo').onclick = undo; $('de-redo').onclick = redo; $('de-fit').onclick = fit;
   $<HTMLInputElement>('de-name').onchange = (e) => { name = (e.target as HTMLInputElement).value.trim() || 'part'; };
   $('de-new').onclick = () => { past.push(JSON.stringify(design)); future = []; design = emptyDesign(); selected.clear(); renderLayers(); fit(); };
@@ -576,18 +680,30 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
     };
     reader.readAsDataURL(f);
   };
-  $<HTMLInputElement>('de-open').onchange = async (e) => { const f = (e.target as HTMLInputElement).files?.[0]; if (f) load(await f.text(), f.name); };
+  $<HTMLInputElement>('de-open').onchange = async (e) => {
+    const f = (e.target as HTMLInputElement).files?.[0];
+    if (!f) return;
+    if (!/\.(dat|g01)$/i.test(f.name)) return load(await f.text(), f.name);
+    // Seed 001's graphic file: the server reads it into a design.
+    try {
+      const r = await fetch(withToken('/api/design/import'), { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ text: await f.text(), name: f.name }) });
+      const v = await r.json();
+      if (!r.ok) throw new Error(v.error ?? r.statusText);
+      load(JSON.stringify(v.design), f.name);
+    } catch (err) { status(`open ${f.name}: ${(err as Error).message}`, true); }
+  };
   $('de-save').onclick = async () => {
     download(text(), fileName(), 'application/json');
     try { await putFile(fileName(), text()); status(`saved ${fileName()}`); } catch (err) { status(`save ${fileName()}: ${(err as Error).message}`, true); }
   };
-  for (const format of ['svg', 'dxf']) $(`de-${format}`).onclick = async () => {
+  const extension: Record<string, string> = { svg: 'svg', dxf: 'dxf', seed001: 'dat' };
+  for (const format of ['svg', 'dxf', 'seed001']) $(`de-${format}`).onclick = async () => {
     try {
       const r = await fetch(withToken('/api/design/export'), { method: 'POST', headers: { 'content-type': 'application/json' }, body: JSON.stringify({ design, format }) });
       const v = await r.json();
       if (!r.ok) throw new Error(v.error ?? r.statusText);
-      download(v.text, fileName().replace(/\.oficina\.json$/, `.${format}`), format === 'svg' ? 'image/svg+xml' : 'application/dxf');
-      status(`exported ${format.toUpperCase()}`);
+      download(v.text, fileName().replace(/\.oficina\.json$/, `.${extension[format]}`), format === 'svg' ? 'image/svg+xml' : format === 'dxf' ? 'application/dxf' : 'text/plain');
+      status(`exported ${format === 'seed001' ? 'seed 001' : format.toUpperCase()}`);
     } catch (err) { status(`export: ${(err as Error).message}`, true); }
   };
   $('de-cam').onclick = async () => {
@@ -599,6 +715,7 @@ export function initDesignEditor(h: { openInCam: (file: string) => void }) {
   (window as unknown as { __design: unknown }).__design = {
     design: () => design,
     background: () => bg,
+    digitised: (id: number) => digitised.get(id),
     screen: (p: Pt) => { const r = svg.getBoundingClientRect(); return [r.left + (view.sx(p[0]) * r.width) / W, r.top + (view.sy(p[1]) * r.height) / H]; },
   };
   renderLayers(); setTool(null); fit();

@@ -11,6 +11,7 @@ export type Shape =
   | { type: 'circle'; center: Pt; radius: number }
   | { type: 'polyline'; vertices: number[][]; closed: boolean }
   | { type: 'spline'; points: Pt[] }
+  | { type: 'point'; at: Pt }
   | { type: 'text'; at: Pt; height: number; angle: number; text: string };
 export type Entity = Shape & { id: number; layer: string };
 export interface Layer { name: string; color: string; }
@@ -45,6 +46,8 @@ function arcPoints(center: Pt, r: number, start: number, sweep: number, out: Pt[
 export function outline(e: Shape): Pt[][] {
   switch (e.type) {
     case 'line': return [[e.a, e.b]];
+    // A point is a zero-length piece: picked and boxed like the rest, drawn as a marker.
+    case 'point': return [[e.at, e.at]];
     case 'arc': { const s = rad(e.start), r = e.radius; const o: Pt[] = [[e.center[0] + r * Math.cos(s), e.center[1] + r * Math.sin(s)]]; arcPoints(e.center, r, s, rad(e.sweep), o); return [o]; }
     case 'circle': { const o: Pt[] = [[e.center[0] + e.radius, e.center[1]]]; arcPoints(e.center, e.radius, 0, 2 * Math.PI, o); return [o]; }
     case 'polyline': {
@@ -96,7 +99,7 @@ export function snapPoints(e: Shape): { p: Pt; kind: 'end' | 'mid' | 'centre' }[
       break;
     }
     case 'spline': e.points.forEach((p) => out.push({ p, kind: 'end' })); break;
-    case 'text': out.push({ p: e.at, kind: 'end' }); break;
+    case 'text': case 'point': out.push({ p: e.at, kind: 'end' }); break;
   }
   return out;
 }
@@ -128,6 +131,7 @@ export function transformed(e: Entity, m: Affine): Entity {
     case 'arc': return { ...e, center: ap(m, e.center), radius: e.radius * k, start: flip ? turn - e.start : e.start + turn, sweep: flip ? -e.sweep : e.sweep };
     case 'polyline': return { ...e, vertices: e.vertices.map((v) => { const q = ap(m, [v[0], v[1]]); return v[2] ? [q[0], q[1], flip ? -v[2] : v[2]] : q; }) };
     case 'spline': return { ...e, points: e.points.map((p) => ap(m, p)) };
+    case 'point': return { ...e, at: ap(m, e.at) };
     case 'text': return { ...e, at: ap(m, e.at), height: e.height * k, angle: e.angle + turn };
   }
 }
@@ -281,4 +285,108 @@ export function trimmedLine(e: Entity, others: Shape[], tc: number): Shape[] | s
   if (before > 0) keep.push({ type: 'line', a: e.a, b: at(before) });
   if (after < 1) keep.push({ type: 'line', a: at(after), b: e.b });
   return keep;
+}
+
+const unit = (v: Pt): Pt => { const l = Math.hypot(v[0], v[1]); return [v[0] / l, v[1] / l]; };
+/// Direction of travel on an arc (degrees, sweep sign) at angle `deg`: ±(−sin, cos).
+const arcHeading = (deg: number, sweep: number): Pt => { const t = rad(deg), s = Math.sign(sweep); return [-s * Math.sin(t), s * Math.cos(t)]; };
+
+/// The end of a line, arc or open polyline at `p` (within `tol`) and the direction leaving
+/// the piece there (the way a chain continues from it); null when no such end is there.
+export function endHeading(d: Design, p: Pt, tol: number): { at: Pt; heading: Pt } | null {
+  const near = (q: Pt) => Math.hypot(q[0] - p[0], q[1] - p[1]) <= tol;
+  for (const e of d.entities) {
+    const pieces = e.type === 'polyline' ? (e.closed ? [] : exploded(e) ?? []) : [e];
+    const first = pieces[0], last = pieces[pieces.length - 1];
+    for (const [piece, atEnd] of [[last, true], [first, false]] as [Shape | undefined, boolean][]) {
+      if (piece?.type === 'line') {
+        const [from, to] = atEnd ? [piece.a, piece.b] : [piece.b, piece.a];
+        if (near(to)) return { at: to, heading: unit([to[0] - from[0], to[1] - from[1]]) };
+      } else if (piece?.type === 'arc') {
+        const ang = atEnd ? piece.start + piece.sweep : piece.start;
+        const at: Pt = [piece.center[0] + piece.radius * Math.cos(rad(ang)), piece.center[1] + piece.radius * Math.sin(rad(ang))];
+        const h = arcHeading(ang, piece.sweep);
+        if (near(at)) return { at, heading: atEnd ? h : [-h[0], -h[1]] };
+      }
+    }
+  }
+  return null;
+}
+
+/// The arc leaving `p` along the unit heading `t` and ending at `q`. With d = q − p, the
+/// centre is on the normal (−t_y, t_x) at the signed radius r = |d|² / (2 t×d) (the centre
+/// is as far from q as from p), and the sweep is twice the angle from t to d (the tangent–
+/// chord angle is half the arc's). Also returns the heading at `q` to chain the next arc.
+export function tangentArc(p: Pt, t: Pt, q: Pt): { arc: Shape; heading: Pt } | string {
+  const d: Pt = [q[0] - p[0], q[1] - p[1]], len2 = d[0] * d[0] + d[1] * d[1];
+  const cr = t[0] * d[1] - t[1] * d[0], dot = t[0] * d[0] + t[1] * d[1];
+  if (len2 === 0) return 'the end is the start';
+  if (Math.abs(cr) <= 1e-12 * len2) return 'the end is straight along the tangent: draw a line';
+  const r = len2 / (2 * cr), center: Pt = [p[0] - r * t[1], p[1] + r * t[0]];
+  const start = (Math.atan2(p[1] - center[1], p[0] - center[0]) * 180) / Math.PI;
+  const sweep = (2 * Math.atan2(cr, dot) * 180) / Math.PI;
+  return { arc: { type: 'arc', center, radius: Math.abs(r), start, sweep }, heading: arcHeading(start + sweep, sweep) };
+}
+
+/// Where the circle (c, r) meets the entity `e`: straight pieces by `crossings` (the line's
+/// quadratic); circles, arcs and bulges by the two-circle formula (along the centre line at
+/// a = (r² − R² + D²) / 2D, then ±√(r² − a²) across it), kept where an arc covers them.
+export function circleHits(c: Pt, r: number, e: Shape): Pt[] {
+  const out: Pt[] = [], me: Shape = { type: 'circle', center: c, radius: r };
+  const withArc = (C: Pt, R: number, start?: number, sweep?: number) => {
+    const dx = C[0] - c[0], dy = C[1] - c[1], D = Math.hypot(dx, dy);
+    if (D < 1e-12 || D > r + R + 1e-12 || D < Math.abs(r - R) - 1e-12) return;
+    const a = (r * r - R * R + D * D) / (2 * D), h = Math.sqrt(Math.max(0, r * r - a * a));
+    const bx = c[0] + (a * dx) / D, by = c[1] + (a * dy) / D;
+    for (const q of [[bx - (h * dy) / D, by + (h * dx) / D], [bx + (h * dy) / D, by - (h * dx) / D]] as Pt[]) {
+      if (start !== undefined && sweep !== undefined && !onArc(Math.atan2(q[1] - C[1], q[0] - C[0]), start, sweep)) continue;
+      out.push(q);
+    }
+  };
+  const pieces = e.type === 'polyline' ? exploded(e as Entity) ?? [] : [e];
+  for (const s of pieces) {
+    if (s.type === 'circle') withArc(s.center, s.radius);
+    else if (s.type === 'arc') withArc(s.center, s.radius, rad(s.start), rad(s.sweep));
+    else for (const line of outline(s)) for (let k = 1; k < line.length; k++) {
+      const [a, b] = [line[k - 1], line[k]];
+      for (const t of crossings(a, b, me)) out.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+    }
+  }
+  return out;
+}
+
+/// Angle `t` (radians) is on the arc from `start` sweeping `sweep` (radians).
+function onArc(t: number, start: number, sweep: number): boolean {
+  const rel = ((((t - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
+  return rel <= Math.abs(sweep) + 1e-12;
+}
+
+/// The line or arc `e` extended at one end (`atEnd`: b / the sweep's end, else a / the
+/// start) to the nearest crossing with `others` beyond it: a line along its own direction
+/// (crossings of the ray, as `trim` finds them), an arc along its circle (`circleHits`,
+/// measured as the turn past the end). A message when nothing is met.
+export function extended(e: Entity, others: Shape[], atEnd: boolean): Entity | string {
+  if (e.type === 'line') {
+    const [fixed, moving] = atEnd ? [e.a, e.b] : [e.b, e.a];
+    // The ray as a long segment: far beyond any coordinate a design file holds (1e6 mm).
+    const K = 1e7 / Math.max(1e-9, Math.hypot(moving[0] - fixed[0], moving[1] - fixed[1]));
+    const far: Pt = [fixed[0] + K * (moving[0] - fixed[0]), fixed[1] + K * (moving[1] - fixed[1])];
+    const ts = others.flatMap((o) => crossings(fixed, far, o)).map((t) => t * K).filter((t) => t > 1 + 1e-9);
+    if (!ts.length) return 'extend: nothing lies ahead of that end';
+    const t = Math.min(...ts), to: Pt = [fixed[0] + t * (moving[0] - fixed[0]), fixed[1] + t * (moving[1] - fixed[1])];
+    return atEnd ? { ...e, b: to } : { ...e, a: to };
+  }
+  if (e.type === 'arc') {
+    const s = Math.sign(e.sweep), end = atEnd ? e.start + e.sweep : e.start;
+    // The turn past the end, in the arc's direction at its end, away from the arc at its start.
+    const ahead = (h: Pt) => {
+      const ang = (Math.atan2(h[1] - e.center[1], h[0] - e.center[0]) * 180) / Math.PI;
+      return ((((ang - end) * (atEnd ? s : -s)) % 360) + 360) % 360;
+    };
+    const turns = others.flatMap((o) => circleHits(e.center, e.radius, o)).map(ahead).filter((t) => t > 1e-9 && Math.abs(e.sweep) + t < 360);
+    if (!turns.length) return 'extend: nothing lies ahead of that end on the arc\'s circle';
+    const t = Math.min(...turns);
+    return atEnd ? { ...e, sweep: e.sweep + s * t } : { ...e, start: e.start - s * t, sweep: e.sweep + s * t };
+  }
+  return 'extend works on lines and arcs';
 }

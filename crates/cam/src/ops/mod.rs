@@ -45,7 +45,9 @@ pub use pocket::{pocket, PocketParams, Strategy};
 pub use preview::{preview_canon_svg, preview_svg};
 pub use profile::{profile, Comp, ProfileParams, Side, Tabs, DEFAULT_LEAD_IN};
 pub use rest::{rest, rest_machining, rest_pocket};
-pub use sole::{sole_job, Foot, Part, SoleJob, SoleProgram, SoleResult, TREAD_DEPTH};
+pub use sole::{
+    graded_feet, sole_job, Foot, GradedFeet, Part, SoleJob, SoleProgram, SoleResult, TREAD_DEPTH,
+};
 pub use vcarve::{half_tan, vcarve, VCarveParams};
 
 use crate::{Move, Operation, Tool};

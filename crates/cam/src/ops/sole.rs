@@ -127,6 +127,8 @@ pub struct SoleResult {
     pub fallback: Option<String>,
     /// One program per foot and part.
     pub programs: Vec<SoleProgram>,
+    /// The graded contour of each foot in the points' frame (before placing on a block).
+    pub feet: [Path; 2],
 }
 
 /// Seed 001 §7 tools: (number, spec, rpm, feed mm/min).
@@ -162,27 +164,30 @@ fn cut(tool: (u32, &str, f64, f64), depth: f64, passes: usize) -> Result<Cut, Op
     })
 }
 
-/// Runs the whole job on the pattern's digitised points (closed contour, any direction).
-pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> {
-    let bad = |what: &str, v: f64| OpError::Invalid(format!("{what} {v} is out of range"));
-    if !(job.insert_depth > 0.0 && job.insert_depth <= 29.0) {
-        return Err(bad(
-            "insert depth (0–29 mm for the 30 mm flutes)",
-            job.insert_depth,
-        ));
-    }
-    if !(job.cavity_depth > 0.0 && job.cavity_depth <= 29.0) {
-        return Err(bad(
-            "cavity depth (0–29 mm for the 30 mm flutes)",
-            job.cavity_depth,
-        ));
-    }
-    if !(job.margin >= 20.0 && job.margin <= 500.0) {
-        return Err(bad("margin (20–500 mm)", job.margin));
-    }
-    if !(job.insert_clearance >= 0.0 && job.insert_clearance < 1.0) {
-        return Err(bad("insert clearance (0–1 mm)", job.insert_clearance));
-    }
+/// The graded, fitted contour of both feet in the points' frame, before placing on a block.
+#[derive(Clone, Debug)]
+pub struct GradedFeet {
+    /// The grading used.
+    pub grading: Grading,
+    /// (α, β) applied.
+    pub factors: (f64, f64),
+    /// The fit of the graded points.
+    pub fit: Fit,
+    /// Why tangent circles were not used, if they were not.
+    pub fallback: Option<String>,
+    /// The fitted contour, counter-clockwise.
+    pub left: Path,
+    /// `left` mirrored across the vertical line through its box's centre, counter-clockwise.
+    pub right: Path,
+    /// That line.
+    pub axis: MirrorAxis,
+}
+
+/// Grades the pattern's digitised points from `job.from_size` to `job.to_size` about the
+/// heel, fits them (tangent circles, biarcs when those deviate more than the tolerance)
+/// and mirrors the fit for the other foot: the contours both the mold job and the design
+/// editor's grading use.
+pub fn graded_feet(points: &[Point], job: &SoleJob) -> Result<GradedFeet, OpError> {
     let grading = Grading::for_points(
         points,
         job.system,
@@ -216,12 +221,48 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
         .ok_or_else(|| OpError::Geometry("the fitted contour is empty".into()))?;
     let axis = MirrorAxis::X(bbox.center().x);
     let right = oriented(&mirror_path(&left, axis), true);
-    let tread_left = graded_tread(&job.tread, &grading, job.to_size)?;
-    let tread_right: Vec<Path> = tread_left.iter().map(|p| mirror_path(p, axis)).collect();
+    Ok(GradedFeet {
+        grading,
+        factors,
+        fit,
+        fallback,
+        left,
+        right,
+        axis,
+    })
+}
+
+/// Runs the whole job on the pattern's digitised points (closed contour, any direction).
+pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> {
+    let bad = |what: &str, v: f64| OpError::Invalid(format!("{what} {v} is out of range"));
+    if !(job.insert_depth > 0.0 && job.insert_depth <= 29.0) {
+        return Err(bad(
+            "insert depth (0–29 mm for the 30 mm flutes)",
+            job.insert_depth,
+        ));
+    }
+    if !(job.cavity_depth > 0.0 && job.cavity_depth <= 29.0) {
+        return Err(bad(
+            "cavity depth (0–29 mm for the 30 mm flutes)",
+            job.cavity_depth,
+        ));
+    }
+    if !(job.margin >= 20.0 && job.margin <= 500.0) {
+        return Err(bad("margin (20–500 mm)", job.margin));
+    }
+    if !(job.insert_clearance >= 0.0 && job.insert_clearance < 1.0) {
+        return Err(bad("insert clearance (0–1 mm)", job.insert_clearance));
+    }
+    let feet = graded_feet(points, job)?;
+    let tread_left = graded_tread(&job.tread, &feet.grading, job.to_size)?;
+    let tread_right: Vec<Path> = tread_left
+        .iter()
+        .map(|p| mirror_path(p, feet.axis))
+        .collect();
     let mut programs = Vec::new();
     for (foot, contour, tread) in [
-        (Foot::Left, &left, &tread_left),
-        (Foot::Right, &right, &tread_right),
+        (Foot::Left, &feet.left, &tread_left),
+        (Foot::Right, &feet.right, &tread_right),
     ] {
         let b = contour.bounding_box().expect("not empty");
         let shift = Vec2::new(job.margin - b.x0, job.margin - b.y0);
@@ -250,11 +291,12 @@ pub fn sole_job(points: &[Point], job: &SoleJob) -> Result<SoleResult, OpError> 
         });
     }
     Ok(SoleResult {
-        grading,
-        factors,
-        fit,
-        fallback,
+        grading: feet.grading,
+        factors: feet.factors,
+        fit: feet.fit,
+        fallback: feet.fallback,
         programs,
+        feet: [feet.left, feet.right],
     })
 }
 

@@ -75,6 +75,11 @@ pub fn design_to_dxf(design: &Design) -> String {
                 tag(50, &a0);
                 tag(51, &a1);
             }
+            Shape::Point { at } => {
+                head(&mut tag, "POINT");
+                tag(10, &at[0]);
+                tag(20, &at[1]);
+            }
             Shape::Circle { center, radius } => {
                 head(&mut tag, "CIRCLE");
                 tag(10, &center[0]);

@@ -9,11 +9,13 @@
 
 mod dxf_out;
 mod model;
+mod seed_io;
 mod svg_out;
 mod to_drawing;
 
 pub use dxf_out::design_to_dxf;
 pub use model::{Design, DesignLayer, Entity, Shape, DESIGN_FORMAT, DESIGN_VERSION};
+pub use seed_io::{design_from_seed001, design_to_seed001};
 pub use svg_out::design_to_svg;
 pub use to_drawing::{design_from_paths, entity_paths, path_to_polyline};
 

@@ -93,6 +93,12 @@ pub enum Shape {
         /// The points it passes through, in order.
         points: Vec<[f64; 2]>,
     },
+    /// A point: a mark (a hole's centre, a reference), no stroke; DXF POINT, seed 001's
+    /// point list.
+    Point {
+        /// Where.
+        at: [f64; 2],
+    },
     /// Single-stroke text (the Hershey Roman Simplex of `oficina_geom::text`).
     Text {
         /// Where the first baseline starts.
@@ -206,6 +212,7 @@ impl Shape {
         };
         match self {
             Shape::Line { a, b } => point(a, "start").and(point(b, "end")),
+            Shape::Point { at } => point(at, "position"),
             Shape::Arc {
                 center,
                 radius,

@@ -43,6 +43,8 @@ pub fn entity_paths(shape: &Shape) -> Vec<Path> {
                 .collect();
             vec![Path::new(segments, *closed)]
         }
+        // A mark, not a stroke: nothing to cut, plot or sew.
+        Shape::Point { .. } => vec![],
         Shape::Spline { points } => {
             let pts: Vec<Point> = points.iter().map(|p| pt(*p)).collect();
             let cubics = crate::dxf::through_fit_points(&pts, None);
