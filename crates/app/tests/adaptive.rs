@@ -191,14 +191,13 @@ fn islands_circle_and_rounded_hold_60_degrees() {
     shapes_hold(60.0, &["islands", "circle", "rounded"]);
 }
 
-/// Known to fail (66° and 71° against 65°): the contour pass arriving in a convex corner of the L
-/// and of the neck. Whatever cleared the corner before, the last position there (the
-/// circle touching both walls) meets the arc between the walls uncut: for a point c + r·u
-/// between the wall normals and any earlier centre q in the region, |c + r·u − q|² =
-/// r² − 2r·u·(q − c) + |q − c|² > r² since u·(q − c) ≤ 0. The walk sees that arc from
-/// acos((r − 0.1)/(r + 0.06)) = 18.6° off each wall, 53°, before the strips beside it.
+/// Sharp inside corners (the L's and the neck's): the last position in a corner meets the
+/// arc between the walls uncut whatever came before (for a point c + r·u between the wall
+/// normals and any earlier centre q in the region, |c + r·u − q|² = r² − 2r·u·(q − c) +
+/// |q − c|² > r² since u·(q − c) ≤ 0), which the walk sees from
+/// acos((r − 0.1)/(r + 0.06)) = 18.6° off each wall: 53°. The corner sweeps keep the rest
+/// of what the corner meets within the 12° left (a contour arriving along a wall met 66–71°).
 #[test]
-#[ignore = "66–71° against the 65° bound: the contour pass in a sharp convex corner"]
 fn sharp_corners_hold_60_degrees() {
     shapes_hold(60.0, &["l-shape", "neck"]);
 }

@@ -12,6 +12,7 @@
 //! retraction plane. Each depth level repeats the same plan; a contour pass along the
 //! tool-centre boundary ends each level.
 
+use super::adaptive_corners::with_corner_sweeps;
 use super::adaptive_model::{Model, Rings};
 use super::profile::OFFSET_TOL;
 use super::{Builder, Cut, Entry, OpError, RAPID_GAP};
@@ -126,7 +127,7 @@ pub fn adaptive(
     let centres = offset_areas(&wall, -1.5 * px, OFFSET_TOL).map_err(geo)?;
     let near_wall = offset_areas(&wall, -0.75 * px, OFFSET_TOL).map_err(geo)?;
     let pocket = offset_areas(&areas, -(p.stock_to_leave + 0.5 * px), OFFSET_TOL).map_err(geo)?;
-    let contours = [rings(&wall)];
+    let boundary = rings(&wall);
     let (pocket, centres, near_wall) = (rings(&pocket), rings(&centres), rings(&near_wall));
     let extent = extent_cells(&pocket, r, px);
     if extent > MAX_CELLS as f64 {
@@ -148,9 +149,14 @@ pub fn adaptive(
     };
     let mut model = Model::new(&pocket, &centres, r, px);
     let mut plan = self::plan(&mut model, target, helix_max, None)?;
-    model.allow(&near_wall, Some(&contours[0]));
+    model.allow(&near_wall, Some(&boundary));
     let last = plan.iter().rev().find_map(Piece::end);
     plan.extend(self::plan(&mut model, target, helix_max, last)?);
+    let contours: Vec<_> = boundary
+        .iter()
+        .filter(|ring| ring.len() >= 3)
+        .map(|ring| with_corner_sweeps(&mut model, &boundary, &contour_order(ring)))
+        .collect();
     Ok(cut.operation(name, emit(&plan, &contours, cut)?))
 }
 
@@ -437,9 +443,9 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
-/// The moves: the plan at every depth level, then a climb contour pass on each ring of
-/// `contours` (the last the tool-centre boundary).
-fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpError> {
+/// The moves: the plan at every depth level, then the contour passes (closed paths along the
+/// tool-centre boundary, [`contour_order`]).
+fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Move>, OpError> {
     let mut b = Builder::new(cut.clear_z);
     let (feed, slow) = (cut.feed, cut.plunge_feed);
     let angle = cut.entry.angle().unwrap_or(3f64.to_radians());
@@ -491,20 +497,22 @@ fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpEr
                 }
             }
         }
-        for ring in contours.iter().flatten() {
-            contour(&mut b, ring, z, cut)?;
+        for path in contours {
+            let s = path[0];
+            b.travel(cut.clear_z, s, z + RAPID_GAP);
+            b.line([s[0], s[1], z], cut.plunge_feed);
+            for p in &path[1..] {
+                b.line([p[0], p[1], z], cut.feed);
+            }
         }
         z_prev = z;
     }
     Ok(b.finish(cut.clear_z))
 }
 
-/// One climb pass round `ring` at `z`, from the middle of its longest edge (a corner would
-/// meet the material of both its walls at once).
-fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), OpError> {
-    if ring.len() < 3 {
-        return Ok(());
-    }
+/// A climb pass round `ring` (at least 3 points), closed: from the middle of its longest
+/// edge (a corner would meet the material of both its walls at once).
+fn contour_order(ring: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let n = ring.len();
     let edge = |i: usize| {
         let (a, b) = (ring[i], ring[(i + 1) % n]);
@@ -520,14 +528,7 @@ fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), 
     let k0 = longest + 1;
     // Outer rings run counter-clockwise, holes clockwise: reversed, the wall is on the
     // tool's right (climb).
-    let order: Vec<[f64; 2]> = (0..=ring.len())
+    (0..=ring.len())
         .map(|i| ring[(k0 + ring.len() - i % ring.len()) % ring.len()])
-        .collect();
-    let s = order[0];
-    b.travel(cut.clear_z, s, z + RAPID_GAP);
-    b.line([s[0], s[1], z], cut.plunge_feed);
-    for p in &order[1..] {
-        b.line([p[0], p[1], z], cut.feed);
-    }
-    Ok(())
+        .collect()
 }
