@@ -112,17 +112,18 @@ fn svg(dir: &Path, name: &str, body: &str) -> std::path::PathBuf {
     f
 }
 
-/// The bound: no gouge, engagement within max + 5° on every measured move, nothing left
-/// bigger than `leftover_max` where the tool reaches.
+/// The bound: no gouge, engagement within max + 5° on every measured move, no rapid through
+/// material, nothing left bigger than `leftover_max` where the tool reaches.
 fn holds(name: &str, m: &Measured, max: f64, leftover_max: f64) {
     let e = &m.engagement;
     eprintln!(
-        "{name}: peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, entry {:.0} mm, leftover {:.2} mm, planner {:?} s",
+        "{name}: peak {:.0}° at {:?}, mean {:.1}°, cutting {:.0} mm, entry {:.0} mm, rapids cutting {:.2} mm, leftover {:.2} mm, planner {:?} s",
         e.peak,
         e.peak_at,
         e.mean(),
         e.cutting_length(),
         e.entry_length,
+        e.rapid_cutting,
         m.leftover,
         m.result.judged.planner_s
     );
@@ -141,6 +142,11 @@ fn holds(name: &str, m: &Measured, max: f64, leftover_max: f64) {
     assert!(
         e.cutting_length() > 10.0,
         "{name}: the walk met no material"
+    );
+    assert!(
+        e.rapid_cutting == 0.0,
+        "{name}: rapids through material over {:.2} mm",
+        e.rapid_cutting
     );
     assert!(
         m.leftover <= leftover_max,

@@ -58,10 +58,22 @@ const MAX_CELLS: usize = 16_000_000;
 enum Piece {
     /// Down into fresh material round a circle of `radius` about `centre` (0: plunge).
     Helix { centre: [f64; 2], radius: f64 },
-    /// To the start of the next pass: fed through cleared material, or over the top.
-    Link { to: [f64; 2], feed: bool },
+    /// To the start of the next pass, or across cleared material within one.
+    Link { to: [f64; 2], via: Via },
     /// Cutting moves through these points.
     Pass(Vec<[f64; 2]>),
+}
+
+/// How a [`Piece::Link`] gets there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Via {
+    /// A rapid at depth: the tool touches nothing on the way (as FreeCAD's Adaptive links
+    /// through cleared area, `LinkClear` at a lift of 0).
+    Clear,
+    /// Fed at depth, cutting within the target.
+    Cut,
+    /// Over the retraction plane.
+    Top,
 }
 
 /// Clears the inside of the closed `paths` (holes stay as islands) with `cut`.
@@ -216,17 +228,23 @@ fn plan(
             };
             // A pass that cuts nothing is dropped with its link, and so is what the link cut.
             let before = model.snapshot();
-            let feed = model.link(here, start, target);
+            let via = if model.cuts_nothing_along(here, start) {
+                Via::Clear
+            } else if model.link(here, start, target) {
+                Via::Cut
+            } else {
+                Via::Top
+            };
             let heading = (m[1] - start[1]).atan2(m[0] - start[0]);
-            let (pts, cut) = pass(model, start, heading, target, step, &mut budget);
+            let (pts, rapids, cut) = pass(model, start, heading, target, step, &mut budget);
             if cut == 0 {
                 model.restore(before);
                 model.ban(c);
                 continue;
             }
-            plan.push(Piece::Link { to: start, feed });
+            plan.push(Piece::Link { to: start, via });
             at = Some(*pts.last().unwrap_or(&start));
-            plan.push(Piece::Pass(pts));
+            plan.extend(pass_pieces(&pts, &rapids, 0.002 * model.r));
             started = true;
             break;
         }
@@ -287,8 +305,14 @@ fn start_beside(model: &Model, m: [f64; 2]) -> Option<[f64; 2]> {
     None
 }
 
-/// One pass from `start`: steps of `step` keeping the engagement ≤ `target`; the points
-/// and the cells cut.
+/// Steps that touch nothing, in a run at least this long (as a fraction of the tool radius),
+/// go as one rapid where the chord between its ends is clear too: shorter, a stop at each
+/// end costs more than feeding through.
+const AIR_RUN: f64 = 1.0;
+
+/// One pass from `start`: steps of `step` keeping the engagement ≤ `target`; the points,
+/// the runs of them (first, last index) that touched nothing and may go as a rapid, and
+/// the cells cut.
 fn pass(
     model: &mut Model,
     start: [f64; 2],
@@ -296,8 +320,9 @@ fn pass(
     target: f64,
     step: f64,
     budget: &mut usize,
-) -> (Vec<[f64; 2]>, usize) {
+) -> (Vec<[f64; 2]>, Vec<(usize, usize)>, usize) {
     let mut pts = vec![start];
+    let (mut rapids, mut air_from) = (Vec::new(), None);
     let (mut at, mut heading) = (start, heading);
     let (mut cut, mut idle, mut last_cut_len) = (0, 0, 1);
     // A pass that loops without progress ends: over the last WINDOW steps it must cut a
@@ -315,8 +340,29 @@ fn pass(
             next = best_turn(model, at, heading, step, target, 180.0, false);
         }
         let Some((q, h, e)) = next else { break };
+        // A run of steps meeting nothing ends here: judged on the material as it is when
+        // the tool goes through (this step and those after cut more).
+        let air = e == 0.0;
+        if !air {
+            if let Some(i) = air_from.take() {
+                let j = pts.len() - 1;
+                if (j - i) as f64 * step >= AIR_RUN * model.r
+                    && model.cuts_nothing_along(pts[i], pts[j])
+                {
+                    rapids.push((i, j));
+                }
+            }
+        }
         // Every step the model cuts is a move of the program, the one that ends a pass too.
         let (n, all) = model.stamp(q);
+        if air {
+            // A sliver the samples missed breaks the run.
+            if all == 0 {
+                air_from.get_or_insert(pts.len() - 1);
+            } else {
+                air_from = None;
+            }
+        }
         pts.push(q);
         cut += n;
         // Steps that cut anything are kept, the material out of reach included.
@@ -342,7 +388,28 @@ fn pass(
     }
     // The tail after the last step that cut a cell cut nothing: leave it out.
     pts.truncate(last_cut_len.max(2).min(pts.len()));
-    (simplify(&pts, 0.002 * model.r), cut)
+    rapids.retain(|&(_, j)| j < pts.len());
+    (pts, rapids, cut)
+}
+
+/// The pass `pts` as pieces: its `rapids` (index ranges) as links through clear space, the
+/// rest fed, each fed stretch simplified within `tol`.
+fn pass_pieces(pts: &[[f64; 2]], rapids: &[(usize, usize)], tol: f64) -> Vec<Piece> {
+    let mut pieces = Vec::new();
+    let mut from = 0;
+    for &(i, j) in rapids.iter().chain([&(pts.len() - 1, pts.len() - 1)]) {
+        if i > from {
+            pieces.push(Piece::Pass(simplify(&pts[from..=i], tol)));
+        }
+        if j > i {
+            pieces.push(Piece::Link {
+                to: pts[j],
+                via: Via::Clear,
+            });
+        }
+        from = j;
+    }
+    pieces
 }
 
 /// The step from `at` within `turn` degrees of `heading` that engages most without passing
@@ -480,16 +547,18 @@ fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Mov
                         });
                     }
                 }
-                Piece::Link { to, feed: through } => {
-                    if *through && b.at[2] == z {
-                        b.line([to[0], to[1], z], feed);
-                    } else {
+                Piece::Link { to, via } => match via {
+                    Via::Clear if b.at[2] == z => b.push(Move::Rapid {
+                        to: [to[0], to[1], z],
+                    }),
+                    Via::Cut if b.at[2] == z => b.line([to[0], to[1], z], feed),
+                    _ => {
                         // Over the top, down to the gap above the cleared floor of the
                         // level before, and fed into the cleared spot.
                         b.travel(cut.clear_z, *to, above);
                         b.line([to[0], to[1], z], slow);
                     }
-                }
+                },
                 Piece::Pass(pts) => {
                     for p in &pts[1..] {
                         b.line([p[0], p[1], z], feed);
@@ -499,7 +568,9 @@ fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Mov
         }
         for path in contours {
             let s = path[0];
-            b.travel(cut.clear_z, s, z + RAPID_GAP);
+            // Down fast only to the gap above the level before: the strip beside the wall
+            // still stands there.
+            b.travel(cut.clear_z, s, above);
             b.line([s[0], s[1], z], cut.plunge_feed);
             for p in &path[1..] {
                 b.line([p[0], p[1], z], cut.feed);

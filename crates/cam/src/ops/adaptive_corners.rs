@@ -88,7 +88,7 @@ fn sweeps(
         .collect();
     let first = levels
         .iter()
-        .position(|&s| !free_along(model, at(e1, s), at(e2, s)))?;
+        .position(|&s| !model.free_along(at(e1, s), at(e2, s)))?;
     let mut pts = Vec::with_capacity(2 * levels.len() + 2);
     // In from the last sweep that touched nothing: the tool enters the corner where it is
     // free (a link over the top goes down there).
@@ -107,24 +107,8 @@ fn sweeps(
     Some(pts)
 }
 
-/// Points from `a` to `b` a cell apart, `b` included.
-fn along(model: &Model, a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
-    let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / model.px)
-        .ceil()
-        .max(1.0) as usize;
-    (1..=n).map(move |k| {
-        let t = k as f64 / n as f64;
-        [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
-    })
-}
-
-/// Whether the tool along `a`→`b` touches no material.
-fn free_along(model: &Model, a: [f64; 2], b: [f64; 2]) -> bool {
-    model.free(a) && along(model, a, b).all(|q| model.free(q))
-}
-
 fn cut_along(model: &mut Model, a: [f64; 2], b: [f64; 2]) {
-    for q in along(model, a, b).collect::<Vec<_>>() {
+    for q in model.along(a, b).collect::<Vec<_>>() {
         model.stamp(q);
     }
 }
