@@ -166,12 +166,12 @@ pub struct Engagement {
     pub histogram: Vec<f64>,
     /// Length of the entry moves (going down), not measured, mm.
     pub entry_length: f64,
-    /// Length of rapid moves that cut material (more than [`RAPID_TOL`] of it), mm.
+    /// Length of rapid moves that cut material (more than 0.01 mm of it), mm.
     pub rapid_cutting: f64,
 }
 
 /// Material (mm) a rapid may graze: a grid's cell beside the cleared path.
-pub const RAPID_TOL: f32 = 0.01;
+const RAPID_TOL: f32 = 0.01;
 
 impl Engagement {
     /// Length of measured moves that met material (≥ 1°), mm.

@@ -528,12 +528,15 @@ fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Mov
                         b.line([s[0], s[1], z], slow);
                         continue;
                     }
-                    // Turns of pitch 2πρ·tan(angle), each as two half circles, clockwise
+                    // Straight down through the air to the floor of the level before (the
+                    // helix's turns above it cut nothing, at a twentieth of the pace), then
+                    // turns of pitch 2πρ·tan(angle), each as two half circles, clockwise
                     // (climb with the material outside), then one flat turn at depth.
+                    b.line([s[0], s[1], z_prev], slow);
                     let pitch = TAU * radius * angle.tan();
-                    let halves = 2 * ((above - z) / pitch).ceil().max(1.0) as usize;
+                    let halves = 2 * ((z_prev - z) / pitch).ceil().max(1.0) as usize;
                     for k in 1..=halves + 2 {
-                        let zk = (above - (above - z) * k as f64 / halves as f64).max(z);
+                        let zk = (z_prev - (z_prev - z) * k as f64 / halves as f64).max(z);
                         let a = -PI * k as f64;
                         b.push(Move::Arc {
                             to: [
@@ -553,9 +556,10 @@ fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Mov
                     }),
                     Via::Cut if b.at[2] == z => b.line([to[0], to[1], z], feed),
                     _ => {
-                        // Over the top, down to the gap above the cleared floor of the
-                        // level before, and fed into the cleared spot.
-                        b.travel(cut.clear_z, *to, above);
+                        // Over the top and down into the spot: a pass starts where the tool
+                        // touches nothing (`start_beside`), so this level is already cleared
+                        // there; fast to the gap above that floor, fed the rest.
+                        b.travel(cut.clear_z, *to, z + RAPID_GAP);
                         b.line([to[0], to[1], z], slow);
                     }
                 },
