@@ -367,4 +367,25 @@ mod tests {
         assert_eq!(e.peak, 0.0);
         assert!(e.entry_length > 10.0);
     }
+
+    #[test]
+    fn rapids_through_material_are_counted() {
+        let block = vec![vec![[0.0, 0.0], [60.0, 0.0], [60.0, 40.0], [0.0, 40.0]]];
+        let rapid = |to: [f64; 3]| Canon {
+            line: 1,
+            op: CanonOp::StraightTraverse {
+                to: Pos::xyz(to[0], to[1], to[2]),
+            },
+        };
+        let mut s = EngagementStock::from_rings(&block, 0.0, 0.05, 5.0, 10_000_000).unwrap();
+        // Down beside the block: nothing; into it 2 mm deep from x = -3 (the disc's edge at
+        // 0) to 20: 23 mm; back along the same slot: nothing left to cut.
+        let ops = [
+            rapid([-5.0, 20.0, -2.0]),
+            rapid([20.0, 20.0, -2.0]),
+            rapid([-5.0, 20.0, -2.0]),
+        ];
+        let e = engagement(&ops, 3.0, &mut s, [-5.0, 20.0, 1.0], 0.1, 10_000_000).unwrap();
+        assert!((e.rapid_cutting - 23.0).abs() < 0.2, "{}", e.rapid_cutting);
+    }
 }
