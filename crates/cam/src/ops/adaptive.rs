@@ -8,9 +8,10 @@
 //! where it meets a wall or a neck it turns back through cleared material and loops in again
 //! — the trochoidal loops come out of the same rule. A pass ends when nothing meets the
 //! tool for a while or no direction is allowed; the next starts beside the nearest material
-//! left, linked by a feed move through cleared material or, where none is clear, over the
-//! retraction plane. Each depth level repeats the same plan; a contour pass along the
-//! tool-centre boundary ends each level.
+//! left, linked by a rapid where the tool meets nothing, a feed move through material
+//! within the target, or else over the retraction plane. Each depth level repeats the same
+//! plan; a contour pass along the tool-centre boundary, zigzagging into the sharp inside
+//! corners ([`super::adaptive_corners`]), ends each level.
 
 use super::adaptive_corners::with_corner_sweeps;
 use super::adaptive_model::{Model, Rings};

@@ -1,4 +1,4 @@
-//! Sharp inside corners of a pocket, cleared between the clearing plans and the contour pass.
+//! Sharp inside corners of a pocket, cleared by the contour pass on its way round.
 //!
 //! At a sharp corner the tool-centre boundary has a convex vertex c0, the position touching
 //! both walls. Its disc holds a sliver no other position reaches, so whatever comes last
