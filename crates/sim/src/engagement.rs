@@ -111,12 +111,14 @@ impl EngagementStock {
         best as f64 * self.px
     }
 
-    fn cut_disc(&mut self, x: f64, y: f64, r: f64, z: f32) {
+    /// Cuts the disc down to `z`; whether any cell stood more than `tol` above it.
+    fn cut_disc(&mut self, x: f64, y: f64, r: f64, z: f32, tol: f32) -> bool {
+        let mut cut = false;
         let px = self.px;
         let j0 = ((y - r - self.oy) / px - 0.5).ceil().max(0.0) as usize;
         let j1 = ((y + r - self.oy) / px - 0.5).floor();
         if j1 < 0.0 {
-            return;
+            return false;
         }
         for j in j0..=(j1 as usize).min(self.ny.saturating_sub(1)) {
             let dy = self.oy + (j as f64 + 0.5) * px - y;
@@ -128,11 +130,13 @@ impl EngagementStock {
             }
             for i in i0..=(i1 as usize).min(self.nx.saturating_sub(1)) {
                 let h = &mut self.z[j * self.nx + i];
+                cut |= *h > z + tol;
                 if *h > z {
                     *h = z;
                 }
             }
         }
+        cut
     }
 }
 
@@ -162,7 +166,12 @@ pub struct Engagement {
     pub histogram: Vec<f64>,
     /// Length of the entry moves (going down), not measured, mm.
     pub entry_length: f64,
+    /// Length of rapid moves that cut material (more than 0.01 mm of it), mm.
+    pub rapid_cutting: f64,
 }
+
+/// Material (mm) a rapid may graze: a grid's cell beside the cleared path.
+const RAPID_TOL: f32 = 0.01;
 
 impl Engagement {
     /// Length of measured moves that met material (≥ 1°), mm.
@@ -217,14 +226,20 @@ pub fn engagement(
             peak_at: (start, 0),
             histogram: vec![0.0; 181],
             entry_length: 0.0,
+            rapid_cutting: 0.0,
         },
     };
     let mut pos = start;
     for c in ops {
         match &c.op {
-            CanonOp::StraightTraverse { to } | CanonOp::StraightFeed { to } => {
+            CanonOp::StraightTraverse { to } => {
                 let to = [to.x, to.y, to.z];
-                w.line(pos, to, c.line)?;
+                w.line(pos, to, c.line, true)?;
+                pos = to;
+            }
+            CanonOp::StraightFeed { to } => {
+                let to = [to.x, to.y, to.z];
+                w.line(pos, to, c.line, false)?;
                 pos = to;
             }
             CanonOp::ArcFeed {
@@ -240,7 +255,7 @@ pub fn engagement(
                 let mut from = pos;
                 for p in arc_chords(*plane, a, b, *center, *turns, tol) {
                     let p = from_arc_frame(p, *rotation);
-                    w.line(from, p, c.line)?;
+                    w.line(from, p, c.line, false)?;
                     from = p;
                 }
                 pos = to;
@@ -260,7 +275,8 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    fn line(&mut self, a: [f64; 3], b: [f64; 3], line: u32) -> Result<(), String> {
+    /// Walks `a`→`b`; a `rapid` that cuts counts in [`Engagement::rapid_cutting`].
+    fn line(&mut self, a: [f64; 3], b: [f64; 3], line: u32, rapid: bool) -> Result<(), String> {
         let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         if !(len > 0.0) {
@@ -287,7 +303,10 @@ impl Walk<'_> {
                     self.out.peak_at = (q, line);
                 }
             }
-            self.stock.cut_disc(q[0], q[1], self.r, q[2] as f32);
+            let tol = if rapid { RAPID_TOL } else { f32::INFINITY };
+            if self.stock.cut_disc(q[0], q[1], self.r, q[2] as f32, tol) {
+                self.out.rapid_cutting += len / n as f64;
+            }
         }
         Ok(())
     }
@@ -347,5 +366,26 @@ mod tests {
         let e = walk(&[[10.0, 10.0, 1.0], [20.0, 10.0, -3.0]], &mut s);
         assert_eq!(e.peak, 0.0);
         assert!(e.entry_length > 10.0);
+    }
+
+    #[test]
+    fn rapids_through_material_are_counted() {
+        let block = vec![vec![[0.0, 0.0], [60.0, 0.0], [60.0, 40.0], [0.0, 40.0]]];
+        let rapid = |to: [f64; 3]| Canon {
+            line: 1,
+            op: CanonOp::StraightTraverse {
+                to: Pos::xyz(to[0], to[1], to[2]),
+            },
+        };
+        let mut s = EngagementStock::from_rings(&block, 0.0, 0.05, 5.0, 10_000_000).unwrap();
+        // Down beside the block: nothing; into it 2 mm deep from x = -3 (the disc's edge at
+        // 0) to 20: 23 mm; back along the same slot: nothing left to cut.
+        let ops = [
+            rapid([-5.0, 20.0, -2.0]),
+            rapid([20.0, 20.0, -2.0]),
+            rapid([-5.0, 20.0, -2.0]),
+        ];
+        let e = engagement(&ops, 3.0, &mut s, [-5.0, 20.0, 1.0], 0.1, 10_000_000).unwrap();
+        assert!((e.rapid_cutting - 23.0).abs() < 0.2, "{}", e.rapid_cutting);
     }
 }

@@ -8,10 +8,12 @@
 //! where it meets a wall or a neck it turns back through cleared material and loops in again
 //! — the trochoidal loops come out of the same rule. A pass ends when nothing meets the
 //! tool for a while or no direction is allowed; the next starts beside the nearest material
-//! left, linked by a feed move through cleared material or, where none is clear, over the
-//! retraction plane. Each depth level repeats the same plan; a contour pass along the
-//! tool-centre boundary ends each level.
+//! left, linked by a rapid where the tool meets nothing, a feed move through material
+//! within the target, or else over the retraction plane. Each depth level repeats the same
+//! plan; a contour pass along the tool-centre boundary, zigzagging into the sharp inside
+//! corners ([`super::adaptive_corners`]), ends each level.
 
+use super::adaptive_corners::with_corner_sweeps;
 use super::adaptive_model::{Model, Rings};
 use super::profile::OFFSET_TOL;
 use super::{Builder, Cut, Entry, OpError, RAPID_GAP};
@@ -57,10 +59,22 @@ const MAX_CELLS: usize = 16_000_000;
 enum Piece {
     /// Down into fresh material round a circle of `radius` about `centre` (0: plunge).
     Helix { centre: [f64; 2], radius: f64 },
-    /// To the start of the next pass: fed through cleared material, or over the top.
-    Link { to: [f64; 2], feed: bool },
+    /// To the start of the next pass, or across cleared material within one.
+    Link { to: [f64; 2], via: Via },
     /// Cutting moves through these points.
     Pass(Vec<[f64; 2]>),
+}
+
+/// How a [`Piece::Link`] gets there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Via {
+    /// A rapid at depth: the tool touches nothing on the way (as FreeCAD's Adaptive links
+    /// through cleared area, `LinkClear` at a lift of 0).
+    Clear,
+    /// Fed at depth, cutting within the target.
+    Cut,
+    /// Over the retraction plane.
+    Top,
 }
 
 /// Clears the inside of the closed `paths` (holes stay as islands) with `cut`.
@@ -126,7 +140,7 @@ pub fn adaptive(
     let centres = offset_areas(&wall, -1.5 * px, OFFSET_TOL).map_err(geo)?;
     let near_wall = offset_areas(&wall, -0.75 * px, OFFSET_TOL).map_err(geo)?;
     let pocket = offset_areas(&areas, -(p.stock_to_leave + 0.5 * px), OFFSET_TOL).map_err(geo)?;
-    let contours = [rings(&wall)];
+    let boundary = rings(&wall);
     let (pocket, centres, near_wall) = (rings(&pocket), rings(&centres), rings(&near_wall));
     let extent = extent_cells(&pocket, r, px);
     if extent > MAX_CELLS as f64 {
@@ -148,9 +162,14 @@ pub fn adaptive(
     };
     let mut model = Model::new(&pocket, &centres, r, px);
     let mut plan = self::plan(&mut model, target, helix_max, None)?;
-    model.allow(&near_wall, Some(&contours[0]));
+    model.allow(&near_wall, Some(&boundary));
     let last = plan.iter().rev().find_map(Piece::end);
     plan.extend(self::plan(&mut model, target, helix_max, last)?);
+    let contours: Vec<_> = boundary
+        .iter()
+        .filter(|ring| ring.len() >= 3)
+        .map(|ring| with_corner_sweeps(&mut model, &boundary, &contour_order(ring)))
+        .collect();
     Ok(cut.operation(name, emit(&plan, &contours, cut)?))
 }
 
@@ -210,17 +229,23 @@ fn plan(
             };
             // A pass that cuts nothing is dropped with its link, and so is what the link cut.
             let before = model.snapshot();
-            let feed = model.link(here, start, target);
+            let via = if model.cuts_nothing_along(here, start) {
+                Via::Clear
+            } else if model.link(here, start, target) {
+                Via::Cut
+            } else {
+                Via::Top
+            };
             let heading = (m[1] - start[1]).atan2(m[0] - start[0]);
-            let (pts, cut) = pass(model, start, heading, target, step, &mut budget);
+            let (pts, rapids, cut) = pass(model, start, heading, target, step, &mut budget);
             if cut == 0 {
                 model.restore(before);
                 model.ban(c);
                 continue;
             }
-            plan.push(Piece::Link { to: start, feed });
+            plan.push(Piece::Link { to: start, via });
             at = Some(*pts.last().unwrap_or(&start));
-            plan.push(Piece::Pass(pts));
+            plan.extend(pass_pieces(&pts, &rapids, 0.002 * model.r));
             started = true;
             break;
         }
@@ -281,8 +306,14 @@ fn start_beside(model: &Model, m: [f64; 2]) -> Option<[f64; 2]> {
     None
 }
 
-/// One pass from `start`: steps of `step` keeping the engagement ≤ `target`; the points
-/// and the cells cut.
+/// Steps that touch nothing, in a run at least this long (as a fraction of the tool radius),
+/// go as one rapid where the chord between its ends is clear too: shorter, a stop at each
+/// end costs more than feeding through.
+const AIR_RUN: f64 = 1.0;
+
+/// One pass from `start`: steps of `step` keeping the engagement ≤ `target`; the points,
+/// the runs of them (first, last index) that touched nothing and may go as a rapid, and
+/// the cells cut.
 fn pass(
     model: &mut Model,
     start: [f64; 2],
@@ -290,8 +321,9 @@ fn pass(
     target: f64,
     step: f64,
     budget: &mut usize,
-) -> (Vec<[f64; 2]>, usize) {
+) -> (Vec<[f64; 2]>, Vec<(usize, usize)>, usize) {
     let mut pts = vec![start];
+    let (mut rapids, mut air_from) = (Vec::new(), None);
     let (mut at, mut heading) = (start, heading);
     let (mut cut, mut idle, mut last_cut_len) = (0, 0, 1);
     // A pass that loops without progress ends: over the last WINDOW steps it must cut a
@@ -309,8 +341,29 @@ fn pass(
             next = best_turn(model, at, heading, step, target, 180.0, false);
         }
         let Some((q, h, e)) = next else { break };
+        // A run of steps meeting nothing ends here: judged on the material as it is when
+        // the tool goes through (this step and those after cut more).
+        let air = e == 0.0;
+        if !air {
+            if let Some(i) = air_from.take() {
+                let j = pts.len() - 1;
+                if (j - i) as f64 * step >= AIR_RUN * model.r
+                    && model.cuts_nothing_along(pts[i], pts[j])
+                {
+                    rapids.push((i, j));
+                }
+            }
+        }
         // Every step the model cuts is a move of the program, the one that ends a pass too.
         let (n, all) = model.stamp(q);
+        if air {
+            // A sliver the samples missed breaks the run.
+            if all == 0 {
+                air_from.get_or_insert(pts.len() - 1);
+            } else {
+                air_from = None;
+            }
+        }
         pts.push(q);
         cut += n;
         // Steps that cut anything are kept, the material out of reach included.
@@ -336,7 +389,28 @@ fn pass(
     }
     // The tail after the last step that cut a cell cut nothing: leave it out.
     pts.truncate(last_cut_len.max(2).min(pts.len()));
-    (simplify(&pts, 0.002 * model.r), cut)
+    rapids.retain(|&(_, j)| j < pts.len());
+    (pts, rapids, cut)
+}
+
+/// The pass `pts` as pieces: its `rapids` (index ranges) as links through clear space, the
+/// rest fed, each fed stretch simplified within `tol`.
+fn pass_pieces(pts: &[[f64; 2]], rapids: &[(usize, usize)], tol: f64) -> Vec<Piece> {
+    let mut pieces = Vec::new();
+    let mut from = 0;
+    for &(i, j) in rapids.iter().chain([&(pts.len() - 1, pts.len() - 1)]) {
+        if i > from {
+            pieces.push(Piece::Pass(simplify(&pts[from..=i], tol)));
+        }
+        if j > i {
+            pieces.push(Piece::Link {
+                to: pts[j],
+                via: Via::Clear,
+            });
+        }
+        from = j;
+    }
+    pieces
 }
 
 /// The step from `at` within `turn` degrees of `heading` that engages most without passing
@@ -437,9 +511,9 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
-/// The moves: the plan at every depth level, then a climb contour pass on each ring of
-/// `contours` (the last the tool-centre boundary).
-fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpError> {
+/// The moves: the plan at every depth level, then the contour passes (closed paths along the
+/// tool-centre boundary, [`contour_order`]).
+fn emit(plan: &[Piece], contours: &[Vec<[f64; 2]>], cut: &Cut) -> Result<Vec<Move>, OpError> {
     let mut b = Builder::new(cut.clear_z);
     let (feed, slow) = (cut.feed, cut.plunge_feed);
     let angle = cut.entry.angle().unwrap_or(3f64.to_radians());
@@ -455,12 +529,15 @@ fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpEr
                         b.line([s[0], s[1], z], slow);
                         continue;
                     }
-                    // Turns of pitch 2πρ·tan(angle), each as two half circles, clockwise
+                    // Straight down through the air to the floor of the level before (the
+                    // helix's turns above it cut nothing, at a twentieth of the pace), then
+                    // turns of pitch 2πρ·tan(angle), each as two half circles, clockwise
                     // (climb with the material outside), then one flat turn at depth.
+                    b.line([s[0], s[1], z_prev], slow);
                     let pitch = TAU * radius * angle.tan();
-                    let halves = 2 * ((above - z) / pitch).ceil().max(1.0) as usize;
+                    let halves = 2 * ((z_prev - z) / pitch).ceil().max(1.0) as usize;
                     for k in 1..=halves + 2 {
-                        let zk = (above - (above - z) * k as f64 / halves as f64).max(z);
+                        let zk = (z_prev - (z_prev - z) * k as f64 / halves as f64).max(z);
                         let a = -PI * k as f64;
                         b.push(Move::Arc {
                             to: [
@@ -474,16 +551,19 @@ fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpEr
                         });
                     }
                 }
-                Piece::Link { to, feed: through } => {
-                    if *through && b.at[2] == z {
-                        b.line([to[0], to[1], z], feed);
-                    } else {
-                        // Over the top, down to the gap above the cleared floor of the
-                        // level before, and fed into the cleared spot.
-                        b.travel(cut.clear_z, *to, above);
+                Piece::Link { to, via } => match via {
+                    Via::Clear if b.at[2] == z => b.push(Move::Rapid {
+                        to: [to[0], to[1], z],
+                    }),
+                    Via::Cut if b.at[2] == z => b.line([to[0], to[1], z], feed),
+                    _ => {
+                        // Over the top and down into the spot: a pass starts where the tool
+                        // touches nothing (`start_beside`), so this level is already cleared
+                        // there; fast to the gap above that floor, fed the rest.
+                        b.travel(cut.clear_z, *to, z + RAPID_GAP);
                         b.line([to[0], to[1], z], slow);
                     }
-                }
+                },
                 Piece::Pass(pts) => {
                     for p in &pts[1..] {
                         b.line([p[0], p[1], z], feed);
@@ -491,20 +571,24 @@ fn emit(plan: &[Piece], contours: &[Rings], cut: &Cut) -> Result<Vec<Move>, OpEr
                 }
             }
         }
-        for ring in contours.iter().flatten() {
-            contour(&mut b, ring, z, cut)?;
+        for path in contours {
+            let s = path[0];
+            // Down fast only to the gap above the level before: the strip beside the wall
+            // still stands there.
+            b.travel(cut.clear_z, s, above);
+            b.line([s[0], s[1], z], cut.plunge_feed);
+            for p in &path[1..] {
+                b.line([p[0], p[1], z], cut.feed);
+            }
         }
         z_prev = z;
     }
     Ok(b.finish(cut.clear_z))
 }
 
-/// One climb pass round `ring` at `z`, from the middle of its longest edge (a corner would
-/// meet the material of both its walls at once).
-fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), OpError> {
-    if ring.len() < 3 {
-        return Ok(());
-    }
+/// A climb pass round `ring` (at least 3 points), closed: from the middle of its longest
+/// edge (a corner would meet the material of both its walls at once).
+fn contour_order(ring: &[[f64; 2]]) -> Vec<[f64; 2]> {
     let n = ring.len();
     let edge = |i: usize| {
         let (a, b) = (ring[i], ring[(i + 1) % n]);
@@ -520,14 +604,7 @@ fn contour(b: &mut Builder, ring: &[[f64; 2]], z: f64, cut: &Cut) -> Result<(), 
     let k0 = longest + 1;
     // Outer rings run counter-clockwise, holes clockwise: reversed, the wall is on the
     // tool's right (climb).
-    let order: Vec<[f64; 2]> = (0..=ring.len())
+    (0..=ring.len())
         .map(|i| ring[(k0 + ring.len() - i % ring.len()) % ring.len()])
-        .collect();
-    let s = order[0];
-    b.travel(cut.clear_z, s, z + RAPID_GAP);
-    b.line([s[0], s[1], z], cut.plunge_feed);
-    for p in &order[1..] {
-        b.line([p[0], p[1], z], cut.feed);
-    }
-    Ok(())
+        .collect()
 }

@@ -258,6 +258,29 @@ impl Model {
         !hit
     }
 
+    /// Points from `a` to `b` a cell apart, `b` included.
+    pub(super) fn along(&self, a: [f64; 2], b: [f64; 2]) -> impl Iterator<Item = [f64; 2]> {
+        let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / self.px).ceil().max(1.0) as usize;
+        (1..=n).map(move |k| {
+            let t = k as f64 / n as f64;
+            [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+        })
+    }
+
+    /// Whether the tool along `a`→`b` touches no material (nor within a cell of it).
+    pub(super) fn free_along(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        self.free(a) && self.along(a, b).all(|q| self.free(q))
+    }
+
+    /// Whether the tool going along `a`→`b` meets no material ahead and keeps its centre
+    /// allowed all along: a rapid there cuts nothing and stays off the walls.
+    pub(super) fn cuts_nothing_along(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        let h = (b[1] - a[1]).atan2(b[0] - a[0]);
+        std::iter::once(a)
+            .chain(self.along(a, b))
+            .all(|q| self.allowed(q) && self.engagement(q, h) == 0.0)
+    }
+
     /// Up to `n` material cells not banned, nearest to `p` first.
     pub(super) fn nearest_material(&self, p: [f64; 2], n: usize) -> Vec<(usize, [f64; 2])> {
         let mut best: Vec<(f64, usize)> = Vec::with_capacity(n + 1);
@@ -369,15 +392,8 @@ impl Model {
     /// Whether the tool can feed along `a`→`b`, its centre allowed, engaged at most
     /// `target` degrees all along; if so the material it meets is cut.
     pub(super) fn link(&mut self, a: [f64; 2], b: [f64; 2], target: f64) -> bool {
-        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-        let n = (len / self.px).ceil().max(1.0) as usize;
         let h = (b[1] - a[1]).atan2(b[0] - a[0]);
-        let pts: Vec<[f64; 2]> = (1..=n)
-            .map(|k| {
-                let t = k as f64 / n as f64;
-                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
-            })
-            .collect();
+        let pts: Vec<[f64; 2]> = self.along(a, b).collect();
         // Cut as it goes (engagement only grows as material is met, never shrinks
         // behind), back to the state before where it fails.
         let before = self.snapshot();

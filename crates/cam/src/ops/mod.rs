@@ -18,6 +18,7 @@
 //! Z: the stock top is `top` (usually 0) and cuts go down to `top − depth`.
 
 mod adaptive;
+mod adaptive_corners;
 mod adaptive_model;
 mod chain;
 mod chamfer;
