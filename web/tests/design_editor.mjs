@@ -13,11 +13,12 @@ import os from 'node:os';
 import path from 'node:path';
 
 const bin = path.resolve(process.env.OFICINA_BIN || path.join(root, 'target', 'debug', 'oficina'));
-const shots = path.join(root, 'docs', 'screenshots');
 const server = await startServer();
 const browser = await launch();
 const { test, state, finish } = suite('design editor');
 const dir = mkdtempSync(path.join(os.tmpdir(), 'oficina-design-'));
+// OFICINA_DOCS_SCREENSHOTS=1 refreshes the screenshots kept in docs/; otherwise they land in `dir`.
+const shots = process.env.OFICINA_DOCS_SCREENSHOTS ? path.join(root, 'docs', 'screenshots') : dir;
 
 const ctx = await browser.newContext({ viewport: { width: 1600, height: 1000 }, acceptDownloads: true });
 let page = await ctx.newPage();
