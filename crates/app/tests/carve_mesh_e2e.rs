@@ -107,6 +107,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
             stock_top: None,
             stock_bottom: None,
             tolerance: 0.002,
+            roughing: Default::default(),
         };
         let post = PostOptions {
             dialect: PostDialect::Grbl,
