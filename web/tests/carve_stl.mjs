@@ -179,6 +179,42 @@ await test('the cone as OBJ (trimesh writes it): drawn and carved as the CLI car
   sameFigures(got.report, ref.stdout);
 });
 
+await test('the cone, mix chosen in the visible form (steep 40°, raster at 30°, z-level roughing): the CLI\'s program', async () => {
+  const file = path.join(dir, 'ocl_cone_on_side.stl');
+  await open(file);
+  await fillForm({ size: '', rotate: 0 });
+  // The controls a user sees: the finishing strategy, the slope limit, the raster angle.
+  for (const name of ['strategy', 'steep', 'angle', 'roughing', 'rough_tool']) {
+    assert(await page.isVisible(`#process-fields [name="${name}"]`), `${name} is shown`);
+  }
+  const got = await carve({ tool: 'ball:3', rough_tool: 'flat:6', roughing: 'zlevel', strategy: 'mix', steep: 40, angle: 30, pixel_size: 0.2, post: 'grbl', direction: 'x', scallop: 0.02 });
+  const ref = cli(file, ['--tool', 'ball:3', '--rough-tool', 'flat:6', '--roughing', 'zlevel', '--strategy', 'mix', '--steep', '40', '--angle', '30', '--pixel-size', '0.2']);
+  sameProgram(got.program, ref.program);
+  sameFigures(got.report, ref.stdout);
+  assert(/roughing \(mesh z-level\): T1 flat:6/.test(got.report), got.report);
+  assert(/finishing \(mesh raster on flats, waterline on steeps\): T2 ball:3/.test(got.report), got.report);
+});
+
+await test('a large carving cancelled midway: the page says so and carves the next one', async () => {
+  const file = path.join(dir, 'ocl_sphere_on_plate.stl');
+  if (!existsSync(file)) { console.log(`note: ${file} is absent: skipped`); return; }
+  await open(file);
+  // A fine grid and a tiny scallop with the mix: minutes of work were it not cancelled.
+  await fillForm({ tool: 'ball:1', rough_tool: 'flat:6', strategy: 'mix', steep: 45, angle: '', pixel_size: 0.02, scallop: 0.0005 });
+  await page.click('#make');
+  const cancel = '#process-form .cancel-job';
+  await page.waitForSelector(`${cancel}:not([hidden])`, { timeout: 120000 });
+  await page.click(cancel);
+  await page.waitForFunction(() => document.getElementById('process-status').textContent === 'cancelled', null, { timeout: 120000 });
+  assert(!(await page.textContent('#error')), `no error: ${await page.textContent('#error')}`);
+  // Usable at once: the cone, carved as the CLI carves it.
+  const cone = path.join(dir, 'ocl_cone_on_side.stl');
+  await open(cone);
+  const got = await carve({ tool: 'ball:6', rough_tool: '', strategy: 'raster', pixel_size: 0.2, scallop: 0.02 });
+  const ref = cli(cone, ['--tool', 'ball:6', '--pixel-size', '0.2']);
+  sameProgram(got.program, ref.program);
+});
+
 await test('a bad tool is a clear message beside its field', async () => {
   await fillForm({ tool: 'wrench:3' });
   await page.click('#make');

@@ -7,8 +7,7 @@ use crate::Error;
 use oficina_cam::memory::{self, Budget, Lever};
 use oficina_cam::mesh::{
     finishing_moves, flat_pieces, grown, level_spacing, raster, rough, waterline_pieces,
-    ContactGrid, DropCutter, Raster, Strategy, ZLevel, OVERLAP,
-    zlevel_bytes,
+    zlevel_bytes, ContactGrid, DropCutter, Raster, Strategy, ZLevel, OVERLAP,
 };
 use oficina_cam::relief::{plan_after, Direction, Progress, ReliefError};
 use oficina_cam::{apply_moves, CutterShape, Move, Operation, Tool, Toolpath};

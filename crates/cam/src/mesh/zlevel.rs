@@ -7,8 +7,8 @@
 //! real tool at tip height `z` over `p` stays `a` from the model exactly where the grown
 //! tool's drop-cutter height `d(p)` is at most `z − a`; the boundary of that set is the
 //! grown tool's waterline at `z − a` ([`loops_at`]). The region the tool centre may sweep
-//! at the level is the stock's box (grown by the tool radius, so the rim is cleared) less
-//! the inside of those loops; its insets every step-over are the passes, cut outside in.
+//! at the level is the stock's box (its boundary pass clears the rim) less the inside of
+//! those loops; its insets every step-over are the passes, cut outside in.
 //!
 //! Every level clears its whole region: the regions shrink going down (`d` does not depend
 //! on `z`), so what a level cuts under is stock the levels above left.
@@ -105,23 +105,17 @@ pub(super) fn levels(top: f64, floor: f64, stepdown: f64) -> Vec<f64> {
     }
 }
 
-/// Where the tool centre may go at tip height `z`: the stock box grown by the tool's radius
-/// less the grown tool's no-go loops at `z − allowance`.
+/// Where the tool centre may go at tip height `z`: the stock box (its boundary pass sweeps
+/// the band a radius wide inside it, and the machine's travel is the stock's) less the
+/// grown tool's no-go loops at `z − allowance`.
 pub(super) fn region_at(
     grown: &DropCutter,
     g: &ContactGrid,
     z: &ZLevel,
-    radius: f64,
     level: f64,
 ) -> Result<Vec<Region>, String> {
     let s = z.stock;
-    let r = radius;
-    let rect: Ring = vec![
-        [s[0] - r, s[1] - r],
-        [s[2] + r, s[1] - r],
-        [s[2] + r, s[3] + r],
-        [s[0] - r, s[3] + r],
-    ];
+    let rect: Ring = vec![[s[0], s[1]], [s[2], s[1]], [s[2], s[3]], [s[0], s[3]]];
     let loops: Vec<Ring> = loops_at(grown, g, level - z.allowance, z.tolerance)
         .into_iter()
         .map(|lp| lp[..lp.len() - 1].iter().map(|p| [p[0], p[1]]).collect())
@@ -138,7 +132,10 @@ pub(super) fn contours(region: &[Region], z: &ZLevel) -> Result<Vec<(usize, Vec<
     let mut out: Vec<(usize, Vec<Ring>)> = Vec::new();
     for rs in &steps {
         for r in rs {
-            let part = region.iter().position(|p| inside(p, r.outer[0])).unwrap_or(0);
+            let part = region
+                .iter()
+                .position(|p| inside(p, r.outer[0]))
+                .unwrap_or(0);
             out.push((part, rings_of(r)));
         }
     }
@@ -150,7 +147,10 @@ pub(super) fn contours(region: &[Region], z: &ZLevel) -> Result<Vec<(usize, Vec<
         )
         .map_err(|e| e.0)?;
         for r in &core {
-            let part = region.iter().position(|p| inside(p, r.outer[0])).unwrap_or(0);
+            let part = region
+                .iter()
+                .position(|p| inside(p, r.outer[0]))
+                .unwrap_or(0);
             out.push((part, rings_of(r)));
         }
     }
@@ -216,11 +216,13 @@ pub fn rough(
         ));
     }
     if !(z.stepdown > 0.0 && z.allowance >= 0.0 && z.floor < z.top) {
-        return Err("z-level roughing: step-down above 0, allowance 0 or more, stock bottom below its top".into());
+        return Err(
+            "z-level roughing: step-down above 0, allowance 0 or more, stock bottom below its top"
+                .into(),
+        );
     }
     let step = grid_step(grown.radius());
     let g = ContactGrid::new(grown, grid_region(z, grown.radius(), step), step);
-    let radius = tool.cutting_radius();
     let mut moves = Vec::new();
     let mut at: Option<[f64; 3]> = None;
     let mut above = z.top;
@@ -228,7 +230,7 @@ pub fn rough(
         if stop() {
             return Err("cancelled".into());
         }
-        let region = region_at(grown, &g, z, radius, level)?;
+        let region = region_at(grown, &g, z, level)?;
         let all: Vec<&Ring> = region
             .iter()
             .flat_map(|r| std::iter::once(&r.outer).chain(&r.holes))
