@@ -305,8 +305,10 @@ pub fn evaluate_mesh_cancellable(
     let point = DropCutter::new(
         mesh,
         &Tool::new(CutterShape::Flat, 0.002).map_err(Error::from_display)?,
-    );
+    )
+    .cancelled_by(cancel);
     let design = point.height_field(origin, pixel, width, height, bottom, top);
+    stopped()?;
     let mut operations = Vec::new();
     let rough_passes: Vec<_> = job.passes[..job.passes.len() - 1].to_vec();
     let safe = top + job.safe_z;

@@ -55,6 +55,28 @@ fn closest(p: [f64; 3], t: &[[f64; 3]; 3]) -> [f64; 3] {
     ]
 }
 
+/// The realworld model at `path`, as the CLI places it without options.
+fn load(path: &std::path::Path) -> oficina_io::Mesh {
+    MeshSource {
+        path: path.to_path_buf(),
+        scale: 1.0,
+        rotate: 0.0,
+        size: None,
+    }
+    .load(1 << 30)
+    .unwrap()
+}
+
+/// The grbl post, no header.
+fn grbl() -> PostOptions {
+    PostOptions {
+        dialect: PostDialect::Grbl,
+        allow_m6: false,
+        title: "t".into(),
+        settings: vec![],
+    }
+}
+
 /// Distance from `p` to the mesh, looking only at triangles whose box is within `cap`.
 fn distance(p: [f64; 3], tris: &[[[f64; 3]; 3]], cap: f64) -> f64 {
     let mut best = cap;
@@ -88,14 +110,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
         ("ocl_cone_on_side.stl", Strategy::Mix),
         ("ocl_sphere_on_plate.stl", Strategy::Mix),
     ] {
-        let mesh = MeshSource {
-            path: dir.join(name),
-            scale: 1.0,
-            rotate: 0.0,
-            size: None,
-        }
-        .load(1 << 30)
-        .unwrap();
+        let mesh = load(&dir.join(name));
         let settings = Settings {
             tool: "ball:3".into(),
             stepover: Some(0.5),
@@ -109,12 +124,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
             tolerance: 0.002,
             roughing: Default::default(),
         };
-        let post = PostOptions {
-            dialect: PostDialect::Grbl,
-            allow_m6: false,
-            title: "t".into(),
-            settings: vec![],
-        };
+        let post = grbl();
         let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
         let finish = MeshFinish {
             strategy,
@@ -267,14 +277,7 @@ fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
         "ocl_ktoolcav.stl",
         "ocl_sphere_on_plate.stl",
     ] {
-        let mesh = MeshSource {
-            path: dir.join(name),
-            scale: 1.0,
-            rotate: 0.0,
-            size: None,
-        }
-        .load(1 << 30)
-        .unwrap();
+        let mesh = load(&dir.join(name));
         let cap = allowance + 1.0;
         let cells = Cells::new(&mesh.triangles, cap);
         for roughing in [Roughing::ZLevel, Roughing::HeightField] {
@@ -294,12 +297,7 @@ fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
                 tolerance: 0.002,
                 roughing,
             };
-            let post = PostOptions {
-                dialect: PostDialect::Grbl,
-                allow_m6: false,
-                title: "t".into(),
-                settings: vec![],
-            };
+            let post = grbl();
             let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
             let e = evaluate_mesh_with(
                 &mesh,
