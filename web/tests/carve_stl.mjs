@@ -107,7 +107,7 @@ await test('a cone on its side: opened, drawn, carved with a roughing tool as th
   sameProgram(got.program, ref.program);
   const f = sameFigures(got.report, ref.stdout);
   assert(f.gouge < 0.01, `gouge ${f.gouge}`);
-  assert(/roughing: T1 flat:6/.test(got.report) && /finishing .*: T2 ball:3/.test(got.report), got.report);
+  assert(/roughing \(mesh z-level\): T1 flat:6/.test(got.report) && /finishing .*: T2 ball:3/.test(got.report), got.report);
   assert(await page.isVisible('#model-stock'), 'the simulated stock is shown');
   // The toolpath is drawn with the model.
   await page.waitForFunction(() => Number(document.getElementById('viewport').dataset.segments || 0) > 1000, null, { timeout: 60000 });
@@ -177,6 +177,46 @@ await test('the cone as OBJ (trimesh writes it): drawn and carved as the CLI car
   const ref = cli(obj, ['--tool', 'ball:6', '--pixel-size', '0.2']);
   sameProgram(got.program, ref.program);
   sameFigures(got.report, ref.stdout);
+});
+
+await test('the cone, mix chosen in the visible form (steep 40°, raster at 30°, z-level roughing): the CLI\'s program', async () => {
+  const file = path.join(dir, 'ocl_cone_on_side.stl');
+  await open(file);
+  await fillForm({ size: '', rotate: 0 });
+  // The controls a user sees: the finishing strategy, the slope limit, the raster angle.
+  for (const name of ['strategy', 'steep', 'angle', 'roughing', 'rough_tool']) {
+    assert(await page.isVisible(`#process-fields [name="${name}"]`), `${name} is shown`);
+  }
+  const got = await carve({ tool: 'ball:3', rough_tool: 'flat:6', roughing: 'zlevel', strategy: 'mix', steep: 40, angle: 30, pixel_size: 0.2, post: 'grbl', direction: 'x', scallop: 0.02 });
+  const ref = cli(file, ['--tool', 'ball:3', '--rough-tool', 'flat:6', '--roughing', 'zlevel', '--strategy', 'mix', '--steep', '40', '--angle', '30', '--pixel-size', '0.2']);
+  sameProgram(got.program, ref.program);
+  // The mix's first row starts a hair below X 0, outside grbl-router's travel: no planner
+  // time on either side, so the gouge and the feed-only time.
+  const gouge = ref.stdout.match(/max gouge: ([\d.]+) mm/)[1];
+  const feedOnly = ref.stdout.match(/feed-only (\d+:\d\d:\d\d)/)[1];
+  assert(got.report.includes(`max gouge ${gouge} mm`) && got.report.includes(`feed-only ${feedOnly}`), `${gouge}, ${feedOnly}: ${got.report}`);
+  assert(/roughing \(mesh z-level\): T1 flat:6/.test(got.report), got.report);
+  assert(/finishing \(mesh raster on flats, waterline on steeps\): T2 ball:3/.test(got.report), got.report);
+});
+
+await test('a large carving cancelled midway: the page says so and carves the next one', async () => {
+  const file = path.join(dir, 'ocl_sphere_on_plate.stl');
+  if (!existsSync(file)) { console.log(`note: ${file} is absent: skipped`); return; }
+  await open(file);
+  // A fine grid and a tiny scallop with the mix: minutes of work were it not cancelled.
+  await fillForm({ tool: 'ball:1', rough_tool: 'flat:6', strategy: 'mix', steep: 45, angle: '', pixel_size: 0.05, scallop: 0.0005 });
+  await page.click('#make');
+  const cancel = '#process-form .cancel-job';
+  await page.waitForSelector(`${cancel}:not([hidden])`, { timeout: 120000 });
+  await page.click(cancel);
+  await page.waitForFunction(() => document.getElementById('process-status').textContent === 'cancelled', null, { timeout: 120000 });
+  assert(!(await page.textContent('#error')), `no error: ${await page.textContent('#error')}`);
+  // Usable at once: the cone, carved as the CLI carves it.
+  const cone = path.join(dir, 'ocl_cone_on_side.stl');
+  await open(cone);
+  const got = await carve({ tool: 'ball:6', rough_tool: '', strategy: 'raster', pixel_size: 0.2, scallop: 0.02 });
+  const ref = cli(cone, ['--tool', 'ball:6', '--pixel-size', '0.2']);
+  sameProgram(got.program, ref.program);
 });
 
 await test('a bad tool is a clear message beside its field', async () => {

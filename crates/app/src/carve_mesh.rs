@@ -6,11 +6,11 @@
 use crate::Error;
 use oficina_cam::memory::{self, Budget, Lever};
 use oficina_cam::mesh::{
-    finishing_moves, flat_pieces, level_spacing, raster, waterline_pieces, ContactGrid, DropCutter,
-    Raster, Strategy, OVERLAP,
+    finishing_moves, flat_pieces, grown, level_spacing, raster, rough, waterline_pieces,
+    zlevel_bytes, ContactGrid, DropCutter, Raster, Strategy, ZLevel, OVERLAP,
 };
-use oficina_cam::relief::{plan_within, Direction, Progress};
-use oficina_cam::{CutterShape, Move, Operation, Tool, Toolpath};
+use oficina_cam::relief::{plan_after, Direction, Progress, ReliefError};
+use oficina_cam::{apply_moves, CutterShape, Move, Operation, Tool, Toolpath};
 use oficina_canon::Canon;
 use oficina_io::{Heightmap, Mesh};
 use oficina_motion::Profile;
@@ -18,6 +18,7 @@ use oficina_post::{program_text, PostOptions};
 use oficina_sim::carve::{bytes_per_move, interpret, to_machine, Settings};
 use oficina_sim::{compare, feed_only_estimate, ideal_surface, replay, Report};
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Where the model comes from and how it is placed (mm, degrees).
 #[derive(Clone, Debug)]
@@ -98,6 +99,29 @@ pub struct MeshOptions {
     pub stock_bottom: Option<f64>,
     /// Largest gap between a straight finishing feed and the exact cutter location.
     pub tolerance: f64,
+    /// How the roughing tool clears the stock.
+    pub roughing: Roughing,
+}
+
+/// How the roughing tool (`--rough-tool`) clears the stock.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Roughing {
+    /// Contours at each level on the mesh itself (`oficina_cam::mesh::rough`).
+    #[default]
+    ZLevel,
+    /// The relief planner's levels on the model's conservative height field.
+    HeightField,
+}
+
+impl std::str::FromStr for Roughing {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Roughing, String> {
+        match s {
+            "zlevel" => Ok(Roughing::ZLevel),
+            "heightfield" => Ok(Roughing::HeightField),
+            _ => Err(format!("unknown roughing '{s}' (zlevel, heightfield)")),
+        }
+    }
 }
 
 /// How the mesh job's finishing pass covers the model.
@@ -183,6 +207,42 @@ pub fn evaluate_mesh_with(
     budget: u64,
     progress: Progress,
 ) -> Result<MeshEvaluation, Error> {
+    let never = AtomicBool::new(false);
+    evaluate_mesh_cancellable(
+        mesh,
+        settings,
+        opts,
+        finish_with,
+        profile,
+        post,
+        budget,
+        progress,
+        &never,
+    )
+}
+
+/// [`evaluate_mesh_with`] that gives up with [`Error::cancelled`] soon after `cancel` is
+/// set: every drop-cutter query answers at once from then on (rows, grids and loops run
+/// out on every thread) and the flag is read after each stage and z-level.
+#[allow(clippy::too_many_arguments)]
+pub fn evaluate_mesh_cancellable(
+    mesh: &Mesh,
+    settings: &Settings,
+    opts: &MeshOptions,
+    finish_with: &MeshFinish,
+    profile: &Profile,
+    post: &PostOptions,
+    budget: u64,
+    progress: Progress,
+    cancel: &AtomicBool,
+) -> Result<MeshEvaluation, Error> {
+    let stopped = || {
+        if cancel.load(Ordering::Relaxed) {
+            Err(Error::cancelled())
+        } else {
+            Ok(())
+        }
+    };
     if !(finish_with.limit.is_finite() && (10.0..=80.0).contains(&finish_with.limit)) {
         return Err(Error(format!(
             "--steep {}: between 10 and 80 degrees",
@@ -245,50 +305,114 @@ pub fn evaluate_mesh_with(
     let point = DropCutter::new(
         mesh,
         &Tool::new(CutterShape::Flat, 0.002).map_err(Error::from_display)?,
-    );
+    )
+    .cancelled_by(cancel);
     let design = point.height_field(origin, pixel, width, height, bottom, top);
+    stopped()?;
     let mut operations = Vec::new();
     let rough_passes: Vec<_> = job.passes[..job.passes.len() - 1].to_vec();
+    let safe = top + job.safe_z;
     if !rough_passes.is_empty() {
         let cover = Tool::new(CutterShape::Flat, pixel * std::f64::consts::SQRT_2)
             .map_err(Error::from_display)?;
-        let rough_design =
-            DropCutter::new(mesh, &cover).height_field(origin, pixel, width, height, bottom, top);
-        let rough_job = oficina_cam::relief::ReliefJob {
-            passes: rough_passes,
-            ..job.clone()
-        };
-        let b = Budget {
-            bytes: budget,
-            reserved: fixed,
-            per_move: bytes_per_move(),
-        };
-        let planned = plan_within(&rough_design, &rough_job, b, progress).map_err(|e| {
-            Error(format!(
-                "{e} (options: --pixel-size, --stepdown, --memory-mb)"
-            ))
-        })?;
-        for mut op in planned.toolpath.operations {
-            for m in &mut op.moves {
-                shift_move(m, [origin[0], origin[1], top]);
+        let rough_design = DropCutter::new(mesh, &cover)
+            .cancelled_by(cancel)
+            .height_field(origin, pixel, width, height, bottom, top);
+        stopped()?;
+        let mut earlier = None;
+        let mut relief_passes = rough_passes.clone();
+        if opts.roughing == Roughing::ZLevel {
+            progress("z-level roughing", 0.0);
+            let p = relief_passes.remove(0);
+            let rtool = &p.cutter.tool;
+            let wide = grown(rtool, p.allowance).map_err(Error)?;
+            let z = ZLevel {
+                stepover: p.stepover,
+                stepdown: p.stepdown,
+                allowance: p.allowance,
+                tolerance: opts.tolerance,
+                top,
+                floor: bottom,
+                stock: region,
+                safe,
+                clearance: job.clearance,
+                feed: p.cutter.feeds.cut,
+                plunge: p.cutter.feeds.plunge,
+            };
+            memory::check(
+                || "the z-level roughing's contact grid".to_string(),
+                fixed.saturating_add(zlevel_bytes(&z, wide.cutting_radius())),
+                budget,
+                Lever::PixelSize,
+            )
+            .map_err(|e| Error(format!("{e} (options: --memory-mb)")))?;
+            let dc = DropCutter::new(mesh, &wide).cancelled_by(cancel);
+            let moves = rough(&dc, rtool, &z, &|| cancel.load(Ordering::Relaxed));
+            stopped()?;
+            let moves = moves.map_err(|e| Error(format!("--rough-tool {}: {e}", rtool.spec())))?;
+            // What it leaves, on the planner's grid, for the rest pass to start from.
+            let mut stock = Heightmap::flat(width, height, pixel, 0.0);
+            let mut at = [0.0, 0.0, job.safe_z];
+            for chunk in moves.chunks(4096) {
+                stopped()?;
+                let local: Vec<Move> = chunk
+                    .iter()
+                    .map(|m| {
+                        let mut m = m.clone();
+                        shift_move(&mut m, [-origin[0], -origin[1], -top]);
+                        m
+                    })
+                    .collect();
+                at = apply_moves(&mut stock, rtool, at, &local);
             }
-            operations.push(op);
+            earlier = Some(stock);
+            operations.push(Operation {
+                name: format!("{} (mesh z-level)", p.name),
+                tool_number: p.cutter.number,
+                tool: rtool.clone(),
+                spindle_rpm: p.cutter.spindle_rpm,
+                moves,
+            });
+        }
+        if !relief_passes.is_empty() {
+            let rough_job = oficina_cam::relief::ReliefJob {
+                passes: relief_passes,
+                ..job.clone()
+            };
+            let b = Budget {
+                bytes: budget,
+                reserved: fixed,
+                per_move: bytes_per_move(),
+            };
+            let planned = plan_after(&rough_design, &rough_job, b, progress, cancel, earlier)
+                .map_err(|e| match e {
+                    ReliefError::Cancelled => Error::cancelled(),
+                    e => Error(format!(
+                        "{e} (options: --pixel-size, --stepdown, --memory-mb)"
+                    )),
+                })?;
+            for mut op in planned.toolpath.operations {
+                for m in &mut op.moves {
+                    shift_move(m, [origin[0], origin[1], top]);
+                }
+                operations.push(op);
+            }
         }
     }
 
     progress("finishing drop-cutter", 0.0);
-    let dc = DropCutter::new(mesh, &tool);
+    let dc = DropCutter::new(mesh, &tool).cancelled_by(cancel);
     let angles: Vec<f64> = match (opts.angle, finish.direction) {
         (Some(a), _) => vec![a],
         (None, Direction::X) => vec![0.0],
         (None, Direction::Y) => vec![90.0],
         (None, Direction::Both) => vec![0.0, 90.0],
     };
-    let safe = top + job.safe_z;
     let grid = (finish_with.strategy != Strategy::Raster).then(|| {
         progress("waterline contact grid", 0.0);
         ContactGrid::new(&dc, region, contact_step)
     });
+    stopped()?;
     let mut moves = Vec::new();
     for (k, angle) in angles.iter().enumerate() {
         let r = Raster {
@@ -315,6 +439,7 @@ pub fn evaluate_mesh_with(
                 (finish_with.strategy == Strategy::Mix).then_some(finish_with.limit - OVERLAP);
             paths.extend(waterline_pieces(&dc, g, bottom, dz, opts.tolerance, steep));
         }
+        stopped()?;
         moves.extend(finishing_moves(
             &dc,
             &r,
@@ -324,6 +449,7 @@ pub fn evaluate_mesh_with(
             finish.cutter.feeds.plunge,
         ));
     }
+    stopped()?;
     let count: usize = operations
         .iter()
         .map(|o: &Operation| o.moves.len())
@@ -357,6 +483,7 @@ pub fn evaluate_mesh_with(
         operations,
     };
 
+    stopped()?;
     progress("writing G-code", 0.0);
     let program = program_text(&toolpath, post).map_err(Error::from_display)?;
     progress("interpreting the program", 0.0);
@@ -365,6 +492,7 @@ pub fn evaluate_mesh_with(
         .iter()
         .map(|c| c.translated([-origin[0], -origin[1], -top]))
         .collect();
+    stopped()?;
     progress("simulating the stock", 0.0);
     let mut stock = Heightmap::flat(width, height, pixel, 0.0);
     let start = [0.0, 0.0, job.safe_z];

@@ -55,6 +55,28 @@ fn closest(p: [f64; 3], t: &[[f64; 3]; 3]) -> [f64; 3] {
     ]
 }
 
+/// The realworld model at `path`, as the CLI places it without options.
+fn load(path: &std::path::Path) -> oficina_io::Mesh {
+    MeshSource {
+        path: path.to_path_buf(),
+        scale: 1.0,
+        rotate: 0.0,
+        size: None,
+    }
+    .load(1 << 30)
+    .unwrap()
+}
+
+/// The grbl post, no header.
+fn grbl() -> PostOptions {
+    PostOptions {
+        dialect: PostDialect::Grbl,
+        allow_m6: false,
+        title: "t".into(),
+        settings: vec![],
+    }
+}
+
 /// Distance from `p` to the mesh, looking only at triangles whose box is within `cap`.
 fn distance(p: [f64; 3], tris: &[[[f64; 3]; 3]], cap: f64) -> f64 {
     let mut best = cap;
@@ -88,14 +110,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
         ("ocl_cone_on_side.stl", Strategy::Mix),
         ("ocl_sphere_on_plate.stl", Strategy::Mix),
     ] {
-        let mesh = MeshSource {
-            path: dir.join(name),
-            scale: 1.0,
-            rotate: 0.0,
-            size: None,
-        }
-        .load(1 << 30)
-        .unwrap();
+        let mesh = load(&dir.join(name));
         let settings = Settings {
             tool: "ball:3".into(),
             stepover: Some(0.5),
@@ -107,13 +122,9 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
             stock_top: None,
             stock_bottom: None,
             tolerance: 0.002,
+            roughing: Default::default(),
         };
-        let post = PostOptions {
-            dialect: PostDialect::Grbl,
-            allow_m6: false,
-            title: "t".into(),
-            settings: vec![],
-        };
+        let post = grbl();
         let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
         let finish = MeshFinish {
             strategy,
@@ -189,5 +200,178 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
         );
         assert!(median <= 0.05, "{name}: median gap {median} mm");
         assert_eq!(uncovered, 0, "{name}");
+    }
+}
+
+/// Triangles listed in every 1 mm XY cell their box, grown by `cap`, overlaps.
+struct Cells {
+    cells: std::collections::HashMap<(i64, i64), Vec<[[f64; 3]; 3]>>,
+}
+
+impl Cells {
+    fn new(tris: &[[[f64; 3]; 3]], cap: f64) -> Cells {
+        let mut cells: std::collections::HashMap<(i64, i64), Vec<[[f64; 3]; 3]>> =
+            Default::default();
+        for t in tris {
+            let lo = |k: usize| (t[0][k].min(t[1][k]).min(t[2][k]) - cap).floor() as i64;
+            let hi = |k: usize| (t[0][k].max(t[1][k]).max(t[2][k]) + cap).floor() as i64;
+            for x in lo(0)..=hi(0) {
+                for y in lo(1)..=hi(1) {
+                    cells.entry((x, y)).or_default().push(*t);
+                }
+            }
+        }
+        Cells { cells }
+    }
+
+    /// Distance from `p` to the mesh, `cap` when farther (the cap the cells were made for).
+    fn distance(&self, p: [f64; 3], cap: f64) -> f64 {
+        let key = (p[0].floor() as i64, p[1].floor() as i64);
+        self.cells
+            .get(&key)
+            .map_or(cap, |near| distance(p, near, cap))
+    }
+}
+
+/// Points on a flat end mill's surface with its tip at the origin: the bottom disc and the
+/// side up to `height`, about `h` mm apart.
+fn flat_surface(r: f64, height: f64, h: f64) -> Vec<[f64; 3]> {
+    let mut pts = vec![[0.0, 0.0, 0.0]];
+    let ring = |rr: f64, z: f64, pts: &mut Vec<[f64; 3]>| {
+        let n = ((std::f64::consts::TAU * rr / h).ceil() as usize).max(6);
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            pts.push([rr * a.cos(), rr * a.sin(), z]);
+        }
+    };
+    let rings = (r / h).ceil() as usize;
+    for k in 1..=rings {
+        ring(r * k as f64 / rings as f64, 0.0, &mut pts);
+    }
+    let levels = (height / h).ceil() as usize;
+    for k in 1..=levels {
+        ring(r, height * k as f64 / levels as f64, &mut pts);
+    }
+    pts
+}
+
+/// Z-level roughing against the height-field roughing it replaces, flat 6 mm, allowance
+/// 0.5 mm, step-down 3 mm, then the rest pass and a 3 mm ball raster: the roughing tool's
+/// surface (bottom disc and side, points 0.25 mm apart) at every 0.2 mm of its feeds keeps
+/// its distance to the mesh (our point–triangle distance, no drop-cutter) at least the
+/// allowance less 0.15 mm (the samples' spacing); a path crossing into the model would
+/// pass within 0.2 mm of its surface, so a buried tool is caught too. Prints, per mesh and
+/// roughing, the roughing's feed time, the volume it removes (stamped on the stock grid)
+/// and the nearest it comes to the model.
+#[test]
+fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
+    use oficina_app::carve_mesh::Roughing;
+    use oficina_cam::{apply_moves, Move};
+    let Some(dir) = oficina_testkit::realworld("stl") else {
+        return;
+    };
+    let (r, allowance, stepdown) = (3.0, 0.5, 3.0);
+    let surface = flat_surface(r, stepdown, 0.25);
+    for name in [
+        "ocl_cone_on_side.stl",
+        "ocl_ktoolcav.stl",
+        "ocl_sphere_on_plate.stl",
+    ] {
+        let mesh = load(&dir.join(name));
+        let cap = allowance + 1.0;
+        let cells = Cells::new(&mesh.triangles, cap);
+        for roughing in [Roughing::ZLevel, Roughing::HeightField] {
+            let settings = Settings {
+                tool: "ball:3".into(),
+                rough_tool: Some("flat:6".into()),
+                stepover: Some(0.5),
+                stepdown,
+                allowance,
+                ..Settings::default()
+            };
+            let opts = MeshOptions {
+                angle: None,
+                pixel: Some(0.25),
+                stock_top: None,
+                stock_bottom: None,
+                tolerance: 0.002,
+                roughing,
+            };
+            let post = grbl();
+            let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
+            let e = evaluate_mesh_with(
+                &mesh,
+                &settings,
+                &opts,
+                &MeshFinish::default(),
+                &profile,
+                &post,
+                4 << 30,
+                &|_, _| {},
+            )
+            .unwrap();
+            let op = &e.toolpath.operations[0];
+            assert_eq!(op.tool.spec(), "flat:6", "{name}: {}", op.name);
+            // Feed time and the tool's positions every 0.2 mm of feed.
+            let mut at = [0.0, 0.0, e.toolpath.safe_z];
+            let (mut seconds, mut tips) = (0.0, Vec::new());
+            for m in &op.moves {
+                let (to, feed) = match m {
+                    Move::Line { to, feed } => (*to, Some(*feed)),
+                    Move::Rapid { to } => (*to, None),
+                    other => panic!("{name}: {other:?} in the roughing"),
+                };
+                let len = (0..3).map(|k| (to[k] - at[k]).powi(2)).sum::<f64>().sqrt();
+                if let Some(f) = feed {
+                    seconds += len / f;
+                    let n = (len / 0.2).ceil().max(1.0) as usize;
+                    tips.extend((0..=n).map(|i| {
+                        let s = i as f64 / n as f64;
+                        std::array::from_fn::<f64, 3, _>(|k| at[k] + s * (to[k] - at[k]))
+                    }));
+                }
+                at = to;
+            }
+            let nearest = tips
+                .par_iter()
+                .map(|c| {
+                    surface
+                        .iter()
+                        .map(|q| cells.distance([c[0] + q[0], c[1] + q[1], c[2] + q[2]], cap))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .reduce(|| f64::INFINITY, f64::min);
+            // Removed volume: the roughing stamped on the stock grid (0 at the stock top).
+            let mut stock =
+                oficina_io::Heightmap::flat(e.stock.width, e.stock.height, e.stock.pixel, 0.0);
+            let local: Vec<Move> = op
+                .moves
+                .iter()
+                .map(|m| match m {
+                    Move::Line { to, feed } => Move::Line {
+                        to: [to[0] - e.origin[0], to[1] - e.origin[1], to[2] - e.top],
+                        feed: *feed,
+                    },
+                    Move::Rapid { to } => Move::Rapid {
+                        to: [to[0] - e.origin[0], to[1] - e.origin[1], to[2] - e.top],
+                    },
+                    _ => unreachable!(),
+                })
+                .collect();
+            apply_moves(&mut stock, &op.tool, [0.0, 0.0, 100.0], &local);
+            let px2 = stock.pixel * stock.pixel;
+            let removed: f64 = stock.z.iter().map(|&z| -f64::from(z) * px2).sum();
+            println!(
+                "{name} {roughing:?}: {} moves, feeds {:.0} s, removed {removed:.0} mm³, nearest the model {nearest:.3} mm",
+                op.moves.len(),
+                seconds
+            );
+            if roughing == Roughing::ZLevel {
+                assert!(
+                    nearest >= allowance - 0.15,
+                    "{name}: the roughing tool comes within {nearest} mm of the model"
+                );
+            }
+        }
     }
 }

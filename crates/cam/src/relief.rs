@@ -245,6 +245,19 @@ pub fn plan_cancellable(
     progress: Progress,
     cancel: &AtomicBool,
 ) -> Result<Planned, ReliefError> {
+    plan_after(design, job, budget, progress, cancel, None)
+}
+
+/// [`plan_cancellable`] on the stock `earlier` passes left (same grid as `design`, 0 at
+/// the stock top), e.g. a mesh's z-level roughing: a rest pass starts from it.
+pub fn plan_after(
+    design: &Heightmap,
+    job: &ReliefJob,
+    budget: Budget,
+    progress: Progress,
+    cancel: &AtomicBool,
+    earlier: Option<Heightmap>,
+) -> Result<Planned, ReliefError> {
     let cancelled = || {
         if cancel.load(Ordering::Relaxed) {
             Err(ReliefError::Cancelled)
@@ -317,7 +330,7 @@ pub fn plan_cancellable(
             size: deep,
         });
     }
-    let mut stock: Option<Heightmap> = None;
+    let mut stock: Option<Heightmap> = earlier;
     let mut operations = Vec::new();
     let mut pos: Option<[f64; 3]> = None;
     for (i, pass) in job.passes.iter().enumerate() {

@@ -120,6 +120,11 @@ pub(crate) struct Args {
     /// stepover x sin(steep) apart.
     #[arg(long, default_value_t = 45.0)]
     pub steep: f64,
+    /// Model: how --rough-tool clears: zlevel (contours at each level on the mesh, the
+    /// allowance kept from the model) or heightfield (the relief's levels on the model's
+    /// height field).
+    #[arg(long, default_value = "zlevel")]
+    pub roughing: String,
     /// Model: largest gap between a finishing feed and the exact cutter location, mm.
     #[arg(long, default_value_t = 0.002)]
     pub tolerance: f64,
@@ -310,6 +315,10 @@ fn carve_model(
         stock_top: args.stock_top,
         stock_bottom: args.stock_bottom,
         tolerance: args.tolerance,
+        roughing: args
+            .roughing
+            .parse()
+            .map_err(|e: String| anyhow::anyhow!("--roughing: {e}"))?,
     };
     let command = std::env::args().collect::<Vec<_>>().join(" ");
     let mut header = vec![("command".to_string(), command)];

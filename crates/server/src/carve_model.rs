@@ -13,7 +13,9 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use base64::Engine;
 use oficina_app::carve::relief_post;
-use oficina_app::carve_mesh::{evaluate_mesh, model_header, MeshOptions, MeshSource};
+use oficina_app::carve_mesh::{
+    evaluate_mesh_cancellable, model_header, MeshFinish, MeshOptions, MeshSource,
+};
 use oficina_app::{profile, Error};
 use oficina_sim::carve::Settings;
 use serde::Deserialize;
@@ -63,6 +65,12 @@ pub(crate) struct CarveForm {
     angle: Option<f64>,
     tolerance: f64,
     pixel_size: Option<f64>,
+    /// Finishing: raster, waterline or mix (`--strategy`).
+    strategy: String,
+    /// Mix's slope limit, degrees (`--steep`).
+    steep: f64,
+    /// Roughing: zlevel or heightfield (`--roughing`).
+    roughing: String,
     /// Machine profile that times the program (default: `oficina carve`'s).
     profile: Option<String>,
 }
@@ -162,6 +170,17 @@ pub(crate) async fn carve(
             stock_top: form.stock_top,
             stock_bottom: form.stock_bottom,
             tolerance: form.tolerance,
+            roughing: form
+                .roughing
+                .parse()
+                .map_err(|e: String| Error(format!("--roughing: {e}")))?,
+        };
+        let finish = MeshFinish {
+            strategy: form
+                .strategy
+                .parse()
+                .map_err(|e: String| Error(format!("--strategy: {e}")))?,
+            limit: form.steep,
         };
         let mut header = vec![(
             "command".to_string(),
@@ -169,14 +188,16 @@ pub(crate) async fn carve(
         )];
         header.extend(model_header(&file, &mesh, &settings, &profile_name));
         let post = relief_post(&form.post, form.allow_m6, header)?;
-        evaluate_mesh(
+        evaluate_mesh_cancellable(
             &mesh,
             &settings,
             &opts,
+            &finish,
             &machine,
             &post,
             budget(),
             fb.progress,
+            fb.cancel,
         )
     })
     .await?;

@@ -81,30 +81,45 @@ pub fn waterline_pieces(
 
 /// The stretches of a polyline where `keep` holds, judged every `step` mm along each move
 /// (a thinned row may cross a whole flat in one move): a move is cut where `keep` changes,
-/// at a point on the move itself, so the pieces trace the same safe chords.
+/// at a point on the move itself, so the pieces trace the same safe chords. Only the
+/// path's own vertices and the cut points are kept: the samples between them lie on the
+/// chord and would only add moves (they made the mix's programs several times longer).
 pub fn split(path: &[[f64; 3]], step: f64, keep: impl Fn([f64; 2]) -> bool) -> Vec<Vec<[f64; 3]>> {
     let mut out = Vec::new();
     let mut cur: Vec<[f64; 3]> = Vec::new();
-    let mut visit = |p: [f64; 3], fresh: bool| {
-        if keep([p[0], p[1]]) {
-            if fresh || cur.last() != Some(&p) {
-                cur.push(p);
-            }
-        } else if !cur.is_empty() {
-            out.push(std::mem::take(&mut cur));
-        }
+    let Some(&first) = path.first() else {
+        return out;
     };
-    if let Some(&first) = path.first() {
-        visit(first, true);
+    let mut inside = keep([first[0], first[1]]);
+    if inside {
+        cur.push(first);
     }
     for w in path.windows(2) {
         let (a, b) = (w[0], w[1]);
         let n = ((b[0] - a[0]).hypot(b[1] - a[1]) / step).ceil().max(1.0) as usize;
-        for i in 1..n {
-            let t = i as f64 / n as f64;
-            visit(std::array::from_fn(|k| a[k] + t * (b[k] - a[k])), false);
+        // The last sample seen, kept if a piece ends after it.
+        let mut last = a;
+        for i in 1..=n {
+            let p = if i == n {
+                b
+            } else {
+                let t = i as f64 / n as f64;
+                std::array::from_fn(|k| a[k] + t * (b[k] - a[k]))
+            };
+            let now = keep([p[0], p[1]]);
+            if now && !inside {
+                cur.push(p);
+            } else if !now && inside {
+                if cur.last() != Some(&last) {
+                    cur.push(last);
+                }
+                out.push(std::mem::take(&mut cur));
+            } else if now && i == n && cur.last() != Some(&p) {
+                cur.push(p);
+            }
+            inside = now;
+            last = p;
         }
-        visit(b, false);
     }
     out.push(cur);
     out.retain(|p| p.len() >= 2);

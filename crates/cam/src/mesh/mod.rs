@@ -1,39 +1,60 @@
 //! CAM on triangle meshes: exact drop-cutter for every tool shape ([`DropCutter`]), the
 //! height field it gives for roughing ([`DropCutter::height_field`]), raster finishing
 //! that follows the cutter-location surface between samples ([`raster`]), waterline loops
-//! ([`loops_at`]) and the two mixed by slope ([`Strategy`]).
+//! ([`loops_at`]), the two mixed by slope ([`Strategy`]) and z-level roughing ([`rough`]).
 
 mod drop;
 mod finish;
 mod grid;
 mod mix;
 mod waterline;
+mod zlevel;
 
 pub use finish::{finishing_moves, raster, Raster};
 pub use mix::{flat_pieces, level_spacing, split, waterline_pieces, Strategy, OVERLAP};
 pub use waterline::{loops_at, ContactGrid};
+pub use zlevel::{bytes_estimate as zlevel_bytes, grown, rough, ZLevel};
 
 use crate::Tool;
 use drop::Shape;
 use grid::Buckets;
 use oficina_io::{Heightmap, Mesh};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A mesh made ready for dropping one tool onto it (triangles bucketed by XY).
-pub struct DropCutter {
+pub struct DropCutter<'c> {
     shape: Shape,
     buckets: Buckets,
+    /// Once set, every drop answers `None` at once: the loops over drops (rows, grids,
+    /// bisections, on any number of threads) run out fast and their caller, which reads the
+    /// flag after them, gives up.
+    cancel: Option<&'c AtomicBool>,
 }
 
-impl DropCutter {
+impl<'c> DropCutter<'c> {
     /// Buckets `mesh`'s triangles for `tool` (its cutting part; shank and holder are not
     /// checked, as in OpenCAMLib).
-    pub fn new(mesh: &Mesh, tool: &Tool) -> DropCutter {
+    pub fn new(mesh: &Mesh, tool: &Tool) -> DropCutter<'c> {
         let shape = Shape::of(tool);
         DropCutter {
             buckets: Buckets::new(&mesh.triangles, shape.radius()),
             shape,
+            cancel: None,
         }
+    }
+
+    /// The same cutter, stopped by `cancel` (see the field).
+    pub fn cancelled_by(self, cancel: &'c AtomicBool) -> DropCutter<'c> {
+        DropCutter {
+            cancel: Some(cancel),
+            ..self
+        }
+    }
+
+    /// Whether the cancel flag is set.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
     /// Bytes [`DropCutter::new`] allocates for `triangles` triangles, at most.
@@ -49,6 +70,9 @@ impl DropCutter {
     /// The tip height (mm) of the tool dropped along the vertical through `(x, y)` until it
     /// touches the mesh; `None` when no triangle is within the tool's radius.
     pub fn drop(&self, x: f64, y: f64) -> Option<f64> {
+        if self.is_cancelled() {
+            return None;
+        }
         self.buckets.drop(&self.shape, [x, y])
     }
 

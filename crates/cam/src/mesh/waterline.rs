@@ -207,6 +207,11 @@ pub fn loops_at(dc: &DropCutter, g: &ContactGrid, z: f64, tolerance: f64) -> Vec
     loops
         .into_par_iter()
         .map(|lp| {
+            // The crossings are a grid step apart even along straight stretches: keep those
+            // that bend the loop by more than half the tolerance (the dropped ones are within
+            // that of the chord, in XY, so on the outside or that little inside), then
+            // tighten the chords that still dip.
+            let lp = thin_loop(&lp, tolerance / 2.0);
             let mut out = vec![lp[0]];
             for w in lp.windows(2) {
                 tighten(dc, z, w[0], w[1], tolerance, g.step, 0, &mut out);
@@ -215,6 +220,52 @@ pub fn loops_at(dc: &DropCutter, g: &ContactGrid, z: f64, tolerance: f64) -> Vec
             out.into_iter().map(|p| [p[0], p[1], z]).collect()
         })
         .collect()
+}
+
+/// Douglas–Peucker in XY on a closed loop (first point repeated last), split at its start
+/// and the point farthest from it.
+fn thin_loop(lp: &[[f64; 2]], tol: f64) -> Vec<[f64; 2]> {
+    let n = lp.len();
+    if n < 4 {
+        return lp.to_vec();
+    }
+    let d = |p: [f64; 2]| (p[0] - lp[0][0]).hypot(p[1] - lp[0][1]);
+    let far = (1..n - 1)
+        .max_by(|&i, &j| d(lp[i]).total_cmp(&d(lp[j])))
+        .unwrap_or(n / 2);
+    let mut keep = vec![false; n];
+    thin_xy(lp, tol, 0, far, &mut keep);
+    thin_xy(lp, tol, far, n - 1, &mut keep);
+    lp.iter()
+        .zip(keep)
+        .filter_map(|(p, k)| k.then_some(*p))
+        .collect()
+}
+
+fn thin_xy(p: &[[f64; 2]], tol: f64, lo: usize, hi: usize, keep: &mut [bool]) {
+    keep[lo] = true;
+    keep[hi] = true;
+    if hi <= lo + 1 {
+        return;
+    }
+    let (a, b) = (p[lo], p[hi]);
+    let (ux, uy) = (b[0] - a[0], b[1] - a[1]);
+    let len = ux.hypot(uy);
+    let off = |q: [f64; 2]| {
+        let (vx, vy) = (q[0] - a[0], q[1] - a[1]);
+        if len > 0.0 {
+            (ux * vy - uy * vx).abs() / len
+        } else {
+            vx.hypot(vy)
+        }
+    };
+    let (worst, i) = (lo + 1..hi)
+        .map(|i| (off(p[i]), i))
+        .fold((0.0, lo), |m, x| if x.0 > m.0 { x } else { m });
+    if worst > tol {
+        thin_xy(p, tol, lo, i, keep);
+        thin_xy(p, tol, i, hi, keep);
+    }
 }
 
 /// Bisection from `a` (inside) to `b` (outside) to within `precision`; the outside end.
