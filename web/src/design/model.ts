@@ -248,9 +248,7 @@ export function crossings(a: Pt, b: Pt, e: Shape): number[] {
     for (const t of [(-B - Math.sqrt(disc)) / (2 * A), (-B + Math.sqrt(disc)) / (2 * A)]) {
       if (t < -1e-12 || t > 1 + 1e-12) continue;
       if (sweep !== undefined && start !== undefined) {
-        const ang = Math.atan2(a[1] + t * d[1] - c[1], a[0] + t * d[0] - c[0]);
-        const rel = ((((ang - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
-        if (rel > Math.abs(sweep) + 1e-12) continue;
+        if (!onArc(Math.atan2(a[1] + t * d[1] - c[1], a[0] + t * d[0] - c[0]), start, sweep)) continue;
       }
       out.push(t);
     }
@@ -270,21 +268,6 @@ export function crossings(a: Pt, b: Pt, e: Shape): number[] {
     default: for (const line of outline(e)) for (let k = 1; k < line.length; k++) withLine(line[k - 1], line[k]);
   }
   return out;
-}
-
-/// The line `e` trimmed where it is picked at parameter `tc`: the piece between the
-/// crossings with `others` on either side of `tc` is removed (to the line's end where there
-/// is none on that side). Returns the lines that stay (none, one or two), or a message.
-export function trimmedLine(e: Entity, others: Shape[], tc: number): Shape[] | string {
-  if (e.type !== 'line') return 'trim works on lines (explode a polyline first)';
-  const ts = others.flatMap((o) => crossings(e.a, e.b, o)).filter((t) => t > 1e-9 && t < 1 - 1e-9);
-  if (!ts.length) return 'nothing crosses this line: delete it instead';
-  const before = Math.max(0, ...ts.filter((t) => t < tc)), after = Math.min(1, ...ts.filter((t) => t > tc));
-  const at = (t: number): Pt => [e.a[0] + t * (e.b[0] - e.a[0]), e.a[1] + t * (e.b[1] - e.a[1])];
-  const keep: Shape[] = [];
-  if (before > 0) keep.push({ type: 'line', a: e.a, b: at(before) });
-  if (after < 1) keep.push({ type: 'line', a: at(after), b: e.b });
-  return keep;
 }
 
 const unit = (v: Pt): Pt => { const l = Math.hypot(v[0], v[1]); return [v[0] / l, v[1] / l]; };
@@ -355,38 +338,9 @@ export function circleHits(c: Pt, r: number, e: Shape): Pt[] {
   return out;
 }
 
+/// The turn (radians, in [0, 2π)) from `start` to angle `t`, measured the way `sweep` turns.
+export const turnFrom = (t: number, start: number, sweep: number) => ((((t - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
 /// Angle `t` (radians) is on the arc from `start` sweeping `sweep` (radians).
 function onArc(t: number, start: number, sweep: number): boolean {
-  const rel = ((((t - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
-  return rel <= Math.abs(sweep) + 1e-12;
-}
-
-/// The line or arc `e` extended at one end (`atEnd`: b / the sweep's end, else a / the
-/// start) to the nearest crossing with `others` beyond it: a line along its own direction
-/// (crossings of the ray, as `trim` finds them), an arc along its circle (`circleHits`,
-/// measured as the turn past the end). A message when nothing is met.
-export function extended(e: Entity, others: Shape[], atEnd: boolean): Entity | string {
-  if (e.type === 'line') {
-    const [fixed, moving] = atEnd ? [e.a, e.b] : [e.b, e.a];
-    // The ray as a long segment: far beyond any coordinate a design file holds (1e6 mm).
-    const K = 1e7 / Math.max(1e-9, Math.hypot(moving[0] - fixed[0], moving[1] - fixed[1]));
-    const far: Pt = [fixed[0] + K * (moving[0] - fixed[0]), fixed[1] + K * (moving[1] - fixed[1])];
-    const ts = others.flatMap((o) => crossings(fixed, far, o)).map((t) => t * K).filter((t) => t > 1 + 1e-9);
-    if (!ts.length) return 'extend: nothing lies ahead of that end';
-    const t = Math.min(...ts), to: Pt = [fixed[0] + t * (moving[0] - fixed[0]), fixed[1] + t * (moving[1] - fixed[1])];
-    return atEnd ? { ...e, b: to } : { ...e, a: to };
-  }
-  if (e.type === 'arc') {
-    const s = Math.sign(e.sweep), end = atEnd ? e.start + e.sweep : e.start;
-    // The turn past the end, in the arc's direction at its end, away from the arc at its start.
-    const ahead = (h: Pt) => {
-      const ang = (Math.atan2(h[1] - e.center[1], h[0] - e.center[0]) * 180) / Math.PI;
-      return ((((ang - end) * (atEnd ? s : -s)) % 360) + 360) % 360;
-    };
-    const turns = others.flatMap((o) => circleHits(e.center, e.radius, o)).map(ahead).filter((t) => t > 1e-9 && Math.abs(e.sweep) + t < 360);
-    if (!turns.length) return 'extend: nothing lies ahead of that end on the arc\'s circle';
-    const t = Math.min(...turns);
-    return atEnd ? { ...e, sweep: e.sweep + s * t } : { ...e, start: e.start - s * t, sweep: e.sweep + s * t };
-  }
-  return 'extend works on lines and arcs';
+  return turnFrom(t, start, sweep) <= Math.abs(sweep) + 1e-12;
 }
