@@ -25,7 +25,9 @@ export function emptyDesign(): Design {
 }
 
 export const nextId = (d: Design) => d.entities.reduce((m, e) => Math.max(m, e.id), 0) + 1;
-const rad = (deg: number) => (deg * Math.PI) / 180;
+export const rad = (deg: number) => (deg * Math.PI) / 180;
+/// The point at `deg` degrees on the circle (c, r).
+export const arcPoint = (c: Pt, r: number, deg: number): Pt => [c[0] + r * Math.cos(rad(deg)), c[1] + r * Math.sin(rad(deg))];
 
 /// The arc a bulge makes from `a` to `b` (DXF: tan(sweep/4), > 0 counter-clockwise):
 /// chord c, sweep θ = 4·atan(bulge), radius (c/2)/sin(θ/2), centre on the chord's left
@@ -195,8 +197,7 @@ export function joined(es: Entity[], tol = 1e-6): Shape | null {
   for (const e of es) {
     if (e.type === 'line') pieces.push([{ a: e.a, b: e.b, bulge: 0 }]);
     else if (e.type === 'arc') {
-      const s = rad(e.start), t = rad(e.start + e.sweep), c = e.center, r = e.radius;
-      pieces.push([{ a: [c[0] + r * Math.cos(s), c[1] + r * Math.sin(s)], b: [c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)], bulge: Math.tan(rad(e.sweep) / 4) }]);
+      pieces.push([{ a: arcPoint(e.center, e.radius, e.start), b: arcPoint(e.center, e.radius, e.start + e.sweep), bulge: Math.tan(rad(e.sweep) / 4) }]);
     } else if (e.type === 'polyline' && !e.closed) {
       const v = e.vertices;
       pieces.push(v.slice(0, -1).map((q, k) => ({ a: [q[0], q[1]] as Pt, b: [v[k + 1][0], v[k + 1][1]] as Pt, bulge: q[2] ?? 0 })));
@@ -287,7 +288,7 @@ export function endHeading(d: Design, p: Pt, tol: number): { at: Pt; heading: Pt
         if (near(to)) return { at: to, heading: unit([to[0] - from[0], to[1] - from[1]]) };
       } else if (piece?.type === 'arc') {
         const ang = atEnd ? piece.start + piece.sweep : piece.start;
-        const at: Pt = [piece.center[0] + piece.radius * Math.cos(rad(ang)), piece.center[1] + piece.radius * Math.sin(rad(ang))];
+        const at = arcPoint(piece.center, piece.radius, ang);
         const h = arcHeading(ang, piece.sweep);
         if (near(at)) return { at, heading: atEnd ? h : [-h[0], -h[1]] };
       }

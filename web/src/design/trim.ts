@@ -4,10 +4,7 @@
 // (a run's circle); trimming keeps what lies outside the two crossings around the pick.
 
 import type { Pt } from '../view2d';
-import { Entity, Shape, crossings, circleHits, exploded, turnFrom } from './model';
-
-const rad = (deg: number) => (deg * Math.PI) / 180;
-const arcPoint = (c: Pt, r: number, deg: number): Pt => [c[0] + r * Math.cos(rad(deg)), c[1] + r * Math.sin(rad(deg))];
+import { Entity, Shape, arcPoint, crossings, circleHits, exploded, rad, turnFrom } from './model';
 
 /// A straight piece a → b, or (with `arc`) the arc from a to b: degrees, as the file has them.
 type Run = { a: Pt; b: Pt; arc?: { center: Pt; radius: number; start: number; sweep: number } };
