@@ -266,6 +266,92 @@ await test('trim a line between its crossings with a line and a circle', async (
   assert(lines.length === 2 && Math.abs(lines[0][0] + 20) < 1e-9 && Math.abs(lines[0][1]) < 1e-9 && Math.abs(lines[1][0] - 13) < 1e-9 && Math.abs(lines[1][1] - 20) < 1e-9, `${JSON.stringify(lines)} ${await statusText()}`);
 });
 
+await test('trim arcs, circles and polylines; extend an open polyline (bulged end too)', async () => {
+  const near = (a, b) => Math.abs(a - b) < 1e-9;
+  const same = (got, want) => got.length === want.length && got.every((v, k) => v.length === want[k].length && v.every((x, i) => near(x, want[k][i])));
+  const trimAt = async (p) => { await type('trim'); await type(p); await type('esc'); };
+  // A circle r 10 about the origin cut by the line x = 5: cos θ = 5/10, crossings at ±60°;
+  // trimmed at (10, 0) the right part goes and the arc from 60° round to 300° stays
+  // (centre and radius unchanged).
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['circle', '0,0', '10']) await type(t);
+  for (const t of ['line', '5,-20', '5,20', '']) await type(t);
+  await trimAt('10,0');
+  let arcs = (await entities()).filter((e) => e.type !== 'line');
+  assert(arcs.length === 1 && arcs[0].type === 'arc' && near(arcs[0].center[0], 0) && near(arcs[0].center[1], 0) && near(arcs[0].radius, 10) && near(arcs[0].start, 60) && near(arcs[0].sweep, 240), `${JSON.stringify(arcs)} ${await statusText()}`);
+  // One crossing (the line (0, 0)–(20, 0) from the centre) cannot cut a circle: refused,
+  // the circle kept.
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['circle', '0,0', '10']) await type(t);
+  for (const t of ['line', '0,0', '20,0', '']) await type(t);
+  await type('trim'); await type('0,10');
+  assert(/needs two crossings/.test(await statusText()) && (await entities()).some((e) => e.type === 'circle'), await statusText());
+  await type('esc');
+  // An arc r 10 about the origin from 0° to 180°, cut by y = 5 (sin θ = 1/2: 30° and 150°)
+  // and x = 0 (90°); picked at 60°, the piece 30°…90° goes: 0°…30° and 90°…180° stay.
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['arcc', '0,0', '10,0', '-10,0']) await type(t);
+  for (const t of ['line', '-15,5', '15,5', '']) await type(t);
+  for (const t of ['line', '0,-5', '0,15', '']) await type(t);
+  await trimAt(`${10 * Math.cos(Math.PI / 3)},${10 * Math.sin(Math.PI / 3)}`);
+  arcs = (await entities()).filter((e) => e.type === 'arc').map((e) => [e.center[0], e.center[1], e.radius, e.start, e.sweep]).sort((p, q) => p[3] - q[3]);
+  assert(same(arcs, [[0, 0, 10, 0, 30], [0, 0, 10, 90, 90]]), `${JSON.stringify(arcs)} ${await statusText()}`);
+  // An open L (0, 0)–(20, 0)–(20, 20) cut by x = 10 and y = 10, picked at (20, 3): the piece
+  // from (10, 0) round the corner to (20, 10) goes, two polylines stay.
+  const polylines = async () => (await entities()).filter((e) => e.type === 'polyline').map((e) => ({ closed: e.closed, v: e.vertices }));
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['polyline', '0,0', '20,0', '20,20', '']) await type(t);
+  for (const t of ['line', '10,-5', '10,5', '']) await type(t);
+  for (const t of ['line', '15,10', '25,10', '']) await type(t);
+  await trimAt('20,3');
+  let pl = (await polylines()).sort((p, q) => p.v[0][0] - q.v[0][0]);
+  assert(pl.length === 2 && !pl[0].closed && same(pl[0].v, [[0, 0], [10, 0]]) && same(pl[1].v, [[20, 10], [20, 20]]), `${JSON.stringify(pl)} ${await statusText()}`);
+  // A closed 20 × 10 box cut by x = 5 and x = 15, picked on its left side: the part left of
+  // x = 5 goes across the box's first vertex, an open U (5, 0)–(20, 0)–(20, 10)–(5, 10) stays.
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['rect', '0,0', '20,10']) await type(t);
+  for (const t of ['line', '5,-5', '5,15', '']) await type(t);
+  for (const t of ['line', '15,-5', '15,15', '']) await type(t);
+  await trimAt('0,5');
+  pl = await polylines();
+  assert(pl.length === 1 && !pl[0].closed && same(pl[0].v, [[5, 0], [20, 0], [20, 10], [5, 10]]), `${JSON.stringify(pl)} ${await statusText()}`);
+  // A bulged piece: the half circle (0, 0)…(10, −10)…(20, 0) (centre (10, 0), bulge 1)
+  // joined to the line on to (30, 0), cut by x = 10 at (10, −10) (270°) and picked at 240°:
+  // the first quarter goes; the rest starts at (10, −10) with a 90° arc, bulge tan(22.5°).
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['arc', '0,0', '10,-10', '20,0']) await type(t);
+  for (const t of ['line', '20,0', '30,0', '']) await type(t);
+  for (const t of ['all', 'join', 'none']) await type(t);
+  pl = await polylines();
+  assert(pl.length === 1 && same(pl[0].v, [[0, 0, 1], [20, 0], [30, 0]]), `joined: ${JSON.stringify(pl)}`);
+  for (const t of ['line', '10,-20', '10,5', '']) await type(t);
+  await trimAt(`${10 + 10 * Math.cos((4 * Math.PI) / 3)},${10 * Math.sin((4 * Math.PI) / 3)}`);
+  pl = await polylines();
+  assert(pl.length === 1 && same(pl[0].v, [[10, -10, Math.SQRT2 - 1], [20, 0], [30, 0]]), `${JSON.stringify(pl)} ${await statusText()}`);
+  // Extend an open polyline: (0, 0)–(10, 0) then the tangent quarter about (10, 10) r 10 to
+  // (20, 10) (bulge tan(90°/4)), joined. Its arc end goes on round its circle to y = 16:
+  // 10 + 10 sin θ = 16, θ = asin 0.6, cos θ = 0.8, so the end is (18, 16) and the bulge
+  // tan((90° + θ)/4); its straight start goes back along −x to x = −8: (−8, 0).
+  await page.click('#de-new');
+  await type('esc');
+  for (const t of ['line', '0,0', '10,0', '']) await type(t);
+  for (const t of ['tarc', '10,0', '20,10', '']) await type(t);
+  for (const t of ['all', 'join', 'none']) await type(t);
+  for (const t of ['line', '-5,16', '30,16', '']) await type(t);
+  for (const t of ['line', '-8,-5', '-8,30', '']) await type(t);
+  for (const t of ['extend', `${10 + 10 * Math.cos(-Math.PI / 18)},${10 + 10 * Math.sin(-Math.PI / 18)}`, 'esc']) await type(t);
+  for (const t of ['extend', '1,0', 'esc']) await type(t);
+  pl = await polylines();
+  const theta = Math.asin(0.6);
+  assert(pl.length === 1 && same(pl[0].v, [[-8, 0], [10, 0, Math.tan((Math.PI / 2 + theta) / 4)], [18, 16]]), `${JSON.stringify(pl)} ${await statusText()}`);
+});
+
 await test('a line snapped tangent to a circle; an arc by centre, start and end', async () => {
   await page.click('#de-new');
   for (const t of ['circle', '0,0', '10']) await type(t);

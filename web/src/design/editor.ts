@@ -6,7 +6,8 @@
 
 import { putFile, withToken } from '../api';
 import { el, segDist, ViewMap, Pt } from '../view2d';
-import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon, trimmedLine, endHeading, tangentArc, extended } from './model';
+import { Design, Entity, Shape, emptyDesign, nextId, outline, snapPoints, transformed, translate, rotate, scale, mirror, cornered, nearestCorner, exploded, joined, polygon, endHeading, tangentArc } from './model';
+import { trimmed, extended } from './trim';
 import { readTyped } from './input';
 
 const $ = <T extends HTMLElement = HTMLElement>(id: string) => document.getElementById(id) as T;
@@ -88,7 +89,7 @@ function prompt(): string {
     case 'arc': return ['start point', 'a point on the arc', 'end point'][pts.length];
     case 'tarc': return pts.length ? 'end of the arc (it leaves tangent to the piece before) · Enter ends' : 'the end of a line, arc or open polyline to continue from';
     case 'point': return 'where (each click a point)';
-    case 'extend': return 'the end of a line or arc to extend (a point on it near that end)';
+    case 'extend': return 'the end of a line, arc or open polyline to extend (a point on it near that end)';
     case 'arcc': return ['centre', 'start point (sets the radius)', 'end point (its angle; the arc runs counter-clockwise)'][pts.length];
     case 'polygon': return !pts.length ? 'centre' : num === null ? 'number of sides' : 'radius to the vertices, or a vertex';
     case 'spline': return pts.length ? `next point · Enter ends (${pts.length} points)` : 'first point';
@@ -96,7 +97,7 @@ function prompt(): string {
     case 'fillet': case 'chamfer': return num === null ? (tool === 'fillet' ? 'radius' : 'distance') : `corner (a point near it) · ${tool} ${num}`;
     case 'calibrate': return pts.length < 2 ? `${pts.length ? 'second' : 'first'} point of a known distance on the background` : 'the distance between them, mm';
     case 'digitise': return `pick points around the contour (${pts.length}${fitted ? `, fitted: ${fitted.blocks} blocks, deviation ${fitted.max_deviation.toFixed(3)} mm` : ', 8 or more to fit'}) · Enter keeps the fit`;
-    case 'trim': return 'the part of a line to cut away (a point on it)';
+    case 'trim': return 'the part of a line, arc, circle or polyline to cut away (a point on it)';
     case 'offset': return num === null ? 'distance (> 0 outwards, < 0 inwards)' : 'contour (a point on it) if none is selected';
     case 'move': case 'copy': return pts.length ? 'to point' : 'base point';
     case 'rotate': return pts.length ? 'angle, degrees' : 'centre';
@@ -218,8 +219,8 @@ function takePoint(p: Pt, shift = false) {
     }
     case 'extend': {
       const e = pick(p);
-      if (!e || (e.type !== 'line' && e.type !== 'arc')) return status('extend: pick a line or an arc near the end to extend', true);
-      const [a, b] = e.type === 'line' ? [e.a, e.b] : ((o) => [o[0], o[o.length - 1]])(outline(e)[0]);
+      if (!e || !(e.type === 'line' || e.type === 'arc' || (e.type === 'polyline' && !e.closed))) return status('extend: pick a line, arc or open polyline near the end to extend', true);
+      const [a, b] = ((o) => [o[0], o[o.length - 1]])(outline(e)[0]);
       const atEnd = Math.hypot(p[0] - b[0], p[1] - b[1]) < Math.hypot(p[0] - a[0], p[1] - a[1]);
       const r = extended(e, design.entities.filter((o) => o.id !== e.id), atEnd);
       if (typeof r === 'string') return status(r, true);
@@ -263,10 +264,8 @@ function takePoint(p: Pt, shift = false) {
     }
     case 'trim': {
       const e = pick(p);
-      if (!e || e.type !== 'line') return status('trim: pick a line (explode a polyline first)', true);
-      const len2 = (e.b[0] - e.a[0]) ** 2 + (e.b[1] - e.a[1]) ** 2;
-      const tc = ((p[0] - e.a[0]) * (e.b[0] - e.a[0]) + (p[1] - e.a[1]) * (e.b[1] - e.a[1])) / len2;
-      const r = trimmedLine(e, design.entities.filter((o) => o.id !== e.id), tc);
+      if (!e) return status('trim: pick a line, arc, circle or polyline', true);
+      const r = trimmed(e, design.entities.filter((o) => o.id !== e.id), p);
       if (typeof r === 'string') return status(r, true);
       commit((d) => {
         let id = nextId(d);

@@ -25,7 +25,9 @@ export function emptyDesign(): Design {
 }
 
 export const nextId = (d: Design) => d.entities.reduce((m, e) => Math.max(m, e.id), 0) + 1;
-const rad = (deg: number) => (deg * Math.PI) / 180;
+export const rad = (deg: number) => (deg * Math.PI) / 180;
+/// The point at `deg` degrees on the circle (c, r).
+export const arcPoint = (c: Pt, r: number, deg: number): Pt => [c[0] + r * Math.cos(rad(deg)), c[1] + r * Math.sin(rad(deg))];
 
 /// The arc a bulge makes from `a` to `b` (DXF: tan(sweep/4), > 0 counter-clockwise):
 /// chord c, sweep θ = 4·atan(bulge), radius (c/2)/sin(θ/2), centre on the chord's left
@@ -195,8 +197,7 @@ export function joined(es: Entity[], tol = 1e-6): Shape | null {
   for (const e of es) {
     if (e.type === 'line') pieces.push([{ a: e.a, b: e.b, bulge: 0 }]);
     else if (e.type === 'arc') {
-      const s = rad(e.start), t = rad(e.start + e.sweep), c = e.center, r = e.radius;
-      pieces.push([{ a: [c[0] + r * Math.cos(s), c[1] + r * Math.sin(s)], b: [c[0] + r * Math.cos(t), c[1] + r * Math.sin(t)], bulge: Math.tan(rad(e.sweep) / 4) }]);
+      pieces.push([{ a: arcPoint(e.center, e.radius, e.start), b: arcPoint(e.center, e.radius, e.start + e.sweep), bulge: Math.tan(rad(e.sweep) / 4) }]);
     } else if (e.type === 'polyline' && !e.closed) {
       const v = e.vertices;
       pieces.push(v.slice(0, -1).map((q, k) => ({ a: [q[0], q[1]] as Pt, b: [v[k + 1][0], v[k + 1][1]] as Pt, bulge: q[2] ?? 0 })));
@@ -248,9 +249,7 @@ export function crossings(a: Pt, b: Pt, e: Shape): number[] {
     for (const t of [(-B - Math.sqrt(disc)) / (2 * A), (-B + Math.sqrt(disc)) / (2 * A)]) {
       if (t < -1e-12 || t > 1 + 1e-12) continue;
       if (sweep !== undefined && start !== undefined) {
-        const ang = Math.atan2(a[1] + t * d[1] - c[1], a[0] + t * d[0] - c[0]);
-        const rel = ((((ang - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
-        if (rel > Math.abs(sweep) + 1e-12) continue;
+        if (!onArc(Math.atan2(a[1] + t * d[1] - c[1], a[0] + t * d[0] - c[0]), start, sweep)) continue;
       }
       out.push(t);
     }
@@ -272,21 +271,6 @@ export function crossings(a: Pt, b: Pt, e: Shape): number[] {
   return out;
 }
 
-/// The line `e` trimmed where it is picked at parameter `tc`: the piece between the
-/// crossings with `others` on either side of `tc` is removed (to the line's end where there
-/// is none on that side). Returns the lines that stay (none, one or two), or a message.
-export function trimmedLine(e: Entity, others: Shape[], tc: number): Shape[] | string {
-  if (e.type !== 'line') return 'trim works on lines (explode a polyline first)';
-  const ts = others.flatMap((o) => crossings(e.a, e.b, o)).filter((t) => t > 1e-9 && t < 1 - 1e-9);
-  if (!ts.length) return 'nothing crosses this line: delete it instead';
-  const before = Math.max(0, ...ts.filter((t) => t < tc)), after = Math.min(1, ...ts.filter((t) => t > tc));
-  const at = (t: number): Pt => [e.a[0] + t * (e.b[0] - e.a[0]), e.a[1] + t * (e.b[1] - e.a[1])];
-  const keep: Shape[] = [];
-  if (before > 0) keep.push({ type: 'line', a: e.a, b: at(before) });
-  if (after < 1) keep.push({ type: 'line', a: at(after), b: e.b });
-  return keep;
-}
-
 const unit = (v: Pt): Pt => { const l = Math.hypot(v[0], v[1]); return [v[0] / l, v[1] / l]; };
 /// Direction of travel on an arc (degrees, sweep sign) at angle `deg`: ±(−sin, cos).
 const arcHeading = (deg: number, sweep: number): Pt => { const t = rad(deg), s = Math.sign(sweep); return [-s * Math.sin(t), s * Math.cos(t)]; };
@@ -304,7 +288,7 @@ export function endHeading(d: Design, p: Pt, tol: number): { at: Pt; heading: Pt
         if (near(to)) return { at: to, heading: unit([to[0] - from[0], to[1] - from[1]]) };
       } else if (piece?.type === 'arc') {
         const ang = atEnd ? piece.start + piece.sweep : piece.start;
-        const at: Pt = [piece.center[0] + piece.radius * Math.cos(rad(ang)), piece.center[1] + piece.radius * Math.sin(rad(ang))];
+        const at = arcPoint(piece.center, piece.radius, ang);
         const h = arcHeading(ang, piece.sweep);
         if (near(at)) return { at, heading: atEnd ? h : [-h[0], -h[1]] };
       }
@@ -355,38 +339,9 @@ export function circleHits(c: Pt, r: number, e: Shape): Pt[] {
   return out;
 }
 
+/// The turn (radians, in [0, 2π)) from `start` to angle `t`, measured the way `sweep` turns.
+export const turnFrom = (t: number, start: number, sweep: number) => ((((t - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
 /// Angle `t` (radians) is on the arc from `start` sweeping `sweep` (radians).
 function onArc(t: number, start: number, sweep: number): boolean {
-  const rel = ((((t - start) * Math.sign(sweep)) % (2 * Math.PI)) + 2 * Math.PI) % (2 * Math.PI);
-  return rel <= Math.abs(sweep) + 1e-12;
-}
-
-/// The line or arc `e` extended at one end (`atEnd`: b / the sweep's end, else a / the
-/// start) to the nearest crossing with `others` beyond it: a line along its own direction
-/// (crossings of the ray, as `trim` finds them), an arc along its circle (`circleHits`,
-/// measured as the turn past the end). A message when nothing is met.
-export function extended(e: Entity, others: Shape[], atEnd: boolean): Entity | string {
-  if (e.type === 'line') {
-    const [fixed, moving] = atEnd ? [e.a, e.b] : [e.b, e.a];
-    // The ray as a long segment: far beyond any coordinate a design file holds (1e6 mm).
-    const K = 1e7 / Math.max(1e-9, Math.hypot(moving[0] - fixed[0], moving[1] - fixed[1]));
-    const far: Pt = [fixed[0] + K * (moving[0] - fixed[0]), fixed[1] + K * (moving[1] - fixed[1])];
-    const ts = others.flatMap((o) => crossings(fixed, far, o)).map((t) => t * K).filter((t) => t > 1 + 1e-9);
-    if (!ts.length) return 'extend: nothing lies ahead of that end';
-    const t = Math.min(...ts), to: Pt = [fixed[0] + t * (moving[0] - fixed[0]), fixed[1] + t * (moving[1] - fixed[1])];
-    return atEnd ? { ...e, b: to } : { ...e, a: to };
-  }
-  if (e.type === 'arc') {
-    const s = Math.sign(e.sweep), end = atEnd ? e.start + e.sweep : e.start;
-    // The turn past the end, in the arc's direction at its end, away from the arc at its start.
-    const ahead = (h: Pt) => {
-      const ang = (Math.atan2(h[1] - e.center[1], h[0] - e.center[0]) * 180) / Math.PI;
-      return ((((ang - end) * (atEnd ? s : -s)) % 360) + 360) % 360;
-    };
-    const turns = others.flatMap((o) => circleHits(e.center, e.radius, o)).map(ahead).filter((t) => t > 1e-9 && Math.abs(e.sweep) + t < 360);
-    if (!turns.length) return 'extend: nothing lies ahead of that end on the arc\'s circle';
-    const t = Math.min(...turns);
-    return atEnd ? { ...e, sweep: e.sweep + s * t } : { ...e, start: e.start - s * t, sweep: e.sweep + s * t };
-  }
-  return 'extend works on lines and arcs';
+  return turnFrom(t, start, sweep) <= Math.abs(sweep) + 1e-12;
 }
