@@ -164,24 +164,11 @@ fn rings_of(r: &Region) -> Vec<Ring> {
     std::iter::once(&r.outer).chain(&r.holes).cloned().collect()
 }
 
-fn in_ring(p: [f64; 2], r: &[[f64; 2]]) -> bool {
-    let mut odd = false;
-    let n = r.len();
-    for i in 0..n {
-        let (a, b) = (r[i], r[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
-}
-
 /// Whether `p` is in the region (on its boundary counts either way: insets lie well in).
 fn inside(r: &Region, p: [f64; 2]) -> bool {
-    in_ring(p, &r.outer) && !r.holes.iter().any(|h| in_ring(p, h))
+    // The crossing rule of ops::chain, ring by ring (no copies per point).
+    let one = |ring: &Ring| crate::ops::inside(std::slice::from_ref(ring), p);
+    one(&r.outer) && !r.holes.iter().any(one)
 }
 
 /// Whether the segment `a`–`b` crosses any edge of `rings` (touching does not count).

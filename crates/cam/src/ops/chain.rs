@@ -362,7 +362,7 @@ pub(super) fn max_profile(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)>
 }
 
 /// Even–odd point-in-polygon over several rings.
-pub(super) fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
+pub(crate) fn inside<R: AsRef<[P]>>(rings: &[R], p: P) -> bool {
     let mut inside = false;
     for r in rings {
         let r = r.as_ref();

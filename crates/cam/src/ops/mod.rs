@@ -21,6 +21,7 @@ mod adaptive;
 mod adaptive_corners;
 mod adaptive_model;
 mod chain;
+pub(crate) use chain::inside;
 mod chamfer;
 mod dogbone;
 mod drill;
