@@ -174,7 +174,8 @@ fn probe_apply_and_run_levelled_on_the_emulator() {
         stderr.contains("TOOL CHANGE: change to tool T1 (M6 at line 2), then resume: the sender measures it on the tool setter"),
         "{stderr}"
     );
-    assert!(stderr.contains("--from-line 2"), "{stderr}");
+    assert!(stderr.contains("stopping here"), "{stderr}");
+    assert!(stdout.contains("--resume"), "{stdout}");
     // …under ignore it runs through, the dropped change noted by the levelling and the sender…
     let out = run_two(&["--tool-change", "ignore"]);
     let (stdout, stderr) = common::text(&out);
