@@ -65,14 +65,28 @@ pub(crate) struct CarveForm {
     angle: Option<f64>,
     tolerance: f64,
     pixel_size: Option<f64>,
-    /// Finishing: raster, waterline or mix (`--strategy`).
+    /// Finishing: raster, waterline or mix (`--strategy`); absent: the CLI's default.
+    #[serde(default = "default_strategy")]
     strategy: String,
     /// Mix's slope limit, degrees (`--steep`).
+    #[serde(default = "default_steep")]
     steep: f64,
     /// Roughing: zlevel or heightfield (`--roughing`).
+    #[serde(default = "default_roughing")]
     roughing: String,
     /// Machine profile that times the program (default: `oficina carve`'s).
     profile: Option<String>,
+}
+
+// The defaults of `oficina carve --strategy --steep --roughing`, for forms written before them.
+fn default_strategy() -> String {
+    "raster".into()
+}
+fn default_steep() -> f64 {
+    45.0
+}
+fn default_roughing() -> String {
+    "zlevel".into()
 }
 
 /// The carve form with the placement.

@@ -166,6 +166,16 @@ async fn bad_models_and_settings_are_clear_errors() {
             "raster direction 'z'",
         ),
         ("pyramid.stl", with("post", json!("fanuc")), "fanuc"),
+        (
+            "pyramid.stl",
+            with("strategy", json!("spiral")),
+            "--strategy",
+        ),
+        (
+            "pyramid.stl",
+            with("roughing", json!("drill")),
+            "--roughing",
+        ),
     ] {
         let (s, v) = call(
             &st,
