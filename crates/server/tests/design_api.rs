@@ -105,7 +105,7 @@ async fn bad_requests_name_the_place() {
         v["error"]
             .as_str()
             .unwrap()
-            .contains("'pdf' is not svg or dxf"),
+            .contains("'pdf' is not svg, dxf or seed001"),
         "{v}"
     );
     let (s, v) = post(
