@@ -338,6 +338,7 @@ pub fn evaluate_mesh_cancellable(
                 clearance: job.clearance,
                 feed: p.cutter.feeds.cut,
                 plunge: p.cutter.feeds.plunge,
+                radius: rtool.diameter / 2.0,
             };
             memory::check(
                 || "the z-level roughing's contact grid".to_string(),

@@ -323,12 +323,40 @@ fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
             // Feed time and the tool's positions every 0.2 mm of feed.
             let mut at = [0.0, 0.0, e.toolpath.safe_z];
             let (mut seconds, mut tips) = (0.0, Vec::new());
+            // Into material only on a ramp (≤ 3° + rounding) or from outside the stock's
+            // box: a feed going down inside the box steeper than that must end no lower
+            // than the lowest level cut so far (stock the level above cleared).
+            let (w, h) = (e.stock.width as f64 - 1.0, e.stock.height as f64 - 1.0);
+            let stock_box = [
+                e.origin[0] - 0.5,
+                e.origin[1] - 0.5,
+                e.origin[0] + w * e.stock.pixel + 0.5,
+                e.origin[1] + h * e.stock.pixel + 0.5,
+            ];
+            let mut lowest = e.top;
+            let ramp = 3f64.to_radians().tan() * (1.0 + 1e-6);
             for m in &op.moves {
                 let (to, feed) = match m {
                     Move::Line { to, feed } => (*to, Some(*feed)),
                     Move::Rapid { to } => (*to, None),
                     other => panic!("{name}: {other:?} in the roughing"),
                 };
+                let inside = |p: [f64; 3]| {
+                    p[0] > stock_box[0]
+                        && p[0] < stock_box[2]
+                        && p[1] > stock_box[1]
+                        && p[1] < stock_box[3]
+                };
+                let (dz, run) = (at[2] - to[2], (to[0] - at[0]).hypot(to[1] - at[1]));
+                if feed.is_some() && dz > 1e-9 && to[2] < lowest - 1e-9 && inside(to) {
+                    assert!(
+                        dz <= ramp * run + 1e-9,
+                        "{name}: down {dz} mm over {run} mm into material at {to:?}"
+                    );
+                }
+                if feed.is_some() {
+                    lowest = lowest.min(to[2]);
+                }
                 let len = (0..3).map(|k| (to[k] - at[k]).powi(2)).sum::<f64>().sqrt();
                 if let Some(f) = feed {
                     seconds += len / f;

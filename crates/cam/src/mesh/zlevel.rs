@@ -15,6 +15,7 @@
 
 use super::waterline::{loops_at, ContactGrid};
 use super::DropCutter;
+use crate::ops::{Chain, Entry, Piece};
 use crate::{CutterShape, Move, Tool};
 use oficina_geom::{boolean, offset_steps, BoolOp, Fill, Region, Ring};
 
@@ -43,6 +44,9 @@ pub struct ZLevel {
     pub feed: f64,
     /// Plunge feed.
     pub plunge: f64,
+    /// The roughing tool's radius (its entries: ramps round rings at least this long,
+    /// lead-ins from this far outside the stock).
+    pub radius: f64,
 }
 
 /// `tool` grown by `a` mm all round (see the module's comment); V and tapered tools have
@@ -244,36 +248,54 @@ pub fn rough(
                         to: [s[0], s[1], level],
                         feed: z.feed,
                     });
+                    cut_ring(&mut moves, &ring, k, 0.0, level, z.feed);
+                    at = Some([s[0], s[1], level]);
                 } else {
-                    // Up, over, fast down to just above the stock the level above left
-                    // (the start is in this level's region, so in the one above), plunge.
-                    if at.is_some() {
+                    if let Some(p) = at {
                         moves.push(Move::Rapid {
-                            to: [from[0], from[1], z.safe],
+                            to: [p[0], p[1], z.safe],
                         });
                     }
-                    moves.push(Move::Rapid {
-                        to: [s[0], s[1], z.safe],
-                    });
+                    // Fast down to just above the stock the level above left (the start is
+                    // in this level's region, so in the one above).
                     let fast = (above + z.clearance).min(z.safe);
-                    if fast < z.safe {
-                        moves.push(Move::Rapid {
-                            to: [s[0], s[1], fast],
-                        });
-                    }
-                    moves.push(Move::Line {
-                        to: [s[0], s[1], level],
-                        feed: z.plunge,
-                    });
+                    let end = match lead_in(grown, z, &ring, from, level) {
+                        // From outside the stock, down in air, then in along the level.
+                        Some((k, o)) => {
+                            let s = ring[k];
+                            moves.push(Move::Rapid {
+                                to: [o[0], o[1], z.safe],
+                            });
+                            if fast < z.safe {
+                                moves.push(Move::Rapid {
+                                    to: [o[0], o[1], fast],
+                                });
+                            }
+                            moves.push(Move::Line {
+                                to: [o[0], o[1], level],
+                                feed: z.plunge,
+                            });
+                            moves.push(Move::Line {
+                                to: [s[0], s[1], level],
+                                feed: z.feed,
+                            });
+                            cut_ring(&mut moves, &ring, k, 0.0, level, z.feed);
+                            s
+                        }
+                        None => {
+                            moves.push(Move::Rapid {
+                                to: [s[0], s[1], z.safe],
+                            });
+                            if fast < z.safe {
+                                moves.push(Move::Rapid {
+                                    to: [s[0], s[1], fast],
+                                });
+                            }
+                            enter_ring(&mut moves, &ring, k, above, level, z)
+                        }
+                    };
+                    at = Some([end[0], end[1], level]);
                 }
-                for i in 1..=ring.len() {
-                    let p = ring[(k + i) % ring.len()];
-                    moves.push(Move::Line {
-                        to: [p[0], p[1], level],
-                        feed: z.feed,
-                    });
-                }
-                at = Some([s[0], s[1], level]);
                 part_at = Some(part);
             }
         }
@@ -285,6 +307,120 @@ pub fn rough(
         });
     }
     Ok(moves)
+}
+
+/// The ramp's angle from horizontal into material, radians: the ops' default entry.
+fn ramp_angle() -> f64 {
+    Entry::default().angle().unwrap_or(3f64.to_radians())
+}
+
+/// `ring` as a closed chain starting at its vertex `k`.
+fn ring_chain(ring: &Ring, k: usize) -> Chain {
+    let n = ring.len();
+    let mut pieces: Vec<Piece> = (0..n)
+        .map(|i| Piece::Line {
+            a: ring[(k + i) % n],
+            b: ring[(k + i + 1) % n],
+        })
+        .collect();
+    pieces.retain(|p| p.length() > 1e-9);
+    Chain {
+        pieces,
+        closed: true,
+    }
+}
+
+/// Once round `ring` from vertex `k` at `level`, beginning `skip` mm along it.
+fn cut_ring(moves: &mut Vec<Move>, ring: &Ring, k: usize, skip: f64, level: f64, feed: f64) {
+    let chain = ring_chain(ring, k);
+    let len = chain.length();
+    chain.walk(&[(skip, level), (skip + len, level)], feed, moves);
+}
+
+/// Into material at vertex `k` of `ring`, from the level `above` down to `level`: along
+/// the ring at the ramp angle (round it more than once where it is short: a helix on the
+/// ring), then once round at the level from where the ramp ended (so the ramp's stretch is
+/// cut again at full depth); returns that end point. Every point of the ring is in this
+/// level's region, so in every region above (they only shrink going down): the descent
+/// keeps the allowance as the level does. A ring shorter than the tool's radius leaves no
+/// room to ramp: there the tool goes straight down, as the height field's roughing does.
+fn enter_ring(
+    moves: &mut Vec<Move>,
+    ring: &Ring,
+    k: usize,
+    above: f64,
+    level: f64,
+    z: &ZLevel,
+) -> [f64; 2] {
+    let s = ring[k];
+    // Down through what the level above cleared (in air).
+    moves.push(Move::Line {
+        to: [s[0], s[1], above],
+        feed: z.plunge,
+    });
+    let chain = ring_chain(ring, k);
+    let len = chain.length();
+    if len < z.radius.max(1e-3) {
+        moves.push(Move::Line {
+            to: [s[0], s[1], level],
+            feed: z.plunge,
+        });
+        cut_ring(moves, ring, k, 0.0, level, z.feed);
+        return s;
+    }
+    let run = (above - level).max(0.0) / ramp_angle().tan();
+    chain.walk(&[(0.0, above), (run, level)], z.feed, moves);
+    cut_ring(moves, ring, k, run, level, z.feed);
+    chain.point_at(run % len)
+}
+
+/// Where `ring` can be entered from outside the stock: of its vertices on the stock's box,
+/// the nearest `from` with a clear way in, and the point the tool's radius plus the
+/// clearance (at least 1 mm) out from that side. Fed in along the side's normal from
+/// there, the tool only covers ground inside the box that it covers at the vertex (a disc
+/// t out along the normal meets the box within sqrt(R² − t²) of the vertex), so it comes
+/// no nearer the model there than at the vertex; the drop-cutter checks the way outside
+/// the box, where a model could overhang its stock.
+fn lead_in(
+    grown: &DropCutter,
+    z: &ZLevel,
+    ring: &Ring,
+    from: [f64; 3],
+    level: f64,
+) -> Option<(usize, [f64; 2])> {
+    const ON: f64 = 1e-6;
+    let b = z.stock;
+    let out = z.radius + z.clearance.max(1.0);
+    let normal = |p: [f64; 2]| -> Option<[f64; 2]> {
+        if (p[0] - b[0]).abs() < ON {
+            Some([-1.0, 0.0])
+        } else if (p[0] - b[2]).abs() < ON {
+            Some([1.0, 0.0])
+        } else if (p[1] - b[1]).abs() < ON {
+            Some([0.0, -1.0])
+        } else if (p[1] - b[3]).abs() < ON {
+            Some([0.0, 1.0])
+        } else {
+            None
+        }
+    };
+    let d = |p: [f64; 2]| (p[0] - from[0]).hypot(p[1] - from[1]);
+    let mut on_box: Vec<(usize, [f64; 2])> = ring
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &p)| normal(p).map(|n| (k, [p[0] + n[0] * out, p[1] + n[1] * out])))
+        .collect();
+    on_box.sort_by(|a, b| d(ring[a.0]).total_cmp(&d(ring[b.0])));
+    let clear = level - z.allowance;
+    let steps = (out / (z.radius / 4.0).max(0.05)).ceil() as usize;
+    on_box.into_iter().take(8).find(|&(k, o)| {
+        let s = ring[k];
+        (0..=steps).all(|i| {
+            let t = i as f64 / steps as f64;
+            let p = [s[0] + t * (o[0] - s[0]), s[1] + t * (o[1] - s[1])];
+            grown.drop(p[0], p[1]).is_none_or(|h| h <= clear + 1e-9)
+        })
+    })
 }
 
 #[cfg(test)]
