@@ -172,60 +172,11 @@ pub struct MeshEvaluation {
 const GRIDS: u64 = 14;
 
 /// Plans, posts, reads back, simulates and times the job on `mesh` within `budget` bytes,
-/// finishing with a raster.
-#[allow(clippy::too_many_arguments)]
-pub fn evaluate_mesh(
-    mesh: &Mesh,
-    settings: &Settings,
-    opts: &MeshOptions,
-    profile: &Profile,
-    post: &PostOptions,
-    budget: u64,
-    progress: Progress,
-) -> Result<MeshEvaluation, Error> {
-    evaluate_mesh_with(
-        mesh,
-        settings,
-        opts,
-        &MeshFinish::default(),
-        profile,
-        post,
-        budget,
-        progress,
-    )
-}
-
-/// [`evaluate_mesh`] with the finishing strategy `finish`.
-#[allow(clippy::too_many_arguments)]
-pub fn evaluate_mesh_with(
-    mesh: &Mesh,
-    settings: &Settings,
-    opts: &MeshOptions,
-    finish_with: &MeshFinish,
-    profile: &Profile,
-    post: &PostOptions,
-    budget: u64,
-    progress: Progress,
-) -> Result<MeshEvaluation, Error> {
-    let never = AtomicBool::new(false);
-    evaluate_mesh_cancellable(
-        mesh,
-        settings,
-        opts,
-        finish_with,
-        profile,
-        post,
-        budget,
-        progress,
-        &never,
-    )
-}
-
-/// [`evaluate_mesh_with`] that gives up with [`Error::cancelled`] soon after `cancel` is
-/// set: every drop-cutter query answers at once from then on (rows, grids and loops run
+/// finishing with `finish_with`. It gives up with [`Error::cancelled`] soon after `cancel`
+/// is set: every drop-cutter query answers at once from then on (rows, grids and loops run
 /// out on every thread) and the flag is read after each stage and z-level.
 #[allow(clippy::too_many_arguments)]
-pub fn evaluate_mesh_cancellable(
+pub fn evaluate_mesh(
     mesh: &Mesh,
     settings: &Settings,
     opts: &MeshOptions,

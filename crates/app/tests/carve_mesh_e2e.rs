@@ -5,12 +5,13 @@
 //! the mix of raster on the flats and waterline on the steeps. Every move is sampled every
 //! 0.1 mm, rapids included, and every sample is checked.
 
-use oficina_app::carve_mesh::{evaluate_mesh_with, MeshFinish, MeshOptions, MeshSource};
+use oficina_app::carve_mesh::{evaluate_mesh, MeshFinish, MeshOptions, MeshSource};
 use oficina_cam::mesh::Strategy;
 use oficina_canon::CanonOp;
 use oficina_post::{PostDialect, PostOptions};
 use oficina_sim::carve::{interpret, Settings};
 use rayon::prelude::*;
+use std::sync::atomic::AtomicBool;
 
 /// Closest point of triangle `t` to `p` (Ericson, Real-Time Collision Detection 5.1.5).
 fn closest(p: [f64; 3], t: &[[f64; 3]; 3]) -> [f64; 3] {
@@ -130,7 +131,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
             strategy,
             ..MeshFinish::default()
         };
-        let e = evaluate_mesh_with(
+        let e = evaluate_mesh(
             &mesh,
             &settings,
             &opts,
@@ -139,6 +140,7 @@ fn realworld_meshes_carve_with_a_3mm_ball_without_gouging() {
             &post,
             4 << 30,
             &|_, _| {},
+            &AtomicBool::new(false),
         )
         .unwrap();
         // The program as the interpreter reads it: every straight move, feed or rapid, sampled
@@ -307,7 +309,7 @@ fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
             };
             let post = grbl();
             let profile = oficina_motion::bundled("grbl-router").unwrap().unwrap();
-            let e = evaluate_mesh_with(
+            let e = evaluate_mesh(
                 &mesh,
                 &settings,
                 &opts,
@@ -316,6 +318,7 @@ fn zlevel_roughing_keeps_the_allowance_on_the_realworld_meshes() {
                 &post,
                 4 << 30,
                 &|_, _| {},
+                &AtomicBool::new(false),
             )
             .unwrap();
             let op = &e.toolpath.operations[0];

@@ -10,6 +10,7 @@ use oficina_motion::format_hms;
 use oficina_sim::carve::{Evaluation, Settings};
 use oficina_sim::render_png;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 
 #[derive(ClapArgs, Debug)]
 pub(crate) struct Args {
@@ -291,7 +292,7 @@ fn carve_model(
     profile: &oficina_motion::Profile,
 ) -> Result<std::process::ExitCode> {
     use oficina_app::carve_mesh::{
-        evaluate_mesh_with, model_header, MeshFinish, MeshOptions, MeshSource,
+        evaluate_mesh, model_header, MeshFinish, MeshOptions, MeshSource,
     };
     let finish = MeshFinish {
         strategy: args
@@ -334,7 +335,7 @@ fn carve_model(
         .unwrap_or_else(|| output.with_extension("preview.png"));
     refuse_overwriting(model, &[output, &preview])?;
     let bar = progress_bar();
-    let eval = evaluate_mesh_with(
+    let eval = evaluate_mesh(
         &mesh,
         &settings,
         &opts,
@@ -343,6 +344,8 @@ fn carve_model(
         &relief_post(&args.post, args.allow_m6, header)?,
         budget(args),
         &|stage, f| bar.set_message(format!("{stage}: {:.0} %", f * 100.0)),
+        // Ctrl-C ends the process; nothing else cancels a CLI carving.
+        &AtomicBool::new(false),
     );
     bar.finish_and_clear();
     let e = eval?;

@@ -13,9 +13,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use base64::Engine;
 use oficina_app::carve::relief_post;
-use oficina_app::carve_mesh::{
-    evaluate_mesh_cancellable, model_header, MeshFinish, MeshOptions, MeshSource,
-};
+use oficina_app::carve_mesh::{evaluate_mesh, model_header, MeshFinish, MeshOptions, MeshSource};
 use oficina_app::{profile, Error};
 use oficina_sim::carve::Settings;
 use serde::Deserialize;
@@ -202,7 +200,7 @@ pub(crate) async fn carve(
         )];
         header.extend(model_header(&file, &mesh, &settings, &profile_name));
         let post = relief_post(&form.post, form.allow_m6, header)?;
-        evaluate_mesh_cancellable(
+        evaluate_mesh(
             &mesh,
             &settings,
             &opts,
