@@ -14,21 +14,7 @@ use std::process::Command;
 /// Every kind of entity on two layers: a closed polyline with a bulged (filleted) corner,
 /// a line, a clockwise and a counter-clockwise arc, a circle, a spline through points and
 /// a word of text.
-const DESIGN: &str = r##"{
-  "format": "oficina-design", "version": 1,
-  "layers": [{"name": "OUTLINE", "color": "#ff0000"}, {"name": "holes", "color": "#0000ff"}],
-  "entities": [
-    {"id": 1, "layer": "OUTLINE", "type": "polyline", "closed": true,
-     "vertices": [[0, 0], [60, 0], [60, 35, 0.41421356237309503], [55, 40], [0, 40]]},
-    {"id": 2, "layer": "OUTLINE", "type": "line", "a": [5, 5], "b": [25.5, 12.25]},
-    {"id": 3, "layer": "OUTLINE", "type": "arc", "center": [30, 20], "radius": 7.5, "start": 10, "sweep": 200},
-    {"id": 4, "layer": "OUTLINE", "type": "arc", "center": [45, 20], "radius": 3, "start": 90, "sweep": -135},
-    {"id": 5, "layer": "holes", "type": "circle", "center": [12, 30], "radius": 4},
-    {"id": 6, "layer": "holes", "type": "spline", "points": [[5, 15], [15, 22], [25, 18], [33, 27]]},
-    {"id": 7, "layer": "holes", "type": "text", "at": [35, 5], "height": 5, "text": "Oz"}
-  ],
-  "process": {"tool": "flat:3", "depth": 4.2}
-}"##;
+const DESIGN: &str = include_str!("data/design/every_entity.oficina.json");
 
 fn design() -> Design {
     parse_design(DESIGN, "t.oficina.json").unwrap()
