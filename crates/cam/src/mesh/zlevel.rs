@@ -243,59 +243,49 @@ pub fn rough(
                     && part_at == Some(part)
                     && near
                     && !crosses([from[0], from[1]], s, &all);
-                if stay {
+                let (k, skip) = if stay {
                     moves.push(Move::Line {
                         to: [s[0], s[1], level],
                         feed: z.feed,
                     });
-                    cut_ring(&mut moves, &ring, k, 0.0, level, z.feed);
-                    at = Some([s[0], s[1], level]);
+                    (k, 0.0)
                 } else {
                     if let Some(p) = at {
                         moves.push(Move::Rapid {
                             to: [p[0], p[1], z.safe],
                         });
                     }
-                    // Fast down to just above the stock the level above left (the start is
-                    // in this level's region, so in the one above).
+                    // Over the way in, and fast down to just above the stock the level above
+                    // left (the start is in this level's region, so in the one above).
+                    let way_in = lead_in(grown, z, &ring, from, level);
+                    let over = way_in.map_or(s, |(_, o)| o);
+                    moves.push(Move::Rapid {
+                        to: [over[0], over[1], z.safe],
+                    });
                     let fast = (above + z.clearance).min(z.safe);
-                    let end = match lead_in(grown, z, &ring, from, level) {
-                        // From outside the stock, down in air, then in along the level.
+                    if fast < z.safe {
+                        moves.push(Move::Rapid {
+                            to: [over[0], over[1], fast],
+                        });
+                    }
+                    match way_in {
+                        // From outside the stock: down in air, then in along the level.
                         Some((k, o)) => {
-                            let s = ring[k];
-                            moves.push(Move::Rapid {
-                                to: [o[0], o[1], z.safe],
-                            });
-                            if fast < z.safe {
-                                moves.push(Move::Rapid {
-                                    to: [o[0], o[1], fast],
-                                });
-                            }
                             moves.push(Move::Line {
                                 to: [o[0], o[1], level],
                                 feed: z.plunge,
                             });
                             moves.push(Move::Line {
-                                to: [s[0], s[1], level],
+                                to: [ring[k][0], ring[k][1], level],
                                 feed: z.feed,
                             });
-                            cut_ring(&mut moves, &ring, k, 0.0, level, z.feed);
-                            s
+                            (k, 0.0)
                         }
-                        None => {
-                            moves.push(Move::Rapid {
-                                to: [s[0], s[1], z.safe],
-                            });
-                            if fast < z.safe {
-                                moves.push(Move::Rapid {
-                                    to: [s[0], s[1], fast],
-                                });
-                            }
-                            enter_ring(&mut moves, &ring, k, above, level, z)
-                        }
-                    };
-                    at = Some([end[0], end[1], level]);
-                }
+                        None => (k, enter_ring(&mut moves, &ring, k, above, level, z)),
+                    }
+                };
+                let end = cut_ring(&mut moves, &ring, k, skip, level, z.feed);
+                at = Some([end[0], end[1], level]);
                 part_at = Some(part);
             }
         }
@@ -330,20 +320,33 @@ fn ring_chain(ring: &Ring, k: usize) -> Chain {
     }
 }
 
-/// Once round `ring` from vertex `k` at `level`, beginning `skip` mm along it.
-fn cut_ring(moves: &mut Vec<Move>, ring: &Ring, k: usize, skip: f64, level: f64, feed: f64) {
+/// Once round `ring` from vertex `k` at `level`, beginning `skip` mm along it; where it
+/// ends.
+fn cut_ring(
+    moves: &mut Vec<Move>,
+    ring: &Ring,
+    k: usize,
+    skip: f64,
+    level: f64,
+    feed: f64,
+) -> [f64; 2] {
     let chain = ring_chain(ring, k);
     let len = chain.length();
+    if len <= 0.0 {
+        return ring[k];
+    }
     chain.walk(&[(skip, level), (skip + len, level)], feed, moves);
+    chain.point_at(skip % len)
 }
 
 /// Into material at vertex `k` of `ring`, from the level `above` down to `level`: along
 /// the ring at the ramp angle (round it more than once where it is short: a helix on the
-/// ring), then once round at the level from where the ramp ended (so the ramp's stretch is
-/// cut again at full depth); returns that end point. Every point of the ring is in this
-/// level's region, so in every region above (they only shrink going down): the descent
-/// keeps the allowance as the level does. A ring shorter than the tool's radius leaves no
-/// room to ramp: there the tool goes straight down, as the height field's roughing does.
+/// ring); returns how far along the ring the descent ended, where the pass round the ring
+/// at the level starts (so the ramp's stretch is cut again at full depth). Every point of
+/// the ring is in this level's region, so in every region above (they only shrink going
+/// down): the descent keeps the allowance as the level does. A ring shorter than the
+/// tool's radius leaves no room to ramp: there the tool goes straight down, as the height
+/// field's roughing does.
 fn enter_ring(
     moves: &mut Vec<Move>,
     ring: &Ring,
@@ -351,7 +354,7 @@ fn enter_ring(
     above: f64,
     level: f64,
     z: &ZLevel,
-) -> [f64; 2] {
+) -> f64 {
     let s = ring[k];
     // Down through what the level above cleared (in air).
     moves.push(Move::Line {
@@ -359,19 +362,16 @@ fn enter_ring(
         feed: z.plunge,
     });
     let chain = ring_chain(ring, k);
-    let len = chain.length();
-    if len < z.radius.max(1e-3) {
+    if chain.length() < z.radius.max(1e-3) {
         moves.push(Move::Line {
             to: [s[0], s[1], level],
             feed: z.plunge,
         });
-        cut_ring(moves, ring, k, 0.0, level, z.feed);
-        return s;
+        return 0.0;
     }
     let run = (above - level).max(0.0) / ramp_angle().tan();
     chain.walk(&[(0.0, above), (run, level)], z.feed, moves);
-    cut_ring(moves, ring, k, run, level, z.feed);
-    chain.point_at(run % len)
+    run
 }
 
 /// Where `ring` can be entered from outside the stock: of its vertices on the stock's box,
